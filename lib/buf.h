@@ -1,0 +1,25 @@
+/* buf.h: a growable byte buffer for building text. */
+#ifndef FL_BUF_H
+#define FL_BUF_H
+
+#include <stdarg.h>
+#include <stddef.h>
+
+typedef struct Buf {
+    char *data;     /* NUL-terminated contents (NULL until the first append) */
+    size_t len;     /* bytes used, excluding the NUL */
+    size_t cap;     /* bytes allocated */
+} Buf;
+
+#define BUF_INIT {NULL, 0, 0}
+
+void buf_add(Buf *b, const char *s, size_t n);
+void buf_puts(Buf *b, const char *s);
+void buf_putc(Buf *b, char c);
+void buf_printf(Buf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* The contents as a C string ("" when empty); owned by [b]. */
+const char *buf_cstr(Buf *b);
+void buf_reset(Buf *b);
+void buf_free(Buf *b);
+
+#endif

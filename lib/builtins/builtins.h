@@ -1,0 +1,59 @@
+/* builtins.h: the registry of built-in functions (LANGUAGE.md §5).
+ *
+ * Each family of built-ins lives in its own file (maths.c, vector.c,
+ * random.c, noise.c, colour.c, text.c, ...) and exports a table of
+ * `Builtin` descriptors ending with an entry whose name is NULL. bi_lookup()
+ * searches all tables. A builtin receives its arguments already mapped to
+ * positions (named arguments matched against `params`); it returns a new
+ * vector (or NULL for null) and reports problems through bi_error().
+ */
+#ifndef FL_BUILTINS_H
+#define FL_BUILTINS_H
+
+#include <stdint.h>
+
+#include "../value.h"
+
+typedef struct Eval Eval;   /* the evaluator's per-call context (eval.h) */
+typedef struct Builtin Builtin;
+
+/* [nargs] arguments in [args] (each may be NULL = null; a named argument
+ * that skipped an earlier parameter leaves that one NULL). nargs is between
+ * the descriptor's min_args and max_args (checked by the caller). */
+typedef Vec *(*BuiltinFn)(Eval *ev, const Builtin *bi, int nargs, Vec *const *args);
+
+#define BI_MAX_PARAMS 8
+#define BI_VARIADIC (-1)
+
+/* Flags. BI_DYNAMIC: depends on more than its arguments (debug, read, ...). */
+enum { BI_DYNAMIC = 1 };
+
+struct Builtin {
+    const char *name;                      /* name in scripts, e.g. "sin" */
+    const char *internal;                  /* the reference's internal name,
+                                              e.g. "sinv", used in messages */
+    int8_t min_args;                       /* fewest positional arguments */
+    int8_t max_args;                       /* most, or BI_VARIADIC */
+    const char *params[BI_MAX_PARAMS];     /* keyword names by position */
+    BuiltinFn fn;                          /* implementation */
+    uint8_t flags;                         /* BI_* */
+};
+
+/* The builtin called [name] (UTF-8, [len] bytes), or NULL. */
+const Builtin *bi_lookup(const char *name, size_t len);
+
+/* Record `Error calling INTERNAL: DETAIL` for [bi] in [ev] and return NULL
+ * (so a builtin can `return bi_error(...)`). */
+Vec *bi_error(Eval *ev, const Builtin *bi, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* The family tables (each ends with a {NULL} entry). */
+extern const Builtin bi_vector_table[];
+extern const Builtin bi_maths_table[];
+extern const Builtin bi_random_table[];
+extern const Builtin bi_noise_table[];
+extern const Builtin bi_colour_table[];
+extern const Builtin bi_text_table[];
+extern const Builtin bi_file_table[];
+
+#endif

@@ -1,0 +1,689 @@
+/* eval.c: the per-frame tree-walking evaluator (LANGUAGE.md §4).
+ *
+ * eval_expr() takes a resolved AST node and the current function frame
+ * (ev->frame: one Vec* per slot, see program.h) and returns a new reference
+ * to the node's value. There is one function per AST kind; each begins with
+ * the node shape it handles and the spec section it follows. Run-time
+ * problems never stop the frame: the value becomes null and a message is
+ * recorded in ev->errors (§4.16).
+ */
+#include "program.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "builtins/builtins.h"
+#include "eval.h"
+#include "format.h"
+
+/* Recursion limit per function value (§4.8). */
+#define MAX_ACTIVE_CALLS 500
+/* Nesting limit of eval_expr, guarding the C stack (§4.16 stack overflow). */
+#define MAX_EVAL_DEPTH 12000
+/* Longest vector a range may build (bounded memory for `..1e12`). */
+#define MAX_RANGE_LEN (UINT64_C(1) << 26)
+
+/* ====================================================================
+ * Services for builtins (eval.h)
+ * ==================================================================== */
+
+void eval_error(Eval *ev, const char *msg)
+{
+    if (ev && ev->errors) msgset_add(ev->errors, msg);
+}
+
+void eval_debug(Eval *ev, const char *msg)
+{
+    if (ev && ev->debug) msgset_add(ev->debug, msg);
+}
+
+const SymTab *eval_symtab(const Eval *ev) { return ev ? ev->symtab : NULL; }
+
+const char *eval_script_dir(const Eval *ev)
+{
+    return ev && ev->prog && ev->prog->dir ? ev->prog->dir : ".";
+}
+
+static void errorf(Eval *ev, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void errorf(Eval *ev, const char *fmt, ...)
+{
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    eval_error(ev, msg);
+}
+
+/* ====================================================================
+ * Helpers
+ * ==================================================================== */
+
+/* A growable list of parts to compose. */
+typedef struct Parts {
+    Vec *small[8];
+    Vec **v;
+    size_t n, cap;
+} Parts;
+
+static void parts_init(Parts *p)
+{
+    p->v = p->small;
+    p->n = 0;
+    p->cap = 8;
+}
+
+static void parts_push(Parts *p, Vec *x)
+{
+    if (!x) return;
+    if (p->n == p->cap) {
+        size_t cap = p->cap * 2;
+        Vec **nv = p->v == p->small ? malloc(cap * sizeof(Vec *)) : realloc(p->v, cap * sizeof(Vec *));
+        if (!nv) abort();
+        if (p->v == p->small) memcpy(nv, p->small, sizeof p->small);
+        p->v = nv;
+        p->cap = cap;
+    }
+    p->v[p->n++] = x;
+}
+
+/* Compose the parts and release them. */
+static Vec *parts_finish(Parts *p)
+{
+    Vec *r = p->n == 1 ? p->v[0] : vec_compose(p->v, p->n);
+    if (p->n != 1)
+        for (size_t i = 0; i < p->n; i++) vec_release(p->v[i]);
+    if (p->v != p->small) free(p->v);
+    return r;
+}
+
+static void set_slot(Eval *ev, int32_t slot, Vec *v_take)
+{
+    Vec *old = ev->frame[slot];
+    ev->frame[slot] = v_take;
+    vec_release(old);
+}
+
+/* Bind names of [b] (AST_BINDING or AST_FOR) to [v]: one name takes the
+ * whole vector, several unpack with wrap-around (§4.4). Consumes [v]. */
+static void bind_unpack(Eval *ev, const AstNode *b, Vec *v)
+{
+    if (b->nnames == 1) {
+        set_slot(ev, b->slots[0], v);
+        return;
+    }
+    for (uint32_t i = 0; i < b->nnames; i++) set_slot(ev, b->slots[i], vec_item(v, i));
+    vec_release(v);
+}
+
+/* An unshared copy of [v] (consumes [v]); object vectors only. */
+static Vec *vec_unshare(Vec *v)
+{
+    if (v->refs == 1) return v;
+    Vec *c = vec_new_obj(v->len);
+    Elem *d = vec_elems(c);
+    const Elem *s = vec_celems(v);
+    for (uint32_t i = 0; i < v->len; i++) {
+        d[i] = s[i];
+        switch (d[i].kind) {
+        case EL_STR: str_retain(d[i].str); break;
+        case EL_NODE: node_retain(d[i].node); break;
+        case EL_FUNC: func_retain(d[i].func); break;
+        default: break;
+        }
+    }
+    vec_release(v);
+    return c;
+}
+
+static bool has_nodes(const Vec *v)
+{
+    if (!vec_is_obj(v)) return false;
+    for (uint32_t i = 0; i < v->len; i++)
+        if (vec_celems(v)[i].kind == EL_NODE) return true;
+    return false;
+}
+
+/* Python-style host repr of an element, for `X is not callable`. */
+static void host_repr(Buf *b, const Elem *e, const SymTab *st)
+{
+    (void)st;
+    if (e->kind == EL_NUM) {
+        size_t at = b->len;
+        fmt_double(b, e->num);
+        const char *s = b->data + at;
+        if (!strpbrk(s, ".eni")) buf_puts(b, ".0");
+    } else if (e->kind == EL_STR) {
+        Vec *v = vec_str(e->str->bytes, e->str->len);
+        fmt_repr(b, v, NULL);
+        vec_release(v);
+    } else {
+        buf_puts(b, "<object>");
+    }
+}
+
+/* ====================================================================
+ * Calls (§4.8, §4.9)
+ * ==================================================================== */
+
+typedef struct Closure {
+    const AstNode *def;   /* AST_FUNCTION */
+    Program *prog;        /* keeps the AST alive */
+    Vec **defaults;       /* per parameter, evaluated at definition */
+    Vec **caps;           /* captured values, FnInfo order */
+    uint32_t nparams, ncaps;
+    uint32_t active;      /* calls in progress */
+} Closure;
+
+static void closure_destroy(Func *f)
+{
+    Closure *c = f->impl;
+    for (uint32_t i = 0; i < c->nparams; i++) vec_release(c->defaults[i]);
+    for (uint32_t i = 0; i < c->ncaps; i++) vec_release(c->caps[i]);
+    free(c->defaults);
+    free(c->caps);
+    program_release(c->prog);
+    free(c);
+}
+
+typedef struct Args {
+    Vec **pos;             /* positional values */
+    uint32_t npos;
+    const AstNode **kwn;   /* AST_BINDING of each named argument */
+    Vec **kw;              /* named values */
+    uint32_t nkw;
+} Args;
+
+static Vec *call_user(Eval *ev, Func *f, const Args *a)
+{
+    Closure *c = f->impl;
+    const AstNode *def = c->def;
+    const FnInfo *fi = def->aux;
+    if (c->active >= MAX_ACTIVE_CALLS) {
+        errorf(ev, "Recursion depth exceeded for func '%s'", f->name->bytes);
+        return NULL;
+    }
+    Vec **frame = calloc(fi->nslots ? fi->nslots : 1, sizeof(Vec *));
+    if (!frame) abort();
+    frame[0] = vec_func_take(func_retain(f));
+    for (uint32_t i = 0; i < c->nparams; i++) {
+        const AstNode *p = def->kids[i];
+        Vec *v = NULL;
+        bool given = false;
+        if (i < a->npos) {
+            v = a->pos[i];
+            given = true;
+        } else {
+            for (uint32_t k = 0; k < a->nkw && !given; k++) {
+                if (str_eq(a->kwn[k]->names[0], p->names[0])) {
+                    v = a->kw[k];
+                    given = true;
+                }
+            }
+        }
+        if (!given) v = c->defaults[i];
+        frame[p->slots[0]] = vec_retain(v);
+    }
+    const int32_t *dst = fi->cap_src + fi->ncaps;
+    for (uint32_t k = 0; k < c->ncaps; k++) frame[dst[k]] = vec_retain(c->caps[k]);
+    Vec **saved = ev->frame;
+    Program *saved_prog = ev->prog;
+    ev->frame = frame;
+    ev->prog = c->prog;
+    c->active++;
+    Vec *r = eval_expr(ev, def->a);
+    c->active--;
+    ev->frame = saved;
+    ev->prog = saved_prog;
+    for (uint32_t i = 0; i < fi->nslots; i++) vec_release(frame[i]);
+    free(frame);
+    return r;
+}
+
+static Vec *call_builtin(Eval *ev, const Builtin *bi, const Args *a)
+{
+    Vec *args[BI_MAX_PARAMS + 8] = {0};
+    Vec **argv = args;
+    uint32_t n = a->npos;
+    bool variadic = bi->max_args == BI_VARIADIC;
+    if (!variadic && n > (uint32_t)bi->max_args)
+        return bi_error(ev, bi, "%s() takes at most %d positional arguments (%u given)",
+                        bi->internal, bi->max_args, n);
+    if (n > sizeof args / sizeof args[0]) {
+        argv = calloc(n, sizeof(Vec *));
+        if (!argv) abort();
+    }
+    for (uint32_t i = 0; i < a->npos; i++) argv[i] = a->pos[i];
+    for (uint32_t k = 0; k < a->nkw; k++) {
+        const Str *name = a->kwn[k]->names[0];
+        int idx = -1;
+        for (int p = 0; p < BI_MAX_PARAMS && bi->params[p]; p++)
+            if (strcmp(bi->params[p], name->bytes) == 0) idx = p;
+        if (idx < 0 || (!variadic && idx >= bi->max_args) || (uint32_t)idx >= sizeof args / sizeof args[0]) {
+            if (argv != args) free(argv);
+            return bi_error(ev, bi, "%s() got an unexpected keyword argument '%s'", bi->internal,
+                            name->bytes);
+        }
+        if ((uint32_t)idx < a->npos) {
+            if (argv != args) free(argv);
+            return bi_error(ev, bi, "%s() got multiple values for argument '%s'", bi->internal,
+                            name->bytes);
+        }
+        argv[idx] = a->kw[k];
+        if ((uint32_t)idx + 1 > n) n = (uint32_t)idx + 1;
+    }
+    Vec *r;
+    if (n < (uint32_t)bi->min_args)
+        r = bi_error(ev, bi, "%s() takes at least %d positional arguments (%u given)", bi->internal,
+                     bi->min_args, n);
+    else
+        r = bi->fn(ev, bi, (int)n, argv);
+    if (argv != args) free(argv);
+    return r;
+}
+
+/* Call every element of [callee] with [a] and compose the results. */
+static Vec *call_value(Eval *ev, const Vec *callee, const Args *a)
+{
+    if (!vec_is_obj(callee)) return NULL;   /* null, numeric, stream: silent null */
+    Parts parts;
+    parts_init(&parts);
+    for (uint32_t i = 0; i < callee->len; i++) {
+        const Elem *e = &vec_celems(callee)[i];
+        if (e->kind == EL_FUNC) {
+            Func *f = e->func;
+            parts_push(&parts, f->bi ? call_builtin(ev, f->bi, a) : call_user(ev, f, a));
+        } else {
+            Buf b = BUF_INIT;
+            host_repr(&b, e, ev->symtab);
+            buf_puts(&b, " is not callable");
+            eval_error(ev, buf_cstr(&b));
+            buf_free(&b);
+        }
+    }
+    return parts_finish(&parts);
+}
+
+/* AST_CALL: a(kids[0..count), name=value ...) — args, then named values,
+ * then the callee (§4.8). */
+static Vec *eval_call(Eval *ev, const AstNode *n)
+{
+    Vec *posbuf[8], *kwbuf[8];
+    const AstNode *kwnbuf[8];
+    uint32_t npos = n->count, nkw = n->nkids - n->count;
+    Args a = {npos > 8 ? malloc(npos * sizeof(Vec *)) : posbuf, npos,
+              nkw > 8 ? malloc(nkw * sizeof(AstNode *)) : kwnbuf,
+              nkw > 8 ? malloc(nkw * sizeof(Vec *)) : kwbuf, nkw};
+    if (!a.pos || !a.kwn || !a.kw) abort();
+    for (uint32_t i = 0; i < npos; i++) a.pos[i] = eval_expr(ev, n->kids[i]);
+    for (uint32_t k = 0; k < nkw; k++) {
+        a.kwn[k] = n->kids[npos + k];
+        a.kw[k] = eval_expr(ev, a.kwn[k]->a);
+    }
+    Vec *callee = eval_expr(ev, n->a);
+    Vec *r = call_value(ev, callee, &a);
+    vec_release(callee);
+    for (uint32_t i = 0; i < npos; i++) vec_release(a.pos[i]);
+    for (uint32_t k = 0; k < nkw; k++) vec_release(a.kw[k]);
+    if (a.pos != posbuf) free(a.pos);
+    if (a.kwn != kwnbuf) free(a.kwn);
+    if (a.kw != kwbuf) free(a.kw);
+    return r;
+}
+
+/* AST_FUNCTION: a closure with defaults evaluated and free names captured
+ * now, in the defining frame (§4.8). */
+static Vec *eval_function(Eval *ev, const AstNode *n)
+{
+    const FnInfo *fi = n->aux;
+    Closure *c = calloc(1, sizeof *c);
+    if (!c) abort();
+    c->def = n;
+    c->prog = ev->prog;
+    c->prog->refs++;
+    c->nparams = n->nkids;
+    c->ncaps = fi->ncaps;
+    c->defaults = calloc(c->nparams ? c->nparams : 1, sizeof(Vec *));
+    c->caps = calloc(c->ncaps ? c->ncaps : 1, sizeof(Vec *));
+    if (!c->defaults || !c->caps) abort();
+    for (uint32_t i = 0; i < c->nparams; i++)
+        c->defaults[i] = n->kids[i]->a ? eval_expr(ev, n->kids[i]->a) : NULL;
+    for (uint32_t k = 0; k < c->ncaps; k++) c->caps[k] = vec_retain(ev->frame[fi->cap_src[k]]);
+    Func *f = calloc(1, sizeof *f);
+    if (!f) abort();
+    f->refs = 1;
+    f->name = str_retain(n->names[0]);
+    f->impl = c;
+    f->destroy = closure_destroy;
+    return vec_func_take(f);
+}
+
+/* ====================================================================
+ * Node operations (§4.10)
+ * ==================================================================== */
+
+/* AST_TAG: a #names[0] */
+static Vec *eval_tag(Eval *ev, const AstNode *n)
+{
+    Vec *v = eval_expr(ev, n->a);
+    if (!has_nodes(v)) return v;
+    v = vec_unshare(v);
+    Elem *e = vec_elems(v);
+    for (uint32_t i = 0; i < v->len; i++) {
+        if (e[i].kind != EL_NODE) continue;
+        e[i].node = node_mut(e[i].node);
+        node_add_tag(e[i].node, n->names[0]);
+    }
+    return v;
+}
+
+/* AST_ATTRIBUTES: a name=value ... — values left to right, then set. */
+static Vec *eval_attributes(Eval *ev, const AstNode *n)
+{
+    Vec *v = eval_expr(ev, n->a);
+    Vec *small[16];
+    Vec **vals = n->nkids > 16 ? malloc(n->nkids * sizeof(Vec *)) : small;
+    if (!vals) abort();
+    for (uint32_t k = 0; k < n->nkids; k++) vals[k] = eval_expr(ev, n->kids[k]->a);
+    if (has_nodes(v)) {
+        v = vec_unshare(v);
+        Elem *e = vec_elems(v);
+        for (uint32_t i = 0; i < v->len; i++) {
+            if (e[i].kind != EL_NODE) continue;
+            e[i].node = node_mut(e[i].node);
+            for (uint32_t k = 0; k < n->nkids; k++)
+                node_set_attr(e[i].node, n->kids[k]->names[0], vec_retain(vals[k]));
+        }
+    }
+    for (uint32_t k = 0; k < n->nkids; k++) vec_release(vals[k]);
+    if (vals != small) free(vals);
+    return v;
+}
+
+/* AST_APPEND: a << b — node elements of b appended to each node of a. */
+static Vec *eval_append(Eval *ev, const AstNode *n)
+{
+    Vec *p = eval_expr(ev, n->a);
+    Vec *c = eval_expr(ev, n->b);
+    if (has_nodes(p) && has_nodes(c)) {
+        p = vec_unshare(p);
+        Elem *e = vec_elems(p);
+        const Elem *ce = vec_celems(c);
+        for (uint32_t i = 0; i < p->len; i++) {
+            if (e[i].kind != EL_NODE) continue;
+            e[i].node = node_mut(e[i].node);
+            for (uint32_t j = 0; j < c->len; j++)
+                if (ce[j].kind == EL_NODE) node_append(e[i].node, ce[j].node);
+        }
+    }
+    vec_release(c);
+    return p;
+}
+
+/* ====================================================================
+ * Operators (§3.5-3.10)
+ * ==================================================================== */
+
+static bool is_literal_two(const AstNode *n)
+{
+    return n->kind == AST_LITERAL && vec_is_scalar(n->value) && vec_scalar(n->value) == 2.0;
+}
+
+/* AST_BINOP: a OP b, with the F1 fused a + (b*c) and F2 x**2 (§4.17). */
+static Vec *eval_binop(Eval *ev, const AstNode *n)
+{
+    if (n->op == OP_POW && is_literal_two(n->b)) {
+        Vec *x = eval_expr(ev, n->a);
+        Vec *r = vec_arith(OP_MUL, x, x);
+        vec_release(x);
+        return r;
+    }
+    Vec *a = eval_expr(ev, n->a);
+    const AstNode *rb = n->b;
+    if (n->op == OP_ADD && rb->kind == AST_BINOP &&
+        (rb->op == OP_MUL || (rb->op == OP_POW && is_literal_two(rb->b)))) {
+        Vec *b = eval_expr(ev, rb->a);
+        Vec *c = rb->op == OP_MUL ? eval_expr(ev, rb->b) : vec_retain(b);
+        Vec *r = vec_add_mul(a, b, c);
+        vec_release(a);
+        vec_release(b);
+        vec_release(c);
+        return r;
+    }
+    Vec *b = eval_expr(ev, rb);
+    Vec *r = vec_arith((ArithOp)n->op, a, b);
+    vec_release(a);
+    vec_release(b);
+    return r;
+}
+
+/* AST_COMPARE: a OP b (§3.6-3.8), 1 or 0, or null when incomparable. */
+static Vec *eval_compare(Eval *ev, const AstNode *n)
+{
+    Vec *a = eval_expr(ev, n->a);
+    Vec *b = eval_expr(ev, n->b);
+    bool same = a == b;    /* identity shortcut (§3.6 rule 1) */
+    Vec *r = NULL;
+    int c;
+    switch (n->op) {
+    case CMP_EQ: r = vec_num1(same || vec_equal(a, b)); break;
+    case CMP_NE: r = vec_num1(!(same || vec_equal(a, b))); break;
+    case CMP_IN: r = vec_num1(vec_contains(a, b)); break;
+    default:
+        c = same ? 0 : vec_cmp(a, b);
+        if (c == CMP_INCOMPARABLE) break;
+        switch (n->op) {
+        case CMP_LT: r = vec_num1(c == -1); break;
+        case CMP_GT: r = vec_num1(c == 1); break;
+        case CMP_LE: r = vec_num1(c != 1); break;
+        default: r = vec_num1(c != -1); break;
+        }
+    }
+    vec_release(a);
+    vec_release(b);
+    return r;
+}
+
+/* AST_RANGE: a..b|c (§3.10). */
+static Vec *eval_range(Eval *ev, const AstNode *n)
+{
+    Vec *a = n->a ? eval_expr(ev, n->a) : NULL;
+    Vec *b = eval_expr(ev, n->b);
+    Vec *c = n->c ? eval_expr(ev, n->c) : NULL;
+    bool too_long = false;
+    Vec *r = vec_range(a, b, c, MAX_RANGE_LEN, &too_long);
+    if (too_long) errorf(ev, "Range too long (over %llu elements)", (unsigned long long)MAX_RANGE_LEN);
+    vec_release(a);
+    vec_release(b);
+    vec_release(c);
+    return r;
+}
+
+/* ====================================================================
+ * Scopes and control (§4.3-4.7)
+ * ==================================================================== */
+
+/* AST_SEQUENCE: kids composed in order (§4.3). */
+static Vec *eval_sequence(Eval *ev, const AstNode *n)
+{
+    if (n->nkids == 1) return eval_expr(ev, n->kids[0]);
+    Parts parts;
+    parts_init(&parts);
+    for (uint32_t i = 0; i < n->nkids; i++) parts_push(&parts, eval_expr(ev, n->kids[i]));
+    return parts_finish(&parts);
+}
+
+/* AST_LET: bindings left to right, then the body (§4.4, §4.5). */
+static Vec *eval_let(Eval *ev, const AstNode *n)
+{
+    for (uint32_t i = 0; i < n->nkids; i++) {
+        const AstNode *b = n->kids[i];
+        bind_unpack(ev, b, eval_expr(ev, b->a));
+    }
+    return eval_expr(ev, n->a);
+}
+
+/* AST_FOR: names in source, body per group of len(names) items, no
+ * wrap-around (§4.6). */
+static Vec *eval_for(Eval *ev, const AstNode *n)
+{
+    Vec *src = eval_expr(ev, n->a);
+    uint32_t len = vec_len(src), k = n->nnames ? n->nnames : 1;
+    Parts parts;
+    parts_init(&parts);
+    for (uint32_t p = 0; p < len; p += k) {
+        for (uint32_t j = 0; j < n->nnames; j++)
+            set_slot(ev, n->slots[j], p + j < len ? vec_item(src, p + j) : NULL);
+        parts_push(&parts, eval_expr(ev, n->b));
+    }
+    vec_release(src);
+    return parts_finish(&parts);
+}
+
+/* AST_IFELSE: first true condition's branch, else `a` (§4.7). */
+static Vec *eval_ifelse(Eval *ev, const AstNode *n)
+{
+    for (uint32_t i = 0; i + 1 < n->nkids; i += 2) {
+        Vec *c = eval_expr(ev, n->kids[i]);
+        bool t = vec_truthy(c);
+        vec_release(c);
+        if (t) return eval_expr(ev, n->kids[i + 1]);
+    }
+    return n->a ? eval_expr(ev, n->a) : NULL;
+}
+
+/* ====================================================================
+ * Dispatch
+ * ==================================================================== */
+
+Vec *eval_expr(Eval *ev, const AstNode *n)
+{
+    if (!n) return NULL;
+    if (++ev->depth > MAX_EVAL_DEPTH) {
+        ev->depth--;
+        ev->overflow = true;
+        eval_error(ev, "Stack overflow in program");
+        return NULL;
+    }
+    Vec *r = NULL, *a, *b;
+    switch ((AstKind)n->kind) {
+    case AST_LITERAL: r = vec_retain(n->value); break;
+    case AST_NAME:
+        switch (n->scope) {
+        case SCOPE_LOCAL: r = vec_retain(ev->frame[n->slot]); break;
+        case SCOPE_GLOBAL: r = ev->globals ? vec_retain(ev->globals->values[n->slot]) : NULL; break;
+        case SCOPE_CONST: r = vec_retain(n->value); break;
+        default: r = NULL; break;
+        }
+        break;
+    case AST_LOOKUP:
+        a = eval_expr(ev, n->a);
+        r = ev->state ? vec_retain(state_get(ev->state, a)) : NULL;
+        vec_release(a);
+        break;
+    case AST_BINOP: r = eval_binop(ev, n); break;
+    case AST_NEG:
+        a = eval_expr(ev, n->a);
+        r = vec_neg(a);
+        vec_release(a);
+        break;
+    case AST_POS:
+        a = eval_expr(ev, n->a);
+        r = vec_pos(a);
+        vec_release(a);
+        break;
+    case AST_NOT:
+        a = eval_expr(ev, n->a);
+        r = vec_num1(!vec_truthy(a));
+        vec_release(a);
+        break;
+    case AST_AND:
+        a = eval_expr(ev, n->a);
+        if (!vec_truthy(a)) { r = a; break; }
+        vec_release(a);
+        r = eval_expr(ev, n->b);
+        break;
+    case AST_OR:
+        a = eval_expr(ev, n->a);
+        if (vec_truthy(a)) { r = a; break; }
+        vec_release(a);
+        r = eval_expr(ev, n->b);
+        break;
+    case AST_XOR:
+        a = eval_expr(ev, n->a);
+        b = eval_expr(ev, n->b);
+        if (!vec_truthy(a)) { r = b; vec_release(a); }
+        else if (vec_truthy(b)) { r = vec_num1(0.0); vec_release(a); vec_release(b); }
+        else { r = a; vec_release(b); }
+        break;
+    case AST_COMPARE: r = eval_compare(ev, n); break;
+    case AST_RANGE: r = eval_range(ev, n); break;
+    case AST_INDEX:
+        a = eval_expr(ev, n->a);
+        b = eval_expr(ev, n->b);
+        r = vec_index(a, b, n->b->kind == AST_LITERAL && n->b->op == 1);
+        vec_release(a);
+        vec_release(b);
+        break;
+    case AST_CALL: r = eval_call(ev, n); break;
+    case AST_FUNCTION: r = eval_function(ev, n); break;
+    case AST_LET: r = eval_let(ev, n); break;
+    case AST_FOR: r = eval_for(ev, n); break;
+    case AST_IFELSE: r = eval_ifelse(ev, n); break;
+    case AST_TAG: r = eval_tag(ev, n); break;
+    case AST_ATTRIBUTES: r = eval_attributes(ev, n); break;
+    case AST_APPEND: r = eval_append(ev, n); break;
+    case AST_SEQUENCE: r = eval_sequence(ev, n); break;
+    case AST_TOP: r = eval_expr(ev, n->a); break;
+    case AST_IMPORT:
+        /* Modules are not supported yet: every imported name is null. */
+        a = eval_expr(ev, n->a);
+        {
+            Buf fb = BUF_INIT;
+            fmt_str(&fb, a, ev->symtab);
+            errorf(ev, "Unable to import from '%s'", buf_cstr(&fb));
+            buf_free(&fb);
+        }
+        vec_release(a);
+        for (uint32_t i = 0; i < n->nnames; i++) set_slot(ev, n->slots[i], NULL);
+        r = eval_expr(ev, n->b);
+        break;
+    case AST_INCLUDE:
+        eval_error(ev, "Dynamic include detected; is simplifier disabled?");
+        break;
+    case AST_EXPORT:
+    case AST_BINDING:
+    case AST__COUNT:
+        break;
+    }
+    ev->depth--;
+    return r;
+}
+
+Node *eval_program(Eval *ev)
+{
+    Str *kind = str_from("root");
+    Node *root = node_new(kind);
+    str_release(kind);
+    Program *prog = ev->prog;
+    Vec **frame = calloc(prog->nslots ? prog->nslots : 1, sizeof(Vec *));
+    if (!frame) abort();
+    Vec **saved = ev->frame;
+    ev->frame = frame;
+    ev->depth = 0;
+    ev->overflow = false;
+    Vec *v = eval_expr(ev, prog->top);
+    ev->frame = saved;
+    for (uint32_t i = 0; i < prog->nslots; i++) vec_release(frame[i]);
+    free(frame);
+    if (!ev->overflow && vec_is_obj(v)) {
+        const Elem *e = vec_celems(v);
+        for (uint32_t i = 0; i < v->len; i++)
+            if (e[i].kind == EL_NODE) node_append(root, e[i].node);
+    }
+    vec_release(v);
+    return root;
+}

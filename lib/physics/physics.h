@@ -1,0 +1,41 @@
+/* physics.h: the !physics particle engine (PHYSICS.md, PHYSICS-ENGINE.md).
+ *
+ * A PhysicsWorld holds the persistent simulation systems of one runtime. Each
+ * frame the runtime hands it the top-level !physics nodes of the frame's node
+ * tree, in order; the i-th node drives the i-th system. The engine reads its
+ * persistent values back from the state dictionary and writes positions,
+ * velocities and clock keys into it (PHYSICS.md "State interaction").
+ */
+#ifndef FL_PHYSICS_H
+#define FL_PHYSICS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "../node.h"
+#include "../state.h"
+
+typedef struct PhysicsWorld PhysicsWorld;
+
+/* What the engine needs to know about the current frame. */
+typedef struct PhysicsFrame {
+    double time;          /* the frame's `time` name, seconds */
+    double fps;           /* target frame rate used for the default resolution */
+    bool realtime;        /* false in lockstep: always insert extra steps */
+    double performance;   /* engine performance figure (2 in lockstep) */
+} PhysicsFrame;
+
+/* A new world with no systems. */
+PhysicsWorld *phys_new(void);
+/* Free [w] and all its systems (NULL is a no-op). */
+void phys_free(PhysicsWorld *w);
+/* Simulate one frame.
+ *   shapes: [nodes] are the [n] top-level !physics nodes of the frame, in
+ *           tree order (borrowed); [state] is updated in place
+ *   units:  seconds (or the script's own `time` units), world units
+ *   errors: nodes with missing `state` or dimensions < 1 are skipped
+ *   source: PHYSICS-ENGINE.md §2-4 (order of operations is normative) */
+void phys_run_frame(PhysicsWorld *w, Node *const *nodes, size_t n,
+                    StateDict *state, const PhysicsFrame *frame);
+
+#endif

@@ -1,0 +1,473 @@
+/* program.c: loading a program and resolving its names (LANGUAGE.md §4.2).
+ *
+ * program_load() reads a script, parses it (parse.h), registers every symbol
+ * literal in the runtime's symbol table, collects the pragmas, and runs the
+ * resolver: one pass over the AST in source order that keeps, per function
+ * context, a stack of the names visible at each point. A `let`, `for`,
+ * `import` or function parameter pushes names for the extent of its body and
+ * pops them after, which is exactly Flitter's lexical scoping. A name not
+ * found in the current function is looked up in the enclosing ones and, if
+ * found there, becomes a capture: a slot of the inner frame filled from the
+ * outer frame when the function value is created (capture by value at
+ * definition time, §4.8). Names found nowhere are engine/define names
+ * (Globals), builtin constants and functions (§5), or unbound (warning,
+ * value null).
+ */
+#include "program.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "builtins/builtins.h"
+#include "parse.h"
+
+/* ====================================================================
+ * Globals and message sets
+ * ==================================================================== */
+
+int globals_find(const Globals *g, const char *name, size_t len)
+{
+    if (!g) return -1;
+    for (uint32_t i = 0; i < g->count; i++)
+        if (g->names[i]->len == len && memcmp(g->names[i]->bytes, name, len) == 0) return (int)i;
+    return -1;
+}
+
+int globals_add(Globals *g, const char *name)
+{
+    int i = globals_find(g, name, strlen(name));
+    if (i >= 0) return i;
+    if (g->count == g->cap) {
+        g->cap = g->cap ? g->cap * 2 : 32;
+        g->names = realloc(g->names, g->cap * sizeof(Str *));
+        g->values = realloc(g->values, g->cap * sizeof(Vec *));
+        if (!g->names || !g->values) abort();
+    }
+    g->names[g->count] = str_from(name);
+    g->values[g->count] = NULL;
+    return (int)g->count++;
+}
+
+void globals_set(Globals *g, int index, Vec *value)
+{
+    Vec *old = g->values[index];
+    g->values[index] = vec_retain(value);
+    vec_release(old);
+}
+
+void globals_free(Globals *g)
+{
+    for (uint32_t i = 0; i < g->count; i++) {
+        str_release(g->names[i]);
+        vec_release(g->values[i]);
+    }
+    free(g->names);
+    free(g->values);
+    *g = (Globals){0};
+}
+
+bool msgset_has(const MsgSet *s, const char *msg)
+{
+    for (uint32_t i = 0; i < s->count; i++)
+        if (strcmp(s->items[i], msg) == 0) return true;
+    return false;
+}
+
+bool msgset_add(MsgSet *s, const char *msg)
+{
+    if (msgset_has(s, msg)) return false;
+    if (s->count == s->cap) {
+        s->cap = s->cap ? s->cap * 2 : 8;
+        s->items = realloc(s->items, s->cap * sizeof(char *));
+        if (!s->items) abort();
+    }
+    s->items[s->count] = strdup(msg);
+    if (!s->items[s->count]) abort();
+    s->count++;
+    return true;
+}
+
+void msgset_clear(MsgSet *s)
+{
+    for (uint32_t i = 0; i < s->count; i++) free(s->items[i]);
+    free(s->items);
+    *s = (MsgSet){0};
+}
+
+/* ====================================================================
+ * The resolver
+ * ==================================================================== */
+
+typedef struct Visible {
+    const Str *name;   /* bound name */
+    int32_t slot;      /* its slot in the function frame */
+} Visible;
+
+typedef struct FnCtx {
+    struct FnCtx *parent;   /* enclosing function context, or NULL at top */
+    Visible *scope;         /* visible names, innermost last */
+    uint32_t nscope, capscope;
+    uint32_t nslots;        /* frame size so far */
+    const Str **cap_names;  /* names captured from outer frames */
+    int32_t *cap_src, *cap_dst;
+    uint32_t ncaps, capcaps;
+} FnCtx;
+
+typedef struct Constant {
+    Str *name;
+    Vec *value;
+} Constant;
+
+typedef struct Resolver {
+    Globals *globals;       /* engine/define names (NULL for modules) */
+    Buf *warnings;          /* load-time warnings */
+    Constant *consts;       /* shared builtin values, one Vec per name */
+    uint32_t nconsts, capconsts;
+    const char **unbound;   /* names already warned about */
+    uint32_t nunbound, capunbound;
+} Resolver;
+
+static void push_visible(FnCtx *c, const Str *name, int32_t slot)
+{
+    if (c->nscope == c->capscope) {
+        c->capscope = c->capscope ? c->capscope * 2 : 16;
+        c->scope = realloc(c->scope, c->capscope * sizeof(Visible));
+        if (!c->scope) abort();
+    }
+    c->scope[c->nscope++] = (Visible){name, (int32_t)slot};
+}
+
+static void add_capture(FnCtx *c, const Str *name, int32_t src, int32_t dst)
+{
+    if (c->ncaps == c->capcaps) {
+        c->capcaps = c->capcaps ? c->capcaps * 2 : 8;
+        c->cap_names = realloc(c->cap_names, c->capcaps * sizeof(Str *));
+        c->cap_src = realloc(c->cap_src, c->capcaps * sizeof(int32_t));
+        c->cap_dst = realloc(c->cap_dst, c->capcaps * sizeof(int32_t));
+        if (!c->cap_names || !c->cap_src || !c->cap_dst) abort();
+    }
+    c->cap_names[c->ncaps] = name;
+    c->cap_src[c->ncaps] = src;
+    c->cap_dst[c->ncaps] = dst;
+    c->ncaps++;
+}
+
+/* The slot of [name] visible in [c], capturing from outer contexts; -1 if
+ * no function context binds it. */
+static int32_t lookup_local(FnCtx *c, const Str *name)
+{
+    for (uint32_t i = c->nscope; i-- > 0;)
+        if (str_eq(c->scope[i].name, name)) return c->scope[i].slot;
+    if (!c->parent) return -1;
+    for (uint32_t i = 0; i < c->ncaps; i++)
+        if (str_eq(c->cap_names[i], name)) return c->cap_dst[i];
+    int32_t src = lookup_local(c->parent, name);
+    if (src < 0) return -1;
+    int32_t dst = (int32_t)c->nslots++;
+    add_capture(c, name, src, dst);
+    return dst;
+}
+
+/* Builtin constants of LANGUAGE.md §5.1; NULL value means null. */
+static bool builtin_constant(const Str *name, Vec **out)
+{
+    static const struct { const char *name; double value; } table[] = {
+        {"true", 1.0}, {"false", 0.0}, {"inf", 1.0 / 0.0}, {"nan", 0.0 / 0.0},
+        {"pi", 3.141592653589793}, {"\xcf\x80", 3.141592653589793},
+        {"tau", 6.283185307179586}, {"\xf0\x9d\x9c\x8f", 6.283185307179586},
+    };
+    if (name->len == 4 && memcmp(name->bytes, "null", 4) == 0) {
+        *out = NULL;
+        return true;
+    }
+    for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {
+        if (strcmp(table[i].name, name->bytes) == 0) {
+            *out = vec_num1(table[i].value);
+            return true;
+        }
+    }
+    return false;
+}
+
+/* The shared value of builtin constant or function [name]; false if none. */
+static bool builtin_value(Resolver *r, const Str *name, Vec **out)
+{
+    for (uint32_t i = 0; i < r->nconsts; i++) {
+        if (str_eq(r->consts[i].name, name)) {
+            *out = vec_retain(r->consts[i].value);
+            return true;
+        }
+    }
+    Vec *v;
+    if (!builtin_constant(name, &v)) {
+        const Builtin *bi = bi_lookup(name->bytes, name->len);
+        if (!bi) return false;
+        Func *f = calloc(1, sizeof *f);
+        if (!f) abort();
+        f->refs = 1;
+        f->bi = bi;
+        v = vec_func_take(f);
+    }
+    if (r->nconsts == r->capconsts) {
+        r->capconsts = r->capconsts ? r->capconsts * 2 : 16;
+        r->consts = realloc(r->consts, r->capconsts * sizeof(Constant));
+        if (!r->consts) abort();
+    }
+    r->consts[r->nconsts++] = (Constant){str_retain((Str *)name), v};
+    *out = vec_retain(v);
+    return true;
+}
+
+static void warn_unbound(Resolver *r, const Str *name)
+{
+    for (uint32_t i = 0; i < r->nunbound; i++)
+        if (strcmp(r->unbound[i], name->bytes) == 0) return;
+    if (r->nunbound == r->capunbound) {
+        r->capunbound = r->capunbound ? r->capunbound * 2 : 8;
+        r->unbound = realloc(r->unbound, r->capunbound * sizeof(char *));
+        if (!r->unbound) abort();
+    }
+    r->unbound[r->nunbound++] = name->bytes;
+    buf_printf(r->warnings, "Unbound name '%s'\n", name->bytes);
+}
+
+static void resolve_name(Resolver *r, FnCtx *c, AstNode *n)
+{
+    const Str *name = n->names[0];
+    int32_t slot = lookup_local(c, name);
+    if (slot >= 0) {
+        n->scope = SCOPE_LOCAL;
+        n->slot = slot;
+        return;
+    }
+    int g = globals_find(r->globals, name->bytes, name->len);
+    if (g >= 0) {
+        n->scope = SCOPE_GLOBAL;
+        n->slot = g;
+        return;
+    }
+    Vec *v;
+    if (builtin_value(r, name, &v)) {
+        n->scope = SCOPE_CONST;
+        vec_release(n->value);
+        n->value = v;
+        return;
+    }
+    n->scope = SCOPE_UNBOUND;
+    warn_unbound(r, name);
+}
+
+/* Give each name of [n] a new slot in [c] and make it visible. */
+static void bind_names(FnCtx *c, AstNode *n)
+{
+    if (!n->nnames) return;
+    free(n->slots);
+    n->slots = malloc(n->nnames * sizeof(int32_t));
+    if (!n->slots) abort();
+    for (uint32_t i = 0; i < n->nnames; i++) {
+        n->slots[i] = (int32_t)c->nslots++;
+        push_visible(c, n->names[i], n->slots[i]);
+    }
+}
+
+static void fninfo_free(void *p)
+{
+    FnInfo *fi = p;
+    free(fi->cap_src);
+    free(fi);
+}
+
+static void resolve(Resolver *r, FnCtx *c, AstNode *n);
+
+/* AST_FUNCTION: defaults in the defining context, body in a new one. */
+static void resolve_function(Resolver *r, FnCtx *c, AstNode *n)
+{
+    for (uint32_t i = 0; i < n->nkids; i++)
+        if (n->kids[i] && n->kids[i]->a) resolve(r, c, n->kids[i]->a);
+    FnCtx inner = {.parent = c, .nslots = 1};
+    const Str *fname = n->nnames ? n->names[0] : NULL;
+    if (fname && strcmp(fname->bytes, "<anon>") != 0) push_visible(&inner, fname, 0);
+    for (uint32_t i = 0; i < n->nkids; i++) {
+        AstNode *p = n->kids[i];
+        if (!p || !p->nnames) continue;
+        free(p->slots);
+        p->slots = malloc(sizeof(int32_t));
+        if (!p->slots) abort();
+        p->slots[0] = (int32_t)inner.nslots++;
+        push_visible(&inner, p->names[0], p->slots[0]);
+    }
+    if (n->a) resolve(r, &inner, n->a);
+    FnInfo *fi = calloc(1, sizeof *fi);
+    if (!fi) abort();
+    fi->nslots = inner.nslots;
+    fi->nparams = n->nkids;
+    fi->ncaps = inner.ncaps;
+    /* cap_src and cap_dst in one allocation: src[0..ncaps), dst after */
+    fi->cap_src = malloc((inner.ncaps ? inner.ncaps : 1) * 2 * sizeof(int32_t));
+    if (!fi->cap_src) abort();
+    for (uint32_t i = 0; i < inner.ncaps; i++) {
+        fi->cap_src[i] = inner.cap_src[i];
+        fi->cap_src[inner.ncaps + i] = inner.cap_dst[i];
+    }
+    if (n->aux_free) n->aux_free(n->aux);
+    n->aux = fi;
+    n->aux_free = fninfo_free;
+    free(inner.scope);
+    free(inner.cap_names);
+    free(inner.cap_src);
+    free(inner.cap_dst);
+}
+
+static void resolve(Resolver *r, FnCtx *c, AstNode *n)
+{
+    if (!n) return;
+    uint32_t mark = c->nscope;
+    switch (n->kind) {
+    case AST_NAME:
+        resolve_name(r, c, n);
+        return;
+    case AST_LET:
+        for (uint32_t i = 0; i < n->nkids; i++) {
+            AstNode *b = n->kids[i];
+            resolve(r, c, b->a);
+            bind_names(c, b);
+        }
+        resolve(r, c, n->a);
+        c->nscope = mark;
+        return;
+    case AST_FOR:
+        resolve(r, c, n->a);
+        bind_names(c, n);
+        resolve(r, c, n->b);
+        c->nscope = mark;
+        return;
+    case AST_IMPORT:
+        resolve(r, c, n->a);
+        bind_names(c, n);
+        resolve(r, c, n->b);
+        c->nscope = mark;
+        return;
+    case AST_FUNCTION:
+        resolve_function(r, c, n);
+        return;
+    case AST_TOP:
+        resolve(r, c, n->a);
+        return;
+    default:
+        break;
+    }
+    resolve(r, c, n->a);
+    resolve(r, c, n->b);
+    resolve(r, c, n->c);
+    for (uint32_t i = 0; i < n->nkids; i++) {
+        AstNode *k = n->kids[i];
+        if (k && k->kind == AST_BINDING) resolve(r, c, k->a);
+        else resolve(r, c, k);
+    }
+}
+
+/* ====================================================================
+ * Loading
+ * ==================================================================== */
+
+/* Register the symbol literals that the parser listed under AST_TOP.c. */
+static void register_symbols(const AstNode *top, SymTab *st)
+{
+    const AstNode *list = top->c;
+    if (!list) return;
+    for (uint32_t i = 0; i < list->nkids; i++) {
+        const AstNode *k = list->kids[i];
+        if (!k || !vec_is_obj(k->value)) continue;
+        const Elem *e = &vec_celems(k->value)[0];
+        if (e->kind == EL_STR) symtab_add(st, e->str->bytes, e->str->len);
+    }
+}
+
+static char *dir_of(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) return strdup(".");
+    if (slash == path) return strdup("/");
+    return strndup(path, (size_t)(slash - path));
+}
+
+Program *program_load_text(const char *path, const char *text, size_t len,
+                           Globals *globals, SymTab *st, Buf *err)
+{
+    AstNode *top = parse_program(path, text, len, 0, err);
+    if (!top) return NULL;
+    Program *p = calloc(1, sizeof *p);
+    if (!p) abort();
+    p->refs = 1;
+    p->top = top;
+    p->path = strdup(path);
+    p->dir = dir_of(path);
+    if (!p->path || !p->dir) abort();
+    register_symbols(top, st);
+    if (top->nkids) {
+        p->pragmas = calloc(top->nkids, sizeof(Pragma));
+        if (!p->pragmas) abort();
+        for (uint32_t i = 0; i < top->nkids; i++) {
+            const AstNode *b = top->kids[i];
+            if (!b || !b->nnames) continue;
+            p->pragmas[p->npragmas].name = str_retain(b->names[0]);
+            p->pragmas[p->npragmas].value = vec_retain(b->value);
+            p->npragmas++;
+        }
+    }
+    Resolver r = {.globals = globals, .warnings = &p->warnings};
+    FnCtx ctx = {0};
+    resolve(&r, &ctx, top);
+    p->nslots = ctx.nslots;
+    free(ctx.scope);
+    free(ctx.cap_names);
+    free(ctx.cap_src);
+    free(ctx.cap_dst);
+    for (uint32_t i = 0; i < r.nconsts; i++) {
+        str_release(r.consts[i].name);
+        vec_release(r.consts[i].value);
+    }
+    free(r.consts);
+    free(r.unbound);
+    return p;
+}
+
+Program *program_load(const char *path, Globals *globals, SymTab *st, Buf *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        buf_printf(err, "%s: error: cannot read: %s\n", path, strerror(errno));
+        return NULL;
+    }
+    Buf text = BUF_INIT;
+    char chunk[65536];
+    size_t n;
+    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) buf_add(&text, chunk, n);
+    bool bad = ferror(f);
+    fclose(f);
+    if (bad) {
+        buf_printf(err, "%s: error: cannot read: I/O error\n", path);
+        buf_free(&text);
+        return NULL;
+    }
+    Program *p = program_load_text(path, text.data ? text.data : "", text.len, globals, st, err);
+    buf_free(&text);
+    return p;
+}
+
+void program_release(Program *p)
+{
+    if (!p || --p->refs) return;
+    ast_free(p->top);
+    for (uint32_t i = 0; i < p->npragmas; i++) {
+        str_release(p->pragmas[i].name);
+        vec_release(p->pragmas[i].value);
+    }
+    free(p->pragmas);
+    free(p->path);
+    free(p->dir);
+    buf_free(&p->warnings);
+    free(p);
+}

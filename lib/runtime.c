@@ -1,0 +1,404 @@
+/* runtime.c: one interpreter and its frame loop (LANGUAGE.md §6,
+ * FORMATS.md §5).
+ *
+ * A runtime owns the program, the state dictionary, the physics world, the
+ * symbol table, the engine names (Globals) and the beat clock. fl_step()
+ * runs one frame in the order of LANGUAGE.md §6.3: compute the frame names,
+ * (re)apply pragmas after a load, evaluate the program into a node tree,
+ * hand the top-level !physics nodes to the physics engine, store the beat
+ * counter under "_counter", then advance `time` by 1/fps (a running
+ * floating-point sum, not frame/fps).
+ */
+#include "flitter.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "format.h"
+#include "physics/physics.h"
+#include "program.h"
+
+/* The engine names of LANGUAGE.md §6.2 in a fixed order (indices into
+ * Globals); defines are added after them. */
+enum {
+    G_FRAME, G_TIME, G_BEAT, G_DELTA, G_TEMPO, G_QUANTUM, G_FPS, G_PERFORMANCE,
+    G_SLOW_FRAME, G_CLOCK, G_REALTIME, G_RUN_TIME, G_SCREEN, G_FULLSCREEN, G_VSYNC,
+    G_OFFSCREEN, G_OPENGL_ES, G__COUNT
+};
+static const char *const engine_names[G__COUNT] = {
+    "frame", "time", "beat", "delta", "tempo", "quantum", "fps", "performance",
+    "slow_frame", "clock", "realtime", "run_time", "screen", "fullscreen", "vsync",
+    "offscreen", "opengl_es",
+};
+
+struct fl_runtime {
+    fl_options opts;        /* as given to fl_new */
+    SymTab *symtab;         /* symbol names for value text */
+    StateDict *state;       /* the state dictionary */
+    PhysicsWorld *physics;  /* persistent physics systems */
+    Globals globals;        /* engine names and defines */
+    Program *prog;          /* current program, or NULL */
+    bool pragmas_pending;   /* apply pragmas at the next step */
+    Node *root;             /* last frame's tree */
+    MsgSet errors[2];       /* this and the previous frame's errors */
+    MsgSet debug[2];        /* this and the previous frame's debug lines */
+    int cur;                /* index of "this frame" in errors/debug */
+    long frame;             /* frames evaluated so far */
+    double frame_time;      /* `time` of the next frame, seconds */
+    double last_time;       /* `time` of the last evaluated frame */
+    double target_fps;      /* frame rate, after pragmas */
+    double period;          /* beat clock: seconds per beat */
+    double quantum;         /* beat clock: beats per bar */
+    double start;           /* beat clock: time of beat 0 */
+    double last_beat;       /* beat of the previous frame */
+    double wall_start;      /* realtime: monotonic clock at start */
+};
+
+fl_options fl_default_options(void)
+{
+    return (fl_options){.fps = 60.0, .frames = -1, .realtime = false, .log = stderr, .debug = stdout};
+}
+
+static double monotonic(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+fl_runtime *fl_new(const fl_options *opts)
+{
+    fl_runtime *rt = calloc(1, sizeof *rt);
+    if (!rt) abort();
+    rt->opts = opts ? *opts : fl_default_options();
+    if (!(rt->opts.fps > 0)) rt->opts.fps = 60.0;
+    rt->symtab = symtab_new();
+    rt->state = state_new();
+    rt->physics = phys_new();
+    for (int i = 0; i < G__COUNT; i++) globals_add(&rt->globals, engine_names[i]);
+    rt->target_fps = rt->opts.fps;
+    rt->period = 0.5;
+    rt->quantum = 4.0;
+    rt->start = 0.0;
+    rt->wall_start = monotonic();
+    /* static names (§6.2) */
+    Vec *v = vec_num1(rt->opts.realtime ? 1.0 : 0.0);
+    globals_set(&rt->globals, G_REALTIME, v);
+    vec_release(v);
+    if (rt->opts.frames >= 0) {
+        v = vec_num1((double)rt->opts.frames / rt->opts.fps);
+        globals_set(&rt->globals, G_RUN_TIME, v);
+        vec_release(v);
+    }
+    v = vec_num1(0.0);
+    for (int g = G_SCREEN; g <= G_OPENGL_ES; g++) globals_set(&rt->globals, g, v);
+    vec_release(v);
+    return rt;
+}
+
+void fl_free(fl_runtime *rt)
+{
+    if (!rt) return;
+    program_release(rt->prog);
+    node_release(rt->root);
+    phys_free(rt->physics);
+    state_free(rt->state);
+    globals_free(&rt->globals);
+    for (int i = 0; i < 2; i++) {
+        msgset_clear(&rt->errors[i]);
+        msgset_clear(&rt->debug[i]);
+    }
+    symtab_free(rt->symtab);
+    free(rt);
+}
+
+/* ====================================================================
+ * Defines (FORMATS.md §4)
+ * ==================================================================== */
+
+/* A number per LANGUAGE.md §1.3 (underscores between digits, one optional
+ * suffix multiplier), or a time code per §1.4; false if [s] is neither. */
+static bool parse_number_text(const char *s, size_t n, double *out)
+{
+    static const struct { const char *suffix; double mult; } suffixes[] = {
+        {"deg", 0.002777777777777778}, {"\xc2\xb0", 0.002777777777777778},
+        {"\xc2\xb5", 1e-6}, {"p", 1e-12}, {"n", 1e-9}, {"u", 1e-6}, {"m", 1e-3},
+        {"k", 1e3}, {"M", 1e6}, {"G", 1e9}, {"T", 1e12},
+    };
+    if (n == 0 || n > 200) return false;
+    /* time code: [h:]m:s[.f] */
+    if (memchr(s, ':', n)) {
+        double parts[3];
+        int np = 0;
+        size_t i = 0;
+        while (i <= n && np < 3) {
+            size_t j = i;
+            while (j < n && s[j] != ':') j++;
+            char tmp[64];
+            if (j == i || j - i >= sizeof tmp) return false;
+            memcpy(tmp, s + i, j - i);
+            tmp[j - i] = 0;
+            for (size_t k = 0; tmp[k]; k++)
+                if (!((tmp[k] >= '0' && tmp[k] <= '9') || (tmp[k] == '.' && np == 2))) return false;
+            parts[np++] = strtod(tmp, NULL);
+            i = j + 1;
+            if (j == n) break;
+        }
+        if (i <= n || np < 2) return false;
+        double sec = parts[np - 1] + 60.0 * parts[np - 2];
+        if (np == 3) sec = sec + 3600.0 * parts[0];
+        *out = sec;
+        return true;
+    }
+    double mult = 1.0;
+    for (size_t k = 0; k < sizeof suffixes / sizeof suffixes[0]; k++) {
+        size_t sl = strlen(suffixes[k].suffix);
+        if (n > sl && memcmp(s + n - sl, suffixes[k].suffix, sl) == 0) {
+            mult = suffixes[k].mult;
+            n -= sl;
+            break;
+        }
+    }
+    char tmp[256];
+    size_t t = 0;
+    for (size_t i = 0; i < n; i++) {
+        char c = s[i];
+        if (c == '_') {
+            if (i == 0 || i + 1 >= n || !(s[i - 1] >= '0' && s[i - 1] <= '9') ||
+                !(s[i + 1] >= '0' && s[i + 1] <= '9'))
+                return false;
+            continue;
+        }
+        if (!((c >= '0' && c <= '9') || c == '.' || c == 'e' || c == 'E' || c == '+' || c == '-'))
+            return false;
+        tmp[t++] = c;
+    }
+    tmp[t] = 0;
+    if (!t || !((tmp[0] >= '0' && tmp[0] <= '9') || tmp[0] == '.')) return false;
+    char *end;
+    double x = strtod(tmp, &end);
+    if (*end) return false;
+    *out = x * mult;
+    return true;
+}
+
+static bool valid_name(const char *name)
+{
+    if (!name || !*name) return false;
+    for (const unsigned char *p = (const unsigned char *)name; *p; p++) {
+        if (*p == '_' || *p >= 0x80 || (*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z')) continue;
+        if (p != (const unsigned char *)name && ((*p >= '0' && *p <= '9') || *p == '\'')) continue;
+        return false;
+    }
+    return true;
+}
+
+int fl_define(fl_runtime *rt, const char *name, const char *text)
+{
+    if (!valid_name(name)) return -1;
+    int g = globals_add(&rt->globals, name);
+    size_t n = strlen(text), i = 0;
+    Vec **parts = calloc(n + 1, sizeof(Vec *));
+    if (!parts) abort();
+    size_t np = 0;
+    while (n && i <= n) {
+        size_t j = i;
+        while (j < n && text[j] != ';') j++;
+        const char *p = text + i;
+        size_t len = j - i;
+        double x;
+        if (len > 1 && p[0] == ':') {
+            parts[np++] = vec_num1(symtab_add(rt->symtab, p + 1, len - 1));
+        } else if (parse_number_text(p, len, &x)) {
+            parts[np++] = vec_num1(x);
+        } else {
+            parts[np++] = vec_str(p, len);
+        }
+        i = j + 1;
+    }
+    Vec *v = vec_compose(parts, np);
+    for (size_t k = 0; k < np; k++) vec_release(parts[k]);
+    free(parts);
+    globals_set(&rt->globals, g, v);
+    vec_release(v);
+    return 0;
+}
+
+/* ====================================================================
+ * Loading
+ * ==================================================================== */
+
+static void log_warnings(fl_runtime *rt, const Program *p)
+{
+    if (!rt->opts.log || !p->warnings.len) return;
+    const char *s = p->warnings.data;
+    while (*s) {
+        const char *nl = strchr(s, '\n');
+        size_t len = nl ? (size_t)(nl - s) : strlen(s);
+        fprintf(rt->opts.log, "%s: warning: %.*s\n", p->path, (int)len, s);
+        s += len + (nl ? 1 : 0);
+    }
+}
+
+static int install(fl_runtime *rt, Program *p)
+{
+    if (!p) return -1;
+    log_warnings(rt, p);
+    program_release(rt->prog);
+    rt->prog = p;
+    rt->pragmas_pending = true;
+    return 0;
+}
+
+int fl_load(fl_runtime *rt, const char *path, Buf *err)
+{
+    return install(rt, program_load(path, &rt->globals, rt->symtab, err));
+}
+
+int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err)
+{
+    return install(rt, program_load_text(name, text, len, &rt->globals, rt->symtab, err));
+}
+
+/* ====================================================================
+ * The beat clock (LANGUAGE.md §6.1)
+ * ==================================================================== */
+
+static double beat_at(const fl_runtime *rt, double t) { return (t - rt->start) / rt->period; }
+
+/* Python float modulo: the result takes the sign of [b]. */
+static double py_fmod(double a, double b)
+{
+    double r = fmod(a, b);
+    if (r != 0.0 && ((r < 0) != (b < 0))) r += b;
+    return r;
+}
+
+static void set_tempo(fl_runtime *rt, double tempo, double t)
+{
+    double b = beat_at(rt, t);
+    rt->period = 60.0 / tempo;
+    rt->start = t - b * rt->period;
+}
+
+static void set_quantum(fl_runtime *rt, double q, double t)
+{
+    double phase = py_fmod(beat_at(rt, t), rt->quantum);
+    rt->quantum = q;
+    double adj = py_fmod(phase - beat_at(rt, t), rt->quantum);
+    if (adj > rt->quantum) adj -= rt->quantum;
+    rt->start -= adj * rt->period;
+}
+
+static Vec *counter_key(void) { return vec_str("_counter", 8); }
+
+/* Apply the program's pragmas at load (LANGUAGE.md §6.4). */
+static void apply_pragmas(fl_runtime *rt)
+{
+    Vec *key = counter_key();
+    bool fresh = state_get(rt->state, key) == NULL;
+    vec_release(key);
+    double fps = rt->opts.fps;
+    for (uint32_t i = 0; i < rt->prog->npragmas; i++) {
+        const Pragma *p = &rt->prog->pragmas[i];
+        if (!vec_is_scalar(p->value)) continue;
+        double x = vec_scalar(p->value);
+        if (strcmp(p->name->bytes, "fps") == 0) {
+            fps = x;
+        } else if (strcmp(p->name->bytes, "tempo") == 0 && fresh) {
+            if (x != 60.0 / rt->period) set_tempo(rt, x, rt->frame_time);
+        } else if (strcmp(p->name->bytes, "quantum") == 0 && fresh) {
+            if (x != rt->quantum) set_quantum(rt, x, rt->frame_time);
+        }
+    }
+    rt->target_fps = fps;
+}
+
+/* ====================================================================
+ * The frame
+ * ==================================================================== */
+
+static void set_num(fl_runtime *rt, int g, double x)
+{
+    Vec *v = vec_num1(x);
+    globals_set(&rt->globals, g, v);
+    vec_release(v);
+}
+
+/* Print the messages of [now] that were not in [before]. */
+static void report(FILE *f, const char *prefix, const MsgSet *now, const MsgSet *before)
+{
+    if (!f) return;
+    for (uint32_t i = 0; i < now->count; i++)
+        if (!msgset_has(before, now->items[i])) fprintf(f, "%s%s\n", prefix, now->items[i]);
+}
+
+int fl_step(fl_runtime *rt)
+{
+    if (!rt->prog) return -1;
+    if (rt->opts.realtime) rt->frame_time = monotonic() - rt->wall_start;
+    double t = rt->frame_time;
+    double beat = beat_at(rt, t);
+    double delta = beat - rt->last_beat;
+    rt->last_beat = beat;
+    set_num(rt, G_FRAME, (double)rt->frame);
+    set_num(rt, G_TIME, t);
+    set_num(rt, G_BEAT, beat);
+    set_num(rt, G_DELTA, delta);
+    set_num(rt, G_TEMPO, 60.0 / rt->period);
+    set_num(rt, G_QUANTUM, rt->quantum);
+    set_num(rt, G_FPS, rt->target_fps);
+    set_num(rt, G_PERFORMANCE, 2.0);
+    set_num(rt, G_SLOW_FRAME, 0.0);
+    set_num(rt, G_CLOCK, t);
+    if (rt->pragmas_pending) {
+        apply_pragmas(rt);
+        rt->pragmas_pending = false;
+    }
+
+    int prev = rt->cur;
+    rt->cur ^= 1;
+    msgset_clear(&rt->errors[rt->cur]);
+    msgset_clear(&rt->debug[rt->cur]);
+    Eval ev = {
+        .prog = rt->prog, .globals = &rt->globals, .state = rt->state, .symtab = rt->symtab,
+        .errors = &rt->errors[rt->cur], .debug = &rt->debug[rt->cur],
+    };
+    Node *root = eval_program(&ev);
+    node_release(rt->root);
+    rt->root = root;
+    report(rt->opts.log, "Execution error: ", &rt->errors[rt->cur], &rt->errors[prev]);
+    report(rt->opts.debug, "", &rt->debug[rt->cur], &rt->debug[prev]);
+
+    /* hand the top-level !physics nodes to the engine, in order */
+    Node *small[8];
+    Node **phys = root->nchildren > 8 ? malloc(root->nchildren * sizeof(Node *)) : small;
+    if (!phys) abort();
+    size_t nphys = 0;
+    for (uint32_t i = 0; i < root->nchildren; i++)
+        if (node_is(root->children[i], "physics")) phys[nphys++] = root->children[i];
+    PhysicsFrame pf = {.time = t, .fps = rt->target_fps, .realtime = rt->opts.realtime,
+                       .performance = 2.0};
+    phys_run_frame(rt->physics, phys, nphys, rt->state, &pf);
+    if (phys != small) free(phys);
+
+    /* the beat counter (LANGUAGE.md §6.5) */
+    double counter[3] = {60.0 / rt->period, rt->quantum, rt->start};
+    Vec *key = counter_key(), *val = vec_from_nums(counter, 3);
+    state_set(rt->state, key, val);
+    vec_release(key);
+    vec_release(val);
+
+    rt->last_time = t;
+    rt->frame++;
+    if (!rt->opts.realtime) rt->frame_time += 1.0 / rt->target_fps;
+    return 0;
+}
+
+const Node *fl_root(const fl_runtime *rt) { return rt->root; }
+StateDict *fl_state(fl_runtime *rt) { return rt->state; }
+const SymTab *fl_symbols(const fl_runtime *rt) { return rt->symtab; }
+long fl_frame_count(const fl_runtime *rt) { return rt->frame; }
+double fl_frame_time(const fl_runtime *rt) { return rt->last_time; }

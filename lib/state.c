@@ -1,0 +1,143 @@
+/* state.c: the state dictionary (LANGUAGE.md §3.17).
+ *
+ * An open-addressing hash table of (key vector, value vector) entries with
+ * linear probing. The table size is a power of two and is doubled when more
+ * than half the slots are used (live or deleted). Each slot caches the key's
+ * hash, vec_hash(key, false) of LANGUAGE.md §3.16 (raw bit patterns, so 0 and
+ * -0 are distinct keys, as in the reference). Deleted entries leave a
+ * tombstone (key NULL, hash TOMB) so probe chains stay intact; tombstones are
+ * dropped when the table is rebuilt.
+ */
+#include "state.h"
+
+#include <stdlib.h>
+
+#define TOMB UINT64_C(1)     /* marks a deleted slot (with key == NULL) */
+
+typedef struct Slot {
+    Vec *key;       /* NULL: empty (hash 0) or deleted (hash TOMB) */
+    Vec *value;     /* non-empty value when key != NULL */
+    uint64_t hash;  /* cached vec_hash(key, false) */
+} Slot;
+
+struct StateDict {
+    Slot *slots;      /* cap slots */
+    size_t cap;       /* power of two */
+    size_t live;      /* entries with a key */
+    size_t used;      /* live + tombstones */
+};
+
+StateDict *state_new(void)
+{
+    StateDict *sd = calloc(1, sizeof *sd);
+    if (!sd) abort();
+    sd->cap = 64;
+    sd->slots = calloc(sd->cap, sizeof(Slot));
+    if (!sd->slots) abort();
+    return sd;
+}
+
+void state_clear(StateDict *sd)
+{
+    for (size_t i = 0; i < sd->cap; i++) {
+        vec_release(sd->slots[i].key);
+        vec_release(sd->slots[i].value);
+        sd->slots[i] = (Slot){NULL, NULL, 0};
+    }
+    sd->live = sd->used = 0;
+}
+
+void state_free(StateDict *sd)
+{
+    if (!sd) return;
+    state_clear(sd);
+    free(sd->slots);
+    free(sd);
+}
+
+/* The key's hash, kept clear of the two slot markers 0 and TOMB. */
+static uint64_t key_hash(const Vec *key)
+{
+    uint64_t h = vec_hash(key, false);
+    return h <= TOMB ? h + 2 : h;
+}
+
+/* The slot holding [key], or NULL. */
+static Slot *find(const StateDict *sd, const Vec *key, uint64_t h)
+{
+    size_t mask = sd->cap - 1;
+    for (size_t i = (size_t)h & mask;; i = (i + 1) & mask) {
+        Slot *s = &sd->slots[i];
+        if (!s->key) {
+            if (s->hash != TOMB) return NULL;
+            continue;
+        }
+        if (s->hash == h && vec_key_equal(s->key, key)) return s;
+    }
+}
+
+Vec *state_get(const StateDict *sd, const Vec *key)
+{
+    if (!key || !key->len) return NULL;
+    Slot *s = find(sd, key, key_hash(key));
+    return s ? s->value : NULL;
+}
+
+static void rebuild(StateDict *sd, size_t cap)
+{
+    Slot *old = sd->slots;
+    size_t oldcap = sd->cap;
+    sd->slots = calloc(cap, sizeof(Slot));
+    if (!sd->slots) abort();
+    sd->cap = cap;
+    sd->used = sd->live;
+    for (size_t i = 0; i < oldcap; i++) {
+        if (!old[i].key) continue;
+        size_t j = (size_t)old[i].hash & (cap - 1);
+        while (sd->slots[j].key) j = (j + 1) & (cap - 1);
+        sd->slots[j] = old[i];
+    }
+    free(old);
+}
+
+bool state_set(StateDict *sd, const Vec *key, const Vec *value)
+{
+    if (!key || !key->len) return false;
+    uint64_t h = key_hash(key);
+    Slot *s = find(sd, key, h);
+    if (!value || !value->len) {
+        if (!s) return false;
+        vec_release(s->key);
+        vec_release(s->value);
+        *s = (Slot){NULL, NULL, TOMB};
+        sd->live--;
+        return true;
+    }
+    if (s) {
+        if (s->value == value || vec_key_equal(s->value, value)) return false;
+        Vec *old = s->value;
+        s->value = vec_retain((Vec *)value);
+        vec_release(old);
+        return true;
+    }
+    if ((sd->used + 1) * 2 > sd->cap) rebuild(sd, sd->live * 4 > sd->cap ? sd->cap * 2 : sd->cap);
+    size_t mask = sd->cap - 1, i = (size_t)h & mask;
+    while (sd->slots[i].key) i = (i + 1) & mask;
+    if (sd->slots[i].hash != TOMB) sd->used++;
+    sd->slots[i] = (Slot){vec_retain((Vec *)key), vec_retain((Vec *)value), h};
+    sd->live++;
+    return true;
+}
+
+size_t state_count(const StateDict *sd) { return sd->live; }
+
+StateEntry *state_entries(const StateDict *sd, size_t *n)
+{
+    StateEntry *e = malloc((sd->live ? sd->live : 1) * sizeof *e);
+    if (!e) abort();
+    size_t k = 0;
+    for (size_t i = 0; i < sd->cap; i++)
+        if (sd->slots[i].key) e[k++] = (StateEntry){sd->slots[i].key, sd->slots[i].value};
+    *n = k;
+    return e;
+}

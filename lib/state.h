@@ -1,0 +1,39 @@
+/* state.h: the state dictionary (LANGUAGE.md §3.17, PHYSICS.md "State
+ * interaction").
+ *
+ * A hash table from key vectors to non-empty value vectors. Keys compare with
+ * vec_key_equal (raw bit patterns: 0 and -0 are different keys; `:a` and "a"
+ * differ) and hash with vec_hash(key, false). Setting a key to null (or an
+ * empty vector) deletes it. The ownership rule of value.h applies.
+ */
+#ifndef FL_STATE_H
+#define FL_STATE_H
+
+#include "value.h"
+
+typedef struct StateDict StateDict;
+
+typedef struct StateEntry {
+    Vec *key;     /* non-null key */
+    Vec *value;   /* non-empty value */
+} StateEntry;
+
+StateDict *state_new(void);
+void state_free(StateDict *sd);
+/* The value stored under [key] (borrowed; valid until the next state_set
+ * or state_clear), or NULL when absent or when [key] is null. */
+Vec *state_get(const StateDict *sd, const Vec *key);
+/* Store [value] under [key] (both borrowed and retained). A null or empty
+ * [value] deletes the entry. A null [key] is ignored. Returns true when the
+ * stored value changed (a set to an equal value, or a delete of a missing
+ * key, is not a change). */
+bool state_set(StateDict *sd, const Vec *key, const Vec *value);
+/* Number of entries. */
+size_t state_count(const StateDict *sd);
+/* Remove every entry. */
+void state_clear(StateDict *sd);
+/* Fill a new array (caller frees with free()) with the [*n] entries, in
+ * unspecified order; the vectors are borrowed from the dictionary. */
+StateEntry *state_entries(const StateDict *sd, size_t *n);
+
+#endif

@@ -1,0 +1,11 @@
+/* exitcodes.h: the `flitter` command's exit statuses (FORMATS.md §4). */
+#ifndef FL_EXITCODES_H
+#define FL_EXITCODES_H
+
+enum {
+    EXIT_OK = 0,        /* success */
+    EXIT_LOAD = 1,      /* the script could not be loaded (syntax error, missing file) */
+    EXIT_USAGE = 2,     /* bad command-line usage */
+};
+
+#endif
