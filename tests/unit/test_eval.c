@@ -1,0 +1,202 @@
+/* test_eval.c: evaluation semantics (LANGUAGE.md §4) through the public API:
+ * scopes, closures, recursion limits, templates, node operations, run-time
+ * error messages. Each test evaluates one frame of a program and compares
+ * the node-tree dump (FORMATS.md §3) and the logged messages. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "flitter.h"
+#include "format.h"
+
+typedef struct Run {
+    char *tree;     /* tree dump of the last frame */
+    char *log;      /* everything logged */
+} Run;
+
+static Run run_frames(const char *src, int frames)
+{
+    Run r = {0};
+    size_t loglen;
+    FILE *log = open_memstream(&r.log, &loglen);
+    fl_options o = fl_default_options();
+    o.log = log;
+    o.debug = log;
+    fl_runtime *rt = fl_new(&o);
+    Buf err = BUF_INIT;
+    if (fl_load_text(rt, "test.fl", src, strlen(src), &err) != 0) {
+        fprintf(log, "%s", buf_cstr(&err));
+    } else {
+        for (int i = 0; i < frames; i++) fl_step(rt);
+        Buf t = BUF_INIT;
+        fmt_tree(&t, fl_root(rt), fl_symbols(rt));
+        r.tree = strdup(buf_cstr(&t));
+        buf_free(&t);
+    }
+    buf_free(&err);
+    fl_free(rt);
+    fclose(log);
+    return r;
+}
+
+static void expect(const char *src, const char *tree, const char *log)
+{
+    Run r = run_frames(src, 1);
+    assert_non_null(r.tree);
+    assert_string_equal(r.tree, tree);
+    if (log) assert_string_equal(r.log, log);
+    free(r.tree);
+    free(r.log);
+}
+
+static void test_shadowing(void **s)
+{
+    (void)s;
+    expect("let x=10\nif x>5\n    let x=x*2\n    !foo x=x\n!bar x=x\n",
+           "!root\n !foo x=20\n !bar x=10\n", "");
+}
+
+static void test_closures_capture_by_value(void **s)
+{
+    (void)s;
+    expect("let x=10\nfunc add_x(y)\n    x+y\nlet x=20\n!t r=add_x(5)\n",
+           "!root\n !t r=15\n", "");
+}
+
+static void test_program_a(void **s)
+{
+    (void)s;
+    expect("let x=10\n"
+           "func add_x(y, k=x*2)\n    x+y+k\n"
+           "let x=20\n"
+           "func f(a, b=2, c)\n    a*b+c\n"
+           "!t1 r=add_x(5) s=f(3, c=1) t=f(1,2,3,4) u=f(1, d=5, c=2) v=f()\n"
+           "let a;b;c = 1;2\n!t3 a=a b=b c=c\n"
+           "!t4 #z #a y=1 x=2 y=3\n"
+           "!t5\n    1\n    \"s\"\n    !c1\n    (!c2;!c3) #tag\n",
+           "!root\n !t1 r=35 s=7 t=5 u=4\n !t3 a=1 b=2 c=1\n !t4 #a #z y=3 x=2\n"
+           " !t5\n  !c1\n  !c2 #tag\n  !c3 #tag\n",
+           NULL);
+}
+
+static void test_precedence_program_b(void **s)
+{
+    (void)s;
+    expect("let x=20\n!t2 a=(x;y for x;y in 1;2;3) b=((x;y) for x in ..2 for y in 10;20)\n",
+           "!root\n !t2 a=20;2;3 b=0;10;1;10;20\n", NULL);
+}
+
+static void test_recursion_limit(void **s)
+{
+    (void)s;
+    expect("func rec(n)\n    rec(n+1)\nlet g = func(q) q*2\n!t6 r=rec(0)\n!t7 r=(g;g)(4) s=(g;5)(1)\n",
+           "!root\n !t6\n !t7 r=8;8 s=2\n", NULL);
+    Run r = run_frames("func rec(n)\n    rec(n+1)\n!t r=rec(0)\n", 1);
+    assert_non_null(strstr(r.log, "Execution error: Recursion depth exceeded for func 'rec'\n"));
+    free(r.tree);
+    free(r.log);
+    r = run_frames("let g = func(q) q*2\n!t s=(g;5)(1)\n", 1);
+    assert_non_null(strstr(r.log, "Execution error: 5.0 is not callable\n"));
+    free(r.tree);
+    free(r.log);
+}
+
+static void test_errors_reported_once(void **s)
+{
+    (void)s;
+    Run r = run_frames("!t r=sqrt(4, 5)\n", 3);
+    const char *first = strstr(r.log, "Execution error: Error calling sqrtv");
+    assert_non_null(first);
+    assert_null(strstr(first + 1, "Execution error: Error calling sqrtv"));
+    free(r.tree);
+    free(r.log);
+}
+
+static void test_templates_program_d(void **s)
+{
+    (void)s;
+    expect("func foo(nodes, x=10, y, z='world')\n"
+           "    !foo x=x z='hello';z\n"
+           "        nodes #test y=y\n"
+           "@foo\n"
+           "@foo y=5\n"
+           "    @foo z='me' x=99\n"
+           "        !baz\n",
+           "!root\n !foo x=10 z=\"hello\";\"world\"\n !foo x=10 z=\"hello\";\"world\"\n"
+           "  !foo #test x=99 z=\"hello\";\"me\" y=5\n   !baz #test\n",
+           NULL);
+}
+
+static void test_append_program_e(void **s)
+{
+    (void)s;
+    expect("let n=!leaf\n!a << !b x=1 << n\n    !c\n"
+           "let s =\n    !x\n    !y\n"
+           "let u;v =\n    1\n    2\n    3\n"
+           "!t3 u=u v=v s=s\n!t4 x=(1 if 0 else 2 if 1 else 3)\n"
+           "if 0\n    !no\nelif null\n    !no2\nelse\n    !yes\n"
+           "!t5 p=(((!p1;1;!p2) #tg) x=3)\n",
+           "!root\n !a\n  !b x=1\n   !leaf\n    !c\n !t3 u=1 v=2 s=(!x);(!y)\n !t4 x=2\n !yes\n"
+           " !t5 p=(!p1 #tg x=3);1;(!p2 #tg x=3)\n",
+           NULL);
+}
+
+static void test_unbound_name_warning(void **s)
+{
+    (void)s;
+    Run r = run_frames("!t v=(x;y where x=1 y=2)\n", 1);
+    assert_string_equal(r.tree, "!root\n !t v=2\n");
+    assert_non_null(strstr(r.log, "Unbound name 'x'"));
+    free(r.tree);
+    free(r.log);
+}
+
+static void test_identity_and_nan(void **s)
+{
+    (void)s;
+    expect("let q=0/0\n!t a=(nan == nan) b=(q == q) c=((0/0) == (0/0))\n",
+           "!root\n !t a=1 b=1 c=0\n", NULL);
+}
+
+static void test_frame_names(void **s)
+{
+    (void)s;
+    Run r = run_frames("%pragma fps 30\n%pragma tempo 110\n!t fps=fps tempo=tempo time=time frame=frame\n", 2);
+    assert_string_equal(r.tree, "!root\n !t fps=30 tempo=110.00000000000001 time=0.03333333333333333 frame=1\n");
+    free(r.tree);
+    free(r.log);
+}
+
+static void test_syntax_error(void **s)
+{
+    (void)s;
+    Run r = run_frames("!t a=1\n!t b=2**-1\n", 1);
+    assert_null(r.tree);
+    assert_non_null(strstr(r.log, "test.fl:2:"));
+    assert_non_null(strstr(r.log, ": error: "));
+    free(r.log);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_shadowing),
+        cmocka_unit_test(test_closures_capture_by_value),
+        cmocka_unit_test(test_program_a),
+        cmocka_unit_test(test_precedence_program_b),
+        cmocka_unit_test(test_recursion_limit),
+        cmocka_unit_test(test_errors_reported_once),
+        cmocka_unit_test(test_templates_program_d),
+        cmocka_unit_test(test_append_program_e),
+        cmocka_unit_test(test_unbound_name_warning),
+        cmocka_unit_test(test_identity_and_nan),
+        cmocka_unit_test(test_frame_names),
+        cmocka_unit_test(test_syntax_error),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
