@@ -18,6 +18,7 @@
 #include "builtins/builtins.h"
 #include "eval.h"
 #include "format.h"
+#include "module.h"
 
 /* Recursion limit per function value (§4.8). */
 #define MAX_ACTIVE_CALLS 500
@@ -556,6 +557,55 @@ static Vec *eval_ifelse(Eval *ev, const AstNode *n)
 }
 
 /* ====================================================================
+ * Modules (§4.13)
+ * ==================================================================== */
+
+/* AST_IMPORT: import names from a, then the body b. */
+static Vec *eval_import(Eval *ev, const AstNode *n)
+{
+    Vec *file = eval_expr(ev, n->a);
+    Buf name = BUF_INIT, path = BUF_INIT;
+    fmt_str(&name, file, ev->symtab);
+    vec_release(file);
+    const char *s = buf_cstr(&name);
+    if (s[0] == '/') buf_puts(&path, s);
+    else buf_printf(&path, "%s/%s", eval_script_dir(ev), s);
+    Vec *small[8];
+    Vec **vals = n->nnames > 8 ? malloc(n->nnames * sizeof(Vec *)) : small;
+    if (!vals) abort();
+    if (ev->modules) {
+        module_import(ev->modules, ev, buf_cstr(&path), n->names, n->nnames, vals);
+    } else {
+        for (uint32_t i = 0; i < n->nnames; i++) vals[i] = NULL;
+        errorf(ev, "Unable to import from '%s'", buf_cstr(&path));
+    }
+    for (uint32_t i = 0; i < n->nnames; i++) set_slot(ev, n->slots[i], vals[i]);
+    if (vals != small) free(vals);
+    buf_free(&name);
+    buf_free(&path);
+    return eval_expr(ev, n->b);
+}
+
+/* AST_EXPORT: in a module, record every top-level name's value. */
+static void eval_export(Eval *ev, const AstNode *n)
+{
+    const ExportInfo *x = n->aux;
+    Exports *out = ev->exports;
+    if (!out || !x) return;
+    for (uint32_t i = 0; i < x->count; i++) {
+        if (out->count == out->cap) {
+            out->cap = out->cap ? out->cap * 2 : 16;
+            out->names = realloc(out->names, out->cap * sizeof(Str *));
+            out->values = realloc(out->values, out->cap * sizeof(Vec *));
+            if (!out->names || !out->values) abort();
+        }
+        out->names[out->count] = str_retain((Str *)x->names[i]);
+        out->values[out->count] = vec_retain(ev->frame[x->slots[i]]);
+        out->count++;
+    }
+}
+
+/* ====================================================================
  * Dispatch
  * ==================================================================== */
 
@@ -638,23 +688,13 @@ Vec *eval_expr(Eval *ev, const AstNode *n)
     case AST_APPEND: r = eval_append(ev, n); break;
     case AST_SEQUENCE: r = eval_sequence(ev, n); break;
     case AST_TOP: r = eval_expr(ev, n->a); break;
-    case AST_IMPORT:
-        /* Modules are not supported yet: every imported name is null. */
-        a = eval_expr(ev, n->a);
-        {
-            Buf fb = BUF_INIT;
-            fmt_str(&fb, a, ev->symtab);
-            errorf(ev, "Unable to import from '%s'", buf_cstr(&fb));
-            buf_free(&fb);
-        }
-        vec_release(a);
-        for (uint32_t i = 0; i < n->nnames; i++) set_slot(ev, n->slots[i], NULL);
-        r = eval_expr(ev, n->b);
-        break;
+    case AST_IMPORT: r = eval_import(ev, n); break;
     case AST_INCLUDE:
-        eval_error(ev, "Dynamic include detected; is simplifier disabled?");
+        if (n->b) r = eval_expr(ev, n->b);
+        else if (!n->op && n->a && n->a->value)
+            eval_error(ev, "Dynamic include detected; is simplifier disabled?");
         break;
-    case AST_EXPORT:
+    case AST_EXPORT: eval_export(ev, n); break;
     case AST_BINDING:
     case AST__COUNT:
         break;

@@ -122,6 +122,12 @@ typedef struct Constant {
 
 typedef struct Resolver {
     Globals *globals;       /* engine/define names (NULL for modules) */
+    SymTab *symtab;         /* where symbols of included files go */
+    const char *dir;        /* directory of the main file, for %include */
+    char **included;        /* paths already included */
+    uint32_t nincluded;
+    Buf *err;               /* load errors (included files) */
+    bool failed;            /* an included file did not parse */
     Buf *warnings;          /* load-time warnings */
     Constant *consts;       /* shared builtin values, one Vec per name */
     uint32_t nconsts, capconsts;
@@ -280,6 +286,87 @@ static void fninfo_free(void *p)
 }
 
 static void resolve(Resolver *r, FnCtx *c, AstNode *n);
+static void register_symbols(const AstNode *top, SymTab *st);
+
+static void exportinfo_free(void *p)
+{
+    ExportInfo *x = p;
+    free(x->names);
+    free(x->slots);
+    free(x);
+}
+
+/* AST_EXPORT at the top level: remember the innermost binding of every
+ * visible name. */
+static void resolve_export(FnCtx *c, AstNode *n)
+{
+    if (c->parent) return;
+    ExportInfo *x = calloc(1, sizeof *x);
+    if (!x) abort();
+    x->names = malloc((c->nscope ? c->nscope : 1) * sizeof(Str *));
+    x->slots = malloc((c->nscope ? c->nscope : 1) * sizeof(int32_t));
+    if (!x->names || !x->slots) abort();
+    for (uint32_t i = c->nscope; i-- > 0;) {
+        bool seen = false;
+        for (uint32_t k = 0; k < x->count && !seen; k++) seen = str_eq(x->names[k], c->scope[i].name);
+        if (seen) continue;
+        x->names[x->count] = c->scope[i].name;
+        x->slots[x->count] = c->scope[i].slot;
+        x->count++;
+    }
+    if (n->aux_free) n->aux_free(n->aux);
+    n->aux = x;
+    n->aux_free = exportinfo_free;
+}
+
+/* AST_INCLUDE with a literal file name: parse the file and splice its
+ * statements in as n->b, resolved in the current scope (§4.14). A
+ * non-literal name is left for the evaluator to report. */
+static void resolve_include(Resolver *r, FnCtx *c, AstNode *n)
+{
+    if (!n->a || n->a->kind != AST_LITERAL) return;
+    const Vec *v = n->a->value;
+    if (!v) return;   /* null: directive ignored */
+    if (!vec_is_obj(v) || v->len != 1 || vec_celems(v)[0].kind != EL_STR) return;
+    const Str *name = vec_celems(v)[0].str;
+    char *path;
+    if (name->bytes[0] == '/' || !r->dir) path = strdup(name->bytes);
+    else if (asprintf(&path, "%s/%s", r->dir, name->bytes) < 0) path = NULL;
+    if (!path) abort();
+    for (uint32_t i = 0; i < r->nincluded; i++) {
+        if (strcmp(r->included[i], path) == 0) {
+            buf_printf(r->warnings, "Cannot include path '%s' multiple times\n", path);
+            free(path);
+            n->op = 1;   /* evaluates to null */
+            return;
+        }
+    }
+    r->included = realloc(r->included, (r->nincluded + 1) * sizeof(char *));
+    if (!r->included) abort();
+    r->included[r->nincluded++] = path;
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        buf_printf(r->err, "%s: error: cannot read included file\n", path);
+        r->failed = true;
+        return;
+    }
+    Buf text = BUF_INIT;
+    char chunk[65536];
+    size_t got;
+    while ((got = fread(chunk, 1, sizeof chunk, f)) > 0) buf_add(&text, chunk, got);
+    fclose(f);
+    AstNode *top = parse_program(path, text.data ? text.data : "", text.len, r->nincluded, r->err);
+    buf_free(&text);
+    if (!top) {
+        r->failed = true;
+        return;
+    }
+    register_symbols(top, r->symtab);
+    n->b = top->a;     /* the included statements; pragmas are discarded */
+    top->a = NULL;
+    ast_free(top);
+    resolve(r, c, n->b);
+}
 
 /* AST_FUNCTION: defaults in the defining context, body in a new one. */
 static void resolve_function(Resolver *r, FnCtx *c, AstNode *n)
@@ -355,6 +442,13 @@ static void resolve(Resolver *r, FnCtx *c, AstNode *n)
     case AST_TOP:
         resolve(r, c, n->a);
         return;
+    case AST_EXPORT:
+        resolve_export(c, n);
+        return;
+    case AST_INCLUDE:
+        resolve(r, c, n->a);
+        resolve_include(r, c, n);
+        return;
     default:
         break;
     }
@@ -375,6 +469,7 @@ static void resolve(Resolver *r, FnCtx *c, AstNode *n)
 /* Register the symbol literals that the parser listed under AST_TOP.c. */
 static void register_symbols(const AstNode *top, SymTab *st)
 {
+    if (!top) return;
     const AstNode *list = top->c;
     if (!list) return;
     for (uint32_t i = 0; i < list->nkids; i++) {
@@ -417,9 +512,11 @@ Program *program_load_text(const char *path, const char *text, size_t len,
             p->npragmas++;
         }
     }
-    Resolver r = {.globals = globals, .warnings = &p->warnings};
+    Resolver r = {.globals = globals, .warnings = &p->warnings, .symtab = st, .dir = p->dir, .err = err};
     FnCtx ctx = {0};
     resolve(&r, &ctx, top);
+    for (uint32_t i = 0; i < r.nincluded; i++) free(r.included[i]);
+    free(r.included);
     p->nslots = ctx.nslots;
     free(ctx.scope);
     free(ctx.cap_names);
@@ -431,6 +528,10 @@ Program *program_load_text(const char *path, const char *text, size_t len,
     }
     free(r.consts);
     free(r.unbound);
+    if (r.failed) {
+        program_release(p);
+        return NULL;
+    }
     return p;
 }
 

@@ -91,6 +91,24 @@ bool msgset_add(MsgSet *s, const char *msg);   /* false when present */
 bool msgset_has(const MsgSet *s, const char *msg);
 void msgset_clear(MsgSet *s);
 
+/* The values a module exports: every name bound at its top level when
+ * evaluation reaches the end of the file (LANGUAGE.md §4.13). */
+typedef struct Exports {
+    Str **names;
+    Vec **values;
+    uint32_t count, cap;
+} Exports;
+
+/* Resolver data hung on an AST_EXPORT (AstNode.aux): the top-level names
+ * visible at the end of the file and their slots. */
+typedef struct ExportInfo {
+    uint32_t count;
+    const Str **names;   /* borrowed from the AST */
+    int32_t *slots;
+} ExportInfo;
+
+struct ModuleCache;
+
 /* The evaluator's context for one frame of one program. */
 struct Eval {
     Program *prog;          /* program being evaluated */
@@ -102,6 +120,8 @@ struct Eval {
     Vec **frame;            /* slots of the current function frame */
     uint32_t depth;         /* C recursion depth guard */
     bool overflow;          /* the stack limit was hit this frame */
+    struct ModuleCache *modules; /* imported modules (NULL: imports fail) */
+    Exports *exports;       /* when running a module: where EOF exports go */
 };
 
 /* Evaluate the whole program: compose the top-level sequence and append

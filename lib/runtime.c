@@ -17,6 +17,7 @@
 #include <time.h>
 
 #include "format.h"
+#include "module.h"
 #include "physics/physics.h"
 #include "program.h"
 
@@ -38,6 +39,7 @@ struct fl_runtime {
     SymTab *symtab;         /* symbol names for value text */
     StateDict *state;       /* the state dictionary */
     PhysicsWorld *physics;  /* persistent physics systems */
+    ModuleCache *modules;   /* imported modules */
     Globals globals;        /* engine names and defines */
     Program *prog;          /* current program, or NULL */
     bool pragmas_pending;   /* apply pragmas at the next step */
@@ -77,6 +79,7 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->symtab = symtab_new();
     rt->state = state_new();
     rt->physics = phys_new();
+    rt->modules = module_cache_new();
     for (int i = 0; i < G__COUNT; i++) globals_add(&rt->globals, engine_names[i]);
     rt->target_fps = rt->opts.fps;
     rt->period = 0.5;
@@ -104,6 +107,7 @@ void fl_free(fl_runtime *rt)
     program_release(rt->prog);
     node_release(rt->root);
     phys_free(rt->physics);
+    module_cache_free(rt->modules);
     state_free(rt->state);
     globals_free(&rt->globals);
     for (int i = 0; i < 2; i++) {
@@ -364,7 +368,7 @@ int fl_step(fl_runtime *rt)
     msgset_clear(&rt->debug[rt->cur]);
     Eval ev = {
         .prog = rt->prog, .globals = &rt->globals, .state = rt->state, .symtab = rt->symtab,
-        .errors = &rt->errors[rt->cur], .debug = &rt->debug[rt->cur],
+        .errors = &rt->errors[rt->cur], .debug = &rt->debug[rt->cur], .modules = rt->modules,
     };
     Node *root = eval_program(&ev);
     node_release(rt->root);

@@ -11,6 +11,7 @@ static const struct {
     const char *summary;
 } commands[] = {
     {"run", cmd_run, "run a script headless (lockstep) or in realtime"},
+    {"test", cmd_test, "compare scripts' outputs with their golden files"},
 };
 
 static void usage(FILE *f)

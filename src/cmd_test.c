@@ -1,0 +1,367 @@
+/* cmd_test.c: `flitter test`, the golden-output runner.
+ *
+ * A test is a script NAME.fl with expected output beside it: NAME.state (a
+ * state-dump stream, FORMATS.md §2) and/or NAME.tree (a node-tree dump,
+ * FORMATS.md §3). The `flitter run` options of a test come from a line
+ * `NAME.fl OPTIONS...` in a MANIFEST file in the same directory, or else
+ * from a header line `# options: OPTIONS...` at the top of the expected
+ * file (default: --frames 1). Each test runs in-process; its output is
+ * compared byte for byte. On a mismatch the runner prints a short unified
+ * diff (from diff(1)) and, for state dumps, the largest numeric difference
+ * in units in the last place. `--update` rewrites the expected files
+ * (atomically: temporary file, fsync, rename). The last line is
+ * `N passed, M failed`.
+ */
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "buf.h"
+#include "commands.h"
+#include "exitcodes.h"
+#include "runner.h"
+
+typedef struct Totals {
+    int passed, failed;
+} Totals;
+
+static bool read_file(const char *path, Buf *b)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return false;
+    char chunk[65536];
+    size_t n;
+    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) buf_add(b, chunk, n);
+    bool ok = !ferror(f);
+    fclose(f);
+    buf_cstr(b);
+    return ok;
+}
+
+/* Write [len] bytes atomically to [path]: temporary file, fsync, rename. */
+static bool write_atomic(const char *path, const char *data, size_t len)
+{
+    char *tmp;
+    if (asprintf(&tmp, "%s.tmp.%ld", path, (long)getpid()) < 0) return false;
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    bool ok = fd >= 0;
+    size_t done = 0;
+    while (ok && done < len) {
+        ssize_t w = write(fd, data + done, len - done);
+        if (w < 0 && errno == EINTR) continue;
+        ok = w > 0;
+        if (ok) done += (size_t)w;
+    }
+    if (fd >= 0) {
+        ok = ok && fsync(fd) == 0;
+        ok = close(fd) == 0 && ok;
+    }
+    ok = ok && rename(tmp, path) == 0;
+    if (!ok) unlink(tmp);
+    free(tmp);
+    return ok;
+}
+
+/* The options line for [script] from [dir]/MANIFEST, or NULL. */
+static char *manifest_options(const char *dir, const char *script)
+{
+    char *path;
+    if (asprintf(&path, "%s/MANIFEST", dir) < 0) return NULL;
+    Buf b = BUF_INIT;
+    char *found = NULL;
+    if (read_file(path, &b)) {
+        size_t sl = strlen(script);
+        for (char *line = b.data; line && *line && !found;) {
+            char *nl = strchr(line, '\n');
+            if (nl) *nl = '\0';
+            while (*line == ' ' || *line == '\t') line++;
+            if (*line != '#' && strncmp(line, script, sl) == 0 &&
+                (line[sl] == ' ' || line[sl] == '\t' || line[sl] == '\0' || line[sl] == '\r'))
+                found = strdup(line + sl);
+            line = nl ? nl + 1 : NULL;
+        }
+    }
+    buf_free(&b);
+    free(path);
+    return found;
+}
+
+/* Split [s] on white space into a NULL-terminated argv (argv[0] = "run"). */
+static char **split_args(char *s, int *argc)
+{
+    size_t cap = 8, n = 1;
+    char **v = malloc(cap * sizeof(char *));
+    if (!v) abort();
+    v[0] = "run";
+    for (char *tok = strtok(s, " \t\r\n"); tok; tok = strtok(NULL, " \t\r\n")) {
+        if (n + 2 > cap) {
+            cap *= 2;
+            v = realloc(v, cap * sizeof(char *));
+            if (!v) abort();
+        }
+        v[n++] = tok;
+    }
+    v[n] = NULL;
+    *argc = (int)n;
+    return v;
+}
+
+/* The expected text without its `# options:` header lines. */
+static const char *skip_header(const char *s)
+{
+    while (strncmp(s, "# options:", 10) == 0) {
+        const char *nl = strchr(s, '\n');
+        s = nl ? nl + 1 : s + strlen(s);
+    }
+    return s;
+}
+
+/* ---- numeric comparison of state dumps --------------------------------- */
+
+static uint64_t ordered(double x)
+{
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    return (u >> 63) ? ~u : u | UINT64_C(0x8000000000000000);
+}
+
+/* Largest ULP distance between numbers of lines with equal keys. */
+static double max_ulps(const char *expected, const char *actual, char *where, size_t wlen)
+{
+    double worst = 0;
+    const char *e = expected, *a = actual;
+    while (*e && *a) {
+        const char *ee = strchr(e, '\n'), *ae = strchr(a, '\n');
+        size_t el = ee ? (size_t)(ee - e) : strlen(e), al = ae ? (size_t)(ae - a) : strlen(a);
+        const char *eq = strstr(e, " = "), *aq = strstr(a, " = ");
+        if (eq && aq && eq < e + el && aq < a + al && eq - e == aq - a && memcmp(e, a, (size_t)(eq - e)) == 0) {
+            const char *x = eq + 3, *y = aq + 3;
+            while (x < e + el && y < a + al) {
+                char *xe, *ye;
+                double dx = strtod(x, &xe), dy = strtod(y, &ye);
+                if (xe == x || ye == y) break;
+                if (!isnan(dx) && !isnan(dy)) {
+                    uint64_t ox = ordered(dx), oy = ordered(dy);
+                    double d = (double)(ox > oy ? ox - oy : oy - ox);
+                    if (d > worst) {
+                        worst = d;
+                        snprintf(where, wlen, "%.*s", (int)(eq - e), e);
+                    }
+                }
+                x = strchr(xe, ';');
+                y = strchr(ye, ';');
+                if (!x || !y || x > e + el || y > a + al) break;
+                x++;
+                y++;
+            }
+        }
+        e = ee ? ee + 1 : e + el;
+        a = ae ? ae + 1 : a + al;
+    }
+    return worst;
+}
+
+/* Print a unified diff of the two texts (first 40 lines) using diff(1). */
+static void show_diff(const char *label, const char *expected, const char *actual)
+{
+    char ef[] = "/tmp/flitter-expected-XXXXXX", af[] = "/tmp/flitter-actual-XXXXXX";
+    int efd = mkstemp(ef), afd = mkstemp(af);
+    if (efd < 0 || afd < 0) {
+        if (efd >= 0) { close(efd); unlink(ef); }
+        if (afd >= 0) { close(afd); unlink(af); }
+        return;
+    }
+    FILE *f = fdopen(efd, "w");
+    fputs(expected, f);
+    fclose(f);
+    f = fdopen(afd, "w");
+    fputs(actual, f);
+    fclose(f);
+    char *cmd;
+    if (asprintf(&cmd, "diff -u --label '%s (expected)' --label '%s (actual)' '%s' '%s' | head -n 40",
+                 label, label, ef, af) >= 0) {
+        fflush(stdout);
+        int rc = system(cmd);
+        (void)rc;
+        free(cmd);
+    }
+    unlink(ef);
+    unlink(af);
+}
+
+/* ---- one test ---------------------------------------------------------- */
+
+static void run_one(const char *dir, const char *script, const char *kind, bool update, Totals *t)
+{
+    char *base = strndup(script, strlen(script) - 3);   /* without ".fl" */
+    char *expected_path, *script_path;
+    if (!base || asprintf(&expected_path, "%s/%s.%s", dir, base, kind) < 0 ||
+        asprintf(&script_path, "%s/%s", dir, script) < 0)
+        abort();
+    Buf expected = BUF_INIT;
+    if (!read_file(expected_path, &expected)) goto done_quiet;
+
+    char *opts = manifest_options(dir, script);
+    if (!opts && strncmp(buf_cstr(&expected), "# options:", 10) == 0) {
+        const char *nl = strchr(expected.data, '\n');
+        opts = strndup(expected.data + 10, nl ? (size_t)(nl - expected.data - 10) : strlen(expected.data + 10));
+    }
+    if (!opts) opts = strdup("--frames 1");
+    int argc;
+    char **argv = split_args(opts, &argc);
+    RunSpec spec;
+    char *label;
+    if (asprintf(&label, "%s/%s.%s", dir, base, kind) < 0) abort();
+    if (runspec_parse(&spec, argc, argv, false, stdout) != 0) {
+        printf("FAIL %s: bad options\n", label);
+        t->failed++;
+    } else {
+        spec.script = script_path;
+        if (strcmp(kind, "state") == 0) spec.dump_state = true;
+        else spec.dump_tree = true;
+        char *out = NULL, *log = NULL;
+        size_t outlen = 0, loglen = 0;
+        FILE *fo = open_memstream(&out, &outlen), *fl = open_memstream(&log, &loglen);
+        int rc = runspec_execute(&spec, fo, fl, NULL);
+        fclose(fo);
+        fclose(fl);
+        const char *want = skip_header(expected.data);
+        if (rc != 0) {
+            printf("FAIL %s: flitter run exited with %d\n%s", label, rc, log);
+            t->failed++;
+        } else if (strcmp(want, out) == 0) {
+            printf("PASS %s\n", label);
+            t->passed++;
+        } else if (update) {
+            Buf nb = BUF_INIT;
+            buf_add(&nb, expected.data, (size_t)(want - expected.data));   /* keep the header */
+            buf_add(&nb, out, outlen);
+            if (write_atomic(expected_path, nb.data, nb.len)) {
+                printf("UPDATED %s\n", label);
+                t->passed++;
+            } else {
+                printf("FAIL %s: cannot write: %s\n", label, strerror(errno));
+                t->failed++;
+            }
+            buf_free(&nb);
+        } else {
+            printf("FAIL %s\n", label);
+            show_diff(label, want, out);
+            if (strcmp(kind, "state") == 0) {
+                char where[256] = "";
+                double u = max_ulps(want, out, where, sizeof where);
+                printf("largest numeric difference: %.0f ULP%s%s\n", u, *where ? " at " : "", where);
+            }
+            t->failed++;
+        }
+        free(out);
+        free(log);
+    }
+    runspec_free(&spec);
+    free(label);
+    free(argv);
+    free(opts);
+done_quiet:
+    buf_free(&expected);
+    free(expected_path);
+    free(script_path);
+    free(base);
+}
+
+static bool has_suffix(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    return n > k && strcmp(s + n - k, suffix) == 0;
+}
+
+static int by_name(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* Run every test in directory [dir] in name order. */
+static int run_dir(const char *dir, bool update, Totals *t)
+{
+    DIR *d = opendir(dir);
+    if (!d) {
+        fprintf(stderr, "flitter test: cannot open '%s': %s\n", dir, strerror(errno));
+        return -1;
+    }
+    char **names = NULL;
+    size_t n = 0, cap = 0;
+    struct dirent *de;
+    while ((de = readdir(d))) {
+        if (!has_suffix(de->d_name, ".fl")) continue;
+        if (n == cap) {
+            cap = cap ? cap * 2 : 32;
+            names = realloc(names, cap * sizeof(char *));
+            if (!names) abort();
+        }
+        names[n++] = strdup(de->d_name);
+    }
+    closedir(d);
+    if (n) qsort(names, n, sizeof(char *), by_name);
+    for (size_t i = 0; i < n; i++) {
+        run_one(dir, names[i], "state", update, t);
+        run_one(dir, names[i], "tree", update, t);
+        free(names[i]);
+    }
+    free(names);
+    return 0;
+}
+
+int cmd_test(int argc, char **argv)
+{
+    bool update = false;
+    Totals t = {0};
+    int first = 1, status = 0;
+    for (; first < argc && argv[first][0] == '-'; first++) {
+        if (strcmp(argv[first], "--update") == 0) {
+            update = true;
+        } else if (strcmp(argv[first], "-h") == 0 || strcmp(argv[first], "--help") == 0) {
+            puts("usage: flitter test [--update] [PATH...]\n"
+                 "  Runs every NAME.fl in each directory PATH (default .) that has a NAME.state\n"
+                 "  or NAME.tree beside it, or the given .fl files, and compares the output.\n"
+                 "  --update   rewrite expected files that differ");
+            return EXIT_OK;
+        } else {
+            fprintf(stderr, "flitter test: unknown option '%s'\n", argv[first]);
+            return EXIT_USAGE;
+        }
+    }
+    if (first == argc) {
+        if (run_dir(".", update, &t) != 0) status = EXIT_USAGE;
+    }
+    for (int i = first; i < argc; i++) {
+        struct stat sb;
+        if (stat(argv[i], &sb) != 0) {
+            fprintf(stderr, "flitter test: cannot open '%s': %s\n", argv[i], strerror(errno));
+            status = EXIT_USAGE;
+        } else if (S_ISDIR(sb.st_mode)) {
+            run_dir(argv[i], update, &t);
+        } else {
+            char *copy = strdup(argv[i]);
+            char *slash = strrchr(copy, '/');
+            const char *dir = ".", *file = copy;
+            if (slash) {
+                *slash = '\0';
+                dir = slash == copy ? "/" : copy;
+                file = slash + 1;
+            }
+            run_one(dir, file, "state", update, &t);
+            run_one(dir, file, "tree", update, &t);
+            free(copy);
+        }
+    }
+    printf("%d passed, %d failed\n", t.passed, t.failed);
+    if (t.failed) return 1;
+    return status;
+}

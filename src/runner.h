@@ -1,0 +1,37 @@
+/* runner.h: what `flitter run` does, as a function that `flitter test` and
+ * the REPL can call too: parse run options, then load a script, run its
+ * frames and write its dumps to a stream. */
+#ifndef FL_RUNNER_H
+#define FL_RUNNER_H
+
+#include <stdbool.h>
+#include <stdio.h>
+
+typedef struct RunSpec {
+    long frames;          /* --frames N, or -1 (until interrupted) */
+    double fps;           /* --fps F (default 60) */
+    bool realtime;        /* --realtime */
+    bool dump_state;      /* --dump-state (implied by --dump-every) */
+    long dump_every;      /* --dump-every K, or 0 */
+    bool dump_tree;       /* --dump-tree */
+    char **defines;       /* NAME=VALUE strings (borrowed from argv) */
+    int ndefines;
+    const char *script;   /* SCRIPT */
+} RunSpec;
+
+/* Parse `flitter run` options from [argv][0..argc) (argv[0] is ignored).
+ * With [need_script], exactly one SCRIPT must follow the options.
+ *   errors: prints a message and usage to [err] and returns 2 (usage);
+ *           returns -1 after printing help for --help; 0 on success.
+ *   [spec]->defines is allocated: free it with runspec_free(). */
+int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err);
+void runspec_free(RunSpec *spec);
+
+/* Run [spec]: load the script, evaluate frames, write state dumps and the
+ * node tree to [out]; run-time messages go to [log].
+ *   errors: returns 1 when the script cannot be loaded (message on [log]),
+ *           2 for a bad define, 0 on success. [interrupt], when non-NULL,
+ *           is polled between frames to stop early. */
+int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt);
+
+#endif
