@@ -80,6 +80,10 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->state = state_new();
     rt->physics = phys_new();
     rt->modules = module_cache_new();
+    /* symbols the physics engine writes into state keys (PHYSICS.md) */
+    static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity"};
+    for (size_t i = 0; i < sizeof engine_symbols / sizeof engine_symbols[0]; i++)
+        symtab_add(rt->symtab, engine_symbols[i], strlen(engine_symbols[i]));
     for (int i = 0; i < G__COUNT; i++) globals_add(&rt->globals, engine_names[i]);
     rt->target_fps = rt->opts.fps;
     rt->period = 0.5;

@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "builtins/builtins.h"
 #include "builtins/random.h"
 #include "node.h"
 
@@ -111,6 +112,12 @@ void func_release(Func *f)
     if (f->destroy) f->destroy(f);
     str_release(f->name);
     free(f);
+}
+
+const char *func_name(const Func *f)
+{
+    if (f->bi) return f->bi->internal;
+    return f->name ? f->name->bytes : "<anon>";
 }
 
 /* ====================================================================
