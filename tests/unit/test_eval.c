@@ -140,9 +140,10 @@ static void test_append_program_e(void **s)
            "let u;v =\n    1\n    2\n    3\n"
            "!t3 u=u v=v s=s\n!t4 x=(1 if 0 else 2 if 1 else 3)\n"
            "if 0\n    !no\nelif null\n    !no2\nelse\n    !yes\n"
-           "!t5 p=(((!p1;1;!p2) #tg) x=3)\n",
+           "!t5 p=(((!p1;1;!p2) #tg) x=3)\n"
+           "!t6\n    ((!p1;1;!p2) #tg) x=3\n",
            "!root\n !a\n  !b x=1\n   !leaf\n    !c\n !t3 u=1 v=2 s=(!x);(!y)\n !t4 x=2\n !yes\n"
-           " !t5 p=(!p1 #tg x=3);1;(!p2 #tg x=3)\n",
+           " !t5 p=(!p1);1;(!p2)\n !t6\n  !p1 #tg x=3\n  !p2 #tg x=3\n",
            NULL);
 }
 
