@@ -703,11 +703,8 @@ Vec *eval_expr(Eval *ev, const AstNode *n)
     return r;
 }
 
-Node *eval_program(Eval *ev)
+Vec *eval_program_value(Eval *ev)
 {
-    Str *kind = str_from("root");
-    Node *root = node_new(kind);
-    str_release(kind);
     Program *prog = ev->prog;
     Vec **frame = calloc(prog->nslots ? prog->nslots : 1, sizeof(Vec *));
     if (!frame) abort();
@@ -719,7 +716,20 @@ Node *eval_program(Eval *ev)
     ev->frame = saved;
     for (uint32_t i = 0; i < prog->nslots; i++) vec_release(frame[i]);
     free(frame);
-    if (!ev->overflow && vec_is_obj(v)) {
+    if (ev->overflow) {
+        vec_release(v);
+        return NULL;
+    }
+    return v;
+}
+
+Node *eval_program(Eval *ev)
+{
+    Str *kind = str_from("root");
+    Node *root = node_new(kind);
+    str_release(kind);
+    Vec *v = eval_program_value(ev);
+    if (vec_is_obj(v)) {
         const Elem *e = vec_celems(v);
         for (uint32_t i = 0; i < v->len; i++)
             if (e[i].kind == EL_NODE) node_append(root, e[i].node);

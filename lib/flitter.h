@@ -70,6 +70,36 @@ int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len,
  *           loaded, else 0. */
 int fl_step(fl_runtime *rt);
 
+/* Evaluate [text] ([len] bytes: an expression, or `let` bindings) in the
+ * scope of the loaded script's top level as of the last frame (its `let`
+ * and `func` names, the frame names, defines) plus the names bound by
+ * earlier fl_eval calls; state lookups see the current state.
+ *   output: the value text (FORMATS.md §1) of an expression's result, or
+ *           `NAME = VALUE` lines for the names a `let` bound, appended to
+ *           [out] with a final newline.
+ *   errors: returns -1 with `<repl>:LINE:COL: error: ...` in [err] on a
+ *           syntax error; returns 1 (and appends nothing) when the text
+ *           ended early, so a caller may read more lines; run-time errors
+ *           go to the log; 0 on success. */
+int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err);
+/* Forget the names bound by fl_eval. */
+void fl_eval_reset(fl_runtime *rt);
+/* Names visible to fl_eval (script top level, frame names, defines, earlier
+ * fl_eval bindings), for completion; borrowed, [*n] entries. */
+const Str *const *fl_scope_names(const fl_runtime *rt, size_t *n);
+
+/* Save the state dictionary and the clock to [path] atomically (see
+ * statefile.h for the format).
+ *   errors: returns -1 with a message in [err]; 0 on success. */
+int fl_save_state(const fl_runtime *rt, const char *path, Buf *err);
+/* Restore the state dictionary and the clock from [path], so that the run
+ * continues exactly where the saved one stopped.
+ *   errors: returns -1 with a message in [err], leaving everything
+ *           untouched, when the file is missing, truncated or malformed. */
+int fl_restore_state(fl_runtime *rt, const char *path, Buf *err);
+/* Empty the state dictionary (the clock keeps running). */
+void fl_reset_state(fl_runtime *rt);
+
 /* The node tree of the last evaluated frame (a !root node), or NULL. */
 const Node *fl_root(const fl_runtime *rt);
 /* The state dictionary (mutable: embedders may write controller values). */

@@ -33,7 +33,7 @@ ModuleCache *module_cache_new(void)
     return mc;
 }
 
-static void exports_clear(Exports *x)
+void exports_clear(Exports *x)
 {
     for (uint32_t i = 0; i < x->count; i++) {
         str_release(x->names[i]);

@@ -128,6 +128,11 @@ struct Eval {
  * every node element to a fresh !root node (LANGUAGE.md §4.1).
  *   errors: run-time errors go to ev->errors; never fails. */
 Node *eval_program(Eval *ev);
+/* Evaluate the whole program and return the composed value of its top-level
+ * sequence (null after a stack overflow). */
+Vec *eval_program_value(Eval *ev);
+/* Release every name and value in [x] and empty it. */
+void exports_clear(Exports *x);
 /* Evaluate one expression in the current frame (new reference). */
 Vec *eval_expr(Eval *ev, const AstNode *n);
 

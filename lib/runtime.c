@@ -20,6 +20,7 @@
 #include "module.h"
 #include "physics/physics.h"
 #include "program.h"
+#include "statefile.h"
 
 /* The engine names of LANGUAGE.md §6.2 in a fixed order (indices into
  * Globals); defines are added after them. */
@@ -40,6 +41,10 @@ struct fl_runtime {
     StateDict *state;       /* the state dictionary */
     PhysicsWorld *physics;  /* persistent physics systems */
     ModuleCache *modules;   /* imported modules */
+    Exports scope;          /* the script's top-level names at the last frame */
+    Exports repl;           /* names bound by fl_eval */
+    Str **scope_names;      /* fl_scope_names() result */
+    size_t nscope_names;
     Globals globals;        /* engine names and defines */
     Program *prog;          /* current program, or NULL */
     bool pragmas_pending;   /* apply pragmas at the next step */
@@ -112,6 +117,9 @@ void fl_free(fl_runtime *rt)
     node_release(rt->root);
     phys_free(rt->physics);
     module_cache_free(rt->modules);
+    exports_clear(&rt->scope);
+    exports_clear(&rt->repl);
+    free(rt->scope_names);
     state_free(rt->state);
     globals_free(&rt->globals);
     for (int i = 0; i < 2; i++) {
@@ -373,7 +381,9 @@ int fl_step(fl_runtime *rt)
     Eval ev = {
         .prog = rt->prog, .globals = &rt->globals, .state = rt->state, .symtab = rt->symtab,
         .errors = &rt->errors[rt->cur], .debug = &rt->debug[rt->cur], .modules = rt->modules,
+        .exports = &rt->scope,
     };
+    exports_clear(&rt->scope);
     Node *root = eval_program(&ev);
     node_release(rt->root);
     rt->root = root;
@@ -404,6 +414,130 @@ int fl_step(fl_runtime *rt)
     if (!rt->opts.realtime) rt->frame_time += 1.0 / rt->target_fps;
     return 0;
 }
+
+/* ====================================================================
+ * Evaluating text in the script's scope (the REPL)
+ * ==================================================================== */
+
+static void exports_put(Exports *x, Str *name, Vec *value)
+{
+    for (uint32_t i = 0; i < x->count; i++) {
+        if (str_eq(x->names[i], name)) {
+            Vec *old = x->values[i];
+            x->values[i] = vec_retain(value);
+            vec_release(old);
+            return;
+        }
+    }
+    if (x->count == x->cap) {
+        x->cap = x->cap ? x->cap * 2 : 16;
+        x->names = realloc(x->names, x->cap * sizeof(Str *));
+        x->values = realloc(x->values, x->cap * sizeof(Vec *));
+        if (!x->names || !x->values) abort();
+    }
+    x->names[x->count] = str_retain(name);
+    x->values[x->count] = vec_retain(value);
+    x->count++;
+}
+
+/* Engine names and defines, then the script's names, then fl_eval's. */
+static void build_scope(const fl_runtime *rt, Globals *g)
+{
+    for (uint32_t i = 0; i < rt->globals.count; i++)
+        globals_set(g, globals_add(g, rt->globals.names[i]->bytes), rt->globals.values[i]);
+    const Exports *layers[2] = {&rt->scope, &rt->repl};
+    for (int l = 0; l < 2; l++)
+        for (uint32_t i = 0; i < layers[l]->count; i++)
+            globals_set(g, globals_add(g, layers[l]->names[i]->bytes), layers[l]->values[i]);
+}
+
+int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
+{
+    Globals g = {0};
+    build_scope(rt, &g);
+    Buf perr = BUF_INIT;
+    Program *p = program_load_text("<repl>", text, len, &g, rt->symtab, &perr);
+    if (!p) {
+        int rc = strstr(buf_cstr(&perr), "unexpected end of input") ? 1 : -1;
+        if (rc < 0) buf_add(err, perr.data, perr.len);
+        buf_free(&perr);
+        globals_free(&g);
+        return rc;
+    }
+    buf_free(&perr);
+    log_warnings(rt, p);
+    MsgSet errors = {0}, debug = {0};
+    Exports bound = {0};
+    Eval ev = {
+        .prog = p, .globals = &g, .state = rt->state, .symtab = rt->symtab,
+        .errors = &errors, .debug = &debug, .modules = rt->modules, .exports = &bound,
+    };
+    Vec *v = eval_program_value(&ev);
+    report(rt->opts.log, "Execution error: ", &errors, &(MsgSet){0});
+    report(rt->opts.debug, "", &debug, &(MsgSet){0});
+    if (bound.count) {
+        for (uint32_t i = bound.count; i-- > 0;) {
+            exports_put(&rt->repl, bound.names[i], bound.values[i]);
+            buf_printf(out, "%s = ", bound.names[i]->bytes);
+            fmt_value(out, bound.values[i], rt->symtab);
+            buf_putc(out, '\n');
+        }
+    }
+    if (v || !bound.count) {
+        fmt_value(out, v, rt->symtab);
+        buf_putc(out, '\n');
+    }
+    vec_release(v);
+    exports_clear(&bound);
+    msgset_clear(&errors);
+    msgset_clear(&debug);
+    program_release(p);
+    globals_free(&g);
+    return 0;
+}
+
+void fl_eval_reset(fl_runtime *rt) { exports_clear(&rt->repl); }
+
+const Str *const *fl_scope_names(const fl_runtime *rt, size_t *n)
+{
+    fl_runtime *m = (fl_runtime *)rt;
+    size_t total = rt->globals.count + rt->scope.count + rt->repl.count;
+    free(m->scope_names);
+    m->scope_names = malloc((total ? total : 1) * sizeof(Str *));
+    if (!m->scope_names) abort();
+    size_t k = 0;
+    for (uint32_t i = 0; i < rt->globals.count; i++) m->scope_names[k++] = rt->globals.names[i];
+    for (uint32_t i = 0; i < rt->scope.count; i++) m->scope_names[k++] = rt->scope.names[i];
+    for (uint32_t i = 0; i < rt->repl.count; i++) m->scope_names[k++] = rt->repl.names[i];
+    m->nscope_names = k;
+    *n = k;
+    return (const Str *const *)m->scope_names;
+}
+
+/* ====================================================================
+ * Saved state
+ * ==================================================================== */
+
+int fl_save_state(const fl_runtime *rt, const char *path, Buf *err)
+{
+    StateClock c = {rt->frame, rt->frame_time, rt->last_beat, rt->period, rt->quantum, rt->start};
+    return statefile_save(rt->state, rt->symtab, &c, path, NULL, err);
+}
+
+int fl_restore_state(fl_runtime *rt, const char *path, Buf *err)
+{
+    StateClock c;
+    if (statefile_load(rt->state, rt->symtab, &c, path, err) != 0) return -1;
+    rt->frame = c.frame;
+    rt->frame_time = c.time;
+    rt->last_beat = c.last_beat;
+    rt->period = c.period;
+    rt->quantum = c.quantum;
+    rt->start = c.start;
+    return 0;
+}
+
+void fl_reset_state(fl_runtime *rt) { state_clear(rt->state); }
 
 const Node *fl_root(const fl_runtime *rt) { return rt->root; }
 StateDict *fl_state(fl_runtime *rt) { return rt->state; }

@@ -1,0 +1,199 @@
+/* physics_internal.h: data structures shared by world.c, forces.c and step.c.
+ *
+ * One `PhysSystem` per top-level !physics node (matched by order). Everything
+ * a frame needs lives in arrays owned by the system and reused from frame to
+ * frame (grown, never shrunk), so a steady-state frame allocates nothing per
+ * particle except the value vectors it stores into the state dictionary:
+ *
+ *   particles  struct-of-arrays in *storage order*: the groups in list order
+ *              (pre-order, PHYSICS-ENGINE.md §3), each group's particles
+ *              contiguous and in declaration order. pos/vel/acc/force/own
+ *              hold D doubles per particle (particle p at [p*D, p*D+D)).
+ *   appliers   one `PhysApplier` per force applier/barrier node, in tree
+ *              pre-order; vector parameters live in `avec` (2*D per applier).
+ *   groups     one `PhysGroup` per group (index 0 = the !physics node); each
+ *              refers to index lists (into `gidx`) of its own appliers by
+ *              category, to the chains "own ++ parent's ++ ..." of particle
+ *              appliers and barriers (into `chain`), and to the pair-force
+ *              levels and particle pool of §4 (into `levels` and `pool`).
+ *   key cache  per storage slot: the particle id and the state keys P;id and
+ *              P;id;:velocity built from it (rebuilt only when they change).
+ *   prev keys  the particle state keys collected on the previous frame, for
+ *              "keys written last frame but not this frame become null".
+ */
+#ifndef FL_PHYSICS_INTERNAL_H
+#define FL_PHYSICS_INTERNAL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "physics.h"
+
+/* Largest accepted `dimensions` (larger systems are skipped). */
+#define PHYS_MAX_DIMENSIONS (1u << 20)
+
+typedef enum PhysApplierKind {
+    AP_DISTANCE,        /* explicit pair by id */
+    AP_COLLISION,       /* pair ("matrix") appliers ... */
+    AP_GRAVITY,
+    AP_ELECTROSTATIC,
+    AP_ADHESION,
+    AP_DRAG,            /* per-particle appliers ... */
+    AP_BUOYANCY,
+    AP_CONSTANT,
+    AP_RANDOM,
+    AP_FIELD,
+    AP_BARRIER          /* soft distance + hard rebound */
+} PhysApplierKind;
+
+/* One force applier or barrier, read once per frame (PHYSICS-ENGINE.md §3). */
+typedef struct PhysApplier {
+    PhysApplierKind kind;
+    uint32_t group;        /* index of the group that declared it */
+    double strength;       /* eased strength, fixed for the frame */
+    double power;          /* distance, collision, barrier */
+    double minimum;        /* distance, barrier */
+    double maximum;        /* distance, barrier */
+    double maxd;           /* pair appliers: max_distance, 0 = unlimited */
+    double overlap;        /* adhesion */
+    double density;        /* buoyancy */
+    double restitution;    /* barrier */
+    bool enabled;          /* barrier: false when the normal is zero */
+    const Vec *from_id;    /* distance: borrowed from the frame's node */
+    const Vec *to_id;
+    ptrdiff_t from;        /* distance: resolved storage index, or -1 */
+    ptrdiff_t to;
+    uint64_t key;          /* random: normal() stream key */
+    uint64_t index;        /* random: next draw index (0 at frame start) */
+    size_t vec;            /* offset of this applier's 2*D doubles in avec:
+                            * drag flow | buoyancy gravity | constant force,
+                            * acceleration | field direction | barrier
+                            * position, unit normal */
+} PhysApplier;
+
+/* A group (PHYSICS.md "Groups"); all offsets are into PhysSystem arrays. */
+typedef struct PhysGroup {
+    ptrdiff_t parent;                 /* -1 for the !physics node itself */
+    size_t pstart, npart;             /* storage range of its particles */
+    size_t fill;                      /* collection cursor */
+    size_t dist_off, dist_n;          /* own distance appliers (gidx) */
+    size_t pair_off, pair_n;          /* own pair appliers (gidx) */
+    size_t part_off, part_n;          /* own particle appliers (gidx) */
+    size_t bar_off, bar_n;            /* own barriers (gidx) */
+    size_t pf_off, pf_n;              /* particle-applier chain (chain) */
+    size_t b_off, b_n;                /* barrier chain (chain) */
+    size_t lvl_off, lvl_n;            /* pair levels (levels) */
+    size_t pool_off;                  /* particle pool (pool) */
+} PhysGroup;
+
+/* One level of the §4 pair loop: the first `npool` entries of the group's
+ * pool against the pair appliers declared by group `group`. */
+typedef struct PhysLevel {
+    size_t npool;
+    size_t group;
+} PhysLevel;
+
+/* Cached state keys of one storage slot. */
+typedef struct PhysKeySlot {
+    Vec *id;              /* id the keys were built from (retained) */
+    Vec *pkey;            /* P;id */
+    Vec *vkey;            /* P;id;:velocity */
+    uint64_t phash, vhash;/* vec_hash(key, false) */
+} PhysKeySlot;
+
+/* Open-addressing (linear probing) hash index from key vectors (compared
+ * with vec_key_equal) to array indices; idx1 = index + 1, 0 = empty slot;
+ * the capacity is a power of two at least twice the number of entries. */
+typedef struct PhysHashSlot {
+    const Vec *key;       /* borrowed */
+    uint64_t hash;        /* vec_hash(key, false) */
+    size_t idx1;
+} PhysHashSlot;
+
+typedef struct PhysHash {
+    PhysHashSlot *slot;
+    size_t cap;
+} PhysHash;
+
+/* A node collected during the tree walk, before storage order is known. */
+typedef struct PhysPNode {
+    const Node *node;
+    const Vec *id;        /* borrowed */
+    uint64_t idhash;
+    size_t group;
+    size_t storage;       /* assigned storage index */
+    bool anchor;
+} PhysPNode;
+
+typedef struct PhysSystem {
+    size_t D;                     /* dimensions of the current frame */
+    double c;                     /* speed of light, 0 = none */
+
+    /* particles (storage order) */
+    size_t n, cap;
+    size_t capvec;                            /* doubles in each vector array */
+    double *pos, *vel, *acc, *force, *own;    /* D*n used in each */
+    double *radius, *mass, *charge;           /* cap each */
+    unsigned char *anchor;                    /* cap */
+    double *dir;                              /* D scratch: pair direction */
+    size_t capdir;
+
+    /* appliers (pre-order) */
+    PhysApplier *ap;
+    size_t nap, capap;
+    double *avec;                 /* 2*D*capap */
+    size_t capavec;
+
+    /* groups and their index lists */
+    PhysGroup *groups;
+    size_t ngroups, capgroups;
+    uint32_t *gidx;  size_t ngidx, capgidx;
+    uint32_t *chain; size_t nchain, capchain;
+    PhysLevel *levels; size_t nlevels, caplevels;
+    uint32_t *pool;  size_t npool, cappool;
+
+    /* tree walk scratch */
+    PhysPNode *pn; size_t npn, cappn;
+    struct PhysWalk *walk; size_t capwalk;
+
+    /* lookups */
+    PhysHash ids;                 /* pre-order particle ids -> pn index */
+    PhysHash newkeys;             /* this frame's particle state keys */
+
+    /* state keys */
+    Vec *prefix;                  /* P the cached keys were built from */
+    Vec *kclock, *klast, *krun, *kiter;
+    PhysKeySlot *slots; size_t capslots;
+    Vec **prev; size_t nprev, capprev;        /* retained */
+    Vec **next; uint64_t *nexthash; size_t capnext;  /* borrowed scratch */
+} PhysSystem;
+
+/* ---- forces.c: force appliers and barriers (PHYSICS-ENGINE.md §4) ---- */
+
+/* pair(a, b) into s->dir; returns dist. */
+double phys_pair(PhysSystem *s, size_t a, size_t b);
+/* Apply distance applier [ap] to its resolved pair (both exist). */
+void phys_apply_distance(PhysSystem *s, const PhysApplier *ap);
+/* The pair loop of one level of group [g]: the group's own particles
+ * against the first lv->npool of its pool, with lv->group's pair appliers. */
+void phys_apply_pair_level(PhysSystem *s, const PhysGroup *g,
+                           const PhysLevel *lv);
+/* Apply per-particle applier [ap] to non-anchor particle [p]. */
+void phys_apply_particle(PhysSystem *s, PhysApplier *ap, size_t p,
+                         double delta);
+/* Barrier soft constraint: b.distance(p). */
+void phys_barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p);
+
+/* ---- step.c: integration, rebound and the step loop ---- */
+
+/* step(p, clock, dt) of §4 (the clock is unused since the [doc] ease fix). */
+void phys_step(PhysSystem *s, size_t p, double dt);
+/* Barrier hard bounce: b.rebound(p, clock, dt). */
+void phys_barrier_rebound(PhysSystem *s, const PhysApplier *b, size_t p,
+                          double dt);
+/* The §4 loop from [last] up to [time]; returns the advanced clock. */
+double phys_run_steps(PhysSystem *s, double time, double last, double clock,
+                      double resolution, bool realtime, bool extra);
+
+#endif

@@ -1,0 +1,181 @@
+/* step.c: the integration step, the barrier rebound and the step loop.
+ *
+ * Operates on a collected PhysSystem (physics_internal.h): particle vectors
+ * in struct-of-arrays storage (pos/vel/acc/force/own, D doubles per particle,
+ * groups contiguous in group-list order), the group list with its per-group
+ * applier chains, pair levels and pools, and the applier array.
+ *
+ * Implements PHYSICS-ENGINE.md §4: the "loop:" (clock, delta, extra steps,
+ * the two passes over the groups and the force reset between steps),
+ * `step(p, clock, dt)` (velocity/position update with the speed-of-light
+ * clamp, PHYSICS.md "!particle") and `Barrier rebound(p, clock, dt)` (the
+ * hard bounce of PHYSICS.md "Barriers"), with the floating-point operations
+ * in the order written there.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "physics_internal.h"
+
+/* §4 step(p, clock, dt):
+ *   a = copy of v
+ *   if mass != 0 and every F_i is finite:
+ *      k = dt / mass; v_i = v_i + F_i*k, s = sum v_i*v_i
+ *      if c > 0 and s > c*c: k = c / sqrt(s); v_i = v_i*k
+ *   a_i = (v_i - a_i) / dt ; pos_i = pos_i + v_i*dt
+ * The particle's own-force ease is applied at collection ([doc]), so the
+ * clock is not needed here. */
+void phys_step(PhysSystem *s, size_t p, double dt)
+{
+    const size_t D = s->D;
+    double *pos = s->pos + p * D, *v = s->vel + p * D, *a = s->acc + p * D;
+    const double *F = s->force + p * D;
+    const double mass = s->mass[p], c = s->c;
+    memcpy(a, v, D * sizeof *a);
+    if (mass != 0) {
+        bool finite = true;
+        for (size_t i = 0; i < D; i++) {
+            if (!isfinite(F[i])) {
+                finite = false;
+                break;
+            }
+        }
+        if (finite) {
+            double k = dt / mass;
+            double sum = 0;
+            for (size_t i = 0; i < D; i++) {
+                double x = v[i] + F[i] * k;
+                v[i] = x;
+                sum += x * x;
+            }
+            if (c > 0 && sum > c * c) {
+                k = c / sqrt(sum);
+                for (size_t i = 0; i < D; i++)
+                    v[i] = v[i] * k;
+            }
+        }
+    }
+    for (size_t i = 0; i < D; i++) {
+        a[i] = (v[i] - a[i]) / dt;
+        pos[i] = pos[i] + v[i] * dt;
+    }
+}
+
+/* §4 Barrier rebound(p, clock, dt), all sums over i ascending:
+ *   x = -radius + sum (pos_i - bpos_i)*n_i ; u = sum v_i*n_i ;
+ *   w = sum a_i*n_i ; if x >= 0: return ; r = x / u
+ *   if u >= 0 or r > dt: pos_i = pos_i - x*n_i; return
+ *   pos_i = pos_i - r*v_i ; v_i = (v_i - r*a_i)*rest ; u' = sum v_i*n_i ;
+ *   v_i = v_i - 2*u'*n_i ; if w < 0 and u'/w < r: r = u'/w ; step(p, r) */
+void phys_barrier_rebound(PhysSystem *s, const PhysApplier *b, size_t p,
+                          double dt)
+{
+    if (!b->enabled)
+        return;
+    const size_t D = s->D;
+    const double *bp = s->avec + b->vec, *nv = bp + D;
+    double *pos = s->pos + p * D, *v = s->vel + p * D;
+    const double *a = s->acc + p * D;
+    double x = -s->radius[p], u = 0, w = 0;
+    for (size_t i = 0; i < D; i++) {
+        double n = nv[i];
+        x = x + (pos[i] - bp[i]) * n;
+        u = u + v[i] * n;
+        w = w + a[i] * n;
+    }
+    if (x >= 0)
+        return;
+    double r = x / u;
+    if (u >= 0 || r > dt) {
+        for (size_t i = 0; i < D; i++)
+            pos[i] = pos[i] - x * nv[i];
+        return;
+    }
+    double u2 = 0;
+    for (size_t i = 0; i < D; i++) {
+        pos[i] = pos[i] - r * v[i];
+        double y = (v[i] - r * a[i]) * b->restitution;
+        v[i] = y;
+        u2 = u2 + y * nv[i];
+    }
+    for (size_t i = 0; i < D; i++)
+        v[i] = v[i] - 2 * u2 * nv[i];
+    if (w < 0) {
+        double t = u2 / w;
+        if (t < r)
+            r = t;
+    }
+    phys_step(s, p, r);
+}
+
+/* §4 first pass for group [g]: its distance appliers, then (if it has
+ * particles) the pair appliers of it and each ancestor over the growing
+ * pool. */
+static void pair_pass(PhysSystem *s, const PhysGroup *g)
+{
+    const uint32_t *dl = s->gidx + g->dist_off;
+    for (size_t i = 0; i < g->dist_n; i++) {
+        const PhysApplier *ap = &s->ap[dl[i]];
+        if (ap->from >= 0 && ap->to >= 0)
+            phys_apply_distance(s, ap);
+    }
+    if (g->npart == 0)
+        return;
+    for (size_t l = 0; l < g->lvl_n; l++)
+        phys_apply_pair_level(s, g, &s->levels[g->lvl_off + l]);
+}
+
+/* §4 second pass for group [g] (with particles): particle appliers and
+ * barrier soft forces of the chain, step, rebounds, force reset. */
+static void particle_pass(PhysSystem *s, const PhysGroup *g, double delta,
+                          bool more)
+{
+    const size_t D = s->D;
+    const uint32_t *pf = s->chain + g->pf_off;
+    const uint32_t *bl = s->chain + g->b_off;
+    for (size_t q = 0; q < g->npart; q++) {
+        size_t p = g->pstart + q;
+        if (s->anchor[p])
+            continue;
+        for (size_t j = 0; j < g->pf_n; j++)
+            phys_apply_particle(s, &s->ap[pf[j]], p, delta);
+        for (size_t j = 0; j < g->b_n; j++)
+            phys_barrier_distance(s, &s->ap[bl[j]], p);
+        phys_step(s, p, delta);
+        for (size_t j = 0; j < g->b_n; j++)
+            phys_barrier_rebound(s, &s->ap[bl[j]], p, delta);
+        if (more)
+            memcpy(s->force + p * D, s->own + p * D, D * sizeof(double));
+    }
+}
+
+/* §4 loop:
+ *   delta = min(resolution, time - last); last = last + delta
+ *   more  = last < time  (realtime: and spare performance, once per frame)
+ *   ... passes ...; clock = clock + delta; if not more: break
+ * One guard beyond the spec: if `last + delta` no longer moves `last`
+ * (rounding at huge times) the loop stops instead of spinning forever. */
+double phys_run_steps(PhysSystem *s, double time, double last, double clock,
+                      double resolution, bool realtime, bool extra)
+{
+    for (;;) {
+        double gap = time - last;
+        double delta = gap < resolution ? gap : resolution;
+        double next = last + delta;
+        bool more = next < time && (!realtime || extra);
+        if (!(next > last))
+            more = false;
+        last = next;
+        for (size_t g = 0; g < s->ngroups; g++)
+            pair_pass(s, &s->groups[g]);
+        for (size_t g = 0; g < s->ngroups; g++) {
+            if (s->groups[g].npart)
+                particle_pass(s, &s->groups[g], delta, more);
+        }
+        clock = clock + delta;
+        if (!more)
+            break;
+        extra = false;
+    }
+    return clock;
+}
