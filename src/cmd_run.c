@@ -1,6 +1,7 @@
 /* cmd_run.c: `flitter run` (FORMATS.md §4). */
 #include <signal.h>
 #include <stdio.h>
+#include <unistd.h>
 
 #include "commands.h"
 #include "exitcodes.h"
@@ -19,6 +20,7 @@ int cmd_run(int argc, char **argv)
     RunSpec spec;
     int rc = runspec_parse(&spec, argc, argv, true, stderr);
     if (rc == 0) {
+        spec.progress = !spec.realtime && spec.frames > 0 && isatty(STDERR_FILENO);
         signal(SIGINT, on_signal);
         signal(SIGTERM, on_signal);
         rc = runspec_execute(&spec, stdout, stderr, &interrupted);

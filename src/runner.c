@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "exitcodes.h"
 #include "flitter.h"
@@ -23,7 +25,9 @@ static void run_usage(FILE *f)
           "  -D, --define NAME=VALUE  bind NAME before evaluation\n"
           "  --dump-state        write the state of the last frame to stdout\n"
           "  --dump-every K      also dump the state after every K-th frame\n"
-          "  --dump-tree         write the last frame's node tree to stdout\n",
+          "  --dump-tree         write the last frame's node tree to stdout\n"
+          "  --state FILE        load the state from FILE at start (if it exists) and save\n"
+          "                      it back atomically at exit and every 5 seconds\n",
           f);
 }
 
@@ -39,7 +43,8 @@ static bool parse_count(const char *s, long *out)
 
 int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
 {
-    enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE };
+    enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
+           O_STATE };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -49,6 +54,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"dump-state", no_argument, NULL, O_DUMP_STATE},
         {"dump-every", required_argument, NULL, O_DUMP_EVERY},
         {"dump-tree", no_argument, NULL, O_DUMP_TREE},
+        {"state", required_argument, NULL, O_STATE},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -80,6 +86,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
             spec->dump_state = true;
             break;
         case O_DUMP_TREE: spec->dump_tree = true; break;
+        case O_STATE: spec->state_file = optarg; break;
         case 'h':
             run_usage(stdout);
             return -1;
@@ -128,6 +135,42 @@ static double now_seconds(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+/* The modification time of [path] (zero when it cannot be read). */
+static struct timespec file_mtime(const char *path)
+{
+    struct stat sb;
+    if (stat(path, &sb) != 0) return (struct timespec){0, 0};
+    return sb.st_mtim;
+}
+
+static bool same_time(struct timespec a, struct timespec b)
+{
+    return a.tv_sec == b.tv_sec && a.tv_nsec == b.tv_nsec;
+}
+
+/* One line of progress on stderr: bar, frames, frames per second, ETA. */
+static void show_progress(long done, long total, double elapsed)
+{
+    const int width = 30;
+    int filled = total ? (int)((double)done / (double)total * width) : width;
+    double rate = elapsed > 0 ? (double)done / elapsed : 0;
+    double eta = rate > 0 ? (double)(total - done) / rate : 0;
+    char bar[64];
+    for (int i = 0; i < width; i++) bar[i] = i < filled ? '#' : '.';
+    bar[width] = '\0';
+    fprintf(stderr, "\r[%s] %ld/%ld frames  %.0f frames/s  ETA %.1fs ", bar, done, total, rate, eta);
+    fflush(stderr);
+}
+
+static int save_state(fl_runtime *rt, const char *path, FILE *log)
+{
+    Buf err = BUF_INIT;
+    int rc = fl_save_state(rt, path, &err);
+    if (rc != 0) fputs(buf_cstr(&err), log);
+    buf_free(&err);
+    return rc;
+}
+
 int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt)
 {
     fl_options opts = fl_default_options();
@@ -155,27 +198,64 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         fl_free(rt);
         return EXIT_LOAD;
     }
+    if (spec->state_file && access(spec->state_file, F_OK) == 0 &&
+        fl_restore_state(rt, spec->state_file, &err) != 0) {
+        fputs(buf_cstr(&err), log);
+        buf_free(&err);
+        fl_free(rt);
+        return EXIT_LOAD;
+    }
     buf_free(&err);
     Buf b = BUF_INIT;
     bool dumped_last = false;
-    double start = now_seconds();
-    while (!(interrupt && *interrupt) && (spec->frames < 0 || fl_frame_count(rt) < spec->frames)) {
+    double start = now_seconds(), last_save = start, last_progress = 0;
+    long ran = 0;
+    struct timespec mtime = file_mtime(spec->script), bad_mtime = {0, 0};
+    while (!(interrupt && *interrupt) && (spec->frames < 0 || ran < spec->frames)) {
+        if (spec->realtime) {
+            /* live reload: re-read the script when it changes; a broken
+             * version is reported once and the last good one keeps running */
+            struct timespec m = file_mtime(spec->script);
+            if (!same_time(m, mtime) && !same_time(m, bad_mtime)) {
+                Buf lerr = BUF_INIT;
+                if (fl_load(rt, spec->script, &lerr) == 0) {
+                    mtime = m;
+                    fprintf(log, "%s: reloaded\n", spec->script);
+                } else {
+                    bad_mtime = m;
+                    fputs(buf_cstr(&lerr), log);
+                }
+                buf_free(&lerr);
+            }
+        }
         fl_step(rt);
+        ran++;
         long n = fl_frame_count(rt) - 1;
         dumped_last = false;
         if (spec->dump_state && spec->dump_every > 0 && (n + 1) % spec->dump_every == 0) {
             dump_state(rt, out, &b);
             dumped_last = true;
         }
+        double now = now_seconds();
+        if (spec->progress && spec->frames > 0 && (now - last_progress > 0.1 || ran == spec->frames)) {
+            show_progress(ran, spec->frames, now - start);
+            last_progress = now;
+        }
+        if (spec->state_file && now - last_save >= 5.0) {
+            save_state(rt, spec->state_file, log);
+            last_save = now;
+        }
         if (spec->realtime) {
-            double due = start + (double)fl_frame_count(rt) / spec->fps, wait = due - now_seconds();
+            double due = start + (double)ran / spec->fps, wait = due - now_seconds();
             if (wait > 0) {
                 struct timespec ts = {(time_t)wait, (long)(fmod(wait, 1.0) * 1e9)};
                 nanosleep(&ts, NULL);
             }
         }
     }
-    if (fl_frame_count(rt) > 0) {
+    if (spec->progress && spec->frames > 0) fputs("\n", stderr);
+    int rc = EXIT_OK;
+    if (ran > 0) {
         if (spec->dump_state && !dumped_last) dump_state(rt, out, &b);
         if (spec->dump_tree) {
             buf_reset(&b);
@@ -183,8 +263,9 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
             fwrite(b.data, 1, b.len, out);
         }
     }
+    if (spec->state_file && save_state(rt, spec->state_file, log) != 0) rc = EXIT_LOAD;
     buf_free(&b);
     fflush(out);
     fl_free(rt);
-    return EXIT_OK;
+    return rc;
 }
