@@ -209,10 +209,11 @@ static void run_one(const char *dir, const char *script, const char *kind, bool 
     Buf expected = BUF_INIT;
     if (!read_file(expected_path, &expected)) goto done_quiet;
 
+    const char *exp = buf_cstr(&expected);
     char *opts = manifest_options(dir, script);
-    if (!opts && strncmp(buf_cstr(&expected), "# options:", 10) == 0) {
-        const char *nl = strchr(expected.data, '\n');
-        opts = strndup(expected.data + 10, nl ? (size_t)(nl - expected.data - 10) : strlen(expected.data + 10));
+    if (!opts && strncmp(exp, "# options:", 10) == 0) {
+        const char *nl = strchr(exp, '\n');
+        opts = strndup(exp + 10, nl ? (size_t)(nl - exp - 10) : strlen(exp + 10));
     }
     if (!opts) opts = strdup("--frames 1");
     int argc;
@@ -233,7 +234,7 @@ static void run_one(const char *dir, const char *script, const char *kind, bool 
         int rc = runspec_execute(&spec, fo, fl, NULL);
         fclose(fo);
         fclose(fl);
-        const char *want = skip_header(expected.data);
+        const char *want = skip_header(exp);
         if (rc != 0) {
             printf("FAIL %s: flitter run exited with %d\n%s", label, rc, log);
             t->failed++;
@@ -242,7 +243,7 @@ static void run_one(const char *dir, const char *script, const char *kind, bool 
             t->passed++;
         } else if (update) {
             Buf nb = BUF_INIT;
-            buf_add(&nb, expected.data, (size_t)(want - expected.data));   /* keep the header */
+            buf_add(&nb, exp, (size_t)(want - exp));   /* keep the header */
             buf_add(&nb, out, outlen);
             if (write_atomic(expected_path, nb.data, nb.len)) {
                 printf("UPDATED %s\n", label);
