@@ -1,0 +1,391 @@
+/* ast.c: construction and destruction of the abstract syntax tree
+ * (LANGUAGE.md §2.4, node shapes in ast.h).
+ *
+ * The grammar (grammar/parser.y) calls one builder per reduction; each builder
+ * takes ownership of every node, Str and Vec handed to it, so a tree is owned
+ * by exactly one parent and freed with one ast_free() of its root. Lists that
+ * the grammar grows left-recursively (statements, bindings, arguments,
+ * parameters) are "holder" nodes: a node of the final kind (or AST_BINDING
+ * for name lists) whose kids/names fill up before its fixed children are set.
+ * Invariant: a node's fixed children (`a`, `b`, `c`) and kids are distinct
+ * subtrees; names and values hold one reference each. Allocation failure
+ * aborts, as everywhere in flitter (value.h).
+ */
+#include "ast.h"
+
+#include <assert.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* {=====================================================================
+ * Basic nodes
+ * ===================================================================== */
+
+static void *xrealloc(void *p, size_t size)
+{
+    void *q = realloc(p, size ? size : 1);
+    if (!q) {
+        fputs("flitter: out of memory\n", stderr);
+        abort();
+    }
+    return q;
+}
+
+AstNode *ast_new(AstKind kind, Loc loc)
+{
+    AstNode *n = xrealloc(NULL, sizeof *n);
+    memset(n, 0, sizeof *n);
+    n->kind = (uint8_t)kind;
+    n->loc = loc;
+    return n;
+}
+
+void ast_push(AstNode *n, AstNode *kid)
+{
+    if (n->nkids == n->cap_kids) {
+        n->cap_kids = n->cap_kids ? 2 * n->cap_kids : 4;
+        n->kids = xrealloc(n->kids, n->cap_kids * sizeof *n->kids);
+    }
+    n->kids[n->nkids++] = kid;
+}
+
+void ast_push_name(AstNode *n, Str *s)
+{
+    if (n->nnames == n->cap_names) {
+        n->cap_names = n->cap_names ? 2 * n->cap_names : 2;
+        n->names = xrealloc(n->names, n->cap_names * sizeof *n->names);
+    }
+    n->names[n->nnames++] = s;
+}
+
+/* Free the node itself and its owned scalars, not its subtrees. */
+static void free_shallow(AstNode *n)
+{
+    for (uint32_t i = 0; i < n->nnames; i++)
+        str_release(n->names[i]);
+    free(n->names);
+    vec_release(n->value);
+    if (n->aux && n->aux_free)
+        n->aux_free(n->aux);
+    free(n->slots);
+    free(n->kids);
+    free(n);
+}
+
+/* Iterative so that long left-recursive chains (`1+1+1+...`) cannot
+ * overflow the C stack: a work list of nodes still to free. */
+void ast_free(AstNode *n)
+{
+    if (!n)
+        return;
+    size_t len = 0, cap = 16;
+    AstNode **work = xrealloc(NULL, cap * sizeof *work);
+    work[len++] = n;
+    while (len) {
+        AstNode *t = work[--len];
+        size_t need = len + t->nkids + 3;
+        if (need > cap) {
+            while (cap < need)
+                cap *= 2;
+            work = xrealloc(work, cap * sizeof *work);
+        }
+        if (t->a) work[len++] = t->a;
+        if (t->b) work[len++] = t->b;
+        if (t->c) work[len++] = t->c;
+        for (uint32_t i = 0; i < t->nkids; i++)
+            if (t->kids[i])
+                work[len++] = t->kids[i];
+        free_shallow(t);
+    }
+    free(work);
+}
+
+/* }===================================================================== */
+
+/* {=====================================================================
+ * Expression builders
+ * ===================================================================== */
+
+AstNode *ast_literal(Vec *value_take, Loc loc)
+{
+    AstNode *n = ast_new(AST_LITERAL, loc);
+    n->value = value_take;
+    return n;
+}
+
+AstNode *ast_literal_number(Vec *value_take, Loc loc)
+{
+    AstNode *n = ast_literal(value_take, loc);
+    n->op = 1;
+    return n;
+}
+
+AstNode *ast_name(Str *name_take, Loc loc)
+{
+    AstNode *n = ast_new(AST_NAME, loc);
+    ast_push_name(n, name_take);
+    return n;
+}
+
+AstNode *ast_unary(AstKind kind, AstNode *a, Loc loc)
+{
+    AstNode *n = ast_new(kind, loc);
+    n->a = a;
+    return n;
+}
+
+AstNode *ast_binary(AstKind kind, int op, AstNode *a, AstNode *b, Loc loc)
+{
+    AstNode *n = ast_new(kind, loc);
+    n->op = (uint8_t)op;
+    n->a = a;
+    n->b = b;
+    return n;
+}
+
+AstNode *ast_range(AstNode *start, AstNode *stop, AstNode *step, Loc loc)
+{
+    AstNode *n = ast_new(AST_RANGE, loc);
+    n->a = start;
+    n->b = stop;
+    n->c = step;
+    return n;
+}
+
+AstNode *ast_call(AstNode *callee, AstNode *args, Loc loc)
+{
+    uint32_t count = 0;
+    while (count < args->nkids && args->kids[count]->kind != AST_BINDING)
+        count++;
+    args->kind = AST_CALL;
+    args->a = callee;
+    args->count = count;
+    args->loc = loc;
+    return args;
+}
+
+AstNode *ast_template(AstNode *callee, AstNode *attrs, AstNode *block, Loc loc)
+{
+    if (block) {
+        ast_push(attrs, NULL);
+        memmove(attrs->kids + 1, attrs->kids,
+                (attrs->nkids - 1) * sizeof *attrs->kids);
+        attrs->kids[0] = block;
+    }
+    attrs->kind = AST_CALL;
+    attrs->op = 1;
+    attrs->a = callee;
+    attrs->count = block ? 1 : 0;
+    attrs->loc = loc;
+    return attrs;
+}
+
+AstNode *ast_tag(AstNode *node, Str *tag, Loc loc)
+{
+    AstNode *n = ast_new(AST_TAG, loc);
+    n->a = node;
+    ast_push_name(n, tag);
+    return n;
+}
+
+AstNode *ast_attributes(AstNode *node, AstNode *binding, Loc loc)
+{
+    AstNode *n = ast_new(AST_ATTRIBUTES, loc);
+    n->a = node;
+    ast_push(n, binding);
+    return n;
+}
+
+AstNode *ast_ifelse(AstNode *cond, AstNode *then, AstNode *els, Loc loc)
+{
+    AstNode *n = ast_new(AST_IFELSE, loc);
+    ast_push(n, cond);
+    ast_push(n, then);
+    n->a = els;
+    return n;
+}
+
+AstNode *ast_elif(AstNode *ifelse, AstNode *cond, AstNode *then, Loc loc)
+{
+    ast_push(ifelse, cond);
+    ast_push(ifelse, then);
+    ifelse->loc = loc;
+    return ifelse;
+}
+
+AstNode *ast_else(AstNode *ifelse, AstNode *els, Loc loc)
+{
+    ifelse->a = els;
+    ifelse->loc = loc;
+    return ifelse;
+}
+
+/* }===================================================================== */
+
+/* {=====================================================================
+ * Lists, bindings and scoping constructs
+ * ===================================================================== */
+
+AstNode *ast_list(AstKind kind, AstNode *first, Loc loc)
+{
+    AstNode *n = ast_new(kind, loc);
+    if (first)
+        ast_push(n, first);
+    return n;
+}
+
+AstNode *ast_add(AstNode *list, AstNode *kid, Loc loc)
+{
+    ast_push(list, kid);
+    list->loc = loc;
+    return list;
+}
+
+AstNode *ast_concat(AstNode *list, AstNode *more, Loc loc)
+{
+    for (uint32_t i = 0; i < more->nkids; i++)
+        ast_push(list, more->kids[i]);
+    more->nkids = 0;
+    ast_free(more);
+    list->loc = loc;
+    return list;
+}
+
+AstNode *ast_names(Str *name, Loc loc)
+{
+    AstNode *n = ast_new(AST_BINDING, loc);
+    ast_push_name(n, name);
+    return n;
+}
+
+AstNode *ast_names_add(AstNode *holder, Str *name, Loc loc)
+{
+    ast_push_name(holder, name);
+    holder->loc = loc;
+    return holder;
+}
+
+AstNode *ast_binding(AstNode *names_holder, AstNode *value, Loc loc)
+{
+    AstNode *n = names_holder ? names_holder : ast_new(AST_BINDING, loc);
+    n->kind = AST_BINDING;
+    n->a = value;
+    n->loc = loc;
+    return n;
+}
+
+AstNode *ast_named(Str *name, AstNode *value, Loc loc)
+{
+    return ast_binding(ast_names(name, loc), value, loc);
+}
+
+AstNode *ast_param(Str *name, AstNode *dflt, Loc loc)
+{
+    return ast_named(name, dflt, loc);
+}
+
+AstNode *ast_let(AstNode *bindings, AstNode *body, int stable, Loc loc)
+{
+    bindings->kind = AST_LET;
+    bindings->a = body;
+    bindings->op = stable ? 1 : 0;
+    bindings->loc = loc;
+    return bindings;
+}
+
+AstNode *ast_let_block(AstNode *names, AstNode *block, AstNode *rest, Loc loc)
+{
+    AstNode *binding = ast_binding(names, block, loc);
+    return ast_let(ast_list(AST_LET, binding, loc), rest, 0, loc);
+}
+
+AstNode *ast_function(Str *name, AstNode *params, AstNode *body, Loc loc)
+{
+    params->kind = AST_FUNCTION;
+    ast_push_name(params, name ? name : str_from("<anon>"));
+    params->a = body;
+    params->loc = loc;
+    return params;
+}
+
+AstNode *ast_func_let(Str *name, AstNode *params, AstNode *body,
+                      AstNode *rest, Loc loc)
+{
+    AstNode *fn = ast_function(str_retain(name), params, body, loc);
+    AstNode *binding = ast_named(name, fn, loc);
+    return ast_let(ast_list(AST_LET, binding, loc), rest, 0, loc);
+}
+
+AstNode *ast_anon_block(AstNode *params, AstNode *body, AstNode *rest, Loc loc)
+{
+    AstNode *seq = ast_list(AST_SEQUENCE, ast_function(NULL, params, body, loc), loc);
+    return ast_add(seq, rest, loc);
+}
+
+AstNode *ast_import(AstNode *names, AstNode *file, AstNode *rest, Loc loc)
+{
+    names->kind = AST_IMPORT;
+    names->a = file;
+    names->b = rest;
+    names->loc = loc;
+    return names;
+}
+
+AstNode *ast_for(AstNode *names, AstNode *source, AstNode *body, Loc loc)
+{
+    names->kind = AST_FOR;
+    names->a = source;
+    names->b = body;
+    names->loc = loc;
+    return names;
+}
+
+AstNode *ast_for_nest(AstNode *iterators, AstNode *body, Loc loc)
+{
+    assert(iterators->nkids > 0);
+    for (uint32_t i = iterators->nkids; i-- > 0;) {
+        AstNode *it = iterators->kids[i];
+        it->b = body;
+        it->loc.end = loc.end;
+        body = it;
+    }
+    iterators->nkids = 0;
+    ast_free(iterators);
+    body->loc = loc;
+    return body;
+}
+
+AstNode *ast_pragma(Str *name, AstNode *literal, Loc loc)
+{
+    AstNode *n = ast_names(name, loc);
+    n->value = literal->value;
+    literal->value = NULL;
+    ast_free(literal);
+    return n;
+}
+
+AstNode *ast_top(AstNode *pragmas, AstNode *body, Loc loc)
+{
+    pragmas->kind = AST_TOP;
+    pragmas->a = body;
+    pragmas->loc = loc;
+    return pragmas;
+}
+
+/* }===================================================================== */
+
+static const char *const kind_names[] = {
+    "Top", "Sequence", "Literal", "Name", "Lookup",
+    "BinOp", "Neg", "Pos", "Not", "And", "Or", "Xor",
+    "Compare", "Range", "Index", "Call", "Function", "Let",
+    "Binding", "For", "IfElse", "Tag", "Attributes", "Append",
+    "Import", "Include", "Export",
+};
+_Static_assert(sizeof kind_names / sizeof kind_names[0] == AST__COUNT,
+               "kind_names must follow AstKind (ast.h)");
+
+const char *ast_kind_name(AstKind kind)
+{
+    return (unsigned)kind < AST__COUNT ? kind_names[kind] : "?";
+}

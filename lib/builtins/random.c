@@ -1,0 +1,183 @@
+/* random.c: counter-based pseudo-random streams (LANGUAGE.md §5.8): the
+ * rng_* functions of random.h, the `uniform`, `normal` and `beta` built-ins
+ * that return streams, and `shuffle`.
+ *
+ * A stream is a pure function of its 64-bit key K (the seed hash, §3.16)
+ * and a 64-bit index i; nothing is cached and there is no mutable state.
+ * Value i of a uniform stream is the 5-round Squares output for counter i
+ * scaled by 2^-64; a normal stream applies Box–Muller (in turns) to the
+ * uniform pair (i & ~1, i | 1); a beta(2,2) stream takes the median of the
+ * uniform values 4i, 4i+1, 4i+2. All counter arithmetic is mod 2^64.
+ */
+#include <limits.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "builtins.h"
+#include "random.h"
+#include "turns.h"
+#include "../node.h"
+
+#define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
+                  int nargs __attribute__((unused)), Vec *const *args
+
+/* {====================================================================
+ * Generators
+ * ===================================================================== */
+
+static inline uint64_t rot32(uint64_t x)
+{
+    return (x >> 32) | (x << 32);
+}
+
+uint64_t rng_squares(uint64_t i, uint64_t key)
+{
+    uint64_t x, y, z, t;
+    x = y = i * key;
+    z = y + key;
+    x = rot32(x * x + y);
+    x = rot32(x * x + z);
+    x = rot32(x * x + y);
+    x = x * x + z;
+    t = x;
+    x = rot32(x);
+    x = x * x + y;
+    return t ^ (x >> 32);
+}
+
+double rng_uniform(uint64_t key, uint64_t i)
+{
+    return (double)rng_squares(i, key) / 18446744073709551616.0;
+}
+
+double rng_normal(uint64_t key, uint64_t i)
+{
+    uint64_t e = i & ~(uint64_t)1;
+    double u1 = rng_uniform(key, e), u2 = rng_uniform(key, e + 1);
+    if (u1 == 0) {
+        u1 = u2;
+        u2 = 0;
+    }
+    double r = sqrt(-2 * log(u1));
+    return (i & 1) ? r * sin_t(u2) : r * cos_t(u2);
+}
+
+/* C `min(a, b)` as the reference's Cython emits it: (b < a) ? b : a. */
+static inline double cmin(double a, double b)
+{
+    return b < a ? b : a;
+}
+
+double rng_beta(uint64_t key, uint64_t i)
+{
+    i <<= 2;
+    double u1 = rng_uniform(key, i), u2 = rng_uniform(key, i + 1), u3 = rng_uniform(key, i + 2);
+    if (u1 <= u2 && u1 <= u3)
+        return cmin(u2, u3);
+    if (u2 <= u1 && u2 <= u3)
+        return cmin(u1, u3);
+    return cmin(u1, u2);
+}
+
+double rng_value(StreamKind kind, uint64_t key, uint64_t i)
+{
+    switch (kind) {
+    case STREAM_NORMAL: return rng_normal(key, i);
+    case STREAM_BETA: return rng_beta(key, i);
+    default: return rng_uniform(key, i);
+    }
+}
+
+/* }==================================================================== */
+
+/* {====================================================================
+ * Built-ins
+ * ===================================================================== */
+
+/* uniform(value) / normal(value) / beta(value): a stream keyed by the seed
+ * hash of [value]; no argument or null gives HASH_START. */
+static Vec *stream(int nargs, Vec *const *args, StreamKind kind)
+{
+    return vec_stream(kind, nargs > 0 ? vec_hash(args[0], true) : HASH_START);
+}
+
+static Vec *bi_uniform(BI_PARAMS) { return stream(nargs, args, STREAM_UNIFORM); }
+static Vec *bi_normal(BI_PARAMS) { return stream(nargs, args, STREAM_NORMAL); }
+static Vec *bi_beta(BI_PARAMS) { return stream(nargs, args, STREAM_BETA); }
+
+/* The swap partner of position [i] in the forward Fisher–Yates shuffle of
+ * [len] elements, [u] being source value i and [n] the remaining count:
+ * (int)floor(u * n) + i. The reference reads out of bounds when that falls
+ * outside [0, len) (only possible for u == 1.0 or non-uniform sources);
+ * here it is clamped into range instead. */
+static uint32_t swap_partner(double u, uint32_t n, uint32_t i, uint32_t len)
+{
+    double f = floor(u * (double)n);
+    int64_t j = (f > -2147483649.0 && f < 2147483648.0) ? (int64_t)(int)f : INT_MIN;
+    j += i;
+    if (j < 0)
+        return 0;
+    if (j >= (int64_t)len)
+        return len - 1;
+    return (uint32_t)j;
+}
+
+/* shuffle(source, xs): forward Fisher–Yates driven by stream [source]. */
+static Vec *bi_shuffle(BI_PARAMS)
+{
+    const Vec *src = args[0], *xs = args[1];
+    if (!vec_is_stream(src))
+        return bi_error(ev, bi, "Argument 'source' has incorrect type (expected "
+                                "flitter.language.functions.random.uniform, got flitter.model.Vector)");
+    uint32_t len = vec_len(xs);
+    if (len == 0)
+        return NULL;
+    Vec *r;
+    if (xs->kind == VEC_NUM) {
+        r = vec_from_nums(vec_cnums(xs), len);
+        double *x = vec_nums(r);
+        uint32_t n = len;
+        for (uint32_t i = 0; i + 1 < len; i++) {
+            uint32_t j = swap_partner(rng_value(src->stream, src->key, i), n, i, len);
+            n--;
+            double t = x[i];
+            x[i] = x[j];
+            x[j] = t;
+        }
+        return r;
+    }
+    r = vec_new_obj(len);
+    Elem *e = vec_elems(r);
+    const Elem *s = vec_celems(xs);
+    for (uint32_t i = 0; i < len; i++) {
+        e[i] = s[i];
+        if (e[i].kind == EL_STR)
+            str_retain(e[i].str);
+        else if (e[i].kind == EL_NODE)
+            node_retain(e[i].node);
+        else if (e[i].kind == EL_FUNC)
+            func_retain(e[i].func);
+    }
+    uint32_t n = len;
+    for (uint32_t i = 0; i + 1 < len; i++) {
+        uint32_t j = swap_partner(rng_value(src->stream, src->key, i), n, i, len);
+        n--;
+        Elem t = e[i];
+        e[i] = e[j];
+        e[j] = t;
+    }
+    return r;
+}
+
+/* }==================================================================== */
+
+/* The random family. uniform/normal/beta are classes in the reference,
+ * so their internal names are the class names. */
+const Builtin bi_random_table[] = {
+    {"uniform", "uniform", 0, 1, {"value"}, bi_uniform, 0},
+    {"normal", "normal", 0, 1, {"value"}, bi_normal, 0},
+    {"beta", "beta", 0, 1, {"value"}, bi_beta, 0},
+    {"shuffle", "shuffle", 2, 2, {"source", "xs"}, bi_shuffle, 0},
+    {NULL, NULL, 0, 0, {NULL}, NULL, 0},
+};
