@@ -16,6 +16,8 @@
  */
 #include "format.h"
 
+#include "utf8.h"
+
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -240,48 +242,8 @@ static void repr_number(Buf *b, double x, const SymTab *st, bool zero_special)
 /* Strings                                                             */
 /* ------------------------------------------------------------------ */
 
-/* Decode one code point of [s] (at most [n] > 0 bytes) into *[cp]; returns
- * the bytes used. An invalid sequence yields its first byte's value as a
- * single code point (as fnv1a_utf8 does). */
-static size_t utf8_decode(const unsigned char *s, size_t n, uint32_t *cp)
-{
-    unsigned c = s[0];
-    size_t len;
-    uint32_t v, min;
-    if (c < 0x80) {
-        *cp = c;
-        return 1;
-    } else if (c >= 0xc2 && c <= 0xdf) {
-        len = 2; v = c & 0x1f; min = 0x80;
-    } else if (c >= 0xe0 && c <= 0xef) {
-        len = 3; v = c & 0x0f; min = 0x800;
-    } else if (c >= 0xf0 && c <= 0xf4) {
-        len = 4; v = c & 0x07; min = 0x10000;
-    } else {
-        *cp = c;
-        return 1;
-    }
-    if (len > n) {
-        *cp = c;
-        return 1;
-    }
-    for (size_t i = 1; i < len; i++) {
-        if ((s[i] & 0xc0) != 0x80) {
-            *cp = c;
-            return 1;
-        }
-        v = (v << 6) | (s[i] & 0x3fu);
-    }
-    if (v < min || v > 0x10ffff || (v >= 0xd800 && v <= 0xdfff)) {
-        *cp = c;
-        return 1;
-    }
-    *cp = v;
-    return len;
-}
-
 /* A string in value text (FORMATS.md §1). */
-static void value_string(Buf *b, const Str *s)
+void fmt_quoted(Buf *b, const Str *s)
 {
     buf_putc(b, '"');
     for (uint32_t i = 0; i < s->len; i++) {
@@ -398,7 +360,7 @@ void fmt_value(Buf *b, const Vec *v, const SymTab *st)
             value_number(b, e[i].num, st);
             break;
         case EL_STR:
-            value_string(b, e[i].str);
+            fmt_quoted(b, e[i].str);
             break;
         case EL_NODE:
             buf_puts(b, "(!");

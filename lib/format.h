@@ -15,6 +15,9 @@
 void fmt_double(Buf *b, double x);
 /* C/Python "%.9g" with `nan` for any NaN (LANGUAGE.md §3.13). */
 void fmt_g9(Buf *b, double x);
+/* A string in value text (FORMATS.md §1): double quotes, `\"` `\\` `\n`
+ * `\r` `\t`, other control bytes and 0x7f as `\xHH`, the rest as is. */
+void fmt_quoted(Buf *b, const Str *s);
 /* Value text ("full repr", FORMATS.md §1); null → `null`. */
 void fmt_value(Buf *b, const Vec *v, const SymTab *st);
 /* String conversion (LANGUAGE.md §3.13); null → "". */

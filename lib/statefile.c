@@ -43,25 +43,6 @@ static void put_number(Buf *b, double x, const SymTab *st)
     }
 }
 
-static void put_string(Buf *b, const Str *s)
-{
-    buf_putc(b, '"');
-    for (uint32_t i = 0; i < s->len; i++) {
-        unsigned char c = (unsigned char)s->bytes[i];
-        switch (c) {
-        case '"': buf_puts(b, "\\\""); break;
-        case '\\': buf_puts(b, "\\\\"); break;
-        case '\n': buf_puts(b, "\\n"); break;
-        case '\r': buf_puts(b, "\\r"); break;
-        case '\t': buf_puts(b, "\\t"); break;
-        default:
-            if (c < 0x20 || c == 0x7f) buf_printf(b, "\\x%02x", c);
-            else buf_putc(b, (char)c);
-        }
-    }
-    buf_putc(b, '"');
-}
-
 /* False when [v] holds something that cannot be stored. */
 static bool put_vector(Buf *b, const Vec *v, const SymTab *st)
 {
@@ -73,7 +54,7 @@ static bool put_vector(Buf *b, const Vec *v, const SymTab *st)
         }
         const Elem *e = &vec_celems(v)[i];
         if (e->kind == EL_NUM) put_number(b, e->num, st);
-        else if (e->kind == EL_STR) put_string(b, e->str);
+        else if (e->kind == EL_STR) fmt_quoted(b, e->str);
         else return false;
     }
     return v->kind != VEC_STREAM;

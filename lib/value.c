@@ -20,6 +20,7 @@
 #include "builtins/builtins.h"
 #include "builtins/random.h"
 #include "node.h"
+#include "utf8.h"
 
 /* ====================================================================
  * Memory
@@ -73,30 +74,13 @@ int str_cmp(const Str *a, const Str *b)
     return a->len < b->len ? -1 : a->len > b->len ? 1 : 0;
 }
 
-/* Decode one UTF-8 code point at s[*i]; invalid bytes decode as themselves. */
-static uint32_t utf8_next(const unsigned char *s, size_t len, size_t *i)
-{
-    unsigned char c0 = s[*i];
-    size_t n;
-    uint32_t c;
-    if (c0 < 0x80) { (*i)++; return c0; }
-    if ((c0 & 0xe0) == 0xc0) { n = 1; c = c0 & 0x1f; }
-    else if ((c0 & 0xf0) == 0xe0) { n = 2; c = c0 & 0x0f; }
-    else if ((c0 & 0xf8) == 0xf0) { n = 3; c = c0 & 0x07; }
-    else { (*i)++; return c0; }
-    for (size_t k = 1; k <= n; k++)
-        if (*i + k >= len || (s[*i + k] & 0xc0) != 0x80) { (*i)++; return c0; }
-    for (size_t k = 1; k <= n; k++) c = (c << 6) | (s[*i + k] & 0x3f);
-    *i += n + 1;
-    return c;
-}
-
 uint64_t fnv1a_utf8(const char *s, size_t len)
 {
     uint64_t y = UINT64_C(0xcbf29ce484222325);
     size_t i = 0;
     while (i < len) {
-        uint32_t c = utf8_next((const unsigned char *)s, len, &i);
+        uint32_t c;
+        i += utf8_decode((const unsigned char *)s + i, len - i, &c);
         y = (y ^ c) * UINT64_C(0x100000001b3);
     }
     return y;

@@ -37,49 +37,17 @@
 #include "../buf.h"
 #include "../eval.h"
 #include "../format.h"
+#include "../utf8.h"
 
 /* ------------------------------------------------------------------ */
 /* Helpers                                                             */
 /* ------------------------------------------------------------------ */
 
-/* Length of the valid UTF-8 sequence at [s] ([n] > 0 bytes), or 0 when
- * the bytes there are not valid UTF-8 (Python's strict decoder). Sets *[cp]
- * to the code point. */
-static size_t utf8_valid(const unsigned char *s, size_t n, uint32_t *cp)
-{
-    unsigned c = s[0];
-    size_t len;
-    uint32_t v, min;
-    if (c < 0x80) {
-        *cp = c;
-        return 1;
-    } else if (c >= 0xc2 && c <= 0xdf) {
-        len = 2; v = c & 0x1f; min = 0x80;
-    } else if (c >= 0xe0 && c <= 0xef) {
-        len = 3; v = c & 0x0f; min = 0x800;
-    } else if (c >= 0xf0 && c <= 0xf4) {
-        len = 4; v = c & 0x07; min = 0x10000;
-    } else {
-        return 0;
-    }
-    if (len > n)
-        return 0;
-    for (size_t i = 1; i < len; i++) {
-        if ((s[i] & 0xc0) != 0x80)
-            return 0;
-        v = (v << 6) | (s[i] & 0x3fu);
-    }
-    if (v < min || v > 0x10ffff || (v >= 0xd800 && v <= 0xdfff))
-        return 0;
-    *cp = v;
-    return len;
-}
-
 static bool utf8_all_valid(const char *s, size_t n)
 {
     uint32_t cp;
     for (size_t i = 0; i < n;) {
-        size_t len = utf8_valid((const unsigned char *)s + i, n - i, &cp);
+        size_t len = utf8_decode_strict((const unsigned char *)s + i, n - i, &cp);
         if (!len)
             return false;
         i += len;
@@ -103,7 +71,7 @@ static void py_strip(const char **s, size_t *n)
     size_t a = 0, b = *n;
     uint32_t cp;
     while (a < b) {
-        size_t len = utf8_valid(p + a, b - a, &cp);
+        size_t len = utf8_decode_strict(p + a, b - a, &cp);
         if (!len || !py_space(cp))
             break;
         a += len;
@@ -113,7 +81,7 @@ static void py_strip(const char **s, size_t *n)
         size_t k = b - 1;
         while (k > a && (p[k] & 0xc0) == 0x80 && b - k < 4)
             k--;
-        size_t len = utf8_valid(p + k, b - k, &cp);
+        size_t len = utf8_decode_strict(p + k, b - k, &cp);
         if (len != b - k || !py_space(cp))
             break;
         b = k;
@@ -602,7 +570,7 @@ static size_t line_break(const char *s, size_t i, size_t n)
     if (c == '\n' || c == 0x0b || c == 0x0c || (c >= 0x1c && c <= 0x1e))
         return 1;
     uint32_t cp;
-    size_t len = utf8_valid((const unsigned char *)s + i, n - i, &cp);
+    size_t len = utf8_decode_strict((const unsigned char *)s + i, n - i, &cp);
     if (len > 1 && (cp == 0x85 || cp == 0x2028 || cp == 0x2029))
         return len;
     return 0;
