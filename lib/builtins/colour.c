@@ -14,6 +14,7 @@
 #include <stdint.h>
 
 #include "builtins.h"
+#include "matrix.h"
 #include "turns.h"
 
 /* "C max(a,b)" and "C min(a,b)" of LANGUAGE.md §5.2. */
@@ -143,24 +144,6 @@ static const double XYZ_TO_SRGB[9] = {
     -1.5372, 1.8758, -0.2040,
     -0.4986, 0.0415, 1.0570,
 };
-
-/* 3×3 inverse exactly as inverse() computes it (§5.4). */
-static void mat3_inverse(const double m[9], double r[9])
-{
-    double s0 = m[0] * (m[4] * m[8] - m[7] * m[5]);
-    double s1 = m[3] * (m[7] * m[2] - m[1] * m[8]);
-    double s2 = m[6] * (m[1] * m[5] - m[4] * m[2]);
-    double invdet = 1 / (s0 + s1 + s2);
-    r[0] = (m[4] * m[8] - m[5] * m[7]) * invdet;
-    r[1] = (m[2] * m[7] - m[1] * m[8]) * invdet;
-    r[2] = (m[1] * m[5] - m[2] * m[4]) * invdet;
-    r[3] = (m[5] * m[6] - m[3] * m[8]) * invdet;
-    r[4] = (m[0] * m[8] - m[2] * m[6]) * invdet;
-    r[5] = (m[2] * m[3] - m[0] * m[5]) * invdet;
-    r[6] = (m[3] * m[7] - m[4] * m[6]) * invdet;
-    r[7] = (m[1] * m[6] - m[0] * m[7]) * invdet;
-    r[8] = (m[0] * m[4] - m[1] * m[3]) * invdet;
-}
 
 /* r = m · v (column order summation). [r] must not alias [v]. */
 static void mat3_vmul(const double m[9], const double v[3], double r[3])

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "builtins.h"
+#include "matrix.h"
 #include "turns.h"
 
 /* The parameter list every builtin shares (BuiltinFn in builtins.h). */
@@ -325,7 +326,7 @@ static Vec *bi_mapv(BI_PARAMS)
  * Matrices: inverse, point_towards (§5.4)
  * ===================================================================== */
 
-static void inverse33(const double *m, double *r)
+void mat3_inverse(const double m[9], double r[9])
 {
     double s0 = m[0] * (m[4] * m[8] - m[7] * m[5]);
     double s1 = m[3] * (m[7] * m[2] - m[1] * m[8]);
@@ -392,7 +393,7 @@ static Vec *bi_inverse(BI_PARAMS)
         return NULL;
     Vec *r = vec_new_num(m->len);
     if (m->len == 9)
-        inverse33(vec_cnums(m), vec_nums(r));
+        mat3_inverse(vec_cnums(m), vec_nums(r));
     else
         inverse44(vec_cnums(m), vec_nums(r));
     return r;
