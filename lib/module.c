@@ -84,6 +84,16 @@ static void run_module(ModuleCache *mc, uint32_t mi, Eval *ev)
     Program *p = program_load(m->path, NULL, (SymTab *)ev->symtab, &err);
     buf_free(&err);
     if (!p) return;
+    /* load-time warnings (unbound names) are reported like run-time errors */
+    for (const char *w = p->warnings.data; w && *w;) {
+        const char *nl = strchr(w, '\n');
+        size_t len = nl ? (size_t)(nl - w) : strlen(w);
+        char *line = strndup(w, len);
+        if (!line) abort();
+        eval_error(ev, line);
+        free(line);
+        w += len + (nl ? 1 : 0);
+    }
     m->running = true;
     Exports ex = {0};
     Eval mev = {

@@ -520,7 +520,8 @@ const Str *const *fl_scope_names(const fl_runtime *rt, size_t *n)
 
 int fl_save_state(const fl_runtime *rt, const char *path, Buf *err)
 {
-    StateClock c = {rt->frame, rt->frame_time, rt->last_beat, rt->period, rt->quantum, rt->start};
+    StateClock c = {rt->frame, rt->frame_time, rt->last_time, rt->last_beat,
+                    rt->period, rt->quantum, rt->start};
     return statefile_save(rt->state, rt->symtab, &c, path, NULL, err);
 }
 
@@ -530,6 +531,7 @@ int fl_restore_state(fl_runtime *rt, const char *path, Buf *err)
     if (statefile_load(rt->state, rt->symtab, &c, path, err) != 0) return -1;
     rt->frame = c.frame;
     rt->frame_time = c.time;
+    rt->last_time = c.last_time;
     rt->last_beat = c.last_beat;
     rt->period = c.period;
     rt->quantum = c.quantum;

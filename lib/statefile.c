@@ -80,6 +80,8 @@ int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *cloc
     buf_printf(&b, "clock %ld ", clock->frame);
     put_number(&b, clock->time, NULL);
     buf_putc(&b, ' ');
+    put_number(&b, clock->last_time, NULL);
+    buf_putc(&b, ' ');
     put_number(&b, clock->last_beat, NULL);
     buf_putc(&b, ' ');
     put_number(&b, clock->period, NULL);
@@ -287,8 +289,8 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *pat
             char *e;
             c.frame = strtol(s + 6, &e, 10);
             r.p = e;
-            double *fields[5] = {&c.time, &c.last_beat, &c.period, &c.quantum, &c.start};
-            for (int k = 0; k < 5 && !why; k++) {
+            double *fields[6] = {&c.time, &c.last_time, &c.last_beat, &c.period, &c.quantum, &c.start};
+            for (int k = 0; k < 6 && !why; k++) {
                 if (*r.p != ' ') why = "malformed clock line";
                 else {
                     r.p++;

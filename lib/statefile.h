@@ -3,7 +3,7 @@
  *
  * Format, version 1 (UTF-8 text, one record per line):
  *     flitter-state 1
- *     clock FRAME TIME LAST_BEAT PERIOD QUANTUM START
+ *     clock FRAME TIME LAST_TIME LAST_BEAT PERIOD QUANTUM START
  *     KEY = VALUE
  *     ...
  *     end COUNT
@@ -28,6 +28,7 @@
 typedef struct StateClock {
     long frame;          /* frames evaluated so far */
     double time;         /* `time` of the next frame */
+    double last_time;    /* `time` of the last evaluated frame */
     double last_beat;    /* beat of the last evaluated frame */
     double period;       /* beat clock: seconds per beat */
     double quantum;      /* beat clock: beats per bar */

@@ -4,6 +4,7 @@
 #define FL_COMMANDS_H
 
 int cmd_run(int argc, char **argv);
+int cmd_repl(int argc, char **argv);
 int cmd_test(int argc, char **argv);
 
 #endif

@@ -11,6 +11,7 @@ static const struct {
     const char *summary;
 } commands[] = {
     {"run", cmd_run, "run a script headless (lockstep) or in realtime"},
+    {"repl", cmd_repl, "step a script's frames and evaluate expressions interactively"},
     {"test", cmd_test, "compare scripts' outputs with their golden files"},
 };
 

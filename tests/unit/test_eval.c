@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "flitter.h"
 #include "format.h"
@@ -183,6 +184,92 @@ static void test_syntax_error(void **s)
     free(r.log);
 }
 
+/* Write [text] to [dir]/[name]. */
+static void put_file(const char *dir, const char *name, const char *text)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+/* Run [dir]/main.fl for one frame; returns tree and log like run_frames. */
+static Run run_file(const char *dir)
+{
+    Run r = {0};
+    size_t loglen;
+    FILE *log = open_memstream(&r.log, &loglen);
+    fl_options o = fl_default_options();
+    o.log = log;
+    o.debug = log;
+    fl_runtime *rt = fl_new(&o);
+    char path[512];
+    snprintf(path, sizeof path, "%s/main.fl", dir);
+    Buf err = BUF_INIT;
+    if (fl_load(rt, path, &err) == 0) {
+        fl_step(rt);
+        Buf t = BUF_INIT;
+        fmt_tree(&t, fl_root(rt), fl_symbols(rt));
+        r.tree = strdup(buf_cstr(&t));
+        buf_free(&t);
+    } else {
+        fputs(buf_cstr(&err), log);
+    }
+    buf_free(&err);
+    fl_free(rt);
+    fclose(log);
+    return r;
+}
+
+static void test_imports(void **s)
+{
+    (void)s;
+    char dir[] = "/tmp/flitter-import-XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    put_file(dir, "lib.fl", "let k=3\nfunc triple(x)\n    x*k\nlet hidden=beat\n!ignored\n");
+    put_file(dir, "a.fl", "import b from \"b.fl\"\nlet a=1\n");
+    put_file(dir, "b.fl", "import a from \"a.fl\"\nlet b=2\n");
+    put_file(dir, "main.fl",
+             "import triple;k;nope from \"lib.fl\"\nimport z from \"missing.fl\"\n"
+             "import a from \"a.fl\"\n!t r=triple(5) k=k nope=nope z=z a=a\n");
+    Run r = run_file(dir);
+    assert_string_equal(r.tree, "!root\n !t r=15 k=3 a=1\n");
+    assert_non_null(strstr(r.log, "Unable to import 'nope' from '"));
+    assert_non_null(strstr(r.log, "Unable to import from '"));
+    assert_non_null(strstr(r.log, "missing.fl'"));
+    assert_non_null(strstr(r.log, "Circular import of '"));
+    assert_non_null(strstr(r.log, "Unbound name 'beat'"));   /* modules see no frame names */
+    free(r.tree);
+    free(r.log);
+
+    /* %include splices statements in the current scope, once per file */
+    put_file(dir, "part.fl", "let local=x*2\n!inc v=local\n");
+    put_file(dir, "main.fl", "let x=21\n%include \"part.fl\"\n!after l=local\n");
+    r = run_file(dir);
+    assert_string_equal(r.tree, "!root\n !inc v=42\n !after\n");
+    free(r.tree);
+    free(r.log);
+    const char *names[] = {"lib.fl", "a.fl", "b.fl", "main.fl", "part.fl"};
+    for (size_t i = 0; i < 5; i++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+        remove(path);
+    }
+    rmdir(dir);
+}
+
+static void test_runaway_scripts_end(void **s)
+{
+    (void)s;
+    Run r = run_frames("!t r=len(..1e12)\n", 1);
+    assert_string_equal(r.tree, "!root\n !t r=0\n");
+    assert_non_null(strstr(r.log, "Range too long"));
+    free(r.tree);
+    free(r.log);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -198,6 +285,8 @@ int main(void)
         cmocka_unit_test(test_identity_and_nan),
         cmocka_unit_test(test_frame_names),
         cmocka_unit_test(test_syntax_error),
+        cmocka_unit_test(test_imports),
+        cmocka_unit_test(test_runaway_scripts_end),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

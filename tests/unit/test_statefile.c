@@ -37,7 +37,7 @@ static void test_round_trip(void **s)
     Vec *k2 = vec_str("_counter", 8), *v2 = vec_str("tab\there \"q\" ;=\n\x01", 17);
     state_set(sd, k1, v1);
     state_set(sd, k2, v2);
-    StateClock c = {42, 0.7000000000000001, 1.4, 0.5, 4, -0.0}, c2;
+    StateClock c = {42, 0.7000000000000001, 0.6833333333333333, 1.4, 0.5, 4, -0.0}, c2;
     Buf err = BUF_INIT;
     assert_int_equal(statefile_save(sd, st, &c, path, NULL, &err), 0);
     StateDict *back = state_new();
@@ -77,11 +77,11 @@ static void test_malformed(void **s)
 {
     (void)s;
     static const char *const bad[] = {
-        "flitter-state 2\nclock 0 0 0 0.5 4 0\nend 0\n",          /* other version */
-        "flitter-state 1\nclock 0 0 0 0.5 4 0\n1 = \nend 1\n",    /* empty value */
-        "flitter-state 1\nclock 0 0 0 0.5 4 0\n1 = 2;x\nend 1\n", /* bad number */
-        "flitter-state 1\nclock 0 0 0 0.5 4 0\n1 = \"open\nend 1\n", /* open string */
-        "flitter-state 1\nclock 0 0 0 0.5 4 0\n1 = 2\nend 2\n",   /* wrong count */
+        "flitter-state 2\nclock 0 0 0 0 0.5 4 0\nend 0\n",          /* other version */
+        "flitter-state 1\nclock 0 0 0 0 0.5 4 0\n1 = \nend 1\n",    /* empty value */
+        "flitter-state 1\nclock 0 0 0 0 0.5 4 0\n1 = 2;x\nend 1\n", /* bad number */
+        "flitter-state 1\nclock 0 0 0 0 0.5 4 0\n1 = \"open\nend 1\n", /* open string */
+        "flitter-state 1\nclock 0 0 0 0 0.5 4 0\n1 = 2\nend 2\n",   /* wrong count */
         "flitter-state 1\n1 = 2\nend 1\n",                         /* no clock */
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {

@@ -1,0 +1,751 @@
+/* cmd_repl.c: `flitter repl [options] [SCRIPT]`, an interactive session
+ * that loads a script, steps its frames on demand and evaluates Flitter
+ * text in the scope of the script's last evaluated frame (fl_eval).
+ *
+ * An input line that starts with `:` is a command (`:step`, `:state`, ...;
+ * see the table `commands` below and `:help`); an unknown one is an error
+ * (write a symbol as `(:name)`). Any other line is Flitter text: an
+ * expression, whose value text is printed, or `let`/`func` bindings,
+ * printed as `NAME = VALUE` lines. When the parser says the text ended
+ * early (fl_eval returns 1), or while the following lines are indented,
+ * more lines are read into one block; an empty line, or a non-indented
+ * line that completes the block or comes after a complete block, ends it.
+ * Scripted input is read one line ahead, so there a complete first line
+ * followed by indented ones is one block; a terminal session evaluates a
+ * complete first line at once, so there a multi-line `let` has to start
+ * incomplete (`let x=`, or `func f(a)`).
+ *
+ * The script's names enter the scope with its first frame; the session
+ * does not step by itself, so `:step 30` reports frame 29 exactly as
+ * `flitter run --frames 30` would. `:state` leaves out the dump's `# frame`
+ * header (`:step` prints the frame and time).
+ *
+ * On a terminal, lines are read with libedit: line editing, a history file
+ * ($FLITTER_HISTORY, else ~/.flitter_history; rewritten after each line)
+ * and Tab completion of `:` commands, of names in scope (fl_scope_names)
+ * and of file names after :load/:save/:restore. Otherwise lines are read
+ * with getline() with no prompt or echo, so a session can be scripted.
+ * Values and command results go to stdout; errors (`<repl>:LINE:COL: error:
+ * ...`, `FILE:LINE:COL: error: ...`, `error: ...`) and the runtime's log go
+ * to stderr; stdout is line-buffered, and flushed before the REPL writes
+ * to stderr, so the two streams interleave in order. An error never ends
+ * the session.
+ *
+ * The one global: libedit's completion callbacks take no user pointer, so
+ * `completing` points at the session's Repl while libedit may call back;
+ * the completion cursor itself lives in that Repl.
+ */
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <editline/readline.h>
+
+#include "commands.h"
+#include "exitcodes.h"
+#include "flitter.h"
+#include "format.h"
+
+#define PROMPT "flitter> "
+#define PROMPT_MORE "   ...> "
+#define HISTORY_LINES 1000
+
+typedef enum { CPL_COMMANDS, CPL_NAMES, CPL_FILES } CompletionKind;
+
+typedef struct Repl {
+    fl_runtime *rt;            /* the interpreter (owned) */
+    char *script;              /* path of the current script (owned), or NULL */
+    bool tty;                  /* stdin is a terminal: libedit, prompts, history */
+    char *history;             /* history file path (owned), or NULL for none */
+    bool history_failed;       /* a history write failed (reported once) */
+    char *last_entry;          /* last line added to the history (owned), to skip repeats */
+    Buf block;                 /* Flitter text of a multi-line input so far */
+    bool in_block;             /* [block] is being continued */
+    char *peeked;              /* scripted mode: the next line, read ahead (owned), or NULL */
+    bool peeked_eof;           /* scripted mode: reading ahead met the end of input */
+    /* completion cursor, for libedit's generator callback */
+    CompletionKind cpl_kind;   /* what is being completed */
+    size_t cpl_next;           /* next candidate index to try */
+    const Str *const *cpl_names;  /* names in scope (borrowed from the runtime) */
+    size_t cpl_count;          /* entries in cpl_names */
+    Buf cpl_path;              /* CPL_FILES: the whole path typed so far */
+    size_t cpl_skip;           /* CPL_FILES: bytes of it before libedit's word */
+} Repl;
+
+/* libedit's completion callbacks carry no context: see the file comment. */
+static Repl *completing;
+
+/* ====================================================================
+ * Output helpers
+ * ==================================================================== */
+
+static void print_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static void print_error(const char *fmt, ...)
+{
+    fflush(stdout);
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("error: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+/* Write [b] to [f], ending it with a newline if it has none. */
+static void put_text(FILE *f, const Buf *b)
+{
+    if (!b->len) return;
+    if (f == stderr) fflush(stdout);
+    fwrite(b->data, 1, b->len, f);
+    if (b->data[b->len - 1] != '\n') fputc('\n', f);
+}
+
+static bool is_blank(const char *s)
+{
+    while (*s == ' ' || *s == '\t') s++;
+    return *s == '\0';
+}
+
+static const char *skip_space(const char *s)
+{
+    while (*s == ' ' || *s == '\t') s++;
+    return s;
+}
+
+/* ====================================================================
+ * Evaluating Flitter text
+ * ==================================================================== */
+
+/* Evaluate [len] bytes at [text]; print the result or the error. Returns
+ * fl_eval's status (1: the text ended early, nothing printed). */
+static int eval_text(Repl *r, const char *text, size_t len)
+{
+    Buf out = BUF_INIT, err = BUF_INIT;
+    int rc = fl_eval(r->rt, text, len, &out, &err);
+    if (rc == 0) put_text(stdout, &out);
+    else if (rc < 0) put_text(stderr, &err);
+    buf_free(&out);
+    buf_free(&err);
+    return rc;
+}
+
+/* Evaluate the pending block, which is complete or has to be: an input
+ * that still ends early is reported as an error. */
+static void finish_block(Repl *r)
+{
+    if (eval_text(r, r->block.data, r->block.len) == 1) {
+        fflush(stdout);
+        fputs("<repl>: error: input ended early (unexpected end of input)\n", stderr);
+    }
+    buf_reset(&r->block);
+    r->in_block = false;
+}
+
+/* ====================================================================
+ * Commands
+ * ==================================================================== */
+
+typedef enum { ARG_NONE, ARG_OPTIONAL, ARG_REQUIRED } ArgUse;
+
+/* A command handler gets the argument text (trimmed, "" when absent) and
+ * returns 1 to end the session, else 0 (errors are printed, not returned). */
+typedef int CommandFn(Repl *r, const char *arg);
+
+typedef struct Command {
+    const char *name;    /* the word after ':' */
+    ArgUse arg;          /* whether it takes an argument */
+    const char *usage;   /* argument synopsis for :help */
+    const char *help;    /* one-line description for :help */
+    CommandFn *fn;
+} Command;
+
+static int cmd_help(Repl *r, const char *arg);
+
+/* Load (or reload) [path] into the runtime, keeping the state; on success
+ * it becomes the session's script. Returns 0 or -1 (error printed). */
+static int load_script(Repl *r, const char *path)
+{
+    Buf err = BUF_INIT;
+    int rc = fl_load(r->rt, path, &err);
+    if (rc != 0) put_text(stderr, &err);
+    buf_free(&err);
+    if (rc == 0 && r->script != path) {
+        char *copy = strdup(path);
+        if (!copy) abort();
+        free(r->script);
+        r->script = copy;
+    }
+    return rc;
+}
+
+static void print_frame(Repl *r)
+{
+    Buf b = BUF_INIT;
+    buf_printf(&b, "frame %ld time ", fl_frame_count(r->rt) - 1);
+    fmt_double(&b, fl_frame_time(r->rt));
+    buf_putc(&b, '\n');
+    put_text(stdout, &b);
+    buf_free(&b);
+}
+
+static int cmd_step(Repl *r, const char *arg)
+{
+    long n = 1;
+    if (*arg) {
+        char *end;
+        errno = 0;
+        n = strtol(arg, &end, 10);
+        if (errno || end == arg || *end || n < 1) {
+            print_error("bad frame count '%s' (expected a whole number >= 1)", arg);
+            return 0;
+        }
+    }
+    if (!r->script) {
+        print_error("no script loaded (use :load FILE)");
+        return 0;
+    }
+    for (long i = 0; i < n; i++)
+        if (fl_step(r->rt) != 0) {
+            print_error("no program to step");
+            return 0;
+        }
+    print_frame(r);
+    return 0;
+}
+
+/* The state dump without its `# frame` header, keeping the lines whose
+ * text (KEY first) starts with [arg]. */
+static int cmd_state(Repl *r, const char *arg)
+{
+    Buf dump = BUF_INIT;
+    fmt_state_dump(&dump, fl_state(r->rt), fl_frame_count(r->rt) - 1, fl_frame_time(r->rt),
+                   fl_symbols(r->rt));
+    size_t plen = strlen(arg);
+    const char *s = buf_cstr(&dump);
+    while (*s) {
+        const char *nl = strchr(s, '\n');
+        size_t len = nl ? (size_t)(nl - s) + 1 : strlen(s);
+        if (s[0] != '#' && len > plen && strncmp(s, arg, plen) == 0) fwrite(s, 1, len, stdout);
+        s += len;
+    }
+    buf_free(&dump);
+    return 0;
+}
+
+static int cmd_tree(Repl *r, const char *arg)
+{
+    (void)arg;
+    const Node *root = fl_root(r->rt);
+    if (!root) {
+        print_error("no frame evaluated yet (use :step)");
+        return 0;
+    }
+    Buf b = BUF_INIT;
+    fmt_tree(&b, root, fl_symbols(r->rt));
+    put_text(stdout, &b);
+    buf_free(&b);
+    return 0;
+}
+
+static int cmd_get(Repl *r, const char *arg)
+{
+    Buf text = BUF_INIT;
+    buf_printf(&text, "$(%s)\n", arg);
+    if (eval_text(r, text.data, text.len) == 1)
+        print_error("incomplete key expression '%s'", arg);
+    buf_free(&text);
+    return 0;
+}
+
+static int cmd_reload(Repl *r, const char *arg)
+{
+    (void)arg;
+    if (!r->script) {
+        print_error("no script loaded (use :load FILE)");
+        return 0;
+    }
+    if (load_script(r, r->script) == 0) printf("reloaded %s\n", r->script);
+    return 0;
+}
+
+static int cmd_load(Repl *r, const char *arg)
+{
+    if (load_script(r, arg) == 0) printf("loaded %s\n", arg);
+    return 0;
+}
+
+static int cmd_define(Repl *r, const char *arg)
+{
+    const char *eq = strchr(arg, '=');
+    if (!eq) {
+        print_error("expected NAME=VALUE, got '%s'", arg);
+        return 0;
+    }
+    size_t nlen = (size_t)(eq - arg);
+    while (nlen && (arg[nlen - 1] == ' ' || arg[nlen - 1] == '\t')) nlen--;
+    char *name = strndup(arg, nlen);
+    if (!name) abort();
+    if (fl_define(r->rt, name, skip_space(eq + 1)) != 0) {
+        print_error("bad name '%s' in define", name);
+    } else {
+        printf("defined %s\n", name);
+        if (r->script) load_script(r, r->script);
+    }
+    free(name);
+    return 0;
+}
+
+static int cmd_reset(Repl *r, const char *arg)
+{
+    (void)arg;
+    fl_reset_state(r->rt);
+    puts("state cleared");
+    return 0;
+}
+
+static int cmd_save(Repl *r, const char *arg)
+{
+    Buf err = BUF_INIT;
+    if (fl_save_state(r->rt, arg, &err) == 0) printf("saved %s\n", arg);
+    else put_text(stderr, &err);   /* `FILE: error: ...` */
+    buf_free(&err);
+    return 0;
+}
+
+static int cmd_restore(Repl *r, const char *arg)
+{
+    Buf err = BUF_INIT;
+    if (fl_restore_state(r->rt, arg, &err) == 0)
+        printf("restored %s (frame %ld)\n", arg, fl_frame_count(r->rt) - 1);
+    else
+        put_text(stderr, &err);    /* `FILE: error: ...` */
+    buf_free(&err);
+    return 0;
+}
+
+static int cmd_quit(Repl *r, const char *arg)
+{
+    (void)r;
+    (void)arg;
+    return 1;
+}
+
+static const Command commands[] = {
+    {"step", ARG_OPTIONAL, "[N]", "evaluate N frames (default 1); print the last frame and time", cmd_step},
+    {"state", ARG_OPTIONAL, "[PREFIX]", "list state entries (KEY = VALUE) whose key text starts with PREFIX", cmd_state},
+    {"tree", ARG_NONE, "", "print the node tree of the last frame", cmd_tree},
+    {"get", ARG_REQUIRED, "KEY", "print the state value $(KEY); KEY is Flitter text, e.g. :dish;0", cmd_get},
+    {"reload", ARG_NONE, "", "re-read the script, keeping the state", cmd_reload},
+    {"load", ARG_REQUIRED, "FILE", "load another script, keeping the state", cmd_load},
+    {"define", ARG_REQUIRED, "NAME=VALUE", "bind NAME for every frame (as -D), then reload", cmd_define},
+    {"reset", ARG_NONE, "", "clear the state dictionary (the clock keeps running)", cmd_reset},
+    {"save", ARG_REQUIRED, "FILE", "save the state and the clock to FILE", cmd_save},
+    {"restore", ARG_REQUIRED, "FILE", "restore the state and the clock from FILE", cmd_restore},
+    {"help", ARG_NONE, "", "show this help", cmd_help},
+    {"quit", ARG_NONE, "", "end the session (so does end of input)", cmd_quit},
+};
+#define NCOMMANDS (sizeof commands / sizeof commands[0])
+
+static int cmd_help(Repl *r, const char *arg)
+{
+    (void)r;
+    (void)arg;
+    puts("Type a Flitter expression or `let` bindings to evaluate them in the scope of the\n"
+         "script's last frame; end an indented multi-line block with an empty line.\n"
+         "Commands:");
+    for (size_t i = 0; i < NCOMMANDS; i++) {
+        char head[40];
+        snprintf(head, sizeof head, ":%s %s", commands[i].name, commands[i].usage);
+        printf("  %-20s %s\n", head, commands[i].help);
+    }
+    return 0;
+}
+
+/* Run the command line [line] (starting with ':'). Returns 1 to quit. */
+static int run_command(Repl *r, const char *line)
+{
+    const char *word = line + 1, *end = word;
+    while (*end && *end != ' ' && *end != '\t') end++;
+    size_t wlen = (size_t)(end - word);
+    const Command *c = NULL;
+    for (size_t i = 0; i < NCOMMANDS && !c; i++)
+        if (strlen(commands[i].name) == wlen && strncmp(commands[i].name, word, wlen) == 0)
+            c = &commands[i];
+    if (!wlen) {
+        print_error("missing command name after ':' (:help lists them)");
+        return 0;
+    }
+    if (!c) {
+        print_error("unknown command ':%.*s' (:help lists them; write a symbol as (:name))",
+                    (int)wlen, word);
+        return 0;
+    }
+    /* the argument, without surrounding blanks */
+    const char *arg = skip_space(end);
+    size_t alen = strlen(arg);
+    while (alen && (arg[alen - 1] == ' ' || arg[alen - 1] == '\t')) alen--;
+    if (c->arg == ARG_NONE && alen) {
+        print_error(":%s takes no argument", c->name);
+        return 0;
+    }
+    if (c->arg == ARG_REQUIRED && !alen) {
+        print_error("usage: :%s %s", c->name, c->usage);
+        return 0;
+    }
+    char *a = strndup(arg, alen);
+    if (!a) abort();
+    int rc = c->fn(r, a);
+    free(a);
+    return rc;
+}
+
+/* ====================================================================
+ * Reading lines
+ * ==================================================================== */
+
+/* Candidate [state] of the current completion (libedit generator). */
+static char *complete_next(const char *text, int state)
+{
+    Repl *r = completing;
+    if (state == 0) r->cpl_next = 0;
+    size_t tlen = strlen(text);
+    if (r->cpl_kind == CPL_FILES) {
+        /* libedit's word stops at '/' and '.'; complete the whole path and
+         * hand back the part from its word on */
+        char *m = rl_filename_completion_function(buf_cstr(&r->cpl_path), state);
+        if (m && strlen(m) >= r->cpl_skip) memmove(m, m + r->cpl_skip, strlen(m) - r->cpl_skip + 1);
+        return m;
+    }
+    if (r->cpl_kind == CPL_COMMANDS) {
+        while (r->cpl_next < NCOMMANDS) {
+            const char *name = commands[r->cpl_next++].name;
+            if (tlen >= 1 && strncmp(name, text + 1, tlen - 1) == 0) {
+                char *m = malloc(strlen(name) + 2);
+                if (!m) abort();
+                m[0] = ':';
+                strcpy(m + 1, name);
+                return m;
+            }
+        }
+        return NULL;
+    }
+    while (r->cpl_next < r->cpl_count) {
+        size_t i = r->cpl_next++;
+        const Str *name = r->cpl_names[i];
+        if (name->len < tlen || memcmp(name->bytes, text, tlen) != 0) continue;
+        bool seen = false;   /* a name may be bound in several layers */
+        for (size_t j = 0; j < i && !seen; j++) seen = str_eq(r->cpl_names[j], name);
+        if (seen) continue;
+        char *m = strdup(name->bytes);
+        if (!m) abort();
+        return m;
+    }
+    return NULL;
+}
+
+/* libedit's attempted-completion hook: `:` commands at the start of the
+ * line, file names after :load/:save/:restore, else names in scope. */
+static char **complete(const char *text, int start, int end)
+{
+    Repl *r = completing;
+    const char *line = rl_line_buffer;
+    rl_attempted_completion_over = 1;
+    rl_completion_append_character = '\0';
+    bool at_start = true;
+    for (int i = 0; i < start; i++)
+        if (line[i] != ' ' && line[i] != '\t') at_start = false;
+    const char *cmd = skip_space(line);
+    if (at_start && text[0] == ':') {
+        r->cpl_kind = CPL_COMMANDS;
+        rl_completion_append_character = ' ';
+    } else if (!at_start && (strncmp(cmd, ":load ", 6) == 0 || strncmp(cmd, ":save ", 6) == 0 ||
+                             strncmp(cmd, ":restore ", 9) == 0)) {
+        const char *path = skip_space(strchr(cmd, ' '));
+        size_t from = (size_t)(path - line);
+        if (from > (size_t)start || end < start) return NULL;
+        r->cpl_kind = CPL_FILES;
+        r->cpl_skip = (size_t)start - from;
+        buf_reset(&r->cpl_path);
+        buf_add(&r->cpl_path, path, (size_t)end - from);
+    } else if (text[0] == ':' || (start > 0 && line[start - 1] == ':')) {
+        return NULL;                        /* a symbol: nothing to offer */
+    } else {
+        r->cpl_kind = CPL_NAMES;
+        r->cpl_names = fl_scope_names(r->rt, &r->cpl_count);
+    }
+    char **matches = rl_completion_matches(text, complete_next);
+    /* one file (libedit repeats a sole match after the common prefix in
+     * [0]; GNU readline does not): end a directory with '/', a file with a
+     * space */
+    if (r->cpl_kind == CPL_FILES && matches && (!matches[1] || !matches[2])) {
+        Buf full = BUF_INIT;
+        buf_add(&full, buf_cstr(&r->cpl_path), r->cpl_skip);
+        buf_puts(&full, matches[0]);
+        struct stat st;
+        bool dir = stat(full.data, &st) == 0 && S_ISDIR(st.st_mode);
+        rl_completion_append_character = dir ? '/' : ' ';
+        buf_free(&full);
+    }
+    return matches;
+}
+
+/* Add [line] to the history (skipping a repeat of the last entry) and
+ * rewrite the history file. */
+static void remember(Repl *r, const char *line)
+{
+    if (is_blank(line) || (r->last_entry && strcmp(r->last_entry, line) == 0)) return;
+    add_history(line);
+    free(r->last_entry);
+    r->last_entry = strdup(line);
+    if (!r->last_entry) abort();
+    if (r->history && write_history(r->history) != 0 && !r->history_failed) {
+        r->history_failed = true;
+        print_error("cannot write history file %s", r->history);
+    }
+}
+
+/* The next input line without its newline (malloc'd), or NULL at the end
+ * of input. */
+static char *read_line(Repl *r)
+{
+    if (r->tty) {
+        char *line = readline(r->in_block ? PROMPT_MORE : PROMPT);
+        if (line) remember(r, line);
+        return line;
+    }
+    if (r->peeked || r->peeked_eof) {
+        char *line = r->peeked;
+        r->peeked = NULL;
+        r->peeked_eof = false;
+        return line;
+    }
+    char *line = NULL;
+    size_t cap = 0;
+    ssize_t n = getline(&line, &cap, stdin);
+    if (n < 0) {
+        free(line);
+        return NULL;
+    }
+    while (n > 0 && (line[n - 1] == '\n' || line[n - 1] == '\r')) line[--n] = '\0';
+    return line;
+}
+
+static bool is_indented(const char *line)
+{
+    return (line[0] == ' ' || line[0] == '\t') && !is_blank(line);
+}
+
+/* Scripted mode: move the indented lines that follow into the block, so
+ * that `let x=1` followed by indented bindings is one input. (A terminal
+ * session cannot wait for the next line: there a complete first line is
+ * evaluated at once.) */
+static void take_indented(Repl *r)
+{
+    if (r->tty) return;
+    for (;;) {
+        if (!r->peeked && !r->peeked_eof) {
+            r->peeked = read_line(r);
+            r->peeked_eof = !r->peeked;
+        }
+        if (!r->peeked || !is_indented(r->peeked)) return;
+        buf_puts(&r->block, r->peeked);
+        buf_putc(&r->block, '\n');
+        free(r->peeked);
+        r->peeked = NULL;
+    }
+}
+
+static void setup_editing(Repl *r)
+{
+    completing = r;
+    rl_readline_name = "flitter";
+    rl_attempted_completion_function = complete;
+    /* characters that cannot be part of a name (names may hold ' and digits) */
+    static const char breaks[] = " \t\n\"()[]{},;+-*/%<>=!&|^~$@.#?\\`";
+    rl_basic_word_break_characters = breaks;
+    rl_completer_word_break_characters = (char *)breaks;
+    stifle_history(HISTORY_LINES);
+    const char *env = getenv("FLITTER_HISTORY"), *home = getenv("HOME");
+    if (env && *env) {
+        r->history = strdup(env);
+    } else if (home && *home) {
+        size_t n = strlen(home) + sizeof "/.flitter_history";
+        r->history = malloc(n);
+        if (r->history) snprintf(r->history, n, "%s/.flitter_history", home);
+    }
+    if (r->history) read_history(r->history);   /* a missing file is fine */
+}
+
+/* ====================================================================
+ * The session
+ * ==================================================================== */
+
+/* Handle one input line. Returns 1 to end the session. */
+static int handle_line(Repl *r, const char *line)
+{
+    if (r->in_block) {
+        if (is_blank(line)) {
+            finish_block(r);
+            return 0;
+        }
+        bool indented = line[0] == ' ' || line[0] == '\t';
+        /* a non-indented line starts a new input, unless the block still
+         * needs more text */
+        if (!indented && eval_text(r, r->block.data, r->block.len) != 1) {
+            buf_reset(&r->block);
+            r->in_block = false;
+            return handle_line(r, line);
+        }
+        buf_puts(&r->block, line);
+        buf_putc(&r->block, '\n');
+        take_indented(r);
+        /* ... and a non-indented line that completes it ends it */
+        if (!indented && eval_text(r, r->block.data, r->block.len) != 1) {
+            buf_reset(&r->block);
+            r->in_block = false;
+        }
+        return 0;
+    }
+    line = skip_space(line);
+    if (!*line) return 0;
+    if (line[0] == ':') return run_command(r, line);
+    buf_puts(&r->block, line);
+    buf_putc(&r->block, '\n');
+    take_indented(r);
+    if (eval_text(r, r->block.data, r->block.len) == 1) {
+        r->in_block = true;
+    } else {
+        buf_reset(&r->block);
+    }
+    return 0;
+}
+
+static void repl_usage(FILE *f)
+{
+    fputs("usage: flitter repl [options] [SCRIPT]\n"
+          "  --fps F             frame rate of :step (default 60; %pragma fps overrides it)\n"
+          "  -D, --define NAME=VALUE  bind NAME before evaluation\n"
+          "Type :help in the session for its commands.\n",
+          f);
+}
+
+/* Parse the options into [opts] and the runtime's defines; returns 0, -1
+ * after --help, or EXIT_USAGE. Sets [*script] to SCRIPT or NULL. */
+static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
+                      const char **script)
+{
+    static const struct option longopts[] = {
+        {"fps", required_argument, NULL, 'f'},
+        {"define", required_argument, NULL, 'D'},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    char **defines = calloc((size_t)argc + 1, sizeof(char *));
+    if (!defines) abort();
+    int ndefines = 0, c, rc = 0;
+    optind = 0;
+    opterr = 0;
+    while (rc == 0 && (c = getopt_long(argc, argv, "+D:h", longopts, NULL)) != -1) {
+        char *end;
+        switch (c) {
+        case 'f':
+            opts->fps = strtod(optarg, &end);
+            if (end == optarg || *end || !(opts->fps > 0) || isinf(opts->fps)) {
+                fprintf(stderr, "flitter repl: bad value '%s' for option '--fps'\n", optarg);
+                rc = EXIT_USAGE;
+            }
+            break;
+        case 'D':
+            if (!strchr(optarg, '=')) {
+                fprintf(stderr, "flitter repl: bad value '%s' for option '-D'\n", optarg);
+                rc = EXIT_USAGE;
+            }
+            defines[ndefines++] = optarg;
+            break;
+        case 'h':
+            repl_usage(stdout);
+            rc = -1;
+            break;
+        default:
+            fprintf(stderr, "flitter repl: unknown option or missing value: '%s'\n",
+                    argv[optind - 1]);
+            repl_usage(stderr);
+            rc = EXIT_USAGE;
+        }
+    }
+    if (rc == 0 && argc - optind > 1) {
+        fputs("flitter repl: at most one SCRIPT expected\n", stderr);
+        repl_usage(stderr);
+        rc = EXIT_USAGE;
+    }
+    *script = rc == 0 && optind < argc ? argv[optind] : NULL;
+    if (rc == 0) {
+        *rt = fl_new(opts);
+        for (int i = 0; i < ndefines && rc == 0; i++) {
+            char *eq = strchr(defines[i], '=');
+            *eq = '\0';
+            if (fl_define(*rt, defines[i], eq + 1) != 0) {
+                fprintf(stderr, "flitter repl: bad name in define '%s'\n", defines[i]);
+                rc = EXIT_USAGE;
+            }
+            *eq = '=';
+        }
+        if (rc != 0) {
+            fl_free(*rt);
+            *rt = NULL;
+        }
+    }
+    free(defines);
+    return rc;
+}
+
+int cmd_repl(int argc, char **argv)
+{
+    fl_options opts = fl_default_options();
+    const char *script;
+    Repl r = {.tty = isatty(STDIN_FILENO) == 1, .block = BUF_INIT};
+    setvbuf(stdout, NULL, _IOLBF, 0);   /* keep stdout and stderr lines in order */
+    int rc = parse_args(argc, argv, &opts, &r.rt, &script);
+    if (rc != 0) return rc < 0 ? EXIT_OK : rc;
+    if (script && load_script(&r, script) != 0) {
+        /* stay in the session: the file can be fixed and :reload-ed */
+        r.script = strdup(script);
+        if (!r.script) abort();
+    }
+    if (r.tty) {
+        setup_editing(&r);
+        puts("flitter repl: :help lists the commands, :quit or Ctrl-D ends the session");
+    }
+    for (;;) {
+        char *line = read_line(&r);
+        if (!line) {
+            if (r.in_block) finish_block(&r);
+            if (r.tty) putchar('\n');
+            break;
+        }
+        int quit = handle_line(&r, line);
+        free(line);
+        fflush(stdout);
+        if (quit) break;
+    }
+    fflush(stdout);
+    if (r.tty) {
+        clear_history();
+        completing = NULL;
+    }
+    buf_free(&r.block);
+    buf_free(&r.cpl_path);
+    free(r.peeked);
+    free(r.last_entry);
+    free(r.history);
+    free(r.script);
+    fl_free(r.rt);
+    return EXIT_OK;
+}
