@@ -16,15 +16,17 @@
  *   name_let   first name after `let`: all but `stable`
  *   name_next  a name right after an operand (attribute names, further
  *              bindings on a `let`/`where` line): all but the keywords that
- *              can continue an expression (in where or xor and for if else)
+ *              can continue an expression (in where or xor and for if else);
+ *              right after a `#tag` those name attributes too (kw_operator)
  *   name_arg   named arguments: all but `func` and `not`, which can start
  *              an argument expression
- *   name_atom  names read as values: only `stable from in where or xor and`.
- *              The reference would also read `let import for if func not`
- *              as names in operand positions (`x + let`), and `elif else`
- *              anywhere but right after an `if` block; accepting them here
- *              would make LALR(1) conflicts with the statements they start,
- *              so such variables can be bound but not read back (rare).
+ *   name_atom  names read as values: `stable from in where or xor and
+ *              elif else` (`elif`/`else` stay keywords right after an `if`
+ *              block). The reference would also read `let import for if
+ *              func not` as names in operand positions (`x + let`);
+ *              accepting them here would make LALR(1) conflicts with the
+ *              statements they start, so such variables can be bound but
+ *              not read back (rare).
  */
 
 %require "3.6"
@@ -117,27 +119,33 @@ Loc parse_start(ParseCtx *pc);
 %token ELSE "'else'" WHERE "'where'" OR "'or'" XOR "'xor'" AND "'and'"
 %token NOT "'not'" PRAGMA "'%pragma'" INCLUDE "'%include'"
 
-/* Two deliberate ambiguities, both resolved as the reference's LALR parser
- * (which shifts) resolves them: after an attribute binding or a `where`
+/* Three deliberate ambiguities, all resolved as the reference's LALR parser
+ * (which shifts) resolves them. After an attribute binding or a `where`
  * binding, a following `name=` could start another binding of the same
- * group or close the group. Shifting keeps it in the group:
- * `!a x=1 y=2` is one Attributes node, and in `!a x=p where p=1 y=2` the
- * `y=2` is a second `where` binding. GROUP_END is the precedence of
- * closing the group; the tokens that can start a name_next bind tighter. */
+ * group or close the group; shifting keeps it in the group: `!a x=1 y=2`
+ * is one Attributes node, and in `!a x=p where p=1 y=2` the `y=2` is a
+ * second `where` binding. After an `if` block, `elif`/`else` continue the
+ * `if` rather than start a statement reading a variable named so. GROUP_END
+ * is the precedence of closing the group; the tokens that can continue it
+ * bind tighter. (Without the two %precedence lines bison reports 18
+ * shift/reduce conflicts, all of these three kinds; check with
+ * `bison --report=all` that only rules `statement: if_chain`,
+ * `node: attr_node` and `comprehension: comprehension WHERE ...` are
+ * resolved by precedence after any grammar change.) */
 %precedence GROUP_END
-%precedence NAME STABLE FROM LET IMPORT ELIF FUNC NOT
+%precedence NAME STABLE FROM LET IMPORT ELIF FUNC NOT ELSE
 
 %type <node> pragmas pragma sequence stmts let_tail statement
 %type <node> let_bindings stable_bindings let_line binding_line binding_lines
 %type <node> binding_let binding_any binding_next names names_let names_next
-%type <node> if_chain iterators iterator tattrs
+%type <node> if_chain iterators iterator tattrs tag_attr_binding
 %type <node> inline_append node attr_node attr_binding composition comp_list
 %type <node> anonymous comprehension where_bindings where_first where_next
 %type <node> conditional or_expr and_expr not_expr comparison range sum
 %type <node> product unary power call args pos_args named_args named_arg
 %type <node> atom literal params param_list param
 %type <str> name name_let name_next name_arg name_atom
-%type <str> kw_stable kw_from kw_infix kw_loop kw_stmt kw_prefix
+%type <str> kw_stable kw_from kw_infix kw_loop kw_stmt kw_prefix kw_operator
 
 %start top
 
@@ -147,7 +155,9 @@ Loc parse_start(ParseCtx *pc);
  * Programs, sequences and block statements (§2.1 top .. statement)
  * ===================================================================== */
 
-/* top -> HASHBANG? NL? pragma* sequence */
+/* top -> HASHBANG? NL? pragma* NL? sequence
+ * (the second NL? cannot occur here: a pragma's NL token already holds all
+ * the blank and comment lines after it) */
 top
     : opt_hashbang opt_nl pragmas sequence  { *out = ast_top($pragmas, $sequence, @$); }
     ;
@@ -278,7 +288,7 @@ statement
     | AT atom tattrs NL INDENT sequence DEDENT
         { $$ = ast_template($atom, $tattrs, $sequence, @$); }
     | FOR iterators NL INDENT sequence DEDENT { $$ = ast_for_nest($iterators, $sequence, @$); }
-    | if_chain                                { $$ = $1; }
+    | if_chain %prec GROUP_END                { $$ = $1; }
     | if_chain ELSE NL INDENT sequence DEDENT { $$ = ast_else($if_chain, $sequence, @$); }
     | INCLUDE composition NL                  { $$ = ast_unary(AST_INCLUDE, $2, @$); }
     | END                                     { $$ = ast_new(AST_EXPORT, @1); }
@@ -322,7 +332,10 @@ inline_append
 
 /* node -> composition | node TAG | node attr_binding+
  * Consecutive attribute bindings form one group (one Attributes node); a
- * tag or parentheses in between start a new, nesting group. */
+ * tag or parentheses in between start a new, nesting group. Nothing can
+ * follow a tag as an operator, so right after one even `in`, `for`, `if`,
+ * `else`, `where`, `and`, `or`, `xor` name an attribute (as in the
+ * reference). */
 node
     : composition
     | node TAG                   { $$ = ast_tag($1, $2, @$); }
@@ -330,13 +343,18 @@ node
     ;
 
 attr_node
-    : node attr_binding       { $$ = ast_attributes($1, $2, @$); }
-    | attr_node attr_binding  { $$ = ast_add($1, $2, @$); }
+    : node attr_binding           { $$ = ast_attributes($1, $2, @$); }
+    | node TAG tag_attr_binding   { $$ = ast_attributes(ast_tag($1, $2, @$), $3, @$); }
+    | attr_node attr_binding      { $$ = ast_add($1, $2, @$); }
     ;
 
 /* attr_binding -> NAME "=" composition */
 attr_binding
     : name_next ASSIGN composition  { $$ = ast_named($1, $3, @$); }
+    ;
+
+tag_attr_binding
+    : kw_operator ASSIGN composition  { $$ = ast_named($1, $3, @$); }
     ;
 
 /* composition -> anonymous ( ";" anonymous )* */
@@ -553,7 +571,8 @@ name_arg
     ;
 
 name_atom
-    : NAME | kw_stable | kw_from | kw_infix
+    : NAME | kw_stable | kw_from | kw_infix | ELIF { $$ = str_from("elif"); }
+    | ELSE { $$ = str_from("else"); }
     ;
 
 kw_stable
@@ -587,6 +606,11 @@ kw_stmt
 kw_prefix
     : FUNC    { $$ = str_from("func"); }
     | NOT     { $$ = str_from("not"); }
+    ;
+
+/* the keywords that can follow an operand */
+kw_operator
+    : kw_infix | kw_loop
     ;
 
 /* }===================================================================== */

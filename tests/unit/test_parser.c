@@ -645,6 +645,15 @@ static void test_keywords_as_names(void **state)
     check_program("import from;in from 'f'\n",
                   "(top (seq (import from;in \"f\" (seq EOF))))");
     check_expr("where + or", "(+ where or)");
+    /* elif/else read as names, except right after an if block */
+    check_program("let else=1 elif=2\n!a x=else+elif\n",
+                  "(top (seq (let else=1 elif=2 (seq (attrs !a x=(+ else elif)) EOF))))");
+    check_expr("else", "else");
+    check_program("if c\n    1\nelse\n    2\n", "(top (seq (if c (seq 1) (seq 2)) EOF))");
+    /* right after a tag, operator keywords name attributes */
+    check_expr("!foo #t for=1 let=2", "(attrs (tag !foo #t) for=1 let=2)");
+    check_expr("!foo #t in=1 #u", "(tag (attrs (tag !foo #t) in=1) #u)");
+    check_error_has("!foo #t in=1 for=2\n", "unexpected '='");
     /* where the keyword is acceptable it wins */
     check_error_has("!foo for=1\n", "unexpected '='");
     check_error_has("!foo if=1\n", "unexpected '='");
