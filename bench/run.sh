@@ -1,0 +1,26 @@
+#!/bin/sh
+# bench/run.sh [BUILD_DIR]: wall time of headless runs, best of 5 each.
+# Not part of the test suite: timings vary with the machine.
+set -u
+build=${1:-build}
+flitter="$build/src/flitter"
+[ -x "$flitter" ] || { echo "build first: meson setup $build && ninja -C $build" >&2; exit 2; }
+cd "$(dirname "$0")/.." || exit 2
+best() {
+    b=""
+    for _ in 1 2 3 4 5; do
+        s=$(date +%s.%N)
+        "$@" >/dev/null 2>&1
+        e=$(date +%s.%N)
+        t=$(echo "$e - $s" | bc)
+        if [ -z "$b" ] || [ "$(echo "$t < $b" | bc)" -eq 1 ]; then b=$t; fi
+    done
+    printf '%8.3f s  %s\n' "$b" "$*"
+}
+best "$flitter" run --frames 600 samples/petri.fl
+best "$flitter" run --frames 3000 samples/petri.fl
+for f in tests/golden/*.fl; do
+    opts=$(grep "^$(basename "$f") " tests/golden/MANIFEST | cut -d' ' -f2- | sed 's/--dump-every [0-9]*//')
+    # shellcheck disable=SC2086
+    best "$flitter" run $opts "$f"
+done
