@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "indent.h"
+#include "utf8.h"
 
 /*!include:re2c "unicode_categories.re" */
 
@@ -220,32 +221,6 @@ static double convert_timecode(const char *s, size_t n)
     return seconds;
 }
 
-static void put_utf8(Buf *b, uint32_t cp)
-{
-    char u[4];
-    size_t n;
-    if (cp < 0x80) {
-        u[0] = (char)cp;
-        n = 1;
-    } else if (cp < 0x800) {
-        u[0] = (char)(0xc0 | (cp >> 6));
-        u[1] = (char)(0x80 | (cp & 0x3f));
-        n = 2;
-    } else if (cp < 0x10000) {
-        u[0] = (char)(0xe0 | (cp >> 12));
-        u[1] = (char)(0x80 | ((cp >> 6) & 0x3f));
-        u[2] = (char)(0x80 | (cp & 0x3f));
-        n = 3;
-    } else {
-        u[0] = (char)(0xf0 | (cp >> 18));
-        u[1] = (char)(0x80 | ((cp >> 12) & 0x3f));
-        u[2] = (char)(0x80 | ((cp >> 6) & 0x3f));
-        u[3] = (char)(0x80 | (cp & 0x3f));
-        n = 4;
-    }
-    buf_add(b, u, n);
-}
-
 static int hex_value(unsigned char c)
 {
     if (c >= '0' && c <= '9') return c - '0';
@@ -308,7 +283,7 @@ static const char *decode_string(const unsigned char *s, size_t n, bool triple,
             if (c >= '0' && c <= '7') {
                 for (int k = 0; k < 3 && i < n && s[i] >= '0' && s[i] <= '7'; k++)
                     cp = cp * 8 + (uint32_t)(s[i++] - '0');
-                put_utf8(&b, cp);
+                utf8_put(&b, cp);
             } else {
                 buf_putc(&b, '\\');    /* unknown escape: kept as written */
             }
@@ -329,7 +304,7 @@ static const char *decode_string(const unsigned char *s, size_t n, bool triple,
             buf_free(&b);
             return "illegal Unicode character in \\U escape";
         }
-        put_utf8(&b, cp);
+        utf8_put(&b, cp);
     }
     *out = str_new(b.data ? b.data : "", b.len);
     buf_free(&b);
@@ -341,6 +316,24 @@ static const char *decode_string(const unsigned char *s, size_t n, bool triple,
 /* {=====================================================================
  * Keywords and the scanner
  * ===================================================================== */
+
+bool lex_number_text(const char *s, size_t len, double *out)
+{
+    Lexer lx;
+    Token t = {0}, next = {0};
+    lex_init(&lx, s, len);
+    int kind = lex_next(&lx, &t);
+    bool ok = (kind == TK_NUMBER || kind == TK_TIMECODE) && t.start == 0 && t.end == len;
+    if (ok) {
+        int after = lex_next(&lx, &next);
+        ok = after == TK_NL || after == TK_END;
+        token_clear(&next);
+    }
+    if (ok) *out = t.num;
+    token_clear(&t);
+    lex_free(&lx);
+    return ok;
+}
 
 int lex_keyword(const char *s, size_t len)
 {

@@ -76,6 +76,11 @@ int lex_next(Lexer *lx, Token *t);
 /* The message of the last TK_YYerror token (owned by [lx]). */
 const char *lex_message(Lexer *lx);
 
+/* True when the [len] bytes at [s] are exactly one NUMBER or TIMECODE
+ * token (LANGUAGE.md §1.3-1.4), with its value in *[out]; used for
+ * `--define` values. */
+bool lex_number_text(const char *s, size_t len, double *out);
+
 /* The bison token kind for a keyword spelled [s] ([len] bytes), or -1. */
 int lex_keyword(const char *s, size_t len);
 

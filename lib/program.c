@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "builtins/builtins.h"
+#include "fileio.h"
 #include "parse.h"
 
 /* ====================================================================
@@ -344,17 +345,13 @@ static void resolve_include(Resolver *r, FnCtx *c, AstNode *n)
     r->included = realloc(r->included, (r->nincluded + 1) * sizeof(char *));
     if (!r->included) abort();
     r->included[r->nincluded++] = path;
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        buf_printf(r->err, "%s: error: cannot read included file\n", path);
+    Buf text = BUF_INIT;
+    if (!file_read(path, &text)) {
+        buf_printf(r->err, "%s: error: cannot read included file: %s\n", path, strerror(errno));
+        buf_free(&text);
         r->failed = true;
         return;
     }
-    Buf text = BUF_INIT;
-    char chunk[65536];
-    size_t got;
-    while ((got = fread(chunk, 1, sizeof chunk, f)) > 0) buf_add(&text, chunk, got);
-    fclose(f);
     AstNode *top = parse_program(path, text.data ? text.data : "", text.len, r->nincluded, r->err);
     buf_free(&text);
     if (!top) {
@@ -537,19 +534,9 @@ Program *program_load_text(const char *path, const char *text, size_t len,
 
 Program *program_load(const char *path, Globals *globals, SymTab *st, Buf *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        buf_printf(err, "%s: error: cannot read: %s\n", path, strerror(errno));
-        return NULL;
-    }
     Buf text = BUF_INIT;
-    char chunk[65536];
-    size_t n;
-    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) buf_add(&text, chunk, n);
-    bool bad = ferror(f);
-    fclose(f);
-    if (bad) {
-        buf_printf(err, "%s: error: cannot read: I/O error\n", path);
+    if (!file_read(path, &text)) {
+        buf_printf(err, "%s: error: cannot read: %s\n", path, strerror(errno));
         buf_free(&text);
         return NULL;
     }

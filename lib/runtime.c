@@ -17,6 +17,7 @@
 #include <time.h>
 
 #include "format.h"
+#include "indent.h"
 #include "module.h"
 #include "physics/physics.h"
 #include "program.h"
@@ -41,6 +42,7 @@ struct fl_runtime {
     StateDict *state;       /* the state dictionary */
     PhysicsWorld *physics;  /* persistent physics systems */
     ModuleCache *modules;   /* imported modules */
+    Vec *counter_key;       /* "_counter", the beat counter's state key */
     Exports scope;          /* the script's top-level names at the last frame */
     Exports repl;           /* names bound by fl_eval */
     Str **scope_names;      /* fl_scope_names() result */
@@ -85,6 +87,7 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->state = state_new();
     rt->physics = phys_new();
     rt->modules = module_cache_new();
+    rt->counter_key = vec_str("_counter", 8);
     /* symbols the physics engine writes into state keys (PHYSICS.md) */
     static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity"};
     for (size_t i = 0; i < sizeof engine_symbols / sizeof engine_symbols[0]; i++)
@@ -117,6 +120,7 @@ void fl_free(fl_runtime *rt)
     node_release(rt->root);
     phys_free(rt->physics);
     module_cache_free(rt->modules);
+    vec_release(rt->counter_key);
     exports_clear(&rt->scope);
     exports_clear(&rt->repl);
     free(rt->scope_names);
@@ -133,72 +137,6 @@ void fl_free(fl_runtime *rt)
 /* ====================================================================
  * Defines (FORMATS.md §4)
  * ==================================================================== */
-
-/* A number per LANGUAGE.md §1.3 (underscores between digits, one optional
- * suffix multiplier), or a time code per §1.4; false if [s] is neither. */
-static bool parse_number_text(const char *s, size_t n, double *out)
-{
-    static const struct { const char *suffix; double mult; } suffixes[] = {
-        {"deg", 0.002777777777777778}, {"\xc2\xb0", 0.002777777777777778},
-        {"\xc2\xb5", 1e-6}, {"p", 1e-12}, {"n", 1e-9}, {"u", 1e-6}, {"m", 1e-3},
-        {"k", 1e3}, {"M", 1e6}, {"G", 1e9}, {"T", 1e12},
-    };
-    if (n == 0 || n > 200) return false;
-    /* time code: [h:]m:s[.f] */
-    if (memchr(s, ':', n)) {
-        double parts[3];
-        int np = 0;
-        size_t i = 0;
-        while (i <= n && np < 3) {
-            size_t j = i;
-            while (j < n && s[j] != ':') j++;
-            char tmp[64];
-            if (j == i || j - i >= sizeof tmp) return false;
-            memcpy(tmp, s + i, j - i);
-            tmp[j - i] = 0;
-            for (size_t k = 0; tmp[k]; k++)
-                if (!((tmp[k] >= '0' && tmp[k] <= '9') || (tmp[k] == '.' && np == 2))) return false;
-            parts[np++] = strtod(tmp, NULL);
-            i = j + 1;
-            if (j == n) break;
-        }
-        if (i <= n || np < 2) return false;
-        double sec = parts[np - 1] + 60.0 * parts[np - 2];
-        if (np == 3) sec = sec + 3600.0 * parts[0];
-        *out = sec;
-        return true;
-    }
-    double mult = 1.0;
-    for (size_t k = 0; k < sizeof suffixes / sizeof suffixes[0]; k++) {
-        size_t sl = strlen(suffixes[k].suffix);
-        if (n > sl && memcmp(s + n - sl, suffixes[k].suffix, sl) == 0) {
-            mult = suffixes[k].mult;
-            n -= sl;
-            break;
-        }
-    }
-    char tmp[256];
-    size_t t = 0;
-    for (size_t i = 0; i < n; i++) {
-        char c = s[i];
-        if (c == '_') {
-            if (i == 0 || i + 1 >= n || !(s[i - 1] >= '0' && s[i - 1] <= '9') ||
-                !(s[i + 1] >= '0' && s[i + 1] <= '9'))
-                return false;
-            continue;
-        }
-        if (!((c >= '0' && c <= '9') || c == '.' || c == 'e' || c == 'E' || c == '+' || c == '-'))
-            return false;
-        tmp[t++] = c;
-    }
-    tmp[t] = 0;
-    if (!t || !((tmp[0] >= '0' && tmp[0] <= '9') || tmp[0] == '.')) return false;
-    char *end;
-    double x = strtod(tmp, &end);
-    if (*end) return false;
-    *out = x * mult;
-    return true;
-}
 
 static bool valid_name(const char *name)
 {
@@ -227,7 +165,7 @@ int fl_define(fl_runtime *rt, const char *name, const char *text)
         double x;
         if (len > 1 && p[0] == ':') {
             parts[np++] = vec_num1(symtab_add(rt->symtab, p + 1, len - 1));
-        } else if (parse_number_text(p, len, &x)) {
+        } else if (lex_number_text(p, len, &x)) {
             parts[np++] = vec_num1(x);
         } else {
             parts[np++] = vec_str(p, len);
@@ -308,14 +246,10 @@ static void set_quantum(fl_runtime *rt, double q, double t)
     rt->start -= adj * rt->period;
 }
 
-static Vec *counter_key(void) { return vec_str("_counter", 8); }
-
 /* Apply the program's pragmas at load (LANGUAGE.md §6.4). */
 static void apply_pragmas(fl_runtime *rt)
 {
-    Vec *key = counter_key();
-    bool fresh = state_get(rt->state, key) == NULL;
-    vec_release(key);
+    bool fresh = state_get(rt->state, rt->counter_key) == NULL;
     double fps = rt->opts.fps;
     for (uint32_t i = 0; i < rt->prog->npragmas; i++) {
         const Pragma *p = &rt->prog->pragmas[i];
@@ -404,9 +338,8 @@ int fl_step(fl_runtime *rt)
 
     /* the beat counter (LANGUAGE.md §6.5) */
     double counter[3] = {60.0 / rt->period, rt->quantum, rt->start};
-    Vec *key = counter_key(), *val = vec_from_nums(counter, 3);
-    state_set(rt->state, key, val);
-    vec_release(key);
+    Vec *val = vec_from_nums(counter, 3);
+    state_set(rt->state, rt->counter_key, val);
     vec_release(val);
 
     rt->last_time = t;

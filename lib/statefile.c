@@ -8,14 +8,12 @@
 #include "statefile.h"
 
 #include <errno.h>
-#include <fcntl.h>
-#include <libgen.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
+#include "fileio.h"
 #include "format.h"
 
 #define MAGIC "flitter-state 1"
@@ -60,35 +58,18 @@ static bool put_vector(Buf *b, const Vec *v, const SymTab *st)
     return v->kind != VEC_STREAM;
 }
 
-static bool write_all(int fd, const char *p, size_t n)
-{
-    while (n) {
-        ssize_t w = write(fd, p, n);
-        if (w < 0 && errno == EINTR) continue;
-        if (w <= 0) return false;
-        p += w;
-        n -= (size_t)w;
-    }
-    return true;
-}
-
 int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *clock,
                    const char *path, size_t *skipped, Buf *err)
 {
     Buf b = BUF_INIT, line = BUF_INIT;
     buf_puts(&b, MAGIC "\n");
-    buf_printf(&b, "clock %ld ", clock->frame);
-    put_number(&b, clock->time, NULL);
-    buf_putc(&b, ' ');
-    put_number(&b, clock->last_time, NULL);
-    buf_putc(&b, ' ');
-    put_number(&b, clock->last_beat, NULL);
-    buf_putc(&b, ' ');
-    put_number(&b, clock->period, NULL);
-    buf_putc(&b, ' ');
-    put_number(&b, clock->quantum, NULL);
-    buf_putc(&b, ' ');
-    put_number(&b, clock->start, NULL);
+    buf_printf(&b, "clock %ld", clock->frame);
+    const double fields[6] = {clock->time, clock->last_time, clock->last_beat,
+                              clock->period, clock->quantum, clock->start};
+    for (int k = 0; k < 6; k++) {
+        buf_putc(&b, ' ');
+        put_number(&b, fields[k], NULL);
+    }
     buf_putc(&b, '\n');
     size_t n, count = 0, skip = 0;
     StateEntry *e = state_entries(sd, &n);
@@ -110,29 +91,12 @@ int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *cloc
     buf_free(&line);
     if (skipped) *skipped = skip;
 
-    char *tmp;
-    if (asprintf(&tmp, "%s.tmp%ld", path, (long)getpid()) < 0) abort();
-    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    bool ok = fd >= 0 && write_all(fd, b.data, b.len) && fsync(fd) == 0;
-    if (fd >= 0) ok = close(fd) == 0 && ok;
-    ok = ok && rename(tmp, path) == 0;
+    bool ok = file_write_atomic(path, b.data, b.len);
     int saved_errno = errno;
-    if (!ok) unlink(tmp);
-    free(tmp);
     buf_free(&b);
     if (!ok) {
         buf_printf(err, "%s: error: cannot save state: %s\n", path, strerror(saved_errno));
         return -1;
-    }
-    /* make the rename itself durable */
-    char *dirc = strdup(path);
-    if (dirc) {
-        int dfd = open(dirname(dirc), O_RDONLY | O_DIRECTORY);
-        if (dfd >= 0) {
-            fsync(dfd);
-            close(dfd);
-        }
-        free(dirc);
     }
     return 0;
 }
@@ -214,57 +178,64 @@ static bool read_string(Reader *r, Buf *s)
     return true;
 }
 
-/* One vector up to [stop] (" = " or end of line); NULL on error. */
+/* One element at the cursor (string, symbol or number); NULL on error. */
+static Vec *read_element(Reader *r, const char *stop)
+{
+    if (*r->p == '"') {
+        Buf s = BUF_INIT;
+        Vec *el = read_string(r, &s) ? vec_str(s.data ? s.data : "", s.len) : NULL;
+        buf_free(&s);
+        return el;
+    }
+    if (*r->p == ':') {
+        const char *q = ++r->p;
+        while (r->p < stop && *r->p != ';') r->p++;
+        return r->p == q ? NULL : vec_num1(symtab_add(r->st, q, (size_t)(r->p - q)));
+    }
+    double x;
+    return read_number(r, &x) ? vec_num1(x) : NULL;
+}
+
+/* One vector of `;`-separated elements up to [stop] (" = " or the end of
+ * the line); false on a malformed element. */
 static bool read_vector(Reader *r, const char *stop, Vec **out)
 {
-    Vec *parts[1];
-    Vec *acc = NULL;
+    Vec **els = NULL;
+    size_t n = 0, cap = 0;
+    bool ok = true;
     for (;;) {
-        Vec *el = NULL;
-        if (*r->p == '"') {
-            Buf s = BUF_INIT;
-            bool ok = read_string(r, &s);
-            if (ok) el = vec_str(s.data ? s.data : "", s.len);
-            buf_free(&s);
-            if (!ok) goto bad;
-        } else if (*r->p == ':') {
-            const char *q = ++r->p;
-            while (r->p < stop && *r->p != ';') r->p++;
-            if (r->p == q) goto bad;
-            el = vec_num1(symtab_add(r->st, q, (size_t)(r->p - q)));
-        } else {
-            double x;
-            if (!read_number(r, &x)) goto bad;
-            el = vec_num1(x);
+        Vec *el = read_element(r, stop);
+        if (!el) {
+            ok = false;
+            break;
         }
-        Vec *both[2] = {acc, el};
-        parts[0] = vec_compose(both, 2);
-        vec_release(acc);
-        vec_release(el);
-        acc = parts[0];
+        if (n == cap) {
+            cap = cap ? cap * 2 : 8;
+            els = realloc(els, cap * sizeof(Vec *));
+            if (!els) abort();
+        }
+        els[n++] = el;
         if (r->p == stop) break;
-        if (*r->p != ';') goto bad;
+        if (*r->p != ';') {
+            ok = false;
+            break;
+        }
         r->p++;
     }
-    *out = acc;
-    return true;
-bad:
-    vec_release(acc);
-    return false;
+    *out = ok ? vec_compose(els, n) : NULL;
+    for (size_t i = 0; i < n; i++) vec_release(els[i]);
+    free(els);
+    return ok;
 }
 
 int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *path, Buf *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
+    Buf text = BUF_INIT;
+    if (!file_read(path, &text)) {
         buf_printf(err, "%s: error: cannot read state: %s\n", path, strerror(errno));
+        buf_free(&text);
         return -1;
     }
-    Buf text = BUF_INIT;
-    char chunk[65536];
-    size_t got;
-    while ((got = fread(chunk, 1, sizeof chunk, f)) > 0) buf_add(&text, chunk, got);
-    fclose(f);
     const char *s = buf_cstr(&text);
     StateDict *fresh = state_new();
     StateClock c = {0};

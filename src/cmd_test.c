@@ -14,7 +14,6 @@
  */
 #include <dirent.h>
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -25,6 +24,7 @@
 #include <unistd.h>
 
 #include "buf.h"
+#include "fileio.h"
 #include "commands.h"
 #include "exitcodes.h"
 #include "runner.h"
@@ -33,43 +33,6 @@ typedef struct Totals {
     int passed, failed;
 } Totals;
 
-static bool read_file(const char *path, Buf *b)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return false;
-    char chunk[65536];
-    size_t n;
-    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) buf_add(b, chunk, n);
-    bool ok = !ferror(f);
-    fclose(f);
-    buf_cstr(b);
-    return ok;
-}
-
-/* Write [len] bytes atomically to [path]: temporary file, fsync, rename. */
-static bool write_atomic(const char *path, const char *data, size_t len)
-{
-    char *tmp;
-    if (asprintf(&tmp, "%s.tmp.%ld", path, (long)getpid()) < 0) return false;
-    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    bool ok = fd >= 0;
-    size_t done = 0;
-    while (ok && done < len) {
-        ssize_t w = write(fd, data + done, len - done);
-        if (w < 0 && errno == EINTR) continue;
-        ok = w > 0;
-        if (ok) done += (size_t)w;
-    }
-    if (fd >= 0) {
-        ok = ok && fsync(fd) == 0;
-        ok = close(fd) == 0 && ok;
-    }
-    ok = ok && rename(tmp, path) == 0;
-    if (!ok) unlink(tmp);
-    free(tmp);
-    return ok;
-}
-
 /* The options line for [script] from [dir]/MANIFEST, or NULL. */
 static char *manifest_options(const char *dir, const char *script)
 {
@@ -77,7 +40,7 @@ static char *manifest_options(const char *dir, const char *script)
     if (asprintf(&path, "%s/MANIFEST", dir) < 0) return NULL;
     Buf b = BUF_INIT;
     char *found = NULL;
-    if (read_file(path, &b)) {
+    if (file_read(path, &b)) {
         size_t sl = strlen(script);
         for (char *line = b.data; line && *line && !found;) {
             char *nl = strchr(line, '\n');
@@ -207,7 +170,7 @@ static void run_one(const char *dir, const char *script, const char *kind, bool 
         asprintf(&script_path, "%s/%s", dir, script) < 0)
         abort();
     Buf expected = BUF_INIT;
-    if (!read_file(expected_path, &expected)) goto done_quiet;
+    if (!file_read(expected_path, &expected)) goto done_quiet;
 
     const char *exp = buf_cstr(&expected);
     char *opts = manifest_options(dir, script);
@@ -245,7 +208,7 @@ static void run_one(const char *dir, const char *script, const char *kind, bool 
             Buf nb = BUF_INIT;
             buf_add(&nb, exp, (size_t)(want - exp));   /* keep the header */
             buf_add(&nb, out, outlen);
-            if (write_atomic(expected_path, nb.data, nb.len)) {
+            if (file_write_atomic(expected_path, nb.data, nb.len)) {
                 printf("UPDATED %s\n", label);
                 t->passed++;
             } else {

@@ -37,6 +37,7 @@
 #include "../buf.h"
 #include "../eval.h"
 #include "../format.h"
+#include "../fileio.h"
 #include "../utf8.h"
 
 /* ------------------------------------------------------------------ */
@@ -204,26 +205,11 @@ static void resolve_path(Eval *ev, const char *name, Buf *path)
     buf_puts(path, name);
 }
 
-/* Read the whole file at [path] into [out]; false when it cannot be read. */
-static bool read_file(const char *path, Buf *out)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return false;
-    char chunk[65536];
-    size_t n;
-    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0)
-        buf_add(out, chunk, n);
-    bool ok = !ferror(f);
-    fclose(f);
-    return ok;
-}
-
 /* Read [path] as strict UTF-8 text with universal newlines into [out]. */
 static bool read_text_file(const char *path, Buf *out)
 {
     Buf raw = BUF_INIT;
-    bool ok = read_file(path, &raw) && utf8_all_valid(buf_cstr(&raw), raw.len);
+    bool ok = file_read(path, &raw) && utf8_all_valid(buf_cstr(&raw), raw.len);
     if (ok) {
         const char *s = buf_cstr(&raw);
         for (size_t i = 0; i < raw.len; i++) {
@@ -324,7 +310,7 @@ static Vec *bi_read_bytes(Eval *ev, const Builtin *bi, int nargs, Vec *const *ar
         r = bi_error(ev, bi, "embedded null byte");
     } else if (name.len > 0) {
         resolve_path(ev, buf_cstr(&name), &path);
-        if (read_file(buf_cstr(&path), &data) && data.len > 0 && data.len <= UINT32_MAX) {
+        if (file_read(buf_cstr(&path), &data) && data.len > 0 && data.len <= UINT32_MAX) {
             r = vec_new_num((uint32_t)data.len);
             double *out = vec_nums(r);
             const unsigned char *s = (const unsigned char *)data.data;
@@ -537,7 +523,7 @@ static Vec *bi_csv(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
         r = bi_error(ev, bi, "embedded null byte");
     } else if (row >= 0) {
         resolve_path(ev, buf_cstr(&name), &path);
-        if (read_file(buf_cstr(&path), &data)) {
+        if (file_read(buf_cstr(&path), &data)) {
             Csv c = {buf_cstr(&data), data.len, 0, CSV_START_RECORD, BUF_INIT, {NULL, 0, 0}};
             int64_t k = 0;
             while (csv_next(&c)) {

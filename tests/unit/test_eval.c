@@ -20,7 +20,9 @@ typedef struct Run {
     char *log;      /* everything logged */
 } Run;
 
-static Run run_frames(const char *src, int frames)
+/* Evaluate [frames] frames of the program text [src], or of the file
+ * [path] when [src] is NULL. */
+static Run run_program(const char *src, const char *path, int frames)
 {
     Run r = {0};
     size_t loglen;
@@ -30,7 +32,8 @@ static Run run_frames(const char *src, int frames)
     o.debug = log;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT;
-    if (fl_load_text(rt, "test.fl", src, strlen(src), &err) != 0) {
+    int rc = src ? fl_load_text(rt, "test.fl", src, strlen(src), &err) : fl_load(rt, path, &err);
+    if (rc != 0) {
         fprintf(log, "%s", buf_cstr(&err));
     } else {
         for (int i = 0; i < frames; i++) fl_step(rt);
@@ -44,6 +47,8 @@ static Run run_frames(const char *src, int frames)
     fclose(log);
     return r;
 }
+
+static Run run_frames(const char *src, int frames) { return run_program(src, NULL, frames); }
 
 static void expect(const char *src, const char *tree, const char *log)
 {
@@ -195,32 +200,12 @@ static void put_file(const char *dir, const char *name, const char *text)
     fclose(f);
 }
 
-/* Run [dir]/main.fl for one frame; returns tree and log like run_frames. */
+/* Run [dir]/main.fl for one frame. */
 static Run run_file(const char *dir)
 {
-    Run r = {0};
-    size_t loglen;
-    FILE *log = open_memstream(&r.log, &loglen);
-    fl_options o = fl_default_options();
-    o.log = log;
-    o.debug = log;
-    fl_runtime *rt = fl_new(&o);
     char path[512];
     snprintf(path, sizeof path, "%s/main.fl", dir);
-    Buf err = BUF_INIT;
-    if (fl_load(rt, path, &err) == 0) {
-        fl_step(rt);
-        Buf t = BUF_INIT;
-        fmt_tree(&t, fl_root(rt), fl_symbols(rt));
-        r.tree = strdup(buf_cstr(&t));
-        buf_free(&t);
-    } else {
-        fputs(buf_cstr(&err), log);
-    }
-    buf_free(&err);
-    fl_free(rt);
-    fclose(log);
-    return r;
+    return run_program(NULL, path, 1);
 }
 
 static void test_imports(void **s)

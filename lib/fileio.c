@@ -1,0 +1,63 @@
+/* fileio.c: whole-file reads and atomic replacement (see fileio.h). */
+#include "fileio.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <libgen.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+bool file_read(const char *path, Buf *out)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return false;
+    char chunk[65536];
+    size_t n;
+    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) buf_add(out, chunk, n);
+    bool ok = !ferror(f);
+    fclose(f);
+    if (!ok) errno = EIO;
+    return ok;
+}
+
+static bool write_all(int fd, const char *p, size_t n)
+{
+    while (n) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) return false;
+        p += w;
+        n -= (size_t)w;
+    }
+    return true;
+}
+
+bool file_write_atomic(const char *path, const char *data, size_t len)
+{
+    char *tmp;
+    if (asprintf(&tmp, "%s.tmp%ld", path, (long)getpid()) < 0) abort();
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    bool ok = fd >= 0 && write_all(fd, data, len) && fsync(fd) == 0;
+    if (fd >= 0) ok = close(fd) == 0 && ok;
+    ok = ok && rename(tmp, path) == 0;
+    int saved = errno;
+    if (!ok) unlink(tmp);
+    free(tmp);
+    if (!ok) {
+        errno = saved;
+        return false;
+    }
+    /* make the rename itself durable */
+    char *dirc = strdup(path);
+    if (dirc) {
+        int dfd = open(dirname(dirc), O_RDONLY | O_DIRECTORY);
+        if (dfd >= 0) {
+            fsync(dfd);
+            close(dfd);
+        }
+        free(dirc);
+    }
+    return true;
+}

@@ -1,0 +1,24 @@
+/* fileio.h: reading a whole file and replacing a file atomically, for
+ * scripts, modules, included files, state files and expected outputs. */
+#ifndef FL_FILEIO_H
+#define FL_FILEIO_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "buf.h"
+
+/* Append the whole contents of the file at [path] to [out].
+ *   errors: returns false with errno set when it cannot be opened or read
+ *           ([out] may then hold part of the file). */
+bool file_read(const char *path, Buf *out);
+
+/* Replace the file at [path] with the [len] bytes at [data] atomically: a
+ * temporary file in the same directory is written, fsync'd and renamed over
+ * [path], then the directory is fsync'd, so a crash leaves either the old or
+ * the new contents.
+ *   errors: returns false with errno set (the temporary file is removed,
+ *           [path] is untouched). */
+bool file_write_atomic(const char *path, const char *data, size_t len);
+
+#endif
