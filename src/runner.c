@@ -41,6 +41,16 @@ static bool parse_count(const char *s, long *out)
     return true;
 }
 
+/* The long name of the option whose getopt code is [c] ("frames";
+ * "define" for -D), for messages. */
+static const char *option_name(const struct option *opts, int c)
+{
+    for (; opts->name; opts++)
+        if (opts->val == c)
+            return opts->name;
+    return "?";
+}
+
 int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
@@ -97,7 +107,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         }
         continue;
     bad_value:
-        fprintf(err, "flitter run: bad value '%s' for option '%s'\n", optarg, argv[optind - 1]);
+        fprintf(err, "flitter run: bad value '%s' for option '--%s'\n", optarg, option_name(longopts, c));
         return EXIT_USAGE;
     }
     if (need_script) {

@@ -1,0 +1,37 @@
+#!/bin/sh
+# run.sh FLITTER DIR CASE: run `FLITTER ARGS` inside DIR, where ARGS is the
+# first line of DIR/CASE.args (split on spaces), and compare its stderr with
+# DIR/CASE.err byte for byte and its exit status with DIR/CASE.rc. A case
+# whose args name a state file (`--state X`) works on a scratch copy of
+# DIR/X and checks that the copy is left unchanged.
+set -u
+flitter=$1 dir=$2 case=$3
+case $flitter in /*) ;; *) flitter=$PWD/$flitter ;; esac
+cd "$dir" || exit 2
+scratch=$(mktemp -d) || exit 2
+trap 'rm -rf "$scratch"' EXIT
+args=$(head -n 1 "$case.args")
+expected_rc=$(cat "$case.rc")
+state=$(printf '%s\n' "$args" | sed -n 's/.*--state \([^ ]*\).*/\1/p')
+if [ -n "$state" ]; then
+    cp "$state" "$scratch/state"
+    args=$(printf '%s\n' "$args" | sed "s#--state $state#--state $scratch/state#")
+fi
+# shellcheck disable=SC2086
+"$flitter" $args >/dev/null 2>"$scratch/stderr" </dev/null
+rc=$?
+fail=0
+if [ "$rc" != "$expected_rc" ]; then
+    echo "$case: exit status $rc, expected $expected_rc" >&2
+    fail=1
+fi
+if ! cmp -s "$case.err" "$scratch/stderr"; then
+    echo "$case: stderr differs from $case.err:" >&2
+    diff -u "$case.err" "$scratch/stderr" | head -30 >&2
+    fail=1
+fi
+if [ -n "$state" ] && ! cmp -s "$state" "$scratch/state"; then
+    echo "$case: state file was changed" >&2
+    fail=1
+fi
+exit $fail
