@@ -26,6 +26,10 @@
 #define MAX_EVAL_DEPTH 12000
 /* Longest vector a range may build (bounded memory for `..1e12`). */
 #define MAX_RANGE_LEN (UINT64_C(1) << 26)
+/* Longest vector a composition (sequence, loop, multi-function call) may
+ * build: past it the result is null with an execution error (§4.16) rather
+ * than an abort or unbounded memory. */
+#define MAX_COMPOSE_LEN (UINT64_C(1) << 26)
 
 /* ====================================================================
  * Services for builtins (eval.h)
@@ -68,6 +72,8 @@ typedef struct Parts {
     Vec *small[8];
     Vec **v;
     size_t n, cap;
+    uint64_t total;     /* elements pushed so far */
+    bool too_long;      /* total passed MAX_COMPOSE_LEN: later parts dropped */
 } Parts;
 
 static void parts_init(Parts *p)
@@ -75,11 +81,20 @@ static void parts_init(Parts *p)
     p->v = p->small;
     p->n = 0;
     p->cap = 8;
+    p->total = 0;
+    p->too_long = false;
 }
 
 static void parts_push(Parts *p, Vec *x)
 {
     if (!x) return;
+    p->total += vec_len(x);
+    /* a single part passes whole (builtins bound their own results) */
+    if (p->too_long || (p->n > 0 && p->total > MAX_COMPOSE_LEN)) {
+        p->too_long = true;
+        vec_release(x);
+        return;
+    }
     if (p->n == p->cap) {
         size_t cap = p->cap * 2;
         Vec **nv = p->v == p->small ? malloc(cap * sizeof(Vec *)) : realloc(p->v, cap * sizeof(Vec *));
@@ -91,10 +106,18 @@ static void parts_push(Parts *p, Vec *x)
     p->v[p->n++] = x;
 }
 
-/* Compose the parts and release them. */
-static Vec *parts_finish(Parts *p)
+/* Compose the parts and release them; null with an execution error when
+ * they were too long. */
+static Vec *parts_finish(Eval *ev, Parts *p)
 {
-    Vec *r = p->n == 1 ? p->v[0] : vec_compose(p->v, p->n);
+    Vec *r;
+    if (p->too_long) {
+        errorf(ev, "Vector too long (over %llu elements)", (unsigned long long)MAX_COMPOSE_LEN);
+        r = NULL;
+        if (p->n == 1) vec_release(p->v[0]);
+    } else {
+        r = p->n == 1 ? p->v[0] : vec_compose(p->v, p->n);
+    }
     if (p->n != 1)
         for (size_t i = 0; i < p->n; i++) vec_release(p->v[i]);
     if (p->v != p->small) free(p->v);
@@ -305,7 +328,7 @@ static Vec *call_value(Eval *ev, const Vec *callee, const Args *a)
             buf_free(&b);
         }
     }
-    return parts_finish(&parts);
+    return parts_finish(ev, &parts);
 }
 
 /* AST_CALL: a(kids[0..count), name=value ...) — args, then named values,
@@ -514,7 +537,7 @@ static Vec *eval_sequence(Eval *ev, const AstNode *n)
     Parts parts;
     parts_init(&parts);
     for (uint32_t i = 0; i < n->nkids; i++) parts_push(&parts, eval_expr(ev, n->kids[i]));
-    return parts_finish(&parts);
+    return parts_finish(ev, &parts);
 }
 
 /* AST_LET: bindings left to right, then the body (§4.4, §4.5). */
@@ -541,7 +564,7 @@ static Vec *eval_for(Eval *ev, const AstNode *n)
         parts_push(&parts, eval_expr(ev, n->b));
     }
     vec_release(src);
-    return parts_finish(&parts);
+    return parts_finish(ev, &parts);
 }
 
 /* AST_IFELSE: first true condition's branch, else `a` (§4.7). */

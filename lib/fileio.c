@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <libgen.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,9 +16,10 @@ bool file_read(const char *path, Buf *out)
     FILE *f = fopen(path, "rb");
     if (!f) return false;
     struct stat st;
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+    if (fstat(fileno(f), &st) == 0
+        && (S_ISDIR(st.st_mode) || (S_ISREG(st.st_mode) && (uint64_t)st.st_size > FILE_READ_MAX))) {
         fclose(f);
-        errno = EISDIR;
+        errno = S_ISDIR(st.st_mode) ? EISDIR : EFBIG;
         return false;
     }
     char chunk[65536];

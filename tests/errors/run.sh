@@ -1,9 +1,12 @@
 #!/bin/sh
 # run.sh FLITTER DIR CASE: run `FLITTER ARGS` inside DIR, where ARGS is the
 # first line of DIR/CASE.args (split on spaces), and compare its stderr with
-# DIR/CASE.err byte for byte and its exit status with DIR/CASE.rc. A case
+# DIR/CASE.err byte for byte, its exit status with DIR/CASE.rc and, when
+# DIR/CASE.out exists, its stdout with that. A case
 # whose args name a state file (`--state X`) works on a scratch copy of
-# DIR/X and checks that the copy is left unchanged.
+# DIR/X and checks that the copy is left unchanged. `@SCRATCH@` in the args
+# stands for a scratch directory, which DIR/CASE.pre (if any) is run to fill
+# first (`sh CASE.pre SCRATCH`), e.g. with a sparse oversized file.
 set -u
 flitter=$1 dir=$2 case=$3
 case $flitter in /*) ;; *) flitter=$PWD/$flitter ;; esac
@@ -12,13 +15,17 @@ scratch=$(mktemp -d) || exit 2
 trap 'rm -rf "$scratch"' EXIT
 args=$(head -n 1 "$case.args")
 expected_rc=$(cat "$case.rc")
+args=$(printf '%s\n' "$args" | sed "s#@SCRATCH@#$scratch#g")
+if [ -f "$case.pre" ]; then
+    sh "$case.pre" "$scratch" || exit 2
+fi
 state=$(printf '%s\n' "$args" | sed -n 's/.*--state \([^ ]*\).*/\1/p')
 if [ -n "$state" ]; then
     cp "$state" "$scratch/state"
     args=$(printf '%s\n' "$args" | sed "s#--state $state#--state $scratch/state#")
 fi
 # shellcheck disable=SC2086
-"$flitter" $args >/dev/null 2>"$scratch/stderr" </dev/null
+"$flitter" $args >"$scratch/stdout" 2>"$scratch/stderr" </dev/null
 rc=$?
 fail=0
 if [ "$rc" != "$expected_rc" ]; then
@@ -28,6 +35,11 @@ fi
 if ! cmp -s "$case.err" "$scratch/stderr"; then
     echo "$case: stderr differs from $case.err:" >&2
     diff -u "$case.err" "$scratch/stderr" | head -30 >&2
+    fail=1
+fi
+if [ -f "$case.out" ] && ! cmp -s "$case.out" "$scratch/stdout"; then
+    echo "$case: stdout differs from $case.out:" >&2
+    diff -u "$case.out" "$scratch/stdout" | head -30 >&2
     fail=1
 fi
 if [ -n "$state" ] && ! cmp -s "$state" "$scratch/state"; then
