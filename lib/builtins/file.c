@@ -44,18 +44,6 @@
 /* Helpers                                                             */
 /* ------------------------------------------------------------------ */
 
-static bool utf8_all_valid(const char *s, size_t n)
-{
-    uint32_t cp;
-    for (size_t i = 0; i < n;) {
-        size_t len = utf8_decode_strict((const unsigned char *)s + i, n - i, &cp);
-        if (!len)
-            return false;
-        i += len;
-    }
-    return true;
-}
-
 /* Python's str.isspace() for a code point (Unicode White_Space plus the
  * ASCII separators 0x1c-0x1f). */
 static bool py_space(uint32_t c)

@@ -27,6 +27,11 @@ fi
 # shellcheck disable=SC2086
 "$flitter" $args >"$scratch/stdout" 2>"$scratch/stderr" </dev/null
 rc=$?
+if [ -n "$state" ]; then
+    # messages name the scratch copy: put the case's file name back
+    sed "s#$scratch/state#$state#g" "$scratch/stderr" >"$scratch/stderr.named"
+    mv "$scratch/stderr.named" "$scratch/stderr"
+fi
 fail=0
 if [ "$rc" != "$expected_rc" ]; then
     echo "$case: exit status $rc, expected $expected_rc" >&2
