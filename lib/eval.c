@@ -67,6 +67,15 @@ static void errorf(Eval *ev, const char *fmt, ...)
  * Helpers
  * ==================================================================== */
 
+/* True once the embedder's interrupt flag is set (then ev->interrupted):
+ * loops and calls stop early so a long frame ends promptly (flitter.h). */
+static inline bool stop_requested(Eval *ev)
+{
+    if (ev->interrupt && *ev->interrupt)
+        ev->interrupted = true;
+    return ev->interrupted;
+}
+
 /* A growable list of parts to compose. */
 typedef struct Parts {
     Vec *small[8];
@@ -230,6 +239,8 @@ static Vec *call_user(Eval *ev, Func *f, const Args *a)
         errorf(ev, "Recursion depth exceeded for func '%s'", f->name->bytes);
         return NULL;
     }
+    if (stop_requested(ev))
+        return NULL;
     Vec **frame = calloc(fi->nslots ? fi->nslots : 1, sizeof(Vec *));
     if (!frame) abort();
     frame[0] = vec_func_take(func_retain(f));
@@ -558,7 +569,7 @@ static Vec *eval_for(Eval *ev, const AstNode *n)
     uint32_t len = vec_len(src), k = n->nnames ? n->nnames : 1;
     Parts parts;
     parts_init(&parts);
-    for (uint32_t p = 0; p < len; p += k) {
+    for (uint32_t p = 0; p < len && !stop_requested(ev); p += k) {
         for (uint32_t j = 0; j < n->nnames; j++)
             set_slot(ev, n->slots[j], p + j < len ? vec_item(src, p + j) : NULL);
         parts_push(&parts, eval_expr(ev, n->b));

@@ -33,9 +33,17 @@ typedef struct fl_options {
     bool realtime;       /* pace on the wall clock instead of lockstep */
     FILE *log;           /* where run-time errors and warnings go (stderr); NULL: nowhere */
     FILE *debug;         /* where debug() lines go (stdout); NULL: nowhere */
+    long max_physics_steps; /* most simulation steps one !physics system may
+                               take in one frame (default 10000; 0: no limit);
+                               past it the simulation clock falls behind
+                               `time` (logged once per runtime) */
+    volatile int *interrupt; /* polled inside loops, calls and physics steps;
+                                when *interrupt becomes non-zero fl_step ends
+                                the frame early and discards it (NULL: none) */
 } fl_options;
 
-/* The defaults: 60 fps, unknown frames, lockstep, log to stderr, debug to stdout. */
+/* The defaults: 60 fps, unknown frames, lockstep, log to stderr, debug to
+ * stdout, 10000 physics steps per frame, no interrupt flag. */
 fl_options fl_default_options(void);
 
 /* A new runtime with empty state and no program.
@@ -66,8 +74,14 @@ int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len,
  * evaluate the program into a node tree, run every top-level !physics node,
  * write the beat counter, then advance the clock.
  *   errors: new run-time errors of this frame are written to the log as
- *           `Execution error: MESSAGE`; returns -1 when no program is
- *           loaded, else 0. */
+ *           `Execution error: MESSAGE`; a !physics system with a non-finite
+ *           `time`/`resolution` skips the frame and one needing more than
+ *           opts.max_physics_steps steps is cut short (each logged once per
+ *           runtime); returns -1 when no program is loaded, 1 when
+ *           *opts.interrupt stopped the evaluation (the frame is discarded:
+ *           tree, state, clock and frame count stay as they were; an
+ *           interrupt during physics steps keeps the frame, with fewer
+ *           steps), else 0. */
 int fl_step(fl_runtime *rt);
 
 /* Evaluate [text] ([len] bytes: an expression, or `let` bindings) in the

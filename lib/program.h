@@ -122,6 +122,8 @@ struct Eval {
     bool overflow;          /* the stack limit was hit this frame */
     struct ModuleCache *modules; /* imported modules (NULL: imports fail) */
     Exports *exports;       /* when running a module: where EOF exports go */
+    volatile int *interrupt; /* polled by loops and calls (NULL: none) */
+    bool interrupted;       /* *interrupt was seen: results are incomplete */
 };
 
 /* Evaluate the whole program: compose the top-level sequence and append

@@ -63,11 +63,14 @@ struct fl_runtime {
     double start;           /* beat clock: time of beat 0 */
     double last_beat;       /* beat of the previous frame */
     double wall_start;      /* realtime: monotonic clock at start */
+    bool warned_nonfinite;  /* physics: non-finite time logged already */
+    bool warned_capped;     /* physics: step limit logged already */
 };
 
 fl_options fl_default_options(void)
 {
-    return (fl_options){.fps = 60.0, .frames = -1, .realtime = false, .log = stderr, .debug = stdout};
+    return (fl_options){.fps = 60.0, .frames = -1, .realtime = false, .log = stderr, .debug = stdout,
+                        .max_physics_steps = 10000};
 }
 
 static double monotonic(void)
@@ -291,7 +294,7 @@ int fl_step(fl_runtime *rt)
     if (rt->opts.realtime) rt->frame_time = monotonic() - rt->wall_start;
     double t = rt->frame_time;
     double beat = beat_at(rt, t);
-    double delta = beat - rt->last_beat;
+    double delta = beat - rt->last_beat, prev_beat = rt->last_beat;
     rt->last_beat = beat;
     set_num(rt, G_FRAME, (double)rt->frame);
     set_num(rt, G_TIME, t);
@@ -315,10 +318,17 @@ int fl_step(fl_runtime *rt)
     Eval ev = {
         .prog = rt->prog, .globals = &rt->globals, .state = rt->state, .symtab = rt->symtab,
         .errors = &rt->errors[rt->cur], .debug = &rt->debug[rt->cur], .modules = rt->modules,
-        .exports = &rt->scope,
+        .exports = &rt->scope, .interrupt = rt->opts.interrupt,
     };
     exports_clear(&rt->scope);
     Node *root = eval_program(&ev);
+    if (ev.interrupted) {
+        /* discard the incomplete frame: the last tree, state and clock stay */
+        node_release(root);
+        rt->last_beat = prev_beat;
+        rt->cur = prev;
+        return 1;
+    }
     node_release(rt->root);
     rt->root = root;
     report(rt->opts.log, "Execution error: ", &rt->errors[rt->cur], &rt->errors[prev]);
@@ -331,9 +341,20 @@ int fl_step(fl_runtime *rt)
     size_t nphys = 0;
     for (uint32_t i = 0; i < root->nchildren; i++)
         if (node_is(root->children[i], "physics")) phys[nphys++] = root->children[i];
+    bool nonfinite = false, capped = false;
     PhysicsFrame pf = {.time = t, .fps = rt->target_fps, .realtime = rt->opts.realtime,
-                       .performance = 2.0};
+                       .performance = 2.0, .max_steps = rt->opts.max_physics_steps,
+                       .interrupt = rt->opts.interrupt, .nonfinite = &nonfinite,
+                       .capped = &capped};
     phys_run_frame(rt->physics, phys, nphys, rt->state, &pf);
+    if (nonfinite && !rt->warned_nonfinite && rt->opts.log)
+        fputs("Physics error: non-finite time or resolution; frame skipped\n",
+              rt->opts.log);
+    if (capped && !rt->warned_capped && rt->opts.log)
+        fprintf(rt->opts.log, "Physics warning: more than %ld steps needed in one frame; "
+                "simulation clock falls behind\n", rt->opts.max_physics_steps);
+    rt->warned_nonfinite |= nonfinite;
+    rt->warned_capped |= capped;
     if (phys != small) free(phys);
 
     /* the beat counter (LANGUAGE.md §6.5) */

@@ -27,7 +27,9 @@ static void run_usage(FILE *f)
           "  --dump-every K      also dump the state after every K-th frame\n"
           "  --dump-tree         write the last frame's node tree to stdout\n"
           "  --state FILE        load the state from FILE at start (if it exists) and save\n"
-          "                      it back atomically at exit and every 5 seconds\n",
+          "                      it back atomically at exit and every 5 seconds\n"
+          "  --max-steps N       at most N physics steps per system per frame (default\n"
+          "                      10000; 0: no limit); beyond, the simulation slows down\n",
           f);
 }
 
@@ -54,7 +56,7 @@ static const char *option_name(const struct option *opts, int c)
 int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
-           O_STATE };
+           O_STATE, O_MAX_STEPS };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -65,10 +67,11 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"dump-every", required_argument, NULL, O_DUMP_EVERY},
         {"dump-tree", no_argument, NULL, O_DUMP_TREE},
         {"state", required_argument, NULL, O_STATE},
+        {"max-steps", required_argument, NULL, O_MAX_STEPS},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
-    *spec = (RunSpec){.frames = -1, .fps = 60.0};
+    *spec = (RunSpec){.frames = -1, .fps = 60.0, .max_steps = 10000};
     spec->defines = calloc((size_t)argc + 1, sizeof(char *));
     if (!spec->defines) abort();
     optind = 0;   /* full re-initialisation of getopt */
@@ -97,6 +100,9 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
             break;
         case O_DUMP_TREE: spec->dump_tree = true; break;
         case O_STATE: spec->state_file = optarg; break;
+        case O_MAX_STEPS:
+            if (!parse_count(optarg, &spec->max_steps)) goto bad_value;
+            break;
         case 'h':
             run_usage(stdout);
             return -1;
@@ -189,6 +195,8 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     opts.realtime = spec->realtime;
     opts.log = log;
     opts.debug = (spec->dump_state || spec->dump_tree) ? log : out;
+    opts.max_physics_steps = spec->max_steps;
+    opts.interrupt = interrupt;
     fl_runtime *rt = fl_new(&opts);
     for (int i = 0; i < spec->ndefines; i++) {
         char *eq = strchr(spec->defines[i], '=');
@@ -238,7 +246,8 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
                 buf_free(&lerr);
             }
         }
-        fl_step(rt);
+        if (fl_step(rt) == 1)
+            break;   /* interrupted: the frame was discarded */
         ran++;
         long n = fl_frame_count(rt) - 1;
         dumped_last = false;

@@ -15,6 +15,7 @@ typedef struct RunSpec {
     long dump_every;      /* --dump-every K, or 0 */
     bool dump_tree;       /* --dump-tree */
     const char *state_file; /* --state FILE, or NULL */
+    long max_steps;       /* --max-steps N: physics steps per frame (0: no limit) */
     bool progress;        /* show a progress bar on stderr (a terminal) */
     char **defines;       /* NAME=VALUE strings (borrowed from argv) */
     int ndefines;
@@ -33,7 +34,9 @@ void runspec_free(RunSpec *spec);
  * node tree to [out]; run-time messages go to [log].
  *   errors: returns 1 when the script cannot be loaded (message on [log]),
  *           2 for a bad define, 0 on success. [interrupt], when non-NULL,
- *           is polled between frames to stop early. */
+ *           is polled between frames and inside evaluation loops, calls and
+ *           physics steps (flitter.h) to stop early; --state is still saved
+ *           on the way out, from the last complete frame. */
 int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt);
 
 #endif
