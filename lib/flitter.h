@@ -94,7 +94,9 @@ int fl_step(fl_runtime *rt);
  *   errors: returns -1 with `<repl>:LINE:COL: error: ...` in [err] on a
  *           syntax error; returns 1 (and appends nothing) when the text
  *           ended early, so a caller may read more lines; run-time errors
- *           go to the log; 0 on success. */
+ *           go to the log; returns -1 with `<repl>: error: interrupted`
+ *           (nothing bound or printed) when *opts.interrupt stopped the
+ *           evaluation; 0 on success. */
 int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err);
 /* Forget the names bound by fl_eval. */
 void fl_eval_reset(fl_runtime *rt);

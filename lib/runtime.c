@@ -425,11 +425,20 @@ int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
     Eval ev = {
         .prog = p, .globals = &g, .state = rt->state, .symtab = rt->symtab,
         .errors = &errors, .debug = &debug, .modules = rt->modules, .exports = &bound,
+        .interrupt = rt->opts.interrupt,
     };
     Vec *v = eval_program_value(&ev);
+    int rc = 0;
     report(rt->opts.log, "Execution error: ", &errors, &(MsgSet){0});
     report(rt->opts.debug, "", &debug, &(MsgSet){0});
-    if (bound.count) {
+    if (ev.interrupted) {
+        /* incomplete: bind and print nothing */
+        buf_puts(err, "<repl>: error: interrupted\n");
+        exports_clear(&bound);
+        vec_release(v);
+        v = NULL;
+        rc = -1;
+    } else if (bound.count) {
         for (uint32_t i = bound.count; i-- > 0;) {
             exports_put(&rt->repl, bound.names[i], bound.values[i]);
             buf_printf(out, "%s = ", bound.names[i]->bytes);
@@ -437,7 +446,7 @@ int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
             buf_putc(out, '\n');
         }
     }
-    if (v || !bound.count) {
+    if (rc == 0 && (v || !bound.count)) {
         fmt_value(out, v, rt->symtab);
         buf_putc(out, '\n');
     }
@@ -447,7 +456,7 @@ int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
     msgset_clear(&debug);
     program_release(p);
     globals_free(&g);
-    return 0;
+    return rc;
 }
 
 void fl_eval_reset(fl_runtime *rt) { exports_clear(&rt->repl); }
