@@ -202,7 +202,10 @@ static Vec *read_element(Reader *r, const char *stop)
 {
     if (*r->p == '"') {
         Buf s = BUF_INIT;
-        Vec *el = read_string(r, &s) ? vec_str(s.data ? s.data : "", s.len) : NULL;
+        /* escapes must not make invalid UTF-8 (`\xbe`): the writer could
+         * not store such a string again */
+        Vec *el = read_string(r, &s) && utf8_all_valid(buf_cstr(&s), s.len)
+                      ? vec_str(s.data ? s.data : "", s.len) : NULL;
         buf_free(&s);
         return el;
     }

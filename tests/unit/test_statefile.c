@@ -147,6 +147,8 @@ static void test_range_checks(void **s)
         CASE(HEAD CLOCK "1 = 1e\nend 1\n", 3, "malformed value"),
         CASE(HEAD CLOCK "1 = .5\nend 1\n", 3, "malformed value"),
         CASE(HEAD CLOCK "1 = 2\n1 = 3\nend 2\n", 4, "duplicate key"),
+        /* an escape making invalid UTF-8 (found by tests/fuzz) */
+        CASE(HEAD CLOCK "1 = \"a\\xbe\"\nend 1\n", 3, "malformed value"),
         CASE(HEAD CLOCK "end -1\n", 3, "entry count does not match (truncated file?)"),
         CASE(HEAD CLOCK "end 18446744073709551616\n", 3,
              "entry count does not match (truncated file?)"),
