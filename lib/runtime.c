@@ -258,6 +258,16 @@ static void apply_pragmas(fl_runtime *rt)
         const Pragma *p = &rt->prog->pragmas[i];
         if (!vec_is_scalar(p->value)) continue;
         double x = vec_scalar(p->value);
+        bool clock_pragma = strcmp(p->name->bytes, "fps") == 0
+            || strcmp(p->name->bytes, "tempo") == 0 || strcmp(p->name->bytes, "quantum") == 0;
+        if (clock_pragma && !(isfinite(x) && x > 0 && isfinite(60.0 / x))) {
+            /* the reference divides by these and fails; we keep the
+             * defaults so the clock (and a saved state) stays finite */
+            if (rt->opts.log)
+                fprintf(rt->opts.log, "%s: warning: %%pragma %s %.17g ignored (out of range)\n",
+                        rt->prog->path, p->name->bytes, x);
+            continue;
+        }
         if (strcmp(p->name->bytes, "fps") == 0) {
             fps = x;
         } else if (strcmp(p->name->bytes, "tempo") == 0 && fresh) {
