@@ -1,8 +1,9 @@
 /* fuzz_budget.h: a per-input time budget for the fuzz targets. A POSIX
- * timer (its own thread, so libFuzzer's SIGALRM is left alone) sets the
- * runtime's interrupt flag (flitter.h fl_options.interrupt) once an input
- * has run for FUZZ_BUDGET_MS, which ends the frame the way Ctrl-C does; an
- * input that still runs on for libFuzzer's -timeout is then a real hang. */
+ * timer signalling SIGRTMIN (libFuzzer's -timeout keeps SIGALRM) sets the
+ * runtime's interrupt flag (flitter.h fl_options.interrupt) from a signal
+ * handler, as Ctrl-C does in `flitter run`, once an input has run for
+ * FUZZ_BUDGET_MS; an input that still runs on for libFuzzer's -timeout is
+ * then a real hang. */
 #ifndef FL_FUZZ_BUDGET_H
 #define FL_FUZZ_BUDGET_H
 
@@ -13,12 +14,12 @@
 
 #define FUZZ_BUDGET_MS 2000
 
-/* The flag the runtime polls; set by the timer thread. */
+/* The flag the runtime polls; set by the timer's signal handler. */
 static volatile int fuzz_interrupt;
 
-static void fuzz_budget_expired(union sigval sv)
+static void fuzz_budget_expired(int sig)
 {
-    (void)sv;
+    (void)sig;
     fuzz_interrupt = 1;
 }
 
@@ -28,11 +29,16 @@ static void fuzz_budget_start(void)
     static timer_t timer;
     static int made;
     if (!made) {
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = fuzz_budget_expired;
+        sa.sa_flags = SA_RESTART;
+        sigemptyset(&sa.sa_mask);
         struct sigevent ev;
         memset(&ev, 0, sizeof ev);
-        ev.sigev_notify = SIGEV_THREAD;
-        ev.sigev_notify_function = fuzz_budget_expired;
-        if (timer_create(CLOCK_MONOTONIC, &ev, &timer) != 0)
+        ev.sigev_notify = SIGEV_SIGNAL;
+        ev.sigev_signo = SIGRTMIN;
+        if (sigaction(SIGRTMIN, &sa, NULL) != 0 || timer_create(CLOCK_MONOTONIC, &ev, &timer) != 0)
             abort();
         made = 1;
     }
