@@ -24,6 +24,9 @@
 #define MAX_ACTIVE_CALLS 500
 /* Nesting limit of eval_expr, guarding the C stack (§4.16 stack overflow). */
 #define MAX_EVAL_DEPTH 12000
+/* Deepest eval_expr nesting at which an import may load a module (whose
+ * evaluation then continues from that depth, up to MAX_EVAL_DEPTH). */
+#define MAX_IMPORT_DEPTH (MAX_EVAL_DEPTH / 2)
 /* Longest vector a range may build (bounded memory for `..1e12`). */
 #define MAX_RANGE_LEN (UINT64_C(1) << 26)
 /* Longest vector a composition (sequence, loop, multi-function call) may
@@ -607,7 +610,12 @@ static Vec *eval_import(Eval *ev, const AstNode *n)
     Vec *small[8];
     Vec **vals = n->nnames > 8 ? malloc(n->nnames * sizeof(Vec *)) : small;
     if (!vals) abort();
-    if (ev->modules) {
+    if (ev->modules && ev->depth > MAX_IMPORT_DEPTH) {
+        /* loading a module recurses too (resolve, up to AST_MAX_DEPTH):
+         * keep that headroom on the C stack */
+        for (uint32_t i = 0; i < n->nnames; i++) vals[i] = NULL;
+        errorf(ev, "Unable to import from '%s': nested too deeply", buf_cstr(&path));
+    } else if (ev->modules) {
         module_import(ev->modules, ev, buf_cstr(&path), n->names, n->nnames, vals);
     } else {
         for (uint32_t i = 0; i < n->nnames; i++) vals[i] = NULL;
@@ -744,7 +752,6 @@ Vec *eval_program_value(Eval *ev)
     if (!frame) abort();
     Vec **saved = ev->frame;
     ev->frame = frame;
-    ev->depth = 0;
     ev->overflow = false;
     Vec *v = eval_expr(ev, prog->top);
     ev->frame = saved;

@@ -5,8 +5,9 @@
 # DIR/CASE.out exists, its stdout with that. A case
 # whose args name a state file (`--state X`) works on a scratch copy of
 # DIR/X and checks that the copy is left unchanged. `@SCRATCH@` in the args
-# stands for a scratch directory, which DIR/CASE.pre (if any) is run to fill
-# first (`sh CASE.pre SCRATCH`), e.g. with a sparse oversized file.
+# (and in the expected output) stands for a scratch directory, which
+# DIR/CASE.pre (if any) is run to fill first (`sh CASE.pre SCRATCH`), e.g.
+# with a sparse oversized file or generated scripts.
 set -u
 flitter=$1 dir=$2 case=$3
 case $flitter in /*) ;; *) flitter=$PWD/$flitter ;; esac
@@ -15,9 +16,11 @@ scratch=$(mktemp -d) || exit 2
 trap 'rm -rf "$scratch"' EXIT
 args=$(head -n 1 "$case.args")
 expected_rc=$(cat "$case.rc")
-args=$(printf '%s\n' "$args" | sed "s#@SCRATCH@#$scratch#g")
+files=$scratch/files
+mkdir "$files" || exit 2
+args=$(printf '%s\n' "$args" | sed "s#@SCRATCH@#$files#g")
 if [ -f "$case.pre" ]; then
-    sh "$case.pre" "$scratch" || exit 2
+    sh "$case.pre" "$files" || exit 2
 fi
 state=$(printf '%s\n' "$args" | sed -n 's/.*--state \([^ ]*\).*/\1/p')
 if [ -n "$state" ]; then
@@ -27,6 +30,11 @@ fi
 # shellcheck disable=SC2086
 "$flitter" $args >"$scratch/stdout" 2>"$scratch/stderr" </dev/null
 rc=$?
+# paths in the case's scratch directory read as @SCRATCH@
+for f in stdout stderr; do
+    sed "s#$files#@SCRATCH@#g" "$scratch/$f" >"$scratch/$f.named"
+    mv "$scratch/$f.named" "$scratch/$f"
+done
 if [ -n "$state" ]; then
     # messages name the scratch copy: put the case's file name back
     sed "s#$scratch/state#$state#g" "$scratch/stderr" >"$scratch/stderr.named"
