@@ -33,6 +33,8 @@ typedef struct fl_options {
     bool realtime;       /* pace on the wall clock instead of lockstep */
     FILE *log;           /* where run-time errors and warnings go (stderr); NULL: nowhere */
     FILE *debug;         /* where debug() lines go (stdout); NULL: nowhere */
+    bool no_simplify;    /* --nosimplify: run the program as parsed, without the
+                            load-time simplifier (LANGUAGE.md §4.17) */
 } fl_options;
 
 /* The defaults: 60 fps, unknown frames, lockstep, log to stderr, debug to stdout. */

@@ -27,7 +27,11 @@ static void run_usage(FILE *f)
           "  --dump-every K      also dump the state after every K-th frame\n"
           "  --dump-tree         write the last frame's node tree to stdout\n"
           "  --state FILE        load the state from FILE at start (if it exists) and save\n"
-          "                      it back atomically at exit and every 5 seconds\n",
+          "                      it back atomically at exit and every 5 seconds\n"
+          "  --nosimplify        run the program as parsed, without Flitter's load-time\n"
+          "                      simplifier (also --no-simplify)\n"
+          "  --dump-simplified   print the program as it will run (after simplification)\n"
+          "                      to stdout before the first frame\n",
           f);
 }
 
@@ -44,7 +48,7 @@ static bool parse_count(const char *s, long *out)
 int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
-           O_STATE };
+           O_STATE, O_NOSIMPLIFY, O_DUMP_SIMPLIFIED };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -55,6 +59,9 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"dump-every", required_argument, NULL, O_DUMP_EVERY},
         {"dump-tree", no_argument, NULL, O_DUMP_TREE},
         {"state", required_argument, NULL, O_STATE},
+        {"nosimplify", no_argument, NULL, O_NOSIMPLIFY},
+        {"no-simplify", no_argument, NULL, O_NOSIMPLIFY},
+        {"dump-simplified", no_argument, NULL, O_DUMP_SIMPLIFIED},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -87,6 +94,8 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
             break;
         case O_DUMP_TREE: spec->dump_tree = true; break;
         case O_STATE: spec->state_file = optarg; break;
+        case O_NOSIMPLIFY: spec->no_simplify = true; break;
+        case O_DUMP_SIMPLIFIED: spec->dump_simplified = true; break;
         case 'h':
             run_usage(stdout);
             return -1;
@@ -177,6 +186,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     opts.fps = spec->fps;
     opts.frames = spec->frames;
     opts.realtime = spec->realtime;
+    opts.no_simplify = spec->no_simplify;
     opts.log = log;
     opts.debug = (spec->dump_state || spec->dump_tree) ? log : out;
     fl_runtime *rt = fl_new(&opts);
