@@ -5,7 +5,8 @@
  * symbol table, the engine names (Globals) and the beat clock. fl_step()
  * runs one frame in the order of LANGUAGE.md §6.3: compute the frame names,
  * (re)apply pragmas after a load, evaluate the program into a node tree,
- * hand the top-level !physics nodes to the physics engine, store the beat
+ * hand the top-level renderer nodes (!physics, !counter) to their renderers
+ * (COUNTERS.md), store the beat
  * counter under "_counter", then advance `time` by 1/fps (a running
  * floating-point sum, not frame/fps).
  */
@@ -16,6 +17,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "counter.h"
 #include "format.h"
 #include "indent.h"
 #include "module.h"
@@ -89,7 +91,8 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->modules = module_cache_new();
     rt->counter_key = vec_str("_counter", 8);
     /* symbols the physics engine writes into state keys (PHYSICS.md) */
-    static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity"};
+    static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity",
+                                                 "time"};
     for (size_t i = 0; i < sizeof engine_symbols / sizeof engine_symbols[0]; i++)
         symtab_add(rt->symtab, engine_symbols[i], strlen(engine_symbols[i]));
     for (int i = 0; i < G__COUNT; i++) globals_add(&rt->globals, engine_names[i]);
@@ -285,6 +288,51 @@ static void report(FILE *f, const char *prefix, const MsgSet *now, const MsgSet 
         if (!msgset_has(before, now->items[i])) fprintf(f, "%s%s\n", prefix, now->items[i]);
 }
 
+/* ====================================================================
+ * Renderers: the top-level nodes that act after evaluation
+ * ==================================================================== */
+
+/* A renderer receives, once per frame, the top-level nodes of its kind in
+ * tree order (borrowed) and the frame's `time`. */
+typedef struct Renderer {
+    const char *kind;
+    void (*run)(fl_runtime *rt, Node *const *nodes, size_t n, double t);
+} Renderer;
+
+static void run_physics(fl_runtime *rt, Node *const *nodes, size_t n, double t)
+{
+    PhysicsFrame pf = {.time = t, .fps = rt->target_fps, .realtime = rt->opts.realtime,
+                       .performance = 2.0};
+    phys_run_frame(rt->physics, nodes, n, rt->state, &pf);
+}
+
+static void run_counters(fl_runtime *rt, Node *const *nodes, size_t n, double t)
+{
+    for (size_t i = 0; i < n; i++) counter_update(nodes[i], rt->state, t);
+}
+
+/* The renderers, in the order they run. Physics systems and counters keep
+ * disjoint state keys, so running each kind in turn equals tree order. */
+static const Renderer renderers[] = {
+    {"physics", run_physics},
+    {"counter", run_counters},
+};
+
+/* Hand each renderer its top-level nodes of [root]. */
+static void run_renderers(fl_runtime *rt, const Node *root, double t)
+{
+    Node *small[8];
+    Node **nodes = root->nchildren > 8 ? malloc(root->nchildren * sizeof(Node *)) : small;
+    if (!nodes) abort();
+    for (size_t r = 0; r < sizeof renderers / sizeof renderers[0]; r++) {
+        size_t n = 0;
+        for (uint32_t i = 0; i < root->nchildren; i++)
+            if (node_is(root->children[i], renderers[r].kind)) nodes[n++] = root->children[i];
+        renderers[r].run(rt, nodes, n, t);
+    }
+    if (nodes != small) free(nodes);
+}
+
 int fl_step(fl_runtime *rt)
 {
     if (!rt->prog) return -1;
@@ -324,17 +372,7 @@ int fl_step(fl_runtime *rt)
     report(rt->opts.log, "Execution error: ", &rt->errors[rt->cur], &rt->errors[prev]);
     report(rt->opts.debug, "", &rt->debug[rt->cur], &rt->debug[prev]);
 
-    /* hand the top-level !physics nodes to the engine, in order */
-    Node *small[8];
-    Node **phys = root->nchildren > 8 ? malloc(root->nchildren * sizeof(Node *)) : small;
-    if (!phys) abort();
-    size_t nphys = 0;
-    for (uint32_t i = 0; i < root->nchildren; i++)
-        if (node_is(root->children[i], "physics")) phys[nphys++] = root->children[i];
-    PhysicsFrame pf = {.time = t, .fps = rt->target_fps, .realtime = rt->opts.realtime,
-                       .performance = 2.0};
-    phys_run_frame(rt->physics, phys, nphys, rt->state, &pf);
-    if (phys != small) free(phys);
+    run_renderers(rt, root, t);
 
     /* the beat counter (LANGUAGE.md §6.5) */
     double counter[3] = {60.0 / rt->period, rt->quantum, rt->start};
