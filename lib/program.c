@@ -23,6 +23,7 @@
 #include "builtins/builtins.h"
 #include "fileio.h"
 #include "parse.h"
+#include "simplify.h"
 
 /* ====================================================================
  * Globals and message sets
@@ -477,6 +478,19 @@ static void register_symbols(const AstNode *top, SymTab *st)
     }
 }
 
+/* Simplify [top] (consumed) with the static names of [g] known. */
+static AstNode *simplify_top(AstNode *top, const Globals *g, SymTab *st, const char *dir, Buf *warnings)
+{
+    SimplifyName *names = calloc(g->count ? g->count : 1, sizeof *names);
+    if (!names) abort();
+    for (uint32_t i = 0; i < g->count; i++)
+        names[i] = (SimplifyName){g->names[i], i < g->ndynamic, g->values[i]};
+    SimplifyEnv env = {.names = names, .nnames = g->count, .symtab = st, .dir = dir, .first_file = 1000};
+    top = simplify_program(top, &env, warnings);
+    free(names);
+    return top;
+}
+
 static char *dir_of(const char *path)
 {
     const char *slash = strrchr(path, '/');
@@ -509,6 +523,7 @@ Program *program_load_text(const char *path, const char *text, size_t len,
             p->npragmas++;
         }
     }
+    if (globals && globals->simplify) p->top = top = simplify_top(top, globals, st, p->dir, &p->warnings);
     Resolver r = {.globals = globals, .warnings = &p->warnings, .symtab = st, .dir = p->dir, .err = err};
     FnCtx ctx = {0};
     resolve(&r, &ctx, top);

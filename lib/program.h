@@ -31,6 +31,10 @@ typedef struct Globals {
     Str **names;        /* name per index */
     Vec **values;       /* current value per index (owned) */
     uint32_t count, cap;
+    bool simplify;      /* run the simplifier on programs loaded against these
+                           names (simplify.h) */
+    uint32_t ndynamic;  /* names [0, ndynamic) change per frame; the others
+                           (static engine names, defines) are known at load */
 } Globals;
 
 /* Index of [name] in [g], or -1. */
@@ -74,7 +78,9 @@ struct Program {
  *   errors: returns NULL and appends `PATH:LINE:COL: error: ...` to [err]
  *           on a syntax error, or `PATH: error: cannot read: REASON` when
  *           the file cannot be read. Unbound names are warnings
- *           (`Unbound name 'N'`) kept in program->warnings. */
+ *           (`Unbound name 'N'`) kept in program->warnings.
+ * With globals->simplify the parsed program is simplified (simplify.h)
+ * before its names are resolved; the simplifier's messages are warnings. */
 Program *program_load(const char *path, Globals *globals, SymTab *st, Buf *err);
 /* The same from text in memory ([path] names it in messages). */
 Program *program_load_text(const char *path, const char *text, size_t len,

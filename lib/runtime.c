@@ -96,6 +96,8 @@ fl_runtime *fl_new(const fl_options *opts)
     for (size_t i = 0; i < sizeof engine_symbols / sizeof engine_symbols[0]; i++)
         symtab_add(rt->symtab, engine_symbols[i], strlen(engine_symbols[i]));
     for (int i = 0; i < G__COUNT; i++) globals_add(&rt->globals, engine_names[i]);
+    rt->globals.simplify = !rt->opts.no_simplify;
+    rt->globals.ndynamic = G_REALTIME;   /* frame .. clock change per frame */
     rt->target_fps = rt->opts.fps;
     rt->period = 0.5;
     rt->quantum = 4.0;
