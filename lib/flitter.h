@@ -64,6 +64,11 @@ int fl_load(fl_runtime *rt, const char *path, Buf *err);
  * resolve relative files. Same errors as fl_load. */
 int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err);
 
+/* Append the loaded program, as it will run (after the simplifier unless
+ * no_simplify), to [out] as Flitter-like source (simplify.h ast_dump).
+ *   errors: returns -1 when no program is loaded, else 0. */
+int fl_dump_program(const fl_runtime *rt, Buf *out);
+
 /* Evaluate and simulate one frame: compute the frame names (FORMATS.md §5),
  * evaluate the program into a node tree, run every top-level !physics node,
  * write the beat counter, then advance the clock.

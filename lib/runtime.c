@@ -23,6 +23,7 @@
 #include "module.h"
 #include "physics/physics.h"
 #include "program.h"
+#include "simplify.h"
 #include "statefile.h"
 
 /* The engine names of LANGUAGE.md §6.2 in a fixed order (indices into
@@ -219,6 +220,13 @@ int fl_load(fl_runtime *rt, const char *path, Buf *err)
 int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err)
 {
     return install(rt, program_load_text(name, text, len, &rt->globals, rt->symtab, err));
+}
+
+int fl_dump_program(const fl_runtime *rt, Buf *out)
+{
+    if (!rt->prog) return -1;
+    ast_dump(out, rt->prog->top, rt->symtab);
+    return 0;
 }
 
 /* ====================================================================

@@ -48,10 +48,12 @@ typedef struct SimplifyEnv {
  *   source: LANGUAGE.md §4.17; tree.pyx `_simplify` methods */
 AstNode *simplify_program(AstNode *top, const SimplifyEnv *env, Buf *warnings);
 
-/* Append an indented dump of the AST [n] to [out]: one node per line, two
- * spaces per depth, the node kind then its names, operator and literal value
- * (value text of FORMATS.md §1, symbols named with [st]). For
- * `flitter run --dump-simplified`. */
+/* Append the program or expression [n] to [out] as Flitter-like source:
+ * statements one per line, indented four spaces per block; expressions
+ * inline with every operation parenthesised; literals as value text
+ * (FORMATS.md §1, symbols named with [st]), literal nodes with their tags,
+ * attributes and children. For reading (`flitter run --dump-simplified`);
+ * the text need not parse. */
 void ast_dump(Buf *out, const AstNode *n, const SymTab *st);
 
 #endif

@@ -31,7 +31,8 @@ static void run_usage(FILE *f)
           "  --nosimplify        run the program as parsed, without Flitter's load-time\n"
           "                      simplifier (also --no-simplify)\n"
           "  --dump-simplified   print the program as it will run (after simplification)\n"
-          "                      to stdout before the first frame\n",
+          "                      to stdout before the first frame; without --frames,\n"
+          "                      stop there\n",
           f);
 }
 
@@ -217,6 +218,17 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     }
     buf_free(&err);
     Buf b = BUF_INIT;
+    if (spec->dump_simplified) {
+        fl_dump_program(rt, &b);
+        fwrite(b.data, 1, b.len, out);
+        buf_reset(&b);
+        if (spec->frames < 0) {
+            buf_free(&b);
+            fflush(out);
+            fl_free(rt);
+            return EXIT_OK;
+        }
+    }
     bool dumped_last = false;
     double start = now_seconds(), last_save = start, last_progress = 0;
     long ran = 0;
