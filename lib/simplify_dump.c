@@ -9,6 +9,7 @@
  */
 #include "simplify.h"
 
+#include "builtins/builtins.h"
 #include "format.h"
 #include "node.h"
 
@@ -52,7 +53,7 @@ static void value_text(Buf *b, const Vec *v, const SymTab *st)
             node_text(b, e->node, st);
             buf_putc(b, ')');
         } else if (e->kind == EL_FUNC) {
-            buf_puts(b, func_name(e->func));
+            buf_puts(b, e->func->bi ? e->func->bi->name : func_name(e->func));
         } else {
             Vec *one = vec_item(v, i);
             fmt_value(b, one, st);
