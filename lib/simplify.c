@@ -686,35 +686,55 @@ AstNode *simp(Simp *s, const AstNode *n)
     return ast_copy(n);
 }
 
+void simp_init(Simp *s, SymTab *st, Buf *warnings, const char *dir, const char *path,
+               uint32_t next_file)
+{
+    *s = (Simp){.symtab = st, .warnings = warnings, .next_file = next_file};
+    s->ev = (Eval){.symtab = st, .errors = &s->errors, .debug = NULL};
+    s->dir = strdup(dir ? dir : ".");
+    s->path = path ? strdup(path) : NULL;
+    if (!s->dir || (path && !s->path)) abort();
+}
+
+void simp_fini(Simp *s)
+{
+    scope_restore(s, 0);
+    free(s->names);
+    for (uint32_t i = 0; i < s->ndeps; i++) free(s->deps[i]);
+    free(s->deps);
+    for (uint32_t i = 0; i < s->nbuiltins; i++) {
+        vec_release(s->builtins[i]);
+        str_release(s->builtin_names[i]);
+    }
+    free(s->builtins);
+    free(s->builtin_names);
+    for (uint32_t i = 0; i < s->nconsts; i++) {
+        vec_release(s->consts[i]);
+        str_release(s->const_names[i]);
+    }
+    free(s->consts);
+    free(s->const_names);
+    for (uint32_t i = 0; i < s->nexports; i++) {
+        str_release(s->exports[i].name);
+        vec_release(s->exports[i].value);
+        ast_free(s->exports[i].fn);
+    }
+    free(s->exports);
+    msgset_clear(&s->errors);
+    free(s->dir);
+    free(s->path);
+}
+
 AstNode *simplify_program(AstNode *top, const SimplifyEnv *env, Buf *warnings)
 {
-    Simp s = {.symtab = env->symtab, .warnings = warnings, .next_file = env->first_file};
-    s.ev = (Eval){.symtab = env->symtab, .errors = &s.errors, .debug = NULL};
-    s.dir = strdup(env->dir ? env->dir : ".");
-    if (!s.dir) abort();
+    Simp s;
+    simp_init(&s, env->symtab, warnings, env->dir, NULL, env->first_file);
     for (uint32_t i = 0; i < env->nnames; i++) {
         const SimplifyName *nm = &env->names[i];
         scope_push(&s, (Str *)nm->name, nm->dynamic ? NB_DYNAMIC : NB_LITERAL, nm->value, NULL, NULL);
     }
     AstNode *r = simp(&s, top);
     ast_free(top);
-    scope_restore(&s, 0);
-    free(s.names);
-    for (uint32_t i = 0; i < s.ndeps; i++) free(s.deps[i]);
-    free(s.deps);
-    for (uint32_t i = 0; i < s.nbuiltins; i++) {
-        vec_release(s.builtins[i]);
-        str_release(s.builtin_names[i]);
-    }
-    free(s.builtins);
-    free(s.builtin_names);
-    for (uint32_t i = 0; i < s.nconsts; i++) {
-        vec_release(s.consts[i]);
-        str_release(s.const_names[i]);
-    }
-    free(s.consts);
-    free(s.const_names);
-    msgset_clear(&s.errors);
-    free(s.dir);
+    simp_fini(&s);
     return r;
 }

@@ -25,7 +25,15 @@ enum { FN_INLINEABLE = 1, FN_CAPTURES = 2 };
 /* Depth limit of function inlining (tree.pyx MAX_INLINE_DEPTH). */
 #define SIMP_MAX_INLINE_DEPTH 20
 
-typedef struct Simp {
+/* A name a module ends with, bound to a literal or an inlineable function. */
+typedef struct SimpExport {
+    Str *name;
+    Vec *value;      /* literal value, or NULL with fn */
+    AstNode *fn;     /* owned copy of an inlineable AST_FUNCTION, or NULL */
+} SimpExport;
+
+typedef struct Simp Simp;
+struct Simp {
     NameBind *names;        /* scope stack: later entries shadow earlier */
     uint32_t nnames, capnames;
     SymTab *symtab;
@@ -45,7 +53,18 @@ typedef struct Simp {
     Vec **consts;           /* cache: one value per builtin constant name */
     Str **const_names;
     uint32_t nconsts, capconsts;
-} Simp;
+    const Simp *parent;     /* the importing program's simplifier, or NULL */
+    char *path;             /* path of the module being simplified, or NULL */
+    bool collect_exports;   /* a module: record its static names at the end */
+    SimpExport *exports;
+    uint32_t nexports, capexports;
+};
+
+/* Set up [s] for a file in [dir] ([path]: the module's path, or NULL). */
+void simp_init(Simp *s, SymTab *st, Buf *warnings, const char *dir, const char *path,
+               uint32_t next_file);
+/* Release everything [s] holds. */
+void simp_fini(Simp *s);
 
 /* ---- simplify.c ---- */
 /* The simplified copy of [n] (a new tree; [n] untouched). */
@@ -73,6 +92,10 @@ AstNode *simp_let(Simp *s, const AstNode *n);
 AstNode *simp_for(Simp *s, const AstNode *n);
 AstNode *simp_function(Simp *s, const AstNode *n);
 AstNode *simp_call(Simp *s, const AstNode *n);
+/* A new AST_BINDING of the single name [name] (retained) to [value]. */
+AstNode *mk_binding1(Str *name, AstNode *value, Loc loc);
+
+/* ---- simplify_files.c ---- */
 AstNode *simp_include(Simp *s, const AstNode *n);
 AstNode *simp_import(Simp *s, const AstNode *n);
 AstNode *simp_export(Simp *s, const AstNode *n);

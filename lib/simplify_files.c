@@ -1,0 +1,127 @@
+/* simplify_files.c: the simplifier and other files (LANGUAGE.md §4.13,
+ * §4.14, §4.17; tree.pyx `Include`, `Import` and `Export._simplify`).
+ *
+ * `%include` with a literal path splices the file's simplified statements
+ * in place. `import` with a literal path simplifies the module on its own
+ * (no engine names, as when it runs) and takes the names it ends with bound
+ * to literals or inlineable functions as static bindings of the importing
+ * program; only the remaining names are imported when the program runs.
+ */
+#include "simplify_internal.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fileio.h"
+#include "parse.h"
+
+/* ====================================================================
+ * Files: %include, import, the end of a file
+ * ==================================================================== */
+
+/* Register the symbol literals of a parsed file (AST_TOP.c). */
+static void register_symbols(const AstNode *top, SymTab *st)
+{
+    const AstNode *list = top ? top->c : NULL;
+    for (uint32_t i = 0; list && i < list->nkids; i++) {
+        const AstNode *k = list->kids[i];
+        if (!k || !vec_is_obj(k->value)) continue;
+        const Elem *e = &vec_celems(k->value)[0];
+        if (e->kind == EL_STR) symtab_add(st, e->str->bytes, e->str->len);
+    }
+}
+
+static char *dir_of(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) return strdup(".");
+    if (slash == path) return strdup("/");
+    return strndup(path, (size_t)(slash - path));
+}
+
+AstNode *simp_include(Simp *s, const AstNode *n)
+{
+    AstNode *file = simp(s, n->a);
+    if (!is_lit(file)) return ast_unary(AST_INCLUDE, file, n->loc);
+    const Vec *v = file->value;
+    if (!vec_len(v)) {
+        ast_free(file);
+        return mk_lit(NULL, n->loc);
+    }
+    if (!vec_is_obj(v) || v->len != 1 || vec_celems(v)[0].kind != EL_STR)
+        return ast_unary(AST_INCLUDE, file, n->loc);
+    const Str *name = vec_celems(v)[0].str;
+    char *path;
+    if (name->bytes[0] == '/') path = strdup(name->bytes);
+    else if (asprintf(&path, "%s/%s", s->dir, name->bytes) < 0) path = NULL;
+    if (!path) abort();
+    for (uint32_t i = 0; i < s->ndeps; i++) {
+        if (strcmp(s->deps[i], path) == 0) {
+            char msg[600];
+            snprintf(msg, sizeof msg, "Cannot include path '%s' multiple times", name->bytes);
+            simp_warn(s, msg);
+            free(path);
+            ast_free(file);
+            return mk_lit(NULL, n->loc);
+        }
+    }
+    Buf text = BUF_INIT, err = BUF_INIT;
+    AstNode *top = NULL;
+    if (file_read(path, &text))
+        top = parse_program(path, text.data ? text.data : "", text.len, s->next_file, &err);
+    buf_free(&text);
+    buf_free(&err);
+    if (!top) {   /* left for the resolver, which reports it */
+        free(path);
+        return ast_unary(AST_INCLUDE, file, n->loc);
+    }
+    s->next_file++;
+    register_symbols(top, s->symtab);
+    s->deps = realloc(s->deps, (s->ndeps + 1) * sizeof *s->deps);
+    if (!s->deps) abort();
+    s->deps[s->ndeps++] = path;
+    char *saved_dir = s->dir;
+    bool saved_inc = s->in_include;
+    s->dir = dir_of(path);
+    if (!s->dir) abort();
+    s->in_include = true;
+    AstNode *r = simp(s, top->a);
+    free(s->dir);
+    s->dir = saved_dir;
+    s->in_include = saved_inc;
+    ast_free(top);
+    ast_free(file);
+    return r;
+}
+
+/* import: the module is evaluated when the program runs, so the imported
+ * names are dynamic here (the reference imports a module's literal values
+ * statically; not yet done). */
+AstNode *simp_import(Simp *s, const AstNode *n)
+{
+    AstNode *r = ast_new(AST_IMPORT, n->loc);
+    for (uint32_t j = 0; j < n->nnames; j++) ast_push_name(r, str_retain(n->names[j]));
+    r->a = simp(s, n->a);
+    uint32_t mark = s->nnames;
+    for (uint32_t j = 0; j < n->nnames; j++) scope_push(s, n->names[j], NB_DYNAMIC, NULL, NULL, NULL);
+    r->b = simp(s, n->b);
+    scope_restore(s, mark);
+    return r;
+}
+
+/* The end of a file: in an included file nothing; otherwise the export
+ * point, which also records the names bound to literals (their bindings
+ * are gone from the tree) as AST_BINDING kids with literal values. */
+AstNode *simp_export(Simp *s, const AstNode *n)
+{
+    if (s->in_include) return mk_lit(NULL, n->loc);
+    AstNode *x = ast_new(AST_EXPORT, n->loc);
+    for (uint32_t i = 0; i < s->nnames; i++) {
+        NameBind *b = &s->names[i];
+        if (b->kind != NB_LITERAL || scope_find(s, b->name) != b) continue;
+        ast_push(x, mk_binding1(b->name, mk_lit(vec_retain(b->value), n->loc), n->loc));
+    }
+    return x;
+}
