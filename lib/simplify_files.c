@@ -96,19 +96,96 @@ AstNode *simp_include(Simp *s, const AstNode *n)
     return r;
 }
 
-/* import: the module is evaluated when the program runs, so the imported
- * names are dynamic here (the reference imports a module's literal values
- * statically; not yet done). */
+/* Simplify the module at [path] on its own and return its static exports
+ * through a finished sub-simplifier; false when it cannot be read or
+ * parsed (the import is then left to the evaluator, which reports it). */
+static bool module_exports(Simp *s, const char *path, Simp *sub)
+{
+    Buf text = BUF_INIT, err = BUF_INIT;
+    AstNode *top = NULL;
+    if (file_read(path, &text))
+        top = parse_program(path, text.data ? text.data : "", text.len, s->next_file, &err);
+    buf_free(&text);
+    buf_free(&err);
+    if (!top) return false;
+    s->next_file++;
+    register_symbols(top, s->symtab);
+    char *dir = dir_of(path);
+    if (!dir) abort();
+    simp_init(sub, s->symtab, s->warnings, dir, path, s->next_file);
+    free(dir);
+    sub->parent = s;
+    sub->collect_exports = true;
+    AstNode *r = simp(sub, top);
+    ast_free(r);
+    ast_free(top);
+    return true;
+}
+
+/* import NAMES from FILE, then the rest [n->b]: names the module binds to
+ * literals or inlineable functions become bindings of a `let` around the
+ * rest; the others stay imported when the program runs. */
 AstNode *simp_import(Simp *s, const AstNode *n)
 {
-    AstNode *r = ast_new(AST_IMPORT, n->loc);
-    for (uint32_t j = 0; j < n->nnames; j++) ast_push_name(r, str_retain(n->names[j]));
-    r->a = simp(s, n->a);
+    AstNode *file = simp(s, n->a);
+    Simp sub;
+    bool have = false, circular = false;
+    const char *name = NULL;
+    if (is_lit(file) && vec_is_obj(file->value) && file->value->len == 1 &&
+        vec_celems(file->value)[0].kind == EL_STR) {
+        name = vec_celems(file->value)[0].str->bytes;
+        char *path;
+        if (name[0] == '/') path = strdup(name);
+        else if (asprintf(&path, "%s/%s", s->dir, name) < 0) path = NULL;
+        if (!path) abort();
+        for (const Simp *p = s; p && !circular; p = p->parent)
+            circular = p->path && strcmp(p->path, path) == 0;
+        if (circular) {
+            char msg[600];
+            snprintf(msg, sizeof msg, "Circular import of '%s'", name);
+            simp_warn(s, msg);
+        } else {
+            have = module_exports(s, path, &sub);
+        }
+        free(path);
+    }
     uint32_t mark = s->nnames;
-    for (uint32_t j = 0; j < n->nnames; j++) scope_push(s, n->names[j], NB_DYNAMIC, NULL, NULL, NULL);
-    r->b = simp(s, n->b);
+    AstNode *let = ast_new(AST_LET, n->loc);
+    AstNode *imp = ast_new(AST_IMPORT, n->loc);
+    for (uint32_t j = 0; j < n->nnames; j++) {
+        const Str *nm = n->names[j];
+        AstNode *value = NULL;
+        if (circular) value = mk_lit(NULL, n->loc);
+        for (uint32_t k = have ? sub.nexports : 0; k-- > 0 && !value;) {
+            if (!str_eq(sub.exports[k].name, nm)) continue;
+            value = sub.exports[k].fn ? ast_copy(sub.exports[k].fn)
+                                      : mk_lit(vec_retain(sub.exports[k].value), n->loc);
+        }
+        if (value) {
+            ast_push(let, mk_binding1((Str *)nm, value, n->loc));
+        } else {
+            ast_push_name(imp, str_retain((Str *)nm));
+            scope_push(s, (Str *)nm, NB_DYNAMIC, NULL, NULL, NULL);
+        }
+    }
+    if (have) simp_fini(&sub);
+    AstNode *body;
+    if (let->nkids) {
+        let->a = ast_copy(n->b);
+        body = resimp(s, let);
+    } else {
+        ast_free(let);
+        body = simp(s, n->b);
+    }
     scope_restore(s, mark);
-    return r;
+    if (!imp->nnames) {
+        ast_free(imp);
+        ast_free(file);
+        return body;
+    }
+    imp->a = file;
+    imp->b = body;
+    return imp;
 }
 
 /* The end of a file: in an included file nothing; otherwise the export
@@ -120,8 +197,17 @@ AstNode *simp_export(Simp *s, const AstNode *n)
     AstNode *x = ast_new(AST_EXPORT, n->loc);
     for (uint32_t i = 0; i < s->nnames; i++) {
         NameBind *b = &s->names[i];
-        if (b->kind != NB_LITERAL || scope_find(s, b->name) != b) continue;
-        ast_push(x, mk_binding1(b->name, mk_lit(vec_retain(b->value), n->loc), n->loc));
+        if (scope_find(s, b->name) != b) continue;
+        if (b->kind == NB_LITERAL)
+            ast_push(x, mk_binding1(b->name, mk_lit(vec_retain(b->value), n->loc), n->loc));
+        if (!s->collect_exports || (b->kind != NB_LITERAL && b->kind != NB_FUNCTION)) continue;
+        if (s->nexports == s->capexports) {
+            s->capexports = s->capexports ? s->capexports * 2 : 8;
+            s->exports = realloc(s->exports, s->capexports * sizeof *s->exports);
+            if (!s->exports) abort();
+        }
+        s->exports[s->nexports++] = (SimpExport){str_retain(b->name), vec_retain(b->value),
+                                                 b->kind == NB_FUNCTION ? ast_copy(b->fn) : NULL};
     }
     return x;
 }

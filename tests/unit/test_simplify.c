@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
+#include <unistd.h>
 
 #include "flitter.h"
 #include "node.h"
@@ -315,6 +316,58 @@ static void test_unroll_and_inline(void **unused)
     fl_free(rt);
 }
 
+/* Write [text] to [dir]/[name]. */
+static void write_file(const char *dir, const char *name, const char *text)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+/* import and %include with literal paths: a module's literal names and
+ * capture-free functions become static bindings (inlined, so the rules
+ * apply at the call site); only the dynamic names are imported at run
+ * time; an included file is spliced in and simplified in place. */
+static void test_import_and_include(void **unused)
+{
+    (void)unused;
+    char dir[] = "/tmp/flitter-simplify-XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    write_file(dir, "mod.fl", "let K=10\n    S=$(:s)\nfunc f(x)\n    x/K\n");
+    write_file(dir, "inc.fl", "!i v=time/4\n");
+    const char *src = "import f;K;S from 'mod.fl'\n%include 'inc.fl'\n!t a=f(time) b=K d=f(3)\n";
+    char main[600];
+    snprintf(main, sizeof main, "%s/main.fl", dir);
+    fl_options o = fl_default_options();
+    o.log = NULL;
+    fl_runtime *rt = fl_new(&o);
+    Buf err = BUF_INIT, dump = BUF_INIT;
+    assert_int_equal(fl_load_text(rt, main, src, strlen(src), &err), 0);
+    fl_dump_program(rt, &dump);
+    const char *d = buf_cstr(&dump);
+    assert_non_null(strstr(d, "import S from \"mod.fl\"\n"));
+    assert_non_null(strstr(d, "(!i) v=(0.25 * time)\n"));
+    assert_non_null(strstr(d, "(!t) a=(0.1 * time) b=10 d=0.30000000000000004\n"));
+    fl_step(rt);
+    fl_step(rt);
+    const Vec *a = node_attr(fl_root(rt)->children[1], "a");
+    assert_true(vec_is_scalar(a));
+    double want = 0.1 * (1.0 / 60.0);   /* time of frame 1 times (1/10) */
+    assert_memory_equal(&vec_cnums(a)[0], &want, sizeof want);
+    buf_free(&err);
+    buf_free(&dump);
+    fl_free(rt);
+    char path[600];
+    snprintf(path, sizeof path, "%s/mod.fl", dir);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/inc.fl", dir);
+    unlink(path);
+    rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -339,6 +392,7 @@ int main(void)
         cmocka_unit_test(test_f1_fused),
         cmocka_unit_test(test_f2_square),
         cmocka_unit_test(test_unroll_and_inline),
+        cmocka_unit_test(test_import_and_include),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
