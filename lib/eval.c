@@ -19,6 +19,7 @@
 #include "eval.h"
 #include "format.h"
 #include "module.h"
+#include "stable.h"
 
 /* Recursion limit per function value (§4.8). */
 #define MAX_ACTIVE_CALLS 500
@@ -522,7 +523,11 @@ static Vec *eval_let(Eval *ev, const AstNode *n)
 {
     for (uint32_t i = 0; i < n->nkids; i++) {
         const AstNode *b = n->kids[i];
-        bind_unpack(ev, b, eval_expr(ev, b->a));
+        Vec *v = eval_expr(ev, b->a);
+        if (n->op == 1 && n->count && ev->stables &&
+            !stable_check(ev->stables, n, i, v, ev->prog->asserted, ev->prog->nasserted))
+            ev->stable_changed = true;   /* `let stable`: stable.h */
+        bind_unpack(ev, b, v);
     }
     return eval_expr(ev, n->a);
 }

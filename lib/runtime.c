@@ -24,6 +24,7 @@
 #include "physics/physics.h"
 #include "program.h"
 #include "simplify.h"
+#include "stable.h"
 #include "statefile.h"
 
 /* The engine names of LANGUAGE.md §6.2 in a fixed order (indices into
@@ -52,6 +53,8 @@ struct fl_runtime {
     size_t nscope_names;
     Globals globals;        /* engine names and defines */
     Program *prog;          /* current program, or NULL */
+    Program *run_prog;      /* prog simplified again with stable values (stable.h), or NULL */
+    StableCache *stables;   /* `let stable` values */
     bool pragmas_pending;   /* apply pragmas at the next step */
     Node *root;             /* last frame's tree */
     MsgSet errors[2];       /* this and the previous frame's errors */
@@ -90,6 +93,7 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->state = state_new();
     rt->physics = phys_new();
     rt->modules = module_cache_new();
+    rt->stables = stable_new();
     rt->counter_key = vec_str("_counter", 8);
     /* symbols the physics engine writes into state keys (PHYSICS.md) */
     static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity",
@@ -123,6 +127,8 @@ void fl_free(fl_runtime *rt)
 {
     if (!rt) return;
     program_release(rt->prog);
+    program_release(rt->run_prog);
+    stable_free(rt->stables);
     node_release(rt->root);
     phys_free(rt->physics);
     module_cache_free(rt->modules);
@@ -207,6 +213,9 @@ static int install(fl_runtime *rt, Program *p)
     if (!p) return -1;
     log_warnings(rt, p);
     program_release(rt->prog);
+    program_release(rt->run_prog);
+    rt->run_prog = NULL;
+    stable_clear(rt->stables);
     rt->prog = p;
     rt->pragmas_pending = true;
     return 0;
@@ -371,12 +380,27 @@ int fl_step(fl_runtime *rt)
     msgset_clear(&rt->errors[rt->cur]);
     msgset_clear(&rt->debug[rt->cur]);
     Eval ev = {
-        .prog = rt->prog, .globals = &rt->globals, .state = rt->state, .symtab = rt->symtab,
-        .errors = &rt->errors[rt->cur], .debug = &rt->debug[rt->cur], .modules = rt->modules,
-        .exports = &rt->scope,
+        .prog = rt->run_prog ? rt->run_prog : rt->prog, .globals = &rt->globals,
+        .state = rt->state, .symtab = rt->symtab, .errors = &rt->errors[rt->cur],
+        .debug = &rt->debug[rt->cur], .modules = rt->modules, .exports = &rt->scope,
+        .stables = rt->globals.simplify ? rt->stables : NULL,
     };
     exports_clear(&rt->scope);
     Node *root = eval_program(&ev);
+    if (ev.stable_changed) {
+        /* a stable value changed: evaluate the frame again with the program
+         * as first simplified (stable.h) */
+        node_release(root);
+        msgset_clear(&rt->errors[rt->cur]);
+        msgset_clear(&rt->debug[rt->cur]);
+        exports_clear(&rt->scope);
+        stable_frame_done(rt->stables);
+        program_release(rt->run_prog);
+        rt->run_prog = NULL;
+        ev.prog = rt->prog;
+        ev.stable_changed = false;
+        root = eval_program(&ev);
+    }
     node_release(rt->root);
     rt->root = root;
     report(rt->opts.log, "Execution error: ", &rt->errors[rt->cur], &rt->errors[prev]);
@@ -389,6 +413,15 @@ int fl_step(fl_runtime *rt)
     Vec *val = vec_from_nums(counter, 3);
     state_set(rt->state, rt->counter_key, val);
     vec_release(val);
+
+    /* values that became stable: simplify again with them known */
+    if (stable_frame_done(rt->stables) && rt->globals.simplify) {
+        Program *p = program_resimplify(rt->prog, &rt->globals, rt->symtab, rt->stables);
+        if (p) {
+            program_release(rt->run_prog);
+            rt->run_prog = p;
+        }
+    }
 
     rt->last_time = t;
     rt->frame++;

@@ -725,10 +725,23 @@ void simp_fini(Simp *s)
     free(s->path);
 }
 
+void simplify_number_stables(AstNode *n, uint32_t *last)
+{
+    if (!n || !last) return;
+    if (n->kind == AST_LET && n->op == 1 && n->count == 0) n->count = ++*last;
+    simplify_number_stables(n->a, last);
+    simplify_number_stables(n->b, last);
+    simplify_number_stables(n->c, last);
+    for (uint32_t i = 0; i < n->nkids; i++) simplify_number_stables(n->kids[i], last);
+}
+
 AstNode *simplify_program(AstNode *top, const SimplifyEnv *env, Buf *warnings)
 {
     Simp s;
     simp_init(&s, env->symtab, warnings, env->dir, NULL, env->first_file);
+    s.stable_ids = env->stable_ids;
+    s.stables = env->stables;
+    simplify_number_stables(top, s.stable_ids);
     for (uint32_t i = 0; i < env->nnames; i++) {
         const SimplifyName *nm = &env->names[i];
         scope_push(&s, (Str *)nm->name, nm->dynamic ? NB_DYNAMIC : NB_LITERAL, nm->value, NULL, NULL);

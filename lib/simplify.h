@@ -37,6 +37,11 @@ typedef struct SimplifyEnv {
     SymTab *symtab;             /* symbols of included files are added here */
     const char *dir;            /* directory of the main file, for %include */
     uint32_t first_file;        /* source index given to the first included file */
+    uint32_t *stable_ids;       /* last `let stable` id given out (stable.h): each
+                                   AST_LET with op 1 and count 0 is numbered */
+    const struct StableCache *stables;  /* values of stable keys, bound as
+                                   literals in their `let stable` bodies; NULL:
+                                   none (the first simplification) */
 } SimplifyEnv;
 
 /* Simplify the program [top] (an AST_TOP from parse_program, consumed) and
@@ -47,6 +52,14 @@ typedef struct SimplifyEnv {
  *           or parsed is left as an AST_INCLUDE for the resolver to report.
  *   source: LANGUAGE.md §4.17; tree.pyx `_simplify` methods */
 AstNode *simplify_program(AstNode *top, const SimplifyEnv *env, Buf *warnings);
+
+/* A deep copy of the unresolved tree [n] (kinds, operators, names, values,
+ * children; not the resolver's slots and data). NULL gives NULL. */
+AstNode *ast_copy(const AstNode *n);
+
+/* Give every `let stable` (AST_LET with op 1) of [n] that has no id yet
+ * (count 0) the next id from [*last]. */
+void simplify_number_stables(AstNode *n, uint32_t *last);
 
 /* Append the program or expression [n] to [out] as Flitter-like source:
  * statements one per line, indented four spaces per block; expressions

@@ -79,6 +79,7 @@ AstNode *simp_include(Simp *s, const AstNode *n)
     }
     s->next_file++;
     register_symbols(top, s->symtab);
+    simplify_number_stables(top, s->stable_ids);
     s->deps = realloc(s->deps, (s->ndeps + 1) * sizeof *s->deps);
     if (!s->deps) abort();
     s->deps[s->ndeps++] = path;
@@ -116,6 +117,9 @@ static bool module_exports(Simp *s, const char *path, Simp *sub)
     free(dir);
     sub->parent = s;
     sub->collect_exports = true;
+    sub->stable_ids = s->stable_ids;
+    sub->stables = s->stables;
+    simplify_number_stables(top, s->stable_ids);
     AstNode *r = simp(sub, top);
     ast_free(r);
     ast_free(top);

@@ -58,6 +58,8 @@ struct Simp {
     bool collect_exports;   /* a module: record its static names at the end */
     SimpExport *exports;
     uint32_t nexports, capexports;
+    uint32_t *stable_ids;   /* the program's `let stable` id counter */
+    const struct StableCache *stables;  /* known stable values, or NULL */
 };
 
 /* Set up [s] for a file in [dir] ([path]: the module's path, or NULL). */
@@ -73,8 +75,6 @@ AstNode *simp(Simp *s, const AstNode *n);
 AstNode *resimp(Simp *s, AstNode *n_take);
 /* A new literal of [v_take]. */
 AstNode *mk_lit(Vec *v_take, Loc loc);
-/* A deep copy of [n]. */
-AstNode *ast_copy(const AstNode *n);
 /* True when [n] is an AST_LITERAL. */
 static inline bool is_lit(const AstNode *n) { return n && n->kind == AST_LITERAL; }
 /* Record a load-time warning line. */

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "builtins/builtins.h"
+#include "stable.h"
 
 AstNode *simp_sequence_of(AstNode **items, uint32_t n, uint32_t cap, Loc loc);
 
@@ -294,6 +295,7 @@ AstNode *mk_binding1(Str *name, AstNode *value, Loc loc)
 typedef struct BList {
     AstNode **v;
     uint32_t n, cap;
+    uint32_t id;     /* `let stable` id for mk_let (0: none) */
 } BList;
 
 static void blist_push(BList *l, AstNode *b)
@@ -317,10 +319,38 @@ static AstNode *mk_let(BList *rem, AstNode *body, int op, Loc loc)
 {
     AstNode *l = ast_new(AST_LET, loc);
     l->op = (uint8_t)op;
+    l->count = rem->id;
     for (uint32_t i = 0; i < rem->n; i++) ast_push(l, rem->v[i]);
     rem->n = 0;
     l->a = body;
     return l;
+}
+
+/* A `let stable` [let] (consumed) whose keys ([id], i) are known stable:
+ * its body simplified again with those values as literals (tree.pyx
+ * LetStable._simplify). */
+static AstNode *stable_body(Simp *s, AstNode *let, uint32_t id)
+{
+    let->count = id;
+    if (!s->stables || !id) return let;
+    uint32_t mark = s->nnames;
+    for (uint32_t i = 0; i < let->nkids; i++) {
+        if (!stable_is_stable(s->stables, id, i)) continue;
+        const Vec *v = stable_value(s->stables, id, i);
+        const AstNode *b = let->kids[i];
+        for (uint32_t j = 0; j < b->nnames; j++) {
+            Vec *item = b->nnames == 1 ? vec_retain((Vec *)v) : vec_item(v, j);
+            scope_push(s, b->names[j], NB_LITERAL, item, NULL, NULL);
+            vec_release(item);
+        }
+    }
+    if (s->nnames != mark) {
+        AstNode *body = let->a;
+        let->a = simp(s, body);
+        ast_free(body);
+    }
+    scope_restore(s, mark);
+    return let;
 }
 
 AstNode *simp_let(Simp *s, const AstNode *n)
@@ -341,7 +371,7 @@ AstNode *simp_let(Simp *s, const AstNode *n)
         }
         body = body->a;
     }
-    BList rem = {0};
+    BList rem = {.id = n->op == 1 ? n->count : 0};
     NameSet shadowed = {0}, discarded = {0};
     /* names currently standing for other names (renames) */
     for (uint32_t i = 0; i < nb; i++) {
@@ -476,7 +506,8 @@ AstNode *simp_let(Simp *s, const AstNode *n)
         }
     }
     free(rem.v);
-    if (resimplify) return resimp(s, sbody);
+    if (resimplify) sbody = resimp(s, sbody);
+    if (n->op == 1 && sbody->kind == AST_LET && sbody->op == 1) return stable_body(s, sbody, n->count);
     return sbody;
 }
 

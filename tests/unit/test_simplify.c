@@ -316,6 +316,37 @@ static void test_unroll_and_inline(void **unused)
     fl_free(rt);
 }
 
+/* let stable: once a value is the same on two frames in a row, the program
+ * is simplified again with it known (here: time/(k+10) becomes
+ * (1/(k+10))*time from the frame after); when it changes, that frame runs
+ * the program as first simplified. */
+static void test_let_stable(void **unused)
+{
+    (void)unused;
+    const char *src = "let stable k=frame//3\n!t v=time/(k+10)\n";
+    for (int mode = 0; mode < 2; mode++) {
+        fl_options o = fl_default_options();
+        o.log = NULL;
+        o.no_simplify = mode == 1;
+        fl_runtime *rt = fl_new(&o);
+        Buf err = BUF_INIT;
+        assert_int_equal(fl_load_text(rt, "s.fl", src, strlen(src), &err), 0);
+        buf_free(&err);
+        for (int f = 0; f < 8; f++) {
+            fl_step(rt);
+            double t = fl_frame_time(rt), k = (double)(f / 3), want;
+            /* stable from frame 1 (k=0: frames 2), from frame 4 (k=1: frame 5) */
+            bool rewritten = mode == 0 && (f == 2 || f == 5);
+            want = rewritten ? (1.0 / (k + 10)) * t : t / (k + 10);
+            const Vec *v = node_attr(fl_root(rt)->children[0], "v");
+            assert_true(vec_is_scalar(v));
+            if (memcmp(&vec_cnums(v)[0], &want, sizeof want) != 0)
+                fail_msg("mode %d frame %d: v = %.17g, expected %.17g", mode, f, vec_cnums(v)[0], want);
+        }
+        fl_free(rt);
+    }
+}
+
 /* Write [text] to [dir]/[name]. */
 static void write_file(const char *dir, const char *name, const char *text)
 {
@@ -393,6 +424,7 @@ int main(void)
         cmocka_unit_test(test_f2_square),
         cmocka_unit_test(test_unroll_and_inline),
         cmocka_unit_test(test_import_and_include),
+        cmocka_unit_test(test_let_stable),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
