@@ -489,7 +489,8 @@ static AstNode *simplify_top(Program *p, AstNode *top, const Globals *g, SymTab 
     for (uint32_t i = 0; i < g->count; i++)
         names[i] = (SimplifyName){g->names[i], i < g->ndynamic, g->values[i]};
     SimplifyEnv env = {.names = names, .nnames = g->count, .symtab = st, .dir = p->dir,
-                       .first_file = 1000, .stable_ids = &p->stable_ids, .stables = sc};
+                       .first_file = 1000, .stable_ids = &p->stable_ids, .stables = sc,
+                       .is_module = g->module};
     top = simplify_program(top, &env, &p->warnings);
     free(names);
     return top;

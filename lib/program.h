@@ -35,6 +35,8 @@ typedef struct Globals {
                            names (simplify.h) */
     uint32_t ndynamic;  /* names [0, ndynamic) change per frame; the others
                            (static engine names, defines) are known at load */
+    bool module;        /* programs loaded against these are imported modules
+                           (their top-level names are all exported) */
 } Globals;
 
 /* Index of [name] in [g], or -1. */

@@ -741,6 +741,7 @@ AstNode *simplify_program(AstNode *top, const SimplifyEnv *env, Buf *warnings)
     simp_init(&s, env->symtab, warnings, env->dir, NULL, env->first_file);
     s.stable_ids = env->stable_ids;
     s.stables = env->stables;
+    s.is_module = env->is_module;
     simplify_number_stables(top, s.stable_ids);
     for (uint32_t i = 0; i < env->nnames; i++) {
         const SimplifyName *nm = &env->names[i];

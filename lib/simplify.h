@@ -42,6 +42,8 @@ typedef struct SimplifyEnv {
     const struct StableCache *stables;  /* values of stable keys, bound as
                                    literals in their `let stable` bodies; NULL:
                                    none (the first simplification) */
+    bool is_module;             /* an imported module: every top-level name is
+                                   exported, so no top-level binding is unused */
 } SimplifyEnv;
 
 /* Simplify the program [top] (an AST_TOP from parse_program, consumed) and

@@ -117,6 +117,7 @@ static bool module_exports(Simp *s, const char *path, Simp *sub)
     free(dir);
     sub->parent = s;
     sub->collect_exports = true;
+    sub->is_module = true;
     sub->stable_ids = s->stable_ids;
     sub->stables = s->stables;
     simplify_number_stables(top, s->stable_ids);
@@ -194,11 +195,15 @@ AstNode *simp_import(Simp *s, const AstNode *n)
 
 /* The end of a file: in an included file nothing; otherwise the export
  * point, which also records the names bound to literals (their bindings
- * are gone from the tree) as AST_BINDING kids with literal values. */
+ * are gone from the tree) as AST_BINDING kids with literal values. In a
+ * module it uses every name (no top-level binding is dropped as unused);
+ * in the main program (Flitter drops its export) it keeps nothing alive,
+ * and exports only what is left, for the REPL's scope. */
 AstNode *simp_export(Simp *s, const AstNode *n)
 {
     if (s->in_include) return mk_lit(NULL, n->loc);
     AstNode *x = ast_new(AST_EXPORT, n->loc);
+    if (!s->is_module) x->op = EXPORT_MAIN;
     for (uint32_t i = 0; i < s->nnames; i++) {
         NameBind *b = &s->names[i];
         if (scope_find(s, b->name) != b) continue;

@@ -19,6 +19,10 @@ typedef struct NameBind {
                               from the Let being simplified) */
 } NameBind;
 
+/* AST_EXPORT `op` after simplification: the main program's end, which does
+ * not keep unused bindings alive (a module's does). */
+enum { EXPORT_MAIN = 1 };
+
 /* AST_FUNCTION flags in `op` after simplification. */
 enum { FN_INLINEABLE = 1, FN_CAPTURES = 2 };
 
@@ -56,6 +60,7 @@ struct Simp {
     const Simp *parent;     /* the importing program's simplifier, or NULL */
     char *path;             /* path of the module being simplified, or NULL */
     bool collect_exports;   /* a module: record its static names at the end */
+    bool is_module;         /* a module: the end of the file uses every name */
     SimpExport *exports;
     uint32_t nexports, capexports;
     uint32_t *stable_ids;   /* the program's `let stable` id counter */

@@ -165,7 +165,7 @@ static void walk_free(const AstNode *n, NameSet *out, Bound *b)
         if (!bound_has(b, n->names[0])) nameset_add(out, n->names[0]);
         return;
     case AST_EXPORT:
-        out->all = true;
+        if (n->op != EXPORT_MAIN) out->all = true;
         return;
     case AST_LET:
         for (uint32_t i = 0; i < n->nkids; i++) {
