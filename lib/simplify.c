@@ -19,6 +19,9 @@
 /* Longest range folded at load time (longer ones are left to the evaluator,
  * which reports them). */
 #define SIMP_MAX_RANGE (UINT64_C(1) << 26)
+/* Nesting limit of simp(), guarding the C stack: deeper subtrees are left
+ * unsimplified. */
+#define SIMP_MAX_DEPTH 10000
 
 /* ====================================================================
  * Tree helpers
@@ -642,10 +645,21 @@ static AstNode *simp_ifelse(Simp *s, const AstNode *n)
  * Dispatch
  * ==================================================================== */
 
+static AstNode *simp_kind(Simp *s, const AstNode *n);
+
 AstNode *simp(Simp *s, const AstNode *n)
 {
     if (!n) return NULL;
     if (s->unwinding) return mk_noop(n->loc);
+    if (s->depth >= SIMP_MAX_DEPTH) return ast_copy(n);   /* too deep: left as written */
+    s->depth++;
+    AstNode *r = simp_kind(s, n);
+    s->depth--;
+    return r;
+}
+
+static AstNode *simp_kind(Simp *s, const AstNode *n)
+{
     switch ((AstKind)n->kind) {
     case AST_LITERAL: return ast_copy(n);
     case AST_NAME: return simp_name(s, n);

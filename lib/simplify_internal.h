@@ -45,6 +45,7 @@ struct Simp {
     MsgSet errors;          /* messages of load-time builtin calls */
     Eval ev;                /* evaluator context for load-time folding */
     uint32_t call_depth;    /* functions being inlined */
+    uint32_t depth;         /* simp() nesting */
     bool unwinding;         /* the inline depth limit was hit: abandon */
     bool in_include;        /* simplifying an included file (no exports) */
     char *dir;              /* directory of the file being simplified */
