@@ -591,7 +591,7 @@ static Vec *eval_import(Eval *ev, const AstNode *n)
     return eval_expr(ev, n->b);
 }
 
-/* Append [name] = [value] (both retained) to [out]. */
+/* Append [name] = [value] (both retained) to [out]: a simplifier export. */
 static void export_one(Exports *out, const Str *name, Vec *value)
 {
     if (out->count == out->cap) {
@@ -605,16 +605,25 @@ static void export_one(Exports *out, const Str *name, Vec *value)
     out->count++;
 }
 
-/* AST_EXPORT: in a module, record every top-level name's value: first the
- * names the simplifier bound to literals (kids `name=literal`), then the
- * names still held in frame slots. */
+/* AST_EXPORT: in a module, record every top-level name's value (first the
+ * names the simplifier bound to literals: kids `name=literal`). */
 static void eval_export(Eval *ev, const AstNode *n)
 {
     const ExportInfo *x = n->aux;
     Exports *out = ev->exports;
     if (!out || !x) return;
     for (uint32_t i = 0; i < n->nkids; i++) export_one(out, n->kids[i]->names[0], n->kids[i]->a->value);
-    for (uint32_t i = 0; i < x->count; i++) export_one(out, x->names[i], ev->frame[x->slots[i]]);
+    for (uint32_t i = 0; i < x->count; i++) {
+        if (out->count == out->cap) {
+            out->cap = out->cap ? out->cap * 2 : 16;
+            out->names = realloc(out->names, out->cap * sizeof(Str *));
+            out->values = realloc(out->values, out->cap * sizeof(Vec *));
+            if (!out->names || !out->values) abort();
+        }
+        out->names[out->count] = str_retain((Str *)x->names[i]);
+        out->values[out->count] = vec_retain(ev->frame[x->slots[i]]);
+        out->count++;
+    }
 }
 
 /* ====================================================================
