@@ -105,8 +105,9 @@ static bool is_binop(const AstNode *n, int op) { return n && n->kind == AST_BINO
  * ==================================================================== */
 
 /* The rule for a literal left operand [l] and other operand [r] (both
- * simplified), or NULL when none applies (l and r then untouched). With
- * [swapped] the literal was on the right of a commutative product. */
+ * simplified; consumed when a rule applies), or NULL when none applies (l
+ * and r then untouched). Sums and products use it for a literal on either
+ * side, as tree.pyx does. */
 static AstNode *constant_left(int op, AstNode *l, AstNode *r, Loc loc)
 {
     if (!lit_numeric(l)) {
@@ -439,11 +440,6 @@ static AstNode *simp_generic(Simp *s, const AstNode *n)
  * Node expressions
  * ==================================================================== */
 
-static bool lit_has_nodes(const AstNode *n)
-{
-    return is_lit(n) && vec_is_obj(n->value);
-}
-
 /* AST_ATTRIBUTES: nested attribute groups are flattened; literal values are
  * set on a literal node from the innermost binding outwards. */
 static AstNode *simp_attributes(Simp *s, const AstNode *n)
@@ -523,7 +519,6 @@ static AstNode *simp_append(Simp *s, const AstNode *n)
         node->a = e;
         return resimp(s, node);
     }
-    (void)lit_has_nodes;
     return e;
 }
 
