@@ -19,8 +19,8 @@
 /* Longest range folded at load time (longer ones are left to the evaluator,
  * which reports them). */
 #define SIMP_MAX_RANGE (UINT64_C(1) << 26)
-/* Nesting limit of simp(), guarding the C stack: deeper subtrees are left
- * unsimplified. */
+/* Nesting limit of simp(), guarding the C stack: a program nested deeper
+ * is left unsimplified (with a warning). */
 #define SIMP_MAX_DEPTH 10000
 
 /* ====================================================================
@@ -645,8 +645,11 @@ static AstNode *simp_kind(Simp *s, const AstNode *n);
 AstNode *simp(Simp *s, const AstNode *n)
 {
     if (!n) return NULL;
-    if (s->unwinding) return mk_noop(n->loc);
-    if (s->depth >= SIMP_MAX_DEPTH) return ast_copy(n);   /* too deep: left as written */
+    if (s->unwinding || s->too_deep) return mk_noop(n->loc);
+    if (s->depth >= SIMP_MAX_DEPTH) {   /* too deep: the file is run as written */
+        s->too_deep = true;
+        return mk_noop(n->loc);
+    }
     s->depth++;
     AstNode *r = simp_kind(s, n);
     s->depth--;
@@ -757,6 +760,12 @@ AstNode *simplify_program(AstNode *top, const SimplifyEnv *env, Buf *warnings)
         scope_push(&s, (Str *)nm->name, nm->dynamic ? NB_DYNAMIC : NB_LITERAL, nm->value, NULL, NULL);
     }
     AstNode *r = simp(&s, top);
+    if (s.too_deep) {
+        ast_free(r);
+        simp_warn(&s, "Program too deeply nested to simplify; running it as written");
+        simp_fini(&s);
+        return top;
+    }
     ast_free(top);
     simp_fini(&s);
     return r;

@@ -120,10 +120,15 @@ static bool module_exports(Simp *s, const char *path, Simp *sub)
     sub->is_module = true;
     sub->stable_ids = s->stable_ids;
     sub->stables = s->stables;
+    sub->depth = s->depth;   /* the same C stack */
     simplify_number_stables(top, s->stable_ids);
     AstNode *r = simp(sub, top);
     ast_free(r);
     ast_free(top);
+    if (sub->too_deep) {   /* no static exports: imported when the program runs */
+        simp_fini(sub);
+        return false;
+    }
     return true;
 }
 

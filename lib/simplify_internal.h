@@ -46,6 +46,7 @@ struct Simp {
     Eval ev;                /* evaluator context for load-time folding */
     uint32_t call_depth;    /* functions being inlined */
     uint32_t depth;         /* simp() nesting */
+    bool too_deep;          /* the nesting limit was hit: give up */
     bool unwinding;         /* the inline depth limit was hit: abandon */
     bool in_include;        /* simplifying an included file (no exports) */
     char *dir;              /* directory of the file being simplified */
