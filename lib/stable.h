@@ -22,7 +22,9 @@
 
 typedef struct StableCache StableCache;
 
+/* A new, empty cache (aborts only when out of memory). */
 StableCache *stable_new(void);
+/* Free [sc] and its values (NULL is a no-op). */
 void stable_free(StableCache *sc);
 /* Forget every value and stable key (a new program was loaded). */
 void stable_clear(StableCache *sc);
