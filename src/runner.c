@@ -14,6 +14,7 @@
 #include "exitcodes.h"
 #include "flitter.h"
 #include "format.h"
+#include "window.h"
 
 static void run_usage(FILE *f)
 {
@@ -27,7 +28,13 @@ static void run_usage(FILE *f)
           "  --dump-every K      also dump the state after every K-th frame\n"
           "  --dump-tree         write the last frame's node tree to stdout\n"
           "  --state FILE        load the state from FILE at start (if it exists) and save\n"
-          "                      it back atomically at exit and every 5 seconds\n",
+          "                      it back atomically at exit and every 5 seconds\n"
+          "  --runtime T         stop after T seconds of frame clock (T*fps frames)\n"
+          "  --offscreen         accepted for Flitter compatibility (always headless)\n"
+          "  --quiet, --verbose, --debug  less or more logging (--debug reports skipped\n"
+          "                      drawing nodes)\n"
+          "  Windows are drawn offscreen and !record filename=F.png|.gif written\n"
+          "  (see README: Drawing).\n",
           f);
 }
 
@@ -44,7 +51,7 @@ static bool parse_count(const char *s, long *out)
 int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
-           O_STATE };
+           O_STATE, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG, O_NOSIMPLIFY };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -56,9 +63,16 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"dump-tree", no_argument, NULL, O_DUMP_TREE},
         {"state", required_argument, NULL, O_STATE},
         {"help", no_argument, NULL, 'h'},
+        {"runtime", required_argument, NULL, O_RUNTIME},
+        {"offscreen", no_argument, NULL, O_OFFSCREEN},
+        {"quiet", no_argument, NULL, O_QUIET},
+        {"verbose", no_argument, NULL, O_VERBOSE},
+        {"debug", no_argument, NULL, O_DEBUG},
+        {"nosimplify", no_argument, NULL, O_NOSIMPLIFY},
         {NULL, 0, NULL, 0},
     };
-    *spec = (RunSpec){.frames = -1, .fps = 60.0};
+    *spec = (RunSpec){.frames = -1, .fps = 60.0, .runtime = -1};
+    bool frames_given = false;
     spec->defines = calloc((size_t)argc + 1, sizeof(char *));
     if (!spec->defines) abort();
     optind = 0;   /* full re-initialisation of getopt */
@@ -69,6 +83,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         switch (c) {
         case O_FRAMES:
             if (!parse_count(optarg, &spec->frames)) goto bad_value;
+            frames_given = true;
             break;
         case O_FPS:
             spec->fps = strtod(optarg, &end);
@@ -87,6 +102,14 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
             break;
         case O_DUMP_TREE: spec->dump_tree = true; break;
         case O_STATE: spec->state_file = optarg; break;
+        case O_RUNTIME:
+            spec->runtime = strtod(optarg, &end);
+            if (end == optarg || *end || !(spec->runtime >= 0) || isinf(spec->runtime)) goto bad_value;
+            break;
+        case O_OFFSCREEN: case O_NOSIMPLIFY: break;
+        case O_QUIET: spec->verbosity = -1; break;
+        case O_VERBOSE: spec->verbosity = 1; break;
+        case O_DEBUG: spec->verbosity = 2; break;
         case 'h':
             run_usage(stdout);
             return -1;
@@ -100,6 +123,8 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         fprintf(err, "flitter run: bad value '%s' for option '%s'\n", optarg, argv[optind - 1]);
         return EXIT_USAGE;
     }
+    if (spec->runtime >= 0 && !frames_given)
+        spec->frames = lround(spec->runtime * spec->fps);   /* as Flitter: round(T*fps) frames */
     if (need_script) {
         if (optind != argc - 1) {
             fputs(optind >= argc ? "flitter run: no SCRIPT given\n"
@@ -207,6 +232,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     }
     buf_free(&err);
     Buf b = BUF_INIT;
+    Renderer *ren = renderer_new(fl_symbols(rt), log, spec->verbosity >= 2 ? log : NULL);
     bool dumped_last = false;
     double start = now_seconds(), last_save = start, last_progress = 0;
     long ran = 0;
@@ -229,6 +255,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
             }
         }
         fl_step(rt);
+        renderer_frame(ren, fl_root(rt), spec->fps);
         ran++;
         long n = fl_frame_count(rt) - 1;
         dumped_last = false;
@@ -264,6 +291,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         }
     }
     if (spec->state_file && save_state(rt, spec->state_file, log) != 0) rc = EXIT_LOAD;
+    if (renderer_free(ren) != 0) rc = EXIT_LOAD;
     buf_free(&b);
     fflush(out);
     fl_free(rt);

@@ -19,6 +19,8 @@ typedef struct RunSpec {
     char **defines;       /* NAME=VALUE strings (borrowed from argv) */
     int ndefines;
     const char *script;   /* SCRIPT */
+    double runtime;       /* --runtime T seconds (sets frames), or -1 */
+    int verbosity;        /* --quiet -1, default 0, --verbose 1, --debug 2 */
 } RunSpec;
 
 /* Parse `flitter run` options from [argv][0..argc) (argv[0] is ignored).
