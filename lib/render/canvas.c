@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "buf.h"
 #include "format.h"
@@ -158,11 +159,22 @@ static void update_paint(Ctx *c, const Node *n, Paint *p)
     }
 }
 
+/* macOS faces Flitter's documentation asks for that fontconfig has no
+ * metric-compatible substitute for: the generic family of the same kind,
+ * so that a monospaced face stays monospaced. */
+static const char *font_substitute(const char *family)
+{
+    static const char *const mono[] = {"Menlo", "Monaco", "SF Mono", "Andale Mono"};
+    for (size_t i = 0; i < sizeof mono / sizeof mono[0]; i++)
+        if (strcasecmp(family, mono[i]) == 0) return "monospace";
+    return family;
+}
+
 static void update_font(Ctx *c, const Node *n, Font *f)
 {
     const SymTab *st = c->env->symbols;
     if (canvas_attr_str(n, "font_family", st, &c->text))
-        snprintf(f->family, sizeof f->family, "%s", buf_cstr(&c->text));
+        snprintf(f->family, sizeof f->family, "%s", font_substitute(buf_cstr(&c->text)));
     if (canvas_attr_str(n, "font_weight", st, &c->text)) {
         const char *s = buf_cstr(&c->text);
         /* cairo's font selection knows two weights: semi-bold and heavier are bold */
@@ -608,6 +620,7 @@ static void draw_node(Ctx *c, const Node *n, Paint *paint, const Font *font, Pat
         draw_shape(c, n, paint, path, kind[0] == 'f', kind[0] == 's');
     } else if (strcmp(kind, "clip") == 0) {
         path_replay(c, path);
+        cairo_set_antialias(cr, paint->antialias ? CAIRO_ANTIALIAS_DEFAULT : CAIRO_ANTIALIAS_NONE);
         cairo_clip(cr);
     } else if (strcmp(kind, "text") == 0) {
         draw_text(c, n, paint, font);
