@@ -14,7 +14,7 @@
 #include "exitcodes.h"
 #include "flitter.h"
 #include "format.h"
-#include "window.h"
+#include "outputs.h"
 
 static void run_usage(FILE *f)
 {
@@ -33,6 +33,10 @@ static void run_usage(FILE *f)
           "  --offscreen         accepted for Flitter compatibility (always headless)\n"
           "  --quiet, --verbose, --debug  less or more logging (--debug reports skipped\n"
           "                      drawing nodes)\n"
+          "  --view FILE         draw the physics systems: FILE.png or .svg (last frame),\n"
+          "                      FILE.gif (an animation frame every --view-every K frames)\n"
+          "  --trace FILE        write particle positions and velocities each frame (or\n"
+          "                      every --trace-every K) to FILE.csv or FILE.jsonl\n"
           "  Windows are drawn offscreen and !record filename=F.png|.gif written\n"
           "  (see README: Drawing).\n",
           f);
@@ -51,7 +55,8 @@ static bool parse_count(const char *s, long *out)
 int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
-           O_STATE, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG, O_NOSIMPLIFY };
+           O_STATE, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG, O_NOSIMPLIFY,
+           O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -69,6 +74,10 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"verbose", no_argument, NULL, O_VERBOSE},
         {"debug", no_argument, NULL, O_DEBUG},
         {"nosimplify", no_argument, NULL, O_NOSIMPLIFY},
+        {"view", required_argument, NULL, O_VIEW},
+        {"view-every", required_argument, NULL, O_VIEW_EVERY},
+        {"trace", required_argument, NULL, O_TRACE},
+        {"trace-every", required_argument, NULL, O_TRACE_EVERY},
         {NULL, 0, NULL, 0},
     };
     *spec = (RunSpec){.frames = -1, .fps = 60.0, .runtime = -1};
@@ -110,6 +119,14 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         case O_QUIET: spec->verbosity = -1; break;
         case O_VERBOSE: spec->verbosity = 1; break;
         case O_DEBUG: spec->verbosity = 2; break;
+        case O_VIEW: spec->view = optarg; break;
+        case O_TRACE: spec->trace = optarg; break;
+        case O_VIEW_EVERY:
+            if (!parse_count(optarg, &spec->view_every) || spec->view_every < 1) goto bad_value;
+            break;
+        case O_TRACE_EVERY:
+            if (!parse_count(optarg, &spec->trace_every) || spec->trace_every < 1) goto bad_value;
+            break;
         case 'h':
             run_usage(stdout);
             return -1;
@@ -232,7 +249,11 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     }
     buf_free(&err);
     Buf b = BUF_INIT;
-    Renderer *ren = renderer_new(fl_symbols(rt), log, spec->verbosity >= 2 ? log : NULL);
+    Outputs *outs = outputs_new(spec, rt, log);
+    if (!outs) {
+        fl_free(rt);
+        return EXIT_USAGE;
+    }
     bool dumped_last = false;
     double start = now_seconds(), last_save = start, last_progress = 0;
     long ran = 0;
@@ -255,9 +276,9 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
             }
         }
         fl_step(rt);
-        renderer_frame(ren, fl_root(rt), spec->fps);
         ran++;
         long n = fl_frame_count(rt) - 1;
+        outputs_frame(outs, rt, n);
         dumped_last = false;
         if (spec->dump_state && spec->dump_every > 0 && (n + 1) % spec->dump_every == 0) {
             dump_state(rt, out, &b);
@@ -291,7 +312,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         }
     }
     if (spec->state_file && save_state(rt, spec->state_file, log) != 0) rc = EXIT_LOAD;
-    if (renderer_free(ren) != 0) rc = EXIT_LOAD;
+    if (outputs_finish(outs, rt, ran) != 0) rc = EXIT_LOAD;
     buf_free(&b);
     fflush(out);
     fl_free(rt);

@@ -21,6 +21,10 @@ typedef struct RunSpec {
     const char *script;   /* SCRIPT */
     double runtime;       /* --runtime T seconds (sets frames), or -1 */
     int verbosity;        /* --quiet -1, default 0, --verbose 1, --debug 2 */
+    const char *view;     /* --view FILE (.png/.svg/.gif), or NULL */
+    long view_every;      /* --view-every K (animations), or 0 */
+    const char *trace;    /* --trace FILE (.csv/.jsonl), or NULL */
+    long trace_every;     /* --trace-every K, or 0 */
 } RunSpec;
 
 /* Parse `flitter run` options from [argv][0..argc) (argv[0] is ignored).

@@ -1,9 +1,12 @@
 #!/bin/sh
-# flitter_cli.sh FLITTER: Flitter's own command line (`flitter [options]
-# SCRIPT` as in Flitter's documentation Makefiles), --version, help, and
-# --debug naming a skipped drawing node once.
+# flitter_cli.sh FLITTER WIRE: Flitter's own command line (`flitter
+# [options] SCRIPT` as in Flitter's documentation Makefiles), --version,
+# help, --debug naming a skipped drawing node once; `run --view/--trace`
+# wiring on the wire sample WIRE (pictures and rows are checked in
+# tests/unit/test_view.c).
 set -u
 flitter=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+wire=$2
 dir=$(mktemp -d) || exit 2
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "$*" >&2; exit 1; }
@@ -38,4 +41,25 @@ grep -qx '# frame 3 time 0.75' "$dir/out" || fail "expected 4 frames, got: $(cat
 (cd "$dir" && "$flitter" --lockstep --fps=4 --runtime=1 -D OUTPUT=fig2.png fig.fl) 2>"$dir/err" >/dev/null
 [ -s "$dir/err" ] && fail "unexpected stderr: $(cat "$dir/err")"
 [ -f "$dir/fig2.png" ] || fail "fig2.png not written (-D)"
+
+# --trace every 2nd frame of 3: frames 0 and 2, 12 bodies each, after a
+# header; frame 2's row for particle 3 holds the state dump's numbers
+"$flitter" run --frames 3 --trace "$dir/t.csv" --trace-every 2 --dump-state "$wire" >"$dir/dump" \
+    || fail "run --trace failed"
+[ "$(wc -l <"$dir/t.csv")" -eq 25 ] || fail "trace rows: $(wc -l <"$dir/t.csv")"
+head -1 "$dir/t.csv" | grep -qx 'frame,time,system,id,kind,x,vx' || fail "trace header: $(head -1 "$dir/t.csv")"
+x=$(sed -n 's/^:wire;3 = //p' "$dir/dump") v=$(sed -n 's/^:wire;3;:velocity = //p' "$dir/dump")
+[ -n "$x" ] && [ -n "$v" ] || fail "no :wire;3 in the dump"
+grep -qx "2,0.03333333333333333,wire,3,particle,$x,$v" "$dir/t.csv" \
+    || fail "frame 2 row of particle 3 is not $x,$v: $(grep '^2,.*,wire,3,' "$dir/t.csv")"
+"$flitter" run --frames 2 --trace "$dir/t.jsonl" "$wire" || fail "run --trace .jsonl failed"
+[ "$(grep -c '^{"frame":1,.*"system":"wire",.*"position":\[.*\],"velocity":\[.*\]}$' "$dir/t.jsonl")" -eq 12 ] \
+    || fail "jsonl: $(cat "$dir/t.jsonl")"
+# --view: a PNG 480 wide (IHDR), a GIF, and a usage error for another extension
+"$flitter" run --frames 5 --view "$dir/v.png" "$wire" || fail "run --view png failed"
+[ "$(od -An -tx1 -j16 -N4 "$dir/v.png" | tr -d ' \n')" = "000001e0" ] || fail "v.png is not 480 wide"
+"$flitter" run --frames 5 --view "$dir/v.gif" --view-every 2 "$wire" || fail "run --view gif failed"
+[ "$(head -c 6 "$dir/v.gif")" = "GIF89a" ] || fail "v.gif is not a GIF89a"
+"$flitter" run --frames 5 --view "$dir/v.jpg" "$wire" 2>"$dir/err"
+[ $? -eq 2 ] && grep -q 'v.jpg: --view needs a .png, .svg or .gif' "$dir/err" || fail "--view v.jpg: $(cat "$dir/err")"
 exit 0
