@@ -29,15 +29,18 @@
  * ...`, `FILE:LINE:COL: error: ...`, `error: ...`) and the runtime's log go
  * to stderr; stdout is line-buffered, and flushed before the REPL writes
  * to stderr, so the two streams interleave in order. An error never ends
- * the session.
+ * the session; a scripted session that met one exits with status 1. In a
+ * terminal session Ctrl-C stops a :step between frames or drops the line
+ * being typed; a second Ctrl-C at an empty prompt ends the session.
  *
- * The one global: libedit's completion callbacks take no user pointer, so
+ * The globals: libedit's completion callbacks take no user pointer, so
  * `completing` points at the session's Repl while libedit may call back;
  * the completion cursor itself lives in that Repl.
  */
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -70,6 +73,7 @@ typedef struct Repl {
     bool in_block;             /* [block] is being continued */
     char *peeked;              /* scripted mode: the next line, read ahead (owned), or NULL */
     bool peeked_eof;           /* scripted mode: reading ahead met the end of input */
+    long errors;               /* errors reported so far (the exit status of a scripted session) */
     /* completion cursor, for libedit's generator callback */
     CompletionKind cpl_kind;   /* what is being completed */
     size_t cpl_next;           /* next candidate index to try */
@@ -82,13 +86,24 @@ typedef struct Repl {
 /* libedit's completion callbacks carry no context: see the file comment. */
 static Repl *completing;
 
+/* Set by SIGINT in a terminal session (a signal handler takes no context
+ * either): polled between the frames of :step and after readline. */
+static volatile sig_atomic_t interrupted;
+
+static void on_interrupt(int sig)
+{
+    (void)sig;
+    interrupted = 1;
+}
+
 /* ====================================================================
  * Output helpers
  * ==================================================================== */
 
-static void print_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static void print_error(const char *fmt, ...)
+static void print_error(Repl *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void print_error(Repl *r, const char *fmt, ...)
 {
+    r->errors++;
     fflush(stdout);
     va_list ap;
     va_start(ap, fmt);
@@ -130,7 +145,10 @@ static int eval_text(Repl *r, const char *text, size_t len)
     Buf out = BUF_INIT, err = BUF_INIT;
     int rc = fl_eval(r->rt, text, len, &out, &err);
     if (rc == 0) put_text(stdout, &out);
-    else if (rc < 0) put_text(stderr, &err);
+    else if (rc < 0) {
+        put_text(stderr, &err);
+        r->errors++;
+    }
     buf_free(&out);
     buf_free(&err);
     return rc;
@@ -143,6 +161,7 @@ static void finish_block(Repl *r)
     if (eval_text(r, r->block.data, r->block.len) == 1) {
         fflush(stdout);
         fputs("<repl>: error: input ended early (unexpected end of input)\n", stderr);
+        r->errors++;
     }
     buf_reset(&r->block);
     r->in_block = false;
@@ -174,7 +193,10 @@ static int load_script(Repl *r, const char *path)
 {
     Buf err = BUF_INIT;
     int rc = fl_load(r->rt, path, &err);
-    if (rc != 0) put_text(stderr, &err);
+    if (rc != 0) {
+        put_text(stderr, &err);
+        r->errors++;
+    }
     buf_free(&err);
     if (rc == 0 && r->script != path) {
         char *copy = strdup(path);
@@ -203,19 +225,26 @@ static int cmd_step(Repl *r, const char *arg)
         errno = 0;
         n = strtol(arg, &end, 10);
         if (errno || end == arg || *end || n < 1) {
-            print_error("bad frame count '%s' (expected a whole number >= 1)", arg);
+            print_error(r, "bad frame count '%s' (expected a whole number >= 1)", arg);
             return 0;
         }
     }
     if (!r->script) {
-        print_error("no script loaded (use :load FILE)");
+        print_error(r, "no script loaded (use :load FILE)");
         return 0;
     }
-    for (long i = 0; i < n; i++)
+    for (long i = 0; i < n; i++) {
+        if (interrupted) {   /* Ctrl-C: stop between frames, keep the session */
+            interrupted = 0;
+            fflush(stdout);
+            fprintf(stderr, "interrupted after %ld of %ld frames\n", i, n);
+            break;
+        }
         if (fl_step(r->rt) != 0) {
-            print_error("no program to step");
+            print_error(r, "no program to step");
             return 0;
         }
+    }
     print_frame(r);
     return 0;
 }
@@ -244,7 +273,7 @@ static int cmd_tree(Repl *r, const char *arg)
     (void)arg;
     const Node *root = fl_root(r->rt);
     if (!root) {
-        print_error("no frame evaluated yet (use :step)");
+        print_error(r, "no frame evaluated yet (use :step)");
         return 0;
     }
     Buf b = BUF_INIT;
@@ -259,7 +288,7 @@ static int cmd_get(Repl *r, const char *arg)
     Buf text = BUF_INIT;
     buf_printf(&text, "$(%s)\n", arg);
     if (eval_text(r, text.data, text.len) == 1)
-        print_error("incomplete key expression '%s'", arg);
+        print_error(r, "incomplete key expression '%s'", arg);
     buf_free(&text);
     return 0;
 }
@@ -268,7 +297,7 @@ static int cmd_reload(Repl *r, const char *arg)
 {
     (void)arg;
     if (!r->script) {
-        print_error("no script loaded (use :load FILE)");
+        print_error(r, "no script loaded (use :load FILE)");
         return 0;
     }
     if (load_script(r, r->script) == 0) printf("reloaded %s\n", r->script);
@@ -285,7 +314,7 @@ static int cmd_define(Repl *r, const char *arg)
 {
     const char *eq = strchr(arg, '=');
     if (!eq) {
-        print_error("expected NAME=VALUE, got '%s'", arg);
+        print_error(r, "expected NAME=VALUE, got '%s'", arg);
         return 0;
     }
     size_t nlen = (size_t)(eq - arg);
@@ -293,7 +322,7 @@ static int cmd_define(Repl *r, const char *arg)
     char *name = strndup(arg, nlen);
     if (!name) abort();
     if (fl_define(r->rt, name, skip_space(eq + 1)) != 0) {
-        print_error("bad name '%s' in define", name);
+        print_error(r, "bad name '%s' in define", name);
     } else {
         printf("defined %s\n", name);
         if (r->script) load_script(r, r->script);
@@ -313,8 +342,12 @@ static int cmd_reset(Repl *r, const char *arg)
 static int cmd_save(Repl *r, const char *arg)
 {
     Buf err = BUF_INIT;
-    if (fl_save_state(r->rt, arg, &err) == 0) printf("saved %s\n", arg);
-    else put_text(stderr, &err);   /* `FILE: error: ...` */
+    if (fl_save_state(r->rt, arg, &err) == 0) {
+        printf("saved %s\n", arg);
+    } else {
+        put_text(stderr, &err);   /* `FILE: error: ...` */
+        r->errors++;
+    }
     buf_free(&err);
     return 0;
 }
@@ -322,10 +355,12 @@ static int cmd_save(Repl *r, const char *arg)
 static int cmd_restore(Repl *r, const char *arg)
 {
     Buf err = BUF_INIT;
-    if (fl_restore_state(r->rt, arg, &err) == 0)
+    if (fl_restore_state(r->rt, arg, &err) == 0) {
         printf("restored %s (frame %ld)\n", arg, fl_frame_count(r->rt) - 1);
-    else
+    } else {
         put_text(stderr, &err);    /* `FILE: error: ...` */
+        r->errors++;
+    }
     buf_free(&err);
     return 0;
 }
@@ -379,11 +414,11 @@ static int run_command(Repl *r, const char *line)
         if (strlen(commands[i].name) == wlen && strncmp(commands[i].name, word, wlen) == 0)
             c = &commands[i];
     if (!wlen) {
-        print_error("missing command name after ':' (:help lists them)");
+        print_error(r, "missing command name after ':' (:help lists them)");
         return 0;
     }
     if (!c) {
-        print_error("unknown command ':%.*s' (:help lists them; write a symbol as (:name))",
+        print_error(r, "unknown command ':%.*s' (:help lists them; write a symbol as (:name))",
                     (int)wlen, word);
         return 0;
     }
@@ -392,11 +427,11 @@ static int run_command(Repl *r, const char *line)
     size_t alen = strlen(arg);
     while (alen && (arg[alen - 1] == ' ' || arg[alen - 1] == '\t')) alen--;
     if (c->arg == ARG_NONE && alen) {
-        print_error(":%s takes no argument", c->name);
+        print_error(r, ":%s takes no argument", c->name);
         return 0;
     }
     if (c->arg == ARG_REQUIRED && !alen) {
-        print_error("usage: :%s %s", c->name, c->usage);
+        print_error(r, "usage: :%s %s", c->name, c->usage);
         return 0;
     }
     char *a = strndup(arg, alen);
@@ -507,7 +542,7 @@ static void remember(Repl *r, const char *line)
     if (!r->last_entry) abort();
     if (r->history && write_history(r->history) != 0 && !r->history_failed) {
         r->history_failed = true;
-        print_error("cannot write history file %s", r->history);
+        print_error(r, "cannot write history file %s", r->history);
     }
 }
 
@@ -720,11 +755,32 @@ int cmd_repl(int argc, char **argv)
         if (!r.script) abort();
     }
     if (r.tty) {
+        struct sigaction sa = {.sa_handler = on_interrupt};   /* no SA_RESTART: wake readline */
+        sigemptyset(&sa.sa_mask);
+        sigaction(SIGINT, &sa, NULL);
         setup_editing(&r);
         puts("flitter repl: :help lists the commands, :quit or Ctrl-D ends the session");
     }
+    bool after_interrupt = false;   /* the last prompt ended with Ctrl-C */
     for (;;) {
         char *line = read_line(&r);
+        if (r.tty && interrupted) {
+            /* Ctrl-C at the prompt drops the line (and a pending block);
+             * a second one at an empty prompt ends the session */
+            interrupted = 0;
+            bool empty = !r.in_block && (!line || is_blank(line));
+            free(line);
+            buf_reset(&r.block);
+            r.in_block = false;
+            if (empty && after_interrupt) {
+                putchar('\n');
+                break;
+            }
+            after_interrupt = empty;
+            fputs(empty ? "\n(Ctrl-C again or Ctrl-D to quit)\n" : "\n", stdout);
+            continue;
+        }
+        after_interrupt = false;
         if (!line) {
             if (r.in_block) finish_block(&r);
             if (r.tty) putchar('\n');
@@ -747,5 +803,6 @@ int cmd_repl(int argc, char **argv)
     free(r.history);
     free(r.script);
     fl_free(r.rt);
-    return EXIT_OK;
+    /* a scripted session that met an error says so in its exit status */
+    return !r.tty && r.errors ? EXIT_LOAD : EXIT_OK;
 }

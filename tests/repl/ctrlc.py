@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""ctrlc.py FLITTER SCRIPT: a terminal REPL session on a pseudo-terminal.
+Ctrl-C interrupts a long :step between frames and returns to the prompt
+with the session intact; Ctrl-C drops a half-typed line; a second Ctrl-C at
+an empty prompt ends the session with status 0. Waits on the output (not on
+fixed sleeps) with generous time limits, so a loaded machine only slows it.
+"""
+import os
+import pty
+import re
+import select
+import sys
+import time
+
+flitter, script = sys.argv[1], sys.argv[2]
+pid, fd = pty.fork()
+if pid == 0:
+    os.environ["FLITTER_HISTORY"] = os.devnull
+    os.environ["TERM"] = "dumb"
+    os.execv(flitter, [flitter, "repl", script])
+
+out = b""
+
+
+def fail(msg):
+    try:
+        os.kill(pid, 9)
+    except OSError:
+        pass
+    sys.stderr.write(f"{msg}\n--- session so far ---\n{out.decode(errors='replace')}\n")
+    sys.exit(1)
+
+
+def wait_for(pattern, limit=60.0):
+    """Read until the output after the last mark matches [pattern]."""
+    global out
+    end = time.time() + limit
+    rx = re.compile(pattern.encode())
+    while not rx.search(out):
+        if time.time() > end:
+            fail(f"timed out waiting for {pattern!r}")
+        r, _, _ = select.select([fd], [], [], 0.1)
+        if r:
+            try:
+                data = os.read(fd, 4096)
+            except OSError:
+                data = b""
+            if not data:
+                fail(f"session ended while waiting for {pattern!r}")
+            out += data
+
+
+def send(data):
+    os.write(fd, data)
+
+
+wait_for(r"flitter> ")
+send(b":step 10000000\r")
+wait_for(r":step 10000000\r?\n")
+time.sleep(0.3)                      # let a few frames run
+send(b"\x03")
+wait_for(r"interrupted after (\d+) of 10000000 frames\r?\nframe (\d+) time")
+m = re.search(rb"interrupted after (\d+) of 10000000 frames\r?\nframe (\d+) time", out)
+if int(m.group(2)) != int(m.group(1)) - 1:
+    fail("the frame printed is not the last one stepped")
+wait_for(r"frame \d+ time [^\n]*\n.*flitter> ")
+out = b""
+send(b"$(:dish;:clock) > 0\r")        # the session (and its state) survived
+wait_for(r"\n1\r?\n")
+out = b""
+send(b"(1+")                          # a half-typed line, then Ctrl-C
+time.sleep(0.2)
+send(b"\x03")
+wait_for(r"flitter> ")
+out = b""
+send(b"6*7\r")
+wait_for(r"\n42\r?\n")
+wait_for(r"flitter> ")
+send(b"\x03")
+wait_for(r"Ctrl-C again")
+send(b"\x03")
+end = time.time() + 30
+while True:
+    done, status = os.waitpid(pid, os.WNOHANG)
+    if done:
+        break
+    if time.time() > end:
+        fail("a second Ctrl-C at an empty prompt did not end the session")
+    try:
+        select.select([fd], [], [], 0.1)
+        os.read(fd, 4096)
+    except OSError:
+        pass
+if not os.WIFEXITED(status) or os.WEXITSTATUS(status) != 0:
+    fail(f"exit status {status}")
+sys.exit(0)
