@@ -33,9 +33,10 @@
  * terminal session Ctrl-C stops a :step between frames or drops the line
  * being typed; a second Ctrl-C at an empty prompt ends the session.
  *
- * The globals: libedit's completion callbacks take no user pointer, so
- * `completing` points at the session's Repl while libedit may call back;
- * the completion cursor itself lives in that Repl.
+ * The globals: `interrupted`, the SIGINT flag; and, as libedit's completion
+ * callbacks take no user pointer, `completing`, which points at the
+ * session's Repl while libedit may call back (the completion cursor itself
+ * lives in that Repl).
  */
 #include <errno.h>
 #include <getopt.h>
