@@ -40,6 +40,7 @@
  */
 #include <errno.h>
 #include <getopt.h>
+#include <locale.h>
 #include <math.h>
 #include <signal.h>
 #include <stdarg.h>
@@ -47,6 +48,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/select.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -598,9 +600,65 @@ static void take_indented(Repl *r)
     }
 }
 
+/* One byte of [fd], waiting with SIGINT let through only inside pselect,
+ * so that a Ctrl-C at any moment, even just before the wait, ends it.
+ * Returns the byte, or EOF at the end of input or after a Ctrl-C. */
+static int read_byte(int fd)
+{
+    sigset_t block, old;
+    sigemptyset(&block);
+    sigaddset(&block, SIGINT);
+    sigprocmask(SIG_BLOCK, &block, &old);
+    int rc = EOF;
+    while (!interrupted) {
+        fd_set in;
+        FD_ZERO(&in);
+        FD_SET(fd, &in);
+        if (pselect(fd + 1, &in, NULL, NULL, NULL, &old) < 0) {
+            if (errno == EINTR) continue;
+            break;
+        }
+        unsigned char c;
+        ssize_t n = read(fd, &c, 1);
+        if (n == 1) {
+            rc = c;
+            break;
+        }
+        if (n == 0 || errno != EINTR) break;
+    }
+    sigprocmask(SIG_SETMASK, &old, NULL);
+    return rc;
+}
+
+/* libedit's character reader (rl_getc_function): a Ctrl-C makes readline
+ * return at once (the line is dropped by the session loop). libedit takes
+ * the result as one character, so a UTF-8 sequence is read whole and its
+ * code point returned (a malformed one byte by byte). */
+static int repl_getc(FILE *f)
+{
+    int fd = fileno(f), c = read_byte(fd);
+    if (c == EOF || c < 0xc2 || c > 0xf4) return c;
+    int more = c < 0xe0 ? 1 : c < 0xf0 ? 2 : 3;
+    int cp = c & (0x3f >> more);
+    for (int i = 0; i < more; i++) {
+        int k = read_byte(fd);
+        if (k == EOF) return EOF;
+        if ((k & 0xc0) != 0x80) return k;   /* malformed: drop the partial sequence */
+        cp = cp << 6 | (k & 0x3f);
+    }
+    return cp;
+}
+
 static void setup_editing(Repl *r)
 {
     completing = r;
+    rl_getc_function = repl_getc;   /* before anything initialises libedit */
+    /* libedit edits wide characters and hands the line back through the
+     * C library's multibyte conversion: without a UTF-8 character type
+     * every non-ASCII character would be lost (numbers are unaffected,
+     * LC_NUMERIC stays "C") */
+    const char *ctype = setlocale(LC_CTYPE, "");
+    if (!ctype || (!strstr(ctype, "UTF-8") && !strstr(ctype, "utf8"))) setlocale(LC_CTYPE, "C.UTF-8");
     rl_readline_name = "flitter";
     rl_attempted_completion_function = complete;
     /* characters that cannot be part of a name (names may hold ' and digits) */

@@ -2,7 +2,8 @@
 """ctrlc.py FLITTER SCRIPT: a terminal REPL session on a pseudo-terminal.
 Ctrl-C interrupts a long :step between frames and returns to the prompt
 with the session intact; Ctrl-C drops a half-typed line; a second Ctrl-C at
-an empty prompt ends the session with status 0. Waits on the output (not on
+an empty prompt ends the session with status 0; UTF-8 typing comes through
+whole. Waits on the output (not on
 fixed sleeps) with generous time limits, so a loaded machine only slows it.
 """
 import os
@@ -35,7 +36,7 @@ def wait_for(pattern, limit=60.0):
     """Read until the output after the last mark matches [pattern]."""
     global out
     end = time.time() + limit
-    rx = re.compile(pattern.encode())
+    rx = re.compile(pattern.encode(), re.S)
     while not rx.search(out):
         if time.time() > end:
             fail(f"timed out waiting for {pattern!r}")
@@ -64,18 +65,22 @@ m = re.search(rb"interrupted after (\d+) of 10000000 frames\r?\nframe (\d+) time
 if int(m.group(2)) != int(m.group(1)) - 1:
     fail("the frame printed is not the last one stepped")
 wait_for(r"frame \d+ time [^\n]*\n.*flitter> ")
+# each step waits for the prompt that follows its output before going on,
+# so that typing never races the REPL
 out = b""
 send(b"$(:dish;:clock) > 0\r")        # the session (and its state) survived
-wait_for(r"\n1\r?\n")
+wait_for(r"\n1\r?\n.*flitter> ")
 out = b""
 send(b"(1+")                          # a half-typed line, then Ctrl-C
-time.sleep(0.2)
+wait_for(r"\(1\+")
 send(b"\x03")
 wait_for(r"flitter> ")
 out = b""
 send(b"6*7\r")
-wait_for(r"\n42\r?\n")
-wait_for(r"flitter> ")
+wait_for(r"\n42\r?\n.*flitter> ")
+out = b""
+send('"h\u00e9\u2192"\r'.encode())     # non-ASCII typing survives the reader
+wait_for('\n"h\u00e9\u2192"\r?\n.*flitter> ')
 send(b"\x03")
 wait_for(r"Ctrl-C again")
 send(b"\x03")
