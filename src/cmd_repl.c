@@ -54,6 +54,7 @@
 
 #include <editline/readline.h>
 
+#include "builtins.h"
 #include "commands.h"
 #include "exitcodes.h"
 #include "flitter.h"
@@ -449,6 +450,20 @@ static int run_command(Repl *r, const char *line)
  * ==================================================================== */
 
 /* Candidate [state] of the current completion (libedit generator). */
+/* The [k]-th built-in function name over all families (builtins.h), or
+ * NULL past the last. */
+static const char *builtin_name(size_t k)
+{
+    static const Builtin *const families[] = {
+        bi_vector_table, bi_maths_table, bi_random_table, bi_noise_table,
+        bi_colour_table, bi_text_table, bi_file_table,
+    };
+    for (size_t f = 0; f < sizeof families / sizeof families[0]; f++)
+        for (const Builtin *b = families[f]; b->name; b++)
+            if (k-- == 0) return b->name;
+    return NULL;
+}
+
 static char *complete_next(const char *text, int state)
 {
     Repl *r = completing;
@@ -482,6 +497,18 @@ static char *complete_next(const char *text, int state)
         for (size_t j = 0; j < i && !seen; j++) seen = str_eq(r->cpl_names[j], name);
         if (seen) continue;
         char *m = strdup(name->bytes);
+        if (!m) abort();
+        return m;
+    }
+    /* then the built-in functions not shadowed by a name in scope */
+    for (const char *bname; (bname = builtin_name(r->cpl_next - r->cpl_count)) != NULL;) {
+        r->cpl_next++;
+        if (strncmp(bname, text, tlen) != 0) continue;
+        bool seen = false;
+        for (size_t j = 0; j < r->cpl_count && !seen; j++)
+            seen = strcmp(r->cpl_names[j]->bytes, bname) == 0;
+        if (seen) continue;
+        char *m = strdup(bname);
         if (!m) abort();
         return m;
     }

@@ -42,6 +42,11 @@ grep -qx '# frame 3 time 0.75' "$dir/out" || fail "expected 4 frames, got: $(cat
 [ -s "$dir/err" ] && fail "unexpected stderr: $(cat "$dir/err")"
 [ -f "$dir/fig2.png" ] || fail "fig2.png not written (-D)"
 
+# `flitter test` in a directory without tests says so (and exits 2)
+mkdir "$dir/empty" && (cd "$dir/empty" && "$flitter" test) >"$dir/out" 2>"$dir/err"
+[ $? -eq 2 ] || fail "flitter test in an empty directory should exit 2"
+grep -q "no tests in '.' (no MANIFEST there" "$dir/err" || fail "flitter test, no tests: $(cat "$dir/err")"
+
 # --trace every 2nd frame of 3: frames 0 and 2, 12 bodies each, after a
 # header; frame 2's row for particle 3 holds the state dump's numbers
 "$flitter" run --frames 3 --trace "$dir/t.csv" --trace-every 2 --dump-state "$wire" >"$dir/dump" \

@@ -3,7 +3,7 @@
 Ctrl-C interrupts a long :step between frames and returns to the prompt
 with the session intact; Ctrl-C drops a half-typed line; a second Ctrl-C at
 an empty prompt ends the session with status 0; UTF-8 typing comes through
-whole. Waits on the output (not on
+whole; Tab completes a built-in function name. Waits on the output (not on
 fixed sleeps) with generous time limits, so a loaded machine only slows it.
 """
 import os
@@ -78,6 +78,11 @@ wait_for(r"flitter> ")
 out = b""
 send(b"6*7\r")
 wait_for(r"\n42\r?\n.*flitter> ")
+out = b""
+send(b"hyp\t")                        # Tab completes a built-in function name
+wait_for(r"hypot")
+send(b"(3;4)\r")
+wait_for(r"\n5\r?\n.*flitter> ")
 out = b""
 send('"h\u00e9\u2192"\r'.encode())     # non-ASCII typing survives the reader
 wait_for('\n"h\u00e9\u2192"\r?\n.*flitter> ')
