@@ -204,6 +204,13 @@ static void show_progress(long done, long total, double elapsed)
     fflush(stderr);
 }
 
+/* The status line of a run without --frames: frame, frames/s, clock. */
+static void show_status(long frame, double rate, double time)
+{
+    fprintf(stderr, "\rframe %ld  %.0f frames/s  time %.2fs ", frame, rate, time);
+    fflush(stderr);
+}
+
 static int save_state(fl_runtime *rt, const char *path, FILE *log)
 {
     Buf err = BUF_INIT;
@@ -288,6 +295,9 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         if (spec->progress && spec->frames > 0 && (now - last_progress > 0.1 || ran == spec->frames)) {
             show_progress(ran, spec->frames, now - start);
             last_progress = now;
+        } else if (spec->progress && spec->frames < 0 && now - last_progress > 0.25) {
+            show_status(n, now > start ? (double)ran / (now - start) : 0, fl_frame_time(rt));
+            last_progress = now;
         }
         if (spec->state_file && now - last_save >= 5.0) {
             save_state(rt, spec->state_file, log);
@@ -301,7 +311,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
             }
         }
     }
-    if (spec->progress && spec->frames > 0) fputs("\n", stderr);
+    if (spec->progress && ran > 0) fputs("\n", stderr);
     int rc = EXIT_OK;
     if (ran > 0) {
         if (spec->dump_state && !dumped_last) dump_state(rt, out, &b);

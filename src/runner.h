@@ -15,7 +15,8 @@ typedef struct RunSpec {
     long dump_every;      /* --dump-every K, or 0 */
     bool dump_tree;       /* --dump-tree */
     const char *state_file; /* --state FILE, or NULL */
-    bool progress;        /* show a progress bar on stderr (a terminal) */
+    bool progress;        /* on stderr (a terminal): a progress bar when --frames is given,
+                           * else a status line (frame, frames/s, clock) */
     char **defines;       /* NAME=VALUE strings (borrowed from argv) */
     int ndefines;
     const char *script;   /* SCRIPT */
