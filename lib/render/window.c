@@ -67,7 +67,9 @@ static void size_of(const Node *n, int dflt_w, int dflt_h, int *w, int *h)
     double s[2];
     *w = dflt_w;
     *h = dflt_h;
-    if (canvas_attr_nums(n, "size", 2, s) && s[0] >= 1 && s[1] >= 1 && s[0] <= 16384 && s[1] <= 16384) {
+    /* each side 1..16384 and at most 64 Mpixels (a 256 MB picture), else the default */
+    if (canvas_attr_nums(n, "size", 2, s) && s[0] >= 1 && s[1] >= 1 && s[0] <= 16384 && s[1] <= 16384 &&
+        floor(s[0]) * floor(s[1]) <= 64.0 * 1024 * 1024) {
         *w = (int)s[0];
         *h = (int)s[1];
     }
@@ -191,6 +193,17 @@ done:
     buf_free(&codec);
 }
 
+/* Whether [n]'s window-level tree holds a !record with a filename: the
+ * only consumer of pictures, so a window without one is not drawn. */
+static bool has_record(const Node *n)
+{
+    for (size_t i = 0; i < rnode_nchildren(n); i++) {
+        const Node *c = rnode_child(n, i);
+        if (rnode_is(c, "record") && (vec_truthy(rnode_attr(c, "filename")) || has_record(c))) return true;
+    }
+    return false;
+}
+
 int renderer_frame(Renderer *r, const Node *root, double fps)
 {
     int before = r->failed_reported;
@@ -198,6 +211,7 @@ int renderer_frame(Renderer *r, const Node *root, double fps)
         const Node *win = rnode_child(root, i);
         if (!rnode_is(win, "window") && !rnode_is(win, "offscreen")) continue;
         r->saw_window = true;
+        if (!has_record(win)) continue;
         int w, h;
         size_of(win, 512, 512, &w, &h);
         cairo_surface_t *pic = new_picture(w, h);

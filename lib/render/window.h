@@ -1,14 +1,17 @@
 /* window.h: the 2D part of Flitter's window tree, rendered offscreen.
  *
  * Each frame, every top-level `!window` or `!offscreen` node (size=W;H,
- * default 512;512) is drawn: its `!canvas` children are drawn with cairo
+ * default 512;512, also used for a size with a side outside 1..16384 or
+ * over 64 Mpixels) is drawn: its `!canvas` children are drawn with cairo
  * (canvas.h) into pictures of the window's size and composited in order;
  * a `!record filename=F` child composites its own children the same way
  * and writes the picture to F when F is not null, as Flitter's !record
  * does: an animated GIF (one file, a frame appended each time) when F ends
  * in `.gif` (or codec=:gif and F does not end in `.png`), else a PNG replaced each time (RGBA with
  * keep_alpha=true, else RGB over black). `!reference id=X` composites the
- * picture of the earlier sibling node with id=X. Other window-level kinds
+ * picture of the earlier sibling node with id=X. As pictures are only ever
+ * written by !record, a window with no !record filename in its tree is
+ * not drawn at all. Other window-level kinds
  * (shaders, 3D, video, images) are skipped, each reported once.
  */
 #ifndef FL_RENDER_WINDOW_H
