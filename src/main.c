@@ -1,6 +1,7 @@
 /* main.c: the `flitter` command: dispatches to a subcommand. */
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "commands.h"
 #include "exitcodes.h"
@@ -54,7 +55,8 @@ int main(int argc, char **argv)
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (strcmp(argv[1], commands[i].name) == 0) return commands[i].fn(argc - 1, argv + 1);
     /* Flitter's own command line, `flitter [options] SCRIPT`, is `run` */
-    if (argv[1][0] == '-' || strchr(argv[1], '.') || strchr(argv[1], '/')) return cmd_run(argc, argv);
+    if (argv[1][0] == '-' || strchr(argv[1], '.') || strchr(argv[1], '/') || access(argv[1], F_OK) == 0)
+        return cmd_run(argc, argv);
     fprintf(stderr, "flitter: unknown command '%s'\n", argv[1]);
     usage(stderr);
     return EXIT_USAGE;

@@ -160,6 +160,24 @@ static void test_view_gif(void **st)
     assert_int_equal(g->ImageCount, 3);
     assert_int_equal(g->SWidth, 480);
     DGifCloseFile(g, &code);
+    /* SVG: one picture, written as an SVG document */
+    char svg[128];
+    snprintf(svg, sizeof svg, "%s/v.svg", scratch);
+    v = view_open(svg, 5, fl_symbols(rt), err, sizeof err);
+    assert_non_null(v);
+    PsSystem *sys;
+    size_t n;
+    ps_collect(fl_root(rt), fl_state(rt), &sys, &n);
+    assert_int_equal(view_frame(v, 2, sys, n, err, sizeof err), 0);
+    ps_free(sys, n);
+    assert_int_equal(view_close(v), 0);
+    FILE *f = fopen(svg, "r");
+    assert_non_null(f);
+    char head[256] = {0};
+    assert_true(fread(head, 1, sizeof head - 1, f) > 0);
+    fclose(f);
+    assert_non_null(strstr(head, "<svg"));
+    assert_non_null(strstr(head, "width=\"480"));   /* 480pt: cairo writes points */
     assert_null(view_open("x.jpg", 5, NULL, err, sizeof err));
     assert_non_null(strstr(err, ".png, .svg or .gif"));
     fl_free(rt);
