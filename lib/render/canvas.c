@@ -317,15 +317,17 @@ static void path_replay(Ctx *c, const Path *p)
 }
 
 /* The smoothing test of Flitter's !line with 0 < curve < 0.5: the turn
- * (in turns, 0..0.5) between the segments a->b and b->c. */
+ * (in turns, 0..0.25) between the segments a->b and b->c. */
 static double turn_angle(double x0, double y0, double x1, double y1, double x2, double y2)
 {
     double xa = x1 - x0, ya = y1 - y0, xb = x2 - x1, yb = y2 - y1;
     double la = sqrt(xa * xa + ya * ya), lb = sqrt(xb * xb + yb * yb);
     if (la == 0 || lb == 0) return 0;
+    /* clamped to 0..1 as Flitter does, so a turn sharper than a right
+     * angle counts as a quarter turn */
     double d = (xa * xb + ya * yb) / (la * lb);
+    if (!(d > 0)) d = 0;
     if (d > 1) d = 1;
-    if (d < -1) d = -1;
     return acos(d) / TAU;
 }
 

@@ -218,6 +218,29 @@ static void test_layer_arc_text_skip(void **st)
     cairo_surface_destroy(p.s);
 }
 
+/* !line curve=C smooths a corner when it turns by at most C turns, the
+ * turn measured as Flitter does (clamped to a quarter turn): a 127-degree
+ * turn counts as 0.25 <= 0.3 and is curved, a quadratic through the
+ * segment midpoints (30;50) and (70;50) with apex at (50;30). */
+static void test_line_curve(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=100;100\n"
+        "    !record filename=OUT keep_alpha=true\n"
+        "        !canvas\n"
+        "            !line points=10;90;50;10;90;90 curve=0.3 stroke=true stroke_width=4 color=1\n",
+        "e.png", 1, path, sizeof path);
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(px(&p, 50, 30), 0xffffffffu);   /* the curve's apex */
+    assert_int_equal(px(&p, 50, 14), 0x00000000u);   /* no sharp corner at (50;10) */
+    assert_int_equal(px(&p, 50, 40), 0x00000000u);
+    assert_true(chan(px(&p, 20, 70), 24) > 0);       /* the straight start, (10;90)..(30;50) */
+    cairo_surface_destroy(p.s);
+}
+
 static void test_gif_frames(void **st)
 {
     (void)st;
@@ -255,6 +278,7 @@ int main(void)
         cmocka_unit_test(test_fill_stroke_transform),
         cmocka_unit_test(test_path_transform_gradient),
         cmocka_unit_test(test_layer_arc_text_skip),
+        cmocka_unit_test(test_line_curve),
         cmocka_unit_test(test_gif_frames),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
