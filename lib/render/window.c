@@ -80,10 +80,17 @@ static cairo_surface_t *new_picture(int w, int h)
     return cairo_image_surface_create(CAIRO_FORMAT_ARGB32, w, h);
 }
 
+/* Paint [src] over [dst], stretched to [dst]'s size when they differ (as
+ * Flitter's window shader samples each child over the whole output). */
 static void composite(cairo_surface_t *dst, cairo_surface_t *src)
 {
     cairo_t *cr = cairo_create(dst);
+    int dw = cairo_image_surface_get_width(dst), dh = cairo_image_surface_get_height(dst);
+    int sw = cairo_image_surface_get_width(src), sh = cairo_image_surface_get_height(src);
+    if (dw != sw || dh != sh) cairo_scale(cr, (double)dw / sw, (double)dh / sh);
     cairo_set_source_surface(cr, src, 0, 0);
+    cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_BILINEAR);
+    cairo_pattern_set_extend(cairo_get_source(cr), CAIRO_EXTEND_PAD);
     cairo_paint(cr);
     cairo_destroy(cr);
 }

@@ -3,7 +3,8 @@
  * Each frame, every top-level `!window` or `!offscreen` node (size=W;H,
  * default 512;512, also used for a size with a side outside 1..16384 or
  * over 64 Mpixels) is drawn: its `!canvas` children are drawn with cairo
- * (canvas.h) into pictures of the window's size and composited in order;
+ * (canvas.h) into pictures of their own `size` (default: the window's)
+ * and composited in order, stretched to the window's size as in Flitter;
  * a `!record filename=F` child composites its own children the same way
  * and writes the picture to F when F is not null, as Flitter's !record
  * does: an animated GIF (one file, a frame appended each time) when F ends

@@ -241,6 +241,29 @@ static void test_line_curve(void **st)
     cairo_surface_destroy(p.s);
 }
 
+/* A canvas of its own size is stretched over its window (Flitter's window
+ * shader samples each child over the whole output): a 50x50 canvas with
+ * its top-left quarter filled fills the top-left quarter of 100x100. */
+static void test_canvas_stretched(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=100;100\n"
+        "    !record filename=OUT keep_alpha=true\n"
+        "        !canvas size=50;50\n"
+        "            !rect size=25;25 fill=true color=1\n",
+        "f.png", 1, path, sizeof path);
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(p.w, 100);
+    assert_int_equal(px(&p, 10, 10), 0xffffffffu);
+    assert_int_equal(px(&p, 47, 47), 0xffffffffu);
+    assert_int_equal(px(&p, 53, 53), 0x00000000u);
+    assert_int_equal(px(&p, 90, 10), 0x00000000u);
+    cairo_surface_destroy(p.s);
+}
+
 static void test_gif_frames(void **st)
 {
     (void)st;
@@ -279,6 +302,7 @@ int main(void)
         cmocka_unit_test(test_path_transform_gradient),
         cmocka_unit_test(test_layer_arc_text_skip),
         cmocka_unit_test(test_line_curve),
+        cmocka_unit_test(test_canvas_stretched),
         cmocka_unit_test(test_gif_frames),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
