@@ -213,6 +213,15 @@ static void draw_panel(View *v, cairo_t *cr, int index, long frame, const PsSyst
             if (s->dims == 1) y = 0;
             if (!finite2(x, y)) continue;
             if (p->anchor) {
+                if (p->radius > px) {   /* an anchor with a body: a pale disc under the cross */
+                    cairo_new_sub_path(cr);
+                    cairo_arc(cr, x, y, p->radius, 0, 2 * M_PI);
+                    cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
+                    cairo_fill_preserve(cr);
+                    cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+                    cairo_set_line_width(cr, px);
+                    cairo_stroke(cr);
+                }
                 double a = 6 * px;
                 cairo_set_source_rgb(cr, 0, 0, 0);
                 cairo_set_line_width(cr, 2 * px);

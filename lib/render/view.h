@@ -6,7 +6,8 @@
  * particle count. Particles are discs of their radius (a 2-pixel dot when
  * the radius is 0), coloured by charge (grey for 0, towards red for the
  * largest positive charge of the system, towards blue for the most
- * negative); anchors are black crosses; `!distance` links grey lines;
+ * negative); anchors are black crosses (over a pale disc when they have a
+ * radius); `!distance` links grey lines;
  * barriers dark lines across the panel (1D: a vertical bar). One
  * dimension is drawn on a horizontal line; three and more are projected on
  * x/y. The view is fitted (same scale on both axes) to the bodies' extents
