@@ -59,6 +59,8 @@
 #include "exitcodes.h"
 #include "flitter.h"
 #include "format.h"
+#include "systems.h"
+#include "view.h"
 
 #define PROMPT "flitter> "
 #define PROMPT_MORE "   ...> "
@@ -369,6 +371,29 @@ static int cmd_restore(Repl *r, const char *arg)
     return 0;
 }
 
+/* Draw the physics systems as they are now (as `flitter run --view`). */
+static int cmd_view(Repl *r, const char *arg)
+{
+    char err[600];
+    View *v = view_open(arg, 10, fl_symbols(r->rt), err, sizeof err);
+    if (!v) {
+        print_error(r, "%s", err);
+        return 0;
+    }
+    PsSystem *sys;
+    size_t n;
+    ps_collect(fl_root(r->rt), fl_state(r->rt), &sys, &n);
+    int rc = view_frame(v, fl_frame_count(r->rt) - 1, sys, n, err, sizeof err);
+    ps_free(sys, n);
+    if (view_close(v) != 0 && rc == 0) {
+        snprintf(err, sizeof err, "%s: cannot finish the file", arg);
+        rc = -1;
+    }
+    if (rc != 0) print_error(r, "%s", err);
+    else printf("drew %zu system%s to %s\n", n, n == 1 ? "" : "s", arg);
+    return 0;
+}
+
 static int cmd_quit(Repl *r, const char *arg)
 {
     (void)r;
@@ -387,6 +412,7 @@ static const Command commands[] = {
     {"reset", ARG_NONE, "", "clear the state dictionary (the clock keeps running)", cmd_reset},
     {"save", ARG_REQUIRED, "FILE", "save the state and the clock to FILE", cmd_save},
     {"restore", ARG_REQUIRED, "FILE", "restore the state and the clock from FILE", cmd_restore},
+    {"view", ARG_REQUIRED, "FILE", "draw the physics systems now to FILE (.png or .svg)", cmd_view},
     {"help", ARG_NONE, "", "show this help", cmd_help},
     {"quit", ARG_NONE, "", "end the session (so does end of input)", cmd_quit},
 };
@@ -531,7 +557,7 @@ static char **complete(const char *text, int start, int end)
         r->cpl_kind = CPL_COMMANDS;
         rl_completion_append_character = ' ';
     } else if (!at_start && (strncmp(cmd, ":load ", 6) == 0 || strncmp(cmd, ":save ", 6) == 0 ||
-                             strncmp(cmd, ":restore ", 9) == 0)) {
+                             strncmp(cmd, ":restore ", 9) == 0 || strncmp(cmd, ":view ", 6) == 0)) {
         const char *path = skip_space(strchr(cmd, ' '));
         size_t from = (size_t)(path - line);
         if (from > (size_t)start || end < start) return NULL;

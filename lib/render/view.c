@@ -46,7 +46,7 @@ View *view_open(const char *path, int delay_cs, const SymTab *symbols, char *err
     else if (ends_with(path, ".svg")) format = FMT_SVG;
     else if (ends_with(path, ".gif")) format = FMT_GIF;
     else {
-        snprintf(err, errlen, "%s: --view needs a .png, .svg or .gif file name", path);
+        snprintf(err, errlen, "%s: a view is written to a .png, .svg or .gif file", path);
         return NULL;
     }
     View *v = calloc(1, sizeof *v);

@@ -66,5 +66,5 @@ grep -qx "2,0.03333333333333333,wire,3,particle,$x,$v" "$dir/t.csv" \
 "$flitter" run --frames 5 --view "$dir/v.gif" --view-every 2 "$wire" || fail "run --view gif failed"
 [ "$(head -c 6 "$dir/v.gif")" = "GIF89a" ] || fail "v.gif is not a GIF89a"
 "$flitter" run --frames 5 --view "$dir/v.jpg" "$wire" 2>"$dir/err"
-[ $? -eq 2 ] && grep -q 'v.jpg: --view needs a .png, .svg or .gif' "$dir/err" || fail "--view v.jpg: $(cat "$dir/err")"
+[ $? -eq 2 ] && grep -q 'v.jpg: a view is written to a .png, .svg or .gif file' "$dir/err" || fail "--view v.jpg: $(cat "$dir/err")"
 exit 0

@@ -10,6 +10,12 @@ printf ':step 3\n1+2\n' | "$flitter" repl "$petri" >"$dir/out" 2>&1
 [ $? -eq 0 ] || fail "a clean session should exit 0: $(cat "$dir/out")"
 grep -qx 3 "$dir/out" || fail "no result: $(cat "$dir/out")"
 
+# :view draws the systems as they are now
+printf ':step 2\n:view %s\n' "$dir/v.png" | "$flitter" repl "$petri" >"$dir/out" 2>&1
+[ $? -eq 0 ] || fail ":view failed: $(cat "$dir/out")"
+grep -qx "drew 1 system to $dir/v.png" "$dir/out" && [ "$(head -c 4 "$dir/v.png" | tail -c 3)" = PNG ] \
+    || fail ":view: $(cat "$dir/out")"
+
 printf '1+2\n' | "$flitter" repl "$dir/missing.fl" >"$dir/out" 2>&1
 [ $? -eq 1 ] || fail "a script that fails to load should give exit 1"
 grep -q 'missing.fl: error:' "$dir/out" || fail "no load error: $(cat "$dir/out")"
