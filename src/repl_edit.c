@@ -38,7 +38,6 @@ static void on_interrupt(int sig)
     interrupted = 1;
 }
 
-/* Candidate [state] of the current completion (libedit generator). */
 /* The [k]-th built-in function name over all families (builtins.h), or
  * NULL past the last. */
 static const char *builtin_name(size_t k)
@@ -53,6 +52,7 @@ static const char *builtin_name(size_t k)
     return NULL;
 }
 
+/* Candidate [state] of the current completion (libedit generator). */
 static char *complete_next(const char *text, int state)
 {
     Repl *r = completing;
