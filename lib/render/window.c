@@ -161,6 +161,10 @@ static void write_record(Renderer *r, const Node *n, cairo_surface_t *pic, doubl
     bool gif = ends_with(path, ".gif") ||
                (!ends_with(path, ".png") && canvas_attr_str(n, "codec", r->symbols, &codec) &&
                 strcmp(buf_cstr(&codec), "gif") == 0);
+    if (!gif && !ends_with(path, ".png")) {   /* not a PNG under another name */
+        report(r, "only .png pictures and .gif animations are written; !record skipped", path);
+        goto done;
+    }
     cairo_surface_flush(pic);
     int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
     if (gif) {

@@ -8,8 +8,10 @@
  * a `!record filename=F` child composites its own children the same way
  * and writes the picture to F when F is not null, as Flitter's !record
  * does: an animated GIF (one file, a frame appended each time) when F ends
- * in `.gif` (or codec=:gif and F does not end in `.png`), else a PNG replaced each time (RGBA with
- * keep_alpha=true, else RGB over black). `!reference id=X` composites the
+ * in `.gif` (or codec=:gif and F does not end in `.png`), else, for F
+ * ending in `.png`, a PNG replaced each time (RGBA with keep_alpha=true,
+ * else RGB over black); any other name (video, JPEG, ...) is reported once
+ * and not written. `!reference id=X` composites the
  * picture of the earlier sibling node with id=X. As pictures are only ever
  * written by !record, a window with no !record filename in its tree is
  * not drawn at all. Other window-level kinds

@@ -42,6 +42,13 @@ grep -qx '# frame 3 time 0.75' "$dir/out" || fail "expected 4 frames, got: $(cat
 [ -s "$dir/err" ] && fail "unexpected stderr: $(cat "$dir/err")"
 [ -f "$dir/fig2.png" ] || fail "fig2.png not written (-D)"
 
+# a !record name that is neither .png nor .gif is reported once, not written
+printf '!window size=8;8\n    !record filename="fig.jpg"\n        !canvas\n' >"$dir/jpg.fl"
+(cd "$dir" && "$flitter" run --frames 3 jpg.fl) 2>"$dir/err" || fail "jpg.fl failed"
+[ "$(grep -c 'fig.jpg: only .png pictures and .gif animations are written' "$dir/err")" -eq 1 ] \
+    || fail "fig.jpg: $(cat "$dir/err")"
+[ -e "$dir/fig.jpg" ] && fail "fig.jpg was written"
+
 # `flitter test` in a directory without tests says so (and exits 2)
 mkdir "$dir/empty" && (cd "$dir/empty" && "$flitter" test) >"$dir/out" 2>"$dir/err"
 [ $? -eq 2 ] || fail "flitter test in an empty directory should exit 2"
