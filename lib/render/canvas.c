@@ -18,16 +18,28 @@
 
 #define TAU 6.283185307179586
 
-void skiplog_note(SkipLog *log, const char *where, const char *kind)
+/* True the first time [kind] is seen by [log] (remembering it). */
+static bool skiplog_first(SkipLog *log, const char *kind)
 {
-    if (!log) return;
+    if (!log) return false;
     for (int i = 0; i < log->n; i++)
-        if (strncmp(log->kinds[i], kind, sizeof log->kinds[i] - 1) == 0) return;
+        if (strncmp(log->kinds[i], kind, sizeof log->kinds[i] - 1) == 0) return false;
     if (log->n < (int)(sizeof log->kinds / sizeof log->kinds[0])) {
         snprintf(log->kinds[log->n], sizeof log->kinds[0], "%s", kind);
         log->n++;
     }
-    if (log->out) fprintf(log->out, "%s: skipping unsupported !%s\n", where, kind);
+    return true;
+}
+
+void skiplog_note(SkipLog *log, const char *where, const char *kind)
+{
+    if (skiplog_first(log, kind) && log->out) fprintf(log->out, "%s: skipping unsupported !%s\n", where, kind);
+}
+
+void skiplog_effect(SkipLog *log, const char *kind)
+{
+    if (skiplog_first(log, kind) && log->out)
+        fprintf(log->out, "window: unsupported !%s, its children drawn without the effect\n", kind);
 }
 
 bool canvas_attr_nums(const Node *n, const char *name, int count, double *out)

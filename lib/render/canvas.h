@@ -30,6 +30,9 @@ typedef struct SkipLog {
 /* Report `[where]: skipping unsupported !KIND` on log->out unless [kind]
  * was reported before (at most 32 kinds are remembered). */
 void skiplog_note(SkipLog *log, const char *where, const char *kind);
+/* Report `window: unsupported !KIND, its children drawn without the
+ * effect` unless [kind] was reported before. */
+void skiplog_effect(SkipLog *log, const char *kind);
 
 /* What a drawing needs besides the cairo context. */
 typedef struct CanvasEnv {

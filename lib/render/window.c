@@ -126,6 +126,13 @@ static void render_children(Renderer *r, const Node *n, cairo_surface_t *target,
                     break;
                 }
             continue;
+        } else if (rnode_nchildren(c) > 0 && !rnode_is(c, "canvas3d")) {
+            /* an effect (!shader, !bloom, !feedback, ...): its input drawn as is */
+            skiplog_effect(&r->skips, rnode_kind(c));
+            int cw, ch;
+            size_of(c, w, h, &cw, &ch);
+            pic = new_picture(cw, ch);
+            render_children(r, c, pic, cw, ch, refs, fps);
         } else {
             skiplog_note(&r->skips, "window", rnode_kind(c));
             continue;

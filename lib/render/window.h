@@ -14,8 +14,10 @@
  * and not written. `!reference id=X` composites the
  * picture of the earlier sibling node with id=X. As pictures are only ever
  * written by !record, a window with no !record filename in its tree is
- * not drawn at all. Other window-level kinds
- * (shaders, 3D, video, images) are skipped, each reported once.
+ * not drawn at all. A window-level effect node with children (shaders,
+ * !bloom, !feedback, ...) composites its children without the effect;
+ * other window-level kinds (3D, video, images) are skipped. Each
+ * unsupported kind is reported once (on the debug stream).
  */
 #ifndef FL_RENDER_WINDOW_H
 #define FL_RENDER_WINDOW_H

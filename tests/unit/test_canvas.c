@@ -264,6 +264,30 @@ static void test_canvas_stretched(void **st)
     cairo_surface_destroy(p.s);
 }
 
+/* A window-level effect (here !bloom) draws its children without the
+ * effect, and says so once. */
+static void test_effect_passthrough(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=20;20\n"
+        "    !record filename=OUT\n"
+        "        !bloom radius=5\n"
+        "            !canvas\n"
+        "                !rect size=10;20 fill=true color=1;0;0\n",
+        "g.png", 2, path, sizeof path);
+    const char *msg = "window: unsupported !bloom, its children drawn without the effect\n";
+    const char *at = strstr(log, msg);
+    assert_non_null(at);
+    assert_null(strstr(at + 1, msg));   /* once */
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(px(&p, 5, 10), 0xffff0000u);
+    assert_int_equal(px(&p, 15, 10), 0xff000000u);
+    cairo_surface_destroy(p.s);
+}
+
 static void test_gif_frames(void **st)
 {
     (void)st;
@@ -303,6 +327,7 @@ int main(void)
         cmocka_unit_test(test_layer_arc_text_skip),
         cmocka_unit_test(test_line_curve),
         cmocka_unit_test(test_canvas_stretched),
+        cmocka_unit_test(test_effect_passthrough),
         cmocka_unit_test(test_gif_frames),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
