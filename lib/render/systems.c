@@ -138,5 +138,7 @@ void ps_free(PsSystem *systems, size_t n)
 
 double ps_coord(const Vec *v, int k)
 {
-    return vec_is_num(v) && (uint32_t)k < vec_len(v) ? vec_cnums(v)[k] : 0;
+    if (!vec_is_num(v) || k < 0) return 0;
+    if (vec_len(v) == 1) return vec_cnums(v)[0];   /* one number for every axis */
+    return (uint32_t)k < vec_len(v) ? vec_cnums(v)[k] : 0;
 }

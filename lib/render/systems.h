@@ -55,7 +55,9 @@ typedef struct PsSystem {
 void ps_collect(const Node *root, const StateDict *sd, PsSystem **out, size_t *n);
 /* Free what ps_collect returned. */
 void ps_free(PsSystem *systems, size_t n);
-/* Coordinate [k] of the numeric vector [v] (0 when absent or short). */
+/* Coordinate [k] of the numeric vector [v]: a single number stands for
+ * every coordinate (as Flitter matches a `position=0` attribute to any
+ * dimension); 0 when absent or short. */
 double ps_coord(const Vec *v, int k);
 
 #endif

@@ -106,7 +106,8 @@ static void csv_vector(Buf *b, const Vec *v, int dims, int columns)
 {
     for (int k = 0; k < columns; k++) {
         buf_putc(b, ',');
-        if (k < dims && (!v || (uint32_t)k < vec_len(v))) fmt_double(b, ps_coord(v, k));   /* absent: 0 */
+        /* absent: 0; a single number stands for every coordinate */
+        if (k < dims && (!v || vec_len(v) == 1 || (uint32_t)k < vec_len(v))) fmt_double(b, ps_coord(v, k));
     }
 }
 

@@ -79,6 +79,11 @@ static void test_collect(void **st)
     assert_true(ps_coord(sys[0].links[0].from, 0) == 100.0);
     assert_true(ps_coord(sys[0].links[0].to, 0) == 0.0);
     assert_int_equal(sys[0].nbarriers, 1);
+    /* a one-number vector stands for every coordinate */
+    Vec *one = vec_num1(7);
+    assert_true(ps_coord(one, 0) == 7.0 && ps_coord(one, 3) == 7.0);
+    vec_release(one);
+    assert_true(ps_coord(NULL, 1) == 0.0);
     ps_free(sys, n);
     fl_free(rt);
 }
