@@ -84,6 +84,9 @@ typedef struct Paint {
     cairo_line_cap_t cap;
     cairo_operator_t op;
     bool antialias;
+    const double *dashes;      /* !dash intervals (borrowed from the node), or NULL */
+    int ndashes;
+    double dash_offset;
 } Paint;
 
 typedef struct Font {
@@ -413,6 +416,7 @@ static void do_stroke(Ctx *c, const Paint *p)
     cairo_set_line_join(cr, p->join);
     cairo_set_line_cap(cr, p->cap);
     cairo_set_miter_limit(cr, 4.0);   /* Skia's default */
+    cairo_set_dash(cr, p->dashes, p->ndashes, p->dash_offset);
     if (p->width > 0) {
         cairo_set_line_width(cr, p->width);
     } else {   /* hairline: one device pixel whatever the transform */
@@ -632,10 +636,36 @@ static void draw_node(Ctx *c, const Node *n, Paint *paint, const Font *font, Pat
         path_add(c, path, OP_CLOSE);
     } else if (strcmp(kind, "fill") == 0 || strcmp(kind, "stroke") == 0) {
         draw_shape(c, n, paint, path, kind[0] == 'f', kind[0] == 's');
-    } else if (strcmp(kind, "clip") == 0) {
+    } else if (strcmp(kind, "clip") == 0 || strcmp(kind, "mask") == 0) {
         path_replay(c, path);
+        if (kind[0] == 'm') {   /* clip to the outside of the path: the path XOR the whole picture */
+            cairo_matrix_t m;
+            cairo_get_matrix(cr, &m);
+            cairo_identity_matrix(cr);
+            double x0, y0, x1, y1;
+            cairo_clip_extents(cr, &x0, &y0, &x1, &y1);
+            cairo_rectangle(cr, x0 - 1, y0 - 1, x1 - x0 + 2, y1 - y0 + 2);
+            cairo_set_matrix(cr, &m);
+            cairo_set_fill_rule(cr, CAIRO_FILL_RULE_EVEN_ODD);
+        }
         cairo_set_antialias(cr, paint->antialias ? CAIRO_ANTIALIAS_DEFAULT : CAIRO_ANTIALIAS_NONE);
         cairo_clip(cr);
+    } else if (strcmp(kind, "dash") == 0) {
+        /* a path effect for the strokes after it: intervals=ON;OFF;... offset=D */
+        const Vec *iv = rnode_attr(n, "intervals");
+        bool ok = vec_is_num(iv) && vec_len(iv) > 0 && vec_len(iv) < 1024;
+        double sum = 0;
+        for (uint32_t k = 0; ok && k < vec_len(iv); k++) {
+            double d = vec_cnums(iv)[k];
+            ok = d >= 0 && isfinite(d);
+            sum += d;
+        }
+        if (ok && sum > 0) {
+            paint->dashes = vec_cnums(iv);
+            paint->ndashes = (int)vec_len(iv);
+            paint->dash_offset = attr_num(n, "offset", 0);
+            if (!isfinite(paint->dash_offset)) paint->dash_offset = 0;
+        }
     } else if (strcmp(kind, "text") == 0) {
         draw_text(c, n, paint, font);
     } else if (strcmp(kind, "layer") == 0) {

@@ -8,7 +8,10 @@
  * straight into the sRGB picture; paint attributes inherited down the tree.
  * The default paint is opaque black, anti-aliased, hairline strokes, miter
  * joins, butt caps; the default font is Helvetica 20 (fontconfig picks a
- * metric-compatible face, e.g. Liberation Sans).
+ * metric-compatible face, e.g. Liberation Sans). Besides the issue's set,
+ * `!mask` (clip to the outside of the path, for paths that do not overlap
+ * themselves) and `!dash intervals=... [offset=]` (dashed strokes for the
+ * siblings after it, as a path effect) are drawn.
  */
 #ifndef FL_RENDER_CANVAS_H
 #define FL_RENDER_CANVAS_H

@@ -288,6 +288,36 @@ static void test_effect_passthrough(void **st)
     cairo_surface_destroy(p.s);
 }
 
+/* !dash makes the strokes after it dashed; !mask clips to the outside of
+ * the path. */
+static void test_dash_mask(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=100;100\n"
+        "    !record filename=OUT keep_alpha=true\n"
+        "        !canvas\n"
+        "            !group\n"
+        "                !dash intervals=10;10\n"
+        "                !line points=0;10;100;10 stroke=true stroke_width=4 color=1\n"
+        "            !group\n"
+        "                !path\n"
+        "                    !rect point=40;40 size=20;20\n"
+        "                    !mask\n"
+        "                !rect point=0;30 size=100;70 fill=true color=0;0;1\n",
+        "h.png", 1, path, sizeof path);
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(px(&p, 5, 10), 0xffffffffu);    /* dash 0..10 */
+    assert_int_equal(px(&p, 15, 10), 0x00000000u);   /* gap 10..20 */
+    assert_int_equal(px(&p, 25, 10), 0xffffffffu);
+    assert_int_equal(px(&p, 50, 50), 0x00000000u);   /* masked out */
+    assert_int_equal(px(&p, 30, 50), 0xff0000ffu);
+    assert_int_equal(px(&p, 50, 70), 0xff0000ffu);
+    cairo_surface_destroy(p.s);
+}
+
 static void test_gif_frames(void **st)
 {
     (void)st;
@@ -328,6 +358,7 @@ int main(void)
         cmocka_unit_test(test_line_curve),
         cmocka_unit_test(test_canvas_stretched),
         cmocka_unit_test(test_effect_passthrough),
+        cmocka_unit_test(test_dash_mask),
         cmocka_unit_test(test_gif_frames),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
