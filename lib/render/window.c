@@ -217,7 +217,8 @@ static bool has_record(const Node *n)
 {
     for (size_t i = 0; i < rnode_nchildren(n); i++) {
         const Node *c = rnode_child(n, i);
-        if (rnode_is(c, "record") && (vec_truthy(rnode_attr(c, "filename")) || has_record(c))) return true;
+        if (rnode_is(c, "record") && vec_truthy(rnode_attr(c, "filename"))) return true;
+        if (!rnode_is(c, "canvas") && has_record(c)) return true;   /* e.g. inside an effect */
     }
     return false;
 }

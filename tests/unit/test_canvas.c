@@ -265,17 +265,18 @@ static void test_canvas_stretched(void **st)
 }
 
 /* A window-level effect (here !bloom) draws its children without the
- * effect, and says so once. */
+ * effect, and says so once; a !record inside an effect is found. */
 static void test_effect_passthrough(void **st)
 {
     (void)st;
     char path[256];
     char *log = render(
         "!window size=20;20\n"
-        "    !record filename=OUT\n"
-        "        !bloom radius=5\n"
-        "            !canvas\n"
-        "                !rect size=10;20 fill=true color=1;0;0\n",
+        "    !shader\n"
+        "        !record filename=OUT\n"
+        "            !bloom radius=5\n"
+        "                !canvas\n"
+        "                    !rect size=10;20 fill=true color=1;0;0\n",
         "g.png", 2, path, sizeof path);
     const char *msg = "window: unsupported !bloom, its children drawn without the effect\n";
     const char *at = strstr(log, msg);
