@@ -29,7 +29,7 @@ static void run_usage(FILE *f)
           "  --dump-tree         write the last frame's node tree to stdout\n"
           "  --state FILE        load the state from FILE at start (if it exists) and save\n"
           "                      it back atomically at exit and every 5 seconds\n"
-          "  --runtime T         stop after T seconds of frame clock (T*fps frames)\n"
+          "  --runtime T         run round(T*fps) frames (T seconds of frame clock)\n"
           "  --offscreen         accepted for Flitter compatibility (always headless)\n"
           "  --quiet             no progress bar or status line on a terminal\n"
           "  --verbose           accepted for Flitter compatibility\n"
@@ -141,8 +141,14 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         fprintf(err, "flitter run: bad value '%s' for option '%s'\n", optarg, argv[optind - 1]);
         return EXIT_USAGE;
     }
-    if (spec->runtime >= 0 && !frames_given)
-        spec->frames = lround(spec->runtime * spec->fps);   /* as Flitter: round(T*fps) frames */
+    if (spec->runtime >= 0 && !frames_given) {   /* as Flitter: round(T*fps) frames */
+        double frames = spec->runtime * spec->fps;
+        if (!(frames < 1e15)) {
+            fprintf(err, "flitter run: --runtime %g is too long at %g frames/s\n", spec->runtime, spec->fps);
+            return EXIT_USAGE;
+        }
+        spec->frames = lround(frames);
+    }
     if (need_script) {
         if (optind != argc - 1) {
             fputs(optind >= argc ? "flitter run: no SCRIPT given\n"

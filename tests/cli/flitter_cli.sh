@@ -15,6 +15,8 @@ fail() { echo "$*" >&2; exit 1; }
 grep -Eqx 'flitter-c [0-9]+\.[0-9]+\.[0-9]+' "$dir/out" || fail "--version printed: $(cat "$dir/out")"
 "$flitter" help run >"$dir/out" || fail "help run failed"
 grep -q -- '--runtime T' "$dir/out" || fail "help run lacks --runtime"
+"$flitter" run --runtime 1e300 --fps 60 x.fl 2>"$dir/err"
+[ $? -eq 2 ] && grep -q 'runtime 1e+300 is too long' "$dir/err" || fail "--runtime 1e300: $(cat "$dir/err")"
 "$flitter" help bogus 2>/dev/null
 [ $? -eq 2 ] || fail "help bogus should exit 2"
 
