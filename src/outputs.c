@@ -28,7 +28,8 @@ Outputs *outputs_new(const RunSpec *spec, fl_runtime *rt, FILE *log)
     char err[600];
     if (spec->view) {
         long every = spec->view_every > 0 ? spec->view_every : 1;
-        int delay = (int)lround(100.0 * (double)every / spec->fps);
+        double cs = 100.0 * (double)every / spec->fps;   /* GIF delays are 1..65535 cs */
+        int delay = cs >= 65535 ? 65535 : cs <= 1 ? 1 : (int)lround(cs);
         o->view = view_open(spec->view, delay, fl_symbols(rt), err, sizeof err);
         if (!o->view) goto fail;
     }

@@ -36,7 +36,7 @@ GifOut *gifout_open(const char *path, int width, int height, int delay_cs, char 
     g->f = f;
     g->w = width;
     g->h = height;
-    g->delay = delay_cs;
+    g->delay = delay_cs < 1 ? 1 : delay_cs > 65535 ? 65535 : delay_cs;   /* a 16-bit field */
     if (EGifPutScreenDesc(f, width, height, 8, 0, NULL) == GIF_ERROR) {
         snprintf(err, errlen, "%s: cannot write GIF header", path);
         gifout_close(g);

@@ -7,7 +7,7 @@
 typedef struct GifOut GifOut;
 
 /* Start [path] as a looping animated GIF of [width] x [height] pixels, each
- * frame shown for [delay_cs] hundredths of a second.
+ * frame shown for [delay_cs] hundredths of a second (clamped to 1..65535).
  *   errors: returns NULL (message in [err], [errlen] bytes) when the file
  *           cannot be created. */
 GifOut *gifout_open(const char *path, int width, int height, int delay_cs, char *err, size_t errlen);

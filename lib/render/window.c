@@ -180,8 +180,9 @@ static void write_record(Renderer *r, const Node *n, cairo_surface_t *pic, doubl
             if (strcmp(r->gifs[i].path, path) == 0) slot = &r->gifs[i];
         if (!slot) {
             char err[512];
-            int delay = (int)lround(100.0 / fps);
-            GifOut *g = gifout_open(path, w, h, delay < 1 ? 1 : delay, err, sizeof err);
+            double cs = 100.0 / fps;   /* GIF delays are 1..65535 hundredths of a second */
+            int delay = cs >= 65535 ? 65535 : cs <= 1 ? 1 : (int)lround(cs);
+            GifOut *g = gifout_open(path, w, h, delay, err, sizeof err);
             if (!g) {
                 report(r, "cannot create the GIF file", path);
                 goto done;
