@@ -15,7 +15,7 @@ trap 'rm -rf "$dir"' EXIT
 cat >"$dir/loop.fl" <<'FL'
 !physics state=:p dimensions=1 time=frame resolution=1
     !particle id=:a position=0 velocity=1
-!spin n=len((j for i in 0..2**26 for j in 0..2**20)) if frame == 3 else 0
+!spin n=len((j for i in 0..2**26+frame for j in 0..2**20+frame)) if frame == 3 else 0
 FL
 cat >"$dir/steps.fl" <<'FL'
 !physics state=:p dimensions=1 time=frame*1e12 resolution=1
@@ -31,7 +31,7 @@ run() {
     stdbuf -o0 "$flitter" run --dump-every 1 "$@" >"$dir/$name.out" 2>"$dir/$name.err" &
     pid=$!
     waited=0
-    until grep -q "^# frame $ready " "$dir/$name.out"; do
+    until grep -q "^# frame $ready " "$dir/$name.out" 2>/dev/null; do
         if [ $waited -ge 600 ] || ! kill -0 $pid 2>/dev/null; then
             echo "$name: frame $ready never came" >&2
             fail=1
