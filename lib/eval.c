@@ -19,6 +19,7 @@
 #include "eval.h"
 #include "format.h"
 #include "module.h"
+#include "pool.h"
 
 /* Recursion limit per function value (§4.8). */
 #define MAX_ACTIVE_CALLS 500
@@ -82,9 +83,9 @@ static void parts_push(Parts *p, Vec *x)
     if (!x) return;
     if (p->n == p->cap) {
         size_t cap = p->cap * 2;
-        Vec **nv = p->v == p->small ? malloc(cap * sizeof(Vec *)) : realloc(p->v, cap * sizeof(Vec *));
-        if (!nv) abort();
-        if (p->v == p->small) memcpy(nv, p->small, sizeof p->small);
+        Vec **nv = pool_alloc(cap * sizeof(Vec *));
+        memcpy(nv, p->v, p->n * sizeof(Vec *));
+        if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
         p->v = nv;
         p->cap = cap;
     }
@@ -97,7 +98,7 @@ static Vec *parts_finish(Parts *p)
     Vec *r = p->n == 1 ? p->v[0] : vec_compose(p->v, p->n);
     if (p->n != 1)
         for (size_t i = 0; i < p->n; i++) vec_release(p->v[i]);
-    if (p->v != p->small) free(p->v);
+    if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
     return r;
 }
 
@@ -184,10 +185,10 @@ static void closure_destroy(Func *f)
     Closure *c = f->impl;
     for (uint32_t i = 0; i < c->nparams; i++) vec_release(c->defaults[i]);
     for (uint32_t i = 0; i < c->ncaps; i++) vec_release(c->caps[i]);
-    free(c->defaults);
-    free(c->caps);
+    pool_release(c->defaults, (c->nparams ? c->nparams : 1) * sizeof(Vec *));
+    pool_release(c->caps, (c->ncaps ? c->ncaps : 1) * sizeof(Vec *));
     program_release(c->prog);
-    free(c);
+    pool_release(c, sizeof *c);
 }
 
 typedef struct Args {
@@ -207,8 +208,8 @@ static Vec *call_user(Eval *ev, Func *f, const Args *a)
         errorf(ev, "Recursion depth exceeded for func '%s'", f->name->bytes);
         return NULL;
     }
-    Vec **frame = calloc(fi->nslots ? fi->nslots : 1, sizeof(Vec *));
-    if (!frame) abort();
+    size_t frame_size = (fi->nslots ? fi->nslots : 1) * sizeof(Vec *);
+    Vec **frame = pool_calloc(frame_size);
     frame[0] = vec_func_take(func_retain(f));
     for (uint32_t i = 0; i < c->nparams; i++) {
         const AstNode *p = def->kids[i];
@@ -240,7 +241,7 @@ static Vec *call_user(Eval *ev, Func *f, const Args *a)
     ev->frame = saved;
     ev->prog = saved_prog;
     for (uint32_t i = 0; i < fi->nslots; i++) vec_release(frame[i]);
-    free(frame);
+    pool_release(frame, frame_size);
     return r;
 }
 
@@ -340,21 +341,18 @@ static Vec *eval_call(Eval *ev, const AstNode *n)
 static Vec *eval_function(Eval *ev, const AstNode *n)
 {
     const FnInfo *fi = n->aux;
-    Closure *c = calloc(1, sizeof *c);
-    if (!c) abort();
+    Closure *c = pool_calloc(sizeof *c);
     c->def = n;
     c->prog = ev->prog;
     c->prog->refs++;
     c->nparams = n->nkids;
     c->ncaps = fi->ncaps;
-    c->defaults = calloc(c->nparams ? c->nparams : 1, sizeof(Vec *));
-    c->caps = calloc(c->ncaps ? c->ncaps : 1, sizeof(Vec *));
-    if (!c->defaults || !c->caps) abort();
+    c->defaults = pool_calloc((c->nparams ? c->nparams : 1) * sizeof(Vec *));
+    c->caps = pool_calloc((c->ncaps ? c->ncaps : 1) * sizeof(Vec *));
     for (uint32_t i = 0; i < c->nparams; i++)
         c->defaults[i] = n->kids[i]->a ? eval_expr(ev, n->kids[i]->a) : NULL;
     for (uint32_t k = 0; k < c->ncaps; k++) c->caps[k] = vec_retain(ev->frame[fi->cap_src[k]]);
-    Func *f = calloc(1, sizeof *f);
-    if (!f) abort();
+    Func *f = pool_calloc(sizeof *f);
     f->refs = 1;
     f->name = str_retain(n->names[0]);
     f->impl = c;
@@ -706,8 +704,8 @@ Vec *eval_expr(Eval *ev, const AstNode *n)
 Vec *eval_program_value(Eval *ev)
 {
     Program *prog = ev->prog;
-    Vec **frame = calloc(prog->nslots ? prog->nslots : 1, sizeof(Vec *));
-    if (!frame) abort();
+    size_t frame_size = (prog->nslots ? prog->nslots : 1) * sizeof(Vec *);
+    Vec **frame = pool_calloc(frame_size);
     Vec **saved = ev->frame;
     ev->frame = frame;
     ev->depth = 0;
@@ -715,7 +713,7 @@ Vec *eval_program_value(Eval *ev)
     Vec *v = eval_expr(ev, prog->top);
     ev->frame = saved;
     for (uint32_t i = 0; i < prog->nslots; i++) vec_release(frame[i]);
-    free(frame);
+    pool_release(frame, frame_size);
     if (ev->overflow) {
         vec_release(v);
         return NULL;

@@ -25,6 +25,7 @@ struct StateDict {
     size_t cap;       /* power of two */
     size_t live;      /* entries with a key */
     size_t used;      /* live + tombstones */
+    StateCounts counts; /* reads and writes */
 };
 
 StateDict *state_new(void)
@@ -78,6 +79,7 @@ static Slot *find(const StateDict *sd, const Vec *key, uint64_t h)
 
 Vec *state_get(const StateDict *sd, const Vec *key)
 {
+    ((StateDict *)sd)->counts.gets++;
     if (!key || !key->len) return NULL;
     Slot *s = find(sd, key, key_hash(key));
     return s ? s->value : NULL;
@@ -102,6 +104,7 @@ static void rebuild(StateDict *sd, size_t cap)
 
 bool state_set(StateDict *sd, const Vec *key, const Vec *value)
 {
+    sd->counts.sets++;
     if (!key || !key->len) return false;
     uint64_t h = key_hash(key);
     Slot *s = find(sd, key, h);
@@ -130,6 +133,8 @@ bool state_set(StateDict *sd, const Vec *key, const Vec *value)
 }
 
 size_t state_count(const StateDict *sd) { return sd->live; }
+
+StateCounts state_counts(const StateDict *sd) { return sd->counts; }
 
 StateEntry *state_entries(const StateDict *sd, size_t *n)
 {

@@ -20,6 +20,7 @@
 #include "builtins/builtins.h"
 #include "builtins/random.h"
 #include "node.h"
+#include "pool.h"
 #include "utf8.h"
 
 /* ====================================================================
@@ -46,7 +47,7 @@ Str *str_new(const char *s, size_t len)
         fputs("flitter: string too long\n", stderr);
         abort();
     }
-    Str *r = xmalloc(sizeof(Str) + len + 1);
+    Str *r = pool_alloc(sizeof(Str) + len + 1);
     r->refs = 1;
     r->len = (uint32_t)len;
     if (len) memcpy(r->bytes, s, len);
@@ -58,7 +59,7 @@ Str *str_from(const char *s) { return str_new(s, strlen(s)); }
 
 void str_release(Str *s)
 {
-    if (s && --s->refs == 0) free(s);
+    if (s && --s->refs == 0) pool_release(s, sizeof(Str) + s->len + 1);
 }
 
 bool str_eq(const Str *a, const Str *b)
@@ -95,7 +96,7 @@ void func_release(Func *f)
     if (!f || --f->refs) return;
     if (f->destroy) f->destroy(f);
     str_release(f->name);
-    free(f);
+    pool_release(f, sizeof *f);
 }
 
 const char *func_name(const Func *f)
@@ -110,7 +111,7 @@ const char *func_name(const Func *f)
 
 static Vec *vec_alloc(uint8_t kind, uint32_t n, size_t elem_size)
 {
-    Vec *v = xmalloc(sizeof(Vec) + (size_t)n * elem_size);
+    Vec *v = pool_alloc(sizeof(Vec) + (size_t)n * elem_size);
     v->refs = 1;
     v->kind = kind;
     v->stream = 0;
@@ -207,8 +208,10 @@ void vec_release(Vec *v)
     if (v->kind == VEC_OBJ) {
         Elem *e = vec_elems(v);
         for (uint32_t i = 0; i < v->len; i++) elem_release(&e[i]);
+        pool_release(v, sizeof(Vec) + (size_t)v->len * sizeof(Elem));
+    } else {
+        pool_release(v, sizeof(Vec) + (size_t)v->len * sizeof(double));
     }
-    free(v);
 }
 
 Vec *vec_normalize_take(Vec *v)

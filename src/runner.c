@@ -27,7 +27,9 @@ static void run_usage(FILE *f)
           "  --dump-every K      also dump the state after every K-th frame\n"
           "  --dump-tree         write the last frame's node tree to stdout\n"
           "  --state FILE        load the state from FILE at start (if it exists) and save\n"
-          "                      it back atomically at exit and every 5 seconds\n",
+          "                      it back atomically at exit and every 5 seconds\n"
+          "  --stats             at exit, print frames/s, allocations per frame and the\n"
+          "                      eval/physics/state split to stderr\n",
           f);
 }
 
@@ -44,7 +46,7 @@ static bool parse_count(const char *s, long *out)
 int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
-           O_STATE };
+           O_STATE, O_STATS };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -55,6 +57,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"dump-every", required_argument, NULL, O_DUMP_EVERY},
         {"dump-tree", no_argument, NULL, O_DUMP_TREE},
         {"state", required_argument, NULL, O_STATE},
+        {"stats", no_argument, NULL, O_STATS},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -87,6 +90,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
             break;
         case O_DUMP_TREE: spec->dump_tree = true; break;
         case O_STATE: spec->state_file = optarg; break;
+        case O_STATS: spec->stats = true; break;
         case 'h':
             run_usage(stdout);
             return -1;
@@ -162,6 +166,27 @@ static void show_progress(long done, long total, double elapsed)
     fflush(stderr);
 }
 
+/* The --stats report: [first] holds the statistics after the first frame
+ * (which builds the free lists and physics tables), [loop] the wall time of
+ * the frame loop. */
+static void print_stats(fl_runtime *rt, const fl_stats *first, double loop, FILE *log)
+{
+    fl_stats s;
+    fl_get_stats(rt, &s);
+    double n = s.frames > 0 ? (double)s.frames : 1;
+    double steady = s.frames > 1 ? (double)(s.frames - 1) : 1;
+    fprintf(log, "stats: %ld frames in %.3f s: %.1f frames/s\n", s.frames, loop,
+            loop > 0 ? (double)s.frames / loop : 0.0);
+    fprintf(log, "stats: per frame: eval %.3f ms, physics %.3f ms, other %.3f ms\n",
+            s.eval_seconds / n * 1e3, s.physics_seconds / n * 1e3, s.other_seconds / n * 1e3);
+    fprintf(log, "stats: allocations: first frame %llu mallocs %llu frees; after it %.2f mallocs "
+            "%.2f frees per frame; last frame %llu mallocs %llu frees\n",
+            first->mallocs, first->frees, (double)(s.mallocs - first->mallocs) / steady,
+            (double)(s.frees - first->frees) / steady, s.last_mallocs, s.last_frees);
+    fprintf(log, "stats: state per frame: %.1f reads, %.1f writes\n", (double)s.state_gets / n,
+            (double)s.state_sets / n);
+}
+
 static int save_state(fl_runtime *rt, const char *path, FILE *log)
 {
     Buf err = BUF_INIT;
@@ -210,6 +235,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     bool dumped_last = false;
     double start = now_seconds(), last_save = start, last_progress = 0;
     long ran = 0;
+    fl_stats first = {0};
     struct timespec mtime = file_mtime(spec->script), bad_mtime = {0, 0};
     while (!(interrupt && *interrupt) && (spec->frames < 0 || ran < spec->frames)) {
         if (spec->realtime) {
@@ -230,6 +256,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         }
         fl_step(rt);
         ran++;
+        if (ran == 1) fl_get_stats(rt, &first);
         long n = fl_frame_count(rt) - 1;
         dumped_last = false;
         if (spec->dump_state && spec->dump_every > 0 && (n + 1) % spec->dump_every == 0) {
@@ -254,6 +281,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         }
     }
     if (spec->progress && spec->frames > 0) fputs("\n", stderr);
+    if (spec->stats) print_stats(rt, &first, now_seconds() - start, log);
     int rc = EXIT_OK;
     if (ran > 0) {
         if (spec->dump_state && !dumped_last) dump_state(rt, out, &b);

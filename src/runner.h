@@ -16,6 +16,8 @@ typedef struct RunSpec {
     bool dump_tree;       /* --dump-tree */
     const char *state_file; /* --state FILE, or NULL */
     bool progress;        /* show a progress bar on stderr (a terminal) */
+    bool stats;           /* --stats: print frame rate, allocations and the
+                             eval/physics/state split to the log at exit */
     char **defines;       /* NAME=VALUE strings (borrowed from argv) */
     int ndefines;
     const char *script;   /* SCRIPT */
