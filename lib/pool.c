@@ -6,30 +6,19 @@
 #include <string.h>
 
 #define SMALL_STEP 16
-#define SMALL_MAX 256                     /* classes 0..15: 16..256 bytes */
-#define NSMALL (SMALL_MAX / SMALL_STEP)
+#define NSMALL (POOL_SMALL_MAX / SMALL_STEP) /* classes 0..15: 16..256 bytes */
 #define BIG_MIN_LOG 9                     /* 512 */
 #define BIG_MAX_LOG 22                    /* 4 MiB */
-#define NCLASS (NSMALL + BIG_MAX_LOG - BIG_MIN_LOG + 1)
 #define NO_CLASS (-1)
 
-typedef struct FreeBlock {
-    struct FreeBlock *next;
-} FreeBlock;
+_Static_assert(POOL_NCLASS == NSMALL + BIG_MAX_LOG - BIG_MIN_LOG + 1, "pool classes");
 
-struct Pool {
-    FreeBlock *lists[NCLASS];   /* released blocks per class */
-    PoolStats stats;
-    int off;                    /* FLITTER_NOPOOL: no free lists */
-};
-
-/* The pool active on this thread (set by the runtime around each frame). */
-static _Thread_local Pool *active;
+_Thread_local Pool *pool_active_;
 
 /* The class of a [size]-byte request and the class's block size. */
 static int size_class(size_t size, size_t *block)
 {
-    if (size <= SMALL_MAX) {
+    if (size <= POOL_SMALL_MAX) {
         size_t c = size ? (size + SMALL_STEP - 1) / SMALL_STEP : 1;
         *block = c * SMALL_STEP;
         return (int)c - 1;
@@ -56,10 +45,10 @@ Pool *pool_new(void)
 void pool_free(Pool *p)
 {
     if (!p) return;
-    for (int c = 0; c < NCLASS; c++) {
-        FreeBlock *b = p->lists[c];
+    for (int c = 0; c < POOL_NCLASS; c++) {
+        PoolBlock *b = p->lists[c];
         while (b) {
-            FreeBlock *next = b->next;
+            PoolBlock *next = b->next;
             free(b);
             b = next;
         }
@@ -69,22 +58,22 @@ void pool_free(Pool *p)
 
 Pool *pool_enter(Pool *p)
 {
-    Pool *prev = active;
-    active = p;
+    Pool *prev = pool_active_;
+    pool_active_ = p;
     return prev;
 }
 
-void pool_leave(Pool *prev) { active = prev; }
+void pool_leave(Pool *prev) { pool_active_ = prev; }
 
 PoolStats pool_stats(const Pool *p) { return p->stats; }
 
-void *pool_alloc(size_t size)
+void *pool_alloc_slow(size_t size)
 {
     size_t block;
     int c = size_class(size, &block);
-    Pool *p = active;
+    Pool *p = pool_active_;
     if (p && c != NO_CLASS && p->lists[c]) {
-        FreeBlock *b = p->lists[c];
+        PoolBlock *b = p->lists[c];
         p->lists[c] = b->next;
         return b;
     }
@@ -104,14 +93,14 @@ void *pool_calloc(size_t size)
     return r;
 }
 
-void pool_release(void *ptr, size_t size)
+void pool_release_slow(void *ptr, size_t size)
 {
     if (!ptr) return;
     size_t block;
     int c = size_class(size, &block);
-    Pool *p = active;
+    Pool *p = pool_active_;
     if (p && c != NO_CLASS && !p->off) {
-        FreeBlock *b = ptr;
+        PoolBlock *b = ptr;
         b->next = p->lists[c];
         p->lists[c] = b;
         return;

@@ -26,6 +26,9 @@
 
 typedef struct Pool Pool;
 
+#define POOL_SMALL_MAX 256   /* largest request of the 16-byte-step classes */
+#define POOL_NCLASS 30       /* 16 small classes, then 512 B .. 4 MiB */
+
 /* Counts of real allocator calls made on behalf of pooled blocks. */
 typedef struct PoolStats {
     uint64_t mallocs;   /* malloc calls (free-list misses and big blocks) */
@@ -45,13 +48,56 @@ void pool_leave(Pool *prev);
 /* The counters of [p] (since pool_new). */
 PoolStats pool_stats(const Pool *p);
 
+/* The slow paths of pool_alloc and pool_release (big blocks, empty lists,
+ * no active pool). */
+void *pool_alloc_slow(size_t size);
+void pool_release_slow(void *ptr, size_t size);
+
+/* Internal: the pool's layout, for the inline fast paths below. */
+typedef struct PoolBlock {
+    struct PoolBlock *next;
+} PoolBlock;
+
+struct Pool {
+    PoolBlock *lists[POOL_NCLASS];   /* released blocks per class */
+    PoolStats stats;
+    int off;                         /* FLITTER_NOPOOL: no free lists */
+};
+
+/* Internal: the pool active on this thread (pool_enter). */
+extern _Thread_local Pool *pool_active_;
+
 /* A block of at least [size] bytes (uninitialised). Aborts when out of
  * memory. Release it with pool_release(ptr, size) with the same [size]. */
-void *pool_alloc(size_t size);
-/* A zero-filled block of [size] bytes. */
-void *pool_calloc(size_t size);
+static inline void *pool_alloc(size_t size)
+{
+    Pool *p = pool_active_;
+    if (p && size - 1 < POOL_SMALL_MAX) {
+        PoolBlock **list = &p->lists[(size - 1) / 16];
+        PoolBlock *b = *list;
+        if (b) {
+            *list = b->next;
+            return b;
+        }
+    }
+    return pool_alloc_slow(size);
+}
+
 /* Return block [ptr] of [size] bytes (as given to pool_alloc); NULL is a
  * no-op. */
-void pool_release(void *ptr, size_t size);
+static inline void pool_release(void *ptr, size_t size)
+{
+    Pool *p = pool_active_;
+    if (p && ptr && !p->off && size - 1 < POOL_SMALL_MAX) {
+        PoolBlock *b = ptr, **list = &p->lists[(size - 1) / 16];
+        b->next = *list;
+        *list = b;
+        return;
+    }
+    pool_release_slow(ptr, size);
+}
+
+/* A zero-filled block of [size] bytes. */
+void *pool_calloc(size_t size);
 
 #endif

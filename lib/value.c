@@ -202,9 +202,8 @@ static void elem_retain(Elem *e)
     }
 }
 
-void vec_release(Vec *v)
+void vec_destroy_(Vec *v)
 {
-    if (!v || --v->refs) return;
     if (v->kind == VEC_OBJ) {
         Elem *e = vec_elems(v);
         for (uint32_t i = 0; i < v->len; i++) elem_release(&e[i]);

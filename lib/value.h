@@ -127,7 +127,12 @@ static inline bool vec_is_scalar(const Vec *v) { return v && v->kind == VEC_NUM 
 static inline double vec_scalar(const Vec *v) { return vec_cnums(v)[0]; }
 
 static inline Vec *vec_retain(Vec *v) { if (v) v->refs++; return v; }
-void vec_release(Vec *v);
+/* Internal: free [v] once its last reference is gone (vec_release). */
+void vec_destroy_(Vec *v);
+static inline void vec_release(Vec *v)
+{
+    if (v && --v->refs == 0) vec_destroy_(v);
+}
 
 /* A new numeric vector of [n] > 0 uninitialised doubles; fill via vec_nums(). */
 Vec *vec_new_num(uint32_t n);
