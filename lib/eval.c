@@ -480,11 +480,7 @@ static Vec *eval_binop(Eval *ev, const AstNode *n)
         vec_release(c);
         return r;
     }
-    Vec *b = eval(ev, rb);
-    Vec *r = vec_arith((ArithOp)n->op, a, b);
-    vec_release(a);
-    vec_release(b);
-    return r;
+    return vec_arith_take((ArithOp)n->op, a, eval(ev, rb));
 }
 
 /* AST_COMPARE: a OP b (§3.6-3.8), 1 or 0, or null when incomparable. */

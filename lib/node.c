@@ -131,7 +131,8 @@ Vec *node_attr(const Node *n, const char *name)
     size_t len = strlen(name);
     for (uint32_t i = 0; i < n->nattrs; i++) {
         const Str *s = n->attrs[i].name;
-        if (s->len == len && memcmp(s->bytes, name, len) == 0) return n->attrs[i].value;
+        if (s->len == len && s->bytes[0] == name[0] && memcmp(s->bytes, name, len) == 0)
+            return n->attrs[i].value;
     }
     return NULL;
 }

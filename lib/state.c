@@ -7,6 +7,11 @@
  * -0 are distinct keys, as in the reference). Deleted entries leave a
  * tombstone (key NULL, hash TOMB) so probe chains stay intact; tombstones are
  * dropped when the table is rebuilt.
+ *
+ * Keys are hashed once: vec_key_hash() keeps the hash in the key vector, so
+ * a writer that keeps its key vectors across frames (the physics engine, the
+ * beat counter, a `$` of a literal key) pays for hashing once, and a probe
+ * that meets the very same key vector skips the element comparison.
  */
 #include "state.h"
 
@@ -59,7 +64,7 @@ void state_free(StateDict *sd)
 /* The key's hash, kept clear of the two slot markers 0 and TOMB. */
 static uint64_t key_hash(const Vec *key)
 {
-    uint64_t h = vec_hash(key, false);
+    uint64_t h = vec_key_hash(key);
     return h <= TOMB ? h + 2 : h;
 }
 
@@ -73,7 +78,7 @@ static Slot *find(const StateDict *sd, const Vec *key, uint64_t h)
             if (s->hash != TOMB) return NULL;
             continue;
         }
-        if (s->hash == h && vec_key_equal(s->key, key)) return s;
+        if (s->hash == h && (s->key == key || vec_key_equal(s->key, key))) return s;
     }
 }
 

@@ -115,6 +115,7 @@ static Vec *vec_alloc(uint8_t kind, uint32_t n, size_t elem_size)
     v->refs = 1;
     v->kind = kind;
     v->stream = 0;
+    v->hashed = 0;
     v->len = n;
     v->key = 0;
     return v;
@@ -336,12 +337,12 @@ static inline double arith1(ArithOp op, double a, double b)
         }                                                                   \
     } while (0)
 
-Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b)
+/* r[i] = a[i % na] OP b[i % nb] for i < n; [r] may be a's or b's own
+ * storage when that operand has n elements (each element is read before the
+ * same index is written). */
+static void arith_into(ArithOp op, double *r, const Vec *a, const Vec *b, uint32_t n)
 {
-    if (!vec_is_num(a) || !vec_is_num(b) || !a->len || !b->len) return NULL;
-    uint32_t na = a->len, nb = b->len, n = na > nb ? na : nb;
-    Vec *v = vec_new_num(n);
-    double *r = vec_nums(v);
+    uint32_t na = a->len, nb = b->len;
     const double *xa = vec_cnums(a), *xb = vec_cnums(b);
     switch (op) {
     case OP_ADD: BROADCAST(x + y); break;
@@ -349,6 +350,46 @@ Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b)
     case OP_MUL: BROADCAST(x * y); break;
     case OP_DIV: BROADCAST(x / y); break;
     default: BROADCAST(arith1(op, x, y)); break;
+    }
+}
+
+Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b)
+{
+    if (!vec_is_num(a) || !vec_is_num(b) || !a->len || !b->len) return NULL;
+    uint32_t n = a->len > b->len ? a->len : b->len;
+    Vec *v = vec_new_num(n);
+    arith_into(op, vec_nums(v), a, b, n);
+    return v;
+}
+
+/* [v] (consumed) as the destination of an n-element numeric result, when
+ * nothing else can see it; else NULL. */
+static bool reusable(const Vec *v, uint32_t n) { return v->refs == 1 && v->len == n; }
+
+Vec *vec_arith_take(ArithOp op, Vec *a, Vec *b)
+{
+    if (!vec_is_num(a) || !vec_is_num(b) || !a->len || !b->len) {
+        vec_release(a);
+        vec_release(b);
+        return NULL;
+    }
+    uint32_t n = a->len > b->len ? a->len : b->len;
+    Vec *v;
+    if (reusable(a, n)) {
+        v = a;
+        v->hashed = 0;
+        arith_into(op, vec_nums(v), a, b, n);
+        vec_release(b);
+    } else if (reusable(b, n)) {
+        v = b;
+        v->hashed = 0;
+        arith_into(op, vec_nums(v), a, b, n);
+        vec_release(a);
+    } else {
+        v = vec_new_num(n);
+        arith_into(op, vec_nums(v), a, b, n);
+        vec_release(a);
+        vec_release(b);
     }
     return v;
 }
@@ -544,6 +585,25 @@ uint64_t vec_hash(const Vec *v, bool floor_floats)
         default: y = (uint64_t)(uintptr_t)e[i].func; break;
         }
         h = hash_update(h, y);
+    }
+    return h;
+}
+
+uint64_t vec_key_hash(const Vec *v)
+{
+    if (v->hashed) return v->key;
+    uint64_t h = vec_hash(v, false);
+    bool keep = v->kind == VEC_NUM;
+    if (v->kind == VEC_OBJ) {
+        keep = true;
+        for (uint32_t i = 0; i < v->len && keep; i++)
+            keep = vec_celems(v)[i].kind == EL_NUM || vec_celems(v)[i].kind == EL_STR;
+    }
+    if (keep) {
+        /* a memo, not a change of value: the vector's elements are fixed */
+        Vec *m = (Vec *)v;
+        m->key = h;
+        m->hashed = 1;
     }
     return h;
 }

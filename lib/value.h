@@ -106,8 +106,10 @@ struct Vec {
     uint32_t refs;    /* reference count */
     uint8_t kind;     /* VecKind */
     uint8_t stream;   /* StreamKind, when kind == VEC_STREAM */
+    uint8_t hashed;   /* not a stream, and `key` holds vec_hash(v, false) */
     uint32_t len;     /* number of elements (0 for streams) */
-    uint64_t key;     /* stream key (seed hash), when kind == VEC_STREAM */
+    uint64_t key;     /* stream key (seed hash), when kind == VEC_STREAM;
+                         else the cached hash when `hashed` (vec_key_hash) */
     _Alignas(16) unsigned char data[]; /* double[len] or Elem[len] */
 };
 
@@ -174,6 +176,9 @@ typedef enum { OP_ADD, OP_SUB, OP_MUL, OP_DIV, OP_FLOORDIV, OP_MOD, OP_POW } Ari
 
 /* [a] OP [b] element-wise with cyclic broadcasting. */
 Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b);
+/* The same, consuming [a] and [b]: the result is written into an operand
+ * that has no other owner and the result's length (no new vector). */
+Vec *vec_arith_take(ArithOp op, Vec *a, Vec *b);
 /* F1 fused broadcast (§4.17): a[i%na] + (b[i%nb] * c[i%nc]) over
  * max(na,nb,nc) elements, multiply then add, each IEEE-rounded (no FMA). */
 Vec *vec_add_mul(const Vec *a, const Vec *b, const Vec *c);
@@ -208,6 +213,10 @@ bool vec_contains(const Vec *x, const Vec *y);
 /* HASH_UPDATE of §3.16 (SplitMix64 finaliser with [y] xored in). */
 uint64_t hash_update(uint64_t h, uint64_t y);
 #define HASH_START UINT64_C(0xe220a8397b1dcdaf)
+/* vec_hash(v, false), computed once per vector and kept in it (numeric
+ * vectors and vectors of numbers and strings only, which nothing mutates
+ * once built); the state dictionary's key hash. [v] must be non-null. */
+uint64_t vec_key_hash(const Vec *v);
 /* Vector hash of §3.16; [floor_floats] floors numbers first (seed hash).
  * Nodes hash structurally, functions by address. null → HASH_START. */
 uint64_t vec_hash(const Vec *v, bool floor_floats);
