@@ -368,6 +368,32 @@ static bool reusable(const Vec *v, uint32_t n) { return v->refs == 1 && v->len =
 
 Vec *vec_arith_take(ArithOp op, Vec *a, Vec *b)
 {
+    if (vec_is_scalar(a) && vec_is_scalar(b)) {
+        /* the common case: one number each, no broadcasting loop */
+        double x = vec_cnums(a)[0], y = vec_cnums(b)[0], z;
+        switch (op) {
+        case OP_ADD: z = x + y; break;
+        case OP_SUB: z = x - y; break;
+        case OP_MUL: z = x * y; break;
+        case OP_DIV: z = x / y; break;
+        default: z = arith1(op, x, y); break;
+        }
+        Vec *v;
+        if (a->refs == 1) {
+            v = a;
+            vec_release(b);
+        } else if (b->refs == 1) {
+            v = b;
+            vec_release(a);
+        } else {
+            vec_release(a);
+            vec_release(b);
+            return vec_num1(z);
+        }
+        v->hashed = 0;
+        vec_nums(v)[0] = z;
+        return v;
+    }
     if (!vec_is_num(a) || !vec_is_num(b) || !a->len || !b->len) {
         vec_release(a);
         vec_release(b);
