@@ -339,11 +339,25 @@ static Vec *call_value(Eval *ev, const Vec *callee, const Args *a)
 
 /* AST_CALL: a(kids[0..count), name=value ...) — args, then named values,
  * then the callee (§4.8). */
-static Vec *eval_call(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_call(Eval *ev, const AstNode *n)
 {
+    uint32_t npos = n->count, nkw = n->nkids - n->count;
+    const AstNode *fn = n->a;
+    if (nkw == 0 && npos <= 8 && fn->kind == AST_NAME && fn->scope == SCOPE_CONST &&
+        vec_is_obj(fn->value) && fn->value->len == 1 && vec_celems(fn->value)[0].kind == EL_FUNC &&
+        vec_celems(fn->value)[0].func->bi) {
+        /* a builtin resolved at load time, positional arguments only: call
+         * it directly (the callee is a constant, so evaluating it last, as
+         * below, changes nothing) */
+        Vec *args[8];
+        for (uint32_t i = 0; i < npos; i++) args[i] = eval(ev, n->kids[i]);
+        Args a = {args, npos, NULL, NULL, 0};
+        Vec *r = call_builtin(ev, vec_celems(fn->value)[0].func->bi, &a);
+        for (uint32_t i = 0; i < npos; i++) vec_release(args[i]);
+        return r;
+    }
     Vec *posbuf[8], *kwbuf[8];
     const AstNode *kwnbuf[8];
-    uint32_t npos = n->count, nkw = n->nkids - n->count;
     Args a = {npos > 8 ? malloc(npos * sizeof(Vec *)) : posbuf, npos,
               nkw > 8 ? malloc(nkw * sizeof(AstNode *)) : kwnbuf,
               nkw > 8 ? malloc(nkw * sizeof(Vec *)) : kwbuf, nkw};
@@ -366,7 +380,7 @@ static Vec *eval_call(Eval *ev, const AstNode *n)
 
 /* AST_FUNCTION: a closure with defaults evaluated and free names captured
  * now, in the defining frame (§4.8). */
-static Vec *eval_function(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_function(Eval *ev, const AstNode *n)
 {
     const FnInfo *fi = n->aux;
     Closure *c = pool_calloc(sizeof *c);
@@ -393,7 +407,7 @@ static Vec *eval_function(Eval *ev, const AstNode *n)
  * ==================================================================== */
 
 /* AST_TAG: a #names[0] */
-static Vec *eval_tag(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_tag(Eval *ev, const AstNode *n)
 {
     Vec *v = eval(ev, n->a);
     if (!has_nodes(v)) return v;
@@ -408,7 +422,7 @@ static Vec *eval_tag(Eval *ev, const AstNode *n)
 }
 
 /* AST_ATTRIBUTES: a name=value ... — values left to right, then set. */
-static Vec *eval_attributes(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_attributes(Eval *ev, const AstNode *n)
 {
     Vec *v = eval(ev, n->a);
     Vec *small[16];
@@ -431,7 +445,7 @@ static Vec *eval_attributes(Eval *ev, const AstNode *n)
 }
 
 /* AST_APPEND: a << b — node elements of b appended to each node of a. */
-static Vec *eval_append(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_append(Eval *ev, const AstNode *n)
 {
     Vec *p = eval(ev, n->a);
     Vec *c = eval(ev, n->b);
@@ -460,7 +474,7 @@ static bool is_literal_two(const AstNode *n)
 }
 
 /* AST_BINOP: a OP b, with the F1 fused a + (b*c) and F2 x**2 (§4.17). */
-static Vec *eval_binop(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_binop(Eval *ev, const AstNode *n)
 {
     if (n->op == OP_POW && is_literal_two(n->b)) {
         Vec *x = eval(ev, n->a);
@@ -484,7 +498,7 @@ static Vec *eval_binop(Eval *ev, const AstNode *n)
 }
 
 /* AST_COMPARE: a OP b (§3.6-3.8), 1 or 0, or null when incomparable. */
-static Vec *eval_compare(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_compare(Eval *ev, const AstNode *n)
 {
     Vec *a = eval(ev, n->a);
     Vec *b = eval(ev, n->b);
@@ -511,7 +525,7 @@ static Vec *eval_compare(Eval *ev, const AstNode *n)
 }
 
 /* AST_RANGE: a..b|c (§3.10). */
-static Vec *eval_range(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_range(Eval *ev, const AstNode *n)
 {
     Vec *a = n->a ? eval(ev, n->a) : NULL;
     Vec *b = eval(ev, n->b);
@@ -530,7 +544,7 @@ static Vec *eval_range(Eval *ev, const AstNode *n)
  * ==================================================================== */
 
 /* AST_SEQUENCE: kids composed in order (§4.3). */
-static Vec *eval_sequence(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_sequence(Eval *ev, const AstNode *n)
 {
     if (n->nkids == 1) return eval(ev, n->kids[0]);
     Parts parts;
@@ -540,7 +554,7 @@ static Vec *eval_sequence(Eval *ev, const AstNode *n)
 }
 
 /* AST_LET: bindings left to right, then the body (§4.4, §4.5). */
-static Vec *eval_let(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_let(Eval *ev, const AstNode *n)
 {
     for (uint32_t i = 0; i < n->nkids; i++) {
         const AstNode *b = n->kids[i];
@@ -551,7 +565,7 @@ static Vec *eval_let(Eval *ev, const AstNode *n)
 
 /* AST_FOR: names in source, body per group of len(names) items, no
  * wrap-around (§4.6). */
-static Vec *eval_for(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
 {
     Vec *src = eval(ev, n->a);
     uint32_t len = vec_len(src), k = n->nnames ? n->nnames : 1;
@@ -567,7 +581,7 @@ static Vec *eval_for(Eval *ev, const AstNode *n)
 }
 
 /* AST_IFELSE: first true condition's branch, else `a` (§4.7). */
-static Vec *eval_ifelse(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_ifelse(Eval *ev, const AstNode *n)
 {
     for (uint32_t i = 0; i + 1 < n->nkids; i += 2) {
         Vec *c = eval(ev, n->kids[i]);
@@ -583,7 +597,7 @@ static Vec *eval_ifelse(Eval *ev, const AstNode *n)
  * ==================================================================== */
 
 /* AST_IMPORT: import names from a, then the body b. */
-static Vec *eval_import(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_import(Eval *ev, const AstNode *n)
 {
     Vec *file = eval(ev, n->a);
     Buf name = BUF_INIT, path = BUF_INIT;

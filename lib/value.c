@@ -425,11 +425,15 @@ Vec *vec_add_mul(const Vec *a, const Vec *b, const Vec *c)
     if (!vec_is_num(a) || !vec_is_num(b) || !vec_is_num(c)) return NULL;
     uint32_t na = a->len, nb = b->len, nc = c->len;
     if (!na || !nb || !nc) return NULL;
+    const double *xa = vec_cnums(a), *xb = vec_cnums(b), *xc = vec_cnums(c);
+    if ((na | nb | nc) == 1) {
+        double p = xb[0] * xc[0];
+        return vec_num1(xa[0] + p);
+    }
     uint32_t n = na > nb ? na : nb;
     if (nc > n) n = nc;
     Vec *v = vec_new_num(n);
     double *r = vec_nums(v);
-    const double *xa = vec_cnums(a), *xb = vec_cnums(b), *xc = vec_cnums(c);
     for (uint32_t i = 0; i < n; i++) {
         double p = xb[i % nb] * xc[i % nc];
         r[i] = xa[i % na] + p;
