@@ -4,6 +4,7 @@
 # stderr, and leaves stdout (the state dump) unchanged.
 set -u
 flitter=$1 script=$2
+unset FLITTER_NOPOOL   # the steady-frame figure is about the pooled runtime
 dir=$(mktemp -d) || exit 2
 trap 'rm -rf "$dir"' EXIT
 "$flitter" run --frames 12 --dump-state "$script" >"$dir/plain" 2>/dev/null || exit 1

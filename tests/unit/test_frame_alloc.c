@@ -144,6 +144,7 @@ static void test_stats_count_allocations_without_pool(void **st)
 
 int main(void)
 {
+    unsetenv("FLITTER_NOPOOL");   /* these tests are about the pooled runtime */
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_petri_steady_frame_no_malloc),
         cmocka_unit_test(test_canvas_steady_frame_no_malloc),
