@@ -101,17 +101,21 @@ static void parts_init(Parts *p)
     p->cap = 8;
 }
 
-static void parts_push(Parts *p, Vec *x)
+/* Grow [p] (full) to twice its capacity. */
+static void parts_grow(Parts *p)
+{
+    size_t cap = p->cap * 2;
+    Vec **nv = pool_alloc(cap * sizeof(Vec *));
+    memcpy(nv, p->v, p->n * sizeof(Vec *));
+    if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
+    p->v = nv;
+    p->cap = cap;
+}
+
+static inline void parts_push(Parts *p, Vec *x)
 {
     if (!x) return;
-    if (p->n == p->cap) {
-        size_t cap = p->cap * 2;
-        Vec **nv = pool_alloc(cap * sizeof(Vec *));
-        memcpy(nv, p->v, p->n * sizeof(Vec *));
-        if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
-        p->v = nv;
-        p->cap = cap;
-    }
+    if (p->n == p->cap) parts_grow(p);
     p->v[p->n++] = x;
 }
 
