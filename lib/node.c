@@ -126,21 +126,14 @@ void node_append(Node *n, Node *child)
     n->children[n->nchildren++] = node_retain(child);
 }
 
-Vec *node_attr(const Node *n, const char *name)
+Vec *node_attr_n(const Node *n, const char *name, size_t len)
 {
-    size_t len = strlen(name);
     for (uint32_t i = 0; i < n->nattrs; i++) {
         const Str *s = n->attrs[i].name;
         if (s->len == len && s->bytes[0] == name[0] && memcmp(s->bytes, name, len) == 0)
             return n->attrs[i].value;
     }
     return NULL;
-}
-
-bool node_is(const Node *n, const char *kind)
-{
-    size_t len = strlen(kind);
-    return n->kind->len == len && memcmp(n->kind->bytes, kind, len) == 0;
 }
 
 bool node_equal(const Node *a, const Node *b)
