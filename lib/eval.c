@@ -576,8 +576,17 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
     Parts parts;
     parts_init(&parts);
     for (uint32_t p = 0; p < len; p += k) {
-        for (uint32_t j = 0; j < n->nnames; j++)
-            set_slot(ev, n->slots[j], p + j < len ? vec_item(src, p + j) : NULL);
+        for (uint32_t j = 0; j < n->nnames; j++) {
+            Vec *cur = ev->frame[n->slots[j]];
+            if (p + j < len && src->kind == VEC_NUM && cur && cur->refs == 1 &&
+                cur->kind == VEC_NUM && cur->len == 1) {
+                /* the previous item is held by nothing else: reuse it */
+                cur->hashed = 0;
+                vec_nums(cur)[0] = vec_cnums(src)[p + j];
+            } else {
+                set_slot(ev, n->slots[j], p + j < len ? vec_item(src, p + j) : NULL);
+            }
+        }
         parts_push(&parts, eval(ev, n->b));
     }
     vec_release(src);
