@@ -276,7 +276,8 @@ Vec *vec_compose(Vec *const *parts, size_t n)
         for (size_t i = 0; i < n; i++) {
             const Vec *p = parts[i];
             if (!p || !p->len) continue;
-            memcpy(d, vec_cnums(p), p->len * sizeof(double));
+            if (p->len == 1) *d = vec_cnums(p)[0];   /* the common case: no call */
+            else memcpy(d, vec_cnums(p), p->len * sizeof(double));
             d += p->len;
         }
         return r;
