@@ -67,7 +67,9 @@ uint64_t fnv1a_utf8(const char *s, size_t len);
 struct Builtin;
 
 /* A function value: a builtin (bi != NULL) or a user closure built by the
- * evaluator (impl points at evaluator data that [destroy] frees). */
+ * evaluator (impl points at evaluator data that [destroy] frees). Allocate
+ * it with pool_calloc(sizeof(Func)) (pool.h): func_release returns it to
+ * the pool, as vec_release and str_release do for vectors and strings. */
 struct Func {
     uint32_t refs;                 /* reference count */
     const struct Builtin *bi;      /* builtin descriptor, or NULL */
