@@ -62,11 +62,6 @@ void str_release(Str *s)
     if (s && --s->refs == 0) pool_release(s, sizeof(Str) + s->len + 1);
 }
 
-bool str_eq(const Str *a, const Str *b)
-{
-    return a == b || (a->len == b->len && memcmp(a->bytes, b->bytes, a->len) == 0);
-}
-
 int str_cmp(const Str *a, const Str *b)
 {
     uint32_t n = a->len < b->len ? a->len : b->len;

@@ -28,6 +28,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 typedef struct Vec Vec;
 typedef struct Str Str;
@@ -53,7 +54,10 @@ Str *str_from(const char *s);
 static inline Str *str_retain(Str *s) { if (s) s->refs++; return s; }
 void str_release(Str *s);
 /* True when both strings hold the same bytes. */
-bool str_eq(const Str *a, const Str *b);
+static inline bool str_eq(const Str *a, const Str *b)
+{
+    return a == b || (a->len == b->len && memcmp(a->bytes, b->bytes, a->len) == 0);
+}
 /* Byte-wise (= code-point) comparison: <0, 0, >0. */
 int str_cmp(const Str *a, const Str *b);
 /* FNV-1a 64 over the code points of a UTF-8 string (LANGUAGE.md §3.3).
