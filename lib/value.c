@@ -116,8 +116,6 @@ static Vec *vec_alloc(uint8_t kind, uint32_t n, size_t elem_size)
     return v;
 }
 
-Vec *vec_new_num(uint32_t n) { return vec_alloc(VEC_NUM, n, sizeof(double)); }
-
 Vec *vec_new_obj(uint32_t n)
 {
     Vec *v = vec_alloc(VEC_OBJ, n, sizeof(Elem));
@@ -126,13 +124,6 @@ Vec *vec_new_obj(uint32_t n)
         e[i].kind = EL_NUM;
         e[i].num = 0.0;
     }
-    return v;
-}
-
-Vec *vec_num1(double x)
-{
-    Vec *v = vec_new_num(1);
-    vec_nums(v)[0] = x;
     return v;
 }
 

@@ -30,6 +30,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "pool.h"
+
 typedef struct Vec Vec;
 typedef struct Str Str;
 typedef struct Node Node;
@@ -139,16 +141,34 @@ static inline Vec *vec_retain(Vec *v) { if (v) v->refs++; return v; }
 void vec_destroy_(Vec *v);
 static inline void vec_release(Vec *v)
 {
-    if (v && --v->refs == 0) vec_destroy_(v);
+    if (v && --v->refs == 0) {
+        if (v->kind == VEC_NUM) pool_release(v, sizeof(Vec) + (size_t)v->len * sizeof(double));
+        else vec_destroy_(v);
+    }
 }
 
 /* A new numeric vector of [n] > 0 uninitialised doubles; fill via vec_nums(). */
-Vec *vec_new_num(uint32_t n);
+static inline Vec *vec_new_num(uint32_t n)
+{
+    Vec *v = pool_alloc(sizeof(Vec) + (size_t)n * sizeof(double));
+    v->refs = 1;
+    v->kind = VEC_NUM;
+    v->stream = 0;
+    v->hashed = 0;
+    v->len = n;
+    v->key = 0;
+    return v;
+}
 /* A new object vector of [n] > 0 elements, all initialised to the number 0;
  * fill via vec_elems() (each pointer element must hold its own reference). */
 Vec *vec_new_obj(uint32_t n);
 /* A one-element numeric vector. */
-Vec *vec_num1(double x);
+static inline Vec *vec_num1(double x)
+{
+    Vec *v = vec_new_num(1);
+    vec_nums(v)[0] = x;
+    return v;
+}
 /* A numeric vector copied from [n] doubles ([n] == 0 gives null). */
 Vec *vec_from_nums(const double *x, uint32_t n);
 /* A one-element string vector from [len] UTF-8 bytes. */
