@@ -525,6 +525,7 @@ static void repl_usage(FILE *f)
     fputs("usage: flitter repl [options] [SCRIPT]\n"
           "  --fps F             frame rate of :step (default 60; %pragma fps overrides it)\n"
           "  -D, --define NAME=VALUE  bind NAME before evaluation\n"
+          "  --nosimplify        run scripts as parsed, without the load-time simplifier\n"
           "Type :help in the session for its commands.\n",
           f);
 }
@@ -537,6 +538,8 @@ static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
     static const struct option longopts[] = {
         {"fps", required_argument, NULL, 'f'},
         {"define", required_argument, NULL, 'D'},
+        {"nosimplify", no_argument, NULL, 'n'},
+        {"no-simplify", no_argument, NULL, 'n'},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -562,6 +565,7 @@ static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
             }
             defines[ndefines++] = optarg;
             break;
+        case 'n': opts->no_simplify = true; break;
         case 'h':
             repl_usage(stdout);
             rc = -1;

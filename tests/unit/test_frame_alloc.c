@@ -138,7 +138,7 @@ static void test_stats_count_allocations_without_pool(void **st)
     unsigned long stat;
     unsigned long real = steady_calls(petri, 2, 1, &stat);
     unsetenv("FLITTER_NOPOOL");
-    assert_true(stat > 1000);       /* 200 particles: several vectors each */
+    if (stat < 400) fail_msg("%lu allocations counted", stat);   /* 200 particles: 2 state values each */
     assert_true(real >= stat);
 }
 
