@@ -92,7 +92,45 @@ typedef struct PhysGroup {
 typedef struct PhysLevel {
     size_t npool;
     size_t group;
+    int route;          /* PHYS_ROUTE_*, chosen per frame by phys_plan_levels */
+    double reach;       /* no applier of the level acts at dist >= reach */
 } PhysLevel;
+
+/* How one pair level is computed (pairs.c). Every route gives the same bits
+ * as the reference loop of phys_apply_pair_level. */
+enum {
+    PHYS_ROUTE_SCATTER,  /* the reference all-pairs loop, one thread */
+    PHYS_ROUTE_SKIP,     /* reach 0: no pair can interact */
+    PHYS_ROUTE_ALL,      /* per-particle gather over all pairs */
+    PHYS_ROUTE_GRID      /* per-particle gather over a uniform grid */
+};
+
+/* Per-thread scratch of the gather routes: the pair direction and a
+ * candidate list (capacity `capcand`). */
+typedef struct PhysScratch {
+    double *dir;
+    size_t capdir;
+    uint32_t *cand;
+    size_t capcand;
+} PhysScratch;
+
+/* The uniform neighbour grid of one pair level, rebuilt every step:
+ * pool entries hashed by cell into `nb` buckets (counting sort, each
+ * bucket's entries in ascending pool order). Entries whose position is not
+ * finite or lies too far out for a 32-bit cell index are in `odd`. */
+typedef struct PhysGrid {
+    double h;                    /* cell size (>= reach) */
+    size_t nb;                   /* buckets, a power of two */
+    uint32_t *bucket;            /* per pool entry: bucket, or UINT32_MAX */
+    int32_t *cell;               /* per pool entry: 3 cell coordinates */
+    uint32_t *start;             /* nb + 1 bucket starts into `ent` */
+    uint32_t *ent;               /* pool entries by bucket */
+    uint32_t *odd;               /* pool entries outside the grid */
+    size_t nodd;
+    size_t capbucket, capcell, capstart, capent, capodd;
+} PhysGrid;
+
+typedef struct PhysWorkers PhysWorkers;
 
 /* Cached state keys of one storage slot. */
 typedef struct PhysKeySlot {
@@ -153,6 +191,12 @@ typedef struct PhysSystem {
     PhysLevel *levels; size_t nlevels, caplevels;
     uint32_t *pool;  size_t npool, cappool;
 
+    /* pair routes (pairs.c) */
+    bool naive;                   /* always the reference loop */
+    PhysWorkers *workers;         /* borrowed from the world; NULL = 1 thread */
+    PhysGrid grid;
+    PhysScratch *scratch; size_t capscratch;  /* one per thread */
+
     /* tree walk scratch */
     PhysPNode *pn; size_t npn, cappn;
     struct PhysWalk *walk; size_t capwalk;
@@ -184,6 +228,24 @@ void phys_apply_particle(PhysSystem *s, PhysApplier *ap, size_t p,
                          double delta);
 /* Barrier soft constraint: b.distance(p). */
 void phys_barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p);
+
+/* Gather side of a pair applier: what applier [ap] adds to one particle of
+ * the pair (a, b) measured as dist/dir by pair(a, b): to a's force [F] when
+ * [to_b] is false, to b's when true (the same element operations as the
+ * reference loop performs on that particle). */
+void phys_pair_force_one(const PhysSystem *s, const PhysApplier *ap, size_t a,
+                         size_t b, double dist, const double *dir, double *F,
+                         bool to_b);
+
+/* ---- pairs.c: pair routes (neighbour grid, gather, threads) ---- */
+
+/* Choose each level's route for this frame (after collection: radii,
+ * appliers and pools are known). */
+void phys_plan_levels(PhysSystem *s);
+/* Run one pair level of group [g] by its route. */
+void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
+/* Free the grid and scratch arrays. */
+void phys_pairs_free(PhysSystem *s);
 
 /* ---- step.c: integration, rebound and the step loop ---- */
 

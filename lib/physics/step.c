@@ -122,7 +122,7 @@ static void pair_pass(PhysSystem *s, const PhysGroup *g)
     if (g->npart == 0)
         return;
     for (size_t l = 0; l < g->lvl_n; l++)
-        phys_apply_pair_level(s, g, &s->levels[g->lvl_off + l]);
+        phys_run_level(s, g, &s->levels[g->lvl_off + l]);
 }
 
 /* §4 second pass for group [g] (with particles): particle appliers and

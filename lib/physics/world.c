@@ -25,10 +25,14 @@
 #include <string.h>
 
 #include "physics_internal.h"
+#include "workers.h"
 
 struct PhysicsWorld {
     PhysSystem **sys;
     size_t n, cap;
+    bool naive;             /* --pairs naive: the reference pair loop only */
+    unsigned threads;       /* wanted threads; the pool is made on first use */
+    PhysWorkers *workers;   /* NULL until needed or when threads == 1 */
 };
 
 /* One level of the explicit tree-walk stack (§3 is recursive over groups). */
@@ -263,6 +267,7 @@ static void system_free(PhysSystem *s)
     free(s->pn); free(s->walk);
     free(s->ids.slot); free(s->newkeys.slot);
     free(s->slots); free(s->prev); free(s->next); free(s->nexthash);
+    phys_pairs_free(s);
     free(s);
 }
 
@@ -669,7 +674,7 @@ static void build_lists(PhysSystem *s)
             npool += GA->npart;
             if (GA->pair_n) {
                 GROW(s->levels, s->caplevels, s->nlevels + 1);
-                s->levels[s->nlevels++] = (PhysLevel){npool, (size_t)A};
+                s->levels[s->nlevels++] = (PhysLevel){.npool = npool, .group = (size_t)A};
             }
         }
         G->lvl_n = s->nlevels - G->lvl_off;
@@ -716,6 +721,7 @@ static bool collect(PhysSystem *s, Collect *c, const Node *root,
         ap->to = t == SIZE_MAX ? -1 : (ptrdiff_t)t;
     }
     build_lists(s);
+    phys_plan_levels(s);
     return true;
 }
 
@@ -854,13 +860,36 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
 /* Public interface                                                    */
 /* ------------------------------------------------------------------ */
 
-/* A new world with no systems. */
+/* A new world with no systems; FLITTER_THREADS and FLITTER_PAIRS give the
+ * defaults of phys_set_threads() and phys_set_pairs(). */
 PhysicsWorld *phys_new(void)
 {
     PhysicsWorld *w = calloc(1, sizeof *w);
     if (!w)
         oom();
+    const char *e = getenv("FLITTER_THREADS");
+    char *end;
+    long n = e ? strtol(e, &end, 10) : 0;
+    phys_set_threads(w, e && *e && !*end && n > 0 && n <= 1024 ? (unsigned)n : 0);
+    e = getenv("FLITTER_PAIRS");
+    phys_set_pairs(w, e && !strcmp(e, "naive"));
     return w;
+}
+
+void phys_set_threads(PhysicsWorld *w, unsigned n)
+{
+    if (n == 0)
+        n = phys_available_cores();
+    if (n != w->threads) {
+        phys_workers_free(w->workers);
+        w->workers = NULL;
+    }
+    w->threads = n;
+}
+
+void phys_set_pairs(PhysicsWorld *w, bool naive)
+{
+    w->naive = naive;
 }
 
 /* Free [w] and all its systems (NULL is a no-op). */
@@ -871,6 +900,7 @@ void phys_free(PhysicsWorld *w)
     for (size_t i = 0; i < w->n; i++)
         system_free(w->sys[i]);
     free(w->sys);
+    phys_workers_free(w->workers);
     free(w);
 }
 
@@ -884,6 +914,12 @@ void phys_run_frame(PhysicsWorld *w, Node *const *nodes, size_t n,
     GROW(w->sys, w->cap, n);
     while (w->n < n)
         w->sys[w->n++] = system_new();
-    for (size_t i = 0; i < n; i++)
-        system_frame(w->sys[i], nodes[i], state, frame);
+    if (w->threads > 1 && !w->workers && !w->naive)
+        w->workers = phys_workers_new(w->threads);
+    for (size_t i = 0; i < n; i++) {
+        PhysSystem *s = w->sys[i];
+        s->naive = w->naive;
+        s->workers = w->naive ? NULL : w->workers;
+        system_frame(s, nodes[i], state, frame);
+    }
 }
