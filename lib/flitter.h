@@ -33,7 +33,20 @@ typedef struct fl_options {
     bool realtime;       /* pace on the wall clock instead of lockstep */
     FILE *log;           /* where run-time errors and warnings go (stderr); NULL: nowhere */
     FILE *debug;         /* where debug() lines go (stdout); NULL: nowhere */
+    int threads;         /* physics threads (--threads); 0: FLITTER_THREADS, else every core */
+    int pairs;           /* physics pair route (--pairs): FL_PAIRS_* */
 } fl_options;
+
+/* fl_options.pairs: the physics pair loop. Every route gives the same bits. */
+enum {
+    FL_PAIRS_DEFAULT = 0,  /* FLITTER_PAIRS=naive selects naive, else fast */
+    FL_PAIRS_FAST,         /* neighbour grid and threads where they apply */
+    FL_PAIRS_NAIVE         /* the reference all-pairs loop, one thread */
+};
+
+/* Parse a --pairs value ("naive" or "fast") into *[out] (FL_PAIRS_*);
+ * returns false, leaving *[out] alone, for anything else. */
+bool fl_parse_pairs(const char *text, int *out);
 
 /* The defaults: 60 fps, unknown frames, lockstep, log to stderr, debug to stdout. */
 fl_options fl_default_options(void);

@@ -70,6 +70,17 @@ fl_options fl_default_options(void)
     return (fl_options){.fps = 60.0, .frames = -1, .realtime = false, .log = stderr, .debug = stdout};
 }
 
+bool fl_parse_pairs(const char *text, int *out)
+{
+    if (!strcmp(text, "naive"))
+        *out = FL_PAIRS_NAIVE;
+    else if (!strcmp(text, "fast"))
+        *out = FL_PAIRS_FAST;
+    else
+        return false;
+    return true;
+}
+
 static double monotonic(void)
 {
     struct timespec ts;
@@ -86,6 +97,10 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->symtab = symtab_new();
     rt->state = state_new();
     rt->physics = phys_new();
+    if (rt->opts.threads > 0)
+        phys_set_threads(rt->physics, (unsigned)rt->opts.threads);
+    if (rt->opts.pairs != FL_PAIRS_DEFAULT)
+        phys_set_pairs(rt->physics, rt->opts.pairs == FL_PAIRS_NAIVE);
     rt->modules = module_cache_new();
     rt->counter_key = vec_str("_counter", 8);
     /* symbols the physics engine writes into state keys (PHYSICS.md) */

@@ -27,7 +27,10 @@ static void run_usage(FILE *f)
           "  --dump-every K      also dump the state after every K-th frame\n"
           "  --dump-tree         write the last frame's node tree to stdout\n"
           "  --state FILE        load the state from FILE at start (if it exists) and save\n"
-          "                      it back atomically at exit and every 5 seconds\n",
+          "                      it back atomically at exit and every 5 seconds\n"
+          "  --threads N         physics threads (default: FLITTER_THREADS, else all cores)\n"
+          "  --pairs naive|fast  physics pair loop: the reference all-pairs loop, or the\n"
+          "                      neighbour grid and threads (default fast; same results)\n",
           f);
 }
 
@@ -44,7 +47,7 @@ static bool parse_count(const char *s, long *out)
 int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
-           O_STATE };
+           O_STATE, O_THREADS, O_PAIRS };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -55,6 +58,8 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"dump-every", required_argument, NULL, O_DUMP_EVERY},
         {"dump-tree", no_argument, NULL, O_DUMP_TREE},
         {"state", required_argument, NULL, O_STATE},
+        {"threads", required_argument, NULL, O_THREADS},
+        {"pairs", required_argument, NULL, O_PAIRS},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -87,6 +92,15 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
             break;
         case O_DUMP_TREE: spec->dump_tree = true; break;
         case O_STATE: spec->state_file = optarg; break;
+        case O_THREADS: {
+            long n;
+            if (!parse_count(optarg, &n) || n < 1 || n > 1024) goto bad_value;
+            spec->threads = (int)n;
+            break;
+        }
+        case O_PAIRS:
+            if (!fl_parse_pairs(optarg, &spec->pairs)) goto bad_value;
+            break;
         case 'h':
             run_usage(stdout);
             return -1;
@@ -177,6 +191,8 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     opts.fps = spec->fps;
     opts.frames = spec->frames;
     opts.realtime = spec->realtime;
+    opts.threads = spec->threads;
+    opts.pairs = spec->pairs;
     opts.log = log;
     opts.debug = (spec->dump_state || spec->dump_tree) ? log : out;
     fl_runtime *rt = fl_new(&opts);

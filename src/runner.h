@@ -19,6 +19,8 @@ typedef struct RunSpec {
     char **defines;       /* NAME=VALUE strings (borrowed from argv) */
     int ndefines;
     const char *script;   /* SCRIPT */
+    int threads;          /* --threads N, or 0 (FLITTER_THREADS / every core) */
+    int pairs;            /* --pairs naive|fast: FL_PAIRS_*, default FL_PAIRS_DEFAULT */
 } RunSpec;
 
 /* Parse `flitter run` options from [argv][0..argc) (argv[0] is ignored).
