@@ -132,13 +132,22 @@ typedef struct PhysGrid {
 
 typedef struct PhysWorkers PhysWorkers;
 
-/* Cached state keys of one storage slot. */
+/* State keys of one storage slot for this frame (borrowed from the key
+ * table). */
 typedef struct PhysKeySlot {
-    Vec *id;              /* id the keys were built from (retained) */
     Vec *pkey;            /* P;id */
     Vec *vkey;            /* P;id;:velocity */
     uint64_t phash, vhash;/* vec_hash(key, false) */
 } PhysKeySlot;
+
+/* One particle id's state keys, kept while the id is collected every frame
+ * (keys.c). */
+typedef struct PhysKeyEnt {
+    Vec *id;              /* retained */
+    Vec *pkey, *vkey;     /* P;id and P;id;:velocity, retained */
+    uint64_t idhash, phash, vhash;   /* vec_hash(..., false) */
+    uint64_t seen;        /* last frame (kframe) the id was collected */
+} PhysKeyEnt;
 
 /* Open-addressing (linear probing) hash index from key vectors (compared
  * with vec_key_equal) to array indices; idx1 = index + 1, 0 = empty slot;
@@ -209,6 +218,9 @@ typedef struct PhysSystem {
     Vec *prefix;                  /* P the cached keys were built from */
     Vec *kclock, *klast, *krun, *kiter;
     PhysKeySlot *slots; size_t capslots;
+    PhysKeyEnt *kent; size_t nkent, capkent;  /* key table (keys.c) */
+    uint32_t *kidx; size_t capkidx;           /* its index: entry + 1 */
+    uint64_t kframe;                          /* frames swept so far */
     Vec **prev; size_t nprev, capprev;        /* retained */
     Vec **next; uint64_t *nexthash; size_t capnext;  /* borrowed scratch */
 } PhysSystem;
@@ -236,6 +248,19 @@ void phys_barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p);
 void phys_pair_force_one(const PhysSystem *s, const PhysApplier *ap, size_t a,
                          size_t b, double dist, const double *dir, double *F,
                          bool to_b);
+
+/* ---- keys.c: particle state keys kept while the particle lives ---- */
+
+/* The key entry of particle [id] (hash [idhash] = vec_hash(id, false)),
+ * built from s->prefix on first sight; marks it seen this frame. The
+ * pointer is valid until the next phys_keys_get or sweep. */
+const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash);
+/* End of collection: drop the entries not seen this frame. */
+void phys_keys_sweep(PhysSystem *s);
+/* Drop every entry (the prefix changed). */
+void phys_keys_clear(PhysSystem *s);
+/* Free the table. */
+void phys_keys_free(PhysSystem *s);
 
 /* ---- pairs.c: pair routes (neighbour grid, gather, threads) ---- */
 

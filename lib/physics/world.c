@@ -229,15 +229,12 @@ static PhysSystem *system_new(void)
     return s;
 }
 
+/* Forget every cached particle key (the slots only borrow them). */
 static void release_slots(PhysSystem *s)
 {
-    for (size_t i = 0; i < s->capslots; i++) {
-        PhysKeySlot *k = &s->slots[i];
-        vec_release(k->id);
-        vec_release(k->pkey);
-        vec_release(k->vkey);
-        k->id = k->pkey = k->vkey = NULL;
-    }
+    phys_keys_clear(s);
+    if (s->capslots)
+        memset(s->slots, 0, s->capslots * sizeof *s->slots);
 }
 
 static void release_prev(PhysSystem *s)
@@ -251,7 +248,7 @@ static void system_free(PhysSystem *s)
 {
     if (!s)
         return;
-    release_slots(s);
+    phys_keys_free(s);
     release_prev(s);
     vec_release(s->prefix);
     vec_release(s->kclock);
@@ -290,20 +287,13 @@ static void set_prefix(PhysSystem *s, const Vec *P)
     s->kiter = compose_sym(P, "iteration");
 }
 
-/* The cached keys of storage slot [i] for particle [id] (§2 step 8 keys). */
-static PhysKeySlot *slot_keys(PhysSystem *s, size_t i, const Vec *id)
+/* The keys of storage slot [i], holding the particle [pn] (§2 step 8
+ * keys), from the system's key table (keys.c). */
+static PhysKeySlot *slot_keys(PhysSystem *s, size_t i, const PhysPNode *pn)
 {
+    const PhysKeyEnt *e = phys_keys_get(s, pn->id, pn->idhash);
     PhysKeySlot *k = &s->slots[i];
-    if (k->id && vec_key_equal(k->id, id))
-        return k;
-    vec_release(k->id);
-    vec_release(k->pkey);
-    vec_release(k->vkey);
-    k->id = vec_retain((Vec *)id);
-    k->pkey = compose2(s->prefix, id);
-    k->vkey = compose_sym(k->pkey, "velocity");
-    k->phash = vec_hash(k->pkey, false);
-    k->vhash = vec_hash(k->vkey, false);
+    *k = (PhysKeySlot){e->pkey, e->vkey, e->phash, e->vhash};
     return k;
 }
 
@@ -539,7 +529,7 @@ static void fill_particle(PhysSystem *s, const Collect *c, const StateDict *sd,
 {
     const size_t D = s->D, i = pn->storage;
     const Node *node = pn->node;
-    const PhysKeySlot *k = slot_keys(s, i, pn->id);
+    const PhysKeySlot *k = slot_keys(s, i, pn);
     double *pos = s->pos + i * D, *vel = s->vel + i * D;
     double *own = s->own + i * D;
     s->anchor[i] = pn->anchor;
@@ -720,6 +710,7 @@ static bool collect(PhysSystem *s, Collect *c, const Node *root,
         ap->from = f == SIZE_MAX ? -1 : (ptrdiff_t)f;
         ap->to = t == SIZE_MAX ? -1 : (ptrdiff_t)t;
     }
+    phys_keys_sweep(s);
     build_lists(s);
     phys_plan_levels(s);
     return true;
