@@ -145,11 +145,16 @@ static int64_t floor_i64(double x)
     return INT64_MIN;
 }
 
+/* §1 float(name, default) of an attribute value [v] (NULL: missing). */
+static double float_of(const Vec *v, double def)
+{
+    return vec_is_scalar(v) ? vec_scalar(v) : def;
+}
+
 /* §1 float(name, default). */
 static double attr_float(const Node *n, const char *name, double def)
 {
-    const Vec *v = node_attr(n, name);
-    return vec_is_scalar(v) ? vec_scalar(v) : def;
+    return float_of(node_attr(n, name), def);
 }
 
 /* §1 int(name, default). */
@@ -161,9 +166,8 @@ static int64_t attr_int(const Node *n, const char *name, int64_t def)
 
 /* §1 fvec(name): writes D doubles to [out] and returns true, or returns
  * false (out untouched) when the default applies. */
-static bool attr_fvec(const Node *n, const char *name, size_t D, double *out)
+static bool fvec_of(const Vec *v, size_t D, double *out)
 {
-    const Vec *v = node_attr(n, name);
     if (!vec_is_num(v))
         return false;
     const double *x = vec_cnums(v);
@@ -179,10 +183,15 @@ static bool attr_fvec(const Node *n, const char *name, size_t D, double *out)
     return false;
 }
 
-/* fvec(name) with the zero-vector default. */
-static void attr_fvec0(const Node *n, const char *name, size_t D, double *out)
+static bool attr_fvec(const Node *n, const char *name, size_t D, double *out)
 {
-    if (!attr_fvec(n, name, D, out))
+    return fvec_of(node_attr(n, name), D, out);
+}
+
+/* fvec of attribute value [v] with the zero-vector default. */
+static void fvec0_of(const Vec *v, size_t D, double *out)
+{
+    if (!fvec_of(v, D, out))
         memset(out, 0, D * sizeof *out);
 }
 
@@ -523,12 +532,37 @@ static void ensure_particles(PhysSystem *s, size_t n, size_t D)
     GROW(s->dir, s->capdir, D);
 }
 
+/* The attributes §3 reads from a particle, found in one pass over the
+ * node's attributes (the first of each name, as node_attr() would). */
+enum { PA_POSITION, PA_VELOCITY, PA_FORCE, PA_RADIUS, PA_MASS, PA_CHARGE,
+       PA_EASE, PA_COUNT };
+
+static void particle_attrs(const Node *n, const Vec *out[PA_COUNT])
+{
+    static const char *const names[PA_COUNT] = {
+        "position", "velocity", "force", "radius", "mass", "charge", "ease"};
+    static const unsigned char lens[PA_COUNT] = {8, 8, 5, 6, 4, 6, 4};
+    for (int k = 0; k < PA_COUNT; k++)
+        out[k] = NULL;
+    for (uint32_t a = 0; a < n->nattrs; a++) {
+        const Str *name = n->attrs[a].name;
+        for (int k = 0; k < PA_COUNT; k++) {
+            if (!out[k] && name->len == lens[k] &&
+                memcmp(name->bytes, names[k], lens[k]) == 0) {
+                out[k] = n->attrs[a].value;
+                break;
+            }
+        }
+    }
+}
+
 /* §3 particle/anchor: fill storage slot [pn->storage]. */
 static void fill_particle(PhysSystem *s, const Collect *c, const StateDict *sd,
                           const PhysPNode *pn)
 {
     const size_t D = s->D, i = pn->storage;
-    const Node *node = pn->node;
+    const Vec *at[PA_COUNT];
+    particle_attrs(pn->node, at);
     const PhysKeySlot *k = slot_keys(s, i, pn);
     double *pos = s->pos + i * D, *vel = s->vel + i * D;
     double *own = s->own + i * D;
@@ -539,21 +573,21 @@ static void fill_particle(PhysSystem *s, const Collect *c, const StateDict *sd,
     if (vec_is_num(v) && v->len == D)
         memcpy(pos, vec_cnums(v), D * sizeof *pos);
     else
-        attr_fvec0(node, "position", D, pos);
+        fvec0_of(at[PA_POSITION], D, pos);
     v = NULL;
     if (!pn->anchor && c->iteration > 0)
         v = state_get(sd, k->vkey);
     if (vec_is_num(v) && v->len == D)
         memcpy(vel, vec_cnums(v), D * sizeof *vel);
     else
-        attr_fvec0(node, "velocity", D, vel);
-    attr_fvec0(node, "force", D, own);
-    s->radius[i] = py_max(0, attr_float(node, "radius", 0));
-    s->mass[i] = py_max(0, attr_float(node, "mass", 1));
-    s->charge[i] = attr_float(node, "charge", 0);
+        fvec0_of(at[PA_VELOCITY], D, vel);
+    fvec0_of(at[PA_FORCE], D, own);
+    s->radius[i] = py_max(0, float_of(at[PA_RADIUS], 0));
+    s->mass[i] = py_max(0, float_of(at[PA_MASS], 1));
+    s->charge[i] = float_of(at[PA_CHARGE], 0);
     /* [doc] the particle's own force is eased: if e > 0 and clock < e,
      * own[i] = own[i] * (clock / e) */
-    double e = attr_float(node, "ease", 0);
+    double e = float_of(at[PA_EASE], 0);
     if (e > 0 && c->clock < e) {
         double q = c->clock / e;
         for (size_t j = 0; j < D; j++)
@@ -758,6 +792,23 @@ static void null_stale_keys(PhysSystem *s, StateDict *sd)
     s->nprev = nk;
 }
 
+/* state[key] = the [D] numbers [x]. When the stored value is already a
+ * numeric vector of length D referenced by the state alone (refs == 1, so
+ * nothing else can see it change; the copy-on-write rule eval.c also
+ * uses), its numbers are overwritten in place: the same effect as storing a
+ * new vector, without allocating one per particle per frame. */
+static void store_nums(StateDict *sd, const Vec *key, const double *x, size_t D)
+{
+    Vec *cur = state_get(sd, key);
+    if (cur && cur->refs == 1 && cur->kind == VEC_NUM && cur->len == D) {
+        memcpy(vec_nums(cur), x, D * sizeof *x);
+        return;
+    }
+    Vec *v = vec_from_nums(x, (uint32_t)D);
+    state_set(sd, key, v);
+    vec_release(v);
+}
+
 /* §2 step 8 writes: position and velocity of every particle (anchors too)
  * in group order, each only when all its elements are finite. */
 static void write_particles(PhysSystem *s, StateDict *sd)
@@ -771,11 +822,8 @@ static void write_particles(PhysSystem *s, StateDict *sd)
             bool finite = true;
             for (size_t d = 0; d < D && finite; d++)
                 finite = isfinite(vecs[j][d]);
-            if (finite) {
-                Vec *v = vec_from_nums(vecs[j], (uint32_t)D);
-                state_set(sd, keys[j], v);
-                vec_release(v);
-            }
+            if (finite)
+                store_nums(sd, keys[j], vecs[j], D);
         }
     }
 }
