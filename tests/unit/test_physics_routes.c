@@ -90,6 +90,7 @@ typedef struct Scene {
     size_t nids;           /* particles so far (ids 0 .. nids-1) */
     double box;            /* side of the box the particles start in */
     Vec *lastpos;          /* for coincident particles */
+    bool no_random;        /* leave out !random (its draws are sequential) */
 } Scene;
 
 static void add_particles(Rng *r, Scene *sc, Node *g, size_t n)
@@ -165,7 +166,10 @@ static void add_other_applier(Rng *r, Scene *sc, Node *g)
         set(add(g, "constant"), "acceleration", rvec(r, sc->D, 2, 0));
         break;
     default:
-        set(add(g, "random"), "strength", num(0.3));
+        if (sc->no_random)
+            set(add(g, "drag"), "strength", num(0.02));
+        else
+            set(add(g, "random"), "strength", num(0.3));
         break;
     }
 }
@@ -190,10 +194,10 @@ static void fill_group(Rng *r, Scene *sc, Node *g, int depth, size_t big)
         add_particles(r, sc, g, 1 + below(r, 10));   /* after the subgroups */
 }
 
-static Node *random_scene(uint64_t seed, size_t big)
+static Node *random_scene(uint64_t seed, size_t big, bool no_random)
 {
     Rng r = {seed};
-    Scene sc = {.D = 1 + below(&r, 4)};
+    Scene sc = {.D = 1 + below(&r, 4), .no_random = no_random};
     /* a density that keeps many discs touching */
     double n = big ? (double)big : 60;
     sc.box = sc.D == 1 ? n * 0.8 : sc.D == 2 ? sqrt(n) * 1.2 : cbrt(n) * 1.5;
@@ -252,9 +256,9 @@ static void assert_same_state(const StateDict *a, const StateDict *b,
     free(ea);
 }
 
-static void check_scene(uint64_t seed, size_t big, int frames)
+static void check_scene(uint64_t seed, size_t big, int frames, bool no_random)
 {
-    Node *ph = random_scene(seed, big);
+    Node *ph = random_scene(seed, big, no_random);
     StateDict *ref = simulate(ph, true, 1, frames);
     assert_true(state_count(ref) > 4);
     static const unsigned threads[] = {1, 2, 4};
@@ -272,7 +276,7 @@ static void test_small_scenes(void **st)
 {
     (void)st;
     for (uint64_t seed = 1; seed <= 150; seed++)
-        check_scene(seed, 0, 4);
+        check_scene(seed, 0, 4, false);
 }
 
 /* Large levels, so targets are split into several tasks per thread and
@@ -281,7 +285,17 @@ static void test_large_scenes(void **st)
 {
     (void)st;
     for (uint64_t seed = 1000; seed < 1008; seed++)
-        check_scene(seed, 600 + 37 * (seed - 1000), 3);
+        check_scene(seed, 600 + 37 * (seed - 1000), 3, false);
+}
+
+/* Groups big enough (2 * 1024 particles) for the particle pass (appliers,
+ * step, barriers) to be split over threads too; no !random there, as its
+ * draws keep the pass on one thread. */
+static void test_split_particle_pass(void **st)
+{
+    (void)st;
+    for (uint64_t seed = 2000; seed < 2003; seed++)
+        check_scene(seed, 2100 + 300 * (seed - 2000), 2, true);
 }
 
 /* Discs on both sides of the edge of the grid's range: with radius 1 the
@@ -358,6 +372,7 @@ int main(void)
         cmocka_unit_test(test_grid_edge),
         cmocka_unit_test(test_small_scenes),
         cmocka_unit_test(test_large_scenes),
+        cmocka_unit_test(test_split_particle_pass),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
