@@ -277,6 +277,112 @@ static void gather_all(const LevelRun *L, size_t q, PhysScratch *sc)
     }
 }
 
+/* The all-pairs gather for a fixed small D, in blocks of partners: first
+ * the differences, squared distances, sqrt and 1/dist of a whole block
+ * (independent lanes, so the compiler may use vector instructions; sqrt and
+ * division are correctly rounded either way and nothing is contracted into
+ * FMA, so each lane has the bits of the scalar pair()), then the appliers
+ * partner by partner in ascending order. The differences are taken as
+ * x_e - x_q; where q is the "to" side the reference has x_q - x_e, which is
+ * exactly the negation (round to nearest is symmetric), so the squares are
+ * equal and dir is negated. */
+#define BLOCK 8
+
+static inline __attribute__((always_inline)) void
+gather_all_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
+{
+    PhysSystem *s = L->s;
+    const size_t p = L->pool[q];
+    double *F = s->force + p * D;
+    const double *x = s->pos + p * D;
+    const double *pos = s->pos;
+    const uint32_t *pool = L->pool;
+    const size_t lim = q < L->npart ? L->npool : L->npart;
+    const double r2 = L->r2;
+    double *dir = sc->dir;
+    double d[3][BLOCK], ss[BLOCK], dist[BLOCK], inv[BLOCK];
+    for (size_t e0 = 0; e0 < lim; e0 += BLOCK) {
+        size_t n = lim - e0 < BLOCK ? lim - e0 : BLOCK;
+        if (n == BLOCK) {
+            for (size_t j = 0; j < BLOCK; j++) {
+                const double *y = pos + (size_t)pool[e0 + j] * D;
+                for (size_t k = 0; k < D; k++)
+                    d[k][j] = y[k] - x[k];
+            }
+            for (size_t j = 0; j < BLOCK; j++) {
+                double sum = 0;
+                for (size_t k = 0; k < D; k++)
+                    sum += d[k][j] * d[k][j];
+                ss[j] = sum;
+            }
+            for (size_t j = 0; j < BLOCK; j++) {
+                dist[j] = sqrt(ss[j]);
+                inv[j] = 1 / dist[j];
+            }
+        } else {
+            for (size_t j = 0; j < n; j++) {
+                const double *y = pos + (size_t)pool[e0 + j] * D;
+                double sum = 0;
+                for (size_t k = 0; k < D; k++) {
+                    d[k][j] = y[k] - x[k];
+                    sum += d[k][j] * d[k][j];
+                }
+                ss[j] = sum;
+                dist[j] = sqrt(sum);
+                inv[j] = 1 / dist[j];
+            }
+        }
+        for (size_t j = 0; j < n; j++) {
+            size_t e = e0 + j;
+            if (e == q || ss[j] > r2)
+                continue;
+            bool to_b = q > e;
+            for (size_t k = 0; k < D; k++)
+                dir[k] = (to_b ? -d[k][j] : d[k][j]) * inv[j];
+            size_t a = to_b ? pool[e] : p, b = to_b ? p : pool[e];
+            for (size_t f = 0; f < L->nf; f++) {
+                const PhysApplier *ap = &s->ap[L->forces[f]];
+                if (ap->maxd == 0 || dist[j] < ap->maxd)
+                    phys_pair_force_one(s, ap, a, b, dist[j], dir, F, to_b);
+            }
+        }
+    }
+}
+
+/* One copy per dimension; on x86-64 with GCC also one per instruction set
+ * (AVX2 or the SSE2 baseline), picked at load time. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define VECTOR_CLONES
+#endif
+
+VECTOR_CLONES static void gather_all_1(const LevelRun *L, size_t q, PhysScratch *sc)
+{
+    gather_all_fixed(L, q, sc, 1);
+}
+
+VECTOR_CLONES static void gather_all_2(const LevelRun *L, size_t q, PhysScratch *sc)
+{
+    gather_all_fixed(L, q, sc, 2);
+}
+
+VECTOR_CLONES static void gather_all_3(const LevelRun *L, size_t q, PhysScratch *sc)
+{
+    gather_all_fixed(L, q, sc, 3);
+}
+
+static void gather_all_any(const LevelRun *L, size_t q, PhysScratch *sc)
+{
+    if (q == 0 && getenv("DBGALL")) fprintf(stderr, "ALL D=%zu npool=%zu\n", L->s->D, L->npool);
+    switch (L->s->D) {
+    case 1: gather_all_1(L, q, sc); break;
+    case 2: gather_all_2(L, q, sc); break;
+    case 3: gather_all_3(L, q, sc); break;
+    default: gather_all(L, q, sc); break;
+    }
+}
+
 static inline void sort_u32(uint32_t *v, size_t n)
 {
     for (size_t i = 1; i < n; i++) {
@@ -362,7 +468,7 @@ static void level_task(void *ctx, size_t t, unsigned thread)
         if (L->grid)
             gather_grid(L, q, sc);
         else
-            gather_all(L, q, sc);
+            gather_all_any(L, q, sc);
     }
 }
 
