@@ -202,6 +202,7 @@ typedef struct LevelRun {
     size_t nf;
     double r2;          /* skip a pair when its squared distance is above */
     bool grid;
+    bool avx2;          /* run the AVX2 copies of the kernels */
 } LevelRun;
 
 /* Squared distance of pool entries, summed as pair() does (k ascending);
@@ -349,32 +350,49 @@ gather_all_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
     }
 }
 
-/* One copy per dimension; on x86-64 with GCC also one per instruction set
- * (AVX2 or the SSE2 baseline), picked at load time. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define VECTOR_CLONES
+/* One copy per dimension; on x86-64 also one compiled for AVX2, chosen at
+ * run time when the processor has it (no ifunc resolvers: those run before
+ * sanitizer runtimes start). Elsewhere, the portable copies only. */
+#define GATHER_COPY(name, dim, attr)                                          \
+    attr static void name(const LevelRun *L, size_t q, PhysScratch *sc)      \
+    {                                                                         \
+        gather_all_fixed(L, q, sc, dim);                                      \
+    }
+
+GATHER_COPY(gather_all_1, 1, )
+GATHER_COPY(gather_all_2, 2, )
+GATHER_COPY(gather_all_3, 3, )
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define HAVE_AVX2_COPIES 1
+GATHER_COPY(gather_all_1_avx2, 1, __attribute__((target("avx2"))))
+GATHER_COPY(gather_all_2_avx2, 2, __attribute__((target("avx2"))))
+GATHER_COPY(gather_all_3_avx2, 3, __attribute__((target("avx2"))))
 #endif
 
-VECTOR_CLONES static void gather_all_1(const LevelRun *L, size_t q, PhysScratch *sc)
+/* Does this processor run the AVX2 copies? */
+static bool use_avx2(void)
 {
-    gather_all_fixed(L, q, sc, 1);
-}
-
-VECTOR_CLONES static void gather_all_2(const LevelRun *L, size_t q, PhysScratch *sc)
-{
-    gather_all_fixed(L, q, sc, 2);
-}
-
-VECTOR_CLONES static void gather_all_3(const LevelRun *L, size_t q, PhysScratch *sc)
-{
-    gather_all_fixed(L, q, sc, 3);
+#ifdef HAVE_AVX2_COPIES
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
 }
 
 static void gather_all_any(const LevelRun *L, size_t q, PhysScratch *sc)
 {
-    if (q == 0 && getenv("DBGALL")) fprintf(stderr, "ALL D=%zu npool=%zu\n", L->s->D, L->npool);
+#ifdef HAVE_AVX2_COPIES
+    if (L->avx2) {
+        switch (L->s->D) {
+        case 1: gather_all_1_avx2(L, q, sc); return;
+        case 2: gather_all_2_avx2(L, q, sc); return;
+        case 3: gather_all_3_avx2(L, q, sc); return;
+        default: break;
+        }
+    }
+#endif
     switch (L->s->D) {
     case 1: gather_all_1(L, q, sc); break;
     case 2: gather_all_2(L, q, sc); break;
@@ -503,6 +521,7 @@ void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
         .s = s, .pool = s->pool + g->pool_off, .npart = g->npart,
         .npool = lv->npool, .forces = s->gidx + fg->pair_off, .nf = fg->pair_n,
         .r2 = INFINITY, .grid = lv->route == PHYS_ROUTE_GRID,
+        .avx2 = use_avx2(),
     };
     /* a bound at least R*R: (R*R rounded) * (1 + 2^-50) rounded; sqrt(s) <
      * R needs s < R*R exactly, so nothing above the bound can act */
