@@ -203,6 +203,7 @@ typedef struct LevelRun {
     double r2;          /* skip a pair when its squared distance is above */
     bool grid;
     bool avx2;          /* run the AVX2 copies of the kernels */
+    bool simple;        /* every applier suits simple_block() */
 } LevelRun;
 
 /* Squared distance of pool entries, summed as pair() does (k ascending);
@@ -289,6 +290,94 @@ static void gather_all(const LevelRun *L, size_t q, PhysScratch *sc)
  * equal and dir is negated. */
 #define BLOCK 8
 
+/* The appliers of a "simple" level (at most SIMPLE_MAX, each !collision,
+ * !gravity or !electrostatic) on one block of partners: first every
+ * applier's factor k for every lane (the expressions of
+ * phys_pair_force_one, with a and b taken in the reference's orientation,
+ * which fixes the order of the products ma*mb and qa*qb), then partner by
+ * partner and applier by applier the additions into F, in the reference
+ * order. A lane whose applier does not act adds nothing, as there. */
+#define SIMPLE_MAX 4
+
+static inline __attribute__((always_inline)) void
+simple_block(const LevelRun *L, size_t q, size_t e0, size_t n, double *F,
+             double d[][BLOCK], const double *ss, const double *dist,
+             const double *inv, const size_t D)
+{
+    const PhysSystem *s = L->s;
+    const uint32_t *pool = L->pool;
+    const size_t p = pool[q];
+    const double rp = s->radius[p], mp = s->mass[p], cp = s->charge[p];
+    double K[SIMPLE_MAX][BLOCK];
+    unsigned char act[SIMPLE_MAX][BLOCK];
+    double ro[BLOCK], xo[BLOCK];
+    unsigned char tob[BLOCK];
+    for (size_t j = 0; j < n; j++) {
+        ro[j] = s->radius[pool[e0 + j]];
+        tob[j] = q > e0 + j;
+    }
+    for (size_t f = 0; f < L->nf; f++) {
+        const PhysApplier *ap = &s->ap[L->forces[f]];
+        const double str = ap->strength, maxd = ap->maxd;
+        double *k = K[f];
+        unsigned char *a = act[f];
+        if (ap->kind == AP_COLLISION) {
+            for (size_t j = 0; j < n; j++) {
+                double r = rp + ro[j];           /* ra + rb, either order */
+                a[j] = (maxd == 0 || dist[j] < maxd) & (rp != 0) & (ro[j] != 0) &
+                       (dist[j] < r);
+                k[j] = r - dist[j];
+            }
+            /* shape(): pow only when power != 1, then * strength */
+            if (ap->power != 1) {
+                for (size_t j = 0; j < n; j++)
+                    if (a[j])
+                        k[j] = pow(k[j], ap->power);
+            }
+            for (size_t j = 0; j < n; j++)
+                k[j] = k[j] * str;
+            continue;
+        }
+        /* gravity (masses) or electrostatics (charges): k = strength * xa *
+         * xb / (m*m), m = py_max(ra+rb, dist) */
+        const double *val = ap->kind == AP_GRAVITY ? s->mass : s->charge;
+        const double xp = ap->kind == AP_GRAVITY ? mp : cp;
+        for (size_t j = 0; j < n; j++)
+            xo[j] = val[pool[e0 + j]];
+        for (size_t j = 0; j < n; j++) {
+            double r = rp + ro[j];
+            double m = dist[j] > r ? dist[j] : r;
+            double x = tob[j] ? xo[j] : xp, y = tob[j] ? xp : xo[j];
+            a[j] = (maxd == 0 || dist[j] < maxd) & (x != 0) & (y != 0);
+            k[j] = str * x * y / (m * m);
+        }
+    }
+    for (size_t j = 0; j < n; j++) {
+        size_t e = e0 + j;
+        if (e == q || ss[j] > L->r2)
+            continue;
+        bool to_b = q > e;
+        double dir[3];
+        for (size_t k = 0; k < D; k++)
+            dir[k] = (to_b ? -d[k][j] : d[k][j]) * inv[j];
+        for (size_t f = 0; f < L->nf; f++) {
+            if (!act[f][j])
+                continue;
+            /* collision and electrostatics push apart (a -= f, b += f),
+             * gravity pulls together (a += f, b -= f) */
+            bool plus = (s->ap[L->forces[f]].kind == AP_GRAVITY) != to_b;
+            double k = K[f][j];
+            if (plus) {
+                for (size_t i = 0; i < D; i++)
+                    F[i] = F[i] + dir[i] * k;
+            } else {
+                for (size_t i = 0; i < D; i++)
+                    F[i] = F[i] - dir[i] * k;
+            }
+        }
+    }
+}
+
 static inline __attribute__((always_inline)) void
 gather_all_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
 {
@@ -332,6 +421,10 @@ gather_all_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
                 dist[j] = sqrt(sum);
                 inv[j] = 1 / dist[j];
             }
+        }
+        if (L->simple) {
+            simple_block(L, q, e0, n, F, d, ss, dist, inv, D);
+            continue;
         }
         for (size_t j = 0; j < n; j++) {
             size_t e = e0 + j;
@@ -523,6 +616,11 @@ void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
         .r2 = INFINITY, .grid = lv->route == PHYS_ROUTE_GRID,
         .avx2 = use_avx2(),
     };
+    L.simple = L.nf <= SIMPLE_MAX;
+    for (size_t f = 0; f < L.nf && L.simple; f++) {
+        PhysApplierKind k = s->ap[L.forces[f]].kind;
+        L.simple = k == AP_COLLISION || k == AP_GRAVITY || k == AP_ELECTROSTATIC;
+    }
     /* a bound at least R*R: (R*R rounded) * (1 + 2^-50) rounded; sqrt(s) <
      * R needs s < R*R exactly, so nothing above the bound can act */
     double R = lv->reach;
