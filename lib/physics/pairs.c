@@ -238,11 +238,11 @@ static inline double pair_into(const double *pa, const double *pb, double *dir,
 /* Add the contributions of partner [e] to pool entry [q]'s force [F]: the
  * pair is measured as (pool[min], pool[max]), as the reference loop does,
  * and q is its "to" side when q > e. */
-static inline void take_pair(const LevelRun *L, size_t q, size_t e, double *F,
-                             double *dir)
+static inline __attribute__((always_inline)) void
+take_pair(const LevelRun *L, size_t q, size_t e, double *F, double *dir,
+          const size_t D)
 {
     PhysSystem *s = L->s;
-    const size_t D = s->D;
     size_t a = L->pool[q < e ? q : e], b = L->pool[q < e ? e : q];
     double dist = pair_into(s->pos + a * D, s->pos + b * D, dir, D);
     for (size_t f = 0; f < L->nf; f++) {
@@ -275,7 +275,7 @@ static void gather_all(const LevelRun *L, size_t q, PhysScratch *sc)
             continue;
         if (filter && dist2(x, s->pos + (size_t)L->pool[e] * D, D) > L->r2)
             continue;
-        take_pair(L, q, e, F, sc->dir);
+        take_pair(L, q, e, F, sc->dir, D);
     }
 }
 
@@ -507,8 +507,10 @@ static inline void sort_u32(uint32_t *v, size_t n)
     }
 }
 
-/* Gather over the grid neighbours (and the odd entries), in pool order. */
-static void gather_grid(const LevelRun *L, size_t q, PhysScratch *sc)
+/* Gather over the grid neighbours (and the odd entries), in pool order;
+ * one copy per D (1, 2, 3: the only ones the grid takes). */
+static inline __attribute__((always_inline)) void
+gather_grid_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
 {
     PhysSystem *s = L->s;
     const PhysGrid *gr = &s->grid;
@@ -516,7 +518,6 @@ static void gather_grid(const LevelRun *L, size_t q, PhysScratch *sc)
         gather_all(L, q, sc);
         return;
     }
-    const size_t D = s->D;
     const size_t p = L->pool[q];
     double *F = s->force + p * D;
     const double *x = s->pos + p * D;
@@ -560,7 +561,40 @@ static void gather_grid(const LevelRun *L, size_t q, PhysScratch *sc)
     }
     sort_u32(cand, nc);
     for (size_t i = 0; i < nc; i++)
-        take_pair(L, q, cand[i], F, sc->dir);
+        take_pair(L, q, cand[i], F, sc->dir, D);
+}
+
+#define GRID_COPY(name, dim, attr)                                            \
+    attr static void name(const LevelRun *L, size_t q, PhysScratch *sc)      \
+    {                                                                         \
+        gather_grid_fixed(L, q, sc, dim);                                     \
+    }
+
+GRID_COPY(gather_grid_1, 1, )
+GRID_COPY(gather_grid_2, 2, )
+GRID_COPY(gather_grid_3, 3, )
+#ifdef HAVE_AVX2_COPIES
+GRID_COPY(gather_grid_1_avx2, 1, __attribute__((target("avx2"))))
+GRID_COPY(gather_grid_2_avx2, 2, __attribute__((target("avx2"))))
+GRID_COPY(gather_grid_3_avx2, 3, __attribute__((target("avx2"))))
+#endif
+
+static void gather_grid(const LevelRun *L, size_t q, PhysScratch *sc)
+{
+#ifdef HAVE_AVX2_COPIES
+    if (L->avx2) {
+        switch (L->s->D) {
+        case 1: gather_grid_1_avx2(L, q, sc); return;
+        case 2: gather_grid_2_avx2(L, q, sc); return;
+        default: gather_grid_3_avx2(L, q, sc); return;
+        }
+    }
+#endif
+    switch (L->s->D) {
+    case 1: gather_grid_1(L, q, sc); break;
+    case 2: gather_grid_2(L, q, sc); break;
+    default: gather_grid_3(L, q, sc); break;
+    }
 }
 
 /* Task [t]: the targets t*TARGETS_PER_TASK .. (anchors never step, so
