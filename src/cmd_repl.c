@@ -29,11 +29,12 @@
  * ...`, `FILE:LINE:COL: error: ...`, `error: ...`) and the runtime's log go
  * to stderr; stdout is line-buffered, and flushed before the REPL writes
  * to stderr, so the two streams interleave in order. An error never ends
- * the session.
+ * the session; a scripted session that met one exits with status 1. In a
+ * terminal session Ctrl-C stops a :step between frames or drops the line
+ * being typed; a second Ctrl-C at an empty prompt ends the session.
  *
- * The one global: libedit's completion callbacks take no user pointer, so
- * `completing` points at the session's Repl while libedit may call back;
- * the completion cursor itself lives in that Repl.
+ * Terminal line editing (libedit, history, completion, Ctrl-C at the
+ * prompt) lives in repl_edit.c; the session state both share in repl.h.
  */
 #include <errno.h>
 #include <getopt.h>
@@ -43,7 +44,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <editline/readline.h>
@@ -52,43 +52,22 @@
 #include "exitcodes.h"
 #include "flitter.h"
 #include "format.h"
+#include "repl.h"
+#include "systems.h"
+#include "view.h"
 
 #define PROMPT "flitter> "
 #define PROMPT_MORE "   ...> "
-#define HISTORY_LINES 1000
 
-typedef enum { CPL_COMMANDS, CPL_NAMES, CPL_FILES } CompletionKind;
 
-typedef struct Repl {
-    fl_runtime *rt;            /* the interpreter (owned) */
-    char *script;              /* path of the current script (owned), or NULL */
-    bool tty;                  /* stdin is a terminal: libedit, prompts, history */
-    char *history;             /* history file path (owned), or NULL for none */
-    bool history_failed;       /* a history write failed (reported once) */
-    char *last_entry;          /* last line added to the history (owned), to skip repeats */
-    Buf block;                 /* Flitter text of a multi-line input so far */
-    bool in_block;             /* [block] is being continued */
-    char *peeked;              /* scripted mode: the next line, read ahead (owned), or NULL */
-    bool peeked_eof;           /* scripted mode: reading ahead met the end of input */
-    /* completion cursor, for libedit's generator callback */
-    CompletionKind cpl_kind;   /* what is being completed */
-    size_t cpl_next;           /* next candidate index to try */
-    const Str *const *cpl_names;  /* names in scope (borrowed from the runtime) */
-    size_t cpl_count;          /* entries in cpl_names */
-    Buf cpl_path;              /* CPL_FILES: the whole path typed so far */
-    size_t cpl_skip;           /* CPL_FILES: bytes of it before libedit's word */
-} Repl;
-
-/* libedit's completion callbacks carry no context: see the file comment. */
-static Repl *completing;
 
 /* ====================================================================
  * Output helpers
  * ==================================================================== */
 
-static void print_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static void print_error(const char *fmt, ...)
+void repl_error(Repl *r, const char *fmt, ...)
 {
+    r->errors++;
     fflush(stdout);
     va_list ap;
     va_start(ap, fmt);
@@ -107,17 +86,6 @@ static void put_text(FILE *f, const Buf *b)
     if (b->data[b->len - 1] != '\n') fputc('\n', f);
 }
 
-static bool is_blank(const char *s)
-{
-    while (*s == ' ' || *s == '\t') s++;
-    return *s == '\0';
-}
-
-static const char *skip_space(const char *s)
-{
-    while (*s == ' ' || *s == '\t') s++;
-    return s;
-}
 
 /* ====================================================================
  * Evaluating Flitter text
@@ -130,7 +98,10 @@ static int eval_text(Repl *r, const char *text, size_t len)
     Buf out = BUF_INIT, err = BUF_INIT;
     int rc = fl_eval(r->rt, text, len, &out, &err);
     if (rc == 0) put_text(stdout, &out);
-    else if (rc < 0) put_text(stderr, &err);
+    else if (rc < 0) {
+        put_text(stderr, &err);
+        r->errors++;
+    }
     buf_free(&out);
     buf_free(&err);
     return rc;
@@ -143,6 +114,7 @@ static void finish_block(Repl *r)
     if (eval_text(r, r->block.data, r->block.len) == 1) {
         fflush(stdout);
         fputs("<repl>: error: input ended early (unexpected end of input)\n", stderr);
+        r->errors++;
     }
     buf_reset(&r->block);
     r->in_block = false;
@@ -174,7 +146,10 @@ static int load_script(Repl *r, const char *path)
 {
     Buf err = BUF_INIT;
     int rc = fl_load(r->rt, path, &err);
-    if (rc != 0) put_text(stderr, &err);
+    if (rc != 0) {
+        put_text(stderr, &err);
+        r->errors++;
+    }
     buf_free(&err);
     if (rc == 0 && r->script != path) {
         char *copy = strdup(path);
@@ -203,19 +178,25 @@ static int cmd_step(Repl *r, const char *arg)
         errno = 0;
         n = strtol(arg, &end, 10);
         if (errno || end == arg || *end || n < 1) {
-            print_error("bad frame count '%s' (expected a whole number >= 1)", arg);
+            repl_error(r, "bad frame count '%s' (expected a whole number >= 1)", arg);
             return 0;
         }
     }
     if (!r->script) {
-        print_error("no script loaded (use :load FILE)");
+        repl_error(r, "no script loaded (use :load FILE)");
         return 0;
     }
-    for (long i = 0; i < n; i++)
+    for (long i = 0; i < n; i++) {
+        if (repl_take_interrupt()) {   /* Ctrl-C: stop between frames, keep the session */
+            fflush(stdout);
+            fprintf(stderr, "interrupted after %ld of %ld frames\n", i, n);
+            break;
+        }
         if (fl_step(r->rt) != 0) {
-            print_error("no program to step");
+            repl_error(r, "no program to step");
             return 0;
         }
+    }
     print_frame(r);
     return 0;
 }
@@ -244,7 +225,7 @@ static int cmd_tree(Repl *r, const char *arg)
     (void)arg;
     const Node *root = fl_root(r->rt);
     if (!root) {
-        print_error("no frame evaluated yet (use :step)");
+        repl_error(r, "no frame evaluated yet (use :step)");
         return 0;
     }
     Buf b = BUF_INIT;
@@ -259,7 +240,7 @@ static int cmd_get(Repl *r, const char *arg)
     Buf text = BUF_INIT;
     buf_printf(&text, "$(%s)\n", arg);
     if (eval_text(r, text.data, text.len) == 1)
-        print_error("incomplete key expression '%s'", arg);
+        repl_error(r, "incomplete key expression '%s'", arg);
     buf_free(&text);
     return 0;
 }
@@ -268,7 +249,7 @@ static int cmd_reload(Repl *r, const char *arg)
 {
     (void)arg;
     if (!r->script) {
-        print_error("no script loaded (use :load FILE)");
+        repl_error(r, "no script loaded (use :load FILE)");
         return 0;
     }
     if (load_script(r, r->script) == 0) printf("reloaded %s\n", r->script);
@@ -285,7 +266,7 @@ static int cmd_define(Repl *r, const char *arg)
 {
     const char *eq = strchr(arg, '=');
     if (!eq) {
-        print_error("expected NAME=VALUE, got '%s'", arg);
+        repl_error(r, "expected NAME=VALUE, got '%s'", arg);
         return 0;
     }
     size_t nlen = (size_t)(eq - arg);
@@ -293,7 +274,7 @@ static int cmd_define(Repl *r, const char *arg)
     char *name = strndup(arg, nlen);
     if (!name) abort();
     if (fl_define(r->rt, name, skip_space(eq + 1)) != 0) {
-        print_error("bad name '%s' in define", name);
+        repl_error(r, "bad name '%s' in define", name);
     } else {
         printf("defined %s\n", name);
         if (r->script) load_script(r, r->script);
@@ -313,8 +294,12 @@ static int cmd_reset(Repl *r, const char *arg)
 static int cmd_save(Repl *r, const char *arg)
 {
     Buf err = BUF_INIT;
-    if (fl_save_state(r->rt, arg, &err) == 0) printf("saved %s\n", arg);
-    else put_text(stderr, &err);   /* `FILE: error: ...` */
+    if (fl_save_state(r->rt, arg, &err) == 0) {
+        printf("saved %s\n", arg);
+    } else {
+        put_text(stderr, &err);   /* `FILE: error: ...` */
+        r->errors++;
+    }
     buf_free(&err);
     return 0;
 }
@@ -322,11 +307,36 @@ static int cmd_save(Repl *r, const char *arg)
 static int cmd_restore(Repl *r, const char *arg)
 {
     Buf err = BUF_INIT;
-    if (fl_restore_state(r->rt, arg, &err) == 0)
+    if (fl_restore_state(r->rt, arg, &err) == 0) {
         printf("restored %s (frame %ld)\n", arg, fl_frame_count(r->rt) - 1);
-    else
+    } else {
         put_text(stderr, &err);    /* `FILE: error: ...` */
+        r->errors++;
+    }
     buf_free(&err);
+    return 0;
+}
+
+/* Draw the physics systems as they are now (as `flitter run --view`). */
+static int cmd_view(Repl *r, const char *arg)
+{
+    char err[600];
+    View *v = view_open(arg, 10, fl_symbols(r->rt), err, sizeof err);
+    if (!v) {
+        repl_error(r, "%s", err);
+        return 0;
+    }
+    PsSystem *sys;
+    size_t n;
+    ps_collect(fl_root(r->rt), fl_state(r->rt), &sys, &n);
+    int rc = view_frame(v, fl_frame_count(r->rt) - 1, sys, n, err, sizeof err);
+    ps_free(sys, n);
+    if (view_close(v) != 0 && rc == 0) {
+        snprintf(err, sizeof err, "%s: cannot finish the file", arg);
+        rc = -1;
+    }
+    if (rc != 0) repl_error(r, "%s", err);
+    else printf("drew %zu system%s to %s\n", n, n == 1 ? "" : "s", arg);
     return 0;
 }
 
@@ -348,10 +358,13 @@ static const Command commands[] = {
     {"reset", ARG_NONE, "", "clear the state dictionary (the clock keeps running)", cmd_reset},
     {"save", ARG_REQUIRED, "FILE", "save the state and the clock to FILE", cmd_save},
     {"restore", ARG_REQUIRED, "FILE", "restore the state and the clock from FILE", cmd_restore},
+    {"view", ARG_REQUIRED, "FILE", "draw the physics systems now to FILE (.png or .svg)", cmd_view},
     {"help", ARG_NONE, "", "show this help", cmd_help},
     {"quit", ARG_NONE, "", "end the session (so does end of input)", cmd_quit},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
+
+const char *repl_command_name(size_t i) { return i < NCOMMANDS ? commands[i].name : NULL; }
 
 static int cmd_help(Repl *r, const char *arg)
 {
@@ -379,11 +392,11 @@ static int run_command(Repl *r, const char *line)
         if (strlen(commands[i].name) == wlen && strncmp(commands[i].name, word, wlen) == 0)
             c = &commands[i];
     if (!wlen) {
-        print_error("missing command name after ':' (:help lists them)");
+        repl_error(r, "missing command name after ':' (:help lists them)");
         return 0;
     }
     if (!c) {
-        print_error("unknown command ':%.*s' (:help lists them; write a symbol as (:name))",
+        repl_error(r, "unknown command ':%.*s' (:help lists them; write a symbol as (:name))",
                     (int)wlen, word);
         return 0;
     }
@@ -392,11 +405,11 @@ static int run_command(Repl *r, const char *line)
     size_t alen = strlen(arg);
     while (alen && (arg[alen - 1] == ' ' || arg[alen - 1] == '\t')) alen--;
     if (c->arg == ARG_NONE && alen) {
-        print_error(":%s takes no argument", c->name);
+        repl_error(r, ":%s takes no argument", c->name);
         return 0;
     }
     if (c->arg == ARG_REQUIRED && !alen) {
-        print_error("usage: :%s %s", c->name, c->usage);
+        repl_error(r, "usage: :%s %s", c->name, c->usage);
         return 0;
     }
     char *a = strndup(arg, alen);
@@ -410,106 +423,6 @@ static int run_command(Repl *r, const char *line)
  * Reading lines
  * ==================================================================== */
 
-/* Candidate [state] of the current completion (libedit generator). */
-static char *complete_next(const char *text, int state)
-{
-    Repl *r = completing;
-    if (state == 0) r->cpl_next = 0;
-    size_t tlen = strlen(text);
-    if (r->cpl_kind == CPL_FILES) {
-        /* libedit's word stops at '/' and '.'; complete the whole path and
-         * hand back the part from its word on */
-        char *m = rl_filename_completion_function(buf_cstr(&r->cpl_path), state);
-        if (m && strlen(m) >= r->cpl_skip) memmove(m, m + r->cpl_skip, strlen(m) - r->cpl_skip + 1);
-        return m;
-    }
-    if (r->cpl_kind == CPL_COMMANDS) {
-        while (r->cpl_next < NCOMMANDS) {
-            const char *name = commands[r->cpl_next++].name;
-            if (tlen >= 1 && strncmp(name, text + 1, tlen - 1) == 0) {
-                char *m = malloc(strlen(name) + 2);
-                if (!m) abort();
-                m[0] = ':';
-                strcpy(m + 1, name);
-                return m;
-            }
-        }
-        return NULL;
-    }
-    while (r->cpl_next < r->cpl_count) {
-        size_t i = r->cpl_next++;
-        const Str *name = r->cpl_names[i];
-        if (name->len < tlen || memcmp(name->bytes, text, tlen) != 0) continue;
-        bool seen = false;   /* a name may be bound in several layers */
-        for (size_t j = 0; j < i && !seen; j++) seen = str_eq(r->cpl_names[j], name);
-        if (seen) continue;
-        char *m = strdup(name->bytes);
-        if (!m) abort();
-        return m;
-    }
-    return NULL;
-}
-
-/* libedit's attempted-completion hook: `:` commands at the start of the
- * line, file names after :load/:save/:restore, else names in scope. */
-static char **complete(const char *text, int start, int end)
-{
-    Repl *r = completing;
-    const char *line = rl_line_buffer;
-    rl_attempted_completion_over = 1;
-    rl_completion_append_character = '\0';
-    bool at_start = true;
-    for (int i = 0; i < start; i++)
-        if (line[i] != ' ' && line[i] != '\t') at_start = false;
-    const char *cmd = skip_space(line);
-    if (at_start && text[0] == ':') {
-        r->cpl_kind = CPL_COMMANDS;
-        rl_completion_append_character = ' ';
-    } else if (!at_start && (strncmp(cmd, ":load ", 6) == 0 || strncmp(cmd, ":save ", 6) == 0 ||
-                             strncmp(cmd, ":restore ", 9) == 0)) {
-        const char *path = skip_space(strchr(cmd, ' '));
-        size_t from = (size_t)(path - line);
-        if (from > (size_t)start || end < start) return NULL;
-        r->cpl_kind = CPL_FILES;
-        r->cpl_skip = (size_t)start - from;
-        buf_reset(&r->cpl_path);
-        buf_add(&r->cpl_path, path, (size_t)end - from);
-    } else if (text[0] == ':' || (start > 0 && line[start - 1] == ':')) {
-        return NULL;                        /* a symbol: nothing to offer */
-    } else {
-        r->cpl_kind = CPL_NAMES;
-        r->cpl_names = fl_scope_names(r->rt, &r->cpl_count);
-    }
-    char **matches = rl_completion_matches(text, complete_next);
-    /* one file (libedit repeats a sole match after the common prefix in
-     * [0]; GNU readline does not): end a directory with '/', a file with a
-     * space */
-    if (r->cpl_kind == CPL_FILES && matches && (!matches[1] || !matches[2])) {
-        Buf full = BUF_INIT;
-        buf_add(&full, buf_cstr(&r->cpl_path), r->cpl_skip);
-        buf_puts(&full, matches[0]);
-        struct stat st;
-        bool dir = stat(full.data, &st) == 0 && S_ISDIR(st.st_mode);
-        rl_completion_append_character = dir ? '/' : ' ';
-        buf_free(&full);
-    }
-    return matches;
-}
-
-/* Add [line] to the history (skipping a repeat of the last entry) and
- * rewrite the history file. */
-static void remember(Repl *r, const char *line)
-{
-    if (is_blank(line) || (r->last_entry && strcmp(r->last_entry, line) == 0)) return;
-    add_history(line);
-    free(r->last_entry);
-    r->last_entry = strdup(line);
-    if (!r->last_entry) abort();
-    if (r->history && write_history(r->history) != 0 && !r->history_failed) {
-        r->history_failed = true;
-        print_error("cannot write history file %s", r->history);
-    }
-}
 
 /* The next input line without its newline (malloc'd), or NULL at the end
  * of input. */
@@ -517,7 +430,7 @@ static char *read_line(Repl *r)
 {
     if (r->tty) {
         char *line = readline(r->in_block ? PROMPT_MORE : PROMPT);
-        if (line) remember(r, line);
+        if (line) repl_remember(r, line);
         return line;
     }
     if (r->peeked || r->peeked_eof) {
@@ -562,26 +475,6 @@ static void take_indented(Repl *r)
     }
 }
 
-static void setup_editing(Repl *r)
-{
-    completing = r;
-    rl_readline_name = "flitter";
-    rl_attempted_completion_function = complete;
-    /* characters that cannot be part of a name (names may hold ' and digits) */
-    static const char breaks[] = " \t\n\"()[]{},;+-*/%<>=!&|^~$@.#?\\`";
-    rl_basic_word_break_characters = breaks;
-    rl_completer_word_break_characters = (char *)breaks;
-    stifle_history(HISTORY_LINES);
-    const char *env = getenv("FLITTER_HISTORY"), *home = getenv("HOME");
-    if (env && *env) {
-        r->history = strdup(env);
-    } else if (home && *home) {
-        size_t n = strlen(home) + sizeof "/.flitter_history";
-        r->history = malloc(n);
-        if (r->history) snprintf(r->history, n, "%s/.flitter_history", home);
-    }
-    if (r->history) read_history(r->history);   /* a missing file is fine */
-}
 
 /* ====================================================================
  * The session
@@ -739,11 +632,28 @@ int cmd_repl(int argc, char **argv)
         if (!r.script) abort();
     }
     if (r.tty) {
-        setup_editing(&r);
+        repl_edit_begin(&r);
         puts("flitter repl: :help lists the commands, :quit or Ctrl-D ends the session");
     }
+    bool after_interrupt = false;   /* the last prompt ended with Ctrl-C */
     for (;;) {
         char *line = read_line(&r);
+        if (r.tty && repl_take_interrupt()) {
+            /* Ctrl-C at the prompt drops the line (and a pending block);
+             * a second one at an empty prompt ends the session */
+            bool empty = !r.in_block && (!line || is_blank(line));
+            free(line);
+            buf_reset(&r.block);
+            r.in_block = false;
+            if (empty && after_interrupt) {
+                putchar('\n');
+                break;
+            }
+            after_interrupt = empty;
+            fputs(empty ? "\n(Ctrl-C again or Ctrl-D to quit)\n" : "\n", stdout);
+            continue;
+        }
+        after_interrupt = false;
         if (!line) {
             if (r.in_block) finish_block(&r);
             if (r.tty) putchar('\n');
@@ -755,10 +665,7 @@ int cmd_repl(int argc, char **argv)
         if (quit) break;
     }
     fflush(stdout);
-    if (r.tty) {
-        clear_history();
-        completing = NULL;
-    }
+    if (r.tty) repl_edit_end(&r);
     buf_free(&r.block);
     buf_free(&r.cpl_path);
     free(r.peeked);
@@ -766,5 +673,6 @@ int cmd_repl(int argc, char **argv)
     free(r.history);
     free(r.script);
     fl_free(r.rt);
-    return EXIT_OK;
+    /* a scripted session that met an error says so in its exit status */
+    return !r.tty && r.errors ? EXIT_LOAD : EXIT_OK;
 }

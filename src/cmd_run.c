@@ -20,7 +20,8 @@ int cmd_run(int argc, char **argv)
     RunSpec spec;
     int rc = runspec_parse(&spec, argc, argv, true, stderr);
     if (rc == 0) {
-        spec.progress = !spec.realtime && spec.frames > 0 && isatty(STDERR_FILENO);
+        /* a progress bar for a lockstep run of known length, else a status line */
+        spec.progress = spec.verbosity >= 0 && isatty(STDERR_FILENO) && (spec.frames < 0 || !spec.realtime);
         signal(SIGINT, on_signal);
         signal(SIGTERM, on_signal);
         rc = runspec_execute(&spec, stdout, stderr, &interrupted);

@@ -273,12 +273,23 @@ static int run_dir(const char *dir, bool update, Totals *t)
     }
     closedir(d);
     if (n) qsort(names, n, sizeof(char *), by_name);
+    int before = t->passed + t->failed;
     for (size_t i = 0; i < n; i++) {
         run_one(dir, names[i], "state", update, t);
         run_one(dir, names[i], "tree", update, t);
         free(names[i]);
     }
     free(names);
+    if (t->passed + t->failed == before) {   /* say so rather than pass nothing */
+        struct stat sb;
+        char *manifest = NULL;
+        bool has_manifest = asprintf(&manifest, "%s/MANIFEST", dir) >= 0 && stat(manifest, &sb) == 0;
+        free(manifest);
+        fprintf(stderr, "flitter test: no tests in '%s' (%s; a test is NAME.fl with NAME.state "
+                "or NAME.tree beside it)\n", dir, has_manifest ? "its MANIFEST names none with expected output"
+                                                               : "no MANIFEST there");
+        return -1;
+    }
     return 0;
 }
 
@@ -310,7 +321,7 @@ int cmd_test(int argc, char **argv)
             fprintf(stderr, "flitter test: cannot open '%s': %s\n", argv[i], strerror(errno));
             status = EXIT_USAGE;
         } else if (S_ISDIR(sb.st_mode)) {
-            run_dir(argv[i], update, &t);
+            if (run_dir(argv[i], update, &t) != 0) status = EXIT_USAGE;
         } else {
             char *copy = strdup(argv[i]);
             char *slash = strrchr(copy, '/');

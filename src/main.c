@@ -1,6 +1,7 @@
 /* main.c: the `flitter` command: dispatches to a subcommand. */
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "commands.h"
 #include "exitcodes.h"
@@ -20,7 +21,8 @@ static void usage(FILE *f)
     fputs("usage: flitter COMMAND [options] ...\n\ncommands:\n", f);
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(f, "  %-6s %s\n", commands[i].name, commands[i].summary);
-    fputs("\n`flitter COMMAND --help` describes a command's options.\n", f);
+    fputs("\n`flitter help COMMAND` describes a command's options; `flitter [run options]\n"
+          "SCRIPT` is `flitter run` (Flitter's command line); `flitter --version`.\n", f);
 }
 
 int main(int argc, char **argv)
@@ -33,8 +35,28 @@ int main(int argc, char **argv)
         usage(stdout);
         return EXIT_OK;
     }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("flitter-c %s\n", FLITTER_VERSION);
+        return EXIT_OK;
+    }
+    if (strcmp(argv[1], "help") == 0) {   /* flitter help [COMMAND] */
+        if (argc < 3) {
+            usage(stdout);
+            return EXIT_OK;
+        }
+        for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+            if (strcmp(argv[2], commands[i].name) == 0) {
+                char *args[] = {argv[2], "--help", NULL};
+                return commands[i].fn(2, args);
+            }
+        fprintf(stderr, "flitter: unknown command '%s'\n", argv[2]);
+        return EXIT_USAGE;
+    }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (strcmp(argv[1], commands[i].name) == 0) return commands[i].fn(argc - 1, argv + 1);
+    /* Flitter's own command line, `flitter [options] SCRIPT`, is `run` */
+    if (argv[1][0] == '-' || strchr(argv[1], '.') || strchr(argv[1], '/') || access(argv[1], F_OK) == 0)
+        return cmd_run(argc, argv);
     fprintf(stderr, "flitter: unknown command '%s'\n", argv[1]);
     usage(stderr);
     return EXIT_USAGE;

@@ -14,6 +14,7 @@
 #include "exitcodes.h"
 #include "flitter.h"
 #include "format.h"
+#include "outputs.h"
 
 static void run_usage(FILE *f)
 {
@@ -30,7 +31,18 @@ static void run_usage(FILE *f)
           "                      it back atomically at exit and every 5 seconds\n"
           "  --threads N         physics threads (default: FLITTER_THREADS, else all cores)\n"
           "  --pairs naive|fast  physics pair loop: the reference all-pairs loop, or the\n"
-          "                      neighbour grid and threads (default fast; same results)\n",
+          "                      neighbour grid and threads (default fast; same results)\n"
+          "  --runtime T         run round(T*fps) frames (T seconds of frame clock)\n"
+          "  --offscreen         accepted for Flitter compatibility (always headless)\n"
+          "  --quiet             no progress bar or status line on a terminal\n"
+          "  --verbose           accepted for Flitter compatibility\n"
+          "  --debug             also name each skipped (unsupported) drawing node kind\n"
+          "  --view FILE         draw the physics systems: FILE.png or .svg (last frame),\n"
+          "                      FILE.gif (an animation frame every --view-every K frames)\n"
+          "  --trace FILE        write particle positions and velocities each frame (or\n"
+          "                      every --trace-every K) to FILE.csv or FILE.jsonl\n"
+          "  Windows are drawn offscreen and !record filename=F.png|.gif written\n"
+          "  (see README: Drawing).\n",
           f);
 }
 
@@ -47,7 +59,8 @@ static bool parse_count(const char *s, long *out)
 int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
-           O_STATE, O_THREADS, O_PAIRS };
+           O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
+           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -61,9 +74,20 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"threads", required_argument, NULL, O_THREADS},
         {"pairs", required_argument, NULL, O_PAIRS},
         {"help", no_argument, NULL, 'h'},
+        {"runtime", required_argument, NULL, O_RUNTIME},
+        {"offscreen", no_argument, NULL, O_OFFSCREEN},
+        {"quiet", no_argument, NULL, O_QUIET},
+        {"verbose", no_argument, NULL, O_VERBOSE},
+        {"debug", no_argument, NULL, O_DEBUG},
+        {"nosimplify", no_argument, NULL, O_NOSIMPLIFY},
+        {"view", required_argument, NULL, O_VIEW},
+        {"view-every", required_argument, NULL, O_VIEW_EVERY},
+        {"trace", required_argument, NULL, O_TRACE},
+        {"trace-every", required_argument, NULL, O_TRACE_EVERY},
         {NULL, 0, NULL, 0},
     };
-    *spec = (RunSpec){.frames = -1, .fps = 60.0};
+    *spec = (RunSpec){.frames = -1, .fps = 60.0, .runtime = -1};
+    bool frames_given = false;
     spec->defines = calloc((size_t)argc + 1, sizeof(char *));
     if (!spec->defines) abort();
     optind = 0;   /* full re-initialisation of getopt */
@@ -74,6 +98,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         switch (c) {
         case O_FRAMES:
             if (!parse_count(optarg, &spec->frames)) goto bad_value;
+            frames_given = true;
             break;
         case O_FPS:
             spec->fps = strtod(optarg, &end);
@@ -101,6 +126,22 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         case O_PAIRS:
             if (!fl_parse_pairs(optarg, &spec->pairs)) goto bad_value;
             break;
+        case O_RUNTIME:
+            spec->runtime = strtod(optarg, &end);
+            if (end == optarg || *end || !(spec->runtime >= 0) || isinf(spec->runtime)) goto bad_value;
+            break;
+        case O_OFFSCREEN: case O_NOSIMPLIFY: break;
+        case O_QUIET: spec->verbosity = -1; break;
+        case O_VERBOSE: spec->verbosity = 1; break;
+        case O_DEBUG: spec->verbosity = 2; break;
+        case O_VIEW: spec->view = optarg; break;
+        case O_TRACE: spec->trace = optarg; break;
+        case O_VIEW_EVERY:
+            if (!parse_count(optarg, &spec->view_every) || spec->view_every < 1) goto bad_value;
+            break;
+        case O_TRACE_EVERY:
+            if (!parse_count(optarg, &spec->trace_every) || spec->trace_every < 1) goto bad_value;
+            break;
         case 'h':
             run_usage(stdout);
             return -1;
@@ -113,6 +154,14 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
     bad_value:
         fprintf(err, "flitter run: bad value '%s' for option '%s'\n", optarg, argv[optind - 1]);
         return EXIT_USAGE;
+    }
+    if (spec->runtime >= 0 && !frames_given) {   /* as Flitter: round(T*fps) frames */
+        double frames = spec->runtime * spec->fps;
+        if (!(frames < 1e15)) {
+            fprintf(err, "flitter run: --runtime %g is too long at %g frames/s\n", spec->runtime, spec->fps);
+            return EXIT_USAGE;
+        }
+        spec->frames = lround(frames);
     }
     if (need_script) {
         if (optind != argc - 1) {
@@ -176,6 +225,13 @@ static void show_progress(long done, long total, double elapsed)
     fflush(stderr);
 }
 
+/* The status line of a run without --frames: frame, frames/s, clock. */
+static void show_status(long frame, double rate, double time)
+{
+    fprintf(stderr, "\rframe %ld  %.0f frames/s  time %.2fs ", frame, rate, time);
+    fflush(stderr);
+}
+
 static int save_state(fl_runtime *rt, const char *path, FILE *log)
 {
     Buf err = BUF_INIT;
@@ -223,6 +279,11 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     }
     buf_free(&err);
     Buf b = BUF_INIT;
+    Outputs *outs = outputs_new(spec, rt, log);
+    if (!outs) {
+        fl_free(rt);
+        return EXIT_USAGE;
+    }
     bool dumped_last = false;
     double start = now_seconds(), last_save = start, last_progress = 0;
     long ran = 0;
@@ -247,6 +308,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         fl_step(rt);
         ran++;
         long n = fl_frame_count(rt) - 1;
+        outputs_frame(outs, rt, n);
         dumped_last = false;
         if (spec->dump_state && spec->dump_every > 0 && (n + 1) % spec->dump_every == 0) {
             dump_state(rt, out, &b);
@@ -255,6 +317,9 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         double now = now_seconds();
         if (spec->progress && spec->frames > 0 && (now - last_progress > 0.1 || ran == spec->frames)) {
             show_progress(ran, spec->frames, now - start);
+            last_progress = now;
+        } else if (spec->progress && spec->frames < 0 && now - last_progress > 0.25) {
+            show_status(n, now > start ? (double)ran / (now - start) : 0, fl_frame_time(rt));
             last_progress = now;
         }
         if (spec->state_file && now - last_save >= 5.0) {
@@ -269,7 +334,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
             }
         }
     }
-    if (spec->progress && spec->frames > 0) fputs("\n", stderr);
+    if (spec->progress && ran > 0) fputs("\n", stderr);
     int rc = EXIT_OK;
     if (ran > 0) {
         if (spec->dump_state && !dumped_last) dump_state(rt, out, &b);
@@ -280,6 +345,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         }
     }
     if (spec->state_file && save_state(rt, spec->state_file, log) != 0) rc = EXIT_LOAD;
+    if (outputs_finish(outs, rt, ran) != 0) rc = EXIT_LOAD;
     buf_free(&b);
     fflush(out);
     fl_free(rt);

@@ -15,12 +15,19 @@ typedef struct RunSpec {
     long dump_every;      /* --dump-every K, or 0 */
     bool dump_tree;       /* --dump-tree */
     const char *state_file; /* --state FILE, or NULL */
-    bool progress;        /* show a progress bar on stderr (a terminal) */
+    bool progress;        /* on stderr (a terminal): a progress bar when --frames is given,
+                           * else a status line (frame, frames/s, clock) */
     char **defines;       /* NAME=VALUE strings (borrowed from argv) */
     int ndefines;
     const char *script;   /* SCRIPT */
     int threads;          /* --threads N, or 0 (FLITTER_THREADS / every core) */
     int pairs;            /* --pairs naive|fast: FL_PAIRS_*, default FL_PAIRS_DEFAULT */
+    double runtime;       /* --runtime T seconds (sets frames), or -1 */
+    int verbosity;        /* --quiet -1, default 0, --verbose 1, --debug 2 */
+    const char *view;     /* --view FILE (.png/.svg/.gif), or NULL */
+    long view_every;      /* --view-every K (animations), or 0 */
+    const char *trace;    /* --trace FILE (.csv/.jsonl), or NULL */
+    long trace_every;     /* --trace-every K, or 0 */
 } RunSpec;
 
 /* Parse `flitter run` options from [argv][0..argc) (argv[0] is ignored).

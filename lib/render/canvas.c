@@ -1,0 +1,708 @@
+/* canvas.c: the `!canvas` node set drawn with cairo (see canvas.h).
+ *
+ * Flitter builds paths in the local coordinates of the node that adds to
+ * them and applies the transform in effect when a path is filled, stroked
+ * or clipped; cairo instead transforms points as they are added. So a path
+ * here is a list of operations kept in local coordinates and replayed into
+ * cairo at the moment it is drawn. */
+#include "canvas.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "buf.h"
+#include "format.h"
+#include "rnode.h"
+
+#define TAU 6.283185307179586
+
+/* True the first time [kind] is seen by [log] (remembering it). */
+static bool skiplog_first(SkipLog *log, const char *kind)
+{
+    if (!log) return false;
+    for (int i = 0; i < log->n; i++)
+        if (strncmp(log->kinds[i], kind, sizeof log->kinds[i] - 1) == 0) return false;
+    if (log->n < (int)(sizeof log->kinds / sizeof log->kinds[0])) {
+        snprintf(log->kinds[log->n], sizeof log->kinds[0], "%s", kind);
+        log->n++;
+    }
+    return true;
+}
+
+void skiplog_note(SkipLog *log, const char *where, const char *kind)
+{
+    if (skiplog_first(log, kind) && log->out) fprintf(log->out, "%s: skipping unsupported !%s\n", where, kind);
+}
+
+void skiplog_effect(SkipLog *log, const char *kind)
+{
+    if (skiplog_first(log, kind) && log->out)
+        fprintf(log->out, "window: unsupported !%s, its children drawn without the effect\n", kind);
+}
+
+bool canvas_attr_nums(const Node *n, const char *name, int count, double *out)
+{
+    const Vec *v = rnode_attr(n, name);
+    if (!vec_is_num(v)) return false;
+    uint32_t len = vec_len(v);
+    if (len != (uint32_t)count && len != 1) return false;
+    const double *x = vec_cnums(v);
+    for (int i = 0; i < count; i++) out[i] = x[len == 1 ? 0 : i];
+    return true;
+}
+
+bool canvas_attr_str(const Node *n, const char *name, const SymTab *st, Buf *b)
+{
+    const Vec *v = rnode_attr(n, name);
+    if (!v) return false;
+    buf_reset(b);
+    fmt_str(b, v, st);
+    return true;
+}
+
+static double attr_num(const Node *n, const char *name, double dflt)
+{
+    double x;
+    return canvas_attr_nums(n, name, 1, &x) ? x : dflt;
+}
+
+static bool attr_bool(const Node *n, const char *name, bool dflt)
+{
+    const Vec *v = rnode_attr(n, name);
+    return v ? vec_truthy(v) : dflt;
+}
+
+/* ---- paint and font state (inherited down the tree) ---- */
+
+typedef struct Paint {
+    double rgba[4];
+    cairo_pattern_t *shader;   /* a gradient replacing the colour, or NULL */
+    double width;              /* 0: hairline (one device pixel) */
+    cairo_line_join_t join;
+    cairo_line_cap_t cap;
+    cairo_operator_t op;
+    bool antialias;
+    const double *dashes;      /* !dash intervals (borrowed from the node), or NULL */
+    int ndashes;
+    double dash_offset;
+} Paint;
+
+typedef struct Font {
+    char family[96];
+    double size;
+    cairo_font_weight_t weight;
+    cairo_font_slant_t slant;
+} Font;
+
+typedef struct Ctx {
+    cairo_t *cr;
+    const CanvasEnv *env;
+    Buf text;                  /* scratch for string attributes */
+} Ctx;
+
+static void paint_copy(Paint *dst, const Paint *src)
+{
+    *dst = *src;
+    if (dst->shader) cairo_pattern_reference(dst->shader);
+}
+
+static void paint_done(Paint *p)
+{
+    if (p->shader) cairo_pattern_destroy(p->shader);
+    p->shader = NULL;
+}
+
+/* The colour of [n] (1, 3 or 4 numbers) into [rgba]; false when absent. */
+static bool node_color(const Node *n, double rgba[4])
+{
+    const Vec *v = rnode_attr(n, "color");
+    if (!vec_is_num(v)) return false;
+    const double *x = vec_cnums(v);
+    switch (vec_len(v)) {
+    case 1: rgba[0] = rgba[1] = rgba[2] = x[0]; rgba[3] = 1; return true;
+    case 3: rgba[0] = x[0]; rgba[1] = x[1]; rgba[2] = x[2]; rgba[3] = 1; return true;
+    case 4: memcpy(rgba, x, 4 * sizeof *x); return true;
+    default: return false;
+    }
+}
+
+static const struct { const char *name; cairo_operator_t op; } composites[] = {
+    {"clear", CAIRO_OPERATOR_CLEAR}, {"source", CAIRO_OPERATOR_SOURCE},
+    {"dest", CAIRO_OPERATOR_DEST}, {"over", CAIRO_OPERATOR_OVER},
+    {"dest_over", CAIRO_OPERATOR_DEST_OVER}, {"in", CAIRO_OPERATOR_IN},
+    {"dest_in", CAIRO_OPERATOR_DEST_IN}, {"out", CAIRO_OPERATOR_OUT},
+    {"dest_out", CAIRO_OPERATOR_DEST_OUT}, {"atop", CAIRO_OPERATOR_ATOP},
+    {"dest_atop", CAIRO_OPERATOR_DEST_ATOP}, {"xor", CAIRO_OPERATOR_XOR},
+    {"add", CAIRO_OPERATOR_ADD}, {"modulate", CAIRO_OPERATOR_MULTIPLY},
+    {"screen", CAIRO_OPERATOR_SCREEN}, {"overlay", CAIRO_OPERATOR_OVERLAY},
+    {"darken", CAIRO_OPERATOR_DARKEN}, {"lighten", CAIRO_OPERATOR_LIGHTEN},
+    {"color_dodge", CAIRO_OPERATOR_COLOR_DODGE}, {"color_burn", CAIRO_OPERATOR_COLOR_BURN},
+    {"hard_light", CAIRO_OPERATOR_HARD_LIGHT}, {"soft_light", CAIRO_OPERATOR_SOFT_LIGHT},
+    {"difference", CAIRO_OPERATOR_DIFFERENCE}, {"exclusion", CAIRO_OPERATOR_EXCLUSION},
+    {"multiply", CAIRO_OPERATOR_MULTIPLY}, {"hue", CAIRO_OPERATOR_HSL_HUE},
+    {"saturation", CAIRO_OPERATOR_HSL_SATURATION}, {"color", CAIRO_OPERATOR_HSL_COLOR},
+    {"luminosity", CAIRO_OPERATOR_HSL_LUMINOSITY},
+};
+
+/* Apply [n]'s paint attributes, in attribute order, to [p]. */
+static void update_paint(Ctx *c, const Node *n, Paint *p)
+{
+    for (size_t i = 0; i < rnode_nattrs(n); i++) {
+        const char *key = rnode_attr_name(n, i);
+        if (strcmp(key, "color") == 0) {
+            if (node_color(n, p->rgba)) paint_done(p);
+        } else if (strcmp(key, "stroke_width") == 0) {
+            p->width = attr_num(n, key, p->width);
+        } else if (strcmp(key, "stroke_join") == 0 && canvas_attr_str(n, key, c->env->symbols, &c->text)) {
+            const char *s = buf_cstr(&c->text);
+            if (strcmp(s, "miter") == 0) p->join = CAIRO_LINE_JOIN_MITER;
+            else if (strcmp(s, "round") == 0) p->join = CAIRO_LINE_JOIN_ROUND;
+            else if (strcmp(s, "bevel") == 0) p->join = CAIRO_LINE_JOIN_BEVEL;
+        } else if (strcmp(key, "stroke_cap") == 0 && canvas_attr_str(n, key, c->env->symbols, &c->text)) {
+            const char *s = buf_cstr(&c->text);
+            if (strcmp(s, "butt") == 0) p->cap = CAIRO_LINE_CAP_BUTT;
+            else if (strcmp(s, "round") == 0) p->cap = CAIRO_LINE_CAP_ROUND;
+            else if (strcmp(s, "square") == 0) p->cap = CAIRO_LINE_CAP_SQUARE;
+        } else if (strcmp(key, "composite") == 0 && canvas_attr_str(n, key, c->env->symbols, &c->text)) {
+            for (size_t k = 0; k < sizeof composites / sizeof composites[0]; k++)
+                if (strcmp(buf_cstr(&c->text), composites[k].name) == 0) p->op = composites[k].op;
+        } else if (strcmp(key, "antialias") == 0) {
+            p->antialias = attr_bool(n, key, p->antialias);
+        }
+    }
+}
+
+/* macOS faces Flitter's documentation asks for that fontconfig has no
+ * metric-compatible substitute for: the generic family of the same kind,
+ * so that a monospaced face stays monospaced. */
+static const char *font_substitute(const char *family)
+{
+    static const char *const mono[] = {"Menlo", "Monaco", "SF Mono", "Andale Mono"};
+    for (size_t i = 0; i < sizeof mono / sizeof mono[0]; i++)
+        if (strcasecmp(family, mono[i]) == 0) return "monospace";
+    return family;
+}
+
+static void update_font(Ctx *c, const Node *n, Font *f)
+{
+    const SymTab *st = c->env->symbols;
+    if (canvas_attr_str(n, "font_family", st, &c->text))
+        snprintf(f->family, sizeof f->family, "%s", font_substitute(buf_cstr(&c->text)));
+    if (canvas_attr_str(n, "font_weight", st, &c->text)) {
+        const char *s = buf_cstr(&c->text);
+        /* cairo's font selection knows two weights: semi-bold and heavier are bold */
+        if (strcmp(s, "bold") == 0 || strcmp(s, "semi_bold") == 0 || strcmp(s, "extra_bold") == 0 ||
+            strcmp(s, "black") == 0 || strcmp(s, "extra_black") == 0)
+            f->weight = CAIRO_FONT_WEIGHT_BOLD;
+        else if (strcmp(s, "normal") == 0 || strcmp(s, "medium") == 0 || strcmp(s, "light") == 0 ||
+                 strcmp(s, "extra_light") == 0 || strcmp(s, "thin") == 0)
+            f->weight = CAIRO_FONT_WEIGHT_NORMAL;
+    }
+    if (canvas_attr_str(n, "font_slant", st, &c->text)) {
+        const char *s = buf_cstr(&c->text);
+        if (strcmp(s, "italic") == 0) f->slant = CAIRO_FONT_SLANT_ITALIC;
+        else if (strcmp(s, "oblique") == 0) f->slant = CAIRO_FONT_SLANT_OBLIQUE;
+        else if (strcmp(s, "upright") == 0) f->slant = CAIRO_FONT_SLANT_NORMAL;
+    }
+    f->size = attr_num(n, "font_size", f->size);
+}
+
+/* translate / rotate (turns) / scale, in attribute order. */
+static void update_transform(Ctx *c, const Node *n)
+{
+    double v[2];
+    for (size_t i = 0; i < rnode_nattrs(n); i++) {
+        const char *key = rnode_attr_name(n, i);
+        if (strcmp(key, "translate") == 0 && canvas_attr_nums(n, key, 2, v))
+            cairo_translate(c->cr, v[0], v[1]);
+        else if (strcmp(key, "rotate") == 0 && canvas_attr_nums(n, key, 1, v))
+            cairo_rotate(c->cr, v[0] * TAU);
+        else if (strcmp(key, "scale") == 0 && canvas_attr_nums(n, key, 2, v) && v[0] != 0 && v[1] != 0)
+            cairo_scale(c->cr, v[0], v[1]);
+    }
+}
+
+/* ---- paths in local coordinates ---- */
+
+enum { OP_MOVE, OP_LINE, OP_QUAD, OP_CUBIC, OP_ARC, OP_RECT, OP_RRECT, OP_OVAL, OP_CLOSE };
+
+typedef struct PathOp {
+    int op;
+    double a[6];
+} PathOp;
+
+typedef struct Path {
+    PathOp *ops;
+    size_t n, cap;
+    cairo_fill_rule_t rule;
+} Path;
+
+static PathOp *path_add(Ctx *c, Path *p, int op)
+{
+    (void)c;
+    if (p->n == p->cap) {
+        p->cap = p->cap ? 2 * p->cap : 16;
+        p->ops = realloc(p->ops, p->cap * sizeof *p->ops);
+        if (!p->ops) abort();
+    }
+    PathOp *o = &p->ops[p->n++];
+    memset(o, 0, sizeof *o);
+    o->op = op;
+    return o;
+}
+
+static void path_free(Path *p) { free(p->ops); *p = (Path){0}; }
+
+/* Replay [p] as cairo's current path under the transform in effect now:
+ * as in Flitter, a path's points are mapped by the transform of the node
+ * that fills, strokes or clips it. */
+static void path_replay(Ctx *c, const Path *p)
+{
+    cairo_t *cr = c->cr;
+    cairo_new_path(cr);
+    for (size_t i = 0; i < p->n; i++) {
+        const PathOp *o = &p->ops[i];
+        const double *a = o->a;
+        switch (o->op) {
+        case OP_MOVE: cairo_move_to(cr, a[0], a[1]); break;
+        case OP_LINE:
+            if (cairo_has_current_point(cr)) cairo_line_to(cr, a[0], a[1]);
+            else cairo_move_to(cr, a[0], a[1]);
+            break;
+        case OP_QUAD: {
+            double x0 = a[0], y0 = a[1];
+            if (cairo_has_current_point(cr)) cairo_get_current_point(cr, &x0, &y0);
+            else cairo_move_to(cr, x0, y0);
+            cairo_curve_to(cr, x0 + 2.0 / 3.0 * (a[0] - x0), y0 + 2.0 / 3.0 * (a[1] - y0),
+                           a[2] + 2.0 / 3.0 * (a[0] - a[2]), a[3] + 2.0 / 3.0 * (a[1] - a[3]),
+                           a[2], a[3]);
+            break;
+        }
+        case OP_CUBIC:
+            if (!cairo_has_current_point(cr)) cairo_move_to(cr, a[0], a[1]);
+            cairo_curve_to(cr, a[0], a[1], a[2], a[3], a[4], a[5]);
+            break;
+        case OP_ARC: {   /* centre x,y; radii rx,ry; start, sweep (turns); a[6] unused */
+            if (a[2] <= 0 || a[3] <= 0) break;
+            cairo_save(cr);
+            cairo_translate(cr, a[0], a[1]);
+            cairo_scale(cr, a[2], a[3]);
+            double s = a[4] * TAU, e = (a[4] + a[5]) * TAU;
+            if (a[5] >= 0) cairo_arc(cr, 0, 0, 1, s, e);
+            else cairo_arc_negative(cr, 0, 0, 1, s, e);
+            cairo_restore(cr);
+            break;
+        }
+        case OP_RECT: cairo_rectangle(cr, a[0], a[1], a[2], a[3]); break;
+        case OP_RRECT: {   /* x, y, w, h, rx, ry */
+            double x = a[0], y = a[1], w = a[2], h = a[3];
+            double rx = fmin(fabs(a[4]), fabs(w) / 2), ry = fmin(fabs(a[5]), fabs(h) / 2);
+            if (rx <= 0 || ry <= 0) { cairo_rectangle(cr, x, y, w, h); break; }
+            cairo_new_sub_path(cr);
+            cairo_save(cr);
+            const double cx[4] = {x + w - rx, x + w - rx, x + rx, x + rx};
+            const double cy[4] = {y + ry, y + h - ry, y + h - ry, y + ry};
+            for (int k = 0; k < 4; k++) {
+                cairo_save(cr);
+                cairo_translate(cr, cx[k], cy[k]);
+                cairo_scale(cr, rx, ry);
+                cairo_arc(cr, 0, 0, 1, (k - 1) * TAU / 4, k * TAU / 4);
+                cairo_restore(cr);
+            }
+            cairo_restore(cr);
+            cairo_close_path(cr);
+            break;
+        }
+        case OP_OVAL:   /* centre x,y; radii */
+            if (a[2] <= 0 || a[3] <= 0) break;
+            cairo_new_sub_path(cr);
+            cairo_save(cr);
+            cairo_translate(cr, a[0], a[1]);
+            cairo_scale(cr, a[2], a[3]);
+            cairo_arc(cr, 0, 0, 1, 0, TAU);
+            cairo_restore(cr);
+            cairo_close_path(cr);
+            break;
+        case OP_CLOSE: cairo_close_path(cr); break;
+        }
+    }
+    cairo_set_fill_rule(cr, p->rule);
+}
+
+/* The smoothing test of Flitter's !line with 0 < curve < 0.5: the turn
+ * (in turns, 0..0.25) between the segments a->b and b->c. */
+static double turn_angle(double x0, double y0, double x1, double y1, double x2, double y2)
+{
+    double xa = x1 - x0, ya = y1 - y0, xb = x2 - x1, yb = y2 - y1;
+    double la = sqrt(xa * xa + ya * ya), lb = sqrt(xb * xb + yb * yb);
+    if (la == 0 || lb == 0) return 0;
+    /* clamped to 0..1 as Flitter does, so a turn sharper than a right
+     * angle counts as a quarter turn */
+    double d = (xa * xb + ya * yb) / (la * lb);
+    if (!(d > 0)) d = 0;
+    if (d > 1) d = 1;
+    return acos(d) / TAU;
+}
+
+/* !line points=x0;y0;x1;y1;... [curve=C] [close=B] (Flitter's line_path):
+ * sharp corners when curve <= 0, else quadratic curves through segment
+ * midpoints where the corner turns by at most `curve` turns. */
+static void line_path(Ctx *c, Path *p, const double *pts, uint32_t n, double curve, bool closed)
+{
+    if (n == 0) return;
+    bool sharp = curve <= 0;
+    uint32_t m = n + (closed && !sharp ? 2 : 0);
+    double last_x = 0, last_y = 0, last_mx = 0, last_my = 0;
+    for (uint32_t i = 0; i < m; i++) {
+        double x = pts[i % n * 2], y = pts[i % n * 2 + 1];
+        if (i == 0) {
+            if (sharp || !closed) {
+                PathOp *o = path_add(c, p, OP_MOVE);
+                o->a[0] = x; o->a[1] = y;
+            }
+        } else if (sharp) {
+            PathOp *o = path_add(c, p, OP_LINE);
+            o->a[0] = x; o->a[1] = y;
+        } else {
+            double mx = (last_x + x) / 2, my = (last_y + y) / 2;
+            if (i == 1) {
+                PathOp *o = path_add(c, p, closed ? OP_MOVE : OP_LINE);
+                o->a[0] = mx; o->a[1] = my;
+            } else if (curve >= 0.5 || turn_angle(last_mx, last_my, last_x, last_y, mx, my) <= curve) {
+                PathOp *o = path_add(c, p, OP_QUAD);
+                o->a[0] = last_x; o->a[1] = last_y; o->a[2] = mx; o->a[3] = my;
+            } else {
+                PathOp *o = path_add(c, p, OP_LINE);
+                o->a[0] = last_x; o->a[1] = last_y;
+                o = path_add(c, p, OP_LINE);
+                o->a[0] = mx; o->a[1] = my;
+            }
+            if (!closed && i == m - 1) {
+                PathOp *o = path_add(c, p, OP_LINE);
+                o->a[0] = x; o->a[1] = y;
+            }
+            last_mx = mx;
+            last_my = my;
+        }
+        last_x = x;
+        last_y = y;
+    }
+    if (closed) path_add(c, p, OP_CLOSE);
+}
+
+/* ---- drawing ---- */
+
+static void set_source(Ctx *c, const Paint *p)
+{
+    cairo_t *cr = c->cr;
+    if (p->shader) cairo_set_source(cr, p->shader);
+    else cairo_set_source_rgba(cr, p->rgba[0], p->rgba[1], p->rgba[2], p->rgba[3]);
+    cairo_set_operator(cr, p->op);
+    cairo_set_antialias(cr, p->antialias ? CAIRO_ANTIALIAS_DEFAULT : CAIRO_ANTIALIAS_NONE);
+}
+
+static void do_fill(Ctx *c, const Paint *p)
+{
+    set_source(c, p);
+    cairo_fill_preserve(c->cr);
+}
+
+static void do_stroke(Ctx *c, const Paint *p)
+{
+    cairo_t *cr = c->cr;
+    set_source(c, p);
+    cairo_set_line_join(cr, p->join);
+    cairo_set_line_cap(cr, p->cap);
+    cairo_set_miter_limit(cr, 4.0);   /* Skia's default */
+    cairo_set_dash(cr, p->dashes, p->ndashes, p->dash_offset);
+    if (p->width > 0) {
+        cairo_set_line_width(cr, p->width);
+    } else {   /* hairline: one device pixel whatever the transform */
+        double dx = 1, dy = 0;
+        cairo_device_to_user_distance(cr, &dx, &dy);
+        cairo_set_line_width(cr, hypot(dx, dy));
+    }
+    cairo_stroke_preserve(cr);
+}
+
+/* Fill and/or stroke [path] with [n]'s own paint attributes on top of [p]
+ * (the !rect/!ellipse/!line fill=/stroke= shorthand). */
+static void draw_shape(Ctx *c, const Node *n, const Paint *p, const Path *path, bool fill, bool stroke)
+{
+    Paint dp;
+    paint_copy(&dp, p);
+    update_paint(c, n, &dp);
+    path_replay(c, path);
+    if (fill) do_fill(c, &dp);
+    if (stroke) do_stroke(c, &dp);
+    cairo_new_path(c->cr);
+    paint_done(&dp);
+}
+
+static void draw_text(Ctx *c, const Node *n, const Paint *p, const Font *inherited)
+{
+    if (!canvas_attr_str(n, "text", c->env->symbols, &c->text)) return;
+    cairo_t *cr = c->cr;
+    Paint tp;
+    paint_copy(&tp, p);
+    update_paint(c, n, &tp);
+    Font f = *inherited;
+    update_font(c, n, &f);
+    double pt[2] = {0, 0};
+    canvas_attr_nums(n, "point", 2, pt);
+    bool stroke = attr_bool(n, "stroke", false), fill = attr_bool(n, "fill", !stroke);
+    cairo_select_font_face(cr, f.family, f.slant, f.weight);
+    cairo_set_font_size(cr, f.size);
+    const char *s = buf_cstr(&c->text);
+    double x = pt[0], y = pt[1];
+    if (attr_bool(n, "center", true)) {   /* centre the ink bounds on the point */
+        cairo_text_extents_t e;
+        cairo_text_extents(cr, s, &e);
+        x -= e.x_bearing + e.width / 2;
+        y -= e.y_bearing + e.height / 2;
+    }
+    cairo_new_path(cr);
+    cairo_move_to(cr, x, y);
+    cairo_text_path(cr, s);
+    if (fill) do_fill(c, &tp);
+    if (stroke) do_stroke(c, &tp);
+    cairo_new_path(cr);
+    paint_done(&tp);
+}
+
+/* !gradient start=X;Y end=X;Y | radius=RX;RY [point=X;Y rotate=T], with
+ * !stop [offset=F] [color=...] children: a new shader for [p]. */
+static bool make_gradient(const Node *n, Paint *p)
+{
+    size_t nstops = 0;
+    for (size_t i = 0; i < rnode_nchildren(n); i++)
+        if (rnode_is(rnode_child(n, i), "stop")) nstops++;
+    if (nstops == 0) return false;
+    double start[2], end[2], radius[2];
+    cairo_pattern_t *pat;
+    if (canvas_attr_nums(n, "start", 2, start) && canvas_attr_nums(n, "end", 2, end)) {
+        pat = cairo_pattern_create_linear(start[0], start[1], end[0], end[1]);
+    } else if (canvas_attr_nums(n, "radius", 2, radius) && radius[0] != 0 && radius[1] != 0) {
+        pat = cairo_pattern_create_radial(0, 0, 0, 0, 0, 1);
+        double point[2] = {0, 0};
+        canvas_attr_nums(n, "point", 2, point);
+        cairo_matrix_t m;   /* pattern space -> user space, then inverted */
+        cairo_matrix_init_translate(&m, point[0], point[1]);
+        cairo_matrix_rotate(&m, attr_num(n, "rotate", 0) * TAU);
+        cairo_matrix_scale(&m, radius[0], radius[1]);
+        if (cairo_matrix_invert(&m) == CAIRO_STATUS_SUCCESS) cairo_pattern_set_matrix(pat, &m);
+    } else {
+        return false;
+    }
+    size_t k = 0;
+    for (size_t i = 0; i < rnode_nchildren(n); i++) {
+        const Node *s = rnode_child(n, i);
+        if (!rnode_is(s, "stop")) continue;
+        double rgba[4];
+        memcpy(rgba, p->rgba, sizeof rgba);
+        node_color(s, rgba);
+        double off = attr_num(s, "offset", nstops > 1 ? (double)k / (double)(nstops - 1) : 0);
+        cairo_pattern_add_color_stop_rgba(pat, off, rgba[0], rgba[1], rgba[2], rgba[3]);
+        k++;
+    }
+    paint_done(p);
+    p->shader = pat;
+    return true;
+}
+
+static void draw_node(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path);
+
+static void draw_children(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    for (size_t i = 0; i < rnode_nchildren(n); i++)
+        draw_node(c, rnode_child(n, i), paint, font, path);
+}
+
+/* A scope with its own path, paint and font (group, layer, canvas root). */
+static void draw_scope(Ctx *c, const Node *n, const Paint *paint, const Font *font)
+{
+    Path path = {.rule = CAIRO_FILL_RULE_WINDING};
+    Buf *t = &c->text;
+    if (canvas_attr_str(n, "fill_type", c->env->symbols, t)) {
+        if (strcmp(buf_cstr(t), "even_odd") == 0) path.rule = CAIRO_FILL_RULE_EVEN_ODD;
+    }
+    update_transform(c, n);
+    Paint p;
+    paint_copy(&p, paint);
+    update_paint(c, n, &p);
+    Font f = *font;
+    update_font(c, n, &f);
+    draw_children(c, n, &p, &f, &path);
+    paint_done(&p);
+    path_free(&path);
+}
+
+static void draw_node(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    cairo_t *cr = c->cr;
+    const char *kind = rnode_kind(n);
+    double v[2], r[2];
+    PathOp *o;
+    if (strcmp(kind, "group") == 0) {
+        cairo_save(cr);
+        draw_scope(c, n, paint, font);
+        cairo_restore(cr);
+    } else if (strcmp(kind, "transform") == 0) {
+        cairo_save(cr);
+        update_transform(c, n);
+        draw_children(c, n, paint, font, path);
+        cairo_restore(cr);
+    } else if (strcmp(kind, "paint") == 0) {
+        Paint p;
+        paint_copy(&p, paint);
+        update_paint(c, n, &p);
+        draw_children(c, n, &p, font, path);
+        paint_done(&p);
+    } else if (strcmp(kind, "font") == 0) {
+        Font f = *font;
+        update_font(c, n, &f);
+        draw_children(c, n, paint, &f, path);
+    } else if (strcmp(kind, "path") == 0) {
+        Path p = {.rule = CAIRO_FILL_RULE_WINDING};
+        if (canvas_attr_str(n, "fill_type", c->env->symbols, &c->text) &&
+            strcmp(buf_cstr(&c->text), "even_odd") == 0)
+            p.rule = CAIRO_FILL_RULE_EVEN_ODD;
+        draw_children(c, n, paint, font, &p);
+        path_free(&p);
+    } else if (strcmp(kind, "move_to") == 0 || strcmp(kind, "line_to") == 0) {
+        if (canvas_attr_nums(n, "point", 2, v)) {
+            o = path_add(c, path, kind[0] == 'm' ? OP_MOVE : OP_LINE);
+            o->a[0] = v[0]; o->a[1] = v[1];
+        }
+    } else if (strcmp(kind, "curve_to") == 0) {
+        double c1[2], c2[2];
+        if (canvas_attr_nums(n, "point", 2, v) && canvas_attr_nums(n, "c1", 2, c1)) {
+            if (canvas_attr_nums(n, "c2", 2, c2)) {
+                o = path_add(c, path, OP_CUBIC);
+                o->a[0] = c1[0]; o->a[1] = c1[1]; o->a[2] = c2[0]; o->a[3] = c2[1];
+                o->a[4] = v[0]; o->a[5] = v[1];
+            } else {
+                o = path_add(c, path, OP_QUAD);
+                o->a[0] = c1[0]; o->a[1] = c1[1]; o->a[2] = v[0]; o->a[3] = v[1];
+            }
+        }
+    } else if (strcmp(kind, "arc") == 0) {
+        double pt[2] = {0, 0}, sweep;
+        canvas_attr_nums(n, "point", 2, pt);
+        if (!canvas_attr_nums(n, "radius", 2, r)) return;
+        double start = attr_num(n, "start", 0);
+        if (!canvas_attr_nums(n, "sweep", 1, &sweep)) {
+            double end;
+            if (!canvas_attr_nums(n, "end", 1, &end)) return;
+            sweep = end - start;
+        }
+        if (attr_bool(n, "move_to", false)) {
+            /* start a new contour at the arc's first point */
+            o = path_add(c, path, OP_MOVE);
+            o->a[0] = pt[0] + r[0] * cos(start * TAU);
+            o->a[1] = pt[1] + r[1] * sin(start * TAU);
+        }
+        o = path_add(c, path, OP_ARC);
+        o->a[0] = pt[0]; o->a[1] = pt[1]; o->a[2] = r[0]; o->a[3] = r[1];
+        o->a[4] = start; o->a[5] = sweep;
+    } else if (strcmp(kind, "rect") == 0 || strcmp(kind, "ellipse") == 0 || strcmp(kind, "line") == 0) {
+        Path own = {.rule = path->rule};
+        bool fill = attr_bool(n, "fill", false), stroke = attr_bool(n, "stroke", false);
+        Path *target = (fill || stroke) ? &own : path;
+        double pt[2] = {0, 0};
+        canvas_attr_nums(n, "point", 2, pt);
+        if (kind[0] == 'r') {
+            if (!canvas_attr_nums(n, "size", 2, v)) return;
+            r[0] = r[1] = 0;
+            canvas_attr_nums(n, "radius", 2, r);
+            o = path_add(c, target, (r[0] != 0 || r[1] != 0) ? OP_RRECT : OP_RECT);
+            o->a[0] = pt[0]; o->a[1] = pt[1]; o->a[2] = v[0]; o->a[3] = v[1];
+            o->a[4] = r[0]; o->a[5] = r[1];
+        } else if (kind[0] == 'e') {
+            if (!canvas_attr_nums(n, "radius", 2, r)) return;
+            o = path_add(c, target, OP_OVAL);
+            o->a[0] = pt[0]; o->a[1] = pt[1]; o->a[2] = r[0]; o->a[3] = r[1];
+        } else {
+            const Vec *pts = rnode_attr(n, "points");
+            if (!vec_is_num(pts)) return;
+            line_path(c, target, vec_cnums(pts), vec_len(pts) / 2, attr_num(n, "curve", 0),
+                      attr_bool(n, "close", false));
+        }
+        if (fill || stroke) draw_shape(c, n, paint, &own, fill, stroke);
+        path_free(&own);
+    } else if (strcmp(kind, "close") == 0) {
+        path_add(c, path, OP_CLOSE);
+    } else if (strcmp(kind, "fill") == 0 || strcmp(kind, "stroke") == 0) {
+        draw_shape(c, n, paint, path, kind[0] == 'f', kind[0] == 's');
+    } else if (strcmp(kind, "clip") == 0 || strcmp(kind, "mask") == 0) {
+        path_replay(c, path);
+        if (kind[0] == 'm') {   /* clip to the outside of the path: the path XOR the whole picture */
+            cairo_matrix_t m;
+            cairo_get_matrix(cr, &m);
+            cairo_identity_matrix(cr);
+            double x0, y0, x1, y1;
+            cairo_clip_extents(cr, &x0, &y0, &x1, &y1);
+            cairo_rectangle(cr, x0 - 1, y0 - 1, x1 - x0 + 2, y1 - y0 + 2);
+            cairo_set_matrix(cr, &m);
+            cairo_set_fill_rule(cr, CAIRO_FILL_RULE_EVEN_ODD);
+        }
+        cairo_set_antialias(cr, paint->antialias ? CAIRO_ANTIALIAS_DEFAULT : CAIRO_ANTIALIAS_NONE);
+        cairo_clip(cr);
+    } else if (strcmp(kind, "dash") == 0) {
+        /* a path effect for the strokes after it: intervals=ON;OFF;... offset=D */
+        const Vec *iv = rnode_attr(n, "intervals");
+        bool ok = vec_is_num(iv) && vec_len(iv) > 0 && vec_len(iv) < 1024;
+        double sum = 0;
+        for (uint32_t k = 0; ok && k < vec_len(iv); k++) {
+            double d = vec_cnums(iv)[k];
+            ok = d >= 0 && isfinite(d);
+            sum += d;
+        }
+        if (ok && sum > 0) {
+            paint->dashes = vec_cnums(iv);
+            paint->ndashes = (int)vec_len(iv);
+            paint->dash_offset = attr_num(n, "offset", 0);
+            if (!isfinite(paint->dash_offset)) paint->dash_offset = 0;
+        }
+    } else if (strcmp(kind, "text") == 0) {
+        draw_text(c, n, paint, font);
+    } else if (strcmp(kind, "layer") == 0) {
+        if (!canvas_attr_nums(n, "size", 2, v)) return;
+        double origin[2] = {0, 0};
+        canvas_attr_nums(n, "origin", 2, origin);
+        double alpha = attr_num(n, "alpha", 1);
+        /* as in Flitter, the layer's clip outlives the layer */
+        cairo_rectangle(cr, origin[0], origin[1], v[0], v[1]);
+        cairo_clip(cr);
+        cairo_push_group(cr);
+        draw_scope(c, n, paint, font);
+        cairo_pop_group_to_source(cr);
+        cairo_set_operator(cr, CAIRO_OPERATOR_OVER);
+        cairo_paint_with_alpha(cr, alpha);
+    } else if (strcmp(kind, "gradient") == 0) {
+        make_gradient(n, paint);
+    } else if (strcmp(kind, "color") == 0) {
+        double rgba[4];
+        memcpy(rgba, paint->rgba, sizeof rgba);
+        node_color(n, rgba);
+        paint_done(paint);
+        paint->shader = cairo_pattern_create_rgba(rgba[0], rgba[1], rgba[2], rgba[3]);
+    } else {
+        skiplog_note(c->env->skips, "canvas", kind);
+    }
+}
+
+void canvas_draw(cairo_t *cr, const Node *canvas, const CanvasEnv *env)
+{
+    Ctx c = {.cr = cr, .env = env, .text = BUF_INIT};
+    Paint p = {.rgba = {0, 0, 0, 1}, .width = 0, .join = CAIRO_LINE_JOIN_MITER,
+               .cap = CAIRO_LINE_CAP_BUTT, .op = CAIRO_OPERATOR_OVER, .antialias = true};
+    Font f = {.family = "Helvetica", .size = 20, .weight = CAIRO_FONT_WEIGHT_NORMAL,
+              .slant = CAIRO_FONT_SLANT_NORMAL};
+    cairo_save(cr);
+    draw_scope(&c, canvas, &p, &f);
+    cairo_restore(cr);
+    buf_free(&c.text);
+}

@@ -1,0 +1,61 @@
+/* canvas.h: drawing a Flitter `!canvas` node tree with cairo.
+ *
+ * The node set, attributes and units follow Flitter's canvas renderer
+ * (jonathanhogg/flitter, src/flitter/render/window/canvas.pyx): coordinates
+ * in pixels with the origin top-left and y down; `rotate`, arc `start`,
+ * `end` and `sweep` in turns (1 = 360 degrees, positive turns clockwise on
+ * screen); colours as 1 (grey), 3 (RGB) or 4 (RGBA) numbers in 0..1 written
+ * straight into the sRGB picture; paint attributes inherited down the tree.
+ * The default paint is opaque black, anti-aliased, hairline strokes, miter
+ * joins, butt caps; the default font is Helvetica 20 (fontconfig picks a
+ * metric-compatible face, e.g. Liberation Sans). Besides the issue's set,
+ * `!mask` (clip to the outside of the path, for paths that do not overlap
+ * themselves) and `!dash intervals=... [offset=]` (dashed strokes for the
+ * siblings after it, as a path effect) are drawn.
+ */
+#ifndef FL_RENDER_CANVAS_H
+#define FL_RENDER_CANVAS_H
+
+#include <stdio.h>
+
+#include <cairo.h>
+
+#include "node.h"
+#include "value.h"
+
+/* Node kinds already reported as skipped, so each is reported once. */
+typedef struct SkipLog {
+    FILE *out;               /* where "skipped node" messages go; NULL: nowhere */
+    int n;                   /* kinds recorded */
+    char kinds[32][24];      /* their names (truncated) */
+} SkipLog;
+
+/* Report `[where]: skipping unsupported !KIND` on log->out unless [kind]
+ * was reported before (at most 32 kinds are remembered). */
+void skiplog_note(SkipLog *log, const char *where, const char *kind);
+/* Report `window: unsupported !KIND, its children drawn without the
+ * effect` unless [kind] was reported before. */
+void skiplog_effect(SkipLog *log, const char *kind);
+
+/* What a drawing needs besides the cairo context. */
+typedef struct CanvasEnv {
+    const SymTab *symbols;   /* names symbol values such as :italic (may be NULL) */
+    SkipLog *skips;          /* skipped-kind messages (may be NULL) */
+} CanvasEnv;
+
+/* The string conversion of attribute [name] of [n] (LANGUAGE.md §3.13, so
+ * symbols give their names) into [b]; false when absent. */
+struct Buf;
+bool canvas_attr_str(const Node *n, const char *name, const SymTab *st, struct Buf *b);
+/* [count] numbers of attribute [name] into [out] (a single number is
+ * repeated, as Flitter's Vector.match); false when absent or mismatched. */
+bool canvas_attr_nums(const Node *n, const char *name, int count, double *out);
+
+/* Draw [canvas] (a `!canvas` node, or any group-like node) and its
+ * descendants onto [cr]; the node's own translate/rotate/scale, paint and
+ * font attributes apply to the whole tree, as in Flitter. Nodes outside the
+ * canvas node set are skipped, each kind reported once through env->skips.
+ *   errors: none; malformed attributes are ignored as Flitter does. */
+void canvas_draw(cairo_t *cr, const Node *canvas, const CanvasEnv *env);
+
+#endif

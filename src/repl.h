@@ -1,0 +1,71 @@
+/* repl.h: what the two halves of `flitter repl` share: the session
+ * (cmd_repl.c: reading lines, evaluating, the `:` commands) and terminal
+ * line editing (repl_edit.c: libedit set-up, history, Tab completion and
+ * Ctrl-C at the prompt). */
+#ifndef FL_REPL_H
+#define FL_REPL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "buf.h"
+#include "flitter.h"
+
+typedef enum { CPL_COMMANDS, CPL_NAMES, CPL_FILES } CompletionKind;
+
+typedef struct Repl {
+    fl_runtime *rt;            /* the interpreter (owned) */
+    char *script;              /* path of the current script (owned), or NULL */
+    bool tty;                  /* stdin is a terminal: libedit, prompts, history */
+    char *history;             /* history file path (owned), or NULL for none */
+    bool history_failed;       /* a history write failed (reported once) */
+    char *last_entry;          /* last line added to the history (owned), to skip repeats */
+    Buf block;                 /* Flitter text of a multi-line input so far */
+    bool in_block;             /* [block] is being continued */
+    char *peeked;              /* scripted mode: the next line, read ahead (owned), or NULL */
+    bool peeked_eof;           /* scripted mode: reading ahead met the end of input */
+    long errors;               /* errors reported so far (the exit status of a scripted session) */
+    /* completion cursor, for libedit's generator callback */
+    CompletionKind cpl_kind;   /* what is being completed */
+    size_t cpl_next;           /* next candidate index to try */
+    const Str *const *cpl_names;  /* names in scope (borrowed from the runtime) */
+    size_t cpl_count;          /* entries in cpl_names */
+    Buf cpl_path;              /* CPL_FILES: the whole path typed so far */
+    size_t cpl_skip;           /* CPL_FILES: bytes of it before libedit's word */
+} Repl;
+
+/* True when [s] holds only blanks (spaces, tabs). */
+static inline bool is_blank(const char *s)
+{
+    while (*s == ' ' || *s == '\t') s++;
+    return *s == '\0';
+}
+
+/* [s] after its leading blanks. */
+static inline const char *skip_space(const char *s)
+{
+    while (*s == ' ' || *s == '\t') s++;
+    return s;
+}
+
+/* Report `error: MESSAGE` on stderr (after flushing stdout) and count it
+ * in r->errors. Defined in cmd_repl.c. */
+void repl_error(Repl *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* The name of the [i]-th `:` command (without ':'), or NULL past the
+ * last. Defined in cmd_repl.c. */
+const char *repl_command_name(size_t i);
+
+/* Terminal sessions (repl_edit.c). Catch SIGINT (a flag, see
+ * repl_take_interrupt) and set libedit up for [r]: its character reader,
+ * a UTF-8 character type, Tab completion, the history file
+ * ($FLITTER_HISTORY, else ~/.flitter_history). */
+void repl_edit_begin(Repl *r);
+/* Forget the in-memory history and [r] (the file stays). */
+void repl_edit_end(Repl *r);
+/* Add [line] to the history (skipping blanks and a repeat of the last
+ * entry) and rewrite the history file (a failure is reported once). */
+void repl_remember(Repl *r, const char *line);
+/* Whether Ctrl-C was pressed since the last call (clears the flag). */
+bool repl_take_interrupt(void);
+
+#endif

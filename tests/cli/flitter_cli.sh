@@ -1,0 +1,79 @@
+#!/bin/sh
+# flitter_cli.sh FLITTER WIRE: Flitter's own command line (`flitter
+# [options] SCRIPT` as in Flitter's documentation Makefiles), --version,
+# help, --debug naming a skipped drawing node once; `run --view/--trace`
+# wiring on the wire sample WIRE (pictures and rows are checked in
+# tests/unit/test_view.c).
+set -u
+flitter=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+wire=$2
+dir=$(mktemp -d) || exit 2
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "$*" >&2; exit 1; }
+
+"$flitter" --version >"$dir/out" || fail "--version failed"
+grep -Eqx 'flitter-c [0-9]+\.[0-9]+\.[0-9]+' "$dir/out" || fail "--version printed: $(cat "$dir/out")"
+"$flitter" help run >"$dir/out" || fail "help run failed"
+grep -q -- '--runtime T' "$dir/out" || fail "help run lacks --runtime"
+"$flitter" run --runtime 1e300 --fps 60 x.fl 2>"$dir/err"
+[ $? -eq 2 ] && grep -q 'runtime 1e+300 is too long' "$dir/err" || fail "--runtime 1e300: $(cat "$dir/err")"
+"$flitter" help bogus 2>/dev/null
+[ $? -eq 2 ] || fail "help bogus should exit 2"
+
+# --runtime=1 at --fps=4 runs round(1*4) = 4 frames: the last is frame 3,
+# the one the script records (run_time is the planned run time).
+cat >"$dir/fig.fl" <<'FL'
+!window size=20;10
+    !record filename=OUTPUT if frame == run_time*fps - 1
+        !canvas
+            !rect size=20;10 fill=true color=1
+    !shader
+    !shader
+FL
+(cd "$dir" && "$flitter" --offscreen --lockstep --fps=4 --runtime=1 --nosimplify \
+    --define "OUTPUT=fig.png" --debug --dump-state fig.fl) >"$dir/out" 2>"$dir/err" \
+    || fail "flitter fig.fl failed: $(cat "$dir/err")"
+grep -qx '# frame 3 time 0.75' "$dir/out" || fail "expected 4 frames, got: $(cat "$dir/out")"
+[ -f "$dir/fig.png" ] || fail "fig.png not written"
+# PNG signature, then the IHDR width 20 and height 10 (big-endian)
+[ "$(od -An -tx1 -j12 -N12 "$dir/fig.png" | tr -d ' \n')" = "49484452000000140000000a" ] ||
+    fail "fig.png header: $(od -An -tx1 -N24 "$dir/fig.png")"
+[ "$(grep -c 'skipping unsupported !shader' "$dir/err")" -eq 1 ] || fail "debug messages: $(cat "$dir/err")"
+# without --debug nothing is said about it
+(cd "$dir" && "$flitter" --lockstep --fps=4 --runtime=1 -D OUTPUT=fig2.png fig.fl) 2>"$dir/err" >/dev/null
+[ -s "$dir/err" ] && fail "unexpected stderr: $(cat "$dir/err")"
+[ -f "$dir/fig2.png" ] || fail "fig2.png not written (-D)"
+
+# a !record name that is neither .png nor .gif is reported once, not written
+printf '!window size=8;8\n    !record filename="fig.jpg"\n        !canvas\n' >"$dir/jpg.fl"
+(cd "$dir" && "$flitter" run --frames 3 jpg.fl) 2>"$dir/err" || fail "jpg.fl failed"
+[ "$(grep -c 'fig.jpg: only .png pictures and .gif animations are written' "$dir/err")" -eq 1 ] \
+    || fail "fig.jpg: $(cat "$dir/err")"
+[ -e "$dir/fig.jpg" ] && fail "fig.jpg was written"
+
+# `flitter test` in a directory without tests says so (and exits 2)
+mkdir "$dir/empty" && (cd "$dir/empty" && "$flitter" test) >"$dir/out" 2>"$dir/err"
+[ $? -eq 2 ] || fail "flitter test in an empty directory should exit 2"
+grep -q "no tests in '.' (no MANIFEST there" "$dir/err" || fail "flitter test, no tests: $(cat "$dir/err")"
+
+# --trace every 2nd frame of 3: frames 0 and 2, 12 bodies each, after a
+# header; frame 2's row for particle 3 holds the state dump's numbers
+"$flitter" run --frames 3 --trace "$dir/t.csv" --trace-every 2 --dump-state "$wire" >"$dir/dump" \
+    || fail "run --trace failed"
+[ "$(wc -l <"$dir/t.csv")" -eq 25 ] || fail "trace rows: $(wc -l <"$dir/t.csv")"
+head -1 "$dir/t.csv" | grep -qx 'frame,time,system,id,kind,x,vx' || fail "trace header: $(head -1 "$dir/t.csv")"
+x=$(sed -n 's/^:wire;3 = //p' "$dir/dump") v=$(sed -n 's/^:wire;3;:velocity = //p' "$dir/dump")
+[ -n "$x" ] && [ -n "$v" ] || fail "no :wire;3 in the dump"
+grep -qx "2,0.03333333333333333,wire,3,particle,$x,$v" "$dir/t.csv" \
+    || fail "frame 2 row of particle 3 is not $x,$v: $(grep '^2,.*,wire,3,' "$dir/t.csv")"
+"$flitter" run --frames 2 --trace "$dir/t.jsonl" "$wire" || fail "run --trace .jsonl failed"
+[ "$(grep -c '^{"frame":1,.*"system":"wire",.*"position":\[.*\],"velocity":\[.*\]}$' "$dir/t.jsonl")" -eq 12 ] \
+    || fail "jsonl: $(cat "$dir/t.jsonl")"
+# --view: a PNG 480 wide (IHDR), a GIF, and a usage error for another extension
+"$flitter" run --frames 5 --view "$dir/v.png" "$wire" || fail "run --view png failed"
+[ "$(od -An -tx1 -j16 -N4 "$dir/v.png" | tr -d ' \n')" = "000001e0" ] || fail "v.png is not 480 wide"
+"$flitter" run --frames 5 --view "$dir/v.gif" --view-every 2 "$wire" || fail "run --view gif failed"
+[ "$(head -c 6 "$dir/v.gif")" = "GIF89a" ] || fail "v.gif is not a GIF89a"
+"$flitter" run --frames 5 --view "$dir/v.jpg" "$wire" 2>"$dir/err"
+[ $? -eq 2 ] && grep -q 'v.jpg: a view is written to a .png, .svg or .gif file' "$dir/err" || fail "--view v.jpg: $(cat "$dir/err")"
+exit 0

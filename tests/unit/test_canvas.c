@@ -1,0 +1,366 @@
+/* test_canvas.c: the !window/!canvas/!record renderer (lib/render). Each
+ * test evaluates a small script whose !record writes a PNG (or GIF) into a
+ * scratch directory, reads the file back and checks pixel values at chosen
+ * places, worked out by hand from the geometry (fills, strokes, transforms,
+ * paths mapped at draw time, gradients, layers, text). Pixels well inside
+ * or well outside a shape are exact; anti-aliased values get a tolerance. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cairo.h>
+#include <gif_lib.h>
+
+#include "flitter.h"
+#include "window.h"
+
+static char scratch[64];
+
+static int setup(void **st)
+{
+    (void)st;
+    snprintf(scratch, sizeof scratch, "/tmp/test_canvas.XXXXXX");
+    return mkdtemp(scratch) ? 0 : -1;
+}
+
+static int teardown(void **st)
+{
+    (void)st;
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", scratch);
+    cairo_debug_reset_static_data();   /* cairo's font caches, so valgrind sees no leak */
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+/* Run [frames] frames of [src] with OUT bound to scratch/[name]; returns
+ * what the renderer logged (skipped kinds with debug on). */
+static char *render(const char *src, const char *name, int frames, char *path, size_t pathlen)
+{
+    snprintf(path, pathlen, "%s/%s", scratch, name);
+    char *log = NULL;
+    size_t loglen;
+    FILE *lf = open_memstream(&log, &loglen);
+    fl_options o = fl_default_options();
+    o.log = lf;
+    o.debug = lf;
+    fl_runtime *rt = fl_new(&o);
+    assert_int_equal(fl_define(rt, "OUT", path), 0);
+    Buf err = BUF_INIT;
+    int rc = fl_load_text(rt, "test.fl", src, strlen(src), &err);
+    if (rc != 0) fprintf(stderr, "%s", buf_cstr(&err));
+    assert_int_equal(rc, 0);
+    Renderer *ren = renderer_new(fl_symbols(rt), lf, lf);
+    for (int i = 0; i < frames; i++) {
+        fl_step(rt);
+        assert_int_equal(renderer_frame(ren, fl_root(rt), 10.0), 0);
+    }
+    assert_true(renderer_saw_window(ren));
+    assert_int_equal(renderer_free(ren), 0);
+    buf_free(&err);
+    fl_free(rt);
+    fclose(lf);
+    return log;
+}
+
+typedef struct Pic {
+    cairo_surface_t *s;
+    int w, h, stride;
+    const unsigned char *data;
+} Pic;
+
+static Pic load_png(const char *path)
+{
+    Pic p;
+    p.s = cairo_image_surface_create_from_png(path);
+    assert_int_equal(cairo_surface_status(p.s), CAIRO_STATUS_SUCCESS);
+    p.w = cairo_image_surface_get_width(p.s);
+    p.h = cairo_image_surface_get_height(p.s);
+    p.stride = cairo_image_surface_get_stride(p.s);
+    p.data = cairo_image_surface_get_data(p.s);
+    return p;
+}
+
+/* The (premultiplied) pixel at x,y as 0xAARRGGBB; opaque for RGB24 files. */
+static uint32_t px(const Pic *p, int x, int y)
+{
+    uint32_t v;
+    memcpy(&v, p->data + (size_t)y * (size_t)p->stride + 4 * (size_t)x, 4);
+    if (cairo_image_surface_get_format(p->s) == CAIRO_FORMAT_RGB24) v |= 0xff000000u;
+    return v;
+}
+
+static int chan(uint32_t v, int shift) { return (int)((v >> shift) & 0xff); }
+
+static void assert_near(int got, int want, int tol)
+{
+    if (got < want - tol || got > want + tol) fail_msg("channel %d, want %d +- %d", got, want, tol);
+}
+
+static void test_fill_stroke_transform(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=100;100\n"
+        "    !record filename=OUT keep_alpha=true\n"
+        "        !canvas\n"
+        "            !rect point=10;10 size=30;20 fill=true color=1;0;0\n"
+        "            !path\n"
+        "                !line points=0;80;100;80\n"
+        "                !stroke stroke_width=4 color=0;0;1\n"
+        "            !group translate=50;50 rotate=0.25 color=0;1;0\n"
+        "                !rect size=20;10 fill=true\n"
+        "            !ellipse point=80;20 radius=8 fill=true color=1\n",
+        "a.png", 1, path, sizeof path);
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(p.w, 100);
+    assert_int_equal(p.h, 100);
+    assert_int_equal(px(&p, 20, 20), 0xffff0000u);   /* inside the red rect */
+    assert_int_equal(px(&p, 39, 29), 0xffff0000u);   /* its last pixel, (39..40, 29..30) */
+    assert_int_equal(px(&p, 40, 20), 0x00000000u);   /* just right of it: transparent */
+    assert_int_equal(px(&p, 5, 5), 0x00000000u);
+    /* 4-pixel stroke centred on y=80 covers rows 78..81 exactly */
+    assert_int_equal(px(&p, 90, 78), 0xff0000ffu);
+    assert_int_equal(px(&p, 90, 81), 0xff0000ffu);
+    assert_int_equal(px(&p, 90, 77), 0x00000000u);
+    assert_int_equal(px(&p, 90, 82), 0x00000000u);
+    /* rotate=0.25 turns clockwise: the 20x10 rect's x axis points down the
+     * screen and its y axis left: it covers x 40..50, y 50..70 */
+    assert_int_equal(px(&p, 45, 65), 0xff00ff00u);
+    assert_int_equal(px(&p, 55, 55), 0x00000000u);
+    assert_int_equal(px(&p, 45, 45), 0x00000000u);
+    /* white disc of radius 8 at 80;20 */
+    assert_int_equal(px(&p, 80, 20), 0xffffffffu);
+    assert_int_equal(px(&p, 84, 24), 0xffffffffu);
+    assert_int_equal(px(&p, 80, 30), 0x00000000u);
+    cairo_surface_destroy(p.s);
+}
+
+/* A path is built in local coordinates and mapped by the transform in
+ * force where it is filled (Flitter's Skia semantics), so a square added
+ * at the origin and filled inside a !transform lands translated. A
+ * !gradient child changes the paint for the siblings after it. */
+static void test_path_transform_gradient(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=100;100\n"
+        "    !record filename=OUT\n"
+        "        !canvas\n"
+        "            !path\n"
+        "                !rect size=10;10\n"
+        "                !transform translate=80;0\n"
+        "                    !fill color=0;1;0\n"
+        "            !group\n"
+        "                !gradient start=0;0 end=100;0\n"
+        "                    !stop color=0\n"
+        "                    !stop color=1\n"
+        "                !rect point=0;50 size=100;50 fill=true\n",
+        "b.png", 1, path, sizeof path);
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(cairo_image_surface_get_format(p.s), CAIRO_FORMAT_RGB24);   /* no keep_alpha */
+    assert_int_equal(px(&p, 85, 5), 0xff00ff00u);
+    assert_int_equal(px(&p, 5, 5), 0xff000000u);    /* over black */
+    assert_int_equal(px(&p, 85, 15), 0xff000000u);
+    /* linear ramp 0..1 over x 0..100: pixel centre 49.5 -> 0.495 */
+    assert_near(chan(px(&p, 49, 75), 16), 126, 2);
+    assert_near(chan(px(&p, 49, 75), 0), 126, 2);
+    assert_near(chan(px(&p, 89, 75), 8), 228, 2);
+    assert_near(chan(px(&p, 2, 75), 8), 6, 2);
+    cairo_surface_destroy(p.s);
+}
+
+static void test_layer_arc_text_skip(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=200;100\n"
+        "    !record filename=OUT keep_alpha=true\n"
+        "        !canvas\n"
+        "            !group\n"
+        "                !layer size=50;50 alpha=0.5\n"
+        "                    !rect size=100;100 fill=true color=1\n"
+        "            !path\n"
+        "                !arc point=100;50 radius=20 start=0 end=0.5\n"
+        "                !close\n"
+        "                !fill color=1;1;0\n"
+        "            !text text=\"WWW\" point=160;50 font_size=30 color=1\n"
+        "            !shader\n",
+        "c.png", 1, path, sizeof path);
+    assert_non_null(strstr(log, "skipping unsupported !shader"));
+    free(log);
+    Pic p = load_png(path);
+    /* the layer is clipped to 0..50 and painted at half alpha (its clip
+     * outlives it, as in Flitter, hence the !group around it) */
+    assert_near(chan(px(&p, 25, 25), 24), 128, 1);
+    assert_near(chan(px(&p, 25, 25), 16), 128, 1);   /* premultiplied white */
+    assert_int_equal(px(&p, 60, 25), 0x00000000u);
+    /* half-turn arc from angle 0 clockwise: the half disc below y=50 */
+    assert_int_equal(px(&p, 100, 60), 0xffffff00u);
+    assert_int_equal(px(&p, 100, 40), 0x00000000u);
+    /* text present around its centred point and nothing far from it */
+    int ink = 0;
+    for (int y = 30; y < 70; y++)
+        for (int x = 120; x < 200; x++) ink += chan(px(&p, x, y), 24) > 128;
+    assert_true(ink > 100);
+    assert_int_equal(px(&p, 160, 5), 0x00000000u);
+    assert_int_equal(px(&p, 160, 95), 0x00000000u);
+    cairo_surface_destroy(p.s);
+}
+
+/* !line curve=C smooths a corner when it turns by at most C turns, the
+ * turn measured as Flitter does (clamped to a quarter turn): a 127-degree
+ * turn counts as 0.25 <= 0.3 and is curved, a quadratic through the
+ * segment midpoints (30;50) and (70;50) with apex at (50;30). */
+static void test_line_curve(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=100;100\n"
+        "    !record filename=OUT keep_alpha=true\n"
+        "        !canvas\n"
+        "            !line points=10;90;50;10;90;90 curve=0.3 stroke=true stroke_width=4 color=1\n",
+        "e.png", 1, path, sizeof path);
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(px(&p, 50, 30), 0xffffffffu);   /* the curve's apex */
+    assert_int_equal(px(&p, 50, 14), 0x00000000u);   /* no sharp corner at (50;10) */
+    assert_int_equal(px(&p, 50, 40), 0x00000000u);
+    assert_true(chan(px(&p, 20, 70), 24) > 0);       /* the straight start, (10;90)..(30;50) */
+    cairo_surface_destroy(p.s);
+}
+
+/* A canvas of its own size is stretched over its window (Flitter's window
+ * shader samples each child over the whole output): a 50x50 canvas with
+ * its top-left quarter filled fills the top-left quarter of 100x100. */
+static void test_canvas_stretched(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=100;100\n"
+        "    !record filename=OUT keep_alpha=true\n"
+        "        !canvas size=50;50\n"
+        "            !rect size=25;25 fill=true color=1\n",
+        "f.png", 1, path, sizeof path);
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(p.w, 100);
+    assert_int_equal(px(&p, 10, 10), 0xffffffffu);
+    assert_int_equal(px(&p, 47, 47), 0xffffffffu);
+    assert_int_equal(px(&p, 53, 53), 0x00000000u);
+    assert_int_equal(px(&p, 90, 10), 0x00000000u);
+    cairo_surface_destroy(p.s);
+}
+
+/* A window-level effect (here !bloom) draws its children without the
+ * effect, and says so once; a !record inside an effect is found. */
+static void test_effect_passthrough(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=20;20\n"
+        "    !shader\n"
+        "        !record filename=OUT\n"
+        "            !bloom radius=5\n"
+        "                !canvas\n"
+        "                    !rect size=10;20 fill=true color=1;0;0\n",
+        "g.png", 2, path, sizeof path);
+    const char *msg = "window: unsupported !bloom, its children drawn without the effect\n";
+    const char *at = strstr(log, msg);
+    assert_non_null(at);
+    assert_null(strstr(at + 1, msg));   /* once */
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(px(&p, 5, 10), 0xffff0000u);
+    assert_int_equal(px(&p, 15, 10), 0xff000000u);
+    cairo_surface_destroy(p.s);
+}
+
+/* !dash makes the strokes after it dashed; !mask clips to the outside of
+ * the path. */
+static void test_dash_mask(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=100;100\n"
+        "    !record filename=OUT keep_alpha=true\n"
+        "        !canvas\n"
+        "            !group\n"
+        "                !dash intervals=10;10\n"
+        "                !line points=0;10;100;10 stroke=true stroke_width=4 color=1\n"
+        "            !group\n"
+        "                !path\n"
+        "                    !rect point=40;40 size=20;20\n"
+        "                    !mask\n"
+        "                !rect point=0;30 size=100;70 fill=true color=0;0;1\n",
+        "h.png", 1, path, sizeof path);
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(px(&p, 5, 10), 0xffffffffu);    /* dash 0..10 */
+    assert_int_equal(px(&p, 15, 10), 0x00000000u);   /* gap 10..20 */
+    assert_int_equal(px(&p, 25, 10), 0xffffffffu);
+    assert_int_equal(px(&p, 50, 50), 0x00000000u);   /* masked out */
+    assert_int_equal(px(&p, 30, 50), 0xff0000ffu);
+    assert_int_equal(px(&p, 50, 70), 0xff0000ffu);
+    cairo_surface_destroy(p.s);
+}
+
+static void test_gif_frames(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=40;30\n"
+        "    !record filename=OUT\n"
+        "        !canvas\n"
+        "            !rect size=frame*10+10;30 fill=true color=1\n",
+        "d.gif", 4, path, sizeof path);
+    free(log);
+    int code = 0;
+    GifFileType *g = DGifOpenFileName(path, &code);
+    assert_non_null(g);
+    assert_int_equal(DGifSlurp(g), GIF_OK);
+    assert_int_equal(g->ImageCount, 4);
+    assert_int_equal(g->SWidth, 40);
+    assert_int_equal(g->SHeight, 30);
+    /* frame 2 (third): white up to x=30, black after */
+    SavedImage *im = &g->SavedImages[2];
+    ColorMapObject *map = im->ImageDesc.ColorMap ? im->ImageDesc.ColorMap : g->SColorMap;
+    GifColorType in = map->Colors[im->RasterBits[5 * 40 + 25]];
+    GifColorType out = map->Colors[im->RasterBits[5 * 40 + 35]];
+    assert_true(in.Red > 240 && in.Green > 240 && in.Blue > 240);
+    assert_true(out.Red < 16 && out.Green < 16 && out.Blue < 16);
+    GraphicsControlBlock gcb;
+    assert_int_equal(DGifSavedExtensionToGCB(g, 0, &gcb), GIF_OK);
+    assert_int_equal(gcb.DelayTime, 10);   /* 10 fps */
+    DGifCloseFile(g, &code);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fill_stroke_transform),
+        cmocka_unit_test(test_path_transform_gradient),
+        cmocka_unit_test(test_layer_arc_text_skip),
+        cmocka_unit_test(test_line_curve),
+        cmocka_unit_test(test_canvas_stretched),
+        cmocka_unit_test(test_effect_passthrough),
+        cmocka_unit_test(test_dash_mask),
+        cmocka_unit_test(test_gif_frames),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
