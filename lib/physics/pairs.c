@@ -34,7 +34,8 @@
  * into an "odd" list that is a candidate for everyone (and they scan every
  * partner themselves). Levels with an unlimited reach (gravity or
  * electrostatics without max_distance, infinite radii) and D > 3 gather over
- * all pairs; with one thread those use the reference loop itself.
+ * all pairs; with one or two threads those use the reference loop itself
+ * (the gather measures each pair twice, so two threads only break even).
  *
  * Why the cell test is exact: with h = R * (1 + 2^-20) and |x/h| < 2^30,
  * two entries whose cell indices differ by 2 or more in some coordinate are
@@ -121,7 +122,11 @@ void phys_plan_levels(PhysSystem *s)
                 lv->route = PHYS_ROUTE_SKIP;
             else if (R < 0x1p1000 && s->D <= GRID_MAX_D)
                 lv->route = PHYS_ROUTE_GRID;
-            else if ((nth > 1 && lv->npool >= 512) || R < 0x1p1000)
+            /* the all-pairs gather measures every pair twice (once for
+             * each side), so it only beats the one-thread reference loop
+             * with three threads or more, or when a finite reach lets it
+             * skip most pairs by their squared distance */
+            else if ((nth > 2 && lv->npool >= 512) || R < 0x1p1000)
                 lv->route = PHYS_ROUTE_ALL;
         }
     }
