@@ -15,7 +15,8 @@
  * pair appliers mixed in one level with and without max_distance, distance
  * appliers, barriers, drag, constant and random forces, several steps per
  * frame. Sizes reach past the thresholds where work is split across
- * threads (256 targets per task, 512 for the all-pairs gather).
+ * threads (256 targets per task; the all-pairs gather needs 512 targets
+ * and three threads or more; the particle pass 2048 particles).
  */
 #include <math.h>
 #include <setjmp.h>
