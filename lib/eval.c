@@ -19,6 +19,7 @@
 #include "eval.h"
 #include "format.h"
 #include "module.h"
+#include "stable.h"
 
 /* Recursion limit per function value (§4.8). */
 #define MAX_ACTIVE_CALLS 500
@@ -522,7 +523,11 @@ static Vec *eval_let(Eval *ev, const AstNode *n)
 {
     for (uint32_t i = 0; i < n->nkids; i++) {
         const AstNode *b = n->kids[i];
-        bind_unpack(ev, b, eval_expr(ev, b->a));
+        Vec *v = eval_expr(ev, b->a);
+        if (n->op == 1 && n->count && ev->stables &&
+            !stable_check(ev->stables, n, i, v, ev->prog->asserted, ev->prog->nasserted))
+            ev->stable_changed = true;   /* `let stable`: stable.h */
+        bind_unpack(ev, b, v);
     }
     return eval_expr(ev, n->a);
 }
@@ -586,12 +591,28 @@ static Vec *eval_import(Eval *ev, const AstNode *n)
     return eval_expr(ev, n->b);
 }
 
-/* AST_EXPORT: in a module, record every top-level name's value. */
+/* Append [name] = [value] (both retained) to [out]: a simplifier export. */
+static void export_one(Exports *out, const Str *name, Vec *value)
+{
+    if (out->count == out->cap) {
+        out->cap = out->cap ? out->cap * 2 : 16;
+        out->names = realloc(out->names, out->cap * sizeof(Str *));
+        out->values = realloc(out->values, out->cap * sizeof(Vec *));
+        if (!out->names || !out->values) abort();
+    }
+    out->names[out->count] = str_retain((Str *)name);
+    out->values[out->count] = vec_retain(value);
+    out->count++;
+}
+
+/* AST_EXPORT: in a module, record every top-level name's value (first the
+ * names the simplifier bound to literals: kids `name=literal`). */
 static void eval_export(Eval *ev, const AstNode *n)
 {
     const ExportInfo *x = n->aux;
     Exports *out = ev->exports;
     if (!out || !x) return;
+    for (uint32_t i = 0; i < n->nkids; i++) export_one(out, n->kids[i]->names[0], n->kids[i]->a->value);
     for (uint32_t i = 0; i < x->count; i++) {
         if (out->count == out->cap) {
             out->cap = out->cap ? out->cap * 2 : 16;

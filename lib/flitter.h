@@ -35,6 +35,8 @@ typedef struct fl_options {
     FILE *debug;         /* where debug() lines go (stdout); NULL: nowhere */
     int threads;         /* physics threads (--threads); 0: FLITTER_THREADS, else every core */
     int pairs;           /* physics pair route (--pairs): FL_PAIRS_* */
+    bool no_simplify;    /* --nosimplify: run the program as parsed, without the
+                            load-time simplifier (LANGUAGE.md §4.17) */
 } fl_options;
 
 /* fl_options.pairs: the physics pair loop. Every route gives the same bits. */
@@ -74,6 +76,11 @@ int fl_load(fl_runtime *rt, const char *path, Buf *err);
 /* Load program text from memory; [name] is used in messages and to
  * resolve relative files. Same errors as fl_load. */
 int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err);
+
+/* Append the loaded program, as it will run (after the simplifier unless
+ * no_simplify), to [out] as Flitter-like source (simplify.h ast_dump).
+ *   errors: returns -1 when no program is loaded, else 0. */
+int fl_dump_program(const fl_runtime *rt, Buf *out);
 
 /* Evaluate and simulate one frame: compute the frame names (FORMATS.md §5),
  * evaluate the program into a node tree, run every top-level !physics node,

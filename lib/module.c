@@ -81,7 +81,9 @@ static void run_module(ModuleCache *mc, uint32_t mi, Eval *ev)
     exports_clear(&m->exports);
     m->failed = true;
     Buf err = BUF_INIT;
-    Program *p = program_load(m->path, NULL, (SymTab *)ev->symtab, &err);
+    /* simplified (as a module, with no engine names) when the importer is */
+    Globals mg = {.simplify = ev->globals && ev->globals->simplify, .module = true};
+    Program *p = program_load(m->path, mg.simplify ? &mg : NULL, (SymTab *)ev->symtab, &err);
     buf_free(&err);
     if (!p) return;
     /* load-time warnings (unbound names) are reported like run-time errors */

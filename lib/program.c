@@ -23,6 +23,8 @@
 #include "builtins/builtins.h"
 #include "fileio.h"
 #include "parse.h"
+#include "simplify.h"
+#include "stable.h"
 
 /* ====================================================================
  * Globals and message sets
@@ -477,6 +479,50 @@ static void register_symbols(const AstNode *top, SymTab *st)
     }
 }
 
+/* Simplify [top] (consumed) for [p] with the static names of [g] and the
+ * stable values of [sc] (NULL: none) known. */
+static AstNode *simplify_top(Program *p, AstNode *top, const Globals *g, SymTab *st,
+                             const StableCache *sc)
+{
+    SimplifyName *names = calloc(g->count ? g->count : 1, sizeof *names);
+    if (!names) abort();
+    for (uint32_t i = 0; i < g->count; i++)
+        names[i] = (SimplifyName){g->names[i], i < g->ndynamic, g->values[i]};
+    SimplifyEnv env = {.names = names, .nnames = g->count, .symtab = st, .dir = p->dir,
+                       .first_file = 1000, .stable_ids = &p->stable_ids, .stables = sc,
+                       .is_module = g->module};
+    top = simplify_program(top, &env, &p->warnings);
+    free(names);
+    return top;
+}
+
+/* Resolve the names of p->top against [globals]; frees [p] and returns
+ * NULL when an included file failed to load. */
+static Program *resolve_program(Program *p, Globals *globals, SymTab *st, Buf *err)
+{
+    Resolver r = {.globals = globals, .warnings = &p->warnings, .symtab = st, .dir = p->dir, .err = err};
+    FnCtx ctx = {0};
+    resolve(&r, &ctx, p->top);
+    for (uint32_t i = 0; i < r.nincluded; i++) free(r.included[i]);
+    free(r.included);
+    p->nslots = ctx.nslots;
+    free(ctx.scope);
+    free(ctx.cap_names);
+    free(ctx.cap_src);
+    free(ctx.cap_dst);
+    for (uint32_t i = 0; i < r.nconsts; i++) {
+        str_release(r.consts[i].name);
+        vec_release(r.consts[i].value);
+    }
+    free(r.consts);
+    free(r.unbound);
+    if (r.failed) {
+        program_release(p);
+        return NULL;
+    }
+    return p;
+}
+
 static char *dir_of(const char *path)
 {
     const char *slash = strrchr(path, '/');
@@ -509,26 +555,38 @@ Program *program_load_text(const char *path, const char *text, size_t len,
             p->npragmas++;
         }
     }
-    Resolver r = {.globals = globals, .warnings = &p->warnings, .symtab = st, .dir = p->dir, .err = err};
-    FnCtx ctx = {0};
-    resolve(&r, &ctx, top);
-    for (uint32_t i = 0; i < r.nincluded; i++) free(r.included[i]);
-    free(r.included);
-    p->nslots = ctx.nslots;
-    free(ctx.scope);
-    free(ctx.cap_names);
-    free(ctx.cap_src);
-    free(ctx.cap_dst);
-    for (uint32_t i = 0; i < r.nconsts; i++) {
-        str_release(r.consts[i].name);
-        vec_release(r.consts[i].value);
+    if (globals && globals->simplify) {
+        p->top = top = simplify_top(p, top, globals, st, NULL);
+        p->simplified = ast_copy(top);
     }
-    free(r.consts);
-    free(r.unbound);
-    if (r.failed) {
-        program_release(p);
-        return NULL;
+    return resolve_program(p, globals, st, err);
+}
+
+Program *program_resimplify(const Program *cur, Globals *globals, SymTab *st, const StableCache *sc)
+{
+    if (!cur->simplified) return NULL;
+    Program *p = calloc(1, sizeof *p);
+    if (!p) abort();
+    p->refs = 1;
+    p->path = strdup(cur->path);
+    p->dir = strdup(cur->dir);
+    if (!p->path || !p->dir) abort();
+    p->stable_ids = cur->stable_ids;
+    if (cur->npragmas) {
+        p->pragmas = calloc(cur->npragmas, sizeof(Pragma));
+        if (!p->pragmas) abort();
+        for (uint32_t i = 0; i < cur->npragmas; i++)
+            p->pragmas[i] = (Pragma){str_retain(cur->pragmas[i].name), vec_retain(cur->pragmas[i].value)};
+        p->npragmas = cur->npragmas;
     }
+    p->nasserted = stable_count(sc);
+    p->asserted = malloc((p->nasserted ? p->nasserted : 1) * 2 * sizeof(uint32_t));
+    if (!p->asserted) abort();
+    for (uint32_t i = 0; i < p->nasserted; i++) stable_key(sc, i, &p->asserted[2 * i], &p->asserted[2 * i + 1]);
+    p->top = simplify_top(p, ast_copy(cur->simplified), globals, st, sc);
+    Buf err = BUF_INIT;
+    p = resolve_program(p, globals, st, &err);
+    buf_free(&err);
     return p;
 }
 
@@ -549,6 +607,8 @@ void program_release(Program *p)
 {
     if (!p || --p->refs) return;
     ast_free(p->top);
+    ast_free(p->simplified);
+    free(p->asserted);
     for (uint32_t i = 0; i < p->npragmas; i++) {
         str_release(p->pragmas[i].name);
         vec_release(p->pragmas[i].value);

@@ -31,6 +31,12 @@ typedef struct Globals {
     Str **names;        /* name per index */
     Vec **values;       /* current value per index (owned) */
     uint32_t count, cap;
+    bool simplify;      /* run the simplifier on programs loaded against these
+                           names (simplify.h) */
+    uint32_t ndynamic;  /* names [0, ndynamic) change per frame; the others
+                           (static engine names, defines) are known at load */
+    bool module;        /* programs loaded against these are imported modules
+                           (their top-level names are all exported) */
 } Globals;
 
 /* Index of [name] in [g], or -1. */
@@ -66,6 +72,12 @@ struct Program {
     Pragma *pragmas;
     uint32_t npragmas;
     Buf warnings;          /* load-time warnings, one per line */
+    AstNode *simplified;   /* unresolved copy of the simplified tree, for
+                              simplifying again (NULL without the simplifier) */
+    uint32_t stable_ids;   /* `let stable` ids given out (stable.h) */
+    uint32_t *asserted;    /* stable keys (id, index pairs) whose values this
+                              program was simplified with */
+    uint32_t nasserted;
 };
 
 /* Load, parse and resolve the script at [path] against [globals] (engine
@@ -74,12 +86,21 @@ struct Program {
  *   errors: returns NULL and appends `PATH:LINE:COL: error: ...` to [err]
  *           on a syntax error, or `PATH: error: cannot read: REASON` when
  *           the file cannot be read. Unbound names are warnings
- *           (`Unbound name 'N'`) kept in program->warnings. */
+ *           (`Unbound name 'N'`) kept in program->warnings.
+ * With globals->simplify the parsed program is simplified (simplify.h)
+ * before its names are resolved; the simplifier's messages are warnings. */
 Program *program_load(const char *path, Globals *globals, SymTab *st, Buf *err);
 /* The same from text in memory ([path] names it in messages). */
 Program *program_load_text(const char *path, const char *text, size_t len,
                            Globals *globals, SymTab *st, Buf *err);
 void program_release(Program *p);
+
+struct StableCache;
+/* The program [cur] (loaded with the simplifier) simplified again from its
+ * simplified tree with the values of the stable keys of [sc] known, and
+ * asserting them (stable.h); NULL when [cur] was not simplified. */
+Program *program_resimplify(const Program *cur, Globals *globals, SymTab *st,
+                            const struct StableCache *sc);
 
 /* A set of message strings (per-frame errors and debug lines). */
 typedef struct MsgSet {
@@ -122,6 +143,9 @@ struct Eval {
     bool overflow;          /* the stack limit was hit this frame */
     struct ModuleCache *modules; /* imported modules (NULL: imports fail) */
     Exports *exports;       /* when running a module: where EOF exports go */
+    struct StableCache *stables; /* `let stable` values (NULL: not tracked) */
+    bool stable_changed;    /* an asserted stable value changed: the frame
+                               must be evaluated again (stable.h) */
 };
 
 /* Evaluate the whole program: compose the top-level sequence and append

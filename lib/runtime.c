@@ -5,7 +5,8 @@
  * symbol table, the engine names (Globals) and the beat clock. fl_step()
  * runs one frame in the order of LANGUAGE.md §6.3: compute the frame names,
  * (re)apply pragmas after a load, evaluate the program into a node tree,
- * hand the top-level !physics nodes to the physics engine, store the beat
+ * hand the top-level renderer nodes (!physics, !counter) to their renderers
+ * (COUNTERS.md), store the beat
  * counter under "_counter", then advance `time` by 1/fps (a running
  * floating-point sum, not frame/fps).
  */
@@ -16,11 +17,14 @@
 #include <string.h>
 #include <time.h>
 
+#include "counter.h"
 #include "format.h"
 #include "indent.h"
 #include "module.h"
 #include "physics/physics.h"
 #include "program.h"
+#include "simplify.h"
+#include "stable.h"
 #include "statefile.h"
 
 /* The engine names of LANGUAGE.md §6.2 in a fixed order (indices into
@@ -49,6 +53,8 @@ struct fl_runtime {
     size_t nscope_names;
     Globals globals;        /* engine names and defines */
     Program *prog;          /* current program, or NULL */
+    Program *run_prog;      /* prog simplified again with stable values (stable.h), or NULL */
+    StableCache *stables;   /* `let stable` values */
     bool pragmas_pending;   /* apply pragmas at the next step */
     Node *root;             /* last frame's tree */
     MsgSet errors[2];       /* this and the previous frame's errors */
@@ -102,12 +108,16 @@ fl_runtime *fl_new(const fl_options *opts)
     if (rt->opts.pairs != FL_PAIRS_DEFAULT)
         phys_set_pairs(rt->physics, rt->opts.pairs == FL_PAIRS_NAIVE);
     rt->modules = module_cache_new();
+    rt->stables = stable_new();
     rt->counter_key = vec_str("_counter", 8);
     /* symbols the physics engine writes into state keys (PHYSICS.md) */
-    static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity"};
+    static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity",
+                                                 "time"};
     for (size_t i = 0; i < sizeof engine_symbols / sizeof engine_symbols[0]; i++)
         symtab_add(rt->symtab, engine_symbols[i], strlen(engine_symbols[i]));
     for (int i = 0; i < G__COUNT; i++) globals_add(&rt->globals, engine_names[i]);
+    rt->globals.simplify = !rt->opts.no_simplify;
+    rt->globals.ndynamic = G_REALTIME;   /* frame .. clock change per frame */
     rt->target_fps = rt->opts.fps;
     rt->period = 0.5;
     rt->quantum = 4.0;
@@ -132,6 +142,8 @@ void fl_free(fl_runtime *rt)
 {
     if (!rt) return;
     program_release(rt->prog);
+    program_release(rt->run_prog);
+    stable_free(rt->stables);
     node_release(rt->root);
     phys_free(rt->physics);
     module_cache_free(rt->modules);
@@ -216,6 +228,9 @@ static int install(fl_runtime *rt, Program *p)
     if (!p) return -1;
     log_warnings(rt, p);
     program_release(rt->prog);
+    program_release(rt->run_prog);
+    rt->run_prog = NULL;
+    stable_clear(rt->stables);
     rt->prog = p;
     rt->pragmas_pending = true;
     return 0;
@@ -229,6 +244,13 @@ int fl_load(fl_runtime *rt, const char *path, Buf *err)
 int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err)
 {
     return install(rt, program_load_text(name, text, len, &rt->globals, rt->symtab, err));
+}
+
+int fl_dump_program(const fl_runtime *rt, Buf *out)
+{
+    if (!rt->prog) return -1;
+    ast_dump(out, rt->prog->top, rt->symtab);
+    return 0;
 }
 
 /* ====================================================================
@@ -300,6 +322,51 @@ static void report(FILE *f, const char *prefix, const MsgSet *now, const MsgSet 
         if (!msgset_has(before, now->items[i])) fprintf(f, "%s%s\n", prefix, now->items[i]);
 }
 
+/* ====================================================================
+ * Renderers: the top-level nodes that act after evaluation
+ * ==================================================================== */
+
+/* A renderer receives, once per frame, the top-level nodes of its kind in
+ * tree order (borrowed) and the frame's `time`. */
+typedef struct Renderer {
+    const char *kind;
+    void (*run)(fl_runtime *rt, Node *const *nodes, size_t n, double t);
+} Renderer;
+
+static void run_physics(fl_runtime *rt, Node *const *nodes, size_t n, double t)
+{
+    PhysicsFrame pf = {.time = t, .fps = rt->target_fps, .realtime = rt->opts.realtime,
+                       .performance = 2.0};
+    phys_run_frame(rt->physics, nodes, n, rt->state, &pf);
+}
+
+static void run_counters(fl_runtime *rt, Node *const *nodes, size_t n, double t)
+{
+    for (size_t i = 0; i < n; i++) counter_update(nodes[i], rt->state, t);
+}
+
+/* The renderers, in the order they run. Physics systems and counters keep
+ * disjoint state keys, so running each kind in turn equals tree order. */
+static const Renderer renderers[] = {
+    {"physics", run_physics},
+    {"counter", run_counters},
+};
+
+/* Hand each renderer its top-level nodes of [root]. */
+static void run_renderers(fl_runtime *rt, const Node *root, double t)
+{
+    Node *small[8];
+    Node **nodes = root->nchildren > 8 ? malloc(root->nchildren * sizeof(Node *)) : small;
+    if (!nodes) abort();
+    for (size_t r = 0; r < sizeof renderers / sizeof renderers[0]; r++) {
+        size_t n = 0;
+        for (uint32_t i = 0; i < root->nchildren; i++)
+            if (node_is(root->children[i], renderers[r].kind)) nodes[n++] = root->children[i];
+        renderers[r].run(rt, nodes, n, t);
+    }
+    if (nodes != small) free(nodes);
+}
+
 int fl_step(fl_runtime *rt)
 {
     if (!rt->prog) return -1;
@@ -328,34 +395,48 @@ int fl_step(fl_runtime *rt)
     msgset_clear(&rt->errors[rt->cur]);
     msgset_clear(&rt->debug[rt->cur]);
     Eval ev = {
-        .prog = rt->prog, .globals = &rt->globals, .state = rt->state, .symtab = rt->symtab,
-        .errors = &rt->errors[rt->cur], .debug = &rt->debug[rt->cur], .modules = rt->modules,
-        .exports = &rt->scope,
+        .prog = rt->run_prog ? rt->run_prog : rt->prog, .globals = &rt->globals,
+        .state = rt->state, .symtab = rt->symtab, .errors = &rt->errors[rt->cur],
+        .debug = &rt->debug[rt->cur], .modules = rt->modules, .exports = &rt->scope,
+        .stables = rt->globals.simplify ? rt->stables : NULL,
     };
     exports_clear(&rt->scope);
     Node *root = eval_program(&ev);
+    if (ev.stable_changed) {
+        /* a stable value changed: evaluate the frame again with the program
+         * as first simplified (stable.h) */
+        node_release(root);
+        msgset_clear(&rt->errors[rt->cur]);
+        msgset_clear(&rt->debug[rt->cur]);
+        exports_clear(&rt->scope);
+        stable_frame_done(rt->stables);
+        program_release(rt->run_prog);
+        rt->run_prog = NULL;
+        ev.prog = rt->prog;
+        ev.stable_changed = false;
+        root = eval_program(&ev);
+    }
     node_release(rt->root);
     rt->root = root;
     report(rt->opts.log, "Execution error: ", &rt->errors[rt->cur], &rt->errors[prev]);
     report(rt->opts.debug, "", &rt->debug[rt->cur], &rt->debug[prev]);
 
-    /* hand the top-level !physics nodes to the engine, in order */
-    Node *small[8];
-    Node **phys = root->nchildren > 8 ? malloc(root->nchildren * sizeof(Node *)) : small;
-    if (!phys) abort();
-    size_t nphys = 0;
-    for (uint32_t i = 0; i < root->nchildren; i++)
-        if (node_is(root->children[i], "physics")) phys[nphys++] = root->children[i];
-    PhysicsFrame pf = {.time = t, .fps = rt->target_fps, .realtime = rt->opts.realtime,
-                       .performance = 2.0};
-    phys_run_frame(rt->physics, phys, nphys, rt->state, &pf);
-    if (phys != small) free(phys);
+    run_renderers(rt, root, t);
 
     /* the beat counter (LANGUAGE.md §6.5) */
     double counter[3] = {60.0 / rt->period, rt->quantum, rt->start};
     Vec *val = vec_from_nums(counter, 3);
     state_set(rt->state, rt->counter_key, val);
     vec_release(val);
+
+    /* values that became stable: simplify again with them known */
+    if (stable_frame_done(rt->stables) && rt->globals.simplify) {
+        Program *p = program_resimplify(rt->prog, &rt->globals, rt->symtab, rt->stables);
+        if (p) {
+            program_release(rt->run_prog);
+            rt->run_prog = p;
+        }
+    }
 
     rt->last_time = t;
     rt->frame++;

@@ -527,6 +527,7 @@ static void repl_usage(FILE *f)
           "  -D, --define NAME=VALUE  bind NAME before evaluation\n"
           "  --threads N         physics threads (default: FLITTER_THREADS, else all cores)\n"
           "  --pairs naive|fast  physics pair loop (default fast; same results)\n"
+          "  --nosimplify        run scripts as parsed, without the load-time simplifier\n"
           "Type :help in the session for its commands.\n",
           f);
 }
@@ -541,6 +542,8 @@ static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
         {"define", required_argument, NULL, 'D'},
         {"threads", required_argument, NULL, 't'},
         {"pairs", required_argument, NULL, 'p'},
+        {"nosimplify", no_argument, NULL, 'n'},
+        {"no-simplify", no_argument, NULL, 'n'},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -581,6 +584,7 @@ static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
             }
             defines[ndefines++] = optarg;
             break;
+        case 'n': opts->no_simplify = true; break;
         case 'h':
             repl_usage(stdout);
             rc = -1;

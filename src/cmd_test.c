@@ -2,7 +2,10 @@
  *
  * A test is a script NAME.fl with expected output beside it: NAME.state (a
  * state-dump stream, FORMATS.md §2) and/or NAME.tree (a node-tree dump,
- * FORMATS.md §3). The `flitter run` options of a test come from a line
+ * FORMATS.md §3), both from runs without the simplifier (`--nosimplify` is
+ * implied), and/or NAME.simplified.state / NAME.simplified.tree from runs in
+ * Flitter's default mode (simplifier on unless the options say
+ * `--nosimplify`). The `flitter run` options of a test come from a line
  * `NAME.fl OPTIONS...` in a MANIFEST file in the same directory, or else
  * from a header line `# options: OPTIONS...` at the top of the expected
  * file (default: --frames 1). Each test runs in-process; its output is
@@ -162,6 +165,20 @@ static void show_diff(const char *label, const char *expected, const char *actua
 
 /* ---- one test ---------------------------------------------------------- */
 
+/* True for the state-dump kinds ("state", "simplified.state"). */
+static bool is_state_kind(const char *kind)
+{
+    size_t n = strlen(kind);
+    return n >= 5 && strcmp(kind + n - 5, "state") == 0;
+}
+
+static bool has_suffix(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    return n > k && strcmp(s + n - k, suffix) == 0;
+}
+
+
 static void run_one(const char *dir, const char *script, const char *kind, bool update, Totals *t)
 {
     char *base = strndup(script, strlen(script) - 3);   /* without ".fl" */
@@ -189,8 +206,10 @@ static void run_one(const char *dir, const char *script, const char *kind, bool 
         t->failed++;
     } else {
         spec.script = script_path;
-        if (strcmp(kind, "state") == 0) spec.dump_state = true;
+        if (is_state_kind(kind)) spec.dump_state = true;
         else spec.dump_tree = true;
+        if (strncmp(kind, "simplified.", 11) != 0) spec.no_simplify = true;
+        spec.dump_simplified = false;
         char *out = NULL, *log = NULL;
         size_t outlen = 0, loglen = 0;
         FILE *fo = open_memstream(&out, &outlen), *fl = open_memstream(&log, &loglen);
@@ -219,7 +238,7 @@ static void run_one(const char *dir, const char *script, const char *kind, bool 
         } else {
             printf("FAIL %s\n", label);
             show_diff(label, want, out);
-            if (strcmp(kind, "state") == 0) {
+            if (is_state_kind(kind)) {
                 char where[256] = "";
                 double u = max_ulps(want, out, where, sizeof where);
                 printf("largest numeric difference: %.0f ULP%s%s\n", u, *where ? " at " : "", where);
@@ -240,16 +259,13 @@ done_quiet:
     free(base);
 }
 
-static bool has_suffix(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), k = strlen(suffix);
-    return n > k && strcmp(s + n - k, suffix) == 0;
-}
-
 static int by_name(const void *a, const void *b)
 {
     return strcmp(*(char *const *)a, *(char *const *)b);
 }
+
+/* The expected-output suffixes a script may have beside it. */
+static const char *const test_kinds[] = {"state", "tree", "simplified.state", "simplified.tree"};
 
 /* Run every test in directory [dir] in name order. */
 static int run_dir(const char *dir, bool update, Totals *t)
@@ -275,8 +291,8 @@ static int run_dir(const char *dir, bool update, Totals *t)
     if (n) qsort(names, n, sizeof(char *), by_name);
     int before = t->passed + t->failed;
     for (size_t i = 0; i < n; i++) {
-        run_one(dir, names[i], "state", update, t);
-        run_one(dir, names[i], "tree", update, t);
+        for (size_t k = 0; k < sizeof test_kinds / sizeof test_kinds[0]; k++)
+            run_one(dir, names[i], test_kinds[k], update, t);
         free(names[i]);
     }
     free(names);
@@ -304,7 +320,9 @@ int cmd_test(int argc, char **argv)
         } else if (strcmp(argv[first], "-h") == 0 || strcmp(argv[first], "--help") == 0) {
             puts("usage: flitter test [--update] [PATH...]\n"
                  "  Runs every NAME.fl in each directory PATH (default .) that has a NAME.state\n"
-                 "  or NAME.tree beside it, or the given .fl files, and compares the output.\n"
+                 "  or NAME.tree beside it (run with --nosimplify), or NAME.simplified.state or\n"
+                 "  NAME.simplified.tree (Flitter's default mode), or the given .fl files, and\n"
+                 "  compares the output.\n"
                  "  --update   rewrite expected files that differ");
             return EXIT_OK;
         } else {
@@ -331,8 +349,8 @@ int cmd_test(int argc, char **argv)
                 dir = slash == copy ? "/" : copy;
                 file = slash + 1;
             }
-            run_one(dir, file, "state", update, &t);
-            run_one(dir, file, "tree", update, &t);
+            for (size_t k = 0; k < sizeof test_kinds / sizeof test_kinds[0]; k++)
+                run_one(dir, file, test_kinds[k], update, &t);
             free(copy);
         }
     }

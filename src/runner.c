@@ -32,6 +32,11 @@ static void run_usage(FILE *f)
           "  --threads N         physics threads (default: FLITTER_THREADS, else all cores)\n"
           "  --pairs naive|fast  physics pair loop: the reference all-pairs loop, or the\n"
           "                      neighbour grid and threads (default fast; same results)\n"
+          "  --nosimplify        run the program as parsed, without Flitter's load-time\n"
+          "                      simplifier (also --no-simplify)\n"
+          "  --dump-simplified   print the program as it will run (after simplification)\n"
+          "                      to stdout before the first frame; without --frames,\n"
+          "                      stop there\n"
           "  --runtime T         run round(T*fps) frames (T seconds of frame clock)\n"
           "  --offscreen         accepted for Flitter compatibility (always headless)\n"
           "  --quiet             no progress bar or status line on a terminal\n"
@@ -60,7 +65,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
            O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
-           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY };
+           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -73,13 +78,15 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"state", required_argument, NULL, O_STATE},
         {"threads", required_argument, NULL, O_THREADS},
         {"pairs", required_argument, NULL, O_PAIRS},
+        {"nosimplify", no_argument, NULL, O_NOSIMPLIFY},
+        {"no-simplify", no_argument, NULL, O_NOSIMPLIFY},
+        {"dump-simplified", no_argument, NULL, O_DUMP_SIMPLIFIED},
         {"help", no_argument, NULL, 'h'},
         {"runtime", required_argument, NULL, O_RUNTIME},
         {"offscreen", no_argument, NULL, O_OFFSCREEN},
         {"quiet", no_argument, NULL, O_QUIET},
         {"verbose", no_argument, NULL, O_VERBOSE},
         {"debug", no_argument, NULL, O_DEBUG},
-        {"nosimplify", no_argument, NULL, O_NOSIMPLIFY},
         {"view", required_argument, NULL, O_VIEW},
         {"view-every", required_argument, NULL, O_VIEW_EVERY},
         {"trace", required_argument, NULL, O_TRACE},
@@ -126,11 +133,13 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         case O_PAIRS:
             if (!fl_parse_pairs(optarg, &spec->pairs)) goto bad_value;
             break;
+        case O_NOSIMPLIFY: spec->no_simplify = true; break;
+        case O_DUMP_SIMPLIFIED: spec->dump_simplified = true; break;
         case O_RUNTIME:
             spec->runtime = strtod(optarg, &end);
             if (end == optarg || *end || !(spec->runtime >= 0) || isinf(spec->runtime)) goto bad_value;
             break;
-        case O_OFFSCREEN: case O_NOSIMPLIFY: break;
+        case O_OFFSCREEN: break;
         case O_QUIET: spec->verbosity = -1; break;
         case O_VERBOSE: spec->verbosity = 1; break;
         case O_DEBUG: spec->verbosity = 2; break;
@@ -249,6 +258,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     opts.realtime = spec->realtime;
     opts.threads = spec->threads;
     opts.pairs = spec->pairs;
+    opts.no_simplify = spec->no_simplify;
     opts.log = log;
     opts.debug = (spec->dump_state || spec->dump_tree) ? log : out;
     fl_runtime *rt = fl_new(&opts);
@@ -279,6 +289,17 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     }
     buf_free(&err);
     Buf b = BUF_INIT;
+    if (spec->dump_simplified) {
+        fl_dump_program(rt, &b);
+        fwrite(b.data, 1, b.len, out);
+        buf_reset(&b);
+        if (spec->frames < 0) {
+            buf_free(&b);
+            fflush(out);
+            fl_free(rt);
+            return EXIT_OK;
+        }
+    }
     Outputs *outs = outputs_new(spec, rt, log);
     if (!outs) {
         fl_free(rt);

@@ -14,6 +14,8 @@ typedef struct RunSpec {
     bool dump_state;      /* --dump-state (implied by --dump-every) */
     long dump_every;      /* --dump-every K, or 0 */
     bool dump_tree;       /* --dump-tree */
+    bool no_simplify;     /* --nosimplify / --no-simplify */
+    bool dump_simplified; /* --dump-simplified: print the program as run */
     const char *state_file; /* --state FILE, or NULL */
     bool progress;        /* on stderr (a terminal): a progress bar when --frames is given,
                            * else a status line (frame, frames/s, clock) */

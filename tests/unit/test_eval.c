@@ -21,8 +21,9 @@ typedef struct Run {
 } Run;
 
 /* Evaluate [frames] frames of the program text [src], or of the file
- * [path] when [src] is NULL. */
-static Run run_program(const char *src, const char *path, int frames)
+ * [path] when [src] is NULL; with [simplify] in Flitter's default mode, else
+ * as parsed (--nosimplify: these tests are about the evaluator). */
+static Run run_program_mode(const char *src, const char *path, int frames, bool simplify)
 {
     Run r = {0};
     size_t loglen;
@@ -30,6 +31,7 @@ static Run run_program(const char *src, const char *path, int frames)
     fl_options o = fl_default_options();
     o.log = log;
     o.debug = log;
+    o.no_simplify = !simplify;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT;
     int rc = src ? fl_load_text(rt, "test.fl", src, strlen(src), &err) : fl_load(rt, path, &err);
@@ -46,6 +48,11 @@ static Run run_program(const char *src, const char *path, int frames)
     fl_free(rt);
     fclose(log);
     return r;
+}
+
+static Run run_program(const char *src, const char *path, int frames)
+{
+    return run_program_mode(src, path, frames, false);
 }
 
 static Run run_frames(const char *src, int frames) { return run_program(src, NULL, frames); }
@@ -170,6 +177,27 @@ static void test_identity_and_nan(void **s)
            "!root\n !t a=1 b=1 c=0\n", NULL);
 }
 
+/* The same in Flitter's default mode: `nan` is one shared literal (equal
+ * by identity), each use of a let-bound literal is its own copy, and an
+ * error of a builtin call with literal arguments is a load-time warning. */
+static void test_simplified_identity_and_errors(void **s)
+{
+    (void)s;
+    Run r = run_program_mode("let q=0/0\n!t a=(nan == nan) b=(q == q) c=((0/0) == (0/0))\n", NULL, 1,
+                             true);
+    assert_string_equal(r.tree, "!root\n !t a=1 b=0 c=0\n");
+    free(r.tree);
+    free(r.log);
+    r = run_program_mode("!t r=sqrt(4, 5)\n", NULL, 3, true);
+    assert_string_equal(r.tree, "!root\n !t\n");
+    assert_null(strstr(r.log, "Execution error"));
+    const char *first = strstr(r.log, "test.fl: warning: Error calling sqrtv");
+    assert_non_null(first);
+    assert_null(strstr(first + strlen("test.fl: warning: Error calling sqrtv"), "Error calling sqrtv"));
+    free(r.tree);
+    free(r.log);
+}
+
 static void test_frame_names(void **s)
 {
     (void)s;
@@ -268,6 +296,7 @@ int main(void)
         cmocka_unit_test(test_append_program_e),
         cmocka_unit_test(test_unbound_name_warning),
         cmocka_unit_test(test_identity_and_nan),
+        cmocka_unit_test(test_simplified_identity_and_errors),
         cmocka_unit_test(test_frame_names),
         cmocka_unit_test(test_syntax_error),
         cmocka_unit_test(test_imports),

@@ -1,0 +1,104 @@
+/* counter.c: the `!counter` renderer node (COUNTERS.md). */
+#include "counter.h"
+
+#include <string.h>
+
+/* Attribute [name] of [n] when it is a numeric vector, else [dflt]
+ * (COUNTERS.md "fvec"); a new reference. */
+static Vec *fvec(const Node *n, const char *name, Vec *dflt)
+{
+    Vec *v = node_attr(n, name);
+    return vec_is_num(v) ? vec_retain(v) : vec_retain(dflt);
+}
+
+/* c.when(a, b) of COUNTERS.md: element-wise choice with wrap-around, null
+ * unless all three are numeric. */
+static Vec *when(const Vec *c, const Vec *a, const Vec *b)
+{
+    if (!vec_is_num(c) || !vec_is_num(a) || !vec_is_num(b)) return NULL;
+    uint32_t n = c->len;
+    if (a->len > n) n = a->len;
+    if (b->len > n) n = b->len;
+    Vec *r = vec_new_num(n);
+    double *d = vec_nums(r);
+    for (uint32_t i = 0; i < n; i++)
+        d[i] = vec_cnums(c)[i % c->len] != 0.0 ? vec_cnums(a)[i % a->len] : vec_cnums(b)[i % b->len];
+    return r;
+}
+
+/* clamp(v, lo, hi) of COUNTERS.md, with Python's max/min comparison rules;
+ * a new reference. */
+static Vec *clamp(Vec *v, const Vec *lo, const Vec *hi)
+{
+    if (!vec_is_num(v)) return vec_retain(v);
+    bool has_lo = vec_is_num(lo), has_hi = vec_is_num(hi);
+    uint32_t n = v->len;
+    if (has_lo && lo->len > n) n = lo->len;
+    if (has_hi && hi->len > n) n = hi->len;
+    Vec *r = vec_new_num(n);
+    double *out = vec_nums(r);
+    for (uint32_t i = 0; i < n; i++) {
+        double d = vec_cnums(v)[i % v->len];
+        if (has_lo) {
+            double y = vec_cnums(lo)[i % lo->len];
+            if (y > d) d = y;
+        }
+        if (has_hi) {
+            double y = vec_cnums(hi)[i % hi->len];
+            if (y < d) d = y;
+        }
+        out[i] = d;
+    }
+    return r;
+}
+
+void counter_update(const Node *node, StateDict *state, double frame_time)
+{
+    Vec *key = node_attr(node, "state");
+    if (!vec_len(key)) return;
+    Vec *now = vec_num1(frame_time);
+    Vec *zero = vec_num1(0.0);
+    Vec *time = fvec(node, "time", now);
+    Vec *rate = fvec(node, "rate", zero);
+    Vec *initial = fvec(node, "initial", zero);
+    Vec *reset = fvec(node, "reset", zero);
+    Vec *min_alt = fvec(node, "min", NULL), *max_alt = fvec(node, "max", NULL);
+    Vec *minimum = fvec(node, "minimum", min_alt), *maximum = fvec(node, "maximum", max_alt);
+
+    Vec *sym_time = vec_num1(symbol_value("time", 4));
+    Vec *parts[2] = {key, sym_time};
+    Vec *time_key = vec_compose(parts, 2);
+
+    Vec *current = vec_retain(state_get(state, key));
+    if (!current) {
+        current = vec_retain(initial);
+    } else {
+        Vec *last = state_get(state, time_key);
+        Vec *elapsed = vec_arith(OP_SUB, time, last);
+        Vec *change = vec_arith(OP_MUL, elapsed, rate);
+        Vec *advanced = vec_arith(OP_ADD, change, current);
+        vec_release(current);
+        current = when(reset, initial, advanced);
+        vec_release(elapsed);
+        vec_release(change);
+        vec_release(advanced);
+    }
+    Vec *clamped = clamp(current, minimum, maximum);
+    state_set(state, key, clamped);
+    state_set(state, time_key, time);
+
+    vec_release(clamped);
+    vec_release(current);
+    vec_release(time_key);
+    vec_release(sym_time);
+    vec_release(minimum);
+    vec_release(maximum);
+    vec_release(min_alt);
+    vec_release(max_alt);
+    vec_release(reset);
+    vec_release(initial);
+    vec_release(rate);
+    vec_release(time);
+    vec_release(zero);
+    vec_release(now);
+}
