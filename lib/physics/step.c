@@ -20,7 +20,7 @@
 
 /* Particles per task when a group's particle pass is split over threads,
  * and the smallest group that is split. */
-#define PASS_CHUNK 1024
+#define PASS_CHUNK 512
 
 /* §4 step(p, clock, dt):
  *   a = copy of v

@@ -16,7 +16,7 @@
  * appliers, barriers, drag, constant and random forces, several steps per
  * frame. Sizes reach past the thresholds where work is split across
  * threads (256 targets per task; the all-pairs gather needs 512 targets
- * and three threads or more; the particle pass 2048 particles).
+ * and three threads or more; the particle pass 1024 particles).
  */
 #include <math.h>
 #include <setjmp.h>
@@ -297,7 +297,7 @@ static void test_large_scenes(void **st)
         check_scene(seed, 520 + 23 * (seed - 1000), 3, false);
 }
 
-/* Groups big enough (2 * 1024 particles) for the particle pass (appliers,
+/* Groups big enough (2 * 512 particles) for the particle pass (appliers,
  * step, barriers) to be split over threads too; no !random there, as its
  * draws keep the pass on one thread. */
 static void test_split_particle_pass(void **st)
