@@ -1,5 +1,6 @@
 #!/bin/sh
-# bench/run.sh [BUILD_DIR]: wall time of headless runs, best of 5 each.
+# bench/run.sh [BUILD_DIR]: --stats of the benchmark scenes, then wall time
+# of headless runs, best of 5 each.
 # Not part of the test suite: timings vary with the machine.
 set -u
 build=${1:-build}
@@ -17,6 +18,15 @@ best() {
     done
     printf '%8.3f s  %s\n' "$b" "$*"
 }
+# The issue-10 scenes: frames/s, allocations per frame and the
+# eval/physics/state split, as `flitter run --stats` reports them.
+for scene in "bench/petri200.fl 600" "bench/canvas10k.fl 30"; do
+    set -- $scene
+    echo "== $1 ($2 frames)"
+    "$flitter" run --stats --frames "$2" "$1" 2>&1 >/dev/null | sed 's/^stats: /  /'
+done
+best "$flitter" run --frames 600 bench/petri200.fl
+best "$flitter" run --frames 30 bench/canvas10k.fl
 best "$flitter" run --frames 600 samples/petri.fl
 best "$flitter" run --frames 3000 samples/petri.fl
 for f in tests/golden/*.fl; do

@@ -19,6 +19,7 @@
 #include "eval.h"
 #include "format.h"
 #include "module.h"
+#include "pool.h"
 #include "stable.h"
 
 /* Recursion limit per function value (§4.8). */
@@ -61,6 +62,29 @@ static void errorf(Eval *ev, const char *fmt, ...)
 }
 
 /* ====================================================================
+ * The evaluation step
+ * ==================================================================== */
+
+static Vec *eval_node(Eval *ev, const AstNode *n);
+
+/* Evaluate [n] (may be NULL): literals and names inline, without a call or
+ * the depth guard (they cannot recurse), everything else via eval_node. */
+static inline Vec *eval(Eval *ev, const AstNode *n)
+{
+    if (!n) return NULL;
+    if (n->kind == AST_LITERAL) return vec_retain(n->value);
+    if (n->kind == AST_NAME) {
+        switch (n->scope) {
+        case SCOPE_LOCAL: return vec_retain(ev->frame[n->slot]);
+        case SCOPE_GLOBAL: return ev->globals ? vec_retain(ev->globals->values[n->slot]) : NULL;
+        case SCOPE_CONST: return vec_retain(n->value);
+        default: return NULL;
+        }
+    }
+    return eval_node(ev, n);
+}
+
+/* ====================================================================
  * Helpers
  * ==================================================================== */
 
@@ -78,17 +102,21 @@ static void parts_init(Parts *p)
     p->cap = 8;
 }
 
-static void parts_push(Parts *p, Vec *x)
+/* Grow [p] (full) to twice its capacity. */
+static void parts_grow(Parts *p)
+{
+    size_t cap = p->cap * 2;
+    Vec **nv = pool_alloc(cap * sizeof(Vec *));
+    memcpy(nv, p->v, p->n * sizeof(Vec *));
+    if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
+    p->v = nv;
+    p->cap = cap;
+}
+
+static inline void parts_push(Parts *p, Vec *x)
 {
     if (!x) return;
-    if (p->n == p->cap) {
-        size_t cap = p->cap * 2;
-        Vec **nv = p->v == p->small ? malloc(cap * sizeof(Vec *)) : realloc(p->v, cap * sizeof(Vec *));
-        if (!nv) abort();
-        if (p->v == p->small) memcpy(nv, p->small, sizeof p->small);
-        p->v = nv;
-        p->cap = cap;
-    }
+    if (p->n == p->cap) parts_grow(p);
     p->v[p->n++] = x;
 }
 
@@ -98,7 +126,7 @@ static Vec *parts_finish(Parts *p)
     Vec *r = p->n == 1 ? p->v[0] : vec_compose(p->v, p->n);
     if (p->n != 1)
         for (size_t i = 0; i < p->n; i++) vec_release(p->v[i]);
-    if (p->v != p->small) free(p->v);
+    if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
     return r;
 }
 
@@ -185,10 +213,10 @@ static void closure_destroy(Func *f)
     Closure *c = f->impl;
     for (uint32_t i = 0; i < c->nparams; i++) vec_release(c->defaults[i]);
     for (uint32_t i = 0; i < c->ncaps; i++) vec_release(c->caps[i]);
-    free(c->defaults);
-    free(c->caps);
+    pool_release(c->defaults, (c->nparams ? c->nparams : 1) * sizeof(Vec *));
+    pool_release(c->caps, (c->ncaps ? c->ncaps : 1) * sizeof(Vec *));
     program_release(c->prog);
-    free(c);
+    pool_release(c, sizeof *c);
 }
 
 typedef struct Args {
@@ -208,8 +236,8 @@ static Vec *call_user(Eval *ev, Func *f, const Args *a)
         errorf(ev, "Recursion depth exceeded for func '%s'", f->name->bytes);
         return NULL;
     }
-    Vec **frame = calloc(fi->nslots ? fi->nslots : 1, sizeof(Vec *));
-    if (!frame) abort();
+    size_t frame_size = (fi->nslots ? fi->nslots : 1) * sizeof(Vec *);
+    Vec **frame = pool_calloc(frame_size);
     frame[0] = vec_func_take(func_retain(f));
     for (uint32_t i = 0; i < c->nparams; i++) {
         const AstNode *p = def->kids[i];
@@ -236,17 +264,22 @@ static Vec *call_user(Eval *ev, Func *f, const Args *a)
     ev->frame = frame;
     ev->prog = c->prog;
     c->active++;
-    Vec *r = eval_expr(ev, def->a);
+    Vec *r = eval(ev, def->a);
     c->active--;
     ev->frame = saved;
     ev->prog = saved_prog;
     for (uint32_t i = 0; i < fi->nslots; i++) vec_release(frame[i]);
-    free(frame);
+    pool_release(frame, frame_size);
     return r;
 }
 
 static Vec *call_builtin(Eval *ev, const Builtin *bi, const Args *a)
 {
+    /* every parameter given by position: pass the evaluated arguments as
+     * they are (builtins read nothing past max_args) */
+    if (a->nkw == 0 && bi->max_args != BI_VARIADIC && a->npos == (uint32_t)bi->max_args &&
+        bi->max_args >= bi->min_args)
+        return bi->fn(ev, bi, (int)a->npos, a->pos);
     Vec *args[BI_MAX_PARAMS + 8] = {0};
     Vec **argv = args;
     uint32_t n = a->npos;
@@ -311,21 +344,35 @@ static Vec *call_value(Eval *ev, const Vec *callee, const Args *a)
 
 /* AST_CALL: a(kids[0..count), name=value ...) — args, then named values,
  * then the callee (§4.8). */
-static Vec *eval_call(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_call(Eval *ev, const AstNode *n)
 {
+    uint32_t npos = n->count, nkw = n->nkids - n->count;
+    const AstNode *fn = n->a;
+    if (nkw == 0 && npos <= 8 && fn->kind == AST_NAME && fn->scope == SCOPE_CONST &&
+        vec_is_obj(fn->value) && fn->value->len == 1 && vec_celems(fn->value)[0].kind == EL_FUNC &&
+        vec_celems(fn->value)[0].func->bi) {
+        /* a builtin resolved at load time, positional arguments only: call
+         * it directly (the callee is a constant, so evaluating it last, as
+         * below, changes nothing) */
+        Vec *args[8];
+        for (uint32_t i = 0; i < npos; i++) args[i] = eval(ev, n->kids[i]);
+        Args a = {args, npos, NULL, NULL, 0};
+        Vec *r = call_builtin(ev, vec_celems(fn->value)[0].func->bi, &a);
+        for (uint32_t i = 0; i < npos; i++) vec_release(args[i]);
+        return r;
+    }
     Vec *posbuf[8], *kwbuf[8];
     const AstNode *kwnbuf[8];
-    uint32_t npos = n->count, nkw = n->nkids - n->count;
     Args a = {npos > 8 ? malloc(npos * sizeof(Vec *)) : posbuf, npos,
               nkw > 8 ? malloc(nkw * sizeof(AstNode *)) : kwnbuf,
               nkw > 8 ? malloc(nkw * sizeof(Vec *)) : kwbuf, nkw};
     if (!a.pos || !a.kwn || !a.kw) abort();
-    for (uint32_t i = 0; i < npos; i++) a.pos[i] = eval_expr(ev, n->kids[i]);
+    for (uint32_t i = 0; i < npos; i++) a.pos[i] = eval(ev, n->kids[i]);
     for (uint32_t k = 0; k < nkw; k++) {
         a.kwn[k] = n->kids[npos + k];
-        a.kw[k] = eval_expr(ev, a.kwn[k]->a);
+        a.kw[k] = eval(ev, a.kwn[k]->a);
     }
-    Vec *callee = eval_expr(ev, n->a);
+    Vec *callee = eval(ev, n->a);
     Vec *r = call_value(ev, callee, &a);
     vec_release(callee);
     for (uint32_t i = 0; i < npos; i++) vec_release(a.pos[i]);
@@ -338,24 +385,21 @@ static Vec *eval_call(Eval *ev, const AstNode *n)
 
 /* AST_FUNCTION: a closure with defaults evaluated and free names captured
  * now, in the defining frame (§4.8). */
-static Vec *eval_function(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_function(Eval *ev, const AstNode *n)
 {
     const FnInfo *fi = n->aux;
-    Closure *c = calloc(1, sizeof *c);
-    if (!c) abort();
+    Closure *c = pool_calloc(sizeof *c);
     c->def = n;
     c->prog = ev->prog;
     c->prog->refs++;
     c->nparams = n->nkids;
     c->ncaps = fi->ncaps;
-    c->defaults = calloc(c->nparams ? c->nparams : 1, sizeof(Vec *));
-    c->caps = calloc(c->ncaps ? c->ncaps : 1, sizeof(Vec *));
-    if (!c->defaults || !c->caps) abort();
+    c->defaults = pool_calloc((c->nparams ? c->nparams : 1) * sizeof(Vec *));
+    c->caps = pool_calloc((c->ncaps ? c->ncaps : 1) * sizeof(Vec *));
     for (uint32_t i = 0; i < c->nparams; i++)
-        c->defaults[i] = n->kids[i]->a ? eval_expr(ev, n->kids[i]->a) : NULL;
+        c->defaults[i] = n->kids[i]->a ? eval(ev, n->kids[i]->a) : NULL;
     for (uint32_t k = 0; k < c->ncaps; k++) c->caps[k] = vec_retain(ev->frame[fi->cap_src[k]]);
-    Func *f = calloc(1, sizeof *f);
-    if (!f) abort();
+    Func *f = pool_calloc(sizeof *f);
     f->refs = 1;
     f->name = str_retain(n->names[0]);
     f->impl = c;
@@ -368,9 +412,9 @@ static Vec *eval_function(Eval *ev, const AstNode *n)
  * ==================================================================== */
 
 /* AST_TAG: a #names[0] */
-static Vec *eval_tag(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_tag(Eval *ev, const AstNode *n)
 {
-    Vec *v = eval_expr(ev, n->a);
+    Vec *v = eval(ev, n->a);
     if (!has_nodes(v)) return v;
     v = vec_unshare(v);
     Elem *e = vec_elems(v);
@@ -383,13 +427,13 @@ static Vec *eval_tag(Eval *ev, const AstNode *n)
 }
 
 /* AST_ATTRIBUTES: a name=value ... — values left to right, then set. */
-static Vec *eval_attributes(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_attributes(Eval *ev, const AstNode *n)
 {
-    Vec *v = eval_expr(ev, n->a);
+    Vec *v = eval(ev, n->a);
     Vec *small[16];
     Vec **vals = n->nkids > 16 ? malloc(n->nkids * sizeof(Vec *)) : small;
     if (!vals) abort();
-    for (uint32_t k = 0; k < n->nkids; k++) vals[k] = eval_expr(ev, n->kids[k]->a);
+    for (uint32_t k = 0; k < n->nkids; k++) vals[k] = eval(ev, n->kids[k]->a);
     if (has_nodes(v)) {
         v = vec_unshare(v);
         Elem *e = vec_elems(v);
@@ -406,10 +450,10 @@ static Vec *eval_attributes(Eval *ev, const AstNode *n)
 }
 
 /* AST_APPEND: a << b — node elements of b appended to each node of a. */
-static Vec *eval_append(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_append(Eval *ev, const AstNode *n)
 {
-    Vec *p = eval_expr(ev, n->a);
-    Vec *c = eval_expr(ev, n->b);
+    Vec *p = eval(ev, n->a);
+    Vec *c = eval(ev, n->b);
     if (has_nodes(p) && has_nodes(c)) {
         p = vec_unshare(p);
         Elem *e = vec_elems(p);
@@ -435,38 +479,34 @@ static bool is_literal_two(const AstNode *n)
 }
 
 /* AST_BINOP: a OP b, with the F1 fused a + (b*c) and F2 x**2 (§4.17). */
-static Vec *eval_binop(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_binop(Eval *ev, const AstNode *n)
 {
     if (n->op == OP_POW && is_literal_two(n->b)) {
-        Vec *x = eval_expr(ev, n->a);
+        Vec *x = eval(ev, n->a);
         Vec *r = vec_arith(OP_MUL, x, x);
         vec_release(x);
         return r;
     }
-    Vec *a = eval_expr(ev, n->a);
+    Vec *a = eval(ev, n->a);
     const AstNode *rb = n->b;
     if (n->op == OP_ADD && rb->kind == AST_BINOP &&
         (rb->op == OP_MUL || (rb->op == OP_POW && is_literal_two(rb->b)))) {
-        Vec *b = eval_expr(ev, rb->a);
-        Vec *c = rb->op == OP_MUL ? eval_expr(ev, rb->b) : vec_retain(b);
+        Vec *b = eval(ev, rb->a);
+        Vec *c = rb->op == OP_MUL ? eval(ev, rb->b) : vec_retain(b);
         Vec *r = vec_add_mul(a, b, c);
         vec_release(a);
         vec_release(b);
         vec_release(c);
         return r;
     }
-    Vec *b = eval_expr(ev, rb);
-    Vec *r = vec_arith((ArithOp)n->op, a, b);
-    vec_release(a);
-    vec_release(b);
-    return r;
+    return vec_arith_take((ArithOp)n->op, a, eval(ev, rb));
 }
 
 /* AST_COMPARE: a OP b (§3.6-3.8), 1 or 0, or null when incomparable. */
-static Vec *eval_compare(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_compare(Eval *ev, const AstNode *n)
 {
-    Vec *a = eval_expr(ev, n->a);
-    Vec *b = eval_expr(ev, n->b);
+    Vec *a = eval(ev, n->a);
+    Vec *b = eval(ev, n->b);
     bool same = a == b;    /* identity shortcut (§3.6 rule 1) */
     Vec *r = NULL;
     int c;
@@ -490,11 +530,11 @@ static Vec *eval_compare(Eval *ev, const AstNode *n)
 }
 
 /* AST_RANGE: a..b|c (§3.10). */
-static Vec *eval_range(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_range(Eval *ev, const AstNode *n)
 {
-    Vec *a = n->a ? eval_expr(ev, n->a) : NULL;
-    Vec *b = eval_expr(ev, n->b);
-    Vec *c = n->c ? eval_expr(ev, n->c) : NULL;
+    Vec *a = n->a ? eval(ev, n->a) : NULL;
+    Vec *b = eval(ev, n->b);
+    Vec *c = n->c ? eval(ev, n->c) : NULL;
     bool too_long = false;
     Vec *r = vec_range(a, b, c, MAX_RANGE_LEN, &too_long);
     if (too_long) errorf(ev, "Range too long (over %llu elements)", (unsigned long long)MAX_RANGE_LEN);
@@ -509,56 +549,65 @@ static Vec *eval_range(Eval *ev, const AstNode *n)
  * ==================================================================== */
 
 /* AST_SEQUENCE: kids composed in order (§4.3). */
-static Vec *eval_sequence(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_sequence(Eval *ev, const AstNode *n)
 {
-    if (n->nkids == 1) return eval_expr(ev, n->kids[0]);
+    if (n->nkids == 1) return eval(ev, n->kids[0]);
     Parts parts;
     parts_init(&parts);
-    for (uint32_t i = 0; i < n->nkids; i++) parts_push(&parts, eval_expr(ev, n->kids[i]));
+    for (uint32_t i = 0; i < n->nkids; i++) parts_push(&parts, eval(ev, n->kids[i]));
     return parts_finish(&parts);
 }
 
 /* AST_LET: bindings left to right, then the body (§4.4, §4.5). */
-static Vec *eval_let(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_let(Eval *ev, const AstNode *n)
 {
     for (uint32_t i = 0; i < n->nkids; i++) {
         const AstNode *b = n->kids[i];
-        Vec *v = eval_expr(ev, b->a);
+        Vec *v = eval(ev, b->a);
         if (n->op == 1 && n->count && ev->stables &&
             !stable_check(ev->stables, n, i, v, ev->prog->asserted, ev->prog->nasserted))
             ev->stable_changed = true;   /* `let stable`: stable.h */
         bind_unpack(ev, b, v);
     }
-    return eval_expr(ev, n->a);
+    return eval(ev, n->a);
 }
 
 /* AST_FOR: names in source, body per group of len(names) items, no
  * wrap-around (§4.6). */
-static Vec *eval_for(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
 {
-    Vec *src = eval_expr(ev, n->a);
+    Vec *src = eval(ev, n->a);
     uint32_t len = vec_len(src), k = n->nnames ? n->nnames : 1;
     Parts parts;
     parts_init(&parts);
     for (uint32_t p = 0; p < len; p += k) {
-        for (uint32_t j = 0; j < n->nnames; j++)
-            set_slot(ev, n->slots[j], p + j < len ? vec_item(src, p + j) : NULL);
-        parts_push(&parts, eval_expr(ev, n->b));
+        for (uint32_t j = 0; j < n->nnames; j++) {
+            Vec *cur = ev->frame[n->slots[j]];
+            if (p + j < len && src->kind == VEC_NUM && cur && cur->refs == 1 &&
+                cur->kind == VEC_NUM && cur->len == 1) {
+                /* the previous item is held by nothing else: reuse it */
+                cur->hashed = 0;
+                vec_nums(cur)[0] = vec_cnums(src)[p + j];
+            } else {
+                set_slot(ev, n->slots[j], p + j < len ? vec_item(src, p + j) : NULL);
+            }
+        }
+        parts_push(&parts, eval(ev, n->b));
     }
     vec_release(src);
     return parts_finish(&parts);
 }
 
 /* AST_IFELSE: first true condition's branch, else `a` (§4.7). */
-static Vec *eval_ifelse(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_ifelse(Eval *ev, const AstNode *n)
 {
     for (uint32_t i = 0; i + 1 < n->nkids; i += 2) {
-        Vec *c = eval_expr(ev, n->kids[i]);
+        Vec *c = eval(ev, n->kids[i]);
         bool t = vec_truthy(c);
         vec_release(c);
-        if (t) return eval_expr(ev, n->kids[i + 1]);
+        if (t) return eval(ev, n->kids[i + 1]);
     }
-    return n->a ? eval_expr(ev, n->a) : NULL;
+    return n->a ? eval(ev, n->a) : NULL;
 }
 
 /* ====================================================================
@@ -566,9 +615,9 @@ static Vec *eval_ifelse(Eval *ev, const AstNode *n)
  * ==================================================================== */
 
 /* AST_IMPORT: import names from a, then the body b. */
-static Vec *eval_import(Eval *ev, const AstNode *n)
+__attribute__((noinline)) static Vec *eval_import(Eval *ev, const AstNode *n)
 {
-    Vec *file = eval_expr(ev, n->a);
+    Vec *file = eval(ev, n->a);
     Buf name = BUF_INIT, path = BUF_INIT;
     fmt_str(&name, file, ev->symtab);
     vec_release(file);
@@ -588,7 +637,7 @@ static Vec *eval_import(Eval *ev, const AstNode *n)
     if (vals != small) free(vals);
     buf_free(&name);
     buf_free(&path);
-    return eval_expr(ev, n->b);
+    return eval(ev, n->b);
 }
 
 /* Append [name] = [value] (both retained) to [out]: a simplifier export. */
@@ -630,9 +679,10 @@ static void eval_export(Eval *ev, const AstNode *n)
  * Dispatch
  * ==================================================================== */
 
-Vec *eval_expr(Eval *ev, const AstNode *n)
+Vec *eval_expr(Eval *ev, const AstNode *n) { return eval(ev, n); }
+
+static Vec *eval_node(Eval *ev, const AstNode *n)
 {
-    if (!n) return NULL;
     if (++ev->depth > MAX_EVAL_DEPTH) {
         ev->depth--;
         ev->overflow = true;
@@ -641,51 +691,46 @@ Vec *eval_expr(Eval *ev, const AstNode *n)
     }
     Vec *r = NULL, *a, *b;
     switch ((AstKind)n->kind) {
-    case AST_LITERAL: r = vec_retain(n->value); break;
+    case AST_LITERAL:
     case AST_NAME:
-        switch (n->scope) {
-        case SCOPE_LOCAL: r = vec_retain(ev->frame[n->slot]); break;
-        case SCOPE_GLOBAL: r = ev->globals ? vec_retain(ev->globals->values[n->slot]) : NULL; break;
-        case SCOPE_CONST: r = vec_retain(n->value); break;
-        default: r = NULL; break;
-        }
+        r = eval(ev, n);
         break;
     case AST_LOOKUP:
-        a = eval_expr(ev, n->a);
+        a = eval(ev, n->a);
         r = ev->state ? vec_retain(state_get(ev->state, a)) : NULL;
         vec_release(a);
         break;
     case AST_BINOP: r = eval_binop(ev, n); break;
     case AST_NEG:
-        a = eval_expr(ev, n->a);
+        a = eval(ev, n->a);
         r = vec_neg(a);
         vec_release(a);
         break;
     case AST_POS:
-        a = eval_expr(ev, n->a);
+        a = eval(ev, n->a);
         r = vec_pos(a);
         vec_release(a);
         break;
     case AST_NOT:
-        a = eval_expr(ev, n->a);
+        a = eval(ev, n->a);
         r = vec_num1(!vec_truthy(a));
         vec_release(a);
         break;
     case AST_AND:
-        a = eval_expr(ev, n->a);
+        a = eval(ev, n->a);
         if (!vec_truthy(a)) { r = a; break; }
         vec_release(a);
-        r = eval_expr(ev, n->b);
+        r = eval(ev, n->b);
         break;
     case AST_OR:
-        a = eval_expr(ev, n->a);
+        a = eval(ev, n->a);
         if (vec_truthy(a)) { r = a; break; }
         vec_release(a);
-        r = eval_expr(ev, n->b);
+        r = eval(ev, n->b);
         break;
     case AST_XOR:
-        a = eval_expr(ev, n->a);
-        b = eval_expr(ev, n->b);
+        a = eval(ev, n->a);
+        b = eval(ev, n->b);
         if (!vec_truthy(a)) { r = b; vec_release(a); }
         else if (vec_truthy(b)) { r = vec_num1(0.0); vec_release(a); vec_release(b); }
         else { r = a; vec_release(b); }
@@ -693,8 +738,8 @@ Vec *eval_expr(Eval *ev, const AstNode *n)
     case AST_COMPARE: r = eval_compare(ev, n); break;
     case AST_RANGE: r = eval_range(ev, n); break;
     case AST_INDEX:
-        a = eval_expr(ev, n->a);
-        b = eval_expr(ev, n->b);
+        a = eval(ev, n->a);
+        b = eval(ev, n->b);
         r = vec_index(a, b, n->b->kind == AST_LITERAL && n->b->op == 1);
         vec_release(a);
         vec_release(b);
@@ -708,10 +753,10 @@ Vec *eval_expr(Eval *ev, const AstNode *n)
     case AST_ATTRIBUTES: r = eval_attributes(ev, n); break;
     case AST_APPEND: r = eval_append(ev, n); break;
     case AST_SEQUENCE: r = eval_sequence(ev, n); break;
-    case AST_TOP: r = eval_expr(ev, n->a); break;
+    case AST_TOP: r = eval(ev, n->a); break;
     case AST_IMPORT: r = eval_import(ev, n); break;
     case AST_INCLUDE:
-        if (n->b) r = eval_expr(ev, n->b);
+        if (n->b) r = eval(ev, n->b);
         else if (!n->op && n->a && n->a->value)
             eval_error(ev, "Dynamic include detected; is simplifier disabled?");
         break;
@@ -727,16 +772,16 @@ Vec *eval_expr(Eval *ev, const AstNode *n)
 Vec *eval_program_value(Eval *ev)
 {
     Program *prog = ev->prog;
-    Vec **frame = calloc(prog->nslots ? prog->nslots : 1, sizeof(Vec *));
-    if (!frame) abort();
+    size_t frame_size = (prog->nslots ? prog->nslots : 1) * sizeof(Vec *);
+    Vec **frame = pool_calloc(frame_size);
     Vec **saved = ev->frame;
     ev->frame = frame;
     ev->depth = 0;
     ev->overflow = false;
-    Vec *v = eval_expr(ev, prog->top);
+    Vec *v = eval(ev, prog->top);
     ev->frame = saved;
     for (uint32_t i = 0; i < prog->nslots; i++) vec_release(frame[i]);
-    free(frame);
+    pool_release(frame, frame_size);
     if (ev->overflow) {
         vec_release(v);
         return NULL;

@@ -120,6 +120,25 @@ int fl_restore_state(fl_runtime *rt, const char *path, Buf *err);
 /* Empty the state dictionary (the clock keeps running). */
 void fl_reset_state(fl_runtime *rt);
 
+/* Counters and timers of a runtime since fl_new (fl_get_stats). */
+typedef struct fl_stats {
+    long frames;              /* frames stepped */
+    unsigned long long mallocs, frees;           /* malloc/free calls made for
+                                                    pooled values, in total */
+    unsigned long long last_mallocs, last_frees; /* the same during the last frame */
+    unsigned long long state_gets, state_sets;   /* state dictionary reads and writes */
+    double eval_seconds;      /* evaluating the program into a tree (and
+                                 releasing the previous frame's tree) */
+    double physics_seconds;   /* the physics engine, its state reads/writes included */
+    double other_seconds;     /* the rest of fl_step: frame names, pragmas,
+                                 messages, beat counter */
+} fl_stats;
+
+/* Fill [out] with [rt]'s statistics (wall-clock seconds, monotonic clock).
+ * Allocation counts cover the values the runtime pools (vectors, strings,
+ * nodes and their arrays, evaluator scratch): a steady frame makes none. */
+void fl_get_stats(const fl_runtime *rt, fl_stats *out);
+
 /* The node tree of the last evaluated frame (a !root node), or NULL. */
 const Node *fl_root(const fl_runtime *rt);
 /* The state dictionary (mutable: embedders may write controller values). */

@@ -33,6 +33,15 @@ ModuleCache *module_cache_new(void)
     return mc;
 }
 
+void exports_empty(Exports *x)
+{
+    for (uint32_t i = 0; i < x->count; i++) {
+        str_release(x->names[i]);
+        vec_release(x->values[i]);
+    }
+    x->count = 0;
+}
+
 void exports_clear(Exports *x)
 {
     for (uint32_t i = 0; i < x->count; i++) {

@@ -12,15 +12,18 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "pool.h"
+
+/* [p] (of *cap elements of [size] bytes, pooled) grown to hold [need]. */
 static void *grow(void *p, uint32_t *cap, uint32_t need, size_t size)
 {
     if (need <= *cap) return p;
     uint32_t c = *cap ? *cap * 2 : 4;
     while (c < need) c *= 2;
-    void *q = realloc(p, (size_t)c * size);
-    if (!q) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
+    void *q = pool_alloc((size_t)c * size);
+    if (p) {
+        memcpy(q, p, (size_t)*cap * size);
+        pool_release(p, (size_t)*cap * size);
     }
     *cap = c;
     return q;
@@ -28,8 +31,7 @@ static void *grow(void *p, uint32_t *cap, uint32_t need, size_t size)
 
 Node *node_new(Str *kind)
 {
-    Node *n = calloc(1, sizeof *n);
-    if (!n) abort();
+    Node *n = pool_calloc(sizeof *n);
     n->refs = 1;
     n->kind = str_retain(kind);
     return n;
@@ -45,10 +47,10 @@ void node_release(Node *n)
         vec_release(n->attrs[i].value);
     }
     for (uint32_t i = 0; i < n->nchildren; i++) node_release(n->children[i]);
-    free(n->tags);
-    free(n->attrs);
-    free(n->children);
-    free(n);
+    pool_release(n->tags, (size_t)n->cap_tags * sizeof(Str *));
+    pool_release(n->attrs, (size_t)n->cap_attrs * sizeof(Attr));
+    pool_release(n->children, (size_t)n->cap_children * sizeof(Node *));
+    pool_release(n, sizeof *n);
 }
 
 Node *node_mut(Node *n)
@@ -124,20 +126,14 @@ void node_append(Node *n, Node *child)
     n->children[n->nchildren++] = node_retain(child);
 }
 
-Vec *node_attr(const Node *n, const char *name)
+Vec *node_attr_n(const Node *n, const char *name, size_t len)
 {
-    size_t len = strlen(name);
     for (uint32_t i = 0; i < n->nattrs; i++) {
         const Str *s = n->attrs[i].name;
-        if (s->len == len && memcmp(s->bytes, name, len) == 0) return n->attrs[i].value;
+        if (s->len == len && s->bytes[0] == name[0] && memcmp(s->bytes, name, len) == 0)
+            return n->attrs[i].value;
     }
     return NULL;
-}
-
-bool node_is(const Node *n, const char *kind)
-{
-    size_t len = strlen(kind);
-    return n->kind->len == len && memcmp(n->kind->bytes, kind, len) == 0;
 }
 
 bool node_equal(const Node *a, const Node *b)

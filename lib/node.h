@@ -12,6 +12,8 @@
 #ifndef FL_NODE_H
 #define FL_NODE_H
 
+#include <string.h>
+
 #include "value.h"
 
 typedef struct Attr {
@@ -45,10 +47,21 @@ void node_set_attr(Node *n, Str *name, Vec *value);
 void node_add_tag(Node *n, Str *tag);
 /* Append [child] (retained) to unshared [n]. */
 void node_append(Node *n, Node *child);
-/* The value of attribute [name] (borrowed), or NULL when absent. */
-Vec *node_attr(const Node *n, const char *name);
+/* The value of attribute [name] ([len] bytes; borrowed), or NULL when
+ * absent. */
+Vec *node_attr_n(const Node *n, const char *name, size_t len);
+/* The same for the NUL-terminated [name] (its length folds away for a
+ * string literal). */
+static inline Vec *node_attr(const Node *n, const char *name)
+{
+    return node_attr_n(n, name, strlen(name));
+}
 /* True when [n] has kind [kind]. */
-bool node_is(const Node *n, const char *kind);
+static inline bool node_is(const Node *n, const char *kind)
+{
+    size_t len = strlen(kind);
+    return n->kind->len == len && memcmp(n->kind->bytes, kind, len) == 0;
+}
 /* Structural equality (§3.12): kind, tag set, attribute map regardless of
  * order, children in order. */
 bool node_equal(const Node *a, const Node *b);

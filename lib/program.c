@@ -23,6 +23,7 @@
 #include "builtins/builtins.h"
 #include "fileio.h"
 #include "parse.h"
+#include "pool.h"
 #include "simplify.h"
 #include "stable.h"
 
@@ -213,8 +214,7 @@ static bool builtin_value(Resolver *r, const Str *name, Vec **out)
     if (!builtin_constant(name, &v)) {
         const Builtin *bi = bi_lookup(name->bytes, name->len);
         if (!bi) return false;
-        Func *f = calloc(1, sizeof *f);
-        if (!f) abort();
+        Func *f = pool_calloc(sizeof *f);
         f->refs = 1;
         f->bi = bi;
         v = vec_func_take(f);

@@ -157,6 +157,8 @@ Node *eval_program(Eval *ev);
 Vec *eval_program_value(Eval *ev);
 /* Release every name and value in [x] and empty it. */
 void exports_clear(Exports *x);
+/* Release every name and value in [x] but keep its arrays for reuse. */
+void exports_empty(Exports *x);
 /* Evaluate one expression in the current frame (new reference). */
 Vec *eval_expr(Eval *ev, const AstNode *n);
 

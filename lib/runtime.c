@@ -22,6 +22,7 @@
 #include "indent.h"
 #include "module.h"
 #include "physics/physics.h"
+#include "pool.h"
 #include "program.h"
 #include "simplify.h"
 #include "stable.h"
@@ -42,6 +43,8 @@ static const char *const engine_names[G__COUNT] = {
 
 struct fl_runtime {
     fl_options opts;        /* as given to fl_new */
+    Pool *pool;             /* free lists for per-frame values */
+    fl_stats stats;         /* counters and timers for fl_get_stats */
     SymTab *symtab;         /* symbol names for value text */
     StateDict *state;       /* the state dictionary */
     PhysicsWorld *physics;  /* persistent physics systems */
@@ -99,6 +102,7 @@ fl_runtime *fl_new(const fl_options *opts)
     fl_runtime *rt = calloc(1, sizeof *rt);
     if (!rt) abort();
     rt->opts = opts ? *opts : fl_default_options();
+    rt->pool = pool_new();
     if (!(rt->opts.fps > 0)) rt->opts.fps = 60.0;
     rt->symtab = symtab_new();
     rt->state = state_new();
@@ -158,6 +162,7 @@ void fl_free(fl_runtime *rt)
         msgset_clear(&rt->debug[i]);
     }
     symtab_free(rt->symtab);
+    pool_free(rt->pool);
     free(rt);
 }
 
@@ -367,9 +372,28 @@ static void run_renderers(fl_runtime *rt, const Node *root, double t)
     if (nodes != small) free(nodes);
 }
 
+static int step(fl_runtime *rt);
+
 int fl_step(fl_runtime *rt)
 {
     if (!rt->prog) return -1;
+    Pool *prev = pool_enter(rt->pool);
+    PoolStats before = pool_stats(rt->pool);
+    int rc = step(rt);
+    PoolStats after = pool_stats(rt->pool);
+    pool_leave(prev);
+    rt->stats.frames++;
+    rt->stats.last_mallocs = after.mallocs - before.mallocs;
+    rt->stats.last_frees = after.frees - before.frees;
+    rt->stats.mallocs = after.mallocs;
+    rt->stats.frees = after.frees;
+    return rc;
+}
+
+/* One frame (fl_step), with the runtime's pool active. */
+static int step(fl_runtime *rt)
+{
+    double t0 = monotonic();
     if (rt->opts.realtime) rt->frame_time = monotonic() - rt->wall_start;
     double t = rt->frame_time;
     double beat = beat_at(rt, t);
@@ -400,7 +424,8 @@ int fl_step(fl_runtime *rt)
         .debug = &rt->debug[rt->cur], .modules = rt->modules, .exports = &rt->scope,
         .stables = rt->globals.simplify ? rt->stables : NULL,
     };
-    exports_clear(&rt->scope);
+    exports_empty(&rt->scope);
+    double t1 = monotonic();
     Node *root = eval_program(&ev);
     if (ev.stable_changed) {
         /* a stable value changed: evaluate the frame again with the program
@@ -418,10 +443,13 @@ int fl_step(fl_runtime *rt)
     }
     node_release(rt->root);
     rt->root = root;
+    double t2 = monotonic();
     report(rt->opts.log, "Execution error: ", &rt->errors[rt->cur], &rt->errors[prev]);
     report(rt->opts.debug, "", &rt->debug[rt->cur], &rt->debug[prev]);
 
-    run_renderers(rt, root, t);
+    double t3 = monotonic();
+    run_renderers(rt, root, t);   /* physics systems, then counters */
+    double t4 = monotonic();
 
     /* the beat counter (LANGUAGE.md §6.5) */
     double counter[3] = {60.0 / rt->period, rt->quantum, rt->start};
@@ -441,7 +469,19 @@ int fl_step(fl_runtime *rt)
     rt->last_time = t;
     rt->frame++;
     if (!rt->opts.realtime) rt->frame_time += 1.0 / rt->target_fps;
+    double t5 = monotonic();
+    rt->stats.eval_seconds += t2 - t1;
+    rt->stats.physics_seconds += t4 - t3;
+    rt->stats.other_seconds += (t1 - t0) + (t3 - t2) + (t5 - t4);
     return 0;
+}
+
+void fl_get_stats(const fl_runtime *rt, fl_stats *out)
+{
+    *out = rt->stats;
+    StateCounts c = state_counts(rt->state);
+    out->state_gets = c.gets;
+    out->state_sets = c.sets;
 }
 
 /* ====================================================================

@@ -7,6 +7,11 @@
  * -0 are distinct keys, as in the reference). Deleted entries leave a
  * tombstone (key NULL, hash TOMB) so probe chains stay intact; tombstones are
  * dropped when the table is rebuilt.
+ *
+ * Keys are hashed once: vec_key_hash() keeps the hash in the key vector, so
+ * a writer that keeps its key vectors across frames (the physics engine, the
+ * beat counter, a `$` of a literal key) pays for hashing once, and a probe
+ * that meets the very same key vector skips the element comparison.
  */
 #include "state.h"
 
@@ -25,6 +30,7 @@ struct StateDict {
     size_t cap;       /* power of two */
     size_t live;      /* entries with a key */
     size_t used;      /* live + tombstones */
+    StateCounts counts; /* reads and writes */
 };
 
 StateDict *state_new(void)
@@ -58,7 +64,7 @@ void state_free(StateDict *sd)
 /* The key's hash, kept clear of the two slot markers 0 and TOMB. */
 static uint64_t key_hash(const Vec *key)
 {
-    uint64_t h = vec_hash(key, false);
+    uint64_t h = vec_key_hash(key);
     return h <= TOMB ? h + 2 : h;
 }
 
@@ -72,12 +78,13 @@ static Slot *find(const StateDict *sd, const Vec *key, uint64_t h)
             if (s->hash != TOMB) return NULL;
             continue;
         }
-        if (s->hash == h && vec_key_equal(s->key, key)) return s;
+        if (s->hash == h && (s->key == key || vec_key_equal(s->key, key))) return s;
     }
 }
 
 Vec *state_get(const StateDict *sd, const Vec *key)
 {
+    ((StateDict *)sd)->counts.gets++;
     if (!key || !key->len) return NULL;
     Slot *s = find(sd, key, key_hash(key));
     return s ? s->value : NULL;
@@ -102,6 +109,7 @@ static void rebuild(StateDict *sd, size_t cap)
 
 bool state_set(StateDict *sd, const Vec *key, const Vec *value)
 {
+    sd->counts.sets++;
     if (!key || !key->len) return false;
     uint64_t h = key_hash(key);
     Slot *s = find(sd, key, h);
@@ -130,6 +138,8 @@ bool state_set(StateDict *sd, const Vec *key, const Vec *value)
 }
 
 size_t state_count(const StateDict *sd) { return sd->live; }
+
+StateCounts state_counts(const StateDict *sd) { return sd->counts; }
 
 StateEntry *state_entries(const StateDict *sd, size_t *n)
 {

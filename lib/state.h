@@ -28,6 +28,11 @@ Vec *state_get(const StateDict *sd, const Vec *key);
  * stored value changed (a set to an equal value, or a delete of a missing
  * key, is not a change). */
 bool state_set(StateDict *sd, const Vec *key, const Vec *value);
+/* How often the dictionary was read (state_get) and written (state_set). */
+typedef struct StateCounts {
+    unsigned long long gets, sets;
+} StateCounts;
+StateCounts state_counts(const StateDict *sd);
 /* Number of entries. */
 size_t state_count(const StateDict *sd);
 /* Remove every entry. */

@@ -20,6 +20,7 @@
 #include "builtins/builtins.h"
 #include "builtins/random.h"
 #include "node.h"
+#include "pool.h"
 #include "utf8.h"
 
 /* ====================================================================
@@ -46,7 +47,7 @@ Str *str_new(const char *s, size_t len)
         fputs("flitter: string too long\n", stderr);
         abort();
     }
-    Str *r = xmalloc(sizeof(Str) + len + 1);
+    Str *r = pool_alloc(sizeof(Str) + len + 1);
     r->refs = 1;
     r->len = (uint32_t)len;
     if (len) memcpy(r->bytes, s, len);
@@ -58,12 +59,7 @@ Str *str_from(const char *s) { return str_new(s, strlen(s)); }
 
 void str_release(Str *s)
 {
-    if (s && --s->refs == 0) free(s);
-}
-
-bool str_eq(const Str *a, const Str *b)
-{
-    return a == b || (a->len == b->len && memcmp(a->bytes, b->bytes, a->len) == 0);
+    if (s && --s->refs == 0) pool_release(s, sizeof(Str) + s->len + 1);
 }
 
 int str_cmp(const Str *a, const Str *b)
@@ -95,7 +91,7 @@ void func_release(Func *f)
     if (!f || --f->refs) return;
     if (f->destroy) f->destroy(f);
     str_release(f->name);
-    free(f);
+    pool_release(f, sizeof *f);
 }
 
 const char *func_name(const Func *f)
@@ -110,16 +106,15 @@ const char *func_name(const Func *f)
 
 static Vec *vec_alloc(uint8_t kind, uint32_t n, size_t elem_size)
 {
-    Vec *v = xmalloc(sizeof(Vec) + (size_t)n * elem_size);
+    Vec *v = pool_alloc(sizeof(Vec) + (size_t)n * elem_size);
     v->refs = 1;
     v->kind = kind;
     v->stream = 0;
+    v->hashed = 0;
     v->len = n;
     v->key = 0;
     return v;
 }
-
-Vec *vec_new_num(uint32_t n) { return vec_alloc(VEC_NUM, n, sizeof(double)); }
 
 Vec *vec_new_obj(uint32_t n)
 {
@@ -129,13 +124,6 @@ Vec *vec_new_obj(uint32_t n)
         e[i].kind = EL_NUM;
         e[i].num = 0.0;
     }
-    return v;
-}
-
-Vec *vec_num1(double x)
-{
-    Vec *v = vec_new_num(1);
-    vec_nums(v)[0] = x;
     return v;
 }
 
@@ -201,14 +189,15 @@ static void elem_retain(Elem *e)
     }
 }
 
-void vec_release(Vec *v)
+void vec_destroy_(Vec *v)
 {
-    if (!v || --v->refs) return;
     if (v->kind == VEC_OBJ) {
         Elem *e = vec_elems(v);
         for (uint32_t i = 0; i < v->len; i++) elem_release(&e[i]);
+        pool_release(v, sizeof(Vec) + (size_t)v->len * sizeof(Elem));
+    } else {
+        pool_release(v, sizeof(Vec) + (size_t)v->len * sizeof(double));
     }
-    free(v);
 }
 
 Vec *vec_normalize_take(Vec *v)
@@ -273,7 +262,8 @@ Vec *vec_compose(Vec *const *parts, size_t n)
         for (size_t i = 0; i < n; i++) {
             const Vec *p = parts[i];
             if (!p || !p->len) continue;
-            memcpy(d, vec_cnums(p), p->len * sizeof(double));
+            if (p->len == 1) *d = vec_cnums(p)[0];   /* the common case: no call */
+            else memcpy(d, vec_cnums(p), p->len * sizeof(double));
             d += p->len;
         }
         return r;
@@ -334,12 +324,12 @@ static inline double arith1(ArithOp op, double a, double b)
         }                                                                   \
     } while (0)
 
-Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b)
+/* r[i] = a[i % na] OP b[i % nb] for i < n; [r] may be a's or b's own
+ * storage when that operand has n elements (each element is read before the
+ * same index is written). */
+static void arith_into(ArithOp op, double *r, const Vec *a, const Vec *b, uint32_t n)
 {
-    if (!vec_is_num(a) || !vec_is_num(b) || !a->len || !b->len) return NULL;
-    uint32_t na = a->len, nb = b->len, n = na > nb ? na : nb;
-    Vec *v = vec_new_num(n);
-    double *r = vec_nums(v);
+    uint32_t na = a->len, nb = b->len;
     const double *xa = vec_cnums(a), *xb = vec_cnums(b);
     switch (op) {
     case OP_ADD: BROADCAST(x + y); break;
@@ -347,6 +337,72 @@ Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b)
     case OP_MUL: BROADCAST(x * y); break;
     case OP_DIV: BROADCAST(x / y); break;
     default: BROADCAST(arith1(op, x, y)); break;
+    }
+}
+
+Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b)
+{
+    if (!vec_is_num(a) || !vec_is_num(b) || !a->len || !b->len) return NULL;
+    uint32_t n = a->len > b->len ? a->len : b->len;
+    Vec *v = vec_new_num(n);
+    arith_into(op, vec_nums(v), a, b, n);
+    return v;
+}
+
+/* [v] (consumed) as the destination of an n-element numeric result, when
+ * nothing else can see it; else NULL. */
+static bool reusable(const Vec *v, uint32_t n) { return v->refs == 1 && v->len == n; }
+
+Vec *vec_arith_take(ArithOp op, Vec *a, Vec *b)
+{
+    if (vec_is_scalar(a) && vec_is_scalar(b)) {
+        /* the common case: one number each, no broadcasting loop */
+        double x = vec_cnums(a)[0], y = vec_cnums(b)[0], z;
+        switch (op) {
+        case OP_ADD: z = x + y; break;
+        case OP_SUB: z = x - y; break;
+        case OP_MUL: z = x * y; break;
+        case OP_DIV: z = x / y; break;
+        default: z = arith1(op, x, y); break;
+        }
+        Vec *v;
+        if (a->refs == 1) {
+            v = a;
+            vec_release(b);
+        } else if (b->refs == 1) {
+            v = b;
+            vec_release(a);
+        } else {
+            vec_release(a);
+            vec_release(b);
+            return vec_num1(z);
+        }
+        v->hashed = 0;
+        vec_nums(v)[0] = z;
+        return v;
+    }
+    if (!vec_is_num(a) || !vec_is_num(b) || !a->len || !b->len) {
+        vec_release(a);
+        vec_release(b);
+        return NULL;
+    }
+    uint32_t n = a->len > b->len ? a->len : b->len;
+    Vec *v;
+    if (reusable(a, n)) {
+        v = a;
+        v->hashed = 0;
+        arith_into(op, vec_nums(v), a, b, n);
+        vec_release(b);
+    } else if (reusable(b, n)) {
+        v = b;
+        v->hashed = 0;
+        arith_into(op, vec_nums(v), a, b, n);
+        vec_release(a);
+    } else {
+        v = vec_new_num(n);
+        arith_into(op, vec_nums(v), a, b, n);
+        vec_release(a);
+        vec_release(b);
     }
     return v;
 }
@@ -356,11 +412,15 @@ Vec *vec_add_mul(const Vec *a, const Vec *b, const Vec *c)
     if (!vec_is_num(a) || !vec_is_num(b) || !vec_is_num(c)) return NULL;
     uint32_t na = a->len, nb = b->len, nc = c->len;
     if (!na || !nb || !nc) return NULL;
+    const double *xa = vec_cnums(a), *xb = vec_cnums(b), *xc = vec_cnums(c);
+    if ((na | nb | nc) == 1) {
+        double p = xb[0] * xc[0];
+        return vec_num1(xa[0] + p);
+    }
     uint32_t n = na > nb ? na : nb;
     if (nc > n) n = nc;
     Vec *v = vec_new_num(n);
     double *r = vec_nums(v);
-    const double *xa = vec_cnums(a), *xb = vec_cnums(b), *xc = vec_cnums(c);
     for (uint32_t i = 0; i < n; i++) {
         double p = xb[i % nb] * xc[i % nc];
         r[i] = xa[i % na] + p;
@@ -542,6 +602,25 @@ uint64_t vec_hash(const Vec *v, bool floor_floats)
         default: y = (uint64_t)(uintptr_t)e[i].func; break;
         }
         h = hash_update(h, y);
+    }
+    return h;
+}
+
+uint64_t vec_key_hash(const Vec *v)
+{
+    if (v->hashed) return v->key;
+    uint64_t h = vec_hash(v, false);
+    bool keep = v->kind == VEC_NUM;
+    if (v->kind == VEC_OBJ) {
+        keep = true;
+        for (uint32_t i = 0; i < v->len && keep; i++)
+            keep = vec_celems(v)[i].kind == EL_NUM || vec_celems(v)[i].kind == EL_STR;
+    }
+    if (keep) {
+        /* a memo, not a change of value: the vector's elements are fixed */
+        Vec *m = (Vec *)v;
+        m->key = h;
+        m->hashed = 1;
     }
     return h;
 }

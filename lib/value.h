@@ -28,6 +28,9 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
+
+#include "pool.h"
 
 typedef struct Vec Vec;
 typedef struct Str Str;
@@ -53,7 +56,10 @@ Str *str_from(const char *s);
 static inline Str *str_retain(Str *s) { if (s) s->refs++; return s; }
 void str_release(Str *s);
 /* True when both strings hold the same bytes. */
-bool str_eq(const Str *a, const Str *b);
+static inline bool str_eq(const Str *a, const Str *b)
+{
+    return a == b || (a->len == b->len && memcmp(a->bytes, b->bytes, a->len) == 0);
+}
 /* Byte-wise (= code-point) comparison: <0, 0, >0. */
 int str_cmp(const Str *a, const Str *b);
 /* FNV-1a 64 over the code points of a UTF-8 string (LANGUAGE.md §3.3).
@@ -67,7 +73,9 @@ uint64_t fnv1a_utf8(const char *s, size_t len);
 struct Builtin;
 
 /* A function value: a builtin (bi != NULL) or a user closure built by the
- * evaluator (impl points at evaluator data that [destroy] frees). */
+ * evaluator (impl points at evaluator data that [destroy] frees). Allocate
+ * it with pool_calloc(sizeof(Func)) (pool.h): func_release returns it to
+ * the pool, as vec_release and str_release do for vectors and strings. */
 struct Func {
     uint32_t refs;                 /* reference count */
     const struct Builtin *bi;      /* builtin descriptor, or NULL */
@@ -106,8 +114,10 @@ struct Vec {
     uint32_t refs;    /* reference count */
     uint8_t kind;     /* VecKind */
     uint8_t stream;   /* StreamKind, when kind == VEC_STREAM */
+    uint8_t hashed;   /* not a stream, and `key` holds vec_hash(v, false) */
     uint32_t len;     /* number of elements (0 for streams) */
-    uint64_t key;     /* stream key (seed hash), when kind == VEC_STREAM */
+    uint64_t key;     /* stream key (seed hash), when kind == VEC_STREAM;
+                         else the cached hash when `hashed` (vec_key_hash) */
     _Alignas(16) unsigned char data[]; /* double[len] or Elem[len] */
 };
 
@@ -127,15 +137,38 @@ static inline bool vec_is_scalar(const Vec *v) { return v && v->kind == VEC_NUM 
 static inline double vec_scalar(const Vec *v) { return vec_cnums(v)[0]; }
 
 static inline Vec *vec_retain(Vec *v) { if (v) v->refs++; return v; }
-void vec_release(Vec *v);
+/* Internal: free [v] once its last reference is gone (vec_release). */
+void vec_destroy_(Vec *v);
+static inline void vec_release(Vec *v)
+{
+    if (v && --v->refs == 0) {
+        if (v->kind == VEC_NUM) pool_release(v, sizeof(Vec) + (size_t)v->len * sizeof(double));
+        else vec_destroy_(v);
+    }
+}
 
 /* A new numeric vector of [n] > 0 uninitialised doubles; fill via vec_nums(). */
-Vec *vec_new_num(uint32_t n);
+static inline Vec *vec_new_num(uint32_t n)
+{
+    Vec *v = pool_alloc(sizeof(Vec) + (size_t)n * sizeof(double));
+    v->refs = 1;
+    v->kind = VEC_NUM;
+    v->stream = 0;
+    v->hashed = 0;
+    v->len = n;
+    v->key = 0;
+    return v;
+}
 /* A new object vector of [n] > 0 elements, all initialised to the number 0;
  * fill via vec_elems() (each pointer element must hold its own reference). */
 Vec *vec_new_obj(uint32_t n);
 /* A one-element numeric vector. */
-Vec *vec_num1(double x);
+static inline Vec *vec_num1(double x)
+{
+    Vec *v = vec_new_num(1);
+    vec_nums(v)[0] = x;
+    return v;
+}
 /* A numeric vector copied from [n] doubles ([n] == 0 gives null). */
 Vec *vec_from_nums(const double *x, uint32_t n);
 /* A one-element string vector from [len] UTF-8 bytes. */
@@ -169,6 +202,9 @@ typedef enum { OP_ADD, OP_SUB, OP_MUL, OP_DIV, OP_FLOORDIV, OP_MOD, OP_POW } Ari
 
 /* [a] OP [b] element-wise with cyclic broadcasting. */
 Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b);
+/* The same, consuming [a] and [b]: the result is written into an operand
+ * that has no other owner and the result's length (no new vector). */
+Vec *vec_arith_take(ArithOp op, Vec *a, Vec *b);
 /* F1 fused broadcast (§4.17): a[i%na] + (b[i%nb] * c[i%nc]) over
  * max(na,nb,nc) elements, multiply then add, each IEEE-rounded (no FMA). */
 Vec *vec_add_mul(const Vec *a, const Vec *b, const Vec *c);
@@ -203,6 +239,10 @@ bool vec_contains(const Vec *x, const Vec *y);
 /* HASH_UPDATE of §3.16 (SplitMix64 finaliser with [y] xored in). */
 uint64_t hash_update(uint64_t h, uint64_t y);
 #define HASH_START UINT64_C(0xe220a8397b1dcdaf)
+/* vec_hash(v, false), computed once per vector and kept in it (numeric
+ * vectors and vectors of numbers and strings only, which nothing mutates
+ * once built); the state dictionary's key hash. [v] must be non-null. */
+uint64_t vec_key_hash(const Vec *v);
 /* Vector hash of §3.16; [floor_floats] floors numbers first (seed hash).
  * Nodes hash structurally, functions by address. null → HASH_START. */
 uint64_t vec_hash(const Vec *v, bool floor_floats);

@@ -42,6 +42,8 @@ static void run_usage(FILE *f)
           "  --quiet             no progress bar or status line on a terminal\n"
           "  --verbose           accepted for Flitter compatibility\n"
           "  --debug             also name each skipped (unsupported) drawing node kind\n"
+          "  --stats             at exit, print frames/s, allocations per frame and the\n"
+          "                      eval/physics/state split to stderr\n"
           "  --view FILE         draw the physics systems: FILE.png or .svg (last frame),\n"
           "                      FILE.gif (an animation frame every --view-every K frames)\n"
           "  --trace FILE        write particle positions and velocities each frame (or\n"
@@ -65,7 +67,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
            O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
-           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED };
+           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_STATS };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -78,6 +80,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"state", required_argument, NULL, O_STATE},
         {"threads", required_argument, NULL, O_THREADS},
         {"pairs", required_argument, NULL, O_PAIRS},
+        {"stats", no_argument, NULL, O_STATS},
         {"nosimplify", no_argument, NULL, O_NOSIMPLIFY},
         {"no-simplify", no_argument, NULL, O_NOSIMPLIFY},
         {"dump-simplified", no_argument, NULL, O_DUMP_SIMPLIFIED},
@@ -133,6 +136,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         case O_PAIRS:
             if (!fl_parse_pairs(optarg, &spec->pairs)) goto bad_value;
             break;
+        case O_STATS: spec->stats = true; break;
         case O_NOSIMPLIFY: spec->no_simplify = true; break;
         case O_DUMP_SIMPLIFIED: spec->dump_simplified = true; break;
         case O_RUNTIME:
@@ -234,6 +238,27 @@ static void show_progress(long done, long total, double elapsed)
     fflush(stderr);
 }
 
+/* The --stats report: [first] holds the statistics after the first frame
+ * (which builds the free lists and physics tables), [loop] the wall time of
+ * the frame loop. */
+static void print_stats(fl_runtime *rt, const fl_stats *first, double loop, FILE *log)
+{
+    fl_stats s;
+    fl_get_stats(rt, &s);
+    double n = s.frames > 0 ? (double)s.frames : 1;
+    double steady = s.frames > 1 ? (double)(s.frames - 1) : 1;
+    fprintf(log, "stats: %ld frames in %.3f s: %.1f frames/s\n", s.frames, loop,
+            loop > 0 ? (double)s.frames / loop : 0.0);
+    fprintf(log, "stats: per frame: eval %.3f ms, physics %.3f ms, other %.3f ms\n",
+            s.eval_seconds / n * 1e3, s.physics_seconds / n * 1e3, s.other_seconds / n * 1e3);
+    fprintf(log, "stats: allocations: first frame %llu mallocs %llu frees; after it %.2f mallocs "
+            "%.2f frees per frame; last frame %llu mallocs %llu frees\n",
+            first->mallocs, first->frees, (double)(s.mallocs - first->mallocs) / steady,
+            (double)(s.frees - first->frees) / steady, s.last_mallocs, s.last_frees);
+    fprintf(log, "stats: state per frame: %.1f reads, %.1f writes\n", (double)s.state_gets / n,
+            (double)s.state_sets / n);
+}
+
 /* The status line of a run without --frames: frame, frames/s, clock. */
 static void show_status(long frame, double rate, double time)
 {
@@ -308,6 +333,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     bool dumped_last = false;
     double start = now_seconds(), last_save = start, last_progress = 0;
     long ran = 0;
+    fl_stats first = {0};
     struct timespec mtime = file_mtime(spec->script), bad_mtime = {0, 0};
     while (!(interrupt && *interrupt) && (spec->frames < 0 || ran < spec->frames)) {
         if (spec->realtime) {
@@ -328,6 +354,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         }
         fl_step(rt);
         ran++;
+        if (ran == 1) fl_get_stats(rt, &first);
         long n = fl_frame_count(rt) - 1;
         outputs_frame(outs, rt, n);
         dumped_last = false;
@@ -356,6 +383,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         }
     }
     if (spec->progress && ran > 0) fputs("\n", stderr);
+    if (spec->stats) print_stats(rt, &first, now_seconds() - start, log);
     int rc = EXIT_OK;
     if (ran > 0) {
         if (spec->dump_state && !dumped_last) dump_state(rt, out, &b);

@@ -19,6 +19,8 @@ typedef struct RunSpec {
     const char *state_file; /* --state FILE, or NULL */
     bool progress;        /* on stderr (a terminal): a progress bar when --frames is given,
                            * else a status line (frame, frames/s, clock) */
+    bool stats;           /* --stats: print frame rate, allocations and the
+                             eval/physics/state split to the log at exit */
     char **defines;       /* NAME=VALUE strings (borrowed from argv) */
     int ndefines;
     const char *script;   /* SCRIPT */

@@ -36,7 +36,19 @@ double sin_t(double t)
     if (t < 0)
         return -sin_t(-t);
     int q = 0;
-    double r = remquo(t * 4.0, 1.0, &q) * HALF_PI;
+    double x = t * 4.0, r;
+    if (x < 0x1p52) {
+        /* remquo(x, 1) without the libm call: n = x rounded to nearest,
+         * ties to even (adding and removing 2^52 does exactly that for
+         * 0 <= x < 2^52), and x - n is exact; a zero keeps x's sign */
+        double n = (x + 0x1p52) - 0x1p52;
+        r = x - n;
+        if (r == 0) r = copysign(0.0, x);
+        q = (int)((int64_t)n & 3);
+    } else {
+        r = remquo(x, 1.0, &q);   /* huge, infinite or NaN */
+    }
+    r *= HALF_PI;
     switch (q & 3) {
     case 0: return sin(r);
     case 1: return cos(r);

@@ -143,6 +143,20 @@ static void test_lookup(void **st)
 /* Turns and mathematics (§5.2, §5.4, §7.4 #40-46, #51, #58-60, #72)   */
 /* ------------------------------------------------------------------ */
 
+/* sin_t as LANGUAGE.md §5.2 states it, with libm's remquo. */
+static double sin_t_remquo(double t)
+{
+    if (t < 0) return -sin_t_remquo(-t);
+    int q;
+    double r = remquo(t * 4.0, 1.0, &q) * HALF_PI;
+    switch (q & 3) {
+    case 0: return sin(r);
+    case 1: return cos(r);
+    case 2: return -sin(r);
+    default: return -cos(r);
+    }
+}
+
 static void test_turns(void **st)
 {
     (void)st;
@@ -152,6 +166,21 @@ static void test_turns(void **st)
     assert_true(same(cos_t(0.5), -1.0));
     assert_true(same(sin_t(-0.25), -1.0));
     assert_true(isnan(sin_t(NAN)) && isnan(sin_t(INFINITY)));
+    /* the quadrant reduction matches remquo's bit for bit: ties to even,
+     * signed zeros, near 2^50, huge arguments */
+    const double probes[] = {0.0, -0.0, 0.125, 0.375, 0.625, 0.875, 1.0, 2.5 / 4, 3.5 / 4,
+                             1e-300, 0x1p50 / 4 + 0.125, 0x1p52 / 4, 0x1p52 / 4 - 0.125,
+                             0x1p53, 1e300, 123456.789};
+    for (size_t i = 0; i < sizeof probes / sizeof probes[0]; i++) {
+        for (int neg = 0; neg < 2; neg++) {
+            double t = neg ? -probes[i] : probes[i], want = sin_t_remquo(t);
+            if (!same(sin_t(t), want)) fail_msg("sin_t(%a) = %a, want %a", t, sin_t(t), want);
+        }
+    }
+    for (int k = 0; k < 200000; k++) {
+        double t = (double)k * 0.0123456789 - 1000.0, want = sin_t_remquo(t);
+        if (!same(sin_t(t), want)) fail_msg("sin_t(%a) = %a, want %a", t, sin_t(t), want);
+    }
     EXPECT(CALL("sin", num(0.25)), 1);
     EXPECT(CALL("cos", num(0.5)), -1);
     EXPECT(CALL("sin", num(0.5)), -0.0);

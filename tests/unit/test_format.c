@@ -13,6 +13,7 @@
 #include "buf.h"
 #include "format.h"
 #include "node.h"
+#include "pool.h"
 #include "state.h"
 #include "value.h"
 
@@ -118,8 +119,7 @@ static Vec *node_vec(const char *kind)
 /* A user function value named [name]. */
 static Vec *user_func(const char *name)
 {
-    Func *f = calloc(1, sizeof *f);
-    assert_non_null(f);
+    Func *f = pool_calloc(sizeof *f);   /* func_release returns it to the pool */
     f->refs = 1;
     f->name = str_from(name);
     return vec_func_take(f);

@@ -227,6 +227,35 @@ static void test_nodes(void **s)
     str_release(k); str_release(y); str_release(xn); str_release(tz); str_release(tb);
 }
 
+/* vec_arith_take computes what vec_arith does, reusing an unshared operand
+ * of the result's length, and never leaves a stale cached key hash. */
+static void test_arith_take_and_key_hash(void **st)
+{
+    (void)st;
+    Vec *a = nums(2, 1.5, -2.0), *b = nums(1, 4.0);
+    uint64_t ha = vec_key_hash(a);
+    assert_true(ha == vec_hash(a, false));
+    assert_true(vec_key_hash(a) == ha);              /* kept */
+    Vec *r = vec_arith_take(OP_MUL, a, b);             /* a is unshared: reused */
+    assert_ptr_equal(r, a);
+    assert_true(vec_key_hash(r) == vec_hash(r, false));
+    assert_true(vec_key_hash(r) != ha);
+    Vec *keep = vec_retain(r);                         /* shared: not reused */
+    Vec *b2 = nums(2, 1.0, 1.0);
+    Vec *r2 = vec_arith_take(OP_SUB, r, b2);
+    assert_ptr_equal(r2, b2);                          /* b was reused instead */
+    assert_nums(keep, 2, 6.0, -8.0);
+    assert_nums(r2, 2, 5.0, -9.0);
+    Vec *x = nums(1, 3.0), *y = nums(3, 1.0, 2.0, 3.0);
+    assert_nums(vec_arith_take(OP_POW, x, y), 3, 3.0, 9.0, 27.0);
+    assert_null(vec_arith_take(OP_ADD, nums(1, 1.0), NULL));
+    /* string keys keep their hash; node-holding vectors are never cached */
+    Vec *s = vec_str("k", 1);
+    assert_true(vec_key_hash(s) == vec_hash(s, false));
+    assert_int_equal(s->hashed, 1);
+    vec_release(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -239,6 +268,7 @@ int main(void)
         cmocka_unit_test(test_compare),
         cmocka_unit_test(test_contains_truth_compose),
         cmocka_unit_test(test_nodes),
+        cmocka_unit_test(test_arith_take_and_key_hash),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,110 @@
+/* pool.c: size-class free lists owned by a runtime (see pool.h). */
+#include "pool.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SMALL_STEP 16
+#define NSMALL (POOL_SMALL_MAX / SMALL_STEP) /* classes 0..15: 16..256 bytes */
+#define BIG_MIN_LOG 9                     /* 512 */
+#define BIG_MAX_LOG 22                    /* 4 MiB */
+#define NO_CLASS (-1)
+
+_Static_assert(POOL_NCLASS == NSMALL + BIG_MAX_LOG - BIG_MIN_LOG + 1, "pool classes");
+
+_Thread_local Pool *pool_active_;
+
+/* The class of a [size]-byte request and the class's block size. */
+static int size_class(size_t size, size_t *block)
+{
+    if (size <= POOL_SMALL_MAX) {
+        size_t c = size ? (size + SMALL_STEP - 1) / SMALL_STEP : 1;
+        *block = c * SMALL_STEP;
+        return (int)c - 1;
+    }
+    int lg = BIG_MIN_LOG;
+    while (lg <= BIG_MAX_LOG && ((size_t)1 << lg) < size) lg++;
+    if (lg > BIG_MAX_LOG) {
+        *block = size;
+        return NO_CLASS;
+    }
+    *block = (size_t)1 << lg;
+    return NSMALL + lg - BIG_MIN_LOG;
+}
+
+Pool *pool_new(void)
+{
+    Pool *p = calloc(1, sizeof *p);
+    if (!p) abort();
+    const char *e = getenv("FLITTER_NOPOOL");
+    p->off = e && *e;
+    return p;
+}
+
+void pool_free(Pool *p)
+{
+    if (!p) return;
+    for (int c = 0; c < POOL_NCLASS; c++) {
+        PoolBlock *b = p->lists[c];
+        while (b) {
+            PoolBlock *next = b->next;
+            free(b);
+            b = next;
+        }
+    }
+    free(p);
+}
+
+Pool *pool_enter(Pool *p)
+{
+    Pool *prev = pool_active_;
+    pool_active_ = p;
+    return prev;
+}
+
+void pool_leave(Pool *prev) { pool_active_ = prev; }
+
+PoolStats pool_stats(const Pool *p) { return p->stats; }
+
+void *pool_alloc_slow(size_t size)
+{
+    size_t block;
+    int c = size_class(size, &block);
+    Pool *p = pool_active_;
+    if (p && c != NO_CLASS && p->lists[c]) {
+        PoolBlock *b = p->lists[c];
+        p->lists[c] = b->next;
+        return b;
+    }
+    void *r = malloc(block);
+    if (!r) {
+        fputs("flitter: out of memory\n", stderr);
+        abort();
+    }
+    if (p) p->stats.mallocs++;
+    return r;
+}
+
+void *pool_calloc(size_t size)
+{
+    void *r = pool_alloc(size);
+    memset(r, 0, size);
+    return r;
+}
+
+void pool_release_slow(void *ptr, size_t size)
+{
+    if (!ptr) return;
+    size_t block;
+    int c = size_class(size, &block);
+    Pool *p = pool_active_;
+    if (p && c != NO_CLASS && !p->off) {
+        PoolBlock *b = ptr;
+        b->next = p->lists[c];
+        p->lists[c] = b;
+        return;
+    }
+    if (p) p->stats.frees++;
+    free(ptr);
+}

@@ -1,0 +1,103 @@
+/* pool.h: size-class free lists for the per-frame values (vectors, strings,
+ * nodes and their arrays, evaluator scratch arrays).
+ *
+ * A `Pool` belongs to one runtime (fl_runtime). Every block it hands out is
+ * a separate malloc() chunk of its class size, so a block may be returned to
+ * any pool, or to free() when no pool is active; a pool only keeps released
+ * blocks on per-class free lists and reuses them, so that a steady frame
+ * makes no malloc/free calls at all.
+ *
+ * Which pool serves pool_alloc()/pool_free() is the one made active on the
+ * calling thread by pool_enter() (the runtime does this around each frame
+ * and restores the previous one afterwards, so several runtimes may share a
+ * process and even a thread); with no active pool the calls fall through to
+ * malloc/free. A pool must be active on at most one thread at a time.
+ *
+ * Classes: multiples of 16 bytes up to 256, then powers of two up to 4 MiB;
+ * larger blocks always go straight to malloc/free. Setting the environment
+ * variable FLITTER_NOPOOL (checked by pool_new) disables the free lists, for
+ * memory checkers that should see every block's life.
+ */
+#ifndef FL_POOL_H
+#define FL_POOL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct Pool Pool;
+
+#define POOL_SMALL_MAX 256   /* largest request of the 16-byte-step classes */
+#define POOL_NCLASS 30       /* 16 small classes, then 512 B .. 4 MiB */
+
+/* Counts of real allocator calls made on behalf of pooled blocks. */
+typedef struct PoolStats {
+    uint64_t mallocs;   /* malloc calls (free-list misses and big blocks) */
+    uint64_t frees;     /* free calls */
+} PoolStats;
+
+/* A new, empty pool. Aborts when out of memory. */
+Pool *pool_new(void);
+/* Free every cached block and the pool (NULL is a no-op). The pool must not
+ * be active. */
+void pool_free(Pool *p);
+/* Make [p] (may be NULL) the active pool of this thread; returns the one it
+ * replaces, to be handed back to pool_leave(). */
+Pool *pool_enter(Pool *p);
+/* Restore [prev] as the active pool of this thread. */
+void pool_leave(Pool *prev);
+/* The counters of [p] (since pool_new). */
+PoolStats pool_stats(const Pool *p);
+
+/* The slow paths of pool_alloc and pool_release (big blocks, empty lists,
+ * no active pool). */
+void *pool_alloc_slow(size_t size);
+void pool_release_slow(void *ptr, size_t size);
+
+/* Internal: the pool's layout, for the inline fast paths below. */
+typedef struct PoolBlock {
+    struct PoolBlock *next;
+} PoolBlock;
+
+struct Pool {
+    PoolBlock *lists[POOL_NCLASS];   /* released blocks per class */
+    PoolStats stats;
+    int off;                         /* FLITTER_NOPOOL: no free lists */
+};
+
+/* Internal: the pool active on this thread (pool_enter). */
+extern _Thread_local Pool *pool_active_;
+
+/* A block of at least [size] bytes (uninitialised). Aborts when out of
+ * memory. Release it with pool_release(ptr, size) with the same [size]. */
+static inline void *pool_alloc(size_t size)
+{
+    Pool *p = pool_active_;
+    if (p && size - 1 < POOL_SMALL_MAX) {
+        PoolBlock **list = &p->lists[(size - 1) / 16];
+        PoolBlock *b = *list;
+        if (b) {
+            *list = b->next;
+            return b;
+        }
+    }
+    return pool_alloc_slow(size);
+}
+
+/* Return block [ptr] of [size] bytes (as given to pool_alloc); NULL is a
+ * no-op. */
+static inline void pool_release(void *ptr, size_t size)
+{
+    Pool *p = pool_active_;
+    if (p && ptr && !p->off && size - 1 < POOL_SMALL_MAX) {
+        PoolBlock *b = ptr, **list = &p->lists[(size - 1) / 16];
+        b->next = *list;
+        *list = b;
+        return;
+    }
+    pool_release_slow(ptr, size);
+}
+
+/* A zero-filled block of [size] bytes. */
+void *pool_calloc(size_t size);
+
+#endif
