@@ -40,9 +40,22 @@ typedef struct fl_options {
     volatile int *interrupt; /* polled inside loops, calls and physics steps;
                                 when *interrupt becomes non-zero fl_step ends
                                 the frame early and discards it (NULL: none) */
+    int threads;         /* physics threads (--threads); 0: FLITTER_THREADS, else every core */
+    int pairs;           /* physics pair route (--pairs): FL_PAIRS_* */
     bool no_simplify;    /* --nosimplify: run the program as parsed, without the
                             load-time simplifier (LANGUAGE.md §4.17) */
 } fl_options;
+
+/* fl_options.pairs: the physics pair loop. Every route gives the same bits. */
+enum {
+    FL_PAIRS_DEFAULT = 0,  /* FLITTER_PAIRS=naive selects naive, else fast */
+    FL_PAIRS_FAST,         /* neighbour grid and threads where they apply */
+    FL_PAIRS_NAIVE         /* the reference all-pairs loop, one thread */
+};
+
+/* Parse a --pairs value ("naive" or "fast") into *[out] (FL_PAIRS_*);
+ * returns false, leaving *[out] alone, for anything else. */
+bool fl_parse_pairs(const char *text, int *out);
 
 /* The defaults: 60 fps, unknown frames, lockstep, log to stderr, debug to
  * stdout, 10000 physics steps per frame, no interrupt flag. */

@@ -82,6 +82,17 @@ fl_options fl_default_options(void)
                         .max_physics_steps = 10000};
 }
 
+bool fl_parse_pairs(const char *text, int *out)
+{
+    if (!strcmp(text, "naive"))
+        *out = FL_PAIRS_NAIVE;
+    else if (!strcmp(text, "fast"))
+        *out = FL_PAIRS_FAST;
+    else
+        return false;
+    return true;
+}
+
 static double monotonic(void)
 {
     struct timespec ts;
@@ -99,6 +110,10 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->symtab = symtab_new();
     rt->state = state_new();
     rt->physics = phys_new();
+    if (rt->opts.threads > 0)
+        phys_set_threads(rt->physics, (unsigned)rt->opts.threads);
+    if (rt->opts.pairs != FL_PAIRS_DEFAULT)
+        phys_set_pairs(rt->physics, rt->opts.pairs == FL_PAIRS_NAIVE);
     rt->modules = module_cache_new();
     rt->stables = stable_new();
     rt->counter_key = vec_str("_counter", 8);

@@ -525,6 +525,8 @@ static void repl_usage(FILE *f)
     fputs("usage: flitter repl [options] [SCRIPT]\n"
           "  --fps F             frame rate of :step (default 60; %pragma fps overrides it)\n"
           "  -D, --define NAME=VALUE  bind NAME before evaluation\n"
+          "  --threads N         physics threads (default: FLITTER_THREADS, else all cores)\n"
+          "  --pairs naive|fast  physics pair loop (default fast; same results)\n"
           "  --nosimplify        run scripts as parsed, without the load-time simplifier\n"
           "Type :help in the session for its commands.\n",
           f);
@@ -538,6 +540,8 @@ static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
     static const struct option longopts[] = {
         {"fps", required_argument, NULL, 'f'},
         {"define", required_argument, NULL, 'D'},
+        {"threads", required_argument, NULL, 't'},
+        {"pairs", required_argument, NULL, 'p'},
         {"nosimplify", no_argument, NULL, 'n'},
         {"no-simplify", no_argument, NULL, 'n'},
         {"help", no_argument, NULL, 'h'},
@@ -555,6 +559,21 @@ static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
             opts->fps = strtod(optarg, &end);
             if (end == optarg || *end || !(opts->fps > 0) || isinf(opts->fps)) {
                 fprintf(stderr, "flitter repl: bad value '%s' for option '--fps'\n", optarg);
+                rc = EXIT_USAGE;
+            }
+            break;
+        case 't': {
+            long n = strtol(optarg, &end, 10);
+            if (end == optarg || *end || n < 1 || n > 1024) {
+                fprintf(stderr, "flitter repl: bad value '%s' for option '--threads'\n", optarg);
+                rc = EXIT_USAGE;
+            }
+            opts->threads = (int)n;
+            break;
+        }
+        case 'p':
+            if (!fl_parse_pairs(optarg, &opts->pairs)) {
+                fprintf(stderr, "flitter repl: bad value '%s' for option '--pairs'\n", optarg);
                 rc = EXIT_USAGE;
             }
             break;

@@ -31,6 +31,9 @@ static void run_usage(FILE *f)
           "                      it back atomically at exit and every 5 seconds\n"
           "  --max-steps N       at most N physics steps per system per frame (default\n"
           "                      10000; 0: no limit); beyond, the simulation slows down\n"
+          "  --threads N         physics threads (default: FLITTER_THREADS, else all cores)\n"
+          "  --pairs naive|fast  physics pair loop: the reference all-pairs loop, or the\n"
+          "                      neighbour grid and threads (default fast; same results)\n"
           "  --nosimplify        run the program as parsed, without Flitter's load-time\n"
           "                      simplifier (also --no-simplify)\n"
           "  --dump-simplified   print the program as it will run (after simplification)\n"
@@ -75,8 +78,9 @@ static const char *option_name(const struct option *opts, int c)
 int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
-           O_STATE, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG, O_NOSIMPLIFY,
-           O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_STATS, O_MAX_STEPS };
+           O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
+           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_STATS,
+           O_MAX_STEPS };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -88,6 +92,8 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"dump-tree", no_argument, NULL, O_DUMP_TREE},
         {"state", required_argument, NULL, O_STATE},
         {"max-steps", required_argument, NULL, O_MAX_STEPS},
+        {"threads", required_argument, NULL, O_THREADS},
+        {"pairs", required_argument, NULL, O_PAIRS},
         {"stats", no_argument, NULL, O_STATS},
         {"nosimplify", no_argument, NULL, O_NOSIMPLIFY},
         {"no-simplify", no_argument, NULL, O_NOSIMPLIFY},
@@ -137,6 +143,15 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         case O_STATE: spec->state_file = optarg; break;
         case O_MAX_STEPS:
             if (!parse_count(optarg, &spec->max_steps)) goto bad_value;
+            break;
+        case O_THREADS: {
+            long n;
+            if (!parse_count(optarg, &n) || n < 1 || n > 1024) goto bad_value;
+            spec->threads = (int)n;
+            break;
+        }
+        case O_PAIRS:
+            if (!fl_parse_pairs(optarg, &spec->pairs)) goto bad_value;
             break;
         case O_STATS: spec->stats = true; break;
         case O_NOSIMPLIFY: spec->no_simplify = true; break;
@@ -283,6 +298,8 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     opts.fps = spec->fps;
     opts.frames = spec->frames;
     opts.realtime = spec->realtime;
+    opts.threads = spec->threads;
+    opts.pairs = spec->pairs;
     opts.no_simplify = spec->no_simplify;
     opts.log = log;
     opts.debug = (spec->dump_state || spec->dump_tree) ? log : out;

@@ -40,6 +40,16 @@ typedef struct PhysicsFrame {
 
 /* A new world with no systems. */
 PhysicsWorld *phys_new(void);
+/* Threads for the pair loops of [w]: [n] in all (0 = every available
+ * core). The results are the same bits for every n (pairs.c explains why);
+ * small systems run on one thread whatever n is. Default: FLITTER_THREADS
+ * if it is a positive integer, else 0. */
+void phys_set_threads(PhysicsWorld *w, unsigned n);
+/* [naive] true: always use the reference all-pairs loop of
+ * PHYSICS-ENGINE.md §4 on one thread (the slow route that the neighbour
+ * grid and the threaded gather are checked against). Default: true when
+ * FLITTER_PAIRS is "naive". */
+void phys_set_pairs(PhysicsWorld *w, bool naive);
 /* Free [w] and all its systems (NULL is a no-op). */
 void phys_free(PhysicsWorld *w);
 /* Simulate one frame.

@@ -92,15 +92,62 @@ typedef struct PhysGroup {
 typedef struct PhysLevel {
     size_t npool;
     size_t group;
+    int route;          /* PHYS_ROUTE_*, chosen per frame by phys_plan_levels */
+    double reach;       /* no applier of the level acts at dist >= reach */
 } PhysLevel;
 
-/* Cached state keys of one storage slot. */
+/* How one pair level is computed (pairs.c). Every route gives the same bits
+ * as the reference loop of phys_apply_pair_level. */
+enum {
+    PHYS_ROUTE_SCATTER,  /* the reference all-pairs loop, one thread */
+    PHYS_ROUTE_SKIP,     /* reach 0: no pair can interact */
+    PHYS_ROUTE_ALL,      /* per-particle gather over all pairs */
+    PHYS_ROUTE_GRID      /* per-particle gather over a uniform grid */
+};
+
+/* Per-thread scratch of the gather routes: the pair direction and a
+ * candidate list (capacity `capcand`). */
+typedef struct PhysScratch {
+    double *dir;
+    size_t capdir;
+    uint32_t *cand;
+    size_t capcand;
+} PhysScratch;
+
+/* The uniform neighbour grid of one pair level, rebuilt every step:
+ * pool entries hashed by cell into `nb` buckets (counting sort, each
+ * bucket's entries in ascending pool order). Entries whose position is not
+ * finite or lies too far out for a 32-bit cell index are in `odd`. */
+typedef struct PhysGrid {
+    double h;                    /* cell size (>= reach) */
+    size_t nb;                   /* buckets, a power of two */
+    uint32_t *bucket;            /* per pool entry: bucket, or UINT32_MAX */
+    int32_t *cell;               /* per pool entry: 3 cell coordinates */
+    uint32_t *start;             /* nb + 1 bucket starts into `ent` */
+    uint32_t *ent;               /* pool entries by bucket */
+    uint32_t *odd;               /* pool entries outside the grid */
+    size_t nodd;
+    size_t capbucket, capcell, capstart, capent, capodd;
+} PhysGrid;
+
+typedef struct PhysWorkers PhysWorkers;
+
+/* State keys of one storage slot for this frame (borrowed from the key
+ * table). */
 typedef struct PhysKeySlot {
-    Vec *id;              /* id the keys were built from (retained) */
     Vec *pkey;            /* P;id */
     Vec *vkey;            /* P;id;:velocity */
     uint64_t phash, vhash;/* vec_hash(key, false) */
 } PhysKeySlot;
+
+/* One particle id's state keys, kept while the id is collected every frame
+ * (keys.c). */
+typedef struct PhysKeyEnt {
+    Vec *id;              /* retained */
+    Vec *pkey, *vkey;     /* P;id and P;id;:velocity, retained */
+    uint64_t idhash, phash, vhash;   /* vec_hash(..., false) */
+    uint64_t seen;        /* last frame (kframe) the id was collected */
+} PhysKeyEnt;
 
 /* Open-addressing (linear probing) hash index from key vectors (compared
  * with vec_key_equal) to array indices; idx1 = index + 1, 0 = empty slot;
@@ -154,6 +201,12 @@ typedef struct PhysSystem {
     PhysLevel *levels; size_t nlevels, caplevels;
     uint32_t *pool;  size_t npool, cappool;
 
+    /* pair routes (pairs.c) */
+    bool naive;                   /* always the reference loop */
+    PhysWorkers *workers;         /* borrowed from the world; NULL = 1 thread */
+    PhysGrid grid;
+    PhysScratch *scratch; size_t capscratch;  /* one per thread */
+
     /* tree walk scratch */
     PhysPNode *pn; size_t npn, cappn;
     struct PhysWalk *walk; size_t capwalk;
@@ -166,6 +219,9 @@ typedef struct PhysSystem {
     Vec *prefix;                  /* P the cached keys were built from */
     Vec *kclock, *klast, *krun, *kiter;
     PhysKeySlot *slots; size_t capslots;
+    PhysKeyEnt *kent; size_t nkent, capkent;  /* key table (keys.c) */
+    uint32_t *kidx; size_t capkidx;           /* its index: entry + 1 */
+    uint64_t kframe;                          /* frames swept so far */
     Vec **prev; size_t nprev, capprev;        /* retained */
     Vec **next; uint64_t *nexthash; size_t capnext;  /* borrowed scratch */
 } PhysSystem;
@@ -185,6 +241,37 @@ void phys_apply_particle(PhysSystem *s, PhysApplier *ap, size_t p,
                          double delta);
 /* Barrier soft constraint: b.distance(p). */
 void phys_barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p);
+
+/* Gather side of a pair applier: what applier [ap] adds to one particle of
+ * the pair (a, b) measured as dist/dir by pair(a, b): to a's force [F] when
+ * [to_b] is false, to b's when true (the same element operations as the
+ * reference loop performs on that particle). */
+void phys_pair_force_one(const PhysSystem *s, const PhysApplier *ap, size_t a,
+                         size_t b, double dist, const double *dir, double *F,
+                         bool to_b);
+
+/* ---- keys.c: particle state keys kept while the particle lives ---- */
+
+/* The key entry of particle [id] (hash [idhash] = vec_hash(id, false)),
+ * built from s->prefix on first sight; marks it seen this frame. The
+ * pointer is valid until the next phys_keys_get or sweep. */
+const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash);
+/* End of collection: drop the entries not seen this frame. */
+void phys_keys_sweep(PhysSystem *s);
+/* Drop every entry (the prefix changed). */
+void phys_keys_clear(PhysSystem *s);
+/* Free the table. */
+void phys_keys_free(PhysSystem *s);
+
+/* ---- pairs.c: pair routes (neighbour grid, gather, threads) ---- */
+
+/* Choose each level's route for this frame (after collection: radii,
+ * appliers and pools are known). */
+void phys_plan_levels(PhysSystem *s);
+/* Run one pair level of group [g] by its route. */
+void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
+/* Free the grid and scratch arrays. */
+void phys_pairs_free(PhysSystem *s);
 
 /* ---- step.c: integration, rebound and the step loop ---- */
 

@@ -16,6 +16,11 @@
 #include <string.h>
 
 #include "physics_internal.h"
+#include "workers.h"
+
+/* Particles per task when a group's particle pass is split over threads,
+ * and the smallest group that is split. */
+#define PASS_CHUNK 512
 
 /* §4 step(p, clock, dt):
  *   a = copy of v
@@ -122,18 +127,19 @@ static void pair_pass(PhysSystem *s, const PhysGroup *g)
     if (g->npart == 0)
         return;
     for (size_t l = 0; l < g->lvl_n; l++)
-        phys_apply_pair_level(s, g, &s->levels[g->lvl_off + l]);
+        phys_run_level(s, g, &s->levels[g->lvl_off + l]);
 }
 
-/* §4 second pass for group [g] (with particles): particle appliers and
- * barrier soft forces of the chain, step, rebounds, force reset. */
-static void particle_pass(PhysSystem *s, const PhysGroup *g, double delta,
-                          bool more)
+/* §4 second pass for particles [q0, q1) of group [g] (with particles):
+ * particle appliers and barrier soft forces of the chain, step, rebounds,
+ * force reset. */
+static void particle_range(PhysSystem *s, const PhysGroup *g, double delta,
+                           bool more, size_t q0, size_t q1)
 {
     const size_t D = s->D;
     const uint32_t *pf = s->chain + g->pf_off;
     const uint32_t *bl = s->chain + g->b_off;
-    for (size_t q = 0; q < g->npart; q++) {
+    for (size_t q = q0; q < q1; q++) {
         size_t p = g->pstart + q;
         if (s->anchor[p])
             continue;
@@ -147,6 +153,43 @@ static void particle_pass(PhysSystem *s, const PhysGroup *g, double delta,
         if (more)
             memcpy(s->force + p * D, s->own + p * D, D * sizeof(double));
     }
+}
+
+typedef struct PassRun {
+    PhysSystem *s;
+    const PhysGroup *g;
+    double delta;
+    bool more;
+} PassRun;
+
+static void pass_task(void *ctx, size_t t, unsigned thread)
+{
+    (void)thread;
+    const PassRun *r = ctx;
+    size_t q1 = (t + 1) * PASS_CHUNK;
+    if (q1 > r->g->npart)
+        q1 = r->g->npart;
+    particle_range(r->s, r->g, r->delta, r->more, t * PASS_CHUNK, q1);
+}
+
+/* The second pass of group [g]. Each particle's appliers, step and
+ * rebounds read the appliers and write only that particle, so large groups
+ * are split over the threads with the same bits, unless a !random applier
+ * is in the chain: its draw index advances particle by particle. */
+static void particle_pass(PhysSystem *s, const PhysGroup *g, double delta,
+                          bool more)
+{
+    bool split = s->workers && g->npart >= 2 * PASS_CHUNK;
+    const uint32_t *pf = s->chain + g->pf_off;
+    for (size_t j = 0; split && j < g->pf_n; j++)
+        split = s->ap[pf[j]].kind != AP_RANDOM;
+    if (!split) {
+        particle_range(s, g, delta, more, 0, g->npart);
+        return;
+    }
+    PassRun r = {s, g, delta, more};
+    phys_workers_run(s->workers, (g->npart + PASS_CHUNK - 1) / PASS_CHUNK,
+                     pass_task, &r);
 }
 
 /* §4 loop:

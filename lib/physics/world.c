@@ -25,10 +25,14 @@
 #include <string.h>
 
 #include "physics_internal.h"
+#include "workers.h"
 
 struct PhysicsWorld {
     PhysSystem **sys;
     size_t n, cap;
+    bool naive;             /* --pairs naive: the reference pair loop only */
+    unsigned threads;       /* wanted threads; the pool is made on first use */
+    PhysWorkers *workers;   /* NULL until needed or when threads == 1 */
 };
 
 /* One level of the explicit tree-walk stack (§3 is recursive over groups). */
@@ -141,11 +145,16 @@ static int64_t floor_i64(double x)
     return INT64_MIN;
 }
 
+/* §1 float(name, default) of an attribute value [v] (NULL: missing). */
+static double float_of(const Vec *v, double def)
+{
+    return vec_is_scalar(v) ? vec_scalar(v) : def;
+}
+
 /* §1 float(name, default). */
 static double attr_float(const Node *n, const char *name, double def)
 {
-    const Vec *v = node_attr(n, name);
-    return vec_is_scalar(v) ? vec_scalar(v) : def;
+    return float_of(node_attr(n, name), def);
 }
 
 /* §1 int(name, default). */
@@ -157,9 +166,8 @@ static int64_t attr_int(const Node *n, const char *name, int64_t def)
 
 /* §1 fvec(name): writes D doubles to [out] and returns true, or returns
  * false (out untouched) when the default applies. */
-static bool attr_fvec(const Node *n, const char *name, size_t D, double *out)
+static bool fvec_of(const Vec *v, size_t D, double *out)
 {
-    const Vec *v = node_attr(n, name);
     if (!vec_is_num(v))
         return false;
     const double *x = vec_cnums(v);
@@ -175,10 +183,15 @@ static bool attr_fvec(const Node *n, const char *name, size_t D, double *out)
     return false;
 }
 
-/* fvec(name) with the zero-vector default. */
-static void attr_fvec0(const Node *n, const char *name, size_t D, double *out)
+static bool attr_fvec(const Node *n, const char *name, size_t D, double *out)
 {
-    if (!attr_fvec(n, name, D, out))
+    return fvec_of(node_attr(n, name), D, out);
+}
+
+/* fvec of attribute value [v] with the zero-vector default. */
+static void fvec0_of(const Vec *v, size_t D, double *out)
+{
+    if (!fvec_of(v, D, out))
         memset(out, 0, D * sizeof *out);
 }
 
@@ -225,15 +238,12 @@ static PhysSystem *system_new(void)
     return s;
 }
 
+/* Forget every cached particle key (the slots only borrow them). */
 static void release_slots(PhysSystem *s)
 {
-    for (size_t i = 0; i < s->capslots; i++) {
-        PhysKeySlot *k = &s->slots[i];
-        vec_release(k->id);
-        vec_release(k->pkey);
-        vec_release(k->vkey);
-        k->id = k->pkey = k->vkey = NULL;
-    }
+    phys_keys_clear(s);
+    if (s->capslots)
+        memset(s->slots, 0, s->capslots * sizeof *s->slots);
 }
 
 static void release_prev(PhysSystem *s)
@@ -247,7 +257,7 @@ static void system_free(PhysSystem *s)
 {
     if (!s)
         return;
-    release_slots(s);
+    phys_keys_free(s);
     release_prev(s);
     vec_release(s->prefix);
     vec_release(s->kclock);
@@ -263,6 +273,7 @@ static void system_free(PhysSystem *s)
     free(s->pn); free(s->walk);
     free(s->ids.slot); free(s->newkeys.slot);
     free(s->slots); free(s->prev); free(s->next); free(s->nexthash);
+    phys_pairs_free(s);
     free(s);
 }
 
@@ -285,20 +296,13 @@ static void set_prefix(PhysSystem *s, const Vec *P)
     s->kiter = compose_sym(P, "iteration");
 }
 
-/* The cached keys of storage slot [i] for particle [id] (§2 step 8 keys). */
-static PhysKeySlot *slot_keys(PhysSystem *s, size_t i, const Vec *id)
+/* The keys of storage slot [i], holding the particle [pn] (§2 step 8
+ * keys), from the system's key table (keys.c). */
+static PhysKeySlot *slot_keys(PhysSystem *s, size_t i, const PhysPNode *pn)
 {
+    const PhysKeyEnt *e = phys_keys_get(s, pn->id, pn->idhash);
     PhysKeySlot *k = &s->slots[i];
-    if (k->id && vec_key_equal(k->id, id))
-        return k;
-    vec_release(k->id);
-    vec_release(k->pkey);
-    vec_release(k->vkey);
-    k->id = vec_retain((Vec *)id);
-    k->pkey = compose2(s->prefix, id);
-    k->vkey = compose_sym(k->pkey, "velocity");
-    k->phash = vec_hash(k->pkey, false);
-    k->vhash = vec_hash(k->vkey, false);
+    *k = (PhysKeySlot){e->pkey, e->vkey, e->phash, e->vhash};
     return k;
 }
 
@@ -528,13 +532,38 @@ static void ensure_particles(PhysSystem *s, size_t n, size_t D)
     GROW(s->dir, s->capdir, D);
 }
 
+/* The attributes §3 reads from a particle, found in one pass over the
+ * node's attributes (the first of each name, as node_attr() would). */
+enum { PA_POSITION, PA_VELOCITY, PA_FORCE, PA_RADIUS, PA_MASS, PA_CHARGE,
+       PA_EASE, PA_COUNT };
+
+static void particle_attrs(const Node *n, const Vec *out[PA_COUNT])
+{
+    static const char *const names[PA_COUNT] = {
+        "position", "velocity", "force", "radius", "mass", "charge", "ease"};
+    static const unsigned char lens[PA_COUNT] = {8, 8, 5, 6, 4, 6, 4};
+    for (int k = 0; k < PA_COUNT; k++)
+        out[k] = NULL;
+    for (uint32_t a = 0; a < n->nattrs; a++) {
+        const Str *name = n->attrs[a].name;
+        for (int k = 0; k < PA_COUNT; k++) {
+            if (!out[k] && name->len == lens[k] &&
+                memcmp(name->bytes, names[k], lens[k]) == 0) {
+                out[k] = n->attrs[a].value;
+                break;
+            }
+        }
+    }
+}
+
 /* §3 particle/anchor: fill storage slot [pn->storage]. */
 static void fill_particle(PhysSystem *s, const Collect *c, const StateDict *sd,
                           const PhysPNode *pn)
 {
     const size_t D = s->D, i = pn->storage;
-    const Node *node = pn->node;
-    const PhysKeySlot *k = slot_keys(s, i, pn->id);
+    const Vec *at[PA_COUNT];
+    particle_attrs(pn->node, at);
+    const PhysKeySlot *k = slot_keys(s, i, pn);
     double *pos = s->pos + i * D, *vel = s->vel + i * D;
     double *own = s->own + i * D;
     s->anchor[i] = pn->anchor;
@@ -544,21 +573,21 @@ static void fill_particle(PhysSystem *s, const Collect *c, const StateDict *sd,
     if (vec_is_num(v) && v->len == D)
         memcpy(pos, vec_cnums(v), D * sizeof *pos);
     else
-        attr_fvec0(node, "position", D, pos);
+        fvec0_of(at[PA_POSITION], D, pos);
     v = NULL;
     if (!pn->anchor && c->iteration > 0)
         v = state_get(sd, k->vkey);
     if (vec_is_num(v) && v->len == D)
         memcpy(vel, vec_cnums(v), D * sizeof *vel);
     else
-        attr_fvec0(node, "velocity", D, vel);
-    attr_fvec0(node, "force", D, own);
-    s->radius[i] = py_max(0, attr_float(node, "radius", 0));
-    s->mass[i] = py_max(0, attr_float(node, "mass", 1));
-    s->charge[i] = attr_float(node, "charge", 0);
+        fvec0_of(at[PA_VELOCITY], D, vel);
+    fvec0_of(at[PA_FORCE], D, own);
+    s->radius[i] = py_max(0, float_of(at[PA_RADIUS], 0));
+    s->mass[i] = py_max(0, float_of(at[PA_MASS], 1));
+    s->charge[i] = float_of(at[PA_CHARGE], 0);
     /* [doc] the particle's own force is eased: if e > 0 and clock < e,
      * own[i] = own[i] * (clock / e) */
-    double e = attr_float(node, "ease", 0);
+    double e = float_of(at[PA_EASE], 0);
     if (e > 0 && c->clock < e) {
         double q = c->clock / e;
         for (size_t j = 0; j < D; j++)
@@ -669,7 +698,7 @@ static void build_lists(PhysSystem *s)
             npool += GA->npart;
             if (GA->pair_n) {
                 GROW(s->levels, s->caplevels, s->nlevels + 1);
-                s->levels[s->nlevels++] = (PhysLevel){npool, (size_t)A};
+                s->levels[s->nlevels++] = (PhysLevel){.npool = npool, .group = (size_t)A};
             }
         }
         G->lvl_n = s->nlevels - G->lvl_off;
@@ -715,7 +744,9 @@ static bool collect(PhysSystem *s, Collect *c, const Node *root,
         ap->from = f == SIZE_MAX ? -1 : (ptrdiff_t)f;
         ap->to = t == SIZE_MAX ? -1 : (ptrdiff_t)t;
     }
+    phys_keys_sweep(s);
     build_lists(s);
+    phys_plan_levels(s);
     return true;
 }
 
@@ -761,6 +792,23 @@ static void null_stale_keys(PhysSystem *s, StateDict *sd)
     s->nprev = nk;
 }
 
+/* state[key] = the [D] numbers [x]. When the stored value is already a
+ * numeric vector of length D referenced by the state alone (refs == 1, so
+ * nothing else can see it change; the copy-on-write rule eval.c also
+ * uses), its numbers are overwritten in place: the same effect as storing a
+ * new vector, without allocating one per particle per frame. */
+static void store_nums(StateDict *sd, const Vec *key, const double *x, size_t D)
+{
+    Vec *cur = state_get(sd, key);
+    if (cur && cur->refs == 1 && cur->kind == VEC_NUM && cur->len == D) {
+        memcpy(vec_nums(cur), x, D * sizeof *x);
+        return;
+    }
+    Vec *v = vec_from_nums(x, (uint32_t)D);
+    state_set(sd, key, v);
+    vec_release(v);
+}
+
 /* §2 step 8 writes: position and velocity of every particle (anchors too)
  * in group order, each only when all its elements are finite. */
 static void write_particles(PhysSystem *s, StateDict *sd)
@@ -774,11 +822,8 @@ static void write_particles(PhysSystem *s, StateDict *sd)
             bool finite = true;
             for (size_t d = 0; d < D && finite; d++)
                 finite = isfinite(vecs[j][d]);
-            if (finite) {
-                Vec *v = vec_from_nums(vecs[j], (uint32_t)D);
-                state_set(sd, keys[j], v);
-                vec_release(v);
-            }
+            if (finite)
+                store_nums(sd, keys[j], vecs[j], D);
         }
     }
 }
@@ -860,13 +905,36 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
 /* Public interface                                                    */
 /* ------------------------------------------------------------------ */
 
-/* A new world with no systems. */
+/* A new world with no systems; FLITTER_THREADS and FLITTER_PAIRS give the
+ * defaults of phys_set_threads() and phys_set_pairs(). */
 PhysicsWorld *phys_new(void)
 {
     PhysicsWorld *w = calloc(1, sizeof *w);
     if (!w)
         oom();
+    const char *e = getenv("FLITTER_THREADS");
+    char *end;
+    long n = e ? strtol(e, &end, 10) : 0;
+    phys_set_threads(w, e && *e && !*end && n > 0 && n <= 1024 ? (unsigned)n : 0);
+    e = getenv("FLITTER_PAIRS");
+    phys_set_pairs(w, e && !strcmp(e, "naive"));
     return w;
+}
+
+void phys_set_threads(PhysicsWorld *w, unsigned n)
+{
+    if (n == 0)
+        n = phys_available_cores();
+    if (n != w->threads) {
+        phys_workers_free(w->workers);
+        w->workers = NULL;
+    }
+    w->threads = n;
+}
+
+void phys_set_pairs(PhysicsWorld *w, bool naive)
+{
+    w->naive = naive;
 }
 
 /* Free [w] and all its systems (NULL is a no-op). */
@@ -877,6 +945,7 @@ void phys_free(PhysicsWorld *w)
     for (size_t i = 0; i < w->n; i++)
         system_free(w->sys[i]);
     free(w->sys);
+    phys_workers_free(w->workers);
     free(w);
 }
 
@@ -890,6 +959,12 @@ void phys_run_frame(PhysicsWorld *w, Node *const *nodes, size_t n,
     GROW(w->sys, w->cap, n);
     while (w->n < n)
         w->sys[w->n++] = system_new();
-    for (size_t i = 0; i < n; i++)
-        system_frame(w->sys[i], nodes[i], state, frame);
+    if (w->threads > 1 && !w->workers && !w->naive)
+        w->workers = phys_workers_new(w->threads);
+    for (size_t i = 0; i < n; i++) {
+        PhysSystem *s = w->sys[i];
+        s->naive = w->naive;
+        s->workers = w->naive ? NULL : w->workers;
+        system_frame(s, nodes[i], state, frame);
+    }
 }

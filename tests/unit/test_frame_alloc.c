@@ -138,7 +138,11 @@ static void test_stats_count_allocations_without_pool(void **st)
     unsigned long stat;
     unsigned long real = steady_calls(petri, 2, 1, &stat);
     unsetenv("FLITTER_NOPOOL");
-    if (stat < 400) fail_msg("%lu allocations counted", stat);   /* 200 particles: 2 state values each */
+    /* the physics engine overwrites its position/velocity state values in
+     * place (issue 8), so the 400 state-value allocations this bound was
+     * set for are gone; the frame still allocates (evaluation without free
+     * lists), and every counted call must be a real one */
+    if (stat == 0) fail_msg("no allocations counted");
     assert_true(real >= stat);
 }
 

@@ -827,6 +827,37 @@ static void test_stale_keys_nulled(void **st)
     node_release(ph);
 }
 
+/* Particles leaving, coming back and changing order: each id keeps its own
+ * state (the key table follows ids, not storage slots), a departed id's
+ * keys are nulled and it restarts from its attributes when it returns. */
+static void test_ids_leave_return_reorder(void **st)
+{
+    Fixture *f = *st;
+    static const char *const order[4][3] = {
+        {"a", "b", "c"}, {"a", "b", "c"}, {"c", "a", NULL}, {"b", "a", "c"}};
+    for (int fr = 0; fr < 4; fr++) {
+        Node *ph = physics("t", 1);
+        for (int i = 0; i < 3 && order[fr][i]; i++) {
+            const char *id = order[fr][i];
+            Node *p = particle(ph, "particle", id, num(10.0 * (id[0] - 'a')));
+            set(p, "velocity", num(1));
+        }
+        frame(f, ph, 0.25 * fr);
+        node_release(ph);
+        if (fr == 2) {
+            assert_null(sget(f, "t", "b", NULL));
+            assert_null(sget(f, "t", "b", "velocity"));
+            EQ(POS(f, "a", 1, 0), 0.5);
+            EQ(POS(f, "c", 1, 0), 20.5);
+        }
+    }
+    EQ(POS(f, "a", 1, 0), 0.75);
+    EQ(POS(f, "b", 1, 0), 10.25);      /* back from its attribute */
+    EQ(POS(f, "c", 1, 0), 20.75);
+    EQ(VEL(f, "b", 1, 0), 1);
+    assert_int_equal(state_count(f->sd), 5 + 6);
+}
+
 static void test_run_reset(void **st)
 {
     Fixture *f = *st;
@@ -1065,6 +1096,7 @@ int main(void)
         T(test_four_dimensions),
         T(test_skipped_and_multiple_systems),
         T(test_many_particles_reuse),
+        T(test_ids_leave_return_reorder),
 #undef T
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

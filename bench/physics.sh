@@ -1,0 +1,68 @@
+#!/bin/sh
+# bench/physics.sh [BUILD_DIR] [BASELINE_BINARY] [REPEATS]: the physics
+# scenes of bench/, each run headless (lockstep, one step a frame) with
+#   naive-1   --pairs naive --threads 1  (the reference all-pairs loop)
+#   fast-1    --pairs fast  --threads 1  (neighbour grid / gather, 1 thread)
+#   fast-N    --pairs fast               (every available core)
+#   base      BASELINE_BINARY, if given (an older flitter with the same CLI)
+# Variants are interleaved and each figure is the best of REPEATS (default
+# 3) wall times, evaluation and collection included. Prints a table of
+# seconds, frames/s, steps/s (frame 0 makes no step) and all-pairs-equivalent
+# pairs/s (N(N-1)/2 pairs per step); speedup is against the first variant.
+# The all-pairs variants (base, naive-1) are left out above 50,000
+# particles (minutes a step). Not part of the test suite: timings vary.
+set -u
+build=${1:-build}
+base=${2:-}
+reps=${3:-3}
+flitter="$build/src/flitter"
+[ -x "$flitter" ] || { echo "build first: meson setup $build && ninja -C $build" >&2; exit 2; }
+cd "$(dirname "$0")/.." || exit 2
+out=$(mktemp) || exit 2
+trap 'rm -f "$out"' EXIT
+
+# scene frames particles
+scenes="discs2k 120 2000
+charges1k 20 1001
+discs20k 10 20000
+discs100k 2 100000"
+
+now() { date +%s.%N; }
+variants="naive-1 fast-1 fast-N"
+[ -n "$base" ] && variants="base $variants"
+
+echo "$scenes" | while read -r scene frames n; do
+    for _ in $(seq "$reps"); do
+        for v in $variants; do
+            if [ "$n" -gt 50000 ] && { [ "$v" = base ] || [ "$v" = naive-1 ]; }; then
+                continue
+            fi
+            case $v in
+            base) cmd="$base run" ;;
+            naive-1) cmd="$flitter run --pairs naive --threads 1" ;;
+            fast-1) cmd="$flitter run --pairs fast --threads 1" ;;
+            fast-N) cmd="$flitter run --pairs fast" ;;
+            esac
+            s=$(now)
+            $cmd --frames "$frames" "bench/$scene.fl" >/dev/null 2>&1
+            e=$(now)
+            echo "$scene $frames $n $v $(echo "$e - $s" | bc)" >>"$out"
+        done
+    done
+done
+awk '
+{ k = $1 " " $4; if (!(k in best) || $5 < best[k]) best[k] = $5;
+  fr[$1] = $2; np[$1] = $3; if (!($1 in seen)) { seen[$1] = 1; order[++ns] = $1 }
+  if (!($4 in vseen)) { vseen[$4] = 1; vorder[++nv] = $4 } }
+END {
+  printf "%-10s %-8s %9s %9s %9s %12s %8s\n", "scene", "variant", "seconds", "frames/s", "steps/s", "pairs/s", "speedup"
+  for (i = 1; i <= ns; i++) {
+    s = order[i]; ref = ""
+    for (j = 1; j <= nv; j++) {
+      v = vorder[j]; if (!((s " " v) in best)) continue
+      t = best[s " " v]; if (ref == "") ref = t
+      printf "%-10s %-8s %9.3f %9.1f %9.1f %12.3g %7.1fx\n", s, v, t, fr[s] / t, (fr[s] - 1) / t,
+             np[s] * (np[s] - 1) / 2 * (fr[s] - 1) / t, ref / t
+    }
+  }
+}' "$out"

@@ -1,0 +1,133 @@
+/* keys.c: the particle state keys of a system, kept while the particle
+ * lives.
+ *
+ * Every particle writes state[P;id] and state[P;id;:velocity]
+ * (PHYSICS-ENGINE.md §2 step 8). Building those keys means composing
+ * vectors and hashing them, so a system keeps one PhysKeyEnt per particle id
+ * it has seen: the id (retained), both keys and their hashes. Entries are
+ * found through an open-addressing index (linear probing, entry index + 1,
+ * 0 = empty, capacity a power of two at least twice the entries) hashed by
+ * vec_hash(id, false) and compared with vec_key_equal. An entry lives as
+ * long as its id is collected on every frame: phys_keys_sweep() drops the
+ * ones not seen on the current frame (compacting the array and rebuilding
+ * the index, only when something died). Adding, removing or reordering
+ * particles therefore never rebuilds the keys of the others.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "physics_internal.h"
+
+static void oom(void)
+{
+    fputs("flitter: out of memory\n", stderr);
+    abort();
+}
+
+static void release_ent(PhysKeyEnt *e)
+{
+    vec_release(e->id);
+    vec_release(e->pkey);
+    vec_release(e->vkey);
+}
+
+static void reindex(PhysSystem *s)
+{
+    size_t need = 16;
+    while (need < 2 * (s->nkent + 1))
+        need *= 2;
+    if (need > s->capkidx) {
+        free(s->kidx);
+        s->kidx = malloc(need * sizeof *s->kidx);
+        if (!s->kidx)
+            oom();
+        s->capkidx = need;
+    }
+    memset(s->kidx, 0, s->capkidx * sizeof *s->kidx);
+    size_t mask = s->capkidx - 1;
+    for (size_t i = 0; i < s->nkent; i++) {
+        size_t j = (size_t)s->kent[i].idhash & mask;
+        while (s->kidx[j])
+            j = (j + 1) & mask;
+        s->kidx[j] = (uint32_t)(i + 1);
+    }
+}
+
+const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash)
+{
+    if (s->capkidx) {
+        size_t mask = s->capkidx - 1;
+        for (size_t j = (size_t)idhash & mask; s->kidx[j]; j = (j + 1) & mask) {
+            PhysKeyEnt *e = &s->kent[s->kidx[j] - 1];
+            if (e->idhash == idhash && vec_key_equal(e->id, id)) {
+                e->seen = s->kframe;
+                return e;
+            }
+        }
+    }
+    if (s->nkent + 1 >= UINT32_MAX)
+        oom();
+    if (s->nkent == s->capkent) {
+        size_t cap = s->capkent ? 2 * s->capkent : 64;
+        PhysKeyEnt *k = realloc(s->kent, cap * sizeof *k);
+        if (!k)
+            oom();
+        s->kent = k;
+        s->capkent = cap;
+    }
+    PhysKeyEnt *e = &s->kent[s->nkent++];
+    Vec *parts[2] = {s->prefix, (Vec *)id};
+    e->id = vec_retain((Vec *)id);
+    e->pkey = vec_compose(parts, 2);
+    Vec *vel = vec_num1(symbol_value("velocity", 8));
+    parts[0] = e->pkey;
+    parts[1] = vel;
+    e->vkey = vec_compose(parts, 2);
+    vec_release(vel);
+    e->idhash = idhash;
+    e->phash = vec_hash(e->pkey, false);
+    e->vhash = vec_hash(e->vkey, false);
+    e->seen = s->kframe;
+    if (2 * (s->nkent + 1) > s->capkidx) {
+        reindex(s);
+    } else {
+        size_t mask = s->capkidx - 1, j = (size_t)idhash & mask;
+        while (s->kidx[j])
+            j = (j + 1) & mask;
+        s->kidx[j] = (uint32_t)s->nkent;
+    }
+    return e;
+}
+
+void phys_keys_sweep(PhysSystem *s)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < s->nkent; i++) {
+        if (s->kent[i].seen == s->kframe)
+            s->kent[k++] = s->kent[i];
+        else
+            release_ent(&s->kent[i]);
+    }
+    if (k != s->nkent) {
+        s->nkent = k;
+        reindex(s);
+    }
+    s->kframe++;
+}
+
+void phys_keys_clear(PhysSystem *s)
+{
+    for (size_t i = 0; i < s->nkent; i++)
+        release_ent(&s->kent[i]);
+    s->nkent = 0;
+    if (s->capkidx)
+        memset(s->kidx, 0, s->capkidx * sizeof *s->kidx);
+}
+
+void phys_keys_free(PhysSystem *s)
+{
+    phys_keys_clear(s);
+    free(s->kent);
+    free(s->kidx);
+}

@@ -1,0 +1,687 @@
+/* pairs.c: faster routes to the exact result of the pair loop.
+ *
+ * The reference pair loop of one level (forces.c phys_apply_pair_level,
+ * PHYSICS-ENGINE.md §4) visits i < len(G.particles), j in i+1 .. npool-1 and
+ * adds each applier's contribution to both particles of the pair. Only the
+ * order of the additions into one particle's force decides its bits, and
+ * that order is fixed:
+ *   - a particle at pool index q < len(G.particles) first receives, as the
+ *     "to" side b, the contributions of the pairs (i, q) for i < q in
+ *     ascending i (they come from earlier rows of the loop), then, as the
+ *     "from" side a, those of the pairs (q, j) for j > q in ascending j (its
+ *     own row);
+ *   - a particle of an ancestor group (q >= len(G.particles)) only ever is
+ *     the "to" side, of the pairs (i, q), i ascending;
+ *   - within one pair, the appliers add in their order.
+ * Every contribution depends only on positions, radii, masses and charges,
+ * which the pair loop does not change. So the force of each particle can be
+ * summed on its own, gathering its partners in ascending pool index and
+ * measuring each pair with the same orientation (pool[min], pool[max]) as
+ * the reference: the result is the same bits, and particles no longer write
+ * to each other, so ranges of them can run on different threads in any
+ * order. (Distance appliers, groups and levels stay in the reference order:
+ * levels run one after the other, distance appliers between them on the
+ * calling thread.)
+ *
+ * A pair that no applier of the level acts on adds nothing in the
+ * reference: !collision and !adhesion act only when dist < ra + rb, and any
+ * pair applier with max_distance only when dist < max_distance. The largest
+ * such reach R of a level makes every pair at dist >= R skippable exactly.
+ * The uniform grid (cell size h slightly above R) finds the candidates in
+ * the 3^D cells around a particle; those are filtered by squared distance
+ * against a bound just above R*R, then sorted back into pool order. Entries
+ * whose position is not finite, or too far out for a 32-bit cell index, go
+ * into an "odd" list that is a candidate for everyone (and they scan every
+ * partner themselves). Levels with an unlimited reach (gravity or
+ * electrostatics without max_distance, infinite radii) and D > 3 gather over
+ * all pairs; with one or two threads those use the reference loop itself
+ * (the gather measures each pair twice, so two threads only break even).
+ *
+ * Why the cell test is exact: with h = R * (1 + 2^-20) and |x/h| < 2^30,
+ * two entries whose cell indices differ by 2 or more in some coordinate are
+ * more than R * (1 + 2^-21) apart in that coordinate, and the rounded
+ * difference, square, sum and sqrt of pair() lose far less than that, so
+ * the reference computes dist >= R and skips the pair too.
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "physics_internal.h"
+#include "workers.h"
+
+#define GRID_MAX_D 3
+#define CELL_LIMIT 1073741824.0        /* 2^30: |x/h| beyond this is odd */
+#define TARGETS_PER_TASK 256
+
+static void *grow(void *p, size_t *cap, size_t need, size_t size)
+{
+    if (need <= *cap)
+        return p;
+    size_t n = *cap ? *cap : 16;
+    while (n < need)
+        n *= 2;
+    void *q = n <= SIZE_MAX / size ? realloc(p, n * size) : NULL;
+    if (!q) {
+        fputs("flitter: out of memory\n", stderr);
+        abort();
+    }
+    *cap = n;
+    return q;
+}
+
+#define GROW(ptr, cap, need) ((ptr) = grow((ptr), &(cap), (need), sizeof *(ptr)))
+
+/* ------------------------------------------------------------------ */
+/* Planning                                                            */
+/* ------------------------------------------------------------------ */
+
+/* Distance beyond which applier [ap] never acts, given the largest radius
+ * [rmax] among the level's particles (infinite when unlimited). */
+static double applier_reach(const PhysApplier *ap, double rmax)
+{
+    double r = INFINITY;
+    if (ap->kind == AP_COLLISION || ap->kind == AP_ADHESION)
+        r = rmax + rmax;       /* dist < ra + rb <= 2 * rmax */
+    if (ap->maxd != 0 && ap->maxd < r)
+        r = ap->maxd;          /* dist < max_distance */
+    return r;
+}
+
+void phys_plan_levels(PhysSystem *s)
+{
+    unsigned nth = phys_workers_count(s->workers);
+    for (size_t g = 0; g < s->ngroups; g++) {
+        const PhysGroup *G = &s->groups[g];
+        if (!G->npart)
+            continue;
+        const uint32_t *pool = s->pool + G->pool_off;
+        for (size_t l = 0; l < G->lvl_n; l++) {
+            PhysLevel *lv = &s->levels[G->lvl_off + l];
+            lv->route = PHYS_ROUTE_SCATTER;
+            lv->reach = INFINITY;
+            if (s->naive)
+                continue;
+            double rmax = 0;
+            for (size_t q = 0; q < lv->npool; q++) {
+                double r = s->radius[pool[q]];
+                if (r > rmax)
+                    rmax = r;
+            }
+            const PhysGroup *fg = &s->groups[lv->group];
+            double R = 0;
+            for (size_t f = 0; f < fg->pair_n; f++) {
+                double r = applier_reach(&s->ap[s->gidx[fg->pair_off + f]], rmax);
+                if (r > R)
+                    R = r;
+            }
+            lv->reach = R;
+            if (R == 0)
+                lv->route = PHYS_ROUTE_SKIP;
+            else if (R < 0x1p1000 && s->D <= GRID_MAX_D)
+                lv->route = PHYS_ROUTE_GRID;
+            /* the all-pairs gather measures every pair twice (once for
+             * each side), so it only beats the one-thread reference loop
+             * with three threads or more, or when a finite reach lets it
+             * skip most pairs by their squared distance */
+            else if ((nth > 2 && lv->npool >= 512) || R < 0x1p1000)
+                lv->route = PHYS_ROUTE_ALL;
+        }
+    }
+}
+
+/* ------------------------------------------------------------------ */
+/* The grid                                                            */
+/* ------------------------------------------------------------------ */
+
+static inline uint64_t cell_hash(const int32_t *c)
+{
+    uint64_t h = (uint64_t)(uint32_t)c[0] * 0x9E3779B97F4A7C15u;
+    h ^= (uint64_t)(uint32_t)c[1] * 0xC2B2AE3D27D4EB4Fu;
+    h ^= (uint64_t)(uint32_t)c[2] * 0x165667B19E3779F9u;
+    return h ^ (h >> 29);
+}
+
+/* Hash the first [n] pool entries into the grid of cell size h. */
+static void grid_build(PhysSystem *s, const uint32_t *pool, size_t n, double h)
+{
+    PhysGrid *gr = &s->grid;
+    const size_t D = s->D;
+    size_t nb = 16;
+    while (nb < n)
+        nb *= 2;
+    GROW(gr->bucket, gr->capbucket, n);
+    GROW(gr->ent, gr->capent, n);
+    GROW(gr->odd, gr->capodd, n);
+    GROW(gr->cell, gr->capcell, 3 * n);
+    gr->h = h;
+    gr->nb = nb;
+    GROW(gr->start, gr->capstart, 2 * nb + 1);
+    uint32_t *fill = gr->start + nb + 1;
+    memset(gr->start, 0, (nb + 1) * sizeof *gr->start);
+    gr->nodd = 0;
+    for (size_t q = 0; q < n; q++) {
+        const double *x = s->pos + (size_t)pool[q] * D;
+        int32_t *c = gr->cell + 3 * q;
+        c[0] = c[1] = c[2] = 0;
+        bool ok = true;
+        for (size_t k = 0; k < D; k++) {
+            double v = x[k] / h;
+            if (!(v > -CELL_LIMIT && v < CELL_LIMIT)) {
+                ok = false;
+                break;
+            }
+            c[k] = (int32_t)floor(v);
+        }
+        if (!ok) {
+            gr->bucket[q] = UINT32_MAX;
+            gr->odd[gr->nodd++] = (uint32_t)q;
+            continue;
+        }
+        uint32_t b = (uint32_t)(cell_hash(c) & (nb - 1));
+        gr->bucket[q] = b;
+        gr->start[b + 1]++;
+    }
+    for (size_t b = 0; b < nb; b++)
+        gr->start[b + 1] += gr->start[b];
+    memcpy(fill, gr->start, nb * sizeof *fill);
+    for (size_t q = 0; q < n; q++) {
+        uint32_t b = gr->bucket[q];
+        if (b != UINT32_MAX)
+            gr->ent[fill[b]++] = (uint32_t)q;
+    }
+}
+
+/* ------------------------------------------------------------------ */
+/* Gathering                                                           */
+/* ------------------------------------------------------------------ */
+
+/* One level in flight, shared read-only by the tasks. */
+typedef struct LevelRun {
+    PhysSystem *s;
+    const uint32_t *pool;
+    size_t npart, npool;
+    const uint32_t *forces;
+    size_t nf;
+    double r2;          /* skip a pair when its squared distance is above */
+    bool grid;
+    bool avx2;          /* run the AVX2 copies of the kernels */
+    bool simple;        /* every applier suits simple_block() */
+} LevelRun;
+
+/* Squared distance of pool entries, summed as pair() does (k ascending);
+ * the same bits whichever of the two is first, as x - y = -(y - x). */
+static inline double dist2(const double *pa, const double *pb, size_t D)
+{
+    double sum = 0;
+    for (size_t k = 0; k < D; k++) {
+        double d = pb[k] - pa[k];
+        sum += d * d;
+    }
+    return sum;
+}
+
+/* §4 pair(a, b) into [dir]; returns dist. */
+static inline double pair_into(const double *pa, const double *pb, double *dir,
+                               size_t D)
+{
+    double sum = 0;
+    for (size_t k = 0; k < D; k++) {
+        double d = pb[k] - pa[k];
+        dir[k] = d;
+        sum += d * d;
+    }
+    double dist = sqrt(sum);
+    double inv = 1 / dist;
+    for (size_t k = 0; k < D; k++)
+        dir[k] = dir[k] * inv;
+    return dist;
+}
+
+/* Add the contributions of partner [e] to pool entry [q]'s force [F]: the
+ * pair is measured as (pool[min], pool[max]), as the reference loop does,
+ * and q is its "to" side when q > e. */
+static inline __attribute__((always_inline)) void
+take_pair(const LevelRun *L, size_t q, size_t e, double *F, double *dir,
+          const size_t D)
+{
+    PhysSystem *s = L->s;
+    size_t a = L->pool[q < e ? q : e], b = L->pool[q < e ? e : q];
+    double dist = pair_into(s->pos + a * D, s->pos + b * D, dir, D);
+    for (size_t f = 0; f < L->nf; f++) {
+        const PhysApplier *ap = &s->ap[L->forces[f]];
+        if (ap->maxd == 0 || dist < ap->maxd)
+            phys_pair_force_one(s, ap, a, b, dist, dir, F, q > e);
+    }
+}
+
+/* Is [e] a partner of [q] in the reference loop? Rows are the group's own
+ * particles (index < npart), columns run to npool: a pair needs one of the
+ * two to be a row. */
+static inline bool partner(const LevelRun *L, size_t q, size_t e)
+{
+    return e != q && (q < L->npart || e < L->npart);
+}
+
+/* Gather over every partner, ascending (no sort needed). */
+static void gather_all(const LevelRun *L, size_t q, PhysScratch *sc)
+{
+    PhysSystem *s = L->s;
+    const size_t D = s->D;
+    const size_t p = L->pool[q];
+    double *F = s->force + p * D;
+    const double *x = s->pos + p * D;
+    size_t lim = q < L->npart ? L->npool : L->npart;
+    bool filter = L->r2 < INFINITY;
+    for (size_t e = 0; e < lim; e++) {
+        if (e == q)
+            continue;
+        if (filter && dist2(x, s->pos + (size_t)L->pool[e] * D, D) > L->r2)
+            continue;
+        take_pair(L, q, e, F, sc->dir, D);
+    }
+}
+
+/* The all-pairs gather for a fixed small D, in blocks of partners: first
+ * the differences, squared distances, sqrt and 1/dist of a whole block
+ * (independent lanes, so the compiler may use vector instructions; sqrt and
+ * division are correctly rounded either way and nothing is contracted into
+ * FMA, so each lane has the bits of the scalar pair()), then the appliers
+ * partner by partner in ascending order. The differences are taken as
+ * x_e - x_q; where q is the "to" side the reference has x_q - x_e, which is
+ * exactly the negation (round to nearest is symmetric), so the squares are
+ * equal and dir is negated. */
+#define BLOCK 8
+
+/* The appliers of a "simple" level (at most SIMPLE_MAX, each !collision,
+ * !gravity or !electrostatic) on one block of partners: first every
+ * applier's factor k for every lane (the expressions of
+ * phys_pair_force_one, with a and b taken in the reference's orientation,
+ * which fixes the order of the products ma*mb and qa*qb), then partner by
+ * partner and applier by applier the additions into F, in the reference
+ * order. A lane whose applier does not act adds nothing, as there. */
+#define SIMPLE_MAX 4
+
+static inline __attribute__((always_inline)) void
+simple_block(const LevelRun *L, size_t q, size_t e0, size_t n, double *F,
+             double d[][BLOCK], const double *ss, const double *dist,
+             const double *inv, const size_t D)
+{
+    const PhysSystem *s = L->s;
+    const uint32_t *pool = L->pool;
+    const size_t p = pool[q];
+    const double rp = s->radius[p], mp = s->mass[p], cp = s->charge[p];
+    double K[SIMPLE_MAX][BLOCK];
+    unsigned char act[SIMPLE_MAX][BLOCK];
+    double ro[BLOCK], xo[BLOCK];
+    unsigned char tob[BLOCK];
+    for (size_t j = 0; j < n; j++) {
+        ro[j] = s->radius[pool[e0 + j]];
+        tob[j] = q > e0 + j;
+    }
+    for (size_t f = 0; f < L->nf; f++) {
+        const PhysApplier *ap = &s->ap[L->forces[f]];
+        const double str = ap->strength, maxd = ap->maxd;
+        double *k = K[f];
+        unsigned char *a = act[f];
+        if (ap->kind == AP_COLLISION) {
+            for (size_t j = 0; j < n; j++) {
+                double r = rp + ro[j];           /* ra + rb, either order */
+                a[j] = (maxd == 0 || dist[j] < maxd) & (rp != 0) & (ro[j] != 0) &
+                       (dist[j] < r);
+                k[j] = r - dist[j];
+            }
+            /* shape(): pow only when power != 1, then * strength */
+            if (ap->power != 1) {
+                for (size_t j = 0; j < n; j++)
+                    if (a[j])
+                        k[j] = pow(k[j], ap->power);
+            }
+            for (size_t j = 0; j < n; j++)
+                k[j] = k[j] * str;
+            continue;
+        }
+        /* gravity (masses) or electrostatics (charges): k = strength * xa *
+         * xb / (m*m), m = py_max(ra+rb, dist) */
+        const double *val = ap->kind == AP_GRAVITY ? s->mass : s->charge;
+        const double xp = ap->kind == AP_GRAVITY ? mp : cp;
+        for (size_t j = 0; j < n; j++)
+            xo[j] = val[pool[e0 + j]];
+        for (size_t j = 0; j < n; j++) {
+            double r = rp + ro[j];
+            double m = dist[j] > r ? dist[j] : r;
+            double x = tob[j] ? xo[j] : xp, y = tob[j] ? xp : xo[j];
+            a[j] = (maxd == 0 || dist[j] < maxd) & (x != 0) & (y != 0);
+            k[j] = str * x * y / (m * m);
+        }
+    }
+    for (size_t j = 0; j < n; j++) {
+        size_t e = e0 + j;
+        if (e == q || ss[j] > L->r2)
+            continue;
+        bool to_b = q > e;
+        double dir[3];
+        for (size_t k = 0; k < D; k++)
+            dir[k] = (to_b ? -d[k][j] : d[k][j]) * inv[j];
+        for (size_t f = 0; f < L->nf; f++) {
+            if (!act[f][j])
+                continue;
+            /* collision and electrostatics push apart (a -= f, b += f),
+             * gravity pulls together (a += f, b -= f) */
+            bool plus = (s->ap[L->forces[f]].kind == AP_GRAVITY) != to_b;
+            double k = K[f][j];
+            if (plus) {
+                for (size_t i = 0; i < D; i++)
+                    F[i] = F[i] + dir[i] * k;
+            } else {
+                for (size_t i = 0; i < D; i++)
+                    F[i] = F[i] - dir[i] * k;
+            }
+        }
+    }
+}
+
+static inline __attribute__((always_inline)) void
+gather_all_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
+{
+    PhysSystem *s = L->s;
+    const size_t p = L->pool[q];
+    double *F = s->force + p * D;
+    const double *x = s->pos + p * D;
+    const double *pos = s->pos;
+    const uint32_t *pool = L->pool;
+    const size_t lim = q < L->npart ? L->npool : L->npart;
+    const double r2 = L->r2;
+    double *dir = sc->dir;
+    double d[3][BLOCK], ss[BLOCK], dist[BLOCK], inv[BLOCK];
+    for (size_t e0 = 0; e0 < lim; e0 += BLOCK) {
+        size_t n = lim - e0 < BLOCK ? lim - e0 : BLOCK;
+        if (n == BLOCK) {
+            for (size_t j = 0; j < BLOCK; j++) {
+                const double *y = pos + (size_t)pool[e0 + j] * D;
+                for (size_t k = 0; k < D; k++)
+                    d[k][j] = y[k] - x[k];
+            }
+            for (size_t j = 0; j < BLOCK; j++) {
+                double sum = 0;
+                for (size_t k = 0; k < D; k++)
+                    sum += d[k][j] * d[k][j];
+                ss[j] = sum;
+            }
+            for (size_t j = 0; j < BLOCK; j++) {
+                dist[j] = sqrt(ss[j]);
+                inv[j] = 1 / dist[j];
+            }
+        } else {
+            for (size_t j = 0; j < n; j++) {
+                const double *y = pos + (size_t)pool[e0 + j] * D;
+                double sum = 0;
+                for (size_t k = 0; k < D; k++) {
+                    d[k][j] = y[k] - x[k];
+                    sum += d[k][j] * d[k][j];
+                }
+                ss[j] = sum;
+                dist[j] = sqrt(sum);
+                inv[j] = 1 / dist[j];
+            }
+        }
+        if (L->simple) {
+            simple_block(L, q, e0, n, F, d, ss, dist, inv, D);
+            continue;
+        }
+        for (size_t j = 0; j < n; j++) {
+            size_t e = e0 + j;
+            if (e == q || ss[j] > r2)
+                continue;
+            bool to_b = q > e;
+            for (size_t k = 0; k < D; k++)
+                dir[k] = (to_b ? -d[k][j] : d[k][j]) * inv[j];
+            size_t a = to_b ? pool[e] : p, b = to_b ? p : pool[e];
+            for (size_t f = 0; f < L->nf; f++) {
+                const PhysApplier *ap = &s->ap[L->forces[f]];
+                if (ap->maxd == 0 || dist[j] < ap->maxd)
+                    phys_pair_force_one(s, ap, a, b, dist[j], dir, F, to_b);
+            }
+        }
+    }
+}
+
+/* One copy per dimension; on x86-64 also one compiled for AVX2, chosen at
+ * run time when the processor has it (no ifunc resolvers: those run before
+ * sanitizer runtimes start). Elsewhere, the portable copies only. */
+#define GATHER_COPY(name, dim, attr)                                          \
+    attr static void name(const LevelRun *L, size_t q, PhysScratch *sc)      \
+    {                                                                         \
+        gather_all_fixed(L, q, sc, dim);                                      \
+    }
+
+GATHER_COPY(gather_all_1, 1, )
+GATHER_COPY(gather_all_2, 2, )
+GATHER_COPY(gather_all_3, 3, )
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define HAVE_AVX2_COPIES 1
+GATHER_COPY(gather_all_1_avx2, 1, __attribute__((target("avx2"))))
+GATHER_COPY(gather_all_2_avx2, 2, __attribute__((target("avx2"))))
+GATHER_COPY(gather_all_3_avx2, 3, __attribute__((target("avx2"))))
+#endif
+
+/* Does this processor run the AVX2 copies? */
+static bool use_avx2(void)
+{
+#ifdef HAVE_AVX2_COPIES
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
+}
+
+static void gather_all_any(const LevelRun *L, size_t q, PhysScratch *sc)
+{
+#ifdef HAVE_AVX2_COPIES
+    if (L->avx2) {
+        switch (L->s->D) {
+        case 1: gather_all_1_avx2(L, q, sc); return;
+        case 2: gather_all_2_avx2(L, q, sc); return;
+        case 3: gather_all_3_avx2(L, q, sc); return;
+        default: break;
+        }
+    }
+#endif
+    switch (L->s->D) {
+    case 1: gather_all_1(L, q, sc); break;
+    case 2: gather_all_2(L, q, sc); break;
+    case 3: gather_all_3(L, q, sc); break;
+    default: gather_all(L, q, sc); break;
+    }
+}
+
+static inline void sort_u32(uint32_t *v, size_t n)
+{
+    for (size_t i = 1; i < n; i++) {
+        uint32_t x = v[i];
+        size_t j = i;
+        while (j > 0 && v[j - 1] > x) {
+            v[j] = v[j - 1];
+            j--;
+        }
+        v[j] = x;
+    }
+}
+
+/* Gather over the grid neighbours (and the odd entries), in pool order;
+ * one copy per D (1, 2, 3: the only ones the grid takes). */
+static inline __attribute__((always_inline)) void
+gather_grid_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
+{
+    PhysSystem *s = L->s;
+    const PhysGrid *gr = &s->grid;
+    if (gr->bucket[q] == UINT32_MAX) {
+        gather_all(L, q, sc);
+        return;
+    }
+    const size_t p = L->pool[q];
+    double *F = s->force + p * D;
+    const double *x = s->pos + p * D;
+    const int32_t *c = gr->cell + 3 * q;
+    /* the distinct buckets of the 3^D cells around q's */
+    uint32_t bk[27];
+    size_t nbk = 0;
+    int32_t o[3] = {0, 0, 0};
+    for (size_t k = 0; k < D; k++)
+        o[k] = -1;
+    for (;;) {
+        int32_t cc[3] = {c[0] + o[0], c[1] + o[1], c[2] + o[2]};
+        uint32_t b = (uint32_t)(cell_hash(cc) & (gr->nb - 1));
+        bool seen = false;
+        for (size_t i = 0; i < nbk && !seen; i++)
+            seen = bk[i] == b;
+        if (!seen)
+            bk[nbk++] = b;
+        size_t k = 0;
+        while (k < D && o[k] == 1)
+            o[k++] = -1;
+        if (k == D)
+            break;
+        o[k]++;
+    }
+    uint32_t *cand = sc->cand;
+    size_t nc = 0;
+    for (size_t i = 0; i < nbk; i++) {
+        for (uint32_t j = gr->start[bk[i]]; j < gr->start[bk[i] + 1]; j++) {
+            uint32_t e = gr->ent[j];
+            if (partner(L, q, e) &&
+                !(dist2(x, s->pos + (size_t)L->pool[e] * D, D) > L->r2))
+                cand[nc++] = e;
+        }
+    }
+    for (size_t i = 0; i < gr->nodd; i++) {
+        uint32_t e = gr->odd[i];
+        if (partner(L, q, e) &&
+            !(dist2(x, s->pos + (size_t)L->pool[e] * D, D) > L->r2))
+            cand[nc++] = e;
+    }
+    sort_u32(cand, nc);
+    for (size_t i = 0; i < nc; i++)
+        take_pair(L, q, cand[i], F, sc->dir, D);
+}
+
+#define GRID_COPY(name, dim, attr)                                            \
+    attr static void name(const LevelRun *L, size_t q, PhysScratch *sc)      \
+    {                                                                         \
+        gather_grid_fixed(L, q, sc, dim);                                     \
+    }
+
+GRID_COPY(gather_grid_1, 1, )
+GRID_COPY(gather_grid_2, 2, )
+GRID_COPY(gather_grid_3, 3, )
+#ifdef HAVE_AVX2_COPIES
+GRID_COPY(gather_grid_1_avx2, 1, __attribute__((target("avx2"))))
+GRID_COPY(gather_grid_2_avx2, 2, __attribute__((target("avx2"))))
+GRID_COPY(gather_grid_3_avx2, 3, __attribute__((target("avx2"))))
+#endif
+
+static void gather_grid(const LevelRun *L, size_t q, PhysScratch *sc)
+{
+#ifdef HAVE_AVX2_COPIES
+    if (L->avx2) {
+        switch (L->s->D) {
+        case 1: gather_grid_1_avx2(L, q, sc); return;
+        case 2: gather_grid_2_avx2(L, q, sc); return;
+        default: gather_grid_3_avx2(L, q, sc); return;
+        }
+    }
+#endif
+    switch (L->s->D) {
+    case 1: gather_grid_1(L, q, sc); break;
+    case 2: gather_grid_2(L, q, sc); break;
+    default: gather_grid_3(L, q, sc); break;
+    }
+}
+
+/* Task [t]: the targets t*TARGETS_PER_TASK .. (anchors never step, so
+ * their force is not needed). */
+static void level_task(void *ctx, size_t t, unsigned thread)
+{
+    const LevelRun *L = ctx;
+    PhysSystem *s = L->s;
+    PhysScratch *sc = &s->scratch[thread];
+    size_t end = (t + 1) * TARGETS_PER_TASK;
+    if (end > L->npool)
+        end = L->npool;
+    for (size_t q = t * TARGETS_PER_TASK; q < end; q++) {
+        if (s->anchor[L->pool[q]])
+            continue;
+        if (L->grid)
+            gather_grid(L, q, sc);
+        else
+            gather_all_any(L, q, sc);
+    }
+}
+
+/* Per-thread scratch for a level of [npool] entries. */
+static void ensure_scratch(PhysSystem *s, unsigned nth, size_t npool)
+{
+    if (nth > s->capscratch) {
+        size_t old = s->capscratch;
+        GROW(s->scratch, s->capscratch, nth);
+        memset(s->scratch + old, 0, (s->capscratch - old) * sizeof *s->scratch);
+    }
+    for (unsigned i = 0; i < nth; i++) {
+        PhysScratch *sc = &s->scratch[i];
+        GROW(sc->dir, sc->capdir, s->D);
+        GROW(sc->cand, sc->capcand, npool);
+    }
+}
+
+void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
+{
+    switch (lv->route) {
+    case PHYS_ROUTE_SKIP:
+        return;
+    case PHYS_ROUTE_SCATTER:
+        phys_apply_pair_level(s, g, lv);
+        return;
+    default:
+        break;
+    }
+    const PhysGroup *fg = &s->groups[lv->group];
+    LevelRun L = {
+        .s = s, .pool = s->pool + g->pool_off, .npart = g->npart,
+        .npool = lv->npool, .forces = s->gidx + fg->pair_off, .nf = fg->pair_n,
+        .r2 = INFINITY, .grid = lv->route == PHYS_ROUTE_GRID,
+        .avx2 = use_avx2(),
+    };
+    L.simple = L.nf <= SIMPLE_MAX;
+    for (size_t f = 0; f < L.nf && L.simple; f++) {
+        PhysApplierKind k = s->ap[L.forces[f]].kind;
+        L.simple = k == AP_COLLISION || k == AP_GRAVITY || k == AP_ELECTROSTATIC;
+    }
+    /* a bound at least R*R: (R*R rounded) * (1 + 2^-50) rounded; sqrt(s) <
+     * R needs s < R*R exactly, so nothing above the bound can act */
+    double R = lv->reach;
+    if (R > 0x1p-400 && R < 0x1p400)
+        L.r2 = R * R * (1 + 0x1p-50);
+    if (L.grid) {
+        grid_build(s, L.pool, L.npool, R * (1 + 0x1p-20));
+    }
+    unsigned nth = phys_workers_count(s->workers);
+    ensure_scratch(s, nth, L.npool);
+    size_t ntasks = (L.npool + TARGETS_PER_TASK - 1) / TARGETS_PER_TASK;
+    phys_workers_run(nth > 1 ? s->workers : NULL, ntasks, level_task, &L);
+}
+
+void phys_pairs_free(PhysSystem *s)
+{
+    PhysGrid *gr = &s->grid;
+    free(gr->bucket); free(gr->cell); free(gr->start); free(gr->ent);
+    free(gr->odd);
+    for (size_t i = 0; i < s->capscratch; i++) {
+        free(s->scratch[i].dir);
+        free(s->scratch[i].cand);
+    }
+    free(s->scratch);
+}
