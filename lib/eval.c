@@ -617,7 +617,8 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
     uint32_t len = vec_len(src), k = n->nnames ? n->nnames : 1;
     Parts parts;
     parts_init(&parts);
-    for (uint32_t p = 0; p < len && !stop_requested(ev); p += k) {
+    /* once the result is too long it is null: stop evaluating the body */
+    for (uint32_t p = 0; p < len && !parts.too_long && !stop_requested(ev); p += k) {
         for (uint32_t j = 0; j < n->nnames; j++) {
             Vec *cur = ev->frame[n->slots[j]];
             if (p + j < len && src->kind == VEC_NUM && cur && cur->refs == 1 &&
