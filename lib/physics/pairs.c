@@ -128,6 +128,10 @@ void phys_plan_levels(PhysSystem *s)
              * skip most pairs by their squared distance */
             else if ((nth > 2 && lv->npool >= 512) || R < 0x1p1000)
                 lv->route = PHYS_ROUTE_ALL;
+            /* otherwise the reference loop itself, its pairs measured in
+             * vector blocks (rows.c) */
+            else if (phys_rows_suits(s))
+                lv->route = PHYS_ROUTE_ROWS;
         }
     }
 }
@@ -645,6 +649,9 @@ void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     case PHYS_ROUTE_SCATTER:
         phys_apply_pair_level(s, g, lv);
         return;
+    case PHYS_ROUTE_ROWS:
+        phys_run_rows(s, g, lv);
+        return;
     default:
         break;
     }
@@ -684,4 +691,5 @@ void phys_pairs_free(PhysSystem *s)
         free(s->scratch[i].cand);
     }
     free(s->scratch);
+    free(s->rows);
 }

@@ -1,8 +1,9 @@
 /* test_physics_routes.c: differential test of the physics pair routes.
  *
- * The neighbour grid and the per-particle gather (lib/physics/pairs.c) must
- * give the same bits as the reference all-pairs loop (PHYSICS-ENGINE.md §4),
- * for every thread count. Each case builds a random !physics scene from a
+ * The neighbour grid and the per-particle gather (lib/physics/pairs.c) and
+ * the blocked reference loop of unlimited-reach levels (lib/physics/rows.c,
+ * taken with one or two threads) must give the same bits as the reference
+ * all-pairs loop (PHYSICS-ENGINE.md §4), for every thread count. Each case builds a random !physics scene from a
  * fixed seed (so a failure is reproducible), runs the same frames through a
  * world set to `phys_set_pairs(w, true)` (naive) and through worlds on the
  * fast route with 1, 2 and 4 threads, and compares the whole state
