@@ -48,84 +48,112 @@ typedef struct RowLevel {
     const double *rad, *mass, *charge;   /* [q] */
 } RowLevel;
 
+/* The values of one block of row i: the lanes j = j0 .. j0+BLOCK-1 (the
+ * arrays are padded, so every block has BLOCK lanes; those past the end,
+ * j >= npool, are computed and never used), d = x_j - x_i per element and
+ * dist, inv of pair(pool[i], pool[j]). */
+static inline __attribute__((always_inline)) void
+block_measure(const RowLevel *L, const double *xi, size_t j0,
+              double d[][BLOCK], double *dist, double *inv, const size_t D)
+{
+    const double *x = L->x;
+    const size_t ns = L->stride;
+    for (size_t k = 0; k < D; k++)
+        for (size_t l = 0; l < BLOCK; l++)
+            d[k][l] = x[k * ns + j0 + l] - xi[k];
+    for (size_t l = 0; l < BLOCK; l++) {
+        double sum = 0;
+        for (size_t k = 0; k < D; k++)
+            sum += d[k][l] * d[k][l];
+        dist[l] = sqrt(sum);
+        inv[l] = 1 / dist[l];
+    }
+}
+
+/* For a simple level, after block_measure(): whether each applier acts on
+ * each lane (act, 0 or 1) and the vector f = dir*k it adds (G[f][k][l]),
+ * with the expressions of pair_force() for a = pool[i], b = pool[j]; m
+ * lanes are real. Turns d into dir. */
+static inline __attribute__((always_inline)) void
+block_values(const RowLevel *L, size_t i, size_t j0, size_t m,
+             double d[][BLOCK], const double *dist, const double *inv,
+             int64_t act[][BLOCK], double G[][ROWS_MAX_D][BLOCK],
+             const size_t D)
+{
+    const PhysSystem *s = L->s;
+    const size_t nf = L->nf;
+    const double *rad = L->rad;
+    const double ra = rad[i];
+    double K[ROWS_SIMPLE_MAX][BLOCK];
+    /* each applier's k for the block, as pair_force() computes it
+     * with a = pool[i], b = pool[j] */
+    for (size_t f = 0; f < nf; f++) {
+        const PhysApplier *ap = &s->ap[L->forces[f]];
+        const double str = ap->strength, maxd = ap->maxd;
+        double *kk = K[f];
+        int64_t *ac = act[f];
+        if (ap->kind == AP_COLLISION) {
+            for (size_t l = 0; l < BLOCK; l++) {
+                double rb = rad[j0 + l];
+                double r = ra + rb;
+                ac[l] = ((maxd == 0) | (dist[l] < maxd)) & (ra != 0) &
+                        (rb != 0) & (dist[l] < r);
+                kk[l] = r - dist[l];
+            }
+            if (ap->power != 1) {
+                for (size_t l = 0; l < m; l++)
+                    if (ac[l])
+                        kk[l] = pow(kk[l], ap->power);
+            }
+            for (size_t l = 0; l < BLOCK; l++)
+                kk[l] = kk[l] * str;
+            continue;
+        }
+        const double *val = ap->kind == AP_GRAVITY ? L->mass : L->charge;
+        const double va = val[i];
+        for (size_t l = 0; l < BLOCK; l++) {
+            size_t j = j0 + l;
+            double vb = val[j];
+            double r = ra + rad[j];
+            double mm = dist[l] > r ? dist[l] : r;   /* py_max(r, dist) */
+            ac[l] = ((maxd == 0) | (dist[l] < maxd)) & (va != 0) & (vb != 0);
+            kk[l] = str * va * vb / (mm * mm);
+        }
+    }
+    /* f = dir*k per applier, lane by lane (dir = d*inv, then
+     * dir*k: the two roundings of pair() and push_apart()) */
+    for (size_t k = 0; k < D; k++)
+        for (size_t l = 0; l < BLOCK; l++)
+            d[k][l] = d[k][l] * inv[l];
+    for (size_t f = 0; f < nf; f++)
+        for (size_t k = 0; k < D; k++)
+            for (size_t l = 0; l < BLOCK; l++)
+                G[f][k][l] = d[k][l] * K[f][l];
+}
+
 static inline __attribute__((always_inline)) void
 row_fixed(const RowLevel *L, size_t i, double *force, const size_t D)
 {
     const PhysSystem *s = L->s;
     const size_t n = L->npool, ns = L->stride, nf = L->nf;
-    const double *x = L->x, *rad = L->rad;
+    const double *x = L->x;
     const size_t a = L->pool[i];
     double xi[ROWS_MAX_D], fa[ROWS_MAX_D];
     for (size_t k = 0; k < D; k++) {
         xi[k] = x[k * ns + i];
         fa[k] = force[a * D + k];
     }
-    const double ra = rad[i];
     double d[ROWS_MAX_D][BLOCK], dist[BLOCK], inv[BLOCK];
-    double K[ROWS_SIMPLE_MAX][BLOCK], G[ROWS_SIMPLE_MAX][ROWS_MAX_D][BLOCK];
+    double G[ROWS_SIMPLE_MAX][ROWS_MAX_D][BLOCK];
     bool grav[ROWS_SIMPLE_MAX];
     for (size_t f = 0; f < nf && L->simple; f++)
         grav[f] = s->ap[L->forces[f]].kind == AP_GRAVITY;
     int64_t act[ROWS_SIMPLE_MAX][BLOCK];   /* lane acts: 0 or 1 */
     for (size_t j0 = i + 1; j0 < n; j0 += BLOCK) {
         const size_t m = n - j0 < BLOCK ? n - j0 : BLOCK;
-        /* every block has BLOCK lanes: the arrays are padded, and the
-         * lanes past the end (m < BLOCK) are computed and never used */
-        for (size_t k = 0; k < D; k++)
-            for (size_t l = 0; l < BLOCK; l++)
-                d[k][l] = x[k * ns + j0 + l] - xi[k];
-        for (size_t l = 0; l < BLOCK; l++) {
-            double sum = 0;
-            for (size_t k = 0; k < D; k++)
-                sum += d[k][l] * d[k][l];
-            dist[l] = sqrt(sum);
-            inv[l] = 1 / dist[l];
-        }
+        block_measure(L, xi, j0, d, dist, inv, D);
         if (L->simple) {
-            /* each applier's k for the block, as pair_force() computes it
-             * with a = pool[i], b = pool[j] */
-            for (size_t f = 0; f < nf; f++) {
-                const PhysApplier *ap = &s->ap[L->forces[f]];
-                const double str = ap->strength, maxd = ap->maxd;
-                double *kk = K[f];
-                int64_t *ac = act[f];
-                if (ap->kind == AP_COLLISION) {
-                    for (size_t l = 0; l < BLOCK; l++) {
-                        double rb = rad[j0 + l];
-                        double r = ra + rb;
-                        ac[l] = ((maxd == 0) | (dist[l] < maxd)) & (ra != 0) &
-                                (rb != 0) & (dist[l] < r);
-                        kk[l] = r - dist[l];
-                    }
-                    if (ap->power != 1) {
-                        for (size_t l = 0; l < m; l++)
-                            if (ac[l])
-                                kk[l] = pow(kk[l], ap->power);
-                    }
-                    for (size_t l = 0; l < BLOCK; l++)
-                        kk[l] = kk[l] * str;
-                    continue;
-                }
-                const double *val = ap->kind == AP_GRAVITY ? L->mass : L->charge;
-                const double va = val[i];
-                for (size_t l = 0; l < BLOCK; l++) {
-                    size_t j = j0 + l;
-                    double vb = val[j];
-                    double r = ra + rad[j];
-                    double mm = dist[l] > r ? dist[l] : r;   /* py_max(r, dist) */
-                    ac[l] = ((maxd == 0) | (dist[l] < maxd)) & (va != 0) & (vb != 0);
-                    kk[l] = str * va * vb / (mm * mm);
-                }
-            }
-            /* f = dir*k per applier, lane by lane (dir = d*inv, then
-             * dir*k: the two roundings of pair() and push_apart()) */
-            for (size_t k = 0; k < D; k++)
-                for (size_t l = 0; l < BLOCK; l++)
-                    d[k][l] = d[k][l] * inv[l];
-            for (size_t f = 0; f < nf; f++)
-                for (size_t k = 0; k < D; k++)
-                    for (size_t l = 0; l < BLOCK; l++)
-                        G[f][k][l] = d[k][l] * K[f][l];
+            block_values(L, i, j0, m, d, dist, inv, act, G, D);
             for (size_t l = 0; l < m; l++) {
                 double *fb = force + (size_t)L->pool[j0 + l] * D;
                 for (size_t f = 0; f < nf; f++) {
@@ -133,12 +161,14 @@ row_fixed(const RowLevel *L, size_t i, double *force, const size_t D)
                         continue;
                     if (grav[f]) {
                         /* pull together: a.F += f; b.F -= f */
+#pragma GCC unroll 3
                         for (size_t k = 0; k < D; k++) {
                             fa[k] = fa[k] + G[f][k][l];
                             fb[k] = fb[k] - G[f][k][l];
                         }
                     } else {
                         /* push apart: a.F -= f; b.F += f */
+#pragma GCC unroll 3
                         for (size_t k = 0; k < D; k++) {
                             fa[k] = fa[k] - G[f][k][l];
                             fb[k] = fb[k] + G[f][k][l];
