@@ -26,8 +26,15 @@
 #define MAX_ACTIVE_CALLS 500
 /* Nesting limit of eval_expr, guarding the C stack (§4.16 stack overflow). */
 #define MAX_EVAL_DEPTH 12000
+/* Deepest eval_expr nesting at which an import may load a module (whose
+ * evaluation then continues from that depth, up to MAX_EVAL_DEPTH). */
+#define MAX_IMPORT_DEPTH (MAX_EVAL_DEPTH / 2)
 /* Longest vector a range may build (bounded memory for `..1e12`). */
 #define MAX_RANGE_LEN (UINT64_C(1) << 26)
+/* Longest vector a composition (sequence, loop, multi-function call) may
+ * build: past it the result is null with an execution error (§4.16) rather
+ * than an abort or unbounded memory. */
+#define MAX_COMPOSE_LEN (UINT64_C(1) << 26)
 
 /* ====================================================================
  * Services for builtins (eval.h)
@@ -88,11 +95,22 @@ static inline Vec *eval(Eval *ev, const AstNode *n)
  * Helpers
  * ==================================================================== */
 
+/* True once the embedder's interrupt flag is set (then ev->interrupted):
+ * loops and calls stop early so a long frame ends promptly (flitter.h). */
+static inline bool stop_requested(Eval *ev)
+{
+    if (ev->interrupt && *ev->interrupt)
+        ev->interrupted = true;
+    return ev->interrupted;
+}
+
 /* A growable list of parts to compose. */
 typedef struct Parts {
     Vec *small[8];
     Vec **v;
     size_t n, cap;
+    uint64_t total;     /* elements pushed so far */
+    bool too_long;      /* total passed MAX_COMPOSE_LEN: later parts dropped */
 } Parts;
 
 static void parts_init(Parts *p)
@@ -100,6 +118,8 @@ static void parts_init(Parts *p)
     p->v = p->small;
     p->n = 0;
     p->cap = 8;
+    p->total = 0;
+    p->too_long = false;
 }
 
 /* Grow [p] (full) to twice its capacity. */
@@ -116,14 +136,29 @@ static void parts_grow(Parts *p)
 static inline void parts_push(Parts *p, Vec *x)
 {
     if (!x) return;
+    p->total += vec_len(x);
+    /* a single part passes whole (builtins bound their own results) */
+    if (p->too_long || (p->n > 0 && p->total > MAX_COMPOSE_LEN)) {
+        p->too_long = true;
+        vec_release(x);
+        return;
+    }
     if (p->n == p->cap) parts_grow(p);
     p->v[p->n++] = x;
 }
 
-/* Compose the parts and release them. */
-static Vec *parts_finish(Parts *p)
+/* Compose the parts and release them; null with an execution error when
+ * they were too long. */
+static Vec *parts_finish(Eval *ev, Parts *p)
 {
-    Vec *r = p->n == 1 ? p->v[0] : vec_compose(p->v, p->n);
+    Vec *r;
+    if (p->too_long) {
+        errorf(ev, "Vector too long (over %llu elements)", (unsigned long long)MAX_COMPOSE_LEN);
+        r = NULL;
+        if (p->n == 1) vec_release(p->v[0]);
+    } else {
+        r = p->n == 1 ? p->v[0] : vec_compose(p->v, p->n);
+    }
     if (p->n != 1)
         for (size_t i = 0; i < p->n; i++) vec_release(p->v[i]);
     if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
@@ -236,6 +271,8 @@ static Vec *call_user(Eval *ev, Func *f, const Args *a)
         errorf(ev, "Recursion depth exceeded for func '%s'", f->name->bytes);
         return NULL;
     }
+    if (stop_requested(ev))
+        return NULL;
     size_t frame_size = (fi->nslots ? fi->nslots : 1) * sizeof(Vec *);
     Vec **frame = pool_calloc(frame_size);
     frame[0] = vec_func_take(func_retain(f));
@@ -339,7 +376,7 @@ static Vec *call_value(Eval *ev, const Vec *callee, const Args *a)
             buf_free(&b);
         }
     }
-    return parts_finish(&parts);
+    return parts_finish(ev, &parts);
 }
 
 /* AST_CALL: a(kids[0..count), name=value ...) — args, then named values,
@@ -555,7 +592,7 @@ __attribute__((noinline)) static Vec *eval_sequence(Eval *ev, const AstNode *n)
     Parts parts;
     parts_init(&parts);
     for (uint32_t i = 0; i < n->nkids; i++) parts_push(&parts, eval(ev, n->kids[i]));
-    return parts_finish(&parts);
+    return parts_finish(ev, &parts);
 }
 
 /* AST_LET: bindings left to right, then the body (§4.4, §4.5). */
@@ -580,7 +617,7 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
     uint32_t len = vec_len(src), k = n->nnames ? n->nnames : 1;
     Parts parts;
     parts_init(&parts);
-    for (uint32_t p = 0; p < len; p += k) {
+    for (uint32_t p = 0; p < len && !stop_requested(ev); p += k) {
         for (uint32_t j = 0; j < n->nnames; j++) {
             Vec *cur = ev->frame[n->slots[j]];
             if (p + j < len && src->kind == VEC_NUM && cur && cur->refs == 1 &&
@@ -595,7 +632,7 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
         parts_push(&parts, eval(ev, n->b));
     }
     vec_release(src);
-    return parts_finish(&parts);
+    return parts_finish(ev, &parts);
 }
 
 /* AST_IFELSE: first true condition's branch, else `a` (§4.7). */
@@ -627,7 +664,12 @@ __attribute__((noinline)) static Vec *eval_import(Eval *ev, const AstNode *n)
     Vec *small[8];
     Vec **vals = n->nnames > 8 ? malloc(n->nnames * sizeof(Vec *)) : small;
     if (!vals) abort();
-    if (ev->modules) {
+    if (ev->modules && ev->depth > MAX_IMPORT_DEPTH) {
+        /* loading a module recurses too (resolve, up to AST_MAX_DEPTH):
+         * keep that headroom on the C stack */
+        for (uint32_t i = 0; i < n->nnames; i++) vals[i] = NULL;
+        errorf(ev, "Unable to import from '%s': nested too deeply", buf_cstr(&path));
+    } else if (ev->modules) {
         module_import(ev->modules, ev, buf_cstr(&path), n->names, n->nnames, vals);
     } else {
         for (uint32_t i = 0; i < n->nnames; i++) vals[i] = NULL;
@@ -776,7 +818,6 @@ Vec *eval_program_value(Eval *ev)
     Vec **frame = pool_calloc(frame_size);
     Vec **saved = ev->frame;
     ev->frame = frame;
-    ev->depth = 0;
     ev->overflow = false;
     Vec *v = eval(ev, prog->top);
     ev->frame = saved;

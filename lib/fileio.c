@@ -4,21 +4,38 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <libgen.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 bool file_read(const char *path, Buf *out)
 {
     FILE *f = fopen(path, "rb");
     if (!f) return false;
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0
+        && (S_ISDIR(st.st_mode) || (S_ISREG(st.st_mode) && (uint64_t)st.st_size > FILE_READ_MAX))) {
+        fclose(f);
+        errno = S_ISDIR(st.st_mode) ? EISDIR : EFBIG;
+        return false;
+    }
     char chunk[65536];
-    size_t n;
-    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) buf_add(out, chunk, n);
-    bool ok = !ferror(f);
+    size_t n, total = 0;
+    bool big = false;
+    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) {
+        if (n > FILE_READ_MAX - total) {
+            big = true;
+            break;
+        }
+        total += n;
+        buf_add(out, chunk, n);
+    }
+    bool ok = !big && !ferror(f);
     fclose(f);
-    if (!ok) errno = EIO;
+    if (!ok) errno = big ? EFBIG : EIO;
     return ok;
 }
 

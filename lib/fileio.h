@@ -8,9 +8,15 @@
 
 #include "buf.h"
 
+/* The largest file file_read() accepts, in bytes (256 MiB): scripts,
+ * modules, state files and files read by `read`/`csv` beyond this are
+ * refused rather than exhausting memory. */
+#define FILE_READ_MAX ((size_t)256 << 20)
+
 /* Append the whole contents of the file at [path] to [out].
  *   errors: returns false with errno set when it cannot be opened or read
- *           ([out] may then hold part of the file). */
+ *           (EISDIR for a directory, EFBIG for a file larger than
+ *           FILE_READ_MAX; [out] may then hold part of the file). */
 bool file_read(const char *path, Buf *out);
 
 /* Replace the file at [path] with the [len] bytes at [data] atomically: a

@@ -33,6 +33,13 @@ typedef struct fl_options {
     bool realtime;       /* pace on the wall clock instead of lockstep */
     FILE *log;           /* where run-time errors and warnings go (stderr); NULL: nowhere */
     FILE *debug;         /* where debug() lines go (stdout); NULL: nowhere */
+    long max_physics_steps; /* most simulation steps one !physics system may
+                               take in one frame (default 10000; 0: no limit);
+                               past it the simulation clock falls behind
+                               `time` (logged once per runtime) */
+    volatile int *interrupt; /* polled inside loops, calls and physics steps;
+                                when *interrupt becomes non-zero fl_step ends
+                                the frame early and discards it (NULL: none) */
     int threads;         /* physics threads (--threads); 0: FLITTER_THREADS, else every core */
     int pairs;           /* physics pair route (--pairs): FL_PAIRS_* */
     bool no_simplify;    /* --nosimplify: run the program as parsed, without the
@@ -50,7 +57,8 @@ enum {
  * returns false, leaving *[out] alone, for anything else. */
 bool fl_parse_pairs(const char *text, int *out);
 
-/* The defaults: 60 fps, unknown frames, lockstep, log to stderr, debug to stdout. */
+/* The defaults: 60 fps, unknown frames, lockstep, log to stderr, debug to
+ * stdout, 10000 physics steps per frame, no interrupt flag. */
 fl_options fl_default_options(void);
 
 /* A new runtime with empty state and no program.
@@ -86,8 +94,14 @@ int fl_dump_program(const fl_runtime *rt, Buf *out);
  * evaluate the program into a node tree, run every top-level !physics node,
  * write the beat counter, then advance the clock.
  *   errors: new run-time errors of this frame are written to the log as
- *           `Execution error: MESSAGE`; returns -1 when no program is
- *           loaded, else 0. */
+ *           `Execution error: MESSAGE`; a !physics system with a non-finite
+ *           `time`/`resolution` skips the frame and one needing more than
+ *           opts.max_physics_steps steps is cut short (each logged once per
+ *           runtime); returns -1 when no program is loaded, 1 when
+ *           *opts.interrupt stopped the evaluation (the frame is discarded:
+ *           tree, state, clock and frame count stay as they were; an
+ *           interrupt during physics steps keeps the frame, with fewer
+ *           steps), else 0. */
 int fl_step(fl_runtime *rt);
 
 /* Evaluate [text] ([len] bytes: an expression, or `let` bindings) in the
@@ -100,7 +114,9 @@ int fl_step(fl_runtime *rt);
  *   errors: returns -1 with `<repl>:LINE:COL: error: ...` in [err] on a
  *           syntax error; returns 1 (and appends nothing) when the text
  *           ended early, so a caller may read more lines; run-time errors
- *           go to the log; 0 on success. */
+ *           go to the log; returns -1 with `<repl>: error: interrupted`
+ *           (nothing bound or printed) when *opts.interrupt stopped the
+ *           evaluation; 0 on success. */
 int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err);
 /* Forget the names bound by fl_eval. */
 void fl_eval_reset(fl_runtime *rt);

@@ -107,16 +107,26 @@ static void run_module(ModuleCache *mc, uint32_t mi, Eval *ev)
     }
     m->running = true;
     Exports ex = {0};
+    /* the importer's nesting depth and interrupt flag carry on into the
+     * module, so a chain of imports shares one bound on the C stack and an
+     * interrupt stops it too */
     Eval mev = {
         .prog = p, .globals = NULL, .state = NULL, .symtab = ev->symtab,
         .errors = ev->errors, .debug = ev->debug, .modules = mc, .exports = &ex,
+        .depth = ev->depth, .interrupt = ev->interrupt,
     };
     Node *root = eval_program(&mev);
     node_release(root);
     m = &mc->mods[mi];
     m->running = false;
-    m->failed = false;
-    m->exports = ex;
+    if (mev.interrupted) {
+        /* incomplete exports are not cached: the module runs again */
+        ev->interrupted = true;
+        exports_clear(&ex);
+    } else {
+        m->failed = false;
+        m->exports = ex;
+    }
     program_release(p);
 }
 

@@ -137,6 +137,8 @@ typedef struct Resolver {
     uint32_t nconsts, capconsts;
     const char **unbound;   /* names already warned about */
     uint32_t nunbound, capunbound;
+    uint32_t depth;         /* resolve() nesting: bounded by AST_MAX_DEPTH
+                               across %include splices too */
 } Resolver;
 
 static void push_visible(FnCtx *c, const Str *name, int32_t slot)
@@ -406,9 +408,30 @@ static void resolve_function(Resolver *r, FnCtx *c, AstNode *n)
     free(inner.cap_dst);
 }
 
+static void resolve_node(Resolver *r, FnCtx *c, AstNode *n);
+
+/* Resolve [n] and below. parse_program caps each file's tree at
+ * AST_MAX_DEPTH; an %include splices a file's tree in below the include,
+ * so the depth is checked again here, where the trees are joined, before
+ * any recursive pass (this one, evaluation) could go deeper. */
 static void resolve(Resolver *r, FnCtx *c, AstNode *n)
 {
-    if (!n) return;
+    if (!n || r->failed) return;
+    if (r->depth >= AST_MAX_DEPTH) {
+        const char *path = n->loc.file >= 1 && n->loc.file <= r->nincluded
+                               ? r->included[n->loc.file - 1] : "<program>";
+        buf_printf(r->err, "%s: error: program nested too deeply through %%include "
+                   "(limit %d levels)\n", path, AST_MAX_DEPTH);
+        r->failed = true;
+        return;
+    }
+    r->depth++;
+    resolve_node(r, c, n);
+    r->depth--;
+}
+
+static void resolve_node(Resolver *r, FnCtx *c, AstNode *n)
+{
     uint32_t mark = c->nscope;
     switch (n->kind) {
     case AST_NAME:

@@ -143,6 +143,8 @@ struct Eval {
     bool overflow;          /* the stack limit was hit this frame */
     struct ModuleCache *modules; /* imported modules (NULL: imports fail) */
     Exports *exports;       /* when running a module: where EOF exports go */
+    volatile int *interrupt; /* polled by loops and calls (NULL: none) */
+    bool interrupted;       /* *interrupt was seen: results are incomplete */
     struct StableCache *stables; /* `let stable` values (NULL: not tracked) */
     bool stable_changed;    /* an asserted stable value changed: the frame
                                must be evaluated again (stable.h) */

@@ -72,11 +72,14 @@ struct fl_runtime {
     double start;           /* beat clock: time of beat 0 */
     double last_beat;       /* beat of the previous frame */
     double wall_start;      /* realtime: monotonic clock at start */
+    bool warned_nonfinite;  /* physics: non-finite time logged already */
+    bool warned_capped;     /* physics: step limit logged already */
 };
 
 fl_options fl_default_options(void)
 {
-    return (fl_options){.fps = 60.0, .frames = -1, .realtime = false, .log = stderr, .debug = stdout};
+    return (fl_options){.fps = 60.0, .frames = -1, .realtime = false, .log = stderr, .debug = stdout,
+                        .max_physics_steps = 10000};
 }
 
 bool fl_parse_pairs(const char *text, int *out)
@@ -297,6 +300,16 @@ static void apply_pragmas(fl_runtime *rt)
         const Pragma *p = &rt->prog->pragmas[i];
         if (!vec_is_scalar(p->value)) continue;
         double x = vec_scalar(p->value);
+        bool clock_pragma = strcmp(p->name->bytes, "fps") == 0
+            || strcmp(p->name->bytes, "tempo") == 0 || strcmp(p->name->bytes, "quantum") == 0;
+        if (clock_pragma && !(isfinite(x) && x > 0 && isfinite(60.0 / x))) {
+            /* the reference divides by these and fails; we keep the
+             * defaults so the clock (and a saved state) stays finite */
+            if (rt->opts.log)
+                fprintf(rt->opts.log, "%s: warning: %%pragma %s %.17g ignored (out of range)\n",
+                        rt->prog->path, p->name->bytes, x);
+            continue;
+        }
         if (strcmp(p->name->bytes, "fps") == 0) {
             fps = x;
         } else if (strcmp(p->name->bytes, "tempo") == 0 && fresh) {
@@ -340,9 +353,20 @@ typedef struct Renderer {
 
 static void run_physics(fl_runtime *rt, Node *const *nodes, size_t n, double t)
 {
+    bool nonfinite = false, capped = false;
     PhysicsFrame pf = {.time = t, .fps = rt->target_fps, .realtime = rt->opts.realtime,
-                       .performance = 2.0};
+                       .performance = 2.0, .max_steps = rt->opts.max_physics_steps,
+                       .interrupt = rt->opts.interrupt, .nonfinite = &nonfinite,
+                       .capped = &capped};
     phys_run_frame(rt->physics, nodes, n, rt->state, &pf);
+    if (nonfinite && !rt->warned_nonfinite && rt->opts.log)
+        fputs("Physics error: non-finite time or resolution; frame skipped\n",
+              rt->opts.log);
+    if (capped && !rt->warned_capped && rt->opts.log)
+        fprintf(rt->opts.log, "Physics warning: more than %ld steps needed in one frame; "
+                "simulation clock falls behind\n", rt->opts.max_physics_steps);
+    rt->warned_nonfinite |= nonfinite;
+    rt->warned_capped |= capped;
 }
 
 static void run_counters(fl_runtime *rt, Node *const *nodes, size_t n, double t)
@@ -397,7 +421,7 @@ static int step(fl_runtime *rt)
     if (rt->opts.realtime) rt->frame_time = monotonic() - rt->wall_start;
     double t = rt->frame_time;
     double beat = beat_at(rt, t);
-    double delta = beat - rt->last_beat;
+    double delta = beat - rt->last_beat, prev_beat = rt->last_beat;
     rt->last_beat = beat;
     set_num(rt, G_FRAME, (double)rt->frame);
     set_num(rt, G_TIME, t);
@@ -423,11 +447,12 @@ static int step(fl_runtime *rt)
         .state = rt->state, .symtab = rt->symtab, .errors = &rt->errors[rt->cur],
         .debug = &rt->debug[rt->cur], .modules = rt->modules, .exports = &rt->scope,
         .stables = rt->globals.simplify ? rt->stables : NULL,
+        .interrupt = rt->opts.interrupt,
     };
     exports_empty(&rt->scope);
     double t1 = monotonic();
     Node *root = eval_program(&ev);
-    if (ev.stable_changed) {
+    if (ev.stable_changed && !ev.interrupted) {
         /* a stable value changed: evaluate the frame again with the program
          * as first simplified (stable.h) */
         node_release(root);
@@ -440,6 +465,13 @@ static int step(fl_runtime *rt)
         ev.prog = rt->prog;
         ev.stable_changed = false;
         root = eval_program(&ev);
+    }
+    if (ev.interrupted) {
+        /* discard the incomplete frame: the last tree, state and clock stay */
+        node_release(root);
+        rt->last_beat = prev_beat;
+        rt->cur = prev;
+        return 1;
     }
     node_release(rt->root);
     rt->root = root;
@@ -540,11 +572,20 @@ int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
     Eval ev = {
         .prog = p, .globals = &g, .state = rt->state, .symtab = rt->symtab,
         .errors = &errors, .debug = &debug, .modules = rt->modules, .exports = &bound,
+        .interrupt = rt->opts.interrupt,
     };
     Vec *v = eval_program_value(&ev);
+    int rc = 0;
     report(rt->opts.log, "Execution error: ", &errors, &(MsgSet){0});
     report(rt->opts.debug, "", &debug, &(MsgSet){0});
-    if (bound.count) {
+    if (ev.interrupted) {
+        /* incomplete: bind and print nothing */
+        buf_puts(err, "<repl>: error: interrupted\n");
+        exports_clear(&bound);
+        vec_release(v);
+        v = NULL;
+        rc = -1;
+    } else if (bound.count) {
         for (uint32_t i = bound.count; i-- > 0;) {
             exports_put(&rt->repl, bound.names[i], bound.values[i]);
             buf_printf(out, "%s = ", bound.names[i]->bytes);
@@ -552,7 +593,7 @@ int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
             buf_putc(out, '\n');
         }
     }
-    if (v || !bound.count) {
+    if (rc == 0 && (v || !bound.count)) {
         fmt_value(out, v, rt->symtab);
         buf_putc(out, '\n');
     }
@@ -562,7 +603,7 @@ int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
     msgset_clear(&debug);
     program_release(p);
     globals_free(&g);
-    return 0;
+    return rc;
 }
 
 void fl_eval_reset(fl_runtime *rt) { exports_clear(&rt->repl); }

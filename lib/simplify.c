@@ -555,6 +555,18 @@ static uint32_t sequence_pack(AstNode ***itemsp, uint32_t n, uint32_t *cap)
         if (is_lit(e)) {
             uint32_t j = i + 1;
             while (j < n && is_lit(items[j])) j++;
+            uint64_t total = 0;
+            for (uint32_t k = i; k < j; k++) total += vec_len(items[k]->value);
+            /* past the evaluator's composition limit (eval.c MAX_COMPOSE_LEN,
+             * 2^26) the run is left for the evaluator, which reports it */
+            if (j - i > 1 && total > SIMP_MAX_RANGE) {
+                for (uint32_t k = i; k < j; k++) {
+                    if (items[k]->value) items[out++] = items[k];
+                    else ast_free(items[k]);
+                }
+                i = j;
+                continue;
+            }
             if (j - i > 1) {
                 Vec **parts = malloc((j - i) * sizeof *parts);
                 if (!parts) abort();

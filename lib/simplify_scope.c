@@ -688,7 +688,8 @@ AstNode *simp_call(Simp *s, const AstNode *n)
         return r;
     }
     if (fexpr) {
-        AstNode *r = inline_call(s, fexpr, c->kids, c->count, c->kids + c->count,
+        AstNode *r = inline_call(s, fexpr, c->kids, c->count,
+                                 c->kids ? c->kids + c->count : NULL,
                                  c->nkids - c->count, n->loc);
         if (r) {
             ast_free(c);

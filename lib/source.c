@@ -166,8 +166,9 @@ void parse_syntax_error(ParseCtx *pc, Loc loc, const char *unexpected,
 
 void parse_failure(ParseCtx *pc, Loc loc, const char *msg)
 {
-    if (strcmp(msg, "memory exhausted") == 0)    /* bison's stack limit */
-        msg = "program nested too deeply (parser stack exhausted)";
+    /* bison's stack limit: YYMAXDEPTH, left at bison's default of 10000 */
+    if (strcmp(msg, "memory exhausted") == 0)
+        msg = "program nested too deeply (parser stack limit 10000 entries)";
     report(pc, loc.start, loc.end, msg);
 }
 
@@ -285,6 +286,42 @@ static AstNode *symbol_list(ParseCtx *pc)
     return list;
 }
 
+/* The first node (depth-first, children in a, b, c, kids order) lying more
+ * than AST_MAX_DEPTH levels below [root], or NULL when the tree is within
+ * the limit. Iterative with an explicit work list, so a tree of any depth can
+ * be measured without recursion. */
+static const AstNode *too_deep(const AstNode *root)
+{
+    typedef struct { const AstNode *n; uint32_t depth; } Item;
+    size_t len = 0, cap = 64;
+    Item *work = xrealloc(NULL, cap * sizeof *work);
+    const AstNode *found = NULL;
+    work[len++] = (Item){root, 1};
+    while (len && !found) {
+        Item it = work[--len];
+        if (it.depth > AST_MAX_DEPTH) {
+            found = it.n;
+            break;
+        }
+        const AstNode *t = it.n;
+        size_t need = len + t->nkids + 3;
+        if (need > cap) {
+            while (cap < need)
+                cap *= 2;
+            work = xrealloc(work, cap * sizeof *work);
+        }
+        /* pushed in reverse so that the first child is visited first */
+        for (uint32_t i = t->nkids; i-- > 0;)
+            if (t->kids[i])
+                work[len++] = (Item){t->kids[i], it.depth + 1};
+        if (t->c) work[len++] = (Item){t->c, it.depth + 1};
+        if (t->b) work[len++] = (Item){t->b, it.depth + 1};
+        if (t->a) work[len++] = (Item){t->a, it.depth + 1};
+    }
+    free(work);
+    return found;
+}
+
 AstNode *parse_program(const char *path, const char *text, size_t len,
                        uint32_t file_index, Buf *err)
 {
@@ -305,7 +342,17 @@ AstNode *parse_program(const char *path, const char *text, size_t len,
         ast_free(top);
         top = NULL;
     } else {
-        top->c = symbol_list(&pc);
+        const AstNode *deep = too_deep(top);
+        if (deep) {
+            char msg[96];
+            snprintf(msg, sizeof msg, "program nested too deeply (limit %d levels)",
+                     AST_MAX_DEPTH);
+            report(&pc, deep->loc.start, deep->loc.end, msg);
+            ast_free(top);
+            top = NULL;
+        } else {
+            top->c = symbol_list(&pc);
+        }
     }
 
     for (size_t i = 0; i < pc.nsyms; i++)

@@ -15,9 +15,13 @@
 
 #include "fileio.h"
 #include "format.h"
+#include "utf8.h"
 
 #define MAGIC "flitter-state 1"
 #define QNAN_BITS UINT64_C(0x7ff8000000000000)
+/* Largest frame number accepted (2^53: every frame count up to it is exact
+ * as the double `frame` name, and the counter cannot overflow a long). */
+#define MAX_FRAME (INT64_C(1) << 53)
 
 /* ====================================================================
  * Writing
@@ -135,11 +139,26 @@ static bool read_number(Reader *r, double *out)
         r->p = p + (p[0] == '-' ? 4 : 3);
         return true;
     }
-    if (!(*p == '-' || (*p >= '0' && *p <= '9'))) return false;
+    /* only what the writer produces: -?DIGITS(.DIGITS)?(e[+-]?DIGITS)?,
+     * so no hex floats, no spaces and no overflow to infinity */
+    const char *q = p + (*p == '-');
+    size_t digits = strspn(q, "0123456789");
+    if (digits == 0) return false;
+    q += digits;
+    if (*q == '.') {
+        digits = strspn(q + 1, "0123456789");
+        if (digits == 0) return false;
+        q += 1 + digits;
+    }
+    if (*q == 'e') {
+        q += 1 + (q[1] == '+' || q[1] == '-');
+        digits = strspn(q, "0123456789");
+        if (digits == 0) return false;
+        q += digits;
+    }
     char *e;
-    errno = 0;
     *out = strtod(p, &e);
-    if (e == p || e > r->end) return false;
+    if (e != q || e > r->end || isinf(*out)) return false;
     r->p = e;
     return true;
 }
@@ -183,7 +202,10 @@ static Vec *read_element(Reader *r, const char *stop)
 {
     if (*r->p == '"') {
         Buf s = BUF_INIT;
-        Vec *el = read_string(r, &s) ? vec_str(s.data ? s.data : "", s.len) : NULL;
+        /* escapes must not make invalid UTF-8 (`\xbe`): the writer could
+         * not store such a string again */
+        Vec *el = read_string(r, &s) && utf8_all_valid(buf_cstr(&s), s.len)
+                      ? vec_str(s.data ? s.data : "", s.len) : NULL;
         buf_free(&s);
         return el;
     }
@@ -237,6 +259,12 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *pat
         return -1;
     }
     const char *s = buf_cstr(&text);
+    if (memchr(s, '\0', text.len) || !utf8_all_valid(s, text.len)) {
+        buf_printf(err, "%s: error: not a flitter state file (NUL byte or invalid UTF-8); "
+                   "state file refused\n", path);
+        buf_free(&text);
+        return -1;
+    }
     StateDict *fresh = state_new();
     StateClock c = {0};
     long lineno = 0;
@@ -245,11 +273,11 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *pat
     const char *why = NULL;
     while (*s && !why) {
         const char *nl = strchr(s, '\n');
+        lineno++;
         if (!nl) {
             why = "truncated line";
             break;
         }
-        lineno++;
         Reader r = {s, nl, st};
         if (ended) {
             why = "text after the end line";
@@ -257,8 +285,13 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *pat
             if ((size_t)(nl - s) != strlen(MAGIC) || strncmp(s, MAGIC, strlen(MAGIC)) != 0)
                 why = "not a flitter state file (version 1)";
         } else if (strncmp(s, "clock ", 6) == 0) {
-            char *e;
-            c.frame = strtol(s + 6, &e, 10);
+            char *e = (char *)s + 6;
+            errno = 0;
+            long long frame = *e >= '0' && *e <= '9' ? strtoll(s + 6, &e, 10) : -1;
+            if (have_clock) why = "second clock line";
+            else if (frame < 0 || frame > MAX_FRAME || errno == ERANGE)
+                why = "frame number out of range (0 to 2^53)";
+            c.frame = (long)frame;
             r.p = e;
             double *fields[6] = {&c.time, &c.last_time, &c.last_beat, &c.period, &c.quantum, &c.start};
             for (int k = 0; k < 6 && !why; k++) {
@@ -269,11 +302,18 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *pat
                 }
             }
             if (!why && r.p != nl) why = "malformed clock line";
+            if (!why && !(isfinite(c.time) && isfinite(c.last_time) && isfinite(c.last_beat)
+                          && isfinite(c.start)))
+                why = "clock time out of range (not finite)";
+            if (!why && !(isfinite(c.period) && c.period > 0 && isfinite(c.quantum) && c.quantum > 0))
+                why = "clock period or quantum out of range (not positive and finite)";
             have_clock = true;
         } else if (strncmp(s, "end ", 4) == 0) {
-            char *e;
-            unsigned long long n = strtoull(s + 4, &e, 10);
-            if (e != nl || n != entries) why = "entry count does not match (truncated file?)";
+            char *e = (char *)s + 4;
+            errno = 0;
+            unsigned long long n = *e >= '0' && *e <= '9' ? strtoull(s + 4, &e, 10) : 0;
+            if (e != nl || errno == ERANGE || n != entries)
+                why = "entry count does not match (truncated file?)";
             ended = true;
         } else {
             const char *eq = strstr(s, " = ");
@@ -286,7 +326,7 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *pat
                 else if (!k || !v) why = "empty key or value";
                 else {
                     state_set(fresh, k, v);
-                    entries++;
+                    if (state_count(fresh) != ++entries) why = "duplicate key";
                 }
             }
             vec_release(k);

@@ -62,3 +62,15 @@ void utf8_put(Buf *b, uint32_t c)
     }
     buf_add(b, u, n);
 }
+
+bool utf8_all_valid(const char *s, size_t n)
+{
+    uint32_t cp;
+    for (size_t i = 0; i < n;) {
+        size_t len = utf8_decode_strict((const unsigned char *)s + i, n - i, &cp);
+        if (!len)
+            return false;
+        i += len;
+    }
+    return true;
+}

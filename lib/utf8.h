@@ -4,6 +4,7 @@
 #ifndef FL_UTF8_H
 #define FL_UTF8_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -17,6 +18,8 @@ size_t utf8_decode_strict(const unsigned char *s, size_t n, uint32_t *cp);
 /* As utf8_decode_strict, except that an invalid sequence decodes as its
  * first byte's value, one byte long; always returns 1-4. */
 size_t utf8_decode(const unsigned char *s, size_t n, uint32_t *cp);
+/* True when all [n] bytes at [s] are strict UTF-8 (utf8_decode_strict). */
+bool utf8_all_valid(const char *s, size_t n);
 /* Append the UTF-8 encoding of code point [c] (<= U+10FFFF) to [b]. */
 void utf8_put(Buf *b, uint32_t c);
 

@@ -29,6 +29,8 @@ static void run_usage(FILE *f)
           "  --dump-tree         write the last frame's node tree to stdout\n"
           "  --state FILE        load the state from FILE at start (if it exists) and save\n"
           "                      it back atomically at exit and every 5 seconds\n"
+          "  --max-steps N       at most N physics steps per system per frame (default\n"
+          "                      10000; 0: no limit); beyond, the simulation slows down\n"
           "  --threads N         physics threads (default: FLITTER_THREADS, else all cores)\n"
           "  --pairs naive|fast  physics pair loop: the reference all-pairs loop, or the\n"
           "                      neighbour grid and threads (default fast; same results)\n"
@@ -63,11 +65,22 @@ static bool parse_count(const char *s, long *out)
     return true;
 }
 
+/* The long name of the option whose getopt code is [c] ("frames";
+ * "define" for -D), for messages. */
+static const char *option_name(const struct option *opts, int c)
+{
+    for (; opts->name; opts++)
+        if (opts->val == c)
+            return opts->name;
+    return "?";
+}
+
 int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
            O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
-           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_STATS };
+           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_STATS,
+           O_MAX_STEPS };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -78,6 +91,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"dump-every", required_argument, NULL, O_DUMP_EVERY},
         {"dump-tree", no_argument, NULL, O_DUMP_TREE},
         {"state", required_argument, NULL, O_STATE},
+        {"max-steps", required_argument, NULL, O_MAX_STEPS},
         {"threads", required_argument, NULL, O_THREADS},
         {"pairs", required_argument, NULL, O_PAIRS},
         {"stats", no_argument, NULL, O_STATS},
@@ -96,7 +110,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"trace-every", required_argument, NULL, O_TRACE_EVERY},
         {NULL, 0, NULL, 0},
     };
-    *spec = (RunSpec){.frames = -1, .fps = 60.0, .runtime = -1};
+    *spec = (RunSpec){.frames = -1, .fps = 60.0, .runtime = -1, .max_steps = 10000};
     bool frames_given = false;
     spec->defines = calloc((size_t)argc + 1, sizeof(char *));
     if (!spec->defines) abort();
@@ -127,6 +141,9 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
             break;
         case O_DUMP_TREE: spec->dump_tree = true; break;
         case O_STATE: spec->state_file = optarg; break;
+        case O_MAX_STEPS:
+            if (!parse_count(optarg, &spec->max_steps)) goto bad_value;
+            break;
         case O_THREADS: {
             long n;
             if (!parse_count(optarg, &n) || n < 1 || n > 1024) goto bad_value;
@@ -165,7 +182,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         }
         continue;
     bad_value:
-        fprintf(err, "flitter run: bad value '%s' for option '%s'\n", optarg, argv[optind - 1]);
+        fprintf(err, "flitter run: bad value '%s' for option '--%s'\n", optarg, option_name(longopts, c));
         return EXIT_USAGE;
     }
     if (spec->runtime >= 0 && !frames_given) {   /* as Flitter: round(T*fps) frames */
@@ -286,6 +303,8 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     opts.no_simplify = spec->no_simplify;
     opts.log = log;
     opts.debug = (spec->dump_state || spec->dump_tree) ? log : out;
+    opts.max_physics_steps = spec->max_steps;
+    opts.interrupt = interrupt;
     fl_runtime *rt = fl_new(&opts);
     for (int i = 0; i < spec->ndefines; i++) {
         char *eq = strchr(spec->defines[i], '=');
@@ -352,7 +371,8 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
                 buf_free(&lerr);
             }
         }
-        fl_step(rt);
+        if (fl_step(rt) == 1)
+            break;   /* interrupted: the frame was discarded */
         ran++;
         if (ran == 1) fl_get_stats(rt, &first);
         long n = fl_frame_count(rt) - 1;

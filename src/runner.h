@@ -17,6 +17,7 @@ typedef struct RunSpec {
     bool no_simplify;     /* --nosimplify / --no-simplify */
     bool dump_simplified; /* --dump-simplified: print the program as run */
     const char *state_file; /* --state FILE, or NULL */
+    long max_steps;       /* --max-steps N: physics steps per frame (0: no limit) */
     bool progress;        /* on stderr (a terminal): a progress bar when --frames is given,
                            * else a status line (frame, frames/s, clock) */
     bool stats;           /* --stats: print frame rate, allocations and the
@@ -46,7 +47,9 @@ void runspec_free(RunSpec *spec);
  * node tree to [out]; run-time messages go to [log].
  *   errors: returns 1 when the script cannot be loaded (message on [log]),
  *           2 for a bad define, 0 on success. [interrupt], when non-NULL,
- *           is polled between frames to stop early. */
+ *           is polled between frames and inside evaluation loops, calls and
+ *           physics steps (flitter.h) to stop early; --state is still saved
+ *           on the way out, from the last complete frame. */
 int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt);
 
 #endif

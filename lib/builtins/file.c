@@ -44,18 +44,6 @@
 /* Helpers                                                             */
 /* ------------------------------------------------------------------ */
 
-static bool utf8_all_valid(const char *s, size_t n)
-{
-    uint32_t cp;
-    for (size_t i = 0; i < n;) {
-        size_t len = utf8_decode_strict((const unsigned char *)s + i, n - i, &cp);
-        if (!len)
-            return false;
-        i += len;
-    }
-    return true;
-}
-
 /* Python's str.isspace() for a code point (Unicode White_Space plus the
  * ASCII separators 0x1c-0x1f). */
 static bool py_space(uint32_t c)
@@ -205,10 +193,21 @@ static void resolve_path(Eval *ev, const char *name, Buf *path)
     buf_puts(path, name);
 }
 
-/* Read [path] as strict UTF-8 text with universal newlines into [out]. */
+/* After a failed file_read(): an execution error when the file was over
+ * the size limit (a missing or unreadable file stays a silent null). */
+static Vec *read_failed(Eval *ev, const Builtin *bi)
+{
+    if (errno == EFBIG)
+        return bi_error(ev, bi, "file too large (over %zu bytes)", FILE_READ_MAX);
+    return NULL;
+}
+
+/* Read [path] as strict UTF-8 text with universal newlines into [out]
+ * (errno EFBIG when over FILE_READ_MAX). */
 static bool read_text_file(const char *path, Buf *out)
 {
     Buf raw = BUF_INIT;
+    errno = 0;
     bool ok = file_read(path, &raw) && utf8_all_valid(buf_cstr(&raw), raw.len);
     if (ok) {
         const char *s = buf_cstr(&raw);
@@ -294,6 +293,8 @@ static Vec *bi_read(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
         resolve_path(ev, buf_cstr(&name), &path);
         if (read_text_file(buf_cstr(&path), &text))
             r = vec_str(buf_cstr(&text), text.len);
+        else
+            r = read_failed(ev, bi);
     }
     buf_free(&name);
     buf_free(&path);
@@ -310,7 +311,9 @@ static Vec *bi_read_bytes(Eval *ev, const Builtin *bi, int nargs, Vec *const *ar
         r = bi_error(ev, bi, "embedded null byte");
     } else if (name.len > 0) {
         resolve_path(ev, buf_cstr(&name), &path);
-        if (file_read(buf_cstr(&path), &data) && data.len > 0 && data.len <= UINT32_MAX) {
+        if (!file_read(buf_cstr(&path), &data)) {
+            r = read_failed(ev, bi);
+        } else if (data.len > 0 && data.len <= UINT32_MAX) {
             r = vec_new_num((uint32_t)data.len);
             double *out = vec_nums(r);
             const unsigned char *s = (const unsigned char *)data.data;
@@ -534,6 +537,8 @@ static Vec *bi_csv(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
             }
             strlist_free(&c.fields);
             buf_free(&c.field);
+        } else {
+            r = read_failed(ev, bi);
         }
     }
     buf_free(&name);
@@ -675,9 +680,12 @@ static Vec *bi_srt(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
     } else {
         resolve_path(ev, buf_cstr(&name), &path);
         StrList lines = {NULL, 0, 0};
-        if (read_text_file(buf_cstr(&path), &text) &&
-            srt_collect(buf_cstr(&text), text.len, t, &lines))
-            r = string_vector(lines.v, lines.n);
+        if (read_text_file(buf_cstr(&path), &text)) {
+            if (srt_collect(buf_cstr(&text), text.len, t, &lines))
+                r = string_vector(lines.v, lines.n);
+        } else {
+            r = read_failed(ev, bi);
+        }
         strlist_free(&lines);
     }
     buf_free(&name);

@@ -16,6 +16,21 @@
 #include "../format.h"
 #include "../utf8.h"
 
+/* Longest string (bytes) chr() and concat() build; beyond it: an execution
+ * error and null (LANGUAGE.md §4.16) instead of an abort in str_new(). The
+ * same bound as a file read by `read` (fileio.h FILE_READ_MAX). */
+#define MAX_STRING ((size_t)1 << 28)
+
+/* The string in [b] as a one-string vector, or null with an error when it
+ * is longer than MAX_STRING; frees [b]. */
+static Vec *string_result(Eval *ev, const Builtin *bi, Buf *b)
+{
+    Vec *r = b->len > MAX_STRING ? bi_error(ev, bi, "string too long (over %zu bytes)", MAX_STRING)
+                                 : vec_str(buf_cstr(b), b->len);
+    buf_free(b);
+    return r;
+}
+
 /* chr(ordinals): one string of the code points floor(o_i). */
 static Vec *bi_chr(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
 {
@@ -36,9 +51,7 @@ static Vec *bi_chr(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
         }
         utf8_put(&b, (uint32_t)f);
     }
-    Vec *r = vec_str(buf_cstr(&b), b.len);
-    buf_free(&b);
-    return r;
+    return string_result(ev, bi, &b);
 }
 
 /* ord(text): the code points of str(text); null for an empty string. */
@@ -127,14 +140,12 @@ static Vec *bi_split(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
 /* concat(text): one string str(text); null for an empty vector. */
 static Vec *bi_concat(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
 {
-    (void)bi; (void)nargs;
+    (void)nargs;
     if (vec_len(args[0]) == 0)
         return NULL;
     Buf b = BUF_INIT;
     fmt_str(&b, args[0], eval_symtab(ev));
-    Vec *r = vec_str(buf_cstr(&b), b.len);
-    buf_free(&b);
-    return r;
+    return string_result(ev, bi, &b);
 }
 
 const Builtin bi_text_table[] = {

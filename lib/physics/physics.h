@@ -23,6 +23,19 @@ typedef struct PhysicsFrame {
     double fps;           /* target frame rate used for the default resolution */
     bool realtime;        /* false in lockstep: always insert extra steps */
     double performance;   /* engine performance figure (2 in lockstep) */
+    /* Bounded work (issue 13): at most [max_steps] simulation steps per
+     * system per frame (0: no limit); past it the system stops stepping and
+     * its clock falls behind `time`, as when the reference cannot keep up
+     * (PHYSICS.md "The Simulation Clock"). [interrupt] (NULL: none) is
+     * polled after every step: once *interrupt is non-zero the remaining
+     * steps of the frame are skipped, leaving a consistent state. */
+    long max_steps;
+    volatile int *interrupt;
+    /* Set to true (when non-NULL) if a system skipped this frame because
+     * its `time` or `resolution` was not finite (state left untouched), or
+     * stopped stepping at max_steps. */
+    bool *nonfinite;
+    bool *capped;
 } PhysicsFrame;
 
 /* A new world with no systems. */
@@ -43,7 +56,9 @@ void phys_free(PhysicsWorld *w);
  *   shapes: [nodes] are the [n] top-level !physics nodes of the frame, in
  *           tree order (borrowed); [state] is updated in place
  *   units:  seconds (or the script's own `time` units), world units
- *   errors: nodes with missing `state` or dimensions < 1 are skipped
+ *   errors: nodes with missing `state` or dimensions < 1 are skipped, and so
+ *           are nodes with a non-finite `time` or `resolution` (*nonfinite
+ *           set); a catch-up past max_steps is cut short (*capped set)
  *   source: PHYSICS-ENGINE.md §2-4 (order of operations is normative) */
 void phys_run_frame(PhysicsWorld *w, Node *const *nodes, size_t n,
                     StateDict *state, const PhysicsFrame *frame);

@@ -177,6 +177,7 @@ typedef struct PhysPNode {
 typedef struct PhysSystem {
     size_t D;                     /* dimensions of the current frame */
     double c;                     /* speed of light, 0 = none */
+    const PhysicsFrame *frame;    /* this frame's step limit and interrupt flag */
 
     /* particles (storage order) */
     size_t n, cap;

@@ -196,17 +196,30 @@ static void particle_pass(PhysSystem *s, const PhysGroup *g, double delta,
  *   delta = min(resolution, time - last); last = last + delta
  *   more  = last < time  (realtime: and spare performance, once per frame)
  *   ... passes ...; clock = clock + delta; if not more: break
- * One guard beyond the spec: if `last + delta` no longer moves `last`
- * (rounding at huge times) the loop stops instead of spinning forever. */
+ * Guards beyond the spec: if `last + delta` no longer moves `last`
+ * (rounding at huge times) the loop stops instead of spinning forever; it
+ * also stops at s->frame->max_steps steps or when s->frame->interrupt is
+ * set (physics.h). */
 double phys_run_steps(PhysSystem *s, double time, double last, double clock,
                       double resolution, bool realtime, bool extra)
 {
+    const PhysicsFrame *fr = s->frame;
+    long steps = 0;
     for (;;) {
         double gap = time - last;
         double delta = gap < resolution ? gap : resolution;
         double next = last + delta;
         bool more = next < time && (!realtime || extra);
         if (!(next > last))
+            more = false;
+        /* bounded work (physics.h): the step limit and the interrupt flag
+         * end the loop after a whole step, so the state stays consistent */
+        if (more && fr && fr->max_steps > 0 && ++steps >= fr->max_steps) {
+            more = false;
+            if (fr->capped)
+                *fr->capped = true;
+        }
+        if (more && fr && fr->interrupt && *fr->interrupt)
             more = false;
         last = next;
         for (size_t g = 0; g < s->ngroups; g++)

@@ -846,8 +846,14 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
     /* §2.2: time, resolution (default 1/fps), speed of light */
     double time = attr_float(node, "time", fr->time);
     double resolution = attr_float(node, "resolution", 1 / fr->fps);
+    if (!isfinite(time) || !isfinite(resolution)) {
+        if (fr->nonfinite)
+            *fr->nonfinite = true;
+        return;
+    }
     if (resolution <= 0)
         return;
+    s->frame = fr;
     s->D = (size_t)D;
     s->c = py_max(0, attr_float(node, "speed_of_light", 0));
     set_prefix(s, P);

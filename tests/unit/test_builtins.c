@@ -10,6 +10,7 @@
 #include <cmocka.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "builtins/builtins.h"
@@ -591,6 +592,31 @@ static void test_noise_shapes(void **st)
     vec_release(v);
 }
 
+/* concat() refuses a result over 2^28 bytes (null, not an abort in
+ * str_new): two references to one string of 2^27 + 1 bytes. */
+static void test_concat_too_long(void **state)
+{
+    (void)state;
+    size_t half = ((size_t)1 << 27) + 1;
+    char *text = malloc(half);
+    assert_non_null(text);
+    memset(text, 'x', half);
+    Str *s = str_new(text, half);
+    free(text);
+    Vec *v = vec_new_obj(2);
+    for (int i = 0; i < 2; i++) {
+        vec_elems(v)[i].kind = EL_STR;
+        vec_elems(v)[i].str = str_retain(s);
+    }
+    str_release(s);
+    assert_null(CALL("concat", v));
+    Vec *r = CALL("concat", strs(2, "ab", "c"));
+    assert_non_null(r);
+    assert_int_equal(r->len, 1);
+    assert_string_equal(vec_elems(r)[0].str->bytes, "abc");
+    vec_release(r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -612,6 +638,7 @@ int main(void)
         cmocka_unit_test(test_noise_vectors),
         cmocka_unit_test(test_noise_tree),
         cmocka_unit_test(test_noise_shapes),
+        cmocka_unit_test(test_concat_too_long),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

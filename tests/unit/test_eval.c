@@ -283,6 +283,44 @@ static void test_runaway_scripts_end(void **s)
     free(r.log);
 }
 
+/* The interrupt flag (flitter.h): fl_step discards an interrupted frame
+ * (returns 1; tree, state and frame count as before) and fl_eval binds and
+ * prints nothing; with the flag clear both carry on normally. */
+static void test_interrupt(void **s)
+{
+    (void)s;
+    static volatile int stop;
+    fl_options o = fl_default_options();
+    o.log = NULL;
+    o.debug = NULL;
+    o.interrupt = &stop;
+    fl_runtime *rt = fl_new(&o);
+    Buf err = BUF_INIT, out = BUF_INIT, t = BUF_INIT;
+    static const char src[] = "!a n=frame;len((i for i in 0..frame+10))\n";
+    assert_int_equal(fl_load_text(rt, "test.fl", src, sizeof src - 1, &err), 0);
+    assert_int_equal(fl_step(rt), 0);
+    stop = 1;
+    assert_int_equal(fl_step(rt), 1);
+    assert_int_equal(fl_frame_count(rt), 1);
+    fmt_tree(&t, fl_root(rt), fl_symbols(rt));
+    assert_string_equal(buf_cstr(&t), "!root\n !a n=0;10\n");
+    assert_int_equal(fl_eval(rt, "let q = (i for i in 0..3)\n", 26, &out, &err), -1);
+    assert_string_equal(buf_cstr(&err), "<repl>: error: interrupted\n");
+    assert_int_equal(out.len, 0);
+    stop = 0;
+    buf_reset(&err);
+    assert_int_equal(fl_eval(rt, "q\n", 2, &out, &err), 0);
+    assert_string_equal(buf_cstr(&out), "null\n");
+    assert_int_equal(fl_step(rt), 0);
+    buf_reset(&t);
+    fmt_tree(&t, fl_root(rt), fl_symbols(rt));
+    assert_string_equal(buf_cstr(&t), "!root\n !a n=1;11\n");
+    buf_free(&err);
+    buf_free(&out);
+    buf_free(&t);
+    fl_free(rt);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -301,6 +339,7 @@ int main(void)
         cmocka_unit_test(test_syntax_error),
         cmocka_unit_test(test_imports),
         cmocka_unit_test(test_runaway_scripts_end),
+        cmocka_unit_test(test_interrupt),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

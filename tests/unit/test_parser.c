@@ -805,17 +805,52 @@ static void test_project_files(void **state)
 }
 
 /* Deep left-leaning trees must not overflow anything. */
+/* Into [src]: a program of [n] ones joined by [op] (`1+1+...+1`). */
+static void chain(Buf *src, int n, const char *op)
+{
+    buf_puts(src, "1");
+    for (int i = 1; i < n; i++) {
+        buf_puts(src, op);
+        buf_puts(src, "1");
+    }
+    buf_putc(src, '\n');
+}
+
+/* Long left-nested chains parse without exhausting the C stack; the AST
+ * depth cap (parse.h AST_MAX_DEPTH) accepts `1+1+...` of 3998 ones (TOP,
+ * SEQUENCE, 3997 BINOPs, a literal: 4000 levels) and refuses 3999 with an
+ * error at the deepest node, the first `1` (so does 4000 with `*`). A
+ * 100000-long chain in an attribute is refused
+ * the same way, without recursion in the parser, the check or ast_free. */
 static void test_long_chains(void **state)
 {
     (void)state;
+    static const char head[] = "test.fl:1:1: error: program nested too deeply (limit 4000 levels)\n";
+    for (int n = 3998; n <= 4000; n++) {
+        Buf src = BUF_INIT, err = BUF_INIT;
+        chain(&src, n, n == 4000 ? "*" : "+");
+        AstNode *top = parse(buf_cstr(&src), &err);
+        if (n == 3998) {
+            assert_non_null(top);
+            assert_int_equal(err.len, 0);
+            ast_free(top);
+        } else {
+            assert_null(top);
+            assert_true(err.len > sizeof head + 6);
+            assert_memory_equal(buf_cstr(&err), head, sizeof head - 1);
+            assert_memory_equal(buf_cstr(&err) + sizeof head - 1, n == 4000 ? "1*1*1*" : "1+1+1+", 6);
+        }
+        buf_free(&src);
+        buf_free(&err);
+    }
     Buf src = BUF_INIT, err = BUF_INIT;
     buf_puts(&src, "!a x=1");
     for (int i = 0; i < 100000; i++)
         buf_puts(&src, "+1");
     buf_putc(&src, '\n');
-    AstNode *top = parse(buf_cstr(&src), &err);
-    assert_non_null(top);
-    ast_free(top);
+    assert_null(parse(buf_cstr(&src), &err));
+    assert_memory_equal(buf_cstr(&err), "test.fl:1:6: error: program nested too deeply (limit 4000 levels)\n",
+                        strlen("test.fl:1:6: error: program nested too deeply (limit 4000 levels)\n"));
     buf_free(&src);
     buf_free(&err);
 }

@@ -106,11 +106,131 @@ static void test_malformed(void **s)
     }
 }
 
+/* Write the [len] bytes at [text] to a fresh temporary file; its path in
+ * [path] (a "/tmp/flitter-statefile-XXXXXX" buffer). */
+static void temp_file(char *path, const char *text, size_t len)
+{
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    assert_int_equal(write(fd, text, len), (ssize_t)len);
+    close(fd);
+}
+
+/* Every field is range-checked: each bad file is refused with its exact
+ * message and the dictionary and clock are left as they were; the
+ * boundary values are accepted. */
+static void test_range_checks(void **s)
+{
+    (void)s;
+#define HEAD "flitter-state 1\n"
+#define CLOCK "clock 3 0 0 0 0.5 4 0\n"
+    static const struct { const char *text; size_t len; int line; const char *why; } bad[] = {
+#define CASE(t, line, why) {t, sizeof t - 1, line, why}
+        CASE(HEAD "clock 9223372036854775807 0 0 0 0.5 4 0\nend 0\n", 2,
+             "frame number out of range (0 to 2^53)"),
+        CASE(HEAD "clock 9007199254740993 0 0 0 0.5 4 0\nend 0\n", 2,
+             "frame number out of range (0 to 2^53)"),
+        CASE(HEAD "clock -1 0 0 0 0.5 4 0\nend 0\n", 2, "frame number out of range (0 to 2^53)"),
+        CASE(HEAD "clock +1 0 0 0 0.5 4 0\nend 0\n", 2, "frame number out of range (0 to 2^53)"),
+        CASE(HEAD "clock  1 0 0 0 0.5 4 0\nend 0\n", 2, "frame number out of range (0 to 2^53)"),
+        CASE(HEAD "clock 1 inf 0 0 0.5 4 0\nend 0\n", 2, "clock time out of range (not finite)"),
+        CASE(HEAD "clock 1 0 0 nan 0.5 4 0\nend 0\n", 2, "clock time out of range (not finite)"),
+        CASE(HEAD "clock 1 0 0 0 0 4 0\nend 0\n", 2,
+             "clock period or quantum out of range (not positive and finite)"),
+        CASE(HEAD "clock 1 0 0 0 0.5 -4 0\nend 0\n", 2,
+             "clock period or quantum out of range (not positive and finite)"),
+        CASE(HEAD "clock 1 0 0 0 0.5 4 0 \nend 0\n", 2, "malformed clock line"),
+        CASE(HEAD "clock 1 0x10 0 0 0.5 4 0\nend 0\n", 2, "malformed clock line"),
+        CASE(HEAD CLOCK CLOCK "end 0\n", 3, "second clock line"),
+        CASE(HEAD CLOCK "1 = 1e999\nend 1\n", 3, "malformed value"),
+        CASE(HEAD CLOCK "1 = 1.\nend 1\n", 3, "malformed value"),
+        CASE(HEAD CLOCK "1 = 1e\nend 1\n", 3, "malformed value"),
+        CASE(HEAD CLOCK "1 = .5\nend 1\n", 3, "malformed value"),
+        CASE(HEAD CLOCK "1 = 2\n1 = 3\nend 2\n", 4, "duplicate key"),
+        /* an escape making invalid UTF-8 (found by tests/fuzz) */
+        CASE(HEAD CLOCK "1 = \"a\\xbe\"\nend 1\n", 3, "malformed value"),
+        CASE(HEAD CLOCK "end -1\n", 3, "entry count does not match (truncated file?)"),
+        CASE(HEAD CLOCK "end 18446744073709551616\n", 3,
+             "entry count does not match (truncated file?)"),
+        CASE(HEAD CLOCK "end 0\nx", 4, "truncated line"),
+#undef CASE
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char path[] = "/tmp/flitter-statefile-XXXXXX";
+        temp_file(path, bad[i].text, bad[i].len);
+        StateDict *sd = state_new();
+        SymTab *st = symtab_new();
+        Vec *k = vec_num1(7), *v = vec_num1(8);
+        state_set(sd, k, v);
+        StateClock c = {42, 1, 2, 3, 4, 5, 6};
+        Buf err = BUF_INIT;
+        if (statefile_load(sd, st, &c, path, &err) != -1)
+            fail_msg("case %zu accepted", i);
+        char want[256];
+        snprintf(want, sizeof want, "%s:%d: error: %s; state file refused\n", path, bad[i].line,
+                 bad[i].why);
+        assert_string_equal(buf_cstr(&err), want);
+        assert_int_equal(state_count(sd), 1);
+        assert_true(c.frame == 42 && c.time == 1 && c.start == 6);
+        buf_free(&err);
+        vec_release(k); vec_release(v);
+        state_free(sd);
+        symtab_free(st);
+        unlink(path);
+    }
+
+    /* NUL bytes and invalid UTF-8 anywhere (even after the end line) */
+    static const struct { const char *text; size_t len; } binary[] = {
+        {HEAD CLOCK "end 0\n\0junk\n", sizeof HEAD CLOCK "end 0\n\0junk\n" - 1},
+        {HEAD CLOCK "1 = \"a\xff\"\nend 1\n", sizeof HEAD CLOCK "1 = \"a\xff\"\nend 1\n" - 1},
+    };
+    for (size_t i = 0; i < 2; i++) {
+        char path[] = "/tmp/flitter-statefile-XXXXXX";
+        temp_file(path, binary[i].text, binary[i].len);
+        StateDict *sd = state_new();
+        SymTab *st = symtab_new();
+        StateClock c = {0};
+        Buf err = BUF_INIT;
+        assert_int_equal(statefile_load(sd, st, &c, path, &err), -1);
+        char want[256];
+        snprintf(want, sizeof want, "%s: error: not a flitter state file (NUL byte or invalid "
+                 "UTF-8); state file refused\n", path);
+        assert_string_equal(buf_cstr(&err), want);
+        buf_free(&err);
+        state_free(sd);
+        symtab_free(st);
+        unlink(path);
+    }
+
+    /* the boundaries are accepted */
+    static const char good[] = HEAD "clock 9007199254740992 1e300 -1e300 5e-324 1e-300 1e300 -0\n"
+                               "1 = -0;1.5e-7;2e+20\nend 1\n";
+    char path[] = "/tmp/flitter-statefile-XXXXXX";
+    temp_file(path, good, sizeof good - 1);
+    StateDict *sd = state_new();
+    SymTab *st = symtab_new();
+    StateClock c = {0};
+    Buf err = BUF_INIT;
+    assert_int_equal(statefile_load(sd, st, &c, path, &err), 0);
+    assert_int_equal(err.len, 0);
+    assert_true(c.frame == INT64_C(9007199254740992));
+    assert_true(c.time == 1e300 && c.last_time == -1e300 && c.last_beat == 5e-324);
+    assert_true(c.period == 1e-300 && c.quantum == 1e300 && c.start == 0 && signbit(c.start));
+    assert_int_equal(state_count(sd), 1);
+    buf_free(&err);
+    state_free(sd);
+    symtab_free(st);
+    unlink(path);
+#undef HEAD
+#undef CLOCK
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_round_trip),
         cmocka_unit_test(test_malformed),
+        cmocka_unit_test(test_range_checks),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
