@@ -130,8 +130,10 @@ void phys_plan_levels(PhysSystem *s)
                 lv->route = PHYS_ROUTE_ALL;
             /* otherwise the reference loop itself, its pairs measured in
              * vector blocks (rows.c) */
-            else if (phys_rows_suits(s))
+            else if (phys_rows_suits(s)) {
                 lv->route = PHYS_ROUTE_ROWS;
+                phys_rows_reserve(s, lv->npool);
+            }
         }
     }
 }

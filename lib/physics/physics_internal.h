@@ -285,6 +285,10 @@ bool phys_rows_suits(const PhysSystem *s);
  * vector instructions. Reuses s->rows (grown, never shrunk); aborts with a
  * message if memory runs out. */
 void phys_run_rows(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
+/* Grow s->rows for a level of [npool] pool entries now (at planning, so a
+ * frame whose first step comes later allocates nothing then); aborts with
+ * a message if memory runs out. */
+void phys_rows_reserve(PhysSystem *s, size_t npool);
 
 /* ---- step.c: integration, rebound and the step loop ---- */
 

@@ -220,6 +220,29 @@ ROW_COPY(rows_2_avx2, 2, __attribute__((target("avx2"))))
 ROW_COPY(rows_3_avx2, 3, __attribute__((target("avx2"))))
 #endif
 
+/* Pool entries padded past one more whole block. */
+static size_t rows_stride(size_t n)
+{
+    return (n + 2 * BLOCK - 1) / BLOCK * BLOCK;
+}
+
+void phys_rows_reserve(PhysSystem *s, size_t npool)
+{
+    size_t need = (s->D + 3) * rows_stride(npool);
+    if (need <= s->caprows)
+        return;
+    size_t cap = s->caprows ? s->caprows : 64;
+    while (cap < need)
+        cap *= 2;
+    double *p = realloc(s->rows, cap * sizeof *p);
+    if (!p) {
+        fputs("flitter: out of memory\n", stderr);
+        abort();
+    }
+    s->rows = p;
+    s->caprows = cap;
+}
+
 bool phys_rows_suits(const PhysSystem *s)
 {
     return s->D >= 1 && s->D <= ROWS_MAX_D;
@@ -238,21 +261,9 @@ void phys_run_rows(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
         PhysApplierKind k = s->ap[L.forces[f]].kind;
         L.simple = k == AP_COLLISION || k == AP_GRAVITY || k == AP_ELECTROSTATIC;
     }
-    const size_t ns = (n + 2 * BLOCK - 1) / BLOCK * BLOCK;
+    const size_t ns = rows_stride(n);
     L.stride = ns;
-    size_t need = (D + 3) * ns;
-    if (need > s->caprows) {
-        size_t cap = s->caprows ? s->caprows : 64;
-        while (cap < need)
-            cap *= 2;
-        double *p = realloc(s->rows, cap * sizeof *p);
-        if (!p) {
-            fputs("flitter: out of memory\n", stderr);
-            abort();
-        }
-        s->rows = p;
-        s->caprows = cap;
-    }
+    phys_rows_reserve(s, n);
     double *x = s->rows;
     for (size_t q = 0; q < n; q++) {
         size_t p = L.pool[q];
