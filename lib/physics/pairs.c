@@ -35,7 +35,8 @@
  * partner themselves). Levels with an unlimited reach (gravity or
  * electrostatics without max_distance, infinite radii) and D > 3 gather over
  * all pairs; with one or two threads those use the reference loop itself
- * (the gather measures each pair twice, so two threads only break even).
+ * (the gather measures each pair twice, so two threads only break even),
+ * its partners measured in vector blocks (rows.c) when D <= 3.
  *
  * Why the cell test is exact: with h = R * (1 + 2^-20) and |x/h| < 2^30,
  * two entries whose cell indices differ by 2 or more in some coordinate are
