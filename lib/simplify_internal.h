@@ -29,6 +29,12 @@ enum { FN_INLINEABLE = 1, FN_CAPTURES = 2 };
 /* Depth limit of function inlining (tree.pyx MAX_INLINE_DEPTH). */
 #define SIMP_MAX_INLINE_DEPTH 20
 
+/* Most loop-body copies one simplification may make by unrolling loops over
+ * literal sources (2^20). Flitter has no such limit; it bounds the load-time
+ * work and memory of hostile scripts (`for i in 0..2**26`). A loop that would
+ * go past it is kept as a loop, evaluated every frame, with one warning. */
+#define SIMP_MAX_UNROLL (1u << 20)
+
 /* A name a module ends with, bound to a literal or an inlineable function. */
 typedef struct SimpExport {
     Str *name;
@@ -49,6 +55,7 @@ struct Simp {
     bool too_deep;          /* the nesting limit was hit: give up */
     bool unwinding;         /* the inline depth limit was hit: abandon */
     bool in_include;        /* simplifying an included file (no exports) */
+    uint64_t unrolled;      /* loop-body copies made so far (SIMP_MAX_UNROLL) */
     char *dir;              /* directory of the file being simplified */
     char **deps;            /* files included so far */
     uint32_t ndeps;

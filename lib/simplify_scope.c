@@ -519,7 +519,17 @@ AstNode *simp_for(Simp *s, const AstNode *n)
 {
     AstNode *src = simp(s, n->a);
     uint32_t mark = s->nnames;
-    if (!is_lit(src)) {
+    bool unroll = is_lit(src);
+    if (unroll) {
+        uint64_t copies = vec_len(src->value) / (n->nnames ? n->nnames : 1) + 1;
+        if (s->unrolled + copies > SIMP_MAX_UNROLL) {
+            simp_warn(s, "Loop too long to unroll at load time; it is run as a loop");
+            unroll = false;
+        } else {
+            s->unrolled += copies;
+        }
+    }
+    if (!unroll) {
         for (uint32_t j = 0; j < n->nnames; j++) scope_push(s, n->names[j], NB_DYNAMIC, NULL, NULL, NULL);
         AstNode *body = simp(s, n->b);
         scope_restore(s, mark);
