@@ -35,7 +35,8 @@
  * partner themselves). Levels with an unlimited reach (gravity or
  * electrostatics without max_distance, infinite radii) and D > 3 gather over
  * all pairs; with one or two threads those use the reference loop itself
- * (the gather measures each pair twice, so two threads only break even).
+ * (the gather measures each pair twice, so two threads only break even),
+ * its partners measured in vector blocks (rows.c) when D <= 3.
  *
  * Why the cell test is exact: with h = R * (1 + 2^-20) and |x/h| < 2^30,
  * two entries whose cell indices differ by 2 or more in some coordinate are
@@ -128,6 +129,12 @@ void phys_plan_levels(PhysSystem *s)
              * skip most pairs by their squared distance */
             else if ((nth > 2 && lv->npool >= 512) || R < 0x1p1000)
                 lv->route = PHYS_ROUTE_ALL;
+            /* otherwise the reference loop itself, its pairs measured in
+             * vector blocks (rows.c) */
+            else if (phys_rows_suits(s)) {
+                lv->route = PHYS_ROUTE_ROWS;
+                phys_rows_reserve(s, lv->npool);
+            }
         }
     }
 }
@@ -645,6 +652,9 @@ void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     case PHYS_ROUTE_SCATTER:
         phys_apply_pair_level(s, g, lv);
         return;
+    case PHYS_ROUTE_ROWS:
+        phys_run_rows(s, g, lv);
+        return;
     default:
         break;
     }
@@ -684,4 +694,5 @@ void phys_pairs_free(PhysSystem *s)
         free(s->scratch[i].cand);
     }
     free(s->scratch);
+    free(s->rows);
 }

@@ -102,7 +102,8 @@ enum {
     PHYS_ROUTE_SCATTER,  /* the reference all-pairs loop, one thread */
     PHYS_ROUTE_SKIP,     /* reach 0: no pair can interact */
     PHYS_ROUTE_ALL,      /* per-particle gather over all pairs */
-    PHYS_ROUTE_GRID      /* per-particle gather over a uniform grid */
+    PHYS_ROUTE_GRID,     /* per-particle gather over a uniform grid */
+    PHYS_ROUTE_ROWS      /* the reference loop, blocks of partners (rows.c) */
 };
 
 /* Per-thread scratch of the gather routes: the pair direction and a
@@ -206,6 +207,7 @@ typedef struct PhysSystem {
     PhysWorkers *workers;         /* borrowed from the world; NULL = 1 thread */
     PhysGrid grid;
     PhysScratch *scratch; size_t capscratch;  /* one per thread */
+    double *rows; size_t caprows; /* rows.c: the level in pool order */
 
     /* tree walk scratch */
     PhysPNode *pn; size_t npn, cappn;
@@ -272,6 +274,21 @@ void phys_plan_levels(PhysSystem *s);
 void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
 /* Free the grid and scratch arrays. */
 void phys_pairs_free(PhysSystem *s);
+
+/* ---- rows.c: the reference pair loop in blocks of partners ---- */
+
+/* Can phys_run_rows() take this system's levels (D = 1, 2 or 3)? */
+bool phys_rows_suits(const PhysSystem *s);
+/* Run one pair level of group [g] as phys_apply_pair_level() does, with the
+ * same additions in the same order (PHYSICS-ENGINE.md §4), measuring a
+ * block of partners of each row at a time so the sqrt and divisions run as
+ * vector instructions. Reuses s->rows (grown, never shrunk); aborts with a
+ * message if memory runs out. */
+void phys_run_rows(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
+/* Grow s->rows for a level of [npool] pool entries now (at planning, so a
+ * frame whose first step comes later allocates nothing then); aborts with
+ * a message if memory runs out. */
+void phys_rows_reserve(PhysSystem *s, size_t npool);
 
 /* ---- step.c: integration, rebound and the step loop ---- */
 

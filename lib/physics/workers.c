@@ -18,10 +18,19 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+/* What a thread is started with; owned by the pool (the thread does not
+ * free it: a thread that is late to start would then free memory during
+ * some later frame, which steady frames must not do). */
+typedef struct WorkerArg {
+    PhysWorkers *w;
+    unsigned id;
+} WorkerArg;
+
 struct PhysWorkers {
     unsigned n;                 /* threads in all, the caller included */
     unsigned started;           /* threads actually running */
     pthread_t *th;
+    WorkerArg *args;            /* one per started thread */
     pthread_mutex_t mu;
     pthread_cond_t go, done;
     uint64_t gen;               /* job generation, under mu */
@@ -33,10 +42,6 @@ struct PhysWorkers {
     atomic_size_t next;         /* next task to hand out */
 };
 
-typedef struct WorkerArg {
-    PhysWorkers *w;
-    unsigned id;
-} WorkerArg;
 
 static void take_tasks(PhysWorkers *w, unsigned id)
 {
@@ -50,8 +55,7 @@ static void take_tasks(PhysWorkers *w, unsigned id)
 
 static void *worker_main(void *arg)
 {
-    WorkerArg a = *(WorkerArg *)arg;
-    free(arg);
+    WorkerArg a = *(const WorkerArg *)arg;
     PhysWorkers *w = a.w;
     uint64_t seen = 0;
     pthread_mutex_lock(&w->mu);
@@ -83,7 +87,10 @@ PhysWorkers *phys_workers_new(unsigned n)
     if (n == 1)
         return w;
     w->th = calloc(n - 1, sizeof *w->th);
-    if (!w->th) {
+    w->args = calloc(n - 1, sizeof *w->args);
+    if (!w->th || !w->args) {
+        free(w->th);
+        free(w->args);
         free(w);
         return NULL;
     }
@@ -91,14 +98,10 @@ PhysWorkers *phys_workers_new(unsigned n)
     pthread_cond_init(&w->go, NULL);
     pthread_cond_init(&w->done, NULL);
     for (unsigned i = 0; i < n - 1; i++) {
-        WorkerArg *a = malloc(sizeof *a);
-        if (!a)
-            break;
+        WorkerArg *a = &w->args[i];
         *a = (WorkerArg){w, i + 1};
-        if (pthread_create(&w->th[i], NULL, worker_main, a) != 0) {
-            free(a);
+        if (pthread_create(&w->th[i], NULL, worker_main, a) != 0)
             break;
-        }
         w->started++;
     }
     /* fewer threads than asked: the pool still works, task ids of the
@@ -122,6 +125,7 @@ void phys_workers_free(PhysWorkers *w)
         pthread_cond_destroy(&w->go);
         pthread_cond_destroy(&w->done);
         free(w->th);
+        free(w->args);
     }
     free(w);
 }

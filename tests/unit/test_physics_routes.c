@@ -1,8 +1,9 @@
 /* test_physics_routes.c: differential test of the physics pair routes.
  *
- * The neighbour grid and the per-particle gather (lib/physics/pairs.c) must
- * give the same bits as the reference all-pairs loop (PHYSICS-ENGINE.md §4),
- * for every thread count. Each case builds a random !physics scene from a
+ * The neighbour grid and the per-particle gather (lib/physics/pairs.c) and
+ * the blocked reference loop of unlimited-reach levels (lib/physics/rows.c,
+ * taken with one or two threads) must give the same bits as the reference
+ * all-pairs loop (PHYSICS-ENGINE.md §4), for every thread count. Each case builds a random !physics scene from a
  * fixed seed (so a failure is reproducible), runs the same frames through a
  * world set to `phys_set_pairs(w, true)` (naive) and through worlds on the
  * fast route with 1, 2 and 4 threads, and compares the whole state
@@ -335,6 +336,51 @@ static void test_grid_edge(void **st)
     node_release(ph);
 }
 
+/* Levels of unlimited reach only (!electrostatic and !gravity without
+ * max_distance, !collision with and without power): these take the
+ * blocked reference loop of rows.c with one or two threads (the gather
+ * with four), whose blocks of 8 partners end in a partial block unless
+ * the row's length is a multiple of 8. Sizes around the block length,
+ * D = 1..3, a nested group (a level whose pool reaches the parent's
+ * particles), zero charges and masses, coincident particles. */
+static void test_unlimited_levels(void **st)
+{
+    (void)st;
+    static const size_t sizes[] = {2, 7, 8, 9, 17, 40, 131};
+    for (size_t D = 1; D <= 3; D++) {
+        for (size_t si = 0; si < sizeof sizes / sizeof *sizes; si++) {
+            uint64_t seed = 3000 + 10 * D + si;
+            Rng r = {seed};
+            Scene sc = {.D = D, .box = 6, .no_random = true};
+            Node *ph = mk("physics");
+            set(ph, "state", num(7));
+            set(ph, "dimensions", num((double)D));
+            set(ph, "resolution", num(0.05));
+            add_particles(&r, &sc, ph, sizes[si]);
+            set(add(ph, "electrostatic"), "strength", num(5 + uni(&r)));
+            if (si % 2)
+                set(add(ph, "gravity"), "strength", num(2));
+            Node *c = add(ph, "collision");
+            if (si % 3 == 0)
+                set(c, "power", num(1.5));
+            Node *g = add(ph, "group");
+            add_particles(&r, &sc, g, 3 + sizes[si] / 2);
+            set(add(g, "gravity"), "strength", num(3));
+            set(add(g, "electrostatic"), "strength", num(1));
+            vec_release(sc.lastpos);
+            StateDict *ref = simulate(ph, true, 1, 3);
+            static const unsigned threads[] = {1, 2, 4};
+            for (size_t ti = 0; ti < 3; ti++) {
+                StateDict *sd = simulate(ph, false, threads[ti], 3);
+                assert_same_state(ref, sd, seed, threads[ti]);
+                state_free(sd);
+            }
+            state_free(ref);
+            node_release(ph);
+        }
+    }
+}
+
 /* The test can fail: a world whose fast route adds one pair twice would
  * differ. Here, a scene that does interact gives different bits from one
  * that starts a hair apart, so bitwise comparison is meaningful. */
@@ -379,6 +425,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_comparison_detects_change),
         cmocka_unit_test(test_grid_edge),
+        cmocka_unit_test(test_unlimited_levels),
         cmocka_unit_test(test_small_scenes),
         cmocka_unit_test(test_large_scenes),
         cmocka_unit_test(test_split_particle_pass),
