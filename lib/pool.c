@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
+
 #define SMALL_STEP 16
 #define NSMALL (POOL_SMALL_MAX / SMALL_STEP) /* classes 0..15: 16..256 bytes */
 #define BIG_MIN_LOG 9                     /* 512 */
@@ -36,7 +38,7 @@ static int size_class(size_t size, size_t *block)
 Pool *pool_new(void)
 {
     Pool *p = calloc(1, sizeof *p);
-    if (!p) abort();
+    if (!p) mem_oom();
     const char *e = getenv("FLITTER_NOPOOL");
     p->off = e && *e;
     return p;
@@ -79,8 +81,7 @@ void *pool_alloc_slow(size_t size)
     }
     void *r = malloc(block);
     if (!r) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
+        mem_oom();
     }
     if (p) p->stats.mallocs++;
     return r;

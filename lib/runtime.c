@@ -20,6 +20,7 @@
 #include "counter.h"
 #include "format.h"
 #include "indent.h"
+#include "mem.h"
 #include "module.h"
 #include "physics/physics.h"
 #include "pool.h"
@@ -103,7 +104,7 @@ static double monotonic(void)
 fl_runtime *fl_new(const fl_options *opts)
 {
     fl_runtime *rt = calloc(1, sizeof *rt);
-    if (!rt) abort();
+    if (!rt) mem_oom();
     rt->opts = opts ? *opts : fl_default_options();
     rt->pool = pool_new();
     if (!(rt->opts.fps > 0)) rt->opts.fps = 60.0;
@@ -190,7 +191,7 @@ int fl_define(fl_runtime *rt, const char *name, const char *text)
     int g = globals_add(&rt->globals, name);
     size_t n = strlen(text), i = 0;
     Vec **parts = calloc(n + 1, sizeof(Vec *));
-    if (!parts) abort();
+    if (!parts) mem_oom();
     size_t np = 0;
     while (n && i <= n) {
         size_t j = i;
@@ -386,7 +387,7 @@ static void run_renderers(fl_runtime *rt, const Node *root, double t)
 {
     Node *small[8];
     Node **nodes = root->nchildren > 8 ? malloc(root->nchildren * sizeof(Node *)) : small;
-    if (!nodes) abort();
+    if (!nodes) mem_oom();
     for (size_t r = 0; r < sizeof renderers / sizeof renderers[0]; r++) {
         size_t n = 0;
         for (uint32_t i = 0; i < root->nchildren; i++)
@@ -534,7 +535,7 @@ static void exports_put(Exports *x, Str *name, Vec *value)
         x->cap = x->cap ? x->cap * 2 : 16;
         x->names = realloc(x->names, x->cap * sizeof(Str *));
         x->values = realloc(x->values, x->cap * sizeof(Vec *));
-        if (!x->names || !x->values) abort();
+        if (!x->names || !x->values) mem_oom();
     }
     x->names[x->count] = str_retain(name);
     x->values[x->count] = vec_retain(value);
@@ -614,7 +615,7 @@ const Str *const *fl_scope_names(const fl_runtime *rt, size_t *n)
     size_t total = rt->globals.count + rt->scope.count + rt->repl.count;
     free(m->scope_names);
     m->scope_names = malloc((total ? total : 1) * sizeof(Str *));
-    if (!m->scope_names) abort();
+    if (!m->scope_names) mem_oom();
     size_t k = 0;
     for (uint32_t i = 0; i < rt->globals.count; i++) m->scope_names[k++] = rt->globals.names[i];
     for (uint32_t i = 0; i < rt->scope.count; i++) m->scope_names[k++] = rt->scope.names[i];

@@ -38,6 +38,7 @@
 #include "../eval.h"
 #include "../format.h"
 #include "../fileio.h"
+#include "../mem.h"
 #include "../utf8.h"
 
 /* ------------------------------------------------------------------ */
@@ -253,7 +254,7 @@ static void strlist_push(StrList *l, Str *s)
         l->cap = l->cap ? l->cap * 2 : 16;
         Str **grown = realloc(l->v, l->cap * sizeof *grown);
         if (!grown)
-            abort();
+            mem_oom();
         l->v = grown;
     }
     l->v[l->n++] = s;
@@ -835,11 +836,11 @@ static Vec *bi_glob(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
     /* Split into components, dropping empty and "." ones. */
     char *copy = strdup(p);
     if (!copy)
-        abort();
+        mem_oom();
     Glob g = {NULL, 0, pat.len > 0 && p[pat.len - 1] == '/', {NULL, 0, 0}};
     g.parts = malloc((pat.len / 2 + 1) * sizeof *g.parts);
     if (!g.parts)
-        abort();
+        mem_oom();
     char *save = NULL;
     for (char *tok = strtok_r(copy, "/", &save); tok; tok = strtok_r(NULL, "/", &save))
         if (strcmp(tok, ".") != 0)

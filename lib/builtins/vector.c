@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "builtins.h"
+#include "../mem.h"
 #include "../node.h"
 
 #define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
@@ -258,7 +259,7 @@ static bool merge_sort(Elem *a, uint32_t n, Elem bad[2])
 {
     Elem *tmp = malloc(sizeof *tmp * (n ? n : 1));
     if (!tmp)
-        abort();
+        mem_oom();
     bool ok = true;
     for (uint64_t width = 1; width < n && ok; width *= 2) {
         for (uint64_t lo = 0; lo + width < n && ok; lo += 2 * width) {
@@ -296,7 +297,7 @@ static Vec *bi_sort(BI_PARAMS)
         return NULL;
     Elem *tmp = malloc(sizeof *tmp * n);
     if (!tmp)
-        abort();
+        mem_oom();
     for (uint32_t i = 0; i < n; i++)
         tmp[i] = elem_at(xs, i); /* borrowed */
     Elem bad[2];
@@ -360,7 +361,7 @@ static Vec *bi_zipv(BI_PARAMS)
         return NULL;
     const Vec **vs = malloc(sizeof *vs * (size_t)m);
     if (!vs)
-        abort();
+        mem_oom();
     m = 0;
     for (int k = 0; k < nargs; k++)
         if (vec_len(args[k]))

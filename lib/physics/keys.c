@@ -17,12 +17,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
 #include "physics_internal.h"
 
 static void oom(void)
 {
-    fputs("flitter: out of memory\n", stderr);
-    abort();
+    mem_oom();
 }
 
 static void release_ent(PhysKeyEnt *e)

@@ -50,6 +50,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
 #include "physics_internal.h"
 #include "workers.h"
 
@@ -66,8 +67,7 @@ static void *grow(void *p, size_t *cap, size_t need, size_t size)
         n *= 2;
     void *q = n <= SIZE_MAX / size ? realloc(p, n * size) : NULL;
     if (!q) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
+        mem_oom();
     }
     *cap = n;
     return q;

@@ -24,6 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
 #include "physics_internal.h"
 #include "workers.h"
 
@@ -48,8 +49,7 @@ struct PhysWalk {
 
 static void oom(void)
 {
-    fputs("flitter: out of memory\n", stderr);
-    abort();
+    mem_oom();
 }
 
 /* [p] reallocated to hold at least [need] elements of [size] bytes (its

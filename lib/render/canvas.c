@@ -14,6 +14,7 @@
 
 #include "buf.h"
 #include "format.h"
+#include "mem.h"
 #include "rnode.h"
 
 #define TAU 6.283185307179586
@@ -245,7 +246,7 @@ static PathOp *path_add(Ctx *c, Path *p, int op)
     if (p->n == p->cap) {
         p->cap = p->cap ? 2 * p->cap : 16;
         p->ops = realloc(p->ops, p->cap * sizeof *p->ops);
-        if (!p->ops) abort();
+        if (!p->ops) mem_oom();
     }
     PathOp *o = &p->ops[p->n++];
     memset(o, 0, sizeof *o);

@@ -10,6 +10,7 @@
 #include "buf.h"
 #include "canvas.h"
 #include "gifout.h"
+#include "mem.h"
 #include "rnode.h"
 
 typedef struct GifSlot {
@@ -37,7 +38,7 @@ typedef struct Refs {
 Renderer *renderer_new(const SymTab *symbols, FILE *log, FILE *debug)
 {
     Renderer *r = calloc(1, sizeof *r);
-    if (!r) abort();
+    if (!r) mem_oom();
     r->symbols = symbols;
     r->log = log;
     r->skips.out = debug;
@@ -188,7 +189,7 @@ static void write_record(Renderer *r, const Node *n, cairo_surface_t *pic, doubl
                 goto done;
             }
             r->gifs = realloc(r->gifs, (r->ngifs + 1) * sizeof *r->gifs);
-            if (!r->gifs) abort();
+            if (!r->gifs) mem_oom();
             slot = &r->gifs[r->ngifs++];
             slot->path = strdup(path);
             slot->gif = g;
