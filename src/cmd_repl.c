@@ -50,7 +50,6 @@
 
 #include "commands.h"
 #include "exitcodes.h"
-#include "flitter.h"
 #include "format.h"
 #include "repl.h"
 #include "systems.h"
@@ -96,7 +95,7 @@ static void put_text(FILE *f, const Buf *b)
 static int eval_text(Repl *r, const char *text, size_t len)
 {
     Buf out = BUF_INIT, err = BUF_INIT;
-    int rc = fl_eval(r->rt, text, len, &out, &err);
+    int rc = rt_eval(r->rt, text, len, &out, &err);
     if (rc == 0) put_text(stdout, &out);
     else if (rc < 0) {
         put_text(stderr, &err);
@@ -145,7 +144,7 @@ static int cmd_help(Repl *r, const char *arg);
 static int load_script(Repl *r, const char *path)
 {
     Buf err = BUF_INIT;
-    int rc = fl_load(r->rt, path, &err);
+    int rc = rt_load(r->rt, path, &err);
     if (rc != 0) {
         put_text(stderr, &err);
         r->errors++;
@@ -206,8 +205,8 @@ static int cmd_step(Repl *r, const char *arg)
 static int cmd_state(Repl *r, const char *arg)
 {
     Buf dump = BUF_INIT;
-    fmt_state_dump(&dump, fl_state(r->rt), fl_frame_count(r->rt) - 1, fl_frame_time(r->rt),
-                   fl_symbols(r->rt));
+    fmt_state_dump(&dump, rt_state(r->rt), fl_frame_count(r->rt) - 1, fl_frame_time(r->rt),
+                   rt_symbols(r->rt));
     size_t plen = strlen(arg);
     const char *s = buf_cstr(&dump);
     while (*s) {
@@ -223,13 +222,13 @@ static int cmd_state(Repl *r, const char *arg)
 static int cmd_tree(Repl *r, const char *arg)
 {
     (void)arg;
-    const Node *root = fl_root(r->rt);
+    const Node *root = rt_root(r->rt);
     if (!root) {
         repl_error(r, "no frame evaluated yet (use :step)");
         return 0;
     }
     Buf b = BUF_INIT;
-    fmt_tree(&b, root, fl_symbols(r->rt));
+    fmt_tree(&b, root, rt_symbols(r->rt));
     put_text(stdout, &b);
     buf_free(&b);
     return 0;
@@ -294,7 +293,7 @@ static int cmd_reset(Repl *r, const char *arg)
 static int cmd_save(Repl *r, const char *arg)
 {
     Buf err = BUF_INIT;
-    if (fl_save_state(r->rt, arg, &err) == 0) {
+    if (rt_save_state(r->rt, arg, &err) == 0) {
         printf("saved %s\n", arg);
     } else {
         put_text(stderr, &err);   /* `FILE: error: ...` */
@@ -307,7 +306,7 @@ static int cmd_save(Repl *r, const char *arg)
 static int cmd_restore(Repl *r, const char *arg)
 {
     Buf err = BUF_INIT;
-    if (fl_restore_state(r->rt, arg, &err) == 0) {
+    if (rt_restore_state(r->rt, arg, &err) == 0) {
         printf("restored %s (frame %ld)\n", arg, fl_frame_count(r->rt) - 1);
     } else {
         put_text(stderr, &err);    /* `FILE: error: ...` */
@@ -321,14 +320,14 @@ static int cmd_restore(Repl *r, const char *arg)
 static int cmd_view(Repl *r, const char *arg)
 {
     char err[600];
-    View *v = view_open(arg, 10, fl_symbols(r->rt), err, sizeof err);
+    View *v = view_open(arg, 10, rt_symbols(r->rt), err, sizeof err);
     if (!v) {
         repl_error(r, "%s", err);
         return 0;
     }
     PsSystem *sys;
     size_t n;
-    ps_collect(fl_root(r->rt), fl_state(r->rt), &sys, &n);
+    ps_collect(rt_root(r->rt), rt_state(r->rt), &sys, &n);
     int rc = view_frame(v, fl_frame_count(r->rt) - 1, sys, n, err, sizeof err);
     ps_free(sys, n);
     if (view_close(v) != 0 && rc == 0) {

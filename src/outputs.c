@@ -1,6 +1,8 @@
 /* outputs.c: windows, --view and --trace after each frame (outputs.h). */
 #include "outputs.h"
 
+#include "runtime.h"
+
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
@@ -30,14 +32,14 @@ Outputs *outputs_new(const RunSpec *spec, fl_runtime *rt, FILE *log)
         long every = spec->view_every > 0 ? spec->view_every : 1;
         double cs = 100.0 * (double)every / spec->fps;   /* GIF delays are 1..65535 cs */
         int delay = cs >= 65535 ? 65535 : cs <= 1 ? 1 : (int)lround(cs);
-        o->view = view_open(spec->view, delay, fl_symbols(rt), err, sizeof err);
+        o->view = view_open(spec->view, delay, rt_symbols(rt), err, sizeof err);
         if (!o->view) goto fail;
     }
     if (spec->trace) {
-        o->trace = trace_open(spec->trace, fl_symbols(rt), err, sizeof err);
+        o->trace = trace_open(spec->trace, rt_symbols(rt), err, sizeof err);
         if (!o->trace) goto fail;
     }
-    o->ren = renderer_new(fl_symbols(rt), log, spec->verbosity >= 2 ? log : NULL);
+    o->ren = renderer_new(rt_symbols(rt), log, spec->verbosity >= 2 ? log : NULL);
     return o;
 fail:
     fprintf(log, "flitter run: %s\n", err);
@@ -52,13 +54,13 @@ static bool due(long frame, long every) { return every <= 1 || frame % every == 
 void outputs_frame(Outputs *o, fl_runtime *rt, long frame)
 {
     const RunSpec *spec = o->spec;
-    renderer_frame(o->ren, fl_root(rt), spec->fps);
+    renderer_frame(o->ren, rt_root(rt), spec->fps);
     bool gif = o->view && view_animated(o->view) && due(frame, spec->view_every);
     bool trace = o->trace && due(frame, spec->trace_every);
     if (!gif && !trace) return;
     PsSystem *sys;
     size_t n;
-    ps_collect(fl_root(rt), fl_state(rt), &sys, &n);
+    ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
     char err[600];
     if (gif && view_frame(o->view, frame, sys, n, err, sizeof err) != 0) {
         fprintf(o->log, "flitter run: %s\n", err);
@@ -83,7 +85,7 @@ int outputs_finish(Outputs *o, fl_runtime *rt, long frames_run)
         PsSystem *sys;
         size_t n;
         char err[600];
-        ps_collect(fl_root(rt), fl_state(rt), &sys, &n);
+        ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
         if (view_frame(o->view, fl_frame_count(rt) - 1, sys, n, err, sizeof err) != 0) {
             fprintf(o->log, "flitter run: %s\n", err);
             rc = -1;

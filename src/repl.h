@@ -8,8 +8,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "buf.h"
-#include "flitter.h"
+#include "runtime.h"   /* internal: Buf, Str (README, "Embedding": CLI exceptions) */
 
 typedef enum { CPL_COMMANDS, CPL_NAMES, CPL_FILES } CompletionKind;
 

@@ -132,7 +132,7 @@ static char **complete(const char *text, int start, int end)
         return NULL;                        /* a symbol: nothing to offer */
     } else {
         r->cpl_kind = CPL_NAMES;
-        r->cpl_names = fl_scope_names(r->rt, &r->cpl_count);
+        r->cpl_names = rt_scope_names(r->rt, &r->cpl_count);
     }
     char **matches = rl_completion_matches(text, complete_next);
     /* one file (libedit repeats a sole match after the common prefix in
