@@ -207,7 +207,7 @@ static void add_symbol(ParseCtx *pc, const char *name, size_t len)
     pc->slots[h & (pc->nslots - 1)] = (uint32_t)pc->nsyms;
 }
 
-int parse_lex(YYSTYPE *value, Loc *loc, ParseCtx *pc)
+int parse_lex(FLP_STYPE *value, Loc *loc, ParseCtx *pc)
 {
     Token t;
     if (pc->ended) {
@@ -216,14 +216,14 @@ int parse_lex(YYSTYPE *value, Loc *loc, ParseCtx *pc)
     }
     while (!indent_pop(&pc->ind, &t)) {
         Token raw;
-        if (lex_next(&pc->lx, &raw) == TK_YYerror) {
+        if (lex_next(&pc->lx, &raw) == TK_FLP_error) {
             report(pc, raw.start, raw.end, lex_message(&pc->lx));
-            return pc->last_kind = TK_YYerror;
+            return pc->last_kind = TK_FLP_error;
         }
         if (!indent_feed(&pc->ind, &raw)) {
             report(pc, raw.end, raw.end,
                    "unexpected dedent: indentation matches no enclosing block");
-            return pc->last_kind = TK_YYerror;
+            return pc->last_kind = TK_FLP_error;
         }
     }
     *loc = (Loc){pc->file, t.start, t.end};
@@ -323,10 +323,10 @@ AstNode *parse_program(const char *path, const char *text, size_t len,
     pc.path = path ? path : "<input>";
     pc.file = file_index;
     pc.err = err;
-    pc.last_kind = TK_YYEMPTY;
+    pc.last_kind = TK_FLP_EMPTY;
 
     AstNode *top = NULL;
-    int status = yyparse(&pc, &top);
+    int status = flp_parse(&pc, &top);
     if (status != 0 || !top) {
         if (!pc.reported)
             report(&pc, pc.lx.last_end, pc.lx.last_end, "syntax error");
