@@ -9,9 +9,41 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "builtins/builtins.h"
 #include "format.h"
 
 const char *fl_version(void) { return FL_VERSION_STRING; }
+
+/* Copy [b]'s text into [buf] ([cap] bytes, truncated, NUL-terminated). */
+static void copy_out(const Buf *b, char *buf, size_t cap)
+{
+    if (!cap) return;
+    size_t k = b->len < cap - 1 ? b->len : cap - 1;
+    if (k) memcpy(buf, b->data, k);
+    buf[k] = '\0';
+}
+
+size_t fl_number_text(double x, char *buf, size_t cap)
+{
+    Buf b = BUF_INIT;
+    fmt_double(&b, x);
+    copy_out(&b, buf, cap);
+    size_t n = b.len;
+    buf_free(&b);
+    return n;
+}
+
+const char *fl_builtin_name(size_t i)
+{
+    static const Builtin *const families[] = {
+        bi_vector_table, bi_maths_table, bi_random_table, bi_noise_table,
+        bi_colour_table, bi_text_table, bi_file_table,
+    };
+    for (size_t f = 0; f < sizeof families / sizeof families[0]; f++)
+        for (const Builtin *b = families[f]; b->name; b++)
+            if (i-- == 0) return b->name;
+    return NULL;
+}
 
 const char *fl_error(const fl_runtime *rt)
 {
@@ -143,11 +175,7 @@ long fl_state_get(fl_runtime *rt, const char *key_text, char *buf, size_t cap)
         Buf text = BUF_INIT;
         fmt_value(&text, v, rt_symbols(rt));
         n = (long)text.len;
-        if (cap) {
-            size_t k = text.len < cap - 1 ? text.len : cap - 1;
-            if (k) memcpy(buf, text.data, k);
-            buf[k] = '\0';
-        }
+        copy_out(&text, buf, cap);
         buf_free(&text);
     }
     mem_leave(prev);

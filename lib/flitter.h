@@ -269,6 +269,17 @@ FL_API void fl_eval_reset(fl_runtime *rt);
  *   returns: the number of names visited. */
 FL_API size_t fl_scope_names(fl_runtime *rt, int (*fn)(void *ctx, const char *name), void *ctx);
 
+/* The [i]-th name of the built-in functions (LANGUAGE.md §5), from 0, or
+ * NULL past the last; static storage. For completion in a host's REPL. */
+FL_API const char *fl_builtin_name(size_t i);
+
+/* Write the value text of the number [x] (the shortest decimal text that
+ * reads back to exactly [x], as the dumps print numbers: `0`, `-2.5`,
+ * `1e+20`, `nan`, `inf`) into [buf] ([cap] bytes, NUL-terminated, truncated
+ * to fit; [buf] may be NULL when [cap] is 0), like snprintf.
+ *   returns: the length of the whole text (without the NUL). */
+FL_API size_t fl_number_text(double x, char *buf, size_t cap);
+
 /* {=====================================================================
  * Statistics
  * ===================================================================== */

@@ -50,8 +50,8 @@
 
 #include "commands.h"
 #include "exitcodes.h"
-#include "format.h"
 #include "repl.h"
+#include "runtime.h"   /* internal, for :view only (README, "Embedding") */
 #include "systems.h"
 #include "view.h"
 
@@ -76,14 +76,11 @@ void repl_error(Repl *r, const char *fmt, ...)
     va_end(ap);
 }
 
-/* Write [b] to [f], ending it with a newline if it has none. */
-static void put_text(FILE *f, const Buf *b)
-{
-    if (!b->len) return;
-    if (f == stderr) fflush(stdout);
-    fwrite(b->data, 1, b->len, f);
-    if (b->data[b->len - 1] != '\n') fputc('\n', f);
-}
+/* fl_write_fn: to the FILE [ctx]. */
+static void write_file(void *ctx, const char *text, size_t len) { fwrite(text, 1, len, ctx); }
+
+/* fl_write_fn: append to the Buf [ctx]. */
+static void write_buf(void *ctx, const char *text, size_t len) { buf_add(ctx, text, len); }
 
 
 /* ====================================================================
@@ -92,17 +89,21 @@ static void put_text(FILE *f, const Buf *b)
 
 /* Evaluate [len] bytes at [text]; print the result or the error. Returns
  * fl_eval's status (1: the text ended early, nothing printed). */
+/* fl_error()'s message of the last failed call on stderr; counted. */
+static void put_error(Repl *r)
+{
+    const char *e = fl_error(r->rt);
+    size_t n = strlen(e);
+    fflush(stdout);
+    fputs(e, stderr);
+    if (n && e[n - 1] != '\n') fputc('\n', stderr);
+    r->errors++;
+}
+
 static int eval_text(Repl *r, const char *text, size_t len)
 {
-    Buf out = BUF_INIT, err = BUF_INIT;
-    int rc = rt_eval(r->rt, text, len, &out, &err);
-    if (rc == 0) put_text(stdout, &out);
-    else if (rc < 0) {
-        put_text(stderr, &err);
-        r->errors++;
-    }
-    buf_free(&out);
-    buf_free(&err);
+    int rc = fl_eval(r->rt, text, len, write_file, stdout);   /* lines, each with its newline */
+    if (rc < 0) put_error(r);
     return rc;
 }
 
@@ -143,13 +144,8 @@ static int cmd_help(Repl *r, const char *arg);
  * it becomes the session's script. Returns 0 or -1 (error printed). */
 static int load_script(Repl *r, const char *path)
 {
-    Buf err = BUF_INIT;
-    int rc = rt_load(r->rt, path, &err);
-    if (rc != 0) {
-        put_text(stderr, &err);
-        r->errors++;
-    }
-    buf_free(&err);
+    int rc = fl_load(r->rt, path);
+    if (rc != 0) put_error(r);
     if (rc == 0 && r->script != path) {
         char *copy = strdup(path);
         if (!copy) abort();
@@ -161,12 +157,9 @@ static int load_script(Repl *r, const char *path)
 
 static void print_frame(Repl *r)
 {
-    Buf b = BUF_INIT;
-    buf_printf(&b, "frame %ld time ", fl_frame_count(r->rt) - 1);
-    fmt_double(&b, fl_frame_time(r->rt));
-    buf_putc(&b, '\n');
-    put_text(stdout, &b);
-    buf_free(&b);
+    char t[64];
+    fl_number_text(fl_frame_time(r->rt), t, sizeof t);
+    printf("frame %ld time %s\n", fl_frame_count(r->rt) - 1, t);
 }
 
 static int cmd_step(Repl *r, const char *arg)
@@ -205,8 +198,7 @@ static int cmd_step(Repl *r, const char *arg)
 static int cmd_state(Repl *r, const char *arg)
 {
     Buf dump = BUF_INIT;
-    fmt_state_dump(&dump, rt_state(r->rt), fl_frame_count(r->rt) - 1, fl_frame_time(r->rt),
-                   rt_symbols(r->rt));
+    fl_dump_state(r->rt, write_buf, &dump);
     size_t plen = strlen(arg);
     const char *s = buf_cstr(&dump);
     while (*s) {
@@ -222,15 +214,8 @@ static int cmd_state(Repl *r, const char *arg)
 static int cmd_tree(Repl *r, const char *arg)
 {
     (void)arg;
-    const Node *root = rt_root(r->rt);
-    if (!root) {
+    if (fl_dump_tree(r->rt, write_file, stdout) != 0)   /* ends with a newline */
         repl_error(r, "no frame evaluated yet (use :step)");
-        return 0;
-    }
-    Buf b = BUF_INIT;
-    fmt_tree(&b, root, rt_symbols(r->rt));
-    put_text(stdout, &b);
-    buf_free(&b);
     return 0;
 }
 
@@ -292,27 +277,17 @@ static int cmd_reset(Repl *r, const char *arg)
 
 static int cmd_save(Repl *r, const char *arg)
 {
-    Buf err = BUF_INIT;
-    if (rt_save_state(r->rt, arg, &err) == 0) {
-        printf("saved %s\n", arg);
-    } else {
-        put_text(stderr, &err);   /* `FILE: error: ...` */
-        r->errors++;
-    }
-    buf_free(&err);
+    if (fl_save_state(r->rt, arg) == 0) printf("saved %s\n", arg);
+    else put_error(r);   /* `FILE: error: ...` */
     return 0;
 }
 
 static int cmd_restore(Repl *r, const char *arg)
 {
-    Buf err = BUF_INIT;
-    if (rt_restore_state(r->rt, arg, &err) == 0) {
+    if (fl_restore_state(r->rt, arg) == 0)
         printf("restored %s (frame %ld)\n", arg, fl_frame_count(r->rt) - 1);
-    } else {
-        put_text(stderr, &err);    /* `FILE: error: ...` */
-        r->errors++;
-    }
-    buf_free(&err);
+    else
+        put_error(r);   /* `FILE: error: ...` */
     return 0;
 }
 

@@ -8,7 +8,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "runtime.h"   /* internal: Buf, Str (README, "Embedding": CLI exceptions) */
+#include "buf.h"       /* the library's string builder (README, "Embedding") */
+#include "flitter.h"
 
 typedef enum { CPL_COMMANDS, CPL_NAMES, CPL_FILES } CompletionKind;
 
@@ -27,7 +28,7 @@ typedef struct Repl {
     /* completion cursor, for libedit's generator callback */
     CompletionKind cpl_kind;   /* what is being completed */
     size_t cpl_next;           /* next candidate index to try */
-    const Str *const *cpl_names;  /* names in scope (borrowed from the runtime) */
+    char **cpl_names;          /* names in scope (owned, from fl_scope_names) */
     size_t cpl_count;          /* entries in cpl_names */
     Buf cpl_path;              /* CPL_FILES: the whole path typed so far */
     size_t cpl_skip;           /* CPL_FILES: bytes of it before libedit's word */

@@ -74,6 +74,29 @@ static void test_version(void **st)
     assert_string_equal(fl_version(), v);
 }
 
+static void test_numbers_and_builtins(void **st)
+{
+    (void)st;
+    char b[32];
+    assert_int_equal(fl_number_text(0.1 + 0.2, b, sizeof b), 19);
+    assert_string_equal(b, "0.30000000000000004");
+    assert_int_equal(fl_number_text(-2.5, b, sizeof b), 4);
+    assert_string_equal(b, "-2.5");
+    assert_int_equal(fl_number_text(3.0, b, sizeof b), 1);
+    assert_string_equal(b, "3");
+    assert_int_equal(fl_number_text(1.0 / 3.0, b, 5), 18);   /* 0.3333333333333333 */
+    assert_string_equal(b, "0.33");
+    assert_int_equal(fl_number_text(1e300 * 1e300, NULL, 0), 3);   /* inf */
+    bool sin = false, zip = false;
+    size_t n = 0;
+    for (const char *name; (name = fl_builtin_name(n)) != NULL; n++) {
+        sin |= strcmp(name, "sin") == 0;
+        zip |= strcmp(name, "zip") == 0;
+    }
+    assert_true(sin && zip && n > 50);
+    assert_null(fl_builtin_name(n + 1));
+}
+
 static void test_frames_state_and_dumps(void **st)
 {
     (void)st;
@@ -262,6 +285,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_version),
+        cmocka_unit_test(test_numbers_and_builtins),
         cmocka_unit_test(test_frames_state_and_dumps),
         cmocka_unit_test(test_state_values),
         cmocka_unit_test(test_eval_defines_and_errors),
