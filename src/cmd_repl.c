@@ -79,8 +79,8 @@ void repl_error(Repl *r, const char *fmt, ...)
 /* fl_write_fn: to the FILE [ctx]. */
 static void write_file(void *ctx, const char *text, size_t len) { fwrite(text, 1, len, ctx); }
 
-/* fl_write_fn: append to the Buf [ctx]. */
-static void write_buf(void *ctx, const char *text, size_t len) { buf_add(ctx, text, len); }
+/* fl_write_fn: append to the Text [ctx]. */
+static void write_buf(void *ctx, const char *text, size_t len) { text_add(ctx, text, len); }
 
 
 /* ====================================================================
@@ -116,7 +116,7 @@ static void finish_block(Repl *r)
         fputs("<repl>: error: input ended early (unexpected end of input)\n", stderr);
         r->errors++;
     }
-    buf_reset(&r->block);
+    text_reset(&r->block);
     r->in_block = false;
 }
 
@@ -197,17 +197,17 @@ static int cmd_step(Repl *r, const char *arg)
  * text (KEY first) starts with [arg]. */
 static int cmd_state(Repl *r, const char *arg)
 {
-    Buf dump = BUF_INIT;
+    Text dump = TEXT_INIT;
     fl_dump_state(r->rt, write_buf, &dump);
     size_t plen = strlen(arg);
-    const char *s = buf_cstr(&dump);
+    const char *s = text_cstr(&dump);
     while (*s) {
         const char *nl = strchr(s, '\n');
         size_t len = nl ? (size_t)(nl - s) + 1 : strlen(s);
         if (s[0] != '#' && len > plen && strncmp(s, arg, plen) == 0) fwrite(s, 1, len, stdout);
         s += len;
     }
-    buf_free(&dump);
+    text_free(&dump);
     return 0;
 }
 
@@ -221,11 +221,11 @@ static int cmd_tree(Repl *r, const char *arg)
 
 static int cmd_get(Repl *r, const char *arg)
 {
-    Buf text = BUF_INIT;
-    buf_printf(&text, "$(%s)\n", arg);
+    Text text = TEXT_INIT;
+    text_printf(&text, "$(%s)\n", arg);
     if (eval_text(r, text.data, text.len) == 1)
         repl_error(r, "incomplete key expression '%s'", arg);
-    buf_free(&text);
+    text_free(&text);
     return 0;
 }
 
@@ -442,8 +442,8 @@ static void take_indented(Repl *r)
             r->peeked_eof = !r->peeked;
         }
         if (!r->peeked || !is_indented(r->peeked)) return;
-        buf_puts(&r->block, r->peeked);
-        buf_putc(&r->block, '\n');
+        text_puts(&r->block, r->peeked);
+        text_putc(&r->block, '\n');
         free(r->peeked);
         r->peeked = NULL;
     }
@@ -466,16 +466,16 @@ static int handle_line(Repl *r, const char *line)
         /* a non-indented line starts a new input, unless the block still
          * needs more text */
         if (!indented && eval_text(r, r->block.data, r->block.len) != 1) {
-            buf_reset(&r->block);
+            text_reset(&r->block);
             r->in_block = false;
             return handle_line(r, line);
         }
-        buf_puts(&r->block, line);
-        buf_putc(&r->block, '\n');
+        text_puts(&r->block, line);
+        text_putc(&r->block, '\n');
         take_indented(r);
         /* ... and a non-indented line that completes it ends it */
         if (!indented && eval_text(r, r->block.data, r->block.len) != 1) {
-            buf_reset(&r->block);
+            text_reset(&r->block);
             r->in_block = false;
         }
         return 0;
@@ -483,13 +483,13 @@ static int handle_line(Repl *r, const char *line)
     line = skip_space(line);
     if (!*line) return 0;
     if (line[0] == ':') return run_command(r, line);
-    buf_puts(&r->block, line);
-    buf_putc(&r->block, '\n');
+    text_puts(&r->block, line);
+    text_putc(&r->block, '\n');
     take_indented(r);
     if (eval_text(r, r->block.data, r->block.len) == 1) {
         r->in_block = true;
     } else {
-        buf_reset(&r->block);
+        text_reset(&r->block);
     }
     return 0;
 }
@@ -600,7 +600,7 @@ int cmd_repl(int argc, char **argv)
 {
     fl_options opts = fl_default_options();
     const char *script;
-    Repl r = {.tty = isatty(STDIN_FILENO) == 1, .block = BUF_INIT};
+    Repl r = {.tty = isatty(STDIN_FILENO) == 1, .block = TEXT_INIT};
     setvbuf(stdout, NULL, _IOLBF, 0);   /* keep stdout and stderr lines in order */
     int rc = parse_args(argc, argv, &opts, &r.rt, &script);
     if (rc != 0) return rc < 0 ? EXIT_OK : rc;
@@ -621,7 +621,7 @@ int cmd_repl(int argc, char **argv)
              * a second one at an empty prompt ends the session */
             bool empty = !r.in_block && (!line || is_blank(line));
             free(line);
-            buf_reset(&r.block);
+            text_reset(&r.block);
             r.in_block = false;
             if (empty && after_interrupt) {
                 putchar('\n');
@@ -644,8 +644,8 @@ int cmd_repl(int argc, char **argv)
     }
     fflush(stdout);
     if (r.tty) repl_edit_end(&r);
-    buf_free(&r.block);
-    buf_free(&r.cpl_path);
+    text_free(&r.block);
+    text_free(&r.cpl_path);
     free(r.peeked);
     free(r.last_entry);
     free(r.history);

@@ -1,12 +1,11 @@
 /* outputs.c: windows, --view and --trace after each frame (outputs.h). */
 #include "outputs.h"
 
-#include "runtime.h"
-
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
 
+#include "runtime.h"   /* internal: the node tree and symbols for the renderers */
 #include "systems.h"
 #include "trace.h"
 #include "view.h"

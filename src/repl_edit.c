@@ -67,7 +67,7 @@ static char *complete_next(const char *text, int state)
     if (r->cpl_kind == CPL_FILES) {
         /* libedit's word stops at '/' and '.'; complete the whole path and
          * hand back the part from its word on */
-        char *m = rl_filename_completion_function(buf_cstr(&r->cpl_path), state);
+        char *m = rl_filename_completion_function(text_cstr(&r->cpl_path), state);
         if (m && strlen(m) >= r->cpl_skip) memmove(m, m + r->cpl_skip, strlen(m) - r->cpl_skip + 1);
         return m;
     }
@@ -132,8 +132,8 @@ static char **complete(const char *text, int start, int end)
         if (from > (size_t)start || end < start) return NULL;
         r->cpl_kind = CPL_FILES;
         r->cpl_skip = (size_t)start - from;
-        buf_reset(&r->cpl_path);
-        buf_add(&r->cpl_path, path, (size_t)end - from);
+        text_reset(&r->cpl_path);
+        text_add(&r->cpl_path, path, (size_t)end - from);
     } else if (text[0] == ':' || (start > 0 && line[start - 1] == ':')) {
         return NULL;                        /* a symbol: nothing to offer */
     } else {
@@ -146,13 +146,13 @@ static char **complete(const char *text, int start, int end)
      * [0]; GNU readline does not): end a directory with '/', a file with a
      * space */
     if (r->cpl_kind == CPL_FILES && matches && (!matches[1] || !matches[2])) {
-        Buf full = BUF_INIT;
-        buf_add(&full, buf_cstr(&r->cpl_path), r->cpl_skip);
-        buf_puts(&full, matches[0]);
+        Text full = TEXT_INIT;
+        text_add(&full, text_cstr(&r->cpl_path), r->cpl_skip);
+        text_puts(&full, matches[0]);
         struct stat st;
         bool dir = stat(full.data, &st) == 0 && S_ISDIR(st.st_mode);
         rl_completion_append_character = dir ? '/' : ' ';
-        buf_free(&full);
+        text_free(&full);
     }
     return matches;
 }
