@@ -15,7 +15,7 @@
 
 #include "builtins.h"
 #include "../eval.h"
-#include "../mem.h"
+#include "mem.h"
 
 static const Builtin *const families[] = {
     bi_vector_table, bi_maths_table, bi_random_table, bi_noise_table,

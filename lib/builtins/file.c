@@ -38,7 +38,7 @@
 #include "../eval.h"
 #include "../format.h"
 #include "../fileio.h"
-#include "../mem.h"
+#include "mem.h"
 #include "../utf8.h"
 
 /* ------------------------------------------------------------------ */

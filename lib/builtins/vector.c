@@ -18,7 +18,7 @@
 #include <string.h>
 
 #include "builtins.h"
-#include "../mem.h"
+#include "mem.h"
 #include "../node.h"
 
 #define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
