@@ -219,6 +219,7 @@ static bool builtin_value(Resolver *r, const Str *name, Vec **out)
         Func *f = pool_calloc(sizeof *f);
         f->refs = 1;
         f->bi = bi;
+    f->bi_name = bi->internal;
         v = vec_func_take(f);
     }
     if (r->nconsts == r->capconsts) {

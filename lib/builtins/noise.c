@@ -23,7 +23,7 @@
 #include <stdint.h>
 
 #include "builtins.h"
-#include "random.h"
+#include "../streams.h"
 
 #define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
                   int nargs __attribute__((unused)), Vec *const *args

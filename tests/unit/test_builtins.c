@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "builtins/builtins.h"
-#include "builtins/turns.h"
+#include "turns.h"
 #include "node.h"
 #include "value.h"
 

@@ -11,7 +11,7 @@
 #include <string.h>
 
 #include "builtins/builtins.h"
-#include "builtins/random.h"
+#include "streams.h"
 #include "value.h"
 
 /* ------------------------------------------------------------------ */
