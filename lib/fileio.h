@@ -6,12 +6,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "config.h"
 #include "buf.h"
-
-/* The largest file file_read() accepts, in bytes (256 MiB): scripts,
- * modules, state files and files read by `read`/`csv` beyond this are
- * refused rather than exhausting memory. */
-#define FILE_READ_MAX ((size_t)256 << 20)
 
 /* Append the whole contents of the file at [path] to [out].
  *   errors: returns false with errno set when it cannot be opened or read

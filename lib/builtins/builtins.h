@@ -22,6 +22,11 @@ typedef struct Builtin Builtin;
  * the descriptor's min_args and max_args (checked by the caller). */
 typedef Vec *(*BuiltinFn)(Eval *ev, const Builtin *bi, int nargs, Vec *const *args);
 
+/* The parameter list of a BuiltinFn definition, for built-ins that do not
+ * use every argument: `static Vec *bi_sin(BI_PARAMS) { ... }`. */
+#define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
+                  int nargs __attribute__((unused)), Vec *const *args
+
 #define BI_MAX_PARAMS 8
 #define BI_VARIADIC (-1)
 

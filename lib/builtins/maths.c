@@ -14,18 +14,13 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "../config.h"
 #include "builtins.h"
 #include "matrix.h"
 #include "../turns.h"
 
 /* The parameter list every builtin shares (BuiltinFn in builtins.h). */
-#define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
-                  int nargs __attribute__((unused)), Vec *const *args
-
 #define PI 3.141592653589793
-
-/* Largest result this file builds (elements); beyond it: error, null. */
-#define MAX_RESULT ((uint64_t)1 << 28)
 
 /* {====================================================================
  * Helpers

@@ -11,9 +11,6 @@
 #include "../streams.h"
 #include "../node.h"
 
-#define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
-                  int nargs __attribute__((unused)), Vec *const *args
-
 /* {====================================================================
  * Built-ins
  * ===================================================================== */
