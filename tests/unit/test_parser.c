@@ -817,7 +817,7 @@ static void chain(Buf *src, int n, const char *op)
 }
 
 /* Long left-nested chains parse without exhausting the C stack; the AST
- * depth cap (parse.h AST_MAX_DEPTH) accepts `1+1+...` of 3998 ones (TOP,
+ * depth cap (config.h AST_MAX_DEPTH) accepts `1+1+...` of 3998 ones (TOP,
  * SEQUENCE, 3997 BINOPs, a literal: 4000 levels) and refuses 3999 with an
  * error at the deepest node, the first `1` (so does 4000 with `*`). A
  * 100000-long chain in an attribute is refused
