@@ -22,7 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "indent.h"
+#include "lexer.h"
 #include "utf8.h"
 
 /*!include:re2c "unicode_categories.re" */

@@ -12,7 +12,7 @@
 
 #include <stdint.h>
 
-#include "../value.h"
+#include "value.h"
 
 typedef struct Eval Eval;   /* the evaluator's per-call context (eval.h) */
 typedef struct Builtin Builtin;

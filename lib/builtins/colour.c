@@ -15,7 +15,7 @@
 
 #include "builtins.h"
 #include "matrix.h"
-#include "../turns.h"
+#include "turns.h"
 
 /* "C max(a,b)" and "C min(a,b)" of LANGUAGE.md §5.2. */
 static double cmax(double a, double b) { return (b > a) ? b : a; }

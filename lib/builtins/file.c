@@ -34,11 +34,11 @@
 #include <unistd.h>
 
 #include "builtins.h"
-#include "../buf.h"
-#include "../eval.h"
-#include "../format.h"
-#include "../fileio.h"
-#include "../utf8.h"
+#include "buf.h"
+#include "context.h"
+#include "format.h"
+#include "fileio.h"
+#include "utf8.h"
 
 /* ------------------------------------------------------------------ */
 /* Helpers                                                             */

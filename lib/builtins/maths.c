@@ -14,10 +14,10 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "../config.h"
+#include "config.h"
 #include "builtins.h"
 #include "matrix.h"
-#include "../turns.h"
+#include "turns.h"
 
 /* The parameter list every builtin shares (BuiltinFn in builtins.h). */
 #define PI 3.141592653589793

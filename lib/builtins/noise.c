@@ -22,9 +22,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "../config.h"
+#include "config.h"
 #include "builtins.h"
-#include "../streams.h"
+#include "streams.h"
 
 typedef uint64_t Lat; /* a lattice coordinate: int64 bits, wrapping */
 

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 
 #include "builtins.h"
-#include "../streams.h"
-#include "../node.h"
+#include "streams.h"
+#include "node.h"
 
 /* {====================================================================
  * Built-ins

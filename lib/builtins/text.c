@@ -10,12 +10,12 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "../config.h"
+#include "config.h"
 #include "builtins.h"
-#include "../buf.h"
-#include "../eval.h"
-#include "../format.h"
-#include "../utf8.h"
+#include "buf.h"
+#include "context.h"
+#include "format.h"
+#include "utf8.h"
 
 /* The string in [b] as a one-string vector, or null with an error when it
  * is longer than MAX_STRING; frees [b]. */

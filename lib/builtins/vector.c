@@ -17,9 +17,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../config.h"
+#include "config.h"
 #include "builtins.h"
-#include "../node.h"
+#include "node.h"
 
 /* {====================================================================
  * Helpers

@@ -28,7 +28,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "../config.h"
+#include "config.h"
 #include "physics.h"
 
 typedef enum PhysApplierKind {

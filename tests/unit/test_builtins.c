@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
+#include "builtins.h"
 #include "turns.h"
 #include "node.h"
 #include "value.h"

@@ -14,7 +14,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "indent.h"
+#include "lexer.h"
 
 /* {=====================================================================
  * Helpers

@@ -10,7 +10,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
+#include "builtins.h"
 #include "streams.h"
 #include "value.h"
 

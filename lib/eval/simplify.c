@@ -15,7 +15,7 @@
 #include <string.h>
 
 #include "config.h"
-#include "builtins/builtins.h"
+#include "builtins.h"
 
 /* ====================================================================
  * Tree helpers

@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
+#include "builtins.h"
 #include "fileio.h"
 #include "parse.h"
 #include "pool.h"

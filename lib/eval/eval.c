@@ -15,9 +15,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
+#include "builtins.h"
 #include "config.h"
-#include "eval.h"
+#include "context.h"
 #include "format.h"
 #include "module.h"
 #include "pool.h"

@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
+#include "builtins.h"
 #include "stable.h"
 
 AstNode *simp_sequence_of(AstNode **items, uint32_t n, uint32_t cap, Loc loc);

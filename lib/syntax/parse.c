@@ -23,7 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "indent.h"
+#include "lexer.h"
 #include "node.h"
 
 struct ParseCtx {
