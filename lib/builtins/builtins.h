@@ -14,7 +14,7 @@
 
 #include "value.h"
 
-typedef struct Eval Eval;   /* the evaluator's per-call context (eval.h) */
+typedef struct Eval Eval;   /* the evaluator's per-call context (context.h) */
 typedef struct Builtin Builtin;
 
 /* [nargs] arguments in [args] (each may be NULL = null; a named argument

@@ -24,7 +24,7 @@
 #include "stable.h"
 
 /* ====================================================================
- * Services for builtins (eval.h)
+ * Services for builtins (context.h)
  * ==================================================================== */
 
 void eval_error(Eval *ev, const char *msg)

@@ -1,4 +1,4 @@
-/* parse.h: source text to AST (grammar/lexer.re, lib/indent.c,
+/* parse.h: source text to AST (grammar/lexer.re, lib/syntax/indent.c,
  * grammar/parser.y). */
 #ifndef FL_PARSE_H
 #define FL_PARSE_H

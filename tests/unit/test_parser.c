@@ -1,5 +1,5 @@
-/* test_parser.c: unit tests of parse_program() (lib/source.c,
- * grammar/parser.y, lib/ast.c): tree shapes of every construct of
+/* test_parser.c: unit tests of parse_program() (lib/syntax/parse.c,
+ * grammar/parser.y, lib/syntax/ast.c): tree shapes of every construct of
  * LANGUAGE.md §2 written as S-expressions, precedence (§2.2, §2.3),
  * contextual keywords (§1.7), pragmas and the symbol list of AST_TOP, and
  * the error message format (parse.h).
