@@ -164,12 +164,15 @@ void resolve_path(Eval *ev, const char *name, Buf *path)
     buf_puts(path, name);
 }
 
-/* After a failed file_read(): an execution error when the file was over
- * the size limit (a missing or unreadable file stays a silent null). */
+/* After a failed file_read_regular(): an execution error when the file was
+ * over the size limit or not a regular file (a missing or unreadable file
+ * stays a silent null). */
 Vec *read_failed(Eval *ev, const Builtin *bi)
 {
     if (errno == EFBIG)
         return bi_error(ev, bi, "file too large (over %zu bytes)", FILE_READ_MAX);
+    if (errno == EINVAL)
+        return bi_error(ev, bi, "not a regular file");
     return NULL;
 }
 
@@ -179,7 +182,7 @@ bool read_text_file(const char *path, Buf *out)
 {
     Buf raw = BUF_INIT;
     errno = 0;
-    bool ok = file_read(path, &raw) && utf8_all_valid(buf_cstr(&raw), raw.len);
+    bool ok = file_read_regular(path, &raw) && utf8_all_valid(buf_cstr(&raw), raw.len);
     if (ok) {
         const char *s = buf_cstr(&raw);
         for (size_t i = 0; i < raw.len; i++) {

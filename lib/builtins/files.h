@@ -46,12 +46,13 @@ bool py_parse_int(const char *s, size_t n, int64_t *out);
 bool file_name(Eval *ev, const Vec *v, Buf *name);
 /* [name] made relative to the script's directory unless absolute. */
 void resolve_path(Eval *ev, const char *name, Buf *path);
-/* After a failed file_read(): an execution error when the file was over
- * the size limit (a missing or unreadable file stays a silent null). */
+/* After a failed file_read_regular(): an execution error when the file was
+ * over the size limit or not a regular file (a missing or unreadable file
+ * stays a silent null). */
 Vec *read_failed(Eval *ev, const Builtin *bi);
 /* Read [path] as strict UTF-8 text with universal newlines into [out];
- * false when missing, unreadable, not UTF-8 or over FILE_READ_MAX (errno
- * EFBIG). */
+ * false when missing, unreadable, not UTF-8, over FILE_READ_MAX (errno
+ * EFBIG) or not a regular file (EINVAL). */
 bool read_text_file(const char *path, Buf *out);
 
 /* csv(filename, row_number) (csv.c). */

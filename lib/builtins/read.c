@@ -70,7 +70,7 @@ static Vec *bi_read_bytes(Eval *ev, const Builtin *bi, int nargs, Vec *const *ar
         r = bi_error(ev, bi, "embedded null byte");
     } else if (name.len > 0) {
         resolve_path(ev, buf_cstr(&name), &path);
-        if (!file_read(buf_cstr(&path), &data)) {
+        if (!file_read_regular(buf_cstr(&path), &data)) {
             r = read_failed(ev, bi);
         } else if (data.len > 0 && data.len <= UINT32_MAX) {
             r = vec_new_num((uint32_t)data.len);

@@ -15,6 +15,14 @@
  *           FILE_READ_MAX; [out] may then hold part of the file). */
 bool file_read(const char *path, Buf *out);
 
+/* file_read() for the file built-ins, which run inside a frame: anything
+ * but a regular file (a FIFO, a terminal, a device such as /dev/stdin or
+ * /dev/zero) is refused with errno EINVAL instead of being read, so a
+ * script cannot make a frame wait for input or read without end. Opening
+ * never blocks.
+ *   errors: as file_read(), plus EINVAL for a file that is not regular. */
+bool file_read_regular(const char *path, Buf *out);
+
 /* Replace the file at [path] with the [len] bytes at [data] atomically: a
  * temporary file in the same directory is written, fsync'd and renamed over
  * [path], then the directory is fsync'd, so a crash leaves either the old or
