@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
+#include "builtins.h"
 #include "format.h"
 
 const char *fl_version(void) { return FL_VERSION_STRING; }

@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "builtins.h"
-#include "../eval.h"
+#include "context.h"
 #include "mem.h"
 
 static const Builtin *const families[] = {

@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
+#include "builtins.h"
 #include "mem.h"
 #include "stable.h"
 
@@ -64,6 +64,7 @@ const Vec *simp_builtin(Simp *s, const Str *name)
     if (!f) mem_oom();
     f->refs = 1;
     f->bi = bi;
+    f->bi_name = bi->internal;
     if (s->nbuiltins == s->capbuiltins) {
         s->capbuiltins = s->capbuiltins ? s->capbuiltins * 2 : 16;
         s->builtins = realloc(s->builtins, s->capbuiltins * sizeof *s->builtins);
