@@ -231,7 +231,8 @@ FL_API int fl_restore_state(fl_runtime *rt, const char *path);
 
 /* The state dump block of the last frame (FORMATS.md §2: `frame N time T`
  * then one `KEY = VALUE` line per entry, string keys starting with '_' left
- * out), as `flitter run --dump-state` prints it. */
+ * out), as `flitter run --dump-state` prints it (before the first frame:
+ * `frame -1 time 0`). */
 FL_API void fl_dump_state(fl_runtime *rt, fl_write_fn fn, void *ctx);
 /* The node tree of the last frame (FORMATS.md §3), as `--dump-tree` prints
  * it.
