@@ -238,6 +238,39 @@ static void test_eval_defines_and_errors(void **st)
     fl_free(rt);
 }
 
+/* Two runtimes in one process, stepped in turn: each keeps its own
+ * program, state, clock and log. */
+static void test_two_runtimes(void **st)
+{
+    (void)st;
+    Text log_a = {0}, log_b = {0}, out = {0};
+    fl_runtime *a = open_runtime(&log_a), *b = open_runtime(&log_b);
+    static const char sa[] = "!a v=$(:n)+1 w=debug(frame)\n";
+    static const char sb[] = "%pragma fps 10\n!b v=$(:n)*2 w=p\n";
+    assert_int_equal(fl_load_text(a, "a.fl", sa, sizeof sa - 1), 0);
+    assert_int_equal(fl_load_text(b, "b.fl", sb, sizeof sb - 1), 0);
+    assert_int_equal(fl_state_set(a, ":n", "1"), 0);
+    assert_int_equal(fl_state_set(b, ":n", "10"), 0);
+    for (int i = 0; i < 3; i++) {
+        assert_int_equal(fl_step(a), 0);
+        assert_int_equal(fl_step(b), 0);
+    }
+    assert_int_equal(fl_step(a), 0);
+    assert_int_equal(fl_frame_count(a), 4);
+    assert_int_equal(fl_frame_count(b), 3);
+    assert_true(fl_frame_time(a) == 1.0 / 60.0 + 1.0 / 60.0 + 1.0 / 60.0);   /* a running sum */
+    assert_true(fl_frame_time(b) == 0.1 + 0.1);    /* %pragma fps 10 */
+    assert_int_equal(fl_dump_tree(a, text_write, &out), 0);
+    assert_string_equal(out.data, "!root\n !a v=2 w=3\n");
+    text_clear(&out);
+    assert_int_equal(fl_dump_tree(b, text_write, &out), 0);
+    assert_string_equal(out.data, "!root\n !b v=20\n");
+    assert_string_equal(log_a.data, "D|0\nD|1\nD|2\nD|3\n");
+    assert_string_equal(log_b.data, "W|b.fl: warning: Unbound name 'p'\n");
+    fl_free(a);
+    fl_free(b);
+}
+
 /* {=====================================================================
  * Out of memory: the error callback runs, then the process aborts
  * ===================================================================== */
@@ -263,10 +296,14 @@ static void test_out_of_memory_reaches_error_callback(void **st)
         report_fd = rp[1];
         fl_options o = fl_default_options();
         o.error = on_error;
+        o.ctx = "other";
+        fl_runtime *other = fl_new(&o);   /* its handler is not the active one */
+        fl_load_text(other, "y.fl", "!m\n", 3);
         o.ctx = "embedder";
         fl_runtime *rt = fl_new(&o);
         mem_test_fail_after(0);     /* the load's first allocation fails */
         fl_load_text(rt, "x.fl", "!n\n", 3);
+        fl_free(other);
         _exit(0);                   /* not reached */
     }
     close(rp[1]);
@@ -289,6 +326,7 @@ int main(void)
         cmocka_unit_test(test_frames_state_and_dumps),
         cmocka_unit_test(test_state_values),
         cmocka_unit_test(test_eval_defines_and_errors),
+        cmocka_unit_test(test_two_runtimes),
         cmocka_unit_test(test_out_of_memory_reaches_error_callback),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
