@@ -282,6 +282,55 @@ FL_API const char *fl_builtin_name(size_t i);
 FL_API size_t fl_number_text(double x, char *buf, size_t cap);
 
 /* {=====================================================================
+ * Pictures and trajectories
+ * ===================================================================== */
+
+/* What a run writes after its frames besides dumps (`flitter run`'s
+ * --view, --trace and the scripts' own windows). Every field may be left
+ * zero: fl_outputs_open(rt, NULL) renders the windows only. */
+typedef struct fl_output_options {
+    const char *view;     /* draw the !physics systems (discs by radius,
+                             colour by charge, anchors, links, barriers) to
+                             FILE.png or FILE.svg (the last frame), or
+                             FILE.gif (an animation); NULL: none */
+    long view_every;      /* .gif: a picture every K frames (0 or 1: all) */
+    const char *trace;    /* write every particle's position and velocity to
+                             FILE.csv or FILE.jsonl; NULL: none */
+    long trace_every;     /* a trace row every K frames (0 or 1: all) */
+    bool debug;           /* log each drawing node kind skipped as
+                             unsupported, once (FL_LOG_WARNING) */
+} fl_output_options;
+
+typedef struct fl_outputs fl_outputs;
+
+/* Open the outputs [o] asks for, for frames of [rt] (whose fps sets the
+ * GIF frame delay). `!window`/`!offscreen` nodes with a `!record
+ * filename=...` are drawn with cairo and written (PNG, or an animated GIF)
+ * in every frame that fl_outputs_frame() is given.
+ *   errors: NULL with fl_error() text when the --view or --trace file
+ *           cannot be created or has an unknown extension (nothing is
+ *           left open). */
+FL_API fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *o);
+/* After each fl_step() of [rt]: draw its windows, append the trace rows
+ * and animation frames due (every K-th frame, counted from frame 0).
+ * Windows that cannot be written are logged (FL_LOG_ERROR, once).
+ *   errors: -1 with fl_error() text when the view or the trace cannot be
+ *           written (that output then stops), else 0. */
+FL_API int fl_outputs_frame(fl_outputs *out, fl_runtime *rt);
+/* Write the final --view picture (.png/.svg: of [rt]'s last frame, when
+ * it ran any), finish animated GIFs, close the files and free [out] (NULL
+ * is a no-op).
+ *   errors: -1 when any output failed or could not be finished (the
+ *           message of the last failure in fl_error()), else 0. */
+FL_API int fl_outputs_close(fl_outputs *out, fl_runtime *rt);
+/* Draw [rt]'s !physics systems as they are now to [path] (.png or .svg),
+ * as fl_output_options.view does; [*nsystems] (may be NULL) gets the
+ * number of systems drawn.
+ *   errors: -1 with fl_error() text when [path] has another extension or
+ *           cannot be written, else 0. */
+FL_API int fl_view(fl_runtime *rt, const char *path, size_t *nsystems);
+
+/* {=====================================================================
  * Statistics
  * ===================================================================== */
 

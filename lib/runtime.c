@@ -129,6 +129,12 @@ static void emit(const fl_runtime *rt, int kind, const char *fmt, ...)
     if (line != small) free(line);
 }
 
+void rt_log_target(const fl_runtime *rt, fl_log_fn *fn, void **ctx)
+{
+    *fn = rt->opts.log;
+    *ctx = rt->opts.ctx;
+}
+
 MemHandler rt_enter(const fl_runtime *rt) { return mem_enter(rt->opts.error, rt->opts.ctx); }
 
 Buf *rt_error_buf(fl_runtime *rt) { return &rt->error; }

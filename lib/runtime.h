@@ -58,6 +58,10 @@ Buf *rt_error_buf(fl_runtime *rt);
  * mem_leave(). Every public call that allocates does this. */
 MemHandler rt_enter(const fl_runtime *rt);
 
+/* The runtime's log callback and its context (never NULL: the default
+ * writes to stderr/stdout), for modules that log on its behalf. */
+void rt_log_target(const fl_runtime *rt, fl_log_fn *fn, void **ctx);
+
 /* Where the default log callback of rt_log_to_files writes. */
 typedef struct RtStreams {
     FILE *log;     /* errors and warnings; NULL: nowhere */

@@ -51,9 +51,6 @@
 #include "commands.h"
 #include "exitcodes.h"
 #include "repl.h"
-#include "runtime.h"   /* internal, for :view only (README, "Embedding") */
-#include "systems.h"
-#include "view.h"
 
 #define PROMPT "flitter> "
 #define PROMPT_MORE "   ...> "
@@ -294,23 +291,17 @@ static int cmd_restore(Repl *r, const char *arg)
 /* Draw the physics systems as they are now (as `flitter run --view`). */
 static int cmd_view(Repl *r, const char *arg)
 {
-    char err[600];
-    View *v = view_open(arg, 10, rt_symbols(r->rt), err, sizeof err);
-    if (!v) {
-        repl_error(r, "%s", err);
+    size_t n = 0;
+    if (fl_view(r->rt, arg, &n) != 0) {
+        char *msg = strdup(fl_error(r->rt));
+        if (!msg) abort();
+        size_t len = strlen(msg);
+        if (len && msg[len - 1] == '\n') msg[len - 1] = '\0';
+        repl_error(r, "%s", msg);
+        free(msg);
         return 0;
     }
-    PsSystem *sys;
-    size_t n;
-    ps_collect(rt_root(r->rt), rt_state(r->rt), &sys, &n);
-    int rc = view_frame(v, fl_frame_count(r->rt) - 1, sys, n, err, sizeof err);
-    ps_free(sys, n);
-    if (view_close(v) != 0 && rc == 0) {
-        snprintf(err, sizeof err, "%s: cannot finish the file", arg);
-        rc = -1;
-    }
-    if (rc != 0) repl_error(r, "%s", err);
-    else printf("drew %zu system%s to %s\n", n, n == 1 ? "" : "s", arg);
+    printf("drew %zu system%s to %s\n", n, n == 1 ? "" : "s", arg);
     return 0;
 }
 

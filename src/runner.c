@@ -13,7 +13,6 @@
 
 #include "exitcodes.h"
 #include "flitter.h"
-#include "outputs.h"
 
 static void run_usage(FILE *f)
 {
@@ -351,8 +350,11 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
             return EXIT_OK;
         }
     }
-    Outputs *outs = outputs_new(spec, rt, log);
+    fl_output_options oo = {spec->view, spec->view_every, spec->trace, spec->trace_every,
+                            spec->verbosity >= 2};
+    fl_outputs *outs = fl_outputs_open(rt, &oo);
     if (!outs) {
+        fprintf(log, "flitter run: %s", fl_error(rt));
         fl_free(rt);
         return EXIT_USAGE;
     }
@@ -381,7 +383,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         ran++;
         if (ran == 1) fl_get_stats(rt, &first);
         long n = fl_frame_count(rt) - 1;
-        outputs_frame(outs, rt, n);
+        if (fl_outputs_frame(outs, rt) != 0) fprintf(log, "flitter run: %s", fl_error(rt));
         dumped_last = false;
         if (spec->dump_state && spec->dump_every > 0 && (n + 1) % spec->dump_every == 0) {
             fl_dump_state(rt, write_file, out);
@@ -415,7 +417,10 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         if (spec->dump_tree) fl_dump_tree(rt, write_file, out);
     }
     if (spec->state_file && save_state(rt, spec->state_file, log) != 0) rc = EXIT_LOAD;
-    if (outputs_finish(outs, rt, ran) != 0) rc = EXIT_LOAD;
+    if (fl_outputs_close(outs, rt) != 0) {
+        if (*fl_error(rt)) fprintf(log, "flitter run: %s", fl_error(rt));
+        rc = EXIT_LOAD;
+    }
     fflush(out);
     fl_free(rt);
     return rc;

@@ -276,6 +276,91 @@ static void test_two_runtimes(void **st)
  * ===================================================================== */
 
 static int report_fd = -1;
+/* The first [n] bytes of file [path] into [buf] (NUL-terminated); the
+ * number of lines of the file in *lines. */
+static size_t file_head(const char *path, char *buf, size_t n, int *lines)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return 0;
+    size_t k = fread(buf, 1, n - 1, f);
+    buf[k] = '\0';
+    rewind(f);
+    *lines = 0;
+    for (int c; (c = fgetc(f)) != EOF;)
+        if (c == '\n') ++*lines;
+    fclose(f);
+    return k;
+}
+
+/* fl_outputs_* and fl_view: pictures of the systems, trajectories and the
+ * windows' !record files, errors in fl_error(), skipped drawing kinds
+ * logged once as warnings with debug on. */
+static void test_outputs_and_view(void **st)
+{
+    (void)st;
+    char dir[] = "/tmp/test_api.XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char view[64], trace[64], rec[64], svg[64], bad[64], src[512];
+    snprintf(view, sizeof view, "%s/v.png", dir);
+    snprintf(trace, sizeof trace, "%s/t.csv", dir);
+    snprintf(rec, sizeof rec, "%s/r.png", dir);
+    snprintf(svg, sizeof svg, "%s/now.svg", dir);
+    snprintf(bad, sizeof bad, "%s/v.jpg", dir);
+    snprintf(src, sizeof src,
+             "!physics state=:p dimensions=2\n"
+             "    !particle id=1 position=0;0 radius=1\n"
+             "    !particle id=2 position=3;4 radius=2\n"
+             "!window size=40;30\n"
+             "    !record filename=\"%s\"\n"
+             "    !canvas\n"
+             "        !foo\n"
+             "        !path\n"
+             "            !rect size=10;10\n"
+             "            !fill color=1;0;0\n", rec);
+    Text log = {0};
+    fl_runtime *rt = open_runtime(&log);
+    assert_int_equal(fl_load_text(rt, "out.fl", src, strlen(src)), 0);
+
+    fl_output_options o = {bad, 0, NULL, 0, false};
+    assert_null(fl_outputs_open(rt, &o));
+    char want[160];
+    snprintf(want, sizeof want, "%s: a view is written to a .png, .svg or .gif file\n", bad);
+    assert_string_equal(fl_error(rt), want);
+
+    fl_output_options ok = {view, 0, trace, 2, true};
+    fl_outputs *out = fl_outputs_open(rt, &ok);
+    assert_non_null(out);
+    for (int i = 0; i < 3; i++) {
+        assert_int_equal(fl_step(rt), 0);
+        assert_int_equal(fl_outputs_frame(out, rt), 0);
+    }
+    assert_int_equal(fl_outputs_close(out, rt), 0);
+    assert_string_equal(log.data, "W|canvas: skipping unsupported !foo\n");   /* once */
+
+    char head[16];
+    int lines;
+    assert_int_equal(file_head(view, head, 5, &lines), 4);
+    assert_memory_equal(head, "\x89PNG", 4);
+    assert_int_equal(file_head(rec, head, 5, &lines), 4);
+    assert_memory_equal(head, "\x89PNG", 4);
+    /* the header, then frames 0 and 2 (every 2nd) with two particles each */
+    assert_true(file_head(trace, head, 16, &lines) > 0);
+    assert_memory_equal(head, "frame,time,", 11);
+    assert_int_equal(lines, 1 + 2 * 2);
+
+    size_t n = 99;
+    assert_int_equal(fl_view(rt, svg, &n), 0);
+    assert_int_equal(n, 1);
+    assert_true(file_head(svg, head, 6, &lines) > 0);
+    assert_memory_equal(head, "<?xml", 5);
+    assert_int_equal(fl_view(rt, bad, NULL), -1);
+    assert_string_equal(fl_error(rt), want);
+    fl_free(rt);
+    char cmd[96];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
 static void on_error(void *ctx, const char *message)
 {
     char line[200];
@@ -327,6 +412,7 @@ int main(void)
         cmocka_unit_test(test_state_values),
         cmocka_unit_test(test_eval_defines_and_errors),
         cmocka_unit_test(test_two_runtimes),
+        cmocka_unit_test(test_outputs_and_view),
         cmocka_unit_test(test_out_of_memory_reaches_error_callback),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -55,7 +55,9 @@ static char *render(const char *src, const char *name, int frames, char *path, s
     int rc = rt_load_text(rt, "test.fl", src, strlen(src), &err);
     if (rc != 0) fprintf(stderr, "%s", buf_cstr(&err));
     assert_int_equal(rc, 0);
-    Renderer *ren = renderer_new(rt_symbols(rt), lf, lf);
+    RenderLog rlog = {NULL, NULL, true};   /* through the runtime's log, debug on */
+    rt_log_target(rt, &rlog.fn, &rlog.ctx);
+    Renderer *ren = renderer_new(rt_symbols(rt), &rlog);
     for (int i = 0; i < frames; i++) {
         fl_step(rt);
         assert_int_equal(renderer_frame(ren, rt_root(rt), 10.0), 0);
