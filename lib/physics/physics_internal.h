@@ -103,8 +103,12 @@ enum {
     PHYS_ROUTE_SKIP,     /* reach 0: no pair can interact */
     PHYS_ROUTE_ALL,      /* per-particle gather over all pairs */
     PHYS_ROUTE_GRID,     /* per-particle gather over a uniform grid */
-    PHYS_ROUTE_ROWS      /* the reference loop, blocks of partners (rows.c) */
+    PHYS_ROUTE_ROWS,     /* the reference loop, blocks of partners (rows.c) */
+    PHYS_ROUTE_TILES     /* the reference loop, W x W tiles (tiles.c) */
 };
+
+/* Vector instruction sets of the tile kernel (tiles.c), in order. */
+enum { PHYS_SIMD_PORTABLE, PHYS_SIMD_AVX2, PHYS_SIMD_AVX512 };
 
 /* Per-thread scratch of the gather routes: the pair direction and a
  * candidate list (capacity `capcand`). */
@@ -208,6 +212,9 @@ typedef struct PhysSystem {
     PhysGrid grid;
     PhysScratch *scratch; size_t capscratch;  /* one per thread */
     double *rows; size_t caprows; /* rows.c: the level in pool order */
+    int simd;                     /* PHYS_SIMD_* the tile kernel may use */
+    double *tiles; size_t captiles;   /* tiles.c: the level in pool order,
+                                       * 64-byte aligned */
 
     /* tree walk scratch */
     PhysPNode *pn; size_t npn, cappn;
@@ -289,6 +296,21 @@ void phys_run_rows(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
  * frame whose first step comes later allocates nothing then); aborts with
  * a message if memory runs out. */
 void phys_rows_reserve(PhysSystem *s, size_t npool);
+
+/* ---- tiles.c: the reference pair loop in W x W tiles ---- */
+
+/* The best PHYS_SIMD_* level this processor runs. */
+int phys_simd_best(void);
+/* Can phys_run_tiles() take level [lv] (D = 1..3, at most 4 appliers,
+ * each !collision, !gravity or !electrostatic)? */
+bool phys_tiles_suits(const PhysSystem *s, const PhysLevel *lv);
+/* Run one pair level of group [g] as phys_apply_pair_level() does, with
+ * the same additions in the same order (PHYSICS-ENGINE.md §4), W x W pairs
+ * at a time in vector instructions of level s->simd. Reuses s->tiles;
+ * aborts with a message if memory runs out. */
+void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
+/* Grow s->tiles for a level of [npool] pool entries now (at planning). */
+void phys_tiles_reserve(PhysSystem *s, size_t npool);
 
 /* ---- step.c: integration, rebound and the step loop ---- */
 

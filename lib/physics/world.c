@@ -33,6 +33,7 @@ struct PhysicsWorld {
     bool naive;             /* --pairs naive: the reference pair loop only */
     unsigned threads;       /* wanted threads; the pool is made on first use */
     PhysWorkers *workers;   /* NULL until needed or when threads == 1 */
+    int simd;               /* PHYS_SIMD_* level of the tile kernel */
 };
 
 /* One level of the explicit tree-walk stack (§3 is recursive over groups). */
@@ -918,6 +919,8 @@ PhysicsWorld *phys_new(void)
     phys_set_threads(w, e && *e && !*end && n > 0 && n <= 1024 ? (unsigned)n : 0);
     e = getenv("FLITTER_PAIRS");
     phys_set_pairs(w, e && !strcmp(e, "naive"));
+    e = getenv("FLITTER_SIMD");
+    phys_set_simd(w, !e ? 2 : !strcmp(e, "portable") ? 0 : !strcmp(e, "avx2") ? 1 : 2);
     return w;
 }
 
@@ -935,6 +938,13 @@ void phys_set_threads(PhysicsWorld *w, unsigned n)
 void phys_set_pairs(PhysicsWorld *w, bool naive)
 {
     w->naive = naive;
+}
+
+int phys_set_simd(PhysicsWorld *w, int level)
+{
+    int best = phys_simd_best();
+    w->simd = level < 0 ? 0 : level < best ? level : best;
+    return w->simd;
 }
 
 /* Free [w] and all its systems (NULL is a no-op). */
@@ -964,6 +974,7 @@ void phys_run_frame(PhysicsWorld *w, Node *const *nodes, size_t n,
     for (size_t i = 0; i < n; i++) {
         PhysSystem *s = w->sys[i];
         s->naive = w->naive;
+        s->simd = w->simd;
         s->workers = w->naive ? NULL : w->workers;
         system_frame(s, nodes[i], state, frame);
     }
