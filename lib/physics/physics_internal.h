@@ -235,6 +235,62 @@ typedef struct PhysSystem {
     Vec **next; uint64_t *nexthash; size_t capnext;  /* borrowed scratch */
 } PhysSystem;
 
+/* ---- world.c: systems and the frame driver ---- */
+
+/* Print "out of memory" and abort. */
+void phys_oom(void);
+/* [p] reallocated to hold at least [need] elements of [size] bytes (its
+ * capacity in *[cap], grown geometrically; contents kept); aborts with a
+ * message if memory runs out. */
+void *phys_grow(void *p, size_t *cap, size_t need, size_t size);
+
+/* ---- collect.c: reading the node tree (PHYSICS-ENGINE.md §1, §3) ---- */
+
+/* What collection needs to know about the frame. */
+typedef struct PhysCollect {
+    const Vec *P;
+    int64_t run, iteration;
+    double clock;
+    Vec *seed;          /* current !random seed vector (lazily built) */
+} PhysCollect;
+
+/* Empty [h] and size it for [n] entries. */
+void phys_hash_reset(PhysHash *h, size_t n);
+/* Map [key] (hash vec_hash(key, false)) to [idx], replacing an earlier
+ * equal key's index; [key] is borrowed. */
+void phys_hash_put(PhysHash *h, const Vec *key, uint64_t hash, size_t idx);
+/* The index mapped to [key], or SIZE_MAX. */
+size_t phys_hash_get(const PhysHash *h, const Vec *key, uint64_t hash);
+/* floor() as a 64-bit integer; NaN and out-of-range values give INT64_MIN. */
+int64_t phys_floor_i64(double x);
+/* §1 float(name, default) and int(name, default) of node [n]. */
+double phys_attr_float(const Node *n, const char *name, double def);
+int64_t phys_attr_int(const Node *n, const char *name, int64_t def);
+/* §3 in full: walk, lay particles out group-major, fill them (reading
+ * their state from [sd]), resolve the distance appliers' ids, build the
+ * group lists and plan the pair levels. Returns false when the system is
+ * too large to index (more than 2^32-2 particles or appliers). */
+bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
+                  const StateDict *sd);
+
+/* ---- stateio.c: state keys, read-back and writes (§2) ---- */
+
+/* A state value read back as a single number (§2 step 3). */
+bool phys_state_scalar(const StateDict *sd, const Vec *key, double *out);
+/* state[key] = x. */
+void phys_state_set_num(StateDict *sd, const Vec *key, double x);
+/* Release the keys kept from the previous frame. */
+void phys_release_prev(PhysSystem *s);
+/* Point the system at prefix [P]: rebuild the clock keys and drop the key
+ * cache when P changed. */
+void phys_set_prefix(PhysSystem *s, const Vec *P);
+/* The keys of storage slot [i], holding the particle [pn]. */
+PhysKeySlot *phys_slot_keys(PhysSystem *s, size_t i, const PhysPNode *pn);
+/* §2 step 7: null the keys of last frame not collected now. */
+void phys_null_stale_keys(PhysSystem *s, StateDict *sd);
+/* §2 step 8: write every particle's position and velocity. */
+void phys_write_particles(PhysSystem *s, StateDict *sd);
+
 /* ---- forces.c: force appliers and barriers (PHYSICS-ENGINE.md §4) ---- */
 
 /* pair(a, b) into s->dir; returns dist. */
