@@ -131,11 +131,6 @@ static bool fvec_of(const Vec *v, size_t D, double *out)
     return false;
 }
 
-static bool attr_fvec(const Node *n, const char *name, size_t D, double *out)
-{
-    return fvec_of(node_attr(n, name), D, out);
-}
-
 /* fvec of attribute value [v] with the zero-vector default. */
 static void fvec0_of(const Vec *v, size_t D, double *out)
 {
@@ -147,6 +142,76 @@ static void fvec0_of(const Vec *v, size_t D, double *out)
 /* ------------------------------------------------------------------ */
 /* Collecting (PHYSICS-ENGINE.md §3)                                   */
 /* ------------------------------------------------------------------ */
+
+/* ------------------------------------------------------------------ */
+/* Names, classified once per node or attribute                        */
+/* ------------------------------------------------------------------ */
+
+/* The node kinds collection knows: the applier kinds, then these. */
+enum { KIND_PARTICLE = AP_BARRIER + 1, KIND_ANCHOR, KIND_GROUP, KIND_OTHER };
+
+/* The kind of a child of a !physics node or group, by one switch on the
+ * length of its kind name and at most five comparisons. */
+static int child_kind(const Str *k)
+{
+    static const struct { const char *name; unsigned char len, kind; } t[] = {
+        {"drag", 4, AP_DRAG}, {"field", 5, AP_FIELD}, {"group", 5, KIND_GROUP},
+        {"random", 6, AP_RANDOM}, {"anchor", 6, KIND_ANCHOR},
+        {"gravity", 7, AP_GRAVITY}, {"barrier", 7, AP_BARRIER},
+        {"particle", 8, KIND_PARTICLE}, {"distance", 8, AP_DISTANCE},
+        {"buoyancy", 8, AP_BUOYANCY}, {"constant", 8, AP_CONSTANT},
+        {"adhesion", 8, AP_ADHESION}, {"collision", 9, AP_COLLISION},
+        {"electrostatic", 13, AP_ELECTROSTATIC},
+    };
+    for (size_t i = 0; i < sizeof t / sizeof *t; i++) {
+        if (t[i].len == k->len && t[i].name[0] == k->bytes[0] &&
+            memcmp(t[i].name, k->bytes, k->len) == 0)
+            return t[i].kind;
+    }
+    return KIND_OTHER;
+}
+
+/* The attributes collection reads (PHYSICS.md), found for one node in one
+ * pass over its attributes: the first of each name, as node_attr() finds. */
+enum { AN_POSITION, AN_VELOCITY, AN_FORCE, AN_RADIUS, AN_MASS, AN_CHARGE,
+       AN_EASE, AN_STRENGTH, AN_POWER, AN_FIXED, AN_MINIMUM, AN_MIN,
+       AN_MAXIMUM, AN_MAX, AN_FROM, AN_TO, AN_FLOW, AN_DENSITY, AN_GRAVITY,
+       AN_ACCELERATION, AN_DIRECTION, AN_MAX_DISTANCE, AN_OVERLAP, AN_NORMAL,
+       AN_RESTITUTION, AN_COUNT };
+
+static void node_attrs(const Node *n, const Vec *out[AN_COUNT])
+{
+    static const char *const names[AN_COUNT] = {
+        "position", "velocity", "force", "radius", "mass", "charge", "ease",
+        "strength", "power", "fixed", "minimum", "min", "maximum", "max",
+        "from", "to", "flow", "density", "gravity", "acceleration",
+        "direction", "max_distance", "overlap", "normal", "restitution"};
+    /* the names of each length, as indexes into names[], -1 ended */
+    static const signed char bylen[13][6] = {
+        {-1}, {-1}, {AN_TO, -1}, {AN_MIN, AN_MAX, -1},
+        {AN_MASS, AN_EASE, AN_FROM, AN_FLOW, -1},
+        {AN_FORCE, AN_POWER, AN_FIXED, -1},
+        {AN_RADIUS, AN_CHARGE, AN_NORMAL, -1},
+        {AN_MINIMUM, AN_MAXIMUM, AN_DENSITY, AN_GRAVITY, AN_OVERLAP, -1},
+        {AN_POSITION, AN_VELOCITY, AN_STRENGTH, -1},
+        {AN_DIRECTION, -1}, {-1}, {AN_RESTITUTION, -1},
+        {AN_ACCELERATION, AN_MAX_DISTANCE, -1},
+    };
+    memset(out, 0, AN_COUNT * sizeof *out);
+    for (uint32_t a = 0; a < n->nattrs; a++) {
+        const Str *name = n->attrs[a].name;
+        if (name->len > 12)
+            continue;
+        for (const signed char *id = bylen[name->len]; *id >= 0; id++) {
+            if (names[*id][0] == name->bytes[0] &&
+                memcmp(names[*id], name->bytes, name->len) == 0) {
+                if (!out[*id])
+                    out[*id] = n->attrs[a].value;
+                break;
+            }
+        }
+    }
+}
 
 static Vec *compose2(const Vec *a, const Vec *b)
 {
@@ -163,27 +228,17 @@ static size_t new_group(PhysSystem *s, ptrdiff_t parent)
     return s->ngroups++;
 }
 
-/* §3 "every other child": a force applier or barrier of group [group]. */
+/* §3 "every other child": a force applier or barrier of group [group],
+ * of applier kind [kind]. */
 static void collect_applier(PhysSystem *s, PhysCollect *c, const Node *child,
-                            size_t group)
+                            size_t group, PhysApplierKind kind)
 {
-    PhysApplierKind kind;
-    if (node_is(child, "distance")) kind = AP_DISTANCE;
-    else if (node_is(child, "drag")) kind = AP_DRAG;
-    else if (node_is(child, "buoyancy")) kind = AP_BUOYANCY;
-    else if (node_is(child, "constant")) kind = AP_CONSTANT;
-    else if (node_is(child, "random")) kind = AP_RANDOM;
-    else if (node_is(child, "field")) kind = AP_FIELD;
-    else if (node_is(child, "collision")) kind = AP_COLLISION;
-    else if (node_is(child, "gravity")) kind = AP_GRAVITY;
-    else if (node_is(child, "electrostatic")) kind = AP_ELECTROSTATIC;
-    else if (node_is(child, "adhesion")) kind = AP_ADHESION;
-    else if (node_is(child, "barrier")) kind = AP_BARRIER;
-    else return;
+    const Vec *at[AN_COUNT];
+    node_attrs(child, at);
     const Vec *from = NULL, *to = NULL;
     if (kind == AP_DISTANCE) {
-        from = node_attr(child, "from");
-        to = node_attr(child, "to");
+        from = at[AN_FROM];
+        to = at[AN_TO];
         if (!from || !to)
             return;
     }
@@ -202,8 +257,8 @@ static void collect_applier(PhysSystem *s, PhysCollect *c, const Node *child,
 
     /* strength, and the [doc] ease: if e > 0 and clock < e, scale by
      * clock / e (fixed for the whole frame) */
-    double strength = phys_attr_float(child, "strength", 1);
-    double e = phys_attr_float(child, "ease", 0);
+    double strength = float_of(at[AN_STRENGTH], 1);
+    double e = float_of(at[AN_EASE], 0);
     if (e > 0 && c->clock < e)
         strength = strength * (c->clock / e);
     ap->strength = strength;
@@ -212,27 +267,27 @@ static void collect_applier(PhysSystem *s, PhysCollect *c, const Node *child,
     case AP_DISTANCE: {
         ap->from_id = from;
         ap->to_id = to;
-        ap->power = py_max(0, phys_attr_float(child, "power", 1));
-        double fixed = phys_attr_float(child, "fixed", 0);
+        ap->power = py_max(0, float_of(at[AN_POWER], 1));
+        double fixed = float_of(at[AN_FIXED], 0);
         if (fixed != 0) {
             ap->minimum = ap->maximum = fixed;
         } else {
-            ap->minimum = phys_attr_float(child, "minimum", phys_attr_float(child, "min", 0));
-            ap->maximum = phys_attr_float(child, "maximum", phys_attr_float(child, "max", 0));
+            ap->minimum = float_of(at[AN_MINIMUM], float_of(at[AN_MIN], 0));
+            ap->maximum = float_of(at[AN_MAXIMUM], float_of(at[AN_MAX], 0));
         }
         break;
     }
     case AP_DRAG:
-        attr_fvec(child, "flow", D, x);
+        fvec_of(at[AN_FLOW], D, x);
         break;
     case AP_BUOYANCY:
-        ap->density = phys_attr_float(child, "density", 1);
-        if (!attr_fvec(child, "gravity", D, x))
+        ap->density = float_of(at[AN_DENSITY], 1);
+        if (!fvec_of(at[AN_GRAVITY], D, x))
             x[D - 1] = -1;
         break;
     case AP_CONSTANT:
-        attr_fvec(child, "force", D, x);
-        attr_fvec(child, "acceleration", D, y);
+        fvec_of(at[AN_FORCE], D, x);
+        fvec_of(at[AN_ACCELERATION], D, y);
         break;
     case AP_RANDOM: {
         /* §3/§5: source normal(seed), seed = P;run;iteration for the first
@@ -257,26 +312,26 @@ static void collect_applier(PhysSystem *s, PhysCollect *c, const Node *child,
         break;
     }
     case AP_FIELD:
-        attr_fvec(child, "direction", D, x);
+        fvec_of(at[AN_DIRECTION], D, x);
         break;
     case AP_COLLISION:
-        ap->power = py_max(0, phys_attr_float(child, "power", 1));
-        ap->maxd = py_max(0, phys_attr_float(child, "max_distance", 0));
+        ap->power = py_max(0, float_of(at[AN_POWER], 1));
+        ap->maxd = py_max(0, float_of(at[AN_MAX_DISTANCE], 0));
         break;
     case AP_GRAVITY:
     case AP_ELECTROSTATIC:
-        ap->maxd = py_max(0, phys_attr_float(child, "max_distance", 0));
+        ap->maxd = py_max(0, float_of(at[AN_MAX_DISTANCE], 0));
         break;
     case AP_ADHESION:
-        ap->maxd = py_max(0, phys_attr_float(child, "max_distance", 0));
-        ap->overlap = py_min(py_max(0, phys_attr_float(child, "overlap", 0.25)), 1);
+        ap->maxd = py_max(0, float_of(at[AN_MAX_DISTANCE], 0));
+        ap->overlap = py_min(py_max(0, float_of(at[AN_OVERLAP], 0.25)), 1);
         break;
     case AP_BARRIER: {
         /* position, unit normal n_i = m_i / sqrt(sum m_j*m_j); a zero
          * normal disables the barrier */
-        attr_fvec(child, "position", D, x);
+        fvec_of(at[AN_POSITION], D, x);
         double sum = 0;
-        if (attr_fvec(child, "normal", D, y)) {
+        if (fvec_of(at[AN_NORMAL], D, y)) {
             for (size_t i = 0; i < D; i++)
                 sum += y[i] * y[i];
         }
@@ -286,10 +341,10 @@ static void collect_applier(PhysSystem *s, PhysCollect *c, const Node *child,
             for (size_t i = 0; i < D; i++)
                 y[i] = y[i] / len;
         }
-        ap->restitution = py_min(py_max(0, phys_attr_float(child, "restitution", 1)), 1);
-        ap->power = py_max(0, phys_attr_float(child, "power", 1));
-        ap->minimum = phys_attr_float(child, "minimum", phys_attr_float(child, "min", 0));
-        ap->maximum = phys_attr_float(child, "maximum", phys_attr_float(child, "max", 0));
+        ap->restitution = py_min(py_max(0, float_of(at[AN_RESTITUTION], 1)), 1);
+        ap->power = py_max(0, float_of(at[AN_POWER], 1));
+        ap->minimum = float_of(at[AN_MINIMUM], float_of(at[AN_MIN], 0));
+        ap->maximum = float_of(at[AN_MAXIMUM], float_of(at[AN_MAX], 0));
         break;
     }
     }
@@ -310,21 +365,22 @@ static void walk(PhysSystem *s, PhysCollect *c, const Node *root)
         }
         const Node *child = top->node->children[top->next++];
         size_t group = top->group;
-        bool anchor = node_is(child, "anchor");
-        if (anchor || node_is(child, "particle")) {
+        int kind = child_kind(child->kind);
+        bool anchor = kind == KIND_ANCHOR;
+        if (anchor || kind == KIND_PARTICLE) {
             const Vec *id = node_attr(child, "id");
             if (!id)
                 continue;
             GROW(s->pn, s->cappn, s->npn + 1);
-            s->pn[s->npn++] = (PhysPNode){child, id, vec_hash(id, false),
+            s->pn[s->npn++] = (PhysPNode){child, id, vec_key_hash(id),
                                           group, 0, anchor};
             s->groups[group].npart++;
-        } else if (node_is(child, "group")) {
+        } else if (kind == KIND_GROUP) {
             size_t g = new_group(s, (ptrdiff_t)group);
             GROW(s->walk, s->capwalk, depth + 1);
             s->walk[depth++] = (struct PhysWalk){child, 0, g};
-        } else {
-            collect_applier(s, c, child, group);
+        } else if (kind != KIND_OTHER) {
+            collect_applier(s, c, child, group, (PhysApplierKind)kind);
         }
     }
 }
@@ -369,62 +425,40 @@ static void ensure_particles(PhysSystem *s, size_t n, size_t D)
     GROW(s->dir, s->capdir, D);
 }
 
-/* The attributes §3 reads from a particle, found in one pass over the
- * node's attributes (the first of each name, as node_attr() would). */
-enum { PA_POSITION, PA_VELOCITY, PA_FORCE, PA_RADIUS, PA_MASS, PA_CHARGE,
-       PA_EASE, PA_COUNT };
-
-static void particle_attrs(const Node *n, const Vec *out[PA_COUNT])
-{
-    static const char *const names[PA_COUNT] = {
-        "position", "velocity", "force", "radius", "mass", "charge", "ease"};
-    static const unsigned char lens[PA_COUNT] = {8, 8, 5, 6, 4, 6, 4};
-    for (int k = 0; k < PA_COUNT; k++)
-        out[k] = NULL;
-    for (uint32_t a = 0; a < n->nattrs; a++) {
-        const Str *name = n->attrs[a].name;
-        for (int k = 0; k < PA_COUNT; k++) {
-            if (!out[k] && name->len == lens[k] &&
-                memcmp(name->bytes, names[k], lens[k]) == 0) {
-                out[k] = n->attrs[a].value;
-                break;
-            }
-        }
-    }
-}
-
 /* §3 particle/anchor: fill storage slot [pn->storage]. */
 static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *sd,
                           const PhysPNode *pn)
 {
     const size_t D = s->D, i = pn->storage;
-    const Vec *at[PA_COUNT];
-    particle_attrs(pn->node, at);
-    const PhysKeySlot *k = phys_slot_keys(s, i, pn);
+    const Vec *at[AN_COUNT];
+    node_attrs(pn->node, at);
+    PhysKeySlot *k = phys_slot_keys(s, i, pn);
     double *pos = s->pos + i * D, *vel = s->vel + i * D;
     double *own = s->own + i * D;
     s->anchor[i] = pn->anchor;
     const Vec *v = NULL;
     if (!pn->anchor && c->iteration > 0)
         v = state_get(sd, k->pkey);
-    if (vec_is_num(v) && v->len == D)
+    if (vec_is_num(v) && v->len == D) {
         memcpy(pos, vec_cnums(v), D * sizeof *pos);
-    else
-        fvec0_of(at[PA_POSITION], D, pos);
+        k->pval = (Vec *)v;
+    } else
+        fvec0_of(at[AN_POSITION], D, pos);
     v = NULL;
     if (!pn->anchor && c->iteration > 0)
         v = state_get(sd, k->vkey);
-    if (vec_is_num(v) && v->len == D)
+    if (vec_is_num(v) && v->len == D) {
         memcpy(vel, vec_cnums(v), D * sizeof *vel);
-    else
-        fvec0_of(at[PA_VELOCITY], D, vel);
-    fvec0_of(at[PA_FORCE], D, own);
-    s->radius[i] = py_max(0, float_of(at[PA_RADIUS], 0));
-    s->mass[i] = py_max(0, float_of(at[PA_MASS], 1));
-    s->charge[i] = float_of(at[PA_CHARGE], 0);
+        k->vval = (Vec *)v;
+    } else
+        fvec0_of(at[AN_VELOCITY], D, vel);
+    fvec0_of(at[AN_FORCE], D, own);
+    s->radius[i] = py_max(0, float_of(at[AN_RADIUS], 0));
+    s->mass[i] = py_max(0, float_of(at[AN_MASS], 1));
+    s->charge[i] = float_of(at[AN_CHARGE], 0);
     /* [doc] the particle's own force is eased: if e > 0 and clock < e,
      * own[i] = own[i] * (clock / e) */
-    double e = float_of(at[PA_EASE], 0);
+    double e = float_of(at[AN_EASE], 0);
     if (e > 0 && c->clock < e) {
         double q = c->clock / e;
         for (size_t j = 0; j < D; j++)
@@ -562,7 +596,13 @@ bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
     }
     s->n = off;
     ensure_particles(s, s->n, s->D);
-    phys_hash_reset(&s->ids, s->npn);
+    /* the id index only serves the !distance appliers */
+    bool by_id = false;
+    for (size_t a = 0; a < s->nap && !by_id; a++)
+        by_id = s->ap[a].kind == AP_DISTANCE;
+    if (by_id)
+        phys_hash_reset(&s->ids, s->npn);
+    s->dupids = false;
     for (size_t i = 0; i < s->npn; i++) {
         PhysPNode *pn = &s->pn[i];
         PhysGroup *G = &s->groups[pn->group];
@@ -570,14 +610,15 @@ bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
         fill_particle(s, c, sd, pn);
         /* particles are found by id across all groups; a later duplicate
          * replaces the earlier */
-        phys_hash_put(&s->ids, pn->id, pn->idhash, pn->storage);
+        if (by_id)
+            phys_hash_put(&s->ids, pn->id, pn->idhash, pn->storage);
     }
     for (size_t a = 0; a < s->nap; a++) {
         PhysApplier *ap = &s->ap[a];
         if (ap->kind != AP_DISTANCE)
             continue;
-        size_t f = phys_hash_get(&s->ids, ap->from_id, vec_hash(ap->from_id, false));
-        size_t t = phys_hash_get(&s->ids, ap->to_id, vec_hash(ap->to_id, false));
+        size_t f = phys_hash_get(&s->ids, ap->from_id, vec_key_hash(ap->from_id));
+        size_t t = phys_hash_get(&s->ids, ap->to_id, vec_key_hash(ap->to_id));
         ap->from = f == SIZE_MAX ? -1 : (ptrdiff_t)f;
         ap->to = t == SIZE_MAX ? -1 : (ptrdiff_t)t;
     }

@@ -143,6 +143,9 @@ typedef struct PhysKeySlot {
     Vec *pkey;            /* P;id */
     Vec *vkey;            /* P;id;:velocity */
     uint64_t phash, vhash;/* vec_hash(key, false) */
+    uint32_t ent1;        /* key table entry + 1 of the last particle here */
+    Vec *pval, *vval;     /* the state's values read at collection (numeric,
+                           * length D; borrowed), or NULL */
 } PhysKeySlot;
 
 /* One particle id's state keys, kept while the id is collected every frame
@@ -223,6 +226,7 @@ typedef struct PhysSystem {
     /* lookups */
     PhysHash ids;                 /* pre-order particle ids -> pn index */
     PhysHash newkeys;             /* this frame's particle state keys */
+    bool dupids;                  /* two particles of this frame share an id */
 
     /* state keys */
     Vec *prefix;                  /* P the cached keys were built from */
@@ -284,7 +288,8 @@ void phys_release_prev(PhysSystem *s);
 /* Point the system at prefix [P]: rebuild the clock keys and drop the key
  * cache when P changed. */
 void phys_set_prefix(PhysSystem *s, const Vec *P);
-/* The keys of storage slot [i], holding the particle [pn]. */
+/* The keys of storage slot [i], holding the particle [pn]; sets
+ * s->dupids when another slot of this frame has the same id. */
 PhysKeySlot *phys_slot_keys(PhysSystem *s, size_t i, const PhysPNode *pn);
 /* §2 step 7: null the keys of last frame not collected now. */
 void phys_null_stale_keys(PhysSystem *s, StateDict *sd);
@@ -318,9 +323,11 @@ void phys_pair_force_one(const PhysSystem *s, const PhysApplier *ap, size_t a,
 /* ---- keys.c: particle state keys kept while the particle lives ---- */
 
 /* The key entry of particle [id] (hash [idhash] = vec_hash(id, false)),
- * built from s->prefix on first sight; marks it seen this frame. The
- * pointer is valid until the next phys_keys_get or sweep. */
-const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash);
+ * built from s->prefix on first sight; marks it seen this frame (setting
+ * *dup when it already was). The pointer is valid until the next
+ * phys_keys_get or sweep. */
+const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash,
+                                bool *dup);
 /* End of collection: drop the entries not seen this frame. */
 void phys_keys_sweep(PhysSystem *s);
 /* Drop every entry (the prefix changed). */

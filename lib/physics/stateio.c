@@ -85,9 +85,25 @@ void phys_set_prefix(PhysSystem *s, const Vec *P)
  * keys), from the system's key table (keys.c). */
 PhysKeySlot *phys_slot_keys(PhysSystem *s, size_t i, const PhysPNode *pn)
 {
-    const PhysKeyEnt *e = phys_keys_get(s, pn->id, pn->idhash);
     PhysKeySlot *k = &s->slots[i];
-    *k = (PhysKeySlot){e->pkey, e->vkey, e->phash, e->vhash};
+    PhysKeyEnt *e;
+    /* the same id vector as last frame's particle in this slot (a static
+     * tree hands the same vectors every frame): its entry, unhashed; an
+     * entry holds its id, so the same pointer means the same id */
+    if (k->ent1 && k->ent1 <= s->nkent && s->kent[k->ent1 - 1].id == pn->id) {
+        e = &s->kent[k->ent1 - 1];
+        if (e->seen == s->kframe)
+            s->dupids = true;
+        e->seen = s->kframe;
+    } else {
+        e = (PhysKeyEnt *)phys_keys_get(s, pn->id, pn->idhash, &s->dupids);
+        k->ent1 = (uint32_t)(e - s->kent) + 1;
+    }
+    k->pkey = e->pkey;
+    k->vkey = e->vkey;
+    k->phash = e->phash;
+    k->vhash = e->vhash;
+    k->pval = k->vval = NULL;
     return k;
 }
 /* ------------------------------------------------------------------ */
@@ -158,11 +174,19 @@ void phys_write_particles(PhysSystem *s, StateDict *sd)
         const PhysKeySlot *k = &s->slots[i];
         const double *vecs[2] = {s->pos + i * D, s->vel + i * D};
         const Vec *keys[2] = {k->pkey, k->vkey};
+        Vec *vals[2] = {k->pval, k->vval};
         for (int j = 0; j < 2; j++) {
             bool finite = true;
             for (size_t d = 0; d < D && finite; d++)
                 finite = isfinite(vecs[j][d]);
-            if (finite)
+            if (!finite)
+                continue;
+            /* the value read at collection is still the state's (nothing
+             * set this key since, unless two particles share it) */
+            Vec *cur = vals[j];
+            if (cur && !s->dupids && cur->refs == 1)
+                memcpy(vec_nums(cur), vecs[j], D * sizeof(double));
+            else
                 store_nums(sd, keys[j], vecs[j], D);
         }
     }
