@@ -37,6 +37,18 @@
  * subtraction and -0 in an addition, which leave every value as it is (-0
  * and NaN included), as the reference's skipped addition does.
  *
+ * Two threads: the partners are cut at a tile boundary `cut` (chosen so
+ * both sides hold about half the pairs). The first thread runs, row block
+ * after row block, the tiles left of the cut (the diagonal one included)
+ * and hands each block's partial row sums on; the second thread runs the
+ * same block's tiles right of the cut, starting from those sums, once the
+ * first has handed them on, and stores the rows' forces; row blocks that
+ * start past the cut are the second thread's alone. Each partner column is
+ * touched by one thread only, in row-block order, and each row sum runs
+ * through its partners in ascending order across the two threads, so the
+ * additions and their order are those of one thread. Only levels with
+ * enough pairs to pay for the hand-offs take two threads.
+ *
  * The level's positions, radii, masses/charges and forces are copied into
  * pool order (struct of arrays, padded to whole tiles) before and the
  * forces copied back after. The kernel is compiled for AVX-512, AVX2 and
@@ -44,6 +56,8 @@
  * system's SIMD level (phys_simd_best(), FLITTER_SIMD).
  */
 #include <math.h>
+#include <sched.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -55,6 +69,7 @@
 #endif
 
 #include "physics_internal.h"
+#include "workers.h"
 
 #define TILE_W 8
 #define TILE_MAX_D 3
@@ -85,6 +100,35 @@ typedef struct TileLevel {
     const double *val[TILE_MAX_F];   /* mass or charge per applier */
     double *F;                       /* F[k*stride + q] */
 } TileLevel;
+
+/* Which part of a level one call runs (role 0: all of it); with two
+ * threads, role 1 and role 2 (see "Two threads" above). */
+typedef struct TilePart {
+    int role;
+    size_t cut;                  /* first partner of the second thread */
+    double *buf;                 /* per row block: D x W partial sums */
+    atomic_size_t *done;         /* row blocks the first thread handed on */
+} TilePart;
+
+/* The first thread hands on row block [blk] (its partial sums in buf). */
+static void tile_post(TilePart *P, size_t blk)
+{
+    atomic_store_explicit(P->done, blk + 1, memory_order_release);
+}
+
+/* The second thread waits for row block [blk]. */
+static void tile_wait(TilePart *P, size_t blk)
+{
+    unsigned spins = 0;
+    while (atomic_load_explicit(P->done, memory_order_acquire) <= blk) {
+        if (++spins % 64 == 0)
+            sched_yield();
+#if defined(__x86_64__) || defined(__i386__)
+        else
+            __builtin_ia32_pause();
+#endif
+    }
+}
 
 /* The portable copy: 2 x 2 tiles (SSE2 on x86-64, plain code elsewhere). */
 static inline void sqrt_portable(v2d *x)
@@ -188,8 +232,9 @@ bool phys_tiles_suits(const PhysSystem *s, const PhysLevel *lv)
 
 void phys_tiles_reserve(PhysSystem *s, size_t npool)
 {
-    /* x (D rows), radius, up to TILE_MAX_F value rows, F (D rows) */
-    size_t need = (2 * s->D + 1 + TILE_MAX_F) * tiles_stride(npool);
+    /* x (D rows), radius, up to TILE_MAX_F value rows, F (D rows), the
+     * partial sums handed between threads (D per row block lane) */
+    size_t need = (3 * s->D + 1 + TILE_MAX_F) * tiles_stride(npool);
     if (need <= s->captiles)
         return;
     size_t cap = s->captiles ? s->captiles : 64;
@@ -202,6 +247,42 @@ void phys_tiles_reserve(PhysSystem *s, size_t npool)
         abort();
     }
     s->captiles = cap;
+}
+
+/* Levels with fewer pairs run on one thread: the hand-offs of the two
+ * thread route (a wake-up and one per row block) cost more there. */
+#define TILES_PIPE_PAIRS 65536.0
+
+/* One level in flight. */
+typedef struct TileRun {
+    const TileLevel *T;
+    int simd;
+    size_t D;
+    size_t cut;
+    double *buf;
+    atomic_size_t done;
+} TileRun;
+
+/* Run part [role] of the level with the kernel of run->simd. */
+static void tiles_part(TileRun *run, int role)
+{
+    TilePart P = {role, run->cut, run->buf, &run->done};
+#ifdef HAVE_X86_TILES
+    if (run->simd == PHYS_SIMD_AVX512)
+        level_avx512(run->T, &P, run->D);
+    else if (run->simd == PHYS_SIMD_AVX2)
+        level_avx2(run->T, &P, run->D);
+    else
+#endif
+        level_portable(run->T, &P, run->D);
+}
+
+/* Task 0: the first thread's part, task 1: the second's (workers.c hands
+ * task 0 out first, so on one thread it runs to the end before task 1). */
+static void tiles_task(void *ctx, size_t t, unsigned thread)
+{
+    (void)thread;
+    tiles_part(ctx, (int)t + 1);
 }
 
 void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
@@ -250,14 +331,24 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     }
     if (T.nf == 0)
         return;
-#ifdef HAVE_X86_TILES
-    if (s->simd == PHYS_SIMD_AVX512)
-        level_avx512(&T, D);
-    else if (s->simd == PHYS_SIMD_AVX2)
-        level_avx2(&T, D);
-    else
-#endif
-        level_portable(&T, D);
+    /* pairs of the reference loop, and those of partners below cut c */
+    const size_t W = s->simd == PHYS_SIMD_AVX512 ? 8 : s->simd == PHYS_SIMD_AVX2 ? 4 : 2;
+    const size_t rows = T.npart;
+    const double all = (double)rows * (double)(n - 1) - (double)rows * (double)(rows - 1) / 2;
+    TileRun run = {.T = &T, .simd = s->simd, .D = D, .buf = F + D * ns};
+    atomic_init(&run.done, 0);
+    if (phys_workers_count(s->workers) < 2 || all < TILES_PIPE_PAIRS) {
+        tiles_part(&run, 0);
+    } else {
+        size_t c = W;
+        for (; c < n; c += W) {
+            double m = (double)(rows < c ? rows : c);
+            if (m * (double)(c - 1) - m * (m - 1) / 2 >= all / 2)
+                break;
+        }
+        run.cut = c;
+        phys_workers_run(s->workers, 2, tiles_task, &run);
+    }
     for (size_t q = 0; q < n; q++) {
         size_t p = pool[q];
         for (size_t k = 0; k < D; k++)

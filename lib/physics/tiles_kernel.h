@@ -115,18 +115,26 @@ TK(transpose)(TK_VD *a)
     }
 }
 
-/* Rows i0 .. i0+TK_W-1 of the reference loop (tiles.c explains the order);
- * rows at or past npart take no part (all their lanes idle). The rows'
- * own forces are summed as one vector per element, lanes = rows. */
+/* Rows i0 .. i0+TK_W-1 of the reference loop against the partner tiles
+ * j0 = jbeg, jbeg+TK_W, ... below jend (tiles.c explains the order); rows
+ * at or past npart take no part (all their lanes idle). The rows' own
+ * forces are summed as one vector per element, lanes = rows: they start
+ * from the diagonal tile when jbeg == i0, else from FAin (D x TK_W, the
+ * sums so far), and end in F, or in FAout when not NULL. */
 static inline __attribute__((always_inline)) TK_TARGET void
-TK(row_block)(const TileLevel *T, size_t i0, const size_t D, const size_t nf)
+TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
+              const double *FAin, double *FAout, const size_t D,
+              const size_t nf)
 {
     const size_t ns = T->stride;
-    TK_VD FA[TILE_MAX_D] = {{0}};      /* set at the diagonal tile, the first */
+    TK_VD FA[TILE_MAX_D] = {{0}};
+    if (jbeg != i0)
+        for (size_t k = 0; k < D; k++)
+            memcpy(&FA[k], FAin + k * TK_W, sizeof(TK_VD));
     TK_VI lane;
     for (size_t l = 0; l < TK_W; l++)
         lane[l] = (int64_t)l;
-    for (size_t j0 = i0; j0 < T->npool; j0 += TK_W) {
+    for (size_t j0 = jbeg; j0 < jend; j0 += TK_W) {
         const bool diag = j0 == i0;
         TK_VD Xl[TILE_MAX_D], Fb[TILE_MAX_D], Vl[TILE_MAX_F];
         for (size_t k = 0; k < D; k++) {
@@ -175,15 +183,51 @@ TK(row_block)(const TileLevel *T, size_t i0, const size_t D, const size_t nf)
                     FA[k] = pull ? FA[k] + G[f][k][l] : FA[k] - G[f][k][l];
             }
     }
-    for (size_t k = 0; k < D; k++)
-        memcpy(T->F + k * ns + i0, &FA[k], sizeof(TK_VD));
+    for (size_t k = 0; k < D; k++) {
+        if (FAout)
+            memcpy(FAout + k * TK_W, &FA[k], sizeof(TK_VD));
+        else
+            memcpy(T->F + k * ns + i0, &FA[k], sizeof(TK_VD));
+    }
+}
+
+/* The level, or one side of it (TilePart, tiles.c): role 0 runs every
+ * tile; role 1 (first thread) the tiles of partners below P->cut of the
+ * row blocks that start below it, handing each block's partial sums on
+ * through P; role 2 (second thread) the rest, after the first thread's
+ * part of the same block. */
+static inline __attribute__((always_inline)) TK_TARGET void
+TK(level_run)(const TileLevel *T, TilePart *P, const size_t D, const size_t nf)
+{
+    const size_t n = T->npool;
+    size_t blk = 0;
+    for (size_t i0 = 0; i0 < T->npart; i0 += TK_W, blk++) {
+        if (P->role == 0) {
+            TK(row_block)(T, i0, i0, n, NULL, NULL, D, nf);
+            continue;
+        }
+        const size_t cut = P->cut;
+        double *buf = P->buf + blk * D * TK_W;
+        if (i0 >= cut) {
+            /* past the cut: the second thread's alone */
+            if (P->role == 2)
+                TK(row_block)(T, i0, i0, n, NULL, NULL, D, nf);
+            continue;
+        }
+        if (P->role == 1) {
+            TK(row_block)(T, i0, i0, cut < n ? cut : n, NULL, buf, D, nf);
+            tile_post(P, blk);
+        } else {
+            tile_wait(P, blk);
+            TK(row_block)(T, i0, cut, n, buf, NULL, D, nf);
+        }
+    }
 }
 
 #define TK_LEVEL(d, f)                                                        \
-    static TK_TARGET void TK(level_##d##_##f)(const TileLevel *T)            \
+    static TK_TARGET void TK(level_##d##_##f)(const TileLevel *T, TilePart *P) \
     {                                                                         \
-        for (size_t i0 = 0; i0 < T->npart; i0 += TK_W)                        \
-            TK(row_block)(T, i0, d, f);                                       \
+        TK(level_run)(T, P, d, f);                                            \
     }
 
 TK_LEVEL(1, 1) TK_LEVEL(1, 2) TK_LEVEL(1, 3) TK_LEVEL(1, 4)
@@ -192,12 +236,12 @@ TK_LEVEL(3, 1) TK_LEVEL(3, 2) TK_LEVEL(3, 3) TK_LEVEL(3, 4)
 #undef TK_LEVEL
 
 /* This copy's kernel for D (1..3) and nf (1..4) appliers. */
-static TK_TARGET void TK(level)(const TileLevel *T, size_t D)
+static TK_TARGET void TK(level)(const TileLevel *T, TilePart *P, size_t D)
 {
-    static void (*const fn[3][4])(const TileLevel *) = {
+    static void (*const fn[3][4])(const TileLevel *, TilePart *) = {
         {TK(level_1_1), TK(level_1_2), TK(level_1_3), TK(level_1_4)},
         {TK(level_2_1), TK(level_2_2), TK(level_2_3), TK(level_2_4)},
         {TK(level_3_1), TK(level_3_2), TK(level_3_3), TK(level_3_4)},
     };
-    fn[D - 1][T->nf - 1](T);
+    fn[D - 1][T->nf - 1](T, P);
 }

@@ -356,13 +356,14 @@ static void test_grid_edge(void **st)
  * with one or two threads (the gather with four), in each of its vector
  * widths (2, 4 and 8 lanes: portable, AVX2, AVX-512, as far as the
  * processor has them), whose row blocks and tiles end part-filled unless
- * the sizes are multiples of the width. Sizes around the widths, D = 1..3,
+ * the sizes are multiples of the width; the two largest have enough pairs
+ * for the two-thread split of tiles.c. Sizes around the widths, D = 1..3,
  * a nested group (a level whose pool reaches the parent's particles), zero
  * charges and masses, coincident particles, NaN/infinite/far elements. */
 static void test_unlimited_levels(void **st)
 {
     (void)st;
-    static const size_t sizes[] = {2, 3, 4, 5, 7, 8, 9, 16, 17, 40, 131};
+    static const size_t sizes[] = {2, 3, 4, 5, 7, 8, 9, 16, 17, 40, 131, 390, 517};
     for (size_t D = 1; D <= 3; D++) {
         for (size_t si = 0; si < sizeof sizes / sizeof *sizes; si++) {
             uint64_t seed = 3000 + 10 * D + si;
