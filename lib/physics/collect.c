@@ -152,7 +152,7 @@ enum { KIND_PARTICLE = AP_BARRIER + 1, KIND_ANCHOR, KIND_GROUP, KIND_OTHER };
 
 /* The kind of a child of a !physics node or group, by one switch on the
  * length of its kind name and at most five comparisons. */
-static int child_kind(const Str *k)
+static int child_kind_of(const Str *k)
 {
     static const struct { const char *name; unsigned char len, kind; } t[] = {
         {"drag", 4, AP_DRAG}, {"field", 5, AP_FIELD}, {"group", 5, KIND_GROUP},
@@ -179,7 +179,51 @@ enum { AN_POSITION, AN_VELOCITY, AN_FORCE, AN_RADIUS, AN_MASS, AN_CHARGE,
        AN_ACCELERATION, AN_DIRECTION, AN_MAX_DISTANCE, AN_OVERLAP, AN_NORMAL,
        AN_RESTITUTION, AN_COUNT };
 
-static void node_attrs(const Node *n, const Vec *out[AN_COUNT])
+static int attr_id_of(const Str *name);
+
+/* The class of [name] by [classify], through the direct-mapped cache
+ * [cache]/[ids] of [size] entries: a string held by the cache cannot be
+ * freed and reused, so the same address means the same name. */
+static int cached_class(Str **cache, signed char *ids, size_t size, Str *name,
+                        int (*classify)(const Str *))
+{
+    uintptr_t a = (uintptr_t)name;
+    size_t h = (size_t)((a >> 4) ^ (a >> 12)) & (size - 1);
+    if (cache[h] == name)
+        return ids[h];
+    int id = classify(name);
+    str_release(cache[h]);
+    cache[h] = str_retain(name);
+    ids[h] = (signed char)id;
+    return id;
+}
+
+static int child_kind(PhysSystem *s, Str *k)
+{
+    return cached_class(s->kcache, s->kcid, 16, k, child_kind_of);
+}
+
+void phys_names_free(PhysSystem *s)
+{
+    for (size_t i = 0; i < 16; i++)
+        str_release(s->kcache[i]);
+    for (size_t i = 0; i < 64; i++)
+        str_release(s->acache[i]);
+}
+
+static void node_attrs(PhysSystem *s, const Node *n, const Vec *out[AN_COUNT])
+{
+    memset(out, 0, AN_COUNT * sizeof *out);
+    for (uint32_t a = 0; a < n->nattrs; a++) {
+        int id = cached_class(s->acache, s->acid, 64, n->attrs[a].name,
+                              attr_id_of);
+        if (id >= 0 && !out[id])
+            out[id] = n->attrs[a].value;
+    }
+}
+
+/* The AN_* of attribute [name], or -1. */
+static int attr_id_of(const Str *name)
 {
     static const char *const names[AN_COUNT] = {
         "position", "velocity", "force", "radius", "mass", "charge", "ease",
@@ -197,20 +241,14 @@ static void node_attrs(const Node *n, const Vec *out[AN_COUNT])
         {AN_DIRECTION, -1}, {-1}, {AN_RESTITUTION, -1},
         {AN_ACCELERATION, AN_MAX_DISTANCE, -1},
     };
-    memset(out, 0, AN_COUNT * sizeof *out);
-    for (uint32_t a = 0; a < n->nattrs; a++) {
-        const Str *name = n->attrs[a].name;
-        if (name->len > 12)
-            continue;
-        for (const signed char *id = bylen[name->len]; *id >= 0; id++) {
-            if (names[*id][0] == name->bytes[0] &&
-                memcmp(names[*id], name->bytes, name->len) == 0) {
-                if (!out[*id])
-                    out[*id] = n->attrs[a].value;
-                break;
-            }
-        }
+    if (name->len > 12)
+        return -1;
+    for (const signed char *id = bylen[name->len]; *id >= 0; id++) {
+        if (names[*id][0] == name->bytes[0] &&
+            memcmp(names[*id], name->bytes, name->len) == 0)
+            return *id;
     }
+    return -1;
 }
 
 static Vec *compose2(const Vec *a, const Vec *b)
@@ -234,7 +272,7 @@ static void collect_applier(PhysSystem *s, PhysCollect *c, const Node *child,
                             size_t group, PhysApplierKind kind)
 {
     const Vec *at[AN_COUNT];
-    node_attrs(child, at);
+    node_attrs(s, child, at);
     const Vec *from = NULL, *to = NULL;
     if (kind == AP_DISTANCE) {
         from = at[AN_FROM];
@@ -365,7 +403,7 @@ static void walk(PhysSystem *s, PhysCollect *c, const Node *root)
         }
         const Node *child = top->node->children[top->next++];
         size_t group = top->group;
-        int kind = child_kind(child->kind);
+        int kind = child_kind(s, child->kind);
         bool anchor = kind == KIND_ANCHOR;
         if (anchor || kind == KIND_PARTICLE) {
             const Vec *id = node_attr(child, "id");
@@ -431,7 +469,7 @@ static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *
 {
     const size_t D = s->D, i = pn->storage;
     const Vec *at[AN_COUNT];
-    node_attrs(pn->node, at);
+    node_attrs(s, pn->node, at);
     PhysKeySlot *k = phys_slot_keys(s, i, pn);
     double *pos = s->pos + i * D, *vel = s->vel + i * D;
     double *own = s->own + i * D;

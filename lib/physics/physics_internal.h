@@ -219,6 +219,11 @@ typedef struct PhysSystem {
     double *tiles; size_t captiles;   /* tiles.c: the level in pool order,
                                        * 64-byte aligned */
 
+    /* names seen in the tree, classified once while the string lives
+     * (collect.c): direct-mapped by address, strings retained */
+    Str *kcache[16]; signed char kcid[16];     /* node kinds */
+    Str *acache[64]; signed char acid[64];     /* attribute names */
+
     /* tree walk scratch */
     PhysPNode *pn; size_t npn, cappn;
     struct PhysWalk *walk; size_t capwalk;
@@ -258,6 +263,8 @@ typedef struct PhysCollect {
     Vec *seed;          /* current !random seed vector (lazily built) */
 } PhysCollect;
 
+/* Release the name caches of [s]. */
+void phys_names_free(PhysSystem *s);
 /* Empty [h] and size it for [n] entries. */
 void phys_hash_reset(PhysHash *h, size_t n);
 /* Map [key] (hash vec_hash(key, false)) to [idx], replacing an earlier

@@ -107,6 +107,7 @@ static void system_free(PhysSystem *s)
     free(s->ids.slot); free(s->newkeys.slot);
     free(s->slots); free(s->prev); free(s->next); free(s->nexthash);
     phys_pairs_free(s);
+    phys_names_free(s);
     free(s);
 }
 
