@@ -476,7 +476,7 @@ static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *
     s->anchor[i] = pn->anchor;
     const Vec *v = NULL;
     if (!pn->anchor && c->iteration > 0)
-        v = state_get(sd, k->pkey);
+        v = s->cuse && k->hit && k->cp ? k->cp : state_get(sd, k->pkey);
     if (vec_is_num(v) && v->len == D) {
         memcpy(pos, vec_cnums(v), D * sizeof *pos);
         k->pval = (Vec *)v;
@@ -484,7 +484,7 @@ static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *
         fvec0_of(at[AN_POSITION], D, pos);
     v = NULL;
     if (!pn->anchor && c->iteration > 0)
-        v = state_get(sd, k->vkey);
+        v = s->cuse && k->hit && k->cv ? k->cv : state_get(sd, k->vkey);
     if (vec_is_num(v) && v->len == D) {
         memcpy(vel, vec_cnums(v), D * sizeof *vel);
         k->vval = (Vec *)v;

@@ -144,8 +144,10 @@ typedef struct PhysKeySlot {
     Vec *vkey;            /* P;id;:velocity */
     uint64_t phash, vhash;/* vec_hash(key, false) */
     uint32_t ent1;        /* key table entry + 1 of the last particle here */
-    Vec *pval, *vval;     /* the state's values read at collection (numeric,
-                           * length D; borrowed), or NULL */
+    bool hit;             /* this frame's particle has last frame's id */
+    Vec *pval, *vval;     /* the state's values of pkey/vkey this frame
+                           * (numeric, length D; borrowed), or NULL */
+    Vec *cp, *cv;         /* retained: pval/vval at the end of last frame */
 } PhysKeySlot;
 
 /* One particle id's state keys, kept while the id is collected every frame
@@ -232,6 +234,14 @@ typedef struct PhysSystem {
     PhysHash ids;                 /* pre-order particle ids -> pn index */
     PhysHash newkeys;             /* this frame's particle state keys */
     bool dupids;                  /* two particles of this frame share an id */
+    /* the slots' cp/cv are the state's values when the state dictionary
+     * is the one, with the set count and size, seen at the end of the
+     * system's last frame (stateio.c) */
+    const StateDict *csd;
+    unsigned long long csets;
+    size_t ccount;
+    bool cvalid;                  /* cp/cv were recorded last frame */
+    bool cuse;                    /* ... and hold for this frame */
 
     /* state keys */
     Vec *prefix;                  /* P the cached keys were built from */
@@ -302,6 +312,14 @@ PhysKeySlot *phys_slot_keys(PhysSystem *s, size_t i, const PhysPNode *pn);
 void phys_null_stale_keys(PhysSystem *s, StateDict *sd);
 /* §2 step 8: write every particle's position and velocity. */
 void phys_write_particles(PhysSystem *s, StateDict *sd);
+/* Start of a frame of [s] on [sd], before any state write: may the slots'
+ * cached values stand in for state lookups this frame (s->cuse)? */
+void phys_cache_check(PhysSystem *s, const StateDict *sd);
+/* End of a frame, after the last state write: keep this frame's values
+ * of every slot for the next. */
+void phys_cache_keep(PhysSystem *s, const StateDict *sd);
+/* Drop the cached values of every slot (before the slots are freed). */
+void phys_cache_drop(PhysSystem *s);
 
 /* ---- forces.c: force appliers and barriers (PHYSICS-ENGINE.md §4) ---- */
 

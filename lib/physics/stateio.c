@@ -51,6 +51,7 @@ static Vec *compose_sym(const Vec *a, const char *sym)
 /* Forget every cached particle key (the slots only borrow them). */
 static void release_slots(PhysSystem *s)
 {
+    phys_cache_drop(s);
     phys_keys_clear(s);
     if (s->capslots)
         memset(s->slots, 0, s->capslots * sizeof *s->slots);
@@ -90,7 +91,8 @@ PhysKeySlot *phys_slot_keys(PhysSystem *s, size_t i, const PhysPNode *pn)
     /* the same id vector as last frame's particle in this slot (a static
      * tree hands the same vectors every frame): its entry, unhashed; an
      * entry holds its id, so the same pointer means the same id */
-    if (k->ent1 && k->ent1 <= s->nkent && s->kent[k->ent1 - 1].id == pn->id) {
+    k->hit = k->ent1 && k->ent1 <= s->nkent && s->kent[k->ent1 - 1].id == pn->id;
+    if (k->hit) {
         e = &s->kent[k->ent1 - 1];
         if (e->seen == s->kframe)
             s->dupids = true;
@@ -182,12 +184,71 @@ void phys_write_particles(PhysSystem *s, StateDict *sd)
             if (!finite)
                 continue;
             /* the value read at collection is still the state's (nothing
-             * set this key since, unless two particles share it) */
+             * set this key since, unless two particles share it); it is
+             * overwritten in place when only the state and the slot's
+             * cache hold it */
             Vec *cur = vals[j];
-            if (cur && !s->dupids && cur->refs == 1)
+            Vec *cached = j ? k->cv : k->cp;
+            if (cur && !s->dupids && cur->refs == 1 + (cur == cached)) {
                 memcpy(vec_nums(cur), vecs[j], D * sizeof(double));
-            else
+            } else {
                 store_nums(sd, keys[j], vecs[j], D);
+                /* what the state holds now (store_nums may have kept an
+                 * equal vector) */
+                *(j ? &s->slots[i].vval : &s->slots[i].pval) = state_get(sd, keys[j]);
+            }
         }
     }
+}
+
+/* ------------------------------------------------------------------ */
+/* Values kept across frames                                           */
+/* ------------------------------------------------------------------ */
+
+/* Reading a particle's position and velocity back costs two state lookups
+ * (hash probes into a large table: cache misses at 100,000 particles). A
+ * slot whose particle is the same as last frame's (same id vector) keeps,
+ * retained, the two value vectors the state held at the end of that frame.
+ * They are still the state's values when no state_set and no clear has
+ * happened since: the dictionary's set count and size are unchanged (a set
+ * always counts; a clear without sets changes the size). A retained vector
+ * cannot be freed, so a stale one is never read as freed memory. */
+void phys_cache_check(PhysSystem *s, const StateDict *sd)
+{
+    s->cuse = s->cvalid && s->csd == sd &&
+              state_counts(sd).sets == s->csets && state_count(sd) == s->ccount;
+    s->cvalid = false;
+}
+
+void phys_cache_keep(PhysSystem *s, const StateDict *sd)
+{
+    if (s->dupids) {
+        phys_cache_drop(s);
+        return;
+    }
+    for (size_t i = 0; i < s->n; i++) {
+        PhysKeySlot *k = &s->slots[i];
+        if (k->cp != k->pval) {
+            vec_release(k->cp);
+            k->cp = vec_retain(k->pval);
+        }
+        if (k->cv != k->vval) {
+            vec_release(k->cv);
+            k->cv = vec_retain(k->vval);
+        }
+    }
+    s->csd = sd;
+    s->csets = state_counts(sd).sets;
+    s->ccount = state_count(sd);
+    s->cvalid = true;
+}
+
+void phys_cache_drop(PhysSystem *s)
+{
+    for (size_t i = 0; i < s->capslots; i++) {
+        vec_release(s->slots[i].cp);
+        vec_release(s->slots[i].cv);
+        s->slots[i].cp = s->slots[i].cv = NULL;
+    }
+    s->cvalid = false;
 }

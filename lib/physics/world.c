@@ -90,6 +90,7 @@ static void system_free(PhysSystem *s)
 {
     if (!s)
         return;
+    phys_cache_drop(s);
     phys_keys_free(s);
     phys_release_prev(s);
     vec_release(s->prefix);
@@ -118,6 +119,7 @@ static void system_free(PhysSystem *s)
 static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
                          const PhysicsFrame *fr)
 {
+    phys_cache_check(s, sd);
     /* §2.1: run, dimensions and the prefix P; skip unusable nodes */
     int64_t run = phys_attr_int(node, "run", 0);
     int64_t D = phys_attr_int(node, "dimensions", 0);
@@ -151,6 +153,7 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
     /* §2.4: a new run nulls our keys and restarts clock and iteration
      * (`last` is not reset) */
     if (run != last_run) {
+        s->cuse = false;
         for (size_t i = 0; i < s->nprev; i++)
             state_set(sd, s->prev[i], NULL);
         phys_release_prev(s);
@@ -182,6 +185,7 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
     /* §2.9 */
     phys_state_set_num(sd, s->klast, time);
     phys_state_set_num(sd, s->kclock, clock);
+    phys_cache_keep(s, sd);
 }
 /* ------------------------------------------------------------------ */
 /* Public interface                                                    */
