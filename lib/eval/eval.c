@@ -15,29 +15,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
-#include "eval.h"
+#include "builtins.h"
+#include "config.h"
+#include "context.h"
 #include "format.h"
 #include "module.h"
 #include "pool.h"
 #include "stable.h"
 
-/* Recursion limit per function value (§4.8). */
-#define MAX_ACTIVE_CALLS 500
-/* Nesting limit of eval_expr, guarding the C stack (§4.16 stack overflow). */
-#define MAX_EVAL_DEPTH 12000
-/* Deepest eval_expr nesting at which an import may load a module (whose
- * evaluation then continues from that depth, up to MAX_EVAL_DEPTH). */
-#define MAX_IMPORT_DEPTH (MAX_EVAL_DEPTH / 2)
-/* Longest vector a range may build (bounded memory for `..1e12`). */
-#define MAX_RANGE_LEN (UINT64_C(1) << 26)
-/* Longest vector a composition (sequence, loop, multi-function call) may
- * build: past it the result is null with an execution error (§4.16) rather
- * than an abort or unbounded memory. */
-#define MAX_COMPOSE_LEN (UINT64_C(1) << 26)
-
 /* ====================================================================
- * Services for builtins (eval.h)
+ * Services for builtins (context.h)
  * ==================================================================== */
 
 void eval_error(Eval *ev, const char *msg)

@@ -1,9 +1,9 @@
-/* source.c: the parser driver, from source text to an AST_TOP tree
+/* parse.c: the parser driver, from source text to an AST_TOP tree
  * (LANGUAGE.md §1 and §2), and the mapping of byte offsets to positions.
  *
  * Pipeline, pulled one token at a time by the bison parser through
  * parse_lex(): the re2c lexer (grammar/lexer.re) produces raw tokens, the
- * indentation filter (lib/indent.c) turns newlines into NL/INDENT/DEDENT, and
+ * indentation filter (lib/syntax/indent.c) turns newlines into NL/INDENT/DEDENT, and
  * parse_lex() gives each token its semantic value (names as Str, literals as
  * Vec) and its Loc. The `ParseCtx` below holds all of it for one parse, so
  * parses are independent and reentrant. Every symbol literal met on the way
@@ -23,7 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "indent.h"
+#include "lexer.h"
 #include "node.h"
 
 struct ParseCtx {

@@ -5,7 +5,7 @@
  * children (`a`, `b`, `c`, meaning per kind), a list of variable children
  * (`kids`), a list of names (`names`) and, for literals, a value. The table
  * below is the contract between grammar/parser.y (which builds trees through
- * the ast_* builders) and lib/eval.c (which reads them).
+ * the ast_* builders) and lib/eval/eval.c (which reads them).
  *
  *   kind            fields
  *   AST_TOP         kids: AST_BINDING pragmas (names[0], value in `value`);

@@ -13,15 +13,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "config.h"
 #include "fileio.h"
 #include "format.h"
 #include "utf8.h"
 
 #define MAGIC "flitter-state 1"
 #define QNAN_BITS UINT64_C(0x7ff8000000000000)
-/* Largest frame number accepted (2^53: every frame count up to it is exact
- * as the double `frame` name, and the counter cannot overflow a long). */
-#define MAX_FRAME (INT64_C(1) << 53)
 
 /* ====================================================================
  * Writing

@@ -17,7 +17,7 @@
 
 #include "ast.h"
 #include "buf.h"
-#include "eval.h"
+#include "context.h"
 #include "node.h"
 #include "state.h"
 #include "value.h"

@@ -4,6 +4,7 @@
 #ifndef FL_SIMPLIFY_INTERNAL_H
 #define FL_SIMPLIFY_INTERNAL_H
 
+#include "config.h"
 #include "program.h"
 #include "simplify.h"
 
@@ -25,15 +26,6 @@ enum { EXPORT_MAIN = 1 };
 
 /* AST_FUNCTION flags in `op` after simplification. */
 enum { FN_INLINEABLE = 1, FN_CAPTURES = 2 };
-
-/* Depth limit of function inlining (tree.pyx MAX_INLINE_DEPTH). */
-#define SIMP_MAX_INLINE_DEPTH 20
-
-/* Most loop-body copies one simplification may make by unrolling loops over
- * literal sources (2^20). Flitter has no such limit; it bounds the load-time
- * work and memory of hostile scripts (`for i in 0..2**26`). A loop that would
- * go past it is kept as a loop, evaluated every frame, with one warning. */
-#define SIMP_MAX_UNROLL (1u << 20)
 
 /* A name a module ends with, bound to a literal or an inlineable function. */
 typedef struct SimpExport {

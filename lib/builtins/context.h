@@ -1,11 +1,11 @@
-/* eval.h: the evaluator's services for built-in functions.
+/* context.h: the evaluator's services for built-in functions.
  *
  * An `Eval` is the context of one frame's evaluation of one program. Built-ins
  * use it to report run-time errors (LANGUAGE.md §4.16), to emit debug text,
  * to name symbols, and to find files relative to the running script.
  */
-#ifndef FL_EVAL_H
-#define FL_EVAL_H
+#ifndef FL_CONTEXT_H
+#define FL_CONTEXT_H
 
 #include "value.h"
 

@@ -1,12 +1,12 @@
-/* random.h: counter-based pseudo-random streams (LANGUAGE.md §5.8), shared
+/* streams.h: counter-based pseudo-random streams (LANGUAGE.md §5.8), shared
  * by the uniform/normal/beta built-ins, stream indexing (value.c) and the
  * physics !random force applier. All functions are pure. */
-#ifndef FL_RANDOM_H
-#define FL_RANDOM_H
+#ifndef FL_STREAMS_H
+#define FL_STREAMS_H
 
 #include <stdint.h>
 
-#include "../value.h"
+#include "value.h"
 
 /* The 5-round Squares generator: the 64-bit output for counter [i], key [key]. */
 uint64_t rng_squares(uint64_t i, uint64_t key);

@@ -14,14 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
-
-/* Longest range folded at load time (longer ones are left to the evaluator,
- * which reports them). */
-#define SIMP_MAX_RANGE (UINT64_C(1) << 26)
-/* Nesting limit of simp(), guarding the C stack: a program nested deeper
- * is left unsimplified (with a warning). */
-#define SIMP_MAX_DEPTH 10000
+#include "config.h"
+#include "builtins.h"
 
 /* ====================================================================
  * Tree helpers

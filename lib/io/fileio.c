@@ -11,15 +11,27 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-bool file_read(const char *path, Buf *out)
+/* Read the file open on [fd] (closed here) into [out]; with [regular_only],
+ * anything but a regular file is refused (EINVAL). */
+static bool read_fd(int fd, Buf *out, bool regular_only)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return false;
     struct stat st;
-    if (fstat(fileno(f), &st) == 0
-        && (S_ISDIR(st.st_mode) || (S_ISREG(st.st_mode) && (uint64_t)st.st_size > FILE_READ_MAX))) {
-        fclose(f);
-        errno = S_ISDIR(st.st_mode) ? EISDIR : EFBIG;
+    if (fstat(fd, &st) == 0) {
+        int refuse = 0;
+        if (S_ISDIR(st.st_mode)) refuse = EISDIR;
+        else if (S_ISREG(st.st_mode) && (uint64_t)st.st_size > FILE_READ_MAX) refuse = EFBIG;
+        else if (regular_only && !S_ISREG(st.st_mode)) refuse = EINVAL;
+        if (refuse) {
+            close(fd);
+            errno = refuse;
+            return false;
+        }
+    }
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        int saved = errno;
+        close(fd);
+        errno = saved;
         return false;
     }
     char chunk[65536];
@@ -37,6 +49,22 @@ bool file_read(const char *path, Buf *out)
     fclose(f);
     if (!ok) errno = big ? EFBIG : EIO;
     return ok;
+}
+
+bool file_read(const char *path, Buf *out)
+{
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return false;
+    return read_fd(fd, out, false);
+}
+
+bool file_read_regular(const char *path, Buf *out)
+{
+    /* O_NONBLOCK: opening a FIFO with no writer must not wait; a regular
+     * file ignores the flag */
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) return false;
+    return read_fd(fd, out, true);
 }
 
 static bool write_all(int fd, const char *p, size_t n)

@@ -1,5 +1,6 @@
 /* turns.h: trigonometry in turns with exact quadrants (LANGUAGE.md §5.2),
- * shared by the maths built-ins, normal() and colour conversions. */
+ * shared by the maths built-ins, normal streams and colour conversions
+ * (turns.c). */
 #ifndef FL_TURNS_H
 #define FL_TURNS_H
 

@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
+#include "builtins.h"
 #include "fileio.h"
 #include "parse.h"
 #include "pool.h"
@@ -219,6 +219,7 @@ static bool builtin_value(Resolver *r, const Str *name, Vec **out)
         Func *f = pool_calloc(sizeof *f);
         f->refs = 1;
         f->bi = bi;
+    f->bi_name = bi->internal;
         v = vec_func_take(f);
     }
     if (r->nconsts == r->capconsts) {

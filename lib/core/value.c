@@ -17,8 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
-#include "builtins/random.h"
+#include "streams.h"
 #include "node.h"
 #include "pool.h"
 #include "utf8.h"
@@ -96,7 +95,7 @@ void func_release(Func *f)
 
 const char *func_name(const Func *f)
 {
-    if (f->bi) return f->bi->internal;
+    if (f->bi) return f->bi_name;
     return f->name ? f->name->bytes : "<anon>";
 }
 

@@ -1,4 +1,4 @@
-/* parse.h: source text to AST (grammar/lexer.re, lib/indent.c,
+/* parse.h: source text to AST (grammar/lexer.re, lib/syntax/indent.c,
  * grammar/parser.y). */
 #ifndef FL_PARSE_H
 #define FL_PARSE_H
@@ -6,17 +6,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "config.h"
 #include "ast.h"
 #include "buf.h"
-
-/* The deepest AST a parse may produce: a tree with a node more than this
- * many levels below its root (left- or right-nested operators, calls,
- * indexing, blocks, statement chains) is refused with a syntax-style error,
- * so that no later pass (resolve, simplify, evaluate, dump) recurses deeper.
- * Kept below what bison's own stack limit lets through (about 5000 nested
- * parentheses) and small enough for the recursive passes to fit an 8 MiB
- * stack under ASan. */
-#define AST_MAX_DEPTH 4000
 
 /* Parse the Flitter program in [text] ([len] bytes of UTF-8, need not end in
  * a newline or NUL) into an AST_TOP tree whose locations carry [file_index].

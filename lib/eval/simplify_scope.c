@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
+#include "builtins.h"
 #include "stable.h"
 
 AstNode *simp_sequence_of(AstNode **items, uint32_t n, uint32_t cap, Loc loc);
@@ -63,6 +63,7 @@ const Vec *simp_builtin(Simp *s, const Str *name)
     if (!f) abort();
     f->refs = 1;
     f->bi = bi;
+    f->bi_name = bi->internal;
     if (s->nbuiltins == s->capbuiltins) {
         s->capbuiltins = s->capbuiltins ? s->capbuiltins * 2 : 16;
         s->builtins = realloc(s->builtins, s->capbuiltins * sizeof *s->builtins);

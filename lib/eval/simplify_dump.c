@@ -9,7 +9,7 @@
  */
 #include "simplify.h"
 
-#include "builtins/builtins.h"
+#include "builtins.h"
 #include "format.h"
 #include "node.h"
 

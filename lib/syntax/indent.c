@@ -13,7 +13,7 @@
  * passed on. The output is a FIFO queue, so the filter can be fed a token
  * array in a unit test or pulled one token at a time by the parser driver.
  */
-#include "indent.h"
+#include "lexer.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
-/* indent.h: the token stream between source text and the grammar
+/* lexer.h: the token stream between source text and the grammar
  * (LANGUAGE.md §1): the `Token` record, the re2c lexer (grammar/lexer.re)
- * and the NL -> NL/INDENT/DEDENT filter (lib/indent.c, §1.10).
+ * and the NL -> NL/INDENT/DEDENT filter (lib/syntax/indent.c, §1.10).
  *
  * Token kinds are the bison token kinds of grammar/parser.y (`TK_NAME`,
  * `TK_NL`, `TK_INDENT`, ... in the generated parser.h). Positions are byte
@@ -8,8 +8,8 @@
  * '\n' that §1.1 appends when missing); source_line_col() (parse.h) turns
  * them into line:column.
  */
-#ifndef FL_INDENT_H
-#define FL_INDENT_H
+#ifndef FL_LEXER_H
+#define FL_LEXER_H
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -87,7 +87,7 @@ int lex_keyword(const char *s, size_t len);
 /* }===================================================================== */
 
 /* {=====================================================================
- * Indentation filter (lib/indent.c)
+ * Indentation filter (lib/syntax/indent.c)
  * ===================================================================== */
 
 typedef struct Indenter {

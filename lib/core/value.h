@@ -79,6 +79,7 @@ struct Builtin;
 struct Func {
     uint32_t refs;                 /* reference count */
     const struct Builtin *bi;      /* builtin descriptor, or NULL */
+    const char *bi_name;           /* builtin: its internal name (str()) */
     Str *name;                     /* user: name or "<anon>"; builtin: NULL */
     void *impl;                    /* evaluator's closure data */
     void (*destroy)(Func *f);      /* frees impl (and nothing else) */
