@@ -88,26 +88,26 @@ TK(transpose)(TK_VD *a)
             TK_VD lo, hi;
 #if TK_W == 8
             if (s == 1) {
-                lo = __builtin_shuffle(a[i], a[i + s], (TK_VI){0, 8, 2, 10, 4, 12, 6, 14});
-                hi = __builtin_shuffle(a[i], a[i + s], (TK_VI){1, 9, 3, 11, 5, 13, 7, 15});
+                lo = __builtin_shufflevector(a[i], a[i + s], 0, 8, 2, 10, 4, 12, 6, 14);
+                hi = __builtin_shufflevector(a[i], a[i + s], 1, 9, 3, 11, 5, 13, 7, 15);
             } else if (s == 2) {
-                lo = __builtin_shuffle(a[i], a[i + s], (TK_VI){0, 1, 8, 9, 4, 5, 12, 13});
-                hi = __builtin_shuffle(a[i], a[i + s], (TK_VI){2, 3, 10, 11, 6, 7, 14, 15});
+                lo = __builtin_shufflevector(a[i], a[i + s], 0, 1, 8, 9, 4, 5, 12, 13);
+                hi = __builtin_shufflevector(a[i], a[i + s], 2, 3, 10, 11, 6, 7, 14, 15);
             } else {
-                lo = __builtin_shuffle(a[i], a[i + s], (TK_VI){0, 1, 2, 3, 8, 9, 10, 11});
-                hi = __builtin_shuffle(a[i], a[i + s], (TK_VI){4, 5, 6, 7, 12, 13, 14, 15});
+                lo = __builtin_shufflevector(a[i], a[i + s], 0, 1, 2, 3, 8, 9, 10, 11);
+                hi = __builtin_shufflevector(a[i], a[i + s], 4, 5, 6, 7, 12, 13, 14, 15);
             }
 #elif TK_W == 4
             if (s == 1) {
-                lo = __builtin_shuffle(a[i], a[i + s], (TK_VI){0, 4, 2, 6});
-                hi = __builtin_shuffle(a[i], a[i + s], (TK_VI){1, 5, 3, 7});
+                lo = __builtin_shufflevector(a[i], a[i + s], 0, 4, 2, 6);
+                hi = __builtin_shufflevector(a[i], a[i + s], 1, 5, 3, 7);
             } else {
-                lo = __builtin_shuffle(a[i], a[i + s], (TK_VI){0, 1, 4, 5});
-                hi = __builtin_shuffle(a[i], a[i + s], (TK_VI){2, 3, 6, 7});
+                lo = __builtin_shufflevector(a[i], a[i + s], 0, 1, 4, 5);
+                hi = __builtin_shufflevector(a[i], a[i + s], 2, 3, 6, 7);
             }
 #else
-            lo = __builtin_shuffle(a[i], a[i + s], (TK_VI){0, 2});
-            hi = __builtin_shuffle(a[i], a[i + s], (TK_VI){1, 3});
+            lo = __builtin_shufflevector(a[i], a[i + s], 0, 2);
+            hi = __builtin_shufflevector(a[i], a[i + s], 1, 3);
 #endif
             a[i] = lo;
             a[i + s] = hi;
