@@ -242,10 +242,8 @@ void phys_tiles_reserve(PhysSystem *s, size_t npool)
         cap *= 2;
     free(s->tiles);
     s->tiles = aligned_alloc(64, cap * sizeof(double));
-    if (!s->tiles) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
-    }
+    if (!s->tiles)
+        phys_oom();
     s->captiles = cap;
 }
 
