@@ -7,8 +7,8 @@
  * (COUNTERS.md "fvec"); a new reference. */
 static Vec *fvec(const Node *n, const char *name, Vec *dflt)
 {
-    Vec *v = node_attr(n, name);
-    return vec_is_num(v) ? vec_retain(v) : vec_retain(dflt);
+    const Vec *v = node_attr(n, name);
+    return vec_is_num(v) ? vec_share(v) : vec_retain(dflt);
 }
 
 /* c.when(a, b) of COUNTERS.md: element-wise choice with wrap-around, null
@@ -54,7 +54,7 @@ static Vec *clamp(Vec *v, const Vec *lo, const Vec *hi)
 
 void counter_update(const Node *node, StateDict *state, double frame_time)
 {
-    Vec *key = node_attr(node, "state");
+    const Vec *key = node_attr(node, "state");
     if (!vec_len(key)) return;
     Vec *now = vec_num1(frame_time);
     Vec *zero = vec_num1(0.0);
@@ -66,14 +66,14 @@ void counter_update(const Node *node, StateDict *state, double frame_time)
     Vec *minimum = fvec(node, "minimum", min_alt), *maximum = fvec(node, "maximum", max_alt);
 
     Vec *sym_time = vec_num1(symbol_value("time", 4));
-    Vec *parts[2] = {key, sym_time};
+    Vec *parts[2] = {(Vec *)key, sym_time};   /* vec_compose only reads its parts */
     Vec *time_key = vec_compose(parts, 2);
 
-    Vec *current = vec_retain(state_get(state, key));
+    Vec *current = vec_share(state_get(state, key));
     if (!current) {
         current = vec_retain(initial);
     } else {
-        Vec *last = state_get(state, time_key);
+        const Vec *last = state_get(state, time_key);
         Vec *elapsed = vec_arith(OP_SUB, time, last);
         Vec *change = vec_arith(OP_MUL, elapsed, rate);
         Vec *advanced = vec_arith(OP_ADD, change, current);

@@ -126,7 +126,7 @@ void node_append(Node *n, Node *child)
     n->children[n->nchildren++] = node_retain(child);
 }
 
-Vec *node_attr_n(const Node *n, const char *name, size_t len)
+const Vec *node_attr_n(const Node *n, const char *name, size_t len)
 {
     for (uint32_t i = 0; i < n->nattrs; i++) {
         const Str *s = n->attrs[i].name;

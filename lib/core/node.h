@@ -49,10 +49,10 @@ void node_add_tag(Node *n, Str *tag);
 void node_append(Node *n, Node *child);
 /* The value of attribute [name] ([len] bytes; borrowed), or NULL when
  * absent. */
-Vec *node_attr_n(const Node *n, const char *name, size_t len);
+const Vec *node_attr_n(const Node *n, const char *name, size_t len);
 /* The same for the NUL-terminated [name] (its length folds away for a
  * string literal). */
-static inline Vec *node_attr(const Node *n, const char *name)
+static inline const Vec *node_attr(const Node *n, const char *name)
 {
     return node_attr_n(n, name, strlen(name));
 }

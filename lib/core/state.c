@@ -84,9 +84,17 @@ static Slot *find(const StateDict *sd, const Vec *key, uint64_t h)
     }
 }
 
-Vec *state_get(const StateDict *sd, const Vec *key)
+const Vec *state_get(const StateDict *sd, const Vec *key)
 {
     ((StateDict *)sd)->counts.gets++;
+    if (!key || !key->len) return NULL;
+    Slot *s = find(sd, key, key_hash(key));
+    return s ? s->value : NULL;
+}
+
+Vec *state_get_mutable(StateDict *sd, const Vec *key)
+{
+    sd->counts.gets++;
     if (!key || !key->len) return NULL;
     Slot *s = find(sd, key, key_hash(key));
     return s ? s->value : NULL;

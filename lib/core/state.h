@@ -13,16 +13,23 @@
 
 typedef struct StateDict StateDict;
 
+/* One entry, borrowed from the dictionary (state_entries). */
 typedef struct StateEntry {
-    Vec *key;     /* non-null key */
-    Vec *value;   /* non-empty value */
+    const Vec *key;     /* non-null key */
+    const Vec *value;   /* non-empty value */
 } StateEntry;
 
 StateDict *state_new(void);
 void state_free(StateDict *sd);
 /* The value stored under [key] (borrowed; valid until the next state_set
  * or state_clear), or NULL when absent or when [key] is null. */
-Vec *state_get(const StateDict *sd, const Vec *key);
+const Vec *state_get(const StateDict *sd, const Vec *key);
+/* state_get for the dictionary's owner updating a value in place under the
+ * copy-on-write rule (value.h): the caller may change the numbers of the
+ * result only while no one else holds a reference to it (refs == 1, or the
+ * references the caller itself keeps), which has the same effect as
+ * storing a new equal-length vector. */
+Vec *state_get_mutable(StateDict *sd, const Vec *key);
 /* Store [value] under [key] (both borrowed and retained). A null or empty
  * [value] deletes the entry. A null [key] is ignored. Returns true when the
  * stored value changed (a set to an equal value, or a delete of a missing

@@ -15,7 +15,9 @@
  *
  * OWNERSHIP RULE (stated once, for every function in this header and every
  * module that uses it): a function that returns `Vec *`, `Str *`, `Node *` or
- * `Func *` returns a NEW reference that the caller owns and must release;
+ * `Func *` returns a NEW reference that the caller owns and must release; a
+ * getter that lends a value it keeps (state_get, node_attr, ...) returns it
+ * `const` and BORROWED (vec_share() turns it into a reference of one's own);
  * arguments are BORROWED unless the function's name ends in `_take` or its
  * comment says "consumes". `vec_release(NULL)` is a no-op.
  *
@@ -138,6 +140,10 @@ static inline bool vec_is_scalar(const Vec *v) { return v && v->kind == VEC_NUM 
 static inline double vec_scalar(const Vec *v) { return vec_cnums(v)[0]; }
 
 static inline Vec *vec_retain(Vec *v) { if (v) v->refs++; return v; }
+/* A new reference to [v], which the caller only borrows as const (from a
+ * getter such as state_get or node_attr): the reference count is
+ * bookkeeping, not part of the value, so sharing does not change it. */
+static inline Vec *vec_share(const Vec *v) { return vec_retain((Vec *)v); }
 /* Internal: free [v] once its last reference is gone (vec_release). */
 void vec_destroy_(Vec *v);
 static inline void vec_release(Vec *v)

@@ -728,7 +728,7 @@ static Vec *eval_node(Eval *ev, const AstNode *n)
         break;
     case AST_LOOKUP:
         a = eval(ev, n->a);
-        r = ev->state ? vec_retain(state_get(ev->state, a)) : NULL;
+        r = ev->state ? vec_share(state_get(ev->state, a)) : NULL;
         vec_release(a);
         break;
     case AST_BINOP: r = eval_binop(ev, n); break;

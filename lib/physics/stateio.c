@@ -157,7 +157,7 @@ void phys_null_stale_keys(PhysSystem *s, StateDict *sd)
  * new vector, without allocating one per particle per frame. */
 static void store_nums(StateDict *sd, const Vec *key, const double *x, size_t D)
 {
-    Vec *cur = state_get(sd, key);
+    Vec *cur = state_get_mutable(sd, key);
     if (cur && cur->refs == 1 && cur->kind == VEC_NUM && cur->len == D) {
         memcpy(vec_nums(cur), x, D * sizeof *x);
         return;
@@ -195,7 +195,7 @@ void phys_write_particles(PhysSystem *s, StateDict *sd)
                 store_nums(sd, keys[j], vecs[j], D);
                 /* what the state holds now (store_nums may have kept an
                  * equal vector) */
-                *(j ? &s->slots[i].vval : &s->slots[i].pval) = state_get(sd, keys[j]);
+                *(j ? &s->slots[i].vval : &s->slots[i].pval) = state_get_mutable(sd, keys[j]);
             }
         }
     }

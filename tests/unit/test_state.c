@@ -22,7 +22,7 @@ static void test_set_get_delete(void **s)
     Vec *k = key2(symbol_value("dish", 4), 3), *v = vec_num1(42);
     assert_true(state_set(sd, k, v));
     assert_false(state_set(sd, k, v));             /* same value: no change */
-    assert_true(vec_nums(state_get(sd, k))[0] == 42);
+    assert_true(vec_cnums(state_get(sd, k))[0] == 42);
     Vec *k2 = key2(symbol_value("dish", 4), 3);    /* an equal, distinct key */
     assert_ptr_equal(state_get(sd, k2), state_get(sd, k));
     assert_true(state_set(sd, k2, NULL));          /* null deletes */
@@ -44,8 +44,8 @@ static void test_key_kinds(void **s)
     assert_null(state_get(sd, negz));              /* 0 and -0 are different keys */
     assert_null(state_get(sd, str));               /* :a and "a" differ */
     state_set(sd, str, two);
-    assert_true(vec_nums(state_get(sd, str))[0] == 2);
-    assert_true(vec_nums(state_get(sd, sym))[0] == 1);
+    assert_true(vec_cnums(state_get(sd, str))[0] == 2);
+    assert_true(vec_cnums(state_get(sd, sym))[0] == 1);
     assert_null(state_get(sd, NULL));
     vec_release(zero); vec_release(negz); vec_release(sym); vec_release(str);
     vec_release(one); vec_release(two);
@@ -72,9 +72,9 @@ static void test_growth_and_churn(void **s)
     assert_int_equal(state_count(sd), 3 * 2500);
     for (int i = 1; i < 5000; i += 2) {
         Vec *k = key2(2, i);
-        Vec *v = state_get(sd, k);
+        const Vec *v = state_get(sd, k);
         assert_non_null(v);
-        assert_true(vec_nums(v)[0] == i * 2.0);
+        assert_true(vec_cnums(v)[0] == i * 2.0);
         vec_release(k);
     }
     size_t n;

@@ -44,10 +44,10 @@ static void test_round_trip(void **s)
     SymTab *st2 = symtab_new();
     assert_int_equal(statefile_load(back, st2, &c2, path, &err), 0);
     assert_int_equal(state_count(back), 2);
-    Vec *r1 = state_get(back, k1);
+    const Vec *r1 = state_get(back, k1);
     assert_non_null(r1);
     assert_int_equal(r1->len, 9);
-    assert_memory_equal(vec_nums(r1), odd, sizeof odd);   /* bit for bit */
+    assert_memory_equal(vec_cnums(r1), odd, sizeof odd);   /* bit for bit */
     assert_true(vec_key_equal(state_get(back, k2), v2));
     assert_int_equal(c2.frame, 42);
     assert_memory_equal(&c2.time, &c.time, sizeof(double));
