@@ -46,7 +46,7 @@ typedef struct SimplifyEnv {
                                    exported, so no top-level binding is unused */
 } SimplifyEnv;
 
-/* Simplify the program [top] (an AST_TOP from parse_program, consumed) and
+/* Simplify the program [top] (an AST_TOP from parse_program; consumes it) and
  * return the simplified AST_TOP (never NULL).
  *   errors: load-time messages (`Unbound name 'x'`, errors of builtin calls
  *           folded at load time, repeated includes) are appended to

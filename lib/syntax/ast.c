@@ -2,7 +2,7 @@
  * (LANGUAGE.md §2.4, node shapes in ast.h).
  *
  * The grammar (grammar/parser.y) calls one builder per reduction; each builder
- * takes ownership of every node, Str and Vec handed to it, so a tree is owned
+ * consumes every node, Str and Vec handed to it, so a tree is owned
  * by exactly one parent and freed with one ast_free() of its root. Lists that
  * the grammar grows left-recursively (statements, bindings, arguments,
  * parameters) are "holder" nodes: a node of the final kind (or AST_BINDING

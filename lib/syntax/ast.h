@@ -102,7 +102,7 @@ struct AstNode {
 AstNode *ast_new(AstKind kind, Loc loc);
 /* Free [n] and everything below it (NULL is a no-op). */
 void ast_free(AstNode *n);
-/* Append [kid] to n->kids (takes ownership; NULL kids are kept as NULL). */
+/* Append [kid] to n->kids (consumes [kid]; NULL kids are kept as NULL). */
 void ast_push(AstNode *n, AstNode *kid);
 /* Append name [s] to n->names (consumes [s]). */
 void ast_push_name(AstNode *n, Str *s);
@@ -116,7 +116,7 @@ AstNode *ast_range(AstNode *start, AstNode *stop, AstNode *step, Loc loc);
 AstNode *ast_binding(AstNode *names_holder, AstNode *value, Loc loc);
 
 /* Builders used by grammar/parser.y (one per tree shape of LANGUAGE.md §2.4).
- * Every builder takes ownership of its node, Str and Vec arguments, sets the
+ * Every builder consumes its node, Str and Vec arguments, sets the
  * result's location to [loc] and returns the result (never NULL).
  * "holder" nodes are lists the grammar grows before the real node exists. */
 
