@@ -19,6 +19,7 @@
 #include "eval.h"
 #include "format.h"
 #include "module.h"
+#include "numexpr.h"
 #include "pool.h"
 #include "stable.h"
 
@@ -73,9 +74,11 @@ static void errorf(Eval *ev, const char *fmt, ...)
  * ==================================================================== */
 
 static Vec *eval_node(Eval *ev, const AstNode *n);
+static Vec *eval_fast(Eval *ev, const AstNode *n);
 
 /* Evaluate [n] (may be NULL): literals and names inline, without a call or
- * the depth guard (they cannot recurse), everything else via eval_node. */
+ * the depth guard (they cannot recurse), compiled numeric subtrees by
+ * eval_fast, everything else via eval_node. */
 static inline Vec *eval(Eval *ev, const AstNode *n)
 {
     if (!n) return NULL;
@@ -87,6 +90,23 @@ static inline Vec *eval(Eval *ev, const AstNode *n)
         case SCOPE_CONST: return vec_retain(n->value);
         default: return NULL;
         }
+    }
+    if (n->fast) return eval_fast(ev, n);
+    return eval_node(ev, n);
+}
+
+/* A compiled numeric subtree (numexpr.h): run on doubles; when an operand
+ * is not a single number, or the generic route would hit the depth limit
+ * inside it, evaluate it generically instead. */
+__attribute__((noinline)) static Vec *eval_fast(Eval *ev, const AstNode *n)
+{
+    const NumExpr *x = numexpr_of(n);
+    uint32_t nout = numexpr_outputs(x);
+    double out[16];
+    if (nout <= 16 && ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH && numexpr_run(x, ev, out)) {
+        Vec *v = vec_new_num(nout);
+        memcpy(vec_nums(v), out, nout * sizeof(double));
+        return v;
     }
     return eval_node(ev, n);
 }
@@ -385,10 +405,12 @@ __attribute__((noinline)) static Vec *eval_call(Eval *ev, const AstNode *n)
 {
     uint32_t npos = n->count, nkw = n->nkids - n->count;
     const AstNode *fn = n->a;
-    if (nkw == 0 && npos <= 8 && fn->kind == AST_NAME && fn->scope == SCOPE_CONST &&
+    if (nkw == 0 && npos <= 8 &&
+        (fn->kind == AST_LITERAL || (fn->kind == AST_NAME && fn->scope == SCOPE_CONST)) &&
         vec_is_obj(fn->value) && fn->value->len == 1 && vec_celems(fn->value)[0].kind == EL_FUNC &&
         vec_celems(fn->value)[0].func->bi) {
-        /* a builtin resolved at load time, positional arguments only: call
+        /* a builtin resolved at load time (a builtin name, or a literal
+         * function after the simplifier), positional arguments only: call
          * it directly (the callee is a constant, so evaluating it last, as
          * below, changes nothing) */
         Vec *args[8];

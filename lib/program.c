@@ -22,6 +22,7 @@
 
 #include "builtins/builtins.h"
 #include "fileio.h"
+#include "numexpr.h"
 #include "parse.h"
 #include "pool.h"
 #include "simplify.h"
@@ -543,6 +544,8 @@ static Program *resolve_program(Program *p, Globals *globals, SymTab *st, Buf *e
         program_release(p);
         return NULL;
     }
+    const char *nofast = getenv("FLITTER_NOFAST");
+    if (!nofast || !*nofast) numexpr_compile_tree(p->top);
     return p;
 }
 
