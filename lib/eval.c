@@ -18,6 +18,7 @@
 #include "builtins/builtins.h"
 #include "eval.h"
 #include "format.h"
+#include "evalcode.h"
 #include "module.h"
 #include "numexpr.h"
 #include "pool.h"
@@ -75,6 +76,7 @@ static void errorf(Eval *ev, const char *fmt, ...)
 
 static Vec *eval_node(Eval *ev, const AstNode *n);
 static Vec *eval_fast(Eval *ev, const AstNode *n);
+static Vec *eval_code(Eval *ev, const AstNode *n);
 
 /* Evaluate [n] (may be NULL): literals and names inline, without a call or
  * the depth guard (they cannot recurse), compiled numeric subtrees by
@@ -91,16 +93,16 @@ static inline Vec *eval(Eval *ev, const AstNode *n)
         default: return NULL;
         }
     }
-    if (n->fast) return eval_fast(ev, n);
+    if (n->fast == 1) return eval_fast(ev, n);
+    if (n->fast == 2) return eval_code(ev, n);
     return eval_node(ev, n);
 }
 
 /* A compiled numeric subtree (numexpr.h): run on doubles; when an operand
  * is not a single number, or the generic route would hit the depth limit
  * inside it, evaluate it generically instead. */
-__attribute__((noinline)) static Vec *eval_fast(Eval *ev, const AstNode *n)
+static inline Vec *run_num(Eval *ev, const AstNode *n, const NumExpr *x)
 {
-    const NumExpr *x = numexpr_of(n);
     uint32_t nout = numexpr_outputs(x);
     double out[16];
     if (nout <= 16 && ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH && numexpr_run(x, ev, out)) {
@@ -109,6 +111,11 @@ __attribute__((noinline)) static Vec *eval_fast(Eval *ev, const AstNode *n)
         return v;
     }
     return eval_node(ev, n);
+}
+
+__attribute__((noinline)) static Vec *eval_fast(Eval *ev, const AstNode *n)
+{
+    return run_num(ev, n, numexpr_of(n));
 }
 
 /* ====================================================================
@@ -738,6 +745,133 @@ static void eval_export(Eval *ev, const AstNode *n)
         out->values[out->count] = vec_retain(ev->frame[x->slots[i]]);
         out->count++;
     }
+}
+
+/* ====================================================================
+ * Compiled regions (evalcode.h): each record does what the eval_* function
+ * of its AST kind does, in the same order, with the same depth accounting
+ * ==================================================================== */
+
+static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off);
+
+/* eval_node's depth guard; false (with the error) on overflow. */
+static inline bool depth_enter(Eval *ev)
+{
+    if (++ev->depth > MAX_EVAL_DEPTH) {
+        ev->depth--;
+        ev->overflow = true;
+        eval_error(ev, "Stack overflow in program");
+        return false;
+    }
+    return true;
+}
+
+static const uint32_t *rec_offs(const CRec *r) { return (const uint32_t *)(const void *)(r + 1); }
+
+/* C_SEQ: eval_sequence */
+static Vec *run_seq(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    if (r->n == 1) return run_rec(ev, base, k[0]);
+    Parts parts;
+    parts_init(&parts);
+    for (uint32_t i = 0; i < r->n; i++) parts_push(&parts, run_rec(ev, base, k[i]));
+    return parts_finish(ev, &parts);
+}
+
+/* C_LET: eval_let of single-name, non-stable bindings */
+static Vec *run_let(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
+    for (uint32_t i = 0; i < r->n; i++) set_slot(ev, t->binds[i].slot, run_rec(ev, base, t->binds[i].off));
+    return run_rec(ev, base, t->body);
+}
+
+/* C_ATTRS: eval_attributes */
+static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+    Vec *v = run_rec(ev, base, t->node);
+    Vec *small[16];
+    Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
+    if (!vals) abort();
+    for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
+    if (has_nodes(v)) {
+        v = vec_unshare(v);
+        Elem *e = vec_elems(v);
+        for (uint32_t i = 0; i < v->len; i++) {
+            if (e[i].kind != EL_NODE) continue;
+            e[i].node = node_mut(e[i].node);
+            for (uint32_t k = 0; k < r->n; k++)
+                node_set_attr(e[i].node, t->attrs[k].name, vec_retain(vals[k]));
+        }
+    }
+    for (uint32_t k = 0; k < r->n; k++) vec_release(vals[k]);
+    if (vals != small) free(vals);
+    return v;
+}
+
+/* C_CALLBI: eval_call's direct route for a builtin callee */
+static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    Vec *args[8];
+    for (uint32_t i = 0; i < r->n; i++) args[i] = run_rec(ev, base, k[i]);
+    Args a = {args, r->n, NULL, NULL, 0};
+    Vec *v = call_builtin(ev, r->p.bi, &a);
+    for (uint32_t i = 0; i < r->n; i++) vec_release(args[i]);
+    return v;
+}
+
+/* C_APPEND: eval_append */
+static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    Vec *p = run_rec(ev, base, k[0]);
+    Vec *c = run_rec(ev, base, k[1]);
+    if (has_nodes(p) && has_nodes(c)) {
+        p = vec_unshare(p);
+        Elem *e = vec_elems(p);
+        const Elem *ce = vec_celems(c);
+        for (uint32_t i = 0; i < p->len; i++) {
+            if (e[i].kind != EL_NODE) continue;
+            e[i].node = node_mut(e[i].node);
+            for (uint32_t j = 0; j < c->len; j++)
+                if (ce[j].kind == EL_NODE) node_append(e[i].node, ce[j].node);
+        }
+    }
+    vec_release(c);
+    return p;
+}
+
+static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off)
+{
+    const CRec *r = crec(base, off);
+    Vec *v;
+    switch (r->op) {
+    case C_LIT: return vec_retain(r->p.lit);
+    case C_LOCAL: return vec_retain(ev->frame[r->n]);
+    case C_GLOBAL: return ev->globals ? vec_retain(ev->globals->values[r->n]) : NULL;
+    case C_NUM: return run_num(ev, r->p.node, (const NumExpr *)(const void *)(r + 1));
+    case C_AST: return eval(ev, r->p.node);
+    default: break;
+    }
+    if (!depth_enter(ev)) return NULL;
+    switch (r->op) {
+    case C_SEQ: v = run_seq(ev, base, r); break;
+    case C_LET: v = run_let(ev, base, r); break;
+    case C_ATTRS: v = run_attrs(ev, base, r); break;
+    case C_CALLBI: v = run_callbi(ev, base, r); break;
+    case C_APPEND: v = run_append(ev, base, r); break;
+    default: v = NULL; break;
+    }
+    ev->depth--;
+    return v;
+}
+
+__attribute__((noinline)) static Vec *eval_code(Eval *ev, const AstNode *n)
+{
+    return run_rec(ev, n->aux, 0);
 }
 
 /* ====================================================================

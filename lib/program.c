@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "builtins/builtins.h"
+#include "evalcode.h"
 #include "fileio.h"
 #include "numexpr.h"
 #include "parse.h"
@@ -545,7 +546,10 @@ static Program *resolve_program(Program *p, Globals *globals, SymTab *st, Buf *e
         return NULL;
     }
     const char *nofast = getenv("FLITTER_NOFAST");
-    if (!nofast || !*nofast) numexpr_compile_tree(p->top);
+    if (!nofast || !*nofast) {
+        numexpr_compile_tree(p->top);
+        evalcode_compile_tree(p->top);
+    }
     return p;
 }
 
