@@ -107,7 +107,8 @@ static inline Vec *run_num(Eval *ev, const AstNode *n, const NumExpr *x)
     double out[16];
     if (nout <= 16 && ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH && numexpr_run(x, ev, out)) {
         Vec *v = vec_new_num(nout);
-        memcpy(vec_nums(v), out, nout * sizeof(double));
+        double *d = vec_nums(v);
+        for (uint32_t k = 0; k < nout; k++) d[k] = out[k];
         return v;
     }
     return eval_node(ev, n);

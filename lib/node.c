@@ -42,11 +42,18 @@ void node_release(Node *n)
     if (!n || --n->refs) return;
     str_release(n->kind);
     for (uint32_t i = 0; i < n->ntags; i++) str_release(n->tags[i]);
+    /* a released tree is usually cold (built a frame ago): ask for the
+     * memory a few steps ahead of the loops that touch it */
+    for (uint32_t i = 0; i < n->nattrs; i++) __builtin_prefetch(n->attrs[i].value, 1);
     for (uint32_t i = 0; i < n->nattrs; i++) {
         str_release(n->attrs[i].name);
         vec_release(n->attrs[i].value);
     }
-    for (uint32_t i = 0; i < n->nchildren; i++) node_release(n->children[i]);
+    for (uint32_t i = 0; i < n->nchildren; i++) {
+        if (i + 8 < n->nchildren) __builtin_prefetch(n->children[i + 8], 1);
+        if (i + 4 < n->nchildren) __builtin_prefetch(n->children[i + 4]->attrs, 0);
+        node_release(n->children[i]);
+    }
     pool_release(n->tags, (size_t)n->cap_tags * sizeof(Str *));
     pool_release(n->attrs, (size_t)n->cap_attrs * sizeof(Attr));
     pool_release(n->children, (size_t)n->cap_children * sizeof(Node *));
