@@ -28,6 +28,7 @@ typedef struct Pool Pool;
 
 #define POOL_SMALL_MAX 256   /* largest request of the 16-byte-step classes */
 #define POOL_NCLASS 30       /* 16 small classes, then 512 B .. 4 MiB */
+#define POOL_PREFETCH 4      /* how many allocations ahead a class prefetches */
 
 /* Counts of real allocator calls made on behalf of pooled blocks. */
 typedef struct PoolStats {
@@ -83,8 +84,10 @@ static inline void *pool_alloc(size_t size)
         PoolStack *s = &p->free[(size - 1) / 16];
         if (s->n) {
             void *b = s->items[--s->n];
-            /* the next block of this class is probably wanted soon */
-            if (s->n) __builtin_prefetch(s->items[s->n - 1], 1);
+            /* blocks kept here are usually cold (released a frame ago):
+             * fetch the one this class hands out POOL_PREFETCH calls from
+             * now, so that it has arrived by then */
+            if (s->n >= POOL_PREFETCH) __builtin_prefetch(s->items[s->n - POOL_PREFETCH], 1);
             return b;
         }
     }

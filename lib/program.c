@@ -587,7 +587,9 @@ Program *program_load_text(const char *path, const char *text, size_t len,
     }
     if (globals && globals->simplify) {
         p->top = top = simplify_top(p, top, globals, st, NULL);
-        p->simplified = ast_copy(top);
+        /* kept only for simplifying again with stable values, which only
+         * `let stable` bindings (numbered in stable_ids) can produce */
+        if (p->stable_ids) p->simplified = ast_copy(top);
     }
     return resolve_program(p, globals, st, err);
 }
