@@ -103,13 +103,10 @@ static inline Vec *eval(Eval *ev, const AstNode *n)
  * inside it, evaluate it generically instead. */
 static inline Vec *run_num(Eval *ev, const AstNode *n, const NumExpr *x)
 {
-    uint32_t nout = numexpr_outputs(x);
-    double out[16];
-    if (nout <= 16 && ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH && numexpr_run(x, ev, out)) {
-        Vec *v = vec_new_num(nout);
-        double *d = vec_nums(v);
-        for (uint32_t k = 0; k < nout; k++) d[k] = out[k];
-        return v;
+    if (ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH) {
+        Vec *v = vec_new_num(numexpr_outputs(x));
+        if (numexpr_run(x, ev, vec_nums(v))) return v;
+        vec_release(v);
     }
     return eval_node(ev, n);
 }
@@ -812,6 +809,22 @@ static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
     return v;
 }
 
+/* C_NEWNODE: eval_attributes on a literal bare node, which it would copy
+ * (it is shared) before setting the attributes: the same node, built
+ * directly */
+static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+    Vec *small[16];
+    Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
+    if (!vals) abort();
+    for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
+    Node *nn = node_new(vec_celems(r->p.lit)[0].node->kind);
+    for (uint32_t k = 0; k < r->n; k++) node_set_attr(nn, t->attrs[k].name, vals[k]);
+    if (vals != small) free(vals);
+    return vec_node_take(nn);
+}
+
 /* C_CALLBI: eval_call's direct route for a builtin callee */
 static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
 {
@@ -864,6 +877,7 @@ static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off)
     case C_ATTRS: v = run_attrs(ev, base, r); break;
     case C_CALLBI: v = run_callbi(ev, base, r); break;
     case C_APPEND: v = run_append(ev, base, r); break;
+    case C_NEWNODE: v = run_newnode(ev, base, r); break;
     default: v = NULL; break;
     }
     ev->depth--;

@@ -74,6 +74,15 @@ static bool compilable(const AstNode *n)
 
 static uint32_t emit(CC *c, const AstNode *n);
 
+/* True when [n] is a literal holding one node with no tags, attributes or
+ * children (`!ellipse`). */
+static bool bare_node(const AstNode *n)
+{
+    if (!n || n->kind != AST_LITERAL || !vec_is_obj(n->value) || n->value->len != 1) return false;
+    const Elem *e = vec_celems(n->value);
+    return e->kind == EL_NODE && !e->node->ntags && !e->node->nattrs && !e->node->nchildren;
+}
+
 static uint32_t emit_ast(CC *c, const AstNode *n)
 {
     uint32_t off = reserve(c, sizeof(CRec));
@@ -150,9 +159,15 @@ static uint32_t emit(CC *c, const AstNode *n)
         return off;
     case AST_ATTRIBUTES:
         off = reserve(c, sizeof(CRec) + sizeof(CAttrsTail) + n->nkids * sizeof(CAttr));
-        rec(c, off)->op = C_ATTRS;
         rec(c, off)->n = n->nkids;
-        t = emit(c, n->a);
+        if (bare_node(n->a)) {
+            rec(c, off)->op = C_NEWNODE;
+            rec(c, off)->p.lit = n->a->value;
+            t = 0;
+        } else {
+            rec(c, off)->op = C_ATTRS;
+            t = emit(c, n->a);
+        }
         ((CAttrsTail *)(void *)(c->buf + off + sizeof(CRec)))->node = t;
         for (uint32_t i = 0; i < n->nkids; i++) {
             t = emit(c, n->kids[i]->a);

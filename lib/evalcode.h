@@ -38,6 +38,9 @@ enum {
     C_ATTRS,    /* n bindings: CAttrsTail follows (§4.10) */
     C_CALLBI,   /* p.bi, n positional args: uint32 offsets follow (§4.8) */
     C_APPEND,   /* uint32 offsets of parent and children follow (§4.10) */
+    C_NEWNODE,  /* C_ATTRS on a literal bare node (no tags, attributes or
+                   children; p.lit holds it): a new node of its kind with
+                   the attributes set, the literal left untouched */
 };
 
 struct Builtin;

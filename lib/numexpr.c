@@ -23,6 +23,9 @@ enum {
     NX_CONST, NX_LOCAL, NX_GLOBAL,
     NX_ADD, NX_SUB, NX_MUL, NX_DIV, NX_FLOORDIV, NX_MOD, NX_POW, NX_SQUARE,
     NX_NEG, NX_NOT, NX_CMP, NX_CALL1,
+    /* an arithmetic operator whose right operand is the constant k */
+    NX_ADDK, NX_SUBK, NX_MULK, NX_DIVK,
+    NX_END,     /* the last instruction */
 };
 
 typedef struct NxIns {
@@ -36,7 +39,7 @@ typedef struct NxIns {
 } NxIns;
 
 struct NumExpr {
-    uint32_t nins;      /* instructions */
+    uint32_t nins;      /* instructions (the last is NX_END) */
     uint32_t nout;      /* numbers produced */
     uint32_t depth;     /* generic eval_node nesting of the subtree */
     NxIns ins[];
@@ -115,11 +118,24 @@ static bool scalar_ok(const AstNode *n, int budget)
     }
 }
 
+/* True when [n] is a constant number (a literal or a constant name);
+ * sets *[k]. */
+static bool const_value(const AstNode *n, double *k)
+{
+    if ((n->kind == AST_LITERAL || (n->kind == AST_NAME && n->scope == SCOPE_CONST)) &&
+        vec_is_scalar(n->value)) {
+        *k = vec_scalar(n->value);
+        return true;
+    }
+    return false;
+}
+
 /* Emit [n] (scalar_ok); returns the generic evaluator's nesting for it:
  * eval_node levels, literals and names taking none. */
 static uint32_t emit_scalar(Nx *c, const AstNode *n)
 {
     uint32_t d = 0, e;
+    double k;
     switch ((AstKind)n->kind) {
     case AST_LITERAL:
         emit(c, (NxIns){.op = NX_CONST, .k = vec_scalar(n->value)}, 1);
@@ -134,6 +150,19 @@ static uint32_t emit_scalar(Nx *c, const AstNode *n)
             /* F2 (§4.17): x**2 is x*x */
             d = emit_scalar(c, n->a);
             emit(c, (NxIns){.op = NX_SQUARE}, 0);
+            return d + 1;
+        }
+        if (n->op <= OP_DIV && const_value(n->b, &k)) {
+            /* x OP k: one instruction */
+            d = emit_scalar(c, n->a);
+            emit(c, (NxIns){.op = (uint8_t)(NX_ADDK + n->op), .k = k}, 0);
+            return d + 1;
+        }
+        if ((n->op == OP_ADD || n->op == OP_MUL) && const_value(n->a, &k)) {
+            /* k + x, k * x: IEEE addition and multiplication commute
+             * exactly (a NaN operand gives that NaN either way) */
+            d = emit_scalar(c, n->b);
+            emit(c, (NxIns){.op = (uint8_t)(NX_ADDK + n->op), .k = k}, 0);
             return d + 1;
         }
         d = emit_scalar(c, n->a);
@@ -205,6 +234,7 @@ static bool compile_root(AstNode *n)
     } else {
         depth = emit_scalar(&c, n);
     }
+    emit(&c, (NxIns){.op = NX_END}, 0);
     if (c.fail || c.sp != nout) {
         free(c.ins);
         return false;
@@ -252,51 +282,55 @@ static double compare(uint8_t op, double x, double y)
 
 bool numexpr_run(const NumExpr *x, Eval *ev, double *out)
 {
-    double st[NX_STACK];
-    uint32_t sp = 0;
-    const NxIns *i = x->ins, *end = x->ins + x->nins;
-    for (; i < end; i++) {
-        const Vec *v;
-        double a, b;
+    /* the top of the stack lives in t; st[1..] holds the rest (the first
+     * push saves t's meaningless initial value in st[0]) */
+    double st[NX_STACK + 1];
+    double *sp = st, t = 0.0, a;
+    const Vec *v;
+    for (const NxIns *i = x->ins;; i++) {
         switch (i->op) {
-        case NX_CONST: st[sp++] = i->k; break;
+        case NX_CONST: *sp++ = t; t = i->k; break;
         case NX_LOCAL:
             v = ev->frame[i->arg];
             if (!vec_is_scalar(v)) return false;
-            st[sp++] = vec_cnums(v)[0];
+            *sp++ = t;
+            t = vec_cnums(v)[0];
             break;
         case NX_GLOBAL:
             if (!ev->globals) return false;
             v = ev->globals->values[i->arg];
             if (!vec_is_scalar(v)) return false;
-            st[sp++] = vec_cnums(v)[0];
+            *sp++ = t;
+            t = vec_cnums(v)[0];
             break;
-        case NX_ADD: sp--; st[sp - 1] = st[sp - 1] + st[sp]; break;
-        case NX_SUB: sp--; st[sp - 1] = st[sp - 1] - st[sp]; break;
-        case NX_MUL: sp--; st[sp - 1] = st[sp - 1] * st[sp]; break;
-        case NX_DIV: sp--; st[sp - 1] = st[sp - 1] / st[sp]; break;
-        case NX_FLOORDIV: sp--; st[sp - 1] = num_floordiv(st[sp - 1], st[sp]); break;
-        case NX_MOD: sp--; st[sp - 1] = num_mod(st[sp - 1], st[sp]); break;
-        case NX_POW: sp--; st[sp - 1] = pow(st[sp - 1], st[sp]); break;
-        case NX_SQUARE: st[sp - 1] = st[sp - 1] * st[sp - 1]; break;
-        case NX_NEG: st[sp - 1] = -st[sp - 1]; break;
-        case NX_NOT:
-            a = st[sp - 1];
-            st[sp - 1] = (a != 0.0 || isnan(a)) ? 0.0 : 1.0;
-            break;
+        case NX_ADD: a = *--sp; t = a + t; break;
+        case NX_SUB: a = *--sp; t = a - t; break;
+        case NX_MUL: a = *--sp; t = a * t; break;
+        case NX_DIV: a = *--sp; t = a / t; break;
+        case NX_FLOORDIV: a = *--sp; t = num_floordiv(a, t); break;
+        case NX_MOD: a = *--sp; t = num_mod(a, t); break;
+        case NX_POW: a = *--sp; t = pow(a, t); break;
+        case NX_SQUARE: t = t * t; break;
+        case NX_NEG: t = -t; break;
+        case NX_NOT: t = (t != 0.0 || isnan(t)) ? 0.0 : 1.0; break;
         case NX_CMP:
-            sp--;
-            a = st[sp - 1];
-            b = st[sp];
+            a = *--sp;
             /* NaN: the generic route's answer depends on whether both
              * operands are the same vector (§3.6 rule 1) */
-            if (isnan(a) || isnan(b)) return false;
-            st[sp - 1] = compare(i->sub, a, b);
+            if (isnan(a) || isnan(t)) return false;
+            t = compare(i->sub, a, t);
             break;
-        case NX_CALL1: st[sp - 1] = i->fn(st[sp - 1]); break;
+        case NX_CALL1: t = i->fn(t); break;
+        case NX_ADDK: t = t + i->k; break;
+        case NX_SUBK: t = t - i->k; break;
+        case NX_MULK: t = t * i->k; break;
+        case NX_DIVK: t = t / i->k; break;
+        case NX_END:
+            /* the outputs: st[1..nout-1], then t */
+            for (uint32_t k = 1; k < x->nout; k++) out[k - 1] = st[k];
+            out[x->nout - 1] = t;
+            return true;
         default: return false;
         }
     }
-    for (uint32_t k = 0; k < x->nout; k++) out[k] = st[k];
-    return true;
 }
