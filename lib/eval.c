@@ -182,9 +182,9 @@ static Vec *parts_finish(Eval *ev, Parts *p)
         r = NULL;
         if (p->n == 1) vec_release(p->v[0]);
     } else {
-        r = p->n == 1 ? p->v[0] : vec_compose(p->v, p->n);
+        r = p->n == 1 ? p->v[0] : vec_compose_take(p->v, p->n);
     }
-    if (p->n != 1)
+    if (p->too_long && p->n != 1)
         for (size_t i = 0; i < p->n; i++) vec_release(p->v[i]);
     if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
     return r;
@@ -820,7 +820,14 @@ static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
     if (!vals) abort();
     for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
     Node *nn = node_new(vec_celems(r->p.lit)[0].node->kind);
-    for (uint32_t k = 0; k < r->n; k++) node_set_attr(nn, t->attrs[k].name, vals[k]);
+    if (r->n <= 16) {
+        /* distinct names (evalcode.c checks): set them all at once */
+        Str *names[16];
+        for (uint32_t k = 0; k < r->n; k++) names[k] = t->attrs[k].name;
+        node_init_attrs(nn, r->n, names, vals);
+    } else {
+        for (uint32_t k = 0; k < r->n; k++) node_set_attr(nn, t->attrs[k].name, vals[k]);
+    }
     if (vals != small) free(vals);
     return vec_node_take(nn);
 }

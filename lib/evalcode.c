@@ -74,6 +74,16 @@ static bool compilable(const AstNode *n)
 
 static uint32_t emit(CC *c, const AstNode *n);
 
+/* True when the bindings of [n] (AST_ATTRIBUTES) name pairwise different
+ * attributes. */
+static bool distinct_names(const AstNode *n)
+{
+    for (uint32_t i = 0; i < n->nkids; i++)
+        for (uint32_t j = 0; j < i; j++)
+            if (str_eq(n->kids[i]->names[0], n->kids[j]->names[0])) return false;
+    return true;
+}
+
 /* True when [n] is a literal holding one node with no tags, attributes or
  * children (`!ellipse`). */
 static bool bare_node(const AstNode *n)
@@ -160,7 +170,7 @@ static uint32_t emit(CC *c, const AstNode *n)
     case AST_ATTRIBUTES:
         off = reserve(c, sizeof(CRec) + sizeof(CAttrsTail) + n->nkids * sizeof(CAttr));
         rec(c, off)->n = n->nkids;
-        if (bare_node(n->a)) {
+        if (bare_node(n->a) && distinct_names(n)) {
             rec(c, off)->op = C_NEWNODE;
             rec(c, off)->p.lit = n->a->value;
             t = 0;
