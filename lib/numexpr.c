@@ -282,55 +282,65 @@ static double compare(uint8_t op, double x, double y)
 
 bool numexpr_run(const NumExpr *x, Eval *ev, double *out)
 {
+    /* threaded dispatch (GNU C labels as values): each instruction jumps
+     * straight to the next one's code */
+    static const void *const code[] = {
+        [NX_CONST] = &&l_const, [NX_LOCAL] = &&l_local, [NX_GLOBAL] = &&l_global,
+        [NX_ADD] = &&l_add, [NX_SUB] = &&l_sub, [NX_MUL] = &&l_mul, [NX_DIV] = &&l_div,
+        [NX_FLOORDIV] = &&l_floordiv, [NX_MOD] = &&l_mod, [NX_POW] = &&l_pow,
+        [NX_SQUARE] = &&l_square, [NX_NEG] = &&l_neg, [NX_NOT] = &&l_not, [NX_CMP] = &&l_cmp,
+        [NX_CALL1] = &&l_call1, [NX_ADDK] = &&l_addk, [NX_SUBK] = &&l_subk,
+        [NX_MULK] = &&l_mulk, [NX_DIVK] = &&l_divk, [NX_END] = &&l_end,
+    };
+    _Static_assert(sizeof code / sizeof code[0] == NX_END + 1, "every instruction has code");
     /* the top of the stack lives in t; st[1..] holds the rest (the first
      * push saves t's meaningless initial value in st[0]) */
     double st[NX_STACK + 1];
     double *sp = st, t = 0.0, a;
     const Vec *v;
-    for (const NxIns *i = x->ins;; i++) {
-        switch (i->op) {
-        case NX_CONST: *sp++ = t; t = i->k; break;
-        case NX_LOCAL:
-            v = ev->frame[i->arg];
-            if (!vec_is_scalar(v)) return false;
-            *sp++ = t;
-            t = vec_cnums(v)[0];
-            break;
-        case NX_GLOBAL:
-            if (!ev->globals) return false;
-            v = ev->globals->values[i->arg];
-            if (!vec_is_scalar(v)) return false;
-            *sp++ = t;
-            t = vec_cnums(v)[0];
-            break;
-        case NX_ADD: a = *--sp; t = a + t; break;
-        case NX_SUB: a = *--sp; t = a - t; break;
-        case NX_MUL: a = *--sp; t = a * t; break;
-        case NX_DIV: a = *--sp; t = a / t; break;
-        case NX_FLOORDIV: a = *--sp; t = num_floordiv(a, t); break;
-        case NX_MOD: a = *--sp; t = num_mod(a, t); break;
-        case NX_POW: a = *--sp; t = pow(a, t); break;
-        case NX_SQUARE: t = t * t; break;
-        case NX_NEG: t = -t; break;
-        case NX_NOT: t = (t != 0.0 || isnan(t)) ? 0.0 : 1.0; break;
-        case NX_CMP:
-            a = *--sp;
-            /* NaN: the generic route's answer depends on whether both
-             * operands are the same vector (§3.6 rule 1) */
-            if (isnan(a) || isnan(t)) return false;
-            t = compare(i->sub, a, t);
-            break;
-        case NX_CALL1: t = i->fn(t); break;
-        case NX_ADDK: t = t + i->k; break;
-        case NX_SUBK: t = t - i->k; break;
-        case NX_MULK: t = t * i->k; break;
-        case NX_DIVK: t = t / i->k; break;
-        case NX_END:
-            /* the outputs: st[1..nout-1], then t */
-            for (uint32_t k = 1; k < x->nout; k++) out[k - 1] = st[k];
-            out[x->nout - 1] = t;
-            return true;
-        default: return false;
-        }
-    }
+    const NxIns *i = x->ins;
+#define NEXT goto *code[(++i)->op]
+    goto *code[i->op];
+l_const: *sp++ = t; t = i->k; NEXT;
+l_local:
+    v = ev->frame[i->arg];
+    if (!vec_is_scalar(v)) return false;
+    *sp++ = t;
+    t = vec_cnums(v)[0];
+    NEXT;
+l_global:
+    if (!ev->globals) return false;
+    v = ev->globals->values[i->arg];
+    if (!vec_is_scalar(v)) return false;
+    *sp++ = t;
+    t = vec_cnums(v)[0];
+    NEXT;
+l_add: a = *--sp; t = a + t; NEXT;
+l_sub: a = *--sp; t = a - t; NEXT;
+l_mul: a = *--sp; t = a * t; NEXT;
+l_div: a = *--sp; t = a / t; NEXT;
+l_floordiv: a = *--sp; t = num_floordiv(a, t); NEXT;
+l_mod: a = *--sp; t = num_mod(a, t); NEXT;
+l_pow: a = *--sp; t = pow(a, t); NEXT;
+l_square: t = t * t; NEXT;
+l_neg: t = -t; NEXT;
+l_not: t = (t != 0.0 || isnan(t)) ? 0.0 : 1.0; NEXT;
+l_cmp:
+    a = *--sp;
+    /* NaN: the generic route's answer depends on whether both operands
+     * are the same vector (§3.6 rule 1) */
+    if (isnan(a) || isnan(t)) return false;
+    t = compare(i->sub, a, t);
+    NEXT;
+l_call1: t = i->fn(t); NEXT;
+l_addk: t = t + i->k; NEXT;
+l_subk: t = t - i->k; NEXT;
+l_mulk: t = t * i->k; NEXT;
+l_divk: t = t / i->k; NEXT;
+l_end:
+#undef NEXT
+    /* the outputs: st[1..nout-1], then t */
+    for (uint32_t k = 1; k < x->nout; k++) out[k - 1] = st[k];
+    out[x->nout - 1] = t;
+    return true;
 }
