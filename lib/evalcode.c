@@ -116,7 +116,7 @@ static uint32_t emit(CC *c, const AstNode *n)
         rec(c, off)->op = C_LIT;
         return off;
     }
-    if (n->fast == 1) {
+    if (n->fast == 1 || numexpr_compile((AstNode *)n)) {
         const NumExpr *x = numexpr_of(n);
         size_t size = numexpr_size(x);
         off = reserve(c, sizeof(CRec) + size);
@@ -214,6 +214,7 @@ static void compile_children(AstNode *n);
 void evalcode_compile_tree(AstNode *n)
 {
     if (!n) return;
+    if (numexpr_compile(n)) return;
     if (!compilable(n)) {
         compile_children(n);
         return;

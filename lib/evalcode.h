@@ -81,8 +81,8 @@ typedef struct CAttrsTail {
     CAttr attrs[];      /* n of them, in order */
 } CAttrsTail;
 
-/* Compile the regions of the resolved tree [top] in place (see above),
- * after numexpr_compile_tree(). Never fails. */
+/* Compile the regions and the numeric subtrees (numexpr.h) of the
+ * resolved tree [top] in place (see above). Never fails. */
 void evalcode_compile_tree(AstNode *top);
 
 /* The record at byte offset [off] of block [base]. */

@@ -209,8 +209,7 @@ static bool is_operation(const AstNode *n)
     return n->kind != AST_LITERAL && n->kind != AST_NAME;
 }
 
-/* Compile [n] as a root when it qualifies; true when done. */
-static bool compile_root(AstNode *n)
+bool numexpr_compile(AstNode *n)
 {
     if (n->aux || n->fast) return false;
     uint32_t nout;
@@ -252,15 +251,6 @@ static bool compile_root(AstNode *n)
     return true;
 }
 
-void numexpr_compile_tree(AstNode *n)
-{
-    if (!n) return;
-    if (compile_root(n)) return;
-    numexpr_compile_tree(n->a);
-    numexpr_compile_tree(n->b);
-    numexpr_compile_tree(n->c);
-    for (uint32_t i = 0; i < n->nkids; i++) numexpr_compile_tree(n->kids[i]);
-}
 
 /* ====================================================================
  * Running

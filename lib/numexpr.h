@@ -1,8 +1,8 @@
 /* numexpr.h: compiled numeric expressions, the evaluator's fast route for
  * arithmetic on single numbers (issue 10 item 3).
  *
- * After a program's names are resolved (program.c), numexpr_compile_tree()
- * finds every maximal subtree that is arithmetic on one-number operands:
+ * After a program's names are resolved (program.c), the compiler
+ * (evalcode_compile_tree, numexpr_compile) finds every maximal subtree that is arithmetic on one-number operands:
  * literal numbers, names, + - * / // % **, unary - + not, the comparisons
  * other than `in`, and calls of the one-argument element-wise builtins
  * (sin, cos, sqrt, ...; bi_kernel in builtins.h). Such a subtree, or an
@@ -37,10 +37,12 @@
 
 typedef struct NumExpr NumExpr;
 
-/* Compile the maximal numeric subtrees of the resolved tree [top] in place
- * (see above). Nodes that already carry resolver data (aux) are left alone.
- * Never fails; a subtree too deep for the instruction stack stays generic. */
-void numexpr_compile_tree(AstNode *top);
+/* Compile the resolved subtree [n] in place (see above) when it qualifies
+ * as a whole; true when it did. Nodes that already carry resolver data
+ * (aux) are left alone; a subtree too deep for the instruction stack stays
+ * generic. evalcode_compile_tree (evalcode.h) calls it for every maximal
+ * subtree. */
+bool numexpr_compile(AstNode *n);
 
 /* The compiled expression of [n] (n->fast must be set). */
 static inline const NumExpr *numexpr_of(const AstNode *n) { return (const NumExpr *)n->aux; }

@@ -23,7 +23,6 @@
 #include "builtins/builtins.h"
 #include "evalcode.h"
 #include "fileio.h"
-#include "numexpr.h"
 #include "parse.h"
 #include "pool.h"
 #include "simplify.h"
@@ -546,10 +545,7 @@ static Program *resolve_program(Program *p, Globals *globals, SymTab *st, Buf *e
         return NULL;
     }
     const char *nofast = getenv("FLITTER_NOFAST");
-    if (!nofast || !*nofast) {
-        numexpr_compile_tree(p->top);
-        evalcode_compile_tree(p->top);
-    }
+    if (!nofast || !*nofast) evalcode_compile_tree(p->top);
     return p;
 }
 
