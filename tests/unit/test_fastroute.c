@@ -134,6 +134,44 @@ static void test_nodes_and_loops(void **s)
             " !tail\n");
 }
 
+/* Both routes give the same tree and the same messages: [src] evaluated
+ * compiled and generic, in the mode [simplify]; the log must contain
+ * [message]. */
+static void expect_same(const char *src, bool simplify, const char *message)
+{
+    char *log_g, *log_f;
+    char *tree_g = run_one(src, simplify, false, &log_g);
+    char *tree_f = run_one(src, simplify, true, &log_f);
+    assert_string_equal(tree_f, tree_g);
+    assert_string_equal(log_f, log_g);
+    assert_non_null(strstr(log_f, message));
+    free(tree_g);
+    free(tree_f);
+    free(log_g);
+    free(log_f);
+}
+
+/* Run-time limits hit inside compiled regions: the recursion limit, and
+ * the evaluator's depth limit (without the simplifier each `let` of the
+ * chain is one level, 40 per call, so the depth runs out before the
+ * recursion limit of 500 calls). */
+static void test_limits_same(void **s)
+{
+    (void)s;
+    expect_same("func f(n)\n    let m=n+1\n    !x v=m\n    f(m)\n!r << f(time)\n", false,
+                "Recursion depth exceeded for func 'f'");
+    char src[4096];
+    size_t len = 0;
+    len += (size_t)snprintf(src + len, sizeof src - len, "func g(n)\n    let a0=n+1\n");
+    for (int i = 1; i < 40; i++)
+        len += (size_t)snprintf(src + len, sizeof src - len, "    let a%d=a%d+1\n", i, i - 1);
+    snprintf(src + len, sizeof src - len, "    !y v=a39\n    g(a39)\n!r << g(time)\n");
+    expect_same(src, false, "Stack overflow in program");
+    /* the simplifier joins the chain into one `let` of 40 bindings (one
+     * level): the recursion limit comes first */
+    expect_same(src, true, "Recursion depth exceeded for func 'g'");
+}
+
 /* Compilation marks nodes (AstNode.fast) unless FLITTER_NOFAST is set. */
 static int count_fast(const AstNode *n)
 {
@@ -173,6 +211,7 @@ int main(void)
         cmocka_unit_test(test_fallback_shapes),
         cmocka_unit_test(test_builtin_kernels),
         cmocka_unit_test(test_nodes_and_loops),
+        cmocka_unit_test(test_limits_same),
         cmocka_unit_test(test_route_taken),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
