@@ -10,7 +10,7 @@
  * a lexical error), which stores the kind and byte span in one place; no
  * rule counts lines (positions are offsets, parse.h maps them).
  *
- * State lives in the `Lexer` struct (indent.h): cursor, marker, the previous
+ * State lives in the `Lexer` struct (lexer.h): cursor, marker, the previous
  * token kind (only used to tell `%include`/`%pragma` from '%' at the start
  * of a statement) and the end of the last real token (where TK_END goes).
  * Keywords are returned as keyword tokens; grammar/parser.y accepts them as
@@ -22,7 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "indent.h"
+#include "lexer.h"
 #include "utf8.h"
 
 /*!include:re2c "unicode_categories.re" */

@@ -1,9 +1,9 @@
 /* parser.y: the Flitter grammar (LANGUAGE.md §2.1-§2.3) and its trees
- * (§2.4, shapes in lib/ast.h).
+ * (§2.4, shapes in lib/syntax/ast.h).
  *
- * A pure LALR(1) parser fed by parse_lex() (lib/source.c: the re2c lexer
+ * A pure LALR(1) parser fed by parse_lex() (lib/syntax/parse.c: the re2c lexer
  * followed by the indentation filter). Every action is one call to a
- * builder of lib/ast.c; there is no mid-rule action and no evaluation here.
+ * builder of lib/syntax/ast.c; there is no mid-rule action and no evaluation here.
  * The expression grammar is written as one nonterminal per precedence level
  * (§2.2) rather than with %left/%right, so associativity and the syntax
  * errors it implies (`2**-1`, `a < b < c`) fall out of the productions.
@@ -43,12 +43,12 @@
 %code requires {
 #include "ast.h"
 
-/* The parser driver's state (lib/source.c). */
+/* The parser driver's state (lib/syntax/parse.c). */
 typedef struct ParseCtx ParseCtx;
 }
 
 %code provides {
-/* Hooks between the generated parser and its driver (lib/source.c). */
+/* Hooks between the generated parser and its driver (lib/syntax/parse.c). */
 
 /* The next token for the parser: its kind, semantic value and span.
  *   errors: a lexical or indentation error is reported into [pc] and

@@ -19,9 +19,9 @@
 
 #include "counter.h"
 #include "format.h"
-#include "indent.h"
+#include "lexer.h"
 #include "module.h"
-#include "physics/physics.h"
+#include "physics.h"
 #include "pool.h"
 #include "program.h"
 #include "simplify.h"

@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "builtins.h"
-#include "../eval.h"
+#include "context.h"
 
 static const Builtin *const families[] = {
     bi_vector_table, bi_maths_table, bi_random_table, bi_noise_table,

@@ -12,15 +12,20 @@
 
 #include <stdint.h>
 
-#include "../value.h"
+#include "value.h"
 
-typedef struct Eval Eval;   /* the evaluator's per-call context (eval.h) */
+typedef struct Eval Eval;   /* the evaluator's per-call context (context.h) */
 typedef struct Builtin Builtin;
 
 /* [nargs] arguments in [args] (each may be NULL = null; a named argument
  * that skipped an earlier parameter leaves that one NULL). nargs is between
  * the descriptor's min_args and max_args (checked by the caller). */
 typedef Vec *(*BuiltinFn)(Eval *ev, const Builtin *bi, int nargs, Vec *const *args);
+
+/* The parameter list of a BuiltinFn definition, for built-ins that do not
+ * use every argument: `static Vec *bi_sin(BI_PARAMS) { ... }`. */
+#define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
+                  int nargs __attribute__((unused)), Vec *const *args
 
 #define BI_MAX_PARAMS 8
 #define BI_VARIADIC (-1)

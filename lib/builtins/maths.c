@@ -1,6 +1,6 @@
 /* maths.c: the mathematical built-ins (LANGUAGE.md §5.4), quaternions
- * (§5.5), waveforms (§5.6), easing (§5.7) and the exact-quadrant turn
- * functions sin_t/cos_t of turns.h (§5.2).
+ * (§5.5), waveforms (§5.6) and easing (§5.7), built on the turn functions
+ * sin_t/cos_t of turns.h (§5.2).
  *
  * Every function here is pure: it reads its argument vectors (borrowed) and
  * returns a new numeric vector, or NULL (null) when an argument is not the
@@ -14,55 +14,13 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "config.h"
 #include "builtins.h"
 #include "matrix.h"
 #include "turns.h"
 
 /* The parameter list every builtin shares (BuiltinFn in builtins.h). */
-#define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
-                  int nargs __attribute__((unused)), Vec *const *args
-
 #define PI 3.141592653589793
-
-/* Largest result this file builds (elements); beyond it: error, null. */
-#define MAX_RESULT ((uint64_t)1 << 28)
-
-/* {====================================================================
- * Turns (§5.2)
- * ===================================================================== */
-
-double sin_t(double t)
-{
-    if (t < 0)
-        return -sin_t(-t);
-    int q = 0;
-    double x = t * 4.0, r;
-    if (x < 0x1p52) {
-        /* remquo(x, 1) without the libm call: n = x rounded to nearest,
-         * ties to even (adding and removing 2^52 does exactly that for
-         * 0 <= x < 2^52), and x - n is exact; a zero keeps x's sign */
-        double n = (x + 0x1p52) - 0x1p52;
-        r = x - n;
-        if (r == 0) r = copysign(0.0, x);
-        q = (int)((int64_t)n & 3);
-    } else {
-        r = remquo(x, 1.0, &q);   /* huge, infinite or NaN */
-    }
-    r *= HALF_PI;
-    switch (q & 3) {
-    case 0: return sin(r);
-    case 1: return cos(r);
-    case 2: return -sin(r);
-    default: return -cos(r);
-    }
-}
-
-double cos_t(double t)
-{
-    return sin_t(t + 0.25);
-}
-
-/* }==================================================================== */
 
 /* {====================================================================
  * Helpers

@@ -22,16 +22,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "config.h"
 #include "builtins.h"
-#include "random.h"
-
-#define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
-                  int nargs __attribute__((unused)), Vec *const *args
-
-/* Largest result this file builds (elements) and most octaves accepted;
- * beyond either: error, null (the reference would exhaust memory/time). */
-#define MAX_RESULT ((uint64_t)1 << 28)
-#define MAX_OCTAVES 65536
+#include "streams.h"
 
 typedef uint64_t Lat; /* a lattice coordinate: int64 bits, wrapping */
 

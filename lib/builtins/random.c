@@ -1,13 +1,6 @@
-/* random.c: counter-based pseudo-random streams (LANGUAGE.md §5.8): the
- * rng_* functions of random.h, the `uniform`, `normal` and `beta` built-ins
- * that return streams, and `shuffle`.
- *
- * A stream is a pure function of its 64-bit key K (the seed hash, §3.16)
- * and a 64-bit index i; nothing is cached and there is no mutable state.
- * Value i of a uniform stream is the 5-round Squares output for counter i
- * scaled by 2^-64; a normal stream applies Box–Muller (in turns) to the
- * uniform pair (i & ~1, i | 1); a beta(2,2) stream takes the median of the
- * uniform values 4i, 4i+1, 4i+2. All counter arithmetic is mod 2^64.
+/* random.c: the built-ins of LANGUAGE.md §5.8: `uniform`, `normal` and
+ * `beta`, which return random streams (the generators are in streams.c), and
+ * `shuffle`.
  */
 #include <limits.h>
 #include <math.h>
@@ -15,81 +8,8 @@
 #include <stdlib.h>
 
 #include "builtins.h"
-#include "random.h"
-#include "turns.h"
-#include "../node.h"
-
-#define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
-                  int nargs __attribute__((unused)), Vec *const *args
-
-/* {====================================================================
- * Generators
- * ===================================================================== */
-
-static inline uint64_t rot32(uint64_t x)
-{
-    return (x >> 32) | (x << 32);
-}
-
-uint64_t rng_squares(uint64_t i, uint64_t key)
-{
-    uint64_t x, y, z, t;
-    x = y = i * key;
-    z = y + key;
-    x = rot32(x * x + y);
-    x = rot32(x * x + z);
-    x = rot32(x * x + y);
-    x = x * x + z;
-    t = x;
-    x = rot32(x);
-    x = x * x + y;
-    return t ^ (x >> 32);
-}
-
-double rng_uniform(uint64_t key, uint64_t i)
-{
-    return (double)rng_squares(i, key) / 18446744073709551616.0;
-}
-
-double rng_normal(uint64_t key, uint64_t i)
-{
-    uint64_t e = i & ~(uint64_t)1;
-    double u1 = rng_uniform(key, e), u2 = rng_uniform(key, e + 1);
-    if (u1 == 0) {
-        u1 = u2;
-        u2 = 0;
-    }
-    double r = sqrt(-2 * log(u1));
-    return (i & 1) ? r * sin_t(u2) : r * cos_t(u2);
-}
-
-/* C `min(a, b)` as the reference's Cython emits it: (b < a) ? b : a. */
-static inline double cmin(double a, double b)
-{
-    return b < a ? b : a;
-}
-
-double rng_beta(uint64_t key, uint64_t i)
-{
-    i <<= 2;
-    double u1 = rng_uniform(key, i), u2 = rng_uniform(key, i + 1), u3 = rng_uniform(key, i + 2);
-    if (u1 <= u2 && u1 <= u3)
-        return cmin(u2, u3);
-    if (u2 <= u1 && u2 <= u3)
-        return cmin(u1, u3);
-    return cmin(u1, u2);
-}
-
-double rng_value(StreamKind kind, uint64_t key, uint64_t i)
-{
-    switch (kind) {
-    case STREAM_NORMAL: return rng_normal(key, i);
-    case STREAM_BETA: return rng_beta(key, i);
-    default: return rng_uniform(key, i);
-    }
-}
-
-/* }==================================================================== */
+#include "streams.h"
+#include "node.h"
 
 /* {====================================================================
  * Built-ins

@@ -10,16 +10,12 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "config.h"
 #include "builtins.h"
-#include "../buf.h"
-#include "../eval.h"
-#include "../format.h"
-#include "../utf8.h"
-
-/* Longest string (bytes) chr() and concat() build; beyond it: an execution
- * error and null (LANGUAGE.md §4.16) instead of an abort in str_new(). The
- * same bound as a file read by `read` (fileio.h FILE_READ_MAX). */
-#define MAX_STRING ((size_t)1 << 28)
+#include "buf.h"
+#include "context.h"
+#include "format.h"
+#include "utf8.h"
 
 /* The string in [b] as a one-string vector, or null with an error when it
  * is longer than MAX_STRING; frees [b]. */

@@ -17,14 +17,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "config.h"
 #include "builtins.h"
-#include "../node.h"
-
-#define BI_PARAMS Eval *ev __attribute__((unused)), const Builtin *bi __attribute__((unused)), \
-                  int nargs __attribute__((unused)), Vec *const *args
-
-/* Largest result this file builds (elements); beyond it: error, null. */
-#define MAX_RESULT ((uint64_t)1 << 28)
+#include "node.h"
 
 /* {====================================================================
  * Helpers

@@ -15,7 +15,7 @@
 #include <math.h>
 
 #include "physics_internal.h"
-#include "../builtins/random.h"
+#include "streams.h"
 
 /* Python's min(a, b) / max(a, b): the first argument unless the second is
  * strictly smaller / larger (so a NaN first argument is kept). */

@@ -12,8 +12,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "../node.h"
-#include "../state.h"
+#include "node.h"
+#include "state.h"
 
 typedef struct PhysicsWorld PhysicsWorld;
 

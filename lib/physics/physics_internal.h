@@ -28,10 +28,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "config.h"
 #include "physics.h"
-
-/* Largest accepted `dimensions` (larger systems are skipped). */
-#define PHYS_MAX_DIMENSIONS (1u << 20)
 
 typedef enum PhysApplierKind {
     AP_DISTANCE,        /* explicit pair by id */

@@ -1,6 +1,6 @@
 #!/bin/sh
 # fast_route.sh FLITTER TESTS_DIR BENCH_DIR: the compiled evaluation route
-# (lib/numexpr.c, lib/evalcode.c) against the generic tree walk
+# (lib/eval/numexpr.c, lib/eval/evalcode.c) against the generic tree walk
 # (FLITTER_NOFAST=1), byte for byte: the state dumps of the golden scripts
 # and the node trees of the language scripts, each with and without the
 # simplifier, plus the stderr messages, and the bench scenes' trees.

@@ -13,8 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
-#include "builtins/turns.h"
+#include "builtins.h"
+#include "turns.h"
 #include "node.h"
 #include "value.h"
 

@@ -17,7 +17,7 @@
 
 #include "buf.h"
 #include "builtins.h"
-#include "eval.h"
+#include "context.h"
 #include "format.h"
 #include "node.h"
 #include "program.h"

@@ -1,5 +1,5 @@
-/* test_fastroute.c: the compiled evaluation route (lib/numexpr.c,
- * lib/evalcode.c) against the generic tree walk (FLITTER_NOFAST=1).
+/* test_fastroute.c: the compiled evaluation route (lib/eval/numexpr.c,
+ * lib/eval/evalcode.c) against the generic tree walk (FLITTER_NOFAST=1).
  *
  * Each script runs for one frame four ways: compiled and generic, with and
  * without the simplifier. All four node trees must equal the expected dump,

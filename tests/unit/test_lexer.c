@@ -1,5 +1,5 @@
 /* test_lexer.c: unit tests of the re2c lexer (grammar/lexer.re) and the
- * indentation filter (lib/indent.c): token kinds and spans, number, time
+ * indentation filter (lib/syntax/indent.c): token kinds and spans, number, time
  * code and string conversions, comments, continuations, hashbang, keywords,
  * and NL -> NL/INDENT/DEDENT on token arrays and on lexed text
  * (LANGUAGE.md §1, test vectors §7.1).
@@ -14,7 +14,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "indent.h"
+#include "lexer.h"
 
 /* {=====================================================================
  * Helpers

@@ -1,5 +1,5 @@
-/* test_parser.c: unit tests of parse_program() (lib/source.c,
- * grammar/parser.y, lib/ast.c): tree shapes of every construct of
+/* test_parser.c: unit tests of parse_program() (lib/syntax/parse.c,
+ * grammar/parser.y, lib/syntax/ast.c): tree shapes of every construct of
  * LANGUAGE.md §2 written as S-expressions, precedence (§2.2, §2.3),
  * contextual keywords (§1.7), pragmas and the symbol list of AST_TOP, and
  * the error message format (parse.h).
@@ -817,7 +817,7 @@ static void chain(Buf *src, int n, const char *op)
 }
 
 /* Long left-nested chains parse without exhausting the C stack; the AST
- * depth cap (parse.h AST_MAX_DEPTH) accepts `1+1+...` of 3998 ones (TOP,
+ * depth cap (config.h AST_MAX_DEPTH) accepts `1+1+...` of 3998 ones (TOP,
  * SEQUENCE, 3997 BINOPs, a literal: 4000 levels) and refuses 3999 with an
  * error at the deepest node, the first `1` (so does 4000 with `*`). A
  * 100000-long chain in an attribute is refused

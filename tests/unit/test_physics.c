@@ -22,7 +22,7 @@
 #include "physics.h"
 #include "state.h"
 #include "value.h"
-#include "builtins/random.h"
+#include "streams.h"
 
 /* ------------------------------------------------------------------ */
 /* Helpers                                                             */

@@ -1,4 +1,4 @@
-/* test_pool.c: the runtime's size-class free lists (lib/pool.c). */
+/* test_pool.c: the runtime's size-class free lists (lib/core/pool.c). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>

@@ -10,8 +10,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "builtins/builtins.h"
-#include "builtins/random.h"
+#include "builtins.h"
+#include "streams.h"
 #include "value.h"
 
 /* ------------------------------------------------------------------ */

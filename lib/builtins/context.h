@@ -1,0 +1,24 @@
+/* context.h: the evaluator's services for built-in functions.
+ *
+ * An `Eval` is the context of one frame's evaluation of one program. Built-ins
+ * use it to report run-time errors (LANGUAGE.md §4.16), to emit debug text,
+ * to name symbols, and to find files relative to the running script.
+ */
+#ifndef FL_CONTEXT_H
+#define FL_CONTEXT_H
+
+#include "value.h"
+
+typedef struct Eval Eval;
+
+/* Record run-time error text [msg] for this frame (deduplicated per frame). */
+void eval_error(Eval *ev, const char *msg);
+/* Record debug text [msg] for this frame (printed when new). */
+void eval_debug(Eval *ev, const char *msg);
+/* The runtime's symbol table (for str and repr). */
+const SymTab *eval_symtab(const Eval *ev);
+/* Directory of the script being evaluated ("." when unknown), for read(),
+ * csv() and friends. */
+const char *eval_script_dir(const Eval *ev);
+
+#endif

@@ -1,0 +1,858 @@
+/* value.c: Flitter's vector model (LANGUAGE.md §3).
+ *
+ * Vectors are one allocation each: the `Vec` header followed by either
+ * `len` doubles (VEC_NUM) or `len` 16-byte tagged elements (VEC_OBJ).
+ * Streams (VEC_STREAM) carry only a kind and a key. The null vector is the
+ * NULL pointer. Everything is reference counted and immutable once shared;
+ * see the ownership rule at the top of value.h.
+ *
+ * This file also holds strings (`Str`), symbol values and the per-runtime
+ * symbol table (an open-addressing hash set keyed by the symbol's bit
+ * pattern, linear probing, grown at 50% load).
+ */
+#include "value.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "streams.h"
+#include "node.h"
+#include "pool.h"
+#include "utf8.h"
+
+/* ====================================================================
+ * Memory
+ * ==================================================================== */
+
+static void *xmalloc(size_t n)
+{
+    void *p = malloc(n ? n : 1);
+    if (!p) {
+        fputs("flitter: out of memory\n", stderr);
+        abort();
+    }
+    return p;
+}
+
+/* ====================================================================
+ * Strings
+ * ==================================================================== */
+
+Str *str_new(const char *s, size_t len)
+{
+    if (len > UINT32_MAX - 16) {
+        fputs("flitter: string too long\n", stderr);
+        abort();
+    }
+    Str *r = pool_alloc(sizeof(Str) + len + 1);
+    r->refs = 1;
+    r->len = (uint32_t)len;
+    if (len) memcpy(r->bytes, s, len);
+    r->bytes[len] = '\0';
+    return r;
+}
+
+Str *str_from(const char *s) { return str_new(s, strlen(s)); }
+
+
+int str_cmp(const Str *a, const Str *b)
+{
+    uint32_t n = a->len < b->len ? a->len : b->len;
+    int c = memcmp(a->bytes, b->bytes, n);
+    if (c) return c;
+    return a->len < b->len ? -1 : a->len > b->len ? 1 : 0;
+}
+
+uint64_t fnv1a_utf8(const char *s, size_t len)
+{
+    uint64_t y = UINT64_C(0xcbf29ce484222325);
+    size_t i = 0;
+    while (i < len) {
+        uint32_t c;
+        i += utf8_decode((const unsigned char *)s + i, len - i, &c);
+        y = (y ^ c) * UINT64_C(0x100000001b3);
+    }
+    return y;
+}
+
+/* ====================================================================
+ * Functions
+ * ==================================================================== */
+
+void func_release(Func *f)
+{
+    if (!f || --f->refs) return;
+    if (f->destroy) f->destroy(f);
+    str_release(f->name);
+    pool_release(f, sizeof *f);
+}
+
+const char *func_name(const Func *f)
+{
+    if (f->bi) return f->bi_name;
+    return f->name ? f->name->bytes : "<anon>";
+}
+
+/* ====================================================================
+ * Vectors: construction and destruction
+ * ==================================================================== */
+
+static Vec *vec_alloc(uint8_t kind, uint32_t n, size_t elem_size)
+{
+    Vec *v = pool_alloc(sizeof(Vec) + (size_t)n * elem_size);
+    v->refs = 1;
+    v->kind = kind;
+    v->stream = 0;
+    v->hashed = 0;
+    v->len = n;
+    v->key = 0;
+    return v;
+}
+
+Vec *vec_new_obj(uint32_t n)
+{
+    Vec *v = vec_alloc(VEC_OBJ, n, sizeof(Elem));
+    Elem *e = vec_elems(v);
+    for (uint32_t i = 0; i < n; i++) {
+        e[i].kind = EL_NUM;
+        e[i].num = 0.0;
+    }
+    return v;
+}
+
+Vec *vec_from_nums(const double *x, uint32_t n)
+{
+    if (!n) return NULL;
+    Vec *v = vec_new_num(n);
+    memcpy(vec_nums(v), x, n * sizeof(double));
+    return v;
+}
+
+Vec *vec_str_take(Str *s)
+{
+    Vec *v = vec_new_obj(1);
+    vec_elems(v)[0].kind = EL_STR;
+    vec_elems(v)[0].str = s;
+    return v;
+}
+
+Vec *vec_str(const char *s, size_t len) { return vec_str_take(str_new(s, len)); }
+
+Vec *vec_node_take(Node *n)
+{
+    Vec *v = vec_new_obj(1);
+    vec_elems(v)[0].kind = EL_NODE;
+    vec_elems(v)[0].node = n;
+    return v;
+}
+
+Vec *vec_func_take(Func *f)
+{
+    Vec *v = vec_new_obj(1);
+    vec_elems(v)[0].kind = EL_FUNC;
+    vec_elems(v)[0].func = f;
+    return v;
+}
+
+Vec *vec_stream(StreamKind kind, uint64_t key)
+{
+    Vec *v = vec_alloc(VEC_STREAM, 0, 0);
+    v->stream = (uint8_t)kind;
+    v->key = key;
+    return v;
+}
+
+static void elem_release(Elem *e)
+{
+    switch (e->kind) {
+    case EL_STR: str_release(e->str); break;
+    case EL_NODE: node_release(e->node); break;
+    case EL_FUNC: func_release(e->func); break;
+    default: break;
+    }
+}
+
+static void elem_retain(Elem *e)
+{
+    switch (e->kind) {
+    case EL_STR: str_retain(e->str); break;
+    case EL_NODE: node_retain(e->node); break;
+    case EL_FUNC: func_retain(e->func); break;
+    default: break;
+    }
+}
+
+void vec_destroy_(Vec *v)
+{
+    if (v->kind == VEC_OBJ) {
+        Elem *e = vec_elems(v);
+        for (uint32_t i = 0; i < v->len; i++) elem_release(&e[i]);
+        pool_release(v, sizeof(Vec) + (size_t)v->len * sizeof(Elem));
+    } else {
+        pool_release(v, sizeof(Vec) + (size_t)v->len * sizeof(double));
+    }
+}
+
+Vec *vec_normalize_take(Vec *v)
+{
+    if (!v || v->kind != VEC_OBJ) return v;
+    const Elem *e = vec_celems(v);
+    for (uint32_t i = 0; i < v->len; i++)
+        if (e[i].kind != EL_NUM) return v;
+    Vec *r = vec_new_num(v->len);
+    for (uint32_t i = 0; i < v->len; i++) vec_nums(r)[i] = e[i].num;
+    vec_release(v);
+    return r;
+}
+
+/* ====================================================================
+ * Truthiness and composition (§3.2, §3.4)
+ * ==================================================================== */
+
+bool vec_truthy(const Vec *v)
+{
+    if (!v) return false;
+    if (v->kind == VEC_STREAM) return true;
+    if (v->kind == VEC_NUM) {
+        const double *x = vec_cnums(v);
+        for (uint32_t i = 0; i < v->len; i++)
+            if (x[i] != 0.0 || isnan(x[i])) return true;
+        return false;
+    }
+    const Elem *e = vec_celems(v);
+    for (uint32_t i = 0; i < v->len; i++) {
+        switch (e[i].kind) {
+        case EL_NUM: if (e[i].num != 0.0 || isnan(e[i].num)) return true; break;
+        case EL_STR: if (e[i].str->len) return true; break;
+        default: return true;
+        }
+    }
+    return false;
+}
+
+Vec *vec_compose(Vec *const *parts, size_t n)
+{
+    uint64_t total = 0;
+    bool numeric = true;
+    size_t nonempty = 0, last = 0;
+    for (size_t i = 0; i < n; i++) {
+        const Vec *p = parts[i];
+        if (!p || p->len == 0) continue;
+        total += p->len;
+        nonempty++;
+        last = i;
+        if (p->kind != VEC_NUM) numeric = false;
+    }
+    if (total == 0) return NULL;
+    if (nonempty == 1) return vec_retain(parts[last]);
+    if (total > UINT32_MAX) {
+        fputs("flitter: vector too long\n", stderr);
+        abort();
+    }
+    if (numeric) {
+        Vec *r = vec_new_num((uint32_t)total);
+        double *d = vec_nums(r);
+        for (size_t i = 0; i < n; i++) {
+            const Vec *p = parts[i];
+            if (!p || !p->len) continue;
+            if (p->len == 1) *d = vec_cnums(p)[0];   /* the common case: no call */
+            else memcpy(d, vec_cnums(p), p->len * sizeof(double));
+            d += p->len;
+        }
+        return r;
+    }
+    Vec *r = vec_new_obj((uint32_t)total);
+    Elem *d = vec_elems(r);
+    for (size_t i = 0; i < n; i++) {
+        const Vec *p = parts[i];
+        if (!p || !p->len) continue;
+        if (p->kind == VEC_NUM) {
+            for (uint32_t j = 0; j < p->len; j++) {
+                d[j].kind = EL_NUM;
+                d[j].num = vec_cnums(p)[j];
+            }
+        } else {
+            memcpy(d, vec_celems(p), p->len * sizeof(Elem));
+            for (uint32_t j = 0; j < p->len; j++) elem_retain(&d[j]);
+        }
+        d += p->len;
+    }
+    return r;
+}
+
+Vec *vec_compose_take(Vec **parts, size_t n)
+{
+    uint64_t total = 0;
+    bool numeric = true;
+    size_t nonempty = 0;
+    for (size_t i = 0; i < n; i++) {
+        const Vec *p = parts[i];
+        if (!p || p->len == 0) continue;
+        total += p->len;
+        nonempty++;
+        if (p->kind != VEC_NUM) numeric = false;
+    }
+    if (numeric || nonempty <= 1) {
+        /* nothing to move: compose as vec_compose does */
+        Vec *r = vec_compose(parts, n);
+        for (size_t i = 0; i < n; i++) vec_release(parts[i]);
+        return r;
+    }
+    if (total > UINT32_MAX) {
+        fputs("flitter: vector too long\n", stderr);
+        abort();
+    }
+    Vec *r = vec_new_obj((uint32_t)total);
+    Elem *d = vec_elems(r);
+    for (size_t i = 0; i < n; i++) {
+        Vec *p = parts[i];
+        uint32_t len = vec_len(p);
+        if (!len) {
+            vec_release(p);   /* null or a stream */
+            continue;
+        }
+        if (p->kind == VEC_NUM) {
+            for (uint32_t j = 0; j < len; j++) {
+                d[j].kind = EL_NUM;
+                d[j].num = vec_cnums(p)[j];
+            }
+            vec_release(p);
+        } else if (p->refs == 1) {
+            /* the last reference: the elements move, with their references */
+            memcpy(d, vec_celems(p), len * sizeof(Elem));
+            pool_release(p, sizeof(Vec) + (size_t)len * sizeof(Elem));
+        } else {
+            memcpy(d, vec_celems(p), len * sizeof(Elem));
+            for (uint32_t j = 0; j < len; j++) elem_retain(&d[j]);
+            vec_release(p);
+        }
+        d += len;
+    }
+    return r;
+}
+
+/* ====================================================================
+ * Arithmetic (§3.5)
+ * ==================================================================== */
+
+double num_floordiv(double a, double b) { return floor(a / b); }
+
+double num_mod(double a, double b) { return a - floor(a / b) * b; }
+
+static inline double arith1(ArithOp op, double a, double b)
+{
+    switch (op) {
+    case OP_ADD: return a + b;
+    case OP_SUB: return a - b;
+    case OP_MUL: return a * b;
+    case OP_DIV: return a / b;
+    case OP_FLOORDIV: return floor(a / b);
+    case OP_MOD: return a - floor(a / b) * b;
+    case OP_POW: return pow(a, b);
+    }
+    return NAN;
+}
+
+#define BROADCAST(EXPR)                                                     \
+    do {                                                                    \
+        if (na == nb) {                                                     \
+            for (uint32_t i = 0; i < n; i++) { double x = xa[i], y = xb[i]; r[i] = (EXPR); } \
+        } else if (nb == 1) {                                               \
+            double y = xb[0];                                               \
+            for (uint32_t i = 0; i < n; i++) { double x = xa[i]; r[i] = (EXPR); } \
+        } else if (na == 1) {                                               \
+            double x = xa[0];                                               \
+            for (uint32_t i = 0; i < n; i++) { double y = xb[i]; r[i] = (EXPR); } \
+        } else {                                                            \
+            for (uint32_t i = 0; i < n; i++) { double x = xa[i % na], y = xb[i % nb]; r[i] = (EXPR); } \
+        }                                                                   \
+    } while (0)
+
+/* r[i] = a[i % na] OP b[i % nb] for i < n; [r] may be a's or b's own
+ * storage when that operand has n elements (each element is read before the
+ * same index is written). */
+static void arith_into(ArithOp op, double *r, const Vec *a, const Vec *b, uint32_t n)
+{
+    uint32_t na = a->len, nb = b->len;
+    const double *xa = vec_cnums(a), *xb = vec_cnums(b);
+    switch (op) {
+    case OP_ADD: BROADCAST(x + y); break;
+    case OP_SUB: BROADCAST(x - y); break;
+    case OP_MUL: BROADCAST(x * y); break;
+    case OP_DIV: BROADCAST(x / y); break;
+    default: BROADCAST(arith1(op, x, y)); break;
+    }
+}
+
+Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b)
+{
+    if (!vec_is_num(a) || !vec_is_num(b) || !a->len || !b->len) return NULL;
+    uint32_t n = a->len > b->len ? a->len : b->len;
+    Vec *v = vec_new_num(n);
+    arith_into(op, vec_nums(v), a, b, n);
+    return v;
+}
+
+/* [v] (consumed) as the destination of an n-element numeric result, when
+ * nothing else can see it; else NULL. */
+static bool reusable(const Vec *v, uint32_t n) { return v->refs == 1 && v->len == n; }
+
+Vec *vec_arith_take(ArithOp op, Vec *a, Vec *b)
+{
+    if (vec_is_scalar(a) && vec_is_scalar(b)) {
+        /* the common case: one number each, no broadcasting loop */
+        double x = vec_cnums(a)[0], y = vec_cnums(b)[0], z;
+        switch (op) {
+        case OP_ADD: z = x + y; break;
+        case OP_SUB: z = x - y; break;
+        case OP_MUL: z = x * y; break;
+        case OP_DIV: z = x / y; break;
+        default: z = arith1(op, x, y); break;
+        }
+        Vec *v;
+        if (a->refs == 1) {
+            v = a;
+            vec_release(b);
+        } else if (b->refs == 1) {
+            v = b;
+            vec_release(a);
+        } else {
+            vec_release(a);
+            vec_release(b);
+            return vec_num1(z);
+        }
+        v->hashed = 0;
+        vec_nums(v)[0] = z;
+        return v;
+    }
+    if (!vec_is_num(a) || !vec_is_num(b) || !a->len || !b->len) {
+        vec_release(a);
+        vec_release(b);
+        return NULL;
+    }
+    uint32_t n = a->len > b->len ? a->len : b->len;
+    Vec *v;
+    if (reusable(a, n)) {
+        v = a;
+        v->hashed = 0;
+        arith_into(op, vec_nums(v), a, b, n);
+        vec_release(b);
+    } else if (reusable(b, n)) {
+        v = b;
+        v->hashed = 0;
+        arith_into(op, vec_nums(v), a, b, n);
+        vec_release(a);
+    } else {
+        v = vec_new_num(n);
+        arith_into(op, vec_nums(v), a, b, n);
+        vec_release(a);
+        vec_release(b);
+    }
+    return v;
+}
+
+Vec *vec_add_mul(const Vec *a, const Vec *b, const Vec *c)
+{
+    if (!vec_is_num(a) || !vec_is_num(b) || !vec_is_num(c)) return NULL;
+    uint32_t na = a->len, nb = b->len, nc = c->len;
+    if (!na || !nb || !nc) return NULL;
+    const double *xa = vec_cnums(a), *xb = vec_cnums(b), *xc = vec_cnums(c);
+    if ((na | nb | nc) == 1) {
+        double p = xb[0] * xc[0];
+        return vec_num1(xa[0] + p);
+    }
+    uint32_t n = na > nb ? na : nb;
+    if (nc > n) n = nc;
+    Vec *v = vec_new_num(n);
+    double *r = vec_nums(v);
+    for (uint32_t i = 0; i < n; i++) {
+        double p = xb[i % nb] * xc[i % nc];
+        r[i] = xa[i % na] + p;
+    }
+    return v;
+}
+
+Vec *vec_neg(const Vec *a)
+{
+    if (!vec_is_num(a)) return NULL;
+    Vec *v = vec_new_num(a->len);
+    for (uint32_t i = 0; i < a->len; i++) vec_nums(v)[i] = -vec_cnums(a)[i];
+    return v;
+}
+
+Vec *vec_pos(Vec *a)
+{
+    return vec_is_num(a) ? vec_retain(a) : NULL;
+}
+
+/* ====================================================================
+ * Equality, ordering, containment (§3.6-3.8)
+ * ==================================================================== */
+
+bool elem_equal(const Elem *a, const Elem *b)
+{
+    if (a->kind != b->kind) return false;
+    switch (a->kind) {
+    case EL_NUM: return a->num == b->num;
+    case EL_STR: return str_eq(a->str, b->str);
+    case EL_NODE: return node_equal(a->node, b->node);
+    case EL_FUNC: return a->func == b->func;
+    }
+    return false;
+}
+
+bool vec_equal(const Vec *a, const Vec *b)
+{
+    uint32_t na = vec_len(a), nb = vec_len(b);
+    if (na != nb) return false;
+    if (na == 0) {
+        /* streams compare equal when kind and key match; null == null */
+        if (vec_is_stream(a) || vec_is_stream(b))
+            return vec_is_stream(a) && vec_is_stream(b) && a->stream == b->stream && a->key == b->key;
+        return true;
+    }
+    if (a->kind != b->kind) return false;
+    if (a->kind == VEC_NUM) {
+        const double *x = vec_cnums(a), *y = vec_cnums(b);
+        for (uint32_t i = 0; i < na; i++)
+            if (!(x[i] == y[i])) return false;
+        return true;
+    }
+    const Elem *x = vec_celems(a), *y = vec_celems(b);
+    for (uint32_t i = 0; i < na; i++)
+        if (!elem_equal(&x[i], &y[i])) return false;
+    return true;
+}
+
+static uint64_t dbits(double x)
+{
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    return u;
+}
+
+bool vec_key_equal(const Vec *a, const Vec *b)
+{
+    uint32_t na = vec_len(a), nb = vec_len(b);
+    if (na != nb) return false;
+    if (na == 0) return vec_equal(a, b);
+    if (a->kind != b->kind) return false;
+    if (a->kind == VEC_NUM) {
+        const double *x = vec_cnums(a), *y = vec_cnums(b);
+        for (uint32_t i = 0; i < na; i++)
+            if (dbits(x[i]) != dbits(y[i])) return false;
+        return true;
+    }
+    const Elem *x = vec_celems(a), *y = vec_celems(b);
+    for (uint32_t i = 0; i < na; i++) {
+        if (x[i].kind == EL_NUM && y[i].kind == EL_NUM) {
+            if (dbits(x[i].num) != dbits(y[i].num)) return false;
+        } else if (!elem_equal(&x[i], &y[i])) {
+            return false;
+        }
+    }
+    return true;
+}
+
+int vec_cmp(const Vec *a, const Vec *b)
+{
+    uint32_t na = vec_len(a), nb = vec_len(b);
+    if (na == 0 && nb == 0) return 0;
+    if (na && nb && a->kind == VEC_NUM && b->kind == VEC_NUM) {
+        const double *x = vec_cnums(a), *y = vec_cnums(b);
+        uint32_t n = na < nb ? na : nb;
+        for (uint32_t i = 0; i < n; i++) {
+            if (x[i] == y[i]) continue;
+            return x[i] < y[i] ? -1 : 1;
+        }
+    } else if (na && nb && a->kind == VEC_OBJ && b->kind == VEC_OBJ) {
+        const Elem *x = vec_celems(a), *y = vec_celems(b);
+        uint32_t n = na < nb ? na : nb;
+        for (uint32_t i = 0; i < n; i++) {
+            if (elem_equal(&x[i], &y[i])) continue;
+            if (x[i].kind == EL_NUM && y[i].kind == EL_NUM)
+                return x[i].num < y[i].num ? -1 : 1;
+            if (x[i].kind == EL_STR && y[i].kind == EL_STR)
+                return str_cmp(x[i].str, y[i].str) < 0 ? -1 : 1;
+            return CMP_INCOMPARABLE;
+        }
+    } else if (na == 0) {
+        return -1;
+    } else if (nb == 0) {
+        return 1;
+    } else {
+        return CMP_INCOMPARABLE;
+    }
+    return na == nb ? 0 : (na < nb ? -1 : 1);
+}
+
+bool vec_contains(const Vec *x, const Vec *y)
+{
+    uint32_t nx = vec_len(x), ny = vec_len(y);
+    if (nx == 0) return true;
+    if (nx > ny) return false;
+    if (x->kind == VEC_OBJ && y->kind == VEC_NUM) return false;
+    for (uint32_t s = 0; s + nx <= ny; s++) {
+        bool match = true;
+        for (uint32_t i = 0; i < nx && match; i++) {
+            if (x->kind == VEC_NUM && y->kind == VEC_NUM) {
+                match = vec_cnums(x)[i] == vec_cnums(y)[s + i];
+            } else if (x->kind == VEC_NUM) {
+                const Elem *e = &vec_celems(y)[s + i];
+                match = e->kind == EL_NUM && e->num == vec_cnums(x)[i];
+            } else {
+                match = elem_equal(&vec_celems(x)[i], &vec_celems(y)[s + i]);
+            }
+        }
+        if (match) return true;
+    }
+    return false;
+}
+
+/* ====================================================================
+ * Hashing (§3.16)
+ * ==================================================================== */
+
+uint64_t hash_update(uint64_t h, uint64_t y)
+{
+    h ^= y;
+    h += UINT64_C(0x9e3779b97f4a7c15);
+    h ^= h >> 30;
+    h *= UINT64_C(0xbf58476d1ce4e5b9);
+    h ^= h >> 27;
+    h *= UINT64_C(0x94d049bb133111eb);
+    h ^= h >> 31;
+    return h;
+}
+
+uint64_t vec_hash(const Vec *v, bool floor_floats)
+{
+    uint64_t h = HASH_START;
+    if (!v) return h;
+    if (v->kind == VEC_STREAM) return hash_update(hash_update(h, v->stream), v->key);
+    if (v->kind == VEC_NUM) {
+        const double *x = vec_cnums(v);
+        for (uint32_t i = 0; i < v->len; i++)
+            h = hash_update(h, dbits(floor_floats ? floor(x[i]) : x[i]));
+        return h;
+    }
+    const Elem *e = vec_celems(v);
+    for (uint32_t i = 0; i < v->len; i++) {
+        uint64_t y;
+        switch (e[i].kind) {
+        case EL_NUM: y = dbits(floor_floats ? floor(e[i].num) : e[i].num); break;
+        case EL_STR: y = fnv1a_utf8(e[i].str->bytes, e[i].str->len); break;
+        case EL_NODE: y = node_hash(e[i].node); break;
+        default: y = (uint64_t)(uintptr_t)e[i].func; break;
+        }
+        h = hash_update(h, y);
+    }
+    return h;
+}
+
+uint64_t vec_key_hash(const Vec *v)
+{
+    if (v->hashed) return v->key;
+    uint64_t h = vec_hash(v, false);
+    bool keep = v->kind == VEC_NUM;
+    if (v->kind == VEC_OBJ) {
+        keep = true;
+        for (uint32_t i = 0; i < v->len && keep; i++)
+            keep = vec_celems(v)[i].kind == EL_NUM || vec_celems(v)[i].kind == EL_STR;
+    }
+    if (keep) {
+        /* a memo, not a change of value: the vector's elements are fixed */
+        Vec *m = (Vec *)v;
+        m->key = h;
+        m->hashed = 1;
+    }
+    return h;
+}
+
+/* ====================================================================
+ * Ranges, indexing, items (§3.10, §3.11, §5.8)
+ * ==================================================================== */
+
+Vec *vec_range(const Vec *start, const Vec *stop, const Vec *step,
+               uint64_t max_len, bool *too_long)
+{
+    double a = 0.0, s = 1.0, b;
+    if (start) {
+        if (!vec_is_scalar(start)) return NULL;
+        a = vec_scalar(start);
+    }
+    if (!vec_is_scalar(stop)) return NULL;
+    b = vec_scalar(stop);
+    if (step) {
+        if (!vec_is_scalar(step)) return NULL;
+        s = vec_scalar(step);
+        if (s == 0.0) return NULL;
+    }
+    double q = ceil((b - a) / s);
+    /* C conversion of NaN/inf gives INT64_MIN on x86 → null */
+    if (!(q > 0.0) || isinf(q)) return NULL;
+    if (q >= 9223372036854775808.0) return NULL;
+    int64_t n = (int64_t)q;
+    if ((uint64_t)n > max_len) {
+        if (too_long) *too_long = true;
+        return NULL;
+    }
+    Vec *r = vec_new_num((uint32_t)n);
+    double *d = vec_nums(r);
+    for (int64_t i = 0; i < n; i++) d[i] = a + s * (double)i;
+    return r;
+}
+
+/* floor(k) converted to a 32-bit C int, x86 semantics for out-of-range. */
+static int32_t index32(double k)
+{
+    double f = floor(k);
+    if (!(f >= -2147483648.0 && f < 2147483648.0)) return INT32_MIN;
+    return (int32_t)f;
+}
+
+static int64_t index64(double k)
+{
+    double f = floor(k);
+    if (!(f >= -9223372036854775808.0 && f < 9223372036854775808.0)) return INT64_MIN;
+    return (int64_t)f;
+}
+
+static uint32_t wrap(int64_t j, uint32_t n)
+{
+    int64_t m = j % (int64_t)n;
+    if (m < 0) m += n;
+    return (uint32_t)m;
+}
+
+Vec *vec_index(const Vec *src, const Vec *index, bool literal)
+{
+    if (!vec_is_num(index) || !index->len) return NULL;
+    uint32_t ni = index->len;
+    const double *k = vec_cnums(index);
+    if (vec_is_stream(src)) {
+        Vec *r = vec_new_num(ni);
+        for (uint32_t i = 0; i < ni; i++)
+            vec_nums(r)[i] = rng_value((StreamKind)src->stream, src->key, (uint64_t)index64(k[i]));
+        return r;
+    }
+    uint32_t n = vec_len(src);
+    if (!n) return NULL;
+    if (src->kind == VEC_NUM) {
+        Vec *r = vec_new_num(ni);
+        for (uint32_t i = 0; i < ni; i++) {
+            int64_t j = literal ? index64(k[i]) : index32(k[i]);
+            vec_nums(r)[i] = vec_cnums(src)[wrap(j, n)];
+        }
+        return r;
+    }
+    Vec *r = vec_new_obj(ni);
+    for (uint32_t i = 0; i < ni; i++) {
+        int64_t j = literal ? index64(k[i]) : index32(k[i]);
+        vec_elems(r)[i] = vec_celems(src)[wrap(j, n)];
+        elem_retain(&vec_elems(r)[i]);
+    }
+    return vec_normalize_take(r);
+}
+
+Vec *vec_item(const Vec *v, int64_t i)
+{
+    if (vec_is_stream(v)) return vec_num1(rng_value((StreamKind)v->stream, v->key, (uint64_t)i));
+    uint32_t n = vec_len(v);
+    if (!n) return NULL;
+    uint32_t j = wrap(i, n);
+    if (v->kind == VEC_NUM) return vec_num1(vec_cnums(v)[j]);
+    Elem e = vec_celems(v)[j];
+    if (e.kind == EL_NUM) return vec_num1(e.num);
+    Vec *r = vec_new_obj(1);
+    vec_elems(r)[0] = e;
+    elem_retain(&vec_elems(r)[0]);
+    return r;
+}
+
+/* ====================================================================
+ * Symbols and the symbol table (§3.3)
+ * ==================================================================== */
+
+double symbol_value(const char *name, size_t len)
+{
+    uint64_t h = fnv1a_utf8(name, len);
+    uint64_t bits = UINT64_C(0xFFE0000000000000) | (h >> 12);
+    double x;
+    memcpy(&x, &bits, sizeof x);
+    return x;
+}
+
+struct SymTab {
+    size_t cap;          /* slots (power of two) */
+    size_t count;        /* used slots */
+    uint64_t *bits;      /* symbol bit patterns; 0 = empty (never a symbol) */
+    Str **names;         /* names per slot */
+};
+
+SymTab *symtab_new(void)
+{
+    SymTab *st = xmalloc(sizeof *st);
+    st->cap = 64;
+    st->count = 0;
+    st->bits = calloc(st->cap, sizeof(uint64_t));
+    st->names = calloc(st->cap, sizeof(Str *));
+    if (!st->bits || !st->names) abort();
+    return st;
+}
+
+void symtab_free(SymTab *st)
+{
+    if (!st) return;
+    for (size_t i = 0; i < st->cap; i++) str_release(st->names[i]);
+    free(st->bits);
+    free(st->names);
+    free(st);
+}
+
+static size_t symtab_slot(const SymTab *st, uint64_t bits)
+{
+    size_t i = (size_t)(hash_update(0, bits) & (st->cap - 1));
+    while (st->bits[i] && st->bits[i] != bits) i = (i + 1) & (st->cap - 1);
+    return i;
+}
+
+double symtab_add(SymTab *st, const char *name, size_t len)
+{
+    double x = symbol_value(name, len);
+    uint64_t b = dbits(x);
+    size_t i = symtab_slot(st, b);
+    if (st->bits[i]) return x;
+    if ((st->count + 1) * 2 > st->cap) {
+        SymTab grown = {st->cap * 2, 0, calloc(st->cap * 2, sizeof(uint64_t)),
+                        calloc(st->cap * 2, sizeof(Str *))};
+        if (!grown.bits || !grown.names) abort();
+        for (size_t k = 0; k < st->cap; k++) {
+            if (!st->bits[k]) continue;
+            size_t j = symtab_slot(&grown, st->bits[k]);
+            grown.bits[j] = st->bits[k];
+            grown.names[j] = st->names[k];
+        }
+        free(st->bits);
+        free(st->names);
+        st->cap = grown.cap;
+        st->bits = grown.bits;
+        st->names = grown.names;
+        i = symtab_slot(st, b);
+    }
+    st->bits[i] = b;
+    st->names[i] = str_new(name, len);
+    st->count++;
+    return x;
+}
+
+const Str *symtab_name(const SymTab *st, double x)
+{
+    if (!st) return NULL;
+    uint64_t b = dbits(x);
+    if (!b) return NULL;
+    size_t i = symtab_slot(st, b);
+    return st->bits[i] ? st->names[i] : NULL;
+}

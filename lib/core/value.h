@@ -1,0 +1,290 @@
+/* value.h: Flitter's vector model (LANGUAGE.md §3).
+ *
+ * Every Flitter value is a vector. A vector is a reference-counted, immutable
+ * heap object `Vec`; the null (empty) vector is the NULL pointer, never an
+ * allocated vector of length 0. Three representations exist:
+ *
+ *   VEC_NUM     numeric vector: `len` doubles (symbols and booleans are doubles)
+ *   VEC_OBJ     object vector: `len` tagged elements (number, string, node,
+ *               function); holds at least one non-number
+ *   VEC_STREAM  pseudo-random stream (uniform/normal/beta, §5.8): length 0,
+ *               truthy, indexable; identified by its kind and 64-bit key
+ *
+ * Strings (`Str`), nodes (`Node`) and functions (`Func`) are reference-counted
+ * objects that object vectors point to.
+ *
+ * OWNERSHIP RULE (stated once, for every function in this header and every
+ * module that uses it): a function that returns `Vec *`, `Str *`, `Node *` or
+ * `Func *` returns a NEW reference that the caller owns and must release;
+ * arguments are BORROWED unless the function's name ends in `_take` or its
+ * comment says "consumes". `vec_release(NULL)` is a no-op.
+ *
+ * Allocation failure aborts the process (an interpreter cannot continue
+ * without memory); every other bad input gives null, never a crash.
+ */
+#ifndef FL_VALUE_H
+#define FL_VALUE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "pool.h"
+
+typedef struct Vec Vec;
+typedef struct Str Str;
+typedef struct Node Node;
+typedef struct Func Func;
+
+/* ------------------------------------------------------------------ */
+/* Strings                                                            */
+/* ------------------------------------------------------------------ */
+
+/* An immutable UTF-8 string; `bytes` is NUL-terminated (the text itself may
+ * contain NUL). Code-point order equals byte order for valid UTF-8. */
+struct Str {
+    uint32_t refs;   /* reference count */
+    uint32_t len;    /* length in bytes, excluding the terminating NUL */
+    char bytes[];    /* UTF-8 text followed by NUL */
+};
+
+/* Make a string from [len] bytes at [s] (copied). */
+Str *str_new(const char *s, size_t len);
+/* Make a string from the NUL-terminated [s]. */
+Str *str_from(const char *s);
+static inline Str *str_retain(Str *s) { if (s) s->refs++; return s; }
+static inline void str_release(Str *s)
+{
+    if (s && --s->refs == 0) pool_release(s, sizeof(Str) + s->len + 1);
+}
+/* True when both strings hold the same bytes. */
+static inline bool str_eq(const Str *a, const Str *b)
+{
+    return a == b || (a->len == b->len && memcmp(a->bytes, b->bytes, a->len) == 0);
+}
+/* Byte-wise (= code-point) comparison: <0, 0, >0. */
+int str_cmp(const Str *a, const Str *b);
+/* FNV-1a 64 over the code points of a UTF-8 string (LANGUAGE.md §3.3).
+ * Invalid UTF-8 bytes are taken as single code points of their byte value. */
+uint64_t fnv1a_utf8(const char *s, size_t len);
+
+/* ------------------------------------------------------------------ */
+/* Functions                                                          */
+/* ------------------------------------------------------------------ */
+
+struct Builtin;
+
+/* A function value: a builtin (bi != NULL) or a user closure built by the
+ * evaluator (impl points at evaluator data that [destroy] frees). Allocate
+ * it with pool_calloc(sizeof(Func)) (pool.h): func_release returns it to
+ * the pool, as vec_release and str_release do for vectors and strings. */
+struct Func {
+    uint32_t refs;                 /* reference count */
+    const struct Builtin *bi;      /* builtin descriptor, or NULL */
+    const char *bi_name;           /* builtin: its internal name (str()) */
+    Str *name;                     /* user: name or "<anon>"; builtin: NULL */
+    void *impl;                    /* evaluator's closure data */
+    void (*destroy)(Func *f);      /* frees impl (and nothing else) */
+};
+
+static inline Func *func_retain(Func *f) { if (f) f->refs++; return f; }
+void func_release(Func *f);
+/* The name str() gives [f] (LANGUAGE.md §3.13): user name or the builtin's
+ * internal name. */
+const char *func_name(const Func *f);
+
+/* ------------------------------------------------------------------ */
+/* Elements and vectors                                               */
+/* ------------------------------------------------------------------ */
+
+typedef enum { EL_NUM, EL_STR, EL_NODE, EL_FUNC } ElemKind;
+
+/* One element of an object vector. The pointer members hold one reference. */
+typedef struct Elem {
+    uint8_t kind;                 /* ElemKind */
+    union {
+        double num;               /* EL_NUM */
+        Str *str;                 /* EL_STR */
+        Node *node;               /* EL_NODE */
+        Func *func;               /* EL_FUNC */
+    };
+} Elem;
+
+typedef enum { VEC_NUM, VEC_OBJ, VEC_STREAM } VecKind;
+typedef enum { STREAM_UNIFORM, STREAM_NORMAL, STREAM_BETA } StreamKind;
+
+struct Vec {
+    uint32_t refs;    /* reference count */
+    uint8_t kind;     /* VecKind */
+    uint8_t stream;   /* StreamKind, when kind == VEC_STREAM */
+    uint8_t hashed;   /* not a stream, and `key` holds vec_hash(v, false) */
+    uint32_t len;     /* number of elements (0 for streams) */
+    uint64_t key;     /* stream key (seed hash), when kind == VEC_STREAM;
+                         else the cached hash when `hashed` (vec_key_hash) */
+    _Alignas(16) unsigned char data[]; /* double[len] or Elem[len] */
+};
+
+static inline uint32_t vec_len(const Vec *v) { return v ? v->len : 0; }
+/* Numeric: non-null VEC_NUM (null is NOT numeric for arithmetic). */
+static inline bool vec_is_num(const Vec *v) { return v && v->kind == VEC_NUM; }
+static inline bool vec_is_obj(const Vec *v) { return v && v->kind == VEC_OBJ; }
+static inline bool vec_is_stream(const Vec *v) { return v && v->kind == VEC_STREAM; }
+/* The doubles of a numeric vector. */
+static inline double *vec_nums(Vec *v) { return (double *)(void *)v->data; }
+static inline const double *vec_cnums(const Vec *v) { return (const double *)(const void *)v->data; }
+/* The elements of an object vector. */
+static inline Elem *vec_elems(Vec *v) { return (Elem *)(void *)v->data; }
+static inline const Elem *vec_celems(const Vec *v) { return (const Elem *)(const void *)v->data; }
+/* True when [v] is a numeric vector of exactly one element. */
+static inline bool vec_is_scalar(const Vec *v) { return v && v->kind == VEC_NUM && v->len == 1; }
+static inline double vec_scalar(const Vec *v) { return vec_cnums(v)[0]; }
+
+static inline Vec *vec_retain(Vec *v) { if (v) v->refs++; return v; }
+/* Internal: free [v] once its last reference is gone (vec_release). */
+void vec_destroy_(Vec *v);
+static inline void vec_release(Vec *v)
+{
+    if (v && --v->refs == 0) {
+        if (v->kind == VEC_NUM) pool_release(v, sizeof(Vec) + (size_t)v->len * sizeof(double));
+        else vec_destroy_(v);
+    }
+}
+
+/* A new numeric vector of [n] > 0 uninitialised doubles; fill via vec_nums(). */
+static inline Vec *vec_new_num(uint32_t n)
+{
+    Vec *v = pool_alloc(sizeof(Vec) + (size_t)n * sizeof(double));
+    v->refs = 1;
+    v->kind = VEC_NUM;
+    v->stream = 0;
+    v->hashed = 0;
+    v->len = n;
+    v->key = 0;
+    return v;
+}
+/* A new object vector of [n] > 0 elements, all initialised to the number 0;
+ * fill via vec_elems() (each pointer element must hold its own reference). */
+Vec *vec_new_obj(uint32_t n);
+/* A one-element numeric vector. */
+static inline Vec *vec_num1(double x)
+{
+    Vec *v = vec_new_num(1);
+    vec_nums(v)[0] = x;
+    return v;
+}
+/* A numeric vector copied from [n] doubles ([n] == 0 gives null). */
+Vec *vec_from_nums(const double *x, uint32_t n);
+/* A one-element string vector from [len] UTF-8 bytes. */
+Vec *vec_str(const char *s, size_t len);
+/* A one-element vector holding the string [s] (consumes [s]). */
+Vec *vec_str_take(Str *s);
+/* A one-element vector holding node [n] (consumes [n]). */
+Vec *vec_node_take(Node *n);
+/* A one-element vector holding function [f] (consumes [f]). */
+Vec *vec_func_take(Func *f);
+/* A pseudo-random stream of [kind] keyed by [key] (LANGUAGE.md §5.8). */
+Vec *vec_stream(StreamKind kind, uint64_t key);
+
+/* An object vector whose elements turned out to be all numbers is converted
+ * to a numeric vector (consumes [v]); anything else is returned unchanged. */
+Vec *vec_normalize_take(Vec *v);
+
+/* Truthiness (§3.4): some number != 0 (NaN counts), non-empty string, any
+ * node or function; streams are true; null is false. */
+bool vec_truthy(const Vec *v);
+
+/* Composition (§3.2) of [n] parts: concatenation, empty parts and streams
+ * vanish, numeric if every part is numeric, null if the total is empty. */
+Vec *vec_compose(Vec *const *parts, size_t n);
+/* The same, consuming the [n] parts (the result is equal to vec_compose's):
+ * the elements of an object part held by nothing else move into the
+ * result instead of being retained there and released with the part. */
+Vec *vec_compose_take(Vec **parts, size_t n);
+
+/* ------------------------------------------------------------------ */
+/* Arithmetic (§3.5): both operands non-empty numeric, else null;       */
+/* cyclic broadcast to the longer length.                              */
+/* ------------------------------------------------------------------ */
+typedef enum { OP_ADD, OP_SUB, OP_MUL, OP_DIV, OP_FLOORDIV, OP_MOD, OP_POW } ArithOp;
+
+/* [a] OP [b] element-wise with cyclic broadcasting. */
+Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b);
+/* The same, consuming [a] and [b]: the result is written into an operand
+ * that has no other owner and the result's length (no new vector). */
+Vec *vec_arith_take(ArithOp op, Vec *a, Vec *b);
+/* F1 fused broadcast (§4.17): a[i%na] + (b[i%nb] * c[i%nc]) over
+ * max(na,nb,nc) elements, multiply then add, each IEEE-rounded (no FMA). */
+Vec *vec_add_mul(const Vec *a, const Vec *b, const Vec *c);
+/* Unary minus: numeric → element-wise negation; anything else → null. */
+Vec *vec_neg(const Vec *a);
+/* Unary plus: numeric → itself (new reference); anything else → null. */
+Vec *vec_pos(Vec *a);
+/* C floor division and Flitter modulo of two doubles (§3.5). */
+double num_floordiv(double a, double b);
+double num_mod(double a, double b);
+
+/* ------------------------------------------------------------------ */
+/* Comparison, containment, hashing                                    */
+/* ------------------------------------------------------------------ */
+
+/* Element equality (§3.6 rule 5): numbers by value, strings by bytes,
+ * nodes structurally, functions by identity; different kinds unequal. */
+bool elem_equal(const Elem *a, const Elem *b);
+/* Vector equality (§3.6 rules 2-6), without the identity shortcut. */
+bool vec_equal(const Vec *a, const Vec *b);
+/* Exact key equality for the state dictionary (§3.17): like vec_equal but
+ * numbers compare by raw bit pattern, so 0 and -0 differ and NaN == NaN
+ * when the bits match. */
+bool vec_key_equal(const Vec *a, const Vec *b);
+
+#define CMP_INCOMPARABLE 2
+/* Ordering (§3.7): -1, 0, +1, or CMP_INCOMPARABLE. */
+int vec_cmp(const Vec *a, const Vec *b);
+/* Containment `x in y` (§3.8). */
+bool vec_contains(const Vec *x, const Vec *y);
+
+/* HASH_UPDATE of §3.16 (SplitMix64 finaliser with [y] xored in). */
+uint64_t hash_update(uint64_t h, uint64_t y);
+#define HASH_START UINT64_C(0xe220a8397b1dcdaf)
+/* vec_hash(v, false), computed once per vector and kept in it (numeric
+ * vectors and vectors of numbers and strings only, which nothing mutates
+ * once built); the state dictionary's key hash. [v] must be non-null. */
+uint64_t vec_key_hash(const Vec *v);
+/* Vector hash of §3.16; [floor_floats] floors numbers first (seed hash).
+ * Nodes hash structurally, functions by address. null → HASH_START. */
+uint64_t vec_hash(const Vec *v, bool floor_floats);
+
+/* ------------------------------------------------------------------ */
+/* Ranges and indexing (§3.10, §3.11)                                  */
+/* ------------------------------------------------------------------ */
+
+/* start..stop|step; [start]/[step] may be NULL (missing). Invalid → null.
+ * Ranges longer than [max_len] elements give null and set *[too_long]. */
+Vec *vec_range(const Vec *start, const Vec *stop, const Vec *step,
+               uint64_t max_len, bool *too_long);
+/* src[index] with 32-bit C int index conversion (or 64-bit when [literal]).
+ * Streams are indexed as in §5.8. */
+Vec *vec_index(const Vec *src, const Vec *index, bool literal);
+/* item(v, i) (§3.11): element i mod n as a one-element vector; null if empty;
+ * streams give their value at index i. */
+Vec *vec_item(const Vec *v, int64_t i);
+
+/* ------------------------------------------------------------------ */
+/* Symbols (§3.3)                                                      */
+/* ------------------------------------------------------------------ */
+
+/* The numeric value of symbol :[name] ([len] UTF-8 bytes). */
+double symbol_value(const char *name, size_t len);
+
+/* A symbol table maps symbol values (by bit pattern) to names; it belongs to
+ * one runtime (no global table). */
+typedef struct SymTab SymTab;
+SymTab *symtab_new(void);
+void symtab_free(SymTab *st);
+/* Register :[name] and return its value. */
+double symtab_add(SymTab *st, const char *name, size_t len);
+/* The registered name for [x], or NULL. */
+const Str *symtab_name(const SymTab *st, double x);
+
+#endif

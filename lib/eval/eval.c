@@ -1,0 +1,1012 @@
+/* eval.c: the per-frame tree-walking evaluator (LANGUAGE.md §4).
+ *
+ * eval_expr() takes a resolved AST node and the current function frame
+ * (ev->frame: one Vec* per slot, see program.h) and returns a new reference
+ * to the node's value. There is one function per AST kind; each begins with
+ * the node shape it handles and the spec section it follows. Run-time
+ * problems never stop the frame: the value becomes null and a message is
+ * recorded in ev->errors (§4.16).
+ */
+#include "program.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "builtins.h"
+#include "config.h"
+#include "context.h"
+#include "evalcode.h"
+#include "format.h"
+#include "module.h"
+#include "numexpr.h"
+#include "pool.h"
+#include "stable.h"
+
+/* ====================================================================
+ * Services for builtins (context.h)
+ * ==================================================================== */
+
+void eval_error(Eval *ev, const char *msg)
+{
+    if (ev && ev->errors) msgset_add(ev->errors, msg);
+}
+
+void eval_debug(Eval *ev, const char *msg)
+{
+    if (ev && ev->debug) msgset_add(ev->debug, msg);
+}
+
+const SymTab *eval_symtab(const Eval *ev) { return ev ? ev->symtab : NULL; }
+
+const char *eval_script_dir(const Eval *ev)
+{
+    return ev && ev->prog && ev->prog->dir ? ev->prog->dir : ".";
+}
+
+static void errorf(Eval *ev, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void errorf(Eval *ev, const char *fmt, ...)
+{
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    eval_error(ev, msg);
+}
+
+/* ====================================================================
+ * The evaluation step
+ * ==================================================================== */
+
+static Vec *eval_node(Eval *ev, const AstNode *n);
+static Vec *eval_fast(Eval *ev, const AstNode *n);
+static Vec *eval_code(Eval *ev, const AstNode *n);
+
+/* Evaluate [n] (may be NULL): literals and names inline, without a call or
+ * the depth guard (they cannot recurse), compiled numeric subtrees by
+ * eval_fast, everything else via eval_node. */
+static inline Vec *eval(Eval *ev, const AstNode *n)
+{
+    if (!n) return NULL;
+    if (n->kind == AST_LITERAL) return vec_retain(n->value);
+    if (n->kind == AST_NAME) {
+        switch (n->scope) {
+        case SCOPE_LOCAL: return vec_retain(ev->frame[n->slot]);
+        case SCOPE_GLOBAL: return ev->globals ? vec_retain(ev->globals->values[n->slot]) : NULL;
+        case SCOPE_CONST: return vec_retain(n->value);
+        default: return NULL;
+        }
+    }
+    if (n->fast == 1) return eval_fast(ev, n);
+    if (n->fast == 2) return eval_code(ev, n);
+    return eval_node(ev, n);
+}
+
+/* A compiled numeric subtree (numexpr.h): run on doubles; when an operand
+ * is not a single number, or the generic route would hit the depth limit
+ * inside it, evaluate it generically instead. */
+static inline Vec *run_num(Eval *ev, const AstNode *n, const NumExpr *x)
+{
+    if (ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH) {
+        Vec *v = vec_new_num(numexpr_outputs(x));
+        if (numexpr_run(x, ev, vec_nums(v))) return v;
+        vec_release(v);
+    }
+    return eval_node(ev, n);
+}
+
+__attribute__((noinline)) static Vec *eval_fast(Eval *ev, const AstNode *n)
+{
+    return run_num(ev, n, numexpr_of(n));
+}
+
+/* ====================================================================
+ * Helpers
+ * ==================================================================== */
+
+/* True once the embedder's interrupt flag is set (then ev->interrupted):
+ * loops and calls stop early so a long frame ends promptly (flitter.h). */
+static inline bool stop_requested(Eval *ev)
+{
+    if (ev->interrupt && *ev->interrupt)
+        ev->interrupted = true;
+    return ev->interrupted;
+}
+
+/* A growable list of parts to compose. */
+typedef struct Parts {
+    Vec *small[8];
+    Vec **v;
+    size_t n, cap;
+    uint64_t total;     /* elements pushed so far */
+    bool too_long;      /* total passed MAX_COMPOSE_LEN: later parts dropped */
+} Parts;
+
+static void parts_init(Parts *p)
+{
+    p->v = p->small;
+    p->n = 0;
+    p->cap = 8;
+    p->total = 0;
+    p->too_long = false;
+}
+
+/* Grow [p] (full) to twice its capacity. */
+static void parts_grow(Parts *p)
+{
+    size_t cap = p->cap * 2;
+    Vec **nv = pool_alloc(cap * sizeof(Vec *));
+    memcpy(nv, p->v, p->n * sizeof(Vec *));
+    if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
+    p->v = nv;
+    p->cap = cap;
+}
+
+static inline void parts_push(Parts *p, Vec *x)
+{
+    if (!x) return;
+    p->total += vec_len(x);
+    /* a single part passes whole (builtins bound their own results) */
+    if (p->too_long || (p->n > 0 && p->total > MAX_COMPOSE_LEN)) {
+        p->too_long = true;
+        vec_release(x);
+        return;
+    }
+    if (p->n == p->cap) parts_grow(p);
+    p->v[p->n++] = x;
+}
+
+/* Compose the parts and release them; null with an execution error when
+ * they were too long. */
+static Vec *parts_finish(Eval *ev, Parts *p)
+{
+    Vec *r;
+    if (p->too_long) {
+        errorf(ev, "Vector too long (over %llu elements)", (unsigned long long)MAX_COMPOSE_LEN);
+        r = NULL;
+        if (p->n == 1) vec_release(p->v[0]);
+    } else {
+        r = p->n == 1 ? p->v[0] : vec_compose_take(p->v, p->n);
+    }
+    if (p->too_long && p->n != 1)
+        for (size_t i = 0; i < p->n; i++) vec_release(p->v[i]);
+    if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
+    return r;
+}
+
+static void set_slot(Eval *ev, int32_t slot, Vec *v_take)
+{
+    Vec *old = ev->frame[slot];
+    ev->frame[slot] = v_take;
+    vec_release(old);
+}
+
+/* Bind names of [b] (AST_BINDING or AST_FOR) to [v]: one name takes the
+ * whole vector, several unpack with wrap-around (§4.4). Consumes [v]. */
+static void bind_unpack(Eval *ev, const AstNode *b, Vec *v)
+{
+    if (b->nnames == 1) {
+        set_slot(ev, b->slots[0], v);
+        return;
+    }
+    for (uint32_t i = 0; i < b->nnames; i++) set_slot(ev, b->slots[i], vec_item(v, i));
+    vec_release(v);
+}
+
+/* An unshared copy of [v] (consumes [v]); object vectors only. */
+static Vec *vec_unshare(Vec *v)
+{
+    if (v->refs == 1) return v;
+    Vec *c = vec_new_obj(v->len);
+    Elem *d = vec_elems(c);
+    const Elem *s = vec_celems(v);
+    for (uint32_t i = 0; i < v->len; i++) {
+        d[i] = s[i];
+        switch (d[i].kind) {
+        case EL_STR: str_retain(d[i].str); break;
+        case EL_NODE: node_retain(d[i].node); break;
+        case EL_FUNC: func_retain(d[i].func); break;
+        default: break;
+        }
+    }
+    vec_release(v);
+    return c;
+}
+
+static bool has_nodes(const Vec *v)
+{
+    if (!vec_is_obj(v)) return false;
+    for (uint32_t i = 0; i < v->len; i++)
+        if (vec_celems(v)[i].kind == EL_NODE) return true;
+    return false;
+}
+
+/* Python-style host repr of an element, for `X is not callable`. */
+static void host_repr(Buf *b, const Elem *e, const SymTab *st)
+{
+    (void)st;
+    if (e->kind == EL_NUM) {
+        size_t at = b->len;
+        fmt_double(b, e->num);
+        const char *s = b->data + at;
+        if (!strpbrk(s, ".eni")) buf_puts(b, ".0");
+    } else if (e->kind == EL_STR) {
+        Vec *v = vec_str(e->str->bytes, e->str->len);
+        fmt_repr(b, v, NULL);
+        vec_release(v);
+    } else {
+        buf_puts(b, "<object>");
+    }
+}
+
+/* ====================================================================
+ * Calls (§4.8, §4.9)
+ * ==================================================================== */
+
+typedef struct Closure {
+    const AstNode *def;   /* AST_FUNCTION */
+    Program *prog;        /* keeps the AST alive */
+    Vec **defaults;       /* per parameter, evaluated at definition */
+    Vec **caps;           /* captured values, FnInfo order */
+    uint32_t nparams, ncaps;
+    uint32_t active;      /* calls in progress */
+} Closure;
+
+static void closure_destroy(Func *f)
+{
+    Closure *c = f->impl;
+    for (uint32_t i = 0; i < c->nparams; i++) vec_release(c->defaults[i]);
+    for (uint32_t i = 0; i < c->ncaps; i++) vec_release(c->caps[i]);
+    pool_release(c->defaults, (c->nparams ? c->nparams : 1) * sizeof(Vec *));
+    pool_release(c->caps, (c->ncaps ? c->ncaps : 1) * sizeof(Vec *));
+    program_release(c->prog);
+    pool_release(c, sizeof *c);
+}
+
+typedef struct Args {
+    Vec **pos;             /* positional values */
+    uint32_t npos;
+    const AstNode **kwn;   /* AST_BINDING of each named argument */
+    Vec **kw;              /* named values */
+    uint32_t nkw;
+} Args;
+
+static Vec *call_user(Eval *ev, Func *f, const Args *a)
+{
+    Closure *c = f->impl;
+    const AstNode *def = c->def;
+    const FnInfo *fi = def->aux;
+    if (c->active >= MAX_ACTIVE_CALLS) {
+        errorf(ev, "Recursion depth exceeded for func '%s'", f->name->bytes);
+        return NULL;
+    }
+    if (stop_requested(ev))
+        return NULL;
+    size_t frame_size = (fi->nslots ? fi->nslots : 1) * sizeof(Vec *);
+    Vec **frame = pool_calloc(frame_size);
+    frame[0] = vec_func_take(func_retain(f));
+    for (uint32_t i = 0; i < c->nparams; i++) {
+        const AstNode *p = def->kids[i];
+        Vec *v = NULL;
+        bool given = false;
+        if (i < a->npos) {
+            v = a->pos[i];
+            given = true;
+        } else {
+            for (uint32_t k = 0; k < a->nkw && !given; k++) {
+                if (str_eq(a->kwn[k]->names[0], p->names[0])) {
+                    v = a->kw[k];
+                    given = true;
+                }
+            }
+        }
+        if (!given) v = c->defaults[i];
+        frame[p->slots[0]] = vec_retain(v);
+    }
+    const int32_t *dst = fi->cap_src + fi->ncaps;
+    for (uint32_t k = 0; k < c->ncaps; k++) frame[dst[k]] = vec_retain(c->caps[k]);
+    Vec **saved = ev->frame;
+    Program *saved_prog = ev->prog;
+    ev->frame = frame;
+    ev->prog = c->prog;
+    c->active++;
+    Vec *r = eval(ev, def->a);
+    c->active--;
+    ev->frame = saved;
+    ev->prog = saved_prog;
+    for (uint32_t i = 0; i < fi->nslots; i++) vec_release(frame[i]);
+    pool_release(frame, frame_size);
+    return r;
+}
+
+static Vec *call_builtin(Eval *ev, const Builtin *bi, const Args *a)
+{
+    /* every parameter given by position: pass the evaluated arguments as
+     * they are (builtins read nothing past max_args) */
+    if (a->nkw == 0 && bi->max_args != BI_VARIADIC && a->npos == (uint32_t)bi->max_args &&
+        bi->max_args >= bi->min_args)
+        return bi->fn(ev, bi, (int)a->npos, a->pos);
+    Vec *args[BI_MAX_PARAMS + 8] = {0};
+    Vec **argv = args;
+    uint32_t n = a->npos;
+    bool variadic = bi->max_args == BI_VARIADIC;
+    if (!variadic && n > (uint32_t)bi->max_args)
+        return bi_error(ev, bi, "%s() takes at most %d positional arguments (%u given)",
+                        bi->internal, bi->max_args, n);
+    if (n > sizeof args / sizeof args[0]) {
+        argv = calloc(n, sizeof(Vec *));
+        if (!argv) abort();
+    }
+    for (uint32_t i = 0; i < a->npos; i++) argv[i] = a->pos[i];
+    for (uint32_t k = 0; k < a->nkw; k++) {
+        const Str *name = a->kwn[k]->names[0];
+        int idx = -1;
+        for (int p = 0; p < BI_MAX_PARAMS && bi->params[p]; p++)
+            if (strcmp(bi->params[p], name->bytes) == 0) idx = p;
+        if (idx < 0 || (!variadic && idx >= bi->max_args) || (uint32_t)idx >= sizeof args / sizeof args[0]) {
+            if (argv != args) free(argv);
+            return bi_error(ev, bi, "%s() got an unexpected keyword argument '%s'", bi->internal,
+                            name->bytes);
+        }
+        if ((uint32_t)idx < a->npos) {
+            if (argv != args) free(argv);
+            return bi_error(ev, bi, "%s() got multiple values for argument '%s'", bi->internal,
+                            name->bytes);
+        }
+        argv[idx] = a->kw[k];
+        if ((uint32_t)idx + 1 > n) n = (uint32_t)idx + 1;
+    }
+    Vec *r;
+    if (n < (uint32_t)bi->min_args)
+        r = bi_error(ev, bi, "%s() takes at least %d positional arguments (%u given)", bi->internal,
+                     bi->min_args, n);
+    else
+        r = bi->fn(ev, bi, (int)n, argv);
+    if (argv != args) free(argv);
+    return r;
+}
+
+/* Call every element of [callee] with [a] and compose the results. */
+static Vec *call_value(Eval *ev, const Vec *callee, const Args *a)
+{
+    if (!vec_is_obj(callee)) return NULL;   /* null, numeric, stream: silent null */
+    Parts parts;
+    parts_init(&parts);
+    for (uint32_t i = 0; i < callee->len; i++) {
+        const Elem *e = &vec_celems(callee)[i];
+        if (e->kind == EL_FUNC) {
+            Func *f = e->func;
+            parts_push(&parts, f->bi ? call_builtin(ev, f->bi, a) : call_user(ev, f, a));
+        } else {
+            Buf b = BUF_INIT;
+            host_repr(&b, e, ev->symtab);
+            buf_puts(&b, " is not callable");
+            eval_error(ev, buf_cstr(&b));
+            buf_free(&b);
+        }
+    }
+    return parts_finish(ev, &parts);
+}
+
+/* AST_CALL: a(kids[0..count), name=value ...) — args, then named values,
+ * then the callee (§4.8). */
+__attribute__((noinline)) static Vec *eval_call(Eval *ev, const AstNode *n)
+{
+    uint32_t npos = n->count, nkw = n->nkids - n->count;
+    const AstNode *fn = n->a;
+    if (nkw == 0 && npos <= 8 &&
+        (fn->kind == AST_LITERAL || (fn->kind == AST_NAME && fn->scope == SCOPE_CONST)) &&
+        vec_is_obj(fn->value) && fn->value->len == 1 && vec_celems(fn->value)[0].kind == EL_FUNC &&
+        vec_celems(fn->value)[0].func->bi) {
+        /* a builtin resolved at load time (a builtin name, or a literal
+         * function after the simplifier), positional arguments only: call
+         * it directly (the callee is a constant, so evaluating it last, as
+         * below, changes nothing) */
+        Vec *args[8];
+        for (uint32_t i = 0; i < npos; i++) args[i] = eval(ev, n->kids[i]);
+        Args a = {args, npos, NULL, NULL, 0};
+        Vec *r = call_builtin(ev, vec_celems(fn->value)[0].func->bi, &a);
+        for (uint32_t i = 0; i < npos; i++) vec_release(args[i]);
+        return r;
+    }
+    Vec *posbuf[8], *kwbuf[8];
+    const AstNode *kwnbuf[8];
+    Args a = {npos > 8 ? malloc(npos * sizeof(Vec *)) : posbuf, npos,
+              nkw > 8 ? malloc(nkw * sizeof(AstNode *)) : kwnbuf,
+              nkw > 8 ? malloc(nkw * sizeof(Vec *)) : kwbuf, nkw};
+    if (!a.pos || !a.kwn || !a.kw) abort();
+    for (uint32_t i = 0; i < npos; i++) a.pos[i] = eval(ev, n->kids[i]);
+    for (uint32_t k = 0; k < nkw; k++) {
+        a.kwn[k] = n->kids[npos + k];
+        a.kw[k] = eval(ev, a.kwn[k]->a);
+    }
+    Vec *callee = eval(ev, n->a);
+    Vec *r = call_value(ev, callee, &a);
+    vec_release(callee);
+    for (uint32_t i = 0; i < npos; i++) vec_release(a.pos[i]);
+    for (uint32_t k = 0; k < nkw; k++) vec_release(a.kw[k]);
+    if (a.pos != posbuf) free(a.pos);
+    if (a.kwn != kwnbuf) free(a.kwn);
+    if (a.kw != kwbuf) free(a.kw);
+    return r;
+}
+
+/* AST_FUNCTION: a closure with defaults evaluated and free names captured
+ * now, in the defining frame (§4.8). */
+__attribute__((noinline)) static Vec *eval_function(Eval *ev, const AstNode *n)
+{
+    const FnInfo *fi = n->aux;
+    Closure *c = pool_calloc(sizeof *c);
+    c->def = n;
+    c->prog = ev->prog;
+    c->prog->refs++;
+    c->nparams = n->nkids;
+    c->ncaps = fi->ncaps;
+    c->defaults = pool_calloc((c->nparams ? c->nparams : 1) * sizeof(Vec *));
+    c->caps = pool_calloc((c->ncaps ? c->ncaps : 1) * sizeof(Vec *));
+    for (uint32_t i = 0; i < c->nparams; i++)
+        c->defaults[i] = n->kids[i]->a ? eval(ev, n->kids[i]->a) : NULL;
+    for (uint32_t k = 0; k < c->ncaps; k++) c->caps[k] = vec_retain(ev->frame[fi->cap_src[k]]);
+    Func *f = pool_calloc(sizeof *f);
+    f->refs = 1;
+    f->name = str_retain(n->names[0]);
+    f->impl = c;
+    f->destroy = closure_destroy;
+    return vec_func_take(f);
+}
+
+/* ====================================================================
+ * Node operations (§4.10)
+ * ==================================================================== */
+
+/* AST_TAG: a #names[0] */
+__attribute__((noinline)) static Vec *eval_tag(Eval *ev, const AstNode *n)
+{
+    Vec *v = eval(ev, n->a);
+    if (!has_nodes(v)) return v;
+    v = vec_unshare(v);
+    Elem *e = vec_elems(v);
+    for (uint32_t i = 0; i < v->len; i++) {
+        if (e[i].kind != EL_NODE) continue;
+        e[i].node = node_mut(e[i].node);
+        node_add_tag(e[i].node, n->names[0]);
+    }
+    return v;
+}
+
+/* AST_ATTRIBUTES: a name=value ... — values left to right, then set. */
+__attribute__((noinline)) static Vec *eval_attributes(Eval *ev, const AstNode *n)
+{
+    Vec *v = eval(ev, n->a);
+    Vec *small[16];
+    Vec **vals = n->nkids > 16 ? malloc(n->nkids * sizeof(Vec *)) : small;
+    if (!vals) abort();
+    for (uint32_t k = 0; k < n->nkids; k++) vals[k] = eval(ev, n->kids[k]->a);
+    if (has_nodes(v)) {
+        v = vec_unshare(v);
+        Elem *e = vec_elems(v);
+        for (uint32_t i = 0; i < v->len; i++) {
+            if (e[i].kind != EL_NODE) continue;
+            e[i].node = node_mut(e[i].node);
+            for (uint32_t k = 0; k < n->nkids; k++)
+                node_set_attr(e[i].node, n->kids[k]->names[0], vec_retain(vals[k]));
+        }
+    }
+    for (uint32_t k = 0; k < n->nkids; k++) vec_release(vals[k]);
+    if (vals != small) free(vals);
+    return v;
+}
+
+/* AST_APPEND: a << b — node elements of b appended to each node of a. */
+__attribute__((noinline)) static Vec *eval_append(Eval *ev, const AstNode *n)
+{
+    Vec *p = eval(ev, n->a);
+    Vec *c = eval(ev, n->b);
+    if (has_nodes(p) && has_nodes(c)) {
+        p = vec_unshare(p);
+        Elem *e = vec_elems(p);
+        const Elem *ce = vec_celems(c);
+        for (uint32_t i = 0; i < p->len; i++) {
+            if (e[i].kind != EL_NODE) continue;
+            e[i].node = node_mut(e[i].node);
+            for (uint32_t j = 0; j < c->len; j++)
+                if (ce[j].kind == EL_NODE) node_append(e[i].node, ce[j].node);
+        }
+    }
+    vec_release(c);
+    return p;
+}
+
+/* ====================================================================
+ * Operators (§3.5-3.10)
+ * ==================================================================== */
+
+static bool is_literal_two(const AstNode *n)
+{
+    return n->kind == AST_LITERAL && vec_is_scalar(n->value) && vec_scalar(n->value) == 2.0;
+}
+
+/* AST_BINOP: a OP b, with the F1 fused a + (b*c) and F2 x**2 (§4.17). */
+__attribute__((noinline)) static Vec *eval_binop(Eval *ev, const AstNode *n)
+{
+    if (n->op == OP_POW && is_literal_two(n->b)) {
+        Vec *x = eval(ev, n->a);
+        Vec *r = vec_arith(OP_MUL, x, x);
+        vec_release(x);
+        return r;
+    }
+    Vec *a = eval(ev, n->a);
+    const AstNode *rb = n->b;
+    if (n->op == OP_ADD && rb->kind == AST_BINOP &&
+        (rb->op == OP_MUL || (rb->op == OP_POW && is_literal_two(rb->b)))) {
+        Vec *b = eval(ev, rb->a);
+        Vec *c = rb->op == OP_MUL ? eval(ev, rb->b) : vec_retain(b);
+        Vec *r = vec_add_mul(a, b, c);
+        vec_release(a);
+        vec_release(b);
+        vec_release(c);
+        return r;
+    }
+    return vec_arith_take((ArithOp)n->op, a, eval(ev, rb));
+}
+
+/* AST_COMPARE: a OP b (§3.6-3.8), 1 or 0, or null when incomparable. */
+__attribute__((noinline)) static Vec *eval_compare(Eval *ev, const AstNode *n)
+{
+    Vec *a = eval(ev, n->a);
+    Vec *b = eval(ev, n->b);
+    bool same = a == b;    /* identity shortcut (§3.6 rule 1) */
+    Vec *r = NULL;
+    int c;
+    switch (n->op) {
+    case CMP_EQ: r = vec_num1(same || vec_equal(a, b)); break;
+    case CMP_NE: r = vec_num1(!(same || vec_equal(a, b))); break;
+    case CMP_IN: r = vec_num1(vec_contains(a, b)); break;
+    default:
+        c = same ? 0 : vec_cmp(a, b);
+        if (c == CMP_INCOMPARABLE) break;
+        switch (n->op) {
+        case CMP_LT: r = vec_num1(c == -1); break;
+        case CMP_GT: r = vec_num1(c == 1); break;
+        case CMP_LE: r = vec_num1(c != 1); break;
+        default: r = vec_num1(c != -1); break;
+        }
+    }
+    vec_release(a);
+    vec_release(b);
+    return r;
+}
+
+/* AST_RANGE: a..b|c (§3.10). */
+__attribute__((noinline)) static Vec *eval_range(Eval *ev, const AstNode *n)
+{
+    Vec *a = n->a ? eval(ev, n->a) : NULL;
+    Vec *b = eval(ev, n->b);
+    Vec *c = n->c ? eval(ev, n->c) : NULL;
+    bool too_long = false;
+    Vec *r = vec_range(a, b, c, MAX_RANGE_LEN, &too_long);
+    if (too_long) errorf(ev, "Range too long (over %llu elements)", (unsigned long long)MAX_RANGE_LEN);
+    vec_release(a);
+    vec_release(b);
+    vec_release(c);
+    return r;
+}
+
+/* ====================================================================
+ * Scopes and control (§4.3-4.7)
+ * ==================================================================== */
+
+/* AST_SEQUENCE: kids composed in order (§4.3). */
+__attribute__((noinline)) static Vec *eval_sequence(Eval *ev, const AstNode *n)
+{
+    if (n->nkids == 1) return eval(ev, n->kids[0]);
+    Parts parts;
+    parts_init(&parts);
+    for (uint32_t i = 0; i < n->nkids; i++) parts_push(&parts, eval(ev, n->kids[i]));
+    return parts_finish(ev, &parts);
+}
+
+/* AST_LET: bindings left to right, then the body (§4.4, §4.5). */
+__attribute__((noinline)) static Vec *eval_let(Eval *ev, const AstNode *n)
+{
+    for (uint32_t i = 0; i < n->nkids; i++) {
+        const AstNode *b = n->kids[i];
+        Vec *v = eval(ev, b->a);
+        if (n->op == 1 && n->count && ev->stables &&
+            !stable_check(ev->stables, n, i, v, ev->prog->asserted, ev->prog->nasserted))
+            ev->stable_changed = true;   /* `let stable`: stable.h */
+        bind_unpack(ev, b, v);
+    }
+    return eval(ev, n->a);
+}
+
+/* AST_FOR: names in source, body per group of len(names) items, no
+ * wrap-around (§4.6). */
+__attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
+{
+    Vec *src = eval(ev, n->a);
+    uint32_t len = vec_len(src), k = n->nnames ? n->nnames : 1;
+    Parts parts;
+    parts_init(&parts);
+    /* once the result is too long it is null: stop evaluating the body */
+    for (uint32_t p = 0; p < len && !parts.too_long && !stop_requested(ev); p += k) {
+        for (uint32_t j = 0; j < n->nnames; j++) {
+            Vec *cur = ev->frame[n->slots[j]];
+            if (p + j < len && src->kind == VEC_NUM && cur && cur->refs == 1 &&
+                cur->kind == VEC_NUM && cur->len == 1) {
+                /* the previous item is held by nothing else: reuse it */
+                cur->hashed = 0;
+                vec_nums(cur)[0] = vec_cnums(src)[p + j];
+            } else {
+                set_slot(ev, n->slots[j], p + j < len ? vec_item(src, p + j) : NULL);
+            }
+        }
+        parts_push(&parts, eval(ev, n->b));
+    }
+    vec_release(src);
+    return parts_finish(ev, &parts);
+}
+
+/* AST_IFELSE: first true condition's branch, else `a` (§4.7). */
+__attribute__((noinline)) static Vec *eval_ifelse(Eval *ev, const AstNode *n)
+{
+    for (uint32_t i = 0; i + 1 < n->nkids; i += 2) {
+        Vec *c = eval(ev, n->kids[i]);
+        bool t = vec_truthy(c);
+        vec_release(c);
+        if (t) return eval(ev, n->kids[i + 1]);
+    }
+    return n->a ? eval(ev, n->a) : NULL;
+}
+
+/* ====================================================================
+ * Modules (§4.13)
+ * ==================================================================== */
+
+/* AST_IMPORT: import names from a, then the body b. */
+__attribute__((noinline)) static Vec *eval_import(Eval *ev, const AstNode *n)
+{
+    Vec *file = eval(ev, n->a);
+    Buf name = BUF_INIT, path = BUF_INIT;
+    fmt_str(&name, file, ev->symtab);
+    vec_release(file);
+    const char *s = buf_cstr(&name);
+    if (s[0] == '/') buf_puts(&path, s);
+    else buf_printf(&path, "%s/%s", eval_script_dir(ev), s);
+    Vec *small[8];
+    Vec **vals = n->nnames > 8 ? malloc(n->nnames * sizeof(Vec *)) : small;
+    if (!vals) abort();
+    if (ev->modules && ev->depth > MAX_IMPORT_DEPTH) {
+        /* loading a module recurses too (resolve, up to AST_MAX_DEPTH):
+         * keep that headroom on the C stack */
+        for (uint32_t i = 0; i < n->nnames; i++) vals[i] = NULL;
+        errorf(ev, "Unable to import from '%s': nested too deeply", buf_cstr(&path));
+    } else if (ev->modules) {
+        module_import(ev->modules, ev, buf_cstr(&path), n->names, n->nnames, vals);
+    } else {
+        for (uint32_t i = 0; i < n->nnames; i++) vals[i] = NULL;
+        errorf(ev, "Unable to import from '%s'", buf_cstr(&path));
+    }
+    for (uint32_t i = 0; i < n->nnames; i++) set_slot(ev, n->slots[i], vals[i]);
+    if (vals != small) free(vals);
+    buf_free(&name);
+    buf_free(&path);
+    return eval(ev, n->b);
+}
+
+/* Append [name] = [value] (both retained) to [out]: a simplifier export. */
+static void export_one(Exports *out, const Str *name, Vec *value)
+{
+    if (out->count == out->cap) {
+        out->cap = out->cap ? out->cap * 2 : 16;
+        out->names = realloc(out->names, out->cap * sizeof(Str *));
+        out->values = realloc(out->values, out->cap * sizeof(Vec *));
+        if (!out->names || !out->values) abort();
+    }
+    out->names[out->count] = str_retain((Str *)name);
+    out->values[out->count] = vec_retain(value);
+    out->count++;
+}
+
+/* AST_EXPORT: in a module, record every top-level name's value (first the
+ * names the simplifier bound to literals: kids `name=literal`). */
+static void eval_export(Eval *ev, const AstNode *n)
+{
+    const ExportInfo *x = n->aux;
+    Exports *out = ev->exports;
+    if (!out || !x) return;
+    for (uint32_t i = 0; i < n->nkids; i++) export_one(out, n->kids[i]->names[0], n->kids[i]->a->value);
+    for (uint32_t i = 0; i < x->count; i++) {
+        if (out->count == out->cap) {
+            out->cap = out->cap ? out->cap * 2 : 16;
+            out->names = realloc(out->names, out->cap * sizeof(Str *));
+            out->values = realloc(out->values, out->cap * sizeof(Vec *));
+            if (!out->names || !out->values) abort();
+        }
+        out->names[out->count] = str_retain((Str *)x->names[i]);
+        out->values[out->count] = vec_retain(ev->frame[x->slots[i]]);
+        out->count++;
+    }
+}
+
+/* ====================================================================
+ * Compiled regions (evalcode.h): each record does what the eval_* function
+ * of its AST kind does, in the same order, with the same depth accounting
+ * ==================================================================== */
+
+static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off);
+
+/* eval_node's depth guard; false (with the error) on overflow. */
+static inline bool depth_enter(Eval *ev)
+{
+    if (++ev->depth > MAX_EVAL_DEPTH) {
+        ev->depth--;
+        ev->overflow = true;
+        eval_error(ev, "Stack overflow in program");
+        return false;
+    }
+    return true;
+}
+
+static const uint32_t *rec_offs(const CRec *r) { return (const uint32_t *)(const void *)(r + 1); }
+
+/* C_SEQ: eval_sequence */
+static Vec *run_seq(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    if (r->n == 1) return run_rec(ev, base, k[0]);
+    Parts parts;
+    parts_init(&parts);
+    for (uint32_t i = 0; i < r->n; i++) parts_push(&parts, run_rec(ev, base, k[i]));
+    return parts_finish(ev, &parts);
+}
+
+/* C_LET: eval_let of single-name, non-stable bindings */
+static Vec *run_let(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
+    for (uint32_t i = 0; i < r->n; i++) set_slot(ev, t->binds[i].slot, run_rec(ev, base, t->binds[i].off));
+    return run_rec(ev, base, t->body);
+}
+
+/* C_ATTRS: eval_attributes */
+static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+    Vec *v = run_rec(ev, base, t->node);
+    Vec *small[16];
+    Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
+    if (!vals) abort();
+    for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
+    if (has_nodes(v)) {
+        v = vec_unshare(v);
+        Elem *e = vec_elems(v);
+        for (uint32_t i = 0; i < v->len; i++) {
+            if (e[i].kind != EL_NODE) continue;
+            e[i].node = node_mut(e[i].node);
+            for (uint32_t k = 0; k < r->n; k++)
+                node_set_attr(e[i].node, t->attrs[k].name, vec_retain(vals[k]));
+        }
+    }
+    for (uint32_t k = 0; k < r->n; k++) vec_release(vals[k]);
+    if (vals != small) free(vals);
+    return v;
+}
+
+/* C_NEWNODE: eval_attributes on a literal bare node, which it would copy
+ * (it is shared) before setting the attributes: the same node, built
+ * directly */
+static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+    Vec *small[16];
+    Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
+    if (!vals) abort();
+    for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
+    Node *nn = node_new(vec_celems(r->p.lit)[0].node->kind);
+    if (r->n <= 16) {
+        /* distinct names (evalcode.c checks): set them all at once */
+        Str *names[16];
+        for (uint32_t k = 0; k < r->n; k++) names[k] = t->attrs[k].name;
+        node_init_attrs(nn, r->n, names, vals);
+    } else {
+        for (uint32_t k = 0; k < r->n; k++) node_set_attr(nn, t->attrs[k].name, vals[k]);
+    }
+    if (vals != small) free(vals);
+    return vec_node_take(nn);
+}
+
+/* C_CALLBI: eval_call's direct route for a builtin callee */
+static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    Vec *args[8];
+    for (uint32_t i = 0; i < r->n; i++) args[i] = run_rec(ev, base, k[i]);
+    Args a = {args, r->n, NULL, NULL, 0};
+    Vec *v = call_builtin(ev, r->p.bi, &a);
+    for (uint32_t i = 0; i < r->n; i++) vec_release(args[i]);
+    return v;
+}
+
+/* C_APPEND: eval_append */
+static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    Vec *p = run_rec(ev, base, k[0]);
+    Vec *c = run_rec(ev, base, k[1]);
+    if (has_nodes(p) && has_nodes(c)) {
+        p = vec_unshare(p);
+        Elem *e = vec_elems(p);
+        const Elem *ce = vec_celems(c);
+        for (uint32_t i = 0; i < p->len; i++) {
+            if (e[i].kind != EL_NODE) continue;
+            e[i].node = node_mut(e[i].node);
+            for (uint32_t j = 0; j < c->len; j++)
+                if (ce[j].kind == EL_NODE) node_append(e[i].node, ce[j].node);
+        }
+    }
+    vec_release(c);
+    return p;
+}
+
+static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off)
+{
+    const CRec *r = crec(base, off);
+    Vec *v;
+    switch (r->op) {
+    case C_LIT: return vec_retain(r->p.lit);
+    case C_LOCAL: return vec_retain(ev->frame[r->n]);
+    case C_GLOBAL: return ev->globals ? vec_retain(ev->globals->values[r->n]) : NULL;
+    case C_NUM: return run_num(ev, r->p.node, (const NumExpr *)(const void *)(r + 1));
+    case C_AST: return eval(ev, r->p.node);
+    default: break;
+    }
+    if (!depth_enter(ev)) return NULL;
+    switch (r->op) {
+    case C_SEQ: v = run_seq(ev, base, r); break;
+    case C_LET: v = run_let(ev, base, r); break;
+    case C_ATTRS: v = run_attrs(ev, base, r); break;
+    case C_CALLBI: v = run_callbi(ev, base, r); break;
+    case C_APPEND: v = run_append(ev, base, r); break;
+    case C_NEWNODE: v = run_newnode(ev, base, r); break;
+    default: v = NULL; break;
+    }
+    ev->depth--;
+    return v;
+}
+
+__attribute__((noinline)) static Vec *eval_code(Eval *ev, const AstNode *n)
+{
+    return run_rec(ev, n->aux, 0);
+}
+
+/* ====================================================================
+ * Dispatch
+ * ==================================================================== */
+
+Vec *eval_expr(Eval *ev, const AstNode *n) { return eval(ev, n); }
+
+static Vec *eval_node(Eval *ev, const AstNode *n)
+{
+    if (++ev->depth > MAX_EVAL_DEPTH) {
+        ev->depth--;
+        ev->overflow = true;
+        eval_error(ev, "Stack overflow in program");
+        return NULL;
+    }
+    Vec *r = NULL, *a, *b;
+    switch ((AstKind)n->kind) {
+    case AST_LITERAL:
+    case AST_NAME:
+        r = eval(ev, n);
+        break;
+    case AST_LOOKUP:
+        a = eval(ev, n->a);
+        r = ev->state ? vec_retain(state_get(ev->state, a)) : NULL;
+        vec_release(a);
+        break;
+    case AST_BINOP: r = eval_binop(ev, n); break;
+    case AST_NEG:
+        a = eval(ev, n->a);
+        r = vec_neg(a);
+        vec_release(a);
+        break;
+    case AST_POS:
+        a = eval(ev, n->a);
+        r = vec_pos(a);
+        vec_release(a);
+        break;
+    case AST_NOT:
+        a = eval(ev, n->a);
+        r = vec_num1(!vec_truthy(a));
+        vec_release(a);
+        break;
+    case AST_AND:
+        a = eval(ev, n->a);
+        if (!vec_truthy(a)) { r = a; break; }
+        vec_release(a);
+        r = eval(ev, n->b);
+        break;
+    case AST_OR:
+        a = eval(ev, n->a);
+        if (vec_truthy(a)) { r = a; break; }
+        vec_release(a);
+        r = eval(ev, n->b);
+        break;
+    case AST_XOR:
+        a = eval(ev, n->a);
+        b = eval(ev, n->b);
+        if (!vec_truthy(a)) { r = b; vec_release(a); }
+        else if (vec_truthy(b)) { r = vec_num1(0.0); vec_release(a); vec_release(b); }
+        else { r = a; vec_release(b); }
+        break;
+    case AST_COMPARE: r = eval_compare(ev, n); break;
+    case AST_RANGE: r = eval_range(ev, n); break;
+    case AST_INDEX:
+        a = eval(ev, n->a);
+        b = eval(ev, n->b);
+        r = vec_index(a, b, n->b->kind == AST_LITERAL && n->b->op == 1);
+        vec_release(a);
+        vec_release(b);
+        break;
+    case AST_CALL: r = eval_call(ev, n); break;
+    case AST_FUNCTION: r = eval_function(ev, n); break;
+    case AST_LET: r = eval_let(ev, n); break;
+    case AST_FOR: r = eval_for(ev, n); break;
+    case AST_IFELSE: r = eval_ifelse(ev, n); break;
+    case AST_TAG: r = eval_tag(ev, n); break;
+    case AST_ATTRIBUTES: r = eval_attributes(ev, n); break;
+    case AST_APPEND: r = eval_append(ev, n); break;
+    case AST_SEQUENCE: r = eval_sequence(ev, n); break;
+    case AST_TOP: r = eval(ev, n->a); break;
+    case AST_IMPORT: r = eval_import(ev, n); break;
+    case AST_INCLUDE:
+        if (n->b) r = eval(ev, n->b);
+        else if (!n->op && n->a && n->a->value)
+            eval_error(ev, "Dynamic include detected; is simplifier disabled?");
+        break;
+    case AST_EXPORT: eval_export(ev, n); break;
+    case AST_BINDING:
+    case AST__COUNT:
+        break;
+    }
+    ev->depth--;
+    return r;
+}
+
+Vec *eval_program_value(Eval *ev)
+{
+    Program *prog = ev->prog;
+    size_t frame_size = (prog->nslots ? prog->nslots : 1) * sizeof(Vec *);
+    Vec **frame = pool_calloc(frame_size);
+    Vec **saved = ev->frame;
+    ev->frame = frame;
+    ev->overflow = false;
+    Vec *v = eval(ev, prog->top);
+    ev->frame = saved;
+    for (uint32_t i = 0; i < prog->nslots; i++) vec_release(frame[i]);
+    pool_release(frame, frame_size);
+    if (ev->overflow) {
+        vec_release(v);
+        return NULL;
+    }
+    return v;
+}
+
+Node *eval_program(Eval *ev)
+{
+    Str *kind = str_from("root");
+    Node *root = node_new(kind);
+    str_release(kind);
+    Vec *v = eval_program_value(ev);
+    if (vec_is_obj(v)) {
+        const Elem *e = vec_celems(v);
+        for (uint32_t i = 0; i < v->len; i++)
+            if (e[i].kind == EL_NODE) node_append(root, e[i].node);
+    }
+    vec_release(v);
+    return root;
+}

@@ -1,0 +1,778 @@
+/* simplify.c: the simplifier's driver, operators and node expressions
+ * (LANGUAGE.md §4.17; the rule order follows tree.pyx `_simplify`).
+ *
+ * simp() returns a new, simplified copy of a node and never changes its
+ * argument, so a loop body can be unrolled and a function body inlined as
+ * often as needed. A rewrite builds the new expression from simplified
+ * parts and simplifies it again (resimp), exactly as the reference does.
+ * Literal folding evaluates with the evaluator's own vector operations, so
+ * a folded value equals the value the evaluator would compute (S1).
+ */
+#include "simplify_internal.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "config.h"
+#include "builtins.h"
+
+/* ====================================================================
+ * Tree helpers
+ * ==================================================================== */
+
+AstNode *ast_copy(const AstNode *n)
+{
+    if (!n) return NULL;
+    AstNode *c = ast_new((AstKind)n->kind, n->loc);
+    c->op = n->op;
+    c->count = n->count;
+    c->a = ast_copy(n->a);
+    c->b = ast_copy(n->b);
+    c->c = ast_copy(n->c);
+    for (uint32_t i = 0; i < n->nkids; i++) ast_push(c, ast_copy(n->kids[i]));
+    for (uint32_t i = 0; i < n->nnames; i++) ast_push_name(c, str_retain(n->names[i]));
+    c->value = vec_retain(n->value);
+    return c;
+}
+
+AstNode *mk_lit(Vec *v_take, Loc loc)
+{
+    AstNode *n = ast_literal(v_take, loc);
+    if (vec_is_scalar(v_take)) n->op = 1;   /* a single number: IndexLiteral (§3.11) */
+    return n;
+}
+
+static AstNode *mk_noop(Loc loc) { return mk_lit(NULL, loc); }
+
+static AstNode *mk_bin(AstKind kind, int op, AstNode *a, AstNode *b, Loc loc)
+{
+    return ast_binary(kind, op, a, b, loc);
+}
+
+static AstNode *mk_un(AstKind kind, AstNode *a, Loc loc) { return ast_unary(kind, a, loc); }
+
+AstNode *resimp(Simp *s, AstNode *n_take)
+{
+    AstNode *r = simp(s, n_take);
+    ast_free(n_take);
+    return r;
+}
+
+void simp_warn(Simp *s, const char *msg)
+{
+    if (!s->warnings) return;
+    size_t len = strlen(msg);
+    /* one line per message, each once */
+    const char *p = s->warnings->data;
+    while (p && *p) {
+        const char *nl = strchr(p, '\n');
+        size_t l = nl ? (size_t)(nl - p) : strlen(p);
+        if (l == len && memcmp(p, msg, len) == 0) return;
+        p = nl ? nl + 1 : p + l;
+    }
+    buf_printf(s->warnings, "%s\n", msg);
+}
+
+/* Evaluate [n], whose operands are all literals, with the evaluator. */
+static Vec *fold(Simp *s, const AstNode *n)
+{
+    Vec *v = eval_expr(&s->ev, n);
+    for (uint32_t i = 0; i < s->errors.count; i++) simp_warn(s, s->errors.items[i]);
+    msgset_clear(&s->errors);
+    return v;
+}
+
+static bool lit_numeric(const AstNode *n) { return vec_is_num(n->value); }
+
+/* The literal equals the one-element vector [x] (tree.pyx `eq(...) is true_`). */
+static bool lit_equals(const AstNode *n, double x)
+{
+    return vec_is_scalar(n->value) && vec_scalar(n->value) == x;
+}
+
+static bool is_maths(const AstNode *n) { return n && n->kind == AST_BINOP; }
+static bool is_binop(const AstNode *n, int op) { return n && n->kind == AST_BINOP && n->op == op; }
+
+/* ====================================================================
+ * Arithmetic rewrites (S2-S17)
+ * ==================================================================== */
+
+/* The rule for a literal left operand [l] and other operand [r] (both
+ * simplified; consumed when a rule applies), or NULL when none applies (l
+ * and r then untouched). Sums and products use it for a literal on either
+ * side, as tree.pyx does. */
+static AstNode *constant_left(int op, AstNode *l, AstNode *r, Loc loc)
+{
+    if (!lit_numeric(l)) {
+        if (op == OP_ADD || op == OP_SUB || op == OP_MUL || op == OP_DIV || op == OP_FLOORDIV ||
+            op == OP_MOD || op == OP_POW) {
+            ast_free(l);
+            ast_free(r);
+            return mk_noop(loc);            /* S17 */
+        }
+        return NULL;
+    }
+    switch (op) {
+    case OP_ADD:
+        if (lit_equals(l, 0.0)) {            /* S2 */
+            ast_free(l);
+            return mk_un(AST_POS, r, loc);
+        }
+        return NULL;
+    case OP_SUB:
+        if (lit_equals(l, 0.0)) {            /* S3 */
+            ast_free(l);
+            return mk_un(AST_NEG, r, loc);
+        }
+        return NULL;
+    case OP_MUL:
+        if (lit_equals(l, 1.0)) {            /* S5 */
+            ast_free(l);
+            return mk_un(AST_POS, r, loc);
+        }
+        if (lit_equals(l, -1.0)) {
+            ast_free(l);
+            return mk_un(AST_NEG, r, loc);
+        }
+        if ((is_binop(r, OP_ADD) || is_binop(r, OP_SUB)) && (is_lit(r->a) || is_lit(r->b))) {
+            /* S7: L*(a+b) -> (L*a) + (L*b) */
+            AstNode *la = mk_bin(AST_BINOP, OP_MUL, ast_copy(l), r->a, loc);
+            AstNode *lb = mk_bin(AST_BINOP, OP_MUL, l, r->b, loc);
+            AstNode *e = mk_bin(AST_BINOP, r->op, la, lb, loc);
+            r->a = r->b = NULL;
+            ast_free(r);
+            return e;
+        }
+        if (is_binop(r, OP_MUL)) {           /* S8 */
+            if (is_lit(r->a)) {
+                AstNode *e = mk_bin(AST_BINOP, OP_MUL, mk_bin(AST_BINOP, OP_MUL, l, r->a, loc), r->b, loc);
+                r->a = r->b = NULL;
+                ast_free(r);
+                return e;
+            }
+            if (is_lit(r->b)) {
+                AstNode *e = mk_bin(AST_BINOP, OP_MUL, mk_bin(AST_BINOP, OP_MUL, l, r->b, loc), r->a, loc);
+                r->a = r->b = NULL;
+                ast_free(r);
+                return e;
+            }
+            return NULL;
+        }
+        if (is_binop(r, OP_DIV)) {           /* S9 */
+            if (is_lit(r->a)) {
+                AstNode *e = mk_bin(AST_BINOP, OP_DIV, mk_bin(AST_BINOP, OP_MUL, l, r->a, loc), r->b, loc);
+                r->a = r->b = NULL;
+                ast_free(r);
+                return e;
+            }
+            return NULL;
+        }
+        if (r->kind == AST_NEG) {            /* S10 */
+            AstNode *e = mk_bin(AST_BINOP, OP_MUL, mk_lit(vec_neg(l->value), loc), r->a, loc);
+            r->a = NULL;
+            ast_free(r);
+            ast_free(l);
+            return e;
+        }
+        return NULL;
+    default:
+        return NULL;
+    }
+}
+
+/* The rule for a literal right operand [r] (S3-S6, S16), or NULL. */
+static AstNode *constant_right(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
+{
+    switch (op) {
+    case OP_ADD:
+    case OP_MUL:
+        return constant_left(op, r, l, loc);   /* commutative: same rules */
+    case OP_SUB:
+        if (lit_equals(r, 0.0)) {              /* S3 */
+            ast_free(r);
+            return mk_un(AST_POS, l, loc);
+        }
+        {                                      /* S4: x - L -> x + (-L) */
+            AstNode *e = mk_bin(AST_BINOP, OP_ADD, l, mk_lit(vec_neg(r->value), loc), loc);
+            ast_free(r);
+            return e;
+        }
+    default:
+        break;
+    }
+    if (!lit_numeric(r)) {                     /* S17 */
+        ast_free(l);
+        ast_free(r);
+        return mk_noop(loc);
+    }
+    if (!lit_equals(r, 1.0)) {
+        if (op == OP_DIV) {                    /* S6: x / L -> (1/L) * x */
+            Vec *one = vec_num1(1.0);
+            Vec *inv = vec_arith(OP_DIV, one, r->value);
+            vec_release(one);
+            ast_free(r);
+            return mk_bin(AST_BINOP, OP_MUL, mk_lit(inv, loc), l, loc);
+        }
+        return NULL;
+    }
+    ast_free(r);
+    if (op == OP_FLOORDIV || op == OP_MOD) {   /* S16 */
+        Str *name = str_from(op == OP_FLOORDIV ? "floor" : "fract");
+        const Vec *fn = simp_builtin(s, name);
+        str_release(name);
+        AstNode *call = ast_new(AST_CALL, loc);
+        call->a = mk_lit(vec_retain((Vec *)fn), loc);
+        ast_push(call, l);
+        call->count = 1;
+        return call;
+    }
+    return mk_un(AST_POS, l, loc);             /* S5: x/1, x**1 */
+}
+
+/* Rules on the shapes of the operands (S13-S15), or NULL. */
+static AstNode *additional_rules(int op, AstNode *l, AstNode *r, Loc loc)
+{
+    if (l->kind == AST_POS) {                   /* S13 */
+        AstNode *e = mk_bin(AST_BINOP, op, l->a, r, loc);
+        l->a = NULL;
+        ast_free(l);
+        return e;
+    }
+    if (r->kind == AST_POS) {
+        AstNode *e = mk_bin(AST_BINOP, op, l, r->a, loc);
+        r->a = NULL;
+        ast_free(r);
+        return e;
+    }
+    if (op == OP_ADD) {
+        if (!is_binop(r, OP_MUL) && is_binop(l, OP_MUL))   /* S15 */
+            return mk_bin(AST_BINOP, OP_ADD, r, l, loc);
+        if (r->kind == AST_NEG) {                           /* S14 */
+            AstNode *e = mk_bin(AST_BINOP, OP_SUB, l, r->a, loc);
+            r->a = NULL;
+            ast_free(r);
+            return e;
+        }
+        if (l->kind == AST_NEG) {
+            AstNode *e = mk_bin(AST_BINOP, OP_SUB, r, l->a, loc);
+            l->a = NULL;
+            ast_free(l);
+            return e;
+        }
+    } else if (op == OP_SUB && r->kind == AST_NEG) {
+        AstNode *e = mk_bin(AST_BINOP, OP_ADD, l, r->a, loc);
+        r->a = NULL;
+        ast_free(r);
+        return e;
+    }
+    return NULL;
+}
+
+/* AST_BINOP with simplified operands [l] and [r] (consumed). */
+static AstNode *binop_rules(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
+{
+    if (is_lit(l) && is_lit(r)) {               /* S1 (unfused) */
+        Vec *v = vec_arith((ArithOp)op, l->value, r->value);
+        ast_free(l);
+        ast_free(r);
+        return mk_lit(v, loc);
+    }
+    AstNode *e = NULL;
+    if (is_lit(l)) e = constant_left(op, l, r, loc);
+    else if (is_lit(r)) e = constant_right(s, op, l, r, loc);
+    if (!e) e = additional_rules(op, l, r, loc);
+    if (e) return resimp(s, e);
+    return mk_bin(AST_BINOP, op, l, r, loc);
+}
+
+static AstNode *simp_binop(Simp *s, const AstNode *n)
+{
+    AstNode *l = simp(s, n->a);
+    AstNode *r = simp(s, n->b);
+    return binop_rules(s, n->op, l, r, n->loc);
+}
+
+/* AST_NEG (S11, S12). */
+static AstNode *simp_neg(Simp *s, const AstNode *n)
+{
+    AstNode *e = simp(s, n->a);
+    Loc loc = n->loc;
+    if (is_lit(e)) {
+        Vec *v = vec_neg(e->value);
+        ast_free(e);
+        return mk_lit(v, loc);
+    }
+    if (e->kind == AST_NEG) {                   /* -(-y) -> +y */
+        AstNode *p = mk_un(AST_POS, e->a, loc);
+        e->a = NULL;
+        ast_free(e);
+        return resimp(s, p);
+    }
+    if (is_binop(e, OP_MUL) || is_binop(e, OP_DIV)) {   /* S11 */
+        if (is_lit(e->a)) {
+            e->a = mk_un(AST_NEG, e->a, loc);
+            return resimp(s, e);
+        }
+        if (is_lit(e->b)) {
+            e->b = mk_un(AST_NEG, e->b, loc);
+            return resimp(s, e);
+        }
+    } else if (is_binop(e, OP_ADD)) {            /* S12 */
+        if (is_lit(e->a) || is_lit(e->b)) {
+            e->a = mk_un(AST_NEG, e->a, loc);
+            e->b = mk_un(AST_NEG, e->b, loc);
+            return resimp(s, e);
+        }
+    } else if (is_binop(e, OP_SUB)) {
+        if (is_lit(e->a) || is_lit(e->b)) {
+            e->a = mk_un(AST_NEG, e->a, loc);
+            e->op = OP_ADD;
+            return resimp(s, e);
+        }
+    }
+    return mk_un(AST_NEG, e, loc);
+}
+
+/* AST_POS (S13). */
+static AstNode *simp_pos(Simp *s, const AstNode *n)
+{
+    AstNode *e = simp(s, n->a);
+    if (is_lit(e)) {
+        Vec *v = vec_pos(e->value);
+        Loc loc = n->loc;
+        ast_free(e);
+        return mk_lit(v, loc);
+    }
+    if (e->kind == AST_NEG || e->kind == AST_POS || is_maths(e)) return resimp(s, e);
+    return mk_un(AST_POS, e, n->loc);
+}
+
+/* AST_COMPARE: folded when both sides are literal; `null in y` is true (S18). */
+static AstNode *simp_compare(Simp *s, const AstNode *n)
+{
+    AstNode *l = simp(s, n->a), *r = simp(s, n->b);
+    AstNode *e = mk_bin(AST_COMPARE, n->op, l, r, n->loc);
+    if (is_lit(l) && is_lit(r)) {
+        Vec *v = fold(s, e);
+        ast_free(e);
+        return mk_lit(v, n->loc);
+    }
+    if (n->op == CMP_IN && is_lit(l) && vec_len(l->value) == 0) {
+        ast_free(e);
+        return mk_lit(vec_num1(1.0), n->loc);
+    }
+    return e;
+}
+
+/* AST_AND / AST_OR: a literal left side decides. */
+static AstNode *simp_andor(Simp *s, const AstNode *n)
+{
+    AstNode *l = simp(s, n->a);
+    if (is_lit(l)) {
+        bool t = vec_truthy(l->value);
+        if (n->kind == AST_AND ? t : !t) {
+            ast_free(l);
+            return simp(s, n->b);
+        }
+        return l;
+    }
+    return mk_bin((AstKind)n->kind, 0, l, simp(s, n->b), n->loc);
+}
+
+static AstNode *simp_xor(Simp *s, const AstNode *n)
+{
+    AstNode *l = simp(s, n->a), *r = simp(s, n->b);
+    if (is_lit(l) && !vec_truthy(l->value)) {
+        ast_free(l);
+        return r;
+    }
+    if (is_lit(r) && !vec_truthy(r->value)) {
+        ast_free(r);
+        return l;
+    }
+    if (is_lit(l) && is_lit(r)) {
+        ast_free(l);
+        ast_free(r);
+        return mk_lit(vec_num1(0.0), n->loc);
+    }
+    return mk_bin(AST_XOR, 0, l, r, n->loc);
+}
+
+/* Any node whose listed children all become literal is folded with the
+ * evaluator: AST_NOT, AST_RANGE, AST_INDEX, AST_TAG. */
+static AstNode *simp_generic(Simp *s, const AstNode *n)
+{
+    AstNode *e = ast_new((AstKind)n->kind, n->loc);
+    e->op = n->op;
+    for (uint32_t i = 0; i < n->nnames; i++) ast_push_name(e, str_retain(n->names[i]));
+    e->a = n->a ? simp(s, n->a) : NULL;
+    e->b = n->b ? simp(s, n->b) : NULL;
+    e->c = n->c ? simp(s, n->c) : NULL;
+    bool all = (!e->a || is_lit(e->a)) && (!e->b || is_lit(e->b)) && (!e->c || is_lit(e->c));
+    if (n->kind == AST_INDEX && is_lit(e->b)) e->b->op = vec_is_scalar(e->b->value) ? 1 : 0;
+    if (!all) return e;
+    if (n->kind == AST_RANGE) {
+        bool too_long = false;
+        Vec *v = vec_range(e->a ? e->a->value : NULL, e->b->value, e->c ? e->c->value : NULL,
+                           SIMP_MAX_RANGE, &too_long);
+        if (too_long) return e;
+        ast_free(e);
+        return mk_lit(v, n->loc);
+    }
+    if (n->kind == AST_INDEX) {
+        Vec *v = vec_index(e->a->value, e->b->value, false);
+        ast_free(e);
+        return mk_lit(v, n->loc);
+    }
+    Vec *v = fold(s, e);
+    ast_free(e);
+    return mk_lit(v, n->loc);
+}
+
+/* ====================================================================
+ * Node expressions
+ * ==================================================================== */
+
+/* AST_ATTRIBUTES: nested attribute groups are flattened; literal values are
+ * set on a literal node from the innermost binding outwards. */
+static AstNode *simp_attributes(Simp *s, const AstNode *n)
+{
+    /* bindings outermost-last-first, as tree.pyx collects them */
+    AstNode *out = ast_new(AST_ATTRIBUTES, n->loc);
+    const AstNode *node = n;
+    uint32_t total = 0;
+    for (const AstNode *t = n; t->kind == AST_ATTRIBUTES; t = t->a) total += t->nkids;
+    AstNode **rev = malloc((total ? total : 1) * sizeof *rev);
+    if (!rev) abort();
+    uint32_t k = 0;
+    while (node->kind == AST_ATTRIBUTES) {
+        for (uint32_t i = node->nkids; i-- > 0;) {
+            const AstNode *b = node->kids[i];
+            AstNode *sb = ast_new(AST_BINDING, b->loc);
+            ast_push_name(sb, str_retain(b->names[0]));
+            sb->a = simp(s, b->a);
+            rev[k++] = sb;
+        }
+        node = node->a;
+    }
+    AstNode *base = simp(s, node);
+    if (is_lit(base) && !vec_is_obj(base->value)) {
+        for (uint32_t i = 0; i < k; i++) ast_free(rev[i]);
+        free(rev);
+        ast_free(out);
+        return base;
+    }
+    if (is_lit(base) && k && is_lit(rev[k - 1]->a)) {
+        /* set the literal bindings, innermost first, on copies of the nodes */
+        AstNode *e = ast_new(AST_ATTRIBUTES, n->loc);
+        e->a = base;
+        while (k && is_lit(rev[k - 1]->a)) ast_push(e, rev[--k]);
+        Vec *v = fold(s, e);
+        ast_free(e);
+        base = mk_lit(v, n->loc);
+    }
+    out->a = base;
+    for (uint32_t i = k; i-- > 0;) ast_push(out, rev[i]);
+    free(rev);
+    if (!out->nkids) {
+        AstNode *b = out->a;
+        out->a = NULL;
+        ast_free(out);
+        return b;
+    }
+    return out;
+}
+
+/* AST_APPEND: children appended to literal nodes at load time. */
+static AstNode *simp_append(Simp *s, const AstNode *n)
+{
+    AstNode *node = simp(s, n->a), *kids = simp(s, n->b);
+    if ((is_lit(node) && !vec_is_obj(node->value)) || (is_lit(kids) && !vec_is_obj(kids->value))) {
+        ast_free(kids);
+        return node;
+    }
+    AstNode *e = mk_bin(AST_APPEND, 0, node, kids, n->loc);
+    if (is_lit(node)) {
+        if (is_lit(kids)) {
+            Vec *v = fold(s, e);
+            ast_free(e);
+            return mk_lit(v, n->loc);
+        }
+        if (kids->kind == AST_SEQUENCE && kids->nkids && is_lit(kids->kids[0])) {
+            /* (node << first) << rest */
+            AstNode *first = kids->kids[0];
+            memmove(kids->kids, kids->kids + 1, (kids->nkids - 1) * sizeof *kids->kids);
+            kids->nkids--;
+            e->a = mk_bin(AST_APPEND, 0, node, first, n->loc);
+            return resimp(s, e);
+        }
+    } else if (node->kind == AST_ATTRIBUTES && is_lit(node->a)) {
+        /* (literal attrs...) << kids -> (literal << kids) attrs... */
+        e->a = node->a;
+        node->a = e;
+        return resimp(s, node);
+    }
+    return e;
+}
+
+/* ====================================================================
+ * Sequences and conditionals
+ * ==================================================================== */
+
+/* tree.pyx sequence_pack: flatten nested sequences, compose runs of
+ * literals, drop null literals. Consumes the [n] items of [items]; returns
+ * the packed count (items reused in place). */
+static uint32_t sequence_pack(AstNode ***itemsp, uint32_t n, uint32_t *cap)
+{
+    AstNode **items = *itemsp;
+    /* flatten first */
+    for (uint32_t i = 0; i < n; i++) {
+        AstNode *e = items[i];
+        if (e->kind != AST_SEQUENCE) continue;
+        uint32_t m = e->nkids;
+        if (n - 1 + m > *cap) {
+            *cap = (n + m) * 2;
+            items = realloc(items, *cap * sizeof *items);
+            if (!items) abort();
+        }
+        memmove(items + i + m, items + i + 1, (n - i - 1) * sizeof *items);
+        for (uint32_t j = 0; j < m; j++) items[i + j] = e->kids[j];
+        e->nkids = 0;
+        ast_free(e);
+        n = n - 1 + m;
+        i--;   /* the spliced items may be sequences too */
+    }
+    uint32_t out = 0;
+    for (uint32_t i = 0; i < n;) {
+        AstNode *e = items[i];
+        if (is_lit(e)) {
+            uint32_t j = i + 1;
+            while (j < n && is_lit(items[j])) j++;
+            uint64_t total = 0;
+            for (uint32_t k = i; k < j; k++) total += vec_len(items[k]->value);
+            /* past the evaluator's composition limit (eval.c MAX_COMPOSE_LEN,
+             * 2^26) the run is left for the evaluator, which reports it */
+            if (j - i > 1 && total > SIMP_MAX_RANGE) {
+                for (uint32_t k = i; k < j; k++) {
+                    if (items[k]->value) items[out++] = items[k];
+                    else ast_free(items[k]);
+                }
+                i = j;
+                continue;
+            }
+            if (j - i > 1) {
+                Vec **parts = malloc((j - i) * sizeof *parts);
+                if (!parts) abort();
+                for (uint32_t k = i; k < j; k++) parts[k - i] = items[k]->value;
+                Vec *v = vec_compose(parts, j - i);
+                free(parts);
+                Loc loc = e->loc;
+                for (uint32_t k = i; k < j; k++) ast_free(items[k]);
+                e = mk_lit(v, loc);
+            }
+            i = j;
+            if (!e->value) {
+                ast_free(e);
+                continue;
+            }
+        } else {
+            i++;
+        }
+        items[out++] = e;
+    }
+    *itemsp = items;
+    return out;
+}
+
+/* Build a node from packed items: null, the single item, or a sequence. */
+AstNode *simp_sequence_of(AstNode **items, uint32_t n, uint32_t cap, Loc loc);
+AstNode *simp_sequence_of(AstNode **items, uint32_t n, uint32_t cap, Loc loc)
+{
+    n = sequence_pack(&items, n, &cap);
+    AstNode *r;
+    if (n == 0) r = mk_noop(loc);
+    else if (n == 1) r = items[0];
+    else {
+        r = ast_new(AST_SEQUENCE, loc);
+        for (uint32_t i = 0; i < n; i++) ast_push(r, items[i]);
+    }
+    free(items);
+    return r;
+}
+
+static AstNode *simp_sequence(Simp *s, const AstNode *n)
+{
+    uint32_t cap = n->nkids ? n->nkids : 1;
+    AstNode **items = malloc(cap * sizeof *items);
+    if (!items) abort();
+    for (uint32_t i = 0; i < n->nkids; i++) items[i] = simp(s, n->kids[i]);
+    return simp_sequence_of(items, n->nkids, cap, n->loc);
+}
+
+/* AST_IFELSE: literal conditions select or drop their branches. */
+static AstNode *simp_ifelse(Simp *s, const AstNode *n)
+{
+    AstNode *r = ast_new(AST_IFELSE, n->loc);
+    for (uint32_t i = 0; i + 1 < n->nkids; i += 2) {
+        AstNode *cond = simp(s, n->kids[i]);
+        if (is_lit(cond)) {
+            bool t = vec_truthy(cond->value);
+            ast_free(cond);
+            if (t) {
+                AstNode *then = simp(s, n->kids[i + 1]);
+                if (!r->nkids) {
+                    ast_free(r);
+                    return then;
+                }
+                r->a = then;
+                return r;
+            }
+            continue;
+        }
+        ast_push(r, cond);
+        ast_push(r, simp(s, n->kids[i + 1]));
+    }
+    AstNode *els = n->a ? simp(s, n->a) : NULL;
+    if (r->nkids) {
+        r->a = els;
+        return r;
+    }
+    ast_free(r);
+    return els ? els : mk_noop(n->loc);
+}
+
+/* ====================================================================
+ * Dispatch
+ * ==================================================================== */
+
+static AstNode *simp_kind(Simp *s, const AstNode *n);
+
+AstNode *simp(Simp *s, const AstNode *n)
+{
+    if (!n) return NULL;
+    if (s->unwinding || s->too_deep) return mk_noop(n->loc);
+    if (s->depth >= SIMP_MAX_DEPTH) {   /* too deep: the file is run as written */
+        s->too_deep = true;
+        return mk_noop(n->loc);
+    }
+    s->depth++;
+    AstNode *r = simp_kind(s, n);
+    s->depth--;
+    return r;
+}
+
+static AstNode *simp_kind(Simp *s, const AstNode *n)
+{
+    switch ((AstKind)n->kind) {
+    case AST_LITERAL: return ast_copy(n);
+    case AST_NAME: return simp_name(s, n);
+    case AST_LOOKUP: return mk_un(AST_LOOKUP, simp(s, n->a), n->loc);
+    case AST_BINOP: return simp_binop(s, n);
+    case AST_NEG: return simp_neg(s, n);
+    case AST_POS: return simp_pos(s, n);
+    case AST_AND:
+    case AST_OR: return simp_andor(s, n);
+    case AST_XOR: return simp_xor(s, n);
+    case AST_COMPARE: return simp_compare(s, n);
+    case AST_NOT:
+    case AST_RANGE:
+    case AST_INDEX:
+    case AST_TAG: return simp_generic(s, n);
+    case AST_CALL: return simp_call(s, n);
+    case AST_FUNCTION: return simp_function(s, n);
+    case AST_LET: return simp_let(s, n);
+    case AST_FOR: return simp_for(s, n);
+    case AST_IFELSE: return simp_ifelse(s, n);
+    case AST_ATTRIBUTES: return simp_attributes(s, n);
+    case AST_APPEND: return simp_append(s, n);
+    case AST_SEQUENCE: return simp_sequence(s, n);
+    case AST_IMPORT: return simp_import(s, n);
+    case AST_INCLUDE: return simp_include(s, n);
+    case AST_EXPORT: return simp_export(s, n);
+    case AST_TOP: {
+        AstNode *t = ast_new(AST_TOP, n->loc);
+        for (uint32_t i = 0; i < n->nkids; i++) ast_push(t, ast_copy(n->kids[i]));
+        t->c = ast_copy(n->c);
+        t->a = simp(s, n->a);
+        return t;
+    }
+    case AST_BINDING:
+    case AST__COUNT:
+        break;
+    }
+    return ast_copy(n);
+}
+
+void simp_init(Simp *s, SymTab *st, Buf *warnings, const char *dir, const char *path,
+               uint32_t next_file)
+{
+    *s = (Simp){.symtab = st, .warnings = warnings, .next_file = next_file};
+    s->ev = (Eval){.symtab = st, .errors = &s->errors, .debug = NULL};
+    s->dir = strdup(dir ? dir : ".");
+    s->path = path ? strdup(path) : NULL;
+    if (!s->dir || (path && !s->path)) abort();
+}
+
+void simp_fini(Simp *s)
+{
+    scope_restore(s, 0);
+    free(s->names);
+    for (uint32_t i = 0; i < s->ndeps; i++) free(s->deps[i]);
+    free(s->deps);
+    for (uint32_t i = 0; i < s->nbuiltins; i++) {
+        vec_release(s->builtins[i]);
+        str_release(s->builtin_names[i]);
+    }
+    free(s->builtins);
+    free(s->builtin_names);
+    for (uint32_t i = 0; i < s->nconsts; i++) {
+        vec_release(s->consts[i]);
+        str_release(s->const_names[i]);
+    }
+    free(s->consts);
+    free(s->const_names);
+    for (uint32_t i = 0; i < s->nexports; i++) {
+        str_release(s->exports[i].name);
+        vec_release(s->exports[i].value);
+        ast_free(s->exports[i].fn);
+    }
+    free(s->exports);
+    msgset_clear(&s->errors);
+    free(s->dir);
+    free(s->path);
+}
+
+void simplify_number_stables(AstNode *n, uint32_t *last)
+{
+    if (!n || !last) return;
+    if (n->kind == AST_LET && n->op == 1 && n->count == 0) n->count = ++*last;
+    simplify_number_stables(n->a, last);
+    simplify_number_stables(n->b, last);
+    simplify_number_stables(n->c, last);
+    for (uint32_t i = 0; i < n->nkids; i++) simplify_number_stables(n->kids[i], last);
+}
+
+AstNode *simplify_program(AstNode *top, const SimplifyEnv *env, Buf *warnings)
+{
+    Simp s;
+    simp_init(&s, env->symtab, warnings, env->dir, NULL, env->first_file);
+    s.stable_ids = env->stable_ids;
+    s.stables = env->stables;
+    s.is_module = env->is_module;
+    simplify_number_stables(top, s.stable_ids);
+    for (uint32_t i = 0; i < env->nnames; i++) {
+        const SimplifyName *nm = &env->names[i];
+        scope_push(&s, (Str *)nm->name, nm->dynamic ? NB_DYNAMIC : NB_LITERAL, nm->value, NULL, NULL);
+    }
+    AstNode *r = simp(&s, top);
+    if (s.too_deep) {
+        ast_free(r);
+        simp_warn(&s, "Program too deeply nested to simplify; running it as written");
+        simp_fini(&s);
+        return top;
+    }
+    ast_free(top);
+    simp_fini(&s);
+    return r;
+}

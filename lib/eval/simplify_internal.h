@@ -1,0 +1,123 @@
+/* simplify_internal.h: what the simplifier's modules share (simplify.c:
+ * expressions and operators; simplify_scope.c: names, bindings, loops,
+ * functions, calls and files). Internal to libflitter. */
+#ifndef FL_SIMPLIFY_INTERNAL_H
+#define FL_SIMPLIFY_INTERNAL_H
+
+#include "config.h"
+#include "program.h"
+#include "simplify.h"
+
+/* What a name stands for while simplifying (tree.pyx Context.names). */
+enum { NB_DYNAMIC, NB_LITERAL, NB_RENAME, NB_FUNCTION };
+
+typedef struct NameBind {
+    Str *name;             /* one reference */
+    int kind;              /* NB_* */
+    Vec *value;            /* NB_LITERAL: the value (one reference) */
+    Str *target;           /* NB_RENAME: the name it stands for (one reference) */
+    const AstNode *fn;     /* NB_FUNCTION: an inlineable AST_FUNCTION (borrowed
+                              from the Let being simplified) */
+} NameBind;
+
+/* AST_EXPORT `op` after simplification: the main program's end, which does
+ * not keep unused bindings alive (a module's does). */
+enum { EXPORT_MAIN = 1 };
+
+/* AST_FUNCTION flags in `op` after simplification. */
+enum { FN_INLINEABLE = 1, FN_CAPTURES = 2 };
+
+/* A name a module ends with, bound to a literal or an inlineable function. */
+typedef struct SimpExport {
+    Str *name;
+    Vec *value;      /* literal value, or NULL with fn */
+    AstNode *fn;     /* owned copy of an inlineable AST_FUNCTION, or NULL */
+} SimpExport;
+
+typedef struct Simp Simp;
+struct Simp {
+    NameBind *names;        /* scope stack: later entries shadow earlier */
+    uint32_t nnames, capnames;
+    SymTab *symtab;
+    Buf *warnings;
+    MsgSet errors;          /* messages of load-time builtin calls */
+    Eval ev;                /* evaluator context for load-time folding */
+    uint32_t call_depth;    /* functions being inlined */
+    uint32_t depth;         /* simp() nesting */
+    bool too_deep;          /* the nesting limit was hit: give up */
+    bool unwinding;         /* the inline depth limit was hit: abandon */
+    bool in_include;        /* simplifying an included file (no exports) */
+    uint64_t unrolled;      /* loop-body copies made so far (SIMP_MAX_UNROLL) */
+    char *dir;              /* directory of the file being simplified */
+    char **deps;            /* files included so far */
+    uint32_t ndeps;
+    uint32_t next_file;     /* source index for the next included file */
+    Vec **builtins;         /* cache: one function vector per builtin name */
+    Str **builtin_names;
+    uint32_t nbuiltins, capbuiltins;
+    Vec **consts;           /* cache: one value per builtin constant name */
+    Str **const_names;
+    uint32_t nconsts, capconsts;
+    const Simp *parent;     /* the importing program's simplifier, or NULL */
+    char *path;             /* path of the module being simplified, or NULL */
+    bool collect_exports;   /* a module: record its static names at the end */
+    bool is_module;         /* a module: the end of the file uses every name */
+    SimpExport *exports;
+    uint32_t nexports, capexports;
+    uint32_t *stable_ids;   /* the program's `let stable` id counter */
+    const struct StableCache *stables;  /* known stable values, or NULL */
+};
+
+/* Set up [s] for a file in [dir] ([path]: the module's path, or NULL). */
+void simp_init(Simp *s, SymTab *st, Buf *warnings, const char *dir, const char *path,
+               uint32_t next_file);
+/* Release everything [s] holds. */
+void simp_fini(Simp *s);
+
+/* ---- simplify.c ---- */
+/* The simplified copy of [n] (a new tree; [n] untouched). */
+AstNode *simp(Simp *s, const AstNode *n);
+/* simp() of [n_take], which is then freed. */
+AstNode *resimp(Simp *s, AstNode *n_take);
+/* A new literal of [v_take]. */
+AstNode *mk_lit(Vec *v_take, Loc loc);
+/* True when [n] is an AST_LITERAL. */
+static inline bool is_lit(const AstNode *n) { return n && n->kind == AST_LITERAL; }
+/* Record a load-time warning line. */
+void simp_warn(Simp *s, const char *msg);
+
+/* ---- simplify_scope.c ---- */
+/* The innermost binding of [name], or NULL. */
+NameBind *scope_find(Simp *s, const Str *name);
+/* Bind [name] (retained) to the given meaning in the current scope. */
+void scope_push(Simp *s, Str *name, int kind, const Vec *value, Str *target, const AstNode *fn);
+/* Drop every binding made after [mark]. */
+void scope_restore(Simp *s, uint32_t mark);
+AstNode *simp_name(Simp *s, const AstNode *n);
+AstNode *simp_let(Simp *s, const AstNode *n);
+AstNode *simp_for(Simp *s, const AstNode *n);
+AstNode *simp_function(Simp *s, const AstNode *n);
+AstNode *simp_call(Simp *s, const AstNode *n);
+/* A new AST_BINDING of the single name [name] (retained) to [value]. */
+AstNode *mk_binding1(Str *name, AstNode *value, Loc loc);
+
+/* ---- simplify_files.c ---- */
+AstNode *simp_include(Simp *s, const AstNode *n);
+AstNode *simp_import(Simp *s, const AstNode *n);
+AstNode *simp_export(Simp *s, const AstNode *n);
+/* The builtin function vector for [name] (shared, borrowed), or NULL when
+ * [name] is no builtin function. */
+const Vec *simp_builtin(Simp *s, const Str *name);
+
+/* A set of free names (tree.pyx `unbound_names`); `all` stands for the
+ * reference's None member: an export that uses every name in scope. */
+typedef struct NameSet {
+    const Str **v;
+    uint32_t n, cap;
+    bool all;
+} NameSet;
+void free_names(const AstNode *n, NameSet *out);
+bool nameset_has(const NameSet *set, const Str *name);
+void nameset_free(NameSet *set);
+
+#endif

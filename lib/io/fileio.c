@@ -1,0 +1,108 @@
+/* fileio.c: whole-file reads and atomic replacement (see fileio.h). */
+#include "fileio.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <libgen.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* Read the file open on [fd] (closed here) into [out]; with [regular_only],
+ * anything but a regular file is refused (EINVAL). */
+static bool read_fd(int fd, Buf *out, bool regular_only)
+{
+    struct stat st;
+    if (fstat(fd, &st) == 0) {
+        int refuse = 0;
+        if (S_ISDIR(st.st_mode)) refuse = EISDIR;
+        else if (S_ISREG(st.st_mode) && (uint64_t)st.st_size > FILE_READ_MAX) refuse = EFBIG;
+        else if (regular_only && !S_ISREG(st.st_mode)) refuse = EINVAL;
+        if (refuse) {
+            close(fd);
+            errno = refuse;
+            return false;
+        }
+    }
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        int saved = errno;
+        close(fd);
+        errno = saved;
+        return false;
+    }
+    char chunk[65536];
+    size_t n, total = 0;
+    bool big = false;
+    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) {
+        if (n > FILE_READ_MAX - total) {
+            big = true;
+            break;
+        }
+        total += n;
+        buf_add(out, chunk, n);
+    }
+    bool ok = !big && !ferror(f);
+    fclose(f);
+    if (!ok) errno = big ? EFBIG : EIO;
+    return ok;
+}
+
+bool file_read(const char *path, Buf *out)
+{
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return false;
+    return read_fd(fd, out, false);
+}
+
+bool file_read_regular(const char *path, Buf *out)
+{
+    /* O_NONBLOCK: opening a FIFO with no writer must not wait; a regular
+     * file ignores the flag */
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) return false;
+    return read_fd(fd, out, true);
+}
+
+static bool write_all(int fd, const char *p, size_t n)
+{
+    while (n) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) return false;
+        p += w;
+        n -= (size_t)w;
+    }
+    return true;
+}
+
+bool file_write_atomic(const char *path, const char *data, size_t len)
+{
+    char *tmp;
+    if (asprintf(&tmp, "%s.tmp%ld", path, (long)getpid()) < 0) abort();
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    bool ok = fd >= 0 && write_all(fd, data, len) && fsync(fd) == 0;
+    if (fd >= 0) ok = close(fd) == 0 && ok;
+    ok = ok && rename(tmp, path) == 0;
+    int saved = errno;
+    if (!ok) unlink(tmp);
+    free(tmp);
+    if (!ok) {
+        errno = saved;
+        return false;
+    }
+    /* make the rename itself durable */
+    char *dirc = strdup(path);
+    if (dirc) {
+        int dfd = open(dirname(dirc), O_RDONLY | O_DIRECTORY);
+        if (dfd >= 0) {
+            fsync(dfd);
+            close(dfd);
+        }
+        free(dirc);
+    }
+    return true;
+}

@@ -1,0 +1,34 @@
+/* fileio.h: reading a whole file and replacing a file atomically, for
+ * scripts, modules, included files, state files and expected outputs. */
+#ifndef FL_FILEIO_H
+#define FL_FILEIO_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "config.h"
+#include "buf.h"
+
+/* Append the whole contents of the file at [path] to [out].
+ *   errors: returns false with errno set when it cannot be opened or read
+ *           (EISDIR for a directory, EFBIG for a file larger than
+ *           FILE_READ_MAX; [out] may then hold part of the file). */
+bool file_read(const char *path, Buf *out);
+
+/* file_read() for the file built-ins, which run inside a frame: anything
+ * but a regular file (a FIFO, a terminal, a device such as /dev/stdin or
+ * /dev/zero) is refused with errno EINVAL instead of being read, so a
+ * script cannot make a frame wait for input or read without end. Opening
+ * never blocks.
+ *   errors: as file_read(), plus EINVAL for a file that is not regular. */
+bool file_read_regular(const char *path, Buf *out);
+
+/* Replace the file at [path] with the [len] bytes at [data] atomically: a
+ * temporary file in the same directory is written, fsync'd and renamed over
+ * [path], then the directory is fsync'd, so a crash leaves either the old or
+ * the new contents.
+ *   errors: returns false with errno set (the temporary file is removed,
+ *           [path] is untouched). */
+bool file_write_atomic(const char *path, const char *data, size_t len);
+
+#endif

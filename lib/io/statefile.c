@@ -1,0 +1,352 @@
+/* statefile.c: the exact state file (format in statefile.h).
+ *
+ * Writing reuses format.c's shortest round-trip number text, adding the two
+ * things value text drops on purpose: the sign of zero and NaN bits. Reading
+ * parses into a fresh dictionary first and only then swaps it in, so a bad
+ * file changes nothing.
+ */
+#include "statefile.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "config.h"
+#include "fileio.h"
+#include "format.h"
+#include "utf8.h"
+
+#define MAGIC "flitter-state 1"
+#define QNAN_BITS UINT64_C(0x7ff8000000000000)
+
+/* ====================================================================
+ * Writing
+ * ==================================================================== */
+
+static void put_number(Buf *b, double x, const SymTab *st)
+{
+    uint64_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    const Str *sym = symtab_name(st, x);
+    if (sym) {
+        buf_putc(b, ':');
+        buf_add(b, sym->bytes, sym->len);
+    } else if (isnan(x)) {
+        if (bits == QNAN_BITS) buf_puts(b, "nan");
+        else buf_printf(b, "nan:%016llx", (unsigned long long)bits);
+    } else if (x == 0.0) {
+        buf_puts(b, signbit(x) ? "-0" : "0");
+    } else {
+        fmt_double(b, x);
+    }
+}
+
+/* False when [v] holds something that cannot be stored. */
+static bool put_vector(Buf *b, const Vec *v, const SymTab *st)
+{
+    for (uint32_t i = 0; i < v->len; i++) {
+        if (i) buf_putc(b, ';');
+        if (v->kind == VEC_NUM) {
+            put_number(b, vec_cnums(v)[i], st);
+            continue;
+        }
+        const Elem *e = &vec_celems(v)[i];
+        if (e->kind == EL_NUM) put_number(b, e->num, st);
+        else if (e->kind == EL_STR) fmt_quoted(b, e->str);
+        else return false;
+    }
+    return v->kind != VEC_STREAM;
+}
+
+int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *clock,
+                   const char *path, size_t *skipped, Buf *err)
+{
+    Buf b = BUF_INIT, line = BUF_INIT;
+    buf_puts(&b, MAGIC "\n");
+    buf_printf(&b, "clock %ld", clock->frame);
+    const double fields[6] = {clock->time, clock->last_time, clock->last_beat,
+                              clock->period, clock->quantum, clock->start};
+    for (int k = 0; k < 6; k++) {
+        buf_putc(&b, ' ');
+        put_number(&b, fields[k], NULL);
+    }
+    buf_putc(&b, '\n');
+    size_t n, count = 0, skip = 0;
+    StateEntry *e = state_entries(sd, &n);
+    for (size_t i = 0; i < n; i++) {
+        buf_reset(&line);
+        bool ok = put_vector(&line, e[i].key, st);
+        buf_puts(&line, " = ");
+        ok = ok && put_vector(&line, e[i].value, st);
+        if (!ok) {
+            skip++;
+            continue;
+        }
+        buf_add(&b, line.data, line.len);
+        buf_putc(&b, '\n');
+        count++;
+    }
+    free(e);
+    buf_printf(&b, "end %zu\n", count);
+    buf_free(&line);
+    if (skipped) *skipped = skip;
+
+    bool ok = file_write_atomic(path, b.data, b.len);
+    int saved_errno = errno;
+    buf_free(&b);
+    if (!ok) {
+        buf_printf(err, "%s: error: cannot save state: %s\n", path, strerror(saved_errno));
+        return -1;
+    }
+    return 0;
+}
+
+/* ====================================================================
+ * Reading
+ * ==================================================================== */
+
+typedef struct Reader {
+    const char *p;      /* cursor */
+    const char *end;    /* end of the current line */
+    SymTab *st;
+} Reader;
+
+static bool read_number(Reader *r, double *out)
+{
+    const char *p = r->p;
+    if (strncmp(p, "nan:", 4) == 0) {
+        char *e;
+        unsigned long long bits = strtoull(p + 4, &e, 16);
+        if (e != p + 20) return false;
+        uint64_t u = bits;
+        memcpy(out, &u, sizeof u);
+        if (!isnan(*out)) return false;
+        r->p = e;
+        return true;
+    }
+    if (strncmp(p, "nan", 3) == 0) {
+        uint64_t u = QNAN_BITS;
+        memcpy(out, &u, sizeof u);
+        r->p = p + 3;
+        return true;
+    }
+    if (strncmp(p, "inf", 3) == 0 || strncmp(p, "-inf", 4) == 0) {
+        *out = p[0] == '-' ? -INFINITY : INFINITY;
+        r->p = p + (p[0] == '-' ? 4 : 3);
+        return true;
+    }
+    /* only what the writer produces: -?DIGITS(.DIGITS)?(e[+-]?DIGITS)?,
+     * so no hex floats, no spaces and no overflow to infinity */
+    const char *q = p + (*p == '-');
+    size_t digits = strspn(q, "0123456789");
+    if (digits == 0) return false;
+    q += digits;
+    if (*q == '.') {
+        digits = strspn(q + 1, "0123456789");
+        if (digits == 0) return false;
+        q += 1 + digits;
+    }
+    if (*q == 'e') {
+        q += 1 + (q[1] == '+' || q[1] == '-');
+        digits = strspn(q, "0123456789");
+        if (digits == 0) return false;
+        q += digits;
+    }
+    char *e;
+    *out = strtod(p, &e);
+    if (e != q || e > r->end || isinf(*out)) return false;
+    r->p = e;
+    return true;
+}
+
+static bool read_string(Reader *r, Buf *s)
+{
+    const char *p = r->p + 1;
+    while (p < r->end && *p != '"') {
+        if (*p != '\\') {
+            buf_putc(s, *p++);
+            continue;
+        }
+        p++;
+        if (p >= r->end) return false;
+        switch (*p) {
+        case '"': buf_putc(s, '"'); break;
+        case '\\': buf_putc(s, '\\'); break;
+        case 'n': buf_putc(s, '\n'); break;
+        case 'r': buf_putc(s, '\r'); break;
+        case 't': buf_putc(s, '\t'); break;
+        case 'x': {
+            if (p + 2 >= r->end) return false;
+            char hex[3] = {p[1], p[2], 0}, *e;
+            long c = strtol(hex, &e, 16);
+            if (*e) return false;
+            buf_putc(s, (char)c);
+            p += 2;
+            break;
+        }
+        default: return false;
+        }
+        p++;
+    }
+    if (p >= r->end) return false;
+    r->p = p + 1;
+    return true;
+}
+
+/* One element at the cursor (string, symbol or number); NULL on error. */
+static Vec *read_element(Reader *r, const char *stop)
+{
+    if (*r->p == '"') {
+        Buf s = BUF_INIT;
+        /* escapes must not make invalid UTF-8 (`\xbe`): the writer could
+         * not store such a string again */
+        Vec *el = read_string(r, &s) && utf8_all_valid(buf_cstr(&s), s.len)
+                      ? vec_str(s.data ? s.data : "", s.len) : NULL;
+        buf_free(&s);
+        return el;
+    }
+    if (*r->p == ':') {
+        const char *q = ++r->p;
+        while (r->p < stop && *r->p != ';') r->p++;
+        return r->p == q ? NULL : vec_num1(symtab_add(r->st, q, (size_t)(r->p - q)));
+    }
+    double x;
+    return read_number(r, &x) ? vec_num1(x) : NULL;
+}
+
+/* One vector of `;`-separated elements up to [stop] (" = " or the end of
+ * the line); false on a malformed element. */
+static bool read_vector(Reader *r, const char *stop, Vec **out)
+{
+    Vec **els = NULL;
+    size_t n = 0, cap = 0;
+    bool ok = true;
+    for (;;) {
+        Vec *el = read_element(r, stop);
+        if (!el) {
+            ok = false;
+            break;
+        }
+        if (n == cap) {
+            cap = cap ? cap * 2 : 8;
+            els = realloc(els, cap * sizeof(Vec *));
+            if (!els) abort();
+        }
+        els[n++] = el;
+        if (r->p == stop) break;
+        if (*r->p != ';') {
+            ok = false;
+            break;
+        }
+        r->p++;
+    }
+    *out = ok ? vec_compose(els, n) : NULL;
+    for (size_t i = 0; i < n; i++) vec_release(els[i]);
+    free(els);
+    return ok;
+}
+
+int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *path, Buf *err)
+{
+    Buf text = BUF_INIT;
+    if (!file_read(path, &text)) {
+        buf_printf(err, "%s: error: cannot read state: %s\n", path, strerror(errno));
+        buf_free(&text);
+        return -1;
+    }
+    const char *s = buf_cstr(&text);
+    if (memchr(s, '\0', text.len) || !utf8_all_valid(s, text.len)) {
+        buf_printf(err, "%s: error: not a flitter state file (NUL byte or invalid UTF-8); "
+                   "state file refused\n", path);
+        buf_free(&text);
+        return -1;
+    }
+    StateDict *fresh = state_new();
+    StateClock c = {0};
+    long lineno = 0;
+    size_t entries = 0;
+    bool ended = false, have_clock = false;
+    const char *why = NULL;
+    while (*s && !why) {
+        const char *nl = strchr(s, '\n');
+        lineno++;
+        if (!nl) {
+            why = "truncated line";
+            break;
+        }
+        Reader r = {s, nl, st};
+        if (ended) {
+            why = "text after the end line";
+        } else if (lineno == 1) {
+            if ((size_t)(nl - s) != strlen(MAGIC) || strncmp(s, MAGIC, strlen(MAGIC)) != 0)
+                why = "not a flitter state file (version 1)";
+        } else if (strncmp(s, "clock ", 6) == 0) {
+            char *e = (char *)s + 6;
+            errno = 0;
+            long long frame = *e >= '0' && *e <= '9' ? strtoll(s + 6, &e, 10) : -1;
+            if (have_clock) why = "second clock line";
+            else if (frame < 0 || frame > MAX_FRAME || errno == ERANGE)
+                why = "frame number out of range (0 to 2^53)";
+            c.frame = (long)frame;
+            r.p = e;
+            double *fields[6] = {&c.time, &c.last_time, &c.last_beat, &c.period, &c.quantum, &c.start};
+            for (int k = 0; k < 6 && !why; k++) {
+                if (*r.p != ' ') why = "malformed clock line";
+                else {
+                    r.p++;
+                    if (!read_number(&r, fields[k])) why = "malformed clock line";
+                }
+            }
+            if (!why && r.p != nl) why = "malformed clock line";
+            if (!why && !(isfinite(c.time) && isfinite(c.last_time) && isfinite(c.last_beat)
+                          && isfinite(c.start)))
+                why = "clock time out of range (not finite)";
+            if (!why && !(isfinite(c.period) && c.period > 0 && isfinite(c.quantum) && c.quantum > 0))
+                why = "clock period or quantum out of range (not positive and finite)";
+            have_clock = true;
+        } else if (strncmp(s, "end ", 4) == 0) {
+            char *e = (char *)s + 4;
+            errno = 0;
+            unsigned long long n = *e >= '0' && *e <= '9' ? strtoull(s + 4, &e, 10) : 0;
+            if (e != nl || errno == ERANGE || n != entries)
+                why = "entry count does not match (truncated file?)";
+            ended = true;
+        } else {
+            const char *eq = strstr(s, " = ");
+            Vec *k = NULL, *v = NULL;
+            if (!eq || eq > nl) why = "expected KEY = VALUE";
+            else if (!read_vector(&r, eq, &k)) why = "malformed key";
+            else {
+                r.p = eq + 3;
+                if (!read_vector(&r, nl, &v)) why = "malformed value";
+                else if (!k || !v) why = "empty key or value";
+                else {
+                    state_set(fresh, k, v);
+                    if (state_count(fresh) != ++entries) why = "duplicate key";
+                }
+            }
+            vec_release(k);
+            vec_release(v);
+        }
+        s = nl + 1;
+    }
+    if (!why && !ended) why = "missing end line (truncated file?)";
+    if (!why && !have_clock) why = "missing clock line";
+    buf_free(&text);
+    if (why) {
+        buf_printf(err, "%s:%ld: error: %s; state file refused\n", path, lineno, why);
+        state_free(fresh);
+        return -1;
+    }
+    /* swap the new contents in */
+    state_clear(sd);
+    size_t n;
+    StateEntry *e = state_entries(fresh, &n);
+    for (size_t i = 0; i < n; i++) state_set(sd, e[i].key, e[i].value);
+    free(e);
+    state_free(fresh);
+    *clock = c;
+    return 0;
+}

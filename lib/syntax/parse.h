@@ -1,0 +1,29 @@
+/* parse.h: source text to AST (grammar/lexer.re, lib/syntax/indent.c,
+ * grammar/parser.y). */
+#ifndef FL_PARSE_H
+#define FL_PARSE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "config.h"
+#include "ast.h"
+#include "buf.h"
+
+/* Parse the Flitter program in [text] ([len] bytes of UTF-8, need not end in
+ * a newline or NUL) into an AST_TOP tree whose locations carry [file_index].
+ *   errors: on a lexical or syntax error returns NULL and appends to [err]
+ *           `PATH:LINE:COL: error: MESSAGE\n` followed by the source line and
+ *           a caret line, where PATH is [path], LINE and COL are 1-based
+ *           (COL counts code points). A message for input that ended too
+ *           early contains "unexpected end of input" (the REPL uses this to
+ *           ask for more lines).
+ *   source: LANGUAGE.md §1 (lexing, indentation), §2 (grammar, tree shapes) */
+AstNode *parse_program(const char *path, const char *text, size_t len,
+                       uint32_t file_index, Buf *err);
+
+/* 1-based line and code-point column of byte [offset] in [text]. */
+void source_line_col(const char *text, size_t len, size_t offset,
+                     unsigned *line, unsigned *col);
+
+#endif

@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""layers.py: check lib/'s include graph against ARCHITECTURE.md's layer table.
+
+usage: layers.py REPO_ROOT
+
+Reads the "| layer | folder | may include |" table of ARCHITECTURE.md, then
+every `#include "..."` of every .c/.h file under lib/: the header must live in
+the including file's own folder or in a folder its layer may include. Headers
+generated at build time (parser.h, from grammar/parser.y) belong to syntax.
+Also fails when a header name is not unique across lib/ (includes are
+written without a folder), when a file lies outside every listed folder, or
+when an include names no header of lib/. Prints each violation and exits 1;
+prints a summary and exits 0 when the graph is clean.
+"""
+import os
+import re
+import sys
+
+GENERATED = {"parser.h": "syntax"}
+
+
+def read_table(path):
+    layers = {}  # folder -> (layer, allowed layer names)
+    in_table = False
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            if cells[:3] == ["layer", "folder", "may include"]:
+                in_table = True
+                continue
+            if in_table:
+                if not line.startswith("|"):
+                    break
+                if set(cells[0]) <= set("-: "):
+                    continue
+                name, folder = cells[0], cells[1].strip("`")
+                allowed = {a.strip() for a in cells[2].split(",") if a.strip()}
+                layers[folder] = (name, allowed)
+    return layers
+
+
+def main():
+    root = sys.argv[1] if len(sys.argv) > 1 else "."
+    layers = read_table(os.path.join(root, "ARCHITECTURE.md"))
+    if not layers:
+        print("layers.py: no layer table in ARCHITECTURE.md")
+        return 1
+    names = {layer for layer, _ in layers.values()}
+    errors = []
+    for folder, (layer, allowed) in layers.items():
+        for a in allowed - names:
+            errors.append(f"ARCHITECTURE.md: layer {layer} may include unknown layer {a}")
+
+    home = {}  # header basename -> layer
+    files = []  # (path, layer)
+    for dirpath, _, filenames in os.walk(os.path.join(root, "lib")):
+        folder = os.path.relpath(dirpath, root)
+        for fn in sorted(filenames):
+            if not fn.endswith((".c", ".h")):
+                continue
+            path = os.path.join(folder, fn)
+            if folder not in layers:
+                errors.append(f"{path}: not in any folder of ARCHITECTURE.md's layer table")
+                continue
+            layer = layers[folder][0]
+            files.append((path, layer))
+            if fn.endswith(".h"):
+                if fn in home or fn in GENERATED:
+                    errors.append(f"{path}: header name {fn} is not unique in lib/")
+                home[fn] = layer
+    home.update(GENERATED)
+    allowed_of = {layer: allowed | {layer} for layer, allowed in layers.values()}
+
+    edges = 0
+    include = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
+    for path, layer in files:
+        with open(os.path.join(root, path), encoding="utf-8") as f:
+            for lineno, line in enumerate(f, 1):
+                m = include.match(line)
+                if not m:
+                    continue
+                target = m.group(1)
+                base = os.path.basename(target)
+                if target != base:
+                    errors.append(f"{path}:{lineno}: include \"{target}\" names a folder; write \"{base}\"")
+                if base not in home:
+                    errors.append(f"{path}:{lineno}: \"{base}\" is not a header of lib/")
+                    continue
+                edges += 1
+                if home[base] not in allowed_of[layer]:
+                    errors.append(f"{path}:{lineno}: {layer} includes \"{base}\" of layer "
+                                  f"{home[base]} (ARCHITECTURE.md: {layer} may include "
+                                  f"{', '.join(sorted(allowed_of[layer] - {layer})) or 'nothing'})")
+    for e in errors:
+        print(e)
+    if errors:
+        print(f"layers.py: {len(errors)} violation(s)")
+        return 1
+    print(f"layers.py: {len(files)} files, {edges} includes, {len(layers)} layers: ok")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
