@@ -806,7 +806,7 @@ static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
     Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
     if (!vals) abort();
     for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
-    Node *nn = node_new(vec_celems(r->p.lit)[0].node->kind);
+    Node *nn = node_new(r->p.kind);
     if (r->n <= 16) {
         /* distinct names (evalcode.c checks): set them all at once */
         Str *names[16];

@@ -172,7 +172,7 @@ static uint32_t emit(CC *c, const AstNode *n)
         rec(c, off)->n = n->nkids;
         if (bare_node(n->a) && distinct_names(n)) {
             rec(c, off)->op = C_NEWNODE;
-            rec(c, off)->p.lit = n->a->value;
+            rec(c, off)->p.kind = vec_celems(n->a->value)[0].node->kind;
             t = 0;
         } else {
             rec(c, off)->op = C_ATTRS;

@@ -39,8 +39,9 @@ enum {
     C_CALLBI,   /* p.bi, n positional args: uint32 offsets follow (§4.8) */
     C_APPEND,   /* uint32 offsets of parent and children follow (§4.10) */
     C_NEWNODE,  /* C_ATTRS on a literal bare node (no tags, attributes or
-                   children; p.lit holds it): a new node of its kind with
-                   the attributes set, the literal left untouched */
+                   children; p.kind is its kind, borrowed from the AST): a
+                   new node of that kind with the attributes set, the
+                   literal left untouched */
 };
 
 struct Builtin;
@@ -54,6 +55,7 @@ typedef struct CRec {
     union {
         const AstNode *node;
         Vec *lit;
+        Str *kind;
         const struct Builtin *bi;
     } p;
 } CRec;
