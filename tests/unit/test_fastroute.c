@@ -172,6 +172,80 @@ static void test_limits_same(void **s)
     expect_same(src, true, "Recursion depth exceeded for func 'g'");
 }
 
+/* A deterministic pseudo-random generator for test_random_expressions. */
+static uint32_t lcg(uint32_t *st)
+{
+    *st = *st * 1664525u + 1013904223u;
+    return *st >> 8;
+}
+
+/* Append a random expression of depth up to [depth] to [b]. */
+static void random_expr(Buf *b, uint32_t *st, int depth)
+{
+    static const char *const leaves[] = {"x", "y", "n", "inf", "mz", "v", "s", "z", "k", "2", "0.5",
+                                         "-3", "0", "1e308"};
+    static const char *const binops[] = {"+", "-", "*", "/", "//", "%", "**", "==", "!=", "<", ">",
+                                         "<=", ">="};
+    static const char *const calls[] = {"sin", "cos", "sqrt", "abs", "floor", "exp", "log", "fract"};
+    uint32_t r = lcg(st) % 10;
+    if (depth == 0 || r < 3) {
+        buf_puts(b, leaves[lcg(st) % (sizeof leaves / sizeof leaves[0])]);
+    } else if (r < 7) {
+        buf_puts(b, "(");
+        random_expr(b, st, depth - 1);
+        buf_printf(b, ")%s(", binops[lcg(st) % (sizeof binops / sizeof binops[0])]);
+        random_expr(b, st, depth - 1);
+        buf_puts(b, ")");
+    } else if (r < 8) {
+        buf_puts(b, lcg(st) % 2 ? "-(" : "not (");
+        random_expr(b, st, depth - 1);
+        buf_puts(b, ")");
+    } else if (r < 9) {
+        buf_printf(b, "%s(", calls[lcg(st) % (sizeof calls / sizeof calls[0])]);
+        random_expr(b, st, depth - 1);
+        buf_puts(b, ")");
+    } else {
+        buf_puts(b, "(");
+        random_expr(b, st, depth - 1);
+        buf_puts(b, ";");
+        random_expr(b, st, depth - 1);
+        buf_puts(b, ")");
+    }
+}
+
+/* Random arithmetic over numbers and every special operand (NaN, inf, -0,
+ * huge, vectors, strings, null, nodes): both routes give the same tree,
+ * with and without the simplifier. */
+static void test_random_expressions(void **s)
+{
+    (void)s;
+    uint32_t st = 12345;
+    for (int round = 0; round < 8; round++) {
+        Buf b = BUF_INIT;
+        buf_puts(&b, "let x=3+time\n    y=time-0.25\n    n=(0/0)+time\n    inf=(1/0)+time\n"
+                     "    mz=-time\n    v=(1;-2)+time\n    s=\"a\"\n    z=null\n    k=!foo\n!e");
+        for (int i = 0; i < 60; i++) {
+            buf_printf(&b, " a%d=", i);
+            random_expr(&b, &st, 4);
+        }
+        buf_puts(&b, "\n");
+        for (int simplify = 0; simplify < 2; simplify++) {
+            char *log_g, *log_f;
+            char *tree_g = run_one(buf_cstr(&b), simplify, false, &log_g);
+            char *tree_f = run_one(buf_cstr(&b), simplify, true, &log_f);
+            assert_string_equal(tree_f, tree_g);
+            assert_string_equal(log_f, log_g);
+            /* the tree holds real values, not just an empty node */
+            assert_true(strlen(tree_g) > 200);
+            free(tree_g);
+            free(tree_f);
+            free(log_g);
+            free(log_f);
+        }
+        buf_free(&b);
+    }
+}
+
 /* Compilation marks nodes (AstNode.fast) unless FLITTER_NOFAST is set. */
 static int count_fast(const AstNode *n)
 {
@@ -212,6 +286,7 @@ int main(void)
         cmocka_unit_test(test_builtin_kernels),
         cmocka_unit_test(test_nodes_and_loops),
         cmocka_unit_test(test_limits_same),
+        cmocka_unit_test(test_random_expressions),
         cmocka_unit_test(test_route_taken),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
