@@ -739,6 +739,36 @@ static void eval_export(Eval *ev, const AstNode *n)
 
 static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off);
 
+/* C_MEMO: C_NUM, its result kept in the block's memo cell and handed out
+ * again while the engine names it reads hold the same numbers. A kept
+ * vector is shared, which nothing can tell from a new one with the same
+ * numbers (§3.6 rule 1 only matters for NaN, never kept). */
+static Vec *run_memo(Eval *ev, const CRec *r)
+{
+    const NumExpr *x = (const NumExpr *)(const void *)(r + 1);
+    CMemo *m = &ev->memos[r->n];
+    uint64_t keys[NUMEXPR_MEMO_KEYS];
+    if (!ev->globals || ev->depth + numexpr_depth(x) > MAX_EVAL_DEPTH)
+        return run_num(ev, r->p.node, x);
+    bool same = m->value != NULL;
+    for (int32_t k = 0; k < m->nkeys; k++) {
+        const Vec *g = ev->globals->values[m->names[k]];
+        if (!vec_is_scalar(g)) return run_num(ev, r->p.node, x);
+        memcpy(&keys[k], vec_cnums(g), sizeof keys[k]);
+        same = same && keys[k] == m->keys[k];
+    }
+    if (same) return vec_retain(m->value);
+    Vec *v = run_num(ev, r->p.node, x);
+    if (vec_is_num(v)) {
+        for (uint32_t i = 0; i < v->len; i++)
+            if (isnan(vec_cnums(v)[i])) return v;
+        vec_release(m->value);
+        m->value = vec_retain(v);
+        memcpy(m->keys, keys, (size_t)m->nkeys * sizeof keys[0]);
+    }
+    return v;
+}
+
 /* eval_node's depth guard; false (with the error) on overflow. */
 static inline bool depth_enter(Eval *ev)
 {
@@ -861,6 +891,7 @@ static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off)
     case C_LOCAL: return vec_retain(ev->frame[r->n]);
     case C_GLOBAL: return ev->globals ? vec_retain(ev->globals->values[r->n]) : NULL;
     case C_NUM: return run_num(ev, r->p.node, (const NumExpr *)(const void *)(r + 1));
+    case C_MEMO: return run_memo(ev, r);
     case C_AST: return eval(ev, r->p.node);
     default: break;
     }
@@ -880,7 +911,12 @@ static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off)
 
 __attribute__((noinline)) static Vec *eval_code(Eval *ev, const AstNode *n)
 {
-    return run_rec(ev, n->aux, 0);
+    CBlock *b = n->aux;
+    CMemo *saved = ev->memos;
+    ev->memos = b->memos;
+    Vec *v = run_rec(ev, b->code, 0);
+    ev->memos = saved;
+    return v;
 }
 
 /* ====================================================================

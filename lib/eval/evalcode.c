@@ -19,7 +19,54 @@ typedef struct CC {
     uint32_t len, cap;
     AstNode **later;        /* C_AST nodes whose subtrees are compiled next */
     uint32_t nlater, cap_later;
+    uint32_t *memo_at;      /* hash table: offset of a C_MEMO record + 1 (0: empty) */
+    uint32_t memo_cap;      /* its size (a power of two, or 0) */
+    uint32_t nmemos;        /* memo cells given out */
+    uint32_t *memo_recs;    /* offsets of the C_MEMO records */
+    uint32_t nmemo_recs, cap_memo_recs;
 } CC;
+
+static CRec *rec(CC *c, uint32_t off) { return (CRec *)(void *)(c->buf + off); }
+
+/* FNV-1a over [len] bytes. */
+static uint64_t hash_bytes(const unsigned char *p, size_t len)
+{
+    uint64_t h = UINT64_C(0xcbf29ce484222325);
+    for (size_t i = 0; i < len; i++) h = (h ^ p[i]) * UINT64_C(0x100000001b3);
+    return h;
+}
+
+/* The memo cell for the NumExpr just copied to the C_MEMO record at
+ * [off]: that of an earlier record with the same instructions, else a new
+ * one. */
+static uint32_t memo_cell(CC *c, uint32_t off)
+{
+    if (2 * (c->nmemos + 1) > c->memo_cap) {
+        uint32_t cap = c->memo_cap ? 2 * c->memo_cap : 64;
+        uint32_t *t = calloc(cap, sizeof *t);
+        if (!t) abort();
+        for (uint32_t i = 0; i < c->memo_cap; i++) {
+            if (!c->memo_at[i]) continue;
+            const NumExpr *x = (const NumExpr *)(const void *)(c->buf + c->memo_at[i] - 1 + sizeof(CRec));
+            uint32_t h = (uint32_t)hash_bytes((const unsigned char *)x, numexpr_size(x)) & (cap - 1);
+            while (t[h]) h = (h + 1) & (cap - 1);
+            t[h] = c->memo_at[i];
+        }
+        free(c->memo_at);
+        c->memo_at = t;
+        c->memo_cap = cap;
+    }
+    const NumExpr *x = (const NumExpr *)(const void *)(c->buf + off + sizeof(CRec));
+    size_t size = numexpr_size(x);
+    uint32_t h = (uint32_t)hash_bytes((const unsigned char *)x, size) & (c->memo_cap - 1);
+    for (; c->memo_at[h]; h = (h + 1) & (c->memo_cap - 1)) {
+        uint32_t o = c->memo_at[h] - 1;
+        const NumExpr *y = (const NumExpr *)(const void *)(c->buf + o + sizeof(CRec));
+        if (numexpr_size(y) == size && memcmp(x, y, size) == 0) return rec(c, o)->n;
+    }
+    c->memo_at[h] = off + 1;
+    return c->nmemos++;
+}
 
 /* [size] zeroed bytes at the end of the block (8-byte aligned); returns
  * their offset. */
@@ -37,7 +84,6 @@ static uint32_t reserve(CC *c, size_t size)
     return off;
 }
 
-static CRec *rec(CC *c, uint32_t off) { return (CRec *)(void *)(c->buf + off); }
 
 /* The builtin a callee resolves to at load time, or NULL. */
 static const Builtin *const_builtin(const AstNode *fn)
@@ -123,6 +169,16 @@ static uint32_t emit(CC *c, const AstNode *n)
         rec(c, off)->op = C_NUM;
         rec(c, off)->p.node = n;
         memcpy(c->buf + off + sizeof(CRec), x, size);
+        if (numexpr_memoizable(x)) {
+            rec(c, off)->op = C_MEMO;
+            rec(c, off)->n = memo_cell(c, off);
+            if (c->nmemo_recs == c->cap_memo_recs) {
+                c->cap_memo_recs = c->cap_memo_recs ? 2 * c->cap_memo_recs : 64;
+                c->memo_recs = realloc(c->memo_recs, c->cap_memo_recs * sizeof *c->memo_recs);
+                if (!c->memo_recs) abort();
+            }
+            c->memo_recs[c->nmemo_recs++] = off;
+        }
         return off;
     }
     switch ((AstKind)n->kind) {
@@ -211,6 +267,56 @@ static uint32_t emit(CC *c, const AstNode *n)
 
 static void compile_children(AstNode *n);
 
+/* Keep memo cells only where several records share them (the same
+ * expression of engine names at several places, e.g. in the bodies of an
+ * unrolled loop): a record of its own is run once a frame and would only
+ * pay for the bookkeeping. Those go back to C_NUM; the cells left are
+ * numbered again from 0. */
+static void share_memos(CC *c)
+{
+    uint32_t *uses = calloc(c->nmemos ? c->nmemos : 1, sizeof *uses);
+    uint32_t *renum = calloc(c->nmemos ? c->nmemos : 1, sizeof *renum);
+    if (!uses || !renum) abort();
+    for (uint32_t i = 0; i < c->nmemo_recs; i++) uses[rec(c, c->memo_recs[i])->n]++;
+    uint32_t kept = 0;
+    for (uint32_t m = 0; m < c->nmemos; m++) renum[m] = uses[m] >= 2 ? kept++ : UINT32_MAX;
+    for (uint32_t i = 0; i < c->nmemo_recs; i++) {
+        CRec *r = rec(c, c->memo_recs[i]);
+        if (renum[r->n] == UINT32_MAX) {
+            r->op = C_NUM;
+            r->n = 0;
+        } else {
+            r->n = renum[r->n];
+        }
+    }
+    c->nmemos = kept;
+    free(uses);
+    free(renum);
+}
+
+/* The memo cells of [c]'s block, with the names each one reads. */
+static CMemo *make_memos(CC *c)
+{
+    if (!c->nmemos) return NULL;
+    CMemo *m = calloc(c->nmemos, sizeof *m);
+    if (!m) abort();
+    for (uint32_t i = 0; i < c->nmemo_recs; i++) {
+        const CRec *r = rec(c, c->memo_recs[i]);
+        if (r->op != C_MEMO || m[r->n].nkeys) continue;
+        m[r->n].nkeys = numexpr_globals((const NumExpr *)(const void *)(r + 1), m[r->n].names);
+    }
+    return m;
+}
+
+/* AstNode.aux_free of a region: the kept results, then the block. */
+static void cblock_free(void *p)
+{
+    CBlock *b = p;
+    for (uint32_t i = 0; i < b->nmemos; i++) vec_release(b->memos[i].value);
+    free(b->memos);
+    free(b);
+}
+
 void evalcode_compile_tree(AstNode *n)
 {
     if (!n) return;
@@ -221,9 +327,18 @@ void evalcode_compile_tree(AstNode *n)
     }
     CC c = {0};
     emit(&c, n);
-    n->aux = realloc(c.buf, c.len);
-    if (!n->aux) abort();
-    n->aux_free = free;
+    share_memos(&c);
+    CBlock *b = malloc(sizeof *b + c.len);
+    if (!b) abort();
+    b->nmemos = c.nmemos;
+    b->len = c.len;
+    b->memos = make_memos(&c);
+    memcpy(b->code, c.buf, c.len);
+    free(c.buf);
+    free(c.memo_at);
+    free(c.memo_recs);
+    n->aux = b;
+    n->aux_free = cblock_free;
     n->fast = 2;
     for (uint32_t i = 0; i < c.nlater; i++) compile_children(c.later[i]);
     free(c.later);

@@ -10,7 +10,7 @@
  * into one contiguous block of small records laid out in evaluation order,
  * with compiled numeric subtrees (numexpr.h) copied inline and names turned
  * into slot reads. The region's root AstNode gets n->fast = 2 and
- * n->aux = the block (record 0 is the root).
+ * n->aux = the block (a CBlock; record 0 is the root).
  *
  * Anything else inside a region is a C_AST record pointing back at its
  * AstNode, which the generic evaluator runs (and whose own subtrees may be
@@ -26,6 +26,7 @@
 #include <stdint.h>
 
 #include "ast.h"
+#include "numexpr.h"
 
 enum {
     C_AST,      /* p.node: evaluate the AstNode generically */
@@ -38,6 +39,12 @@ enum {
     C_ATTRS,    /* n bindings: CAttrsTail follows (§4.10) */
     C_CALLBI,   /* p.bi, n positional args: uint32 offsets follow (§4.8) */
     C_APPEND,   /* uint32 offsets of parent and children follow (§4.10) */
+    C_MEMO,     /* a C_NUM reading engine names and constants only
+                   (numexpr_memoizable): n is its memo cell, shared by every
+                   record of the block with the same instructions; the
+                   result is kept there and handed out again while those
+                   names hold the same numbers, bit for bit (not when it is
+                   NaN, where the identity of vectors matters, §3.6) */
     C_NEWNODE,  /* C_ATTRS on a literal bare node (no tags, attributes or
                    children; p.kind is its kind, borrowed from the AST): a
                    new node of that kind with the attributes set, the
@@ -82,6 +89,22 @@ typedef struct CAttrsTail {
     uint32_t pad;
     CAttr attrs[];      /* n of them, in order */
 } CAttrsTail;
+
+/* A memo cell of C_MEMO records. */
+typedef struct CMemo {
+    Vec *value;                          /* last result (one reference), or NULL */
+    int32_t nkeys;                       /* engine names read */
+    int32_t names[NUMEXPR_MEMO_KEYS];    /* their indices (Globals) */
+    uint64_t keys[NUMEXPR_MEMO_KEYS];    /* their numbers' bits when [value] was made */
+} CMemo;
+
+/* A compiled region: AstNode.aux of its root (n->fast == 2). */
+typedef struct CBlock {
+    CMemo *memos;       /* memo cells (NULL: none) */
+    uint32_t nmemos;
+    uint32_t len;       /* bytes of code */
+    _Alignas(16) unsigned char code[];   /* records; the root is at offset 0 */
+} CBlock;
 
 /* Compile the regions and the numeric subtrees (numexpr.h) of the
  * resolved tree [top] in place (see above). Never fails. */

@@ -10,6 +10,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "builtins.h"
 #include "program.h"
@@ -67,7 +68,14 @@ static void emit(Nx *c, NxIns i, int push)
         c->ins = realloc(c->ins, c->cap * sizeof *c->ins);
         if (!c->ins) abort();
     }
-    c->ins[c->n++] = i;
+    /* field by field into zeroed memory: no stray padding bytes, so that
+     * equal instructions are equal bytes (evalcode.c compares them) */
+    NxIns *d = &c->ins[c->n++];
+    memset(d, 0, sizeof *d);
+    d->op = i.op;
+    d->sub = i.sub;
+    d->arg = i.arg;
+    memcpy(&d->k, &i.k, sizeof d->k);
     c->sp = (uint32_t)((int)c->sp + push);
     if (c->sp > c->max_sp) c->max_sp = c->sp;
     if (c->max_sp > NX_STACK) c->fail = true;
@@ -238,12 +246,12 @@ bool numexpr_compile(AstNode *n)
         free(c.ins);
         return false;
     }
-    NumExpr *x = malloc(sizeof *x + c.n * sizeof(NxIns));
+    NumExpr *x = calloc(1, sizeof *x + c.n * sizeof(NxIns));   /* padding zero too */
     if (!x) abort();
     x->nins = c.n;
     x->nout = nout;
     x->depth = depth;
-    for (uint32_t i = 0; i < c.n; i++) x->ins[i] = c.ins[i];
+    memcpy(x->ins, c.ins, c.n * sizeof(NxIns));
     free(c.ins);
     n->aux = x;
     n->aux_free = free;
@@ -255,6 +263,24 @@ bool numexpr_compile(AstNode *n)
 /* ====================================================================
  * Running
  * ==================================================================== */
+
+bool numexpr_memoizable(const NumExpr *x)
+{
+    uint32_t globals = 0;
+    for (uint32_t i = 0; i < x->nins; i++) {
+        if (x->ins[i].op == NX_LOCAL) return false;
+        if (x->ins[i].op == NX_GLOBAL) globals++;
+    }
+    return globals >= 1 && globals <= NUMEXPR_MEMO_KEYS;
+}
+
+int numexpr_globals(const NumExpr *x, int32_t *idx)
+{
+    int k = 0;
+    for (uint32_t i = 0; i < x->nins && k < NUMEXPR_MEMO_KEYS; i++)
+        if (x->ins[i].op == NX_GLOBAL) idx[k++] = x->ins[i].arg;
+    return k;
+}
 
 /* vec_cmp of two single non-NaN numbers turned into the comparison's 1/0,
  * as eval_compare does (§3.6, §3.7). */

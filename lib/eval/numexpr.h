@@ -59,6 +59,19 @@ uint32_t numexpr_outputs(const NumExpr *x);
  * stack overflow happens exactly where the generic route would have it. */
 uint32_t numexpr_depth(const NumExpr *x);
 
+/* Most engine names a memoizable expression may read. */
+#define NUMEXPR_MEMO_KEYS 4
+
+/* True when [x] reads no frame slot and between 1 and NUMEXPR_MEMO_KEYS
+ * engine names: its result is a function of those names' numbers alone
+ * (every instruction is pure), so it may be kept and reused while they
+ * stay the same (evalcode.h C_MEMO). */
+bool numexpr_memoizable(const NumExpr *x);
+
+/* For a memoizable [x]: the indices of the engine names it reads, in
+ * instruction order, written to [idx]; returns how many. */
+int numexpr_globals(const NumExpr *x, int32_t *idx);
+
 /* Run [x] in [ev]'s current frame, writing numexpr_outputs(x) numbers to
  * [out]. Returns false (with [out] undefined) when an operand is not a
  * single number or a comparison meets a NaN: evaluate the subtree

@@ -149,6 +149,8 @@ struct Eval {
     struct StableCache *stables; /* `let stable` values (NULL: not tracked) */
     bool stable_changed;    /* an asserted stable value changed: the frame
                                must be evaluated again (stable.h) */
+    struct CMemo *memos;    /* memo cells of the compiled region being run
+                               (evalcode.h) */
 };
 
 /* Evaluate the whole program: compose the top-level sequence and append
