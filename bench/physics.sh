@@ -22,7 +22,8 @@ out=$(mktemp) || exit 2
 trap 'rm -f "$out"' EXIT
 
 # scene frames particles
-scenes="discs2k 120 2000
+scenes="petri200 600 201
+discs2k 120 2000
 charges1k 20 1001
 discs20k 10 20000
 discs100k 2 100000"

@@ -48,7 +48,7 @@ void lex_init(Lexer *lx, const char *text, size_t len)
     lx->text[lx->len] = '\0';
     lx->cur = (const unsigned char *)lx->text;
     lx->mark = lx->cur;
-    lx->prev = TK_YYEMPTY;
+    lx->prev = TK_FLP_EMPTY;
 }
 
 void lex_free(Lexer *lx)
@@ -93,7 +93,7 @@ static int fail(Lexer *lx, Token *t, const unsigned char *tok,
         buf_putc(&lx->msg, '\'');
     }
     token_clear(t);
-    return finish(lx, t, TK_YYerror, tok);
+    return finish(lx, t, TK_FLP_error, tok);
 }
 
 /* Length of the UTF-8 sequence starting at [p] (1 for a bad byte). */
@@ -354,7 +354,7 @@ int lex_keyword(const char *s, size_t len)
  * directives rather than '%' followed by a name. */
 static bool at_statement_start(const Lexer *lx)
 {
-    return lx->prev == TK_YYEMPTY || lx->prev == TK_NL
+    return lx->prev == TK_FLP_EMPTY || lx->prev == TK_NL
         || lx->prev == TK_HASHBANG || lx->prev == TK_APPEND;
 }
 
@@ -403,7 +403,7 @@ int lex_next(Lexer *lx, Token *t)
         lx->done = true;
         buf_reset(&lx->msg);
         buf_puts(&lx->msg, "source file too large");
-        t->kind = TK_YYerror;
+        t->kind = TK_FLP_error;
         return t->kind;
     }
     if (lx->done) {

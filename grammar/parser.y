@@ -31,6 +31,9 @@
 
 %require "3.6"
 %define api.pure full
+/* flp_parse, FLP_STYPE, flp_lex...: no yy* names in the library, where they
+ * would clash with an embedding program's own parser */
+%define api.prefix {flp_}
 %define api.token.prefix {TK_}
 %define api.location.type {Loc}
 %define parse.error custom
@@ -52,8 +55,8 @@ typedef struct ParseCtx ParseCtx;
 
 /* The next token for the parser: its kind, semantic value and span.
  *   errors: a lexical or indentation error is reported into [pc] and
- *           TK_YYerror returned (the parser then stops). */
-int parse_lex(YYSTYPE *value, Loc *loc, ParseCtx *pc);
+ *           TK_FLP_error returned (the parser then stops). */
+int parse_lex(FLP_STYPE *value, Loc *loc, ParseCtx *pc);
 /* Report a syntax error at [loc]: the unexpected token's name and up to
  * [nexpected] names of tokens that would have been accepted (0: too many
  * to list). */
@@ -66,8 +69,8 @@ Loc parse_start(ParseCtx *pc);
 }
 
 %code {
-#define yylex parse_lex
-#define yyerror(loc, pc, out, msg) ((void)(out), parse_failure((pc), *(loc), (msg)))
+#define flp_lex parse_lex
+#define flp_error(loc, pc, out, msg) ((void)(out), parse_failure((pc), *(loc), (msg)))
 
 /* A span from the first to the last symbol; empty rules sit at the end of
  * the previous symbol. */

@@ -1,38 +1,96 @@
-/* flitter.h: the public interface of libflitter.
+/* flitter.h: the public interface of libflitter, the Flitter language and
+ * its !physics engine as an embeddable C library.
  *
- * A `fl_runtime` is one interpreter: a loaded program, its state dictionary,
- * its physics systems, its symbol table and its clock. Nothing is global, so
- * an embedder may run several runtimes in one process (one thread each).
+ * A `fl_runtime` is one interpreter: a loaded program, its state
+ * dictionary, its physics systems, its symbol table and its clock. Nothing
+ * is global, so an embedder may run several runtimes in one process (each
+ * used by one thread at a time).
  *
- * Typical use:
- *     fl_options o = fl_default_options();  o.frames = 300;
- *     fl_runtime *rt = fl_new(&o);
- *     if (fl_load(rt, "petri.fl", &err) != 0) { print err; }
- *     while (fl_frame_count(rt) < 300) fl_step(rt);
+ * Typical use (samples/embed/embed.c is a complete program):
+ *     fl_runtime *rt = fl_new(NULL);
+ *     if (fl_load(rt, "petri.fl") != 0) fprintf(stderr, "%s", fl_error(rt));
+ *     for (int i = 0; i < 300; i++) fl_step(rt);
+ *     double xy[2];
+ *     fl_state_get_numbers(rt, ":dish;0", xy, 2);
  *     fl_free(rt);
  *
- * Ownership follows value.h: getters return borrowed pointers that stay valid
- * until the next call that changes the runtime.
+ * Values cross this interface as numbers, or as value text (FORMATS.md §1):
+ * the text the state dump prints, e.g. `:dish;0` for the vector of the
+ * symbol `dish` and the number 0, or `1;2.5` for two numbers. A text given
+ * to the library (a state key, a value, a define) is split on `;`; each part
+ * is `:name` (a symbol), a number with optional `_` separators and SI or
+ * angle suffix (LANGUAGE.md §1.3), a time code, or else a string; the empty
+ * text is null. In state keys and values (not in defines, which follow
+ * `-D`), a part that is `-` followed by a number is that number negated.
+ * A string part is taken as is, without quotes: `name` and the dump's
+ * `"name"` are different texts.
+ *
+ * Ownership: every `const char *` the library returns is owned by the
+ * runtime and stays valid until the next call on that runtime; text handed
+ * to a callback is valid only during the call. The library never keeps a
+ * pointer the caller passed in, except the option callbacks' [ctx].
+ *
+ * Errors: functions that can fail return a negative number and leave a
+ * message, ending in a newline, for fl_error(). Out of memory is the only
+ * abort: the message goes to the runtime's error callback (fl_options.error)
+ * first. Script run-time errors do not fail a call: they are logged
+ * (fl_options.log) and the frame goes on with null (LANGUAGE.md §4.16).
+ *
+ * Only standard C headers are included here; every symbol the library
+ * exports starts with `fl_`.
  */
 #ifndef FLITTER_H
 #define FLITTER_H
 
 #include <stdbool.h>
-#include <stdio.h>
+#include <stddef.h>
 
-#include "buf.h"
-#include "node.h"
-#include "state.h"
-#include "value.h"
+/* Marks the functions of this interface: the only symbols a shared
+ * libflitter exports (the library is built with -fvisibility=hidden). */
+#if defined(FL_BUILDING_LIBRARY) && defined(__GNUC__)
+#define FL_API __attribute__((visibility("default")))
+#else
+#define FL_API
+#endif
+
+/* The version of this header; fl_version() gives the library's. */
+#define FL_VERSION_MAJOR 0
+#define FL_VERSION_MINOR 1
+#define FL_VERSION_PATCH 0
+#define FL_VERSION_STRING "0.1.0"
+
+/* The library's version as "MAJOR.MINOR.PATCH" (static storage). */
+FL_API const char *fl_version(void);
 
 typedef struct fl_runtime fl_runtime;
+
+/* The kinds of line sent to fl_options.log. */
+enum {
+    FL_LOG_ERROR = 0,   /* `Execution error: ...` and `Physics error: ...` lines */
+    FL_LOG_WARNING,     /* load-time and engine warnings (`PATH: warning: ...`) */
+    FL_LOG_DEBUG        /* the output of the script's debug() calls */
+};
+
+/* Receives one message line of [kind] (FL_LOG_*), without its newline.
+ * [line] is valid only during the call. The callback must not call back
+ * into the runtime that logged. */
+typedef void (*fl_log_fn)(void *ctx, int kind, const char *line);
+
+/* Receives the message of a fatal error ("out of memory") just before the
+ * library calls abort(); [message] has no newline. It may save or report
+ * what it can, or leave the process itself (exit, longjmp out of the whole
+ * runtime: the runtime must then not be used again); when it returns, the
+ * library aborts. */
+typedef void (*fl_error_fn)(void *ctx, const char *message);
+
+/* Receives a piece of output text ([len] bytes, not NUL-terminated; dumps
+ * arrive in one or more pieces). Valid only during the call. */
+typedef void (*fl_write_fn)(void *ctx, const char *text, size_t len);
 
 typedef struct fl_options {
     double fps;          /* target frame rate (--fps), frames per second; default 60 */
     long frames;         /* planned frame count for `run_time`, or -1 (unknown) */
     bool realtime;       /* pace on the wall clock instead of lockstep */
-    FILE *log;           /* where run-time errors and warnings go (stderr); NULL: nowhere */
-    FILE *debug;         /* where debug() lines go (stdout); NULL: nowhere */
     long max_physics_steps; /* most simulation steps one !physics system may
                                take in one frame (default 10000; 0: no limit);
                                past it the simulation clock falls behind
@@ -44,6 +102,10 @@ typedef struct fl_options {
     int pairs;           /* physics pair route (--pairs): FL_PAIRS_* */
     bool no_simplify;    /* --nosimplify: run the program as parsed, without the
                             load-time simplifier (LANGUAGE.md §4.17) */
+    fl_log_fn log;       /* message lines; NULL: errors and warnings to stderr,
+                            debug lines to stdout, each with a newline */
+    fl_error_fn error;   /* fatal errors; NULL: `flitter: MESSAGE` on stderr */
+    void *ctx;           /* passed to log and error */
 } fl_options;
 
 /* fl_options.pairs: the physics pair loop. Every route gives the same bits. */
@@ -53,88 +115,224 @@ enum {
     FL_PAIRS_NAIVE         /* the reference all-pairs loop, one thread */
 };
 
+/* The defaults: 60 fps, unknown frames, lockstep, 10000 physics steps per
+ * frame, no interrupt flag, threads and pair route from the environment,
+ * simplifier on, default log and error output. Start from these and change
+ * fields, so that fields added later get their defaults. */
+FL_API fl_options fl_default_options(void);
+
 /* Parse a --pairs value ("naive" or "fast") into *[out] (FL_PAIRS_*);
  * returns false, leaving *[out] alone, for anything else. */
-bool fl_parse_pairs(const char *text, int *out);
+FL_API bool fl_parse_pairs(const char *text, int *out);
 
-/* The defaults: 60 fps, unknown frames, lockstep, log to stderr, debug to
- * stdout, 10000 physics steps per frame, no interrupt flag. */
-fl_options fl_default_options(void);
-
-/* A new runtime with empty state and no program.
- *   errors: aborts only when out of memory. */
-fl_runtime *fl_new(const fl_options *opts);
+/* A new runtime with empty state and no program; [opts] NULL means
+ * fl_default_options(). The options are copied.
+ *   errors: aborts only when out of memory (after opts->error). */
+FL_API fl_runtime *fl_new(const fl_options *opts);
 /* Free [rt] and everything it owns (NULL is a no-op). */
-void fl_free(fl_runtime *rt);
+FL_API void fl_free(fl_runtime *rt);
 
-/* Bind [name] to [value_text] for every frame (-D NAME=VALUE, FORMATS.md
- * §4): the text is split on `;`; each part is a `:symbol`, a number with
- * optional `_` separators and SI/angle suffix (LANGUAGE.md §1.3), a time
- * code, or else a string; empty text is null. Must be called before fl_load.
+/* The message of the last failed call on [rt] (one or more lines, each
+ * ending in a newline), or "" when the last failing call left none. Owned
+ * by [rt]; valid until the next call that can fail. */
+FL_API const char *fl_error(const fl_runtime *rt);
+
+/* Bind [name] to the value text [value_text] for every frame (`-D
+ * NAME=VALUE`, FORMATS.md §4). Call it before fl_load: the loaded program
+ * sees the names that were defined when it was loaded.
  *   errors: returns -1 for an empty or invalid name, else 0. */
-int fl_define(fl_runtime *rt, const char *name, const char *value_text);
+FL_API int fl_define(fl_runtime *rt, const char *name, const char *value_text);
 
 /* Load (or reload, keeping the state) the script at [path]. Pragmas take
  * effect at the next fl_step (LANGUAGE.md §6.4).
- *   errors: returns -1 and appends `PATH:LINE:COL: error: MESSAGE` (with the
- *           source line and a caret) to [err]; the previous program, if
- *           any, stays loaded. Load-time warnings (unbound names) go to the
- *           log. */
-int fl_load(fl_runtime *rt, const char *path, Buf *err);
-/* Load program text from memory; [name] is used in messages and to
- * resolve relative files. Same errors as fl_load. */
-int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err);
+ *   errors: returns -1 with `PATH:LINE:COL: error: MESSAGE` (the source
+ *           line and a caret under it) for fl_error(); the previous
+ *           program, if any, stays loaded. Load-time warnings (unbound
+ *           names) go to the log as FL_LOG_WARNING. */
+FL_API int fl_load(fl_runtime *rt, const char *path);
+/* Load program text [text] of [len] bytes from memory; [name] is used in
+ * messages and to resolve relative file names. Same errors as fl_load. */
+FL_API int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len);
 
-/* Append the loaded program, as it will run (after the simplifier unless
- * no_simplify), to [out] as Flitter-like source (simplify.h ast_dump).
- *   errors: returns -1 when no program is loaded, else 0. */
-int fl_dump_program(const fl_runtime *rt, Buf *out);
-
-/* Evaluate and simulate one frame: compute the frame names (FORMATS.md §5),
- * evaluate the program into a node tree, run every top-level !physics node,
- * write the beat counter, then advance the clock.
- *   errors: new run-time errors of this frame are written to the log as
+/* Evaluate and simulate one frame: compute the frame names (FORMATS.md
+ * §5), evaluate the program into a node tree, run every top-level !physics
+ * and !counter node, write the beat counter, then advance the clock by
+ * 1/fps seconds (lockstep) or to the wall clock (realtime).
+ *   errors: the frame's new run-time errors are logged as
  *           `Execution error: MESSAGE`; a !physics system with a non-finite
  *           `time`/`resolution` skips the frame and one needing more than
- *           opts.max_physics_steps steps is cut short (each logged once per
- *           runtime); returns -1 when no program is loaded, 1 when
- *           *opts.interrupt stopped the evaluation (the frame is discarded:
+ *           max_physics_steps steps is cut short (each logged once per
+ *           runtime). Returns -1 when no program is loaded, 1 when
+ *           *interrupt stopped the evaluation (the frame is discarded:
  *           tree, state, clock and frame count stay as they were; an
  *           interrupt during physics steps keeps the frame, with fewer
  *           steps), else 0. */
-int fl_step(fl_runtime *rt);
+FL_API int fl_step(fl_runtime *rt);
+
+/* Number of frames evaluated so far. */
+FL_API long fl_frame_count(const fl_runtime *rt);
+/* The `time` of the last evaluated frame, in seconds (0 before the first). */
+FL_API double fl_frame_time(const fl_runtime *rt);
+/* The frame rate the runtime steps at, in frames per second: the `fps`
+ * option, or the loaded program's `%pragma fps` once a frame has applied
+ * it. A realtime embedder calls fl_step every 1/fl_target_fps seconds. */
+FL_API double fl_target_fps(const fl_runtime *rt);
+
+/* {=====================================================================
+ * The state dictionary
+ * ===================================================================== */
+
+/* Write the value text of the state value under the key [key_text] into
+ * [buf] ([cap] bytes, NUL-terminated, truncated to fit; [buf] may be NULL
+ * when [cap] is 0), like snprintf.
+ *   returns: the length of the whole value text (without the NUL), or -1
+ *            when no value is stored under that key (the empty key text
+ *            is null, which is never stored). */
+FL_API long fl_state_get(fl_runtime *rt, const char *key_text, char *buf, size_t cap);
+/* Copy the numbers of the state value under [key_text] into [out] (at
+ * most [cap] of them).
+ *   returns: the number of elements of the value (which may exceed [cap]),
+ *            -1 when there is none, -2 when it is not all numbers (strings;
+ *            a symbol counts as the number Flitter gives it). */
+FL_API long fl_state_get_numbers(fl_runtime *rt, const char *key_text, double *out, size_t cap);
+/* Store the value text [value_text] under [key_text] (both parsed as the
+ * top of this file says); the empty value text deletes the entry.
+ *   errors: returns -1 (state unchanged) when the key text is empty. */
+FL_API int fl_state_set(fl_runtime *rt, const char *key_text, const char *value_text);
+/* Store the [n] numbers [values] under [key_text]; n = 0 deletes.
+ *   errors: as fl_state_set. */
+FL_API int fl_state_set_numbers(fl_runtime *rt, const char *key_text, const double *values,
+                                size_t n);
+/* Number of entries in the state dictionary. */
+FL_API size_t fl_state_count(const fl_runtime *rt);
+/* Receives one state entry as key text and value text (valid during the
+ * call); returns non-zero to stop the iteration. */
+typedef int (*fl_state_fn)(void *ctx, const char *key_text, const char *value_text);
+/* Call [fn] for every state entry, sorted by key text bytes (the order of
+ * the state dump); [fn] must not change the state.
+ *   returns: the number of entries visited. */
+FL_API size_t fl_state_iterate(fl_runtime *rt, fl_state_fn fn, void *ctx);
+/* Empty the state dictionary (the clock keeps running). */
+FL_API void fl_reset_state(fl_runtime *rt);
+
+/* Save the state dictionary and the clock to [path] atomically (the file
+ * is replaced only when complete; FORMATS.md, `flitter run --state`).
+ *   errors: returns -1 with a message for fl_error(); 0 on success. */
+FL_API int fl_save_state(fl_runtime *rt, const char *path);
+/* Restore the state dictionary and the clock from [path], so that the run
+ * continues exactly where the saved one stopped.
+ *   errors: returns -1 with a message for fl_error(), leaving everything
+ *           untouched, when the file is missing, truncated or malformed. */
+FL_API int fl_restore_state(fl_runtime *rt, const char *path);
+
+/* {=====================================================================
+ * Dumps (written through [fn]; FORMATS.md)
+ * ===================================================================== */
+
+/* The state dump block of the last frame (FORMATS.md §2: `frame N time T`
+ * then one `KEY = VALUE` line per entry, string keys starting with '_' left
+ * out), as `flitter run --dump-state` prints it (before the first frame:
+ * `frame -1 time 0`). */
+FL_API void fl_dump_state(fl_runtime *rt, fl_write_fn fn, void *ctx);
+/* The node tree of the last frame (FORMATS.md §3), as `--dump-tree` prints
+ * it.
+ *   errors: returns -1 (writing nothing) before the first frame, else 0. */
+FL_API int fl_dump_tree(fl_runtime *rt, fl_write_fn fn, void *ctx);
+/* The loaded program as it will run (after the simplifier unless
+ * no_simplify), as Flitter-like source (`--dump-simplified`).
+ *   errors: returns -1 (writing nothing) when no program is loaded. */
+FL_API int fl_dump_program(fl_runtime *rt, fl_write_fn fn, void *ctx);
+
+/* {=====================================================================
+ * Evaluating text (the REPL)
+ * ===================================================================== */
 
 /* Evaluate [text] ([len] bytes: an expression, or `let` bindings) in the
  * scope of the loaded script's top level as of the last frame (its `let`
  * and `func` names, the frame names, defines) plus the names bound by
  * earlier fl_eval calls; state lookups see the current state.
- *   output: the value text (FORMATS.md §1) of an expression's result, or
- *           `NAME = VALUE` lines for the names a `let` bound, appended to
- *           [out] with a final newline.
- *   errors: returns -1 with `<repl>:LINE:COL: error: ...` in [err] on a
- *           syntax error; returns 1 (and appends nothing) when the text
+ *   output: through [fn]: the value text of an expression's result, or
+ *           `NAME = VALUE` lines for the names a `let` bound, each line
+ *           ending in a newline.
+ *   errors: returns -1 with `<repl>:LINE:COL: error: ...` for fl_error()
+ *           on a syntax error; returns 1 (writing nothing) when the text
  *           ended early, so a caller may read more lines; run-time errors
  *           go to the log; returns -1 with `<repl>: error: interrupted`
- *           (nothing bound or printed) when *opts.interrupt stopped the
- *           evaluation; 0 on success. */
-int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err);
+ *           (nothing bound or written) when *interrupt stopped it; 0 on
+ *           success. */
+FL_API int fl_eval(fl_runtime *rt, const char *text, size_t len, fl_write_fn fn, void *ctx);
 /* Forget the names bound by fl_eval. */
-void fl_eval_reset(fl_runtime *rt);
-/* Names visible to fl_eval (script top level, frame names, defines, earlier
- * fl_eval bindings), for completion; borrowed, [*n] entries. */
-const Str *const *fl_scope_names(const fl_runtime *rt, size_t *n);
+FL_API void fl_eval_reset(fl_runtime *rt);
+/* Call [fn] with each name visible to fl_eval (engine names and defines,
+ * the script's top level, earlier fl_eval bindings), for completion, in
+ * that order (a name bound in two of them comes twice); [fn] returns
+ * non-zero to stop.
+ *   returns: the number of names visited. */
+FL_API size_t fl_scope_names(fl_runtime *rt, int (*fn)(void *ctx, const char *name), void *ctx);
 
-/* Save the state dictionary and the clock to [path] atomically (see
- * statefile.h for the format).
- *   errors: returns -1 with a message in [err]; 0 on success. */
-int fl_save_state(const fl_runtime *rt, const char *path, Buf *err);
-/* Restore the state dictionary and the clock from [path], so that the run
- * continues exactly where the saved one stopped.
- *   errors: returns -1 with a message in [err], leaving everything
- *           untouched, when the file is missing, truncated or malformed. */
-int fl_restore_state(fl_runtime *rt, const char *path, Buf *err);
-/* Empty the state dictionary (the clock keeps running). */
-void fl_reset_state(fl_runtime *rt);
+/* The [i]-th name of the built-in functions (LANGUAGE.md §5), from 0, or
+ * NULL past the last; static storage. For completion in a host's REPL. */
+FL_API const char *fl_builtin_name(size_t i);
+
+/* Write the value text of the number [x] (the shortest decimal text that
+ * reads back to exactly [x], as the dumps print numbers: `0`, `-2.5`,
+ * `1e+20`, `nan`, `inf`) into [buf] ([cap] bytes, NUL-terminated, truncated
+ * to fit; [buf] may be NULL when [cap] is 0), like snprintf.
+ *   returns: the length of the whole text (without the NUL). */
+FL_API size_t fl_number_text(double x, char *buf, size_t cap);
+
+/* {=====================================================================
+ * Pictures and trajectories
+ * ===================================================================== */
+
+/* What a run writes after its frames besides dumps (`flitter run`'s
+ * --view, --trace and the scripts' own windows). Every field may be left
+ * zero: fl_outputs_open(rt, NULL) renders the windows only. */
+typedef struct fl_output_options {
+    const char *view;     /* draw the !physics systems (discs by radius,
+                             colour by charge, anchors, links, barriers) to
+                             FILE.png or FILE.svg (the last frame), or
+                             FILE.gif (an animation); NULL: none */
+    long view_every;      /* .gif: a picture every K frames (0 or 1: all) */
+    const char *trace;    /* write every particle's position and velocity to
+                             FILE.csv or FILE.jsonl; NULL: none */
+    long trace_every;     /* a trace row every K frames (0 or 1: all) */
+    bool debug;           /* log each drawing node kind skipped as
+                             unsupported, once (FL_LOG_WARNING) */
+} fl_output_options;
+
+typedef struct fl_outputs fl_outputs;
+
+/* Open the outputs [o] asks for, for frames of [rt] (whose fps sets the
+ * GIF frame delay). `!window`/`!offscreen` nodes with a `!record
+ * filename=...` are drawn with cairo and written (PNG, or an animated GIF)
+ * in every frame that fl_outputs_frame() is given.
+ *   errors: NULL with fl_error() text when the --view or --trace file
+ *           cannot be created or has an unknown extension (nothing is
+ *           left open). */
+FL_API fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *o);
+/* After each fl_step() of [rt]: draw its windows, append the trace rows
+ * and animation frames due (every K-th frame, counted from frame 0).
+ * Windows that cannot be written are logged (FL_LOG_ERROR, once).
+ *   errors: -1 with fl_error() text when the view or the trace cannot be
+ *           written (that output then stops), else 0. */
+FL_API int fl_outputs_frame(fl_outputs *out, fl_runtime *rt);
+/* Write the final --view picture (.png/.svg: of [rt]'s last frame, when
+ * it ran any), finish animated GIFs, close the files and free [out] (NULL
+ * is a no-op).
+ *   errors: -1 when any output failed or could not be finished (the
+ *           message of the last failure in fl_error()), else 0. */
+FL_API int fl_outputs_close(fl_outputs *out, fl_runtime *rt);
+/* Draw [rt]'s !physics systems as they are now to [path] (.png or .svg),
+ * as fl_output_options.view does; [*nsystems] (may be NULL) gets the
+ * number of systems drawn.
+ *   errors: -1 with fl_error() text when [path] has another extension or
+ *           cannot be written, else 0. */
+FL_API int fl_view(fl_runtime *rt, const char *path, size_t *nsystems);
+
+/* {=====================================================================
+ * Statistics
+ * ===================================================================== */
 
 /* Counters and timers of a runtime since fl_new (fl_get_stats). */
 typedef struct fl_stats {
@@ -153,17 +351,6 @@ typedef struct fl_stats {
 /* Fill [out] with [rt]'s statistics (wall-clock seconds, monotonic clock).
  * Allocation counts cover the values the runtime pools (vectors, strings,
  * nodes and their arrays, evaluator scratch): a steady frame makes none. */
-void fl_get_stats(const fl_runtime *rt, fl_stats *out);
-
-/* The node tree of the last evaluated frame (a !root node), or NULL. */
-const Node *fl_root(const fl_runtime *rt);
-/* The state dictionary (mutable: embedders may write controller values). */
-StateDict *fl_state(fl_runtime *rt);
-/* The symbol table used for value text. */
-const SymTab *fl_symbols(const fl_runtime *rt);
-/* Number of frames evaluated so far. */
-long fl_frame_count(const fl_runtime *rt);
-/* The `time` of the last evaluated frame (seconds). */
-double fl_frame_time(const fl_runtime *rt);
+FL_API void fl_get_stats(const fl_runtime *rt, fl_stats *out);
 
 #endif

@@ -10,9 +10,10 @@
  * counter under "_counter", then advance `time` by 1/fps (a running
  * floating-point sum, not frame/fps).
  */
-#include "flitter.h"
+#include "runtime.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -20,6 +21,7 @@
 #include "counter.h"
 #include "format.h"
 #include "lexer.h"
+#include "mem.h"
 #include "module.h"
 #include "physics.h"
 #include "pool.h"
@@ -52,7 +54,7 @@ struct fl_runtime {
     Vec *counter_key;       /* "_counter", the beat counter's state key */
     Exports scope;          /* the script's top-level names at the last frame */
     Exports repl;           /* names bound by fl_eval */
-    Str **scope_names;      /* fl_scope_names() result */
+    Str **scope_names;      /* rt_scope_names() result */
     size_t nscope_names;
     Globals globals;        /* engine names and defines */
     Program *prog;          /* current program, or NULL */
@@ -74,13 +76,68 @@ struct fl_runtime {
     double wall_start;      /* realtime: monotonic clock at start */
     bool warned_nonfinite;  /* physics: non-finite time logged already */
     bool warned_capped;     /* physics: step limit logged already */
+    Buf error;              /* fl_error(): the last failed call's message */
 };
 
 fl_options fl_default_options(void)
 {
-    return (fl_options){.fps = 60.0, .frames = -1, .realtime = false, .log = stderr, .debug = stdout,
-                        .max_physics_steps = 10000};
+    return (fl_options){.fps = 60.0, .frames = -1, .realtime = false, .max_physics_steps = 10000};
 }
+
+/* ====================================================================
+ * Messages: the log callback (flitter.h fl_options.log)
+ * ==================================================================== */
+
+static void log_to_files(void *ctx, int kind, const char *line)
+{
+    const RtStreams *s = ctx;
+    FILE *f = kind == FL_LOG_DEBUG ? s->debug : s->log;
+    if (f) fprintf(f, "%s\n", line);
+}
+
+void rt_log_to_files(fl_options *o, RtStreams *s)
+{
+    o->log = log_to_files;
+    o->ctx = s;
+}
+
+/* The default log: errors and warnings to stderr, debug lines to stdout. */
+static void log_default(void *ctx, int kind, const char *line)
+{
+    (void)ctx;
+    fprintf(kind == FL_LOG_DEBUG ? stdout : stderr, "%s\n", line);
+}
+
+/* Send one message line of [kind] (FL_LOG_*) to the runtime's log. */
+__attribute__((format(printf, 3, 4)))
+static void emit(const fl_runtime *rt, int kind, const char *fmt, ...)
+{
+    char small[256];
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(small, sizeof small, fmt, ap);
+    va_end(ap);
+    if (n < 0) return;
+    char *line = small;
+    if ((size_t)n >= sizeof small) {
+        line = mem_alloc((size_t)n + 1);
+        va_start(ap, fmt);
+        vsnprintf(line, (size_t)n + 1, fmt, ap);
+        va_end(ap);
+    }
+    rt->opts.log(rt->opts.ctx, kind, line);
+    if (line != small) free(line);
+}
+
+void rt_log_target(const fl_runtime *rt, fl_log_fn *fn, void **ctx)
+{
+    *fn = rt->opts.log;
+    *ctx = rt->opts.ctx;
+}
+
+MemHandler rt_enter(const fl_runtime *rt) { return mem_enter(rt->opts.error, rt->opts.ctx); }
+
+Buf *rt_error_buf(fl_runtime *rt) { return &rt->error; }
 
 bool fl_parse_pairs(const char *text, int *out)
 {
@@ -102,9 +159,11 @@ static double monotonic(void)
 
 fl_runtime *fl_new(const fl_options *opts)
 {
-    fl_runtime *rt = calloc(1, sizeof *rt);
-    if (!rt) abort();
-    rt->opts = opts ? *opts : fl_default_options();
+    fl_options o = opts ? *opts : fl_default_options();
+    MemHandler prev = mem_enter(o.error, o.ctx);
+    fl_runtime *rt = mem_calloc(1, sizeof *rt);
+    rt->opts = o;
+    if (!rt->opts.log) rt->opts.log = log_default;
     rt->pool = pool_new();
     if (!(rt->opts.fps > 0)) rt->opts.fps = 60.0;
     rt->symtab = symtab_new();
@@ -142,6 +201,7 @@ fl_runtime *fl_new(const fl_options *opts)
     v = vec_num1(0.0);
     for (int g = G_SCREEN; g <= G_OPENGL_ES; g++) globals_set(&rt->globals, g, v);
     vec_release(v);
+    mem_leave(prev);
     return rt;
 }
 
@@ -166,6 +226,7 @@ void fl_free(fl_runtime *rt)
     }
     symtab_free(rt->symtab);
     pool_free(rt->pool);
+    buf_free(&rt->error);
     free(rt);
 }
 
@@ -184,13 +245,15 @@ static bool valid_name(const char *name)
     return true;
 }
 
-int fl_define(fl_runtime *rt, const char *name, const char *text)
+/* Value text [text] as a vector (NULL for ""); with [sign], a part that
+ * is `-` and a number is that number negated (as the state dump prints
+ * negative numbers); without it (-D, FORMATS.md §4) such a part is a
+ * string. */
+static Vec *parse_value(fl_runtime *rt, const char *text, bool sign)
 {
-    if (!valid_name(name)) return -1;
-    int g = globals_add(&rt->globals, name);
     size_t n = strlen(text), i = 0;
     Vec **parts = calloc(n + 1, sizeof(Vec *));
-    if (!parts) abort();
+    if (!parts) mem_oom();
     size_t np = 0;
     while (n && i <= n) {
         size_t j = i;
@@ -202,6 +265,8 @@ int fl_define(fl_runtime *rt, const char *name, const char *text)
             parts[np++] = vec_num1(symtab_add(rt->symtab, p + 1, len - 1));
         } else if (lex_number_text(p, len, &x)) {
             parts[np++] = vec_num1(x);
+        } else if (sign && len > 1 && p[0] == '-' && lex_number_text(p + 1, len - 1, &x)) {
+            parts[np++] = vec_num1(-x);
         } else {
             parts[np++] = vec_str(p, len);
         }
@@ -210,8 +275,20 @@ int fl_define(fl_runtime *rt, const char *name, const char *text)
     Vec *v = vec_compose(parts, np);
     for (size_t k = 0; k < np; k++) vec_release(parts[k]);
     free(parts);
+    return v;
+}
+
+Vec *rt_parse_value(fl_runtime *rt, const char *text) { return parse_value(rt, text, true); }
+
+int fl_define(fl_runtime *rt, const char *name, const char *text)
+{
+    if (!valid_name(name)) return -1;
+    MemHandler prev = rt_enter(rt);
+    int g = globals_add(&rt->globals, name);
+    Vec *v = parse_value(rt, text, false);
     globals_set(&rt->globals, g, v);
     vec_release(v);
+    mem_leave(prev);
     return 0;
 }
 
@@ -221,12 +298,12 @@ int fl_define(fl_runtime *rt, const char *name, const char *text)
 
 static void log_warnings(fl_runtime *rt, const Program *p)
 {
-    if (!rt->opts.log || !p->warnings.len) return;
+    if (!p->warnings.len) return;
     const char *s = p->warnings.data;
     while (*s) {
         const char *nl = strchr(s, '\n');
         size_t len = nl ? (size_t)(nl - s) : strlen(s);
-        fprintf(rt->opts.log, "%s: warning: %.*s\n", p->path, (int)len, s);
+        emit(rt, FL_LOG_WARNING, "%s: warning: %.*s", p->path, (int)len, s);
         s += len + (nl ? 1 : 0);
     }
 }
@@ -244,17 +321,17 @@ static int install(fl_runtime *rt, Program *p)
     return 0;
 }
 
-int fl_load(fl_runtime *rt, const char *path, Buf *err)
+int rt_load(fl_runtime *rt, const char *path, Buf *err)
 {
     return install(rt, program_load(path, &rt->globals, rt->symtab, err));
 }
 
-int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err)
+int rt_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err)
 {
     return install(rt, program_load_text(name, text, len, &rt->globals, rt->symtab, err));
 }
 
-int fl_dump_program(const fl_runtime *rt, Buf *out)
+int rt_dump_program(const fl_runtime *rt, Buf *out)
 {
     if (!rt->prog) return -1;
     ast_dump(out, rt->prog->top, rt->symtab);
@@ -305,9 +382,8 @@ static void apply_pragmas(fl_runtime *rt)
         if (clock_pragma && !(isfinite(x) && x > 0 && isfinite(60.0 / x))) {
             /* the reference divides by these and fails; we keep the
              * defaults so the clock (and a saved state) stays finite */
-            if (rt->opts.log)
-                fprintf(rt->opts.log, "%s: warning: %%pragma %s %.17g ignored (out of range)\n",
-                        rt->prog->path, p->name->bytes, x);
+            emit(rt, FL_LOG_WARNING, "%s: warning: %%pragma %s %.17g ignored (out of range)",
+                 rt->prog->path, p->name->bytes, x);
             continue;
         }
         if (strcmp(p->name->bytes, "fps") == 0) {
@@ -333,11 +409,11 @@ static void set_num(fl_runtime *rt, int g, double x)
 }
 
 /* Print the messages of [now] that were not in [before]. */
-static void report(FILE *f, const char *prefix, const MsgSet *now, const MsgSet *before)
+static void report(const fl_runtime *rt, int kind, const char *prefix, const MsgSet *now,
+                   const MsgSet *before)
 {
-    if (!f) return;
     for (uint32_t i = 0; i < now->count; i++)
-        if (!msgset_has(before, now->items[i])) fprintf(f, "%s%s\n", prefix, now->items[i]);
+        if (!msgset_has(before, now->items[i])) emit(rt, kind, "%s%s", prefix, now->items[i]);
 }
 
 /* ====================================================================
@@ -359,12 +435,11 @@ static void run_physics(fl_runtime *rt, Node *const *nodes, size_t n, double t)
                        .interrupt = rt->opts.interrupt, .nonfinite = &nonfinite,
                        .capped = &capped};
     phys_run_frame(rt->physics, nodes, n, rt->state, &pf);
-    if (nonfinite && !rt->warned_nonfinite && rt->opts.log)
-        fputs("Physics error: non-finite time or resolution; frame skipped\n",
-              rt->opts.log);
-    if (capped && !rt->warned_capped && rt->opts.log)
-        fprintf(rt->opts.log, "Physics warning: more than %ld steps needed in one frame; "
-                "simulation clock falls behind\n", rt->opts.max_physics_steps);
+    if (nonfinite && !rt->warned_nonfinite)
+        emit(rt, FL_LOG_ERROR, "Physics error: non-finite time or resolution; frame skipped");
+    if (capped && !rt->warned_capped)
+        emit(rt, FL_LOG_WARNING, "Physics warning: more than %ld steps needed in one frame; "
+             "simulation clock falls behind", rt->opts.max_physics_steps);
     rt->warned_nonfinite |= nonfinite;
     rt->warned_capped |= capped;
 }
@@ -386,7 +461,7 @@ static void run_renderers(fl_runtime *rt, const Node *root, double t)
 {
     Node *small[8];
     Node **nodes = root->nchildren > 8 ? malloc(root->nchildren * sizeof(Node *)) : small;
-    if (!nodes) abort();
+    if (!nodes) mem_oom();
     for (size_t r = 0; r < sizeof renderers / sizeof renderers[0]; r++) {
         size_t n = 0;
         for (uint32_t i = 0; i < root->nchildren; i++)
@@ -401,6 +476,7 @@ static int step(fl_runtime *rt);
 int fl_step(fl_runtime *rt)
 {
     if (!rt->prog) return -1;
+    MemHandler mprev = rt_enter(rt);
     Pool *prev = pool_enter(rt->pool);
     PoolStats before = pool_stats(rt->pool);
     int rc = step(rt);
@@ -411,6 +487,7 @@ int fl_step(fl_runtime *rt)
     rt->stats.last_frees = after.frees - before.frees;
     rt->stats.mallocs = after.mallocs + after.stacks;
     rt->stats.frees = after.frees;
+    mem_leave(mprev);
     return rc;
 }
 
@@ -476,8 +553,8 @@ static int step(fl_runtime *rt)
     node_release(rt->root);
     rt->root = root;
     double t2 = monotonic();
-    report(rt->opts.log, "Execution error: ", &rt->errors[rt->cur], &rt->errors[prev]);
-    report(rt->opts.debug, "", &rt->debug[rt->cur], &rt->debug[prev]);
+    report(rt, FL_LOG_ERROR, "Execution error: ", &rt->errors[rt->cur], &rt->errors[prev]);
+    report(rt, FL_LOG_DEBUG, "", &rt->debug[rt->cur], &rt->debug[prev]);
 
     double t3 = monotonic();
     run_renderers(rt, root, t);   /* physics systems, then counters */
@@ -534,7 +611,7 @@ static void exports_put(Exports *x, Str *name, Vec *value)
         x->cap = x->cap ? x->cap * 2 : 16;
         x->names = realloc(x->names, x->cap * sizeof(Str *));
         x->values = realloc(x->values, x->cap * sizeof(Vec *));
-        if (!x->names || !x->values) abort();
+        if (!x->names || !x->values) mem_oom();
     }
     x->names[x->count] = str_retain(name);
     x->values[x->count] = vec_retain(value);
@@ -552,7 +629,7 @@ static void build_scope(const fl_runtime *rt, Globals *g)
             globals_set(g, globals_add(g, layers[l]->names[i]->bytes), layers[l]->values[i]);
 }
 
-int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
+int rt_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
 {
     Globals g = {0};
     build_scope(rt, &g);
@@ -576,8 +653,8 @@ int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
     };
     Vec *v = eval_program_value(&ev);
     int rc = 0;
-    report(rt->opts.log, "Execution error: ", &errors, &(MsgSet){0});
-    report(rt->opts.debug, "", &debug, &(MsgSet){0});
+    report(rt, FL_LOG_ERROR, "Execution error: ", &errors, &(MsgSet){0});
+    report(rt, FL_LOG_DEBUG, "", &debug, &(MsgSet){0});
     if (ev.interrupted) {
         /* incomplete: bind and print nothing */
         buf_puts(err, "<repl>: error: interrupted\n");
@@ -608,13 +685,13 @@ int fl_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
 
 void fl_eval_reset(fl_runtime *rt) { exports_clear(&rt->repl); }
 
-const Str *const *fl_scope_names(const fl_runtime *rt, size_t *n)
+const Str *const *rt_scope_names(const fl_runtime *rt, size_t *n)
 {
     fl_runtime *m = (fl_runtime *)rt;
     size_t total = rt->globals.count + rt->scope.count + rt->repl.count;
     free(m->scope_names);
     m->scope_names = malloc((total ? total : 1) * sizeof(Str *));
-    if (!m->scope_names) abort();
+    if (!m->scope_names) mem_oom();
     size_t k = 0;
     for (uint32_t i = 0; i < rt->globals.count; i++) m->scope_names[k++] = rt->globals.names[i];
     for (uint32_t i = 0; i < rt->scope.count; i++) m->scope_names[k++] = rt->scope.names[i];
@@ -628,14 +705,14 @@ const Str *const *fl_scope_names(const fl_runtime *rt, size_t *n)
  * Saved state
  * ==================================================================== */
 
-int fl_save_state(const fl_runtime *rt, const char *path, Buf *err)
+int rt_save_state(const fl_runtime *rt, const char *path, Buf *err)
 {
     StateClock c = {rt->frame, rt->frame_time, rt->last_time, rt->last_beat,
                     rt->period, rt->quantum, rt->start};
     return statefile_save(rt->state, rt->symtab, &c, path, NULL, err);
 }
 
-int fl_restore_state(fl_runtime *rt, const char *path, Buf *err)
+int rt_restore_state(fl_runtime *rt, const char *path, Buf *err)
 {
     StateClock c;
     if (statefile_load(rt->state, rt->symtab, &c, path, err) != 0) return -1;
@@ -651,8 +728,9 @@ int fl_restore_state(fl_runtime *rt, const char *path, Buf *err)
 
 void fl_reset_state(fl_runtime *rt) { state_clear(rt->state); }
 
-const Node *fl_root(const fl_runtime *rt) { return rt->root; }
-StateDict *fl_state(fl_runtime *rt) { return rt->state; }
-const SymTab *fl_symbols(const fl_runtime *rt) { return rt->symtab; }
+const Node *rt_root(const fl_runtime *rt) { return rt->root; }
+StateDict *rt_state(fl_runtime *rt) { return rt->state; }
+const SymTab *rt_symbols(const fl_runtime *rt) { return rt->symtab; }
 long fl_frame_count(const fl_runtime *rt) { return rt->frame; }
 double fl_frame_time(const fl_runtime *rt) { return rt->last_time; }
+double fl_target_fps(const fl_runtime *rt) { return rt->target_fps; }

@@ -50,11 +50,7 @@
 
 #include "commands.h"
 #include "exitcodes.h"
-#include "flitter.h"
-#include "format.h"
 #include "repl.h"
-#include "systems.h"
-#include "view.h"
 
 #define PROMPT "flitter> "
 #define PROMPT_MORE "   ...> "
@@ -77,14 +73,11 @@ void repl_error(Repl *r, const char *fmt, ...)
     va_end(ap);
 }
 
-/* Write [b] to [f], ending it with a newline if it has none. */
-static void put_text(FILE *f, const Buf *b)
-{
-    if (!b->len) return;
-    if (f == stderr) fflush(stdout);
-    fwrite(b->data, 1, b->len, f);
-    if (b->data[b->len - 1] != '\n') fputc('\n', f);
-}
+/* fl_write_fn: to the FILE [ctx]. */
+static void write_file(void *ctx, const char *text, size_t len) { fwrite(text, 1, len, ctx); }
+
+/* fl_write_fn: append to the Text [ctx]. */
+static void write_buf(void *ctx, const char *text, size_t len) { text_add(ctx, text, len); }
 
 
 /* ====================================================================
@@ -93,17 +86,21 @@ static void put_text(FILE *f, const Buf *b)
 
 /* Evaluate [len] bytes at [text]; print the result or the error. Returns
  * fl_eval's status (1: the text ended early, nothing printed). */
+/* fl_error()'s message of the last failed call on stderr; counted. */
+static void put_error(Repl *r)
+{
+    const char *e = fl_error(r->rt);
+    size_t n = strlen(e);
+    fflush(stdout);
+    fputs(e, stderr);
+    if (n && e[n - 1] != '\n') fputc('\n', stderr);
+    r->errors++;
+}
+
 static int eval_text(Repl *r, const char *text, size_t len)
 {
-    Buf out = BUF_INIT, err = BUF_INIT;
-    int rc = fl_eval(r->rt, text, len, &out, &err);
-    if (rc == 0) put_text(stdout, &out);
-    else if (rc < 0) {
-        put_text(stderr, &err);
-        r->errors++;
-    }
-    buf_free(&out);
-    buf_free(&err);
+    int rc = fl_eval(r->rt, text, len, write_file, stdout);   /* lines, each with its newline */
+    if (rc < 0) put_error(r);
     return rc;
 }
 
@@ -116,7 +113,7 @@ static void finish_block(Repl *r)
         fputs("<repl>: error: input ended early (unexpected end of input)\n", stderr);
         r->errors++;
     }
-    buf_reset(&r->block);
+    text_reset(&r->block);
     r->in_block = false;
 }
 
@@ -144,13 +141,8 @@ static int cmd_help(Repl *r, const char *arg);
  * it becomes the session's script. Returns 0 or -1 (error printed). */
 static int load_script(Repl *r, const char *path)
 {
-    Buf err = BUF_INIT;
-    int rc = fl_load(r->rt, path, &err);
-    if (rc != 0) {
-        put_text(stderr, &err);
-        r->errors++;
-    }
-    buf_free(&err);
+    int rc = fl_load(r->rt, path);
+    if (rc != 0) put_error(r);
     if (rc == 0 && r->script != path) {
         char *copy = strdup(path);
         if (!copy) abort();
@@ -162,12 +154,9 @@ static int load_script(Repl *r, const char *path)
 
 static void print_frame(Repl *r)
 {
-    Buf b = BUF_INIT;
-    buf_printf(&b, "frame %ld time ", fl_frame_count(r->rt) - 1);
-    fmt_double(&b, fl_frame_time(r->rt));
-    buf_putc(&b, '\n');
-    put_text(stdout, &b);
-    buf_free(&b);
+    char t[64];
+    fl_number_text(fl_frame_time(r->rt), t, sizeof t);
+    printf("frame %ld time %s\n", fl_frame_count(r->rt) - 1, t);
 }
 
 static int cmd_step(Repl *r, const char *arg)
@@ -205,43 +194,35 @@ static int cmd_step(Repl *r, const char *arg)
  * text (KEY first) starts with [arg]. */
 static int cmd_state(Repl *r, const char *arg)
 {
-    Buf dump = BUF_INIT;
-    fmt_state_dump(&dump, fl_state(r->rt), fl_frame_count(r->rt) - 1, fl_frame_time(r->rt),
-                   fl_symbols(r->rt));
+    Text dump = TEXT_INIT;
+    fl_dump_state(r->rt, write_buf, &dump);
     size_t plen = strlen(arg);
-    const char *s = buf_cstr(&dump);
+    const char *s = text_cstr(&dump);
     while (*s) {
         const char *nl = strchr(s, '\n');
         size_t len = nl ? (size_t)(nl - s) + 1 : strlen(s);
         if (s[0] != '#' && len > plen && strncmp(s, arg, plen) == 0) fwrite(s, 1, len, stdout);
         s += len;
     }
-    buf_free(&dump);
+    text_free(&dump);
     return 0;
 }
 
 static int cmd_tree(Repl *r, const char *arg)
 {
     (void)arg;
-    const Node *root = fl_root(r->rt);
-    if (!root) {
+    if (fl_dump_tree(r->rt, write_file, stdout) != 0)   /* ends with a newline */
         repl_error(r, "no frame evaluated yet (use :step)");
-        return 0;
-    }
-    Buf b = BUF_INIT;
-    fmt_tree(&b, root, fl_symbols(r->rt));
-    put_text(stdout, &b);
-    buf_free(&b);
     return 0;
 }
 
 static int cmd_get(Repl *r, const char *arg)
 {
-    Buf text = BUF_INIT;
-    buf_printf(&text, "$(%s)\n", arg);
+    Text text = TEXT_INIT;
+    text_printf(&text, "$(%s)\n", arg);
     if (eval_text(r, text.data, text.len) == 1)
         repl_error(r, "incomplete key expression '%s'", arg);
-    buf_free(&text);
+    text_free(&text);
     return 0;
 }
 
@@ -293,50 +274,34 @@ static int cmd_reset(Repl *r, const char *arg)
 
 static int cmd_save(Repl *r, const char *arg)
 {
-    Buf err = BUF_INIT;
-    if (fl_save_state(r->rt, arg, &err) == 0) {
-        printf("saved %s\n", arg);
-    } else {
-        put_text(stderr, &err);   /* `FILE: error: ...` */
-        r->errors++;
-    }
-    buf_free(&err);
+    if (fl_save_state(r->rt, arg) == 0) printf("saved %s\n", arg);
+    else put_error(r);   /* `FILE: error: ...` */
     return 0;
 }
 
 static int cmd_restore(Repl *r, const char *arg)
 {
-    Buf err = BUF_INIT;
-    if (fl_restore_state(r->rt, arg, &err) == 0) {
+    if (fl_restore_state(r->rt, arg) == 0)
         printf("restored %s (frame %ld)\n", arg, fl_frame_count(r->rt) - 1);
-    } else {
-        put_text(stderr, &err);    /* `FILE: error: ...` */
-        r->errors++;
-    }
-    buf_free(&err);
+    else
+        put_error(r);   /* `FILE: error: ...` */
     return 0;
 }
 
 /* Draw the physics systems as they are now (as `flitter run --view`). */
 static int cmd_view(Repl *r, const char *arg)
 {
-    char err[600];
-    View *v = view_open(arg, 10, fl_symbols(r->rt), err, sizeof err);
-    if (!v) {
-        repl_error(r, "%s", err);
+    size_t n = 0;
+    if (fl_view(r->rt, arg, &n) != 0) {
+        char *msg = strdup(fl_error(r->rt));
+        if (!msg) abort();
+        size_t len = strlen(msg);
+        if (len && msg[len - 1] == '\n') msg[len - 1] = '\0';
+        repl_error(r, "%s", msg);
+        free(msg);
         return 0;
     }
-    PsSystem *sys;
-    size_t n;
-    ps_collect(fl_root(r->rt), fl_state(r->rt), &sys, &n);
-    int rc = view_frame(v, fl_frame_count(r->rt) - 1, sys, n, err, sizeof err);
-    ps_free(sys, n);
-    if (view_close(v) != 0 && rc == 0) {
-        snprintf(err, sizeof err, "%s: cannot finish the file", arg);
-        rc = -1;
-    }
-    if (rc != 0) repl_error(r, "%s", err);
-    else printf("drew %zu system%s to %s\n", n, n == 1 ? "" : "s", arg);
+    printf("drew %zu system%s to %s\n", n, n == 1 ? "" : "s", arg);
     return 0;
 }
 
@@ -468,8 +433,8 @@ static void take_indented(Repl *r)
             r->peeked_eof = !r->peeked;
         }
         if (!r->peeked || !is_indented(r->peeked)) return;
-        buf_puts(&r->block, r->peeked);
-        buf_putc(&r->block, '\n');
+        text_puts(&r->block, r->peeked);
+        text_putc(&r->block, '\n');
         free(r->peeked);
         r->peeked = NULL;
     }
@@ -492,16 +457,16 @@ static int handle_line(Repl *r, const char *line)
         /* a non-indented line starts a new input, unless the block still
          * needs more text */
         if (!indented && eval_text(r, r->block.data, r->block.len) != 1) {
-            buf_reset(&r->block);
+            text_reset(&r->block);
             r->in_block = false;
             return handle_line(r, line);
         }
-        buf_puts(&r->block, line);
-        buf_putc(&r->block, '\n');
+        text_puts(&r->block, line);
+        text_putc(&r->block, '\n');
         take_indented(r);
         /* ... and a non-indented line that completes it ends it */
         if (!indented && eval_text(r, r->block.data, r->block.len) != 1) {
-            buf_reset(&r->block);
+            text_reset(&r->block);
             r->in_block = false;
         }
         return 0;
@@ -509,13 +474,13 @@ static int handle_line(Repl *r, const char *line)
     line = skip_space(line);
     if (!*line) return 0;
     if (line[0] == ':') return run_command(r, line);
-    buf_puts(&r->block, line);
-    buf_putc(&r->block, '\n');
+    text_puts(&r->block, line);
+    text_putc(&r->block, '\n');
     take_indented(r);
     if (eval_text(r, r->block.data, r->block.len) == 1) {
         r->in_block = true;
     } else {
-        buf_reset(&r->block);
+        text_reset(&r->block);
     }
     return 0;
 }
@@ -626,7 +591,7 @@ int cmd_repl(int argc, char **argv)
 {
     fl_options opts = fl_default_options();
     const char *script;
-    Repl r = {.tty = isatty(STDIN_FILENO) == 1, .block = BUF_INIT};
+    Repl r = {.tty = isatty(STDIN_FILENO) == 1, .block = TEXT_INIT};
     setvbuf(stdout, NULL, _IOLBF, 0);   /* keep stdout and stderr lines in order */
     int rc = parse_args(argc, argv, &opts, &r.rt, &script);
     if (rc != 0) return rc < 0 ? EXIT_OK : rc;
@@ -647,7 +612,7 @@ int cmd_repl(int argc, char **argv)
              * a second one at an empty prompt ends the session */
             bool empty = !r.in_block && (!line || is_blank(line));
             free(line);
-            buf_reset(&r.block);
+            text_reset(&r.block);
             r.in_block = false;
             if (empty && after_interrupt) {
                 putchar('\n');
@@ -670,8 +635,8 @@ int cmd_repl(int argc, char **argv)
     }
     fflush(stdout);
     if (r.tty) repl_edit_end(&r);
-    buf_free(&r.block);
-    buf_free(&r.cpl_path);
+    text_free(&r.block);
+    text_free(&r.cpl_path);
     free(r.peeked);
     free(r.last_entry);
     free(r.history);

@@ -8,8 +8,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "buf.h"
 #include "flitter.h"
+#include "text.h"
 
 typedef enum { CPL_COMMANDS, CPL_NAMES, CPL_FILES } CompletionKind;
 
@@ -20,7 +20,7 @@ typedef struct Repl {
     char *history;             /* history file path (owned), or NULL for none */
     bool history_failed;       /* a history write failed (reported once) */
     char *last_entry;          /* last line added to the history (owned), to skip repeats */
-    Buf block;                 /* Flitter text of a multi-line input so far */
+    Text block;                 /* Flitter text of a multi-line input so far */
     bool in_block;             /* [block] is being continued */
     char *peeked;              /* scripted mode: the next line, read ahead (owned), or NULL */
     bool peeked_eof;           /* scripted mode: reading ahead met the end of input */
@@ -28,9 +28,9 @@ typedef struct Repl {
     /* completion cursor, for libedit's generator callback */
     CompletionKind cpl_kind;   /* what is being completed */
     size_t cpl_next;           /* next candidate index to try */
-    const Str *const *cpl_names;  /* names in scope (borrowed from the runtime) */
+    char **cpl_names;          /* names in scope (owned, from fl_scope_names) */
     size_t cpl_count;          /* entries in cpl_names */
-    Buf cpl_path;              /* CPL_FILES: the whole path typed so far */
+    Text cpl_path;              /* CPL_FILES: the whole path typed so far */
     size_t cpl_skip;           /* CPL_FILES: bytes of it before libedit's word */
 } Repl;
 

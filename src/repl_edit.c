@@ -20,7 +20,6 @@
 
 #include <editline/readline.h>
 
-#include "builtins.h"
 #include "repl.h"
 
 #define HISTORY_LINES 1000
@@ -38,18 +37,25 @@ static void on_interrupt(int sig)
     interrupted = 1;
 }
 
-/* The [k]-th built-in function name over all families (builtins.h), or
- * NULL past the last. */
-static const char *builtin_name(size_t k)
+/* Forget the names collected for completion. */
+static void clear_names(Repl *r)
 {
-    static const Builtin *const families[] = {
-        bi_vector_table, bi_maths_table, bi_random_table, bi_noise_table,
-        bi_colour_table, bi_text_table, bi_file_table,
-    };
-    for (size_t f = 0; f < sizeof families / sizeof families[0]; f++)
-        for (const Builtin *b = families[f]; b->name; b++)
-            if (k-- == 0) return b->name;
-    return NULL;
+    for (size_t i = 0; i < r->cpl_count; i++) free(r->cpl_names[i]);
+    free(r->cpl_names);
+    r->cpl_names = NULL;
+    r->cpl_count = 0;
+}
+
+/* fl_scope_names callback: keep a copy of [name]. */
+static int add_name(void *ctx, const char *name)
+{
+    Repl *r = ctx;
+    char **grown = realloc(r->cpl_names, (r->cpl_count + 1) * sizeof *grown);
+    char *copy = strdup(name);
+    if (!grown || !copy) abort();
+    r->cpl_names = grown;
+    r->cpl_names[r->cpl_count++] = copy;
+    return 0;
 }
 
 /* Candidate [state] of the current completion (libedit generator). */
@@ -61,7 +67,7 @@ static char *complete_next(const char *text, int state)
     if (r->cpl_kind == CPL_FILES) {
         /* libedit's word stops at '/' and '.'; complete the whole path and
          * hand back the part from its word on */
-        char *m = rl_filename_completion_function(buf_cstr(&r->cpl_path), state);
+        char *m = rl_filename_completion_function(text_cstr(&r->cpl_path), state);
         if (m && strlen(m) >= r->cpl_skip) memmove(m, m + r->cpl_skip, strlen(m) - r->cpl_skip + 1);
         return m;
     }
@@ -80,22 +86,22 @@ static char *complete_next(const char *text, int state)
     }
     while (r->cpl_next < r->cpl_count) {
         size_t i = r->cpl_next++;
-        const Str *name = r->cpl_names[i];
-        if (name->len < tlen || memcmp(name->bytes, text, tlen) != 0) continue;
+        const char *name = r->cpl_names[i];
+        if (strncmp(name, text, tlen) != 0) continue;
         bool seen = false;   /* a name may be bound in several layers */
-        for (size_t j = 0; j < i && !seen; j++) seen = str_eq(r->cpl_names[j], name);
+        for (size_t j = 0; j < i && !seen; j++) seen = strcmp(r->cpl_names[j], name) == 0;
         if (seen) continue;
-        char *m = strdup(name->bytes);
+        char *m = strdup(name);
         if (!m) abort();
         return m;
     }
     /* then the built-in functions not shadowed by a name in scope */
-    for (const char *bname; (bname = builtin_name(r->cpl_next - r->cpl_count)) != NULL;) {
+    for (const char *bname; (bname = fl_builtin_name(r->cpl_next - r->cpl_count)) != NULL;) {
         r->cpl_next++;
         if (strncmp(bname, text, tlen) != 0) continue;
         bool seen = false;
         for (size_t j = 0; j < r->cpl_count && !seen; j++)
-            seen = strcmp(r->cpl_names[j]->bytes, bname) == 0;
+            seen = strcmp(r->cpl_names[j], bname) == 0;
         if (seen) continue;
         char *m = strdup(bname);
         if (!m) abort();
@@ -126,26 +132,27 @@ static char **complete(const char *text, int start, int end)
         if (from > (size_t)start || end < start) return NULL;
         r->cpl_kind = CPL_FILES;
         r->cpl_skip = (size_t)start - from;
-        buf_reset(&r->cpl_path);
-        buf_add(&r->cpl_path, path, (size_t)end - from);
+        text_reset(&r->cpl_path);
+        text_add(&r->cpl_path, path, (size_t)end - from);
     } else if (text[0] == ':' || (start > 0 && line[start - 1] == ':')) {
         return NULL;                        /* a symbol: nothing to offer */
     } else {
         r->cpl_kind = CPL_NAMES;
-        r->cpl_names = fl_scope_names(r->rt, &r->cpl_count);
+        clear_names(r);
+        fl_scope_names(r->rt, add_name, r);
     }
     char **matches = rl_completion_matches(text, complete_next);
     /* one file (libedit repeats a sole match after the common prefix in
      * [0]; GNU readline does not): end a directory with '/', a file with a
      * space */
     if (r->cpl_kind == CPL_FILES && matches && (!matches[1] || !matches[2])) {
-        Buf full = BUF_INIT;
-        buf_add(&full, buf_cstr(&r->cpl_path), r->cpl_skip);
-        buf_puts(&full, matches[0]);
+        Text full = TEXT_INIT;
+        text_add(&full, text_cstr(&r->cpl_path), r->cpl_skip);
+        text_puts(&full, matches[0]);
         struct stat st;
         bool dir = stat(full.data, &st) == 0 && S_ISDIR(st.st_mode);
         rl_completion_append_character = dir ? '/' : ' ';
-        buf_free(&full);
+        text_free(&full);
     }
     return matches;
 }
@@ -250,7 +257,7 @@ void repl_edit_begin(Repl *r)
 
 void repl_edit_end(Repl *r)
 {
-    (void)r;
+    clear_names(r);
     clear_history();
     completing = NULL;
 }

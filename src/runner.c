@@ -13,8 +13,6 @@
 
 #include "exitcodes.h"
 #include "flitter.h"
-#include "format.h"
-#include "outputs.h"
 
 static void run_usage(FILE *f)
 {
@@ -214,11 +212,27 @@ void runspec_free(RunSpec *spec)
     spec->defines = NULL;
 }
 
-static void dump_state(fl_runtime *rt, FILE *out, Buf *b)
+/* fl_write_fn: append to the FILE [ctx]. */
+static void write_file(void *ctx, const char *text, size_t len) { fwrite(text, 1, len, ctx); }
+
+/* Where the runtime's message lines go (fl_log_fn [ctx]). */
+typedef struct LogFiles {
+    FILE *log;     /* errors and warnings */
+    FILE *debug;   /* debug() lines */
+} LogFiles;
+
+static void log_lines(void *ctx, int kind, const char *line)
 {
-    buf_reset(b);
-    fmt_state_dump(b, fl_state(rt), fl_frame_count(rt) - 1, fl_frame_time(rt), fl_symbols(rt));
-    fwrite(b->data, 1, b->len, out);
+    const LogFiles *f = ctx;
+    fprintf(kind == FL_LOG_DEBUG ? f->debug : f->log, "%s\n", line);
+}
+
+/* The library's fatal error (out of memory): report it before the abort. */
+static void fatal(void *ctx, const char *message)
+{
+    const LogFiles *f = ctx;
+    fprintf(f->log, "flitter: %s\n", message);
+    fflush(f->log);
 }
 
 static double now_seconds(void)
@@ -290,10 +304,8 @@ static void show_status(long frame, double rate, double time)
 
 static int save_state(fl_runtime *rt, const char *path, FILE *log)
 {
-    Buf err = BUF_INIT;
-    int rc = fl_save_state(rt, path, &err);
-    if (rc != 0) fputs(buf_cstr(&err), log);
-    buf_free(&err);
+    int rc = fl_save_state(rt, path);
+    if (rc != 0) fputs(fl_error(rt), log);
     return rc;
 }
 
@@ -306,8 +318,10 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     opts.threads = spec->threads;
     opts.pairs = spec->pairs;
     opts.no_simplify = spec->no_simplify;
-    opts.log = log;
-    opts.debug = (spec->dump_state || spec->dump_tree) ? log : out;
+    LogFiles files = {log, (spec->dump_state || spec->dump_tree) ? log : out};
+    opts.log = log_lines;
+    opts.error = fatal;
+    opts.ctx = &files;
     opts.max_physics_steps = spec->max_steps;
     opts.interrupt = interrupt;
     fl_runtime *rt = fl_new(&opts);
@@ -322,35 +336,30 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
             return EXIT_USAGE;
         }
     }
-    Buf err = BUF_INIT;
-    if (fl_load(rt, spec->script, &err) != 0) {
-        fputs(buf_cstr(&err), log);
-        buf_free(&err);
+    if (fl_load(rt, spec->script) != 0) {
+        fputs(fl_error(rt), log);
         fl_free(rt);
         return EXIT_LOAD;
     }
     if (spec->state_file && access(spec->state_file, F_OK) == 0 &&
-        fl_restore_state(rt, spec->state_file, &err) != 0) {
-        fputs(buf_cstr(&err), log);
-        buf_free(&err);
+        fl_restore_state(rt, spec->state_file) != 0) {
+        fputs(fl_error(rt), log);
         fl_free(rt);
         return EXIT_LOAD;
     }
-    buf_free(&err);
-    Buf b = BUF_INIT;
     if (spec->dump_simplified) {
-        fl_dump_program(rt, &b);
-        fwrite(b.data, 1, b.len, out);
-        buf_reset(&b);
+        fl_dump_program(rt, write_file, out);
         if (spec->frames < 0) {
-            buf_free(&b);
             fflush(out);
             fl_free(rt);
             return EXIT_OK;
         }
     }
-    Outputs *outs = outputs_new(spec, rt, log);
+    fl_output_options oo = {spec->view, spec->view_every, spec->trace, spec->trace_every,
+                            spec->verbosity >= 2};
+    fl_outputs *outs = fl_outputs_open(rt, &oo);
     if (!outs) {
+        fprintf(log, "flitter run: %s", fl_error(rt));
         fl_free(rt);
         return EXIT_USAGE;
     }
@@ -365,15 +374,13 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
              * version is reported once and the last good one keeps running */
             struct timespec m = file_mtime(spec->script);
             if (!same_time(m, mtime) && !same_time(m, bad_mtime)) {
-                Buf lerr = BUF_INIT;
-                if (fl_load(rt, spec->script, &lerr) == 0) {
+                if (fl_load(rt, spec->script) == 0) {
                     mtime = m;
                     fprintf(log, "%s: reloaded\n", spec->script);
                 } else {
                     bad_mtime = m;
-                    fputs(buf_cstr(&lerr), log);
+                    fputs(fl_error(rt), log);
                 }
-                buf_free(&lerr);
             }
         }
         if (fl_step(rt) == 1)
@@ -382,10 +389,10 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         if (ran == 1) fl_get_stats(rt, &first);
         if (ran == 2) fl_get_stats(rt, &second);
         long n = fl_frame_count(rt) - 1;
-        outputs_frame(outs, rt, n);
+        if (fl_outputs_frame(outs, rt) != 0) fprintf(log, "flitter run: %s", fl_error(rt));
         dumped_last = false;
         if (spec->dump_state && spec->dump_every > 0 && (n + 1) % spec->dump_every == 0) {
-            dump_state(rt, out, &b);
+            fl_dump_state(rt, write_file, out);
             dumped_last = true;
         }
         double now = now_seconds();
@@ -412,16 +419,14 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     if (spec->stats) print_stats(rt, &first, &second, now_seconds() - start, log);
     int rc = EXIT_OK;
     if (ran > 0) {
-        if (spec->dump_state && !dumped_last) dump_state(rt, out, &b);
-        if (spec->dump_tree) {
-            buf_reset(&b);
-            fmt_tree(&b, fl_root(rt), fl_symbols(rt));
-            fwrite(b.data, 1, b.len, out);
-        }
+        if (spec->dump_state && !dumped_last) fl_dump_state(rt, write_file, out);
+        if (spec->dump_tree) fl_dump_tree(rt, write_file, out);
     }
     if (spec->state_file && save_state(rt, spec->state_file, log) != 0) rc = EXIT_LOAD;
-    if (outputs_finish(outs, rt, ran) != 0) rc = EXIT_LOAD;
-    buf_free(&b);
+    if (fl_outputs_close(outs, rt) != 0) {
+        if (*fl_error(rt)) fprintf(log, "flitter run: %s", fl_error(rt));
+        rc = EXIT_LOAD;
+    }
     fflush(out);
     fl_free(rt);
     return rc;

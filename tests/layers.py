@@ -8,8 +8,9 @@ every `#include "..."` of every .c/.h file under lib/: the header must live in
 the including file's own folder or in a folder its layer may include. Headers
 generated at build time (parser.h, from grammar/parser.y) belong to syntax.
 Also fails when a header name is not unique across lib/ (includes are
-written without a folder), when a file lies outside every listed folder, or
-when an include names no header of lib/. Prints each violation and exits 1;
+written without a folder), when a file lies outside every listed folder,
+when an include names no header of lib/, or when a file of src/ (the
+flitter command) includes any library header but the public flitter.h. Prints each violation and exits 1;
 prints a summary and exits 0 when the graph is clean.
 """
 import os
@@ -91,6 +92,20 @@ def main():
                     errors.append(f"{path}:{lineno}: {layer} includes \"{base}\" of layer "
                                   f"{home[base]} (ARCHITECTURE.md: {layer} may include "
                                   f"{', '.join(sorted(allowed_of[layer] - {layer})) or 'nothing'})")
+    # src/ (the flitter command) sees the library through flitter.h alone
+    src = os.path.join(root, "src")
+    own = {fn for fn in os.listdir(src) if fn.endswith(".h")} if os.path.isdir(src) else set()
+    for fn in sorted(os.listdir(src)) if os.path.isdir(src) else []:
+        if not fn.endswith((".c", ".h")):
+            continue
+        with open(os.path.join(src, fn), encoding="utf-8") as f:
+            for lineno, line in enumerate(f, 1):
+                m = include.match(line)
+                if m and m.group(1) not in own and m.group(1) != "flitter.h":
+                    errors.append(f"src/{fn}:{lineno}: includes \"{m.group(1)}\": the command "
+                                  f"uses the library through flitter.h alone")
+                elif m:
+                    edges += 1
     for e in errors:
         print(e)
     if errors:

@@ -15,6 +15,7 @@
 
 #include "builtins.h"
 #include "context.h"
+#include "mem.h"
 
 static const Builtin *const families[] = {
     bi_vector_table, bi_maths_table, bi_random_table, bi_noise_table,
@@ -47,7 +48,7 @@ Vec *bi_error(Eval *ev, const Builtin *bi, const char *fmt, ...)
     size_t head = strlen("Error calling ") + strlen(who) + strlen(": ");
     char *msg = malloc(head + (size_t)n + 1);
     if (!msg)
-        abort();
+        mem_oom();
     snprintf(msg, head + 1, "Error calling %s: ", who);
     va_start(ap, fmt);
     vsnprintf(msg + head, (size_t)n + 1, fmt, ap);

@@ -13,6 +13,7 @@
 #include "context.h"
 #include "fileio.h"
 #include "format.h"
+#include "mem.h"
 #include "utf8.h"
 
 /* Python's str.isspace() for a code point (Unicode White_Space plus the
@@ -221,7 +222,7 @@ void strlist_push(StrList *l, Str *s)
         l->cap = l->cap ? l->cap * 2 : 16;
         Str **grown = realloc(l->v, l->cap * sizeof *grown);
         if (!grown)
-            abort();
+            mem_oom();
         l->v = grown;
     }
     l->v[l->n++] = s;

@@ -17,6 +17,7 @@
 #include "context.h"
 #include "files.h"
 #include "format.h"
+#include "mem.h"
 
 /* ------------------------------------------------------------------ */
 /* glob                                                                */
@@ -159,11 +160,11 @@ Vec *bi_glob(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
     /* Split into components, dropping empty and "." ones. */
     char *copy = strdup(p);
     if (!copy)
-        abort();
+        mem_oom();
     Glob g = {NULL, 0, pat.len > 0 && p[pat.len - 1] == '/', {NULL, 0, 0}};
     g.parts = malloc((pat.len / 2 + 1) * sizeof *g.parts);
     if (!g.parts)
-        abort();
+        mem_oom();
     char *save = NULL;
     for (char *tok = strtok_r(copy, "/", &save); tok; tok = strtok_r(NULL, "/", &save))
         if (strcmp(tok, ".") != 0)

@@ -19,6 +19,7 @@
 
 #include "config.h"
 #include "builtins.h"
+#include "mem.h"
 #include "node.h"
 
 /* {====================================================================
@@ -253,7 +254,7 @@ static bool merge_sort(Elem *a, uint32_t n, Elem bad[2])
 {
     Elem *tmp = malloc(sizeof *tmp * (n ? n : 1));
     if (!tmp)
-        abort();
+        mem_oom();
     bool ok = true;
     for (uint64_t width = 1; width < n && ok; width *= 2) {
         for (uint64_t lo = 0; lo + width < n && ok; lo += 2 * width) {
@@ -291,7 +292,7 @@ static Vec *bi_sort(BI_PARAMS)
         return NULL;
     Elem *tmp = malloc(sizeof *tmp * n);
     if (!tmp)
-        abort();
+        mem_oom();
     for (uint32_t i = 0; i < n; i++)
         tmp[i] = elem_at(xs, i); /* borrowed */
     Elem bad[2];
@@ -355,7 +356,7 @@ static Vec *bi_zipv(BI_PARAMS)
         return NULL;
     const Vec **vs = malloc(sizeof *vs * (size_t)m);
     if (!vs)
-        abort();
+        mem_oom();
     m = 0;
     for (int k = 0; k < nargs; k++)
         if (vec_len(args[k]))

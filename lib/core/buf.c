@@ -3,7 +3,8 @@
  * A Buf holds a NUL-terminated heap string that grows geometrically as text
  * is appended. It is the sink for every text producer in the project (value
  * text, str, repr, tree and state dumps, messages). Allocation failure
- * aborts the process, as everywhere else in the runtime.
+ * goes through mem.h (reported, then abort), as everywhere else in the
+ * library.
  */
 #include "buf.h"
 
@@ -12,12 +13,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
+
 /* Make room for [extra] more bytes plus the terminating NUL. */
 static void buf_reserve(Buf *b, size_t extra)
 {
     if (extra > SIZE_MAX - b->len - 1) {
-        fputs("flitter: buffer size overflow\n", stderr);
-        abort();
+        mem_fail("buffer size overflow");
     }
     size_t need = b->len + extra + 1;
     if (need <= b->cap)
@@ -25,12 +27,7 @@ static void buf_reserve(Buf *b, size_t extra)
     size_t cap = b->cap ? b->cap : 64;
     while (cap < need)
         cap = cap > SIZE_MAX / 2 ? need : cap * 2;
-    char *p = realloc(b->data, cap);
-    if (!p) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
-    }
-    b->data = p;
+    b->data = mem_realloc(b->data, cap);
     b->cap = cap;
 }
 

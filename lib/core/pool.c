@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
+
 #define SMALL_STEP 16
 #define NSMALL (POOL_SMALL_MAX / SMALL_STEP) /* classes 0..15: 16..256 bytes */
 #define BIG_MIN_LOG 9                     /* 512 */
@@ -36,7 +38,7 @@ static int size_class(size_t size, size_t *block)
 Pool *pool_new(void)
 {
     Pool *p = calloc(1, sizeof *p);
-    if (!p) abort();
+    if (!p) mem_oom();
     const char *e = getenv("FLITTER_NOPOOL");
     p->off = e && *e;
     return p;
@@ -71,8 +73,7 @@ void *pool_alloc_slow(size_t size)
     if (p && c != NO_CLASS && p->free[c].n) return p->free[c].items[--p->free[c].n];
     void *r = malloc(block);
     if (!r) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
+        mem_oom();
     }
     if (p) p->stats.mallocs++;
     return r;
@@ -95,12 +96,7 @@ void pool_release_slow(void *ptr, size_t size)
         PoolStack *s = &p->free[c];
         if (s->n == s->cap) {
             uint32_t cap = s->cap ? s->cap * 2 : 64;
-            void **items = realloc(s->items, cap * sizeof *items);
-            if (!items) {
-                fputs("flitter: out of memory\n", stderr);
-                abort();
-            }
-            s->items = items;
+            s->items = mem_realloc_array(s->items, cap, sizeof *s->items);
             s->cap = cap;
             p->stats.stacks++;
         }

@@ -17,6 +17,8 @@
 
 #include <stdlib.h>
 
+#include "mem.h"
+
 #define TOMB UINT64_C(1)     /* marks a deleted slot (with key == NULL) */
 
 typedef struct Slot {
@@ -36,10 +38,10 @@ struct StateDict {
 StateDict *state_new(void)
 {
     StateDict *sd = calloc(1, sizeof *sd);
-    if (!sd) abort();
+    if (!sd) mem_oom();
     sd->cap = 64;
     sd->slots = calloc(sd->cap, sizeof(Slot));
-    if (!sd->slots) abort();
+    if (!sd->slots) mem_oom();
     return sd;
 }
 
@@ -95,7 +97,7 @@ static void rebuild(StateDict *sd, size_t cap)
     Slot *old = sd->slots;
     size_t oldcap = sd->cap;
     sd->slots = calloc(cap, sizeof(Slot));
-    if (!sd->slots) abort();
+    if (!sd->slots) mem_oom();
     sd->cap = cap;
     sd->used = sd->live;
     for (size_t i = 0; i < oldcap; i++) {
@@ -144,7 +146,7 @@ StateCounts state_counts(const StateDict *sd) { return sd->counts; }
 StateEntry *state_entries(const StateDict *sd, size_t *n)
 {
     StateEntry *e = malloc((sd->live ? sd->live : 1) * sizeof *e);
-    if (!e) abort();
+    if (!e) mem_oom();
     size_t k = 0;
     for (size_t i = 0; i < sd->cap; i++)
         if (sd->slots[i].key) e[k++] = (StateEntry){sd->slots[i].key, sd->slots[i].value};

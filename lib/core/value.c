@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
 #include "streams.h"
 #include "node.h"
 #include "pool.h"
@@ -30,8 +31,7 @@ static void *xmalloc(size_t n)
 {
     void *p = malloc(n ? n : 1);
     if (!p) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
+        mem_oom();
     }
     return p;
 }
@@ -43,8 +43,7 @@ static void *xmalloc(size_t n)
 Str *str_new(const char *s, size_t len)
 {
     if (len > UINT32_MAX - 16) {
-        fputs("flitter: string too long\n", stderr);
-        abort();
+        mem_fail("string too long");
     }
     Str *r = pool_alloc(sizeof(Str) + len + 1);
     r->refs = 1;
@@ -248,8 +247,7 @@ Vec *vec_compose(Vec *const *parts, size_t n)
     if (total == 0) return NULL;
     if (nonempty == 1) return vec_retain(parts[last]);
     if (total > UINT32_MAX) {
-        fputs("flitter: vector too long\n", stderr);
-        abort();
+        mem_fail("vector too long");
     }
     if (numeric) {
         Vec *r = vec_new_num((uint32_t)total);
@@ -300,10 +298,7 @@ Vec *vec_compose_take(Vec **parts, size_t n)
         for (size_t i = 0; i < n; i++) vec_release(parts[i]);
         return r;
     }
-    if (total > UINT32_MAX) {
-        fputs("flitter: vector too long\n", stderr);
-        abort();
-    }
+    if (total > UINT32_MAX) mem_fail("vector too long");
     Vec *r = vec_new_obj((uint32_t)total);
     Elem *d = vec_elems(r);
     for (size_t i = 0; i < n; i++) {
@@ -799,7 +794,7 @@ SymTab *symtab_new(void)
     st->count = 0;
     st->bits = calloc(st->cap, sizeof(uint64_t));
     st->names = calloc(st->cap, sizeof(Str *));
-    if (!st->bits || !st->names) abort();
+    if (!st->bits || !st->names) mem_oom();
     return st;
 }
 
@@ -828,7 +823,7 @@ double symtab_add(SymTab *st, const char *name, size_t len)
     if ((st->count + 1) * 2 > st->cap) {
         SymTab grown = {st->cap * 2, 0, calloc(st->cap * 2, sizeof(uint64_t)),
                         calloc(st->cap * 2, sizeof(Str *))};
-        if (!grown.bits || !grown.names) abort();
+        if (!grown.bits || !grown.names) mem_oom();
         for (size_t k = 0; k < st->cap; k++) {
             if (!st->bits[k]) continue;
             size_t j = symtab_slot(&grown, st->bits[k]);

@@ -20,6 +20,7 @@
 #include "context.h"
 #include "eval_internal.h"
 #include "format.h"
+#include "mem.h"
 #include "module.h"
 #include "numexpr.h"
 #include "pool.h"
@@ -292,7 +293,7 @@ Vec *call_builtin(Eval *ev, const Builtin *bi, const Args *a)
                         bi->internal, bi->max_args, n);
     if (n > sizeof args / sizeof args[0]) {
         argv = calloc(n, sizeof(Vec *));
-        if (!argv) abort();
+        if (!argv) mem_oom();
     }
     for (uint32_t i = 0; i < a->npos; i++) argv[i] = a->pos[i];
     for (uint32_t k = 0; k < a->nkw; k++) {
@@ -371,7 +372,7 @@ __attribute__((noinline)) static Vec *eval_call(Eval *ev, const AstNode *n)
     Args a = {npos > 8 ? malloc(npos * sizeof(Vec *)) : posbuf, npos,
               nkw > 8 ? malloc(nkw * sizeof(AstNode *)) : kwnbuf,
               nkw > 8 ? malloc(nkw * sizeof(Vec *)) : kwbuf, nkw};
-    if (!a.pos || !a.kwn || !a.kw) abort();
+    if (!a.pos || !a.kwn || !a.kw) mem_oom();
     for (uint32_t i = 0; i < npos; i++) a.pos[i] = eval(ev, n->kids[i]);
     for (uint32_t k = 0; k < nkw; k++) {
         a.kwn[k] = n->kids[npos + k];
@@ -437,7 +438,7 @@ __attribute__((noinline)) static Vec *eval_attributes(Eval *ev, const AstNode *n
     Vec *v = eval(ev, n->a);
     Vec *small[16];
     Vec **vals = n->nkids > 16 ? malloc(n->nkids * sizeof(Vec *)) : small;
-    if (!vals) abort();
+    if (!vals) mem_oom();
     for (uint32_t k = 0; k < n->nkids; k++) vals[k] = eval(ev, n->kids[k]->a);
     if (has_nodes(v)) {
         v = vec_unshare(v);
@@ -632,7 +633,7 @@ __attribute__((noinline)) static Vec *eval_import(Eval *ev, const AstNode *n)
     else buf_printf(&path, "%s/%s", eval_script_dir(ev), s);
     Vec *small[8];
     Vec **vals = n->nnames > 8 ? malloc(n->nnames * sizeof(Vec *)) : small;
-    if (!vals) abort();
+    if (!vals) mem_oom();
     if (ev->modules && ev->depth > MAX_IMPORT_DEPTH) {
         /* loading a module recurses too (resolve, up to AST_MAX_DEPTH):
          * keep that headroom on the C stack */
@@ -658,7 +659,7 @@ static void export_one(Exports *out, const Str *name, Vec *value)
         out->cap = out->cap ? out->cap * 2 : 16;
         out->names = realloc(out->names, out->cap * sizeof(Str *));
         out->values = realloc(out->values, out->cap * sizeof(Vec *));
-        if (!out->names || !out->values) abort();
+        if (!out->names || !out->values) mem_oom();
     }
     out->names[out->count] = str_retain((Str *)name);
     out->values[out->count] = vec_retain(value);
@@ -678,7 +679,7 @@ static void eval_export(Eval *ev, const AstNode *n)
             out->cap = out->cap ? out->cap * 2 : 16;
             out->names = realloc(out->names, out->cap * sizeof(Str *));
             out->values = realloc(out->values, out->cap * sizeof(Vec *));
-            if (!out->names || !out->values) abort();
+            if (!out->names || !out->values) mem_oom();
         }
         out->names[out->count] = str_retain((Str *)x->names[i]);
         out->values[out->count] = vec_retain(ev->frame[x->slots[i]]);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "builtins.h"
+#include "mem.h"
 #include "numexpr.h"
 #include "program.h"
 
@@ -43,8 +44,7 @@ static uint32_t memo_cell(CC *c, uint32_t off)
 {
     if (2 * (c->nmemos + 1) > c->memo_cap) {
         uint32_t cap = c->memo_cap ? 2 * c->memo_cap : 64;
-        uint32_t *t = calloc(cap, sizeof *t);
-        if (!t) abort();
+        uint32_t *t = mem_calloc(cap, sizeof *t);
         for (uint32_t i = 0; i < c->memo_cap; i++) {
             if (!c->memo_at[i]) continue;
             const NumExpr *x = (const NumExpr *)(const void *)(c->buf + c->memo_at[i] - 1 + sizeof(CRec));
@@ -75,8 +75,7 @@ static uint32_t reserve(CC *c, size_t size)
     size = (size + 7) & ~(size_t)7;
     while (c->len + size > c->cap) {
         c->cap = c->cap ? c->cap * 2 : 256;
-        c->buf = realloc(c->buf, c->cap);
-        if (!c->buf) abort();
+        c->buf = mem_realloc(c->buf, c->cap);
     }
     uint32_t off = c->len;
     memset(c->buf + off, 0, size);
@@ -146,8 +145,7 @@ static uint32_t emit_ast(CC *c, const AstNode *n)
     rec(c, off)->p.node = n;
     if (c->nlater == c->cap_later) {
         c->cap_later = c->cap_later ? c->cap_later * 2 : 16;
-        c->later = realloc(c->later, c->cap_later * sizeof *c->later);
-        if (!c->later) abort();
+        c->later = mem_realloc_array(c->later, c->cap_later, sizeof *c->later);
     }
     c->later[c->nlater++] = (AstNode *)n;
     return off;
@@ -174,8 +172,7 @@ static uint32_t emit(CC *c, const AstNode *n)
             rec(c, off)->n = memo_cell(c, off);
             if (c->nmemo_recs == c->cap_memo_recs) {
                 c->cap_memo_recs = c->cap_memo_recs ? 2 * c->cap_memo_recs : 64;
-                c->memo_recs = realloc(c->memo_recs, c->cap_memo_recs * sizeof *c->memo_recs);
-                if (!c->memo_recs) abort();
+                c->memo_recs = mem_realloc_array(c->memo_recs, c->cap_memo_recs, sizeof *c->memo_recs);
             }
             c->memo_recs[c->nmemo_recs++] = off;
         }
@@ -274,9 +271,8 @@ static void compile_children(AstNode *n);
  * numbered again from 0. */
 static void share_memos(CC *c)
 {
-    uint32_t *uses = calloc(c->nmemos ? c->nmemos : 1, sizeof *uses);
-    uint32_t *renum = calloc(c->nmemos ? c->nmemos : 1, sizeof *renum);
-    if (!uses || !renum) abort();
+    uint32_t *uses = mem_calloc(c->nmemos ? c->nmemos : 1, sizeof *uses);
+    uint32_t *renum = mem_calloc(c->nmemos ? c->nmemos : 1, sizeof *renum);
     for (uint32_t i = 0; i < c->nmemo_recs; i++) uses[rec(c, c->memo_recs[i])->n]++;
     uint32_t kept = 0;
     for (uint32_t m = 0; m < c->nmemos; m++) renum[m] = uses[m] >= 2 ? kept++ : UINT32_MAX;
@@ -298,8 +294,7 @@ static void share_memos(CC *c)
 static CMemo *make_memos(CC *c)
 {
     if (!c->nmemos) return NULL;
-    CMemo *m = calloc(c->nmemos, sizeof *m);
-    if (!m) abort();
+    CMemo *m = mem_calloc(c->nmemos, sizeof *m);
     for (uint32_t i = 0; i < c->nmemo_recs; i++) {
         const CRec *r = rec(c, c->memo_recs[i]);
         if (r->op != C_MEMO || m[r->n].nkeys) continue;
@@ -328,8 +323,7 @@ void evalcode_compile_tree(AstNode *n)
     CC c = {0};
     emit(&c, n);
     share_memos(&c);
-    CBlock *b = malloc(sizeof *b + c.len);
-    if (!b) abort();
+    CBlock *b = mem_alloc(sizeof *b + c.len);
     b->nmemos = c.nmemos;
     b->len = c.len;
     b->memos = make_memos(&c);

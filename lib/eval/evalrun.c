@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "evalcode.h"
+#include "mem.h"
 #include "node.h"
 #include "pool.h"
 
@@ -86,7 +87,7 @@ static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
     Vec *v = run_rec(ev, base, t->node);
     Vec *small[16];
     Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
-    if (!vals) abort();
+    if (!vals) mem_oom();
     for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
     if (has_nodes(v)) {
         v = vec_unshare(v);
@@ -111,7 +112,7 @@ static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
     const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
     Vec *small[16];
     Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
-    if (!vals) abort();
+    if (!vals) mem_oom();
     for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
     Node *nn = node_new(r->p.kind);
     if (r->n <= 16) {

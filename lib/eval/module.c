@@ -13,6 +13,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "mem.h"
+
 typedef struct Module {
     char *path;              /* module file */
     struct timespec mtime;   /* modification time when loaded */
@@ -29,7 +31,7 @@ struct ModuleCache {
 ModuleCache *module_cache_new(void)
 {
     ModuleCache *mc = calloc(1, sizeof *mc);
-    if (!mc) abort();
+    if (!mc) mem_oom();
     return mc;
 }
 
@@ -71,14 +73,14 @@ static Module *find_or_add(ModuleCache *mc, const char *path)
     if (mc->count == mc->cap) {
         mc->cap = mc->cap ? mc->cap * 2 : 8;
         mc->mods = realloc(mc->mods, mc->cap * sizeof(Module));
-        if (!mc->mods) abort();
+        if (!mc->mods) mem_oom();
     }
     Module *m = &mc->mods[mc->count++];
     *m = (Module){0};
     m->path = strdup(path);
     m->failed = true;
     m->mtime.tv_sec = -1;
-    if (!m->path) abort();
+    if (!m->path) mem_oom();
     return m;
 }
 
@@ -100,7 +102,7 @@ static void run_module(ModuleCache *mc, uint32_t mi, Eval *ev)
         const char *nl = strchr(w, '\n');
         size_t len = nl ? (size_t)(nl - w) : strlen(w);
         char *line = strndup(w, len);
-        if (!line) abort();
+        if (!line) mem_oom();
         eval_error(ev, line);
         free(line);
         w += len + (nl ? 1 : 0);

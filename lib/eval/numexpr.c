@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "builtins.h"
+#include "mem.h"
 #include "program.h"
 
 /* Deepest operand stack a compiled expression may need. */
@@ -65,8 +66,7 @@ static void emit(Nx *c, NxIns i, int push)
 {
     if (c->n == c->cap) {
         c->cap = c->cap ? c->cap * 2 : 16;
-        c->ins = realloc(c->ins, c->cap * sizeof *c->ins);
-        if (!c->ins) abort();
+        c->ins = mem_realloc_array(c->ins, c->cap, sizeof *c->ins);
     }
     /* field by field into zeroed memory: no stray padding bytes, so that
      * equal instructions are equal bytes (evalcode.c compares them) */
@@ -246,8 +246,7 @@ bool numexpr_compile(AstNode *n)
         free(c.ins);
         return false;
     }
-    NumExpr *x = calloc(1, sizeof *x + c.n * sizeof(NxIns));   /* padding zero too */
-    if (!x) abort();
+    NumExpr *x = mem_calloc(1, sizeof *x + c.n * sizeof(NxIns));   /* padding zero too */
     x->nins = c.n;
     x->nout = nout;
     x->depth = depth;

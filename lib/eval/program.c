@@ -23,6 +23,7 @@
 #include "builtins.h"
 #include "evalcode.h"
 #include "fileio.h"
+#include "mem.h"
 #include "parse.h"
 #include "pool.h"
 #include "simplify.h"
@@ -48,7 +49,7 @@ int globals_add(Globals *g, const char *name)
         g->cap = g->cap ? g->cap * 2 : 32;
         g->names = realloc(g->names, g->cap * sizeof(Str *));
         g->values = realloc(g->values, g->cap * sizeof(Vec *));
-        if (!g->names || !g->values) abort();
+        if (!g->names || !g->values) mem_oom();
     }
     g->names[g->count] = str_from(name);
     g->values[g->count] = NULL;
@@ -86,10 +87,10 @@ bool msgset_add(MsgSet *s, const char *msg)
     if (s->count == s->cap) {
         s->cap = s->cap ? s->cap * 2 : 8;
         s->items = realloc(s->items, s->cap * sizeof(char *));
-        if (!s->items) abort();
+        if (!s->items) mem_oom();
     }
     s->items[s->count] = strdup(msg);
-    if (!s->items[s->count]) abort();
+    if (!s->items[s->count]) mem_oom();
     s->count++;
     return true;
 }
@@ -147,7 +148,7 @@ static void push_visible(FnCtx *c, const Str *name, int32_t slot)
     if (c->nscope == c->capscope) {
         c->capscope = c->capscope ? c->capscope * 2 : 16;
         c->scope = realloc(c->scope, c->capscope * sizeof(Visible));
-        if (!c->scope) abort();
+        if (!c->scope) mem_oom();
     }
     c->scope[c->nscope++] = (Visible){name, (int32_t)slot};
 }
@@ -159,7 +160,7 @@ static void add_capture(FnCtx *c, const Str *name, int32_t src, int32_t dst)
         c->cap_names = realloc(c->cap_names, c->capcaps * sizeof(Str *));
         c->cap_src = realloc(c->cap_src, c->capcaps * sizeof(int32_t));
         c->cap_dst = realloc(c->cap_dst, c->capcaps * sizeof(int32_t));
-        if (!c->cap_names || !c->cap_src || !c->cap_dst) abort();
+        if (!c->cap_names || !c->cap_src || !c->cap_dst) mem_oom();
     }
     c->cap_names[c->ncaps] = name;
     c->cap_src[c->ncaps] = src;
@@ -226,7 +227,7 @@ static bool builtin_value(Resolver *r, const Str *name, Vec **out)
     if (r->nconsts == r->capconsts) {
         r->capconsts = r->capconsts ? r->capconsts * 2 : 16;
         r->consts = realloc(r->consts, r->capconsts * sizeof(Constant));
-        if (!r->consts) abort();
+        if (!r->consts) mem_oom();
     }
     r->consts[r->nconsts++] = (Constant){str_retain((Str *)name), v};
     *out = vec_retain(v);
@@ -240,7 +241,7 @@ static void warn_unbound(Resolver *r, const Str *name)
     if (r->nunbound == r->capunbound) {
         r->capunbound = r->capunbound ? r->capunbound * 2 : 8;
         r->unbound = realloc(r->unbound, r->capunbound * sizeof(char *));
-        if (!r->unbound) abort();
+        if (!r->unbound) mem_oom();
     }
     r->unbound[r->nunbound++] = name->bytes;
     buf_printf(r->warnings, "Unbound name '%s'\n", name->bytes);
@@ -278,7 +279,7 @@ static void bind_names(FnCtx *c, AstNode *n)
     if (!n->nnames) return;
     free(n->slots);
     n->slots = malloc(n->nnames * sizeof(int32_t));
-    if (!n->slots) abort();
+    if (!n->slots) mem_oom();
     for (uint32_t i = 0; i < n->nnames; i++) {
         n->slots[i] = (int32_t)c->nslots++;
         push_visible(c, n->names[i], n->slots[i]);
@@ -309,10 +310,10 @@ static void resolve_export(FnCtx *c, AstNode *n)
 {
     if (c->parent) return;
     ExportInfo *x = calloc(1, sizeof *x);
-    if (!x) abort();
+    if (!x) mem_oom();
     x->names = malloc((c->nscope ? c->nscope : 1) * sizeof(Str *));
     x->slots = malloc((c->nscope ? c->nscope : 1) * sizeof(int32_t));
-    if (!x->names || !x->slots) abort();
+    if (!x->names || !x->slots) mem_oom();
     for (uint32_t i = c->nscope; i-- > 0;) {
         bool seen = false;
         for (uint32_t k = 0; k < x->count && !seen; k++) seen = str_eq(x->names[k], c->scope[i].name);
@@ -339,7 +340,7 @@ static void resolve_include(Resolver *r, FnCtx *c, AstNode *n)
     char *path;
     if (name->bytes[0] == '/' || !r->dir) path = strdup(name->bytes);
     else if (asprintf(&path, "%s/%s", r->dir, name->bytes) < 0) path = NULL;
-    if (!path) abort();
+    if (!path) mem_oom();
     for (uint32_t i = 0; i < r->nincluded; i++) {
         if (strcmp(r->included[i], path) == 0) {
             buf_printf(r->warnings, "Cannot include path '%s' multiple times\n", path);
@@ -349,7 +350,7 @@ static void resolve_include(Resolver *r, FnCtx *c, AstNode *n)
         }
     }
     r->included = realloc(r->included, (r->nincluded + 1) * sizeof(char *));
-    if (!r->included) abort();
+    if (!r->included) mem_oom();
     r->included[r->nincluded++] = path;
     Buf text = BUF_INIT;
     if (!file_read(path, &text)) {
@@ -384,19 +385,19 @@ static void resolve_function(Resolver *r, FnCtx *c, AstNode *n)
         if (!p || !p->nnames) continue;
         free(p->slots);
         p->slots = malloc(sizeof(int32_t));
-        if (!p->slots) abort();
+        if (!p->slots) mem_oom();
         p->slots[0] = (int32_t)inner.nslots++;
         push_visible(&inner, p->names[0], p->slots[0]);
     }
     if (n->a) resolve(r, &inner, n->a);
     FnInfo *fi = calloc(1, sizeof *fi);
-    if (!fi) abort();
+    if (!fi) mem_oom();
     fi->nslots = inner.nslots;
     fi->nparams = n->nkids;
     fi->ncaps = inner.ncaps;
     /* cap_src and cap_dst in one allocation: src[0..ncaps), dst after */
     fi->cap_src = malloc((inner.ncaps ? inner.ncaps : 1) * 2 * sizeof(int32_t));
-    if (!fi->cap_src) abort();
+    if (!fi->cap_src) mem_oom();
     for (uint32_t i = 0; i < inner.ncaps; i++) {
         fi->cap_src[i] = inner.cap_src[i];
         fi->cap_src[inner.ncaps + i] = inner.cap_dst[i];
@@ -510,7 +511,7 @@ static AstNode *simplify_top(Program *p, AstNode *top, const Globals *g, SymTab 
                              const StableCache *sc)
 {
     SimplifyName *names = calloc(g->count ? g->count : 1, sizeof *names);
-    if (!names) abort();
+    if (!names) mem_oom();
     for (uint32_t i = 0; i < g->count; i++)
         names[i] = (SimplifyName){g->names[i], i < g->ndynamic, g->values[i]};
     SimplifyEnv env = {.names = names, .nnames = g->count, .symtab = st, .dir = p->dir,
@@ -564,16 +565,16 @@ Program *program_load_text(const char *path, const char *text, size_t len,
     AstNode *top = parse_program(path, text, len, 0, err);
     if (!top) return NULL;
     Program *p = calloc(1, sizeof *p);
-    if (!p) abort();
+    if (!p) mem_oom();
     p->refs = 1;
     p->top = top;
     p->path = strdup(path);
     p->dir = dir_of(path);
-    if (!p->path || !p->dir) abort();
+    if (!p->path || !p->dir) mem_oom();
     register_symbols(top, st);
     if (top->nkids) {
         p->pragmas = calloc(top->nkids, sizeof(Pragma));
-        if (!p->pragmas) abort();
+        if (!p->pragmas) mem_oom();
         for (uint32_t i = 0; i < top->nkids; i++) {
             const AstNode *b = top->kids[i];
             if (!b || !b->nnames) continue;
@@ -595,22 +596,22 @@ Program *program_resimplify(const Program *cur, Globals *globals, SymTab *st, co
 {
     if (!cur->simplified) return NULL;
     Program *p = calloc(1, sizeof *p);
-    if (!p) abort();
+    if (!p) mem_oom();
     p->refs = 1;
     p->path = strdup(cur->path);
     p->dir = strdup(cur->dir);
-    if (!p->path || !p->dir) abort();
+    if (!p->path || !p->dir) mem_oom();
     p->stable_ids = cur->stable_ids;
     if (cur->npragmas) {
         p->pragmas = calloc(cur->npragmas, sizeof(Pragma));
-        if (!p->pragmas) abort();
+        if (!p->pragmas) mem_oom();
         for (uint32_t i = 0; i < cur->npragmas; i++)
             p->pragmas[i] = (Pragma){str_retain(cur->pragmas[i].name), vec_retain(cur->pragmas[i].value)};
         p->npragmas = cur->npragmas;
     }
     p->nasserted = stable_count(sc);
     p->asserted = malloc((p->nasserted ? p->nasserted : 1) * 2 * sizeof(uint32_t));
-    if (!p->asserted) abort();
+    if (!p->asserted) mem_oom();
     for (uint32_t i = 0; i < p->nasserted; i++) stable_key(sc, i, &p->asserted[2 * i], &p->asserted[2 * i + 1]);
     p->top = simplify_top(p, ast_copy(cur->simplified), globals, st, sc);
     Buf err = BUF_INIT;

@@ -16,6 +16,7 @@
 
 #include "config.h"
 #include "builtins.h"
+#include "mem.h"
 
 /* ====================================================================
  * Tree helpers
@@ -444,7 +445,7 @@ static AstNode *simp_attributes(Simp *s, const AstNode *n)
     uint32_t total = 0;
     for (const AstNode *t = n; t->kind == AST_ATTRIBUTES; t = t->a) total += t->nkids;
     AstNode **rev = malloc((total ? total : 1) * sizeof *rev);
-    if (!rev) abort();
+    if (!rev) mem_oom();
     uint32_t k = 0;
     while (node->kind == AST_ATTRIBUTES) {
         for (uint32_t i = node->nkids; i-- > 0;) {
@@ -534,7 +535,7 @@ static uint32_t sequence_pack(AstNode ***itemsp, uint32_t n, uint32_t *cap)
         if (n - 1 + m > *cap) {
             *cap = (n + m) * 2;
             items = realloc(items, *cap * sizeof *items);
-            if (!items) abort();
+            if (!items) mem_oom();
         }
         memmove(items + i + m, items + i + 1, (n - i - 1) * sizeof *items);
         for (uint32_t j = 0; j < m; j++) items[i + j] = e->kids[j];
@@ -563,7 +564,7 @@ static uint32_t sequence_pack(AstNode ***itemsp, uint32_t n, uint32_t *cap)
             }
             if (j - i > 1) {
                 Vec **parts = malloc((j - i) * sizeof *parts);
-                if (!parts) abort();
+                if (!parts) mem_oom();
                 for (uint32_t k = i; k < j; k++) parts[k - i] = items[k]->value;
                 Vec *v = vec_compose(parts, j - i);
                 free(parts);
@@ -605,7 +606,7 @@ static AstNode *simp_sequence(Simp *s, const AstNode *n)
 {
     uint32_t cap = n->nkids ? n->nkids : 1;
     AstNode **items = malloc(cap * sizeof *items);
-    if (!items) abort();
+    if (!items) mem_oom();
     for (uint32_t i = 0; i < n->nkids; i++) items[i] = simp(s, n->kids[i]);
     return simp_sequence_of(items, n->nkids, cap, n->loc);
 }
@@ -711,7 +712,7 @@ void simp_init(Simp *s, SymTab *st, Buf *warnings, const char *dir, const char *
     s->ev = (Eval){.symtab = st, .errors = &s->errors, .debug = NULL};
     s->dir = strdup(dir ? dir : ".");
     s->path = path ? strdup(path) : NULL;
-    if (!s->dir || (path && !s->path)) abort();
+    if (!s->dir || (path && !s->path)) mem_oom();
 }
 
 void simp_fini(Simp *s)

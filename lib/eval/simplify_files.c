@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "fileio.h"
+#include "mem.h"
 #include "parse.h"
 
 /* ====================================================================
@@ -56,7 +57,7 @@ AstNode *simp_include(Simp *s, const AstNode *n)
     char *path;
     if (name->bytes[0] == '/') path = strdup(name->bytes);
     else if (asprintf(&path, "%s/%s", s->dir, name->bytes) < 0) path = NULL;
-    if (!path) abort();
+    if (!path) mem_oom();
     for (uint32_t i = 0; i < s->ndeps; i++) {
         if (strcmp(s->deps[i], path) == 0) {
             char msg[600];
@@ -81,12 +82,12 @@ AstNode *simp_include(Simp *s, const AstNode *n)
     register_symbols(top, s->symtab);
     simplify_number_stables(top, s->stable_ids);
     s->deps = realloc(s->deps, (s->ndeps + 1) * sizeof *s->deps);
-    if (!s->deps) abort();
+    if (!s->deps) mem_oom();
     s->deps[s->ndeps++] = path;
     char *saved_dir = s->dir;
     bool saved_inc = s->in_include;
     s->dir = dir_of(path);
-    if (!s->dir) abort();
+    if (!s->dir) mem_oom();
     s->in_include = true;
     AstNode *r = simp(s, top->a);
     free(s->dir);
@@ -112,7 +113,7 @@ static bool module_exports(Simp *s, const char *path, Simp *sub)
     s->next_file++;
     register_symbols(top, s->symtab);
     char *dir = dir_of(path);
-    if (!dir) abort();
+    if (!dir) mem_oom();
     simp_init(sub, s->symtab, s->warnings, dir, path, s->next_file);
     free(dir);
     sub->parent = s;
@@ -147,7 +148,7 @@ AstNode *simp_import(Simp *s, const AstNode *n)
         char *path;
         if (name[0] == '/') path = strdup(name);
         else if (asprintf(&path, "%s/%s", s->dir, name) < 0) path = NULL;
-        if (!path) abort();
+        if (!path) mem_oom();
         for (const Simp *p = s; p && !circular; p = p->parent)
             circular = p->path && strcmp(p->path, path) == 0;
         if (circular) {
@@ -218,7 +219,7 @@ AstNode *simp_export(Simp *s, const AstNode *n)
         if (s->nexports == s->capexports) {
             s->capexports = s->capexports ? s->capexports * 2 : 8;
             s->exports = realloc(s->exports, s->capexports * sizeof *s->exports);
-            if (!s->exports) abort();
+            if (!s->exports) mem_oom();
         }
         s->exports[s->nexports++] = (SimpExport){str_retain(b->name), vec_retain(b->value),
                                                  b->kind == NB_FUNCTION ? ast_copy(b->fn) : NULL};

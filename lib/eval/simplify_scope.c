@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "builtins.h"
+#include "mem.h"
 #include "stable.h"
 
 AstNode *simp_sequence_of(AstNode **items, uint32_t n, uint32_t cap, Loc loc);
@@ -35,7 +36,7 @@ void scope_push(Simp *s, Str *name, int kind, const Vec *value, Str *target, con
     if (s->nnames == s->capnames) {
         s->capnames = s->capnames ? s->capnames * 2 : 64;
         s->names = realloc(s->names, s->capnames * sizeof *s->names);
-        if (!s->names) abort();
+        if (!s->names) mem_oom();
     }
     s->names[s->nnames++] = (NameBind){str_retain(name), kind, vec_retain((Vec *)value),
                                        str_retain(target), fn};
@@ -60,7 +61,7 @@ const Vec *simp_builtin(Simp *s, const Str *name)
     const Builtin *bi = bi_lookup(name->bytes, name->len);
     if (!bi) return NULL;
     Func *f = calloc(1, sizeof *f);
-    if (!f) abort();
+    if (!f) mem_oom();
     f->refs = 1;
     f->bi = bi;
     f->bi_name = bi->internal;
@@ -68,7 +69,7 @@ const Vec *simp_builtin(Simp *s, const Str *name)
         s->capbuiltins = s->capbuiltins ? s->capbuiltins * 2 : 16;
         s->builtins = realloc(s->builtins, s->capbuiltins * sizeof *s->builtins);
         s->builtin_names = realloc(s->builtin_names, s->capbuiltins * sizeof *s->builtin_names);
-        if (!s->builtins || !s->builtin_names) abort();
+        if (!s->builtins || !s->builtin_names) mem_oom();
     }
     s->builtins[s->nbuiltins] = vec_func_take(f);
     s->builtin_names[s->nbuiltins] = str_retain((Str *)name);
@@ -124,7 +125,7 @@ static void nameset_add(NameSet *set, const Str *name)
     if (set->n == set->cap) {
         set->cap = set->cap ? set->cap * 2 : 8;
         set->v = realloc(set->v, set->cap * sizeof *set->v);
-        if (!set->v) abort();
+        if (!set->v) mem_oom();
     }
     set->v[set->n++] = name;
 }
@@ -145,7 +146,7 @@ static void bound_push(Bound *b, const Str *name)
     if (b->n == b->cap) {
         b->cap = b->cap ? b->cap * 2 : 16;
         b->v = realloc(b->v, b->cap * sizeof *b->v);
-        if (!b->v) abort();
+        if (!b->v) mem_oom();
     }
     b->v[b->n++] = name;
 }
@@ -247,7 +248,7 @@ static bool constant_value(Simp *s, const Str *name, Vec **out)
         s->capconsts = s->capconsts ? s->capconsts * 2 : 8;
         s->consts = realloc(s->consts, s->capconsts * sizeof *s->consts);
         s->const_names = realloc(s->const_names, s->capconsts * sizeof *s->const_names);
-        if (!s->consts || !s->const_names) abort();
+        if (!s->consts || !s->const_names) mem_oom();
     }
     s->consts[s->nconsts] = v;
     s->const_names[s->nconsts++] = str_retain((Str *)name);
@@ -304,7 +305,7 @@ static void blist_push(BList *l, AstNode *b)
     if (l->n == l->cap) {
         l->cap = l->cap ? l->cap * 2 : 8;
         l->v = realloc(l->v, l->cap * sizeof *l->v);
-        if (!l->v) abort();
+        if (!l->v) mem_oom();
     }
     l->v[l->n++] = b;
 }
@@ -366,7 +367,7 @@ AstNode *simp_let(Simp *s, const AstNode *n)
             if (nb == capb) {
                 capb = capb ? capb * 2 : 8;
                 bind = realloc(bind, capb * sizeof *bind);
-                if (!bind) abort();
+                if (!bind) mem_oom();
             }
             bind[nb++] = body->kids[i];
         }
@@ -544,7 +545,7 @@ AstNode *simp_for(Simp *s, const AstNode *n)
     uint32_t len = vec_len(values), k = n->nnames ? n->nnames : 1;
     uint32_t cap = len / k + 1, count = 0;
     AstNode **items = malloc(cap * sizeof *items);
-    if (!items) abort();
+    if (!items) mem_oom();
     for (uint32_t i = 0; i < len;) {
         for (uint32_t j = 0; j < n->nnames; j++, i++) {
             Vec *item = i < len ? vec_item(values, i) : NULL;

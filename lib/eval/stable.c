@@ -3,6 +3,8 @@
 
 #include <stdlib.h>
 
+#include "mem.h"
+
 typedef struct Entry {
     uint32_t id, index;
     Vec *value;      /* cached value (one reference) */
@@ -19,7 +21,7 @@ struct StableCache {
 StableCache *stable_new(void)
 {
     StableCache *sc = calloc(1, sizeof *sc);
-    if (!sc) abort();
+    if (!sc) mem_oom();
     return sc;
 }
 
@@ -105,7 +107,7 @@ bool stable_check(StableCache *sc, const AstNode *let, uint32_t index, const Vec
         if (sc->n == sc->cap) {
             sc->cap = sc->cap ? sc->cap * 2 : 8;
             sc->v = realloc(sc->v, sc->cap * sizeof *sc->v);
-            if (!sc->v) abort();
+            if (!sc->v) mem_oom();
         }
         e = &sc->v[sc->n++];
         *e = (Entry){id, index, NULL, false};

@@ -11,6 +11,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "mem.h"
+
 /* Read the file open on [fd] (closed here) into [out]; with [regular_only],
  * anything but a regular file is refused (EINVAL). */
 static bool read_fd(int fd, Buf *out, bool regular_only)
@@ -82,7 +84,7 @@ static bool write_all(int fd, const char *p, size_t n)
 bool file_write_atomic(const char *path, const char *data, size_t len)
 {
     char *tmp;
-    if (asprintf(&tmp, "%s.tmp%ld", path, (long)getpid()) < 0) abort();
+    if (asprintf(&tmp, "%s.tmp%ld", path, (long)getpid()) < 0) mem_oom();
     int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     bool ok = fd >= 0 && write_all(fd, data, len) && fsync(fd) == 0;
     if (fd >= 0) ok = close(fd) == 0 && ok;

@@ -16,6 +16,7 @@
  */
 #include "format.h"
 
+#include "mem.h"
 #include "utf8.h"
 
 #include <math.h>
@@ -438,7 +439,7 @@ static void node_lines(Buf *b, const Node *root, const SymTab *st, bool repr,
     size_t cap = 16, depth = 0;
     Frame *stack = malloc(cap * sizeof *stack);
     if (!stack)
-        abort();
+        mem_oom();
     node_line(b, root, st, repr);
     if (trailing_newline)
         buf_putc(b, '\n');
@@ -463,7 +464,7 @@ static void node_lines(Buf *b, const Node *root, const SymTab *st, bool repr,
             cap *= 2;
             Frame *grown = realloc(stack, cap * sizeof *stack);
             if (!grown)
-                abort();
+                mem_oom();
             stack = grown;
         }
         stack[depth] = (Frame){child, 0};
@@ -567,7 +568,7 @@ void fmt_state_dump(Buf *b, const StateDict *sd, long frame, double time,
     StateEntry *entries = sd ? state_entries(sd, &n) : NULL;
     DumpLine *lines = n ? malloc(n * sizeof *lines) : NULL;
     if (n && !lines)
-        abort();
+        mem_oom();
     size_t m = 0;
     for (size_t i = 0; i < n; i++) {
         if (key_is_internal(entries[i].key) || vec_len(entries[i].value) == 0)

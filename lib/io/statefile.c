@@ -16,6 +16,7 @@
 #include "config.h"
 #include "fileio.h"
 #include "format.h"
+#include "mem.h"
 #include "utf8.h"
 
 #define MAGIC "flitter-state 1"
@@ -232,7 +233,7 @@ static bool read_vector(Reader *r, const char *stop, Vec **out)
         if (n == cap) {
             cap = cap ? cap * 2 : 8;
             els = realloc(els, cap * sizeof(Vec *));
-            if (!els) abort();
+            if (!els) mem_oom();
         }
         els[n++] = el;
         if (r->p == stop) break;

@@ -202,7 +202,9 @@ void phys_apply_particle(PhysSystem *s, PhysApplier *ap, size_t p,
                 double d = v[i] - x[i];
                 sum += d * d;
             }
-            double k = py_min(ap->strength * sqrt(sum) * pow(r, (double)(D - 1)),
+            /* pow(r, 0) is 1 and pow(r, 1) is r exactly (r > 0 here) */
+            double rp = D == 1 ? 1 : D == 2 ? r : pow(r, (double)(D - 1));
+            double k = py_min(ap->strength * sqrt(sum) * rp,
                               s->mass[p] / delta);
             for (size_t i = 0; i < D; i++)
                 F[i] = F[i] - (v[i] - x[i]) * k;

@@ -17,12 +17,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
 #include "physics_internal.h"
 
 static void oom(void)
 {
-    fputs("flitter: out of memory\n", stderr);
-    abort();
+    mem_oom();
 }
 
 static void release_ent(PhysKeyEnt *e)
@@ -54,13 +54,16 @@ static void reindex(PhysSystem *s)
     }
 }
 
-const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash)
+const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash,
+                                bool *dup)
 {
     if (s->capkidx) {
         size_t mask = s->capkidx - 1;
         for (size_t j = (size_t)idhash & mask; s->kidx[j]; j = (j + 1) & mask) {
             PhysKeyEnt *e = &s->kent[s->kidx[j] - 1];
             if (e->idhash == idhash && vec_key_equal(e->id, id)) {
+                if (e->seen == s->kframe)
+                    *dup = true;
                 e->seen = s->kframe;
                 return e;
             }

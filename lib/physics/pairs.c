@@ -50,6 +50,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
 #include "physics_internal.h"
 #include "workers.h"
 
@@ -66,8 +67,7 @@ static void *grow(void *p, size_t *cap, size_t need, size_t size)
         n *= 2;
     void *q = n <= SIZE_MAX / size ? realloc(p, n * size) : NULL;
     if (!q) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
+        mem_oom();
     }
     *cap = n;
     return q;
@@ -131,7 +131,10 @@ void phys_plan_levels(PhysSystem *s)
                 lv->route = PHYS_ROUTE_ALL;
             /* otherwise the reference loop itself, its pairs measured in
              * vector blocks (rows.c) */
-            else if (phys_rows_suits(s)) {
+            else if (phys_tiles_suits(s, lv)) {
+                lv->route = PHYS_ROUTE_TILES;
+                phys_tiles_reserve(s, lv->npool);
+            } else if (phys_rows_suits(s)) {
                 lv->route = PHYS_ROUTE_ROWS;
                 phys_rows_reserve(s, lv->npool);
             }
@@ -655,6 +658,9 @@ void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     case PHYS_ROUTE_ROWS:
         phys_run_rows(s, g, lv);
         return;
+    case PHYS_ROUTE_TILES:
+        phys_run_tiles(s, g, lv);
+        return;
     default:
         break;
     }
@@ -695,4 +701,5 @@ void phys_pairs_free(PhysSystem *s)
     }
     free(s->scratch);
     free(s->rows);
+    free(s->tiles);
 }

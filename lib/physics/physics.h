@@ -50,6 +50,12 @@ void phys_set_threads(PhysicsWorld *w, unsigned n);
  * grid and the threaded gather are checked against). Default: true when
  * FLITTER_PAIRS is "naive". */
 void phys_set_pairs(PhysicsWorld *w, bool naive);
+/* The vector instructions the pair kernels may use: [level] 0 = portable
+ * code only, 1 = up to AVX2, 2 = up to AVX-512; capped at what the
+ * processor runs. Returns the level in force. Every level gives the same
+ * bits (lib/physics/tiles.c). Default: FLITTER_SIMD ("portable", "avx2",
+ * anything else: the best available). */
+int phys_set_simd(PhysicsWorld *w, int level);
 /* Free [w] and all its systems (NULL is a no-op). */
 void phys_free(PhysicsWorld *w);
 /* Simulate one frame.

@@ -101,8 +101,12 @@ enum {
     PHYS_ROUTE_SKIP,     /* reach 0: no pair can interact */
     PHYS_ROUTE_ALL,      /* per-particle gather over all pairs */
     PHYS_ROUTE_GRID,     /* per-particle gather over a uniform grid */
-    PHYS_ROUTE_ROWS      /* the reference loop, blocks of partners (rows.c) */
+    PHYS_ROUTE_ROWS,     /* the reference loop, blocks of partners (rows.c) */
+    PHYS_ROUTE_TILES     /* the reference loop, W x W tiles (tiles.c) */
 };
+
+/* Vector instruction sets of the tile kernel (tiles.c), in order. */
+enum { PHYS_SIMD_PORTABLE, PHYS_SIMD_AVX2, PHYS_SIMD_AVX512 };
 
 /* Per-thread scratch of the gather routes: the pair direction and a
  * candidate list (capacity `capcand`). */
@@ -137,6 +141,11 @@ typedef struct PhysKeySlot {
     Vec *pkey;            /* P;id */
     Vec *vkey;            /* P;id;:velocity */
     uint64_t phash, vhash;/* vec_hash(key, false) */
+    uint32_t ent1;        /* key table entry + 1 of the last particle here */
+    bool hit;             /* this frame's particle has last frame's id */
+    Vec *pval, *vval;     /* the state's values of pkey/vkey this frame
+                           * (numeric, length D; borrowed), or NULL */
+    Vec *cp, *cv;         /* retained: pval/vval at the end of last frame */
 } PhysKeySlot;
 
 /* One particle id's state keys, kept while the id is collected every frame
@@ -206,6 +215,14 @@ typedef struct PhysSystem {
     PhysGrid grid;
     PhysScratch *scratch; size_t capscratch;  /* one per thread */
     double *rows; size_t caprows; /* rows.c: the level in pool order */
+    int simd;                     /* PHYS_SIMD_* the tile kernel may use */
+    double *tiles; size_t captiles;   /* tiles.c: the level in pool order,
+                                       * 64-byte aligned */
+
+    /* names seen in the tree, classified once while the string lives
+     * (collect.c): direct-mapped by address, strings retained */
+    Str *kcache[16]; signed char kcid[16];     /* node kinds */
+    Str *acache[64]; signed char acid[64];     /* attribute names */
 
     /* tree walk scratch */
     PhysPNode *pn; size_t npn, cappn;
@@ -214,6 +231,15 @@ typedef struct PhysSystem {
     /* lookups */
     PhysHash ids;                 /* pre-order particle ids -> pn index */
     PhysHash newkeys;             /* this frame's particle state keys */
+    bool dupids;                  /* two particles of this frame share an id */
+    /* the slots' cp/cv are the state's values when the state dictionary
+     * is the one, with the set count and size, seen at the end of the
+     * system's last frame (stateio.c) */
+    const StateDict *csd;
+    unsigned long long csets;
+    size_t ccount;
+    bool cvalid;                  /* cp/cv were recorded last frame */
+    bool cuse;                    /* ... and hold for this frame */
 
     /* state keys */
     Vec *prefix;                  /* P the cached keys were built from */
@@ -225,6 +251,73 @@ typedef struct PhysSystem {
     Vec **prev; size_t nprev, capprev;        /* retained */
     Vec **next; uint64_t *nexthash; size_t capnext;  /* borrowed scratch */
 } PhysSystem;
+
+/* ---- world.c: systems and the frame driver ---- */
+
+/* Print "out of memory" and abort. */
+void phys_oom(void);
+/* [p] reallocated to hold at least [need] elements of [size] bytes (its
+ * capacity in *[cap], grown geometrically; contents kept); aborts with a
+ * message if memory runs out. */
+void *phys_grow(void *p, size_t *cap, size_t need, size_t size);
+
+/* ---- collect.c: reading the node tree (PHYSICS-ENGINE.md §1, §3) ---- */
+
+/* What collection needs to know about the frame. */
+typedef struct PhysCollect {
+    const Vec *P;
+    int64_t run, iteration;
+    double clock;
+    Vec *seed;          /* current !random seed vector (lazily built) */
+} PhysCollect;
+
+/* Release the name caches of [s]. */
+void phys_names_free(PhysSystem *s);
+/* Empty [h] and size it for [n] entries. */
+void phys_hash_reset(PhysHash *h, size_t n);
+/* Map [key] (hash vec_hash(key, false)) to [idx], replacing an earlier
+ * equal key's index; [key] is borrowed. */
+void phys_hash_put(PhysHash *h, const Vec *key, uint64_t hash, size_t idx);
+/* The index mapped to [key], or SIZE_MAX. */
+size_t phys_hash_get(const PhysHash *h, const Vec *key, uint64_t hash);
+/* floor() as a 64-bit integer; NaN and out-of-range values give INT64_MIN. */
+int64_t phys_floor_i64(double x);
+/* §1 float(name, default) and int(name, default) of node [n]. */
+double phys_attr_float(const Node *n, const char *name, double def);
+int64_t phys_attr_int(const Node *n, const char *name, int64_t def);
+/* §3 in full: walk, lay particles out group-major, fill them (reading
+ * their state from [sd]), resolve the distance appliers' ids, build the
+ * group lists and plan the pair levels. Returns false when the system is
+ * too large to index (more than 2^32-2 particles or appliers). */
+bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
+                  const StateDict *sd);
+
+/* ---- stateio.c: state keys, read-back and writes (§2) ---- */
+
+/* A state value read back as a single number (§2 step 3). */
+bool phys_state_scalar(const StateDict *sd, const Vec *key, double *out);
+/* state[key] = x. */
+void phys_state_set_num(StateDict *sd, const Vec *key, double x);
+/* Release the keys kept from the previous frame. */
+void phys_release_prev(PhysSystem *s);
+/* Point the system at prefix [P]: rebuild the clock keys and drop the key
+ * cache when P changed. */
+void phys_set_prefix(PhysSystem *s, const Vec *P);
+/* The keys of storage slot [i], holding the particle [pn]; sets
+ * s->dupids when another slot of this frame has the same id. */
+PhysKeySlot *phys_slot_keys(PhysSystem *s, size_t i, const PhysPNode *pn);
+/* §2 step 7: null the keys of last frame not collected now. */
+void phys_null_stale_keys(PhysSystem *s, StateDict *sd);
+/* §2 step 8: write every particle's position and velocity. */
+void phys_write_particles(PhysSystem *s, StateDict *sd);
+/* Start of a frame of [s] on [sd], before any state write: may the slots'
+ * cached values stand in for state lookups this frame (s->cuse)? */
+void phys_cache_check(PhysSystem *s, const StateDict *sd);
+/* End of a frame, after the last state write: keep this frame's values
+ * of every slot for the next. */
+void phys_cache_keep(PhysSystem *s, const StateDict *sd);
+/* Drop the cached values of every slot (before the slots are freed). */
+void phys_cache_drop(PhysSystem *s);
 
 /* ---- forces.c: force appliers and barriers (PHYSICS-ENGINE.md §4) ---- */
 
@@ -253,9 +346,11 @@ void phys_pair_force_one(const PhysSystem *s, const PhysApplier *ap, size_t a,
 /* ---- keys.c: particle state keys kept while the particle lives ---- */
 
 /* The key entry of particle [id] (hash [idhash] = vec_hash(id, false)),
- * built from s->prefix on first sight; marks it seen this frame. The
- * pointer is valid until the next phys_keys_get or sweep. */
-const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash);
+ * built from s->prefix on first sight; marks it seen this frame (setting
+ * *dup when it already was). The pointer is valid until the next
+ * phys_keys_get or sweep. */
+const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash,
+                                bool *dup);
 /* End of collection: drop the entries not seen this frame. */
 void phys_keys_sweep(PhysSystem *s);
 /* Drop every entry (the prefix changed). */
@@ -287,6 +382,21 @@ void phys_run_rows(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
  * frame whose first step comes later allocates nothing then); aborts with
  * a message if memory runs out. */
 void phys_rows_reserve(PhysSystem *s, size_t npool);
+
+/* ---- tiles.c: the reference pair loop in W x W tiles ---- */
+
+/* The best PHYS_SIMD_* level this processor runs. */
+int phys_simd_best(void);
+/* Can phys_run_tiles() take level [lv] (D = 1..3, at most 4 appliers,
+ * each !collision, !gravity or !electrostatic)? */
+bool phys_tiles_suits(const PhysSystem *s, const PhysLevel *lv);
+/* Run one pair level of group [g] as phys_apply_pair_level() does, with
+ * the same additions in the same order (PHYSICS-ENGINE.md §4), W x W pairs
+ * at a time in vector instructions of level s->simd. Reuses s->tiles;
+ * aborts with a message if memory runs out. */
+void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
+/* Grow s->tiles for a level of [npool] pool entries now (at planning). */
+void phys_tiles_reserve(PhysSystem *s, size_t npool);
 
 /* ---- step.c: integration, rebound and the step loop ---- */
 

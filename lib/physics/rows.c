@@ -29,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
 #include "physics_internal.h"
 
 #define BLOCK 8
@@ -236,8 +237,7 @@ void phys_rows_reserve(PhysSystem *s, size_t npool)
         cap *= 2;
     double *p = realloc(s->rows, cap * sizeof *p);
     if (!p) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
+        mem_oom();
     }
     s->rows = p;
     s->caprows = cap;

@@ -8,12 +8,14 @@
 #include "canvas.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
 #include "buf.h"
 #include "format.h"
+#include "mem.h"
 #include "rnode.h"
 
 #define TAU 6.283185307179586
@@ -31,15 +33,33 @@ static bool skiplog_first(SkipLog *log, const char *kind)
     return true;
 }
 
+void render_log(const RenderLog *log, int kind, const char *fmt, ...)
+{
+    if (!log || !log->fn) return;
+    char line[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    log->fn(log->ctx, kind, line);
+}
+
+/* Whether skipped-kind messages are wanted at all. */
+static bool skiplog_on(const SkipLog *log)
+{
+    return log && log->log && log->log->debug;
+}
+
 void skiplog_note(SkipLog *log, const char *where, const char *kind)
 {
-    if (skiplog_first(log, kind) && log->out) fprintf(log->out, "%s: skipping unsupported !%s\n", where, kind);
+    if (skiplog_on(log) && skiplog_first(log, kind))
+        render_log(log->log, RLOG_WARNING, "%s: skipping unsupported !%s", where, kind);
 }
 
 void skiplog_effect(SkipLog *log, const char *kind)
 {
-    if (skiplog_first(log, kind) && log->out)
-        fprintf(log->out, "window: unsupported !%s, its children drawn without the effect\n", kind);
+    if (skiplog_on(log) && skiplog_first(log, kind))
+        render_log(log->log, RLOG_WARNING, "window: unsupported !%s, its children drawn without the effect", kind);
 }
 
 bool canvas_attr_nums(const Node *n, const char *name, int count, double *out)
@@ -245,7 +265,7 @@ static PathOp *path_add(Ctx *c, Path *p, int op)
     if (p->n == p->cap) {
         p->cap = p->cap ? 2 * p->cap : 16;
         p->ops = realloc(p->ops, p->cap * sizeof *p->ops);
-        if (!p->ops) abort();
+        if (!p->ops) mem_oom();
     }
     PathOp *o = &p->ops[p->n++];
     memset(o, 0, sizeof *o);

@@ -18,19 +18,37 @@
 
 #include <stdio.h>
 
+#include <stdbool.h>
+
 #include <cairo.h>
 
 #include "node.h"
 #include "value.h"
 
+/* Where the renderer's messages go: [fn] (NULL: nowhere) receives one line,
+ * without its newline, of [kind] RLOG_ERROR (a file that cannot be written)
+ * or RLOG_WARNING (a skipped node kind, sent only when [debug] is set); the
+ * kinds have the values of flitter.h's FL_LOG_ERROR and FL_LOG_WARNING. */
+enum { RLOG_ERROR = 0, RLOG_WARNING = 1 };
+typedef struct RenderLog {
+    void (*fn)(void *ctx, int kind, const char *line);
+    void *ctx;
+    bool debug;
+} RenderLog;
+
+/* Send one formatted line of [kind] to [log] (NULL or no fn: nowhere). */
+__attribute__((format(printf, 3, 4)))
+void render_log(const RenderLog *log, int kind, const char *fmt, ...);
+
 /* Node kinds already reported as skipped, so each is reported once. */
 typedef struct SkipLog {
-    FILE *out;               /* where "skipped node" messages go; NULL: nowhere */
+    const RenderLog *log;    /* where "skipped node" messages go (only with
+                                log->debug); NULL: nowhere */
     int n;                   /* kinds recorded */
     char kinds[32][24];      /* their names (truncated) */
 } SkipLog;
 
-/* Report `[where]: skipping unsupported !KIND` on log->out unless [kind]
+/* Report `[where]: skipping unsupported !KIND` as a warning unless [kind]
  * was reported before (at most 32 kinds are remembered). */
 void skiplog_note(SkipLog *log, const char *where, const char *kind);
 /* Report `window: unsupported !KIND, its children drawn without the

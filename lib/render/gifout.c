@@ -12,6 +12,8 @@
 
 #include <gif_lib.h>
 
+#include "mem.h"
+
 struct GifOut {
     GifFileType *f;
     int w, h, delay, frames;
@@ -32,7 +34,7 @@ GifOut *gifout_open(const char *path, int width, int height, int delay_cs, char 
     GifOut *g = calloc(1, sizeof *g);
     size_t n = (size_t)width * (size_t)height;
     if (!g || !(g->r = malloc(n)) || !(g->g = malloc(n)) || !(g->b = malloc(n)) || !(g->idx = malloc(n)))
-        abort();
+        mem_oom();
     g->f = f;
     g->w = width;
     g->h = height;
@@ -72,7 +74,7 @@ int gifout_frame(GifOut *g, const unsigned char *argb, int stride)
     if (GifQuantizeBuffer((unsigned)g->w, (unsigned)g->h, &ncolors, g->r, g->g, g->b, g->idx, pal) == GIF_ERROR)
         return -1;
     ColorMapObject *map = GifMakeMapObject(256, pal);
-    if (!map) abort();
+    if (!map) mem_oom();
     GraphicsControlBlock gcb = {.DisposalMode = DISPOSE_DO_NOT, .UserInputFlag = false,
                                 .DelayTime = g->delay, .TransparentColor = NO_TRANSPARENT_COLOR};
     GifByteType ext[4];

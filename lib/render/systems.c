@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
 #include "rnode.h"
 
 typedef struct Collect {
@@ -18,7 +19,7 @@ static void *grow(void *p, size_t *cap, size_t n, size_t size)
     if (n < *cap) return p;
     *cap = *cap ? 2 * *cap : 16;
     p = realloc(p, *cap * size);
-    if (!p) abort();
+    if (!p) mem_oom();
     return p;
 }
 

@@ -11,6 +11,7 @@
 
 #include "buf.h"
 #include "format.h"
+#include "mem.h"
 
 struct Trace {
     FILE *f;
@@ -28,7 +29,7 @@ Trace *trace_open(const char *path, const SymTab *symbols, char *err, size_t err
         return NULL;
     }
     Trace *t = calloc(1, sizeof *t);
-    if (!t) abort();
+    if (!t) mem_oom();
     size_t len = strlen(path);
     t->f = f;
     t->symbols = symbols;

@@ -13,6 +13,7 @@
 #include "buf.h"
 #include "format.h"
 #include "gifout.h"
+#include "mem.h"
 
 enum { PANEL = 480, PANEL_1D = 160, MARGIN = 24, TITLE = 28, MAX_PANELS = 16 };
 enum { FMT_PNG, FMT_SVG, FMT_GIF };
@@ -50,7 +51,7 @@ View *view_open(const char *path, int delay_cs, const SymTab *symbols, char *err
         return NULL;
     }
     View *v = calloc(1, sizeof *v);
-    if (!v || !(v->path = strdup(path))) abort();
+    if (!v || !(v->path = strdup(path))) mem_oom();
     v->format = format;
     v->delay = delay_cs < 1 ? 1 : delay_cs;
     v->symbols = symbols;

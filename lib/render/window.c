@@ -10,6 +10,7 @@
 #include "buf.h"
 #include "canvas.h"
 #include "gifout.h"
+#include "mem.h"
 #include "rnode.h"
 
 typedef struct GifSlot {
@@ -19,7 +20,7 @@ typedef struct GifSlot {
 
 struct Renderer {
     const SymTab *symbols;
-    FILE *log;
+    RenderLog log;
     SkipLog skips;
     GifSlot *gifs;
     size_t ngifs;
@@ -34,13 +35,13 @@ typedef struct Refs {
     int n;
 } Refs;
 
-Renderer *renderer_new(const SymTab *symbols, FILE *log, FILE *debug)
+Renderer *renderer_new(const SymTab *symbols, const RenderLog *log)
 {
     Renderer *r = calloc(1, sizeof *r);
-    if (!r) abort();
+    if (!r) mem_oom();
     r->symbols = symbols;
-    r->log = log;
-    r->skips.out = debug;
+    if (log) r->log = *log;
+    r->skips.log = &r->log;
     return r;
 }
 
@@ -52,7 +53,7 @@ int renderer_free(Renderer *r)
     int rc = 0;
     for (size_t i = 0; i < r->ngifs; i++) {
         if (gifout_close(r->gifs[i].gif) != 0) {
-            if (r->log) fprintf(r->log, "%s: cannot finish GIF\n", r->gifs[i].path);
+            render_log(&r->log, RLOG_ERROR, "%s: cannot finish GIF", r->gifs[i].path);
             rc = -1;
         }
         free(r->gifs[i].path);
@@ -156,7 +157,7 @@ static bool ends_with(const char *s, const char *tail)
 
 static void report(Renderer *r, const char *msg, const char *path)
 {
-    if (r->log && r->failed_reported++ == 0) fprintf(r->log, "%s: %s\n", path, msg);
+    if (r->failed_reported++ == 0) render_log(&r->log, RLOG_ERROR, "%s: %s", path, msg);
 }
 
 static void write_record(Renderer *r, const Node *n, cairo_surface_t *pic, double fps)
@@ -188,7 +189,7 @@ static void write_record(Renderer *r, const Node *n, cairo_surface_t *pic, doubl
                 goto done;
             }
             r->gifs = realloc(r->gifs, (r->ngifs + 1) * sizeof *r->gifs);
-            if (!r->gifs) abort();
+            if (!r->gifs) mem_oom();
             slot = &r->gifs[r->ngifs++];
             slot->path = strdup(path);
             slot->gif = g;

@@ -24,15 +24,16 @@
 
 #include <stdio.h>
 
+#include "canvas.h"
 #include "node.h"
 #include "value.h"
 
 typedef struct Renderer Renderer;
 
 /* A renderer; [symbols] names symbols in attributes (borrowed, must outlive
- * it), [log] receives write errors, [debug] (may be NULL) skipped-node
- * messages. */
-Renderer *renderer_new(const SymTab *symbols, FILE *log, FILE *debug);
+ * it); [log] (copied; may be NULL: nowhere) receives write errors and, when
+ * log->debug is set, skipped-node messages. */
+Renderer *renderer_new(const SymTab *symbols, const RenderLog *log);
 /* Render the windows of one frame's tree [root] (a !root node); [fps] sets
  * the frame delay of animated GIFs.
  *   errors: returns the number of files that could not be written (each

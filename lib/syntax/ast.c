@@ -18,23 +18,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mem.h"
+
 /* {=====================================================================
  * Basic nodes
  * ===================================================================== */
 
-static void *xrealloc(void *p, size_t size)
-{
-    void *q = realloc(p, size ? size : 1);
-    if (!q) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
-    }
-    return q;
-}
-
 AstNode *ast_new(AstKind kind, Loc loc)
 {
-    AstNode *n = xrealloc(NULL, sizeof *n);
+    AstNode *n = mem_realloc(NULL, sizeof *n);
     memset(n, 0, sizeof *n);
     n->kind = (uint8_t)kind;
     n->loc = loc;
@@ -45,7 +37,7 @@ void ast_push(AstNode *n, AstNode *kid)
 {
     if (n->nkids == n->cap_kids) {
         n->cap_kids = n->cap_kids ? 2 * n->cap_kids : 4;
-        n->kids = xrealloc(n->kids, n->cap_kids * sizeof *n->kids);
+        n->kids = mem_realloc(n->kids, n->cap_kids * sizeof *n->kids);
     }
     n->kids[n->nkids++] = kid;
 }
@@ -54,7 +46,7 @@ void ast_push_name(AstNode *n, Str *s)
 {
     if (n->nnames == n->cap_names) {
         n->cap_names = n->cap_names ? 2 * n->cap_names : 2;
-        n->names = xrealloc(n->names, n->cap_names * sizeof *n->names);
+        n->names = mem_realloc(n->names, n->cap_names * sizeof *n->names);
     }
     n->names[n->nnames++] = s;
 }
@@ -91,10 +83,10 @@ void ast_free(AstNode *n)
             while (cap < need)
                 cap *= 2;
             if (work == small) {
-                work = xrealloc(NULL, cap * sizeof *work);
+                work = mem_realloc(NULL, cap * sizeof *work);
                 memcpy(work, small, len * sizeof *work);
             } else {
-                work = xrealloc(work, cap * sizeof *work);
+                work = mem_realloc(work, cap * sizeof *work);
             }
         }
         if (t->a) work[len++] = t->a;

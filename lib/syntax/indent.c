@@ -19,15 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void *xrealloc(void *p, size_t size)
-{
-    void *q = realloc(p, size ? size : 1);
-    if (!q) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
-    }
-    return q;
-}
+#include "mem.h"
 
 void token_clear(Token *t)
 {
@@ -39,7 +31,7 @@ void indent_init(Indenter *in)
 {
     memset(in, 0, sizeof *in);
     in->cap = 8;
-    in->stack = xrealloc(NULL, in->cap * sizeof *in->stack);
+    in->stack = mem_realloc(NULL, in->cap * sizeof *in->stack);
     in->stack[0] = 0;
     in->depth = 1;
 }
@@ -66,7 +58,7 @@ static void enqueue(Indenter *in, const Token *t)
             in->qhead = 0;
         } else {
             in->qcap = in->qcap ? 2 * in->qcap : 8;
-            in->queue = xrealloc(in->queue, in->qcap * sizeof *in->queue);
+            in->queue = mem_realloc(in->queue, in->qcap * sizeof *in->queue);
         }
     }
     in->queue[in->qlen++] = *t;
@@ -83,7 +75,7 @@ static void push_column(Indenter *in, uint32_t col)
 {
     if (in->depth == in->cap) {
         in->cap *= 2;
-        in->stack = xrealloc(in->stack, in->cap * sizeof *in->stack);
+        in->stack = mem_realloc(in->stack, in->cap * sizeof *in->stack);
     }
     in->stack[in->depth++] = col;
 }

@@ -20,7 +20,7 @@
 #include "value.h"
 
 typedef struct Token {
-    int kind;          /* TK_* token kind (TK_YYerror: lexical error) */
+    int kind;          /* TK_* token kind (TK_FLP_error: lexical error) */
     uint32_t start;    /* byte offset of the first character */
     uint32_t end;      /* byte offset just past the last character */
     uint32_t indent;   /* TK_NL: indentation column of the next line
@@ -41,18 +41,18 @@ typedef struct Lexer {
     size_t len;                 /* bytes of text before the NUL */
     const unsigned char *cur;   /* next byte to scan */
     const unsigned char *mark;  /* re2c backtracking marker */
-    int prev;                   /* kind of the previous token (TK_YYEMPTY at
+    int prev;                   /* kind of the previous token (TK_FLP_EMPTY at
                                    the start); decides %include/%pragma */
     uint32_t last_end;          /* end offset of the last token that is not
                                    TK_NL (where TK_END is placed) */
     bool done;                  /* TK_END has been returned */
-    Buf msg;                    /* message of the last TK_YYerror token */
+    Buf msg;                    /* message of the last TK_FLP_error token */
 } Lexer;
 
 /* Start lexing the [len] bytes of UTF-8 at [text] (copied; need not end in
  * '\n' or NUL). Release with lex_free().
  *   errors: none here (a source of 4 GiB or more is reported by the first
- *           lex_next() as a TK_YYerror token)
+ *           lex_next() as a TK_FLP_error token)
  *   source: LANGUAGE.md §1.1 */
 void lex_init(Lexer *lx, const char *text, size_t len);
 /* Release the memory of [lx] (not of tokens already returned). */
@@ -67,13 +67,13 @@ void lex_free(Lexer *lx);
  *           the start of the file, a newline, a hashbang or '<<'), else
  *           '%' and a name. After the last token comes TK_END (at the end
  *           of the last non-newline token), then TK_YYEOF forever.
- *   errors: returns TK_YYerror with the span of the bad text; the message
+ *   errors: returns TK_FLP_error with the span of the bad text; the message
  *           ("unterminated string", "invalid number '1__0'", ...) is
  *           lex_message(). Scanning may continue after the bad text.
  *   source: LANGUAGE.md §1.2-§1.9, §1.11 */
 int lex_next(Lexer *lx, Token *t);
 
-/* The message of the last TK_YYerror token (owned by [lx]). */
+/* The message of the last TK_FLP_error token (owned by [lx]). */
 const char *lex_message(Lexer *lx);
 
 /* True when the [len] bytes at [s] are exactly one NUMBER or TIMECODE

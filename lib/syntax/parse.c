@@ -24,6 +24,7 @@
 #include <string.h>
 
 #include "lexer.h"
+#include "mem.h"
 #include "node.h"
 
 struct ParseCtx {
@@ -40,16 +41,6 @@ struct ParseCtx {
     uint32_t *slots;       /* hash set over syms: index + 1, 0 = empty */
     size_t nslots;         /* power of two, > 2 * nsyms */
 };
-
-static void *xrealloc(void *p, size_t size)
-{
-    void *q = realloc(p, size ? size : 1);
-    if (!q) {
-        fputs("flitter: out of memory\n", stderr);
-        abort();
-    }
-    return q;
-}
 
 /* {=====================================================================
  * Positions and messages
@@ -189,7 +180,7 @@ static void add_symbol(ParseCtx *pc, const char *name, size_t len)
     if (2 * (pc->nsyms + 1) >= pc->nslots) {
         size_t n = pc->nslots ? 2 * pc->nslots : 64;
         free(pc->slots);
-        pc->slots = xrealloc(NULL, n * sizeof *pc->slots);
+        pc->slots = mem_realloc(NULL, n * sizeof *pc->slots);
         memset(pc->slots, 0, n * sizeof *pc->slots);
         pc->nslots = n;
         for (size_t i = 0; i < pc->nsyms; i++) {
@@ -210,13 +201,13 @@ static void add_symbol(ParseCtx *pc, const char *name, size_t len)
     }
     if (pc->nsyms == pc->cap_syms) {
         pc->cap_syms = pc->cap_syms ? 2 * pc->cap_syms : 16;
-        pc->syms = xrealloc(pc->syms, pc->cap_syms * sizeof *pc->syms);
+        pc->syms = mem_realloc(pc->syms, pc->cap_syms * sizeof *pc->syms);
     }
     pc->syms[pc->nsyms++] = str_new(name, len);
     pc->slots[h & (pc->nslots - 1)] = (uint32_t)pc->nsyms;
 }
 
-int parse_lex(YYSTYPE *value, Loc *loc, ParseCtx *pc)
+int parse_lex(FLP_STYPE *value, Loc *loc, ParseCtx *pc)
 {
     Token t;
     if (pc->ended) {
@@ -225,14 +216,14 @@ int parse_lex(YYSTYPE *value, Loc *loc, ParseCtx *pc)
     }
     while (!indent_pop(&pc->ind, &t)) {
         Token raw;
-        if (lex_next(&pc->lx, &raw) == TK_YYerror) {
+        if (lex_next(&pc->lx, &raw) == TK_FLP_error) {
             report(pc, raw.start, raw.end, lex_message(&pc->lx));
-            return pc->last_kind = TK_YYerror;
+            return pc->last_kind = TK_FLP_error;
         }
         if (!indent_feed(&pc->ind, &raw)) {
             report(pc, raw.end, raw.end,
                    "unexpected dedent: indentation matches no enclosing block");
-            return pc->last_kind = TK_YYerror;
+            return pc->last_kind = TK_FLP_error;
         }
     }
     *loc = (Loc){pc->file, t.start, t.end};
@@ -294,7 +285,7 @@ static const AstNode *too_deep(const AstNode *root)
 {
     typedef struct { const AstNode *n; uint32_t depth; } Item;
     size_t len = 0, cap = 64;
-    Item *work = xrealloc(NULL, cap * sizeof *work);
+    Item *work = mem_realloc(NULL, cap * sizeof *work);
     const AstNode *found = NULL;
     work[len++] = (Item){root, 1};
     while (len && !found) {
@@ -308,7 +299,7 @@ static const AstNode *too_deep(const AstNode *root)
         if (need > cap) {
             while (cap < need)
                 cap *= 2;
-            work = xrealloc(work, cap * sizeof *work);
+            work = mem_realloc(work, cap * sizeof *work);
         }
         /* pushed in reverse so that the first child is visited first */
         for (uint32_t i = t->nkids; i-- > 0;)
@@ -332,10 +323,10 @@ AstNode *parse_program(const char *path, const char *text, size_t len,
     pc.path = path ? path : "<input>";
     pc.file = file_index;
     pc.err = err;
-    pc.last_kind = TK_YYEMPTY;
+    pc.last_kind = TK_FLP_EMPTY;
 
     AstNode *top = NULL;
-    int status = yyparse(&pc, &top);
+    int status = flp_parse(&pc, &top);
     if (status != 0 || !top) {
         if (!pc.reported)
             report(&pc, pc.lx.last_end, pc.lx.last_end, "syntax error");

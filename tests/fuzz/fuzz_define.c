@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "flitter.h"
+#include "runtime.h"
 #include "format.h"
 #include "fuzz_budget.h"
 
@@ -22,8 +22,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memcpy(text, data, size);
     text[size] = '\0';
     fl_options o = fl_default_options();
-    o.log = NULL;
-    o.debug = NULL;
+    RtStreams streams = {NULL, NULL};
+    rt_log_to_files(&o, &streams);
     o.interrupt = &fuzz_interrupt;
     fl_runtime *rt = fl_new(&o);
     fuzz_budget_start();
@@ -35,10 +35,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         fl_define(rt, "x", text);
     }
     Buf err = BUF_INIT, out = BUF_INIT;
-    if (fl_load_text(rt, "define.fl", script, sizeof script - 1, &err) != 0)
+    if (rt_load_text(rt, "define.fl", script, sizeof script - 1, &err) != 0)
         abort();
     fl_step(rt);
-    fmt_tree(&out, fl_root(rt), fl_symbols(rt));
+    fmt_tree(&out, rt_root(rt), rt_symbols(rt));
     buf_free(&err);
     buf_free(&out);
     fl_free(rt);

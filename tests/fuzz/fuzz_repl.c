@@ -7,7 +7,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "flitter.h"
+#include "runtime.h"
 #include "format.h"
 #include "fuzz_budget.h"
 
@@ -24,13 +24,13 @@ static const char script[] =
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fl_options o = fl_default_options();
-    o.log = NULL;
-    o.debug = NULL;
+    RtStreams streams = {NULL, NULL};
+    rt_log_to_files(&o, &streams);
     o.interrupt = &fuzz_interrupt;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT, out = BUF_INIT, pending = BUF_INIT;
     fuzz_budget_start();
-    if (fl_load_text(rt, "repl.fl", script, sizeof script - 1, &err) != 0)
+    if (rt_load_text(rt, "repl.fl", script, sizeof script - 1, &err) != 0)
         abort();
     fl_step(rt);
     const char *p = (const char *)data, *end = p + size;
@@ -41,7 +41,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         p = stop;
         buf_reset(&out);
         buf_reset(&err);
-        if (fl_eval(rt, pending.data, pending.len, &out, &err) != 1)
+        if (rt_eval(rt, pending.data, pending.len, &out, &err) != 1)
             buf_reset(&pending);
     }
     fl_step(rt);

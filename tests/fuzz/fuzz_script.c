@@ -5,7 +5,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "flitter.h"
+#include "runtime.h"
 #include "format.h"
 #include "fuzz_budget.h"
 
@@ -13,19 +13,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fl_options o = fl_default_options();
     o.frames = 3;
-    o.log = NULL;
-    o.debug = NULL;
+    RtStreams streams = {NULL, NULL};
+    rt_log_to_files(&o, &streams);
     o.interrupt = &fuzz_interrupt;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT, out = BUF_INIT;
     fuzz_budget_start();
-    if (fl_load_text(rt, "fuzz.fl", (const char *)data, size, &err) == 0) {
+    if (rt_load_text(rt, "fuzz.fl", (const char *)data, size, &err) == 0) {
         for (int i = 0; i < 3 && !fuzz_interrupt; i++)
             fl_step(rt);
-        fmt_state_dump(&out, fl_state(rt), fl_frame_count(rt) - 1, fl_frame_time(rt),
-                       fl_symbols(rt));
-        if (fl_root(rt))
-            fmt_tree(&out, fl_root(rt), fl_symbols(rt));
+        fmt_state_dump(&out, rt_state(rt), fl_frame_count(rt) - 1, fl_frame_time(rt),
+                       rt_symbols(rt));
+        if (rt_root(rt))
+            fmt_tree(&out, rt_root(rt), rt_symbols(rt));
     }
     buf_free(&err);
     buf_free(&out);

@@ -17,7 +17,7 @@
 #include <cairo.h>
 #include <gif_lib.h>
 
-#include "flitter.h"
+#include "runtime.h"
 #include "window.h"
 
 static char scratch[64];
@@ -47,18 +47,20 @@ static char *render(const char *src, const char *name, int frames, char *path, s
     size_t loglen;
     FILE *lf = open_memstream(&log, &loglen);
     fl_options o = fl_default_options();
-    o.log = lf;
-    o.debug = lf;
+    RtStreams streams = {lf, lf};
+    rt_log_to_files(&o, &streams);
     fl_runtime *rt = fl_new(&o);
     assert_int_equal(fl_define(rt, "OUT", path), 0);
     Buf err = BUF_INIT;
-    int rc = fl_load_text(rt, "test.fl", src, strlen(src), &err);
+    int rc = rt_load_text(rt, "test.fl", src, strlen(src), &err);
     if (rc != 0) fprintf(stderr, "%s", buf_cstr(&err));
     assert_int_equal(rc, 0);
-    Renderer *ren = renderer_new(fl_symbols(rt), lf, lf);
+    RenderLog rlog = {NULL, NULL, true};   /* through the runtime's log, debug on */
+    rt_log_target(rt, &rlog.fn, &rlog.ctx);
+    Renderer *ren = renderer_new(rt_symbols(rt), &rlog);
     for (int i = 0; i < frames; i++) {
         fl_step(rt);
-        assert_int_equal(renderer_frame(ren, fl_root(rt), 10.0), 0);
+        assert_int_equal(renderer_frame(ren, rt_root(rt), 10.0), 0);
     }
     assert_true(renderer_saw_window(ren));
     assert_int_equal(renderer_free(ren), 0);

@@ -12,7 +12,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "flitter.h"
+#include "runtime.h"
 #include "format.h"
 
 typedef struct Run {
@@ -29,18 +29,18 @@ static Run run_program_mode(const char *src, const char *path, int frames, bool 
     size_t loglen;
     FILE *log = open_memstream(&r.log, &loglen);
     fl_options o = fl_default_options();
-    o.log = log;
-    o.debug = log;
+    RtStreams streams = {log, log};
+    rt_log_to_files(&o, &streams);
     o.no_simplify = !simplify;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT;
-    int rc = src ? fl_load_text(rt, "test.fl", src, strlen(src), &err) : fl_load(rt, path, &err);
+    int rc = src ? rt_load_text(rt, "test.fl", src, strlen(src), &err) : rt_load(rt, path, &err);
     if (rc != 0) {
         fprintf(log, "%s", buf_cstr(&err));
     } else {
         for (int i = 0; i < frames; i++) fl_step(rt);
         Buf t = BUF_INIT;
-        fmt_tree(&t, fl_root(rt), fl_symbols(rt));
+        fmt_tree(&t, rt_root(rt), rt_symbols(rt));
         r.tree = strdup(buf_cstr(&t));
         buf_free(&t);
     }
@@ -291,29 +291,29 @@ static void test_interrupt(void **s)
     (void)s;
     static volatile int stop;
     fl_options o = fl_default_options();
-    o.log = NULL;
-    o.debug = NULL;
+    RtStreams streams = {NULL, NULL};
+    rt_log_to_files(&o, &streams);
     o.interrupt = &stop;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT, out = BUF_INIT, t = BUF_INIT;
     static const char src[] = "!a n=frame;len((i for i in 0..frame+10))\n";
-    assert_int_equal(fl_load_text(rt, "test.fl", src, sizeof src - 1, &err), 0);
+    assert_int_equal(rt_load_text(rt, "test.fl", src, sizeof src - 1, &err), 0);
     assert_int_equal(fl_step(rt), 0);
     stop = 1;
     assert_int_equal(fl_step(rt), 1);
     assert_int_equal(fl_frame_count(rt), 1);
-    fmt_tree(&t, fl_root(rt), fl_symbols(rt));
+    fmt_tree(&t, rt_root(rt), rt_symbols(rt));
     assert_string_equal(buf_cstr(&t), "!root\n !a n=0;10\n");
-    assert_int_equal(fl_eval(rt, "let q = (i for i in 0..3)\n", 26, &out, &err), -1);
+    assert_int_equal(rt_eval(rt, "let q = (i for i in 0..3)\n", 26, &out, &err), -1);
     assert_string_equal(buf_cstr(&err), "<repl>: error: interrupted\n");
     assert_int_equal(out.len, 0);
     stop = 0;
     buf_reset(&err);
-    assert_int_equal(fl_eval(rt, "q\n", 2, &out, &err), 0);
+    assert_int_equal(rt_eval(rt, "q\n", 2, &out, &err), 0);
     assert_string_equal(buf_cstr(&out), "null\n");
     assert_int_equal(fl_step(rt), 0);
     buf_reset(&t);
-    fmt_tree(&t, fl_root(rt), fl_symbols(rt));
+    fmt_tree(&t, rt_root(rt), rt_symbols(rt));
     assert_string_equal(buf_cstr(&t), "!root\n !a n=1;11\n");
     buf_free(&err);
     buf_free(&out);

@@ -16,7 +16,7 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "flitter.h"
+#include "runtime.h"
 
 /* ------------------------------------------------------------------ */
 /* Counting wrappers (active while `counting` is set)                   */
@@ -92,11 +92,11 @@ static const char canvas[] =
 static unsigned long steady_calls(const char *text, int warm, int n, unsigned long *stat_calls)
 {
     fl_options o = fl_default_options();
-    o.log = NULL;
-    o.debug = NULL;
+    RtStreams streams = {NULL, NULL};
+    rt_log_to_files(&o, &streams);
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT;
-    assert_int_equal(fl_load_text(rt, "steady.fl", text, strlen(text), &err), 0);
+    assert_int_equal(rt_load_text(rt, "steady.fl", text, strlen(text), &err), 0);
     buf_free(&err);
     for (int i = 0; i < warm; i++) assert_int_equal(fl_step(rt), 0);
     fl_stats before, after;
@@ -108,7 +108,7 @@ static unsigned long steady_calls(const char *text, int warm, int n, unsigned lo
     fl_get_stats(rt, &after);
     *stat_calls = (unsigned long)((after.mallocs - before.mallocs) + (after.frees - before.frees));
     assert_int_equal(after.frames - before.frames, n);
-    assert_non_null(fl_root(rt));
+    assert_non_null(rt_root(rt));
     fl_free(rt);
     return calls;
 }

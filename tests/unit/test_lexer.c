@@ -35,7 +35,7 @@ static void lex_all(Lexed *out, const char *src)
     out->n = 0;
     while (out->n < MAX_TOKENS) {
         int k = lex_next(&out->lx, &out->t[out->n++]);
-        if (k == TK_END || k == TK_YYerror)
+        if (k == TK_END || k == TK_FLP_error)
             break;
     }
 }
@@ -47,7 +47,7 @@ static void lexed_free(Lexed *l)
     lex_free(&l->lx);
 }
 
-/* The kinds of the tokens of [src], ending with TK_END or TK_YYerror,
+/* The kinds of the tokens of [src], ending with TK_END or TK_FLP_error,
  * compared with the list after [src] (terminated by -1). */
 static void check_kinds(const char *src, ...)
 {
@@ -103,7 +103,7 @@ static void check_error(const char *src, const char *message)
 {
     Lexed l;
     lex_all(&l, src);
-    assert_int_equal(l.t[l.n - 1].kind, TK_YYerror);
+    assert_int_equal(l.t[l.n - 1].kind, TK_FLP_error);
     assert_string_equal(lex_message(&l.lx), message);
     lexed_free(&l);
 }
@@ -303,7 +303,7 @@ static void test_numbers(void **state)
     check_kinds("10degrees", TK_NUMBER, TK_NAME, TK_NL, TK_END, -1);
     check_kinds("10deg", TK_NUMBER, TK_NL, TK_END, -1);
     /* 1. is not a number */
-    check_kinds("1.", TK_NUMBER, TK_YYerror, -1);
+    check_kinds("1.", TK_NUMBER, TK_FLP_error, -1);
     /* badly placed underscores fail the conversion */
     check_error("1_", "invalid number '1_'");
     check_error("1__0", "invalid number '1__0'");
@@ -326,8 +326,8 @@ static void test_timecodes(void **state)
     assert_true(timecode("99999999999999999:0:0") == 359999999999999996400.0);
     /* 0:60 is 0:6 then 0; 60:00 is 60 then a stray ':' */
     check_kinds("0:60", TK_TIMECODE, TK_NUMBER, TK_NL, TK_END, -1);
-    check_kinds("60:00", TK_NUMBER, TK_YYerror, -1);
-    check_kinds("0:0:0:0", TK_TIMECODE, TK_YYerror, -1);
+    check_kinds("60:00", TK_NUMBER, TK_FLP_error, -1);
+    check_kinds("0:0:0:0", TK_TIMECODE, TK_FLP_error, -1);
     /* time codes take no exponent or suffix */
     check_kinds("1:30e3", TK_TIMECODE, TK_NAME, TK_NL, TK_END, -1);
 }
@@ -349,11 +349,11 @@ static void test_strings(void **state)
     check_string("\"\"\"x\"\"y\"\"\"", "x\"\"y", 4);
     check_string("'''a\r\nb'''", "a\nb", 3);
     check_string("'''a\\\r\nb'''", "ab", 2);   /* \ CR LF: continuation */
-    check_kinds("'''a\\\nb'''", TK_STRING, TK_YYerror, -1);  /* '' then ' */
+    check_kinds("'''a\\\nb'''", TK_STRING, TK_FLP_error, -1);  /* '' then ' */
     /* escaped quote does not end the string */
     check_kinds("'\\'' x", TK_STRING, TK_NAME, TK_NL, TK_END, -1);
     /* a triple-quoted string ends at the first run of three quotes */
-    check_kinds("'''a''''", TK_STRING, TK_YYerror, -1);
+    check_kinds("'''a''''", TK_STRING, TK_FLP_error, -1);
     check_error("\"abc", "unterminated string");
     check_error("'ab\ncd'", "unterminated string");
     check_error("'ab\\\ncd'", "unterminated string");
@@ -373,7 +373,7 @@ static void test_bad_input(void **state)
     lex_init(&l.lx, "a\0b", 3);
     Token t;
     assert_int_equal(lex_next(&l.lx, &t), TK_NAME);
-    assert_int_equal(lex_next(&l.lx, &t), TK_YYerror);
+    assert_int_equal(lex_next(&l.lx, &t), TK_FLP_error);
     assert_int_equal(t.start, 1);
     l.n = 0;
     lexed_free(&l);
@@ -506,7 +506,7 @@ static void test_indent_text(void **state)
     for (;;) {
         Token t, o;
         int k = lex_next(&lx, &t);
-        assert_true(k != TK_YYerror);
+        assert_true(k != TK_FLP_error);
         assert_true(indent_feed(&ind, &t));
         while (indent_pop(&ind, &o))
             assert_int_equal(o.kind, want[out++]);

@@ -222,11 +222,13 @@ static Node *random_scene(uint64_t seed, size_t big, bool no_random)
 
 /* Run [frames] frames (times 0, 0.25, ...: 5 steps each after the first)
  * of [ph] in a fresh world. */
-static StateDict *simulate(Node *ph, bool naive, unsigned threads, int frames)
+static StateDict *simulate_simd(Node *ph, bool naive, unsigned threads,
+                                int frames, int simd)
 {
     PhysicsWorld *w = phys_new();
     phys_set_pairs(w, naive);
     phys_set_threads(w, threads);
+    phys_set_simd(w, simd);
     StateDict *sd = state_new();
     for (int f = 0; f < frames; f++) {
         PhysicsFrame fr = {.time = 0.25 * f, .fps = 4, .realtime = false,
@@ -235,6 +237,12 @@ static StateDict *simulate(Node *ph, bool naive, unsigned threads, int frames)
     }
     phys_free(w);
     return sd;
+}
+
+/* The same with the best vector instructions of the processor. */
+static StateDict *simulate(Node *ph, bool naive, unsigned threads, int frames)
+{
+    return simulate_simd(ph, naive, threads, frames, 2);
 }
 
 /* Both dictionaries hold the same keys with bit-identical values. */
@@ -275,6 +283,12 @@ static void check_scene(uint64_t seed, size_t big, int frames, bool no_random)
     for (size_t t = 0; t < 3; t++) {
         StateDict *sd = simulate(ph, false, threads[t], frames);
         assert_same_state(ref, sd, seed, threads[t]);
+        state_free(sd);
+    }
+    /* the narrower vector kernels (tiles.c), one thread */
+    for (int simd = 0; simd < 2; simd++) {
+        StateDict *sd = simulate_simd(ph, false, 1, frames, simd);
+        assert_same_state(ref, sd, seed, 1);
         state_free(sd);
     }
     state_free(ref);
@@ -336,33 +350,44 @@ static void test_grid_edge(void **st)
     node_release(ph);
 }
 
-/* Levels of unlimited reach only (!electrostatic and !gravity without
- * max_distance, !collision with and without power): these take the
- * blocked reference loop of rows.c with one or two threads (the gather
- * with four), whose blocks of 8 partners end in a partial block unless
- * the row's length is a multiple of 8. Sizes around the block length,
- * D = 1..3, a nested group (a level whose pool reaches the parent's
- * particles), zero charges and masses, coincident particles. */
+/* Levels of unlimited reach (!electrostatic without max_distance, mixed
+ * with !gravity with and without it, !collision with and without power,
+ * up to four appliers): these take the tiled reference loop of tiles.c
+ * with one or two threads (the gather with four), in each of its vector
+ * widths (2, 4 and 8 lanes: portable, AVX2, AVX-512, as far as the
+ * processor has them), whose row blocks and tiles end part-filled unless
+ * the sizes are multiples of the width; the two largest have enough pairs
+ * for the two-thread split of tiles.c. Sizes around the widths, D = 1..3,
+ * a nested group (a level whose pool reaches the parent's particles), zero
+ * charges and masses, coincident particles, NaN/infinite/far elements. */
 static void test_unlimited_levels(void **st)
 {
     (void)st;
-    static const size_t sizes[] = {2, 7, 8, 9, 17, 40, 131};
+    static const size_t sizes[] = {2, 3, 4, 5, 7, 8, 9, 16, 17, 40, 131, 390, 517};
     for (size_t D = 1; D <= 3; D++) {
         for (size_t si = 0; si < sizeof sizes / sizeof *sizes; si++) {
             uint64_t seed = 3000 + 10 * D + si;
             Rng r = {seed};
-            Scene sc = {.D = D, .box = 6, .no_random = true};
+            /* every third scene has NaN, infinite and far-out elements */
+            Scene sc = {.D = D, .box = 6, .no_random = true,
+                        .special = si % 3 == 2 ? 0.05 : 0};
             Node *ph = mk("physics");
             set(ph, "state", num(7));
             set(ph, "dimensions", num((double)D));
             set(ph, "resolution", num(0.05));
             add_particles(&r, &sc, ph, sizes[si]);
             set(add(ph, "electrostatic"), "strength", num(5 + uni(&r)));
-            if (si % 2)
-                set(add(ph, "gravity"), "strength", num(2));
+            if (si % 2) {
+                Node *gv = add(ph, "gravity");
+                set(gv, "strength", num(2));
+                if (si % 4 == 1)
+                    set(gv, "max_distance", num(1.5));
+            }
             Node *c = add(ph, "collision");
             if (si % 3 == 0)
                 set(c, "power", num(1.5));
+            if (si % 4 == 3)   /* four appliers in one level */
+                set(add(ph, "electrostatic"), "strength", num(-1));
             Node *g = add(ph, "group");
             add_particles(&r, &sc, g, 3 + sizes[si] / 2);
             set(add(g, "gravity"), "strength", num(3));
@@ -371,9 +396,11 @@ static void test_unlimited_levels(void **st)
             StateDict *ref = simulate(ph, true, 1, 3);
             static const unsigned threads[] = {1, 2, 4};
             for (size_t ti = 0; ti < 3; ti++) {
-                StateDict *sd = simulate(ph, false, threads[ti], 3);
-                assert_same_state(ref, sd, seed, threads[ti]);
-                state_free(sd);
+                for (int simd = 0; simd <= 2; simd++) {
+                    StateDict *sd = simulate_simd(ph, false, threads[ti], 3, simd);
+                    assert_same_state(ref, sd, seed, threads[ti]);
+                    state_free(sd);
+                }
             }
             state_free(ref);
             node_release(ph);

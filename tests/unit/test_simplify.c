@@ -21,7 +21,7 @@
 #include <cmocka.h>
 #include <unistd.h>
 
-#include "flitter.h"
+#include "runtime.h"
 #include "node.h"
 #include "state.h"
 #include "value.h"
@@ -44,7 +44,7 @@ static void set_operand(fl_runtime *rt, const char *name, const double *v, int n
     if (!n) return;
     Vec *k = vec_num1(symbol_value(name, strlen(name)));
     Vec *val = vec_from_nums(v, (uint32_t)n);
-    state_set(fl_state(rt), k, val);
+    state_set(rt_state(rt), k, val);
     vec_release(k);
     vec_release(val);
 }
@@ -56,20 +56,20 @@ static char *run_case(const Case *c, bool simplify, const double *want, int n)
     char src[512];
     snprintf(src, sizeof src, "let x=$(:x) y=$(:y) z=$(:z)\n!t v=%s\n", c->expr);
     fl_options o = fl_default_options();
-    o.log = NULL;
-    o.debug = NULL;
+    RtStreams streams = {NULL, NULL};
+    rt_log_to_files(&o, &streams);
     o.no_simplify = !simplify;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT;
-    assert_int_equal(fl_load_text(rt, "rule.fl", src, strlen(src), &err), 0);
+    assert_int_equal(rt_load_text(rt, "rule.fl", src, strlen(src), &err), 0);
     buf_free(&err);
     set_operand(rt, "x", c->x, c->nx);
     set_operand(rt, "y", c->y, c->ny);
     set_operand(rt, "z", c->z, c->nz);
     Buf dump = BUF_INIT;
-    fl_dump_program(rt, &dump);
+    rt_dump_program(rt, &dump);
     fl_step(rt);
-    const Node *root = fl_root(rt);
+    const Node *root = rt_root(rt);
     assert_int_equal(root->nchildren, 1);
     const Vec *v = node_attr(root->children[0], "v");
     if (n < 0) {
@@ -305,11 +305,12 @@ static void test_unroll_and_inline(void **unused)
     (void)unused;
     const char *src = "func f(a)\n    a/10\nlet t=$(:x)\n!t v=(f(t) for i in ..2)\n";
     fl_options o = fl_default_options();
-    o.log = NULL;
+    RtStreams streams = {NULL, stdout};
+    rt_log_to_files(&o, &streams);
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT, dump = BUF_INIT;
-    assert_int_equal(fl_load_text(rt, "u.fl", src, strlen(src), &err), 0);
-    fl_dump_program(rt, &dump);
+    assert_int_equal(rt_load_text(rt, "u.fl", src, strlen(src), &err), 0);
+    rt_dump_program(rt, &dump);
     assert_non_null(strstr(buf_cstr(&dump), "(!t) v=((0.1 * t); (0.1 * t))\n"));
     buf_free(&err);
     buf_free(&dump);
@@ -326,11 +327,12 @@ static void test_let_stable(void **unused)
     const char *src = "let stable k=frame//3\n!t v=time/(k+10)\n";
     for (int mode = 0; mode < 2; mode++) {
         fl_options o = fl_default_options();
-        o.log = NULL;
+        RtStreams streams = {NULL, stdout};
+        rt_log_to_files(&o, &streams);
         o.no_simplify = mode == 1;
         fl_runtime *rt = fl_new(&o);
         Buf err = BUF_INIT;
-        assert_int_equal(fl_load_text(rt, "s.fl", src, strlen(src), &err), 0);
+        assert_int_equal(rt_load_text(rt, "s.fl", src, strlen(src), &err), 0);
         buf_free(&err);
         for (int f = 0; f < 8; f++) {
             fl_step(rt);
@@ -338,7 +340,7 @@ static void test_let_stable(void **unused)
             /* stable from frame 1 (k=0: frames 2), from frame 4 (k=1: frame 5) */
             bool rewritten = mode == 0 && (f == 2 || f == 5);
             want = rewritten ? (1.0 / (k + 10)) * t : t / (k + 10);
-            const Vec *v = node_attr(fl_root(rt)->children[0], "v");
+            const Vec *v = node_attr(rt_root(rt)->children[0], "v");
             assert_true(vec_is_scalar(v));
             if (memcmp(&vec_cnums(v)[0], &want, sizeof want) != 0)
                 fail_msg("mode %d frame %d: v = %.17g, expected %.17g", mode, f, vec_cnums(v)[0], want);
@@ -373,18 +375,19 @@ static void test_import_and_include(void **unused)
     char main[600];
     snprintf(main, sizeof main, "%s/main.fl", dir);
     fl_options o = fl_default_options();
-    o.log = NULL;
+    RtStreams streams = {NULL, stdout};
+    rt_log_to_files(&o, &streams);
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT, dump = BUF_INIT;
-    assert_int_equal(fl_load_text(rt, main, src, strlen(src), &err), 0);
-    fl_dump_program(rt, &dump);
+    assert_int_equal(rt_load_text(rt, main, src, strlen(src), &err), 0);
+    rt_dump_program(rt, &dump);
     const char *d = buf_cstr(&dump);
     assert_non_null(strstr(d, "import S from \"mod.fl\"\n"));
     assert_non_null(strstr(d, "(!i) v=(0.25 * time)\n"));
     assert_non_null(strstr(d, "(!t) a=(0.1 * time) b=10 d=0.30000000000000004\n"));
     fl_step(rt);
     fl_step(rt);
-    const Vec *a = node_attr(fl_root(rt)->children[1], "a");
+    const Vec *a = node_attr(rt_root(rt)->children[1], "a");
     assert_true(vec_is_scalar(a));
     double want = 0.1 * (1.0 / 60.0);   /* time of frame 1 times (1/10) */
     assert_memory_equal(&vec_cnums(a)[0], &want, sizeof want);

@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "flitter.h"
+#include "runtime.h"
 
 typedef struct Vector {
     int number;             /* row number in §7 */
@@ -130,13 +130,13 @@ static char *evaluate(const char *expr, bool repr)
     size_t dlen, llen;
     FILE *d = open_memstream(&dbg, &dlen), *l = open_memstream(&log, &llen);
     fl_options o = fl_default_options();
-    o.debug = d;
-    o.log = l;
+    RtStreams streams = {l, d};
+    rt_log_to_files(&o, &streams);
     fl_runtime *rt = fl_new(&o);
     Buf out = BUF_INIT, err = BUF_INIT, text = BUF_INIT;
     if (repr) buf_printf(&text, "debug(%s)\n", expr);
     else buf_printf(&text, "%s\n", expr);
-    int rc = fl_eval(rt, text.data, text.len, &out, &err);
+    int rc = rt_eval(rt, text.data, text.len, &out, &err);
     fl_free(rt);
     fclose(d);
     fclose(l);
@@ -190,11 +190,12 @@ static void test_errors(void **s)
     size_t llen;
     FILE *l = open_memstream(&log, &llen);
     fl_options o = fl_default_options();
-    o.log = l;
+    RtStreams streams = {l, stdout};
+    rt_log_to_files(&o, &streams);
     fl_runtime *rt = fl_new(&o);
     Buf out = BUF_INIT, err = BUF_INIT;
     const char *src = "x;y where x=1 y=2\n";
-    assert_int_equal(fl_eval(rt, src, strlen(src), &out, &err), 0);
+    assert_int_equal(rt_eval(rt, src, strlen(src), &out, &err), 0);
     assert_string_equal(buf_cstr(&out), "2\n");
     fl_free(rt);
     fclose(l);

@@ -15,7 +15,7 @@
 #include <cairo.h>
 #include <gif_lib.h>
 
-#include "flitter.h"
+#include "runtime.h"
 #include "systems.h"
 #include "trace.h"
 #include "view.h"
@@ -50,10 +50,9 @@ static int teardown(void **st)
 static fl_runtime *run(const char *src, int frames)
 {
     fl_options o = fl_default_options();
-    o.log = stderr;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT;
-    assert_int_equal(fl_load_text(rt, "test.fl", src, strlen(src), &err), 0);
+    assert_int_equal(rt_load_text(rt, "test.fl", src, strlen(src), &err), 0);
     buf_free(&err);
     for (int i = 0; i < frames; i++) fl_step(rt);
     return rt;
@@ -65,7 +64,7 @@ static void test_collect(void **st)
     fl_runtime *rt = run(SCRIPT, 2);
     PsSystem *sys;
     size_t n;
-    ps_collect(fl_root(rt), fl_state(rt), &sys, &n);
+    ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
     assert_int_equal(n, 1);
     assert_int_equal(sys[0].dims, 2);
     assert_int_equal(sys[0].nbodies, 4);
@@ -110,10 +109,10 @@ static void test_view_png(void **st)
     fl_runtime *rt = run(SCRIPT, 2);
     PsSystem *sys;
     size_t n;
-    ps_collect(fl_root(rt), fl_state(rt), &sys, &n);
+    ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
     char path[128], err[256];
     snprintf(path, sizeof path, "%s/v.png", scratch);
-    View *v = view_open(path, 10, fl_symbols(rt), err, sizeof err);
+    View *v = view_open(path, 10, rt_symbols(rt), err, sizeof err);
     assert_non_null(v);
     assert_false(view_animated(v));
     assert_int_equal(view_frame(v, 1, sys, n, err, sizeof err), 0);
@@ -146,14 +145,14 @@ static void test_view_gif(void **st)
     fl_runtime *rt = run(SCRIPT, 0);
     char path[128], err[256];
     snprintf(path, sizeof path, "%s/v.gif", scratch);
-    View *v = view_open(path, 5, fl_symbols(rt), err, sizeof err);
+    View *v = view_open(path, 5, rt_symbols(rt), err, sizeof err);
     assert_non_null(v);
     assert_true(view_animated(v));
     for (int f = 0; f < 3; f++) {
         fl_step(rt);
         PsSystem *sys;
         size_t n;
-        ps_collect(fl_root(rt), fl_state(rt), &sys, &n);
+        ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
         assert_int_equal(view_frame(v, f, sys, n, err, sizeof err), 0);
         ps_free(sys, n);
     }
@@ -168,11 +167,11 @@ static void test_view_gif(void **st)
     /* SVG: one picture, written as an SVG document */
     char svg[128];
     snprintf(svg, sizeof svg, "%s/v.svg", scratch);
-    v = view_open(svg, 5, fl_symbols(rt), err, sizeof err);
+    v = view_open(svg, 5, rt_symbols(rt), err, sizeof err);
     assert_non_null(v);
     PsSystem *sys;
     size_t n;
-    ps_collect(fl_root(rt), fl_state(rt), &sys, &n);
+    ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
     assert_int_equal(view_frame(v, 2, sys, n, err, sizeof err), 0);
     ps_free(sys, n);
     assert_int_equal(view_close(v), 0);
@@ -206,15 +205,15 @@ static void test_trace(void **st)
     char csv[128], jsonl[128], err[256];
     snprintf(csv, sizeof csv, "%s/t.csv", scratch);
     snprintf(jsonl, sizeof jsonl, "%s/t.jsonl", scratch);
-    Trace *tc = trace_open(csv, fl_symbols(rt), err, sizeof err);
-    Trace *tj = trace_open(jsonl, fl_symbols(rt), err, sizeof err);
+    Trace *tc = trace_open(csv, rt_symbols(rt), err, sizeof err);
+    Trace *tj = trace_open(jsonl, rt_symbols(rt), err, sizeof err);
     assert_non_null(tc);
     assert_non_null(tj);
     for (int f = 0; f < 2; f++) {
         fl_step(rt);
         PsSystem *sys;
         size_t n;
-        ps_collect(fl_root(rt), fl_state(rt), &sys, &n);
+        ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
         assert_int_equal(trace_frame(tc, f, fl_frame_time(rt), sys, n), 0);
         if (f == 1) assert_int_equal(trace_frame(tj, f, fl_frame_time(rt), sys, n), 0);
         ps_free(sys, n);

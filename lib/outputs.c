@@ -1,0 +1,187 @@
+/* outputs.c: the pictures and trajectories a run writes after its frames
+ * (flitter.h, "Pictures and trajectories"): the windows' !record files
+ * (render/window.h), the --view picture or animation of the !physics
+ * systems (render/view.h) and the --trace rows (render/trace.h).
+ */
+#include "runtime.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+
+#include "mem.h"
+#include "systems.h"
+#include "trace.h"
+#include "view.h"
+#include "window.h"
+
+_Static_assert((int)RLOG_ERROR == (int)FL_LOG_ERROR && (int)RLOG_WARNING == (int)FL_LOG_WARNING,
+               "the renderer's log kinds are flitter.h's");
+
+struct fl_outputs {
+    char *view_path, *trace_path;
+    long view_every, trace_every;
+    long frames;           /* fl_outputs_frame calls so far */
+    Renderer *ren;
+    View *view;
+    Trace *trace;
+    bool failed;
+};
+
+/* Replace [rt]'s fl_error() text with one formatted line. */
+__attribute__((format(printf, 2, 3)))
+static void fail(fl_runtime *rt, const char *fmt, ...)
+{
+    Buf *b = rt_error_buf(rt);
+    buf_reset(b);
+    va_list ap;
+    va_start(ap, fmt);
+    char line[1024];
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    buf_printf(b, "%s\n", line);
+}
+
+/* The GIF frame delay of a picture every [every] frames at [fps], in
+ * hundredths of a second (GIF delays are 1..65535). */
+static int gif_delay(long every, double fps)
+{
+    double cs = 100.0 * (double)(every > 0 ? every : 1) / fps;
+    return cs >= 65535 ? 65535 : cs <= 1 ? 1 : (int)lround(cs);
+}
+
+fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *opts)
+{
+    MemHandler prev = rt_enter(rt);
+    buf_reset(rt_error_buf(rt));
+    fl_output_options none = {0};
+    const fl_output_options *o = opts ? opts : &none;
+    fl_outputs *out = mem_calloc(1, sizeof *out);
+    char err[600];
+    if (o->view) {
+        out->view_path = mem_strdup(o->view);
+        out->view_every = o->view_every;
+        out->view = view_open(o->view, gif_delay(o->view_every, fl_target_fps(rt)),
+                              rt_symbols(rt), err, sizeof err);
+        if (!out->view) goto fail;
+    }
+    if (o->trace) {
+        out->trace_path = mem_strdup(o->trace);
+        out->trace_every = o->trace_every;
+        out->trace = trace_open(o->trace, rt_symbols(rt), err, sizeof err);
+        if (!out->trace) goto fail;
+    }
+    RenderLog log = {NULL, NULL, o->debug};
+    rt_log_target(rt, &log.fn, &log.ctx);
+    out->ren = renderer_new(rt_symbols(rt), &log);
+    mem_leave(prev);
+    return out;
+fail:
+    fail(rt, "%s", err);
+    view_close(out->view);
+    trace_close(out->trace);
+    free(out->view_path);
+    free(out->trace_path);
+    free(out);
+    mem_leave(prev);
+    return NULL;
+}
+
+static bool due(long frame, long every) { return every <= 1 || frame % every == 0; }
+
+int fl_outputs_frame(fl_outputs *out, fl_runtime *rt)
+{
+    MemHandler prev = rt_enter(rt);
+    long frame = fl_frame_count(rt) - 1;
+    out->frames++;
+    int rc = 0;
+    renderer_frame(out->ren, rt_root(rt), fl_target_fps(rt));
+    bool gif = out->view && view_animated(out->view) && due(frame, out->view_every);
+    bool trace = out->trace && due(frame, out->trace_every);
+    if (gif || trace) {
+        PsSystem *sys;
+        size_t n;
+        ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
+        char err[600];
+        if (gif && view_frame(out->view, frame, sys, n, err, sizeof err) != 0) {
+            fail(rt, "%s", err);
+            view_close(out->view);
+            out->view = NULL;
+            out->failed = true;
+            rc = -1;
+        }
+        if (trace && trace_frame(out->trace, frame, fl_frame_time(rt), sys, n) != 0) {
+            fail(rt, "%s: cannot write the trace", out->trace_path);
+            trace_close(out->trace);
+            out->trace = NULL;
+            out->failed = true;
+            rc = -1;
+        }
+        ps_free(sys, n);
+    }
+    mem_leave(prev);
+    return rc;
+}
+
+/* Draw [rt]'s systems now into [v] as frame [frame]; -1 with [err] set on
+ * failure. */
+static int view_now(fl_runtime *rt, View *v, long frame, size_t *nsystems, char *err, size_t cap)
+{
+    PsSystem *sys;
+    size_t n;
+    ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
+    int rc = view_frame(v, frame, sys, n, err, cap);
+    ps_free(sys, n);
+    if (nsystems) *nsystems = n;
+    return rc;
+}
+
+int fl_outputs_close(fl_outputs *out, fl_runtime *rt)
+{
+    if (!out) return 0;
+    MemHandler prev = rt_enter(rt);
+    buf_reset(rt_error_buf(rt));
+    int rc = out->failed ? -1 : 0;
+    char err[600];
+    if (out->view && !view_animated(out->view) && out->frames > 0 &&
+        view_now(rt, out->view, fl_frame_count(rt) - 1, NULL, err, sizeof err) != 0) {
+        fail(rt, "%s", err);
+        rc = -1;
+    }
+    if (view_close(out->view) != 0) {
+        fail(rt, "%s: cannot finish the GIF", out->view_path);
+        rc = -1;
+    }
+    if (out->trace && trace_close(out->trace) != 0) {
+        fail(rt, "%s: cannot write the trace", out->trace_path);
+        rc = -1;
+    }
+    if (renderer_free(out->ren) != 0) rc = -1;
+    free(out->view_path);
+    free(out->trace_path);
+    free(out);
+    mem_leave(prev);
+    return rc;
+}
+
+int fl_view(fl_runtime *rt, const char *path, size_t *nsystems)
+{
+    MemHandler prev = rt_enter(rt);
+    buf_reset(rt_error_buf(rt));
+    char err[600];
+    int rc = 0;
+    View *v = view_open(path, 10, rt_symbols(rt), err, sizeof err);
+    if (!v) {
+        fail(rt, "%s", err);
+        rc = -1;
+    } else {
+        rc = view_now(rt, v, fl_frame_count(rt) - 1, nsystems, err, sizeof err);
+        if (rc != 0) fail(rt, "%s", err);
+        if (view_close(v) != 0 && rc == 0) {
+            fail(rt, "%s: cannot finish the file", path);
+            rc = -1;
+        }
+    }
+    mem_leave(prev);
+    return rc;
+}

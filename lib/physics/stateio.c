@@ -1,0 +1,254 @@
+/* stateio.c: a system's state keys, read-back and writes.
+ *
+ * Implements the state side of PHYSICS-ENGINE.md §2: the prefix P and the
+ * clock keys built from it, the particle keys of each storage slot (from
+ * the key table of keys.c), the nulling of keys written last frame but not
+ * this one (step 7) and the position/velocity writes (step 8), which
+ * overwrite a value vector in place when nothing else holds it.
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "physics_internal.h"
+
+/* Grow array [ptr] (capacity variable [cap]) to at least [need] elements. */
+#define GROW(ptr, cap, need) \
+    ((ptr) = phys_grow((ptr), &(cap), (need), sizeof *(ptr)))
+
+bool phys_state_scalar(const StateDict *sd, const Vec *key, double *out)
+{
+    const Vec *v = state_get(sd, key);
+    if (!vec_is_scalar(v))
+        return false;
+    *out = vec_scalar(v);
+    return true;
+}
+
+void phys_state_set_num(StateDict *sd, const Vec *key, double x)
+{
+    Vec *v = vec_num1(x);
+    state_set(sd, key, v);
+    vec_release(v);
+}
+
+static Vec *compose2(const Vec *a, const Vec *b)
+{
+    Vec *parts[2] = {(Vec *)a, (Vec *)b};
+    return vec_compose(parts, 2);
+}
+
+static Vec *compose_sym(const Vec *a, const char *sym)
+{
+    Vec *s = vec_num1(symbol_value(sym, strlen(sym)));
+    Vec *r = compose2(a, s);
+    vec_release(s);
+    return r;
+}
+
+/* Forget every cached particle key (the slots only borrow them). */
+static void release_slots(PhysSystem *s)
+{
+    phys_cache_drop(s);
+    phys_keys_clear(s);
+    if (s->capslots)
+        memset(s->slots, 0, s->capslots * sizeof *s->slots);
+}
+
+void phys_release_prev(PhysSystem *s)
+{
+    for (size_t i = 0; i < s->nprev; i++)
+        vec_release(s->prev[i]);
+    s->nprev = 0;
+}
+/* Point the system at prefix [P]: rebuild the clock keys and drop the key
+ * cache when P changed. */
+void phys_set_prefix(PhysSystem *s, const Vec *P)
+{
+    if (s->prefix && vec_key_equal(s->prefix, P))
+        return;
+    release_slots(s);
+    vec_release(s->prefix);
+    vec_release(s->kclock);
+    vec_release(s->klast);
+    vec_release(s->krun);
+    vec_release(s->kiter);
+    s->prefix = vec_retain((Vec *)P);
+    s->kclock = compose_sym(P, "clock");
+    s->klast = compose_sym(P, "last");
+    s->krun = compose_sym(P, "run");
+    s->kiter = compose_sym(P, "iteration");
+}
+
+/* The keys of storage slot [i], holding the particle [pn] (§2 step 8
+ * keys), from the system's key table (keys.c). */
+PhysKeySlot *phys_slot_keys(PhysSystem *s, size_t i, const PhysPNode *pn)
+{
+    PhysKeySlot *k = &s->slots[i];
+    PhysKeyEnt *e;
+    /* the same id vector as last frame's particle in this slot (a static
+     * tree hands the same vectors every frame): its entry, unhashed; an
+     * entry holds its id, so the same pointer means the same id */
+    k->hit = k->ent1 && k->ent1 <= s->nkent && s->kent[k->ent1 - 1].id == pn->id;
+    if (k->hit) {
+        e = &s->kent[k->ent1 - 1];
+        if (e->seen == s->kframe)
+            s->dupids = true;
+        e->seen = s->kframe;
+    } else {
+        e = (PhysKeyEnt *)phys_keys_get(s, pn->id, pn->idhash, &s->dupids);
+        k->ent1 = (uint32_t)(e - s->kent) + 1;
+    }
+    k->pkey = e->pkey;
+    k->vkey = e->vkey;
+    k->phash = e->phash;
+    k->vhash = e->vhash;
+    k->pval = k->vval = NULL;
+    return k;
+}
+/* ------------------------------------------------------------------ */
+/* State keys                                                          */
+/* ------------------------------------------------------------------ */
+
+/* §2 step 7: every key collected on the previous frame (the particle
+ * position and velocity keys, as in the reference) that is not collected
+ * this frame is set to null; this frame's keys become the new list. */
+void phys_null_stale_keys(PhysSystem *s, StateDict *sd)
+{
+    const size_t nk = 2 * s->n;
+    bool same = s->nprev == nk;
+    for (size_t i = 0; same && i < s->n; i++)
+        same = s->prev[2 * i] == s->slots[i].pkey &&
+               s->prev[2 * i + 1] == s->slots[i].vkey;
+    if (same)
+        return;
+    size_t capn = s->capnext;
+    GROW(s->next, capn, nk);
+    capn = s->capnext;
+    GROW(s->nexthash, capn, nk);
+    s->capnext = capn;
+    for (size_t i = 0; i < s->n; i++) {
+        s->next[2 * i] = s->slots[i].pkey;
+        s->nexthash[2 * i] = s->slots[i].phash;
+        s->next[2 * i + 1] = s->slots[i].vkey;
+        s->nexthash[2 * i + 1] = s->slots[i].vhash;
+    }
+    phys_hash_reset(&s->newkeys, nk);
+    for (size_t i = 0; i < nk; i++)
+        phys_hash_put(&s->newkeys, s->next[i], s->nexthash[i], i);
+    for (size_t i = 0; i < s->nprev; i++) {
+        Vec *k = s->prev[i];
+        if (phys_hash_get(&s->newkeys, k, vec_hash(k, false)) == SIZE_MAX)
+            state_set(sd, k, NULL);
+    }
+    phys_release_prev(s);
+    GROW(s->prev, s->capprev, nk);
+    for (size_t i = 0; i < nk; i++)
+        s->prev[i] = vec_retain(s->next[i]);
+    s->nprev = nk;
+}
+
+/* state[key] = the [D] numbers [x]. When the stored value is already a
+ * numeric vector of length D referenced by the state alone (refs == 1, so
+ * nothing else can see it change; the copy-on-write rule eval.c also
+ * uses), its numbers are overwritten in place: the same effect as storing a
+ * new vector, without allocating one per particle per frame. */
+static void store_nums(StateDict *sd, const Vec *key, const double *x, size_t D)
+{
+    Vec *cur = state_get(sd, key);
+    if (cur && cur->refs == 1 && cur->kind == VEC_NUM && cur->len == D) {
+        memcpy(vec_nums(cur), x, D * sizeof *x);
+        return;
+    }
+    Vec *v = vec_from_nums(x, (uint32_t)D);
+    state_set(sd, key, v);
+    vec_release(v);
+}
+
+/* §2 step 8 writes: position and velocity of every particle (anchors too)
+ * in group order, each only when all its elements are finite. */
+void phys_write_particles(PhysSystem *s, StateDict *sd)
+{
+    const size_t D = s->D;
+    for (size_t i = 0; i < s->n; i++) {
+        const PhysKeySlot *k = &s->slots[i];
+        const double *vecs[2] = {s->pos + i * D, s->vel + i * D};
+        const Vec *keys[2] = {k->pkey, k->vkey};
+        Vec *vals[2] = {k->pval, k->vval};
+        for (int j = 0; j < 2; j++) {
+            bool finite = true;
+            for (size_t d = 0; d < D && finite; d++)
+                finite = isfinite(vecs[j][d]);
+            if (!finite)
+                continue;
+            /* the value read at collection is still the state's (nothing
+             * set this key since, unless two particles share it); it is
+             * overwritten in place when only the state and the slot's
+             * cache hold it */
+            Vec *cur = vals[j];
+            Vec *cached = j ? k->cv : k->cp;
+            if (cur && !s->dupids && cur->refs == 1 + (cur == cached)) {
+                memcpy(vec_nums(cur), vecs[j], D * sizeof(double));
+            } else {
+                store_nums(sd, keys[j], vecs[j], D);
+                /* what the state holds now (store_nums may have kept an
+                 * equal vector) */
+                *(j ? &s->slots[i].vval : &s->slots[i].pval) = state_get(sd, keys[j]);
+            }
+        }
+    }
+}
+
+/* ------------------------------------------------------------------ */
+/* Values kept across frames                                           */
+/* ------------------------------------------------------------------ */
+
+/* Reading a particle's position and velocity back costs two state lookups
+ * (hash probes into a large table: cache misses at 100,000 particles). A
+ * slot whose particle is the same as last frame's (same id vector) keeps,
+ * retained, the two value vectors the state held at the end of that frame.
+ * They are still the state's values when no state_set and no clear has
+ * happened since: the dictionary's set count and size are unchanged (a set
+ * always counts; a clear without sets changes the size). A retained vector
+ * cannot be freed, so a stale one is never read as freed memory. */
+void phys_cache_check(PhysSystem *s, const StateDict *sd)
+{
+    s->cuse = s->cvalid && s->csd == sd &&
+              state_counts(sd).sets == s->csets && state_count(sd) == s->ccount;
+    s->cvalid = false;
+}
+
+void phys_cache_keep(PhysSystem *s, const StateDict *sd)
+{
+    if (s->dupids) {
+        phys_cache_drop(s);
+        return;
+    }
+    for (size_t i = 0; i < s->n; i++) {
+        PhysKeySlot *k = &s->slots[i];
+        if (k->cp != k->pval) {
+            vec_release(k->cp);
+            k->cp = vec_retain(k->pval);
+        }
+        if (k->cv != k->vval) {
+            vec_release(k->cv);
+            k->cv = vec_retain(k->vval);
+        }
+    }
+    s->csd = sd;
+    s->csets = state_counts(sd).sets;
+    s->ccount = state_count(sd);
+    s->cvalid = true;
+}
+
+void phys_cache_drop(PhysSystem *s)
+{
+    for (size_t i = 0; i < s->capslots; i++) {
+        vec_release(s->slots[i].cp);
+        vec_release(s->slots[i].cv);
+        s->slots[i].cp = s->slots[i].cv = NULL;
+    }
+    s->cvalid = false;
+}

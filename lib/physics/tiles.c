@@ -1,0 +1,355 @@
+/* tiles.c: the reference pair loop in tiles of W rows by W partners.
+ *
+ * The route for levels of unlimited reach (!gravity or !electrostatic
+ * without max_distance) whose appliers are all !collision, !gravity or
+ * !electrostatic, D = 1..3, on one thread. It performs the reference loop of
+ * phys_apply_pair_level (PHYSICS-ENGINE.md §4): rows i < len(G.particles),
+ * partners j = i+1 .. npool-1, every pair measured once, with exactly the
+ * additions of the reference into every force and, for each force, in the
+ * reference order. What decides a force's bits is only the order of the
+ * additions into it:
+ *   - particle q first receives its "to" contributions (as b of the pairs
+ *     (i, q), i ascending: the earlier rows), then its "from" contributions
+ *     (as a of (q, j), j ascending: its own row); within a pair, appliers
+ *     in their order.
+ * The loop is cut into row blocks of W rows (i0 .. i0+W-1; W = 8 with
+ * AVX-512, 4 with AVX2, 2 in the portable copy) and, within a block, column
+ * tiles of W partners (j0 = i0, i0+W, ...: the first one is the block's own
+ * "diagonal" tile, where only j > i counts). A tile measures its W x W
+ * pairs row by row, each row as one vector of W lanes
+ * (lanes = partners j), each lane with the operations and operand order of
+ * pair() and pair_force() in forces.c (sqrt and division are correctly
+ * rounded in vector form too, and the build contracts nothing into FMA:
+ * -ffp-contract=off), then
+ *   - the partners' forces (the "to" side, one lane each) receive the rows'
+ *     contributions as vector additions, row after row and applier after
+ *     applier: for each j, rows ascending, as in the reference; the row
+ *     blocks run in order, so the earlier rows' contributions came first;
+ *   - the rows' forces (the "from" side) receive the tile's contributions
+ *     lane after lane (j ascending) and applier after applier, one scalar
+ *     sum per row (the 8 rows' sums are independent, so they interleave);
+ *     tiles run in ascending j0, so each row sums its partners in ascending
+ *     j. A row's sum starts from its force once every "to" contribution is
+ *     in: after its block's diagonal tile has added those of the earlier
+ *     rows of the block (earlier blocks added theirs before).
+ * A lane where an applier does not act (or that is no partner: j <= i in
+ * the diagonal tile, j >= npool past the end) takes part as +0 in a
+ * subtraction and -0 in an addition, which leave every value as it is (-0
+ * and NaN included), as the reference's skipped addition does.
+ *
+ * Two threads: the partners are cut at a tile boundary `cut` (chosen so
+ * both sides hold about half the pairs). The first thread runs, row block
+ * after row block, the tiles left of the cut (the diagonal one included)
+ * and hands each block's partial row sums on; the second thread runs the
+ * same block's tiles right of the cut, starting from those sums, once the
+ * first has handed them on, and stores the rows' forces; row blocks that
+ * start past the cut are the second thread's alone. Each partner column is
+ * touched by one thread only, in row-block order, and each row sum runs
+ * through its partners in ascending order across the two threads, so the
+ * additions and their order are those of one thread. Only levels with
+ * enough pairs to pay for the hand-offs take two threads.
+ *
+ * The level's positions, radii, masses/charges and forces are copied into
+ * pool order (struct of arrays, padded to whole tiles) before and the
+ * forces copied back after. The kernel is compiled for AVX-512, AVX2 and
+ * the portable baseline (tiles_kernel.h) and chosen at run time by the
+ * system's SIMD level (phys_simd_best(), FLITTER_SIMD).
+ */
+#include <math.h>
+#include <sched.h>
+#include <stdatomic.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define HAVE_X86_TILES 1
+#endif
+
+#include "physics_internal.h"
+#include "workers.h"
+
+#define TILE_W 8
+#define TILE_MAX_D 3
+#define TILE_MAX_F 4
+
+typedef double v8d __attribute__((vector_size(8 * sizeof(double))));
+typedef int64_t v8i __attribute__((vector_size(8 * sizeof(int64_t))));
+typedef double v4d __attribute__((vector_size(4 * sizeof(double))));
+typedef int64_t v4i __attribute__((vector_size(4 * sizeof(int64_t))));
+typedef double v2d __attribute__((vector_size(2 * sizeof(double))));
+typedef int64_t v2i __attribute__((vector_size(2 * sizeof(int64_t))));
+
+enum { TILE_COLLISION, TILE_PUSH, TILE_PULL };
+
+typedef struct TileApplier {
+    int kind;            /* TILE_PUSH: electrostatic, TILE_PULL: gravity */
+    double strength, maxd, power;
+} TileApplier;
+
+/* One level in pool order; every array is padded to [stride] entries, a
+ * whole number of the widest tiles (TILE_W). */
+typedef struct TileLevel {
+    size_t npart, npool, stride;
+    size_t nf;
+    TileApplier ap[TILE_MAX_F];
+    const double *x;                 /* x[k*stride + q] */
+    const double *rad;
+    const double *val[TILE_MAX_F];   /* mass or charge per applier */
+    double *F;                       /* F[k*stride + q] */
+} TileLevel;
+
+/* Which part of a level one call runs (role 0: all of it); with two
+ * threads, role 1 and role 2 (see "Two threads" above). */
+typedef struct TilePart {
+    int role;
+    size_t cut;                  /* first partner of the second thread */
+    double *buf;                 /* per row block: D x W partial sums */
+    atomic_size_t *done;         /* row blocks the first thread handed on */
+} TilePart;
+
+/* The first thread hands on row block [blk] (its partial sums in buf). */
+static void tile_post(TilePart *P, size_t blk)
+{
+    atomic_store_explicit(P->done, blk + 1, memory_order_release);
+}
+
+/* The second thread waits for row block [blk]. */
+static void tile_wait(TilePart *P, size_t blk)
+{
+    unsigned spins = 0;
+    while (atomic_load_explicit(P->done, memory_order_acquire) <= blk) {
+        if (++spins % 64 == 0)
+            sched_yield();
+#if defined(__x86_64__) || defined(__i386__)
+        else
+            __builtin_ia32_pause();
+#endif
+    }
+}
+
+/* The portable copy: 2 x 2 tiles (SSE2 on x86-64, plain code elsewhere). */
+static inline void sqrt_portable(v2d *x)
+{
+#ifdef HAVE_X86_TILES
+    *x = (v2d)_mm_sqrt_pd((__m128d)*x);
+#else
+    for (int i = 0; i < 2; i++)
+        (*x)[i] = sqrt((*x)[i]);
+#endif
+}
+
+#define TK(name) name##_portable
+#define TK_TARGET
+#define TK_W 2
+#define TK_VD v2d
+#define TK_VI v2i
+#define TK_SQRT(p) sqrt_portable(p)
+#include "tiles_kernel.h"
+#undef TK
+#undef TK_TARGET
+#undef TK_W
+#undef TK_VD
+#undef TK_VI
+#undef TK_SQRT
+
+#ifdef HAVE_X86_TILES
+/* AVX2: 4 x 4 tiles. */
+__attribute__((target("avx2"))) static inline void sqrt_avx2(v4d *x)
+{
+    *x = (v4d)_mm256_sqrt_pd((__m256d)*x);
+}
+
+#define TK(name) name##_avx2
+#define TK_TARGET __attribute__((target("avx2")))
+#define TK_W 4
+#define TK_VD v4d
+#define TK_VI v4i
+#define TK_SQRT(p) sqrt_avx2(p)
+#include "tiles_kernel.h"
+#undef TK
+#undef TK_TARGET
+#undef TK_W
+#undef TK_VD
+#undef TK_VI
+#undef TK_SQRT
+
+/* AVX-512: 8 x 8 tiles. */
+__attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
+{
+    *x = (v8d)_mm512_sqrt_pd((__m512d)*x);
+}
+
+#define TK(name) name##_avx512
+#define TK_TARGET __attribute__((target("avx512f")))
+#define TK_W 8
+#define TK_VD v8d
+#define TK_VI v8i
+#define TK_SQRT(p) sqrt_avx512(p)
+#include "tiles_kernel.h"
+#undef TK
+#undef TK_TARGET
+#undef TK_W
+#undef TK_VD
+#undef TK_VI
+#undef TK_SQRT
+#endif
+
+int phys_simd_best(void)
+{
+    int best = PHYS_SIMD_PORTABLE;
+#ifdef HAVE_X86_TILES
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx2"))
+        best = PHYS_SIMD_AVX2;
+    if (__builtin_cpu_supports("avx512f"))
+        best = PHYS_SIMD_AVX512;
+#endif
+    return best;
+}
+
+static size_t tiles_stride(size_t npool)
+{
+    return (npool + TILE_W - 1) / TILE_W * TILE_W;
+}
+
+bool phys_tiles_suits(const PhysSystem *s, const PhysLevel *lv)
+{
+    if (s->D < 1 || s->D > TILE_MAX_D)
+        return false;
+    const PhysGroup *fg = &s->groups[lv->group];
+    if (fg->pair_n > TILE_MAX_F)
+        return false;
+    for (size_t f = 0; f < fg->pair_n; f++) {
+        PhysApplierKind k = s->ap[s->gidx[fg->pair_off + f]].kind;
+        if (k != AP_COLLISION && k != AP_GRAVITY && k != AP_ELECTROSTATIC)
+            return false;
+    }
+    return true;
+}
+
+void phys_tiles_reserve(PhysSystem *s, size_t npool)
+{
+    /* x (D rows), radius, up to TILE_MAX_F value rows, F (D rows), the
+     * partial sums handed between threads (D per row block lane) */
+    size_t need = (3 * s->D + 1 + TILE_MAX_F) * tiles_stride(npool);
+    if (need <= s->captiles)
+        return;
+    size_t cap = s->captiles ? s->captiles : 64;
+    while (cap < need)
+        cap *= 2;
+    free(s->tiles);
+    s->tiles = aligned_alloc(64, cap * sizeof(double));
+    if (!s->tiles)
+        phys_oom();
+    s->captiles = cap;
+}
+
+/* Levels with fewer pairs run on one thread: the hand-offs of the two
+ * thread route (a wake-up and one per row block) cost more there. */
+#define TILES_PIPE_PAIRS 65536.0
+
+/* One level in flight. */
+typedef struct TileRun {
+    const TileLevel *T;
+    int simd;
+    size_t D;
+    size_t cut;
+    double *buf;
+    atomic_size_t done;
+} TileRun;
+
+/* Run part [role] of the level with the kernel of run->simd. */
+static void tiles_part(TileRun *run, int role)
+{
+    TilePart P = {role, run->cut, run->buf, &run->done};
+#ifdef HAVE_X86_TILES
+    if (run->simd == PHYS_SIMD_AVX512)
+        level_avx512(run->T, &P, run->D);
+    else if (run->simd == PHYS_SIMD_AVX2)
+        level_avx2(run->T, &P, run->D);
+    else
+#endif
+        level_portable(run->T, &P, run->D);
+}
+
+/* Task 0: the first thread's part, task 1: the second's (workers.c hands
+ * task 0 out first, so on one thread it runs to the end before task 1). */
+static void tiles_task(void *ctx, size_t t, unsigned thread)
+{
+    (void)thread;
+    tiles_part(ctx, (int)t + 1);
+}
+
+void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
+{
+    const size_t D = s->D, n = lv->npool;
+    const uint32_t *pool = s->pool + g->pool_off;
+    const PhysGroup *fg = &s->groups[lv->group];
+    const size_t ns = tiles_stride(n);
+    phys_tiles_reserve(s, n);
+    double *x = s->tiles, *rad = x + D * ns, *vals = rad + ns;
+    double *F = vals + TILE_MAX_F * ns;
+    TileLevel T = {.npart = g->npart, .npool = n, .stride = ns,
+                   .nf = fg->pair_n, .x = x, .rad = rad, .F = F};
+    bool need_mass = false, need_charge = false;
+    for (size_t f = 0; f < T.nf; f++) {
+        const PhysApplier *ap = &s->ap[s->gidx[fg->pair_off + f]];
+        TileApplier *t = &T.ap[f];
+        t->kind = ap->kind == AP_COLLISION ? TILE_COLLISION
+                  : ap->kind == AP_GRAVITY ? TILE_PULL : TILE_PUSH;
+        t->strength = ap->strength;
+        t->maxd = ap->maxd;
+        t->power = ap->power;
+        need_mass |= ap->kind == AP_GRAVITY;
+        need_charge |= ap->kind == AP_ELECTROSTATIC;
+    }
+    double *mass = vals, *charge = vals + ns;
+    for (size_t f = 0; f < T.nf; f++)
+        T.val[f] = T.ap[f].kind == TILE_PULL ? mass
+                   : T.ap[f].kind == TILE_PUSH ? charge : rad;
+    for (size_t q = 0; q < n; q++) {
+        size_t p = pool[q];
+        for (size_t k = 0; k < D; k++) {
+            x[k * ns + q] = s->pos[p * D + k];
+            F[k * ns + q] = s->force[p * D + k];
+        }
+        rad[q] = s->radius[p];
+        if (need_mass)
+            mass[q] = s->mass[p];
+        if (need_charge)
+            charge[q] = s->charge[p];
+    }
+    for (size_t q = n; q < ns; q++) {
+        for (size_t k = 0; k < D; k++)
+            x[k * ns + q] = F[k * ns + q] = 0;
+        rad[q] = mass[q] = charge[q] = 0;
+    }
+    if (T.nf == 0)
+        return;
+    /* pairs of the reference loop, and those of partners below cut c */
+    const size_t W = s->simd == PHYS_SIMD_AVX512 ? 8 : s->simd == PHYS_SIMD_AVX2 ? 4 : 2;
+    const size_t rows = T.npart;
+    const double all = (double)rows * (double)(n - 1) - (double)rows * (double)(rows - 1) / 2;
+    TileRun run = {.T = &T, .simd = s->simd, .D = D, .buf = F + D * ns};
+    atomic_init(&run.done, 0);
+    if (phys_workers_count(s->workers) < 2 || all < TILES_PIPE_PAIRS) {
+        tiles_part(&run, 0);
+    } else {
+        size_t c = W;
+        for (; c < n; c += W) {
+            double m = (double)(rows < c ? rows : c);
+            if (m * (double)(c - 1) - m * (m - 1) / 2 >= all / 2)
+                break;
+        }
+        run.cut = c;
+        phys_workers_run(s->workers, 2, tiles_task, &run);
+    }
+    for (size_t q = 0; q < n; q++) {
+        size_t p = pool[q];
+        for (size_t k = 0; k < D; k++)
+            s->force[p * D + k] = F[k * ns + q];
+    }
+}

@@ -1,0 +1,247 @@
+/* tiles_kernel.h: the tile kernel of tiles.c, compiled once per instruction
+ * set. tiles.c includes this file several times, each time defining
+ *   TK(name)   the name of this copy's function [name] (a suffix per copy)
+ *   TK_TARGET  its target attribute (empty for the portable copy)
+ *   TK_W       lanes per vector: 8, 4 or 2 (the tile is TK_W x TK_W)
+ *   TK_VD, TK_VI  vector types of TK_W doubles / int64_t
+ *   TK_SQRT(p) replace each lane of the TK_VD at p by its correctly rounded
+ *              square root
+ * The kernel itself and the reasoning for its order are in tiles.c. */
+
+/* The pair values of row [i] against the lanes j0 .. j0+7 (the lane data
+ * Xl, Rl, Vl loaded by the caller), each applier's two masked vectors per
+ * element: C->ga[f][k] for the row's own force (subtracted when the
+ * applier pushes apart, added when it pulls together; +0 / -0 where the
+ * applier does not act, so the operation leaves the force as it is) and
+ * C->gb[f][k] for the lane's (the other sign, -0 / +0 where idle). */
+static inline __attribute__((always_inline)) TK_TARGET void
+TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
+                TK_VD Rl, const TK_VD *Vl, TK_VD ga[][TILE_MAX_D],
+                TK_VD gb[][TILE_MAX_D], const size_t D, const size_t nf)
+{
+    const TK_VD pz = {0}, nz = -pz;          /* +0 and -0 in every lane */
+    TK_VD d[TILE_MAX_D];
+    TK_VD sum = pz;
+    for (size_t k = 0; k < D; k++) {
+        d[k] = Xl[k] - T->x[k * T->stride + i];
+        sum = sum + d[k] * d[k];
+    }
+    TK_VD dist = sum;
+    TK_SQRT(&dist);
+    const TK_VD inv = 1 / dist;
+    for (size_t k = 0; k < D; k++)
+        d[k] = d[k] * inv;                 /* dir = d * inv */
+    const double ra = T->rad[i];
+    const TK_VD r = ra + Rl;                 /* ra + rb */
+    for (size_t f = 0; f < nf; f++) {
+        const TileApplier *ap = &T->ap[f];
+        TK_VI act = valid;
+        if (ap->maxd != 0)
+            act = act & (dist < ap->maxd);
+        TK_VD k;
+        if (ap->kind == TILE_COLLISION) {
+            /* ra != 0 and rb != 0 and dist < ra + rb */
+            act = ra != 0 ? act & (Rl != 0) & (dist < r) : (TK_VI){0};
+            k = r - dist;
+            if (ap->power != 1) {
+                for (size_t l = 0; l < TK_W; l++)
+                    if (act[l])
+                        k[l] = pow(k[l], ap->power);
+            }
+            k = k * ap->strength;
+        } else {
+            /* va != 0 and vb != 0: k = strength*va*vb / (m*m) */
+            const double va = T->val[f][i];
+            const TK_VD vb = Vl[f];
+            TK_VI big = dist > r;
+            TK_VD m = (TK_VD)((big & (TK_VI)dist) | (~big & (TK_VI)r));   /* py_max(r, dist) */
+            act = va != 0 ? act & (vb != 0) : (TK_VI){0};
+            k = ap->strength * va * vb / (m * m);
+        }
+        for (size_t e = 0; e < D; e++) {
+            TK_VI g = (TK_VI)(d[e] * k);
+            /* the side that subtracts sees +0 when idle, the side that
+             * adds sees -0: both leave every value (-0 included) alone */
+            TK_VI sub = (act & g) | (~act & (TK_VI)pz);
+            TK_VI add = (act & g) | (~act & (TK_VI)nz);
+            if (ap->kind == TILE_PULL) {
+                ga[f][e] = (TK_VD)add;
+                gb[f][e] = (TK_VD)sub;
+            } else {
+                ga[f][e] = (TK_VD)sub;
+                gb[f][e] = (TK_VD)add;
+            }
+        }
+    }
+}
+
+/* Transpose the TK_W x TK_W matrix whose rows are a[0 .. TK_W-1]: at each
+ * stage s (a bit of the row and lane index), rows i and i+s swap their
+ * off-diagonal s x s blocks. */
+static inline __attribute__((always_inline)) TK_TARGET void
+TK(transpose)(TK_VD *a)
+{
+    for (size_t s = 1; s < TK_W; s *= 2) {
+        for (size_t i = 0; i < TK_W; i++) {
+            if (i & s)
+                continue;
+            TK_VD lo, hi;
+#if TK_W == 8
+            if (s == 1) {
+                lo = __builtin_shufflevector(a[i], a[i + s], 0, 8, 2, 10, 4, 12, 6, 14);
+                hi = __builtin_shufflevector(a[i], a[i + s], 1, 9, 3, 11, 5, 13, 7, 15);
+            } else if (s == 2) {
+                lo = __builtin_shufflevector(a[i], a[i + s], 0, 1, 8, 9, 4, 5, 12, 13);
+                hi = __builtin_shufflevector(a[i], a[i + s], 2, 3, 10, 11, 6, 7, 14, 15);
+            } else {
+                lo = __builtin_shufflevector(a[i], a[i + s], 0, 1, 2, 3, 8, 9, 10, 11);
+                hi = __builtin_shufflevector(a[i], a[i + s], 4, 5, 6, 7, 12, 13, 14, 15);
+            }
+#elif TK_W == 4
+            if (s == 1) {
+                lo = __builtin_shufflevector(a[i], a[i + s], 0, 4, 2, 6);
+                hi = __builtin_shufflevector(a[i], a[i + s], 1, 5, 3, 7);
+            } else {
+                lo = __builtin_shufflevector(a[i], a[i + s], 0, 1, 4, 5);
+                hi = __builtin_shufflevector(a[i], a[i + s], 2, 3, 6, 7);
+            }
+#else
+            lo = __builtin_shufflevector(a[i], a[i + s], 0, 2);
+            hi = __builtin_shufflevector(a[i], a[i + s], 1, 3);
+#endif
+            a[i] = lo;
+            a[i + s] = hi;
+        }
+    }
+}
+
+/* Rows i0 .. i0+TK_W-1 of the reference loop against the partner tiles
+ * j0 = jbeg, jbeg+TK_W, ... below jend (tiles.c explains the order); rows
+ * at or past npart take no part (all their lanes idle). The rows' own
+ * forces are summed as one vector per element, lanes = rows: they start
+ * from the diagonal tile when jbeg == i0, else from FAin (D x TK_W, the
+ * sums so far), and end in F, or in FAout when not NULL. */
+static inline __attribute__((always_inline)) TK_TARGET void
+TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
+              const double *FAin, double *FAout, const size_t D,
+              const size_t nf)
+{
+    const size_t ns = T->stride;
+    TK_VD FA[TILE_MAX_D] = {{0}};
+    if (jbeg != i0)
+        for (size_t k = 0; k < D; k++)
+            memcpy(&FA[k], FAin + k * TK_W, sizeof(TK_VD));
+    TK_VI lane;
+    for (size_t l = 0; l < TK_W; l++)
+        lane[l] = (int64_t)l;
+    for (size_t j0 = jbeg; j0 < jend; j0 += TK_W) {
+        const bool diag = j0 == i0;
+        TK_VD Xl[TILE_MAX_D], Fb[TILE_MAX_D], Vl[TILE_MAX_F];
+        for (size_t k = 0; k < D; k++) {
+            memcpy(&Xl[k], T->x + k * ns + j0, sizeof(TK_VD));
+            memcpy(&Fb[k], T->F + k * ns + j0, sizeof(TK_VD));
+        }
+        TK_VD Rl;
+        memcpy(&Rl, T->rad + j0, sizeof Rl);
+        for (size_t f = 0; f < nf; f++)
+            memcpy(&Vl[f], T->val[f] + j0, sizeof(TK_VD));
+        const TK_VI inpool = (int64_t)(T->npool - j0) > lane;
+        /* the rows' contributions to their own forces, G[f][k][r] (lanes
+         * = partners), transposed below to lanes = rows */
+        TK_VD G[TILE_MAX_F][TILE_MAX_D][TK_W];
+        for (size_t r = 0; r < TK_W; r++) {
+            TK_VI valid = diag ? inpool & (lane > (int64_t)r) : inpool;
+            if (i0 + r >= T->npart)
+                valid = (TK_VI){0};
+            TK_VD ga[TILE_MAX_F][TILE_MAX_D], gb[TILE_MAX_F][TILE_MAX_D];
+            TK(pair_values)(T, i0 + r, valid, Xl, Rl, Vl, ga, gb, D, nf);
+            /* the partners' forces: row after row, applier after applier */
+            for (size_t f = 0; f < nf; f++) {
+                const bool pull = T->ap[f].kind == TILE_PULL;
+                for (size_t k = 0; k < D; k++) {
+                    Fb[k] = pull ? Fb[k] - gb[f][k] : Fb[k] + gb[f][k];
+                    G[f][k][r] = ga[f][k];
+                }
+            }
+        }
+        for (size_t k = 0; k < D; k++)
+            memcpy(T->F + k * ns + j0, &Fb[k], sizeof(TK_VD));
+        /* in the diagonal tile the lanes are the rows themselves: every
+         * "to" contribution of the block's rows is in now */
+        if (diag)
+            for (size_t k = 0; k < D; k++)
+                FA[k] = Fb[k];
+        for (size_t f = 0; f < nf; f++)
+            for (size_t k = 0; k < D; k++)
+                TK(transpose)(G[f][k]);
+        /* the rows' own forces: partner after partner (j ascending),
+         * applier after applier */
+        for (size_t l = 0; l < TK_W; l++)
+            for (size_t f = 0; f < nf; f++) {
+                const bool pull = T->ap[f].kind == TILE_PULL;
+                for (size_t k = 0; k < D; k++)
+                    FA[k] = pull ? FA[k] + G[f][k][l] : FA[k] - G[f][k][l];
+            }
+    }
+    for (size_t k = 0; k < D; k++) {
+        if (FAout)
+            memcpy(FAout + k * TK_W, &FA[k], sizeof(TK_VD));
+        else
+            memcpy(T->F + k * ns + i0, &FA[k], sizeof(TK_VD));
+    }
+}
+
+/* The level, or one side of it (TilePart, tiles.c): role 0 runs every
+ * tile; role 1 (first thread) the tiles of partners below P->cut of the
+ * row blocks that start below it, handing each block's partial sums on
+ * through P; role 2 (second thread) the rest, after the first thread's
+ * part of the same block. */
+static inline __attribute__((always_inline)) TK_TARGET void
+TK(level_run)(const TileLevel *T, TilePart *P, const size_t D, const size_t nf)
+{
+    const size_t n = T->npool;
+    size_t blk = 0;
+    for (size_t i0 = 0; i0 < T->npart; i0 += TK_W, blk++) {
+        if (P->role == 0) {
+            TK(row_block)(T, i0, i0, n, NULL, NULL, D, nf);
+            continue;
+        }
+        const size_t cut = P->cut;
+        double *buf = P->buf + blk * D * TK_W;
+        if (i0 >= cut) {
+            /* past the cut: the second thread's alone */
+            if (P->role == 2)
+                TK(row_block)(T, i0, i0, n, NULL, NULL, D, nf);
+            continue;
+        }
+        if (P->role == 1) {
+            TK(row_block)(T, i0, i0, cut < n ? cut : n, NULL, buf, D, nf);
+            tile_post(P, blk);
+        } else {
+            tile_wait(P, blk);
+            TK(row_block)(T, i0, cut, n, buf, NULL, D, nf);
+        }
+    }
+}
+
+#define TK_LEVEL(d, f)                                                        \
+    static TK_TARGET void TK(level_##d##_##f)(const TileLevel *T, TilePart *P) \
+    {                                                                         \
+        TK(level_run)(T, P, d, f);                                            \
+    }
+
+TK_LEVEL(1, 1) TK_LEVEL(1, 2) TK_LEVEL(1, 3) TK_LEVEL(1, 4)
+TK_LEVEL(2, 1) TK_LEVEL(2, 2) TK_LEVEL(2, 3) TK_LEVEL(2, 4)
+TK_LEVEL(3, 1) TK_LEVEL(3, 2) TK_LEVEL(3, 3) TK_LEVEL(3, 4)
+#undef TK_LEVEL
+
+/* This copy's kernel for D (1..3) and nf (1..4) appliers. */
+static TK_TARGET void TK(level)(const TileLevel *T, TilePart *P, size_t D)
+{
+    static void (*const fn[3][4])(const TileLevel *, TilePart *) = {
+        {TK(level_1_1), TK(level_1_2), TK(level_1_3), TK(level_1_4)},
+        {TK(level_2_1), TK(level_2_2), TK(level_2_3), TK(level_2_4)},
+        {TK(level_3_1), TK(level_3_2), TK(level_3_3), TK(level_3_4)},
+    };
+    fn[D - 1][T->nf - 1](T, P);
+}

@@ -1,0 +1,74 @@
+/* runtime.h: the runtime's internal interface, for the library itself, its
+ * unit tests and (a stated, temporary exception, see README "Embedding")
+ * the parts of the CLI that still reach inside: the REPL's value
+ * formatting and the renderer outputs (--view, --trace, the window), which
+ * read the node tree and the symbol table directly.
+ *
+ * Embedders use flitter.h only. The functions here take and return the
+ * library's internal types (Buf, Node, StateDict, SymTab, Vec, Str) and
+ * follow the ownership rule of value.h; the fl_ functions of the same
+ * names in flitter.h are thin wrappers over them (api.c).
+ */
+#ifndef FL_RUNTIME_H
+#define FL_RUNTIME_H
+
+#include <stdio.h>
+
+#include "buf.h"
+#include "flitter.h"
+#include "mem.h"
+#include "node.h"
+#include "state.h"
+#include "value.h"
+
+/* The Buf-based forms of fl_load, fl_load_text, fl_dump_program, fl_eval,
+ * fl_save_state and fl_restore_state: the same behaviour, with messages
+ * appended to [err] (and output to [out]) instead of fl_error() and a
+ * callback. */
+int rt_load(fl_runtime *rt, const char *path, Buf *err);
+int rt_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err);
+int rt_dump_program(const fl_runtime *rt, Buf *out);
+int rt_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err);
+int rt_save_state(const fl_runtime *rt, const char *path, Buf *err);
+int rt_restore_state(fl_runtime *rt, const char *path, Buf *err);
+
+/* Names visible to rt_eval (script top level, frame names, defines, earlier
+ * rt_eval bindings), for completion; borrowed until the next call, [*n]
+ * entries. */
+const Str *const *rt_scope_names(const fl_runtime *rt, size_t *n);
+
+/* The node tree of the last evaluated frame (a !root node), or NULL;
+ * borrowed until the next fl_step. */
+const Node *rt_root(const fl_runtime *rt);
+/* The state dictionary (mutable: controller values may be written). */
+StateDict *rt_state(fl_runtime *rt);
+/* The symbol table used for value text. */
+const SymTab *rt_symbols(const fl_runtime *rt);
+
+/* The vector that value text [text] stands for (flitter.h, top: the `-D`
+ * syntax of FORMATS.md §4, plus `-NUMBER` parts as negative numbers), new;
+ * NULL for the empty text. Symbols are added to [rt]'s symbol table. */
+Vec *rt_parse_value(fl_runtime *rt, const char *text);
+
+/* The runtime's fl_error() text, to be filled by a failing call. */
+Buf *rt_error_buf(fl_runtime *rt);
+
+/* Make this thread's allocation-failure handler (mem.h) [rt]'s error
+ * callback (fl_options.error); returns the previous handler, for
+ * mem_leave(). Every public call that allocates does this. */
+MemHandler rt_enter(const fl_runtime *rt);
+
+/* The runtime's log callback and its context (never NULL: the default
+ * writes to stderr/stdout), for modules that log on its behalf. */
+void rt_log_target(const fl_runtime *rt, fl_log_fn *fn, void **ctx);
+
+/* Where the default log callback of rt_log_to_files writes. */
+typedef struct RtStreams {
+    FILE *log;     /* errors and warnings; NULL: nowhere */
+    FILE *debug;   /* debug() lines; NULL: nowhere */
+} RtStreams;
+/* Set [o]'s log callback to write each line, with a newline, to [s]'s
+ * files ([s] must outlive the runtime). */
+void rt_log_to_files(fl_options *o, RtStreams *s);
+
+#endif

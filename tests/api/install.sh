@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# `meson install` into a staging tree, then build samples/embed/embed.c
+# against the installed library through pkg-config only and run it on the
+# petri dish: its output must equal tests/api/embed_petri.out exactly (the
+# position is the one in samples/petri.state after 120 frames).
+# Also checks the installed files: the flitter binary, libflitter.so with
+# its soname, libflitter.a, flitter.h, libflitter.pc and flitter(1).
+# usage: install.sh BUILD_DIR SOURCE_ROOT VERSION CC [CFLAGS...]
+set -euo pipefail
+build=$1 src=$2 version=$3 cc=$4
+shift 4
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+root=$tmp/root
+fail() { echo "install: $*"; exit 1; }
+
+meson install -C "$build" --no-rebuild --destdir "$root" >"$tmp/install.log" 2>&1 ||
+    { cat "$tmp/install.log"; fail "meson install failed"; }
+
+# where things went (prefix and libdir as configured)
+find_one() { find "$root" -name "$1" -print -quit; }
+bin=$(find_one flitter)
+pc=$(find_one libflitter.pc)
+so=$(find_one libflitter.so)
+[ -n "$bin" ] && [ -x "$bin" ] || fail "no flitter binary installed"
+[ -n "$pc" ] || fail "no libflitter.pc installed"
+[ -n "$so" ] || fail "no libflitter.so installed"
+libdir=$(dirname "$so")
+[ -f "$libdir/libflitter.a" ] || fail "no libflitter.a beside libflitter.so"
+[ -f "$libdir/libflitter.so.$version" ] || fail "no libflitter.so.$version"
+soname=$(readelf -d "$so" | sed -n 's/.*Library soname: \[\(.*\)\]/\1/p')
+[ "$soname" = "libflitter.so.${version%%.*}" ] || fail "soname is '$soname'"
+[ -n "$(find_one flitter.h)" ] || fail "no flitter.h installed"
+man=$(find_one flitter.1)
+[ -n "$man" ] && [ "$(basename "$(dirname "$man")")" = man1 ] || fail "no man1/flitter.1 installed"
+"$bin" --version | grep -q "$version" || fail "installed flitter --version"
+
+# the sample, through pkg-config against the staging tree
+export PKG_CONFIG_PATH=$(dirname "$pc") PKG_CONFIG_SYSROOT_DIR=$root
+flags=$(pkg-config --cflags libflitter)
+libs=$(pkg-config --libs libflitter)
+case " $flags " in *" -I$root"*) ;; *) fail "pkg-config --cflags: $flags" ;; esac
+# shellcheck disable=SC2086
+$cc -std=c17 -Wall -Wextra -Wpedantic -Werror "$@" $flags -o "$tmp/embed" \
+    "$src/samples/embed/embed.c" $libs || fail "cannot build samples/embed against the installed library"
+readelf -d "$tmp/embed" | grep -q 'Shared library: \[libflitter.so' ||
+    fail "embed is not linked to libflitter.so"
+
+LD_LIBRARY_PATH=$libdir "$tmp/embed" "$src/samples/petri.fl" 120 ':dish;0' >"$tmp/out" ||
+    fail "embed exited with status $?"
+sed "s/@VERSION@/$version/" "$src/tests/api/embed_petri.out" >"$tmp/expected"
+diff -u "$tmp/expected" "$tmp/out" || fail "embed output differs"
+echo "installed and embedded: $(cat "$tmp/out" | tail -1)"
