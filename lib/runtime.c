@@ -483,9 +483,9 @@ int fl_step(fl_runtime *rt)
     PoolStats after = pool_stats(rt->pool);
     pool_leave(prev);
     rt->stats.frames++;
-    rt->stats.last_mallocs = after.mallocs - before.mallocs;
+    rt->stats.last_mallocs = after.mallocs + after.stacks - before.mallocs - before.stacks;
     rt->stats.last_frees = after.frees - before.frees;
-    rt->stats.mallocs = after.mallocs;
+    rt->stats.mallocs = after.mallocs + after.stacks;
     rt->stats.frees = after.frees;
     mem_leave(mprev);
     return rc;

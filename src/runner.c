@@ -269,23 +269,28 @@ static void show_progress(long done, long total, double elapsed)
     fflush(stderr);
 }
 
-/* The --stats report: [first] holds the statistics after the first frame
- * (which builds the free lists and physics tables), [loop] the wall time of
- * the frame loop. */
-static void print_stats(fl_runtime *rt, const fl_stats *first, double loop, FILE *log)
+/* The --stats report: [first] and [second] hold the statistics after the
+ * first and second frames (which fill the free lists: the first frame's
+ * tree is still alive while the second is built, and physics builds its
+ * tables), [loop] the wall time of the frame loop. */
+static void print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *second,
+                        double loop, FILE *log)
 {
     fl_stats s;
     fl_get_stats(rt, &s);
     double n = s.frames > 0 ? (double)s.frames : 1;
-    double steady = s.frames > 1 ? (double)(s.frames - 1) : 1;
+    double steady = s.frames > 2 ? (double)(s.frames - 2) : 1;
+    if (s.frames < 2) second = &s;
     fprintf(log, "stats: %ld frames in %.3f s: %.1f frames/s\n", s.frames, loop,
             loop > 0 ? (double)s.frames / loop : 0.0);
     fprintf(log, "stats: per frame: eval %.3f ms, physics %.3f ms, other %.3f ms\n",
             s.eval_seconds / n * 1e3, s.physics_seconds / n * 1e3, s.other_seconds / n * 1e3);
-    fprintf(log, "stats: allocations: first frame %llu mallocs %llu frees; after it %.2f mallocs "
-            "%.2f frees per frame; last frame %llu mallocs %llu frees\n",
-            first->mallocs, first->frees, (double)(s.mallocs - first->mallocs) / steady,
-            (double)(s.frees - first->frees) / steady, s.last_mallocs, s.last_frees);
+    fprintf(log, "stats: allocations: first frame %llu mallocs %llu frees; second %llu mallocs "
+            "%llu frees; after them %.2f mallocs %.2f frees per frame; last frame %llu mallocs "
+            "%llu frees\n",
+            first->mallocs, first->frees, second->mallocs - first->mallocs,
+            second->frees - first->frees, (double)(s.mallocs - second->mallocs) / steady,
+            (double)(s.frees - second->frees) / steady, s.last_mallocs, s.last_frees);
     fprintf(log, "stats: state per frame: %.1f reads, %.1f writes\n", (double)s.state_gets / n,
             (double)s.state_sets / n);
 }
@@ -361,7 +366,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     bool dumped_last = false;
     double start = now_seconds(), last_save = start, last_progress = 0;
     long ran = 0;
-    fl_stats first = {0};
+    fl_stats first = {0}, second = {0};
     struct timespec mtime = file_mtime(spec->script), bad_mtime = {0, 0};
     while (!(interrupt && *interrupt) && (spec->frames < 0 || ran < spec->frames)) {
         if (spec->realtime) {
@@ -382,6 +387,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
             break;   /* interrupted: the frame was discarded */
         ran++;
         if (ran == 1) fl_get_stats(rt, &first);
+        if (ran == 2) fl_get_stats(rt, &second);
         long n = fl_frame_count(rt) - 1;
         if (fl_outputs_frame(outs, rt) != 0) fprintf(log, "flitter run: %s", fl_error(rt));
         dumped_last = false;
@@ -410,7 +416,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         }
     }
     if (spec->progress && ran > 0) fputs("\n", stderr);
-    if (spec->stats) print_stats(rt, &first, now_seconds() - start, log);
+    if (spec->stats) print_stats(rt, &first, &second, now_seconds() - start, log);
     int rc = EXIT_OK;
     if (ran > 0) {
         if (spec->dump_state && !dumped_last) fl_dump_state(rt, write_file, out);

@@ -24,11 +24,12 @@ static const Builtin *const families[] = {
 
 const Builtin *bi_lookup(const char *name, size_t len)
 {
-    if (!name)
+    if (!name || len == 0)
         return NULL;
+    /* the first byte rules out nearly every entry without a strlen */
     for (size_t f = 0; f < sizeof families / sizeof families[0]; f++)
         for (const Builtin *b = families[f]; b->name; b++)
-            if (strlen(b->name) == len && memcmp(b->name, name, len) == 0)
+            if (b->name[0] == name[0] && strlen(b->name) == len && memcmp(b->name, name, len) == 0)
                 return b;
     return NULL;
 }

@@ -52,6 +52,15 @@ const Builtin *bi_lookup(const char *name, size_t len);
 Vec *bi_error(Eval *ev, const Builtin *bi, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
+/* The element kernel f of a one-argument element-wise builtin (sin, cos,
+ * sqrt, abs, the waveforms and easings, ...: those that apply f to each
+ * element of a numeric argument and give null for any other), or NULL for
+ * every other builtin. The builtin's result on a one-element numeric vector
+ * [x] is exactly the one-element vector f(x), so a caller holding one number
+ * may call f instead (numexpr.c). */
+typedef double (*BiKernel)(double);
+BiKernel bi_kernel(const Builtin *bi);
+
 /* The family tables (each ends with a {NULL} entry). */
 extern const Builtin bi_vector_table[];
 extern const Builtin bi_maths_table[];

@@ -669,6 +669,45 @@ static Vec *bi_impulse(BI_PARAMS)
 
 /* }==================================================================== */
 
+/* The element kernel of every builtin above that is map1(args[0], f): the
+ * same f, for callers holding a single number (bi_kernel). */
+static const struct {
+    BuiltinFn fn;
+    double (*kernel)(double);
+} kernels[] = {
+    {bi_absv, fabs},
+    {bi_floorv, floor},
+    {bi_ceilv, ceil},
+    {bi_fract, f_fract},
+    {bi_sqrtv, sqrt},
+    {bi_expv, exp},
+    {bi_logv, log},
+    {bi_log2v, log2},
+    {bi_log10v, log10},
+    {bi_sinv, f_sinv},
+    {bi_cosv, f_cosv},
+    {bi_tanv, f_tanv},
+    {bi_asinv, f_asinv},
+    {bi_acosv, f_acosv},
+    {bi_sine, f_sine},
+    {bi_bounce, f_bounce},
+    {bi_sawtooth, f_sawtooth},
+    {bi_triangle, f_triangle},
+    {bi_square, f_square},
+    {bi_sharkfin, f_sharkfin},
+    {bi_linear, f_linear},
+    {bi_quad, f_quad},
+    {bi_cubic, f_cubic},
+    {bi_snap, f_snap},
+};
+
+BiKernel bi_kernel(const Builtin *bi)
+{
+    for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; i++)
+        if (kernels[i].fn == bi->fn) return kernels[i].kernel;
+    return NULL;
+}
+
 /* The maths family, grouped as §5.4-§5.7 list them. Keyword names are
  * the reference's parameter names. */
 const Builtin bi_maths_table[] = {

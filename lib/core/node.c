@@ -42,14 +42,21 @@ void node_release(Node *n)
     if (!n || --n->refs) return;
     str_release(n->kind);
     for (uint32_t i = 0; i < n->ntags; i++) str_release(n->tags[i]);
+    /* a released tree is usually cold (built a frame ago): ask for the
+     * memory a few steps ahead of the loops that touch it */
+    for (uint32_t i = 0; i < n->nattrs; i++) __builtin_prefetch(n->attrs[i].value, 1);
     for (uint32_t i = 0; i < n->nattrs; i++) {
         str_release(n->attrs[i].name);
         vec_release(n->attrs[i].value);
     }
-    for (uint32_t i = 0; i < n->nchildren; i++) node_release(n->children[i]);
-    pool_release(n->tags, (size_t)n->cap_tags * sizeof(Str *));
-    pool_release(n->attrs, (size_t)n->cap_attrs * sizeof(Attr));
-    pool_release(n->children, (size_t)n->cap_children * sizeof(Node *));
+    for (uint32_t i = 0; i < n->nchildren; i++) {
+        if (i + 8 < n->nchildren) __builtin_prefetch(n->children[i + 8], 1);
+        if (i + 4 < n->nchildren) __builtin_prefetch(n->children[i + 4]->attrs, 0);
+        node_release(n->children[i]);
+    }
+    if (n->tags) pool_release(n->tags, (size_t)n->cap_tags * sizeof(Str *));
+    if (n->attrs) pool_release(n->attrs, (size_t)n->cap_attrs * sizeof(Attr));
+    if (n->children) pool_release(n->children, (size_t)n->cap_children * sizeof(Node *));
     pool_release(n, sizeof *n);
 }
 
@@ -102,6 +109,22 @@ void node_set_attr(Node *n, Str *name, Vec *value)
     n->attrs[n->nattrs].name = str_retain(name);
     n->attrs[n->nattrs].value = value;
     n->nattrs++;
+}
+
+void node_init_attrs(Node *n, uint32_t count, Str *const *names, Vec **values)
+{
+    n->attrs = grow(n->attrs, &n->cap_attrs, count, sizeof(Attr));
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        if (vec_len(values[i]) == 0) {
+            vec_release(values[i]);
+            continue;
+        }
+        n->attrs[k].name = str_retain(names[i]);
+        n->attrs[k].value = values[i];
+        k++;
+    }
+    n->nattrs = k;
 }
 
 void node_add_tag(Node *n, Str *tag)

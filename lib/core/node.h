@@ -43,6 +43,11 @@ Node *node_mut(Node *n);
 /* Set attribute [name] of unshared [n] to [value] (consumes [value]); an
  * empty [value] removes the attribute. */
 void node_set_attr(Node *n, Str *name, Vec *value);
+/* Give unshared [n], which has no attributes yet, the attributes
+ * names[i] = values[i] for i < [count] in that order, as node_set_attr
+ * would one by one; the names must be pairwise different. Consumes the
+ * values (empty ones are dropped). */
+void node_init_attrs(Node *n, uint32_t count, Str *const *names, Vec **values);
 /* Add tag [tag] to unshared [n] (no-op when present). */
 void node_add_tag(Node *n, Str *tag);
 /* Append [child] (retained) to unshared [n]. */

@@ -48,12 +48,8 @@ void pool_free(Pool *p)
 {
     if (!p) return;
     for (int c = 0; c < POOL_NCLASS; c++) {
-        PoolBlock *b = p->lists[c];
-        while (b) {
-            PoolBlock *next = b->next;
-            free(b);
-            b = next;
-        }
+        for (uint32_t i = 0; i < p->free[c].n; i++) free(p->free[c].items[i]);
+        free(p->free[c].items);
     }
     free(p);
 }
@@ -74,11 +70,7 @@ void *pool_alloc_slow(size_t size)
     size_t block;
     int c = size_class(size, &block);
     Pool *p = pool_active_;
-    if (p && c != NO_CLASS && p->lists[c]) {
-        PoolBlock *b = p->lists[c];
-        p->lists[c] = b->next;
-        return b;
-    }
+    if (p && c != NO_CLASS && p->free[c].n) return p->free[c].items[--p->free[c].n];
     void *r = malloc(block);
     if (!r) {
         mem_oom();
@@ -101,9 +93,14 @@ void pool_release_slow(void *ptr, size_t size)
     int c = size_class(size, &block);
     Pool *p = pool_active_;
     if (p && c != NO_CLASS && !p->off) {
-        PoolBlock *b = ptr;
-        b->next = p->lists[c];
-        p->lists[c] = b;
+        PoolStack *s = &p->free[c];
+        if (s->n == s->cap) {
+            uint32_t cap = s->cap ? s->cap * 2 : 64;
+            s->items = mem_realloc_array(s->items, cap, sizeof *s->items);
+            s->cap = cap;
+            p->stats.stacks++;
+        }
+        s->items[s->n++] = ptr;
         return;
     }
     if (p) p->stats.frees++;

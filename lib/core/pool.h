@@ -28,11 +28,14 @@ typedef struct Pool Pool;
 
 #define POOL_SMALL_MAX 256   /* largest request of the 16-byte-step classes */
 #define POOL_NCLASS 30       /* 16 small classes, then 512 B .. 4 MiB */
+#define POOL_PREFETCH 4      /* how many allocations ahead a class prefetches */
 
 /* Counts of real allocator calls made on behalf of pooled blocks. */
 typedef struct PoolStats {
     uint64_t mallocs;   /* malloc calls (free-list misses and big blocks) */
     uint64_t frees;     /* free calls */
+    uint64_t stacks;    /* realloc calls growing a class's stack of
+                           released blocks (bookkeeping, not blocks) */
 } PoolStats;
 
 /* A new, empty pool. Aborts when out of memory. */
@@ -53,13 +56,18 @@ PoolStats pool_stats(const Pool *p);
 void *pool_alloc_slow(size_t size);
 void pool_release_slow(void *ptr, size_t size);
 
-/* Internal: the pool's layout, for the inline fast paths below. */
-typedef struct PoolBlock {
-    struct PoolBlock *next;
-} PoolBlock;
+/* Internal: the pool's layout, for the inline fast paths below. Released
+ * blocks of a class are kept in a stack of pointers (not a list threaded
+ * through the blocks): taking one reads a dense array instead of the
+ * block's own (usually cold) memory, so a run of allocations does not wait
+ * on one cache miss after another. */
+typedef struct PoolStack {
+    void **items;    /* released blocks, the most recent last */
+    uint32_t n, cap;
+} PoolStack;
 
 struct Pool {
-    PoolBlock *lists[POOL_NCLASS];   /* released blocks per class */
+    PoolStack free[POOL_NCLASS];     /* released blocks per class */
     PoolStats stats;
     int off;                         /* FLITTER_NOPOOL: no free lists */
 };
@@ -73,10 +81,13 @@ static inline void *pool_alloc(size_t size)
 {
     Pool *p = pool_active_;
     if (p && size - 1 < POOL_SMALL_MAX) {
-        PoolBlock **list = &p->lists[(size - 1) / 16];
-        PoolBlock *b = *list;
-        if (b) {
-            *list = b->next;
+        PoolStack *s = &p->free[(size - 1) / 16];
+        if (s->n) {
+            void *b = s->items[--s->n];
+            /* blocks kept here are usually cold (released a frame ago):
+             * fetch the one this class hands out POOL_PREFETCH calls from
+             * now, so that it has arrived by then */
+            if (s->n >= POOL_PREFETCH) __builtin_prefetch(s->items[s->n - POOL_PREFETCH], 1);
             return b;
         }
     }
@@ -89,10 +100,11 @@ static inline void pool_release(void *ptr, size_t size)
 {
     Pool *p = pool_active_;
     if (p && ptr && !p->off && size - 1 < POOL_SMALL_MAX) {
-        PoolBlock *b = ptr, **list = &p->lists[(size - 1) / 16];
-        b->next = *list;
-        *list = b;
-        return;
+        PoolStack *s = &p->free[(size - 1) / 16];
+        if (s->n < s->cap) {
+            s->items[s->n++] = ptr;
+            return;
+        }
     }
     pool_release_slow(ptr, size);
 }

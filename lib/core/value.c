@@ -55,10 +55,6 @@ Str *str_new(const char *s, size_t len)
 
 Str *str_from(const char *s) { return str_new(s, strlen(s)); }
 
-void str_release(Str *s)
-{
-    if (s && --s->refs == 0) pool_release(s, sizeof(Str) + s->len + 1);
-}
 
 int str_cmp(const Str *a, const Str *b)
 {
@@ -280,6 +276,54 @@ Vec *vec_compose(Vec *const *parts, size_t n)
             for (uint32_t j = 0; j < p->len; j++) elem_retain(&d[j]);
         }
         d += p->len;
+    }
+    return r;
+}
+
+Vec *vec_compose_take(Vec **parts, size_t n)
+{
+    uint64_t total = 0;
+    bool numeric = true;
+    size_t nonempty = 0;
+    for (size_t i = 0; i < n; i++) {
+        const Vec *p = parts[i];
+        if (!p || p->len == 0) continue;
+        total += p->len;
+        nonempty++;
+        if (p->kind != VEC_NUM) numeric = false;
+    }
+    if (numeric || nonempty <= 1) {
+        /* nothing to move: compose as vec_compose does */
+        Vec *r = vec_compose(parts, n);
+        for (size_t i = 0; i < n; i++) vec_release(parts[i]);
+        return r;
+    }
+    if (total > UINT32_MAX) mem_fail("vector too long");
+    Vec *r = vec_new_obj((uint32_t)total);
+    Elem *d = vec_elems(r);
+    for (size_t i = 0; i < n; i++) {
+        Vec *p = parts[i];
+        uint32_t len = vec_len(p);
+        if (!len) {
+            vec_release(p);   /* null or a stream */
+            continue;
+        }
+        if (p->kind == VEC_NUM) {
+            for (uint32_t j = 0; j < len; j++) {
+                d[j].kind = EL_NUM;
+                d[j].num = vec_cnums(p)[j];
+            }
+            vec_release(p);
+        } else if (p->refs == 1) {
+            /* the last reference: the elements move, with their references */
+            memcpy(d, vec_celems(p), len * sizeof(Elem));
+            pool_release(p, sizeof(Vec) + (size_t)len * sizeof(Elem));
+        } else {
+            memcpy(d, vec_celems(p), len * sizeof(Elem));
+            for (uint32_t j = 0; j < len; j++) elem_retain(&d[j]);
+            vec_release(p);
+        }
+        d += len;
     }
     return r;
 }

@@ -56,7 +56,10 @@ Str *str_new(const char *s, size_t len);
 /* Make a string from the NUL-terminated [s]. */
 Str *str_from(const char *s);
 static inline Str *str_retain(Str *s) { if (s) s->refs++; return s; }
-void str_release(Str *s);
+static inline void str_release(Str *s)
+{
+    if (s && --s->refs == 0) pool_release(s, sizeof(Str) + s->len + 1);
+}
 /* True when both strings hold the same bytes. */
 static inline bool str_eq(const Str *a, const Str *b)
 {
@@ -200,6 +203,10 @@ bool vec_truthy(const Vec *v);
 /* Composition (§3.2) of [n] parts: concatenation, empty parts and streams
  * vanish, numeric if every part is numeric, null if the total is empty. */
 Vec *vec_compose(Vec *const *parts, size_t n);
+/* The same, consuming the [n] parts (the result is equal to vec_compose's):
+ * the elements of an object part held by nothing else move into the
+ * result instead of being retained there and released with the part. */
+Vec *vec_compose_take(Vec **parts, size_t n);
 
 /* ------------------------------------------------------------------ */
 /* Arithmetic (§3.5): both operands non-empty numeric, else null;       */

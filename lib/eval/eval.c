@@ -18,9 +18,11 @@
 #include "builtins.h"
 #include "config.h"
 #include "context.h"
+#include "eval_internal.h"
 #include "format.h"
 #include "mem.h"
 #include "module.h"
+#include "numexpr.h"
 #include "pool.h"
 #include "stable.h"
 
@@ -60,10 +62,11 @@ static void errorf(Eval *ev, const char *fmt, ...)
  * The evaluation step
  * ==================================================================== */
 
-static Vec *eval_node(Eval *ev, const AstNode *n);
+static Vec *eval_fast(Eval *ev, const AstNode *n);
 
 /* Evaluate [n] (may be NULL): literals and names inline, without a call or
- * the depth guard (they cannot recurse), everything else via eval_node. */
+ * the depth guard (they cannot recurse), compiled numeric subtrees by
+ * eval_fast, everything else via eval_node. */
 static inline Vec *eval(Eval *ev, const AstNode *n)
 {
     if (!n) return NULL;
@@ -76,7 +79,14 @@ static inline Vec *eval(Eval *ev, const AstNode *n)
         default: return NULL;
         }
     }
+    if (n->fast == 1) return eval_fast(ev, n);
+    if (n->fast == 2) return eval_code(ev, n);
     return eval_node(ev, n);
+}
+
+__attribute__((noinline)) static Vec *eval_fast(Eval *ev, const AstNode *n)
+{
+    return run_num(ev, n, numexpr_of(n));
 }
 
 /* ====================================================================
@@ -92,16 +102,7 @@ static inline bool stop_requested(Eval *ev)
     return ev->interrupted;
 }
 
-/* A growable list of parts to compose. */
-typedef struct Parts {
-    Vec *small[8];
-    Vec **v;
-    size_t n, cap;
-    uint64_t total;     /* elements pushed so far */
-    bool too_long;      /* total passed MAX_COMPOSE_LEN: later parts dropped */
-} Parts;
-
-static void parts_init(Parts *p)
+void parts_init(Parts *p)
 {
     p->v = p->small;
     p->n = 0;
@@ -111,7 +112,7 @@ static void parts_init(Parts *p)
 }
 
 /* Grow [p] (full) to twice its capacity. */
-static void parts_grow(Parts *p)
+void parts_grow(Parts *p)
 {
     size_t cap = p->cap * 2;
     Vec **nv = pool_alloc(cap * sizeof(Vec *));
@@ -121,23 +122,9 @@ static void parts_grow(Parts *p)
     p->cap = cap;
 }
 
-static inline void parts_push(Parts *p, Vec *x)
-{
-    if (!x) return;
-    p->total += vec_len(x);
-    /* a single part passes whole (builtins bound their own results) */
-    if (p->too_long || (p->n > 0 && p->total > MAX_COMPOSE_LEN)) {
-        p->too_long = true;
-        vec_release(x);
-        return;
-    }
-    if (p->n == p->cap) parts_grow(p);
-    p->v[p->n++] = x;
-}
-
 /* Compose the parts and release them; null with an execution error when
  * they were too long. */
-static Vec *parts_finish(Eval *ev, Parts *p)
+Vec *parts_finish(Eval *ev, Parts *p)
 {
     Vec *r;
     if (p->too_long) {
@@ -145,15 +132,15 @@ static Vec *parts_finish(Eval *ev, Parts *p)
         r = NULL;
         if (p->n == 1) vec_release(p->v[0]);
     } else {
-        r = p->n == 1 ? p->v[0] : vec_compose(p->v, p->n);
+        r = p->n == 1 ? p->v[0] : vec_compose_take(p->v, p->n);
     }
-    if (p->n != 1)
+    if (p->too_long && p->n != 1)
         for (size_t i = 0; i < p->n; i++) vec_release(p->v[i]);
     if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
     return r;
 }
 
-static void set_slot(Eval *ev, int32_t slot, Vec *v_take)
+void set_slot(Eval *ev, int32_t slot, Vec *v_take)
 {
     Vec *old = ev->frame[slot];
     ev->frame[slot] = v_take;
@@ -173,7 +160,7 @@ static void bind_unpack(Eval *ev, const AstNode *b, Vec *v)
 }
 
 /* An unshared copy of [v] (consumes [v]); object vectors only. */
-static Vec *vec_unshare(Vec *v)
+Vec *vec_unshare(Vec *v)
 {
     if (v->refs == 1) return v;
     Vec *c = vec_new_obj(v->len);
@@ -192,7 +179,7 @@ static Vec *vec_unshare(Vec *v)
     return c;
 }
 
-static bool has_nodes(const Vec *v)
+bool has_nodes(const Vec *v)
 {
     if (!vec_is_obj(v)) return false;
     for (uint32_t i = 0; i < v->len; i++)
@@ -242,14 +229,6 @@ static void closure_destroy(Func *f)
     pool_release(c, sizeof *c);
 }
 
-typedef struct Args {
-    Vec **pos;             /* positional values */
-    uint32_t npos;
-    const AstNode **kwn;   /* AST_BINDING of each named argument */
-    Vec **kw;              /* named values */
-    uint32_t nkw;
-} Args;
-
 static Vec *call_user(Eval *ev, Func *f, const Args *a)
 {
     Closure *c = f->impl;
@@ -298,7 +277,7 @@ static Vec *call_user(Eval *ev, Func *f, const Args *a)
     return r;
 }
 
-static Vec *call_builtin(Eval *ev, const Builtin *bi, const Args *a)
+Vec *call_builtin(Eval *ev, const Builtin *bi, const Args *a)
 {
     /* every parameter given by position: pass the evaluated arguments as
      * they are (builtins read nothing past max_args) */
@@ -373,10 +352,12 @@ __attribute__((noinline)) static Vec *eval_call(Eval *ev, const AstNode *n)
 {
     uint32_t npos = n->count, nkw = n->nkids - n->count;
     const AstNode *fn = n->a;
-    if (nkw == 0 && npos <= 8 && fn->kind == AST_NAME && fn->scope == SCOPE_CONST &&
+    if (nkw == 0 && npos <= 8 &&
+        (fn->kind == AST_LITERAL || (fn->kind == AST_NAME && fn->scope == SCOPE_CONST)) &&
         vec_is_obj(fn->value) && fn->value->len == 1 && vec_celems(fn->value)[0].kind == EL_FUNC &&
         vec_celems(fn->value)[0].func->bi) {
-        /* a builtin resolved at load time, positional arguments only: call
+        /* a builtin resolved at load time (a builtin name, or a literal
+         * function after the simplifier), positional arguments only: call
          * it directly (the callee is a constant, so evaluating it last, as
          * below, changes nothing) */
         Vec *args[8];
@@ -712,7 +693,7 @@ static void eval_export(Eval *ev, const AstNode *n)
 
 Vec *eval_expr(Eval *ev, const AstNode *n) { return eval(ev, n); }
 
-static Vec *eval_node(Eval *ev, const AstNode *n)
+Vec *eval_node(Eval *ev, const AstNode *n)
 {
     if (++ev->depth > MAX_EVAL_DEPTH) {
         ev->depth--;

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "builtins.h"
+#include "evalcode.h"
 #include "fileio.h"
 #include "mem.h"
 #include "parse.h"
@@ -545,6 +546,8 @@ static Program *resolve_program(Program *p, Globals *globals, SymTab *st, Buf *e
         program_release(p);
         return NULL;
     }
+    const char *nofast = getenv("FLITTER_NOFAST");
+    if (!nofast || !*nofast) evalcode_compile_tree(p->top);
     return p;
 }
 
@@ -582,7 +585,9 @@ Program *program_load_text(const char *path, const char *text, size_t len,
     }
     if (globals && globals->simplify) {
         p->top = top = simplify_top(p, top, globals, st, NULL);
-        p->simplified = ast_copy(top);
+        /* kept only for simplifying again with stable values, which only
+         * `let stable` bindings (numbered in stable_ids) can produce */
+        if (p->stable_ids) p->simplified = ast_copy(top);
     }
     return resolve_program(p, globals, st, err);
 }

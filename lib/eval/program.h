@@ -73,7 +73,8 @@ struct Program {
     uint32_t npragmas;
     Buf warnings;          /* load-time warnings, one per line */
     AstNode *simplified;   /* unresolved copy of the simplified tree, for
-                              simplifying again (NULL without the simplifier) */
+                              simplifying again (NULL without the simplifier,
+                              or without `let stable` bindings) */
     uint32_t stable_ids;   /* `let stable` ids given out (stable.h) */
     uint32_t *asserted;    /* stable keys (id, index pairs) whose values this
                               program was simplified with */
@@ -148,6 +149,8 @@ struct Eval {
     struct StableCache *stables; /* `let stable` values (NULL: not tracked) */
     bool stable_changed;    /* an asserted stable value changed: the frame
                                must be evaluated again (stable.h) */
+    struct CMemo *memos;    /* memo cells of the compiled region being run
+                               (evalcode.h) */
 };
 
 /* Evaluate the whole program: compose the top-level sequence and append

@@ -71,8 +71,10 @@ void ast_free(AstNode *n)
 {
     if (!n)
         return;
-    size_t len = 0, cap = 16;
-    AstNode **work = mem_realloc(NULL, cap * sizeof *work);
+    /* small trees (the simplifier frees many) need no heap work list */
+    AstNode *small[64];
+    size_t len = 0, cap = sizeof small / sizeof small[0];
+    AstNode **work = small;
     work[len++] = n;
     while (len) {
         AstNode *t = work[--len];
@@ -80,7 +82,12 @@ void ast_free(AstNode *n)
         if (need > cap) {
             while (cap < need)
                 cap *= 2;
-            work = mem_realloc(work, cap * sizeof *work);
+            if (work == small) {
+                work = mem_realloc(NULL, cap * sizeof *work);
+                memcpy(work, small, len * sizeof *work);
+            } else {
+                work = mem_realloc(work, cap * sizeof *work);
+            }
         }
         if (t->a) work[len++] = t->a;
         if (t->b) work[len++] = t->b;
@@ -90,7 +97,8 @@ void ast_free(AstNode *n)
                 work[len++] = t->kids[i];
         free_shallow(t);
     }
-    free(work);
+    if (work != small)
+        free(work);
 }
 
 /* }===================================================================== */

@@ -82,7 +82,7 @@ struct AstNode {
     uint8_t kind;         /* AstKind */
     uint8_t op;           /* ArithOp / CmpOp / flag, per kind */
     uint8_t scope;        /* resolver: where a name lives (eval.c) */
-    uint8_t pad;
+    uint8_t fast;         /* 1: aux is a compiled NumExpr (numexpr.h) */
     uint32_t count;       /* AST_CALL: number of positional args */
     Loc loc;              /* source span */
     AstNode *a, *b, *c;   /* fixed children, per kind */

@@ -1,0 +1,349 @@
+/* evalcode.c: compiling the program's hot regions into contiguous record
+ * blocks (evalcode.h). The records are run by eval.c (eval_code).
+ */
+#include "evalcode.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "builtins.h"
+#include "mem.h"
+#include "numexpr.h"
+#include "program.h"
+
+/* Most positional arguments of a compiled builtin call (eval_call's direct
+ * route takes as many). */
+#define CC_MAX_ARGS 8
+
+typedef struct CC {
+    unsigned char *buf;
+    uint32_t len, cap;
+    AstNode **later;        /* C_AST nodes whose subtrees are compiled next */
+    uint32_t nlater, cap_later;
+    uint32_t *memo_at;      /* hash table: offset of a C_MEMO record + 1 (0: empty) */
+    uint32_t memo_cap;      /* its size (a power of two, or 0) */
+    uint32_t nmemos;        /* memo cells given out */
+    uint32_t *memo_recs;    /* offsets of the C_MEMO records */
+    uint32_t nmemo_recs, cap_memo_recs;
+} CC;
+
+static CRec *rec(CC *c, uint32_t off) { return (CRec *)(void *)(c->buf + off); }
+
+/* FNV-1a over [len] bytes. */
+static uint64_t hash_bytes(const unsigned char *p, size_t len)
+{
+    uint64_t h = UINT64_C(0xcbf29ce484222325);
+    for (size_t i = 0; i < len; i++) h = (h ^ p[i]) * UINT64_C(0x100000001b3);
+    return h;
+}
+
+/* The memo cell for the NumExpr just copied to the C_MEMO record at
+ * [off]: that of an earlier record with the same instructions, else a new
+ * one. */
+static uint32_t memo_cell(CC *c, uint32_t off)
+{
+    if (2 * (c->nmemos + 1) > c->memo_cap) {
+        uint32_t cap = c->memo_cap ? 2 * c->memo_cap : 64;
+        uint32_t *t = mem_calloc(cap, sizeof *t);
+        for (uint32_t i = 0; i < c->memo_cap; i++) {
+            if (!c->memo_at[i]) continue;
+            const NumExpr *x = (const NumExpr *)(const void *)(c->buf + c->memo_at[i] - 1 + sizeof(CRec));
+            uint32_t h = (uint32_t)hash_bytes((const unsigned char *)x, numexpr_size(x)) & (cap - 1);
+            while (t[h]) h = (h + 1) & (cap - 1);
+            t[h] = c->memo_at[i];
+        }
+        free(c->memo_at);
+        c->memo_at = t;
+        c->memo_cap = cap;
+    }
+    const NumExpr *x = (const NumExpr *)(const void *)(c->buf + off + sizeof(CRec));
+    size_t size = numexpr_size(x);
+    uint32_t h = (uint32_t)hash_bytes((const unsigned char *)x, size) & (c->memo_cap - 1);
+    for (; c->memo_at[h]; h = (h + 1) & (c->memo_cap - 1)) {
+        uint32_t o = c->memo_at[h] - 1;
+        const NumExpr *y = (const NumExpr *)(const void *)(c->buf + o + sizeof(CRec));
+        if (numexpr_size(y) == size && memcmp(x, y, size) == 0) return rec(c, o)->n;
+    }
+    c->memo_at[h] = off + 1;
+    return c->nmemos++;
+}
+
+/* [size] zeroed bytes at the end of the block (8-byte aligned); returns
+ * their offset. */
+static uint32_t reserve(CC *c, size_t size)
+{
+    size = (size + 7) & ~(size_t)7;
+    while (c->len + size > c->cap) {
+        c->cap = c->cap ? c->cap * 2 : 256;
+        c->buf = mem_realloc(c->buf, c->cap);
+    }
+    uint32_t off = c->len;
+    memset(c->buf + off, 0, size);
+    c->len += (uint32_t)size;
+    return off;
+}
+
+
+/* The builtin a callee resolves to at load time, or NULL. */
+static const Builtin *const_builtin(const AstNode *fn)
+{
+    if (fn->kind != AST_LITERAL && (fn->kind != AST_NAME || fn->scope != SCOPE_CONST)) return NULL;
+    const Vec *v = fn->value;
+    if (!vec_is_obj(v) || v->len != 1 || vec_celems(v)[0].kind != EL_FUNC) return NULL;
+    return vec_celems(v)[0].func->bi;
+}
+
+/* True when [n] has a record of its own kind (not C_AST). */
+static bool compilable(const AstNode *n)
+{
+    if (n->fast || n->aux) return false;
+    switch ((AstKind)n->kind) {
+    case AST_SEQUENCE:
+    case AST_APPEND:
+        return true;
+    case AST_LET:
+        if (n->op != 0) return false;   /* `let stable`: stable.h */
+        for (uint32_t i = 0; i < n->nkids; i++)
+            if (!n->kids[i] || n->kids[i]->kind != AST_BINDING || n->kids[i]->nnames != 1) return false;
+        return true;
+    case AST_ATTRIBUTES:
+        for (uint32_t i = 0; i < n->nkids; i++)
+            if (!n->kids[i] || n->kids[i]->kind != AST_BINDING || n->kids[i]->nnames < 1) return false;
+        return true;
+    case AST_CALL:
+        return n->count == n->nkids && n->nkids <= CC_MAX_ARGS && const_builtin(n->a);
+    default:
+        return false;
+    }
+}
+
+static uint32_t emit(CC *c, const AstNode *n);
+
+/* True when the bindings of [n] (AST_ATTRIBUTES) name pairwise different
+ * attributes. */
+static bool distinct_names(const AstNode *n)
+{
+    for (uint32_t i = 0; i < n->nkids; i++)
+        for (uint32_t j = 0; j < i; j++)
+            if (str_eq(n->kids[i]->names[0], n->kids[j]->names[0])) return false;
+    return true;
+}
+
+/* True when [n] is a literal holding one node with no tags, attributes or
+ * children (`!ellipse`). */
+static bool bare_node(const AstNode *n)
+{
+    if (!n || n->kind != AST_LITERAL || !vec_is_obj(n->value) || n->value->len != 1) return false;
+    const Elem *e = vec_celems(n->value);
+    return e->kind == EL_NODE && !e->node->ntags && !e->node->nattrs && !e->node->nchildren;
+}
+
+static uint32_t emit_ast(CC *c, const AstNode *n)
+{
+    uint32_t off = reserve(c, sizeof(CRec));
+    rec(c, off)->op = C_AST;
+    rec(c, off)->p.node = n;
+    if (c->nlater == c->cap_later) {
+        c->cap_later = c->cap_later ? c->cap_later * 2 : 16;
+        c->later = mem_realloc_array(c->later, c->cap_later, sizeof *c->later);
+    }
+    c->later[c->nlater++] = (AstNode *)n;
+    return off;
+}
+
+/* Emit the record of [n] (and below); returns its offset. */
+static uint32_t emit(CC *c, const AstNode *n)
+{
+    uint32_t off, t;
+    if (!n) {
+        off = reserve(c, sizeof(CRec));
+        rec(c, off)->op = C_LIT;
+        return off;
+    }
+    if (n->fast == 1 || numexpr_compile((AstNode *)n)) {
+        const NumExpr *x = numexpr_of(n);
+        size_t size = numexpr_size(x);
+        off = reserve(c, sizeof(CRec) + size);
+        rec(c, off)->op = C_NUM;
+        rec(c, off)->p.node = n;
+        memcpy(c->buf + off + sizeof(CRec), x, size);
+        if (numexpr_memoizable(x)) {
+            rec(c, off)->op = C_MEMO;
+            rec(c, off)->n = memo_cell(c, off);
+            if (c->nmemo_recs == c->cap_memo_recs) {
+                c->cap_memo_recs = c->cap_memo_recs ? 2 * c->cap_memo_recs : 64;
+                c->memo_recs = mem_realloc_array(c->memo_recs, c->cap_memo_recs, sizeof *c->memo_recs);
+            }
+            c->memo_recs[c->nmemo_recs++] = off;
+        }
+        return off;
+    }
+    switch ((AstKind)n->kind) {
+    case AST_LITERAL:
+        off = reserve(c, sizeof(CRec));
+        rec(c, off)->op = C_LIT;
+        rec(c, off)->p.lit = n->value;
+        return off;
+    case AST_NAME:
+        off = reserve(c, sizeof(CRec));
+        switch (n->scope) {
+        case SCOPE_LOCAL: rec(c, off)->op = C_LOCAL; rec(c, off)->n = (uint32_t)n->slot; break;
+        case SCOPE_GLOBAL: rec(c, off)->op = C_GLOBAL; rec(c, off)->n = (uint32_t)n->slot; break;
+        case SCOPE_CONST: rec(c, off)->op = C_LIT; rec(c, off)->p.lit = n->value; break;
+        default: rec(c, off)->op = C_LIT; break;
+        }
+        return off;
+    default:
+        break;
+    }
+    if (!compilable(n)) return emit_ast(c, n);
+    switch ((AstKind)n->kind) {
+    case AST_SEQUENCE:
+        off = reserve(c, sizeof(CRec) + n->nkids * sizeof(uint32_t));
+        rec(c, off)->op = C_SEQ;
+        rec(c, off)->n = n->nkids;
+        for (uint32_t i = 0; i < n->nkids; i++) {
+            t = emit(c, n->kids[i]);
+            ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[i] = t;
+        }
+        return off;
+    case AST_LET:
+        off = reserve(c, sizeof(CRec) + sizeof(CLetTail) + n->nkids * sizeof(CBind));
+        rec(c, off)->op = C_LET;
+        rec(c, off)->n = n->nkids;
+        for (uint32_t i = 0; i < n->nkids; i++) {
+            t = emit(c, n->kids[i]->a);
+            CLetTail *lt = (CLetTail *)(void *)(c->buf + off + sizeof(CRec));
+            lt->binds[i].slot = n->kids[i]->slots[0];
+            lt->binds[i].off = t;
+        }
+        t = emit(c, n->a);
+        ((CLetTail *)(void *)(c->buf + off + sizeof(CRec)))->body = t;
+        return off;
+    case AST_ATTRIBUTES:
+        off = reserve(c, sizeof(CRec) + sizeof(CAttrsTail) + n->nkids * sizeof(CAttr));
+        rec(c, off)->n = n->nkids;
+        if (bare_node(n->a) && distinct_names(n)) {
+            rec(c, off)->op = C_NEWNODE;
+            rec(c, off)->p.kind = vec_celems(n->a->value)[0].node->kind;
+            t = 0;
+        } else {
+            rec(c, off)->op = C_ATTRS;
+            t = emit(c, n->a);
+        }
+        ((CAttrsTail *)(void *)(c->buf + off + sizeof(CRec)))->node = t;
+        for (uint32_t i = 0; i < n->nkids; i++) {
+            t = emit(c, n->kids[i]->a);
+            CAttrsTail *at = (CAttrsTail *)(void *)(c->buf + off + sizeof(CRec));
+            at->attrs[i].name = n->kids[i]->names[0];
+            at->attrs[i].off = t;
+        }
+        return off;
+    case AST_CALL:
+        off = reserve(c, sizeof(CRec) + n->nkids * sizeof(uint32_t));
+        rec(c, off)->op = C_CALLBI;
+        rec(c, off)->n = n->nkids;
+        rec(c, off)->p.bi = const_builtin(n->a);
+        for (uint32_t i = 0; i < n->nkids; i++) {
+            t = emit(c, n->kids[i]);
+            ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[i] = t;
+        }
+        return off;
+    case AST_APPEND:
+        off = reserve(c, sizeof(CRec) + 2 * sizeof(uint32_t));
+        rec(c, off)->op = C_APPEND;
+        t = emit(c, n->a);
+        ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[0] = t;
+        t = emit(c, n->b);
+        ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[1] = t;
+        return off;
+    default:
+        return emit_ast(c, n);
+    }
+}
+
+static void compile_children(AstNode *n);
+
+/* Keep memo cells only where several records share them (the same
+ * expression of engine names at several places, e.g. in the bodies of an
+ * unrolled loop): a record of its own is run once a frame and would only
+ * pay for the bookkeeping. Those go back to C_NUM; the cells left are
+ * numbered again from 0. */
+static void share_memos(CC *c)
+{
+    uint32_t *uses = mem_calloc(c->nmemos ? c->nmemos : 1, sizeof *uses);
+    uint32_t *renum = mem_calloc(c->nmemos ? c->nmemos : 1, sizeof *renum);
+    for (uint32_t i = 0; i < c->nmemo_recs; i++) uses[rec(c, c->memo_recs[i])->n]++;
+    uint32_t kept = 0;
+    for (uint32_t m = 0; m < c->nmemos; m++) renum[m] = uses[m] >= 2 ? kept++ : UINT32_MAX;
+    for (uint32_t i = 0; i < c->nmemo_recs; i++) {
+        CRec *r = rec(c, c->memo_recs[i]);
+        if (renum[r->n] == UINT32_MAX) {
+            r->op = C_NUM;
+            r->n = 0;
+        } else {
+            r->n = renum[r->n];
+        }
+    }
+    c->nmemos = kept;
+    free(uses);
+    free(renum);
+}
+
+/* The memo cells of [c]'s block, with the names each one reads. */
+static CMemo *make_memos(CC *c)
+{
+    if (!c->nmemos) return NULL;
+    CMemo *m = mem_calloc(c->nmemos, sizeof *m);
+    for (uint32_t i = 0; i < c->nmemo_recs; i++) {
+        const CRec *r = rec(c, c->memo_recs[i]);
+        if (r->op != C_MEMO || m[r->n].nkeys) continue;
+        m[r->n].nkeys = numexpr_globals((const NumExpr *)(const void *)(r + 1), m[r->n].names);
+    }
+    return m;
+}
+
+/* AstNode.aux_free of a region: the kept results, then the block. */
+static void cblock_free(void *p)
+{
+    CBlock *b = p;
+    for (uint32_t i = 0; i < b->nmemos; i++) vec_release(b->memos[i].value);
+    free(b->memos);
+    free(b);
+}
+
+void evalcode_compile_tree(AstNode *n)
+{
+    if (!n) return;
+    if (numexpr_compile(n)) return;
+    if (!compilable(n)) {
+        compile_children(n);
+        return;
+    }
+    CC c = {0};
+    emit(&c, n);
+    share_memos(&c);
+    CBlock *b = mem_alloc(sizeof *b + c.len);
+    b->nmemos = c.nmemos;
+    b->len = c.len;
+    b->memos = make_memos(&c);
+    memcpy(b->code, c.buf, c.len);
+    free(c.buf);
+    free(c.memo_at);
+    free(c.memo_recs);
+    n->aux = b;
+    n->aux_free = cblock_free;
+    n->fast = 2;
+    for (uint32_t i = 0; i < c.nlater; i++) compile_children(c.later[i]);
+    free(c.later);
+}
+
+/* Compile the regions below [n] (whose own kind has no record). */
+static void compile_children(AstNode *n)
+{
+    if (n->fast == 1) return;   /* a compiled numeric subtree: all done */
+    evalcode_compile_tree(n->a);
+    evalcode_compile_tree(n->b);
+    evalcode_compile_tree(n->c);
+    for (uint32_t i = 0; i < n->nkids; i++) evalcode_compile_tree(n->kids[i]);
+}

@@ -1,0 +1,119 @@
+/* evalcode.h: the compact, pre-resolved form of the program's hot structure
+ * (issue 10 item 3), built once after name resolution and run by eval.c.
+ *
+ * A tree walk over AstNodes (120 bytes each, allocated one by one) touches
+ * scattered memory: on a simplified program of 10,000 unrolled loop bodies
+ * that is tens of MB per frame, and the frame time goes to cache misses,
+ * not arithmetic. evalcode_compile_tree() therefore copies every maximal
+ * region of the kinds that dominate such programs - sequences, plain
+ * `let`s, attribute settings, `<<` appends, positional calls of builtins -
+ * into one contiguous block of small records laid out in evaluation order,
+ * with compiled numeric subtrees (numexpr.h) copied inline and names turned
+ * into slot reads. The region's root AstNode gets n->fast = 2 and
+ * n->aux = the block (a CBlock; record 0 is the root).
+ *
+ * Anything else inside a region is a C_AST record pointing back at its
+ * AstNode, which the generic evaluator runs (and whose own subtrees may be
+ * compiled regions again). The records mirror eval.c's functions for those
+ * kinds step for step - the same evaluation order, the same depth
+ * accounting (§4.16 stack overflow), the same helpers - so results,
+ * messages and errors are identical; FLITTER_NOFAST turns compilation off
+ * (numexpr.h) for comparing the two routes.
+ */
+#ifndef FL_EVALCODE_H
+#define FL_EVALCODE_H
+
+#include <stdint.h>
+
+#include "ast.h"
+#include "numexpr.h"
+
+enum {
+    C_AST,      /* p.node: evaluate the AstNode generically */
+    C_LIT,      /* p.lit: a constant (borrowed from the AST; may be NULL) */
+    C_LOCAL,    /* n: frame slot */
+    C_GLOBAL,   /* n: global index */
+    C_NUM,      /* p.node: fallback; followed by a NumExpr (numexpr.h) */
+    C_SEQ,      /* n kids: uint32 offsets follow (§4.3) */
+    C_LET,      /* n bindings: CLetTail follows (§4.4) */
+    C_ATTRS,    /* n bindings: CAttrsTail follows (§4.10) */
+    C_CALLBI,   /* p.bi, n positional args: uint32 offsets follow (§4.8) */
+    C_APPEND,   /* uint32 offsets of parent and children follow (§4.10) */
+    C_MEMO,     /* a C_NUM reading engine names and constants only
+                   (numexpr_memoizable): n is its memo cell, shared by every
+                   record of the block with the same instructions; the
+                   result is kept there and handed out again while those
+                   names hold the same numbers, bit for bit (not when it is
+                   NaN, where the identity of vectors matters, §3.6) */
+    C_NEWNODE,  /* C_ATTRS on a literal bare node (no tags, attributes or
+                   children; p.kind is its kind, borrowed from the AST): a
+                   new node of that kind with the attributes set, the
+                   literal left untouched */
+};
+
+struct Builtin;
+
+/* Every record starts with this header; offsets are bytes from the start
+ * of the block. Records are 8-byte aligned. */
+typedef struct CRec {
+    uint8_t op;         /* C_* */
+    uint8_t pad[3];
+    uint32_t n;         /* per op */
+    union {
+        const AstNode *node;
+        Vec *lit;
+        Str *kind;
+        const struct Builtin *bi;
+    } p;
+} CRec;
+
+typedef struct CBind {
+    int32_t slot;       /* C_LET: slot bound */
+    uint32_t off;       /* value record */
+} CBind;
+
+typedef struct CLetTail {
+    uint32_t body;      /* body record */
+    uint32_t pad;
+    CBind binds[];      /* n of them, in order */
+} CLetTail;
+
+typedef struct CAttr {
+    Str *name;          /* attribute name (borrowed from the AST) */
+    uint32_t off;       /* value record */
+    uint32_t pad;
+} CAttr;
+
+typedef struct CAttrsTail {
+    uint32_t node;      /* node expression record */
+    uint32_t pad;
+    CAttr attrs[];      /* n of them, in order */
+} CAttrsTail;
+
+/* A memo cell of C_MEMO records. */
+typedef struct CMemo {
+    Vec *value;                          /* last result (one reference), or NULL */
+    int32_t nkeys;                       /* engine names read */
+    int32_t names[NUMEXPR_MEMO_KEYS];    /* their indices (Globals) */
+    uint64_t keys[NUMEXPR_MEMO_KEYS];    /* their numbers' bits when [value] was made */
+} CMemo;
+
+/* A compiled region: AstNode.aux of its root (n->fast == 2). */
+typedef struct CBlock {
+    CMemo *memos;       /* memo cells (NULL: none) */
+    uint32_t nmemos;
+    uint32_t len;       /* bytes of code */
+    _Alignas(16) unsigned char code[];   /* records; the root is at offset 0 */
+} CBlock;
+
+/* Compile the regions and the numeric subtrees (numexpr.h) of the
+ * resolved tree [top] in place (see above). Never fails. */
+void evalcode_compile_tree(AstNode *top);
+
+/* The record at byte offset [off] of block [base]. */
+static inline const CRec *crec(const unsigned char *base, uint32_t off)
+{
+    return (const CRec *)(const void *)(base + off);
+}
+
+#endif

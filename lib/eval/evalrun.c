@@ -1,0 +1,201 @@
+/* evalrun.c: running the compiled regions of evalcode.h (issue 10 item 3).
+ *
+ * Each record does what the eval_* function of its AST kind in eval.c does,
+ * in the same order, with the same helpers (eval_internal.h) and the same
+ * depth accounting; anything else is handed back to the tree walk.
+ */
+#include "eval_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "evalcode.h"
+#include "mem.h"
+#include "node.h"
+#include "pool.h"
+
+static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off);
+
+/* C_MEMO: C_NUM, its result kept in the block's memo cell and handed out
+ * again while the engine names it reads hold the same numbers. A kept
+ * vector is shared, which nothing can tell from a new one with the same
+ * numbers (§3.6 rule 1 only matters for NaN, never kept). */
+static Vec *run_memo(Eval *ev, const CRec *r)
+{
+    const NumExpr *x = (const NumExpr *)(const void *)(r + 1);
+    CMemo *m = &ev->memos[r->n];
+    uint64_t keys[NUMEXPR_MEMO_KEYS];
+    if (!ev->globals || ev->depth + numexpr_depth(x) > MAX_EVAL_DEPTH)
+        return run_num(ev, r->p.node, x);
+    bool same = m->value != NULL;
+    for (int32_t k = 0; k < m->nkeys; k++) {
+        const Vec *g = ev->globals->values[m->names[k]];
+        if (!vec_is_scalar(g)) return run_num(ev, r->p.node, x);
+        memcpy(&keys[k], vec_cnums(g), sizeof keys[k]);
+        same = same && keys[k] == m->keys[k];
+    }
+    if (same) return vec_retain(m->value);
+    Vec *v = run_num(ev, r->p.node, x);
+    if (vec_is_num(v)) {
+        for (uint32_t i = 0; i < v->len; i++)
+            if (isnan(vec_cnums(v)[i])) return v;
+        vec_release(m->value);
+        m->value = vec_retain(v);
+        memcpy(m->keys, keys, (size_t)m->nkeys * sizeof keys[0]);
+    }
+    return v;
+}
+
+/* eval_node's depth guard; false (with the error) on overflow. */
+static inline bool depth_enter(Eval *ev)
+{
+    if (++ev->depth > MAX_EVAL_DEPTH) {
+        ev->depth--;
+        ev->overflow = true;
+        eval_error(ev, "Stack overflow in program");
+        return false;
+    }
+    return true;
+}
+
+static const uint32_t *rec_offs(const CRec *r) { return (const uint32_t *)(const void *)(r + 1); }
+
+/* C_SEQ: eval_sequence */
+static Vec *run_seq(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    if (r->n == 1) return run_rec(ev, base, k[0]);
+    Parts parts;
+    parts_init(&parts);
+    for (uint32_t i = 0; i < r->n; i++) parts_push(&parts, run_rec(ev, base, k[i]));
+    return parts_finish(ev, &parts);
+}
+
+/* C_LET: eval_let of single-name, non-stable bindings */
+static Vec *run_let(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
+    for (uint32_t i = 0; i < r->n; i++) set_slot(ev, t->binds[i].slot, run_rec(ev, base, t->binds[i].off));
+    return run_rec(ev, base, t->body);
+}
+
+/* C_ATTRS: eval_attributes */
+static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+    Vec *v = run_rec(ev, base, t->node);
+    Vec *small[16];
+    Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
+    if (!vals) mem_oom();
+    for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
+    if (has_nodes(v)) {
+        v = vec_unshare(v);
+        Elem *e = vec_elems(v);
+        for (uint32_t i = 0; i < v->len; i++) {
+            if (e[i].kind != EL_NODE) continue;
+            e[i].node = node_mut(e[i].node);
+            for (uint32_t k = 0; k < r->n; k++)
+                node_set_attr(e[i].node, t->attrs[k].name, vec_retain(vals[k]));
+        }
+    }
+    for (uint32_t k = 0; k < r->n; k++) vec_release(vals[k]);
+    if (vals != small) free(vals);
+    return v;
+}
+
+/* C_NEWNODE: eval_attributes on a literal bare node, which it would copy
+ * (it is shared) before setting the attributes: the same node, built
+ * directly */
+static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+    Vec *small[16];
+    Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
+    if (!vals) mem_oom();
+    for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
+    Node *nn = node_new(r->p.kind);
+    if (r->n <= 16) {
+        /* distinct names (evalcode.c checks): set them all at once */
+        Str *names[16];
+        for (uint32_t k = 0; k < r->n; k++) names[k] = t->attrs[k].name;
+        node_init_attrs(nn, r->n, names, vals);
+    } else {
+        for (uint32_t k = 0; k < r->n; k++) node_set_attr(nn, t->attrs[k].name, vals[k]);
+    }
+    if (vals != small) free(vals);
+    return vec_node_take(nn);
+}
+
+/* C_CALLBI: eval_call's direct route for a builtin callee */
+static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    Vec *args[8];
+    for (uint32_t i = 0; i < r->n; i++) args[i] = run_rec(ev, base, k[i]);
+    Args a = {args, r->n, NULL, NULL, 0};
+    Vec *v = call_builtin(ev, r->p.bi, &a);
+    for (uint32_t i = 0; i < r->n; i++) vec_release(args[i]);
+    return v;
+}
+
+/* C_APPEND: eval_append */
+static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    Vec *p = run_rec(ev, base, k[0]);
+    Vec *c = run_rec(ev, base, k[1]);
+    if (has_nodes(p) && has_nodes(c)) {
+        p = vec_unshare(p);
+        Elem *e = vec_elems(p);
+        const Elem *ce = vec_celems(c);
+        for (uint32_t i = 0; i < p->len; i++) {
+            if (e[i].kind != EL_NODE) continue;
+            e[i].node = node_mut(e[i].node);
+            for (uint32_t j = 0; j < c->len; j++)
+                if (ce[j].kind == EL_NODE) node_append(e[i].node, ce[j].node);
+        }
+    }
+    vec_release(c);
+    return p;
+}
+
+static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off)
+{
+    const CRec *r = crec(base, off);
+    Vec *v;
+    switch (r->op) {
+    case C_LIT: return vec_retain(r->p.lit);
+    case C_LOCAL: return vec_retain(ev->frame[r->n]);
+    case C_GLOBAL: return ev->globals ? vec_retain(ev->globals->values[r->n]) : NULL;
+    case C_NUM: return run_num(ev, r->p.node, (const NumExpr *)(const void *)(r + 1));
+    case C_MEMO: return run_memo(ev, r);
+    /* a C_AST node is never a literal, a name or compiled (those have
+     * records of their own): eval() would call eval_node */
+    case C_AST: return eval_node(ev, r->p.node);
+    default: break;
+    }
+    if (!depth_enter(ev)) return NULL;
+    switch (r->op) {
+    case C_SEQ: v = run_seq(ev, base, r); break;
+    case C_LET: v = run_let(ev, base, r); break;
+    case C_ATTRS: v = run_attrs(ev, base, r); break;
+    case C_CALLBI: v = run_callbi(ev, base, r); break;
+    case C_APPEND: v = run_append(ev, base, r); break;
+    case C_NEWNODE: v = run_newnode(ev, base, r); break;
+    default: v = NULL; break;
+    }
+    ev->depth--;
+    return v;
+}
+
+Vec *eval_code(Eval *ev, const AstNode *n)
+{
+    CBlock *b = n->aux;
+    CMemo *saved = ev->memos;
+    ev->memos = b->memos;
+    Vec *v = run_rec(ev, b->code, 0);
+    ev->memos = saved;
+    return v;
+}
+

@@ -1,0 +1,361 @@
+/* numexpr.c: compiling numeric subtrees to flat instruction arrays and
+ * running them on doubles (numexpr.h).
+ *
+ * The instructions form a stack machine: operands are pushed, operators
+ * pop theirs and push the result. A compiled sequence `a;b;c` leaves its
+ * outputs on the stack in order. The stack depth is known at compile time
+ * and bounded by NX_STACK.
+ */
+#include "numexpr.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "builtins.h"
+#include "mem.h"
+#include "program.h"
+
+/* Deepest operand stack a compiled expression may need. */
+#define NX_STACK 32
+/* Most numbers a compiled sequence may produce. */
+#define NX_MAX_OUT 16
+
+enum {
+    NX_CONST, NX_LOCAL, NX_GLOBAL,
+    NX_ADD, NX_SUB, NX_MUL, NX_DIV, NX_FLOORDIV, NX_MOD, NX_POW, NX_SQUARE,
+    NX_NEG, NX_NOT, NX_CMP, NX_CALL1,
+    /* an arithmetic operator whose right operand is the constant k */
+    NX_ADDK, NX_SUBK, NX_MULK, NX_DIVK,
+    NX_END,     /* the last instruction */
+};
+
+typedef struct NxIns {
+    uint8_t op;         /* NX_* */
+    uint8_t sub;        /* NX_CMP: CmpOp */
+    int32_t arg;        /* NX_LOCAL: slot; NX_GLOBAL: index */
+    union {
+        double k;                  /* NX_CONST */
+        double (*fn)(double);      /* NX_CALL1 */
+    };
+} NxIns;
+
+struct NumExpr {
+    uint32_t nins;      /* instructions (the last is NX_END) */
+    uint32_t nout;      /* numbers produced */
+    uint32_t depth;     /* generic eval_node nesting of the subtree */
+    NxIns ins[];
+};
+
+uint32_t numexpr_outputs(const NumExpr *x) { return x->nout; }
+size_t numexpr_size(const NumExpr *x) { return sizeof *x + x->nins * sizeof(NxIns); }
+uint32_t numexpr_depth(const NumExpr *x) { return x->depth; }
+
+/* ====================================================================
+ * Compiling
+ * ==================================================================== */
+
+typedef struct Nx {
+    NxIns *ins;
+    uint32_t n, cap;
+    uint32_t sp, max_sp;   /* stack depth now and at most */
+    bool fail;
+} Nx;
+
+static void emit(Nx *c, NxIns i, int push)
+{
+    if (c->n == c->cap) {
+        c->cap = c->cap ? c->cap * 2 : 16;
+        c->ins = mem_realloc_array(c->ins, c->cap, sizeof *c->ins);
+    }
+    /* field by field into zeroed memory: no stray padding bytes, so that
+     * equal instructions are equal bytes (evalcode.c compares them) */
+    NxIns *d = &c->ins[c->n++];
+    memset(d, 0, sizeof *d);
+    d->op = i.op;
+    d->sub = i.sub;
+    d->arg = i.arg;
+    memcpy(&d->k, &i.k, sizeof d->k);
+    c->sp = (uint32_t)((int)c->sp + push);
+    if (c->sp > c->max_sp) c->max_sp = c->sp;
+    if (c->max_sp > NX_STACK) c->fail = true;
+}
+
+/* The builtin a callee name resolves to at load time, or NULL. */
+static const Builtin *const_builtin(const AstNode *fn)
+{
+    /* a builtin name, or (after the simplifier) a literal function */
+    if (fn->kind != AST_LITERAL && (fn->kind != AST_NAME || fn->scope != SCOPE_CONST)) return NULL;
+    const Vec *v = fn->value;
+    if (!vec_is_obj(v) || v->len != 1 || vec_celems(v)[0].kind != EL_FUNC) return NULL;
+    return vec_celems(v)[0].func->bi;
+}
+
+static bool is_literal_two(const AstNode *n)
+{
+    return n->kind == AST_LITERAL && vec_is_scalar(n->value) && vec_scalar(n->value) == 2.0;
+}
+
+/* True when [n] is a one-number expression the machine can run. */
+static bool scalar_ok(const AstNode *n, int budget)
+{
+    if (!n || budget <= 0) return false;
+    switch ((AstKind)n->kind) {
+    case AST_LITERAL:
+        return vec_is_scalar(n->value);
+    case AST_NAME:
+        return n->scope == SCOPE_LOCAL || n->scope == SCOPE_GLOBAL ||
+               (n->scope == SCOPE_CONST && vec_is_scalar(n->value));
+    case AST_BINOP:
+        if (n->op > OP_POW) return false;
+        return scalar_ok(n->a, budget - 1) && scalar_ok(n->b, budget - 1);
+    case AST_COMPARE:
+        if (n->op == CMP_IN) return false;
+        return scalar_ok(n->a, budget - 1) && scalar_ok(n->b, budget - 1);
+    case AST_NEG: case AST_POS: case AST_NOT:
+        return scalar_ok(n->a, budget - 1);
+    case AST_CALL: {
+        if (n->op != 0 || n->count != 1 || n->nkids != 1) return false;
+        const Builtin *bi = const_builtin(n->a);
+        return bi && bi_kernel(bi) && scalar_ok(n->kids[0], budget - 1);
+    }
+    case AST_SEQUENCE:
+        return n->nkids == 1 && scalar_ok(n->kids[0], budget - 1);
+    default:
+        return false;
+    }
+}
+
+/* True when [n] is a constant number (a literal or a constant name);
+ * sets *[k]. */
+static bool const_value(const AstNode *n, double *k)
+{
+    if ((n->kind == AST_LITERAL || (n->kind == AST_NAME && n->scope == SCOPE_CONST)) &&
+        vec_is_scalar(n->value)) {
+        *k = vec_scalar(n->value);
+        return true;
+    }
+    return false;
+}
+
+/* Emit [n] (scalar_ok); returns the generic evaluator's nesting for it:
+ * eval_node levels, literals and names taking none. */
+static uint32_t emit_scalar(Nx *c, const AstNode *n)
+{
+    uint32_t d = 0, e;
+    double k;
+    switch ((AstKind)n->kind) {
+    case AST_LITERAL:
+        emit(c, (NxIns){.op = NX_CONST, .k = vec_scalar(n->value)}, 1);
+        return 0;
+    case AST_NAME:
+        if (n->scope == SCOPE_LOCAL) emit(c, (NxIns){.op = NX_LOCAL, .arg = n->slot}, 1);
+        else if (n->scope == SCOPE_GLOBAL) emit(c, (NxIns){.op = NX_GLOBAL, .arg = n->slot}, 1);
+        else emit(c, (NxIns){.op = NX_CONST, .k = vec_scalar(n->value)}, 1);
+        return 0;
+    case AST_BINOP:
+        if (n->op == OP_POW && is_literal_two(n->b)) {
+            /* F2 (§4.17): x**2 is x*x */
+            d = emit_scalar(c, n->a);
+            emit(c, (NxIns){.op = NX_SQUARE}, 0);
+            return d + 1;
+        }
+        if (n->op <= OP_DIV && const_value(n->b, &k)) {
+            /* x OP k: one instruction */
+            d = emit_scalar(c, n->a);
+            emit(c, (NxIns){.op = (uint8_t)(NX_ADDK + n->op), .k = k}, 0);
+            return d + 1;
+        }
+        if ((n->op == OP_ADD || n->op == OP_MUL) && const_value(n->a, &k)) {
+            /* k + x, k * x: IEEE addition and multiplication commute
+             * exactly (a NaN operand gives that NaN either way) */
+            d = emit_scalar(c, n->b);
+            emit(c, (NxIns){.op = (uint8_t)(NX_ADDK + n->op), .k = k}, 0);
+            return d + 1;
+        }
+        d = emit_scalar(c, n->a);
+        e = emit_scalar(c, n->b);
+        /* the generic route fuses a + b*c and a + b**2 (F1, §4.17); on
+         * single numbers that is a + (b*c), each operation rounded, as
+         * here (its nesting is one level less than counted here, which
+         * only makes the depth check below a little cautious) */
+        static const uint8_t ops[] = {NX_ADD, NX_SUB, NX_MUL, NX_DIV, NX_FLOORDIV, NX_MOD, NX_POW};
+        emit(c, (NxIns){.op = ops[n->op]}, -1);
+        return (d > e ? d : e) + 1;
+    case AST_COMPARE:
+        d = emit_scalar(c, n->a);
+        e = emit_scalar(c, n->b);
+        emit(c, (NxIns){.op = NX_CMP, .sub = n->op}, -1);
+        return (d > e ? d : e) + 1;
+    case AST_NEG:
+        d = emit_scalar(c, n->a);
+        emit(c, (NxIns){.op = NX_NEG}, 0);
+        return d + 1;
+    case AST_POS:
+        /* +x of a number is the number itself */
+        return emit_scalar(c, n->a) + 1;
+    case AST_NOT:
+        d = emit_scalar(c, n->a);
+        emit(c, (NxIns){.op = NX_NOT}, 0);
+        return d + 1;
+    case AST_CALL:
+        d = emit_scalar(c, n->kids[0]);
+        emit(c, (NxIns){.op = NX_CALL1, .fn = bi_kernel(const_builtin(n->a))}, 0);
+        return d + 1;
+    case AST_SEQUENCE:
+        return emit_scalar(c, n->kids[0]) + 1;
+    default:
+        c->fail = true;
+        return 0;
+    }
+}
+
+/* Worth compiling: an operation (not a bare literal or name, which the
+ * generic route already reads without a call). */
+static bool is_operation(const AstNode *n)
+{
+    return n->kind != AST_LITERAL && n->kind != AST_NAME;
+}
+
+bool numexpr_compile(AstNode *n)
+{
+    if (n->aux || n->fast) return false;
+    uint32_t nout;
+    if (n->kind == AST_SEQUENCE && n->nkids >= 2) {
+        if (n->nkids > NX_MAX_OUT) return false;
+        for (uint32_t i = 0; i < n->nkids; i++)
+            if (!scalar_ok(n->kids[i], NX_STACK)) return false;
+        nout = n->nkids;
+    } else {
+        if (!is_operation(n) || !scalar_ok(n, NX_STACK)) return false;
+        nout = 1;
+    }
+    Nx c = {0};
+    uint32_t depth = 0;
+    if (nout > 1) {
+        for (uint32_t i = 0; i < n->nkids; i++) {
+            uint32_t d = emit_scalar(&c, n->kids[i]);
+            if (d > depth) depth = d;
+        }
+        depth++;   /* the sequence itself */
+    } else {
+        depth = emit_scalar(&c, n);
+    }
+    emit(&c, (NxIns){.op = NX_END}, 0);
+    if (c.fail || c.sp != nout) {
+        free(c.ins);
+        return false;
+    }
+    NumExpr *x = mem_calloc(1, sizeof *x + c.n * sizeof(NxIns));   /* padding zero too */
+    x->nins = c.n;
+    x->nout = nout;
+    x->depth = depth;
+    memcpy(x->ins, c.ins, c.n * sizeof(NxIns));
+    free(c.ins);
+    n->aux = x;
+    n->aux_free = free;
+    n->fast = 1;
+    return true;
+}
+
+
+/* ====================================================================
+ * Running
+ * ==================================================================== */
+
+bool numexpr_memoizable(const NumExpr *x)
+{
+    uint32_t globals = 0;
+    for (uint32_t i = 0; i < x->nins; i++) {
+        if (x->ins[i].op == NX_LOCAL) return false;
+        if (x->ins[i].op == NX_GLOBAL) globals++;
+    }
+    return globals >= 1 && globals <= NUMEXPR_MEMO_KEYS;
+}
+
+int numexpr_globals(const NumExpr *x, int32_t *idx)
+{
+    int k = 0;
+    for (uint32_t i = 0; i < x->nins && k < NUMEXPR_MEMO_KEYS; i++)
+        if (x->ins[i].op == NX_GLOBAL) idx[k++] = x->ins[i].arg;
+    return k;
+}
+
+/* vec_cmp of two single non-NaN numbers turned into the comparison's 1/0,
+ * as eval_compare does (§3.6, §3.7). */
+static double compare(uint8_t op, double x, double y)
+{
+    switch (op) {
+    case CMP_EQ: return x == y;
+    case CMP_NE: return x != y;
+    case CMP_LT: return x < y;
+    case CMP_GT: return x > y;
+    case CMP_LE: return x <= y;
+    default: return x >= y;
+    }
+}
+
+bool numexpr_run(const NumExpr *x, Eval *ev, double *out)
+{
+    /* threaded dispatch (GNU C labels as values): each instruction jumps
+     * straight to the next one's code */
+    static const void *const code[] = {
+        [NX_CONST] = &&l_const, [NX_LOCAL] = &&l_local, [NX_GLOBAL] = &&l_global,
+        [NX_ADD] = &&l_add, [NX_SUB] = &&l_sub, [NX_MUL] = &&l_mul, [NX_DIV] = &&l_div,
+        [NX_FLOORDIV] = &&l_floordiv, [NX_MOD] = &&l_mod, [NX_POW] = &&l_pow,
+        [NX_SQUARE] = &&l_square, [NX_NEG] = &&l_neg, [NX_NOT] = &&l_not, [NX_CMP] = &&l_cmp,
+        [NX_CALL1] = &&l_call1, [NX_ADDK] = &&l_addk, [NX_SUBK] = &&l_subk,
+        [NX_MULK] = &&l_mulk, [NX_DIVK] = &&l_divk, [NX_END] = &&l_end,
+    };
+    _Static_assert(sizeof code / sizeof code[0] == NX_END + 1, "every instruction has code");
+    /* the top of the stack lives in t; st[1..] holds the rest (the first
+     * push saves t's meaningless initial value in st[0]) */
+    double st[NX_STACK + 1];
+    double *sp = st, t = 0.0, a;
+    const Vec *v;
+    const NxIns *i = x->ins;
+#define NEXT goto *code[(++i)->op]
+    goto *code[i->op];
+l_const: *sp++ = t; t = i->k; NEXT;
+l_local:
+    v = ev->frame[i->arg];
+    if (!vec_is_scalar(v)) return false;
+    *sp++ = t;
+    t = vec_cnums(v)[0];
+    NEXT;
+l_global:
+    if (!ev->globals) return false;
+    v = ev->globals->values[i->arg];
+    if (!vec_is_scalar(v)) return false;
+    *sp++ = t;
+    t = vec_cnums(v)[0];
+    NEXT;
+l_add: a = *--sp; t = a + t; NEXT;
+l_sub: a = *--sp; t = a - t; NEXT;
+l_mul: a = *--sp; t = a * t; NEXT;
+l_div: a = *--sp; t = a / t; NEXT;
+l_floordiv: a = *--sp; t = num_floordiv(a, t); NEXT;
+l_mod: a = *--sp; t = num_mod(a, t); NEXT;
+l_pow: a = *--sp; t = pow(a, t); NEXT;
+l_square: t = t * t; NEXT;
+l_neg: t = -t; NEXT;
+l_not: t = (t != 0.0 || isnan(t)) ? 0.0 : 1.0; NEXT;
+l_cmp:
+    a = *--sp;
+    /* NaN: the generic route's answer depends on whether both operands
+     * are the same vector (§3.6 rule 1) */
+    if (isnan(a) || isnan(t)) return false;
+    t = compare(i->sub, a, t);
+    NEXT;
+l_call1: t = i->fn(t); NEXT;
+l_addk: t = t + i->k; NEXT;
+l_subk: t = t - i->k; NEXT;
+l_mulk: t = t * i->k; NEXT;
+l_divk: t = t / i->k; NEXT;
+l_end:
+#undef NEXT
+    /* the outputs: st[1..nout-1], then t */
+    for (uint32_t k = 1; k < x->nout; k++) out[k - 1] = st[k];
+    out[x->nout - 1] = t;
+    return true;
+}

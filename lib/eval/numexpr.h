@@ -1,0 +1,81 @@
+/* numexpr.h: compiled numeric expressions, the evaluator's fast route for
+ * arithmetic on single numbers (issue 10 item 3).
+ *
+ * After a program's names are resolved (program.c), the compiler
+ * (evalcode_compile_tree, numexpr_compile) finds every maximal subtree
+ * that is arithmetic on one-number operands: literal numbers, names, + - * / // % **, unary - + not, the comparisons
+ * other than `in`, and calls of the one-argument element-wise builtins
+ * (sin, cos, sqrt, ...; bi_kernel in builtins.h). Such a subtree, or an
+ * `a;b;...` sequence of them, is compiled into a flat array of small
+ * instructions with the constants inline, hung on the subtree's root node
+ * (AstNode.fast = 1, AstNode.aux = the NumExpr).
+ *
+ * numexpr_run() runs one on doubles, with no allocation and no recursion.
+ * It gives up (returns false) the moment a name holds anything but a
+ * one-element numeric vector, or a comparison meets a NaN (where the
+ * generic evaluator's identity shortcut could matter); the caller then
+ * evaluates the same subtree with the generic tree walk, which is the
+ * reference. Nothing in a compiled subtree has side effects (no errors,
+ * no user calls, no state), so giving up half-way and starting again
+ * changes nothing. Every operation is the one the generic route performs
+ * on one-element vectors (value.c's arithmetic, vec_cmp, vec_truthy, the
+ * builtin's own element function), so the results are bit-identical.
+ *
+ * The environment variable FLITTER_NOFAST (read by program.c when a program
+ * is loaded) turns compilation off: every subtree then takes the generic
+ * route, for comparing the two (tests/cli/fast_route.sh).
+ */
+#ifndef FL_NUMEXPR_H
+#define FL_NUMEXPR_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "ast.h"
+#include "context.h"
+
+typedef struct NumExpr NumExpr;
+
+/* Compile the resolved subtree [n] in place (see above) when it qualifies
+ * as a whole; true when it did. Nodes that already carry resolver data
+ * (aux) are left alone; a subtree too deep for the instruction stack stays
+ * generic. evalcode_compile_tree (evalcode.h) calls it for every maximal
+ * subtree. */
+bool numexpr_compile(AstNode *n);
+
+/* The compiled expression of [n] (n->fast must be set). */
+static inline const NumExpr *numexpr_of(const AstNode *n) { return (const NumExpr *)n->aux; }
+
+/* The size in bytes of [x]; a byte copy of it (8-byte aligned) is a
+ * NumExpr too (evalcode.h copies them into its blocks). */
+size_t numexpr_size(const NumExpr *x);
+
+/* How many numbers [x] produces (1, or the length of a compiled sequence). */
+uint32_t numexpr_outputs(const NumExpr *x);
+
+/* How deep the generic evaluator would nest (eval_node levels) to evaluate
+ * [x]'s subtree: the caller checks its depth limit with it first, so a
+ * stack overflow happens exactly where the generic route would have it. */
+uint32_t numexpr_depth(const NumExpr *x);
+
+/* Most engine names a memoizable expression may read. */
+#define NUMEXPR_MEMO_KEYS 4
+
+/* True when [x] reads no frame slot and between 1 and NUMEXPR_MEMO_KEYS
+ * engine names: its result is a function of those names' numbers alone
+ * (every instruction is pure), so it may be kept and reused while they
+ * stay the same (evalcode.h C_MEMO). */
+bool numexpr_memoizable(const NumExpr *x);
+
+/* For a memoizable [x]: the indices of the engine names it reads, in
+ * instruction order, written to [idx]; returns how many. */
+int numexpr_globals(const NumExpr *x, int32_t *idx);
+
+/* Run [x] in [ev]'s current frame, writing numexpr_outputs(x) numbers to
+ * [out]. Returns false (with [out] undefined) when an operand is not a
+ * single number or a comparison meets a NaN: evaluate the subtree
+ * generically instead. */
+bool numexpr_run(const NumExpr *x, Eval *ev, double *out);
+
+#endif

@@ -1,0 +1,330 @@
+/* test_fastroute.c: the compiled evaluation route (lib/eval/numexpr.c,
+ * lib/eval/evalcode.c) against the generic tree walk (FLITTER_NOFAST=1).
+ *
+ * Each script runs for one frame four ways: compiled and generic, with and
+ * without the simplifier. All four node trees must equal the expected dump,
+ * whose values were worked out by hand (IEEE doubles, one rounding per
+ * operation; sin/cos in turns, exact at quadrants). The scripts take their
+ * numbers from `time` (0 in the first frame) so that the simplifier cannot
+ * fold them away, and cover the operand shapes that must leave the compiled
+ * route for the generic one: vectors, strings, null, nodes, NaN in
+ * comparisons (where the identity of the two operands matters).
+ * A white-box case checks that the compiled route really is taken.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "format.h"
+#include "program.h"
+#include "runtime.h"
+
+/* The tree dump of the last of [frames] frames of [src], and the log. */
+static char *run_frames(const char *src, int frames, bool simplify, bool fast, char **log_out)
+{
+    if (fast) unsetenv("FLITTER_NOFAST");
+    else setenv("FLITTER_NOFAST", "1", 1);
+    char *log = NULL;
+    size_t loglen;
+    FILE *lf = open_memstream(&log, &loglen);
+    fl_options o = fl_default_options();
+    RtStreams streams = {lf, lf};
+    rt_log_to_files(&o, &streams);
+    o.no_simplify = !simplify;
+    fl_runtime *rt = fl_new(&o);
+    Buf err = BUF_INIT;
+    assert_int_equal(rt_load_text(rt, "fast.fl", src, strlen(src), &err), 0);
+    buf_free(&err);
+    for (int i = 0; i < frames; i++) fl_step(rt);
+    Buf t = BUF_INIT;
+    fmt_tree(&t, rt_root(rt), rt_symbols(rt));
+    char *tree = strdup(buf_cstr(&t));
+    buf_free(&t);
+    fl_free(rt);
+    fclose(lf);
+    unsetenv("FLITTER_NOFAST");
+    *log_out = log;
+    return tree;
+}
+
+/* The tree dump and log of one frame of [src]. */
+static char *run_one(const char *src, bool simplify, bool fast, char **log_out)
+{
+    return run_frames(src, 1, simplify, fast, log_out);
+}
+
+/* All four ways give [want] and the same log. */
+static void expect4(const char *src, const char *want)
+{
+    char *log0 = NULL;
+    for (int way = 0; way < 4; way++) {
+        char *log;
+        char *tree = run_one(src, way & 1, way & 2, &log);
+        if (strcmp(tree, want) != 0) fprintf(stderr, "way %d (simplify %d, fast %d)\n", way, way & 1, !!(way & 2));
+        assert_string_equal(tree, want);
+        if (log0) assert_string_equal(log, log0);
+        free(tree);
+        if (log0) free(log);
+        else log0 = log;
+    }
+    free(log0);
+}
+
+static void test_arithmetic(void **s)
+{
+    (void)s;
+    expect4("let x=3+time\n"
+            "!arith a=x+1 b=x-0.5 c=x*2 d=x/0 e=-x/0 f=x//2 g=x%2 h=x**0.5 i=x**2 j=-x//2 "
+            "k=(-x)%2 l=(x-3)/0 m=x%0 o=x//0 p=(0.1+time)+0.2 q=2**(-1+time) r=1/(-time)\n",
+            "!root\n"
+            " !arith a=4 b=2.5 c=6 d=inf e=-inf f=1 g=1 h=1.7320508075688772 i=9 j=-2 k=1 "
+            "l=nan m=nan o=inf p=0.30000000000000004 q=0.5 r=-inf\n");
+}
+
+static void test_comparisons(void **s)
+{
+    (void)s;
+    /* n==n is true although n is NaN: both operands are the same vector
+     * (§3.6 rule 1); (0/0)==(0/0) compares two vectors */
+    expect4("let x=3+time\n    n=(0/0)+time\n"
+            "!cmp a=x>2 b=x==3 c=x!=3 d=x<=3 e=x>=4 f=x<3 g=n==n h=n!=n i=n<n j=n<=n "
+            "k=(time/0)==(time/0) l=n>=n m=not x o=not (x-3) p=not n q=n>1 r=1<n\n",
+            "!root\n"
+            " !cmp a=1 b=1 c=0 d=1 e=0 f=0 g=1 h=0 i=0 j=1 k=0 l=1 m=0 o=1 p=0 q=1 r=0\n");
+}
+
+static void test_fallback_shapes(void **s)
+{
+    (void)s;
+    /* vectors, strings, null and nodes leave the compiled route: the
+     * generic rules give vectors or null (absent attributes) */
+    expect4("let x=3+time\n    v=(1;2)+time\n    s=\"a\"\n    z=null\n    k=!foo\n"
+            "!fallback a=v*2+1 b=s+1 c=z+1 d=k*2 e=sin(v) f=not v g=-v h=v==v i=(x;x+1;x*2) "
+            "j=x+s k=v>1 l=x in v m=(x;v;x) o=sin(s) p=x*2+v\n",
+            "!root\n"
+            " !fallback a=3;5 e=0;0 f=0 g=-1;-2 h=1 i=3;4;6 k=1 l=0 m=3;1;2;3 p=7;8\n");
+}
+
+static void test_builtin_kernels(void **s)
+{
+    (void)s;
+    expect4("let x=3+time\n"
+            "!kernels a=sin(0.25+time) b=cos(0.5+time) c=sqrt(2+time) d=abs(-x) "
+            "e=floor(time-0.5) f=exp(1+time) g=log(x) h=sine(0.25+time) i=sqrt(time-1) "
+            "j=hsv(0;0;x/6) k=fract(x+0.25)\n",
+            "!root\n"
+            " !kernels a=1 b=-1 c=1.4142135623730951 d=3 e=-1 f=2.718281828459045 "
+            "g=1.0986122886681098 h=0.5 i=nan j=0.5;0.5;0.5 k=0.25\n");
+}
+
+static void test_nodes_and_loops(void **s)
+{
+    (void)s;
+    /* compiled lets, attributes, appends and sequences, inside and outside
+     * loops (unrolled by the simplifier, kept without it) */
+    expect4("let w=2+time\n"
+            "!group n=w\n"
+            "    for i in ..2\n"
+            "        let p=i*w\n"
+            "        !dot #t x=p;p+1 y=p>1\n"
+            "!tail\n",
+            "!root\n"
+            " !group n=2\n"
+            "  !dot #t x=0;1 y=0\n"
+            "  !dot #t x=2;3 y=1\n"
+            " !tail\n");
+}
+
+/* Both routes give the same tree and the same messages: [src] evaluated
+ * compiled and generic, in the mode [simplify]; the log must contain
+ * [message]. */
+static void expect_same(const char *src, bool simplify, const char *message)
+{
+    char *log_g, *log_f;
+    char *tree_g = run_one(src, simplify, false, &log_g);
+    char *tree_f = run_one(src, simplify, true, &log_f);
+    assert_string_equal(tree_f, tree_g);
+    assert_string_equal(log_f, log_g);
+    assert_non_null(strstr(log_f, message));
+    free(tree_g);
+    free(tree_f);
+    free(log_g);
+    free(log_f);
+}
+
+/* Run-time limits hit inside compiled regions: the recursion limit, and
+ * the evaluator's depth limit (without the simplifier each `let` of the
+ * chain is one level, 40 per call, so the depth runs out before the
+ * recursion limit of 500 calls). */
+static void test_limits_same(void **s)
+{
+    (void)s;
+    expect_same("func f(n)\n    let m=n+1\n    !x v=m\n    f(m)\n!r << f(time)\n", false,
+                "Recursion depth exceeded for func 'f'");
+    char src[4096];
+    size_t len = 0;
+    len += (size_t)snprintf(src + len, sizeof src - len, "func g(n)\n    let a0=n+1\n");
+    for (int i = 1; i < 40; i++)
+        len += (size_t)snprintf(src + len, sizeof src - len, "    let a%d=a%d+1\n", i, i - 1);
+    snprintf(src + len, sizeof src - len, "    !y v=a39\n    g(a39)\n!r << g(time)\n");
+    expect_same(src, false, "Stack overflow in program");
+    /* the simplifier joins the chain into one `let` of 40 bindings (one
+     * level): the recursion limit comes first */
+    expect_same(src, true, "Recursion depth exceeded for func 'g'");
+}
+
+/* A deterministic pseudo-random generator for test_random_expressions. */
+static uint32_t lcg(uint32_t *st)
+{
+    *st = *st * 1664525u + 1013904223u;
+    return *st >> 8;
+}
+
+/* Append a random expression of depth up to [depth] to [b]. */
+static void random_expr(Buf *b, uint32_t *st, int depth)
+{
+    static const char *const leaves[] = {"x", "y", "n", "inf", "mz", "v", "s", "z", "k", "2", "0.5",
+                                         "-3", "0", "1e308"};
+    static const char *const binops[] = {"+", "-", "*", "/", "//", "%", "**", "==", "!=", "<", ">",
+                                         "<=", ">="};
+    static const char *const calls[] = {"sin", "cos", "sqrt", "abs", "floor", "exp", "log", "fract"};
+    uint32_t r = lcg(st) % 10;
+    if (depth == 0 || r < 3) {
+        buf_puts(b, leaves[lcg(st) % (sizeof leaves / sizeof leaves[0])]);
+    } else if (r < 7) {
+        buf_puts(b, "(");
+        random_expr(b, st, depth - 1);
+        buf_printf(b, ")%s(", binops[lcg(st) % (sizeof binops / sizeof binops[0])]);
+        random_expr(b, st, depth - 1);
+        buf_puts(b, ")");
+    } else if (r < 8) {
+        buf_puts(b, lcg(st) % 2 ? "-(" : "not (");
+        random_expr(b, st, depth - 1);
+        buf_puts(b, ")");
+    } else if (r < 9) {
+        buf_printf(b, "%s(", calls[lcg(st) % (sizeof calls / sizeof calls[0])]);
+        random_expr(b, st, depth - 1);
+        buf_puts(b, ")");
+    } else {
+        buf_puts(b, "(");
+        random_expr(b, st, depth - 1);
+        buf_puts(b, ";");
+        random_expr(b, st, depth - 1);
+        buf_puts(b, ")");
+    }
+}
+
+/* Random arithmetic over numbers and every special operand (NaN, inf, -0,
+ * huge, vectors, strings, null, nodes): both routes give the same tree,
+ * with and without the simplifier. */
+static void test_random_expressions(void **s)
+{
+    (void)s;
+    uint32_t st = 12345;
+    for (int round = 0; round < 8; round++) {
+        Buf b = BUF_INIT;
+        buf_puts(&b, "let x=3+time\n    y=time-0.25\n    n=(0/0)+time\n    inf=(1/0)+time\n"
+                     "    mz=-time\n    v=(1;-2)+time\n    s=\"a\"\n    z=null\n    k=!foo\n!e");
+        for (int i = 0; i < 60; i++) {
+            buf_printf(&b, " a%d=", i);
+            random_expr(&b, &st, 4);
+        }
+        buf_puts(&b, "\n");
+        for (int simplify = 0; simplify < 2; simplify++) {
+            char *log_g, *log_f;
+            char *tree_g = run_one(buf_cstr(&b), simplify, false, &log_g);
+            char *tree_f = run_one(buf_cstr(&b), simplify, true, &log_f);
+            assert_string_equal(tree_f, tree_g);
+            assert_string_equal(log_f, log_g);
+            /* the tree holds real values, not just an empty node */
+            assert_true(strlen(tree_g) > 200);
+            free(tree_g);
+            free(tree_f);
+            free(log_g);
+            free(log_f);
+        }
+        buf_free(&b);
+    }
+}
+
+/* Expressions of engine names alone, repeated in the bodies of an
+ * unrolled loop, share a kept result (evalcode.h C_MEMO): the values are
+ * those of the generic route in the first frame and after `time` moved,
+ * and a NaN result is never shared (two NaN vectors are not equal). */
+static void test_memo(void **s)
+{
+    (void)s;
+    const char *src = "for i in ..3\n"
+                      "    let p=time+0/0\n"
+                      "        q=time+0/0\n"
+                      "    !m a=sin(time+0.25) b=time>0 c=p==q d=(time+0/0) e=time*0.5\n";
+    expect4(src, "!root\n"
+                 " !m a=1 b=0 c=0 d=nan e=0\n"
+                 " !m a=1 b=0 c=0 d=nan e=0\n"
+                 " !m a=1 b=0 c=0 d=nan e=0\n");
+    for (int simplify = 0; simplify < 2; simplify++) {
+        char *log_g, *log_f;
+        char *tree_g = run_frames(src, 3, simplify, false, &log_g);
+        char *tree_f = run_frames(src, 3, simplify, true, &log_f);
+        assert_string_equal(tree_f, tree_g);
+        assert_string_equal(log_f, log_g);
+        /* frame 3: time 2/60, so b is 1 and e is 1/60 */
+        assert_non_null(strstr(tree_f, "b=1 c=0 d=nan e=0.016666666666666666\n"));
+        free(tree_g);
+        free(tree_f);
+        free(log_g);
+        free(log_f);
+    }
+}
+
+/* Compilation marks nodes (AstNode.fast) unless FLITTER_NOFAST is set. */
+static int count_fast(const AstNode *n)
+{
+    if (!n) return 0;
+    int c = n->fast ? 1 : 0;
+    c += count_fast(n->a) + count_fast(n->b) + count_fast(n->c);
+    for (uint32_t i = 0; i < n->nkids; i++) c += count_fast(n->kids[i]);
+    return c;
+}
+
+static void test_route_taken(void **s)
+{
+    (void)s;
+    const char *src = "let x=3\n!a b=x*2+1 c=sin(x);x\n";
+    SymTab *st = symtab_new();
+    Buf err = BUF_INIT;
+    unsetenv("FLITTER_NOFAST");
+    Program *p = program_load_text("t.fl", src, strlen(src), NULL, st, &err);
+    assert_non_null(p);
+    assert_true(count_fast(p->top) >= 1);
+    program_release(p);
+    setenv("FLITTER_NOFAST", "1", 1);
+    p = program_load_text("t.fl", src, strlen(src), NULL, st, &err);
+    unsetenv("FLITTER_NOFAST");
+    assert_non_null(p);
+    assert_int_equal(count_fast(p->top), 0);
+    program_release(p);
+    buf_free(&err);
+    symtab_free(st);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_arithmetic),
+        cmocka_unit_test(test_comparisons),
+        cmocka_unit_test(test_fallback_shapes),
+        cmocka_unit_test(test_builtin_kernels),
+        cmocka_unit_test(test_nodes_and_loops),
+        cmocka_unit_test(test_limits_same),
+        cmocka_unit_test(test_random_expressions),
+        cmocka_unit_test(test_memo),
+        cmocka_unit_test(test_route_taken),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
