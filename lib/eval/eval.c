@@ -455,11 +455,8 @@ __attribute__((noinline)) static Vec *eval_attributes(Eval *ev, const AstNode *n
     return v;
 }
 
-/* AST_APPEND: a << b — node elements of b appended to each node of a. */
-__attribute__((noinline)) static Vec *eval_append(Eval *ev, const AstNode *n)
+Vec *append_nodes(Vec *p, Vec *c)
 {
-    Vec *p = eval(ev, n->a);
-    Vec *c = eval(ev, n->b);
     if (has_nodes(p) && has_nodes(c)) {
         p = vec_unshare(p);
         Elem *e = vec_elems(p);
@@ -473,6 +470,14 @@ __attribute__((noinline)) static Vec *eval_append(Eval *ev, const AstNode *n)
     }
     vec_release(c);
     return p;
+}
+
+/* AST_APPEND: a << b — node elements of b appended to each node of a. */
+__attribute__((noinline)) static Vec *eval_append(Eval *ev, const AstNode *n)
+{
+    Vec *p = eval(ev, n->a);
+    Vec *c = eval(ev, n->b);
+    return append_nodes(p, c);
 }
 
 /* ====================================================================

@@ -69,6 +69,9 @@ void set_slot(Eval *ev, int32_t slot, Vec *v_take);
 Vec *vec_unshare(Vec *v);
 /* True when [v] holds a node. */
 bool has_nodes(const Vec *v);
+/* `p << c` (LANGUAGE.md §3.12): every node element of [c] appended to each
+ * node of [p] (copied on write); consumes both, returns the result. */
+Vec *append_nodes(Vec *p, Vec *c);
 
 /* The arguments of a call. */
 typedef struct Args {

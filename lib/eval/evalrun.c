@@ -145,19 +145,7 @@ static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
     const uint32_t *k = rec_offs(r);
     Vec *p = run_rec(ev, base, k[0]);
     Vec *c = run_rec(ev, base, k[1]);
-    if (has_nodes(p) && has_nodes(c)) {
-        p = vec_unshare(p);
-        Elem *e = vec_elems(p);
-        const Elem *ce = vec_celems(c);
-        for (uint32_t i = 0; i < p->len; i++) {
-            if (e[i].kind != EL_NODE) continue;
-            e[i].node = node_mut(e[i].node);
-            for (uint32_t j = 0; j < c->len; j++)
-                if (ce[j].kind == EL_NODE) node_append(e[i].node, ce[j].node);
-        }
-    }
-    vec_release(c);
-    return p;
+    return append_nodes(p, c);
 }
 
 static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off)
