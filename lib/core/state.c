@@ -53,6 +53,7 @@ void state_clear(StateDict *sd)
         sd->slots[i] = (Slot){NULL, NULL, 0};
     }
     sd->live = sd->used = 0;
+    sd->counts.compound++;
 }
 
 void state_free(StateDict *sd)
@@ -121,6 +122,7 @@ bool state_set(StateDict *sd, const Vec *key, const Vec *value)
 {
     sd->counts.sets++;
     if (!key || !key->len) return false;
+    if (key->len > 1) sd->counts.compound++;
     uint64_t h = key_hash(key);
     Slot *s = find(sd, key, h);
     if (!value || !value->len) {

@@ -35,9 +35,13 @@ Vec *state_get_mutable(StateDict *sd, const Vec *key);
  * stored value changed (a set to an equal value, or a delete of a missing
  * key, is not a change). */
 bool state_set(StateDict *sd, const Vec *key, const Vec *value);
-/* How often the dictionary was read (state_get) and written (state_set). */
+/* How often the dictionary was read (state_get) and written (state_set);
+ * [compound] counts the writes to keys of two or more elements and the
+ * clears: a reader that keeps values of compound keys across calls (the
+ * physics engine's particle keys, P;id) knows them unchanged while it stays
+ * the same, whatever single-element keys (the beat counter) were set. */
 typedef struct StateCounts {
-    unsigned long long gets, sets;
+    unsigned long long gets, sets, compound;
 } StateCounts;
 StateCounts state_counts(const StateDict *sd);
 /* Number of entries. */

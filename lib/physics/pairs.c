@@ -154,24 +154,69 @@ static inline uint64_t cell_hash(const int32_t *c)
     return h ^ (h >> 29);
 }
 
-/* Hash the first [n] pool entries into the grid of cell size h. */
+/* The dense grid is used when its box (padding included) has at most
+ * DENSE_PER_ENTRY cells per entry, plus DENSE_SLACK: memory and the clearing
+ * of the cell starts stay linear in the entries. */
+#define DENSE_PER_ENTRY 4.0
+#define DENSE_SLACK 4096.0
+
+/* Lay the non-odd entries out cell by cell (counting sort by the dense cell
+ * index, filled from the last entry down so each cell's slots come out in
+ * ascending pool order) and copy their coordinates into that order. */
+static void grid_dense(PhysSystem *s, const uint32_t *pool, size_t n,
+                       const int32_t *lo, size_t ncells)
+{
+    PhysGrid *gr = &s->grid;
+    const size_t D = s->D;
+    const size_t e0 = gr->ext[0], e01 = gr->ext[0] * gr->ext[1];
+    GROW(gr->cellof, gr->capcellof, n);
+    GROW(gr->cstart, gr->capcstart, ncells + 1);
+    memset(gr->cstart, 0, (ncells + 1) * sizeof *gr->cstart);
+    size_t m = 0;
+    for (size_t q = 0; q < n; q++) {
+        if (gr->bucket[q] == UINT32_MAX) {
+            gr->cellof[q] = UINT32_MAX;
+            continue;
+        }
+        const int32_t *c = gr->cell + 3 * q;
+        size_t cell = (size_t)(c[0] - lo[0]) + (size_t)(c[1] - lo[1]) * e0 +
+                      (size_t)(c[2] - lo[2]) * e01;
+        gr->cellof[q] = (uint32_t)cell;
+        gr->cstart[cell]++;
+        m++;
+    }
+    for (size_t c = 1; c < ncells; c++)
+        gr->cstart[c] += gr->cstart[c - 1];
+    gr->cstart[ncells] = (uint32_t)m;
+    GROW(gr->slotq, gr->capslotq, m + 1);
+    GROW(gr->sx, gr->capsx, D * m + 1);
+    for (size_t q = n; q-- > 0;) {
+        uint32_t cell = gr->cellof[q];
+        if (cell != UINT32_MAX)
+            gr->slotq[--gr->cstart[cell]] = (uint32_t)q;
+    }
+    for (size_t i = 0; i < m; i++) {
+        const double *x = s->pos + (size_t)pool[gr->slotq[i]] * D;
+        for (size_t k = 0; k < D; k++)
+            gr->sx[k * m + i] = x[k];
+    }
+    gr->nslot = m;
+}
+
+/* Grid the first [n] pool entries with cell size h: densely when the box
+ * of their cells is small enough, else hashed by cell into buckets. */
 static void grid_build(PhysSystem *s, const uint32_t *pool, size_t n, double h)
 {
     PhysGrid *gr = &s->grid;
     const size_t D = s->D;
-    size_t nb = 16;
-    while (nb < n)
-        nb *= 2;
     GROW(gr->bucket, gr->capbucket, n);
     GROW(gr->ent, gr->capent, n);
     GROW(gr->odd, gr->capodd, n);
     GROW(gr->cell, gr->capcell, 3 * n);
     gr->h = h;
-    gr->nb = nb;
-    GROW(gr->start, gr->capstart, 2 * nb + 1);
-    uint32_t *fill = gr->start + nb + 1;
-    memset(gr->start, 0, (nb + 1) * sizeof *gr->start);
     gr->nodd = 0;
+    int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX};
+    int32_t hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
     for (size_t q = 0; q < n; q++) {
         const double *x = s->pos + (size_t)pool[q] * D;
         int32_t *c = gr->cell + 3 * q;
@@ -190,7 +235,44 @@ static void grid_build(PhysSystem *s, const uint32_t *pool, size_t n, double h)
             gr->odd[gr->nodd++] = (uint32_t)q;
             continue;
         }
-        uint32_t b = (uint32_t)(cell_hash(c) & (nb - 1));
+        gr->bucket[q] = 0;
+        for (size_t k = 0; k < 3; k++) {
+            if (c[k] < lo[k])
+                lo[k] = c[k];
+            if (c[k] > hi[k])
+                hi[k] = c[k];
+        }
+    }
+    /* the dense box: one cell of padding before and after on each axis in
+     * use, so the 3^D cells around any entry are inside it */
+    double cells = 1;
+    for (size_t k = 0; k < 3; k++) {
+        if (lo[k] > hi[k])
+            lo[k] = hi[k] = 0;
+        if (k < D) {
+            lo[k] -= 1;
+            gr->ext[k] = (size_t)((int64_t)hi[k] - lo[k] + 2);
+        } else
+            gr->ext[k] = 1;
+        cells *= (double)gr->ext[k];
+    }
+    gr->dense = cells <= DENSE_PER_ENTRY * (double)n + DENSE_SLACK &&
+                cells < (double)UINT32_MAX;
+    if (gr->dense) {
+        grid_dense(s, pool, n, lo, (size_t)cells);
+        return;
+    }
+    size_t nb = 16;
+    while (nb < n)
+        nb *= 2;
+    gr->nb = nb;
+    GROW(gr->start, gr->capstart, 2 * nb + 1);
+    uint32_t *fill = gr->start + nb + 1;
+    memset(gr->start, 0, (nb + 1) * sizeof *gr->start);
+    for (size_t q = 0; q < n; q++) {
+        if (gr->bucket[q] == UINT32_MAX)
+            continue;
+        uint32_t b = (uint32_t)(cell_hash(gr->cell + 3 * q) & (nb - 1));
         gr->bucket[q] = b;
         gr->start[b + 1]++;
     }
@@ -579,10 +661,66 @@ gather_grid_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
         take_pair(L, q, cand[i], F, sc->dir, D);
 }
 
+/* Gather over the dense grid (grid_dense) for the entry in slot [i]: the
+ * 3^D cells around its own are 3^(D-1) runs of 3 consecutive cells, each a
+ * contiguous run of slots whose coordinates are read in order; candidates
+ * within the reach, then the odd entries, sorted into pool order. */
+static inline __attribute__((always_inline)) void
+gather_dense_fixed(const LevelRun *L, size_t i, PhysScratch *sc, const size_t D)
+{
+    PhysSystem *s = L->s;
+    const PhysGrid *gr = &s->grid;
+    const size_t m = gr->nslot;
+    const size_t q = gr->slotq[i];
+    const size_t p = L->pool[q];
+    double *F = s->force + p * D;
+    double x[GRID_MAX_D];
+    for (size_t k = 0; k < D; k++)
+        x[k] = gr->sx[k * m + i];
+    const size_t cq = gr->cellof[q];
+    const size_t e0 = gr->ext[0], e01 = gr->ext[0] * gr->ext[1];
+    const double r2 = L->r2;
+    uint32_t *cand = sc->cand;
+    size_t nc = 0;
+    const int lo1 = D > 1 ? -1 : 0, lo2 = D > 2 ? -1 : 0;
+    for (int dz = lo2; dz <= -lo2; dz++) {
+        for (int dy = lo1; dy <= -lo1; dy++) {
+            size_t mid = cq + (size_t)((ptrdiff_t)dz * (ptrdiff_t)e01 +
+                                       (ptrdiff_t)dy * (ptrdiff_t)e0);
+            const uint32_t end = gr->cstart[mid + 2];
+            for (uint32_t j = gr->cstart[mid - 1]; j < end; j++) {
+                double sum = 0;
+                for (size_t k = 0; k < D; k++) {
+                    double d = gr->sx[k * m + j] - x[k];
+                    sum += d * d;
+                }
+                if (sum > r2)
+                    continue;
+                uint32_t e = gr->slotq[j];
+                if (partner(L, q, e))
+                    cand[nc++] = e;
+            }
+        }
+    }
+    for (size_t j = 0; j < gr->nodd; j++) {
+        uint32_t e = gr->odd[j];
+        if (partner(L, q, e) &&
+            !(dist2(x, s->pos + (size_t)L->pool[e] * D, D) > r2))
+            cand[nc++] = e;
+    }
+    sort_u32(cand, nc);
+    for (size_t j = 0; j < nc; j++)
+        take_pair(L, q, cand[j], F, sc->dir, D);
+}
+
 #define GRID_COPY(name, dim, attr)                                            \
     attr static void name(const LevelRun *L, size_t q, PhysScratch *sc)      \
     {                                                                         \
         gather_grid_fixed(L, q, sc, dim);                                     \
+    }                                                                         \
+    attr static void name##_dense(const LevelRun *L, size_t i, PhysScratch *sc) \
+    {                                                                         \
+        gather_dense_fixed(L, i, sc, dim);                                    \
     }
 
 GRID_COPY(gather_grid_1, 1, )
@@ -593,6 +731,25 @@ GRID_COPY(gather_grid_1_avx2, 1, __attribute__((target("avx2"))))
 GRID_COPY(gather_grid_2_avx2, 2, __attribute__((target("avx2"))))
 GRID_COPY(gather_grid_3_avx2, 3, __attribute__((target("avx2"))))
 #endif
+
+/* The dense grid's gather for the entry in slot [i]. */
+static void gather_dense(const LevelRun *L, size_t i, PhysScratch *sc)
+{
+#ifdef HAVE_AVX2_COPIES
+    if (L->avx2) {
+        switch (L->s->D) {
+        case 1: gather_grid_1_avx2_dense(L, i, sc); return;
+        case 2: gather_grid_2_avx2_dense(L, i, sc); return;
+        default: gather_grid_3_avx2_dense(L, i, sc); return;
+        }
+    }
+#endif
+    switch (L->s->D) {
+    case 1: gather_grid_1_dense(L, i, sc); break;
+    case 2: gather_grid_2_dense(L, i, sc); break;
+    default: gather_grid_3_dense(L, i, sc); break;
+    }
+}
 
 static void gather_grid(const LevelRun *L, size_t q, PhysScratch *sc)
 {
@@ -620,6 +777,22 @@ static void level_task(void *ctx, size_t t, unsigned thread)
     PhysSystem *s = L->s;
     PhysScratch *sc = &s->scratch[thread];
     size_t end = (t + 1) * TARGETS_PER_TASK;
+    if (L->grid && s->grid.dense) {
+        /* the dense grid's slots in cell order (neighbours in cache), then
+         * the odd entries, which gather over every partner */
+        const PhysGrid *gr = &s->grid;
+        const size_t m = gr->nslot;
+        for (size_t i = t * TARGETS_PER_TASK; i < end && i < m + gr->nodd; i++) {
+            size_t q = i < m ? gr->slotq[i] : gr->odd[i - m];
+            if (s->anchor[L->pool[q]])
+                continue;
+            if (i < m)
+                gather_dense(L, i, sc);
+            else
+                gather_all(L, q, sc);
+        }
+        return;
+    }
     if (end > L->npool)
         end = L->npool;
     for (size_t q = t * TARGETS_PER_TASK; q < end; q++) {
@@ -695,6 +868,7 @@ void phys_pairs_free(PhysSystem *s)
     PhysGrid *gr = &s->grid;
     free(gr->bucket); free(gr->cell); free(gr->start); free(gr->ent);
     free(gr->odd);
+    free(gr->cellof); free(gr->cstart); free(gr->slotq); free(gr->sx);
     for (size_t i = 0; i < s->capscratch; i++) {
         free(s->scratch[i].dir);
         free(s->scratch[i].cand);

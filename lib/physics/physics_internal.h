@@ -123,6 +123,19 @@ typedef struct PhysScratch {
  * finite or lies too far out for a 32-bit cell index are in `odd`. */
 typedef struct PhysGrid {
     double h;                    /* cell size (>= reach) */
+    /* The dense form, used when the box of cells around the entries is
+     * small enough: cells numbered x fastest over the box (one cell of
+     * padding on every side), the entries laid out cell by cell (within a
+     * cell in ascending pool order) with their coordinates copied in that
+     * order, so a row of 3 neighbouring cells is one contiguous run. */
+    bool dense;
+    size_t ext[3];               /* cells along each axis, padding included */
+    uint32_t *cellof;            /* per pool entry: dense cell, or UINT32_MAX */
+    uint32_t *cstart;            /* ncells + 1 slot starts */
+    uint32_t *slotq;             /* pool entry of each slot */
+    size_t nslot;                /* entries in the dense layout (not odd) */
+    double *sx;                  /* coordinate k of slot i at sx[k*nslot + i] */
+    size_t capcellof, capcstart, capslotq, capsx;
     size_t nb;                   /* buckets, a power of two */
     uint32_t *bucket;            /* per pool entry: bucket, or UINT32_MAX */
     int32_t *cell;               /* per pool entry: 3 cell coordinates */
@@ -233,7 +246,7 @@ typedef struct PhysSystem {
     PhysHash newkeys;             /* this frame's particle state keys */
     bool dupids;                  /* two particles of this frame share an id */
     /* the slots' cp/cv are the state's values when the state dictionary
-     * is the one, with the set count and size, seen at the end of the
+     * is the one, with the compound write count and size, seen at the end of the
      * system's last frame (stateio.c) */
     const StateDict *csd;
     unsigned long long csets;

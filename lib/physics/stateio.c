@@ -209,14 +209,16 @@ void phys_write_particles(PhysSystem *s, StateDict *sd)
  * (hash probes into a large table: cache misses at 100,000 particles). A
  * slot whose particle is the same as last frame's (same id vector) keeps,
  * retained, the two value vectors the state held at the end of that frame.
- * They are still the state's values when no state_set and no clear has
- * happened since: the dictionary's set count and size are unchanged (a set
- * always counts; a clear without sets changes the size). A retained vector
+ * They are still the state's values when no state_set of a key of two or
+ * more elements and no clear has happened since: the dictionary's compound
+ * write count is unchanged (particle keys P;id have at least two elements;
+ * the beat counter's one-element key, set every frame, does not count).
+ * The size is compared too (belt and braces: a delete changes it). A retained vector
  * cannot be freed, so a stale one is never read as freed memory. */
 void phys_cache_check(PhysSystem *s, const StateDict *sd)
 {
     s->cuse = s->cvalid && s->csd == sd &&
-              state_counts(sd).sets == s->csets && state_count(sd) == s->ccount;
+              state_counts(sd).compound == s->csets && state_count(sd) == s->ccount;
     s->cvalid = false;
 }
 
@@ -238,7 +240,7 @@ void phys_cache_keep(PhysSystem *s, const StateDict *sd)
         }
     }
     s->csd = sd;
-    s->csets = state_counts(sd).sets;
+    s->csets = state_counts(sd).compound;
     s->ccount = state_count(sd);
     s->cvalid = true;
 }

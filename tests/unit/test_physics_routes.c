@@ -350,6 +350,56 @@ static void test_grid_edge(void **st)
     node_release(ph);
 }
 
+/* Clusters of discs far apart: the box of grid cells around them is too
+ * large for the dense grid (more than 4 cells per entry + 4096), so the
+ * level takes the grid hashed by cell (pairs.c); one cluster alone (the
+ * first scene of each D) takes the dense grid. Short-reach appliers only,
+ * D = 1..3, 1, 2 and 4 threads against the reference loop. */
+static void test_grid_layouts(void **st)
+{
+    (void)st;
+    for (size_t D = 1; D <= 3; D++) {
+        for (int clusters = 1; clusters <= 3; clusters += 2) {
+            uint64_t seed = 4000 + 10 * D + (uint64_t)clusters;
+            Rng r = {seed};
+            Scene sc = {.D = D, .box = D == 1 ? 40 : D == 2 ? 8 : 4,
+                        .no_random = true};
+            Node *ph = mk("physics");
+            set(ph, "state", num(7));
+            set(ph, "dimensions", num((double)D));
+            set(ph, "resolution", num(0.05));
+            for (int c = 0; c < clusters; c++) {
+                for (size_t i = 0; i < 300; i++) {
+                    Node *p = add(ph, chance(&r, 0.05) ? "anchor" : "particle");
+                    set(p, "id", num((double)sc.nids++));
+                    double x[4];
+                    for (size_t k = 0; k < D; k++)
+                        x[k] = 1e5 * c + (uni(&r) - 0.5) * sc.box;
+                    set(p, "position", vec_from_nums(x, (uint32_t)D));
+                    set(p, "velocity", rvec(&r, D, 4, 0));
+                    set(p, "radius", num(chance(&r, 0.1) ? 0 : 0.2 + uni(&r)));
+                    set(p, "mass", num(0.5 + uni(&r)));
+                }
+            }
+            set(add(ph, "collision"), "strength", num(7));
+            Node *ad = add(ph, "adhesion");
+            set(ad, "strength", num(3));
+            Node *gv = add(ph, "gravity");
+            set(gv, "strength", num(2));
+            set(gv, "max_distance", num(2.5));
+            StateDict *ref = simulate(ph, true, 1, 3);
+            static const unsigned threads[] = {1, 2, 4};
+            for (size_t ti = 0; ti < 3; ti++) {
+                StateDict *sd = simulate(ph, false, threads[ti], 3);
+                assert_same_state(ref, sd, seed, threads[ti]);
+                state_free(sd);
+            }
+            state_free(ref);
+            node_release(ph);
+        }
+    }
+}
+
 /* Levels of unlimited reach (!electrostatic without max_distance, mixed
  * with !gravity with and without it, !collision with and without power,
  * up to four appliers): these take the tiled reference loop of tiles.c
@@ -452,6 +502,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_comparison_detects_change),
         cmocka_unit_test(test_grid_edge),
+        cmocka_unit_test(test_grid_layouts),
         cmocka_unit_test(test_unlimited_levels),
         cmocka_unit_test(test_small_scenes),
         cmocka_unit_test(test_large_scenes),
