@@ -101,6 +101,44 @@ typedef struct TileLevel {
     double *F;                       /* F[k*stride + q] */
 } TileLevel;
 
+/* The common levels get kernel copies with everything about their
+ * appliers but the strengths known at compile time (the same operations,
+ * without the run-time branches and with registers to spare): one or two
+ * appliers of these kinds, in this order, each of power 1 and without
+ * max_distance. In the compile-time description (the `spec` of
+ * tiles_kernel.h; 0 = read from T->ap at run time), applier f's kind is in
+ * bits 2f and 2f+1, and bit 8 marks it as given. */
+#define TILE_NSPECS 6
+#define TILE_SPEC_NF(si) ((si) < 2 ? 1u : 2u)
+#define TILE_SPEC_BITS(si)                                                     \
+    (0x100u | ((si) == 0 ? TILE_PUSH                                          \
+             : (si) == 1 ? TILE_PULL                                          \
+             : (si) == 2 ? TILE_PUSH | TILE_COLLISION << 2                    \
+             : (si) == 3 ? TILE_COLLISION | TILE_PUSH << 2                    \
+             : (si) == 4 ? TILE_PULL | TILE_COLLISION << 2                    \
+                         : TILE_COLLISION | TILE_PULL << 2))
+/* Applier f's kind: from the description, or from the applier [ap]. */
+#define TILE_KIND(spec, ap, f) \
+    ((spec) ? (int)(((spec) >> (2 * (f))) & 3) : (ap)->kind)
+
+/* The specialised copy that fits level [T], or -1. */
+static int tile_spec_of(const TileLevel *T)
+{
+    if (T->nf > 2)
+        return -1;
+    unsigned bits = 0x100u;
+    for (size_t f = 0; f < T->nf; f++) {
+        const TileApplier *ap = &T->ap[f];
+        if (ap->maxd != 0 || (ap->kind == TILE_COLLISION && ap->power != 1))
+            return -1;
+        bits |= (unsigned)ap->kind << (2 * f);
+    }
+    for (int si = 0; si < TILE_NSPECS; si++)
+        if (TILE_SPEC_NF(si) == T->nf && TILE_SPEC_BITS(si) == bits)
+            return si;
+    return -1;
+}
+
 /* Which part of a level one call runs (role 0: all of it); with two
  * threads, role 1 and role 2 (see "Two threads" above). */
 typedef struct TilePart {
@@ -142,6 +180,7 @@ static inline void sqrt_portable(v2d *x)
 }
 
 #define TK(name) name##_portable
+#define TK_SPECIALISE 1
 #define TK_TARGET
 #define TK_W 2
 #define TK_VD v2d
@@ -154,6 +193,7 @@ static inline void sqrt_portable(v2d *x)
 #undef TK_VD
 #undef TK_VI
 #undef TK_SQRT
+#undef TK_SPECIALISE
 
 #ifdef HAVE_X86_TILES
 /* AVX2: 4 x 4 tiles. */
@@ -163,6 +203,7 @@ __attribute__((target("avx2"))) static inline void sqrt_avx2(v4d *x)
 }
 
 #define TK(name) name##_avx2
+#define TK_SPECIALISE 1
 #define TK_TARGET __attribute__((target("avx2")))
 #define TK_W 4
 #define TK_VD v4d
@@ -175,6 +216,7 @@ __attribute__((target("avx2"))) static inline void sqrt_avx2(v4d *x)
 #undef TK_VD
 #undef TK_VI
 #undef TK_SQRT
+#undef TK_SPECIALISE
 
 /* AVX-512: 8 x 8 tiles. */
 __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
@@ -183,6 +225,7 @@ __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
 }
 
 #define TK(name) name##_avx512
+#define TK_SPECIALISE 0
 #define TK_TARGET __attribute__((target("avx512f")))
 #define TK_W 8
 #define TK_VD v8d
@@ -195,6 +238,7 @@ __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
 #undef TK_VD
 #undef TK_VI
 #undef TK_SQRT
+#undef TK_SPECIALISE
 #endif
 
 int phys_simd_best(void)
@@ -255,6 +299,7 @@ void phys_tiles_reserve(PhysSystem *s, size_t npool)
 typedef struct TileRun {
     const TileLevel *T;
     int simd;
+    int spec;           /* tile_spec_of(T) */
     size_t D;
     size_t cut;
     double *buf;
@@ -267,12 +312,12 @@ static void tiles_part(TileRun *run, int role)
     TilePart P = {role, run->cut, run->buf, &run->done};
 #ifdef HAVE_X86_TILES
     if (run->simd == PHYS_SIMD_AVX512)
-        level_avx512(run->T, &P, run->D);
+        level_avx512(run->T, &P, run->D, run->spec);
     else if (run->simd == PHYS_SIMD_AVX2)
-        level_avx2(run->T, &P, run->D);
+        level_avx2(run->T, &P, run->D, run->spec);
     else
 #endif
-        level_portable(run->T, &P, run->D);
+        level_portable(run->T, &P, run->D, run->spec);
 }
 
 /* Task 0: the first thread's part, task 1: the second's (workers.c hands
@@ -333,7 +378,8 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     const size_t W = s->simd == PHYS_SIMD_AVX512 ? 8 : s->simd == PHYS_SIMD_AVX2 ? 4 : 2;
     const size_t rows = T.npart;
     const double all = (double)rows * (double)(n - 1) - (double)rows * (double)(rows - 1) / 2;
-    TileRun run = {.T = &T, .simd = s->simd, .D = D, .buf = F + D * ns};
+    TileRun run = {.T = &T, .simd = s->simd, .spec = tile_spec_of(&T), .D = D,
+                   .buf = F + D * ns};
     atomic_init(&run.done, 0);
     if (phys_workers_count(s->workers) < 2 || all < TILES_PIPE_PAIRS) {
         tiles_part(&run, 0);

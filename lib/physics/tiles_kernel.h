@@ -6,6 +6,8 @@
  *   TK_VD, TK_VI  vector types of TK_W doubles / int64_t
  *   TK_SQRT(p) replace each lane of the TK_VD at p by its correctly rounded
  *              square root
+ *   TK_SPECIALISE  1 to also compile the copies of TILE_SPEC_* (the
+ *              common levels, their applier kinds known at compile time)
  * The kernel itself and the reasoning for its order are in tiles.c. */
 
 /* The pair values of row [i] against the lanes j0 .. j0+7 (the lane data
@@ -17,7 +19,8 @@
 static inline __attribute__((always_inline)) TK_TARGET void
 TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
                 TK_VD Rl, const TK_VD *Vl, TK_VD ga[][TILE_MAX_D],
-                TK_VD gb[][TILE_MAX_D], const size_t D, const size_t nf)
+                TK_VD gb[][TILE_MAX_D], const size_t D, const size_t nf,
+                const unsigned spec)
 {
     const TK_VD pz = {0}, nz = -pz;          /* +0 and -0 in every lane */
     TK_VD d[TILE_MAX_D];
@@ -35,15 +38,16 @@ TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
     const TK_VD r = ra + Rl;                 /* ra + rb */
     for (size_t f = 0; f < nf; f++) {
         const TileApplier *ap = &T->ap[f];
+        const int kind = TILE_KIND(spec, ap, f);
         TK_VI act = valid;
-        if (ap->maxd != 0)
+        if (!spec && ap->maxd != 0)
             act = act & (dist < ap->maxd);
         TK_VD k;
-        if (ap->kind == TILE_COLLISION) {
+        if (kind == TILE_COLLISION) {
             /* ra != 0 and rb != 0 and dist < ra + rb */
             act = ra != 0 ? act & (Rl != 0) & (dist < r) : (TK_VI){0};
             k = r - dist;
-            if (ap->power != 1) {
+            if (!spec && ap->power != 1) {
                 for (size_t l = 0; l < TK_W; l++)
                     if (act[l])
                         k[l] = pow(k[l], ap->power);
@@ -64,7 +68,7 @@ TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
              * adds sees -0: both leave every value (-0 included) alone */
             TK_VI sub = (act & g) | (~act & (TK_VI)pz);
             TK_VI add = (act & g) | (~act & (TK_VI)nz);
-            if (ap->kind == TILE_PULL) {
+            if (kind == TILE_PULL) {
                 ga[f][e] = (TK_VD)add;
                 gb[f][e] = (TK_VD)sub;
             } else {
@@ -124,7 +128,7 @@ TK(transpose)(TK_VD *a)
 static inline __attribute__((always_inline)) TK_TARGET void
 TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
               const double *FAin, double *FAout, const size_t D,
-              const size_t nf)
+              const size_t nf, const unsigned spec)
 {
     const size_t ns = T->stride;
     TK_VD FA[TILE_MAX_D] = {{0}};
@@ -154,10 +158,10 @@ TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
             if (i0 + r >= T->npart)
                 valid = (TK_VI){0};
             TK_VD ga[TILE_MAX_F][TILE_MAX_D], gb[TILE_MAX_F][TILE_MAX_D];
-            TK(pair_values)(T, i0 + r, valid, Xl, Rl, Vl, ga, gb, D, nf);
+            TK(pair_values)(T, i0 + r, valid, Xl, Rl, Vl, ga, gb, D, nf, spec);
             /* the partners' forces: row after row, applier after applier */
             for (size_t f = 0; f < nf; f++) {
-                const bool pull = T->ap[f].kind == TILE_PULL;
+                const bool pull = TILE_KIND(spec, &T->ap[f], f) == TILE_PULL;
                 for (size_t k = 0; k < D; k++) {
                     Fb[k] = pull ? Fb[k] - gb[f][k] : Fb[k] + gb[f][k];
                     G[f][k][r] = ga[f][k];
@@ -178,7 +182,7 @@ TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
          * applier after applier */
         for (size_t l = 0; l < TK_W; l++)
             for (size_t f = 0; f < nf; f++) {
-                const bool pull = T->ap[f].kind == TILE_PULL;
+                const bool pull = TILE_KIND(spec, &T->ap[f], f) == TILE_PULL;
                 for (size_t k = 0; k < D; k++)
                     FA[k] = pull ? FA[k] + G[f][k][l] : FA[k] - G[f][k][l];
             }
@@ -197,13 +201,14 @@ TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
  * through P; role 2 (second thread) the rest, after the first thread's
  * part of the same block. */
 static inline __attribute__((always_inline)) TK_TARGET void
-TK(level_run)(const TileLevel *T, TilePart *P, const size_t D, const size_t nf)
+TK(level_run)(const TileLevel *T, TilePart *P, const size_t D, const size_t nf,
+              const unsigned spec)
 {
     const size_t n = T->npool;
     size_t blk = 0;
     for (size_t i0 = 0; i0 < T->npart; i0 += TK_W, blk++) {
         if (P->role == 0) {
-            TK(row_block)(T, i0, i0, n, NULL, NULL, D, nf);
+            TK(row_block)(T, i0, i0, n, NULL, NULL, D, nf, spec);
             continue;
         }
         const size_t cut = P->cut;
@@ -211,15 +216,15 @@ TK(level_run)(const TileLevel *T, TilePart *P, const size_t D, const size_t nf)
         if (i0 >= cut) {
             /* past the cut: the second thread's alone */
             if (P->role == 2)
-                TK(row_block)(T, i0, i0, n, NULL, NULL, D, nf);
+                TK(row_block)(T, i0, i0, n, NULL, NULL, D, nf, spec);
             continue;
         }
         if (P->role == 1) {
-            TK(row_block)(T, i0, i0, cut < n ? cut : n, NULL, buf, D, nf);
+            TK(row_block)(T, i0, i0, cut < n ? cut : n, NULL, buf, D, nf, spec);
             tile_post(P, blk);
         } else {
             tile_wait(P, blk);
-            TK(row_block)(T, i0, cut, n, buf, NULL, D, nf);
+            TK(row_block)(T, i0, cut, n, buf, NULL, D, nf, spec);
         }
     }
 }
@@ -227,7 +232,7 @@ TK(level_run)(const TileLevel *T, TilePart *P, const size_t D, const size_t nf)
 #define TK_LEVEL(d, f)                                                        \
     static TK_TARGET void TK(level_##d##_##f)(const TileLevel *T, TilePart *P) \
     {                                                                         \
-        TK(level_run)(T, P, d, f);                                            \
+        TK(level_run)(T, P, d, f, 0);                                         \
     }
 
 TK_LEVEL(1, 1) TK_LEVEL(1, 2) TK_LEVEL(1, 3) TK_LEVEL(1, 4)
@@ -235,9 +240,40 @@ TK_LEVEL(2, 1) TK_LEVEL(2, 2) TK_LEVEL(2, 3) TK_LEVEL(2, 4)
 TK_LEVEL(3, 1) TK_LEVEL(3, 2) TK_LEVEL(3, 3) TK_LEVEL(3, 4)
 #undef TK_LEVEL
 
-/* This copy's kernel for D (1..3) and nf (1..4) appliers. */
-static TK_TARGET void TK(level)(const TileLevel *T, TilePart *P, size_t D)
+#if TK_SPECIALISE
+/* Copies for the common levels (TILE_SPEC_* in tiles.c), with the kinds of
+ * the appliers, power 1 and no max_distance known at compile time. */
+#define TK_SPEC_LEVEL(d, si)                                                  \
+    static TK_TARGET void TK(spec_##d##_##si)(const TileLevel *T, TilePart *P) \
+    {                                                                         \
+        TK(level_run)(T, P, d, TILE_SPEC_NF(si), TILE_SPEC_BITS(si));         \
+    }
+#define TK_SPEC_D(d) TK_SPEC_LEVEL(d, 0) TK_SPEC_LEVEL(d, 1) TK_SPEC_LEVEL(d, 2) \
+    TK_SPEC_LEVEL(d, 3) TK_SPEC_LEVEL(d, 4) TK_SPEC_LEVEL(d, 5)
+TK_SPEC_D(1) TK_SPEC_D(2) TK_SPEC_D(3)
+#undef TK_SPEC_D
+#undef TK_SPEC_LEVEL
+#define TK_SPEC_ROW(d) {TK(spec_##d##_0), TK(spec_##d##_1), TK(spec_##d##_2), \
+                        TK(spec_##d##_3), TK(spec_##d##_4), TK(spec_##d##_5)}
+#endif
+
+/* This copy's kernel for D (1..3) and nf (1..4) appliers: its specialised
+ * copy [si] (0 .. TILE_NSPECS-1, tile_spec_of()) when it has them, else
+ * the general one (si = -1). */
+static TK_TARGET void TK(level)(const TileLevel *T, TilePart *P, size_t D, int si)
 {
+#if TK_SPECIALISE
+    static void (*const sp[3][TILE_NSPECS])(const TileLevel *, TilePart *) = {
+        TK_SPEC_ROW(1), TK_SPEC_ROW(2), TK_SPEC_ROW(3),
+    };
+    if (si >= 0) {
+        sp[D - 1][si](T, P);
+        return;
+    }
+#undef TK_SPEC_ROW
+#else
+    (void)si;
+#endif
     static void (*const fn[3][4])(const TileLevel *, TilePart *) = {
         {TK(level_1_1), TK(level_1_2), TK(level_1_3), TK(level_1_4)},
         {TK(level_2_1), TK(level_2_2), TK(level_2_3), TK(level_2_4)},

@@ -458,6 +458,58 @@ static void test_unlimited_levels(void **st)
     }
 }
 
+/* The tile kernels specialised for the common unlimited levels (tiles.c
+ * TILE_SPEC_*: !electrostatic or !gravity alone, or either with
+ * !collision before or after it, power 1, no max_distance) and levels just
+ * outside them (a power, a max_distance, three appliers), D = 1..3, in each
+ * vector width on one and two threads, against the reference loop. */
+static void test_tile_specs(void **st)
+{
+    (void)st;
+    static const char *const levels[][3] = {
+        {"electrostatic"}, {"gravity"},
+        {"electrostatic", "collision"}, {"collision", "electrostatic"},
+        {"gravity", "collision"}, {"collision", "gravity"},
+        {"gravity", "electrostatic"}, {"collision", "gravity", "electrostatic"},
+    };
+    const size_t nlevels = sizeof levels / sizeof *levels;
+    for (size_t D = 1; D <= 3; D++) {
+        for (size_t li = 0; li < nlevels + 2; li++) {
+            uint64_t seed = 5000 + 20 * D + li;
+            Rng r = {seed};
+            Scene sc = {.D = D, .box = 5, .no_random = true,
+                        .special = li % 4 == 3 ? 0.05 : 0};
+            Node *ph = mk("physics");
+            set(ph, "state", num(7));
+            set(ph, "dimensions", num((double)D));
+            set(ph, "resolution", num(0.05));
+            add_particles(&r, &sc, ph, 37 + 11 * li);
+            /* the last two: a specialised pair made general by a power
+             * or a max_distance */
+            const char *const *kinds = levels[li < nlevels ? li : 2];
+            for (size_t f = 0; f < 3 && kinds[f]; f++) {
+                Node *a = add(ph, kinds[f]);
+                set(a, "strength", num(1 + 4 * uni(&r)));
+                if (li == nlevels && !strcmp(kinds[f], "collision"))
+                    set(a, "power", num(2));
+                if (li == nlevels + 1 && strcmp(kinds[f], "collision"))
+                    set(a, "max_distance", num(2));
+            }
+            vec_release(sc.lastpos);
+            StateDict *ref = simulate(ph, true, 1, 3);
+            for (unsigned th = 1; th <= 2; th++) {
+                for (int simd = 0; simd <= 2; simd++) {
+                    StateDict *sd = simulate_simd(ph, false, th, 3, simd);
+                    assert_same_state(ref, sd, seed, th);
+                    state_free(sd);
+                }
+            }
+            state_free(ref);
+            node_release(ph);
+        }
+    }
+}
+
 /* The test can fail: a world whose fast route adds one pair twice would
  * differ. Here, a scene that does interact gives different bits from one
  * that starts a hair apart, so bitwise comparison is meaningful. */
@@ -504,6 +556,7 @@ int main(void)
         cmocka_unit_test(test_grid_edge),
         cmocka_unit_test(test_grid_layouts),
         cmocka_unit_test(test_unlimited_levels),
+        cmocka_unit_test(test_tile_specs),
         cmocka_unit_test(test_small_scenes),
         cmocka_unit_test(test_large_scenes),
         cmocka_unit_test(test_split_particle_pass),
