@@ -463,17 +463,31 @@ static void ensure_particles(PhysSystem *s, size_t n, size_t D)
     GROW(s->dir, s->capdir, D);
 }
 
-/* §3 particle/anchor: fill storage slot [pn->storage]. */
+void phys_slot_nodes_drop(PhysSystem *s)
+{
+    for (size_t i = 0; i < s->capslots; i++) {
+        node_release(s->slots[i].node);
+        s->slots[i].node = NULL;
+    }
+}
+
+/* §3 particle/anchor: fill storage slot [pn->storage]. A slot whose arrays
+ * were filled from this very node (a static tree hands the same nodes
+ * every frame; the slot retains it, so the address cannot be reused, and
+ * nodes are immutable) keeps its radius, mass, charge, anchor flag and own
+ * force unless that force is eased (it then depends on the clock); only
+ * the position and velocity are read again. */
 static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *sd,
                           const PhysPNode *pn)
 {
     const size_t D = s->D, i = pn->storage;
-    const Vec *at[AN_COUNT];
-    node_attrs(s, pn->node, at);
     PhysKeySlot *k = phys_slot_keys(s, i, pn);
+    const bool same = k->node == pn->node && !k->eased;
+    const Vec *at[AN_COUNT];
+    if (!same)
+        node_attrs(s, pn->node, at);
     double *pos = s->pos + i * D, *vel = s->vel + i * D;
     double *own = s->own + i * D;
-    s->anchor[i] = pn->anchor;
     const Vec *v = NULL;
     if (!pn->anchor && c->iteration > 0)
         v = s->cuse && k->hit && k->cp ? k->cp : state_get(sd, k->pkey);
@@ -481,7 +495,7 @@ static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *
         memcpy(pos, vec_cnums(v), D * sizeof *pos);
         k->pval = (Vec *)v;
     } else
-        fvec0_of(at[AN_POSITION], D, pos);
+        fvec0_of(same ? node_attr(pn->node, "position") : at[AN_POSITION], D, pos);
     v = NULL;
     if (!pn->anchor && c->iteration > 0)
         v = s->cuse && k->hit && k->cv ? k->cv : state_get(sd, k->vkey);
@@ -489,18 +503,24 @@ static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *
         memcpy(vel, vec_cnums(v), D * sizeof *vel);
         k->vval = (Vec *)v;
     } else
-        fvec0_of(at[AN_VELOCITY], D, vel);
-    fvec0_of(at[AN_FORCE], D, own);
-    s->radius[i] = py_max(0, float_of(at[AN_RADIUS], 0));
-    s->mass[i] = py_max(0, float_of(at[AN_MASS], 1));
-    s->charge[i] = float_of(at[AN_CHARGE], 0);
-    /* [doc] the particle's own force is eased: if e > 0 and clock < e,
-     * own[i] = own[i] * (clock / e) */
-    double e = float_of(at[AN_EASE], 0);
-    if (e > 0 && c->clock < e) {
-        double q = c->clock / e;
-        for (size_t j = 0; j < D; j++)
-            own[j] = own[j] * q;
+        fvec0_of(same ? node_attr(pn->node, "velocity") : at[AN_VELOCITY], D, vel);
+    if (!same) {
+        s->anchor[i] = pn->anchor;
+        fvec0_of(at[AN_FORCE], D, own);
+        s->radius[i] = py_max(0, float_of(at[AN_RADIUS], 0));
+        s->mass[i] = py_max(0, float_of(at[AN_MASS], 1));
+        s->charge[i] = float_of(at[AN_CHARGE], 0);
+        /* [doc] the particle's own force is eased: if e > 0 and clock < e,
+         * own[i] = own[i] * (clock / e) */
+        double e = float_of(at[AN_EASE], 0);
+        if (e > 0 && c->clock < e) {
+            double q = c->clock / e;
+            for (size_t j = 0; j < D; j++)
+                own[j] = own[j] * q;
+        }
+        node_release(k->node);
+        k->node = node_retain((Node *)pn->node);
+        k->eased = e > 0;
     }
     memcpy(s->force + i * D, own, D * sizeof *own);
     memset(s->acc + i * D, 0, D * sizeof(double));
@@ -634,6 +654,10 @@ bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
     }
     s->n = off;
     ensure_particles(s, s->n, s->D);
+    if (s->filld != s->D) {
+        phys_slot_nodes_drop(s);
+        s->filld = s->D;
+    }
     /* the id index only serves the !distance appliers */
     bool by_id = false;
     for (size_t a = 0; a < s->nap && !by_id; a++)

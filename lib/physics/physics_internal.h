@@ -159,6 +159,10 @@ typedef struct PhysKeySlot {
     Vec *pval, *vval;     /* the state's values of pkey/vkey this frame
                            * (numeric, length D; borrowed), or NULL */
     Vec *cp, *cv;         /* retained: pval/vval at the end of last frame */
+    Node *node;           /* retained: the particle node whose attributes
+                           * fill this slot's radius, mass, charge, anchor
+                           * and own force (collect.c), or NULL */
+    bool eased;           /* ... and its own force depends on the clock */
 } PhysKeySlot;
 
 /* One particle id's state keys, kept while the id is collected every frame
@@ -237,6 +241,8 @@ typedef struct PhysSystem {
     Str *kcache[16]; signed char kcid[16];     /* node kinds */
     Str *acache[64]; signed char acid[64];     /* attribute names */
 
+    size_t filld;                 /* D the slots' attribute values have */
+
     /* tree walk scratch */
     PhysPNode *pn; size_t npn, cappn;
     struct PhysWalk *walk; size_t capwalk;
@@ -284,6 +290,8 @@ typedef struct PhysCollect {
     Vec *seed;          /* current !random seed vector (lazily built) */
 } PhysCollect;
 
+/* Forget (release) the nodes the slots' attribute values came from. */
+void phys_slot_nodes_drop(PhysSystem *s);
 /* Release the name caches of [s]. */
 void phys_names_free(PhysSystem *s);
 /* Empty [h] and size it for [n] entries. */

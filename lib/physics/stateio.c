@@ -52,6 +52,7 @@ static Vec *compose_sym(const Vec *a, const char *sym)
 static void release_slots(PhysSystem *s)
 {
     phys_cache_drop(s);
+    phys_slot_nodes_drop(s);
     phys_keys_clear(s);
     if (s->capslots)
         memset(s->slots, 0, s->capslots * sizeof *s->slots);

@@ -11,21 +11,25 @@
  * The kernel itself and the reasoning for its order are in tiles.c. */
 
 /* The pair values of row [i] against the lanes j0 .. j0+7 (the lane data
- * Xl, Rl, Vl loaded by the caller), each applier's two masked vectors per
+ * Xl, Rl, Vl loaded by the caller, with Rnz = Rl != 0, Vnz = Vl != 0), each applier's two masked vectors per
  * element: C->ga[f][k] for the row's own force (subtracted when the
  * applier pushes apart, added when it pulls together; +0 / -0 where the
  * applier does not act, so the operation leaves the force as it is) and
  * C->gb[f][k] for the lane's (the other sign, -0 / +0 where idle). */
 static inline __attribute__((always_inline)) TK_TARGET void
 TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
-                TK_VD Rl, const TK_VD *Vl, TK_VD ga[][TILE_MAX_D],
+                TK_VD Rl, TK_VI Rnz, const TK_VD *Vl, const TK_VI *Vnz,
+                TK_VD ga[][TILE_MAX_D],
                 TK_VD gb[][TILE_MAX_D], const size_t D, const size_t nf,
                 const unsigned spec)
 {
     const TK_VD pz = {0}, nz = -pz;          /* +0 and -0 in every lane */
     TK_VD d[TILE_MAX_D];
-    TK_VD sum = pz;
-    for (size_t k = 0; k < D; k++) {
+    /* sum = 0 + d0*d0 + ...: the first addition is left out, as 0 + x is
+     * x for every x but -0, and a square is never -0 */
+    d[0] = Xl[0] - T->x[i];
+    TK_VD sum = d[0] * d[0];
+    for (size_t k = 1; k < D; k++) {
         d[k] = Xl[k] - T->x[k * T->stride + i];
         sum = sum + d[k] * d[k];
     }
@@ -45,7 +49,7 @@ TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
         TK_VD k;
         if (kind == TILE_COLLISION) {
             /* ra != 0 and rb != 0 and dist < ra + rb */
-            act = ra != 0 ? act & (Rl != 0) & (dist < r) : (TK_VI){0};
+            act = ra != 0 ? act & Rnz & (dist < r) : (TK_VI){0};
             k = r - dist;
             if (!spec && ap->power != 1) {
                 for (size_t l = 0; l < TK_W; l++)
@@ -59,15 +63,16 @@ TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
             const TK_VD vb = Vl[f];
             TK_VI big = dist > r;
             TK_VD m = (TK_VD)((big & (TK_VI)dist) | (~big & (TK_VI)r));   /* py_max(r, dist) */
-            act = va != 0 ? act & (vb != 0) : (TK_VI){0};
+            act = va != 0 ? act & Vnz[f] : (TK_VI){0};
             k = ap->strength * va * vb / (m * m);
         }
+        /* the side that subtracts sees +0 when idle, the side that adds
+         * sees -0: both leave every value (-0 included) alone */
+        const TK_VI idle = ~act & (TK_VI)nz;
         for (size_t e = 0; e < D; e++) {
             TK_VI g = (TK_VI)(d[e] * k);
-            /* the side that subtracts sees +0 when idle, the side that
-             * adds sees -0: both leave every value (-0 included) alone */
-            TK_VI sub = (act & g) | (~act & (TK_VI)pz);
-            TK_VI add = (act & g) | (~act & (TK_VI)nz);
+            TK_VI sub = act & g;
+            TK_VI add = sub | idle;
             if (kind == TILE_PULL) {
                 ga[f][e] = (TK_VD)add;
                 gb[f][e] = (TK_VD)sub;
@@ -147,8 +152,12 @@ TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
         }
         TK_VD Rl;
         memcpy(&Rl, T->rad + j0, sizeof Rl);
-        for (size_t f = 0; f < nf; f++)
+        TK_VI Vnz[TILE_MAX_F];
+        for (size_t f = 0; f < nf; f++) {
             memcpy(&Vl[f], T->val[f] + j0, sizeof(TK_VD));
+            Vnz[f] = Vl[f] != 0;
+        }
+        const TK_VI Rnz = Rl != 0;
         const TK_VI inpool = (int64_t)(T->npool - j0) > lane;
         /* the rows' contributions to their own forces, G[f][k][r] (lanes
          * = partners), transposed below to lanes = rows */
@@ -158,7 +167,7 @@ TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
             if (i0 + r >= T->npart)
                 valid = (TK_VI){0};
             TK_VD ga[TILE_MAX_F][TILE_MAX_D], gb[TILE_MAX_F][TILE_MAX_D];
-            TK(pair_values)(T, i0 + r, valid, Xl, Rl, Vl, ga, gb, D, nf, spec);
+            TK(pair_values)(T, i0 + r, valid, Xl, Rl, Rnz, Vl, Vnz, ga, gb, D, nf, spec);
             /* the partners' forces: row after row, applier after applier */
             for (size_t f = 0; f < nf; f++) {
                 const bool pull = TILE_KIND(spec, &T->ap[f], f) == TILE_PULL;

@@ -91,6 +91,7 @@ static void system_free(PhysSystem *s)
     if (!s)
         return;
     phys_cache_drop(s);
+    phys_slot_nodes_drop(s);
     phys_keys_free(s);
     phys_release_prev(s);
     vec_release(s->prefix);
