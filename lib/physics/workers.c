@@ -12,6 +12,7 @@
 
 #include <pthread.h>
 #include <sched.h>
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -97,6 +98,12 @@ PhysWorkers *phys_workers_new(unsigned n)
     pthread_mutex_init(&w->mu, NULL);
     pthread_cond_init(&w->go, NULL);
     pthread_cond_init(&w->done, NULL);
+    /* the threads start with every signal blocked (they inherit the mask),
+     * so a signal meant for the process (Ctrl-C: the REPL waits for it in
+     * pselect on the calling thread) is never taken by a worker */
+    sigset_t all, old;
+    sigfillset(&all);
+    pthread_sigmask(SIG_SETMASK, &all, &old);
     for (unsigned i = 0; i < n - 1; i++) {
         WorkerArg *a = &w->args[i];
         *a = (WorkerArg){w, i + 1};
@@ -104,6 +111,7 @@ PhysWorkers *phys_workers_new(unsigned n)
             break;
         w->started++;
     }
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
     /* fewer threads than asked: the pool still works, task ids of the
      * missing threads are simply never used */
     w->n = w->started + 1;

@@ -97,8 +97,9 @@ while True:
     if time.time() > end:
         fail("a second Ctrl-C at an empty prompt did not end the session")
     try:
-        select.select([fd], [], [], 0.1)
-        os.read(fd, 4096)
+        r, _, _ = select.select([fd], [], [], 0.1)
+        if r:                         # a read without output would block
+            os.read(fd, 4096)
     except OSError:
         pass
 if not os.WIFEXITED(status) or os.WEXITSTATUS(status) != 0:
