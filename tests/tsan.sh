@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# tsan.sh BUILD_DIR: the physics engine's threads under ThreadSanitizer.
+# BUILD_DIR is a build configured with clang and -Db_sanitize=thread (made
+# here when missing). Runs the differential test of the pair routes (1, 2
+# and 4 threads against the reference loop), every physics golden and the
+# benchmark scenes for a few frames on 2 threads, each as one test that
+# fails on any report. Ends with `N passed, M failed`.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+build=$1
+[ -f "$build/build.ninja" ] ||
+    CC=${TSAN_CC:-clang-14} meson setup "$build" -Db_sanitize=thread -Db_lundef=false >/dev/null ||
+    { echo "0 passed, 1 failed"; exit 1; }
+ninja -C "$build" src/flitter tests/test_physics_routes >/dev/null ||
+    { echo "0 passed, 1 failed"; exit 1; }
+export TSAN_OPTIONS="halt_on_error=1 exitcode=66"
+passed=0 failed=0
+check() {   # check NAME CMD...
+    local name=$1 log
+    shift
+    log=$(mktemp)
+    if "$@" >/dev/null 2>"$log" && ! grep -q "ThreadSanitizer" "$log"; then
+        passed=$((passed + 1))
+        echo "ok   $name"
+    else
+        failed=$((failed + 1))
+        echo "FAIL $name"
+        head -40 "$log"
+    fi
+    rm -f "$log"
+}
+check physics_routes "$build/tests/test_physics_routes"
+while read -r script opts; do
+    case "$script" in ''|'#'*) continue ;; esac
+    # shellcheck disable=SC2086
+    check "golden/$script" "$build/src/flitter" run --threads 2 $opts --dump-state "tests/golden/$script"
+done < tests/golden/MANIFEST
+for s in "petri200 60" "discs2k 20" "charges1k 3" "discs20k 3"; do
+    set -- $s
+    check "bench/$1" "$build/src/flitter" run --threads 2 --frames "$2" "bench/$1.fl"
+done
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
