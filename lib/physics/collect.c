@@ -79,8 +79,6 @@ size_t phys_hash_get(const PhysHash *h, const Vec *key, uint64_t hash)
 /* Attributes (PHYSICS-ENGINE.md §1)                                   */
 /* ------------------------------------------------------------------ */
 
-static inline double py_min(double a, double b) { return b < a ? b : a; }
-static inline double py_max(double a, double b) { return b > a ? b : a; }
 
 /* floor() as a 64-bit integer; NaN and out-of-range values give INT64_MIN,
  * the x86 "integer indefinite" the reference's C cast produces there (a

@@ -1,4 +1,4 @@
-/* forces.c: the force appliers and the barrier soft constraint.
+/* forces.c: the pair force appliers.
  *
  * Works on the struct-of-arrays particle storage of a PhysSystem (see
  * physics_internal.h): particle p's vectors are pos/vel/force[p*D .. p*D+D),
@@ -6,21 +6,15 @@
  * system's D-double scratch `dir`. Each applier is a PhysApplier whose vector
  * parameters are the 2*D doubles at avec[vec].
  *
- * Implements PHYSICS-ENGINE.md §4 "pair(a, b)" and the applier list
- * (distance, collision, gravity, electrostatic, adhesion, drag, buoyancy,
- * constant, random, field) and "Barrier distance(p)", with the floating-point
- * operations in exactly the order written there (PHYSICS.md gives the maths).
- * The hard rebound lives in step.c with the integration step it calls.
+ * Implements PHYSICS-ENGINE.md §4 "pair(a, b)" and the pair appliers
+ * (distance, collision, gravity, electrostatic, adhesion), with the
+ * floating-point operations in exactly the order written there (PHYSICS.md
+ * gives the maths). The per-particle appliers (drag, buoyancy, constant,
+ * random, field), the barriers and the step live in step.c.
  */
 #include <math.h>
 
 #include "physics_internal.h"
-#include "streams.h"
-
-/* Python's min(a, b) / max(a, b): the first argument unless the second is
- * strictly smaller / larger (so a NaN first argument is kept). */
-static inline double py_min(double a, double b) { return b < a ? b : a; }
-static inline double py_max(double a, double b) { return b > a ? b : a; }
 
 /* §4 pair(a, b): d_k = b.pos_k - a.pos_k, s = sum d_k*d_k (k ascending),
  * dist = sqrt(s), inv = 1/dist, dir_k = d_k * inv. */
@@ -42,8 +36,7 @@ double phys_pair(PhysSystem *s, size_t a, size_t b)
     return dist;
 }
 
-/* k = pow(k, power) unless power == 1, then k * strength (§4 distance). */
-static inline double shape(double k, double power, double strength)
+double phys_shape(double k, double power, double strength)
 {
     if (power != 1)
         k = pow(k, power);
@@ -79,10 +72,10 @@ static inline void distance_force(const PhysApplier *ap, double *fa,
                                   size_t D)
 {
     if (ap->minimum != 0 && dist < ap->minimum) {
-        double k = shape(ap->minimum - dist, ap->power, ap->strength);
+        double k = phys_shape(ap->minimum - dist, ap->power, ap->strength);
         push_apart(fa, fb, dir, k, D);
     } else if (ap->maximum != 0 && dist > ap->maximum) {
-        double k = shape(dist - ap->maximum, ap->power, ap->strength);
+        double k = phys_shape(dist - ap->maximum, ap->power, ap->strength);
         pull_together(fa, fb, dir, k, D);
     }
 }
@@ -110,7 +103,7 @@ static inline void pair_force(PhysSystem *s, const PhysApplier *ap, size_t a,
         if (ra != 0 && rb != 0) {
             double r = ra + rb;
             if (dist < r)
-                push_apart(fa, fb, dir, shape(r - dist, ap->power, ap->strength), D);
+                push_apart(fa, fb, dir, phys_shape(r - dist, ap->power, ap->strength), D);
         }
         break;
     }
@@ -183,99 +176,6 @@ void phys_apply_pair_level(PhysSystem *s, const PhysGroup *g,
     }
 }
 
-void phys_apply_particle(PhysSystem *s, PhysApplier *ap, size_t p,
-                         double delta)
-{
-    const size_t D = s->D;
-    double *F = s->force + p * D;
-    const double *v = s->vel + p * D;
-    const double *x = s->avec + ap->vec;
-    switch (ap->kind) {
-    case AP_DRAG: {
-        /* §4 drag: s = sum (v_i - flow_i)^2;
-         * k = min(strength * sqrt(s) * pow(radius, D-1), mass/delta);
-         * F_i -= (v_i - flow_i)*k */
-        double r = s->radius[p];
-        if (r != 0) {
-            double sum = 0;
-            for (size_t i = 0; i < D; i++) {
-                double d = v[i] - x[i];
-                sum += d * d;
-            }
-            /* pow(r, 0) is 1 and pow(r, 1) is r exactly (r > 0 here) */
-            double rp = D == 1 ? 1 : D == 2 ? r : pow(r, (double)(D - 1));
-            double k = py_min(ap->strength * sqrt(sum) * rp,
-                              s->mass[p] / delta);
-            for (size_t i = 0; i < D; i++)
-                F[i] = F[i] - (v[i] - x[i]) * k;
-        }
-        break;
-    }
-    case AP_BUOYANCY: {
-        /* §4 buoyancy: k = strength * (mass - pow(radius, D)*density);
-         * F_i += g_i*k */
-        double r = s->radius[p], m = s->mass[p];
-        if (r != 0 && m != 0) {
-            double k = ap->strength * (m - pow(r, (double)D) * ap->density);
-            for (size_t i = 0; i < D; i++)
-                F[i] = F[i] + x[i] * k;
-        }
-        break;
-    }
-    case AP_CONSTANT: {
-        /* §4 constant: F_i += (F'_i + A_i*mass) * strength */
-        const double *A = x + D;
-        double m = s->mass[p];
-        for (size_t i = 0; i < D; i++) {
-            double f = x[i] + A[i] * m;
-            F[i] = F[i] + f * ap->strength;
-        }
-        break;
-    }
-    case AP_RANDOM:
-        /* §4 random: F_i += strength * source[index]; index += 1 */
-        for (size_t i = 0; i < D; i++) {
-            F[i] = F[i] + ap->strength * rng_normal(ap->key, ap->index);
-            ap->index++;
-        }
-        break;
-    case AP_FIELD: {
-        /* §4 field [doc]: F_i += strength * dir_i * charge */
-        double q = s->charge[p];
-        for (size_t i = 0; i < D; i++)
-            F[i] = F[i] + ap->strength * x[i] * q;
-        break;
-    }
-    default:
-        break;
-    }
-}
-
-/* §4 Barrier distance(p): x = sum (pos_i - bpos_i)*n_i; [doc] if min > 0
- * and 0 <= x < min: k = min - x, power, strength, F_i += n_i*k; else if
- * max != 0 and x > max: k = x - max, power, strength, F_i -= n_i*k. */
-void phys_barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p)
-{
-    if (!b->enabled)
-        return;
-    const size_t D = s->D;
-    const double *bp = s->avec + b->vec, *nv = bp + D;
-    const double *pos = s->pos + p * D;
-    double *F = s->force + p * D;
-    double x = 0;
-    for (size_t i = 0; i < D; i++)
-        x = x + (pos[i] - bp[i]) * nv[i];
-    if (b->minimum > 0 && x >= 0 && x < b->minimum) {
-        double k = shape(b->minimum - x, b->power, b->strength);
-        for (size_t i = 0; i < D; i++)
-            F[i] = F[i] + nv[i] * k;
-    } else if (b->maximum != 0 && x > b->maximum) {
-        double k = shape(x - b->maximum, b->power, b->strength);
-        for (size_t i = 0; i < D; i++)
-            F[i] = F[i] - nv[i] * k;
-    }
-}
-
 /* F += dir*k (plus) or F -= dir*k, per element with f = dir_i*k: one side
  * of push_apart()/pull_together(). */
 static inline void add_side(double *F, const double *dir, double k, size_t D,
@@ -304,7 +204,7 @@ void phys_pair_force_one(const PhysSystem *s, const PhysApplier *ap, size_t a,
         if (ra != 0 && rb != 0) {
             double r = ra + rb;
             if (dist < r)
-                add_side(F, dir, shape(r - dist, ap->power, ap->strength), D, to_b);
+                add_side(F, dir, phys_shape(r - dist, ap->power, ap->strength), D, to_b);
         }
         break;
     }

@@ -31,6 +31,14 @@
 #include "config.h"
 #include "physics.h"
 
+/* Python's min(a, b) / max(a, b): the first argument unless the second is
+ * strictly smaller / larger (so a NaN first argument is kept). */
+static inline double py_min(double a, double b) { return b < a ? b : a; }
+static inline double py_max(double a, double b) { return b > a ? b : a; }
+
+/* k = pow(k, power) unless power == 1, then k * strength (§4 distance). */
+double phys_shape(double k, double power, double strength);
+
 typedef enum PhysApplierKind {
     AP_DISTANCE,        /* explicit pair by id */
     AP_COLLISION,       /* pair ("matrix") appliers ... */

@@ -1,4 +1,5 @@
-/* step.c: the integration step, the barrier rebound and the step loop.
+/* step.c: the per-particle appliers, the barriers, the integration step and
+ * the step loop.
  *
  * Operates on a collected PhysSystem (physics_internal.h): particle vectors
  * in struct-of-arrays storage (pos/vel/acc/force/own, D doubles per particle,
@@ -6,7 +7,9 @@
  * applier chains, pair levels and pools, and the applier array.
  *
  * Implements PHYSICS-ENGINE.md §4: the "loop:" (clock, delta, extra steps,
- * the two passes over the groups and the force reset between steps),
+ * the two passes over the groups and the force reset between steps), the
+ * per-particle appliers (drag, buoyancy, constant, random, field), the
+ * barrier soft force ("Barrier distance(p)"),
  * `step(p, clock, dt)` (velocity/position update with the speed-of-light
  * clamp, PHYSICS.md "!particle") and `Barrier rebound(p, clock, dt)` (the
  * hard bounce of PHYSICS.md "Barriers"), with the floating-point operations
@@ -16,6 +19,7 @@
 #include <string.h>
 
 #include "physics_internal.h"
+#include "streams.h"
 #include "workers.h"
 
 /* Particles per task when a group's particle pass is split over threads,
@@ -111,6 +115,99 @@ void phys_barrier_rebound(PhysSystem *s, const PhysApplier *b, size_t p,
             r = t;
     }
     phys_step(s, p, r);
+}
+
+void phys_apply_particle(PhysSystem *s, PhysApplier *ap, size_t p,
+                         double delta)
+{
+    const size_t D = s->D;
+    double *F = s->force + p * D;
+    const double *v = s->vel + p * D;
+    const double *x = s->avec + ap->vec;
+    switch (ap->kind) {
+    case AP_DRAG: {
+        /* §4 drag: s = sum (v_i - flow_i)^2;
+         * k = min(strength * sqrt(s) * pow(radius, D-1), mass/delta);
+         * F_i -= (v_i - flow_i)*k */
+        double r = s->radius[p];
+        if (r != 0) {
+            double sum = 0;
+            for (size_t i = 0; i < D; i++) {
+                double d = v[i] - x[i];
+                sum += d * d;
+            }
+            /* pow(r, 0) is 1 and pow(r, 1) is r exactly (r > 0 here) */
+            double rp = D == 1 ? 1 : D == 2 ? r : pow(r, (double)(D - 1));
+            double k = py_min(ap->strength * sqrt(sum) * rp,
+                              s->mass[p] / delta);
+            for (size_t i = 0; i < D; i++)
+                F[i] = F[i] - (v[i] - x[i]) * k;
+        }
+        break;
+    }
+    case AP_BUOYANCY: {
+        /* §4 buoyancy: k = strength * (mass - pow(radius, D)*density);
+         * F_i += g_i*k */
+        double r = s->radius[p], m = s->mass[p];
+        if (r != 0 && m != 0) {
+            double k = ap->strength * (m - pow(r, (double)D) * ap->density);
+            for (size_t i = 0; i < D; i++)
+                F[i] = F[i] + x[i] * k;
+        }
+        break;
+    }
+    case AP_CONSTANT: {
+        /* §4 constant: F_i += (F'_i + A_i*mass) * strength */
+        const double *A = x + D;
+        double m = s->mass[p];
+        for (size_t i = 0; i < D; i++) {
+            double f = x[i] + A[i] * m;
+            F[i] = F[i] + f * ap->strength;
+        }
+        break;
+    }
+    case AP_RANDOM:
+        /* §4 random: F_i += strength * source[index]; index += 1 */
+        for (size_t i = 0; i < D; i++) {
+            F[i] = F[i] + ap->strength * rng_normal(ap->key, ap->index);
+            ap->index++;
+        }
+        break;
+    case AP_FIELD: {
+        /* §4 field [doc]: F_i += strength * dir_i * charge */
+        double q = s->charge[p];
+        for (size_t i = 0; i < D; i++)
+            F[i] = F[i] + ap->strength * x[i] * q;
+        break;
+    }
+    default:
+        break;
+    }
+}
+
+/* §4 Barrier distance(p): x = sum (pos_i - bpos_i)*n_i; [doc] if min > 0
+ * and 0 <= x < min: k = min - x, power, strength, F_i += n_i*k; else if
+ * max != 0 and x > max: k = x - max, power, strength, F_i -= n_i*k. */
+void phys_barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p)
+{
+    if (!b->enabled)
+        return;
+    const size_t D = s->D;
+    const double *bp = s->avec + b->vec, *nv = bp + D;
+    const double *pos = s->pos + p * D;
+    double *F = s->force + p * D;
+    double x = 0;
+    for (size_t i = 0; i < D; i++)
+        x = x + (pos[i] - bp[i]) * nv[i];
+    if (b->minimum > 0 && x >= 0 && x < b->minimum) {
+        double k = phys_shape(b->minimum - x, b->power, b->strength);
+        for (size_t i = 0; i < D; i++)
+            F[i] = F[i] + nv[i] * k;
+    } else if (b->maximum != 0 && x > b->maximum) {
+        double k = phys_shape(x - b->maximum, b->power, b->strength);
+        for (size_t i = 0; i < D; i++)
+            F[i] = F[i] - nv[i] * k;
+    }
 }
 
 /* §4 first pass for group [g]: its distance appliers, then (if it has

@@ -71,7 +71,6 @@ void *phys_grow(void *p, size_t *cap, size_t need, size_t size)
 #define GROW(ptr, cap, need) \
     ((ptr) = phys_grow((ptr), &(cap), (need), sizeof *(ptr)))
 
-static inline double py_max(double a, double b) { return b > a ? b : a; }
 
 /* ------------------------------------------------------------------ */
 /* Systems                                                             */
