@@ -358,11 +358,6 @@ void phys_apply_distance(PhysSystem *s, const PhysApplier *ap);
  * against the first lv->npool of its pool, with lv->group's pair appliers. */
 void phys_apply_pair_level(PhysSystem *s, const PhysGroup *g,
                            const PhysLevel *lv);
-/* Apply per-particle applier [ap] to non-anchor particle [p]. */
-void phys_apply_particle(PhysSystem *s, PhysApplier *ap, size_t p,
-                         double delta);
-/* Barrier soft constraint: b.distance(p). */
-void phys_barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p);
 
 /* Gather side of a pair applier: what applier [ap] adds to one particle of
  * the pair (a, b) measured as dist/dir by pair(a, b): to a's force [F] when
@@ -427,13 +422,8 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
 /* Grow s->tiles for a level of [npool] pool entries now (at planning). */
 void phys_tiles_reserve(PhysSystem *s, size_t npool);
 
-/* ---- step.c: integration, rebound and the step loop ---- */
+/* ---- step.c: the particle pass (appliers, barriers, step) and the step loop ---- */
 
-/* step(p, clock, dt) of §4 (the clock is unused since the [doc] ease fix). */
-void phys_step(PhysSystem *s, size_t p, double dt);
-/* Barrier hard bounce: b.rebound(p, clock, dt). */
-void phys_barrier_rebound(PhysSystem *s, const PhysApplier *b, size_t p,
-                          double dt);
 /* The §4 loop from [last] up to [time]; returns the advanced clock. */
 double phys_run_steps(PhysSystem *s, double time, double last, double clock,
                       double resolution, bool realtime, bool extra);

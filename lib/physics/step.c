@@ -34,9 +34,9 @@
  *   a_i = (v_i - a_i) / dt ; pos_i = pos_i + v_i*dt
  * The particle's own-force ease is applied at collection ([doc]), so the
  * clock is not needed here. */
-void phys_step(PhysSystem *s, size_t p, double dt)
+static inline __attribute__((always_inline)) void
+particle_step(PhysSystem *s, size_t p, double dt, const size_t D)
 {
-    const size_t D = s->D;
     double *pos = s->pos + p * D, *v = s->vel + p * D, *a = s->acc + p * D;
     const double *F = s->force + p * D;
     const double mass = s->mass[p], c = s->c;
@@ -76,12 +76,12 @@ void phys_step(PhysSystem *s, size_t p, double dt)
  *   if u >= 0 or r > dt: pos_i = pos_i - x*n_i; return
  *   pos_i = pos_i - r*v_i ; v_i = (v_i - r*a_i)*rest ; u' = sum v_i*n_i ;
  *   v_i = v_i - 2*u'*n_i ; if w < 0 and u'/w < r: r = u'/w ; step(p, r) */
-void phys_barrier_rebound(PhysSystem *s, const PhysApplier *b, size_t p,
-                          double dt)
+static inline __attribute__((always_inline)) void
+barrier_rebound(PhysSystem *s, const PhysApplier *b, size_t p, double dt,
+                const size_t D)
 {
     if (!b->enabled)
         return;
-    const size_t D = s->D;
     const double *bp = s->avec + b->vec, *nv = bp + D;
     double *pos = s->pos + p * D, *v = s->vel + p * D;
     const double *a = s->acc + p * D;
@@ -114,13 +114,13 @@ void phys_barrier_rebound(PhysSystem *s, const PhysApplier *b, size_t p,
         if (t < r)
             r = t;
     }
-    phys_step(s, p, r);
+    particle_step(s, p, r, D);
 }
 
-void phys_apply_particle(PhysSystem *s, PhysApplier *ap, size_t p,
-                         double delta)
+static inline __attribute__((always_inline)) void
+apply_particle(PhysSystem *s, PhysApplier *ap, size_t p, double delta,
+               const size_t D)
 {
-    const size_t D = s->D;
     double *F = s->force + p * D;
     const double *v = s->vel + p * D;
     const double *x = s->avec + ap->vec;
@@ -188,11 +188,12 @@ void phys_apply_particle(PhysSystem *s, PhysApplier *ap, size_t p,
 /* §4 Barrier distance(p): x = sum (pos_i - bpos_i)*n_i; [doc] if min > 0
  * and 0 <= x < min: k = min - x, power, strength, F_i += n_i*k; else if
  * max != 0 and x > max: k = x - max, power, strength, F_i -= n_i*k. */
-void phys_barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p)
+static inline __attribute__((always_inline)) void
+barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p,
+                 const size_t D)
 {
     if (!b->enabled)
         return;
-    const size_t D = s->D;
     const double *bp = s->avec + b->vec, *nv = bp + D;
     const double *pos = s->pos + p * D;
     double *F = s->force + p * D;
@@ -229,11 +230,12 @@ static void pair_pass(PhysSystem *s, const PhysGroup *g)
 
 /* §4 second pass for particles [q0, q1) of group [g] (with particles):
  * particle appliers and barrier soft forces of the chain, step, rebounds,
- * force reset. */
-static void particle_range(PhysSystem *s, const PhysGroup *g, double delta,
-                           bool more, size_t q0, size_t q1)
+ * force reset; compiled once for each D of 1..3 (the per-element loops
+ * then unroll) and once for any D. */
+static inline __attribute__((always_inline)) void
+particle_range_fixed(PhysSystem *s, const PhysGroup *g, double delta,
+                     bool more, size_t q0, size_t q1, const size_t D)
 {
-    const size_t D = s->D;
     const uint32_t *pf = s->chain + g->pf_off;
     const uint32_t *bl = s->chain + g->b_off;
     for (size_t q = q0; q < q1; q++) {
@@ -241,14 +243,37 @@ static void particle_range(PhysSystem *s, const PhysGroup *g, double delta,
         if (s->anchor[p])
             continue;
         for (size_t j = 0; j < g->pf_n; j++)
-            phys_apply_particle(s, &s->ap[pf[j]], p, delta);
+            apply_particle(s, &s->ap[pf[j]], p, delta, D);
         for (size_t j = 0; j < g->b_n; j++)
-            phys_barrier_distance(s, &s->ap[bl[j]], p);
-        phys_step(s, p, delta);
+            barrier_distance(s, &s->ap[bl[j]], p, D);
+        particle_step(s, p, delta, D);
         for (size_t j = 0; j < g->b_n; j++)
-            phys_barrier_rebound(s, &s->ap[bl[j]], p, delta);
+            barrier_rebound(s, &s->ap[bl[j]], p, delta, D);
         if (more)
             memcpy(s->force + p * D, s->own + p * D, D * sizeof(double));
+    }
+}
+
+#define RANGE_COPY(name, dim)                                                  \
+    static void name(PhysSystem *s, const PhysGroup *g, double delta,         \
+                     bool more, size_t q0, size_t q1)                         \
+    {                                                                          \
+        particle_range_fixed(s, g, delta, more, q0, q1, dim);                  \
+    }
+RANGE_COPY(particle_range_1, 1)
+RANGE_COPY(particle_range_2, 2)
+RANGE_COPY(particle_range_3, 3)
+RANGE_COPY(particle_range_any, s->D)
+#undef RANGE_COPY
+
+static void particle_range(PhysSystem *s, const PhysGroup *g, double delta,
+                           bool more, size_t q0, size_t q1)
+{
+    switch (s->D) {
+    case 1: particle_range_1(s, g, delta, more, q0, q1); break;
+    case 2: particle_range_2(s, g, delta, more, q0, q1); break;
+    case 3: particle_range_3(s, g, delta, more, q0, q1); break;
+    default: particle_range_any(s, g, delta, more, q0, q1); break;
     }
 }
 
