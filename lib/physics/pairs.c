@@ -732,41 +732,28 @@ GRID_COPY(gather_grid_2_avx2, 2, __attribute__((target("avx2"))))
 GRID_COPY(gather_grid_3_avx2, 3, __attribute__((target("avx2"))))
 #endif
 
-/* The dense grid's gather for the entry in slot [i]. */
-static void gather_dense(const LevelRun *L, size_t i, PhysScratch *sc)
-{
-#ifdef HAVE_AVX2_COPIES
-    if (L->avx2) {
-        switch (L->s->D) {
-        case 1: gather_grid_1_avx2_dense(L, i, sc); return;
-        case 2: gather_grid_2_avx2_dense(L, i, sc); return;
-        default: gather_grid_3_avx2_dense(L, i, sc); return;
-        }
-    }
-#endif
-    switch (L->s->D) {
-    case 1: gather_grid_1_dense(L, i, sc); break;
-    case 2: gather_grid_2_dense(L, i, sc); break;
-    default: gather_grid_3_dense(L, i, sc); break;
-    }
-}
+/* A gather of one entry: over the hashed grid (by pool entry q) or over
+ * the dense grid (by slot i). */
+typedef void (*GatherFn)(const LevelRun *L, size_t qi, PhysScratch *sc);
 
-static void gather_grid(const LevelRun *L, size_t q, PhysScratch *sc)
+/* The copy of the grid gather for this level: [dense] form, D = 1..3 (the
+ * only ones the grid takes), AVX2 when the processor has it. */
+static GatherFn grid_gather_fn(const LevelRun *L, bool dense)
 {
+    static const GatherFn plain[2][3] = {
+        {gather_grid_1, gather_grid_2, gather_grid_3},
+        {gather_grid_1_dense, gather_grid_2_dense, gather_grid_3_dense},
+    };
+    size_t d = L->s->D < 3 ? L->s->D - 1 : 2;
 #ifdef HAVE_AVX2_COPIES
-    if (L->avx2) {
-        switch (L->s->D) {
-        case 1: gather_grid_1_avx2(L, q, sc); return;
-        case 2: gather_grid_2_avx2(L, q, sc); return;
-        default: gather_grid_3_avx2(L, q, sc); return;
-        }
-    }
+    static const GatherFn avx2[2][3] = {
+        {gather_grid_1_avx2, gather_grid_2_avx2, gather_grid_3_avx2},
+        {gather_grid_1_avx2_dense, gather_grid_2_avx2_dense, gather_grid_3_avx2_dense},
+    };
+    if (L->avx2)
+        return avx2[dense][d];
 #endif
-    switch (L->s->D) {
-    case 1: gather_grid_1(L, q, sc); break;
-    case 2: gather_grid_2(L, q, sc); break;
-    default: gather_grid_3(L, q, sc); break;
-    }
+    return plain[dense][d];
 }
 
 /* Task [t]: the targets t*TARGETS_PER_TASK .. (anchors never step, so
@@ -782,24 +769,26 @@ static void level_task(void *ctx, size_t t, unsigned thread)
          * the odd entries, which gather over every partner */
         const PhysGrid *gr = &s->grid;
         const size_t m = gr->nslot;
+        const GatherFn dense = grid_gather_fn(L, true);
         for (size_t i = t * TARGETS_PER_TASK; i < end && i < m + gr->nodd; i++) {
             size_t q = i < m ? gr->slotq[i] : gr->odd[i - m];
             if (s->anchor[L->pool[q]])
                 continue;
             if (i < m)
-                gather_dense(L, i, sc);
+                dense(L, i, sc);
             else
                 gather_all(L, q, sc);
         }
         return;
     }
+    const GatherFn hashed = L->grid ? grid_gather_fn(L, false) : NULL;
     if (end > L->npool)
         end = L->npool;
     for (size_t q = t * TARGETS_PER_TASK; q < end; q++) {
         if (s->anchor[L->pool[q]])
             continue;
-        if (L->grid)
-            gather_grid(L, q, sc);
+        if (hashed)
+            hashed(L, q, sc);
         else
             gather_all_any(L, q, sc);
     }

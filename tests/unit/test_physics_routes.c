@@ -197,6 +197,16 @@ static void fill_group(Rng *r, Scene *sc, Node *g, int depth, size_t big)
         add_particles(r, sc, g, 1 + below(r, 10));   /* after the subgroups */
 }
 
+/* A !physics node of [D] dimensions, state 7, resolution 0.05. */
+static Node *physics_node(size_t D)
+{
+    Node *ph = mk("physics");
+    set(ph, "state", num(7));
+    set(ph, "dimensions", num((double)D));
+    set(ph, "resolution", num(0.05));
+    return ph;
+}
+
 static Node *random_scene(uint64_t seed, size_t big, bool no_random)
 {
     Rng r = {seed};
@@ -211,10 +221,7 @@ static Node *random_scene(uint64_t seed, size_t big, bool no_random)
     /* a density that keeps many discs touching */
     double n = big ? (double)big : 60;
     sc.box = sc.D == 1 ? n * 0.8 : sc.D == 2 ? sqrt(n) * 1.2 : cbrt(n) * 1.5;
-    Node *ph = mk("physics");
-    set(ph, "state", num(7));
-    set(ph, "dimensions", num((double)sc.D));
-    set(ph, "resolution", num(0.05));
+    Node *ph = physics_node(sc.D);
     fill_group(&r, &sc, ph, 0, big);
     vec_release(sc.lastpos);
     return ph;
@@ -364,10 +371,7 @@ static void test_grid_layouts(void **st)
             Rng r = {seed};
             Scene sc = {.D = D, .box = D == 1 ? 40 : D == 2 ? 8 : 4,
                         .no_random = true};
-            Node *ph = mk("physics");
-            set(ph, "state", num(7));
-            set(ph, "dimensions", num((double)D));
-            set(ph, "resolution", num(0.05));
+            Node *ph = physics_node(D);
             for (int c = 0; c < clusters; c++) {
                 for (size_t i = 0; i < 300; i++) {
                     Node *p = add(ph, chance(&r, 0.05) ? "anchor" : "particle");
@@ -421,10 +425,7 @@ static void test_unlimited_levels(void **st)
             /* every third scene has NaN, infinite and far-out elements */
             Scene sc = {.D = D, .box = 6, .no_random = true,
                         .special = si % 3 == 2 ? 0.05 : 0};
-            Node *ph = mk("physics");
-            set(ph, "state", num(7));
-            set(ph, "dimensions", num((double)D));
-            set(ph, "resolution", num(0.05));
+            Node *ph = physics_node(D);
             add_particles(&r, &sc, ph, sizes[si]);
             set(add(ph, "electrostatic"), "strength", num(5 + uni(&r)));
             if (si % 2) {
@@ -479,10 +480,7 @@ static void test_tile_specs(void **st)
             Rng r = {seed};
             Scene sc = {.D = D, .box = 5, .no_random = true,
                         .special = li % 4 == 3 ? 0.05 : 0};
-            Node *ph = mk("physics");
-            set(ph, "state", num(7));
-            set(ph, "dimensions", num((double)D));
-            set(ph, "resolution", num(0.05));
+            Node *ph = physics_node(D);
             add_particles(&r, &sc, ph, 37 + 11 * li);
             /* the last two: a specialised pair made general by a power
              * or a max_distance */
