@@ -97,9 +97,31 @@ static void put_error(Repl *r)
     r->errors++;
 }
 
+/* fl_write_fn for results: to stdout in pieces, stopping at a Ctrl-C (a
+ * long vector takes minutes to print on a terminal); *[ctx] is set once
+ * the output was cut. */
+static void write_result(void *ctx, const char *text, size_t len)
+{
+    bool *cut = ctx;
+    const size_t piece = 1 << 16;
+    for (size_t off = 0; off < len && !*cut; off += piece) {
+        if (*repl_interrupt_flag()) {
+            *cut = true;
+            fflush(stdout);
+            fputs("\n(output interrupted)\n", stderr);
+            break;
+        }
+        fwrite(text + off, 1, len - off < piece ? len - off : piece, stdout);
+    }
+}
+
 static int eval_text(Repl *r, const char *text, size_t len)
 {
-    int rc = fl_eval(r->rt, text, len, write_file, stdout);   /* lines, each with its newline */
+    bool cut = false;
+    int rc = fl_eval(r->rt, text, len, write_result, &cut);   /* lines, each with its newline */
+    /* a Ctrl-C during the evaluation or the output was for them, not for
+     * the next prompt */
+    repl_take_interrupt();
     if (rc < 0) put_error(r);
     return rc;
 }
@@ -181,7 +203,14 @@ static int cmd_step(Repl *r, const char *arg)
             fprintf(stderr, "interrupted after %ld of %ld frames\n", i, n);
             break;
         }
-        if (fl_step(r->rt) != 0) {
+        int rc = fl_step(r->rt);
+        if (rc == 1) {   /* Ctrl-C inside the frame: discarded, as if not begun */
+            repl_take_interrupt();
+            fflush(stdout);
+            fprintf(stderr, "interrupted after %ld of %ld frames\n", i, n);
+            break;
+        }
+        if (rc != 0) {
             repl_error(r, "no program to step");
             return 0;
         }
@@ -592,6 +621,8 @@ int cmd_repl(int argc, char **argv)
     fl_options opts = fl_default_options();
     const char *script;
     Repl r = {.tty = isatty(STDIN_FILENO) == 1, .block = TEXT_INIT};
+    if (r.tty)   /* Ctrl-C (caught in terminal sessions) stops a long line or frame */
+        opts.interrupt = repl_interrupt_flag();
     setvbuf(stdout, NULL, _IOLBF, 0);   /* keep stdout and stderr lines in order */
     int rc = parse_args(argc, argv, &opts, &r.rt, &script);
     if (rc != 0) return rc < 0 ? EXIT_OK : rc;

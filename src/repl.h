@@ -67,5 +67,8 @@ void repl_edit_end(Repl *r);
 void repl_remember(Repl *r, const char *line);
 /* Whether Ctrl-C was pressed since the last call (clears the flag). */
 bool repl_take_interrupt(void);
+/* The flag itself, for fl_options.interrupt: the runtime polls it inside
+ * evaluation and physics steps, so Ctrl-C stops a long line or frame. */
+volatile int *repl_interrupt_flag(void);
 
 #endif

@@ -28,8 +28,11 @@
 static Repl *completing;
 
 /* Set by SIGINT in a terminal session (a signal handler takes no context
- * either): polled between the frames of :step and after readline. */
-static volatile sig_atomic_t interrupted;
+ * either): polled between the frames of :step, after readline, while a
+ * result is written, and by the runtime (fl_options.interrupt, a volatile
+ * int: the type of sig_atomic_t here). */
+static volatile int interrupted;
+_Static_assert(sizeof(sig_atomic_t) == sizeof(int), "sig_atomic_t is an int");
 
 static void on_interrupt(int sig)
 {
@@ -261,6 +264,8 @@ void repl_edit_end(Repl *r)
     clear_history();
     completing = NULL;
 }
+
+volatile int *repl_interrupt_flag(void) { return &interrupted; }
 
 bool repl_take_interrupt(void)
 {

@@ -159,6 +159,22 @@ void fmt_double(Buf *b, double x)
         buf_puts(b, x < 0 ? "-inf" : "inf");
         return;
     }
+    if (fabs(x) < 0x1p53 && x == (double)(int64_t)x) {
+        /* an integer below 2^53: every integer there is a double, so no
+         * shorter decimal than its own digits reads back to it, and it is
+         * below 1e16, so it is written without an exponent */
+        char t[24];
+        size_t i = sizeof t;
+        uint64_t u = (uint64_t)(x < 0 ? -x : x);
+        do {
+            t[--i] = (char)('0' + u % 10);
+            u /= 10;
+        } while (u);
+        if (x < 0)
+            t[--i] = '-';
+        buf_add(b, t + i, sizeof t - i);
+        return;
+    }
     Decimal d;
     shortest_decimal(&d, x);
     if (signbit(x))

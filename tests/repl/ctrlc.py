@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """ctrlc.py FLITTER SCRIPT: a terminal REPL session on a pseudo-terminal.
 Ctrl-C interrupts a long :step between frames and returns to the prompt
-with the session intact; Ctrl-C drops a half-typed line; a second Ctrl-C at
+with the session intact; Ctrl-C stops a line that runs for ever (an
+interrupted evaluation) and cuts the output of a long result; Ctrl-C drops
+a half-typed line; a second Ctrl-C at
 an empty prompt ends the session with status 0; UTF-8 typing comes through
 whole; Tab completes a built-in function name. Waits on the output (not on
 fixed sleeps) with generous time limits, so a loaded machine only slows it.
@@ -70,6 +72,22 @@ wait_for(r"frame \d+ time [^\n]*\n.*flitter> ")
 out = b""
 send(b"$(:dish;:clock) > 0\r")        # the session (and its state) survived
 wait_for(r"\n1\r?\n.*flitter> ")
+out = b""
+send(b"func g(n)\r")                  # a line that runs for ever: 2^60 calls
+send(b"    0 if n < 1 else g(n-1) + g(n-1)\r")
+send(b"\r")
+wait_for(r"g = \(func g\)\r?\n.*flitter> ")
+out = b""
+send(b"g(60)\r")
+wait_for(r"g\(60\)\r?\n")
+time.sleep(0.5)
+send(b"\x03")                         # Ctrl-C stops it, nothing printed
+wait_for(r"<repl>: error: interrupted\r?\n.*flitter> ")
+out = b""
+send(b"..2**21\r")                    # a long result: Ctrl-C cuts its output
+wait_for(r"0;1;2;3;4;5")
+send(b"\x03")
+wait_for(r"\(output interrupted\)\r?\n.*flitter> ")
 out = b""
 send(b"(1+")                          # a half-typed line, then Ctrl-C
 wait_for(r"\(1\+")

@@ -5,6 +5,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <cmocka.h>
 #include <math.h>
 #include <stdlib.h>
@@ -232,6 +233,39 @@ static void test_fmt_double_edges(void **s)
         assert_null(strstr(buf_cstr(&b), ".0e"));
         assert_false(b.len >= 2 && strcmp(buf_cstr(&b) + b.len - 2, ".0") == 0);
         buf_free(&b);
+    }
+}
+
+/* Integers below 2^53 take a fast path (their own digits); it must write
+ * what the shortest round-trip route writes: checked against "%.0f" (exact
+ * for integers) and, around the ends of the path, by reading back. */
+static void test_fmt_double_integers(void **s)
+{
+    (void)s;
+    check_double(-0.0, "0");
+    check_double(1, "1");
+    check_double(-7, "-7");
+    check_double(1000, "1000");
+    check_double(1e15, "1000000000000000");
+    check_double(-999999999999999.0, "-999999999999999");
+    check_double(0x1p53 - 1, "9007199254740991");
+    check_double(-(0x1p53 - 1), "-9007199254740991");
+    check_double(0x1p53, "9007199254740992");        /* past the path */
+    check_double(-0x1p53, "-9007199254740992");
+    check_double(0.5, "0.5");                         /* not integers */
+    check_double(4503599627370495.5, "4503599627370495.5");
+    uint64_t u = UINT64_C(0x2545f4914f6cdd1d);
+    for (int i = 0; i < 20000; i++) {
+        u ^= u << 13;
+        u ^= u >> 7;
+        u ^= u << 17;
+        /* magnitudes spread over 1 .. 2^53 */
+        double x = (double)(int64_t)((u >> 11) >> (u & 63) % 53);
+        if (u & 64)
+            x = -x;
+        char want[32];
+        snprintf(want, sizeof want, "%.0f", x == 0 ? 0.0 : x);
+        check_double(x, want);
     }
 }
 
@@ -557,6 +591,7 @@ int main(void)
         cmocka_unit_test(test_buf),
         cmocka_unit_test(test_fmt_double_spec),
         cmocka_unit_test(test_fmt_double_edges),
+        cmocka_unit_test(test_fmt_double_integers),
         cmocka_unit_test(test_fmt_g9),
         cmocka_unit_test(test_fmt_value_numbers),
         cmocka_unit_test(test_fmt_value_strings),
