@@ -204,20 +204,25 @@ TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
     }
 }
 
+/* One row block of one copy (D, nf and spec fixed): what TK(row_block)
+ * does, out of line, so the level loop below calls one copy of it. */
+typedef void (*TK(RowBlockFn))(const TileLevel *T, size_t i0, size_t jbeg,
+                               size_t jend, const double *FAin, double *FAout);
+
 /* The level, or one side of it (TilePart, tiles.c): role 0 runs every
  * tile; role 1 (first thread) the tiles of partners below P->cut of the
  * row blocks that start below it, handing each block's partial sums on
  * through P; role 2 (second thread) the rest, after the first thread's
- * part of the same block. */
+ * part of the same block. [rows] runs one row block. */
 static inline __attribute__((always_inline)) TK_TARGET void
-TK(level_run)(const TileLevel *T, TilePart *P, const size_t D, const size_t nf,
-              const unsigned spec)
+TK(level_run)(const TileLevel *T, TilePart *P, const size_t D,
+              const TK(RowBlockFn) rows)
 {
     const size_t n = T->npool;
     size_t blk = 0;
     for (size_t i0 = 0; i0 < T->npart; i0 += TK_W, blk++) {
         if (P->role == 0) {
-            TK(row_block)(T, i0, i0, n, NULL, NULL, D, nf, spec);
+            rows(T, i0, i0, n, NULL, NULL);
             continue;
         }
         const size_t cut = P->cut;
@@ -225,25 +230,34 @@ TK(level_run)(const TileLevel *T, TilePart *P, const size_t D, const size_t nf,
         if (i0 >= cut) {
             /* past the cut: the second thread's alone */
             if (P->role == 2)
-                TK(row_block)(T, i0, i0, n, NULL, NULL, D, nf, spec);
+                rows(T, i0, i0, n, NULL, NULL);
             continue;
         }
         if (P->role == 1) {
-            TK(row_block)(T, i0, i0, cut < n ? cut : n, NULL, buf, D, nf, spec);
+            rows(T, i0, i0, cut < n ? cut : n, NULL, buf);
             tile_post(P, blk);
         } else {
             tile_wait(P, blk);
-            TK(row_block)(T, i0, cut, n, buf, NULL, D, nf, spec);
+            rows(T, i0, cut, n, buf, NULL);
         }
     }
 }
 
-#define TK_LEVEL(d, f)                                                        \
-    static TK_TARGET void TK(level_##d##_##f)(const TileLevel *T, TilePart *P) \
+/* A copy of the kernel: its row block (D, nf and the applier description
+ * spec known at compile time) and its level loop [name]. */
+#define TK_COPY(name, d, f, spec)                                             \
+    static TK_TARGET __attribute__((noinline)) void TK(name##_rows)(         \
+        const TileLevel *T, size_t i0, size_t jbeg, size_t jend,              \
+        const double *FAin, double *FAout)                                    \
     {                                                                         \
-        TK(level_run)(T, P, d, f, 0);                                         \
+        TK(row_block)(T, i0, jbeg, jend, FAin, FAout, d, f, spec);            \
+    }                                                                         \
+    static TK_TARGET void TK(name)(const TileLevel *T, TilePart *P)          \
+    {                                                                         \
+        TK(level_run)(T, P, d, TK(name##_rows));                              \
     }
 
+#define TK_LEVEL(d, f) TK_COPY(level_##d##_##f, d, f, 0)
 TK_LEVEL(1, 1) TK_LEVEL(1, 2) TK_LEVEL(1, 3) TK_LEVEL(1, 4)
 TK_LEVEL(2, 1) TK_LEVEL(2, 2) TK_LEVEL(2, 3) TK_LEVEL(2, 4)
 TK_LEVEL(3, 1) TK_LEVEL(3, 2) TK_LEVEL(3, 3) TK_LEVEL(3, 4)
@@ -252,11 +266,8 @@ TK_LEVEL(3, 1) TK_LEVEL(3, 2) TK_LEVEL(3, 3) TK_LEVEL(3, 4)
 #if TK_SPECIALISE
 /* Copies for the common levels (TILE_SPEC_* in tiles.c), with the kinds of
  * the appliers, power 1 and no max_distance known at compile time. */
-#define TK_SPEC_LEVEL(d, si)                                                  \
-    static TK_TARGET void TK(spec_##d##_##si)(const TileLevel *T, TilePart *P) \
-    {                                                                         \
-        TK(level_run)(T, P, d, TILE_SPEC_NF(si), TILE_SPEC_BITS(si));         \
-    }
+#define TK_SPEC_LEVEL(d, si) \
+    TK_COPY(spec_##d##_##si, d, TILE_SPEC_NF(si), TILE_SPEC_BITS(si))
 #define TK_SPEC_D(d) TK_SPEC_LEVEL(d, 0) TK_SPEC_LEVEL(d, 1) TK_SPEC_LEVEL(d, 2) \
     TK_SPEC_LEVEL(d, 3) TK_SPEC_LEVEL(d, 4) TK_SPEC_LEVEL(d, 5)
 TK_SPEC_D(1) TK_SPEC_D(2) TK_SPEC_D(3)
@@ -265,6 +276,7 @@ TK_SPEC_D(1) TK_SPEC_D(2) TK_SPEC_D(3)
 #define TK_SPEC_ROW(d) {TK(spec_##d##_0), TK(spec_##d##_1), TK(spec_##d##_2), \
                         TK(spec_##d##_3), TK(spec_##d##_4), TK(spec_##d##_5)}
 #endif
+#undef TK_COPY
 
 /* This copy's kernel for D (1..3) and nf (1..4) appliers: its specialised
  * copy [si] (0 .. TILE_NSPECS-1, tile_spec_of()) when it has them, else
