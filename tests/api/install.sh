@@ -4,7 +4,9 @@
 # petri dish: its output must equal tests/api/embed_petri.out exactly (the
 # position is the one in samples/petri.state after 120 frames).
 # Also checks the installed files: the flitter binary, libflitter.so with
-# its soname, libflitter.a, flitter.h, libflitter.pc and flitter(1).
+# its soname, libflitter.a, flitter.h, libflitter.pc and flitter(1); then
+# builds the sample again against libflitter.a alone (static), which must
+# define no global symbol but the fl_ functions.
 # usage: install.sh BUILD_DIR SOURCE_ROOT VERSION CC [CFLAGS...]
 set -euo pipefail
 build=$1 src=$2 version=$3 cc=$4
@@ -50,4 +52,20 @@ LD_LIBRARY_PATH=$libdir "$tmp/embed" "$src/samples/petri.fl" 120 ':dish;0' >"$tm
     fail "embed exited with status $?"
 sed "s/@VERSION@/$version/" "$src/tests/api/embed_petri.out" >"$tmp/expected"
 diff -u "$tmp/expected" "$tmp/out" || fail "embed output differs"
+
+# the same sample linked statically: the installed libflitter.a with the
+# libraries `pkg-config --static` names; it defines only fl_ symbols, so
+# none of its internals can clash with a host's
+bad=$(nm -g --defined-only "$libdir/libflitter.a" | awk 'NF == 3 {print $3}' | grep -v '^fl_' || true)
+[ -z "$bad" ] || fail "libflitter.a defines non-fl_ globals: $(echo $bad | head -c 200)"
+slibs=$(pkg-config --static --libs libflitter | sed 's/-lflitter\b//')
+# shellcheck disable=SC2086
+$cc -std=c17 -Wall -Wextra -Wpedantic -Werror "$@" $flags -o "$tmp/embed-static" \
+    "$src/samples/embed/embed.c" "$libdir/libflitter.a" $slibs ||
+    fail "cannot build samples/embed against the installed libflitter.a"
+readelf -d "$tmp/embed-static" | grep -q 'Shared library: \[libflitter.so' &&
+    fail "embed-static is linked to libflitter.so"
+"$tmp/embed-static" "$src/samples/petri.fl" 120 ':dish;0' >"$tmp/out-static" ||
+    fail "embed-static exited with status $?"
+diff -u "$tmp/expected" "$tmp/out-static" || fail "embed-static output differs"
 echo "installed and embedded: $(cat "$tmp/out" | tail -1)"
