@@ -635,3 +635,8 @@ static int yyreport_syntax_error(const yypcontext_t *ctx, ParseCtx *pc, AstNode 
                        yysymbol_name(yypcontext_token(ctx)), names, n < 0 ? 0 : n);
     return 0;
 }
+
+const char *parse_token_name(int kind)
+{
+    return yysymbol_name(YYTRANSLATE(kind));
+}

@@ -119,6 +119,27 @@ int fl_dump_program(fl_runtime *rt, fl_write_fn fn, void *ctx)
     return rc;
 }
 
+static int dump_syntax(fl_runtime *rt, const char *path, bool ast, fl_write_fn fn, void *ctx)
+{
+    MemHandler prev = begin(rt);
+    Buf out = BUF_INIT;
+    int rc = rt_dump_syntax(rt, path, ast, &out, rt_error_buf(rt));
+    deliver(&out, fn, ctx);
+    buf_free(&out);
+    mem_leave(prev);
+    return rc;
+}
+
+int fl_dump_tokens(fl_runtime *rt, const char *path, fl_write_fn fn, void *ctx)
+{
+    return dump_syntax(rt, path, false, fn, ctx);
+}
+
+int fl_dump_ast(fl_runtime *rt, const char *path, fl_write_fn fn, void *ctx)
+{
+    return dump_syntax(rt, path, true, fn, ctx);
+}
+
 int fl_dump_tree(fl_runtime *rt, fl_write_fn fn, void *ctx)
 {
     const Node *root = rt_root(rt);

@@ -242,6 +242,20 @@ FL_API int fl_dump_tree(fl_runtime *rt, fl_write_fn fn, void *ctx);
  * no_simplify), as Flitter-like source (`--dump-simplified`).
  *   errors: returns -1 (writing nothing) when no program is loaded. */
 FL_API int fl_dump_program(fl_runtime *rt, fl_write_fn fn, void *ctx);
+/* The tokens the parser reads from the script file [path] (after the
+ * indentation filter: NL, INDENT, DEDENT), one a line: `LINE:COL KIND`,
+ * then the token's source text when it has one (`--dump-tokens`).
+ *   errors: returns -1 when the file cannot be read or at a lexical error
+ *           (the tokens before it are written; `PATH:LINE:COL: error: ...`
+ *           for fl_error()), else 0. */
+FL_API int fl_dump_tokens(fl_runtime *rt, const char *path, fl_write_fn fn, void *ctx);
+/* The syntax tree of the script file [path] as parsed (before the
+ * simplifier), one node a line, children indented two spaces: kind,
+ * operator, names, literal value, `@LINE:COL`; fixed children marked `a:`,
+ * `b:`, `c:` (`--dump-ast`).
+ *   errors: returns -1 (writing nothing) when the file cannot be read or
+ *           does not parse, with the message for fl_error(), else 0. */
+FL_API int fl_dump_ast(fl_runtime *rt, const char *path, fl_write_fn fn, void *ctx);
 
 /* {=====================================================================
  * Evaluating text (the REPL)

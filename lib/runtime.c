@@ -12,6 +12,7 @@
  */
 #include "runtime.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -19,6 +20,7 @@
 #include <time.h>
 
 #include "counter.h"
+#include "fileio.h"
 #include "format.h"
 #include "lexer.h"
 #include "mem.h"
@@ -29,6 +31,7 @@
 #include "simplify.h"
 #include "stable.h"
 #include "statefile.h"
+#include "syntax_dump.h"
 
 /* The engine names of LANGUAGE.md §6.2 in a fixed order (indices into
  * Globals); defines are added after them. */
@@ -329,6 +332,20 @@ int rt_load(fl_runtime *rt, const char *path, Buf *err)
 int rt_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err)
 {
     return install(rt, program_load_text(name, text, len, &rt->globals, rt->symtab, err));
+}
+
+int rt_dump_syntax(fl_runtime *rt, const char *path, bool ast, Buf *out, Buf *err)
+{
+    Buf text = BUF_INIT;
+    if (!file_read(path, &text)) {
+        buf_printf(err, "%s: error: cannot read: %s\n", path, strerror(errno));
+        buf_free(&text);
+        return -1;
+    }
+    bool ok = ast ? dump_ast(out, err, path, text.data, text.len, rt->symtab)
+                  : dump_tokens(out, err, path, text.data, text.len);
+    buf_free(&text);
+    return ok ? 0 : -1;
 }
 
 int rt_dump_program(const fl_runtime *rt, Buf *out)

@@ -28,6 +28,7 @@
 int rt_load(fl_runtime *rt, const char *path, Buf *err);
 int rt_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err);
 int rt_dump_program(const fl_runtime *rt, Buf *out);
+int rt_dump_syntax(fl_runtime *rt, const char *path, bool ast, Buf *out, Buf *err);
 int rt_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err);
 int rt_save_state(const fl_runtime *rt, const char *path, Buf *err);
 int rt_restore_state(fl_runtime *rt, const char *path, Buf *err);

@@ -37,6 +37,10 @@ static void run_usage(FILE *f)
           "  --dump-simplified   print the program as it will run (after simplification)\n"
           "                      to stdout before the first frame; without --frames,\n"
           "                      stop there\n"
+          "  --dump-tokens       print the script's tokens (after the indentation\n"
+          "                      filter) to stdout and stop\n"
+          "  --dump-ast          print the script's syntax tree as parsed (before the\n"
+          "                      simplifier) to stdout and stop\n"
           "  --runtime T         run round(T*fps) frames (T seconds of frame clock)\n"
           "  --offscreen         accepted for Flitter compatibility (always headless)\n"
           "  --quiet             no progress bar or status line on a terminal\n"
@@ -77,7 +81,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
            O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
-           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_STATS,
+           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_DUMP_TOKENS, O_DUMP_AST, O_STATS,
            O_MAX_STEPS };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
@@ -96,6 +100,8 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"nosimplify", no_argument, NULL, O_NOSIMPLIFY},
         {"no-simplify", no_argument, NULL, O_NOSIMPLIFY},
         {"dump-simplified", no_argument, NULL, O_DUMP_SIMPLIFIED},
+        {"dump-tokens", no_argument, NULL, O_DUMP_TOKENS},
+        {"dump-ast", no_argument, NULL, O_DUMP_AST},
         {"help", no_argument, NULL, 'h'},
         {"runtime", required_argument, NULL, O_RUNTIME},
         {"offscreen", no_argument, NULL, O_OFFSCREEN},
@@ -154,6 +160,8 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         case O_STATS: spec->stats = true; break;
         case O_NOSIMPLIFY: spec->no_simplify = true; break;
         case O_DUMP_SIMPLIFIED: spec->dump_simplified = true; break;
+        case O_DUMP_TOKENS: spec->dump_syntax = 1; break;
+        case O_DUMP_AST: spec->dump_syntax = 2; break;
         case O_RUNTIME:
             spec->runtime = strtod(optarg, &end);
             if (end == optarg || *end || !(spec->runtime >= 0) || isinf(spec->runtime)) goto bad_value;
@@ -335,6 +343,14 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
             fl_free(rt);
             return EXIT_USAGE;
         }
+    }
+    if (spec->dump_syntax) {
+        int bad = (spec->dump_syntax == 1 ? fl_dump_tokens : fl_dump_ast)(
+            rt, spec->script, write_file, out);
+        fflush(out);
+        if (bad) fputs(fl_error(rt), log);
+        fl_free(rt);
+        return bad ? EXIT_LOAD : EXIT_OK;
     }
     if (fl_load(rt, spec->script) != 0) {
         fputs(fl_error(rt), log);

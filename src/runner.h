@@ -16,6 +16,8 @@ typedef struct RunSpec {
     bool dump_tree;       /* --dump-tree */
     bool no_simplify;     /* --nosimplify / --no-simplify */
     bool dump_simplified; /* --dump-simplified: print the program as run */
+    int dump_syntax;      /* --dump-tokens (1) / --dump-ast (2): print the
+                             script's tokens or syntax tree and stop */
     const char *state_file; /* --state FILE, or NULL */
     long max_steps;       /* --max-steps N: physics steps per frame (0: no limit) */
     bool progress;        /* on stderr (a terminal): a progress bar when --frames is given,

@@ -294,7 +294,6 @@ static void fninfo_free(void *p)
 }
 
 static void resolve(Resolver *r, FnCtx *c, AstNode *n);
-static void register_symbols(const AstNode *top, SymTab *st);
 
 static void exportinfo_free(void *p)
 {
@@ -365,7 +364,7 @@ static void resolve_include(Resolver *r, FnCtx *c, AstNode *n)
         r->failed = true;
         return;
     }
-    register_symbols(top, r->symtab);
+    program_register_symbols(top, r->symtab);
     n->b = top->a;     /* the included statements; pragmas are discarded */
     top->a = NULL;
     ast_free(top);
@@ -492,7 +491,7 @@ static void resolve_node(Resolver *r, FnCtx *c, AstNode *n)
  * ==================================================================== */
 
 /* Register the symbol literals that the parser listed under AST_TOP.c. */
-static void register_symbols(const AstNode *top, SymTab *st)
+void program_register_symbols(const AstNode *top, SymTab *st)
 {
     if (!top) return;
     const AstNode *list = top->c;
@@ -571,7 +570,7 @@ Program *program_load_text(const char *path, const char *text, size_t len,
     p->path = strdup(path);
     p->dir = dir_of(path);
     if (!p->path || !p->dir) mem_oom();
-    register_symbols(top, st);
+    program_register_symbols(top, st);
     if (top->nkids) {
         p->pragmas = calloc(top->nkids, sizeof(Pragma));
         if (!p->pragmas) mem_oom();

@@ -91,6 +91,9 @@ struct Program {
  * With globals->simplify the parsed program is simplified (simplify.h)
  * before its names are resolved; the simplifier's messages are warnings. */
 Program *program_load(const char *path, Globals *globals, SymTab *st, Buf *err);
+/* Add the symbol names a parsed program uses (AST_TOP's `c`) to [st], so
+ * value text names them (`:dish`). */
+void program_register_symbols(const AstNode *top, SymTab *st);
 /* The same from text in memory ([path] names it in messages). */
 Program *program_load_text(const char *path, const char *text, size_t len,
                            Globals *globals, SymTab *st, Buf *err);

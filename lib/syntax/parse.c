@@ -75,13 +75,17 @@ static void report(ParseCtx *pc, uint32_t start, uint32_t end, const char *msg)
     if (pc->reported)
         return;
     pc->reported = true;
-    const char *text = pc->lx.text;
-    size_t len = pc->lx.len;
+    source_error(pc->err, pc->path, pc->lx.text, pc->lx.len, start, end, msg);
+}
+
+void source_error(Buf *err, const char *path, const char *text, size_t len,
+                  uint32_t start, uint32_t end, const char *msg)
+{
     unsigned line, col;
     if (start > len)
         start = (uint32_t)len;
     source_line_col(text, len, start, &line, &col);
-    buf_printf(pc->err, "%s:%u:%u: error: %s\n", pc->path, line, col, msg);
+    buf_printf(err, "%s:%u:%u: error: %s\n", path, line, col, msg);
 
     size_t ls = start, le = start;
     while (ls > 0 && text[ls - 1] != '\n')
@@ -89,13 +93,13 @@ static void report(ParseCtx *pc, uint32_t start, uint32_t end, const char *msg)
     while (le < len && text[le] != '\n')
         le++;
     size_t shown = le > ls && text[le - 1] == '\r' ? le - 1 : le;
-    buf_add(pc->err, text + ls, shown - ls);
-    buf_putc(pc->err, '\n');
+    buf_add(err, text + ls, shown - ls);
+    buf_putc(err, '\n');
     for (size_t i = ls; i < start; i++) {
         if (text[i] == '\t')
-            buf_putc(pc->err, '\t');
+            buf_putc(err, '\t');
         else if (!is_continuation((unsigned char)text[i]))
-            buf_putc(pc->err, ' ');
+            buf_putc(err, ' ');
     }
     size_t stop = end < shown ? end : shown;
     size_t carets = 0;
@@ -105,8 +109,8 @@ static void report(ParseCtx *pc, uint32_t start, uint32_t end, const char *msg)
     if (carets == 0)
         carets = 1;
     for (size_t i = 0; i < carets; i++)
-        buf_putc(pc->err, '^');
-    buf_putc(pc->err, '\n');
+        buf_putc(err, '^');
+    buf_putc(err, '\n');
 }
 
 static bool is_layout(int kind)

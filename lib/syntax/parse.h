@@ -22,6 +22,16 @@
 AstNode *parse_program(const char *path, const char *text, size_t len,
                        uint32_t file_index, Buf *err);
 
+/* Append to [err] the message `PATH:LINE:COL: error: MSG`, the source
+ * line of byte [start] of [text] and a caret line under [start, end), as
+ * parse_program() reports errors. */
+void source_error(Buf *err, const char *path, const char *text, size_t len,
+                  uint32_t start, uint32_t end, const char *msg);
+
+/* The grammar's name of token kind [kind] (a TK_* of parser.h): "name",
+ * "'('", "indent", ... (grammar/parser.y). */
+const char *parse_token_name(int kind);
+
 /* 1-based line and code-point column of byte [offset] in [text]. */
 void source_line_col(const char *text, size_t len, size_t offset,
                      unsigned *line, unsigned *col);
