@@ -29,7 +29,10 @@
  * such reach R of a level makes every pair at dist >= R skippable exactly.
  * The uniform grid (cell size h slightly above R) finds the candidates in
  * the 3^D cells around a particle; those are filtered by squared distance
- * against a bound just above R*R, then sorted back into pool order. Entries
+ * against a bound just above R*R, then sorted back into pool order. The
+ * grid is dense when the box of cells around the entries has at most about
+ * 4 cells per entry (entries laid out cell by cell, so a row of 3 cells is
+ * one contiguous run), else hashed by cell. Entries
  * whose position is not finite, or too far out for a 32-bit cell index, go
  * into an "odd" list that is a candidate for everyone (and they scan every
  * partner themselves). Levels with an unlimited reach (gravity or

@@ -125,7 +125,8 @@ typedef struct PhysScratch {
     size_t capcand;
 } PhysScratch;
 
-/* The uniform neighbour grid of one pair level, rebuilt every step:
+/* The uniform neighbour grid of one pair level, rebuilt every step (pairs.c):
+ * dense (below) when the box of the entries' cells is small enough, else
  * pool entries hashed by cell into `nb` buckets (counting sort, each
  * bucket's entries in ascending pool order). Entries whose position is not
  * finite or lies too far out for a 32-bit cell index are in `odd`. */
