@@ -12,7 +12,6 @@
  */
 #include "runtime.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -20,7 +19,6 @@
 #include <time.h>
 
 #include "counter.h"
-#include "fileio.h"
 #include "format.h"
 #include "lexer.h"
 #include "mem.h"
@@ -337,13 +335,9 @@ int rt_load_text(fl_runtime *rt, const char *name, const char *text, size_t len,
 int rt_dump_syntax(fl_runtime *rt, const char *path, bool ast, Buf *out, Buf *err)
 {
     Buf text = BUF_INIT;
-    if (!file_read(path, &text)) {
-        buf_printf(err, "%s: error: cannot read: %s\n", path, strerror(errno));
-        buf_free(&text);
-        return -1;
-    }
-    bool ok = ast ? dump_ast(out, err, path, text.data, text.len, rt->symtab)
-                  : dump_tokens(out, err, path, text.data, text.len);
+    const char *src = program_read(path, &text, err);
+    bool ok = src && (ast ? dump_ast(out, err, path, src, text.len, rt->symtab)
+                          : dump_tokens(out, err, path, src, text.len));
     buf_free(&text);
     return ok ? 0 : -1;
 }

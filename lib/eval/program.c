@@ -619,15 +619,20 @@ Program *program_resimplify(const Program *cur, Globals *globals, SymTab *st, co
     return p;
 }
 
+const char *program_read(const char *path, Buf *text, Buf *err)
+{
+    if (!file_read(path, text)) {
+        buf_printf(err, "%s: error: cannot read: %s\n", path, strerror(errno));
+        return NULL;
+    }
+    return text->data ? text->data : "";
+}
+
 Program *program_load(const char *path, Globals *globals, SymTab *st, Buf *err)
 {
     Buf text = BUF_INIT;
-    if (!file_read(path, &text)) {
-        buf_printf(err, "%s: error: cannot read: %s\n", path, strerror(errno));
-        buf_free(&text);
-        return NULL;
-    }
-    Program *p = program_load_text(path, text.data ? text.data : "", text.len, globals, st, err);
+    const char *src = program_read(path, &text, err);
+    Program *p = src ? program_load_text(path, src, text.len, globals, st, err) : NULL;
     buf_free(&text);
     return p;
 }

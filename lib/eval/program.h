@@ -91,6 +91,10 @@ struct Program {
  * With globals->simplify the parsed program is simplified (simplify.h)
  * before its names are resolved; the simplifier's messages are warnings. */
 Program *program_load(const char *path, Globals *globals, SymTab *st, Buf *err);
+/* Read the script file [path] into [text] (the caller frees it); returns
+ * its bytes ([text]'s data, or "" for an empty file).
+ *   errors: returns NULL with `PATH: error: cannot read: REASON` in [err]. */
+const char *program_read(const char *path, Buf *text, Buf *err);
 /* Add the symbol names a parsed program uses (AST_TOP's `c`) to [st], so
  * value text names them (`:dish`). */
 void program_register_symbols(const AstNode *top, SymTab *st);

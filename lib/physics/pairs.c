@@ -607,6 +607,27 @@ static inline void sort_u32(uint32_t *v, size_t n)
     }
 }
 
+/* The end of a grid gather for entry [q] at [x] with [nc] candidates in
+ * sc->cand: the odd entries within reach join them, then the pairs are
+ * taken in pool order into [F]. */
+static inline __attribute__((always_inline)) void
+grid_finish(const LevelRun *L, size_t q, const double *x, double *F,
+            PhysScratch *sc, size_t nc, const size_t D)
+{
+    const PhysSystem *s = L->s;
+    const PhysGrid *gr = &s->grid;
+    uint32_t *cand = sc->cand;
+    for (size_t i = 0; i < gr->nodd; i++) {
+        uint32_t e = gr->odd[i];
+        if (partner(L, q, e) &&
+            !(dist2(x, s->pos + (size_t)L->pool[e] * D, D) > L->r2))
+            cand[nc++] = e;
+    }
+    sort_u32(cand, nc);
+    for (size_t i = 0; i < nc; i++)
+        take_pair(L, q, cand[i], F, sc->dir, D);
+}
+
 /* Gather over the grid neighbours (and the odd entries), in pool order;
  * one copy per D (1, 2, 3: the only ones the grid takes). */
 static inline __attribute__((always_inline)) void
@@ -653,15 +674,7 @@ gather_grid_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
                 cand[nc++] = e;
         }
     }
-    for (size_t i = 0; i < gr->nodd; i++) {
-        uint32_t e = gr->odd[i];
-        if (partner(L, q, e) &&
-            !(dist2(x, s->pos + (size_t)L->pool[e] * D, D) > L->r2))
-            cand[nc++] = e;
-    }
-    sort_u32(cand, nc);
-    for (size_t i = 0; i < nc; i++)
-        take_pair(L, q, cand[i], F, sc->dir, D);
+    grid_finish(L, q, x, F, sc, nc, D);
 }
 
 /* Gather over the dense grid (grid_dense) for the entry in slot [i]: the
@@ -705,15 +718,7 @@ gather_dense_fixed(const LevelRun *L, size_t i, PhysScratch *sc, const size_t D)
             }
         }
     }
-    for (size_t j = 0; j < gr->nodd; j++) {
-        uint32_t e = gr->odd[j];
-        if (partner(L, q, e) &&
-            !(dist2(x, s->pos + (size_t)L->pool[e] * D, D) > r2))
-            cand[nc++] = e;
-    }
-    sort_u32(cand, nc);
-    for (size_t j = 0; j < nc; j++)
-        take_pair(L, q, cand[j], F, sc->dir, D);
+    grid_finish(L, q, x, F, sc, nc, D);
 }
 
 #define GRID_COPY(name, dim, attr)                                            \

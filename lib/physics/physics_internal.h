@@ -146,7 +146,8 @@ typedef struct PhysGrid {
     double *sx;                  /* coordinate k of slot i at sx[k*nslot + i] */
     size_t capcellof, capcstart, capslotq, capsx;
     size_t nb;                   /* buckets, a power of two */
-    uint32_t *bucket;            /* per pool entry: bucket, or UINT32_MAX */
+    uint32_t *bucket;            /* per pool entry: bucket (0 in the dense
+                                  * form), or UINT32_MAX when odd */
     int32_t *cell;               /* per pool entry: 3 cell coordinates */
     uint32_t *start;             /* nb + 1 bucket starts into `ent` */
     uint32_t *ent;               /* pool entries by bucket */

@@ -117,6 +117,8 @@ barrier_rebound(PhysSystem *s, const PhysApplier *b, size_t p, double dt,
     particle_step(s, p, r, D);
 }
 
+/* §4: per-particle applier [ap] (drag, buoyancy, constant, random, field)
+ * on non-anchor particle [p], for a step of [delta]. */
 static inline __attribute__((always_inline)) void
 apply_particle(PhysSystem *s, PhysApplier *ap, size_t p, double delta,
                const size_t D)

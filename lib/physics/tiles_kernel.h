@@ -11,8 +11,8 @@
  * The kernel itself and the reasoning for its order are in tiles.c. */
 
 /* The pair values of row [i] against the lanes j0 .. j0+7 (the lane data
- * Xl, Rl, Vl loaded by the caller, with Rnz = Rl != 0, Vnz = Vl != 0), each applier's two masked vectors per
- * element: C->ga[f][k] for the row's own force (subtracted when the
+ * Xl, Rl, Vl loaded by the caller, with Rnz = Rl != 0, Vnz = Vl != 0),
+ * each applier's two masked vectors per element: C->ga[f][k] for the row's own force (subtracted when the
  * applier pushes apart, added when it pulls together; +0 / -0 where the
  * applier does not act, so the operation leaves the force as it is) and
  * C->gb[f][k] for the lane's (the other sign, -0 / +0 where idle). */
