@@ -97,8 +97,10 @@ typedef struct TileLevel {
     TileApplier ap[TILE_MAX_F];
     const double *x;                 /* x[k*stride + q] */
     const double *rad;
-    const double *val[TILE_MAX_F];   /* mass or charge per applier */
+    const double *val[TILE_MAX_F];   /* mass, charge or radius per applier */
     double *F;                       /* F[k*stride + q] */
+    bool fast;                       /* no applier has a max_distance: the
+                                        kernel may take its fast tiles */
 } TileLevel;
 
 /* The common levels get kernel copies with everything about their
@@ -179,8 +181,24 @@ static inline void sqrt_portable(v2d *x)
 #endif
 }
 
+/* Per lane a > b ? a : b. */
+static inline v2d max_portable(v2d a, v2d b)
+{
+#ifdef HAVE_X86_TILES
+    return (v2d)_mm_max_pd((__m128d)a, (__m128d)b);
+#else
+    v2d m;
+    for (int i = 0; i < 2; i++)
+        m[i] = a[i] > b[i] ? a[i] : b[i];
+    return m;
+#endif
+}
+
 #define TK(name) name##_portable
 #define TK_SPECIALISE 1
+#define TK_ANY(m) (((m)[0] | (m)[1]) != 0)
+#define TK_MAX(a, b) max_portable(a, b)
+#define TK_ALL(m) (((m)[0] & (m)[1]) != 0)
 #define TK_TARGET
 #define TK_W 2
 #define TK_VD v2d
@@ -194,6 +212,9 @@ static inline void sqrt_portable(v2d *x)
 #undef TK_VI
 #undef TK_SQRT
 #undef TK_SPECIALISE
+#undef TK_ANY
+#undef TK_ALL
+#undef TK_MAX
 
 #ifdef HAVE_X86_TILES
 /* AVX2: 4 x 4 tiles. */
@@ -204,6 +225,9 @@ __attribute__((target("avx2"))) static inline void sqrt_avx2(v4d *x)
 
 #define TK(name) name##_avx2
 #define TK_SPECIALISE 1
+#define TK_ANY(m) (_mm256_movemask_pd((__m256d)(m)) != 0)
+#define TK_MAX(a, b) ((v4d)_mm256_max_pd((__m256d)(a), (__m256d)(b)))
+#define TK_ALL(m) (_mm256_movemask_pd((__m256d)(m)) == 0xf)
 #define TK_TARGET __attribute__((target("avx2")))
 #define TK_W 4
 #define TK_VD v4d
@@ -217,6 +241,9 @@ __attribute__((target("avx2"))) static inline void sqrt_avx2(v4d *x)
 #undef TK_VI
 #undef TK_SQRT
 #undef TK_SPECIALISE
+#undef TK_ANY
+#undef TK_ALL
+#undef TK_MAX
 
 /* AVX-512: 8 x 8 tiles. */
 __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
@@ -226,6 +253,9 @@ __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
 
 #define TK(name) name##_avx512
 #define TK_SPECIALISE 0
+#define TK_ANY(m) (_mm512_test_epi64_mask((__m512i)(m), (__m512i)(m)) != 0)
+#define TK_MAX(a, b) ((v8d)_mm512_max_pd((__m512d)(a), (__m512d)(b)))
+#define TK_ALL(m) (_mm512_test_epi64_mask((__m512i)(m), (__m512i)(m)) == 0xff)
 #define TK_TARGET __attribute__((target("avx512f")))
 #define TK_W 8
 #define TK_VD v8d
@@ -239,6 +269,9 @@ __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
 #undef TK_VI
 #undef TK_SQRT
 #undef TK_SPECIALISE
+#undef TK_ANY
+#undef TK_ALL
+#undef TK_MAX
 #endif
 
 int phys_simd_best(void)
@@ -338,7 +371,7 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     double *x = s->tiles, *rad = x + D * ns, *vals = rad + ns;
     double *F = vals + TILE_MAX_F * ns;
     TileLevel T = {.npart = g->npart, .npool = n, .stride = ns,
-                   .nf = fg->pair_n, .x = x, .rad = rad, .F = F};
+                   .nf = fg->pair_n, .x = x, .rad = rad, .F = F, .fast = true};
     bool need_mass = false, need_charge = false;
     for (size_t f = 0; f < T.nf; f++) {
         const PhysApplier *ap = &s->ap[s->gidx[fg->pair_off + f]];
@@ -348,6 +381,7 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
         t->strength = ap->strength;
         t->maxd = ap->maxd;
         t->power = ap->power;
+        T.fast = T.fast && ap->maxd == 0;
         need_mass |= ap->kind == AP_GRAVITY;
         need_charge |= ap->kind == AP_ELECTROSTATIC;
     }

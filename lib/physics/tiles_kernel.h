@@ -6,23 +6,38 @@
  *   TK_VD, TK_VI  vector types of TK_W doubles / int64_t
  *   TK_SQRT(p) replace each lane of the TK_VD at p by its correctly rounded
  *              square root
+ *   TK_MAX(a, b)  per lane a > b ? a : b (x86's MAXPD: b when either is NaN
+ *              or both are zeros), which is py_max(b, a)
+ *   TK_ANY(m), TK_ALL(m)  whether some / every lane of the TK_VI mask m
+ *              (lanes all ones or all zeros) is set
  *   TK_SPECIALISE  1 to also compile the copies of TILE_SPEC_* (the
  *              common levels, their applier kinds known at compile time)
  * The kernel itself and the reasoning for its order are in tiles.c. */
 
-/* The pair values of row [i] against the lanes j0 .. j0+7 (the lane data
- * Xl, Rl, Vl loaded by the caller, with Rnz = Rl != 0, Vnz = Vl != 0),
- * each applier's two masked vectors per element: C->ga[f][k] for the row's own force (subtracted when the
- * applier pushes apart, added when it pulls together; +0 / -0 where the
- * applier does not act, so the operation leaves the force as it is) and
- * C->gb[f][k] for the lane's (the other sign, -0 / +0 where idle). */
-static inline __attribute__((always_inline)) TK_TARGET void
+/* The pair values of row [i] against the lanes j0 .. j0+TK_W-1 (the lane
+ * data Xl, Rl, Vl loaded by the caller, with Rnz = Rl != 0, Vnz = Vl != 0),
+ * each applier's two masked vectors per element: ga[f][k] for the row's
+ * own force (subtracted when the applier pushes apart, added when it pulls
+ * together; +0 / -0 where the applier does not act, so the operation leaves
+ * the force as it is) and gb[f][k] for the lane's (the other sign, -0 / +0
+ * where idle). Returns the appliers that act in some lane (bit f): for the
+ * others ga/gb are not written, and leaving them out changes nothing, as
+ * every lane would add or subtract its idle zero.
+ *
+ * [full] (a constant at each call) is the caller's promise that every lane
+ * is a partner of the row (valid all set), that the row's and the lanes'
+ * radii and values (mass/charge) are all nonzero and that no applier has a
+ * max_distance: then !gravity and !electrostatic act in every lane and need
+ * no masks, and !collision acts where dist < ra + rb, usually nowhere, in
+ * which case it is left out. */
+static inline __attribute__((always_inline)) TK_TARGET unsigned
 TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
                 TK_VD Rl, TK_VI Rnz, const TK_VD *Vl, const TK_VI *Vnz,
                 TK_VD ga[][TILE_MAX_D],
                 TK_VD gb[][TILE_MAX_D], const size_t D, const size_t nf,
-                const unsigned spec)
+                const unsigned spec, const bool full)
 {
+    unsigned acts = 0;
     const TK_VD pz = {0}, nz = -pz;          /* +0 and -0 in every lane */
     TK_VD d[TILE_MAX_D];
     /* sum = 0 + d0*d0 + ...: the first addition is left out, as 0 + x is
@@ -44,12 +59,18 @@ TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
         const TileApplier *ap = &T->ap[f];
         const int kind = TILE_KIND(spec, ap, f);
         TK_VI act = valid;
-        if (!spec && ap->maxd != 0)
+        if (!full && !spec && ap->maxd != 0)
             act = act & (dist < ap->maxd);
         TK_VD k;
         if (kind == TILE_COLLISION) {
             /* ra != 0 and rb != 0 and dist < ra + rb */
-            act = ra != 0 ? act & Rnz & (dist < r) : (TK_VI){0};
+            if (full) {
+                act = dist < r;
+                if (!TK_ANY(act))
+                    continue;
+            } else {
+                act = ra != 0 ? act & Rnz & (dist < r) : (TK_VI){0};
+            }
             k = r - dist;
             if (!spec && ap->power != 1) {
                 for (size_t l = 0; l < TK_W; l++)
@@ -61,10 +82,16 @@ TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
             /* va != 0 and vb != 0: k = strength*va*vb / (m*m) */
             const double va = T->val[f][i];
             const TK_VD vb = Vl[f];
-            TK_VI big = dist > r;
-            TK_VD m = (TK_VD)((big & (TK_VI)dist) | (~big & (TK_VI)r));   /* py_max(r, dist) */
-            act = va != 0 ? act & Vnz[f] : (TK_VI){0};
+            const TK_VD m = TK_MAX(dist, r);            /* py_max(r, dist) */
             k = ap->strength * va * vb / (m * m);
+            if (full) {
+                /* acts in every lane: no masks */
+                for (size_t e = 0; e < D; e++)
+                    ga[f][e] = gb[f][e] = d[e] * k;
+                acts |= 1u << f;
+                continue;
+            }
+            act = va != 0 ? act & Vnz[f] : (TK_VI){0};
         }
         /* the side that subtracts sees +0 when idle, the side that adds
          * sees -0: both leave every value (-0 included) alone */
@@ -81,7 +108,9 @@ TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
                 gb[f][e] = (TK_VD)add;
             }
         }
+        acts |= 1u << f;
     }
+    return acts;
 }
 
 /* Transpose the TK_W x TK_W matrix whose rows are a[0 .. TK_W-1]: at each
@@ -124,6 +153,81 @@ TK(transpose)(TK_VD *a)
     }
 }
 
+/* One tile of row block [i0]: rows i0 .. i0+TK_W-1 against the partners
+ * j0 .. j0+TK_W-1 (the diagonal tile when j0 == i0), adding the rows'
+ * contributions to the partners' forces in T->F and the partners' to the
+ * rows' sums FA (see tiles.c for the order). [full]: TK(pair_values). */
+static inline __attribute__((always_inline)) TK_TARGET void
+TK(tile)(const TileLevel *T, size_t i0, size_t j0, TK_VI lane, TK_VD *FA,
+         const size_t D, const size_t nf, const unsigned spec, const bool full)
+{
+    const size_t ns = T->stride;
+    const TK_VD pz = {0}, nz = -pz;
+    const bool diag = j0 == i0;
+    TK_VD Xl[TILE_MAX_D], Fb[TILE_MAX_D], Vl[TILE_MAX_F];
+    for (size_t k = 0; k < D; k++) {
+        memcpy(&Xl[k], T->x + k * ns + j0, sizeof(TK_VD));
+        memcpy(&Fb[k], T->F + k * ns + j0, sizeof(TK_VD));
+    }
+    TK_VD Rl;
+    memcpy(&Rl, T->rad + j0, sizeof Rl);
+    TK_VI Vnz[TILE_MAX_F];
+    for (size_t f = 0; f < nf; f++) {
+        memcpy(&Vl[f], T->val[f] + j0, sizeof(TK_VD));
+        Vnz[f] = Vl[f] != 0;
+    }
+    const TK_VI Rnz = Rl != 0;
+    const TK_VI inpool = (int64_t)(T->npool - j0) > lane;
+    /* the rows' contributions to their own forces, G[f][k][r] (lanes
+     * = partners), transposed below to lanes = rows */
+    TK_VD G[TILE_MAX_F][TILE_MAX_D][TK_W];
+    unsigned tacts = 0;             /* the appliers that act in the tile */
+    for (size_t r = 0; r < TK_W; r++) {
+        TK_VI valid = diag ? inpool & (lane > (int64_t)r) : inpool;
+        if (i0 + r >= T->npart)
+            valid = (TK_VI){0};
+        TK_VD ga[TILE_MAX_F][TILE_MAX_D] = {{{0}}}, gb[TILE_MAX_F][TILE_MAX_D] = {{{0}}};
+        const unsigned acts = TK(pair_values)(T, i0 + r, valid, Xl, Rl, Rnz, Vl,
+                                              Vnz, ga, gb, D, nf, spec, full);
+        tacts |= acts;
+        /* the partners' forces: row after row, applier after applier (an
+         * applier that acts in no lane of the row adds nothing) */
+        for (size_t f = 0; f < nf; f++) {
+            const bool pull = TILE_KIND(spec, &T->ap[f], f) == TILE_PULL;
+            for (size_t k = 0; k < D; k++) {
+                if (acts >> f & 1) {
+                    Fb[k] = pull ? Fb[k] - gb[f][k] : Fb[k] + gb[f][k];
+                    G[f][k][r] = ga[f][k];
+                } else {
+                    G[f][k][r] = pull ? nz : pz;      /* idle */
+                }
+            }
+        }
+    }
+    for (size_t k = 0; k < D; k++)
+        memcpy(T->F + k * ns + j0, &Fb[k], sizeof(TK_VD));
+    /* in the diagonal tile the lanes are the rows themselves: every
+     * "to" contribution of the block's rows is in now */
+    if (diag)
+        for (size_t k = 0; k < D; k++)
+            FA[k] = Fb[k];
+    for (size_t f = 0; f < nf; f++)
+        if (tacts >> f & 1)
+            for (size_t k = 0; k < D; k++)
+                TK(transpose)(G[f][k]);
+    /* the rows' own forces: partner after partner (j ascending),
+     * applier after applier (one that acts nowhere in the tile would only
+     * add idle zeros) */
+    for (size_t l = 0; l < TK_W; l++)
+        for (size_t f = 0; f < nf; f++) {
+            const bool pull = TILE_KIND(spec, &T->ap[f], f) == TILE_PULL;
+            if (!(tacts >> f & 1))
+                continue;
+            for (size_t k = 0; k < D; k++)
+                FA[k] = pull ? FA[k] + G[f][k][l] : FA[k] - G[f][k][l];
+        }
+}
+
 /* Rows i0 .. i0+TK_W-1 of the reference loop against the partner tiles
  * j0 = jbeg, jbeg+TK_W, ... below jend (tiles.c explains the order); rows
  * at or past npart take no part (all their lanes idle). The rows' own
@@ -143,58 +247,23 @@ TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
     TK_VI lane;
     for (size_t l = 0; l < TK_W; l++)
         lane[l] = (int64_t)l;
+    /* the fast tiles' promise (TK(pair_values), full): the rows' side */
+    bool rows_full = T->fast && i0 + TK_W <= T->npart;
+    for (size_t f = 0; f < nf && rows_full; f++)
+        for (size_t r = 0; r < TK_W; r++)
+            rows_full = rows_full && T->val[f][i0 + r] != 0;
     for (size_t j0 = jbeg; j0 < jend; j0 += TK_W) {
-        const bool diag = j0 == i0;
-        TK_VD Xl[TILE_MAX_D], Fb[TILE_MAX_D], Vl[TILE_MAX_F];
-        for (size_t k = 0; k < D; k++) {
-            memcpy(&Xl[k], T->x + k * ns + j0, sizeof(TK_VD));
-            memcpy(&Fb[k], T->F + k * ns + j0, sizeof(TK_VD));
+        /* ... and the lanes' side */
+        bool full = rows_full && j0 != i0 && j0 + TK_W <= T->npool;
+        for (size_t f = 0; f < nf && full; f++) {
+            TK_VD v;
+            memcpy(&v, T->val[f] + j0, sizeof v);
+            full = TK_ALL(v != 0);
         }
-        TK_VD Rl;
-        memcpy(&Rl, T->rad + j0, sizeof Rl);
-        TK_VI Vnz[TILE_MAX_F];
-        for (size_t f = 0; f < nf; f++) {
-            memcpy(&Vl[f], T->val[f] + j0, sizeof(TK_VD));
-            Vnz[f] = Vl[f] != 0;
-        }
-        const TK_VI Rnz = Rl != 0;
-        const TK_VI inpool = (int64_t)(T->npool - j0) > lane;
-        /* the rows' contributions to their own forces, G[f][k][r] (lanes
-         * = partners), transposed below to lanes = rows */
-        TK_VD G[TILE_MAX_F][TILE_MAX_D][TK_W];
-        for (size_t r = 0; r < TK_W; r++) {
-            TK_VI valid = diag ? inpool & (lane > (int64_t)r) : inpool;
-            if (i0 + r >= T->npart)
-                valid = (TK_VI){0};
-            TK_VD ga[TILE_MAX_F][TILE_MAX_D], gb[TILE_MAX_F][TILE_MAX_D];
-            TK(pair_values)(T, i0 + r, valid, Xl, Rl, Rnz, Vl, Vnz, ga, gb, D, nf, spec);
-            /* the partners' forces: row after row, applier after applier */
-            for (size_t f = 0; f < nf; f++) {
-                const bool pull = TILE_KIND(spec, &T->ap[f], f) == TILE_PULL;
-                for (size_t k = 0; k < D; k++) {
-                    Fb[k] = pull ? Fb[k] - gb[f][k] : Fb[k] + gb[f][k];
-                    G[f][k][r] = ga[f][k];
-                }
-            }
-        }
-        for (size_t k = 0; k < D; k++)
-            memcpy(T->F + k * ns + j0, &Fb[k], sizeof(TK_VD));
-        /* in the diagonal tile the lanes are the rows themselves: every
-         * "to" contribution of the block's rows is in now */
-        if (diag)
-            for (size_t k = 0; k < D; k++)
-                FA[k] = Fb[k];
-        for (size_t f = 0; f < nf; f++)
-            for (size_t k = 0; k < D; k++)
-                TK(transpose)(G[f][k]);
-        /* the rows' own forces: partner after partner (j ascending),
-         * applier after applier */
-        for (size_t l = 0; l < TK_W; l++)
-            for (size_t f = 0; f < nf; f++) {
-                const bool pull = TILE_KIND(spec, &T->ap[f], f) == TILE_PULL;
-                for (size_t k = 0; k < D; k++)
-                    FA[k] = pull ? FA[k] + G[f][k][l] : FA[k] - G[f][k][l];
-            }
+        if (full)
+            TK(tile)(T, i0, j0, lane, FA, D, nf, spec, true);
+        else
+            TK(tile)(T, i0, j0, lane, FA, D, nf, spec, false);
     }
     for (size_t k = 0; k < D; k++) {
         if (FAout)
