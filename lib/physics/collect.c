@@ -264,6 +264,39 @@ static size_t new_group(PhysSystem *s, ptrdiff_t parent)
     return s->ngroups++;
 }
 
+/* What of applier [ap] depends on the frame ([c]): its strength, with the
+ * [doc] ease (if e > 0 and clock < e, scaled by clock / e, fixed for the
+ * whole frame), and a !random's source: normal(seed), seed = P;run;iteration
+ * for the first !random of the frame and seed;0 for each further one
+ * (§3/§5), its draws from index 0. Called for every applier in collection
+ * order. */
+static void applier_clock(PhysApplier *ap, PhysCollect *c)
+{
+    double strength = ap->strength0, e = ap->ease;
+    if (e > 0 && c->clock < e)
+        strength = strength * (c->clock / e);
+    ap->strength = strength;
+    if (ap->kind != AP_RANDOM)
+        return;
+    Vec *seed = c->seed;
+    if (!seed) {
+        Vec *parts[3] = {(Vec *)c->P, vec_num1((double)c->run),
+                         vec_num1((double)c->iteration)};
+        seed = vec_compose(parts, 3);
+        vec_release(parts[1]);
+        vec_release(parts[2]);
+    } else {
+        Vec *zero = vec_num1(0);
+        Vec *next = compose2(seed, zero);
+        vec_release(zero);
+        vec_release(seed);
+        seed = next;
+    }
+    c->seed = seed;
+    ap->key = vec_hash(seed, true);
+    ap->index = 0;
+}
+
 /* §3 "every other child": a force applier or barrier of group [group],
  * of applier kind [kind]. */
 static void collect_applier(PhysSystem *s, PhysCollect *c, const Node *child,
@@ -291,13 +324,9 @@ static void collect_applier(PhysSystem *s, PhysCollect *c, const Node *child,
     double *x = s->avec + ap->vec, *y = x + D;
     memset(x, 0, 2 * D * sizeof *x);
 
-    /* strength, and the [doc] ease: if e > 0 and clock < e, scale by
-     * clock / e (fixed for the whole frame) */
-    double strength = float_of(at[AN_STRENGTH], 1);
-    double e = float_of(at[AN_EASE], 0);
-    if (e > 0 && c->clock < e)
-        strength = strength * (c->clock / e);
-    ap->strength = strength;
+    ap->strength0 = float_of(at[AN_STRENGTH], 1);
+    ap->ease = float_of(at[AN_EASE], 0);
+    applier_clock(ap, c);
 
     switch (kind) {
     case AP_DISTANCE: {
@@ -325,28 +354,8 @@ static void collect_applier(PhysSystem *s, PhysCollect *c, const Node *child,
         fvec_of(at[AN_FORCE], D, x);
         fvec_of(at[AN_ACCELERATION], D, y);
         break;
-    case AP_RANDOM: {
-        /* §3/§5: source normal(seed), seed = P;run;iteration for the first
-         * !random of the frame and seed;0 for each further one */
-        Vec *seed = c->seed;
-        if (!seed) {
-            Vec *parts[3] = {(Vec *)c->P, vec_num1((double)c->run),
-                             vec_num1((double)c->iteration)};
-            seed = vec_compose(parts, 3);
-            vec_release(parts[1]);
-            vec_release(parts[2]);
-        } else {
-            Vec *zero = vec_num1(0);
-            Vec *next = compose2(seed, zero);
-            vec_release(zero);
-            vec_release(seed);
-            seed = next;
-        }
-        c->seed = seed;
-        ap->key = vec_hash(seed, true);
-        ap->index = 0;
-        break;
-    }
+    case AP_RANDOM:
+        break;          /* applier_clock() */
     case AP_FIELD:
         fvec_of(at[AN_DIRECTION], D, x);
         break;
@@ -634,12 +643,62 @@ static void build_lists(PhysSystem *s)
     }
 }
 
+void phys_kids_drop(PhysSystem *s)
+{
+    for (size_t i = 0; i < s->nkids; i++)
+        node_release(s->kids[i]);
+    s->nkids = 0;
+    s->kids_ok = false;
+}
+
+/* Keep the children of [root] (retained: their addresses cannot be reused
+ * while kept, and nodes are immutable), collected with D dimensions. */
+static void keep_kids(PhysSystem *s, const Node *root)
+{
+    phys_kids_drop(s);
+    GROW(s->kids, s->capkids, root->nchildren + 1);
+    for (size_t i = 0; i < root->nchildren; i++)
+        s->kids[i] = node_retain(root->children[i]);
+    s->nkids = root->nchildren;
+    s->kidsD = s->D;
+    s->kids_ok = true;
+}
+
+/* True when [root] has the very children of the last collection, with the
+ * same D: then the walk would find the same groups, particles, anchors and
+ * appliers with the same attributes, and lay them out the same. */
+static bool same_kids(const PhysSystem *s, const Node *root)
+{
+    return s->kids_ok && s->kidsD == s->D && root->nchildren == s->nkids &&
+           (s->nkids == 0 ||
+            memcmp(root->children, s->kids, s->nkids * sizeof *s->kids) == 0);
+}
+
 /* §3 in full: walk, lay particles out group-major, fill them, resolve the
  * distance appliers' ids and build the group lists. Returns false when the
- * system is too large to index (more than 2^32-2 particles or appliers). */
+ * system is too large to index (more than 2^32-2 particles or appliers).
+ *
+ * A tree whose root has the same children as last frame's (a static tree:
+ * the simplifier builds it once and every frame's !physics node shares its
+ * children) keeps everything the walk built; only what depends on the frame
+ * is done again: the appliers' eases and !random sources, in collection
+ * order, and the particles' fill (positions and velocities from the state,
+ * keys), then the key sweep and the level plan (which reads the thread
+ * count). */
 bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
                     const StateDict *sd)
 {
+    if (same_kids(s, root)) {
+        for (size_t a = 0; a < s->nap; a++)
+            applier_clock(&s->ap[a], c);
+        s->dupids = false;
+        for (size_t i = 0; i < s->npn; i++)
+            fill_particle(s, c, sd, &s->pn[i]);
+        phys_keys_sweep(s);
+        phys_plan_levels(s);
+        return true;
+    }
+    phys_kids_drop(s);
     s->ngroups = s->nap = s->npn = 0;
     walk(s, c, root);
     if (s->npn >= UINT32_MAX || s->nap >= UINT32_MAX)
@@ -685,5 +744,6 @@ bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
     phys_keys_sweep(s);
     build_lists(s);
     phys_plan_levels(s);
+    keep_kids(s, root);
     return true;
 }

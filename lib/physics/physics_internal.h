@@ -58,6 +58,8 @@ typedef struct PhysApplier {
     PhysApplierKind kind;
     uint32_t group;        /* index of the group that declared it */
     double strength;       /* eased strength, fixed for the frame */
+    double strength0;      /* the strength attribute, before the ease */
+    double ease;           /* the ease attribute (0 = none) */
     double power;          /* distance, collision, barrier */
     double minimum;        /* distance, barrier */
     double maximum;        /* distance, barrier */
@@ -255,6 +257,11 @@ typedef struct PhysSystem {
 
     /* tree walk scratch */
     PhysPNode *pn; size_t npn, cappn;
+    /* the children of the root collected last (retained; kids_ok when that
+     * collection succeeded, with kidsD dimensions): the same children next
+     * frame mean the same groups, particles and appliers (collect.c) */
+    Node **kids; size_t nkids, capkids, kidsD;
+    bool kids_ok;
     struct PhysWalk *walk; size_t capwalk;
 
     /* lookups */
@@ -302,6 +309,9 @@ typedef struct PhysCollect {
 
 /* Forget (release) the nodes the slots' attribute values came from. */
 void phys_slot_nodes_drop(PhysSystem *s);
+/* Forget (release) the root's children kept by the last collection, so the
+ * next one walks the tree in full. */
+void phys_kids_drop(PhysSystem *s);
 /* Release the name caches of [s]. */
 void phys_names_free(PhysSystem *s);
 /* Empty [h] and size it for [n] entries. */

@@ -91,6 +91,8 @@ static void system_free(PhysSystem *s)
         return;
     phys_cache_drop(s);
     phys_slot_nodes_drop(s);
+    phys_kids_drop(s);
+    free(s->kids);
     phys_keys_free(s);
     phys_release_prev(s);
     vec_release(s->prefix);
