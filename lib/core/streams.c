@@ -41,16 +41,29 @@ double rng_uniform(uint64_t key, uint64_t i)
     return (double)rng_squares(i, key) / 18446744073709551616.0;
 }
 
-double rng_normal(uint64_t key, uint64_t i)
+/* The Box–Muller radius and angle (in turns) of pair [e] (even). */
+static double normal_polar(uint64_t key, uint64_t e, double *turns)
 {
-    uint64_t e = i & ~(uint64_t)1;
     double u1 = rng_uniform(key, e), u2 = rng_uniform(key, e + 1);
     if (u1 == 0) {
         u1 = u2;
         u2 = 0;
     }
-    double r = sqrt(-2 * log(u1));
-    return (i & 1) ? r * sin_t(u2) : r * cos_t(u2);
+    *turns = u2;
+    return sqrt(-2 * log(u1));
+}
+
+double rng_normal(uint64_t key, uint64_t i)
+{
+    double t, r = normal_polar(key, i & ~(uint64_t)1, &t);
+    return (i & 1) ? r * sin_t(t) : r * cos_t(t);
+}
+
+void rng_normal_pair(uint64_t key, uint64_t e, double out[2])
+{
+    double t, r = normal_polar(key, e, &t);
+    out[0] = r * cos_t(t);
+    out[1] = r * sin_t(t);
 }
 
 /* C `min(a, b)` as the reference's Cython emits it: (b < a) ? b : a. */

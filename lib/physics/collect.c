@@ -295,6 +295,7 @@ static void applier_clock(PhysApplier *ap, PhysCollect *c)
     c->seed = seed;
     ap->key = vec_hash(seed, true);
     ap->index = 0;
+    ap->pair_ok = false;
 }
 
 /* §3 "every other child": a force applier or barrier of group [group],

@@ -169,9 +169,17 @@ apply_particle(PhysSystem *s, PhysApplier *ap, size_t p, double delta,
         break;
     }
     case AP_RANDOM:
-        /* §4 random: F_i += strength * source[index]; index += 1 */
+        /* §4 random: F_i += strength * source[index]; index += 1 (the
+         * source's values are made in pairs, i&~1 and i|1, so both are
+         * kept once made) */
         for (size_t i = 0; i < D; i++) {
-            F[i] = F[i] + ap->strength * rng_normal(ap->key, ap->index);
+            const uint64_t e = ap->index & ~(uint64_t)1;
+            if (!ap->pair_ok || ap->pair_at != e) {
+                rng_normal_pair(ap->key, e, ap->pair);
+                ap->pair_at = e;
+                ap->pair_ok = true;
+            }
+            F[i] = F[i] + ap->strength * ap->pair[ap->index & 1];
             ap->index++;
         }
         break;
