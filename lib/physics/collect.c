@@ -500,7 +500,7 @@ static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *
     if (!pn->anchor && c->iteration > 0)
         v = s->cuse && k->hit && k->cp ? k->cp : state_get(sd, k->pkey);
     if (vec_is_num(v) && v->len == D) {
-        memcpy(pos, vec_cnums(v), D * sizeof *pos);
+        phys_copy(pos, vec_cnums(v), D);
         k->pval = (Vec *)v;
     } else
         fvec0_of(same ? node_attr(pn->node, "position") : at[AN_POSITION], D, pos);
@@ -508,7 +508,7 @@ static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *
     if (!pn->anchor && c->iteration > 0)
         v = s->cuse && k->hit && k->cv ? k->cv : state_get(sd, k->vkey);
     if (vec_is_num(v) && v->len == D) {
-        memcpy(vel, vec_cnums(v), D * sizeof *vel);
+        phys_copy(vel, vec_cnums(v), D);
         k->vval = (Vec *)v;
     } else
         fvec0_of(same ? node_attr(pn->node, "velocity") : at[AN_VELOCITY], D, vel);
@@ -530,8 +530,9 @@ static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *
         k->node = node_retain((Node *)pn->node);
         k->eased = e > 0;
     }
-    memcpy(s->force + i * D, own, D * sizeof *own);
-    memset(s->acc + i * D, 0, D * sizeof(double));
+    phys_copy(s->force + i * D, own, D);
+    for (size_t j = 0; j < D; j++)
+        s->acc[i * D + j] = 0;
 }
 
 /* Category of an applier in its group's own lists. */

@@ -36,6 +36,19 @@
 static inline double py_min(double a, double b) { return b < a ? b : a; }
 static inline double py_max(double a, double b) { return b > a ? b : a; }
 
+/* Copy the [D] doubles of [src] to [dst] (memcpy; inline for D <= 3, the
+ * common sizes, where a library call costs more than the copy). */
+static inline void phys_copy(double *dst, const double *src, size_t D)
+{
+    switch (D) {
+    case 3: dst[2] = src[2]; /* fall through */
+    case 2: dst[1] = src[1]; /* fall through */
+    case 1: dst[0] = src[0]; /* fall through */
+    case 0: return;
+    default: memcpy(dst, src, D * sizeof *dst);
+    }
+}
+
 /* k = pow(k, power) unless power == 1, then k * strength (§4 distance). */
 double phys_shape(double k, double power, double strength);
 

@@ -191,7 +191,7 @@ void phys_write_particles(PhysSystem *s, StateDict *sd)
             Vec *cur = vals[j];
             Vec *cached = j ? k->cv : k->cp;
             if (cur && !s->dupids && cur->refs == 1 + (cur == cached)) {
-                memcpy(vec_nums(cur), vecs[j], D * sizeof(double));
+                phys_copy(vec_nums(cur), vecs[j], D);
             } else {
                 store_nums(sd, keys[j], vecs[j], D);
                 /* what the state holds now (store_nums may have kept an

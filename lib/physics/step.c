@@ -40,7 +40,7 @@ particle_step(PhysSystem *s, size_t p, double dt, const size_t D)
     double *pos = s->pos + p * D, *v = s->vel + p * D, *a = s->acc + p * D;
     const double *F = s->force + p * D;
     const double mass = s->mass[p], c = s->c;
-    memcpy(a, v, D * sizeof *a);
+    phys_copy(a, v, D);
     if (mass != 0) {
         bool finite = true;
         for (size_t i = 0; i < D; i++) {
@@ -260,7 +260,7 @@ particle_range_fixed(PhysSystem *s, const PhysGroup *g, double delta,
         for (size_t j = 0; j < g->b_n; j++)
             barrier_rebound(s, &s->ap[bl[j]], p, delta, D);
         if (more)
-            memcpy(s->force + p * D, s->own + p * D, D * sizeof(double));
+            phys_copy(s->force + p * D, s->own + p * D, D);
     }
 }
 
