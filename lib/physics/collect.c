@@ -683,16 +683,17 @@ static bool same_kids(const PhysSystem *s, const Node *root)
  * A tree whose root has the same children as last frame's (a static tree:
  * the simplifier builds it once and every frame's !physics node shares its
  * children) keeps everything the walk built; only what depends on the frame
- * is done again: the appliers' eases and !random sources, in collection
- * order, and the particles' fill (positions and velocities from the state,
+ * is done again: the eases and !random sources of the appliers that have
+ * them (the others' strengths cannot change), in collection order, and the
+ * particles' fill (positions and velocities from the state,
  * keys), then the key sweep and the level plan (which reads the thread
  * count). */
 bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
                     const StateDict *sd)
 {
     if (same_kids(s, root)) {
-        for (size_t a = 0; a < s->nap; a++)
-            applier_clock(&s->ap[a], c);
+        for (size_t i = 0; i < s->nclocked; i++)
+            applier_clock(&s->ap[s->clocked[i]], c);
         s->dupids = false;
         for (size_t i = 0; i < s->npn; i++)
             fill_particle(s, c, sd, &s->pn[i]);
@@ -747,5 +748,13 @@ bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
     build_lists(s);
     phys_plan_levels(s);
     keep_kids(s, root);
+    /* the rest keep the strength applier_clock() gave them */
+    s->nclocked = 0;
+    for (size_t a = 0; a < s->nap; a++) {
+        if (s->ap[a].ease > 0 || s->ap[a].kind == AP_RANDOM) {
+            GROW(s->clocked, s->capclocked, s->nclocked + 1);
+            s->clocked[s->nclocked++] = (uint32_t)a;
+        }
+    }
     return true;
 }

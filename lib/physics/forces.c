@@ -18,11 +18,9 @@
 
 /* §4 pair(a, b): d_k = b.pos_k - a.pos_k, s = sum d_k*d_k (k ascending),
  * dist = sqrt(s), inv = 1/dist, dir_k = d_k * inv. */
-double phys_pair(PhysSystem *s, size_t a, size_t b)
+static inline double pair_of(const double *pa, const double *pb, double *dir,
+                             size_t D)
 {
-    const size_t D = s->D;
-    const double *pa = s->pos + a * D, *pb = s->pos + b * D;
-    double *dir = s->dir;
     double sum = 0;
     for (size_t k = 0; k < D; k++) {
         double d = pb[k] - pa[k];
@@ -34,6 +32,12 @@ double phys_pair(PhysSystem *s, size_t a, size_t b)
     for (size_t k = 0; k < D; k++)
         dir[k] = dir[k] * inv;
     return dist;
+}
+
+double phys_pair(PhysSystem *s, size_t a, size_t b)
+{
+    const size_t D = s->D;
+    return pair_of(s->pos + a * D, s->pos + b * D, s->dir, D);
 }
 
 double phys_shape(double k, double power, double strength)
@@ -80,12 +84,32 @@ static inline void distance_force(const PhysApplier *ap, double *fa,
     }
 }
 
-void phys_apply_distance(PhysSystem *s, const PhysApplier *ap)
+void phys_apply_distances(PhysSystem *s, const uint32_t *list, size_t n)
 {
     const size_t D = s->D;
-    size_t a = (size_t)ap->from, b = (size_t)ap->to;
-    double dist = phys_pair(s, a, b);
-    distance_force(ap, s->force + a * D, s->force + b * D, s->dir, dist, D);
+    if (n == 0)
+        return;
+    if (n > SIZE_MAX / (D + 1))
+        phys_oom();
+    s->dgeo = phys_grow(s->dgeo, &s->capdgeo, n * (D + 1), sizeof *s->dgeo);
+    /* pair i: dist at geo[i*(D+1)], dir after it */
+    double *geo = s->dgeo;
+    for (size_t i = 0; i < n; i++) {
+        const PhysApplier *ap = &s->ap[list[i]];
+        if (ap->from < 0 || ap->to < 0)
+            continue;
+        double *g = geo + i * (D + 1);
+        g[0] = pair_of(s->pos + (size_t)ap->from * D, s->pos + (size_t)ap->to * D,
+                       g + 1, D);
+    }
+    for (size_t i = 0; i < n; i++) {
+        const PhysApplier *ap = &s->ap[list[i]];
+        if (ap->from < 0 || ap->to < 0)
+            continue;
+        const double *g = geo + i * (D + 1);
+        distance_force(ap, s->force + (size_t)ap->from * D,
+                       s->force + (size_t)ap->to * D, g + 1, g[0], D);
+    }
 }
 
 /* One pair applier on the pair (a, b) already measured by phys_pair(). */

@@ -239,6 +239,8 @@ typedef struct PhysSystem {
     unsigned char *anchor;                    /* cap */
     double *dir;                              /* D scratch: pair direction */
     size_t capdir;
+    double *dgeo; size_t capdgeo;             /* scratch: the distance
+                                                 appliers' pairs, D+1 each */
 
     /* appliers (pre-order) */
     PhysApplier *ap;
@@ -278,6 +280,8 @@ typedef struct PhysSystem {
      * frame mean the same groups, particles and appliers (collect.c) */
     Node **kids; size_t nkids, capkids, kidsD;
     bool kids_ok;
+    /* the appliers applier_clock() changes: eased or !random (collect.c) */
+    uint32_t *clocked; size_t nclocked, capclocked;
     struct PhysWalk *walk; size_t capwalk;
 
     /* lookups */
@@ -380,8 +384,14 @@ void phys_cache_drop(PhysSystem *s);
 
 /* pair(a, b) into s->dir; returns dist. */
 double phys_pair(PhysSystem *s, size_t a, size_t b);
-/* Apply distance applier [ap] to its resolved pair (both exist). */
-void phys_apply_distance(PhysSystem *s, const PhysApplier *ap);
+/* Apply the distance appliers s->ap[list[0 .. n-1]] in that order, each
+ * whose ends both exist (§4 "for each distance applier of G"). The pairs
+ * are all measured first (pair(), into scratch: positions do not change
+ * during the pass, and the measurements are independent, so they overlap
+ * instead of waiting on each other's square root and division), then the
+ * forces are added in order: the same operations as pair() then distance
+ * one applier at a time. */
+void phys_apply_distances(PhysSystem *s, const uint32_t *list, size_t n);
 /* The pair loop of one level of group [g]: the group's own particles
  * against the first lv->npool of its pool, with lv->group's pair appliers. */
 void phys_apply_pair_level(PhysSystem *s, const PhysGroup *g,

@@ -226,12 +226,7 @@ barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p,
  * pool. */
 static void pair_pass(PhysSystem *s, const PhysGroup *g)
 {
-    const uint32_t *dl = s->gidx + g->dist_off;
-    for (size_t i = 0; i < g->dist_n; i++) {
-        const PhysApplier *ap = &s->ap[dl[i]];
-        if (ap->from >= 0 && ap->to >= 0)
-            phys_apply_distance(s, ap);
-    }
+    phys_apply_distances(s, s->gidx + g->dist_off, g->dist_n);
     if (g->npart == 0)
         return;
     for (size_t l = 0; l < g->lvl_n; l++)

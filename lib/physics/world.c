@@ -92,7 +92,7 @@ static void system_free(PhysSystem *s)
     phys_cache_drop(s);
     phys_slot_nodes_drop(s);
     phys_kids_drop(s);
-    free(s->kids);
+    free(s->kids); free(s->clocked);
     phys_keys_free(s);
     phys_release_prev(s);
     vec_release(s->prefix);
@@ -102,7 +102,7 @@ static void system_free(PhysSystem *s)
     vec_release(s->kiter);
     free(s->pos); free(s->vel); free(s->acc); free(s->force); free(s->own);
     free(s->radius); free(s->mass); free(s->charge); free(s->anchor);
-    free(s->dir);
+    free(s->dir); free(s->dgeo);
     free(s->ap); free(s->avec);
     free(s->groups); free(s->gidx); free(s->chain); free(s->levels);
     free(s->pool);
