@@ -106,24 +106,14 @@ static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
 
 /* C_NEWNODE: eval_attributes on a literal bare node, which it would copy
  * (it is shared) before setting the attributes: the same node, built
- * directly */
+ * directly, with its attribute slots in its own block. The values are
+ * evaluated in order, as there; the names are distinct (evalcode.c
+ * checks), so each one is set without a search. */
 static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
-    Vec *small[16];
-    Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
-    if (!vals) mem_oom();
-    for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
-    Node *nn = node_new(r->p.kind);
-    if (r->n <= 16) {
-        /* distinct names (evalcode.c checks): set them all at once */
-        Str *names[16];
-        for (uint32_t k = 0; k < r->n; k++) names[k] = t->attrs[k].name;
-        node_init_attrs(nn, r->n, names, vals);
-    } else {
-        for (uint32_t k = 0; k < r->n; k++) node_set_attr(nn, t->attrs[k].name, vals[k]);
-    }
-    if (vals != small) free(vals);
+    Node *nn = node_new_sized(r->p.kind, r->n);
+    for (uint32_t k = 0; k < r->n; k++) node_add_new_attr(nn, t->attrs[k].name, run_rec(ev, base, t->attrs[k].off));
     return vec_node_take(nn);
 }
 
