@@ -460,12 +460,30 @@ Vec *append_nodes(Vec *p, Vec *c)
     if (has_nodes(p) && has_nodes(c)) {
         p = vec_unshare(p);
         Elem *e = vec_elems(p);
-        const Elem *ce = vec_celems(c);
+        Elem *ce = vec_elems(c);
+        uint32_t count = 0, last = 0;
+        for (uint32_t j = 0; j < c->len; j++) count += ce[j].kind == EL_NODE;
+        for (uint32_t i = 0; i < p->len; i++)
+            if (e[i].kind == EL_NODE) last = i;
         for (uint32_t i = 0; i < p->len; i++) {
             if (e[i].kind != EL_NODE) continue;
-            e[i].node = node_mut(e[i].node);
-            for (uint32_t j = 0; j < c->len; j++)
-                if (ce[j].kind == EL_NODE) node_append(e[i].node, ce[j].node);
+            Node *n = e[i].node = node_mut(e[i].node);
+            node_reserve_children(n, n->nchildren + count);
+            if (i == last && c->refs == 1) {
+                /* the last parent, and [c] is going: its nodes move to
+                 * the parent with their references (the same tree as
+                 * appending and releasing [c], without touching each
+                 * child twice) */
+                for (uint32_t j = 0; j < c->len; j++) {
+                    if (ce[j].kind != EL_NODE) continue;
+                    node_append_take(n, ce[j].node);
+                    ce[j].kind = EL_NUM;
+                    ce[j].num = 0.0;
+                }
+            } else {
+                for (uint32_t j = 0; j < c->len; j++)
+                    if (ce[j].kind == EL_NODE) node_append(n, ce[j].node);
+            }
         }
     }
     vec_release(c);
