@@ -72,12 +72,21 @@ static Vec *run_seq(Eval *ev, const unsigned char *base, const CRec *r)
     return parts_finish(ev, &parts);
 }
 
-/* C_LET: eval_let of single-name, non-stable bindings */
+/* C_LET: eval_let of single-name, non-stable bindings; then, unlike
+ * eval_let (which leaves a value in its slot until the slot is bound again
+ * or the frame ends), the bound values are released as soon as the body is
+ * done. Nothing can read them any more: the names are lexically scoped
+ * (program.c resolves nothing outside the body to these slots). A block
+ * released now is reused while it is still in the cache, and an unrolled
+ * program (a slot per copy of a loop body) does not keep every copy's
+ * values alive, and cold, until the end of the frame. */
 static Vec *run_let(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
     for (uint32_t i = 0; i < r->n; i++) set_slot(ev, t->binds[i].slot, run_rec(ev, base, t->binds[i].off));
-    return run_rec(ev, base, t->body);
+    Vec *v = run_rec(ev, base, t->body);
+    for (uint32_t i = 0; i < r->n; i++) set_slot(ev, t->binds[i].slot, NULL);
+    return v;
 }
 
 /* C_ATTRS: eval_attributes */
