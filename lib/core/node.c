@@ -78,7 +78,7 @@ static void node_free(Node *n)
      * attribute values of child i+D3 are fetched (its attribute array
      * asked for D2-D3 children earlier, itself D1-D2 earlier still), so
      * that each level has arrived by the time the next one is read. */
-    enum { D1 = 12, D2 = 8, D3 = 4 };
+    enum { D1 = 30, D2 = 18, D3 = 8 };
     Node **ch = n->children;
     uint32_t nc = n->nchildren;
     for (uint32_t i = 0; i < nc; i++) {

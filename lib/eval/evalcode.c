@@ -294,7 +294,10 @@ static void share_memos(CC *c)
 static CMemo *make_memos(CC *c)
 {
     if (!c->nmemos) return NULL;
-    CMemo *m = mem_calloc(c->nmemos, sizeof *m);
+    size_t size = c->nmemos * sizeof(CMemo);   /* a multiple of 64 */
+    CMemo *m = aligned_alloc(64, size);
+    if (!m) mem_oom();
+    memset(m, 0, size);
     for (uint32_t i = 0; i < c->nmemo_recs; i++) {
         const CRec *r = rec(c, c->memo_recs[i]);
         if (r->op != C_MEMO || m[r->n].nkeys) continue;

@@ -90,13 +90,16 @@ typedef struct CAttrsTail {
     CAttr attrs[];      /* n of them, in order */
 } CAttrsTail;
 
-/* A memo cell of C_MEMO records. */
+/* A memo cell of C_MEMO records: 64 bytes, what a hit reads first (the
+ * cells are allocated on 64-byte boundaries, so a cell is one cache
+ * line). */
 typedef struct CMemo {
     Vec *value;                          /* last result (one reference), or NULL */
+    uint64_t keys[NUMEXPR_MEMO_KEYS];    /* its names' numbers' bits when [value] was made */
     int32_t nkeys;                       /* engine names read */
     int32_t names[NUMEXPR_MEMO_KEYS];    /* their indices (Globals) */
-    uint64_t keys[NUMEXPR_MEMO_KEYS];    /* their numbers' bits when [value] was made */
 } CMemo;
+_Static_assert(sizeof(CMemo) == 64, "a memo cell is one cache line");
 
 /* A compiled region: AstNode.aux of its root (n->fast == 2). */
 typedef struct CBlock {
