@@ -163,11 +163,12 @@ static uint32_t emit(CC *c, const AstNode *n)
     if (n->fast == 1 || numexpr_compile((AstNode *)n)) {
         const NumExpr *x = numexpr_of(n);
         size_t size = numexpr_size(x);
-        off = reserve(c, sizeof(CRec) + size);
+        bool memo = numexpr_memoizable(x);
+        off = reserve(c, sizeof(CRec) + size + (memo ? sizeof(CMemoHint) : 0));
         rec(c, off)->op = C_NUM;
         rec(c, off)->p.node = n;
         memcpy(c->buf + off + sizeof(CRec), x, size);
-        if (numexpr_memoizable(x)) {
+        if (memo) {
             rec(c, off)->op = C_MEMO;
             rec(c, off)->n = memo_cell(c, off);
             if (c->nmemo_recs == c->cap_memo_recs) {
@@ -290,6 +291,22 @@ static void share_memos(CC *c)
     free(renum);
 }
 
+/* The CMemoHint of each C_MEMO record left by share_memos. */
+static void memo_hints(CC *c)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < c->nmemo_recs; i++)
+        if (rec(c, c->memo_recs[i])->op == C_MEMO) c->memo_recs[n++] = c->memo_recs[i];
+    c->nmemo_recs = n;
+    for (uint32_t i = 0; i < n; i++) {
+        const CRec *r = rec(c, c->memo_recs[i]);
+        CMemoHint *h = (CMemoHint *)(void *)(c->buf + c->memo_recs[i] + sizeof(CRec) +
+                                             numexpr_size((const NumExpr *)(const void *)(r + 1)));
+        h->cell_near = i + MEMO_AHEAD < n ? rec(c, c->memo_recs[i + MEMO_AHEAD])->n : CMEMO_NONE;
+        h->cell_far = i + 2 * MEMO_AHEAD < n ? rec(c, c->memo_recs[i + 2 * MEMO_AHEAD])->n : CMEMO_NONE;
+    }
+}
+
 /* The memo cells of [c]'s block, with the names each one reads. */
 static CMemo *make_memos(CC *c)
 {
@@ -326,6 +343,7 @@ void evalcode_compile_tree(AstNode *n)
     CC c = {0};
     emit(&c, n);
     share_memos(&c);
+    memo_hints(&c);
     CBlock *b = mem_alloc(sizeof *b + c.len);
     b->nmemos = c.nmemos;
     b->len = c.len;

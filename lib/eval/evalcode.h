@@ -44,7 +44,8 @@ enum {
                    record of the block with the same instructions; the
                    result is kept there and handed out again while those
                    names hold the same numbers, bit for bit (not when it is
-                   NaN, where the identity of vectors matters, §3.6) */
+                   NaN, where the identity of vectors matters, §3.6); a
+                   CMemoHint follows the NumExpr */
     C_NEWNODE,  /* C_ATTRS on a literal bare node (no tags, attributes or
                    children; p.kind is its kind, borrowed from the AST): a
                    new node of that kind with the attributes set, the
@@ -100,6 +101,21 @@ typedef struct CMemo {
     int32_t names[NUMEXPR_MEMO_KEYS];    /* their indices (Globals) */
 } CMemo;
 _Static_assert(sizeof(CMemo) == 64, "a memo cell is one cache line");
+
+/* After the NumExpr of a C_MEMO record: which cells the C_MEMO records
+ * MEMO_AHEAD and 2*MEMO_AHEAD places further in the block's code use
+ * (CMEMO_NONE: none). A region has no branches, so its records run in code
+ * order: running this record, the runner asks for the farther cell and for
+ * the value kept in the nearer one (asked for MEMO_AHEAD records ago), so
+ * that neither is a cache miss by the time it is used. Only a hint: a
+ * wrong or stale one costs a wasted fetch, nothing else. */
+typedef struct CMemoHint {
+    uint32_t cell_far;      /* cell of the record 2*MEMO_AHEAD places on */
+    uint32_t cell_near;     /* cell of the record MEMO_AHEAD places on */
+} CMemoHint;
+
+#define MEMO_AHEAD 8
+#define CMEMO_NONE UINT32_MAX
 
 /* A compiled region: AstNode.aux of its root (n->fast == 2). */
 typedef struct CBlock {

@@ -26,6 +26,11 @@ __attribute__((noinline)) static Vec *run_memo(Eval *ev, const CRec *r)
     const NumExpr *x = (const NumExpr *)(const void *)(r + 1);
     CMemo *m = &ev->memos[r->n];
     uint64_t keys[NUMEXPR_MEMO_KEYS];
+    /* the cells (and their values) the coming C_MEMO records will read are
+     * usually cold: ask for them now (evalcode.h CMemoHint) */
+    const CMemoHint *h = (const CMemoHint *)(const void *)((const unsigned char *)x + numexpr_size(x));
+    if (h->cell_far != CMEMO_NONE) __builtin_prefetch(&ev->memos[h->cell_far]);
+    if (h->cell_near != CMEMO_NONE) __builtin_prefetch(ev->memos[h->cell_near].value, 1);
     if (!ev->globals || ev->depth + numexpr_depth(x) > MAX_EVAL_DEPTH)
         return run_num(ev, r->p.node, x);
     bool same = m->value != NULL;

@@ -9,6 +9,7 @@
 #include "numexpr.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -47,7 +48,9 @@ struct NumExpr {
     NxIns ins[];
 };
 
-size_t numexpr_size(const NumExpr *x) { return sizeof *x + x->h.nins * sizeof(NxIns); }
+_Static_assert(sizeof(NxIns) == NUMEXPR_INS_SIZE && offsetof(NumExpr, ins) == NUMEXPR_HEAD_SIZE &&
+                   sizeof(NumExpr) == NUMEXPR_HEAD_SIZE,
+               "numexpr.h's numexpr_size");
 
 /* ====================================================================
  * Compiling

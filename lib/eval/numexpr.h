@@ -55,9 +55,16 @@ typedef struct NumExprHead {
     uint32_t depth;     /* generic eval_node nesting of the subtree */
 } NumExprHead;
 
-/* The size in bytes of [x]; a byte copy of it (8-byte aligned) is a
- * NumExpr too (evalcode.h copies them into its blocks). */
-size_t numexpr_size(const NumExpr *x);
+/* Bytes of the head (padded) and of each instruction (numexpr.c checks). */
+#define NUMEXPR_HEAD_SIZE 16
+#define NUMEXPR_INS_SIZE 16
+
+/* The size in bytes of [x] (a multiple of 8); a byte copy of it (8-byte
+ * aligned) is a NumExpr too (evalcode.h copies them into its blocks). */
+static inline size_t numexpr_size(const NumExpr *x)
+{
+    return NUMEXPR_HEAD_SIZE + (size_t)((const NumExprHead *)(const void *)x)->nins * NUMEXPR_INS_SIZE;
+}
 
 /* How many numbers [x] produces (1, or the length of a compiled sequence). */
 static inline uint32_t numexpr_outputs(const NumExpr *x)
