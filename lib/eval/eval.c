@@ -107,8 +107,16 @@ void parts_init(Parts *p)
     p->v = p->small;
     p->n = 0;
     p->cap = 8;
+    p->chunks = 0;
+    p->pushed = 0;
     p->total = 0;
     p->too_long = false;
+}
+
+void parts_collapse(Parts *p)
+{
+    p->v[p->chunks] = vec_compose_take(&p->v[p->chunks], p->n - p->chunks);
+    p->n = ++p->chunks;
 }
 
 /* Grow [p] (full) to twice its capacity. */
@@ -130,11 +138,11 @@ Vec *parts_finish(Eval *ev, Parts *p)
     if (p->too_long) {
         errorf(ev, "Vector too long (over %llu elements)", (unsigned long long)MAX_COMPOSE_LEN);
         r = NULL;
-        if (p->n == 1) vec_release(p->v[0]);
+        if (p->pushed == 1) vec_release(p->v[0]);
     } else {
-        r = p->n == 1 ? p->v[0] : vec_compose_take(p->v, p->n);
+        r = p->pushed == 1 ? p->v[0] : vec_compose_take(p->v, p->n);
     }
-    if (p->too_long && p->n != 1)
+    if (p->too_long && p->pushed != 1)
         for (size_t i = 0; i < p->n; i++) vec_release(p->v[i]);
     if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
     return r;
