@@ -44,8 +44,10 @@ enum {
                    record of the block with the same instructions; the
                    result is kept there and handed out again while those
                    names hold the same numbers, bit for bit (not when it is
-                   NaN, where the identity of vectors matters, §3.6); a
-                   CMemoHint follows the NumExpr */
+                   NaN, where the identity of vectors matters, §3.6). The
+                   NumExpr is kept once per cell, after the code (CMemo.expr),
+                   not in each record: a CMemoHint follows the header, and
+                   aux is the NumExpr's depth (numexpr_depth) */
     C_NEWNODE,  /* C_ATTRS on a literal bare node (no tags, attributes or
                    children; p.kind is its kind, borrowed from the AST): a
                    new node of that kind with the attributes set, the
@@ -58,7 +60,8 @@ struct Builtin;
  * of the block. Records are 8-byte aligned. */
 typedef struct CRec {
     uint8_t op;         /* C_* */
-    uint8_t pad[3];
+    uint8_t pad;
+    uint16_t aux;       /* C_MEMO: numexpr_depth of its NumExpr */
     uint32_t n;         /* per op */
     union {
         const AstNode *node;
@@ -99,10 +102,11 @@ typedef struct CMemo {
     uint64_t keys[NUMEXPR_MEMO_KEYS];    /* its names' numbers' bits when [value] was made */
     int32_t nkeys;                       /* engine names read */
     int32_t names[NUMEXPR_MEMO_KEYS];    /* their indices (Globals) */
+    uint32_t expr;                       /* offset of the NumExpr in the block's code */
 } CMemo;
 _Static_assert(sizeof(CMemo) == 64, "a memo cell is one cache line");
 
-/* After the NumExpr of a C_MEMO record: which cells the C_MEMO records
+/* After the header of a C_MEMO record: which cells the C_MEMO records
  * MEMO_AHEAD and 2*MEMO_AHEAD places further in the block's code use
  * (CMEMO_NONE: none). A region has no branches, so its records run in code
  * order: running this record, the runner asks for the farther cell and for

@@ -21,17 +21,17 @@ static Vec *run_rec(Eval *ev, const unsigned char *base, const CRec *r);
  * again while the engine names it reads hold the same numbers. A kept
  * vector is shared, which nothing can tell from a new one with the same
  * numbers (§3.6 rule 1 only matters for NaN, never kept). */
-__attribute__((noinline)) static Vec *run_memo(Eval *ev, const CRec *r)
+__attribute__((noinline)) static Vec *run_memo(Eval *ev, const unsigned char *base, const CRec *r)
 {
-    const NumExpr *x = (const NumExpr *)(const void *)(r + 1);
     CMemo *m = &ev->memos[r->n];
     uint64_t keys[NUMEXPR_MEMO_KEYS];
     /* the cells (and their values) the coming C_MEMO records will read are
      * usually cold: ask for them now (evalcode.h CMemoHint) */
-    const CMemoHint *h = (const CMemoHint *)(const void *)((const unsigned char *)x + numexpr_size(x));
+    const CMemoHint *h = (const CMemoHint *)(const void *)(r + 1);
     if (h->cell_far != CMEMO_NONE) __builtin_prefetch(&ev->memos[h->cell_far]);
     if (h->cell_near != CMEMO_NONE) __builtin_prefetch(ev->memos[h->cell_near].value, 1);
-    if (!ev->globals || ev->depth + numexpr_depth(x) > MAX_EVAL_DEPTH)
+    const NumExpr *x = (const NumExpr *)(const void *)(base + m->expr);
+    if (!ev->globals || ev->depth + r->aux > MAX_EVAL_DEPTH)
         return run_num(ev, r->p.node, x);
     bool same = m->value != NULL;
     for (int32_t k = 0; k < m->nkeys; k++) {
@@ -77,7 +77,7 @@ static inline Vec *run_val(Eval *ev, const unsigned char *base, uint32_t off)
     case C_LOCAL: return vec_retain(ev->frame[r->n]);
     case C_GLOBAL: return ev->globals ? vec_retain(ev->globals->values[r->n]) : NULL;
     case C_NUM: return run_num(ev, r->p.node, (const NumExpr *)(const void *)(r + 1));
-    case C_MEMO: return run_memo(ev, r);
+    case C_MEMO: return run_memo(ev, base, r);
     /* a C_AST node is never a literal, a name or compiled (those have
      * records of their own): eval() would call eval_node */
     case C_AST: return eval_node(ev, r->p.node);
