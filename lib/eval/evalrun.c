@@ -86,7 +86,7 @@ static inline Vec *run_val(Eval *ev, const unsigned char *base, uint32_t off)
 }
 
 /* C_SEQ: eval_sequence */
-static Vec *run_seq(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_seq(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
     if (r->n == 1) return run_val(ev, base, k[0]);
@@ -114,7 +114,7 @@ static Vec *run_let(Eval *ev, const unsigned char *base, const CRec *r)
 }
 
 /* C_ATTRS: eval_attributes */
-static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
     Vec *v = run_val(ev, base, t->node);
@@ -151,7 +151,7 @@ static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
 }
 
 /* C_CALLBI: eval_call's direct route for a builtin callee */
-static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
     Vec *args[8];
@@ -172,7 +172,11 @@ static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
 }
 
 /* A composite record (C_SEQ, C_LET, C_ATTRS, C_CALLBI, C_APPEND,
- * C_NEWNODE), inside eval_node's depth guard. */
+ * C_NEWNODE), inside eval_node's depth guard. Every level of a deep
+ * program (up to MAX_EVAL_DEPTH) has this frame on the C stack: the
+ * records with arrays of their own (run_seq, run_attrs, run_callbi) are
+ * kept out of it, so it stays small (also under the sanitizers, which pad
+ * every local array). */
 __attribute__((noinline)) static Vec *run_rec(Eval *ev, const unsigned char *base, const CRec *r)
 {
     Vec *v;
