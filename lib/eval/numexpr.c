@@ -356,7 +356,16 @@ l_divk: t = t / i->k; NEXT;
 l_end:
 #undef NEXT
     /* the outputs: st[1..nout-1], then t */
-    for (uint32_t k = 1; k < x->h.nout; k++) out[k - 1] = st[k];
-    out[x->h.nout - 1] = t;
+    uint32_t nout = x->h.nout;
+    if (nout <= 4) {
+        /* one by one: a memcpy call (what the loop compiles to) costs
+         * more than the one to three numbers it would copy */
+        if (nout >= 4) out[2] = st[3];
+        if (nout >= 3) out[1] = st[2];
+        if (nout >= 2) out[0] = st[1];
+    } else {
+        memcpy(out, st + 1, (nout - 1) * sizeof *out);
+    }
+    out[nout - 1] = t;
     return true;
 }
