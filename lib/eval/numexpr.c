@@ -315,6 +315,7 @@ bool numexpr_run(const NumExpr *x, Eval *ev, double *out)
     double *sp = st, t = 0.0, a;
     const Vec *v;
     const NxIns *i = x->ins;
+    const uint32_t nout = x->h.nout;
 #define NEXT goto *code[(++i)->op]
     goto *code[i->op];
 l_const: *sp++ = t; t = i->k; NEXT;
@@ -356,7 +357,6 @@ l_divk: t = t / i->k; NEXT;
 l_end:
 #undef NEXT
     /* the outputs: st[1..nout-1], then t */
-    uint32_t nout = x->h.nout;
     if (nout <= 4) {
         /* one by one: a memcpy call (what the loop compiles to) costs
          * more than the one to three numbers it would copy */
