@@ -25,9 +25,25 @@ static double cmin(double a, double b) { return (b < a) ? b : a; }
 /* HSL / HSV                                                           */
 /* ------------------------------------------------------------------ */
 
+/* fmod(t, 6), bit for bit, without the libm call in the usual range:
+ * fmod's result is exact, and so are these for |t| < 12 - t itself when
+ * |t| < 6, t - 6 or t + 6 beyond (Sterbenz: 6 <= |t| <= 12, the difference
+ * is representable), each with fmod's sign; fmod for the rest (larger,
+ * infinite or NaN t, and t == -6, whose fmod is -0). */
+static double mod6(double t)
+{
+    if (t > -6 && t < 6)
+        return t;
+    if (t >= 6 && t < 12)
+        return t - 6;
+    if (t < -6 && t > -12)
+        return t + 6;
+    return fmod(t, 6);
+}
+
 static double hue_to_rgb(double m1, double m2, double t)
 {
-    t = fmod(t, 6);
+    t = mod6(t);
     if (t < 0)
         t += 6;
     if (t < 1)

@@ -29,48 +29,93 @@ static void *grow(void *p, uint32_t *cap, uint32_t need, size_t size)
     return q;
 }
 
-Node *node_new(Str *kind)
+Node *node_new(Str *kind) { return node_new_sized(kind, 0); }
+
+Node *node_new_sized(Str *kind, uint32_t cap)
 {
-    Node *n = pool_calloc(sizeof *n);
+    Node *n = pool_alloc(sizeof *n + (size_t)cap * sizeof(Attr));
+    memset(n, 0, sizeof *n);
     n->refs = 1;
     n->kind = str_retain(kind);
+    n->inline_attrs = cap;
+    if (cap) {
+        n->attrs = node_inline_attrs(n);
+        n->cap_attrs = cap;
+    }
     return n;
 }
 
-void node_release(Node *n)
+/* Room for [need] attributes in unshared [n]: grow() for the attribute
+ * array, which may be the node's inline slots (not a block of its own). */
+static void attrs_reserve(Node *n, uint32_t need)
 {
-    if (!n || --n->refs) return;
+    if (need <= n->cap_attrs) return;
+    if (n->attrs && n->attrs == node_inline_attrs(n)) {
+        uint32_t cap = n->cap_attrs;
+        Attr *q = grow(NULL, &cap, need, sizeof(Attr));
+        memcpy(q, n->attrs, (size_t)n->nattrs * sizeof(Attr));
+        n->attrs = q;
+        n->cap_attrs = cap;
+    } else {
+        n->attrs = grow(n->attrs, &n->cap_attrs, need, sizeof(Attr));
+    }
+}
+
+/* Free unshared [n] (its last reference is gone) and release what it
+ * holds. */
+static void node_free(Node *n)
+{
     str_release(n->kind);
     for (uint32_t i = 0; i < n->ntags; i++) str_release(n->tags[i]);
-    /* a released tree is usually cold (built a frame ago): ask for the
-     * memory a few steps ahead of the loops that touch it */
-    for (uint32_t i = 0; i < n->nattrs; i++) __builtin_prefetch(n->attrs[i].value, 1);
     for (uint32_t i = 0; i < n->nattrs; i++) {
         str_release(n->attrs[i].name);
         vec_release(n->attrs[i].value);
     }
-    for (uint32_t i = 0; i < n->nchildren; i++) {
-        if (i + 8 < n->nchildren) __builtin_prefetch(n->children[i + 8], 1);
-        if (i + 4 < n->nchildren) __builtin_prefetch(n->children[i + 4]->attrs, 0);
-        node_release(n->children[i]);
+    /* A released tree is usually cold (built a frame ago, megabytes of
+     * other memory touched since): walking it is a chase of dependent
+     * cache misses, child -> its attributes -> their values. Software-
+     * pipeline the chase over the children: while child i is freed, the
+     * attribute values of child i+D3 are fetched (its attribute array
+     * asked for D2-D3 children earlier, itself D1-D2 earlier still), so
+     * that each level has arrived by the time the next one is read. */
+    enum { D1 = 30, D2 = 18, D3 = 8 };
+    Node **ch = n->children;
+    uint32_t nc = n->nchildren;
+    for (uint32_t i = 0; i < nc; i++) {
+        if (i + D1 < nc) __builtin_prefetch(ch[i + D1], 1);
+        if (i + D2 < nc && ch[i + D2]->nattrs) {
+            const Node *c = ch[i + D2];
+            __builtin_prefetch(c->attrs, 1);
+            __builtin_prefetch((const char *)(c->attrs + c->nattrs) - 1, 1);
+        }
+        if (i + D3 < nc) {
+            const Node *c = ch[i + D3];
+            for (uint32_t k = 0; k < c->nattrs; k++) __builtin_prefetch(c->attrs[k].value, 1);
+        }
+        node_release(ch[i]);
     }
     if (n->tags) pool_release(n->tags, (size_t)n->cap_tags * sizeof(Str *));
-    if (n->attrs) pool_release(n->attrs, (size_t)n->cap_attrs * sizeof(Attr));
+    if (n->attrs && n->attrs != node_inline_attrs(n))
+        pool_release(n->attrs, (size_t)n->cap_attrs * sizeof(Attr));
     if (n->children) pool_release(n->children, (size_t)n->cap_children * sizeof(Node *));
-    pool_release(n, sizeof *n);
+    pool_release(n, sizeof *n + (size_t)n->inline_attrs * sizeof(Attr));
+}
+
+void node_release(Node *n)
+{
+    if (n && --n->refs == 0) node_free(n);
 }
 
 Node *node_mut(Node *n)
 {
     if (n->refs == 1) return n;
-    Node *c = node_new(n->kind);
+    Node *c = node_new_sized(n->kind, n->nattrs);
     if (n->ntags) {
         c->tags = grow(NULL, &c->cap_tags, n->ntags, sizeof(Str *));
         for (uint32_t i = 0; i < n->ntags; i++) c->tags[i] = str_retain(n->tags[i]);
         c->ntags = n->ntags;
     }
     if (n->nattrs) {
-        c->attrs = grow(NULL, &c->cap_attrs, n->nattrs, sizeof(Attr));
         for (uint32_t i = 0; i < n->nattrs; i++) {
             c->attrs[i].name = str_retain(n->attrs[i].name);
             c->attrs[i].value = vec_retain(n->attrs[i].value);
@@ -105,26 +150,10 @@ void node_set_attr(Node *n, Str *name, Vec *value)
         vec_release(value);
         return;
     }
-    n->attrs = grow(n->attrs, &n->cap_attrs, n->nattrs + 1, sizeof(Attr));
+    attrs_reserve(n, n->nattrs + 1);
     n->attrs[n->nattrs].name = str_retain(name);
     n->attrs[n->nattrs].value = value;
     n->nattrs++;
-}
-
-void node_init_attrs(Node *n, uint32_t count, Str *const *names, Vec **values)
-{
-    n->attrs = grow(n->attrs, &n->cap_attrs, count, sizeof(Attr));
-    uint32_t k = 0;
-    for (uint32_t i = 0; i < count; i++) {
-        if (vec_len(values[i]) == 0) {
-            vec_release(values[i]);
-            continue;
-        }
-        n->attrs[k].name = str_retain(names[i]);
-        n->attrs[k].value = values[i];
-        k++;
-    }
-    n->nattrs = k;
 }
 
 void node_add_tag(Node *n, Str *tag)
@@ -143,10 +172,17 @@ void node_add_tag(Node *n, Str *tag)
     n->ntags++;
 }
 
-void node_append(Node *n, Node *child)
+void node_append(Node *n, Node *child) { node_append_take(n, node_retain(child)); }
+
+void node_append_take(Node *n, Node *child)
 {
     n->children = grow(n->children, &n->cap_children, n->nchildren + 1, sizeof(Node *));
-    n->children[n->nchildren++] = node_retain(child);
+    n->children[n->nchildren++] = child;
+}
+
+void node_reserve_children(Node *n, uint32_t need)
+{
+    n->children = grow(n->children, &n->cap_children, need, sizeof(Node *));
 }
 
 const Vec *node_attr_n(const Node *n, const char *name, size_t len)

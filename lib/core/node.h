@@ -27,6 +27,9 @@ struct Node {
     uint32_t nattrs;      /* number of attributes */
     uint32_t nchildren;   /* number of children */
     uint32_t cap_tags, cap_attrs, cap_children; /* allocated capacities */
+    uint32_t inline_attrs; /* Attr slots allocated right after the node, in
+                              its own block (node_new_sized); [attrs] points
+                              there until it outgrows them */
     Str *kind;            /* node kind without the '!' */
     Str **tags;           /* sorted by bytes, unique */
     Attr *attrs;          /* in first-binding order */
@@ -35,6 +38,12 @@ struct Node {
 
 /* A new node of [kind] (retained) with no tags, attributes or children. */
 Node *node_new(Str *kind);
+/* The same with room for [cap] attributes allocated in the node's own block
+ * (one block to build and to free instead of two; node_add_new_attr fills
+ * them). */
+Node *node_new_sized(Str *kind, uint32_t cap);
+/* The Attr slots allocated with [n] (node_new_sized). */
+static inline Attr *node_inline_attrs(Node *n) { return (Attr *)(void *)(n + 1); }
 static inline Node *node_retain(Node *n) { if (n) n->refs++; return n; }
 void node_release(Node *n);
 /* Consumes [n]; returns a node with refs == 1 and the same content (n itself
@@ -43,15 +52,28 @@ Node *node_mut(Node *n);
 /* Set attribute [name] of unshared [n] to [value] (consumes [value]); an
  * empty [value] removes the attribute. */
 void node_set_attr(Node *n, Str *name, Vec *value);
-/* Give unshared [n], which has no attributes yet, the attributes
- * names[i] = values[i] for i < [count] in that order, as node_set_attr
- * would one by one; the names must be pairwise different. Consumes the
- * values (empty ones are dropped). */
-void node_init_attrs(Node *n, uint32_t count, Str *const *names, Vec **values);
+/* Set attribute [name] of unshared [n], which has no attribute of that
+ * name yet, to [value] (consumes [value]): node_set_attr without the search
+ * for the name. An empty [value] is dropped, as node_set_attr does. */
+static inline void node_add_new_attr(Node *n, Str *name, Vec *value)
+{
+    if (n->nattrs < n->cap_attrs && value && value->len) {
+        n->attrs[n->nattrs].name = str_retain(name);
+        n->attrs[n->nattrs].value = value;
+        n->nattrs++;
+    } else {
+        node_set_attr(n, name, value);
+    }
+}
 /* Add tag [tag] to unshared [n] (no-op when present). */
 void node_add_tag(Node *n, Str *tag);
 /* Append [child] (retained) to unshared [n]. */
 void node_append(Node *n, Node *child);
+/* Append [child] to unshared [n], consuming the caller's reference. */
+void node_append_take(Node *n, Node *child);
+/* Make room for [need] children in unshared [n], so that appending up to
+ * that many reallocates nothing. */
+void node_reserve_children(Node *n, uint32_t need);
 /* The value of attribute [name] ([len] bytes; borrowed), or NULL when
  * absent. */
 const Vec *node_attr_n(const Node *n, const char *name, size_t len);

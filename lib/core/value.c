@@ -236,8 +236,11 @@ Vec *vec_compose(Vec *const *parts, size_t n)
     uint64_t total = 0;
     bool numeric = true;
     size_t nonempty = 0, last = 0;
+    /* the parts were usually made a while ago (the nodes of a long
+     * sequence): fetch them a few ahead, here and in the loop below */
     for (size_t i = 0; i < n; i++) {
         const Vec *p = parts[i];
+        if (i + 8 < n) __builtin_prefetch(parts[i + 8]);
         if (!p || p->len == 0) continue;
         total += p->len;
         nonempty++;
@@ -285,8 +288,11 @@ Vec *vec_compose_take(Vec **parts, size_t n)
     uint64_t total = 0;
     bool numeric = true;
     size_t nonempty = 0;
+    /* the parts were usually made a while ago (the nodes of a long
+     * sequence): fetch them a few ahead, here and in the loop below */
     for (size_t i = 0; i < n; i++) {
         const Vec *p = parts[i];
+        if (i + 8 < n) __builtin_prefetch(parts[i + 8]);
         if (!p || p->len == 0) continue;
         total += p->len;
         nonempty++;
@@ -304,6 +310,7 @@ Vec *vec_compose_take(Vec **parts, size_t n)
     for (size_t i = 0; i < n; i++) {
         Vec *p = parts[i];
         uint32_t len = vec_len(p);
+        if (i + 8 < n) __builtin_prefetch(parts[i + 8], 1);
         if (!len) {
             vec_release(p);   /* null or a stream */
             continue;

@@ -107,8 +107,16 @@ void parts_init(Parts *p)
     p->v = p->small;
     p->n = 0;
     p->cap = 8;
+    p->chunks = 0;
+    p->pushed = 0;
     p->total = 0;
     p->too_long = false;
+}
+
+void parts_collapse(Parts *p)
+{
+    p->v[p->chunks] = vec_compose_take(&p->v[p->chunks], p->n - p->chunks);
+    p->n = ++p->chunks;
 }
 
 /* Grow [p] (full) to twice its capacity. */
@@ -130,11 +138,11 @@ Vec *parts_finish(Eval *ev, Parts *p)
     if (p->too_long) {
         errorf(ev, "Vector too long (over %llu elements)", (unsigned long long)MAX_COMPOSE_LEN);
         r = NULL;
-        if (p->n == 1) vec_release(p->v[0]);
+        if (p->pushed == 1) vec_release(p->v[0]);
     } else {
-        r = p->n == 1 ? p->v[0] : vec_compose_take(p->v, p->n);
+        r = p->pushed == 1 ? p->v[0] : vec_compose_take(p->v, p->n);
     }
-    if (p->too_long && p->n != 1)
+    if (p->too_long && p->pushed != 1)
         for (size_t i = 0; i < p->n; i++) vec_release(p->v[i]);
     if (p->v != p->small) pool_release(p->v, p->cap * sizeof(Vec *));
     return r;
@@ -460,12 +468,30 @@ Vec *append_nodes(Vec *p, Vec *c)
     if (has_nodes(p) && has_nodes(c)) {
         p = vec_unshare(p);
         Elem *e = vec_elems(p);
-        const Elem *ce = vec_celems(c);
+        Elem *ce = vec_elems(c);
+        uint32_t count = 0, last = 0;
+        for (uint32_t j = 0; j < c->len; j++) count += ce[j].kind == EL_NODE;
+        for (uint32_t i = 0; i < p->len; i++)
+            if (e[i].kind == EL_NODE) last = i;
         for (uint32_t i = 0; i < p->len; i++) {
             if (e[i].kind != EL_NODE) continue;
-            e[i].node = node_mut(e[i].node);
-            for (uint32_t j = 0; j < c->len; j++)
-                if (ce[j].kind == EL_NODE) node_append(e[i].node, ce[j].node);
+            Node *n = e[i].node = node_mut(e[i].node);
+            node_reserve_children(n, n->nchildren + count);
+            if (i == last && c->refs == 1) {
+                /* the last parent, and [c] is going: its nodes move to
+                 * the parent with their references (the same tree as
+                 * appending and releasing [c], without touching each
+                 * child twice) */
+                for (uint32_t j = 0; j < c->len; j++) {
+                    if (ce[j].kind != EL_NODE) continue;
+                    node_append_take(n, ce[j].node);
+                    ce[j].kind = EL_NUM;
+                    ce[j].num = 0.0;
+                }
+            } else {
+                for (uint32_t j = 0; j < c->len; j++)
+                    if (ce[j].kind == EL_NODE) node_append(n, ce[j].node);
+            }
         }
     }
     vec_release(c);

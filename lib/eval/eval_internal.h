@@ -32,11 +32,21 @@ static inline Vec *run_num(Eval *ev, const AstNode *n, const NumExpr *x)
     return eval_node(ev, n);
 }
 
-/* A growable list of parts to compose. */
+/* Parts composed at a time into one (parts_collapse). */
+#define PARTS_CHUNK 64
+
+/* A growable list of parts to compose. A long list is composed as it
+ * grows, PARTS_CHUNK parts at a time, into chunks that stand for them:
+ * composition is associative (the same elements in the same order, numeric
+ * exactly when every part is, the one non-empty part itself when there is
+ * only one), and the parts are then released while they are still in the
+ * cache instead of all at the end (a sequence of 10,000 nodes). */
 typedef struct Parts {
     Vec *small[8];
-    Vec **v;
+    Vec **v;            /* v[0..chunks): chunks; v[chunks..n): parts */
     size_t n, cap;
+    size_t chunks;      /* leading entries that are composed chunks */
+    size_t pushed;      /* non-null parts pushed so far */
     uint64_t total;     /* elements pushed so far */
     bool too_long;      /* total passed MAX_COMPOSE_LEN: later parts dropped */
 } Parts;
@@ -44,19 +54,23 @@ typedef struct Parts {
 void parts_init(Parts *p);
 /* Grow [p] (full) to twice its capacity. */
 void parts_grow(Parts *p);
+/* Compose the PARTS_CHUNK parts after the chunks of [p] into one chunk. */
+void parts_collapse(Parts *p);
 
 static inline void parts_push(Parts *p, Vec *x)
 {
     if (!x) return;
     p->total += vec_len(x);
     /* a single part passes whole (builtins bound their own results) */
-    if (p->too_long || (p->n > 0 && p->total > MAX_COMPOSE_LEN)) {
+    if (p->too_long || (p->pushed > 0 && p->total > MAX_COMPOSE_LEN)) {
         p->too_long = true;
         vec_release(x);
         return;
     }
     if (p->n == p->cap) parts_grow(p);
     p->v[p->n++] = x;
+    p->pushed++;
+    if (p->n - p->chunks == PARTS_CHUNK) parts_collapse(p);
 }
 
 /* Compose the parts and release them; null with an execution error when

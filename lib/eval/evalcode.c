@@ -163,11 +163,12 @@ static uint32_t emit(CC *c, const AstNode *n)
     if (n->fast == 1 || numexpr_compile((AstNode *)n)) {
         const NumExpr *x = numexpr_of(n);
         size_t size = numexpr_size(x);
-        off = reserve(c, sizeof(CRec) + size);
+        bool memo = numexpr_memoizable(x);
+        off = reserve(c, sizeof(CRec) + size + (memo ? sizeof(CMemoHint) : 0));
         rec(c, off)->op = C_NUM;
         rec(c, off)->p.node = n;
         memcpy(c->buf + off + sizeof(CRec), x, size);
-        if (numexpr_memoizable(x)) {
+        if (memo) {
             rec(c, off)->op = C_MEMO;
             rec(c, off)->n = memo_cell(c, off);
             if (c->nmemo_recs == c->cap_memo_recs) {
@@ -290,15 +291,115 @@ static void share_memos(CC *c)
     free(renum);
 }
 
-/* The memo cells of [c]'s block, with the names each one reads. */
-static CMemo *make_memos(CC *c)
+/* Append offset [off] to [c]'s list of C_MEMO records. */
+static void push_memo_rec(CC *c, uint32_t off)
 {
-    if (!c->nmemos) return NULL;
-    CMemo *m = mem_calloc(c->nmemos, sizeof *m);
-    for (uint32_t i = 0; i < c->nmemo_recs; i++) {
-        const CRec *r = rec(c, c->memo_recs[i]);
-        if (r->op != C_MEMO || m[r->n].nkeys) continue;
-        m[r->n].nkeys = numexpr_globals((const NumExpr *)(const void *)(r + 1), m[r->n].names);
+    if (c->nmemo_recs == c->cap_memo_recs) {
+        c->cap_memo_recs = c->cap_memo_recs ? 2 * c->cap_memo_recs : 64;
+        c->memo_recs = mem_realloc_array(c->memo_recs, c->cap_memo_recs, sizeof *c->memo_recs);
+    }
+    c->memo_recs[c->nmemo_recs++] = off;
+}
+
+/* Copy the record at [off] of [c], and the records below it in the same
+ * order, to the end of [d]; returns its offset there. A C_MEMO record
+ * keeps only its header and gets room for its CMemoHint: its NumExpr,
+ * which [expr_src] (per cell) records the first place of, is kept once per
+ * cell after the code (finish_memos). The records that C_MEMOs went back
+ * to C_NUM (share_memos) lose the room they had for it. */
+static uint32_t relocate(const CC *c, CC *d, uint32_t off, uint32_t *expr_src)
+{
+    const CRec *r = crec(c->buf, off);
+    const uint32_t *k = (const uint32_t *)(const void *)(r + 1);
+    uint32_t o, t, count;
+    size_t size;
+    switch (r->op) {
+    case C_MEMO:
+        o = reserve(d, sizeof(CRec) + sizeof(CMemoHint));
+        *rec(d, o) = *r;
+        rec(d, o)->aux = (uint16_t)numexpr_depth((const NumExpr *)(const void *)(r + 1));
+        if (expr_src[r->n] == UINT32_MAX) expr_src[r->n] = off + (uint32_t)sizeof(CRec);
+        push_memo_rec(d, o);
+        return o;
+    case C_NUM:
+        size = sizeof(CRec) + numexpr_size((const NumExpr *)(const void *)(r + 1));
+        o = reserve(d, size);
+        memcpy(d->buf + o, r, size);
+        return o;
+    case C_SEQ:
+    case C_CALLBI:
+    case C_APPEND:
+        count = r->op == C_APPEND ? 2 : r->n;
+        o = reserve(d, sizeof(CRec) + count * sizeof(uint32_t));
+        *rec(d, o) = *r;
+        for (uint32_t i = 0; i < count; i++) {
+            t = relocate(c, d, k[i], expr_src);
+            ((uint32_t *)(void *)(d->buf + o + sizeof(CRec)))[i] = t;
+        }
+        return o;
+    case C_LET: {
+        const CLetTail *lt = (const CLetTail *)(const void *)(r + 1);
+        o = reserve(d, sizeof(CRec) + sizeof(CLetTail) + r->n * sizeof(CBind));
+        *rec(d, o) = *r;
+        for (uint32_t i = 0; i < r->n; i++) {
+            t = relocate(c, d, lt->binds[i].off, expr_src);
+            CLetTail *dt = (CLetTail *)(void *)(d->buf + o + sizeof(CRec));
+            dt->binds[i].slot = lt->binds[i].slot;
+            dt->binds[i].off = t;
+        }
+        t = relocate(c, d, lt->body, expr_src);
+        ((CLetTail *)(void *)(d->buf + o + sizeof(CRec)))->body = t;
+        return o;
+    }
+    case C_ATTRS:
+    case C_NEWNODE: {
+        const CAttrsTail *at = (const CAttrsTail *)(const void *)(r + 1);
+        o = reserve(d, sizeof(CRec) + sizeof(CAttrsTail) + r->n * sizeof(CAttr));
+        *rec(d, o) = *r;
+        t = r->op == C_ATTRS ? relocate(c, d, at->node, expr_src) : 0;
+        ((CAttrsTail *)(void *)(d->buf + o + sizeof(CRec)))->node = t;
+        for (uint32_t i = 0; i < r->n; i++) {
+            t = relocate(c, d, at->attrs[i].off, expr_src);
+            CAttrsTail *dt = (CAttrsTail *)(void *)(d->buf + o + sizeof(CRec));
+            dt->attrs[i].name = at->attrs[i].name;
+            dt->attrs[i].off = t;
+        }
+        return o;
+    }
+    default:   /* C_AST, C_LIT, C_LOCAL, C_GLOBAL */
+        o = reserve(d, sizeof(CRec));
+        *rec(d, o) = *r;
+        return o;
+    }
+}
+
+/* The CMemoHint of each C_MEMO record of [c] (relocated). */
+static void memo_hints(CC *c)
+{
+    uint32_t n = c->nmemo_recs;
+    for (uint32_t i = 0; i < n; i++) {
+        CMemoHint *h = (CMemoHint *)(void *)(c->buf + c->memo_recs[i] + sizeof(CRec));
+        h->cell_near = i + MEMO_AHEAD < n ? rec(c, c->memo_recs[i + MEMO_AHEAD])->n : CMEMO_NONE;
+        h->cell_far = i + 2 * MEMO_AHEAD < n ? rec(c, c->memo_recs[i + 2 * MEMO_AHEAD])->n : CMEMO_NONE;
+    }
+}
+
+/* The [nmemos] memo cells of the relocated block [d]: each cell's NumExpr
+ * (at [expr_src] in [c]) copied once after the code, the names it reads. */
+static CMemo *finish_memos(const CC *c, CC *d, uint32_t nmemos, const uint32_t *expr_src)
+{
+    if (!nmemos) return NULL;
+    size_t size = nmemos * sizeof(CMemo);   /* a multiple of 64 */
+    CMemo *m = aligned_alloc(64, size);
+    if (!m) mem_oom();
+    memset(m, 0, size);
+    for (uint32_t i = 0; i < nmemos; i++) {
+        const NumExpr *x = (const NumExpr *)(const void *)(c->buf + expr_src[i]);
+        size_t xs = numexpr_size(x);
+        uint32_t o = reserve(d, xs);
+        memcpy(d->buf + o, x, xs);
+        m[i].expr = o;
+        m[i].nkeys = numexpr_globals((const NumExpr *)(const void *)(d->buf + o), m[i].names);
     }
     return m;
 }
@@ -320,17 +421,27 @@ void evalcode_compile_tree(AstNode *n)
         compile_children(n);
         return;
     }
-    CC c = {0};
+    CC c = {0}, d = {0};
     emit(&c, n);
     share_memos(&c);
-    CBlock *b = mem_alloc(sizeof *b + c.len);
+    /* the block as it will run: the same records, C_MEMO ones without
+     * their NumExpr */
+    uint32_t *expr_src = mem_alloc((c.nmemos ? c.nmemos : 1) * sizeof *expr_src);
+    for (uint32_t i = 0; i < c.nmemos; i++) expr_src[i] = UINT32_MAX;
+    relocate(&c, &d, 0, expr_src);
+    memo_hints(&d);
+    CMemo *memos = finish_memos(&c, &d, c.nmemos, expr_src);
+    CBlock *b = mem_alloc(sizeof *b + d.len);
     b->nmemos = c.nmemos;
-    b->len = c.len;
-    b->memos = make_memos(&c);
-    memcpy(b->code, c.buf, c.len);
+    b->len = d.len;
+    b->memos = memos;
+    memcpy(b->code, d.buf, d.len);
+    free(expr_src);
     free(c.buf);
     free(c.memo_at);
     free(c.memo_recs);
+    free(d.buf);
+    free(d.memo_recs);
     n->aux = b;
     n->aux_free = cblock_free;
     n->fast = 2;

@@ -44,7 +44,10 @@ enum {
                    record of the block with the same instructions; the
                    result is kept there and handed out again while those
                    names hold the same numbers, bit for bit (not when it is
-                   NaN, where the identity of vectors matters, §3.6) */
+                   NaN, where the identity of vectors matters, §3.6). The
+                   NumExpr is kept once per cell, after the code (CMemo.expr),
+                   not in each record: a CMemoHint follows the header, and
+                   aux is the NumExpr's depth (numexpr_depth) */
     C_NEWNODE,  /* C_ATTRS on a literal bare node (no tags, attributes or
                    children; p.kind is its kind, borrowed from the AST): a
                    new node of that kind with the attributes set, the
@@ -57,7 +60,8 @@ struct Builtin;
  * of the block. Records are 8-byte aligned. */
 typedef struct CRec {
     uint8_t op;         /* C_* */
-    uint8_t pad[3];
+    uint8_t pad;
+    uint16_t aux;       /* C_MEMO: numexpr_depth of its NumExpr */
     uint32_t n;         /* per op */
     union {
         const AstNode *node;
@@ -90,13 +94,32 @@ typedef struct CAttrsTail {
     CAttr attrs[];      /* n of them, in order */
 } CAttrsTail;
 
-/* A memo cell of C_MEMO records. */
+/* A memo cell of C_MEMO records: 64 bytes, what a hit reads first (the
+ * cells are allocated on 64-byte boundaries, so a cell is one cache
+ * line). */
 typedef struct CMemo {
     Vec *value;                          /* last result (one reference), or NULL */
+    uint64_t keys[NUMEXPR_MEMO_KEYS];    /* its names' numbers' bits when [value] was made */
     int32_t nkeys;                       /* engine names read */
     int32_t names[NUMEXPR_MEMO_KEYS];    /* their indices (Globals) */
-    uint64_t keys[NUMEXPR_MEMO_KEYS];    /* their numbers' bits when [value] was made */
+    uint32_t expr;                       /* offset of the NumExpr in the block's code */
 } CMemo;
+_Static_assert(sizeof(CMemo) == 64, "a memo cell is one cache line");
+
+/* After the header of a C_MEMO record: which cells the C_MEMO records
+ * MEMO_AHEAD and 2*MEMO_AHEAD places further in the block's code use
+ * (CMEMO_NONE: none). A region has no branches, so its records run in code
+ * order: running this record, the runner asks for the farther cell and for
+ * the value kept in the nearer one (asked for MEMO_AHEAD records ago), so
+ * that neither is a cache miss by the time it is used. Only a hint: a
+ * wrong or stale one costs a wasted fetch, nothing else. */
+typedef struct CMemoHint {
+    uint32_t cell_far;      /* cell of the record 2*MEMO_AHEAD places on */
+    uint32_t cell_near;     /* cell of the record MEMO_AHEAD places on */
+} CMemoHint;
+
+#define MEMO_AHEAD 8
+#define CMEMO_NONE UINT32_MAX
 
 /* A compiled region: AstNode.aux of its root (n->fast == 2). */
 typedef struct CBlock {

@@ -15,18 +15,23 @@
 #include "node.h"
 #include "pool.h"
 
-static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off);
+static Vec *run_rec(Eval *ev, const unsigned char *base, const CRec *r);
 
 /* C_MEMO: C_NUM, its result kept in the block's memo cell and handed out
  * again while the engine names it reads hold the same numbers. A kept
  * vector is shared, which nothing can tell from a new one with the same
  * numbers (§3.6 rule 1 only matters for NaN, never kept). */
-static Vec *run_memo(Eval *ev, const CRec *r)
+__attribute__((noinline)) static Vec *run_memo(Eval *ev, const unsigned char *base, const CRec *r)
 {
-    const NumExpr *x = (const NumExpr *)(const void *)(r + 1);
     CMemo *m = &ev->memos[r->n];
     uint64_t keys[NUMEXPR_MEMO_KEYS];
-    if (!ev->globals || ev->depth + numexpr_depth(x) > MAX_EVAL_DEPTH)
+    /* the cells (and their values) the coming C_MEMO records will read are
+     * usually cold: ask for them now (evalcode.h CMemoHint) */
+    const CMemoHint *h = (const CMemoHint *)(const void *)(r + 1);
+    if (h->cell_far != CMEMO_NONE) __builtin_prefetch(&ev->memos[h->cell_far]);
+    if (h->cell_near != CMEMO_NONE) __builtin_prefetch(ev->memos[h->cell_near].value, 1);
+    const NumExpr *x = (const NumExpr *)(const void *)(base + m->expr);
+    if (!ev->globals || ev->depth + r->aux > MAX_EVAL_DEPTH)
         return run_num(ev, r->p.node, x);
     bool same = m->value != NULL;
     for (int32_t k = 0; k < m->nkeys; k++) {
@@ -42,7 +47,7 @@ static Vec *run_memo(Eval *ev, const CRec *r)
             if (isnan(vec_cnums(v)[i])) return v;
         vec_release(m->value);
         m->value = vec_retain(v);
-        memcpy(m->keys, keys, (size_t)m->nkeys * sizeof keys[0]);
+        for (int32_t k = 0; k < m->nkeys; k++) m->keys[k] = keys[k];
     }
     return v;
 }
@@ -61,34 +66,62 @@ static inline bool depth_enter(Eval *ev)
 
 static const uint32_t *rec_offs(const CRec *r) { return (const uint32_t *)(const void *)(r + 1); }
 
+/* The value of the record at [off]: the leaves here, inline in the
+ * composite records' loops; the composite records in run_rec (out of line,
+ * with the depth guard eval_node would apply). */
+static inline Vec *run_val(Eval *ev, const unsigned char *base, uint32_t off)
+{
+    const CRec *r = crec(base, off);
+    switch (r->op) {
+    case C_LIT: return vec_retain(r->p.lit);
+    case C_LOCAL: return vec_retain(ev->frame[r->n]);
+    case C_GLOBAL: return ev->globals ? vec_retain(ev->globals->values[r->n]) : NULL;
+    case C_NUM: return run_num(ev, r->p.node, (const NumExpr *)(const void *)(r + 1));
+    case C_MEMO: return run_memo(ev, base, r);
+    /* a C_AST node is never a literal, a name or compiled (those have
+     * records of their own): eval() would call eval_node */
+    case C_AST: return eval_node(ev, r->p.node);
+    default: return run_rec(ev, base, r);
+    }
+}
+
 /* C_SEQ: eval_sequence */
-static Vec *run_seq(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_seq(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
-    if (r->n == 1) return run_rec(ev, base, k[0]);
+    if (r->n == 1) return run_val(ev, base, k[0]);
     Parts parts;
     parts_init(&parts);
-    for (uint32_t i = 0; i < r->n; i++) parts_push(&parts, run_rec(ev, base, k[i]));
+    for (uint32_t i = 0; i < r->n; i++) parts_push(&parts, run_val(ev, base, k[i]));
     return parts_finish(ev, &parts);
 }
 
-/* C_LET: eval_let of single-name, non-stable bindings */
+/* C_LET: eval_let of single-name, non-stable bindings; then, unlike
+ * eval_let (which leaves a value in its slot until the slot is bound again
+ * or the frame ends), the bound values are released as soon as the body is
+ * done. Nothing can read them any more: the names are lexically scoped
+ * (program.c resolves nothing outside the body to these slots). A block
+ * released now is reused while it is still in the cache, and an unrolled
+ * program (a slot per copy of a loop body) does not keep every copy's
+ * values alive, and cold, until the end of the frame. */
 static Vec *run_let(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
-    for (uint32_t i = 0; i < r->n; i++) set_slot(ev, t->binds[i].slot, run_rec(ev, base, t->binds[i].off));
-    return run_rec(ev, base, t->body);
+    for (uint32_t i = 0; i < r->n; i++) set_slot(ev, t->binds[i].slot, run_val(ev, base, t->binds[i].off));
+    Vec *v = run_val(ev, base, t->body);
+    for (uint32_t i = 0; i < r->n; i++) set_slot(ev, t->binds[i].slot, NULL);
+    return v;
 }
 
 /* C_ATTRS: eval_attributes */
-static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
-    Vec *v = run_rec(ev, base, t->node);
+    Vec *v = run_val(ev, base, t->node);
     Vec *small[16];
     Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
     if (!vals) mem_oom();
-    for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
+    for (uint32_t k = 0; k < r->n; k++) vals[k] = run_val(ev, base, t->attrs[k].off);
     if (has_nodes(v)) {
         v = vec_unshare(v);
         Elem *e = vec_elems(v);
@@ -106,33 +139,23 @@ static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
 
 /* C_NEWNODE: eval_attributes on a literal bare node, which it would copy
  * (it is shared) before setting the attributes: the same node, built
- * directly */
+ * directly, with its attribute slots in its own block. The values are
+ * evaluated in order, as there; the names are distinct (evalcode.c
+ * checks), so each one is set without a search. */
 static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
-    Vec *small[16];
-    Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
-    if (!vals) mem_oom();
-    for (uint32_t k = 0; k < r->n; k++) vals[k] = run_rec(ev, base, t->attrs[k].off);
-    Node *nn = node_new(r->p.kind);
-    if (r->n <= 16) {
-        /* distinct names (evalcode.c checks): set them all at once */
-        Str *names[16];
-        for (uint32_t k = 0; k < r->n; k++) names[k] = t->attrs[k].name;
-        node_init_attrs(nn, r->n, names, vals);
-    } else {
-        for (uint32_t k = 0; k < r->n; k++) node_set_attr(nn, t->attrs[k].name, vals[k]);
-    }
-    if (vals != small) free(vals);
+    Node *nn = node_new_sized(r->p.kind, r->n);
+    for (uint32_t k = 0; k < r->n; k++) node_add_new_attr(nn, t->attrs[k].name, run_val(ev, base, t->attrs[k].off));
     return vec_node_take(nn);
 }
 
 /* C_CALLBI: eval_call's direct route for a builtin callee */
-static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
     Vec *args[8];
-    for (uint32_t i = 0; i < r->n; i++) args[i] = run_rec(ev, base, k[i]);
+    for (uint32_t i = 0; i < r->n; i++) args[i] = run_val(ev, base, k[i]);
     Args a = {args, r->n, NULL, NULL, 0};
     Vec *v = call_builtin(ev, r->p.bi, &a);
     for (uint32_t i = 0; i < r->n; i++) vec_release(args[i]);
@@ -143,26 +166,20 @@ static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
 static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
-    Vec *p = run_rec(ev, base, k[0]);
-    Vec *c = run_rec(ev, base, k[1]);
+    Vec *p = run_val(ev, base, k[0]);
+    Vec *c = run_val(ev, base, k[1]);
     return append_nodes(p, c);
 }
 
-static Vec *run_rec(Eval *ev, const unsigned char *base, uint32_t off)
+/* A composite record (C_SEQ, C_LET, C_ATTRS, C_CALLBI, C_APPEND,
+ * C_NEWNODE), inside eval_node's depth guard. Every level of a deep
+ * program (up to MAX_EVAL_DEPTH) has this frame on the C stack: the
+ * records with arrays of their own (run_seq, run_attrs, run_callbi) are
+ * kept out of it, so it stays small (also under the sanitizers, which pad
+ * every local array). */
+__attribute__((noinline)) static Vec *run_rec(Eval *ev, const unsigned char *base, const CRec *r)
 {
-    const CRec *r = crec(base, off);
     Vec *v;
-    switch (r->op) {
-    case C_LIT: return vec_retain(r->p.lit);
-    case C_LOCAL: return vec_retain(ev->frame[r->n]);
-    case C_GLOBAL: return ev->globals ? vec_retain(ev->globals->values[r->n]) : NULL;
-    case C_NUM: return run_num(ev, r->p.node, (const NumExpr *)(const void *)(r + 1));
-    case C_MEMO: return run_memo(ev, r);
-    /* a C_AST node is never a literal, a name or compiled (those have
-     * records of their own): eval() would call eval_node */
-    case C_AST: return eval_node(ev, r->p.node);
-    default: break;
-    }
     if (!depth_enter(ev)) return NULL;
     switch (r->op) {
     case C_SEQ: v = run_seq(ev, base, r); break;
@@ -182,7 +199,7 @@ Vec *eval_code(Eval *ev, const AstNode *n)
     CBlock *b = n->aux;
     CMemo *saved = ev->memos;
     ev->memos = b->memos;
-    Vec *v = run_rec(ev, b->code, 0);
+    Vec *v = run_val(ev, b->code, 0);
     ev->memos = saved;
     return v;
 }

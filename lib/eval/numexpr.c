@@ -9,6 +9,7 @@
 #include "numexpr.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -40,16 +41,16 @@ typedef struct NxIns {
     };
 } NxIns;
 
+/* The head first (numexpr.h reads it through a pointer to the struct,
+ * which points to its first member). */
 struct NumExpr {
-    uint32_t nins;      /* instructions (the last is NX_END) */
-    uint32_t nout;      /* numbers produced */
-    uint32_t depth;     /* generic eval_node nesting of the subtree */
+    NumExprHead h;
     NxIns ins[];
 };
 
-uint32_t numexpr_outputs(const NumExpr *x) { return x->nout; }
-size_t numexpr_size(const NumExpr *x) { return sizeof *x + x->nins * sizeof(NxIns); }
-uint32_t numexpr_depth(const NumExpr *x) { return x->depth; }
+_Static_assert(sizeof(NxIns) == NUMEXPR_INS_SIZE && offsetof(NumExpr, ins) == NUMEXPR_HEAD_SIZE &&
+                   sizeof(NumExpr) == NUMEXPR_HEAD_SIZE,
+               "numexpr.h's numexpr_size");
 
 /* ====================================================================
  * Compiling
@@ -247,9 +248,9 @@ bool numexpr_compile(AstNode *n)
         return false;
     }
     NumExpr *x = mem_calloc(1, sizeof *x + c.n * sizeof(NxIns));   /* padding zero too */
-    x->nins = c.n;
-    x->nout = nout;
-    x->depth = depth;
+    x->h.nins = c.n;
+    x->h.nout = nout;
+    x->h.depth = depth;
     memcpy(x->ins, c.ins, c.n * sizeof(NxIns));
     free(c.ins);
     n->aux = x;
@@ -266,7 +267,7 @@ bool numexpr_compile(AstNode *n)
 bool numexpr_memoizable(const NumExpr *x)
 {
     uint32_t globals = 0;
-    for (uint32_t i = 0; i < x->nins; i++) {
+    for (uint32_t i = 0; i < x->h.nins; i++) {
         if (x->ins[i].op == NX_LOCAL) return false;
         if (x->ins[i].op == NX_GLOBAL) globals++;
     }
@@ -276,7 +277,7 @@ bool numexpr_memoizable(const NumExpr *x)
 int numexpr_globals(const NumExpr *x, int32_t *idx)
 {
     int k = 0;
-    for (uint32_t i = 0; i < x->nins && k < NUMEXPR_MEMO_KEYS; i++)
+    for (uint32_t i = 0; i < x->h.nins && k < NUMEXPR_MEMO_KEYS; i++)
         if (x->ins[i].op == NX_GLOBAL) idx[k++] = x->ins[i].arg;
     return k;
 }
@@ -314,6 +315,7 @@ bool numexpr_run(const NumExpr *x, Eval *ev, double *out)
     double *sp = st, t = 0.0, a;
     const Vec *v;
     const NxIns *i = x->ins;
+    const uint32_t nout = x->h.nout;
 #define NEXT goto *code[(++i)->op]
     goto *code[i->op];
 l_const: *sp++ = t; t = i->k; NEXT;
@@ -355,7 +357,15 @@ l_divk: t = t / i->k; NEXT;
 l_end:
 #undef NEXT
     /* the outputs: st[1..nout-1], then t */
-    for (uint32_t k = 1; k < x->nout; k++) out[k - 1] = st[k];
-    out[x->nout - 1] = t;
+    if (nout <= 4) {
+        /* one by one: a memcpy call (what the loop compiles to) costs
+         * more than the one to three numbers it would copy */
+        if (nout >= 4) out[2] = st[3];
+        if (nout >= 3) out[1] = st[2];
+        if (nout >= 2) out[0] = st[1];
+    } else {
+        memcpy(out, st + 1, (nout - 1) * sizeof *out);
+    }
+    out[nout - 1] = t;
     return true;
 }

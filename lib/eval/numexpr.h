@@ -47,17 +47,38 @@ bool numexpr_compile(AstNode *n);
 /* The compiled expression of [n] (n->fast must be set). */
 static inline const NumExpr *numexpr_of(const AstNode *n) { return (const NumExpr *)n->aux; }
 
-/* The size in bytes of [x]; a byte copy of it (8-byte aligned) is a
- * NumExpr too (evalcode.h copies them into its blocks). */
-size_t numexpr_size(const NumExpr *x);
+/* The first member of every NumExpr (numexpr.c has the instructions that
+ * follow), here so that the getters below are inline. */
+typedef struct NumExprHead {
+    uint32_t nins;      /* instructions (the last is NX_END) */
+    uint32_t nout;      /* numbers produced */
+    uint32_t depth;     /* generic eval_node nesting of the subtree */
+} NumExprHead;
+
+/* Bytes of the head (padded) and of each instruction (numexpr.c checks). */
+#define NUMEXPR_HEAD_SIZE 16
+#define NUMEXPR_INS_SIZE 16
+
+/* The size in bytes of [x] (a multiple of 8); a byte copy of it (8-byte
+ * aligned) is a NumExpr too (evalcode.h copies them into its blocks). */
+static inline size_t numexpr_size(const NumExpr *x)
+{
+    return NUMEXPR_HEAD_SIZE + (size_t)((const NumExprHead *)(const void *)x)->nins * NUMEXPR_INS_SIZE;
+}
 
 /* How many numbers [x] produces (1, or the length of a compiled sequence). */
-uint32_t numexpr_outputs(const NumExpr *x);
+static inline uint32_t numexpr_outputs(const NumExpr *x)
+{
+    return ((const NumExprHead *)(const void *)x)->nout;
+}
 
 /* How deep the generic evaluator would nest (eval_node levels) to evaluate
  * [x]'s subtree: the caller checks its depth limit with it first, so a
  * stack overflow happens exactly where the generic route would have it. */
-uint32_t numexpr_depth(const NumExpr *x);
+static inline uint32_t numexpr_depth(const NumExpr *x)
+{
+    return ((const NumExprHead *)(const void *)x)->depth;
+}
 
 /* Most engine names a memoizable expression may read. */
 #define NUMEXPR_MEMO_KEYS 4

@@ -214,6 +214,76 @@ static void test_hsv_hsl(void **state)
     check_no_error(fx);
 }
 
+/* hsl/hsv as written before the remainder shortcut (colour.c mod6): every
+ * hue through fmod, the rest the same operations in the same order. */
+static double ref_hue_to_rgb(double m1, double m2, double t)
+{
+    t = fmod(t, 6);
+    if (t < 0)
+        t += 6;
+    if (t < 1)
+        return m1 + (m2 - m1) * t;
+    if (t < 3)
+        return m2;
+    if (t < 4)
+        return m1 + (m2 - m1) * (4 - t);
+    return m1;
+}
+
+/* hsl of [s] and [l] in [0, 1] (no clamping needed) */
+static void ref_hsl(double h, double s, double l, double out[3])
+{
+    double m2 = (l <= 0.5) ? l * (s + 1) : l + s - l * s;
+    double m1 = l * 2 - m2;
+    h *= 6;
+    out[0] = ref_hue_to_rgb(m1, m2, h + 2);
+    out[1] = ref_hue_to_rgb(m1, m2, h);
+    out[2] = ref_hue_to_rgb(m1, m2, h - 2);
+}
+
+/* hsl() bit for bit against the fmod formulation, at the edges of the
+ * remainder's shortcuts (|6h +- 2| near 0, 6, 12, signed zeros, huge,
+ * infinite and NaN hues) and at random hues. */
+static void test_hsl_fmod_bits(void **state)
+{
+    Fx *fx = *state;
+    double hues[600];
+    size_t n = 0;
+    const double edges[] = {0.0, -0.0, 1.0, -1.0, 2.0, -2.0, 4.0, -4.0, 6.0, -6.0, 8.0, -8.0,
+                            10.0, -10.0, 12.0, -12.0, 14.0, -14.0, 1e300, -1e300, INFINITY,
+                            -INFINITY, NAN};
+    for (size_t i = 0; i < sizeof edges / sizeof edges[0]; i++) {
+        /* hues whose 6h, 6h+2 or 6h-2 land on or next to the edge */
+        for (int d = -2; d <= 2; d += 2) {
+            double h = (edges[i] - d) / 6;
+            hues[n++] = h;
+            hues[n++] = nextafter(h, INFINITY);
+            hues[n++] = nextafter(h, -INFINITY);
+        }
+    }
+    uint64_t x = 0x9e3779b97f4a7c15u;
+    while (n < sizeof hues / sizeof hues[0]) {
+        x ^= x << 13; x ^= x >> 7; x ^= x << 17;
+        hues[n++] = ((double)(x >> 11) / 9007199254740992.0) * 6 - 3;   /* [-3, 3) */
+    }
+    for (size_t i = 0; i < n; i++) {
+        double ref[3];
+        ref_hsl(hues[i], 0.8, 0.4, ref);
+        Vec *v = call(fx, "hsl", 1, nums(3, hues[i], 0.8, 0.4));
+        assert_non_null(v);
+        assert_int_equal(v->len, 3);
+        for (int k = 0; k < 3; k++) {
+            uint64_t a, b;
+            memcpy(&a, &vec_nums(v)[k], sizeof a);
+            memcpy(&b, &ref[k], sizeof b);
+            if (a != b)
+                fail_msg("hsl(%a;0.8;0.4)[%d]: %a, fmod gives %a", hues[i], k, vec_nums(v)[k], ref[k]);
+        }
+        vec_release(v);
+    }
+    check_no_error(fx);
+}
+
 static void test_colortemp(void **state)
 {
     Fx *fx = *state;
@@ -524,6 +594,7 @@ int main(void)
 #define T(f) cmocka_unit_test_setup_teardown(f, fx_setup, fx_teardown)
     const struct CMUnitTest tests[] = {
         T(test_hsv_hsl),
+        T(test_hsl_fmod_bits),
         T(test_colortemp),
         T(test_oklab),
         T(test_chr_ord),

@@ -282,6 +282,38 @@ static void test_memo(void **s)
     }
 }
 
+/* Sequences longer than PARTS_CHUNK (eval_internal.h), composed a chunk at
+ * a time: numbers stay a numeric vector, numbers and strings an object
+ * vector, nodes stay in order, and a sequence whose only non-empty part is
+ * one vector (among 99 empty streams or nulls) is that very vector, so that
+ * comparing it with itself is 1 even though it holds NaN (§3.6 rule 1). */
+static void test_long_sequences(void **s)
+{
+    (void)s;
+    const char *src = "let n=time+0/0\n"
+                      "    s=((uniform(k) if k != 70 else n) for k in ..100)\n"
+                      "    u=((null if k != 3 else n) for k in ..100)\n"
+                      "    x=((k if k%3 else \"s\") for k in ..150)\n"
+                      "!m a=s==n b=u==n c=s==(time+0/0) d=x\n"
+                      "!v x=(k*time+k for k in ..130)\n"
+                      "!g\n"
+                      "    for i in ..150\n"
+                      "        !c i=i\n";
+    Buf want = BUF_INIT;
+    buf_puts(&want, "!root\n !m a=1 b=1 c=0 d=");
+    for (int k = 0; k < 150; k++) {
+        if (k) buf_putc(&want, ';');
+        if (k % 3) buf_printf(&want, "%d", k);
+        else buf_puts(&want, "\"s\"");
+    }
+    buf_puts(&want, "\n !v x=");
+    for (int k = 0; k < 130; k++) buf_printf(&want, k ? ";%d" : "%d", k);
+    buf_puts(&want, "\n !g\n");
+    for (int i = 0; i < 150; i++) buf_printf(&want, "  !c i=%d\n", i);
+    expect4(src, buf_cstr(&want));
+    buf_free(&want);
+}
+
 /* Compilation marks nodes (AstNode.fast) unless FLITTER_NOFAST is set. */
 static int count_fast(const AstNode *n)
 {
@@ -324,6 +356,7 @@ int main(void)
         cmocka_unit_test(test_limits_same),
         cmocka_unit_test(test_random_expressions),
         cmocka_unit_test(test_memo),
+        cmocka_unit_test(test_long_sequences),
         cmocka_unit_test(test_route_taken),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
