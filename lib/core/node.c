@@ -77,18 +77,21 @@ static void node_free(Node *n)
      * pipeline the chase over the children: while child i is freed, the
      * attribute values of child i+D3 are fetched (its attribute array
      * asked for D2-D3 children earlier, itself D1-D2 earlier still), so
-     * that each level has arrived by the time the next one is read. */
+     * that each level has arrived by the time the next one is read. A
+     * child held elsewhere too (refs > 1: a static subtree shared with the
+     * program, say) is only decremented, so its attributes are left
+     * alone. */
     enum { D1 = 30, D2 = 18, D3 = 8 };
     Node **ch = n->children;
     uint32_t nc = n->nchildren;
     for (uint32_t i = 0; i < nc; i++) {
         if (i + D1 < nc) __builtin_prefetch(ch[i + D1], 1);
-        if (i + D2 < nc && ch[i + D2]->nattrs) {
+        if (i + D2 < nc && ch[i + D2]->refs == 1 && ch[i + D2]->nattrs) {
             const Node *c = ch[i + D2];
             __builtin_prefetch(c->attrs, 1);
             __builtin_prefetch((const char *)(c->attrs + c->nattrs) - 1, 1);
         }
-        if (i + D3 < nc) {
+        if (i + D3 < nc && ch[i + D3]->refs == 1) {
             const Node *c = ch[i + D3];
             for (uint32_t k = 0; k < c->nattrs; k++) __builtin_prefetch(c->attrs[k].value, 1);
         }

@@ -107,10 +107,10 @@ void phys_keys_sweep(PhysSystem *s)
 {
     size_t k = 0;
     for (size_t i = 0; i < s->nkent; i++) {
-        if (s->kent[i].seen == s->kframe)
-            s->kent[k++] = s->kent[i];
-        else
+        if (s->kent[i].seen != s->kframe)
             release_ent(&s->kent[i]);
+        else if (k++ != i)
+            s->kent[k - 1] = s->kent[i];
     }
     if (k != s->nkent) {
         s->nkent = k;
