@@ -97,6 +97,17 @@ static void test_squares(void **st)
     double u = rng_uniform(HASH_START, 0);
     assert_true(same(u, 0.11377270426292592));
     assert_true(same(u, (double)rng_squares(0, HASH_START) / 18446744073709551616.0));
+    /* rng_uniform converts the 64-bit output without the compiler's
+     * unsigned conversion: the same bits as the cast, over a million
+     * outputs (half of them 2^63 and up, about 250 of those exactly
+     * halfway between two doubles, so both ways a tie can go) */
+    uint64_t key = 0x9e3779b97f4a7c15u;
+    for (uint64_t i = 0; i < 1000000; i++) {
+        double a = rng_uniform(key, i);
+        double b = (double)rng_squares(i, key) / 18446744073709551616.0;
+        assert_memory_equal(&a, &b, sizeof a);
+        key = key * 6364136223846793005u + 1442695040888963407u;
+    }
 }
 
 static void test_uniform_vectors(void **st)
