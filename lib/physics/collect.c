@@ -268,8 +268,9 @@ static size_t new_group(PhysSystem *s, ptrdiff_t parent)
  * [doc] ease (if e > 0 and clock < e, scaled by clock / e, fixed for the
  * whole frame), and a !random's source: normal(seed), seed = P;run;iteration
  * for the first !random of the frame and seed;0 for each further one
- * (§3/§5), its draws from index 0. Called for every applier in collection
- * order. */
+ * (§3/§5), its draws from index 0. Called in collection order for every
+ * applier of a fresh walk, and for those with an ease or a !random source
+ * (s->clocked) when the tree is the same as last frame's. */
 static void applier_clock(PhysApplier *ap, PhysCollect *c)
 {
     double strength = ap->strength0, e = ap->ease;
@@ -295,7 +296,7 @@ static void applier_clock(PhysApplier *ap, PhysCollect *c)
     c->seed = seed;
     ap->key = vec_hash(seed, true);
     ap->index = 0;
-    ap->pair_ok = false;
+    ap->pair_at = UINT64_MAX;
 }
 
 /* §3 "every other child": a force applier or barrier of group [group],

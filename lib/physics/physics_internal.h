@@ -87,9 +87,9 @@ typedef struct PhysApplier {
     ptrdiff_t to;
     uint64_t key;          /* random: normal() stream key */
     uint64_t index;        /* random: next draw index (0 at frame start) */
-    uint64_t pair_at;      /* random: the even index of the draws in pair */
-    double pair[2];        /* ... rng_normal_pair()'s, when pair_ok */
-    bool pair_ok;
+    uint64_t pair_at;      /* random: the even index of the draws in pair
+                            * (odd, UINT64_MAX: none yet) */
+    double pair[2];        /* ... rng_normal_pair()'s */
     size_t vec;            /* offset of this applier's 2*D doubles in avec:
                             * drag flow | buoyancy gravity | constant force,
                             * acceleration | field direction | barrier

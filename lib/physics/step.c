@@ -174,10 +174,9 @@ apply_particle(PhysSystem *s, PhysApplier *ap, size_t p, double delta,
          * kept once made) */
         for (size_t i = 0; i < D; i++) {
             const uint64_t e = ap->index & ~(uint64_t)1;
-            if (!ap->pair_ok || ap->pair_at != e) {
+            if (ap->pair_at != e) {
                 rng_normal_pair(ap->key, e, ap->pair);
                 ap->pair_at = e;
-                ap->pair_ok = true;
             }
             F[i] = F[i] + ap->strength * ap->pair[ap->index & 1];
             ap->index++;
