@@ -100,6 +100,9 @@ typedef struct fl_options {
                                 the frame early and discards it (NULL: none) */
     int threads;         /* physics threads (--threads); 0: FLITTER_THREADS, else every core */
     int pairs;           /* physics pair route (--pairs): FL_PAIRS_* */
+    int particles;       /* physics particle-pass route (--particles): FL_PARTICLES_* */
+    int physics;         /* physics behaviour (--physics): FL_PHYSICS_*; the
+                            script's `%pragma physics` overrides it */
     bool no_simplify;    /* --nosimplify: run the program as parsed, without the
                             load-time simplifier (LANGUAGE.md §4.17) */
     fl_log_fn log;       /* message lines; NULL: errors and warnings to stderr,
@@ -115,6 +118,24 @@ enum {
     FL_PAIRS_NAIVE         /* the reference all-pairs loop, one thread */
 };
 
+/* fl_options.particles: the route of the physics particle pass (the
+ * per-particle appliers, barriers and the step). Every route gives the
+ * same bits. */
+enum {
+    FL_PARTICLES_DEFAULT = 0,  /* FLITTER_PARTICLES=literal selects literal, else fast */
+    FL_PARTICLES_FAST,         /* compiled per dimension count, threads where they apply */
+    FL_PARTICLES_LITERAL       /* PHYSICS-ENGINE.md §4 as written, one particle at a time */
+};
+
+/* fl_options.physics: which physics. Flitter 1.0.0b28 departs from its own
+ * documentation (PHYSICS.md) at four places (PHYSICS-ENGINE.md [doc]):
+ * the ease of force appliers and of a particle's own force, !field's
+ * charge, and a barrier's max without a min. */
+enum {
+    FL_PHYSICS_DOCUMENTED = 0, /* PHYSICS.md: what Flitter documents (the default) */
+    FL_PHYSICS_UPSTREAM        /* what Flitter 1.0.0b28 does, bit for bit */
+};
+
 /* The defaults: 60 fps, unknown frames, lockstep, 10000 physics steps per
  * frame, no interrupt flag, threads and pair route from the environment,
  * simplifier on, default log and error output. Start from these and change
@@ -124,6 +145,12 @@ FL_API fl_options fl_default_options(void);
 /* Parse a --pairs value ("naive" or "fast") into *[out] (FL_PAIRS_*);
  * returns false, leaving *[out] alone, for anything else. */
 FL_API bool fl_parse_pairs(const char *text, int *out);
+/* Parse a --particles value ("literal" or "fast") into *[out]
+ * (FL_PARTICLES_*); returns false, leaving *[out] alone, for anything else. */
+FL_API bool fl_parse_particles(const char *text, int *out);
+/* Parse a --physics value ("documented" or "upstream") into *[out]
+ * (FL_PHYSICS_*); returns false, leaving *[out] alone, for anything else. */
+FL_API bool fl_parse_physics(const char *text, int *out);
 
 /* A new runtime with empty state and no program; [opts] NULL means
  * fl_default_options(). The options are copied.

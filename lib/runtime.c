@@ -70,6 +70,8 @@ struct fl_runtime {
     double frame_time;      /* `time` of the next frame, seconds */
     double last_time;       /* `time` of the last evaluated frame */
     double target_fps;      /* frame rate, after pragmas */
+    bool upstream;          /* Flitter 1.0.0b28's physics, after pragmas
+                               (fl_options.physics, `%pragma physics`) */
     double period;          /* beat clock: seconds per beat */
     double quantum;         /* beat clock: beats per bar */
     double start;           /* beat clock: time of beat 0 */
@@ -151,6 +153,28 @@ bool fl_parse_pairs(const char *text, int *out)
     return true;
 }
 
+bool fl_parse_particles(const char *text, int *out)
+{
+    if (!strcmp(text, "literal"))
+        *out = FL_PARTICLES_LITERAL;
+    else if (!strcmp(text, "fast"))
+        *out = FL_PARTICLES_FAST;
+    else
+        return false;
+    return true;
+}
+
+bool fl_parse_physics(const char *text, int *out)
+{
+    if (!strcmp(text, "documented"))
+        *out = FL_PHYSICS_DOCUMENTED;
+    else if (!strcmp(text, "upstream"))
+        *out = FL_PHYSICS_UPSTREAM;
+    else
+        return false;
+    return true;
+}
+
 static double monotonic(void)
 {
     struct timespec ts;
@@ -174,6 +198,9 @@ fl_runtime *fl_new(const fl_options *opts)
         phys_set_threads(rt->physics, (unsigned)rt->opts.threads);
     if (rt->opts.pairs != FL_PAIRS_DEFAULT)
         phys_set_pairs(rt->physics, rt->opts.pairs == FL_PAIRS_NAIVE);
+    if (rt->opts.particles != FL_PARTICLES_DEFAULT)
+        phys_set_particles(rt->physics, rt->opts.particles == FL_PARTICLES_LITERAL);
+    rt->upstream = rt->opts.physics == FL_PHYSICS_UPSTREAM;
     rt->modules = module_cache_new();
     rt->stables = stable_new();
     rt->counter_key = vec_str("_counter", 8);
@@ -379,13 +406,39 @@ static void set_quantum(fl_runtime *rt, double q, double t)
     rt->start -= adj * rt->period;
 }
 
+/* [v] is the symbol :[word] or the string [word]. */
+static bool pragma_word(const Vec *v, const char *word)
+{
+    if (vec_is_scalar(v))
+        return vec_scalar(v) == symbol_value(word, strlen(word));
+    if (!vec_is_obj(v) || v->len != 1 || vec_celems(v)[0].kind != EL_STR) return false;
+    return strcmp(vec_celems(v)[0].str->bytes, word) == 0;
+}
+
 /* Apply the program's pragmas at load (LANGUAGE.md §6.4). */
 static void apply_pragmas(fl_runtime *rt)
 {
     bool fresh = state_get(rt->state, rt->counter_key) == NULL;
     double fps = rt->opts.fps;
+    bool upstream = rt->opts.physics == FL_PHYSICS_UPSTREAM;
     for (uint32_t i = 0; i < rt->prog->npragmas; i++) {
         const Pragma *p = &rt->prog->pragmas[i];
+        if (strcmp(p->name->bytes, "physics") == 0) {
+            /* `%pragma physics :upstream` / `:documented` (a symbol or a
+             * string): which physics (flitter.h, FL_PHYSICS_*) */
+            int mode;
+            if (pragma_word(p->value, "documented"))
+                mode = FL_PHYSICS_DOCUMENTED;
+            else if (pragma_word(p->value, "upstream"))
+                mode = FL_PHYSICS_UPSTREAM;
+            else {
+                emit(rt, FL_LOG_WARNING, "%s: warning: %%pragma physics: expected :documented "
+                     "or :upstream; ignored", rt->prog->path);
+                continue;
+            }
+            upstream = mode == FL_PHYSICS_UPSTREAM;
+            continue;
+        }
         if (!vec_is_scalar(p->value)) continue;
         double x = vec_scalar(p->value);
         bool clock_pragma = strcmp(p->name->bytes, "fps") == 0
@@ -406,6 +459,7 @@ static void apply_pragmas(fl_runtime *rt)
         }
     }
     rt->target_fps = fps;
+    rt->upstream = upstream;
 }
 
 /* ====================================================================
@@ -444,7 +498,7 @@ static void run_physics(fl_runtime *rt, Node *const *nodes, size_t n, double t)
     PhysicsFrame pf = {.time = t, .fps = rt->target_fps, .realtime = rt->opts.realtime,
                        .performance = 2.0, .max_steps = rt->opts.max_physics_steps,
                        .interrupt = rt->opts.interrupt, .nonfinite = &nonfinite,
-                       .capped = &capped};
+                       .capped = &capped, .upstream = rt->upstream};
     phys_run_frame(rt->physics, nodes, n, rt->state, &pf);
     if (nonfinite && !rt->warned_nonfinite)
         emit(rt, FL_LOG_ERROR, "Physics error: non-finite time or resolution; frame skipped");

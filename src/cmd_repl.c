@@ -521,6 +521,9 @@ static void repl_usage(FILE *f)
           "  -D, --define NAME=VALUE  bind NAME before evaluation\n"
           "  --threads N         physics threads (default: FLITTER_THREADS, else all cores)\n"
           "  --pairs naive|fast  physics pair loop (default fast; same results)\n"
+          "  --particles literal|fast  physics particle pass (default fast; same results)\n"
+          "  --physics documented|upstream  PHYSICS.md (default) or Flitter 1.0.0b28's\n"
+          "                      published behaviour (%pragma physics overrides it)\n"
           "  --nosimplify        run scripts as parsed, without the load-time simplifier\n"
           "Type :help in the session for its commands.\n",
           f);
@@ -536,6 +539,8 @@ static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
         {"define", required_argument, NULL, 'D'},
         {"threads", required_argument, NULL, 't'},
         {"pairs", required_argument, NULL, 'p'},
+        {"particles", required_argument, NULL, 'P'},
+        {"physics", required_argument, NULL, 'y'},
         {"nosimplify", no_argument, NULL, 'n'},
         {"no-simplify", no_argument, NULL, 'n'},
         {"help", no_argument, NULL, 'h'},
@@ -568,6 +573,18 @@ static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
         case 'p':
             if (!fl_parse_pairs(optarg, &opts->pairs)) {
                 fprintf(stderr, "flitter repl: bad value '%s' for option '--pairs'\n", optarg);
+                rc = EXIT_USAGE;
+            }
+            break;
+        case 'P':
+            if (!fl_parse_particles(optarg, &opts->particles)) {
+                fprintf(stderr, "flitter repl: bad value '%s' for option '--particles'\n", optarg);
+                rc = EXIT_USAGE;
+            }
+            break;
+        case 'y':
+            if (!fl_parse_physics(optarg, &opts->physics)) {
+                fprintf(stderr, "flitter repl: bad value '%s' for option '--physics'\n", optarg);
                 rc = EXIT_USAGE;
             }
             break;

@@ -32,6 +32,13 @@ static void run_usage(FILE *f)
           "  --threads N         physics threads (default: FLITTER_THREADS, else all cores)\n"
           "  --pairs naive|fast  physics pair loop: the reference all-pairs loop, or the\n"
           "                      neighbour grid and threads (default fast; same results)\n"
+          "  --particles literal|fast  physics particle pass: PHYSICS-ENGINE.md as written,\n"
+          "                      one particle at a time, or compiled per dimension count\n"
+          "                      (default fast; same results)\n"
+          "  --physics documented|upstream  documented: PHYSICS.md (the default); upstream:\n"
+          "                      Flitter 1.0.0b28's published behaviour where it departs\n"
+          "                      from PHYSICS.md (eases, !field, barrier max); the\n"
+          "                      script's %pragma physics overrides it\n"
           "  --nosimplify        run the program as parsed, without Flitter's load-time\n"
           "                      simplifier (also --no-simplify)\n"
           "  --dump-simplified   print the program as it will run (after simplification)\n"
@@ -82,7 +89,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
            O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
            O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_DUMP_TOKENS, O_DUMP_AST, O_STATS,
-           O_MAX_STEPS };
+           O_MAX_STEPS, O_PARTICLES, O_PHYSICS };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -96,6 +103,8 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"max-steps", required_argument, NULL, O_MAX_STEPS},
         {"threads", required_argument, NULL, O_THREADS},
         {"pairs", required_argument, NULL, O_PAIRS},
+        {"particles", required_argument, NULL, O_PARTICLES},
+        {"physics", required_argument, NULL, O_PHYSICS},
         {"stats", no_argument, NULL, O_STATS},
         {"nosimplify", no_argument, NULL, O_NOSIMPLIFY},
         {"no-simplify", no_argument, NULL, O_NOSIMPLIFY},
@@ -156,6 +165,12 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         }
         case O_PAIRS:
             if (!fl_parse_pairs(optarg, &spec->pairs)) goto bad_value;
+            break;
+        case O_PARTICLES:
+            if (!fl_parse_particles(optarg, &spec->particles)) goto bad_value;
+            break;
+        case O_PHYSICS:
+            if (!fl_parse_physics(optarg, &spec->physics)) goto bad_value;
             break;
         case O_STATS: spec->stats = true; break;
         case O_NOSIMPLIFY: spec->no_simplify = true; break;
@@ -325,6 +340,8 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     opts.realtime = spec->realtime;
     opts.threads = spec->threads;
     opts.pairs = spec->pairs;
+    opts.particles = spec->particles;
+    opts.physics = spec->physics;
     opts.no_simplify = spec->no_simplify;
     LogFiles files = {log, (spec->dump_state || spec->dump_tree) ? log : out};
     opts.log = log_lines;

@@ -29,6 +29,8 @@ typedef struct RunSpec {
     const char *script;   /* SCRIPT */
     int threads;          /* --threads N, or 0 (FLITTER_THREADS / every core) */
     int pairs;            /* --pairs naive|fast: FL_PAIRS_*, default FL_PAIRS_DEFAULT */
+    int particles;        /* --particles literal|fast: FL_PARTICLES_*, default FL_PARTICLES_DEFAULT */
+    int physics;          /* --physics documented|upstream: FL_PHYSICS_* */
     double runtime;       /* --runtime T seconds (sets frames), or -1 */
     int verbosity;        /* --quiet -1, default 0, --verbose 1, --debug 2 */
     const char *view;     /* --view FILE (.png/.svg/.gif), or NULL */

@@ -266,7 +266,7 @@ static size_t new_group(PhysSystem *s, ptrdiff_t parent)
 
 /* What of applier [ap] depends on the frame ([c]): its strength, with the
  * [doc] ease (if e > 0 and clock < e, scaled by clock / e, fixed for the
- * whole frame), and a !random's source: normal(seed), seed = P;run;iteration
+ * whole frame; c->upstream: Flitter 1.0.0b28's, physics.h), and a !random's source: normal(seed), seed = P;run;iteration
  * for the first !random of the frame and seed;0 for each further one
  * (§3/§5), its draws from index 0. Called in collection order for every
  * applier of a fresh walk, and for those with an ease or a !random source
@@ -274,8 +274,14 @@ static size_t new_group(PhysSystem *s, ptrdiff_t parent)
 static void applier_clock(PhysApplier *ap, PhysCollect *c)
 {
     double strength = ap->strength0, e = ap->ease;
-    if (e > 0 && c->clock < e)
+    if (c->upstream) {
+        /* Flitter 1.0.0b28: `if ease > 0 and ease < clock: strength *=
+         * clock/ease` (the strength grows once the ease is over) */
+        if (e > 0 && e < c->clock)
+            strength = strength * (c->clock / e);
+    } else if (e > 0 && c->clock < e) {
         strength = strength * (c->clock / e);
+    }
     ap->strength = strength;
     if (ap->kind != AP_RANDOM)
         return;
@@ -445,6 +451,8 @@ static void ensure_particles(PhysSystem *s, size_t n, size_t D)
         cap = s->cap;
         GROW(s->charge, cap, n);
         cap = s->cap;
+        GROW(s->ease, cap, n);
+        cap = s->cap;
         GROW(s->anchor, cap, n);
         s->cap = cap;
     }
@@ -520,9 +528,11 @@ static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *
         s->mass[i] = py_max(0, float_of(at[AN_MASS], 1));
         s->charge[i] = float_of(at[AN_CHARGE], 0);
         /* [doc] the particle's own force is eased: if e > 0 and clock < e,
-         * own[i] = own[i] * (clock / e) */
+         * own[i] = own[i] * (clock / e). Upstream, the ease scales the
+         * step's k instead (step.c), so the own force is kept as given. */
         double e = float_of(at[AN_EASE], 0);
-        if (e > 0 && c->clock < e) {
+        s->ease[i] = e;
+        if (!c->upstream && e > 0 && c->clock < e) {
             double q = c->clock / e;
             for (size_t j = 0; j < D; j++)
                 own[j] = own[j] * q;

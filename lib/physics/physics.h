@@ -36,6 +36,15 @@ typedef struct PhysicsFrame {
      * stopped stepping at max_steps. */
     bool *nonfinite;
     bool *capped;
+    /* false: PHYSICS.md's behaviour (the default). true: the four places
+     * that PHYSICS-ENGINE.md marks [doc] behave as Flitter 1.0.0b28
+     * published them (--physics=upstream, `%pragma physics :upstream`):
+     * an applier's strength *= clock/ease when ease > 0 and ease < clock;
+     * a particle's ease scales the step's k = dt/mass by clock/ease while
+     * clock < ease, and its own force is not eased; !field adds
+     * strength*direction without the charge; a barrier with min <= 0
+     * applies no soft force at all (its max is ignored). */
+    bool upstream;
 } PhysicsFrame;
 
 /* A new world with no systems. */
@@ -50,6 +59,13 @@ void phys_set_threads(PhysicsWorld *w, unsigned n);
  * grid and the threaded gather are checked against). Default: true when
  * FLITTER_PAIRS is "naive". */
 void phys_set_pairs(PhysicsWorld *w, bool naive);
+/* [literal] true: run the particle pass (per-particle appliers, barrier
+ * soft forces, the step and the rebounds of PHYSICS-ENGINE.md §4) through
+ * the literal route of lib/physics/literal.c, one particle at a time on
+ * one thread, written as the spec is, that the specialised route of
+ * step.c is checked against; the same bits. Default: true when
+ * FLITTER_PARTICLES is "literal". */
+void phys_set_particles(PhysicsWorld *w, bool literal);
 /* The vector instructions the pair kernels may use: [level] 0 = portable
  * code only, 1 = up to AVX2, 2 = up to AVX-512; capped at what the
  * processor runs. Returns the level in force. Every level gives the same

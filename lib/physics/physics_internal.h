@@ -236,6 +236,8 @@ typedef struct PhysSystem {
     size_t capvec;                            /* doubles in each vector array */
     double *pos, *vel, *acc, *force, *own;    /* D*n used in each */
     double *radius, *mass, *charge;           /* cap each */
+    double *ease;                             /* cap: the particles' ease
+                                                 attribute (0 = none) */
     unsigned char *anchor;                    /* cap */
     double *dir;                              /* D scratch: pair direction */
     size_t capdir;
@@ -255,6 +257,12 @@ typedef struct PhysSystem {
     uint32_t *chain; size_t nchain, capchain;
     PhysLevel *levels; size_t nlevels, caplevels;
     uint32_t *pool;  size_t npool, cappool;
+
+    /* PhysicsFrame.upstream of the current frame: Flitter 1.0.0b28's
+     * behaviour at the four [doc] places (physics.h) */
+    bool upstream;
+    /* the particle pass through literal.c instead of step.c's routes */
+    bool literal;
 
     /* pair routes (pairs.c) */
     bool naive;                   /* always the reference loop */
@@ -325,6 +333,7 @@ typedef struct PhysCollect {
     int64_t run, iteration;
     double clock;
     Vec *seed;          /* current !random seed vector (lazily built) */
+    bool upstream;      /* Flitter 1.0.0b28's eases (PhysicsFrame.upstream) */
 } PhysCollect;
 
 /* Forget (release) the nodes the slots' attribute values came from. */
@@ -459,6 +468,14 @@ bool phys_tiles_suits(const PhysSystem *s, const PhysLevel *lv);
 void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
 /* Grow s->tiles for a level of [npool] pool entries now (at planning). */
 void phys_tiles_reserve(PhysSystem *s, size_t npool);
+
+/* ---- literal.c: the literal route of the particle pass ---- */
+
+/* §4's second pass over the particles of group [g] (with particles) for a
+ * step of [delta] starting at [clock], written as the spec is (literal.c);
+ * [more]: reset each force to the own force for the next step. */
+void phys_literal_particle_pass(PhysSystem *s, const PhysGroup *g,
+                                double clock, double delta, bool more);
 
 /* ---- step.c: the particle pass (appliers, barriers, step) and the step loop ---- */
 

@@ -32,10 +32,11 @@
  *      k = dt / mass; v_i = v_i + F_i*k, s = sum v_i*v_i
  *      if c > 0 and s > c*c: k = c / sqrt(s); v_i = v_i*k
  *   a_i = (v_i - a_i) / dt ; pos_i = pos_i + v_i*dt
- * The particle's own-force ease is applied at collection ([doc]), so the
- * clock is not needed here. */
+ * The particle's own-force ease is applied at collection ([doc]); only
+ * upstream (Flitter 1.0.0b28, physics.h) does the step need the [clock]:
+ * after k = dt / mass, if ease > 0 and clock < ease: k = k * (clock/ease). */
 static inline __attribute__((always_inline)) void
-particle_step(PhysSystem *s, size_t p, double dt, const size_t D)
+particle_step(PhysSystem *s, size_t p, double clock, double dt, const size_t D)
 {
     double *pos = s->pos + p * D, *v = s->vel + p * D, *a = s->acc + p * D;
     const double *F = s->force + p * D;
@@ -51,6 +52,11 @@ particle_step(PhysSystem *s, size_t p, double dt, const size_t D)
         }
         if (finite) {
             double k = dt / mass;
+            if (s->upstream) {
+                const double e = s->ease[p];
+                if (e > 0 && clock < e)
+                    k = k * (clock / e);
+            }
             double sum = 0;
             for (size_t i = 0; i < D; i++) {
                 double x = v[i] + F[i] * k;
@@ -77,8 +83,8 @@ particle_step(PhysSystem *s, size_t p, double dt, const size_t D)
  *   pos_i = pos_i - r*v_i ; v_i = (v_i - r*a_i)*rest ; u' = sum v_i*n_i ;
  *   v_i = v_i - 2*u'*n_i ; if w < 0 and u'/w < r: r = u'/w ; step(p, r) */
 static inline __attribute__((always_inline)) void
-barrier_rebound(PhysSystem *s, const PhysApplier *b, size_t p, double dt,
-                const size_t D)
+barrier_rebound(PhysSystem *s, const PhysApplier *b, size_t p, double clock,
+                double dt, const size_t D)
 {
     if (!b->enabled)
         return;
@@ -114,7 +120,7 @@ barrier_rebound(PhysSystem *s, const PhysApplier *b, size_t p, double dt,
         if (t < r)
             r = t;
     }
-    particle_step(s, p, r, D);
+    particle_step(s, p, clock, r, D);
 }
 
 /* §4: per-particle applier [ap] (drag, buoyancy, constant, random, field)
@@ -183,7 +189,13 @@ apply_particle(PhysSystem *s, PhysApplier *ap, size_t p, double delta,
         }
         break;
     case AP_FIELD: {
-        /* §4 field [doc]: F_i += strength * dir_i * charge */
+        /* §4 field [doc]: F_i += strength * dir_i * charge; upstream
+         * (Flitter 1.0.0b28): F_i += strength * dir_i */
+        if (s->upstream) {
+            for (size_t i = 0; i < D; i++)
+                F[i] = F[i] + ap->strength * x[i];
+            break;
+        }
         double q = s->charge[p];
         for (size_t i = 0; i < D; i++)
             F[i] = F[i] + ap->strength * x[i] * q;
@@ -196,12 +208,13 @@ apply_particle(PhysSystem *s, PhysApplier *ap, size_t p, double delta,
 
 /* §4 Barrier distance(p): x = sum (pos_i - bpos_i)*n_i; [doc] if min > 0
  * and 0 <= x < min: k = min - x, power, strength, F_i += n_i*k; else if
- * max != 0 and x > max: k = x - max, power, strength, F_i -= n_i*k. */
+ * max != 0 and x > max: k = x - max, power, strength, F_i -= n_i*k.
+ * Upstream (Flitter 1.0.0b28), a barrier with min <= 0 does nothing here. */
 static inline __attribute__((always_inline)) void
 barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p,
                  const size_t D)
 {
-    if (!b->enabled)
+    if (!b->enabled || (s->upstream && b->minimum <= 0))
         return;
     const double *bp = s->avec + b->vec, *nv = bp + D;
     const double *pos = s->pos + p * D;
@@ -237,8 +250,9 @@ static void pair_pass(PhysSystem *s, const PhysGroup *g)
  * force reset; compiled once for each D of 1..3 (the per-element loops
  * then unroll) and once for any D. */
 static inline __attribute__((always_inline)) void
-particle_range_fixed(PhysSystem *s, const PhysGroup *g, double delta,
-                     bool more, size_t q0, size_t q1, const size_t D)
+particle_range_fixed(PhysSystem *s, const PhysGroup *g, double clock,
+                     double delta, bool more, size_t q0, size_t q1,
+                     const size_t D)
 {
     const uint32_t *pf = s->chain + g->pf_off;
     const uint32_t *bl = s->chain + g->b_off;
@@ -250,19 +264,19 @@ particle_range_fixed(PhysSystem *s, const PhysGroup *g, double delta,
             apply_particle(s, &s->ap[pf[j]], p, delta, D);
         for (size_t j = 0; j < g->b_n; j++)
             barrier_distance(s, &s->ap[bl[j]], p, D);
-        particle_step(s, p, delta, D);
+        particle_step(s, p, clock, delta, D);
         for (size_t j = 0; j < g->b_n; j++)
-            barrier_rebound(s, &s->ap[bl[j]], p, delta, D);
+            barrier_rebound(s, &s->ap[bl[j]], p, clock, delta, D);
         if (more)
             phys_copy(s->force + p * D, s->own + p * D, D);
     }
 }
 
 #define RANGE_COPY(name, dim)                                                  \
-    static void name(PhysSystem *s, const PhysGroup *g, double delta,         \
-                     bool more, size_t q0, size_t q1)                         \
+    static void name(PhysSystem *s, const PhysGroup *g, double clock,         \
+                     double delta, bool more, size_t q0, size_t q1)           \
     {                                                                          \
-        particle_range_fixed(s, g, delta, more, q0, q1, dim);                  \
+        particle_range_fixed(s, g, clock, delta, more, q0, q1, dim);           \
     }
 RANGE_COPY(particle_range_1, 1)
 RANGE_COPY(particle_range_2, 2)
@@ -270,21 +284,21 @@ RANGE_COPY(particle_range_3, 3)
 RANGE_COPY(particle_range_any, s->D)
 #undef RANGE_COPY
 
-static void particle_range(PhysSystem *s, const PhysGroup *g, double delta,
-                           bool more, size_t q0, size_t q1)
+static void particle_range(PhysSystem *s, const PhysGroup *g, double clock,
+                           double delta, bool more, size_t q0, size_t q1)
 {
     switch (s->D) {
-    case 1: particle_range_1(s, g, delta, more, q0, q1); break;
-    case 2: particle_range_2(s, g, delta, more, q0, q1); break;
-    case 3: particle_range_3(s, g, delta, more, q0, q1); break;
-    default: particle_range_any(s, g, delta, more, q0, q1); break;
+    case 1: particle_range_1(s, g, clock, delta, more, q0, q1); break;
+    case 2: particle_range_2(s, g, clock, delta, more, q0, q1); break;
+    case 3: particle_range_3(s, g, clock, delta, more, q0, q1); break;
+    default: particle_range_any(s, g, clock, delta, more, q0, q1); break;
     }
 }
 
 typedef struct PassRun {
     PhysSystem *s;
     const PhysGroup *g;
-    double delta;
+    double clock, delta;
     bool more;
 } PassRun;
 
@@ -295,25 +309,29 @@ static void pass_task(void *ctx, size_t t, unsigned thread)
     size_t q1 = (t + 1) * PASS_CHUNK;
     if (q1 > r->g->npart)
         q1 = r->g->npart;
-    particle_range(r->s, r->g, r->delta, r->more, t * PASS_CHUNK, q1);
+    particle_range(r->s, r->g, r->clock, r->delta, r->more, t * PASS_CHUNK, q1);
 }
 
 /* The second pass of group [g]. Each particle's appliers, step and
  * rebounds read the appliers and write only that particle, so large groups
  * are split over the threads with the same bits, unless a !random applier
  * is in the chain: its draw index advances particle by particle. */
-static void particle_pass(PhysSystem *s, const PhysGroup *g, double delta,
-                          bool more)
+static void particle_pass(PhysSystem *s, const PhysGroup *g, double clock,
+                          double delta, bool more)
 {
+    if (s->literal) {
+        phys_literal_particle_pass(s, g, clock, delta, more);
+        return;
+    }
     bool split = s->workers && g->npart >= 2 * PASS_CHUNK;
     const uint32_t *pf = s->chain + g->pf_off;
     for (size_t j = 0; split && j < g->pf_n; j++)
         split = s->ap[pf[j]].kind != AP_RANDOM;
     if (!split) {
-        particle_range(s, g, delta, more, 0, g->npart);
+        particle_range(s, g, clock, delta, more, 0, g->npart);
         return;
     }
-    PassRun r = {s, g, delta, more};
+    PassRun r = {s, g, clock, delta, more};
     phys_workers_run(s->workers, (g->npart + PASS_CHUNK - 1) / PASS_CHUNK,
                      pass_task, &r);
 }
@@ -352,7 +370,7 @@ double phys_run_steps(PhysSystem *s, double time, double last, double clock,
             pair_pass(s, &s->groups[g]);
         for (size_t g = 0; g < s->ngroups; g++) {
             if (s->groups[g].npart)
-                particle_pass(s, &s->groups[g], delta, more);
+                particle_pass(s, &s->groups[g], clock, delta, more);
         }
         clock = clock + delta;
         if (!more)

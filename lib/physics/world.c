@@ -31,6 +31,7 @@ struct PhysicsWorld {
     PhysSystem **sys;
     size_t n, cap;
     bool naive;             /* --pairs naive: the reference pair loop only */
+    bool literal;           /* --particles literal: literal.c's particle pass */
     unsigned threads;       /* wanted threads; the pool is made on first use */
     PhysWorkers *workers;   /* NULL until needed or when threads == 1 */
     int simd;               /* PHYS_SIMD_* level of the tile kernel */
@@ -101,7 +102,7 @@ static void system_free(PhysSystem *s)
     vec_release(s->krun);
     vec_release(s->kiter);
     free(s->pos); free(s->vel); free(s->acc); free(s->force); free(s->own);
-    free(s->radius); free(s->mass); free(s->charge); free(s->anchor);
+    free(s->radius); free(s->mass); free(s->charge); free(s->ease); free(s->anchor);
     free(s->dir); free(s->dgeo);
     free(s->ap); free(s->avec);
     free(s->groups); free(s->gidx); free(s->chain); free(s->levels);
@@ -141,6 +142,7 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
     if (resolution <= 0)
         return;
     s->frame = fr;
+    s->upstream = fr->upstream;
     s->D = (size_t)D;
     s->c = py_max(0, phys_attr_float(node, "speed_of_light", 0));
     phys_set_prefix(s, P);
@@ -167,7 +169,7 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
     phys_state_set_num(sd, s->krun, (double)run);
     phys_state_set_num(sd, s->kiter, (double)iteration);
     /* §2.6: collect (the !random seed is P;run;iteration) */
-    PhysCollect c = {P, run, iteration, clock, NULL};
+    PhysCollect c = {P, run, iteration, clock, NULL, fr->upstream};
     bool ok = phys_collect(s, &c, node, sd);
     vec_release(c.seed);
     if (!ok)
@@ -193,8 +195,9 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
 /* Public interface                                                    */
 /* ------------------------------------------------------------------ */
 
-/* A new world with no systems; FLITTER_THREADS and FLITTER_PAIRS give the
- * defaults of phys_set_threads() and phys_set_pairs(). */
+/* A new world with no systems; FLITTER_THREADS, FLITTER_PAIRS and
+ * FLITTER_PARTICLES give the defaults of phys_set_threads(),
+ * phys_set_pairs() and phys_set_particles(). */
 PhysicsWorld *phys_new(void)
 {
     PhysicsWorld *w = calloc(1, sizeof *w);
@@ -206,6 +209,8 @@ PhysicsWorld *phys_new(void)
     phys_set_threads(w, e && *e && !*end && n > 0 && n <= 1024 ? (unsigned)n : 0);
     e = getenv("FLITTER_PAIRS");
     phys_set_pairs(w, e && !strcmp(e, "naive"));
+    e = getenv("FLITTER_PARTICLES");
+    phys_set_particles(w, e && !strcmp(e, "literal"));
     e = getenv("FLITTER_SIMD");
     phys_set_simd(w, !e ? 2 : !strcmp(e, "portable") ? 0 : !strcmp(e, "avx2") ? 1 : 2);
     return w;
@@ -225,6 +230,11 @@ void phys_set_threads(PhysicsWorld *w, unsigned n)
 void phys_set_pairs(PhysicsWorld *w, bool naive)
 {
     w->naive = naive;
+}
+
+void phys_set_particles(PhysicsWorld *w, bool literal)
+{
+    w->literal = literal;
 }
 
 int phys_set_simd(PhysicsWorld *w, int level)
@@ -261,6 +271,7 @@ void phys_run_frame(PhysicsWorld *w, Node *const *nodes, size_t n,
     for (size_t i = 0; i < n; i++) {
         PhysSystem *s = w->sys[i];
         s->naive = w->naive;
+        s->literal = w->literal;
         s->simd = w->simd;
         s->workers = w->naive ? NULL : w->workers;
         system_frame(s, nodes[i], state, frame);
