@@ -5,7 +5,9 @@
  * FORMATS.md §3), both from runs without the simplifier (`--nosimplify` is
  * implied), and/or NAME.simplified.state / NAME.simplified.tree from runs in
  * Flitter's default mode (simplifier on unless the options say
- * `--nosimplify`). The `flitter run` options of a test come from a line
+ * `--nosimplify`), and/or NAME.upstream.state from runs in Flitter's
+ * default mode with `--physics=upstream` (Flitter 1.0.0b28's own physics).
+ * The `flitter run` options of a test come from a line
  * `NAME.fl OPTIONS...` in a MANIFEST file in the same directory, or else
  * from a header line `# options: OPTIONS...` at the top of the expected
  * file (default: --frames 1). Each test runs in-process; its output is
@@ -28,6 +30,7 @@
 
 #include "commands.h"
 #include "exitcodes.h"
+#include "flitter.h"
 #include "runner.h"
 
 typedef struct Totals {
@@ -205,7 +208,7 @@ static void show_diff(const char *label, const char *expected, const char *actua
 
 /* ---- one test ---------------------------------------------------------- */
 
-/* True for the state-dump kinds ("state", "simplified.state"). */
+/* True for the state-dump kinds ("state", "simplified.state", "upstream.state"). */
 static bool is_state_kind(const char *kind)
 {
     size_t n = strlen(kind);
@@ -248,7 +251,9 @@ static void run_one(const char *dir, const char *script, const char *kind, bool 
         spec.script = script_path;
         if (is_state_kind(kind)) spec.dump_state = true;
         else spec.dump_tree = true;
-        if (strncmp(kind, "simplified.", 11) != 0) spec.no_simplify = true;
+        bool upstream = strncmp(kind, "upstream.", 9) == 0;
+        if (strncmp(kind, "simplified.", 11) != 0 && !upstream) spec.no_simplify = true;
+        if (upstream) spec.physics = FL_PHYSICS_UPSTREAM;
         spec.dump_simplified = false;
         char *out = NULL, *log = NULL;
         size_t outlen = 0, loglen = 0;
@@ -307,7 +312,8 @@ static int by_name(const void *a, const void *b)
 }
 
 /* The expected-output suffixes a script may have beside it. */
-static const char *const test_kinds[] = {"state", "tree", "simplified.state", "simplified.tree"};
+static const char *const test_kinds[] = {"state", "tree", "simplified.state", "simplified.tree",
+                                         "upstream.state"};
 
 /* Run every test in directory [dir] in name order. */
 static int run_dir(const char *dir, bool update, Totals *t)
@@ -363,7 +369,8 @@ int cmd_test(int argc, char **argv)
             puts("usage: flitter test [--update] [PATH...]\n"
                  "  Runs every NAME.fl in each directory PATH (default .) that has a NAME.state\n"
                  "  or NAME.tree beside it (run with --nosimplify), or NAME.simplified.state or\n"
-                 "  NAME.simplified.tree (Flitter's default mode), or the given .fl files, and\n"
+                 "  NAME.simplified.tree (Flitter's default mode), or NAME.upstream.state\n"
+                 "  (default mode with --physics=upstream), or the given .fl files, and\n"
                  "  compares the output.\n"
                  "  --update   rewrite expected files that differ");
             return EXIT_OK;
