@@ -1,7 +1,9 @@
 #!/bin/sh
 # test_runner.sh FLITTER SAMPLES_DIR: `flitter test` passes on a copy of a
 # sample, and fails with a unified diff and a ULP figure when one number of
-# the expected file is changed in its last digit.
+# the expected file is changed in its last digit; a test whose file name
+# holds quotes and `$(...)` shows its diff without running that command
+# (diff is spawned with an argument vector, never through a shell).
 set -u
 flitter=$1 samples=$2
 dir=$(mktemp -d) || exit 2
@@ -18,4 +20,18 @@ rc=$?
 grep -q "^FAIL " "$dir/out" && grep -q "^@@ " "$dir/out" && grep -qx "0 passed, 1 failed" "$dir/out" \
     && grep -Eq "largest numeric difference: [1-9][0-9]* ULP" "$dir/out" \
     || { echo "missing diff, ULP figure or summary:" >&2; cat "$dir/out" >&2; exit 1; }
+# the same failing test under a hostile name
+evil="$dir/evil"
+mkdir "$evil" || exit 2
+name="x'\$(touch PWNED)'\`touch PWNED2\`"
+cp "$dir/wire.fl" "$evil/$name.fl" && cp "$dir/wire.state" "$evil/$name.state" || exit 2
+sed -n 's/^wire\.fl *//p' "$samples/MANIFEST" | sed "s|^|$name.fl |" >"$evil/MANIFEST"
+(cd "$evil" && "$flitter" test . >"$dir/out")
+rc=$?
+[ $rc -eq 1 ] || { echo "hostile name: expected exit 1, got $rc" >&2; cat "$dir/out" >&2; exit 1; }
+for f in PWNED PWNED2; do
+    [ ! -e "$evil/$f" ] || { echo "hostile name: the file name ran a command ($f)" >&2; exit 1; }
+done
+grep -qF -- "--- ./$name.state (expected)" "$dir/out" && grep -q "^@@ " "$dir/out" \
+    || { echo "hostile name: no diff:" >&2; cat "$dir/out" >&2; exit 1; }
 exit 0
