@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # tsan.sh BUILD_DIR: the physics engine's threads under ThreadSanitizer.
 # BUILD_DIR is a build configured with clang and -Db_sanitize=thread (made
-# here when missing). Runs the differential test of the pair routes (1, 2
-# and 4 threads against the reference loop), every physics golden and the
+# here when missing). Runs the differential tests of the pair routes (1, 2
+# and 4 threads against the reference loop) and of the particle pass (a
+# sample of 2,000 systems, 8 of them big enough to be split over threads),
+# every physics golden and the
 # benchmark scenes for a few frames on 2 threads, each as one test that
 # fails on any report. Ends with `N passed, M failed`.
 set -uo pipefail
@@ -11,7 +13,7 @@ build=$1
 [ -f "$build/build.ninja" ] ||
     CC=${TSAN_CC:-clang-14} meson setup "$build" -Db_sanitize=thread -Db_lundef=false >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
-ninja -C "$build" src/flitter tests/test_physics_routes >/dev/null ||
+ninja -C "$build" src/flitter tests/test_physics_routes tests/test_particle_pass >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
 export TSAN_OPTIONS="halt_on_error=1 exitcode=66"
 passed=0 failed=0
@@ -30,6 +32,7 @@ check() {   # check NAME CMD...
     rm -f "$log"
 }
 check physics_routes "$build/tests/test_physics_routes"
+check particle_pass env FLITTER_PROPTEST_SYSTEMS=2000 "$build/tests/test_particle_pass"
 while read -r script opts; do
     case "$script" in ''|'#'*) continue ;; esac
     # shellcheck disable=SC2086
