@@ -65,6 +65,7 @@
 
 #include "node.h"
 #include "physics.h"
+#include "scene.h"
 #include "state.h"
 #include "value.h"
 
@@ -84,50 +85,6 @@
 
 /* The state prefix of every system. */
 #define PREFIX 7.0
-
-/* splitmix64: a tiny deterministic generator for the systems */
-typedef struct Rng { uint64_t x; } Rng;
-
-static uint64_t next_u64(Rng *r)
-{
-    uint64_t z = (r->x += 0x9E3779B97F4A7C15u);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
-    return z ^ (z >> 31);
-}
-
-static double uni(Rng *r) { return (double)(next_u64(r) >> 11) * 0x1p-53; }
-static bool chance(Rng *r, double p) { return uni(r) < p; }
-static size_t below(Rng *r, size_t n) { return (size_t)(next_u64(r) % n); }
-
-/* ------------------------------------------------------------------ */
-/* Building nodes                                                      */
-/* ------------------------------------------------------------------ */
-
-static Node *mk(const char *kind)
-{
-    Str *k = str_from(kind);
-    Node *n = node_new(k);
-    str_release(k);
-    return n;
-}
-
-static void set(Node *n, const char *name, Vec *v)
-{
-    Str *s = str_from(name);
-    node_set_attr(n, s, v);
-    str_release(s);
-}
-
-static Vec *num(double x) { return vec_num1(x); }
-
-static Node *add(Node *parent, const char *kind)
-{
-    Node *c = mk(kind);
-    node_append(parent, c);
-    node_release(c);
-    return c;
-}
 
 /* ------------------------------------------------------------------ */
 /* Random systems                                                      */
