@@ -142,37 +142,30 @@ MemHandler rt_enter(const fl_runtime *rt) { return mem_enter(rt->opts.error, rt-
 
 Buf *rt_error_buf(fl_runtime *rt) { return &rt->error; }
 
+/* *[out] = the value of [text] among the two option words [a] (value
+ * [va]) and [b] (value [vb]); false, leaving *[out] alone, for others. */
+static bool parse_choice(const char *text, const char *a, int va, const char *b, int vb, int *out)
+{
+    if (strcmp(text, a) && strcmp(text, b))
+        return false;
+    *out = strcmp(text, a) ? vb : va;
+    return true;
+}
+
 bool fl_parse_pairs(const char *text, int *out)
 {
-    if (!strcmp(text, "naive"))
-        *out = FL_PAIRS_NAIVE;
-    else if (!strcmp(text, "fast"))
-        *out = FL_PAIRS_FAST;
-    else
-        return false;
-    return true;
+    return parse_choice(text, "naive", FL_PAIRS_NAIVE, "fast", FL_PAIRS_FAST, out);
 }
 
 bool fl_parse_particles(const char *text, int *out)
 {
-    if (!strcmp(text, "literal"))
-        *out = FL_PARTICLES_LITERAL;
-    else if (!strcmp(text, "fast"))
-        *out = FL_PARTICLES_FAST;
-    else
-        return false;
-    return true;
+    return parse_choice(text, "literal", FL_PARTICLES_LITERAL, "fast", FL_PARTICLES_FAST, out);
 }
 
 bool fl_parse_physics(const char *text, int *out)
 {
-    if (!strcmp(text, "documented"))
-        *out = FL_PHYSICS_DOCUMENTED;
-    else if (!strcmp(text, "upstream"))
-        *out = FL_PHYSICS_UPSTREAM;
-    else
-        return false;
-    return true;
+    return parse_choice(text, "documented", FL_PHYSICS_DOCUMENTED, "upstream", FL_PHYSICS_UPSTREAM,
+                        out);
 }
 
 static double monotonic(void)
