@@ -6,6 +6,7 @@
 # (diff is spawned with an argument vector, never through a shell).
 set -u
 flitter=$1 samples=$2
+case $flitter in /*) ;; *) flitter=$PWD/$flitter ;; esac
 dir=$(mktemp -d) || exit 2
 trap 'rm -rf "$dir"' EXIT
 cp "$samples/wire.fl" "$samples/wire.state" "$samples/MANIFEST" "$dir/"
