@@ -19,6 +19,7 @@
 #include <time.h>
 
 #include "counter.h"
+#include "fileio.h"
 #include "format.h"
 #include "lexer.h"
 #include "mem.h"
@@ -763,17 +764,46 @@ const Str *const *rt_scope_names(const fl_runtime *rt, size_t *n)
  * Saved state
  * ==================================================================== */
 
+/* The loaded script as a state file names it (statefile.h): its real
+ * path (as loaded when it cannot be resolved) and the hash of its bytes
+ * now (0 when it cannot be read). False when no script is loaded from a
+ * file. o->script is malloc'd. */
+static bool script_origin(const fl_runtime *rt, StateOrigin *o)
+{
+    if (!rt->prog || !rt->prog->path) return false;
+    o->script = realpath(rt->prog->path, NULL);
+    if (!o->script) o->script = mem_strdup(rt->prog->path);
+    Buf text = BUF_INIT;
+    o->hash = file_read_regular(rt->prog->path, &text) ? statefile_hash(text.data ? text.data : "",
+                                                                         text.len) : 0;
+    buf_free(&text);
+    return true;
+}
+
 int rt_save_state(const fl_runtime *rt, const char *path, Buf *err)
 {
     StateClock c = {rt->frame, rt->frame_time, rt->last_time, rt->last_beat,
                     rt->period, rt->quantum, rt->start};
-    return statefile_save(rt->state, rt->symtab, &c, path, NULL, err);
+    StateOrigin o = {NULL, 0};
+    bool named = script_origin(rt, &o);
+    int rc = statefile_save(rt->state, rt->symtab, &c, named ? &o : NULL, path, NULL, err);
+    free(o.script);
+    return rc;
 }
 
 int rt_restore_state(fl_runtime *rt, const char *path, Buf *err)
 {
     StateClock c;
-    if (statefile_load(rt->state, rt->symtab, &c, path, err) != 0) return -1;
+    StateOrigin saved = {NULL, 0}, now = {NULL, 0};
+    if (statefile_load(rt->state, rt->symtab, &c, &saved, path, err) != 0) return -1;
+    /* another script's state: say so and go on (a script edited since is
+     * the same script: live coding) */
+    if (saved.script && script_origin(rt, &now) && strcmp(saved.script, now.script) != 0 &&
+        saved.hash != now.hash)
+        emit(rt, FL_LOG_WARNING, "%s: warning: state saved by %s, resumed by %s", path,
+             saved.script, now.script);
+    free(saved.script);
+    free(now.script);
     rt->frame = c.frame;
     rt->frame_time = c.time;
     rt->last_time = c.last_time;

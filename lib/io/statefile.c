@@ -19,8 +19,39 @@
 #include "mem.h"
 #include "utf8.h"
 
-#define MAGIC "flitter-state 1"
+#define MAGIC "flitter-state 2"
+#define MAGIC_V1 "flitter-state 1"
 #define QNAN_BITS UINT64_C(0x7ff8000000000000)
+
+uint64_t statefile_hash(const char *data, size_t len)
+{
+    uint64_t h = UINT64_C(0xcbf29ce484222325);
+    for (size_t i = 0; i < len; i++)
+        h = (h ^ (unsigned char)data[i]) * UINT64_C(0x100000001b3);
+    return h;
+}
+
+/* True when symbol name [s] can stand as `:NAME` in the file: not empty,
+ * and none of the bytes that end an element or a key (space, `;`, `=`,
+ * quotes, backslash, control bytes). Other symbols are written as their
+ * numbers, which read back to the same value. */
+static bool plain_symbol(const Str *s)
+{
+    if (s->len == 0) return false;
+    for (uint32_t i = 0; i < s->len; i++) {
+        unsigned char c = (unsigned char)s->bytes[i];
+        if (c <= ' ' || c == ';' || c == '=' || c == '"' || c == '\\' || c == 0x7f) return false;
+    }
+    return true;
+}
+
+/* [text] of [len] bytes as a quoted string with FORMATS.md's escapes. */
+static void put_quoted(Buf *b, const char *text, size_t len)
+{
+    Str *s = str_new(text, len);
+    fmt_quoted(b, s);
+    str_release(s);
+}
 
 /* ====================================================================
  * Writing
@@ -31,7 +62,7 @@ static void put_number(Buf *b, double x, const SymTab *st)
     uint64_t bits;
     memcpy(&bits, &x, sizeof bits);
     const Str *sym = symtab_name(st, x);
-    if (sym) {
+    if (sym && plain_symbol(sym)) {
         buf_putc(b, ':');
         buf_add(b, sym->bytes, sym->len);
     } else if (isnan(x)) {
@@ -62,10 +93,15 @@ static bool put_vector(Buf *b, const Vec *v, const SymTab *st)
 }
 
 int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *clock,
-                   const char *path, size_t *skipped, Buf *err)
+                   const StateOrigin *origin, const char *path, size_t *skipped, Buf *err)
 {
     Buf b = BUF_INIT, line = BUF_INIT;
     buf_puts(&b, MAGIC "\n");
+    if (origin && origin->script) {
+        buf_puts(&b, "script ");
+        put_quoted(&b, origin->script, strlen(origin->script));
+        buf_printf(&b, " %016llx\n", (unsigned long long)origin->hash);
+    }
     buf_printf(&b, "clock %ld", clock->frame);
     const double fields[6] = {clock->time, clock->last_time, clock->last_beat,
                               clock->period, clock->quantum, clock->start};
@@ -91,6 +127,7 @@ int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *cloc
     }
     free(e);
     buf_printf(&b, "end %zu\n", count);
+    buf_printf(&b, "checksum %016llx\n", (unsigned long long)statefile_hash(b.data, b.len));
     buf_free(&line);
     if (skipped) *skipped = skip;
 
@@ -197,7 +234,7 @@ static bool read_string(Reader *r, Buf *s)
 }
 
 /* One element at the cursor (string, symbol or number); NULL on error. */
-static Vec *read_element(Reader *r, const char *stop)
+static Vec *read_element(Reader *r)
 {
     if (*r->p == '"') {
         Buf s = BUF_INIT;
@@ -210,22 +247,23 @@ static Vec *read_element(Reader *r, const char *stop)
     }
     if (*r->p == ':') {
         const char *q = ++r->p;
-        while (r->p < stop && *r->p != ';') r->p++;
+        while (r->p < r->end && *r->p != ';' && *r->p != ' ') r->p++;
         return r->p == q ? NULL : vec_num1(symtab_add(r->st, q, (size_t)(r->p - q)));
     }
     double x;
     return read_number(r, &x) ? vec_num1(x) : NULL;
 }
 
-/* One vector of `;`-separated elements up to [stop] (" = " or the end of
- * the line); false on a malformed element. */
-static bool read_vector(Reader *r, const char *stop, Vec **out)
+/* One vector of `;`-separated elements: a key ([key]: up to the first
+ * " = " after a whole element, so a string may hold " = ") or a value (up
+ * to the end of the line); false on a malformed element. */
+static bool read_vector(Reader *r, bool key, Vec **out)
 {
     Vec **els = NULL;
     size_t n = 0, cap = 0;
     bool ok = true;
     for (;;) {
-        Vec *el = read_element(r, stop);
+        Vec *el = read_element(r);
         if (!el) {
             ok = false;
             break;
@@ -236,7 +274,7 @@ static bool read_vector(Reader *r, const char *stop, Vec **out)
             if (!els) mem_oom();
         }
         els[n++] = el;
-        if (r->p == stop) break;
+        if (key ? r->end - r->p >= 3 && memcmp(r->p, " = ", 3) == 0 : r->p == r->end) break;
         if (*r->p != ';') {
             ok = false;
             break;
@@ -249,7 +287,8 @@ static bool read_vector(Reader *r, const char *stop, Vec **out)
     return ok;
 }
 
-int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *path, Buf *err)
+int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, StateOrigin *origin,
+                   const char *path, Buf *err)
 {
     Buf text = BUF_INIT;
     if (!file_read(path, &text)) {
@@ -268,8 +307,13 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *pat
     StateClock c = {0};
     long lineno = 0;
     size_t entries = 0;
-    bool ended = false, have_clock = false;
+    int version = 0;
+    bool ended = false, have_clock = false, checked = false;
+    Buf script = BUF_INIT;
+    uint64_t script_hash = 0;
+    bool have_script = false;
     const char *why = NULL;
+    const char *const start = s;
     while (*s && !why) {
         const char *nl = strchr(s, '\n');
         lineno++;
@@ -278,11 +322,36 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *pat
             break;
         }
         Reader r = {s, nl, st};
-        if (ended) {
-            why = "text after the end line";
+        size_t len = (size_t)(nl - s);
+        if (checked) {
+            why = "text after the checksum line";
+        } else if (ended) {
+            /* version 2: `checksum HASH`, FNV-1a 64 of every byte before it */
+            char *e;
+            errno = 0;
+            unsigned long long sum = len == 25 && strncmp(s, "checksum ", 9) == 0
+                                         ? strtoull(s + 9, &e, 16) : 0;
+            if (version != 2 || len != 25 || strncmp(s, "checksum ", 9) != 0 || e != nl ||
+                errno == ERANGE || strspn(s + 9, "0123456789abcdef") != 16)
+                why = version == 2 ? "malformed checksum line" : "text after the end line";
+            else if (sum != statefile_hash(start, (size_t)(s - start)))
+                why = "state file damaged (checksum mismatch)";
+            checked = true;
         } else if (lineno == 1) {
-            if ((size_t)(nl - s) != strlen(MAGIC) || strncmp(s, MAGIC, strlen(MAGIC)) != 0)
-                why = "not a flitter state file (version 1)";
+            if (len == strlen(MAGIC) && strncmp(s, MAGIC, len) == 0) version = 2;
+            else if (len == strlen(MAGIC_V1) && strncmp(s, MAGIC_V1, len) == 0) version = 1;
+            else why = "not a flitter state file (version 1 or 2)";
+        } else if (lineno == 2 && version == 2 && strncmp(s, "script \"", 8) == 0) {
+            /* version 2: `script "PATH" HASH` (the script that saved it) */
+            r.p = s + 7;
+            char *e;
+            if (!read_string(&r, &script) || *r.p != ' ' || nl - r.p != 17 ||
+                strspn(r.p + 1, "0123456789abcdef") != 16)
+                why = "malformed script line";
+            else {
+                script_hash = strtoull(r.p + 1, &e, 16);
+                have_script = true;
+            }
         } else if (strncmp(s, "clock ", 6) == 0) {
             char *e = (char *)s + 6;
             errno = 0;
@@ -315,13 +384,11 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *pat
                 why = "entry count does not match (truncated file?)";
             ended = true;
         } else {
-            const char *eq = strstr(s, " = ");
             Vec *k = NULL, *v = NULL;
-            if (!eq || eq > nl) why = "expected KEY = VALUE";
-            else if (!read_vector(&r, eq, &k)) why = "malformed key";
+            if (!read_vector(&r, true, &k)) why = "malformed key (expected KEY = VALUE)";
             else {
-                r.p = eq + 3;
-                if (!read_vector(&r, nl, &v)) why = "malformed value";
+                r.p += 3;
+                if (!read_vector(&r, false, &v)) why = "malformed value";
                 else if (!k || !v) why = "empty key or value";
                 else {
                     state_set(fresh, k, v);
@@ -334,13 +401,21 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, const char *pat
         s = nl + 1;
     }
     if (!why && !ended) why = "missing end line (truncated file?)";
+    if (!why && version == 2 && !checked) why = "missing checksum line (truncated file?)";
     if (!why && !have_clock) why = "missing clock line";
     buf_free(&text);
     if (why) {
         buf_printf(err, "%s:%ld: error: %s; state file refused\n", path, lineno, why);
         state_free(fresh);
+        buf_free(&script);
         return -1;
     }
+    if (origin) {
+        origin->script = have_script ? strndup(script.data ? script.data : "", script.len) : NULL;
+        if (have_script && !origin->script) mem_oom();
+        origin->hash = script_hash;
+    }
+    buf_free(&script);
     /* swap the new contents in */
     state_clear(sd);
     size_t n;

@@ -65,17 +65,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     state_set(sd, k, v);
     StateClock clock = {42, 1, 2, 3, 4, 5, 6}, before = clock;
     Buf err = BUF_INIT, ta = BUF_INIT, tb = BUF_INIT;
-    if (statefile_load(sd, st, &clock, in, &err) != 0) {
+    if (statefile_load(sd, st, &clock, NULL, in, &err) != 0) {
         check(err.len > 0 && state_count(sd) == 1 && memcmp(&clock, &before, sizeof clock) == 0);
     } else {
         size_t n = state_count(sd);
         check(clock.frame >= 0);
-        check(statefile_save(sd, st, &clock, a, NULL, &err) == 0);
+        check(statefile_save(sd, st, &clock, NULL, a, NULL, &err) == 0);
         StateDict *again = state_new();
         StateClock c2 = {0};
-        check(statefile_load(again, st, &c2, a, &err) == 0);
+        check(statefile_load(again, st, &c2, NULL, a, &err) == 0);
         check(state_count(again) == n);
-        check(statefile_save(again, st, &c2, b, NULL, &err) == 0);
+        check(statefile_save(again, st, &c2, NULL, b, NULL, &err) == 0);
         check(file_read(a, &ta) && file_read(b, &tb));
         check(ta.len == tb.len);
         size_t na, nb;

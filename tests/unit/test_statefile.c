@@ -1,6 +1,10 @@
 /* test_statefile.c: the exact state file round-trips every double bit for
  * bit (including -0 and NaN payloads), strings and symbols, and refuses a
- * malformed file without touching the dictionary. */
+ * malformed file without touching the dictionary. A property test saves
+ * random states (keys and values with every byte class, ` = ` inside
+ * strings, odd symbol names, infinities, NaNs, subnormals, the largest
+ * frame and clock) and loads them back equal; every single-bit flip of a
+ * saved file is refused (checksum); the script line comes back. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -39,10 +43,10 @@ static void test_round_trip(void **s)
     state_set(sd, k2, v2);
     StateClock c = {42, 0.7000000000000001, 0.6833333333333333, 1.4, 0.5, 4, -0.0}, c2;
     Buf err = BUF_INIT;
-    assert_int_equal(statefile_save(sd, st, &c, path, NULL, &err), 0);
+    assert_int_equal(statefile_save(sd, st, &c, NULL, path, NULL, &err), 0);
     StateDict *back = state_new();
     SymTab *st2 = symtab_new();
-    assert_int_equal(statefile_load(back, st2, &c2, path, &err), 0);
+    assert_int_equal(statefile_load(back, st2, &c2, NULL, path, &err), 0);
     assert_int_equal(state_count(back), 2);
     const Vec *r1 = state_get(back, k1);
     assert_non_null(r1);
@@ -62,7 +66,7 @@ static void test_round_trip(void **s)
     fclose(f);
     assert_int_equal(truncate(path, size - 8), 0);
     buf_reset(&err);
-    assert_int_equal(statefile_load(back, st2, &c2, path, &err), -1);
+    assert_int_equal(statefile_load(back, st2, &c2, NULL, path, &err), -1);
     assert_non_null(strstr(buf_cstr(&err), "refused"));
     assert_int_equal(state_count(back), 2);
     assert_int_equal(c2.frame, 42);
@@ -96,7 +100,7 @@ static void test_malformed(void **s)
         state_set(sd, k, v);
         StateClock c = {0};
         Buf err = BUF_INIT;
-        assert_int_equal(statefile_load(sd, st, &c, path, &err), -1);
+        assert_int_equal(statefile_load(sd, st, &c, NULL, path, &err), -1);
         assert_int_equal(state_count(sd), 1);
         buf_free(&err);
         vec_release(k); vec_release(v);
@@ -164,7 +168,7 @@ static void test_range_checks(void **s)
         state_set(sd, k, v);
         StateClock c = {42, 1, 2, 3, 4, 5, 6};
         Buf err = BUF_INIT;
-        if (statefile_load(sd, st, &c, path, &err) != -1)
+        if (statefile_load(sd, st, &c, NULL, path, &err) != -1)
             fail_msg("case %zu accepted", i);
         char want[256];
         snprintf(want, sizeof want, "%s:%d: error: %s; state file refused\n", path, bad[i].line,
@@ -191,7 +195,7 @@ static void test_range_checks(void **s)
         SymTab *st = symtab_new();
         StateClock c = {0};
         Buf err = BUF_INIT;
-        assert_int_equal(statefile_load(sd, st, &c, path, &err), -1);
+        assert_int_equal(statefile_load(sd, st, &c, NULL, path, &err), -1);
         char want[256];
         snprintf(want, sizeof want, "%s: error: not a flitter state file (NUL byte or invalid "
                  "UTF-8); state file refused\n", path);
@@ -211,7 +215,7 @@ static void test_range_checks(void **s)
     SymTab *st = symtab_new();
     StateClock c = {0};
     Buf err = BUF_INIT;
-    assert_int_equal(statefile_load(sd, st, &c, path, &err), 0);
+    assert_int_equal(statefile_load(sd, st, &c, NULL, path, &err), 0);
     assert_int_equal(err.len, 0);
     assert_true(c.frame == INT64_C(9007199254740992));
     assert_true(c.time == 1e300 && c.last_time == -1e300 && c.last_beat == 5e-324);
@@ -225,12 +229,239 @@ static void test_range_checks(void **s)
 #undef CLOCK
 }
 
+/* splitmix64, for reproducible random states */
+static uint64_t next_u64(uint64_t *x)
+{
+    uint64_t z = (*x += 0x9E3779B97F4A7C15u);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
+    return z ^ (z >> 31);
+}
+
+/* A number from the classes that break text round trips. */
+static double odd_number(uint64_t *r)
+{
+    static const double fixed[] = {0.0, -0.0, 1.0, -1.5, 0.1, 1e300, -1e-300, 5e-324,
+                                   -2.2250738585072009e-308, 1.7976931348623157e308,
+                                   9007199254740993.0, 123456789.123456789};
+    switch (next_u64(r) % 6) {
+    case 0: return fixed[next_u64(r) % (sizeof fixed / sizeof fixed[0])];
+    case 1: return next_u64(r) % 2 ? INFINITY : -INFINITY;
+    case 2: {   /* a NaN with any payload and sign */
+        uint64_t u = next_u64(r) | UINT64_C(0x7ff0000000000001);
+        return from_bits(u);
+    }
+    case 3: return from_bits(next_u64(r) & UINT64_C(0x800fffffffffffff));   /* subnormal or 0 */
+    default: {
+        double x = from_bits(next_u64(r));
+        return isnan(x) ? 0.5 : x;
+    }
+    }
+}
+
+/* A string with bytes of every class: printable ASCII (quotes, backslash,
+ * `;`, `=`, spaces, ` = `), control bytes and NUL, and valid 2-, 3- and
+ * 4-byte UTF-8. */
+static Vec *odd_string(uint64_t *r)
+{
+    char b[64];
+    size_t n = 0, want = next_u64(r) % 12;
+    for (size_t i = 0; i < want; i++) {
+        switch (next_u64(r) % 6) {
+        case 0: b[n++] = (char)(0x20 + next_u64(r) % 0x5f); break;
+        case 1: b[n++] = (char)(next_u64(r) % 0x20); break;
+        case 2: b[n++] = 0x7f; break;
+        case 3: memcpy(b + n, " = ", 3); n += 3; break;
+        case 4: { static const char q[] = "\";\\"; b[n++] = q[next_u64(r) % 3]; break; }
+        default: {
+            static const char *const u[] = {"\xc3\xa9", "\xe2\x82\xac", "\xf0\x9f\x98\x80",
+                                            "\xe2\x80\xa8", "\xef\xbb\xbf"};
+            const char *c = u[next_u64(r) % 5];
+            memcpy(b + n, c, strlen(c));
+            n += strlen(c);
+        }
+        }
+    }
+    return vec_str(b, n);
+}
+
+/* A vector of 1..4 elements: numbers, symbols (plain names and names
+ * that cannot stand as `:NAME`), strings. */
+static Vec *odd_vector(uint64_t *r, SymTab *st)
+{
+    static const char *const names[] = {"dish", "velocity", "x'", "a b", "semi;colon", "eq=ual",
+                                        "quo\"te", "new\nline", "caf\xc3\xa9"};
+    size_t n = 1 + next_u64(r) % 4;
+    Vec *parts[4];
+    for (size_t i = 0; i < n; i++) {
+        switch (next_u64(r) % 3) {
+        case 0: parts[i] = vec_num1(odd_number(r)); break;
+        case 1: {
+            const char *name = names[next_u64(r) % 9];
+            parts[i] = vec_num1(symtab_add(st, name, strlen(name)));
+            break;
+        }
+        default: parts[i] = odd_string(r);
+        }
+    }
+    Vec *v = vec_compose(parts, n);
+    for (size_t i = 0; i < n; i++) vec_release(parts[i]);
+    return v;
+}
+
+/* [a] and [b] hold the same elements, numbers bit for bit. */
+static bool same_bits(const Vec *a, const Vec *b)
+{
+    if (!a || !b || a->len != b->len) return false;
+    for (uint32_t i = 0; i < a->len; i++) {
+        Elem x = a->kind == VEC_NUM ? (Elem){.kind = EL_NUM, .num = vec_cnums(a)[i]} : vec_celems(a)[i];
+        Elem y = b->kind == VEC_NUM ? (Elem){.kind = EL_NUM, .num = vec_cnums(b)[i]} : vec_celems(b)[i];
+        if (x.kind != y.kind) return false;
+        if (x.kind == EL_NUM ? memcmp(&x.num, &y.num, sizeof x.num) != 0 : !str_eq(x.str, y.str))
+            return false;
+    }
+    return true;
+}
+
+/* A scratch file on a memory file system when there is one (each save
+ * syncs the file: thousands of them on a disk take long). */
+static void scratch_path(char *path, size_t cap)
+{
+    snprintf(path, cap, "%s/flitter-statefile-XXXXXX",
+             access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp");
+}
+
+static void test_round_trip_property(void **s)
+{
+    (void)s;
+    char path[64];
+    scratch_path(path, sizeof path);
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    close(fd);
+    uint64_t r = 2026;
+    static const double clocks[] = {0.0, -0.0, 1e300, -1e300, 5e-324, 1.7976931348623157e308,
+                                    0.016666666666666666};
+    size_t entries = 0;
+    for (int round = 0; round < 2000; round++) {
+        SymTab *st = symtab_new();
+        StateDict *sd = state_new();
+        size_t n = next_u64(&r) % 12;
+        for (size_t i = 0; i < n; i++) {
+            Vec *k = odd_vector(&r, st), *v = odd_vector(&r, st);
+            state_set(sd, k, v);
+            vec_release(k);
+            vec_release(v);
+        }
+        StateClock c = {(long)(next_u64(&r) % 2 ? INT64_C(9007199254740992) : next_u64(&r) % 1000),
+                        clocks[next_u64(&r) % 7], clocks[next_u64(&r) % 7],
+                        clocks[next_u64(&r) % 7], 1e-300, 1e300, clocks[next_u64(&r) % 7]};
+        StateOrigin o = {"/tmp/a \"b\" = c;\n.fl", next_u64(&r)}, o2 = {NULL, 0};
+        Buf err = BUF_INIT;
+        assert_int_equal(statefile_save(sd, st, &c, round % 2 ? &o : NULL, path, NULL, &err), 0);
+        SymTab *st2 = symtab_new();
+        StateDict *back = state_new();
+        StateClock c2;
+        if (statefile_load(back, st2, &c2, &o2, path, &err) != 0)
+            fail_msg("round %d: %s", round, buf_cstr(&err));
+        assert_int_equal(state_count(back), state_count(sd));
+        size_t m;
+        StateEntry *e = state_entries(sd, &m);
+        for (size_t i = 0; i < m; i++) {
+            if (!same_bits(state_get(back, e[i].key), e[i].value))
+                fail_msg("round %d: entry %zu differs after the round trip", round, i);
+        }
+        entries += m;
+        free(e);
+        assert_memory_equal(&c2, &c, sizeof c);
+        if (round % 2) {
+            assert_non_null(o2.script);
+            assert_string_equal(o2.script, o.script);
+            assert_true(o2.hash == o.hash);
+        } else {
+            assert_null(o2.script);
+        }
+        free(o2.script);
+        buf_free(&err);
+        state_free(sd);
+        state_free(back);
+        symtab_free(st);
+        symtab_free(st2);
+    }
+    assert_true(entries > 5000);
+    unlink(path);
+}
+
+/* Every single-bit flip of a saved file is refused, and leaves the
+ * dictionary as it was. */
+static void test_bit_flips(void **s)
+{
+    (void)s;
+    char path[64];
+    scratch_path(path, sizeof path);
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    close(fd);
+    SymTab *st = symtab_new();
+    StateDict *sd = state_new();
+    Vec *k = vec_num1(symtab_add(st, "dish", 4));
+    double xy[2] = {12.5, -0.25};
+    Vec *v = vec_from_nums(xy, 2), *k2 = vec_str("a = b", 5), *v2 = vec_num1(7);
+    state_set(sd, k, v);
+    state_set(sd, k2, v2);
+    StateClock c = {3, 0.05, 0.03333333333333333, 0.1, 0.5, 4, 0};
+    StateOrigin o = {"/tmp/dish.fl", 0x0123456789abcdefu};
+    Buf err = BUF_INIT;
+    assert_int_equal(statefile_save(sd, st, &c, &o, path, NULL, &err), 0);
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    char text[1024];
+    size_t len = fread(text, 1, sizeof text, f);
+    fclose(f);
+    assert_true(len > 100 && len < sizeof text);
+    StateDict *back = state_new();
+    Vec *mark = vec_num1(99);
+    size_t flips = 0;
+    for (size_t i = 0; i < len; i++) {
+        for (int bit = 0; bit < 8; bit++) {
+            char copy[1024];
+            memcpy(copy, text, len);
+            copy[i] = (char)(copy[i] ^ (1 << bit));
+            f = fopen(path, "wb");
+            assert_non_null(f);
+            fwrite(copy, 1, len, f);
+            fclose(f);
+            state_clear(back);
+            state_set(back, mark, mark);
+            StateClock c2 = {0};
+            buf_reset(&err);
+            if (statefile_load(back, st, &c2, NULL, path, &err) != -1)
+                fail_msg("flipping bit %d of byte %zu ('%c') was accepted", bit, i, text[i]);
+            assert_int_equal(state_count(back), 1);
+            flips++;
+        }
+    }
+    assert_int_equal(flips, len * 8);
+    vec_release(mark);
+    vec_release(k);
+    vec_release(v);
+    vec_release(k2);
+    vec_release(v2);
+    buf_free(&err);
+    state_free(sd);
+    state_free(back);
+    symtab_free(st);
+    unlink(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_round_trip),
         cmocka_unit_test(test_malformed),
         cmocka_unit_test(test_range_checks),
+        cmocka_unit_test(test_round_trip_property),
+        cmocka_unit_test(test_bit_flips),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,44 @@
+#!/bin/sh
+# state_origin.sh FLITTER SCRIPT: a state file names the script that saved
+# it and carries a checksum (lib/io/statefile.h, version 2):
+#   - resuming it with another script prints a warning naming both and
+#     goes on (exit 0); the same script edited since resumes silently;
+#   - one changed byte of the file is refused as damaged (exit 1) and the
+#     file is left as it was;
+#   - a state key holding ` = ` (a !counter key string) is saved and read
+#     back (it used to be refused as malformed).
+set -u
+flitter=$1 script=$2
+case $flitter in /*) ;; *) flitter=$PWD/$flitter ;; esac
+dir=$(mktemp -d) || exit 2
+trap 'rm -rf "$dir"' EXIT
+cp "$script" "$dir/a.fl" && cp "$script" "$dir/b.fl" && echo '-- b' >>"$dir/b.fl" || exit 2
+"$flitter" run --frames 5 --state "$dir/s" "$dir/a.fl" 2>"$dir/err" || { cat "$dir/err" >&2; exit 1; }
+grep -q '^script ".*/a\.fl" [0-9a-f]\{16\}$' "$dir/s" || { echo "no script line:" >&2; head -3 "$dir/s" >&2; exit 1; }
+grep -q '^checksum [0-9a-f]\{16\}$' "$dir/s" || { echo "no checksum line" >&2; exit 1; }
+cp "$dir/s" "$dir/s.saved"
+"$flitter" run --frames 1 --state "$dir/s" "$dir/b.fl" 2>"$dir/err"
+rc=$?
+[ $rc -eq 0 ] || { echo "another script: exit $rc, expected 0" >&2; cat "$dir/err" >&2; exit 1; }
+grep -q "warning: state saved by .*/a\.fl, resumed by .*/b\.fl" "$dir/err" ||
+    { echo "no warning naming both scripts:" >&2; cat "$dir/err" >&2; exit 1; }
+cp "$dir/s.saved" "$dir/s"
+echo '-- edited' >>"$dir/a.fl"
+"$flitter" run --frames 1 --state "$dir/s" "$dir/a.fl" 2>"$dir/err" || exit 1
+grep -q "state saved by" "$dir/err" && { echo "warning for the same script, edited" >&2; exit 1; }
+# one byte changed in the middle of a number
+sed '3s/\([0-9]\)\([0-9]\)/\2\1/' "$dir/s.saved" >"$dir/d"
+cmp -s "$dir/d" "$dir/s.saved" && { echo "the test did not change the file" >&2; exit 2; }
+cp "$dir/d" "$dir/d.orig"
+"$flitter" run --frames 1 --state "$dir/d" "$dir/a.fl" 2>"$dir/err"
+rc=$?
+[ $rc -eq 1 ] || { echo "damaged file: exit $rc, expected 1" >&2; exit 1; }
+grep -q "state file damaged" "$dir/err" || { echo "no 'damaged' message:" >&2; cat "$dir/err" >&2; exit 1; }
+cmp -s "$dir/d" "$dir/d.orig" || { echo "damaged state file was changed" >&2; exit 1; }
+# a key holding ` = `
+printf '!counter state="a = b" rate=1\n' >"$dir/c.fl"
+"$flitter" run --frames 3 --state "$dir/cs" "$dir/c.fl" 2>"$dir/err" || { cat "$dir/err" >&2; exit 1; }
+grep -q '^"a = b" = ' "$dir/cs" || { echo "no counter entry:" >&2; cat "$dir/cs" >&2; exit 1; }
+"$flitter" run --frames 3 --state "$dir/cs" --dump-state "$dir/c.fl" >"$dir/out" 2>"$dir/err" ||
+    { echo "resuming a key with ' = ':" >&2; cat "$dir/err" >&2; exit 1; }
+exit 0
