@@ -44,6 +44,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 /* Marks the functions of this interface: the only symbols a shared
  * libflitter exports (the library is built with -fvisibility=hidden). */
@@ -202,8 +203,22 @@ FL_API long fl_frame_count(const fl_runtime *rt);
 FL_API double fl_frame_time(const fl_runtime *rt);
 /* The frame rate the runtime steps at, in frames per second: the `fps`
  * option, or the loaded program's `%pragma fps` once a frame has applied
- * it. A realtime embedder calls fl_step every 1/fl_target_fps seconds. */
+ * it. A realtime embedder paces fl_step with fl_frame_wait(). */
 FL_API double fl_target_fps(const fl_runtime *rt);
+/* Realtime (fl_options.realtime): seconds from now until the next frame
+ * is due (negative when it is late); 0 in lockstep and before the first
+ * frame. The clock follows Flitter's EngineController.run: a frame's
+ * `time` is the last one's plus 1/fps; a frame that ends less than a
+ * millisecond before the next is due sets `slow_frame` and restarts the
+ * schedule from the wall clock; `performance` starts at 1 and rises by
+ * 0.001 a frame (to 2) while frames end a millisecond early or more, else
+ * falls by 0.01 (to 0.5). A realtime front end sleeps until this is below
+ * a millisecond, then calls fl_step. */
+FL_API double fl_frame_wait(const fl_runtime *rt);
+/* Realtime: stop ([paused]) or restart the clock: while it is stopped
+ * fl_frame_wait() stands still, and after it restarts `time` goes on from
+ * where it stopped (a front end's pause key). No-op in lockstep. */
+FL_API void fl_clock_pause(fl_runtime *rt, bool paused);
 
 /* {=====================================================================
  * The state dictionary
@@ -340,13 +355,22 @@ typedef struct fl_output_options {
     long trace_every;     /* a trace row every K frames (0 or 1: all) */
     bool debug;           /* log each drawing node kind skipped as
                              unsupported, once (FL_LOG_WARNING) */
+    const char *record;   /* record the first top-level !window/!offscreen
+                             of every frame to FILE, as if it had a
+                             `!record filename=FILE` child over all its
+                             children (default attributes): FILE.png
+                             replaced each frame, FILE.gif, or a video
+                             FILE.mp4/.mov/.m4v/.mkv/.webm finished at
+                             fl_outputs_close; a write error is logged
+                             (FL_LOG_ERROR) once; NULL: none */
 } fl_output_options;
 
 typedef struct fl_outputs fl_outputs;
 
 /* Open the outputs [o] asks for, for frames of [rt] (whose fps sets the
- * GIF frame delay). `!window`/`!offscreen` nodes with a `!record
- * filename=...` are drawn with cairo and written (PNG, or an animated GIF)
+ * GIF frame delay and the video frame rate). `!window`/`!offscreen` nodes
+ * with a `!record filename=...` are drawn with cairo and written (a PNG, an
+ * animated GIF or a video, each under a temporary name renamed into place)
  * in every frame that fl_outputs_frame() is given.
  *   errors: NULL with fl_error() text when the --view or --trace file
  *           cannot be created or has an unknown extension (nothing is
@@ -359,8 +383,8 @@ FL_API fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *o);
  *           written (that output then stops), else 0. */
 FL_API int fl_outputs_frame(fl_outputs *out, fl_runtime *rt);
 /* Write the final --view picture (.png/.svg: of [rt]'s last frame, when
- * it ran any), finish animated GIFs, close the files and free [out] (NULL
- * is a no-op).
+ * it ran any), finish animated GIFs and videos (they appear under their
+ * names only now), close the files and free [out] (NULL is a no-op).
  *   errors: -1 when any output failed or could not be finished (the
  *           message of the last failure in fl_error()), else 0. */
 FL_API int fl_outputs_close(fl_outputs *out, fl_runtime *rt);
@@ -370,6 +394,91 @@ FL_API int fl_outputs_close(fl_outputs *out, fl_runtime *rt);
  *   errors: -1 with fl_error() text when [path] has another extension or
  *           cannot be written, else 0. */
 FL_API int fl_view(fl_runtime *rt, const char *path, size_t *nsystems);
+
+/* {=====================================================================
+ * Windows: a frame's pictures and input, for a front end that shows them
+ * (the `flitter` command's SDL2 window; the library never opens a window)
+ * ===================================================================== */
+
+/* One top-level `!window` or `!offscreen` node of the last frame's tree,
+ * in tree order (Flitter docs/windows.md). */
+typedef struct fl_window_info {
+    int width, height;   /* size=W;H in pixels (default 512;512; the same
+                            bounds as !record's pictures) */
+    char title[256];     /* title=, UTF-8, truncated to fit; "" when none
+                            (a front end then shows the script's name) */
+    bool offscreen;      /* an !offscreen node: drawn, never shown */
+    int fullscreen;      /* fullscreen= : 1 true, 0 false, -1 not given */
+    int vsync;           /* vsync= : 1 true, 0 false, -1 not given */
+} fl_window_info;
+
+/* The windows of [rt]'s last frame: returns how many top-level !window
+ * and !offscreen nodes it has, and fills out[0 .. min(count, cap)) with
+ * them ([out] may be NULL when [cap] is 0). 0 before the first frame. */
+FL_API size_t fl_windows(fl_runtime *rt, fl_window_info *out, size_t cap);
+
+/* Draw window [index] of [rt]'s last frame into [pixels]: [width] x
+ * [height] pixels (the window's own size, fl_window_info), rows [stride]
+ * bytes apart, each pixel a native-endian uint32_t 0xAARRGGBB with
+ * premultiplied alpha (cairo's ARGB32). It is the very picture that a
+ * `!record` of that window writes for the frame (the same drawing code).
+ * No !record file is written: that stays fl_outputs_frame's job.
+ *   errors: -1 with fl_error() text for an index past the last window, a
+ *           size other than the window's, a NULL [pixels], or a stride
+ *           below width*4 or not a multiple of 4; else 0 (node kinds that
+ *           cannot be drawn are skipped, each logged once per runtime as a
+ *           warning). */
+FL_API int fl_draw_window(fl_runtime *rt, size_t index, uint32_t *pixels, int width, int height,
+                          size_t stride);
+
+/* Draw [rt]'s !physics systems as they are now into [pixels] (same layout
+ * as fl_draw_window), as `--view` draws them (fl_view), scaled to fit
+ * [width] x [height]; [*nsystems] (may be NULL) gets the number drawn.
+ *   errors: -1 with fl_error() text for a size outside 1..16384, a NULL
+ *           [pixels], or a stride below width*4 or not a multiple of 4,
+ *           else 0. */
+FL_API int fl_draw_view(fl_runtime *rt, uint32_t *pixels, int width, int height, size_t stride,
+                        size_t *nsystems);
+
+/* A key of window [window] went down ([pressed]) or up, named as Flitter's
+ * `!key name=` names keys (GLFW's names, lower case: "a".."z", "0".."9",
+ * "space", "enter", "escape", "left", "right", "up", "down", "tab",
+ * "backspace", "f1".."f25", "left_shift", "kp_0", ...; any case; a name
+ * GLFW does not define claims nothing). Report a key's auto-repeats not
+ * at all (Flitter ignores GLFW's REPEAT). When a `!key name=NAME state=S`
+ * directly under that window (last frame; the last such !key of that key)
+ * claims it, the state gets S = 1/0, S;:pushed = 1/0, S;:released = 0/1
+ * and S;:pushed;:beat or S;:released;:beat = the beat of the last frame
+ * (Flitter 1.0.0b28 render/window/__init__.py, key_callback; docs/
+ * windows.md), and the result is 1; else 0 (the front end may use the key
+ * itself: the arrows switch pages, Escape quits). The runtime also
+ * remembers which keys are down in which window: after each frame, a
+ * `!key` whose S is not in the state starts at S = 1, S;:pushed = 1,
+ * S;:released = 0 when its key is held, else 0, 0, 1 (Window.handle_node;
+ * off-screen and without any front end too, as Flitter's hidden windows). */
+FL_API int fl_key(fl_runtime *rt, size_t window, const char *name, bool pressed);
+
+/* The pointer moved over window [window]: with [inside], the state key of
+ * the window's `!pointer state=P` (directly under it, last frame; the last
+ * one) gets P = x;y, fractions of the window's width and height (0..1, top
+ * left 0;0); without, P = null (Flitter's pointer_movement_callback).
+ * No-op when the window has no !pointer. */
+FL_API void fl_pointer(fl_runtime *rt, size_t window, bool inside, double x, double y);
+/* Pointer button [button] (0 left, 1 right, 2 middle, as GLFW numbers
+ * them) of window [window] went down or up: P;button = 1/0
+ * (pointer_button_callback); no-op without a !pointer. */
+FL_API void fl_pointer_button(fl_runtime *rt, size_t window, int button, bool pressed);
+
+/* The files the loaded program was read from: the script, then every
+ * file it `%include`s and every module it `import`s, each once. Returns
+ * how many there are and fills out[0 .. min(count, cap)) with their paths
+ * (owned by [rt], valid until the next fl_load). 0 when nothing is loaded.
+ * Included files and literal imports are known at load; a module imported
+ * only while running (--nosimplify, a computed path, or a module's own
+ * imports) is listed after the first frame that imports it; a module file
+ * that exists is listed even when it does not parse. A front end watches
+ * them for live reload (and may ask again after each frame). */
+FL_API size_t fl_program_files(fl_runtime *rt, const char **out, size_t cap);
 
 /* {=====================================================================
  * Statistics

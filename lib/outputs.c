@@ -74,6 +74,7 @@ fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *opts)
     RenderLog log = {NULL, NULL, o->debug};
     rt_log_target(rt, &log.fn, &log.ctx);
     out->ren = renderer_new(rt_symbols(rt), &log);
+    renderer_set_record(out->ren, o->record);
     mem_leave(prev);
     return out;
 fail:

@@ -21,10 +21,12 @@
 #include "counter.h"
 #include "fileio.h"
 #include "format.h"
+#include "input.h"
 #include "lexer.h"
 #include "mem.h"
 #include "module.h"
 #include "physics.h"
+#include "pictures.h"
 #include "pool.h"
 #include "program.h"
 #include "simplify.h"
@@ -77,10 +79,18 @@ struct fl_runtime {
     double quantum;         /* beat clock: beats per bar */
     double start;           /* beat clock: time of beat 0 */
     double last_beat;       /* beat of the previous frame */
-    double wall_start;      /* realtime: monotonic clock at start */
+    double wall_start;      /* realtime: the monotonic clock when `time` was 0 */
+    bool clock_started;     /* realtime: wall_start set (at the first step) */
+    double performance;     /* Flitter's `performance` (realtime: 0.5..2, from 1) */
+    bool slow_frame;        /* realtime: the last frame ended after the next was due */
+    double paused_at;       /* fl_clock_pause: when the clock stopped, or -1 */
     bool warned_nonfinite;  /* physics: non-finite time logged already */
     bool warned_capped;     /* physics: step limit logged already */
     Buf error;              /* fl_error(): the last failed call's message */
+    Pictures *pictures;     /* fl_draw_window's renderer */
+    Input *input;           /* keys held in the shown windows */
+    PathList files;         /* fl_program_files: the program's files, then
+                               the modules imported while it ran */
 };
 
 fl_options fl_default_options(void)
@@ -200,7 +210,9 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->counter_key = vec_str("_counter", 8);
     /* symbols the physics engine writes into state keys (PHYSICS.md) */
     static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity",
-                                                 "time"};
+                                                 "time",
+                                                 /* and the windows' key states (input.h) */
+                                                 "pushed", "released", "beat"};
     for (size_t i = 0; i < sizeof engine_symbols / sizeof engine_symbols[0]; i++)
         symtab_add(rt->symtab, engine_symbols[i], strlen(engine_symbols[i]));
     for (int i = 0; i < G__COUNT; i++) globals_add(&rt->globals, engine_names[i]);
@@ -211,6 +223,8 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->quantum = 4.0;
     rt->start = 0.0;
     rt->wall_start = monotonic();
+    rt->performance = rt->opts.realtime ? 1.0 : 2.0;
+    rt->paused_at = -1;
     /* static names (§6.2) */
     Vec *v = vec_num1(rt->opts.realtime ? 1.0 : 0.0);
     globals_set(&rt->globals, G_REALTIME, v);
@@ -223,6 +237,8 @@ fl_runtime *fl_new(const fl_options *opts)
     v = vec_num1(0.0);
     for (int g = G_SCREEN; g <= G_OPENGL_ES; g++) globals_set(&rt->globals, g, v);
     vec_release(v);
+    rt->pictures = pictures_new(rt->symtab, rt->opts.log, rt->opts.ctx);
+    rt->input = input_new();
     mem_leave(prev);
     return rt;
 }
@@ -246,6 +262,9 @@ void fl_free(fl_runtime *rt)
         msgset_clear(&rt->errors[i]);
         msgset_clear(&rt->debug[i]);
     }
+    pictures_free(rt->pictures);
+    input_free(rt->input);
+    pathlist_clear(&rt->files);
     symtab_free(rt->symtab);
     pool_free(rt->pool);
     buf_free(&rt->error);
@@ -340,6 +359,8 @@ static int install(fl_runtime *rt, Program *p)
     stable_clear(rt->stables);
     rt->prog = p;
     rt->pragmas_pending = true;
+    pathlist_clear(&rt->files);
+    pathlist_add_all(&rt->files, &p->files);
     return 0;
 }
 
@@ -490,7 +511,7 @@ static void run_physics(fl_runtime *rt, Node *const *nodes, size_t n, double t)
 {
     bool nonfinite = false, capped = false;
     PhysicsFrame pf = {.time = t, .fps = rt->target_fps, .realtime = rt->opts.realtime,
-                       .performance = 2.0, .max_steps = rt->opts.max_physics_steps,
+                       .performance = rt->performance, .max_steps = rt->opts.max_physics_steps,
                        .interrupt = rt->opts.interrupt, .nonfinite = &nonfinite,
                        .capped = &capped, .upstream = rt->upstream};
     phys_run_frame(rt->physics, nodes, n, rt->state, &pf);
@@ -554,7 +575,12 @@ int fl_step(fl_runtime *rt)
 static int step(fl_runtime *rt)
 {
     double t0 = monotonic();
-    if (rt->opts.realtime) rt->frame_time = monotonic() - rt->wall_start;
+    if (rt->opts.realtime && !rt->clock_started) {
+        /* the schedule starts now, from the clock's `time` (0, or a
+         * restored state's) */
+        rt->wall_start = monotonic() - rt->frame_time;
+        rt->clock_started = true;
+    }
     double t = rt->frame_time;
     double beat = beat_at(rt, t);
     double delta = beat - rt->last_beat, prev_beat = rt->last_beat;
@@ -566,8 +592,8 @@ static int step(fl_runtime *rt)
     set_num(rt, G_TEMPO, 60.0 / rt->period);
     set_num(rt, G_QUANTUM, rt->quantum);
     set_num(rt, G_FPS, rt->target_fps);
-    set_num(rt, G_PERFORMANCE, 2.0);
-    set_num(rt, G_SLOW_FRAME, 0.0);
+    set_num(rt, G_PERFORMANCE, rt->performance);
+    set_num(rt, G_SLOW_FRAME, rt->slow_frame ? 1.0 : 0.0);
     set_num(rt, G_CLOCK, t);
     if (rt->pragmas_pending) {
         apply_pragmas(rt);
@@ -583,7 +609,7 @@ static int step(fl_runtime *rt)
         .state = rt->state, .symtab = rt->symtab, .errors = &rt->errors[rt->cur],
         .debug = &rt->debug[rt->cur], .modules = rt->modules, .exports = &rt->scope,
         .stables = rt->globals.simplify ? rt->stables : NULL,
-        .interrupt = rt->opts.interrupt,
+        .interrupt = rt->opts.interrupt, .files = &rt->files,
     };
     exports_empty(&rt->scope);
     double t1 = monotonic();
@@ -617,6 +643,7 @@ static int step(fl_runtime *rt)
 
     double t3 = monotonic();
     run_renderers(rt, root, t);   /* physics systems, then counters */
+    input_frame(rt->input, root, rt->state, rt->symtab);   /* the windows' new !key states */
     double t4 = monotonic();
 
     /* the beat counter (LANGUAGE.md §6.5) */
@@ -631,12 +658,26 @@ static int step(fl_runtime *rt)
         if (p) {
             program_release(rt->run_prog);
             rt->run_prog = p;
+            pathlist_add_all(&rt->files, &p->files);
         }
     }
 
     rt->last_time = t;
     rt->frame++;
-    if (!rt->opts.realtime) rt->frame_time += 1.0 / rt->target_fps;
+    rt->frame_time += 1.0 / rt->target_fps;
+    if (rt->opts.realtime) {
+        /* Flitter's EngineController.run: the next frame is due 1/fps
+         * after this one; with a millisecond or more to spare the
+         * performance rises by 0.001 (to 2), else it falls by 0.01 (to
+         * 0.5); a frame that ends less than a millisecond before the next
+         * is due is slow, and the schedule restarts from now */
+        double now = (rt->paused_at >= 0 ? rt->paused_at : monotonic()) - rt->wall_start;
+        double wait = rt->frame_time - now;
+        rt->performance = wait > 0.001 ? fmin(rt->performance + 0.001, 2.0)
+                                        : fmax(0.5, rt->performance - 0.01);
+        rt->slow_frame = wait < 0.001;
+        if (rt->slow_frame) rt->frame_time = now;
+    }
     double t5 = monotonic();
     rt->stats.eval_seconds += t2 - t1;
     rt->stats.physics_seconds += t4 - t3;
@@ -817,8 +858,35 @@ int rt_restore_state(fl_runtime *rt, const char *path, Buf *err)
 void fl_reset_state(fl_runtime *rt) { state_clear(rt->state); }
 
 const Node *rt_root(const fl_runtime *rt) { return rt->root; }
+Pictures *rt_pictures(fl_runtime *rt) { return rt->pictures; }
+Input *rt_input(fl_runtime *rt) { return rt->input; }
+double rt_beat(const fl_runtime *rt) { return rt->last_beat; }
+
+size_t fl_program_files(fl_runtime *rt, const char **out, size_t cap)
+{
+    if (!rt->prog) return 0;
+    for (size_t i = 0; i < rt->files.count && i < cap; i++) out[i] = rt->files.paths[i];
+    return rt->files.count;
+}
 StateDict *rt_state(fl_runtime *rt) { return rt->state; }
 const SymTab *rt_symbols(const fl_runtime *rt) { return rt->symtab; }
 long fl_frame_count(const fl_runtime *rt) { return rt->frame; }
 double fl_frame_time(const fl_runtime *rt) { return rt->last_time; }
 double fl_target_fps(const fl_runtime *rt) { return rt->target_fps; }
+
+double fl_frame_wait(const fl_runtime *rt)
+{
+    if (!rt->opts.realtime || !rt->clock_started) return 0;
+    double now = rt->paused_at >= 0 ? rt->paused_at : monotonic();
+    return rt->frame_time - (now - rt->wall_start);
+}
+
+void fl_clock_pause(fl_runtime *rt, bool paused)
+{
+    if (paused && rt->paused_at < 0) {
+        rt->paused_at = monotonic();
+    } else if (!paused && rt->paused_at >= 0) {
+        rt->wall_start += monotonic() - rt->paused_at;   /* `time` goes on from where it stopped */
+        rt->paused_at = -1;
+    }
+}

@@ -41,6 +41,12 @@ const Str *const *rt_scope_names(const fl_runtime *rt, size_t *n);
 /* The node tree of the last evaluated frame (a !root node), or NULL;
  * borrowed until the next fl_step. */
 const Node *rt_root(const fl_runtime *rt);
+/* The renderer of fl_draw_window (pictures.h) and the held keys of fl_key
+ * (input.h), owned by the runtime. */
+struct Pictures *rt_pictures(fl_runtime *rt);
+struct Input *rt_input(fl_runtime *rt);
+/* The beat of the last evaluated frame (0 before the first). */
+double rt_beat(const fl_runtime *rt);
 /* The state dictionary (mutable: controller values may be written). */
 StateDict *rt_state(fl_runtime *rt);
 /* The symbol table used for value text. */

@@ -1,11 +1,15 @@
-/* cmd_run.c: `flitter run` (FORMATS.md §4). */
+/* cmd_run.c: `flitter run` (FORMATS.md §4), and Flitter's own command line
+ * `flitter [options] SCRIPT...` (main.c passes it with argv[0] other than
+ * "run"), which opens windows when there is a display. */
 #include <signal.h>
 #include <stdio.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "commands.h"
 #include "exitcodes.h"
 #include "runner.h"
+#include "window.h"
 
 static volatile int interrupted;
 
@@ -15,16 +19,39 @@ static void on_signal(int sig)
     interrupted = 1;
 }
 
+/* A run with windows, or headless when there is no display: returns
+ * WINDOW_NO_DISPLAY after saying so (on a terminal, or always for an
+ * explicit --window), else window_run's status. */
+static int run_window(RunSpec *spec)
+{
+    char why[256];
+    int rc = window_run(spec, stdout, stderr, &interrupted, why, sizeof why);
+    if (rc != WINDOW_NO_DISPLAY) return rc;
+    /* headless output stays byte for byte what it was for scripts and CI:
+     * the notice goes to a person at a terminal */
+    if (spec->verbosity >= 0 && (!spec->implicit_window || isatty(STDERR_FILENO)))
+        fprintf(stderr, "flitter: %s: running headless%s\n", why,
+                spec->nscripts > 1 ? " (the first SCRIPT only)" : "");
+    return rc;
+}
+
 int cmd_run(int argc, char **argv)
 {
     RunSpec spec;
-    int rc = runspec_parse(&spec, argc, argv, true, stderr);
+    bool flitter_line = strcmp(argv[0], "run") != 0;
+    int rc = runspec_parse(&spec, argc, argv, flitter_line ? RUNSPEC_PAGES : RUNSPEC_ONE_SCRIPT,
+                           stderr);
     if (rc == 0) {
-        /* a progress bar for a lockstep run of known length, else a status line */
-        spec.progress = spec.verbosity >= 0 && isatty(STDERR_FILENO) && (spec.frames < 0 || !spec.realtime);
         signal(SIGINT, on_signal);
         signal(SIGTERM, on_signal);
-        rc = runspec_execute(&spec, stdout, stderr, &interrupted);
+        rc = WINDOW_NO_DISPLAY;
+        if (runspec_wants_window(&spec)) rc = run_window(&spec);
+        if (rc == WINDOW_NO_DISPLAY) {
+            /* a progress bar for a lockstep run of known length, else a status line */
+            spec.progress = spec.verbosity >= 0 && isatty(STDERR_FILENO) &&
+                            (spec.frames < 0 || !spec.realtime);
+            rc = runspec_execute(&spec, stdout, stderr, &interrupted);
+        }
     } else if (rc < 0) {
         rc = EXIT_OK;
     }

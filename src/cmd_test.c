@@ -276,7 +276,7 @@ static void run_one(const char *dir, const char *script, const char *kind, bool 
     RunSpec spec;
     char *label;
     if (asprintf(&label, "%s/%s.%s", dir, base, kind) < 0) abort();
-    if (runspec_parse(&spec, argc, argv, false, stdout) != 0) {
+    if (runspec_parse(&spec, argc, argv, RUNSPEC_NO_SCRIPT, stdout) != 0) {
         printf("FAIL %s: bad options\n", label);
         t->failed++;
     } else {

@@ -11,7 +11,7 @@ static const struct {
     int (*fn)(int argc, char **argv);
     const char *summary;
 } commands[] = {
-    {"run", cmd_run, "run a script headless (lockstep) or in realtime"},
+    {"run", cmd_run, "run a script headless (lockstep) or in realtime, or in a window"},
     {"repl", cmd_repl, "step a script's frames and evaluate expressions interactively"},
     {"test", cmd_test, "compare scripts' outputs with their golden files"},
 };
@@ -22,7 +22,8 @@ static void usage(FILE *f)
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(f, "  %-6s %s\n", commands[i].name, commands[i].summary);
     fputs("\n`flitter help COMMAND` describes a command's options; `flitter [run options]\n"
-          "SCRIPT` is `flitter run` (Flitter's command line); `flitter --version`.\n", f);
+          "SCRIPT...` is Flitter's command line: `flitter run --window` when there is a\n"
+          "display (else headless `flitter run`); `flitter --version`.\n", f);
 }
 
 int main(int argc, char **argv)
@@ -54,7 +55,8 @@ int main(int argc, char **argv)
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (strcmp(argv[1], commands[i].name) == 0) return commands[i].fn(argc - 1, argv + 1);
-    /* Flitter's own command line, `flitter [options] SCRIPT`, is `run` */
+    /* Flitter's own command line, `flitter [options] SCRIPT...`: cmd_run
+     * sees argv[0] "flitter", not "run", and opens windows (cmd_run.c) */
     if (argv[1][0] == '-' || strchr(argv[1], '.') || strchr(argv[1], '/') || access(argv[1], F_OK) == 0)
         return cmd_run(argc, argv);
     fprintf(stderr, "flitter: unknown command '%s'\n", argv[1]);

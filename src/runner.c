@@ -16,7 +16,7 @@
 
 static void run_usage(FILE *f)
 {
-    fputs("usage: flitter run [options] SCRIPT\n"
+    fputs("usage: flitter run [options] SCRIPT...\n"
           "  --frames N          stop after N frames (default: run until interrupted)\n"
           "  --fps F             target frame rate (default 60; %pragma fps overrides it)\n"
           "  --lockstep          non-realtime clock (the default)\n"
@@ -48,7 +48,6 @@ static void run_usage(FILE *f)
           "  --dump-ast          print the script's syntax tree as parsed (before the\n"
           "                      simplifier) to stdout and stop\n"
           "  --runtime T         run round(T*fps) frames (T seconds of frame clock)\n"
-          "  --offscreen         accepted for Flitter compatibility (always headless)\n"
           "  --quiet             no progress bar or status line on a terminal\n"
           "  --verbose           accepted for Flitter compatibility\n"
           "  --debug             also name each skipped (unsupported) drawing node kind\n"
@@ -58,8 +57,29 @@ static void run_usage(FILE *f)
           "                      FILE.gif (an animation frame every --view-every K frames)\n"
           "  --trace FILE        write particle positions and velocities each frame (or\n"
           "                      every --trace-every K) to FILE.csv or FILE.jsonl\n"
-          "  Windows are drawn offscreen and !record filename=F.png|.gif written\n"
-          "  (see README: Drawing).\n",
+          "  --record FILE       record the first window to FILE (.png, .gif, or a video:\n"
+          "                      .mp4, .mov, .m4v, .mkv, .webm; written at exit)\n"
+          "  --window            show each !window in a window (SDL) as it is drawn; a\n"
+          "                      script without !window shows its physics systems. The\n"
+          "                      clock is realtime unless --lockstep is given (then\n"
+          "                      every frame is shown). `flitter [options] SCRIPT...`\n"
+          "                      (Flitter's command line) opens windows too when there\n"
+          "                      is a display, else runs headless as `flitter run`\n"
+          "  --offscreen         never open a window (Flitter's option)\n"
+          "  --fullscreen        windows fill the screen (a !window's fullscreen= wins)\n"
+          "  --screen N          open windows on display N (from 0)\n"
+          "  --vsync             present frames in step with the display (a !window's\n"
+          "                      vsync= wins)\n"
+          "  --resetonswitch     empty a page's state when switching away from it\n"
+          "  In a window: several SCRIPTs are pages, switched with the left and right\n"
+          "  arrows; saving a script or a file it includes or imports reloads it (an\n"
+          "  error is shown and the last good version keeps running); Escape or\n"
+          "  closing the window ends the run (--state saved, --dump-state printed);\n"
+          "  F1 status overlay (frame rate, clock, eval/physics/draw ms, dropped\n"
+          "  frames), F2 picture or physics view, F5 pause, F6 one frame when paused.\n"
+          "  A !key of the script claims a key first. Without a window, windows are\n"
+          "  drawn offscreen and !record filename=F (.png, .gif or a video: .mp4, .mov,\n"
+          "  .m4v, .mkv, .webm) written (README: Drawing).\n",
           f);
 }
 
@@ -83,12 +103,13 @@ static const char *option_name(const struct option *opts, int c)
     return "?";
 }
 
-int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err)
+int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
            O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
            O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_DUMP_TOKENS, O_DUMP_AST, O_STATS,
-           O_MAX_STEPS, O_PARTICLES, O_PHYSICS };
+           O_MAX_STEPS, O_PARTICLES, O_PHYSICS, O_WINDOW, O_FULLSCREEN, O_SCREEN, O_VSYNC,
+           O_RESETONSWITCH, O_RECORD };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -120,9 +141,17 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         {"view-every", required_argument, NULL, O_VIEW_EVERY},
         {"trace", required_argument, NULL, O_TRACE},
         {"trace-every", required_argument, NULL, O_TRACE_EVERY},
+        {"record", required_argument, NULL, O_RECORD},
+        {"window", no_argument, NULL, O_WINDOW},
+        {"fullscreen", no_argument, NULL, O_FULLSCREEN},
+        {"screen", required_argument, NULL, O_SCREEN},
+        {"vsync", no_argument, NULL, O_VSYNC},
+        {"resetonswitch", no_argument, NULL, O_RESETONSWITCH},
         {NULL, 0, NULL, 0},
     };
-    *spec = (RunSpec){.frames = -1, .fps = 60.0, .runtime = -1, .max_steps = 10000};
+    *spec = (RunSpec){.frames = -1, .fps = 60.0, .runtime = -1, .max_steps = 10000,
+                      .window = scripts == RUNSPEC_PAGES,
+                      .implicit_window = scripts == RUNSPEC_PAGES};
     bool frames_given = false;
     spec->defines = calloc((size_t)argc + 1, sizeof(char *));
     if (!spec->defines) abort();
@@ -140,8 +169,8 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
             spec->fps = strtod(optarg, &end);
             if (end == optarg || *end || !(spec->fps > 0) || isinf(spec->fps)) goto bad_value;
             break;
-        case O_LOCKSTEP: spec->realtime = false; break;
-        case O_REALTIME: spec->realtime = true; break;
+        case O_LOCKSTEP: spec->realtime = false; spec->clock_given = true; break;
+        case O_REALTIME: spec->realtime = true; spec->clock_given = true; break;
         case 'D':
             if (!strchr(optarg, '=')) goto bad_value;
             spec->defines[spec->ndefines++] = optarg;
@@ -180,12 +209,23 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
             spec->runtime = strtod(optarg, &end);
             if (end == optarg || *end || !(spec->runtime >= 0) || isinf(spec->runtime)) goto bad_value;
             break;
-        case O_OFFSCREEN: break;
+        case O_OFFSCREEN: spec->offscreen = true; break;
+        case O_WINDOW: spec->window = true; spec->implicit_window = false; break;
+        case O_FULLSCREEN: spec->fullscreen = true; break;
+        case O_VSYNC: spec->vsync = true; break;
+        case O_RESETONSWITCH: spec->reset_on_switch = true; break;
+        case O_SCREEN: {
+            long n;
+            if (!parse_count(optarg, &n) || n > 255) goto bad_value;
+            spec->screen = (int)n;
+            break;
+        }
         case O_QUIET: spec->verbosity = -1; break;
         case O_VERBOSE: spec->verbosity = 1; break;
         case O_DEBUG: spec->verbosity = 2; break;
         case O_VIEW: spec->view = optarg; break;
         case O_TRACE: spec->trace = optarg; break;
+        case O_RECORD: spec->record = optarg; break;
         case O_VIEW_EVERY:
             if (!parse_count(optarg, &spec->view_every) || spec->view_every < 1) goto bad_value;
             break;
@@ -213,13 +253,17 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *
         }
         spec->frames = lround(frames);
     }
-    if (need_script) {
-        if (optind != argc - 1) {
+    if (scripts != RUNSPEC_NO_SCRIPT) {
+        /* several SCRIPTs are pages, which only a window can switch */
+        bool pages = spec->window;
+        if (optind >= argc || (optind != argc - 1 && !pages)) {
             fputs(optind >= argc ? "flitter run: no SCRIPT given\n"
                                  : "flitter run: exactly one SCRIPT expected\n", err);
             run_usage(err);
             return EXIT_USAGE;
         }
+        spec->scripts = argv + optind;
+        spec->nscripts = argc - optind;
         spec->script = argv[optind];
     } else if (optind != argc) {
         fprintf(err, "flitter: unexpected argument '%s' in run options\n", argv[optind]);
@@ -234,25 +278,26 @@ void runspec_free(RunSpec *spec)
     spec->defines = NULL;
 }
 
+bool runspec_wants_window(const RunSpec *spec)
+{
+    return spec->window && !spec->offscreen && !spec->dump_syntax &&
+           !(spec->dump_simplified && spec->frames < 0);
+}
+
 /* fl_write_fn: append to the FILE [ctx]. */
 static void write_file(void *ctx, const char *text, size_t len) { fwrite(text, 1, len, ctx); }
 
-/* Where the runtime's message lines go (fl_log_fn [ctx]). */
-typedef struct LogFiles {
-    FILE *log;     /* errors and warnings */
-    FILE *debug;   /* debug() lines */
-} LogFiles;
-
+/* fl_log_fn: message lines to the RunLog [ctx]. */
 static void log_lines(void *ctx, int kind, const char *line)
 {
-    const LogFiles *f = ctx;
+    const RunLog *f = ctx;
     fprintf(kind == FL_LOG_DEBUG ? f->debug : f->log, "%s\n", line);
 }
 
 /* The library's fatal error (out of memory): report it before the abort. */
 static void fatal(void *ctx, const char *message)
 {
-    const LogFiles *f = ctx;
+    const RunLog *f = ctx;
     fprintf(f->log, "flitter: %s\n", message);
     fflush(f->log);
 }
@@ -331,7 +376,7 @@ static int save_state(fl_runtime *rt, const char *path, FILE *log)
     return rc;
 }
 
-int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt)
+fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *interrupt)
 {
     fl_options opts = fl_default_options();
     opts.fps = spec->fps;
@@ -342,10 +387,9 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     opts.particles = spec->particles;
     opts.physics = spec->physics;
     opts.no_simplify = spec->no_simplify;
-    LogFiles files = {log, (spec->dump_state || spec->dump_tree) ? log : out};
     opts.log = log_lines;
     opts.error = fatal;
-    opts.ctx = &files;
+    opts.ctx = files;
     opts.max_physics_steps = spec->max_steps;
     opts.interrupt = interrupt;
     fl_runtime *rt = fl_new(&opts);
@@ -355,11 +399,19 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         int bad = fl_define(rt, spec->defines[i], eq + 1);
         *eq = '=';
         if (bad) {
-            fprintf(log, "flitter run: bad name in define '%s'\n", spec->defines[i]);
+            fprintf(files->log, "flitter run: bad name in define '%s'\n", spec->defines[i]);
             fl_free(rt);
-            return EXIT_USAGE;
+            return NULL;
         }
     }
+    return rt;
+}
+
+int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt)
+{
+    RunLog files = {log, (spec->dump_state || spec->dump_tree) ? log : out};
+    fl_runtime *rt = runspec_runtime(spec, &files, interrupt);
+    if (!rt) return EXIT_USAGE;
     if (spec->dump_syntax) {
         int bad = (spec->dump_syntax == 1 ? fl_dump_tokens : fl_dump_ast)(
             rt, spec->script, write_file, out);
@@ -388,7 +440,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         }
     }
     fl_output_options oo = {spec->view, spec->view_every, spec->trace, spec->trace_every,
-                            spec->verbosity >= 2};
+                            spec->verbosity >= 2, spec->record};
     fl_outputs *outs = fl_outputs_open(rt, &oo);
     if (!outs) {
         fprintf(log, "flitter run: %s", fl_error(rt));
@@ -440,7 +492,9 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
             last_save = now;
         }
         if (spec->realtime) {
-            double due = start + (double)ran / spec->fps, wait = due - now_seconds();
+            /* Flitter's pacing: sleep until a millisecond before the next
+             * frame is due (fl_frame_wait) */
+            double wait = fl_frame_wait(rt) - 0.001;
             if (wait > 0) {
                 struct timespec ts = {(time_t)wait, (long)(fmod(wait, 1.0) * 1e9)};
                 nanosleep(&ts, NULL);

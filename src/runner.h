@@ -7,6 +7,8 @@
 #include <stdbool.h>
 #include <stdio.h>
 
+#include "flitter.h"
+
 typedef struct RunSpec {
     long frames;          /* --frames N, or -1 (until interrupted) */
     double fps;           /* --fps F (default 60) */
@@ -37,15 +39,55 @@ typedef struct RunSpec {
     long view_every;      /* --view-every K (animations), or 0 */
     const char *trace;    /* --trace FILE (.csv/.jsonl), or NULL */
     long trace_every;     /* --trace-every K, or 0 */
+    const char *record;   /* --record FILE: the first window to FILE, or NULL */
+    /* the live window (window_main.c) */
+    bool window;          /* --window, or Flitter's `flitter [options] SCRIPT...` */
+    bool implicit_window; /* the window comes from Flitter's command line, not
+                             --window: falling back to headless is quiet unless
+                             stderr is a terminal */
+    bool offscreen;       /* --offscreen: never open a window */
+    bool clock_given;     /* --lockstep or --realtime was given */
+    bool fullscreen;      /* --fullscreen */
+    bool vsync;           /* --vsync */
+    int screen;           /* --screen N, display index from 0 */
+    bool reset_on_switch; /* --resetonswitch: a page left loses its state */
+    char **scripts;       /* the SCRIPTs (pages), borrowed from argv; script is scripts[0] */
+    int nscripts;
 } RunSpec;
 
+/* What runspec_parse() expects after the options. */
+enum {
+    RUNSPEC_NO_SCRIPT = 0,   /* nothing (`flitter test` options) */
+    RUNSPEC_ONE_SCRIPT = 1,  /* `flitter run`: one SCRIPT, or pages with --window */
+    RUNSPEC_PAGES = 2,       /* Flitter's `flitter [options] SCRIPT...`: a window
+                                (unless --offscreen) and one or more pages */
+};
+
+/* Where a runtime's message lines go (fl_options.log). */
+typedef struct RunLog {
+    FILE *log;     /* errors and warnings */
+    FILE *debug;   /* debug() lines */
+} RunLog;
+
 /* Parse `flitter run` options from [argv][0..argc) (argv[0] is ignored).
- * With [need_script], exactly one SCRIPT must follow the options.
+ * [scripts] (RUNSPEC_*) says what follows the options: nothing, exactly
+ * one SCRIPT (several with --window), or one or more (pages).
  *   errors: prints a message and usage to [err] and returns 2 (usage);
  *           returns -1 after printing help for --help; 0 on success.
  *   [spec]->defines is allocated: free it with runspec_free(). */
-int runspec_parse(RunSpec *spec, int argc, char **argv, bool need_script, FILE *err);
+int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err);
 void runspec_free(RunSpec *spec);
+
+/* Whether [spec] asks for a window: --window or Flitter's command line,
+ * without --offscreen, and not a run that only prints the script
+ * (--dump-tokens, --dump-ast, --dump-simplified without --frames). */
+bool runspec_wants_window(const RunSpec *spec);
+
+/* A new runtime for [spec] (its fps, frames, clock, physics options, the
+ * defines, [interrupt]), logging through [files] (which must outlive it).
+ *   errors: NULL after printing `flitter run: bad name in define ...` to
+ *           files->log for a define with a bad name. */
+fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *interrupt);
 
 /* Run [spec]: load the script, evaluate frames, write state dumps and the
  * node tree to [out]; run-time messages go to [log].

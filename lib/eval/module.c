@@ -21,6 +21,8 @@ typedef struct Module {
     bool running;            /* being evaluated now (cycle detection) */
     bool failed;             /* missing or unparseable */
     Exports exports;         /* names bound at the end of its top level */
+    PathList files;          /* the files its last run read: its own, its
+                                %includes and, transitively, its imports */
 } Module;
 
 struct ModuleCache {
@@ -61,6 +63,7 @@ void module_cache_free(ModuleCache *mc)
     for (uint32_t i = 0; i < mc->count; i++) {
         free(mc->mods[i].path);
         exports_clear(&mc->mods[i].exports);
+        pathlist_clear(&mc->mods[i].files);
     }
     free(mc->mods);
     free(mc);
@@ -90,6 +93,7 @@ static void run_module(ModuleCache *mc, uint32_t mi, Eval *ev)
 {
     Module *m = &mc->mods[mi];
     exports_clear(&m->exports);
+    pathlist_clear(&m->files);
     m->failed = true;
     Buf err = BUF_INIT;
     /* simplified (as a module, with no engine names) when the importer is */
@@ -109,18 +113,22 @@ static void run_module(ModuleCache *mc, uint32_t mi, Eval *ev)
     }
     m->running = true;
     Exports ex = {0};
+    /* collected apart: nested imports may move mc->mods */
+    PathList files = {0};
+    pathlist_add_all(&files, &p->files);
     /* the importer's nesting depth and interrupt flag carry on into the
      * module, so a chain of imports shares one bound on the C stack and an
      * interrupt stops it too */
     Eval mev = {
         .prog = p, .globals = NULL, .state = NULL, .symtab = ev->symtab,
         .errors = ev->errors, .debug = ev->debug, .modules = mc, .exports = &ex,
-        .depth = ev->depth, .interrupt = ev->interrupt,
+        .depth = ev->depth, .interrupt = ev->interrupt, .files = &files,
     };
     Node *root = eval_program(&mev);
     node_release(root);
     m = &mc->mods[mi];
     m->running = false;
+    m->files = files;
     if (mev.interrupted) {
         /* incomplete exports are not cached: the module runs again */
         ev->interrupted = true;
@@ -151,6 +159,10 @@ void module_import(ModuleCache *mc, Eval *ev, const char *path, Str *const *name
         if (exists) m->mtime = sb.st_mtim;
         run_module(mc, mi, ev);
         m = &mc->mods[mi];
+    }
+    if (ev->files && exists) {   /* watched even when it does not load */
+        pathlist_add(ev->files, path);
+        pathlist_add_all(ev->files, &m->files);
     }
     if (m->failed) {
         snprintf(msg, sizeof msg, "Unable to import from '%s'", path);

@@ -141,6 +141,7 @@ typedef struct Resolver {
     uint32_t nunbound, capunbound;
     uint32_t depth;         /* resolve() nesting: bounded by AST_MAX_DEPTH
                                across %include splices too */
+    PathList *files;        /* the program's files: included ones are added */
 } Resolver;
 
 static void push_visible(FnCtx *c, const Str *name, int32_t slot)
@@ -358,6 +359,7 @@ static void resolve_include(Resolver *r, FnCtx *c, AstNode *n)
         r->failed = true;
         return;
     }
+    if (r->files) pathlist_add(r->files, path);
     AstNode *top = parse_program(path, text.data ? text.data : "", text.len, r->nincluded, r->err);
     buf_free(&text);
     if (!top) {
@@ -515,7 +517,7 @@ static AstNode *simplify_top(Program *p, AstNode *top, const Globals *g, SymTab 
         names[i] = (SimplifyName){g->names[i], i < g->ndynamic, g->values[i]};
     SimplifyEnv env = {.names = names, .nnames = g->count, .symtab = st, .dir = p->dir,
                        .first_file = 1000, .stable_ids = &p->stable_ids, .stables = sc,
-                       .is_module = g->module};
+                       .is_module = g->module, .files = &p->files};
     top = simplify_program(top, &env, &p->warnings);
     free(names);
     return top;
@@ -525,7 +527,8 @@ static AstNode *simplify_top(Program *p, AstNode *top, const Globals *g, SymTab 
  * NULL when an included file failed to load. */
 static Program *resolve_program(Program *p, Globals *globals, SymTab *st, Buf *err)
 {
-    Resolver r = {.globals = globals, .warnings = &p->warnings, .symtab = st, .dir = p->dir, .err = err};
+    Resolver r = {.globals = globals, .warnings = &p->warnings, .symtab = st, .dir = p->dir, .err = err,
+                  .files = &p->files};
     FnCtx ctx = {0};
     resolve(&r, &ctx, p->top);
     for (uint32_t i = 0; i < r.nincluded; i++) free(r.included[i]);
@@ -570,6 +573,7 @@ Program *program_load_text(const char *path, const char *text, size_t len,
     p->path = strdup(path);
     p->dir = dir_of(path);
     if (!p->path || !p->dir) mem_oom();
+    pathlist_add(&p->files, path);
     program_register_symbols(top, st);
     if (top->nkids) {
         p->pragmas = calloc(top->nkids, sizeof(Pragma));
@@ -601,6 +605,7 @@ Program *program_resimplify(const Program *cur, Globals *globals, SymTab *st, co
     p->dir = strdup(cur->dir);
     if (!p->path || !p->dir) mem_oom();
     p->stable_ids = cur->stable_ids;
+    pathlist_add_all(&p->files, &cur->files);
     if (cur->npragmas) {
         p->pragmas = calloc(cur->npragmas, sizeof(Pragma));
         if (!p->pragmas) mem_oom();
@@ -651,5 +656,29 @@ void program_release(Program *p)
     free(p->path);
     free(p->dir);
     buf_free(&p->warnings);
+    pathlist_clear(&p->files);
     free(p);
+}
+
+void pathlist_add(PathList *l, const char *path)
+{
+    for (uint32_t i = 0; i < l->count; i++)
+        if (strcmp(l->paths[i], path) == 0) return;
+    if (l->count == l->cap) {
+        l->cap = l->cap ? l->cap * 2 : 4;
+        l->paths = mem_realloc(l->paths, l->cap * sizeof *l->paths);
+    }
+    l->paths[l->count++] = mem_strdup(path);
+}
+
+void pathlist_add_all(PathList *l, const PathList *from)
+{
+    for (uint32_t i = 0; i < from->count; i++) pathlist_add(l, from->paths[i]);
+}
+
+void pathlist_clear(PathList *l)
+{
+    for (uint32_t i = 0; i < l->count; i++) free(l->paths[i]);
+    free(l->paths);
+    *l = (PathList){0};
 }

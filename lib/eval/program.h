@@ -57,6 +57,20 @@ typedef struct FnInfo {
 
 typedef struct Program Program;
 
+/* File paths, each once, in the order first met (the files a program was
+ * read from: Program.files, fl_program_files). */
+typedef struct PathList {
+    char **paths;
+    uint32_t count, cap;
+} PathList;
+
+/* Append a copy of [path] to [l] unless it is there already. */
+void pathlist_add(PathList *l, const char *path);
+/* Append every path of [from] to [l] (pathlist_add). */
+void pathlist_add_all(PathList *l, const PathList *from);
+/* Free every path and empty [l]. */
+void pathlist_clear(PathList *l);
+
 /* A pragma `%pragma NAME VALUE` of the main file. */
 typedef struct Pragma {
     Str *name;
@@ -79,6 +93,9 @@ struct Program {
     uint32_t *asserted;    /* stable keys (id, index pairs) whose values this
                               program was simplified with */
     uint32_t nasserted;
+    PathList files;        /* the files it was read from: [0] the script, then
+                              every %include'd file and every module a
+                              literal `import` names that the simplifier read */
 };
 
 /* Load, parse and resolve the script at [path] against [globals] (engine
@@ -158,6 +175,8 @@ struct Eval {
                                must be evaluated again (stable.h) */
     struct CMemo *memos;    /* memo cells of the compiled region being run
                                (evalcode.h) */
+    PathList *files;        /* where the files of modules imported while
+                               running are recorded (NULL: nowhere) */
 };
 
 /* Evaluate the whole program: compose the top-level sequence and append

@@ -761,6 +761,7 @@ AstNode *simplify_program(AstNode *top, const SimplifyEnv *env, Buf *warnings)
     s.stable_ids = env->stable_ids;
     s.stables = env->stables;
     s.is_module = env->is_module;
+    s.files = env->files;
     simplify_number_stables(top, s.stable_ids);
     for (uint32_t i = 0; i < env->nnames; i++) {
         const SimplifyName *nm = &env->names[i];

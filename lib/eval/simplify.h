@@ -44,6 +44,8 @@ typedef struct SimplifyEnv {
                                    none (the first simplification) */
     bool is_module;             /* an imported module: every top-level name is
                                    exported, so no top-level binding is unused */
+    struct PathList *files;     /* files read (%include, literal imports) are
+                                   added here (program.h; NULL: nowhere) */
 } SimplifyEnv;
 
 /* Simplify the program [top] (an AST_TOP from parse_program; consumes it) and

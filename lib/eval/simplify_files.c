@@ -74,6 +74,7 @@ AstNode *simp_include(Simp *s, const AstNode *n)
         top = parse_program(path, text.data ? text.data : "", text.len, s->next_file, &err);
     buf_free(&text);
     buf_free(&err);
+    if (top && s->files) pathlist_add(s->files, path);
     if (!top) {   /* left for the resolver, which reports it */
         free(path);
         return ast_unary(AST_INCLUDE, file, n->loc);
@@ -105,10 +106,12 @@ static bool module_exports(Simp *s, const char *path, Simp *sub)
 {
     Buf text = BUF_INIT, err = BUF_INIT;
     AstNode *top = NULL;
-    if (file_read(path, &text))
+    bool read = file_read(path, &text);
+    if (read)
         top = parse_program(path, text.data ? text.data : "", text.len, s->next_file, &err);
     buf_free(&text);
     buf_free(&err);
+    if (read && s->files) pathlist_add(s->files, path);   /* watched even when it does not parse */
     if (!top) return false;
     s->next_file++;
     register_symbols(top, s->symtab);
@@ -121,6 +124,7 @@ static bool module_exports(Simp *s, const char *path, Simp *sub)
     sub->is_module = true;
     sub->stable_ids = s->stable_ids;
     sub->stables = s->stables;
+    sub->files = s->files;   /* its includes and imports are the program's files too */
     sub->depth = s->depth;   /* the same C stack */
     simplify_number_stables(top, s->stable_ids);
     AstNode *r = simp(sub, top);

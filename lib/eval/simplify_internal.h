@@ -66,6 +66,8 @@ struct Simp {
     uint32_t nexports, capexports;
     uint32_t *stable_ids;   /* the program's `let stable` id counter */
     const struct StableCache *stables;  /* known stable values, or NULL */
+    PathList *files;        /* files read are added here (shared with
+                               module sub-simplifiers; NULL: nowhere) */
 };
 
 /* Set up [s] for a file in [dir] ([path]: the module's path, or NULL). */

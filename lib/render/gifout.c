@@ -1,46 +1,57 @@
-/* gifout.c: animated GIF output through giflib (see gifout.h). */
+/* gifout.c: animated GIF output through giflib (see gifout.h).
+ *
+ * An animated GIF grows frame by frame during the run: it is written to a
+ * temporary next to the target (outfile.h) and renamed into place by
+ * gifout_close, so the file appears, complete, at the end of the run (a
+ * reader never sees a GIF without its trailer).
+ */
 #include <stddef.h>
 
 #include "gifout.h"
 
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <gif_lib.h>
 
 #include "mem.h"
+#include "outfile.h"
 
 struct GifOut {
     GifFileType *f;
+    OutFile out;   /* the temporary; giflib owns (and closes) out.fd */
     int w, h, delay, frames;
+    bool failed;   /* a write failed: the temporary is discarded at close */
     unsigned char *r, *g, *b, *idx;   /* planes for quantisation, w*h each */
 };
 
 GifOut *gifout_open(const char *path, int width, int height, int delay_cs, char *err, size_t errlen)
 {
-    int code = 0, fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
-    GifFileType *f = fd < 0 ? NULL : EGifOpenFileHandle(fd, &code);
+    OutFile out;
+    if (!outfile_open(&out, path, err, errlen)) return NULL;
+    int code = 0;
+    GifFileType *f = EGifOpenFileHandle(out.fd, &code);
     if (!f) {
-        if (fd >= 0) close(fd);
-        else code = D_GIF_ERR_OPEN_FAILED;
-        snprintf(err, errlen, "%s: cannot create GIF: %s", path, code == D_GIF_ERR_OPEN_FAILED ? "cannot open" : GifErrorString(code));
+        snprintf(err, errlen, "%s: cannot create GIF: %s", path, GifErrorString(code));
+        outfile_discard(&out);
         return NULL;
     }
+    out.fd = -1;   /* giflib's now: closed by EGifCloseFile */
     EGifSetGifVersion(f, true);
     GifOut *g = calloc(1, sizeof *g);
     size_t n = (size_t)width * (size_t)height;
     if (!g || !(g->r = malloc(n)) || !(g->g = malloc(n)) || !(g->b = malloc(n)) || !(g->idx = malloc(n)))
         mem_oom();
     g->f = f;
+    g->out = out;
     g->w = width;
     g->h = height;
     g->delay = delay_cs < 1 ? 1 : delay_cs > 65535 ? 65535 : delay_cs;   /* a 16-bit field */
     if (EGifPutScreenDesc(f, width, height, 8, 0, NULL) == GIF_ERROR) {
         snprintf(err, errlen, "%s: cannot write GIF header", path);
+        g->failed = true;
         gifout_close(g);
         return NULL;
     }
@@ -50,6 +61,7 @@ GifOut *gifout_open(const char *path, int width, int height, int delay_cs, char 
         EGifPutExtensionBlock(f, 11, app) == GIF_ERROR ||
         EGifPutExtensionBlock(f, 3, loop) == GIF_ERROR || EGifPutExtensionTrailer(f) == GIF_ERROR) {
         snprintf(err, errlen, "%s: cannot write GIF header", path);
+        g->failed = true;
         gifout_close(g);
         return NULL;
     }
@@ -87,6 +99,7 @@ int gifout_frame(GifOut *g, const unsigned char *argb, int stride)
         if (EGifPutLine(g->f, g->idx + (size_t)y * (size_t)g->w, g->w) == GIF_ERROR) rc = -1;
     GifFreeMapObject(map);
     if (rc == 0) g->frames++;
+    else g->failed = true;
     return rc;
 }
 
@@ -95,7 +108,10 @@ int gifout_frames(const GifOut *g) { return g->frames; }
 int gifout_close(GifOut *g)
 {
     if (!g) return 0;
-    int code = 0, rc = EGifCloseFile(g->f, &code) == GIF_ERROR ? -1 : 0;
+    int code = 0, rc = EGifCloseFile(g->f, &code) == GIF_ERROR || g->failed ? -1 : 0;
+    char err[600];
+    if (rc == 0) rc = outfile_commit(&g->out, true, err, sizeof err) ? 0 : -1;
+    else outfile_discard(&g->out);
     free(g->r);
     free(g->g);
     free(g->b);

@@ -8,8 +8,10 @@ typedef struct GifOut GifOut;
 
 /* Start [path] as a looping animated GIF of [width] x [height] pixels, each
  * frame shown for [delay_cs] hundredths of a second (clamped to 1..65535).
+ * The frames go to a temporary in [path]'s directory (outfile.h: a link is
+ * written through); [path] appears, complete, at gifout_close.
  *   errors: returns NULL (message in [err], [errlen] bytes) when the file
- *           cannot be created. */
+ *           cannot be created or [path] exists and is not a regular file. */
 GifOut *gifout_open(const char *path, int width, int height, int delay_cs, char *err, size_t errlen);
 /* Append one frame: [argb] is cairo's ARGB32 layout (premultiplied, native
  * endian, [stride] bytes per row), composited over black; its colours are
@@ -18,7 +20,9 @@ GifOut *gifout_open(const char *path, int width, int height, int delay_cs, char 
 int gifout_frame(GifOut *g, const unsigned char *argb, int stride);
 /* Number of frames appended so far. */
 int gifout_frames(const GifOut *g);
-/* Finish the file and free [g] (NULL is a no-op); -1 when closing fails. */
+/* Finish the file, rename it over the target and free [g] (NULL is a
+ * no-op); -1 when a frame could not be written or closing fails: the
+ * temporary is then removed and the target left as it was. */
 int gifout_close(GifOut *g);
 
 #endif

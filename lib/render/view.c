@@ -266,20 +266,43 @@ static void draw_all(View *v, cairo_t *cr, long frame, const PsSystem *systems, 
     }
 }
 
+/* Fix [v]'s layout (panels and picture size) for [n] [systems]. */
+static void lay_out(View *v, const PsSystem *systems, size_t n)
+{
+    v->npanels = n > MAX_PANELS ? MAX_PANELS : (int)n;
+    v->height = v->npanels ? 0 : 40;
+    v->width = v->npanels ? 0 : 240;
+    for (int i = 0; i < v->npanels; i++) {
+        v->pw[i] = PANEL;
+        v->ph[i] = TITLE + (systems[i].dims == 1 ? PANEL_1D : PANEL);
+        v->width += v->pw[i];
+        if (v->ph[i] > v->height) v->height = v->ph[i];
+    }
+    for (int i = 0; i < v->npanels; i++) v->ph[i] = v->height;
+}
+
+size_t view_draw_fit(cairo_surface_t *target, const PsSystem *systems, size_t n, const SymTab *symbols)
+{
+    View v = {.format = FMT_PNG, .symbols = symbols};
+    lay_out(&v, systems, n);
+    double tw = cairo_image_surface_get_width(target), th = cairo_image_surface_get_height(target);
+    double scale = fmin(tw / v.width, th / v.height);
+    cairo_t *cr = cairo_create(target);
+    cairo_set_source_rgb(cr, 0, 0, 0);   /* the bars beside a picture of another shape */
+    cairo_paint(cr);
+    cairo_translate(cr, (tw - v.width * scale) / 2, (th - v.height * scale) / 2);
+    cairo_scale(cr, scale, scale);
+    cairo_rectangle(cr, 0, 0, v.width, v.height);
+    cairo_clip(cr);
+    draw_all(&v, cr, 0, systems, n);
+    cairo_destroy(cr);
+    cairo_surface_flush(target);
+    return (size_t)v.npanels;
+}
+
 int view_frame(View *v, long frame, const PsSystem *systems, size_t n, char *err, size_t errlen)
 {
-    if (v->npanels == 0 && v->width == 0) {   /* fix the layout */
-        v->npanels = n > MAX_PANELS ? MAX_PANELS : (int)n;
-        v->height = v->npanels ? 0 : 40;
-        v->width = v->npanels ? 0 : 240;
-        for (int i = 0; i < v->npanels; i++) {
-            v->pw[i] = PANEL;
-            v->ph[i] = TITLE + (systems[i].dims == 1 ? PANEL_1D : PANEL);
-            v->width += v->pw[i];
-            if (v->ph[i] > v->height) v->height = v->ph[i];
-        }
-        for (int i = 0; i < v->npanels; i++) v->ph[i] = v->height;
-    }
+    if (v->npanels == 0 && v->width == 0) lay_out(v, systems, n);   /* fix the layout */
     cairo_surface_t *surf;
     if (v->format == FMT_SVG) surf = cairo_svg_surface_create(v->path, v->width, v->height);
     else surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, v->width, v->height);

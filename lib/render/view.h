@@ -22,6 +22,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include <cairo.h>
+
 #include "systems.h"
 #include "value.h"
 
@@ -39,6 +41,12 @@ bool view_animated(const View *v);
  * first call).
  *   errors: -1 with a message in [err] when the file cannot be written. */
 int view_frame(View *v, long frame, const PsSystem *systems, size_t n, char *err, size_t errlen);
+/* Draw [n] [systems] as a single view picture (the layout view_frame's
+ * first frame takes) into the cairo image surface [target], scaled
+ * uniformly to fit it and centred, with black bars beside it when the
+ * shapes differ ([symbols] as for view_open) (fl_draw_view); returns the
+ * number of systems drawn (at most 16, as in a view file). */
+size_t view_draw_fit(cairo_surface_t *target, const PsSystem *systems, size_t n, const SymTab *symbols);
 /* Finish and free [v] (NULL is a no-op); -1 when a GIF cannot be finished. */
 int view_close(View *v);
 

@@ -9,23 +9,21 @@
 
 #include "buf.h"
 #include "canvas.h"
-#include "gifout.h"
 #include "mem.h"
+#include "record.h"
 #include "rnode.h"
-
-typedef struct GifSlot {
-    char *path;
-    GifOut *gif;
-} GifSlot;
 
 struct Renderer {
     const SymTab *symbols;
     RenderLog log;
     SkipLog skips;
-    GifSlot *gifs;
-    size_t ngifs;
+    Recorder *rec;         /* the !record files open across frames (record.h) */
+    char *record;          /* renderer_set_record: the first window's file, or NULL */
     bool saw_window;
-    int failed_reported;   /* write errors are reported once per renderer */
+    int failed_reported;   /* write errors so far (each file's first is logged) */
+    char *reported[64];    /* the files whose write error was logged (errors
+                              of further files are counted, not logged) */
+    int nreported;
 };
 
 /* Pictures of id'd nodes drawn so far in this window, for !reference. */
@@ -35,6 +33,15 @@ typedef struct Refs {
     int n;
 } Refs;
 
+/* One drawing of one window: its references, the GIF frame rate, and
+ * whether !record nodes write their files (renderer_frame) or only give
+ * their pictures (renderer_draw_window). */
+typedef struct Pass {
+    Refs refs;
+    double fps;
+    bool write;
+} Pass;
+
 Renderer *renderer_new(const SymTab *symbols, const RenderLog *log)
 {
     Renderer *r = calloc(1, sizeof *r);
@@ -42,7 +49,15 @@ Renderer *renderer_new(const SymTab *symbols, const RenderLog *log)
     r->symbols = symbols;
     if (log) r->log = *log;
     r->skips.log = &r->log;
+    r->rec = recorder_new();
     return r;
+}
+
+void renderer_set_record(Renderer *r, const char *path)
+{
+    free(r->record);
+    r->record = NULL;
+    if (path && *path && !(r->record = strdup(path))) mem_oom();
 }
 
 bool renderer_saw_window(const Renderer *r) { return r->saw_window; }
@@ -50,15 +65,11 @@ bool renderer_saw_window(const Renderer *r) { return r->saw_window; }
 int renderer_free(Renderer *r)
 {
     if (!r) return 0;
-    int rc = 0;
-    for (size_t i = 0; i < r->ngifs; i++) {
-        if (gifout_close(r->gifs[i].gif) != 0) {
-            render_log(&r->log, RLOG_ERROR, "%s: cannot finish GIF", r->gifs[i].path);
-            rc = -1;
-        }
-        free(r->gifs[i].path);
-    }
-    free(r->gifs);
+    char err[600];
+    int rc = recorder_free(r->rec, err, sizeof err);
+    if (rc != 0) render_log(&r->log, RLOG_ERROR, "%s", err);
+    free(r->record);
+    for (int i = 0; i < r->nreported; i++) free(r->reported[i]);
     free(r);
     return rc;
 }
@@ -100,8 +111,9 @@ static void write_record(Renderer *r, const Node *n, cairo_surface_t *pic, doubl
 
 /* Draw the window-level children of [n] onto [target] ([w] x [h]). */
 static void render_children(Renderer *r, const Node *n, cairo_surface_t *target, int w, int h,
-                            Refs *refs, double fps)
+                            Pass *pass)
 {
+    Refs *refs = &pass->refs;
     for (size_t i = 0; i < rnode_nchildren(n); i++) {
         const Node *c = rnode_child(n, i);
         cairo_surface_t *pic = NULL;
@@ -117,8 +129,10 @@ static void render_children(Renderer *r, const Node *n, cairo_surface_t *target,
             int cw, ch;
             size_of(c, w, h, &cw, &ch);
             pic = new_picture(cw, ch);
-            render_children(r, c, pic, cw, ch, refs, fps);
-            write_record(r, c, pic, fps);
+            render_children(r, c, pic, cw, ch, pass);
+            if (pass->write) write_record(r, c, pic, pass->fps);
+        } else if (rnode_is(c, "key") || rnode_is(c, "pointer")) {
+            continue;   /* input, not a picture: lib/input.c reads them */
         } else if (rnode_is(c, "reference")) {
             const Vec *id = rnode_attr(c, "id");
             for (int k = 0; id && k < refs->n; k++)
@@ -133,7 +147,7 @@ static void render_children(Renderer *r, const Node *n, cairo_surface_t *target,
             int cw, ch;
             size_of(c, w, h, &cw, &ch);
             pic = new_picture(cw, ch);
-            render_children(r, c, pic, cw, ch, refs, fps);
+            render_children(r, c, pic, cw, ch, pass);
         } else {
             skiplog_note(&r->skips, "window", rnode_kind(c));
             continue;
@@ -149,68 +163,73 @@ static void render_children(Renderer *r, const Node *n, cairo_surface_t *target,
     }
 }
 
-static bool ends_with(const char *s, const char *tail)
+/* Count a write error of file [path] and log [line] if it is the file's
+ * first (for the first 64 files; a script making up a new name every
+ * frame cannot flood the log). */
+static void report(Renderer *r, const char *path, const char *line)
 {
-    size_t a = strlen(s), b = strlen(tail);
-    return a >= b && strcasecmp(s + a - b, tail) == 0;
+    r->failed_reported++;
+    for (int i = 0; i < r->nreported; i++)
+        if (strcmp(r->reported[i], path) == 0) return;
+    if (r->nreported == 64) return;
+    if (!(r->reported[r->nreported++] = strdup(path))) mem_oom();
+    render_log(&r->log, RLOG_ERROR, "%s%s", line,
+               r->nreported == 64 ? " (errors of further !record files are not logged)" : "");
 }
 
-static void report(Renderer *r, const char *msg, const char *path)
+/* The attributes of !record that are not encoder options: Flitter's own
+ * (record.py) and the generic ones no encoder knows. */
+static bool is_record_attr(const char *name)
 {
-    if (r->failed_reported++ == 0) render_log(&r->log, RLOG_ERROR, "%s: %s", path, msg);
+    static const char *const own[] = {"filename", "codec", "pixfmt", "limit", "hidden", "keep_alpha",
+                                      "quality", "size", "id"};
+    for (size_t i = 0; i < sizeof own / sizeof *own; i++)
+        if (strcmp(name, own[i]) == 0) return true;
+    return false;
+}
+
+/* Write the picture [pic] of one frame as [s] asks (record.h), reporting a
+ * failure once and an unused-option note on the debug stream. */
+static void write_spec(Renderer *r, const RecordSpec *s, cairo_surface_t *pic, double fps)
+{
+    char err[800];
+    int rc = recorder_write(r->rec, s, pic, fps, err, sizeof err);
+    if (rc < 0) report(r, s->path, err);
+    else if (rc > 0 && r->log.debug) render_log(&r->log, RLOG_WARNING, "%s", err);
 }
 
 static void write_record(Renderer *r, const Node *n, cairo_surface_t *pic, double fps)
 {
-    Buf name = BUF_INIT, codec = BUF_INIT;
+    Buf name = BUF_INIT, codec = BUF_INIT, pixfmt = BUF_INIT;
     if (!canvas_attr_str(n, "filename", r->symbols, &name) || name.len == 0) goto done;
-    const char *path = buf_cstr(&name);
-    /* a .png name stays a still picture whatever the codec (as in Flitter) */
-    bool gif = ends_with(path, ".gif") ||
-               (!ends_with(path, ".png") && canvas_attr_str(n, "codec", r->symbols, &codec) &&
-                strcmp(buf_cstr(&codec), "gif") == 0);
-    if (!gif && !ends_with(path, ".png")) {   /* not a PNG under another name */
-        report(r, "only .png pictures and .gif animations are written; !record skipped", path);
-        goto done;
+    RecordSpec s = {.path = buf_cstr(&name), .limit = -1};
+    if (canvas_attr_str(n, "codec", r->symbols, &codec)) s.codec = buf_cstr(&codec);
+    if (canvas_attr_str(n, "pixfmt", r->symbols, &pixfmt)) s.pixfmt = buf_cstr(&pixfmt);
+    s.keep_alpha = rnode_attr(n, "keep_alpha") && vec_truthy(rnode_attr(n, "keep_alpha"));
+    double limit;
+    if (canvas_attr_nums(n, "limit", 1, &limit) && limit >= 0) s.limit = limit;
+    /* every other attribute is an encoder option, as text (Flitter) */
+    size_t nattrs = rnode_nattrs(n), nopt = 0;
+    VideoOption *opts = nattrs ? calloc(nattrs, sizeof *opts) : NULL;
+    Buf *vals = nattrs ? calloc(nattrs, sizeof *vals) : NULL;
+    if (nattrs && (!opts || !vals)) mem_oom();
+    for (size_t i = 0; i < nattrs; i++) {
+        const char *key = rnode_attr_name(n, i);
+        if (is_record_attr(key) || !canvas_attr_str(n, key, r->symbols, &vals[nopt])) continue;
+        opts[nopt].key = key;
+        opts[nopt].value = buf_cstr(&vals[nopt]);
+        nopt++;
     }
-    cairo_surface_flush(pic);
-    int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
-    if (gif) {
-        GifSlot *slot = NULL;
-        for (size_t i = 0; i < r->ngifs; i++)
-            if (strcmp(r->gifs[i].path, path) == 0) slot = &r->gifs[i];
-        if (!slot) {
-            char err[512];
-            double cs = 100.0 / fps;   /* GIF delays are 1..65535 hundredths of a second */
-            int delay = cs >= 65535 ? 65535 : cs <= 1 ? 1 : (int)lround(cs);
-            GifOut *g = gifout_open(path, w, h, delay, err, sizeof err);
-            if (!g) {
-                report(r, "cannot create the GIF file", path);
-                goto done;
-            }
-            r->gifs = realloc(r->gifs, (r->ngifs + 1) * sizeof *r->gifs);
-            if (!r->gifs) mem_oom();
-            slot = &r->gifs[r->ngifs++];
-            slot->path = strdup(path);
-            slot->gif = g;
-        }
-        if (gifout_frame(slot->gif, cairo_image_surface_get_data(pic), cairo_image_surface_get_stride(pic)) != 0)
-            report(r, "cannot write a GIF frame", path);
-    } else {
-        cairo_status_t st;
-        if (rnode_attr(n, "keep_alpha") && vec_truthy(rnode_attr(n, "keep_alpha"))) {
-            st = cairo_surface_write_to_png(pic, path);
-        } else {   /* opaque: premultiplied colour over black */
-            cairo_surface_t *rgb = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
-            composite(rgb, pic);
-            st = cairo_surface_write_to_png(rgb, path);
-            cairo_surface_destroy(rgb);
-        }
-        if (st != CAIRO_STATUS_SUCCESS) report(r, cairo_status_to_string(st), path);
-    }
+    s.options = opts;
+    s.noptions = nopt;
+    write_spec(r, &s, pic, fps);
+    for (size_t i = 0; i < nattrs; i++) buf_free(&vals[i]);
+    free(vals);
+    free(opts);
 done:
     buf_free(&name);
     buf_free(&codec);
+    buf_free(&pixfmt);
 }
 
 /* Whether [n]'s window-level tree holds a !record with a filename: the
@@ -225,21 +244,56 @@ static bool has_record(const Node *n)
     return false;
 }
 
+bool window_is_top(const Node *n) { return rnode_is(n, "window") || rnode_is(n, "offscreen"); }
+
+void window_size(const Node *win, int *w, int *h) { size_of(win, 512, 512, w, h); }
+
+/* Composite the children of window [win] onto [target] (the window's
+ * size), as one pass; with [write], its !record nodes write their files. */
+static void draw_window(Renderer *r, const Node *win, cairo_surface_t *target, double fps, bool write)
+{
+    int w = cairo_image_surface_get_width(target), h = cairo_image_surface_get_height(target);
+    Pass pass = {.refs.n = 0, .fps = fps, .write = write};
+    render_children(r, win, target, w, h, &pass);
+    for (int k = 0; k < pass.refs.n; k++) cairo_surface_destroy(pass.refs.pic[k]);
+}
+
 int renderer_frame(Renderer *r, const Node *root, double fps)
 {
     int before = r->failed_reported;
+    bool first = true;   /* the first window: renderer_set_record's */
     for (size_t i = 0; root && i < rnode_nchildren(root); i++) {
         const Node *win = rnode_child(root, i);
-        if (!rnode_is(win, "window") && !rnode_is(win, "offscreen")) continue;
+        if (!window_is_top(win)) continue;
         r->saw_window = true;
-        if (!has_record(win)) continue;
+        bool extra = first && r->record;
+        first = false;
+        if (!has_record(win) && !extra) continue;
         int w, h;
-        size_of(win, 512, 512, &w, &h);
+        window_size(win, &w, &h);
         cairo_surface_t *pic = new_picture(w, h);
-        Refs refs = {.n = 0};
-        render_children(r, win, pic, w, h, &refs, fps);
-        for (int k = 0; k < refs.n; k++) cairo_surface_destroy(refs.pic[k]);
+        draw_window(r, win, pic, fps, true);
+        if (extra) write_spec(r, &(RecordSpec){.path = r->record, .limit = -1}, pic, fps);
         cairo_surface_destroy(pic);
     }
     return r->failed_reported - before;
+}
+
+int renderer_draw_window(Renderer *r, const Node *win, cairo_surface_t *target)
+{
+    int w, h;
+    window_size(win, &w, &h);
+    if (cairo_surface_get_type(target) != CAIRO_SURFACE_TYPE_IMAGE ||
+        cairo_image_surface_get_format(target) != CAIRO_FORMAT_ARGB32 ||
+        cairo_image_surface_get_width(target) != w || cairo_image_surface_get_height(target) != h)
+        return -1;
+    r->saw_window = true;
+    /* the picture starts transparent, as new_picture's does */
+    cairo_t *cr = cairo_create(target);
+    cairo_set_operator(cr, CAIRO_OPERATOR_CLEAR);
+    cairo_paint(cr);
+    cairo_destroy(cr);
+    draw_window(r, win, target, 1.0, false);
+    cairo_surface_flush(target);
+    return 0;
 }

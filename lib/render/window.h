@@ -7,11 +7,14 @@
  * and composited in order, stretched to the window's size as in Flitter;
  * a `!record filename=F` child composites its own children the same way
  * and writes the picture to F when F is not null, as Flitter's !record
- * does: an animated GIF (one file, a frame appended each time) when F ends
- * in `.gif` (or codec=:gif and F does not end in `.png`), else, for F
- * ending in `.png`, a PNG replaced each time (RGBA with keep_alpha=true,
- * else RGB over black); any other name (video, JPEG, ...) is reported once
- * and not written. `!reference id=X` composites the
+ * does (record.h): an animated GIF (a frame appended each time) when F
+ * ends in `.gif` (or codec=:gif and F does not end in `.png`), a PNG
+ * replaced each time for F ending in `.png` (RGBA with keep_alpha=true,
+ * else RGB over black), a video for .mp4, .mov, .m4v, .mkv and .webm
+ * (video.h; codec=, pixfmt=, limit= and the encoder's options); any other
+ * name (JPEG, ...) is reported and not written. Files are written under a
+ * temporary name and renamed into place; animations and videos appear at
+ * the end of the run (renderer_free). `!reference id=X` composites the
  * picture of the earlier sibling node with id=X. As pictures are only ever
  * written by !record, a window with no !record filename in its tree is
  * not drawn at all. A window-level effect node with children (shaders,
@@ -23,6 +26,8 @@
 #define FL_RENDER_WINDOW_H
 
 #include <stdio.h>
+
+#include <cairo.h>
 
 #include "canvas.h"
 #include "node.h"
@@ -39,10 +44,29 @@ Renderer *renderer_new(const SymTab *symbols, const RenderLog *log);
  *   errors: returns the number of files that could not be written (each
  *           reported on the log once), else 0. */
 int renderer_frame(Renderer *r, const Node *root, double fps);
+/* Draw window [win] (a top-level !window or !offscreen node) into
+ * [target], an ARGB32 cairo image surface of the window's size
+ * (window_size): cleared to transparent, then its children composited
+ * exactly as renderer_frame composites them for a !record of the window,
+ * but no !record file is written (fl_draw_window).
+ *   errors: -1 when [target] is not such a surface (nothing drawn), else 0;
+ *           skipped kinds are reported once, as by renderer_frame. */
+int renderer_draw_window(Renderer *r, const Node *win, cairo_surface_t *target);
+/* True for a top-level window node: `!window` or `!offscreen`. */
+bool window_is_top(const Node *n);
+/* The size of window [win] in pixels: its size=W;H, or 512;512 when absent
+ * or out of bounds (each side 1..16384, at most 64 Mpixels). */
+void window_size(const Node *win, int *w, int *h);
+/* Record the first top-level window of every later frame to [path] as if
+ * it had a `!record filename=PATH` child holding all its children (the
+ * `flitter run --record FILE` option; default attributes); NULL or ""
+ * stops. [path] is copied. */
+void renderer_set_record(Renderer *r, const char *path);
 /* True when any window was found so far (a script that draws). */
 bool renderer_saw_window(const Renderer *r);
-/* Finish animated GIFs and free [r] (NULL is a no-op); returns -1 when a
- * GIF could not be finished. */
+/* Finish animated GIFs and videos (each renamed into place) and free [r]
+ * (NULL is a no-op); returns -1, with the message on the log, when one
+ * could not be finished. */
 int renderer_free(Renderer *r);
 
 #endif

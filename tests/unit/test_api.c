@@ -321,13 +321,13 @@ static void test_outputs_and_view(void **st)
     fl_runtime *rt = open_runtime(&log);
     assert_int_equal(fl_load_text(rt, "out.fl", src, strlen(src)), 0);
 
-    fl_output_options o = {bad, 0, NULL, 0, false};
+    fl_output_options o = {.view = bad};
     assert_null(fl_outputs_open(rt, &o));
     char want[160];
     snprintf(want, sizeof want, "%s: a view is written to a .png, .svg or .gif file\n", bad);
     assert_string_equal(fl_error(rt), want);
 
-    fl_output_options ok = {view, 0, trace, 2, true};
+    fl_output_options ok = {.view = view, .trace = trace, .trace_every = 2, .debug = true};
     fl_outputs *out = fl_outputs_open(rt, &ok);
     assert_non_null(out);
     for (int i = 0; i < 3; i++) {

@@ -1,0 +1,219 @@
+/* record.c: !record's PNG, GIF and video files (see record.h).
+ *
+ * The recorder keeps one slot per file name that stays open across frames:
+ * an animated GIF or a video, or a video that could not be started (kept
+ * so that it is not retried every frame). Slots are found by the name as
+ * written in the script; they are finished in recorder_free, or, for a
+ * video with limit=, once limit*fps frames are written.
+ */
+#include "record.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <unistd.h>
+
+#include "gifout.h"
+#include "mem.h"
+#include "outfile.h"
+
+typedef struct Slot {
+    char *path;       /* the file name as given */
+    GifOut *gif;      /* an animation, or NULL */
+    VideoOut *video;  /* a video, or NULL */
+    long max_frames;  /* video frames to write (limit=), or -1: no limit */
+    bool done;        /* finished by its limit: later frames are ignored */
+    char *error;      /* the video could not be started: this message */
+} Slot;
+
+struct Recorder {
+    Slot *slots;
+    size_t nslots;
+};
+
+Recorder *recorder_new(void)
+{
+    Recorder *rec = calloc(1, sizeof *rec);
+    if (!rec) mem_oom();
+    return rec;
+}
+
+static bool ends_with(const char *s, const char *tail)
+{
+    size_t a = strlen(s), b = strlen(tail);
+    return a >= b && strcasecmp(s + a - b, tail) == 0;
+}
+
+static Slot *find_slot(Recorder *rec, const char *path)
+{
+    for (size_t i = 0; i < rec->nslots; i++)
+        if (strcmp(rec->slots[i].path, path) == 0) return &rec->slots[i];
+    return NULL;
+}
+
+static Slot *add_slot(Recorder *rec, const char *path)
+{
+    Slot *s = realloc(rec->slots, (rec->nslots + 1) * sizeof *s);
+    if (!s) mem_oom();
+    rec->slots = s;
+    s = &rec->slots[rec->nslots++];
+    *s = (Slot){.path = strdup(path), .max_frames = -1};
+    if (!s->path) mem_oom();
+    return s;
+}
+
+/* cairo's PNG writer output: to the temporary's descriptor. */
+static cairo_status_t write_fd(void *closure, const unsigned char *data, unsigned int len)
+{
+    int fd = *(const int *)closure;
+    while (len > 0) {
+        ssize_t w = write(fd, data, len);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) return CAIRO_STATUS_WRITE_ERROR;
+        data += w;
+        len -= (unsigned int)w;
+    }
+    return CAIRO_STATUS_SUCCESS;
+}
+
+static int write_png(const RecordSpec *s, cairo_surface_t *pic, char *err, size_t errlen)
+{
+    OutFile f;
+    if (!outfile_open(&f, s->path, err, errlen)) return -1;
+    cairo_status_t st;
+    if (s->keep_alpha) {
+        st = cairo_surface_write_to_png_stream(pic, write_fd, &f.fd);
+    } else {   /* opaque: premultiplied colour over black */
+        int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
+        cairo_surface_t *rgb = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+        cairo_t *cr = cairo_create(rgb);
+        cairo_set_source_surface(cr, pic, 0, 0);
+        cairo_paint(cr);
+        cairo_destroy(cr);
+        st = cairo_surface_write_to_png_stream(rgb, write_fd, &f.fd);
+        cairo_surface_destroy(rgb);
+    }
+    if (st != CAIRO_STATUS_SUCCESS) {
+        snprintf(err, errlen, "%s: %s", s->path, cairo_status_to_string(st));
+        outfile_discard(&f);
+        return -1;
+    }
+    return outfile_commit(&f, false, err, errlen) ? 0 : -1;
+}
+
+static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err,
+                     size_t errlen)
+{
+    Slot *slot = find_slot(rec, s->path);
+    if (slot && slot->error) {
+        snprintf(err, errlen, "%s", slot->error);
+        return -1;
+    }
+    if (!slot) {
+        double cs = 100.0 / fps;   /* GIF delays are 1..65535 hundredths of a second */
+        int delay = cs >= 65535 ? 65535 : cs <= 1 ? 1 : (int)lround(cs);
+        GifOut *g = gifout_open(s->path, cairo_image_surface_get_width(pic), cairo_image_surface_get_height(pic),
+                                delay, err, errlen);
+        slot = add_slot(rec, s->path);
+        if (!g) {
+            if (!(slot->error = strdup(err))) mem_oom();
+            return -1;
+        }
+        slot->gif = g;
+    }
+    if (gifout_frame(slot->gif, cairo_image_surface_get_data(pic), cairo_image_surface_get_stride(pic)) != 0) {
+        snprintf(err, errlen, "%s: cannot write a GIF frame", s->path);
+        return -1;
+    }
+    return 0;
+}
+
+static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err,
+                       size_t errlen)
+{
+    Slot *slot = find_slot(rec, s->path);
+    if (slot && slot->error) {
+        snprintf(err, errlen, "%s", slot->error);
+        return -1;
+    }
+    if (slot && slot->done) return 0;
+    int rc = 0;
+    if (!slot) {
+        char unused[256];
+        VideoSpec vs = {.codec = s->codec, .pixfmt = s->pixfmt, .keep_alpha = s->keep_alpha,
+                        .options = s->options, .noptions = s->noptions};
+        VideoOut *v = video_open(s->path, cairo_image_surface_get_width(pic), cairo_image_surface_get_height(pic),
+                                 fps, &vs, err, errlen, unused, sizeof unused);
+        slot = add_slot(rec, s->path);
+        if (!v) {
+            if (!(slot->error = strdup(err))) mem_oom();
+            return -1;
+        }
+        slot->video = v;
+        if (s->limit >= 0) {   /* Flitter: frames up to round(limit * fps) */
+            double ifps = fps >= 1 && fps <= 1000 ? floor(fps) : fps > 1000 ? 1000 : 1;
+            double m = round(s->limit * ifps);
+            slot->max_frames = m < 1e15 ? (long)m : -1;
+        }
+        if (unused[0]) {
+            snprintf(err, errlen, "%s: options not used by the %s encoder: %s", s->path, video_encoder(v), unused);
+            rc = 1;
+        }
+    }
+    if (slot->max_frames < 0 || video_frames(slot->video) < slot->max_frames) {
+        char why[600];
+        if (video_frame(slot->video, cairo_image_surface_get_data(pic), cairo_image_surface_get_width(pic),
+                        cairo_image_surface_get_height(pic), cairo_image_surface_get_stride(pic), why,
+                        sizeof why) != 0) {
+            snprintf(err, errlen, "%s", why);
+            return -1;
+        }
+    }
+    if (slot->max_frames >= 0 && video_frames(slot->video) >= slot->max_frames) {
+        slot->done = true;   /* the limit: finish the file now, as Flitter does */
+        char why[600];
+        int closed = video_close(slot->video, why, sizeof why);
+        slot->video = NULL;
+        if (closed != 0) {
+            snprintf(err, errlen, "%s", why);
+            return -1;
+        }
+    }
+    return rc;
+}
+
+int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err, size_t errlen)
+{
+    cairo_surface_flush(pic);
+    /* a .png name stays a still picture whatever the codec (as in Flitter) */
+    bool gif = ends_with(s->path, ".gif") ||
+               (!ends_with(s->path, ".png") && s->codec && strcmp(s->codec, "gif") == 0);
+    if (gif) return write_gif(rec, s, pic, fps, err, errlen);
+    if (ends_with(s->path, ".png")) return write_png(s, pic, err, errlen);
+    if (video_is_video_name(s->path)) return write_video(rec, s, pic, fps, err, errlen);
+    snprintf(err, errlen, "%s: only .png pictures and .gif animations are written, and .mp4, .mov, .m4v, "
+             ".mkv and .webm videos; !record skipped", s->path);
+    return -1;
+}
+
+int recorder_free(Recorder *rec, char *err, size_t errlen)
+{
+    if (!rec) return 0;
+    int rc = 0;
+    for (size_t i = 0; i < rec->nslots; i++) {
+        Slot *s = &rec->slots[i];
+        if (s->gif && gifout_close(s->gif) != 0) {
+            snprintf(err, errlen, "%s: cannot finish GIF", s->path);
+            rc = -1;
+        }
+        if (s->video && video_close(s->video, err, errlen) != 0) rc = -1;
+        free(s->path);
+        free(s->error);
+    }
+    free(rec->slots);
+    free(rec);
+    return rc;
+}

@@ -1,0 +1,63 @@
+/* record.h: the files a `!record` node writes (Flitter docs/windows.md,
+ * "!record"; Flitter render/window/record.py and cache.py): the picture
+ * of one frame goes to
+ *   - NAME.gif (or codec=:gif with a name not ending in .png): one frame
+ *     appended to an animated GIF (gifout.h), which appears at the end of
+ *     the run;
+ *   - NAME.png: a PNG replaced every frame (RGBA with keep_alpha=true,
+ *     else RGB over black);
+ *   - NAME.mp4, .mov, .m4v, .mkv, .webm: one frame appended to a video
+ *     (video.h), which appears at the end of the run, or once limit=
+ *     seconds of it are written;
+ *   - any other name: refused (the caller reports it).
+ * Every file is written under a temporary name and renamed into place
+ * (outfile.h), so a reader never sees a partial file; a link is written
+ * through, a non-regular target refused.
+ *
+ * A Recorder holds the files that stay open across frames (animations and
+ * videos, by file name) and belongs to one renderer.
+ */
+#ifndef FL_RENDER_RECORD_H
+#define FL_RENDER_RECORD_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include <cairo.h>
+
+#include "video.h"
+
+typedef struct Recorder Recorder;
+
+/* What one !record node asks for (all borrowed for the call). */
+typedef struct RecordSpec {
+    const char *path;           /* filename=, as given */
+    const char *codec;          /* codec= as text, or NULL */
+    const char *pixfmt;         /* pixfmt= as text, or NULL */
+    bool keep_alpha;            /* keep_alpha= */
+    double limit;               /* limit= in seconds of video, or < 0: none */
+    const VideoOption *options; /* the encoder options (video only) */
+    size_t noptions;
+} RecordSpec;
+
+/* A recorder with nothing open. */
+Recorder *recorder_new(void);
+/* Write picture [pic] (an ARGB32 image surface, premultiplied) of one
+ * frame as [s] asks; [fps] is the frame rate (GIF delays, video time
+ * base).
+ *   errors: -1 with one line "PATH: REASON" in [err] ([errlen] bytes)
+ *           when the file cannot be written this frame (a video that could
+ *           not be started fails each later frame too, without retrying);
+ *           1 with a note "PATH: options not used by the ENCODER encoder:
+ *           K1,K2" in [err] in the frame a video starts with options the
+ *           encoder does not know (it is still written); else 0. Never
+ *           aborts. */
+int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err,
+                   size_t errlen);
+/* Finish the animations and videos still open (each renamed into place),
+ * and free [rec] (NULL is a no-op).
+ *   errors: -1 when any could not be finished, with the last such message
+ *           in [err]; else 0. */
+int recorder_free(Recorder *rec, char *err, size_t errlen);
+
+#endif

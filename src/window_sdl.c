@@ -1,0 +1,174 @@
+/* window_sdl.c: an SDL window that shows a frame's picture: a streaming
+ * ARGB8888 texture the size of the picture (which fl_draw_window fills in
+ * place), copied scaled into the largest rectangle of the same aspect
+ * ratio centred in the renderer's output (letterbox: black bars), with an
+ * optional overlay texture at the output's own resolution on top. The
+ * picture is premultiplied; it is copied without blending, which is the
+ * picture over black, as !record writes it. Sizes are pixels of the
+ * renderer output (SDL_GetRendererOutputSize), which a HiDPI display makes
+ * larger than the window's size in points (SDL mouse coordinates). */
+#include "window_sdl.h"
+
+#include <string.h>
+
+/* The rectangle of aspect [pw]:[ph] that fills [W] x [H], centred. */
+static SDL_Rect fit(int pw, int ph, int W, int H)
+{
+    SDL_Rect r = {0, 0, W, H};
+    if (pw <= 0 || ph <= 0 || W <= 0 || H <= 0) return r;
+    if ((double)W / H > (double)pw / ph) {
+        r.w = (int)((double)H * pw / ph + 0.5);
+        r.x = (W - r.w) / 2;
+    } else {
+        r.h = (int)((double)W * ph / pw + 0.5);
+        r.y = (H - r.h) / 2;
+    }
+    return r;
+}
+
+/* Shrink [w] x [h] by 2/3 steps until it fits 95% of display [screen]. */
+static void fit_display(int screen, int *w, int *h)
+{
+    SDL_Rect b;
+    if (SDL_GetDisplayUsableBounds(screen, &b) != 0) return;
+    while ((*w > b.w * 0.95 || *h > b.h * 0.95) && *w > 1 && *h > 1) {
+        *w = *w * 2 / 3;
+        *h = *h * 2 / 3;
+    }
+}
+
+int winview_open(WinView *v, const char *title, int w, int h, const WinOptions *o,
+                 bool fullscreen, bool vsync)
+{
+    *v = (WinView){0};
+    int screen = o->screen >= 0 && o->screen < SDL_GetNumVideoDisplays() ? o->screen : 0;
+    int ww = w, wh = h;
+    fit_display(screen, &ww, &wh);
+    Uint32 flags = SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI;
+    if (fullscreen) flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;
+    v->window = SDL_CreateWindow(title, SDL_WINDOWPOS_CENTERED_DISPLAY(screen),
+                                 SDL_WINDOWPOS_CENTERED_DISPLAY(screen), ww, wh, flags);
+    if (!v->window) return -1;
+    Uint32 rflags = vsync ? SDL_RENDERER_PRESENTVSYNC : 0;
+    v->renderer = SDL_CreateRenderer(v->window, -1, SDL_RENDERER_ACCELERATED | rflags);
+    if (!v->renderer) v->renderer = SDL_CreateRenderer(v->window, -1, SDL_RENDERER_SOFTWARE | rflags);
+    if (!v->renderer) {
+        SDL_DestroyWindow(v->window);
+        *v = (WinView){0};
+        return -1;
+    }
+    v->id = SDL_GetWindowID(v->window);
+    v->want_w = w;
+    v->want_h = h;
+    v->fullscreen = fullscreen;
+    v->vsync = vsync;
+    snprintf(v->title, sizeof v->title, "%s", title);
+    SDL_SetRenderDrawColor(v->renderer, 0, 0, 0, 255);
+    SDL_RenderClear(v->renderer);
+    SDL_RenderPresent(v->renderer);
+    return 0;
+}
+
+void winview_close(WinView *v)
+{
+    if (v->picture) SDL_DestroyTexture(v->picture);
+    if (v->overlay) SDL_DestroyTexture(v->overlay);
+    if (v->renderer) SDL_DestroyRenderer(v->renderer);
+    if (v->window) SDL_DestroyWindow(v->window);
+    *v = (WinView){0};
+}
+
+void winview_update(WinView *v, const char *title, int w, int h, bool fullscreen, bool vsync)
+{
+    if (strncmp(title, v->title, sizeof v->title - 1) != 0) {
+        snprintf(v->title, sizeof v->title, "%s", title);
+        SDL_SetWindowTitle(v->window, v->title);
+    }
+    if ((int)fullscreen != v->fullscreen) {
+        SDL_SetWindowFullscreen(v->window, fullscreen ? SDL_WINDOW_FULLSCREEN_DESKTOP : 0);
+        v->fullscreen = fullscreen;
+    }
+    if ((w != v->want_w || h != v->want_h) && !v->fullscreen) {
+        int ww = w, wh = h;
+        fit_display(SDL_GetWindowDisplayIndex(v->window), &ww, &wh);
+        SDL_SetWindowSize(v->window, ww, wh);
+        v->want_w = w;
+        v->want_h = h;
+    }
+    if ((int)vsync != v->vsync) {
+        SDL_RenderSetVSync(v->renderer, vsync);
+        v->vsync = vsync;
+    }
+}
+
+void winview_output_size(const WinView *v, int *w, int *h)
+{
+    if (SDL_GetRendererOutputSize(v->renderer, w, h) != 0) SDL_GetWindowSize(v->window, w, h);
+}
+
+uint32_t *winview_lock(WinView *v, int w, int h, int *pitch)
+{
+    if (!v->picture || w != v->pic_w || h != v->pic_h) {
+        if (v->picture) SDL_DestroyTexture(v->picture);
+        v->picture = SDL_CreateTexture(v->renderer, SDL_PIXELFORMAT_ARGB8888,
+                                       SDL_TEXTUREACCESS_STREAMING, w, h);
+        v->pic_w = v->picture ? w : 0;
+        v->pic_h = v->picture ? h : 0;
+        if (!v->picture) return NULL;
+        SDL_SetTextureBlendMode(v->picture, SDL_BLENDMODE_NONE);
+    }
+    void *pixels;
+    if (SDL_LockTexture(v->picture, NULL, &pixels, pitch) != 0) return NULL;
+    return pixels;
+}
+
+void winview_unlock(WinView *v) { SDL_UnlockTexture(v->picture); }
+
+uint32_t *winview_overlay_lock(WinView *v, int *w, int *h, int *pitch)
+{
+    winview_output_size(v, w, h);
+    if (!v->overlay || *w != v->ov_w || *h != v->ov_h) {
+        if (v->overlay) SDL_DestroyTexture(v->overlay);
+        v->overlay = SDL_CreateTexture(v->renderer, SDL_PIXELFORMAT_ARGB8888,
+                                       SDL_TEXTUREACCESS_STREAMING, *w, *h);
+        v->ov_w = v->overlay ? *w : 0;
+        v->ov_h = v->overlay ? *h : 0;
+        if (!v->overlay) return NULL;
+        SDL_SetTextureBlendMode(v->overlay, SDL_BLENDMODE_BLEND);
+    }
+    void *pixels;
+    if (SDL_LockTexture(v->overlay, NULL, &pixels, pitch) != 0) return NULL;
+    return pixels;
+}
+
+void winview_overlay_done(WinView *v, bool shown)
+{
+    SDL_UnlockTexture(v->overlay);
+    v->has_overlay = shown;
+}
+
+void winview_present(WinView *v)
+{
+    int W, H;
+    winview_output_size(v, &W, &H);
+    SDL_SetRenderDrawColor(v->renderer, 0, 0, 0, 255);
+    SDL_RenderClear(v->renderer);
+    if (v->picture) {
+        SDL_Rect r = fit(v->pic_w, v->pic_h, W, H);
+        SDL_RenderCopy(v->renderer, v->picture, NULL, &r);
+    }
+    if (v->has_overlay && v->overlay && v->ov_w == W && v->ov_h == H)
+        SDL_RenderCopy(v->renderer, v->overlay, NULL, NULL);
+    SDL_RenderPresent(v->renderer);
+}
+
+bool winview_pointer(const WinView *v, int x, int y, double *fx, double *fy)
+{
+    int W, H;
+    SDL_GetWindowSize(v->window, &W, &H);
+    SDL_Rect r = fit(v->pic_w ? v->pic_w : W, v->pic_h ? v->pic_h : H, W, H);
+    if (r.w <= 0 || r.h <= 0) return false;
+    *fx = (double)(x - r.x) / r.w;
+    *fy = (double)(y - r.y) / r.h;
+    return *fx >= 0 && *fx <= 1 && *fy >= 0 && *fy <= 1;
+}

@@ -1,0 +1,80 @@
+/* window_sdl.h: one SDL window showing a picture, letterboxed, with an
+ * overlay on top. */
+#ifndef FL_WINDOW_SDL_H
+#define FL_WINDOW_SDL_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include <SDL.h>
+
+/* How windows open (the command line's defaults; a !window's own
+ * fullscreen= and vsync= override them). */
+typedef struct WinOptions {
+    int screen;          /* display index (--screen N), from 0 */
+    bool fullscreen;     /* --fullscreen */
+    bool vsync;          /* --vsync */
+} WinOptions;
+
+typedef struct WinView {
+    SDL_Window *window;
+    SDL_Renderer *renderer;
+    Uint32 id;               /* SDL_GetWindowID, to route events */
+    SDL_Texture *picture;    /* streaming ARGB8888, pic_w x pic_h pixels */
+    int pic_w, pic_h;        /* the picture's size in pixels */
+    int want_w, want_h;      /* the size the window was last asked for */
+    SDL_Texture *overlay;    /* ARGB8888, straight alpha, ov_w x ov_h (output pixels) */
+    int ov_w, ov_h;
+    bool has_overlay;        /* the overlay texture holds something to show */
+    int fullscreen;          /* 1 fullscreen now, 0 not */
+    int vsync;               /* 1 presenting with vsync, 0 not */
+    char title[256];         /* the title shown */
+} WinView;
+
+/* Open a resizable, HiDPI-aware window [title] for a picture of [w] x [h]
+ * pixels on display o->screen (centred; shrunk by 2/3 steps until it fits
+ * 95% of the display, as Flitter does), fullscreen (desktop mode) when
+ * [fullscreen], with an accelerated renderer (else SDL's software one),
+ * presenting with vsync when [vsync].
+ *   errors: -1 with SDL_GetError() text left in SDL, nothing left open;
+ *           else 0.
+ *   source: Flitter render/window/__init__.py Window.create (sizing,
+ *           centring, aspect ratio). */
+int winview_open(WinView *v, const char *title, int w, int h, const WinOptions *o,
+                 bool fullscreen, bool vsync);
+/* Close [v]'s window and free its textures (a closed WinView is a no-op). */
+void winview_close(WinView *v);
+
+/* Follow a window node's attributes after a frame: [title], the picture
+ * size [w] x [h] (the window is resized to it when it changes, like
+ * Flitter's), [fullscreen] and [vsync] (1/0). */
+void winview_update(WinView *v, const char *title, int w, int h, bool fullscreen, bool vsync);
+
+/* The renderer's output size in pixels (HiDPI: more than the window's
+ * size in points). */
+void winview_output_size(const WinView *v, int *w, int *h);
+
+/* Lock the picture texture, (re)made at [w] x [h] pixels, for writing:
+ * returns its pixels (0xAARRGGBB words) and their row pitch in *[pitch]
+ * bytes, or NULL (SDL error) when it cannot be made. */
+uint32_t *winview_lock(WinView *v, int w, int h, int *pitch);
+/* Unlock the picture after winview_lock. */
+void winview_unlock(WinView *v);
+
+/* The overlay texture at the output size, locked for overlay_paint (NULL
+ * on failure), and its pitch; then winview_overlay_done(). */
+uint32_t *winview_overlay_lock(WinView *v, int *w, int *h, int *pitch);
+void winview_overlay_done(WinView *v, bool shown);
+
+/* Show the picture letterboxed (scaled to the output keeping its aspect
+ * ratio, black bars), then the overlay when it has one, and present. */
+void winview_present(WinView *v);
+
+/* Where the window point [x],[y] (SDL mouse coordinates) falls on the
+ * picture: *[fx], *[fy] fractions of its width and height (0..1, top left
+ * 0;0); returns false when it falls on the black bars or outside.
+ *   source: Flitter's pointer_movement_callback (x/width, y/height), here
+ *           of the letterboxed picture rather than the whole window. */
+bool winview_pointer(const WinView *v, int x, int y, double *fx, double *fy);
+
+#endif
