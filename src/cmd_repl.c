@@ -51,6 +51,7 @@
 #include "commands.h"
 #include "exitcodes.h"
 #include "repl.h"
+#include "repl_window.h"
 
 #define PROMPT "flitter> "
 #define PROMPT_MORE "   ...> "
@@ -181,6 +182,64 @@ static void print_frame(Repl *r)
     printf("frame %ld time %s\n", fl_frame_count(r->rt) - 1, t);
 }
 
+/* The last path component of [path]. */
+static const char *base_name(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash && slash[1] ? slash + 1 : path;
+}
+
+/* Handle the live window's events; closed (close button, Escape): gone,
+ * the session goes on. */
+static void window_events(Repl *r)
+{
+    if (!r->window || repl_window_poll(r->window)) return;
+    repl_window_close(r->window);
+    r->window = NULL;
+    puts("window closed");
+}
+
+/* After a frame: the window's events, then its picture ([force]: now,
+ * else at most 60 times a second). */
+static void window_frame(Repl *r, bool force)
+{
+    window_events(r);
+    if (r->window) repl_window_frame(r->window, r->rt, force);
+}
+
+/* `:window` opens a live window on the runtime, `:window off` closes it. */
+static int cmd_window(Repl *r, const char *arg)
+{
+    if (strcmp(arg, "off") == 0) {
+        if (!r->window) {
+            puts("no window open");
+            return 0;
+        }
+        repl_window_close(r->window);
+        r->window = NULL;
+        puts("window closed");
+        return 0;
+    }
+    if (*arg) {
+        repl_error(r, "usage: :window [off]");
+        return 0;
+    }
+    if (r->window) {
+        window_frame(r, true);
+        puts("window already open");
+        return 0;
+    }
+    char why[256];
+    r->window = repl_window_open(r->rt, r->script ? base_name(r->script) : "flitter repl", why,
+                                 sizeof why);
+    if (!r->window) {
+        repl_error(r, "no window: %s", why);
+        return 0;
+    }
+    puts("window open (:window off closes it)");
+    return 0;
+}
+
 static int cmd_step(Repl *r, const char *arg)
 {
     long n = 1;
@@ -214,7 +273,9 @@ static int cmd_step(Repl *r, const char *arg)
             repl_error(r, "no program to step");
             return 0;
         }
+        if (r->window) window_frame(r, false);
     }
+    if (r->window) window_frame(r, true);
     print_frame(r);
     return 0;
 }
@@ -353,6 +414,7 @@ static const Command commands[] = {
     {"save", ARG_REQUIRED, "FILE", "save the state and the clock to FILE", cmd_save},
     {"restore", ARG_REQUIRED, "FILE", "restore the state and the clock from FILE", cmd_restore},
     {"view", ARG_REQUIRED, "FILE", "draw the physics systems now to FILE (.png or .svg)", cmd_view},
+    {"window", ARG_OPTIONAL, "[off]", "show the last frame live in a window (off: close it)", cmd_window},
     {"help", ARG_NONE, "", "show this help", cmd_help},
     {"quit", ARG_NONE, "", "end the session (so does end of input)", cmd_quit},
 };
@@ -654,6 +716,7 @@ int cmd_repl(int argc, char **argv)
     }
     bool after_interrupt = false;   /* the last prompt ended with Ctrl-C */
     for (;;) {
+        window_events(&r);
         char *line = read_line(&r);
         if (r.tty && repl_take_interrupt()) {
             /* Ctrl-C at the prompt drops the line (and a pending block);
@@ -681,6 +744,7 @@ int cmd_repl(int argc, char **argv)
         fflush(stdout);
         if (quit) break;
     }
+    repl_window_close(r.window);
     fflush(stdout);
     if (r.tty) repl_edit_end(&r);
     text_free(&r.block);

@@ -11,6 +11,8 @@
 #include "flitter.h"
 #include "text.h"
 
+struct ReplWindow;
+
 typedef enum { CPL_COMMANDS, CPL_NAMES, CPL_FILES } CompletionKind;
 
 typedef struct Repl {
@@ -25,6 +27,7 @@ typedef struct Repl {
     char *peeked;              /* scripted mode: the next line, read ahead (owned), or NULL */
     bool peeked_eof;           /* scripted mode: reading ahead met the end of input */
     long errors;               /* errors reported so far (the exit status of a scripted session) */
+    struct ReplWindow *window; /* `:window`'s live window (repl_window.c), or NULL */
     /* completion cursor, for libedit's generator callback */
     CompletionKind cpl_kind;   /* what is being completed */
     size_t cpl_next;           /* next candidate index to try */

@@ -2,6 +2,7 @@
  * `flitter run` and `flitter test` (FORMATS.md §4). */
 #include "runner.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
@@ -71,6 +72,9 @@ static void run_usage(FILE *f)
           "  --vsync             present frames in step with the display (a !window's\n"
           "                      vsync= wins)\n"
           "  --resetonswitch     empty a page's state when switching away from it\n"
+          "  --window-size WxH   the physics view window's size in pixels when a frame\n"
+          "                      has no !window (default 512x512; a !window's size= sets\n"
+          "                      its own window's)\n"
           "  In a window: several SCRIPTs are pages, switched with the left and right\n"
           "  arrows; saving a script or a file it includes or imports reloads it (an\n"
           "  error is shown and the last good version keeps running); Escape or\n"
@@ -109,7 +113,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
            O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
            O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_DUMP_TOKENS, O_DUMP_AST, O_STATS,
            O_MAX_STEPS, O_PARTICLES, O_PHYSICS, O_WINDOW, O_FULLSCREEN, O_SCREEN, O_VSYNC,
-           O_RESETONSWITCH, O_RECORD };
+           O_RESETONSWITCH, O_RECORD, O_WINDOW_SIZE };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -147,9 +151,11 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
         {"screen", required_argument, NULL, O_SCREEN},
         {"vsync", no_argument, NULL, O_VSYNC},
         {"resetonswitch", no_argument, NULL, O_RESETONSWITCH},
+        {"window-size", required_argument, NULL, O_WINDOW_SIZE},
         {NULL, 0, NULL, 0},
     };
     *spec = (RunSpec){.frames = -1, .fps = 60.0, .runtime = -1, .max_steps = 10000,
+                      .view_width = 512, .view_height = 512,
                       .window = scripts == RUNSPEC_PAGES,
                       .implicit_window = scripts == RUNSPEC_PAGES};
     bool frames_given = false;
@@ -214,6 +220,19 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
         case O_FULLSCREEN: spec->fullscreen = true; break;
         case O_VSYNC: spec->vsync = true; break;
         case O_RESETONSWITCH: spec->reset_on_switch = true; break;
+        case O_WINDOW_SIZE: {
+            /* WxH, each 1..16384 pixels */
+            long w = strtol(optarg, &end, 10), h;
+            if (end == optarg || *end != 'x' || w < 1 || w > 16384) goto bad_value;
+            const char *hs = end + 1;
+            h = strtol(hs, &end, 10);
+            if (end == hs || *end || h < 1 || h > 16384 || !isdigit((unsigned char)*optarg) ||
+                !isdigit((unsigned char)*hs))
+                goto bad_value;
+            spec->view_width = (int)w;
+            spec->view_height = (int)h;
+            break;
+        }
         case O_SCREEN: {
             long n;
             if (!parse_count(optarg, &n) || n > 255) goto bad_value;
@@ -336,12 +355,8 @@ static void show_progress(long done, long total, double elapsed)
     fflush(stderr);
 }
 
-/* The --stats report: [first] and [second] hold the statistics after the
- * first and second frames (which fill the free lists: the first frame's
- * tree is still alive while the second is built, and physics builds its
- * tables), [loop] the wall time of the frame loop. */
-static void print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *second,
-                        double loop, FILE *log)
+void runspec_print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *second,
+                         double loop, FILE *log)
 {
     fl_stats s;
     fl_get_stats(rt, &s);
@@ -502,7 +517,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         }
     }
     if (spec->progress && ran > 0) fputs("\n", stderr);
-    if (spec->stats) print_stats(rt, &first, &second, now_seconds() - start, log);
+    if (spec->stats) runspec_print_stats(rt, &first, &second, now_seconds() - start, log);
     int rc = EXIT_OK;
     if (ran > 0) {
         if (spec->dump_state && !dumped_last) fl_dump_state(rt, write_file, out);

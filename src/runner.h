@@ -50,6 +50,8 @@ typedef struct RunSpec {
     bool fullscreen;      /* --fullscreen */
     bool vsync;           /* --vsync */
     int screen;           /* --screen N, display index from 0 */
+    int view_width, view_height; /* --window-size WxH: the physics view window's
+                                    size (default 512x512) */
     bool reset_on_switch; /* --resetonswitch: a page left loses its state */
     char **scripts;       /* the SCRIPTs (pages), borrowed from argv; script is scripts[0] */
     int nscripts;
@@ -97,5 +99,14 @@ fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *in
  *           physics steps (flitter.h) to stop early; --state is still saved
  *           on the way out, from the last complete frame. */
 int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt);
+
+/* The --stats report of [rt] on [log] ("stats: " lines: frames and
+ * frames/s, eval/physics/other ms per frame, allocations, state reads and
+ * writes): [first] and [second] hold its statistics after the first and
+ * second frames of the run (which fill the free lists: the first frame's
+ * tree is still alive while the second is built, and physics builds its
+ * tables), [loop] the wall time of the frame loop in seconds. */
+void runspec_print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *second,
+                         double loop, FILE *log);
 
 #endif

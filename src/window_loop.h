@@ -25,6 +25,8 @@ typedef struct Page {
                                 good one; NULL when the last load succeeded */
     char *state_path;        /* --state file of this page, or NULL */
     fl_outputs *outs;        /* its !record pictures (and --view/--trace: page 1) */
+    long ran;                /* frames stepped on this page in this run */
+    fl_stats first, second;  /* its statistics after its first and second frames (--stats) */
 } Page;
 
 /* One open window. */
@@ -63,14 +65,17 @@ typedef struct Loop {
     bool dumped_last;        /* --dump-every dumped the last frame */
     long ran;                /* frames stepped, every page */
     long shown, dropped;     /* frames whose pictures were shown / dropped */
-    double draw_seconds;     /* spent drawing and presenting, in total */
+    double draw_seconds;     /* spent drawing pictures (fl_draw_window, fl_draw_view), in total */
+    double present_seconds;  /* spent showing them (windows followed, texture upload,
+                                overlay, copy, present), in total */
+    double start;            /* when the frame loop began */
     double last_shown;       /* when a picture was last shown */
     double last_save;        /* when --state was last saved */
     unsigned overlay_gen;    /* bumped whenever the overlay text changes */
     char status[512];        /* the F1 text */
     fl_stats stat;           /* statistics at the last status update */
     long stat_shown;
-    double stat_draw, stat_time;
+    double stat_draw, stat_present, stat_time;
 } Loop;
 
 /* Handle one SDL event [ev] of a run (window_input.c): keys go to the

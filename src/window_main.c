@@ -193,7 +193,8 @@ static int sync_windows(Loop *L)
         const fl_window_info *w = view_only ? NULL : &L->info[i];
         if (w && w->offscreen) continue;
         const char *title = w && w->title[0] ? w->title : name;
-        int width = w ? w->width : 512, height = w ? w->height : 512;
+        int width = w ? w->width : L->spec->view_width;
+        int height = w ? w->height : L->spec->view_height;
         bool full = w && w->fullscreen >= 0 ? w->fullscreen : L->wopt.fullscreen;
         bool vsync = w && w->vsync >= 0 ? w->vsync : L->wopt.vsync;
         Slot *s = &L->slots[k];
@@ -233,8 +234,10 @@ static void draw_slot(Loop *L, Slot *s)
         s->warned = true;
         return;
     }
+    double t0 = now_seconds();
     int rc = view ? fl_draw_view(rt, px, w, h, (size_t)pitch, NULL)
                   : fl_draw_window(rt, s->index, px, w, h, (size_t)pitch);
+    L->draw_seconds += now_seconds() - t0;
     winview_unlock(&s->view);
     if (rc != 0 && !s->warned) {
         fputs(fl_error(rt), L->log);
@@ -269,7 +272,7 @@ static void paint_overlay(Loop *L, Slot *s)
  * anew (else only the overlay and the presentation). */
 static int show_frame(Loop *L, bool draw)
 {
-    double t0 = now_seconds();
+    double t0 = now_seconds(), drawn = L->draw_seconds;
     if (draw && sync_windows(L) != 0) return -1;
     for (size_t i = 0; i < L->nslots; i++) {
         if (draw) draw_slot(L, &L->slots[i]);
@@ -277,9 +280,11 @@ static int show_frame(Loop *L, bool draw)
         winview_present(&L->slots[i].view);
     }
     if (draw) {
-        L->draw_seconds += now_seconds() - t0;
+        double t1 = now_seconds();
+        /* the rest of the time is presenting: draw_slot counted its drawing */
+        L->present_seconds += (t1 - t0) - (L->draw_seconds - drawn);
         L->shown++;
-        L->last_shown = now_seconds();
+        L->last_shown = t1;
     }
     return 0;
 }
@@ -301,24 +306,49 @@ static void update_status(Loop *L, bool force)
     long frames = st.frames - L->stat.frames, shown = L->shown - L->stat_shown;
     double per = frames > 0 ? 1e3 / (double)frames : 0;
     double draw = shown > 0 ? (L->draw_seconds - L->stat_draw) * 1e3 / (double)shown : 0;
+    double present = shown > 0 ? (L->present_seconds - L->stat_present) * 1e3 / (double)shown : 0;
     snprintf(L->status, sizeof L->status,
              "page %d/%d %s\n"
              "frame %ld  time %.2f s\n"
              "%.1f frames/s (target %g), shown %.1f/s\n"
              "dropped %ld frames\n"
-             "eval %.2f ms  physics %.2f ms  draw %.2f ms\n"
+             "eval %.2f ms  physics %.2f ms\n"
+             "draw %.2f ms  present %.2f ms\n"
              "%s",
              L->cur + 1, L->npages, base_name(L->pages[L->cur].script), fl_frame_count(rt) - 1,
              fl_frame_time(rt), dt > 0 ? (double)frames / dt : 0.0, fl_target_fps(rt),
              dt > 0 ? (double)shown / dt : 0.0, L->dropped,
              (st.eval_seconds - L->stat.eval_seconds) * per,
-             (st.physics_seconds - L->stat.physics_seconds) * per, draw,
+             (st.physics_seconds - L->stat.physics_seconds) * per, draw, present,
              L->paused ? "paused (F5 resume, F6 one frame)" : "");
     L->stat = st;
     L->stat_shown = L->shown;
     L->stat_draw = L->draw_seconds;
+    L->stat_present = L->present_seconds;
     L->stat_time = now;
     if (L->show_status) L->overlay_gen++;
+}
+
+/* The --stats report at the end of the run: each page's lines as a
+ * headless run prints them (runspec_print_stats; a "page N" line first
+ * when there are several), then the windows': drawing and presenting
+ * milliseconds per frame shown, frames shown and dropped. [loop]: the
+ * frame loop's wall time in seconds. */
+static void print_stats(Loop *L, double loop)
+{
+    for (int i = 0; i < L->npages; i++) {
+        Page *p = &L->pages[i];
+        if (L->npages > 1) {
+            if (p->ran == 0) continue;
+            fprintf(L->log, "stats: page %d: %s\n", i + 1, p->script);
+        }
+        runspec_print_stats(p->rt, &p->first, &p->second, loop, L->log);
+    }
+    double n = L->shown > 0 ? (double)L->shown : 1;
+    fprintf(L->log, "stats: window: per frame shown: draw %.3f ms, present %.3f ms\n",
+            L->draw_seconds / n * 1e3, L->present_seconds / n * 1e3);
+    fprintf(L->log, "stats: window: %ld frames shown, %ld dropped\n", L->shown, L->dropped);
+    fflush(L->log);
 }
 
 /* {=====================================================================
@@ -358,6 +388,9 @@ static bool loop_once(Loop *L)
         if (fl_step(p->rt) != 0) return false;   /* interrupted inside the frame */
         stepped = true;
         L->ran++;
+        p->ran++;
+        if (p->ran == 1) fl_get_stats(p->rt, &p->first);
+        if (p->ran == 2) fl_get_stats(p->rt, &p->second);
         L->dumped_last = false;
         if (fl_outputs_frame(p->outs, p->rt) != 0) fprintf(L->log, "flitter run: %s", fl_error(p->rt));
         long n = fl_frame_count(p->rt);
@@ -405,17 +438,7 @@ static bool loop_once(Loop *L)
 int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt, char *why,
                size_t cap)
 {
-    if (!getenv("DISPLAY") && !getenv("WAYLAND_DISPLAY")) {
-        snprintf(why, cap, "no display (DISPLAY and WAYLAND_DISPLAY are not set)");
-        return WINDOW_NO_DISPLAY;
-    }
-    SDL_SetHint(SDL_HINT_NO_SIGNAL_HANDLERS, "1");   /* Ctrl-C and SIGTERM are ours */
-    SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "1");
-    SDL_SetHint(SDL_HINT_VIDEO_MINIMIZE_ON_FOCUS_LOSS, "0");
-    if (SDL_Init(SDL_INIT_VIDEO) != 0) {
-        snprintf(why, cap, "cannot open the display: %s", SDL_GetError());
-        return WINDOW_NO_DISPLAY;
-    }
+    if (winview_start(why, cap) != 0) return WINDOW_NO_DISPLAY;
     Loop L = {.spec = spec, .out = out, .log = log, .interrupt = interrupt,
               .switch_to = -1, .runspec = *spec,
               .wopt = {spec->screen, spec->fullscreen, spec->vsync}};
@@ -427,10 +450,11 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
     int rc = open_pages(&L);
     if (rc == EXIT_OK) {
         if (spec->dump_simplified) fl_dump_program(L.pages[0].rt, write_file, out);
-        L.last_save = L.stat_time = now_seconds();
+        L.last_save = L.stat_time = L.start = now_seconds();
         L.last_shown = -1;
         while (loop_once(&L)) {}
         rc = L.rc;
+        if (spec->stats) print_stats(&L, now_seconds() - L.start);
         Page *p = &L.pages[L.cur];
         if (fl_frame_count(p->rt) > 0) {
             if (spec->dump_state && !L.dumped_last) fl_dump_state(p->rt, write_file, out);

@@ -9,6 +9,7 @@
  * larger than the window's size in points (SDL mouse coordinates). */
 #include "window_sdl.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 /* The rectangle of aspect [pw]:[ph] that fills [W] x [H], centred. */
@@ -35,6 +36,22 @@ static void fit_display(int screen, int *w, int *h)
         *w = *w * 2 / 3;
         *h = *h * 2 / 3;
     }
+}
+
+int winview_start(char *why, size_t cap)
+{
+    if (!getenv("DISPLAY") && !getenv("WAYLAND_DISPLAY")) {
+        snprintf(why, cap, "no display (DISPLAY and WAYLAND_DISPLAY are not set)");
+        return -1;
+    }
+    SDL_SetHint(SDL_HINT_NO_SIGNAL_HANDLERS, "1");   /* Ctrl-C and SIGTERM are the caller's */
+    SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "1");
+    SDL_SetHint(SDL_HINT_VIDEO_MINIMIZE_ON_FOCUS_LOSS, "0");
+    if (SDL_Init(SDL_INIT_VIDEO) != 0) {
+        snprintf(why, cap, "cannot open the display: %s", SDL_GetError());
+        return -1;
+    }
+    return 0;
 }
 
 int winview_open(WinView *v, const char *title, int w, int h, const WinOptions *o,

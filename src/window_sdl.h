@@ -31,6 +31,14 @@ typedef struct WinView {
     char title[256];         /* the title shown */
 } WinView;
 
+/* Start SDL's video for windows: the hints every front end wants (SDL
+ * leaves SIGINT/SIGTERM to the caller, smooth scaling, no minimising on
+ * focus loss), then SDL_Init(SDL_INIT_VIDEO); end with SDL_Quit().
+ *   errors: -1 with the reason in [why] ([cap] bytes) when neither DISPLAY
+ *           nor WAYLAND_DISPLAY is set or SDL cannot open the display
+ *           (nothing started); else 0. */
+int winview_start(char *why, size_t cap);
+
 /* Open a resizable, HiDPI-aware window [title] for a picture of [w] x [h]
  * pixels on display o->screen (centred; shrunk by 2/3 steps until it fits
  * 95% of the display, as Flitter does), fullscreen (desktop mode) when

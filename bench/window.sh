@@ -1,0 +1,57 @@
+#!/bin/sh
+# bench/window.sh [BUILD_DIR] [SECONDS]: the live window's frame budget.
+# Runs two scenes in a 1920x1080 window under a private Xvfb server,
+# realtime at 60 frames/s for SECONDS (default 10) each, with --stats:
+#   petri      samples/petri.fl: no !window, so the window shows the
+#              physics view (--window-size 1920x1080)
+#   canvas10k  bench/canvas10k.fl: a !window size=1920;1080 of 10,000
+#              !ellipse nodes
+# and prints, per scene: frames/s, the per-frame milliseconds of
+# evaluation, physics, drawing (fl_draw_view / fl_draw_window into the
+# pixels) and presenting (texture upload, copy, present; per frame shown),
+# the milliseconds to spare in a 60 frames/s frame (1000/60 minus their
+# sum), and the frames dropped (late frames whose picture was skipped).
+# The Xvfb screen is 2048x1152 so that a 1920x1080 window fits in 95% of
+# it (windows larger than that are shrunk, as Flitter does). Xvfb draws in
+# software: a real display presents faster.
+# Not part of the test suite: timings vary with the machine.
+set -u
+build=${1:-build}
+seconds=${2:-10}
+case $build in /*) ;; *) build=$PWD/$build ;; esac
+flitter="$build/src/flitter"
+[ -x "$flitter" ] || { echo "build first: meson setup $build && ninja -C $build" >&2; exit 2; }
+command -v xvfb-run >/dev/null 2>&1 || { echo "bench/window.sh needs xvfb-run (Debian: xvfb)" >&2; exit 2; }
+cd "$(dirname "$0")/.." || exit 2
+out=$(mktemp -d) || exit 2
+trap 'rm -rf "$out"' EXIT
+
+run_scene() {   # NAME SCRIPT [OPTIONS...]
+    name=$1 script=$2
+    shift 2
+    xvfb-run -a -s "-screen 0 2048x1152x24" \
+        "$flitter" run --window --realtime --fps 60 --runtime "$seconds" --stats "$@" "$script" \
+        >/dev/null 2>"$out/$name.err"
+    rc=$?
+    if [ "$rc" != 0 ] || ! grep -q '^stats: window:' "$out/$name.err"; then
+        echo "bench/window.sh: $name: no window run (exit $rc):" >&2
+        sed 's/^/  /' "$out/$name.err" >&2
+        return 1
+    fi
+    awk -v name="$name" '
+    /^stats: [0-9]+ frames in/ { fps = $7 }
+    /^stats: per frame: eval/ { ev = $5; ph = $8 }
+    /^stats: window: per frame shown: draw/ { dr = $7; pr = $10 }
+    /^stats: window: [0-9]+ frames shown/ { dropped = $6 }
+    END {
+      spare = 1000 / 60 - (ev + ph + dr + pr)
+      printf "%-10s %9.1f %8.3f %11.3f %8.3f %11.3f %9.3f %8d\n", name, fps, ev, ph, dr, pr, spare, dropped
+    }' "$out/$name.err"
+}
+
+printf "%-10s %9s %8s %11s %8s %11s %9s %8s\n" scene "frames/s" "eval ms" "physics ms" "draw ms" \
+    "present ms" "spare ms" dropped
+status=0
+run_scene petri samples/petri.fl --window-size 1920x1080 || status=1
+run_scene canvas10k bench/canvas10k.fl || status=1
+exit $status

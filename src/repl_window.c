@@ -1,0 +1,139 @@
+/* repl_window.c: `:window` of `flitter repl`: a live window on the
+ * session's runtime. It shares window_sdl.c with `flitter SCRIPT`
+ * (window_main.c): the picture is the first !window of the last frame
+ * (fl_draw_window, the very picture !record writes), or the physics view
+ * (fl_draw_view) at the window's output size when the frame has none. The
+ * session draws after each :step frame at most 60 times a second, and
+ * always after the last; events are handled between frames and between
+ * input lines. */
+#include "repl_window.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "window_sdl.h"
+
+struct ReplWindow {
+    WinView view;
+    char name[256];     /* the title when the !window has none */
+    double last_shown;  /* monotonic seconds of the last picture, or -1 */
+    bool warned;        /* a drawing failure was reported */
+};
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* The first shown !window of [rt]'s last frame: sets *[info] and returns
+ * its fl_windows index, or SIZE_MAX (physics view) when there is none. */
+static size_t first_window(fl_runtime *rt, fl_window_info *info)
+{
+    size_t n = fl_windows(rt, NULL, 0);
+    if (n == 0) return SIZE_MAX;
+    fl_window_info *all = malloc(n * sizeof *all);
+    if (!all) abort();
+    n = fl_windows(rt, all, n);
+    size_t found = SIZE_MAX;
+    for (size_t i = 0; i < n && found == SIZE_MAX; i++)
+        if (!all[i].offscreen) {
+            *info = all[i];
+            found = i;
+        }
+    free(all);
+    return found;
+}
+
+ReplWindow *repl_window_open(fl_runtime *rt, const char *name, char *why, size_t cap)
+{
+    if (winview_start(why, cap) != 0) return NULL;
+    ReplWindow *w = calloc(1, sizeof *w);
+    if (!w) abort();
+    snprintf(w->name, sizeof w->name, "%s", name);
+    w->last_shown = -1;
+    fl_window_info info = {0};
+    size_t index = first_window(rt, &info);
+    const char *title = index != SIZE_MAX && info.title[0] ? info.title : w->name;
+    int width = index != SIZE_MAX ? info.width : 512, height = index != SIZE_MAX ? info.height : 512;
+    WinOptions o = {0, false, false};
+    bool full = index != SIZE_MAX && info.fullscreen > 0, vsync = index != SIZE_MAX && info.vsync > 0;
+    if (winview_open(&w->view, title, width, height, &o, full, vsync) != 0) {
+        snprintf(why, cap, "cannot open a window: %s", SDL_GetError());
+        free(w);
+        SDL_Quit();
+        return NULL;
+    }
+    repl_window_frame(w, rt, true);
+    return w;
+}
+
+bool repl_window_poll(ReplWindow *w)
+{
+    bool keep = true;
+    SDL_Event ev;
+    while (SDL_PollEvent(&ev)) {
+        switch (ev.type) {
+        case SDL_QUIT: keep = false; break;
+        case SDL_WINDOWEVENT:
+            if (ev.window.windowID != w->view.id) break;
+            if (ev.window.event == SDL_WINDOWEVENT_CLOSE) keep = false;
+            else if (ev.window.event == SDL_WINDOWEVENT_EXPOSED ||
+                     ev.window.event == SDL_WINDOWEVENT_SIZE_CHANGED)
+                winview_present(&w->view);
+            break;
+        case SDL_KEYDOWN:
+            if (ev.key.windowID == w->view.id && ev.key.keysym.sym == SDLK_ESCAPE) keep = false;
+            break;
+        default: break;
+        }
+    }
+    return keep;
+}
+
+void repl_window_frame(ReplWindow *w, fl_runtime *rt, bool force)
+{
+    double now = now_seconds();
+    if (!force && w->last_shown >= 0 && now - w->last_shown < 1.0 / 60) return;
+    fl_window_info info = {0};
+    size_t index = first_window(rt, &info);
+    int width, height;
+    if (index == SIZE_MAX) {
+        winview_update(&w->view, w->name, w->view.want_w, w->view.want_h, w->view.fullscreen,
+                       w->view.vsync);
+        winview_output_size(&w->view, &width, &height);
+    } else {
+        width = info.width;
+        height = info.height;
+        winview_update(&w->view, info.title[0] ? info.title : w->name, width, height,
+                       info.fullscreen >= 0 ? info.fullscreen : w->view.fullscreen,
+                       info.vsync >= 0 ? info.vsync : w->view.vsync);
+    }
+    int pitch;
+    uint32_t *px = winview_lock(&w->view, width, height, &pitch);
+    if (!px) {
+        if (!w->warned) fprintf(stderr, "window: cannot show a %dx%d picture: %s\n", width, height,
+                                SDL_GetError());
+        w->warned = true;
+        return;
+    }
+    int rc = index == SIZE_MAX ? fl_draw_view(rt, px, width, height, (size_t)pitch, NULL)
+                               : fl_draw_window(rt, index, px, width, height, (size_t)pitch);
+    winview_unlock(&w->view);
+    if (rc != 0 && !w->warned) {
+        fputs(fl_error(rt), stderr);
+        w->warned = true;
+    }
+    winview_present(&w->view);
+    w->last_shown = now_seconds();
+}
+
+void repl_window_close(ReplWindow *w)
+{
+    if (!w) return;
+    winview_close(&w->view);
+    free(w);
+    SDL_Quit();
+}
