@@ -107,6 +107,33 @@ static const char *option_name(const struct option *opts, int c)
     return "?";
 }
 
+/* True (with a message on [err]) when an output option of [spec] would
+ * write over a script or another Flitter script: `flitter --trace a.fl
+ * b.fl` (in Flitter --trace is a log level) must not replace a.fl. */
+static bool output_clobbers(const RunSpec *spec, FILE *err)
+{
+    const struct { const char *option, *path; } outs[] = {
+        {"--trace", spec->trace}, {"--view", spec->view}, {"--record", spec->record},
+    };
+    for (size_t i = 0; i < sizeof outs / sizeof outs[0]; i++) {
+        const char *path = outs[i].path;
+        if (!path) continue;
+        size_t n = strlen(path);
+        bool script = n >= 3 && strcmp(path + n - 3, ".fl") == 0;
+        struct stat a, b;
+        for (int k = 0; !script && k < spec->nscripts; k++)
+            script = stat(path, &a) == 0 && stat(spec->scripts[k], &b) == 0 && a.st_dev == b.st_dev &&
+                     a.st_ino == b.st_ino;
+        if (script) {
+            fprintf(err, "flitter run: %s %s would write over a Flitter script; refused (the "
+                         "option takes an output file: .csv/.jsonl for --trace, .png/.svg/.gif "
+                         "for --view, a picture or video for --record)\n", outs[i].option, path);
+            return true;
+        }
+    }
+    return false;
+}
+
 int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
@@ -164,7 +191,9 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
     optind = 0;   /* full re-initialisation of getopt */
     opterr = 0;
     int c;
-    while ((c = getopt_long(argc, argv, "+D:h", longopts, NULL)) != -1) {
+    /* options anywhere, before or after the SCRIPTs, as Flitter's argparse
+     * takes them (GNU getopt moves the SCRIPTs to the end) */
+    while ((c = getopt_long(argc, argv, "D:h", longopts, NULL)) != -1) {
         char *end;
         switch (c) {
         case O_FRAMES:
@@ -284,6 +313,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
         spec->scripts = argv + optind;
         spec->nscripts = argc - optind;
         spec->script = argv[optind];
+        if (output_clobbers(spec, err)) return EXIT_USAGE;
     } else if (optind != argc) {
         fprintf(err, "flitter: unexpected argument '%s' in run options\n", argv[optind]);
         return EXIT_USAGE;
