@@ -11,8 +11,8 @@
  * rename is atomic), created exclusively with mode 0666 less the umask,
  * or with the replaced file's permission bits when it existed.
  */
-#ifndef FL_RENDER_OUTFILE_H
-#define FL_RENDER_OUTFILE_H
+#ifndef FL_IO_OUTFILE_H
+#define FL_IO_OUTFILE_H
 
 #include <stdbool.h>
 #include <stddef.h>
