@@ -1,5 +1,6 @@
 /* fileio.c: whole-file reads and atomic replacement (see fileio.h). */
 #include "fileio.h"
+#include "outfile.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -81,30 +82,26 @@ static bool write_all(int fd, const char *p, size_t n)
     return true;
 }
 
-bool file_write_atomic(const char *path, const char *data, size_t len)
+bool file_write_atomic(const char *path, const char *data, size_t len, char *err, size_t errlen)
 {
-    char *tmp;
-    if (asprintf(&tmp, "%s.tmp%ld", path, (long)getpid()) < 0) mem_oom();
-    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    bool ok = fd >= 0 && write_all(fd, data, len) && fsync(fd) == 0;
-    if (fd >= 0) ok = close(fd) == 0 && ok;
-    ok = ok && rename(tmp, path) == 0;
-    int saved = errno;
-    if (!ok) unlink(tmp);
-    free(tmp);
-    if (!ok) {
-        errno = saved;
+    OutFile f;
+    if (!outfile_open(&f, path, err, errlen)) return false;
+    if (!write_all(f.fd, data, len)) {
+        snprintf(err, errlen, "%s: %s", path, strerror(errno));
+        outfile_discard(&f);
+        return false;
+    }
+    char *dirc = mem_strdup(f.target);
+    if (!outfile_commit(&f, true, err, errlen)) {
+        free(dirc);
         return false;
     }
     /* make the rename itself durable */
-    char *dirc = strdup(path);
-    if (dirc) {
-        int dfd = open(dirname(dirc), O_RDONLY | O_DIRECTORY);
-        if (dfd >= 0) {
-            fsync(dfd);
-            close(dfd);
-        }
-        free(dirc);
+    int dfd = open(dirname(dirc), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dfd >= 0) {
+        fsync(dfd);
+        close(dfd);
     }
+    free(dirc);
     return true;
 }

@@ -23,12 +23,16 @@ bool file_read(const char *path, Buf *out);
  *   errors: as file_read(), plus EINVAL for a file that is not regular. */
 bool file_read_regular(const char *path, Buf *out);
 
-/* Replace the file at [path] with the [len] bytes at [data] atomically: a
- * temporary file in the same directory is written, fsync'd and renamed over
- * [path], then the directory is fsync'd, so a crash leaves either the old or
- * the new contents.
- *   errors: returns false with errno set (the temporary file is removed,
- *           [path] is untouched). */
-bool file_write_atomic(const char *path, const char *data, size_t len);
+/* Replace the file at [path] with the [len] bytes at [data] atomically
+ * through outfile.h: a symbolic link is written through to its target,
+ * a temporary is created exclusively (O_EXCL) next to the target with the
+ * replaced file's permission bits (else 0666 less the umask), written,
+ * fsync'd and renamed over it, then the directory is fsync'd, so a crash
+ * leaves either the old or the new contents.
+ *   errors: returns false with `PATH: REASON` in [err] ([errlen] bytes):
+ *           a target that is not a regular file (directory, FIFO, device)
+ *           is refused; the temporary file is removed and [path] is
+ *           untouched. */
+bool file_write_atomic(const char *path, const char *data, size_t len, char *err, size_t errlen);
 
 #endif

@@ -131,11 +131,11 @@ int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *cloc
     buf_free(&line);
     if (skipped) *skipped = skip;
 
-    bool ok = file_write_atomic(path, b.data, b.len);
-    int saved_errno = errno;
+    char why[512];
+    bool ok = file_write_atomic(path, b.data, b.len, why, sizeof why);
     buf_free(&b);
     if (!ok) {
-        buf_printf(err, "%s: error: cannot save state: %s\n", path, strerror(saved_errno));
+        buf_printf(err, "%s: error: cannot save state: %s\n", path, why);
         return -1;
     }
     return 0;
@@ -291,8 +291,9 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, StateOrigin *or
                    const char *path, Buf *err)
 {
     Buf text = BUF_INIT;
-    if (!file_read(path, &text)) {
-        buf_printf(err, "%s: error: cannot read state: %s\n", path, strerror(errno));
+    if (!file_read_regular(path, &text)) {
+        buf_printf(err, "%s: error: cannot read state: %s\n", path,
+                   errno == EINVAL ? "not a regular file" : strerror(errno));
         buf_free(&text);
         return -1;
     }

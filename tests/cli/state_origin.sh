@@ -6,7 +6,10 @@
 #   - one changed byte of the file is refused as damaged (exit 1) and the
 #     file is left as it was;
 #   - a state key holding ` = ` (a !counter key string) is saved and read
-#     back (it used to be refused as malformed).
+#     back (it used to be refused as malformed);
+#   - saving through a symbolic link replaces the file it names (the link
+#     stays) and keeps its permission bits; a FIFO given as the state file
+#     is refused at once (no blocking open) and stays a FIFO.
 set -u
 flitter=$1 script=$2
 case $flitter in /*) ;; *) flitter=$PWD/$flitter ;; esac
@@ -41,4 +44,20 @@ printf '!counter state="a = b" rate=1\n' >"$dir/c.fl"
 grep -q '^"a = b" = ' "$dir/cs" || { echo "no counter entry:" >&2; cat "$dir/cs" >&2; exit 1; }
 "$flitter" run --frames 3 --state "$dir/cs" --dump-state "$dir/c.fl" >"$dir/out" 2>"$dir/err" ||
     { echo "resuming a key with ' = ':" >&2; cat "$dir/err" >&2; exit 1; }
+# through a symbolic link, keeping the mode
+cp "$dir/s.saved" "$dir/target"
+chmod 600 "$dir/target"
+ln -s target "$dir/link"
+"$flitter" run --frames 2 --state "$dir/link" "$dir/a.fl" 2>"$dir/err" || { cat "$dir/err" >&2; exit 1; }
+[ -L "$dir/link" ] || { echo "the symbolic link was replaced" >&2; exit 1; }
+cmp -s "$dir/target" "$dir/s.saved" && { echo "the link's target was not updated" >&2; exit 1; }
+[ "$(stat -c %a "$dir/target")" = 600 ] || { echo "mode $(stat -c %a "$dir/target"), not 600" >&2; exit 1; }
+ls -a "$dir" | grep -q '^\.target\.' && { echo "a temporary file was left" >&2; exit 1; }
+# a FIFO: refused without blocking
+mkfifo "$dir/fifo" || exit 2
+timeout 10 "$flitter" run --frames 1 --state "$dir/fifo" "$dir/a.fl" 2>"$dir/err"
+rc=$?
+[ $rc -eq 1 ] || { echo "FIFO state file: exit $rc, expected 1" >&2; cat "$dir/err" >&2; exit 1; }
+grep -q "not a regular file" "$dir/err" || { echo "FIFO: no message:" >&2; cat "$dir/err" >&2; exit 1; }
+[ -p "$dir/fifo" ] || { echo "the FIFO was replaced" >&2; exit 1; }
 exit 0
