@@ -19,6 +19,22 @@ static void on_signal(int sig)
     interrupted = 1;
 }
 
+/* SIGINT, SIGTERM and SIGHUP end a run the same way: the interrupt flag,
+ * polled by the library inside long work, then --state saved and the
+ * dumps written on the way out. Without SA_RESTART, a system call that
+ * is waiting returns (EINTR) instead of holding the run. */
+static void catch_signals(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = 0;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGHUP, &sa, NULL);
+}
+
 /* A run with windows, or headless when there is no display: returns
  * WINDOW_NO_DISPLAY after saying so (on a terminal, or always for an
  * explicit --window), else window_run's status. */
@@ -42,8 +58,7 @@ int cmd_run(int argc, char **argv)
     int rc = runspec_parse(&spec, argc, argv, flitter_line ? RUNSPEC_PAGES : RUNSPEC_ONE_SCRIPT,
                            stderr);
     if (rc == 0) {
-        signal(SIGINT, on_signal);
-        signal(SIGTERM, on_signal);
+        catch_signals();
         rc = WINDOW_NO_DISPLAY;
         if (runspec_wants_window(&spec)) rc = run_window(&spec);
         if (rc == WINDOW_NO_DISPLAY) {

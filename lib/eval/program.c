@@ -353,8 +353,9 @@ static void resolve_include(Resolver *r, FnCtx *c, AstNode *n)
     if (!r->included) mem_oom();
     r->included[r->nincluded++] = path;
     Buf text = BUF_INIT;
-    if (!file_read(path, &text)) {
-        buf_printf(r->err, "%s: error: cannot read included file: %s\n", path, strerror(errno));
+    if (!file_read_regular(path, &text)) {
+        buf_printf(r->err, "%s: error: cannot read included file: %s\n", path,
+                   errno == EINVAL ? "not a regular file" : strerror(errno));
         buf_free(&text);
         r->failed = true;
         return;
@@ -626,8 +627,11 @@ Program *program_resimplify(const Program *cur, Globals *globals, SymTab *st, co
 
 const char *program_read(const char *path, Buf *text, Buf *err)
 {
-    if (!file_read(path, text)) {
-        buf_printf(err, "%s: error: cannot read: %s\n", path, strerror(errno));
+    /* regular files only, opened without blocking: a FIFO named as the
+     * script must not hold the run in open() */
+    if (!file_read_regular(path, text)) {
+        buf_printf(err, "%s: error: cannot read: %s\n", path,
+                   errno == EINVAL ? "not a regular file" : strerror(errno));
         return NULL;
     }
     return text->data ? text->data : "";

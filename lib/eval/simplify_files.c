@@ -70,7 +70,7 @@ AstNode *simp_include(Simp *s, const AstNode *n)
     }
     Buf text = BUF_INIT, err = BUF_INIT;
     AstNode *top = NULL;
-    if (file_read(path, &text))
+    if (file_read_regular(path, &text))
         top = parse_program(path, text.data ? text.data : "", text.len, s->next_file, &err);
     buf_free(&text);
     buf_free(&err);
@@ -106,7 +106,7 @@ static bool module_exports(Simp *s, const char *path, Simp *sub)
 {
     Buf text = BUF_INIT, err = BUF_INIT;
     AstNode *top = NULL;
-    bool read = file_read(path, &text);
+    bool read = file_read_regular(path, &text);
     if (read)
         top = parse_program(path, text.data ? text.data : "", text.len, s->next_file, &err);
     buf_free(&text);

@@ -7,6 +7,8 @@
 #   2. each frame would need 10^12 physics steps (--max-steps 0: no limit):
 #      the steps stop early, the frame completes (:p;:last = its time) with
 #      the clock short of it, and the saved file loads again.
+#   3. the same as 1 with SIGHUP (it used to kill the run at once, without
+#      the final save) and with SIGINT.
 # Each run must end within 20 s of the signal (it would otherwise hang).
 set -u
 flitter=$1
@@ -28,6 +30,7 @@ fail=0
 run() {
     name=$1 ready=$2
     shift 2
+    sig=${SIG:-TERM}
     stdbuf -o0 "$flitter" run --dump-every 1 "$@" >"$dir/$name.out" 2>"$dir/$name.err" &
     pid=$!
     waited=0
@@ -41,11 +44,11 @@ run() {
         waited=$((waited + 1))
     done
     sleep 0.5
-    kill -TERM $pid
+    kill -$sig $pid
     waited=0
     while kill -0 $pid 2>/dev/null; do
         if [ $waited -ge 200 ]; then
-            echo "$name: still running 20 s after SIGTERM" >&2
+            echo "$name: still running 20 s after SIG$sig" >&2
             kill -KILL $pid
             fail=1
             break
@@ -73,5 +76,9 @@ case $clock in
 esac
 "$flitter" run --frames 1 --state "$dir/steps.state" "$dir/steps.fl" 2>"$dir/reload.err" ||
     { echo "steps: saved state does not load:" >&2; cat "$dir/reload.err" >&2; fail=1; }
+for SIG in HUP INT; do
+    run "loop$SIG" 2 --frames 10 --state "$dir/loop$SIG.state" "$dir/loop.fl"
+    grep -q '^clock 3 ' "$dir/loop$SIG.state" || { echo "loop, SIG$SIG: clock line is not frame 3" >&2; fail=1; }
+done
 [ $fail -eq 0 ] || { cat "$dir"/*.state >&2; }
 exit $fail
