@@ -323,22 +323,23 @@ static bool same_bits(const Vec *a, const Vec *b)
     return true;
 }
 
-/* A scratch file on a memory file system when there is one (each save
- * syncs the file: thousands of them on a disk take long). */
-static void scratch_path(char *path, size_t cap)
+/* Make an empty scratch file, its name in [path] ([cap] bytes), on a
+ * memory file system when there is one (each save syncs the file:
+ * thousands of them on a disk take long). */
+static void scratch_file(char *path, size_t cap)
 {
     snprintf(path, cap, "%s/flitter-statefile-XXXXXX",
              access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp");
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    close(fd);
 }
 
 static void test_round_trip_property(void **s)
 {
     (void)s;
     char path[64];
-    scratch_path(path, sizeof path);
-    int fd = mkstemp(path);
-    assert_true(fd >= 0);
-    close(fd);
+    scratch_file(path, sizeof path);
     uint64_t r = 2026;
     static const double clocks[] = {0.0, -0.0, 1e300, -1e300, 5e-324, 1.7976931348623157e308,
                                     0.016666666666666666};
@@ -398,10 +399,7 @@ static void test_bit_flips(void **s)
 {
     (void)s;
     char path[64];
-    scratch_path(path, sizeof path);
-    int fd = mkstemp(path);
-    assert_true(fd >= 0);
-    close(fd);
+    scratch_file(path, sizeof path);
     SymTab *st = symtab_new();
     StateDict *sd = state_new();
     Vec *k = vec_num1(symtab_add(st, "dish", 4));
