@@ -4,7 +4,8 @@
 # picture as fractions of it, letterboxed (`!pointer`: the window is made
 # twice as wide as the picture, so the picture sits in the middle with
 # black bars), a button held; checked in the --dump-state written when
-# Escape ends the run.
+# Escape ends the run, and in the picture: holding `a` turns it red, and
+# the pointer's x moves a white bar.
 . "$(dirname "$0")/common.sh"
 cat >in.fl <<'FL'
 !window size=200;200 title="input test"
@@ -15,7 +16,10 @@ cat >in.fl <<'FL'
     !canvas
         !path
             !rect point=0;0 size=200;200
-            !fill color=0.5
+            !fill color=((1;0;0) if $(:ka) else 0.5)
+        !path
+            !rect point=(200*($(:ptr)[0] or 0.9));0 size=4;20
+            !fill color=1
 FL
 "$flitter" run --window --dump-state in.fl >out 2>err &
 pid=$!; pids=$pid
@@ -32,10 +36,13 @@ shot input
 [ "$(screen_pixel 299 0)" = 128,128,128 ] || fail "picture not up to x=299"
 [ "$(screen_pixel 300 100)" = 0,0,0 ] || fail "no right bar: $(screen_pixel 300 100)"
 xdotool keydown a
+wait_pixel 200 100 255,0,0 1 || fail "holding a did not turn the picture red"
 xdotool key space
 xdotool keydown shift
 # picture x = 100 + 50 of 200 -> 0.25, y = 150 of 200 -> 0.75
 xdotool mousemove --sync $((X + 150)) $((Y + 150))
+# the white bar follows the pointer to picture x = 200*0.25 = 50 (window x 150)
+wait_pixel 151 10 255,255,255 1 || fail "the pointer did not move the bar"
 xdotool mousedown 3
 sleep 0.3
 xdotool key Escape
