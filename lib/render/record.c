@@ -9,11 +9,13 @@
 #include "record.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "gifout.h"
@@ -185,12 +187,58 @@ static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic,
     return rc;
 }
 
+/* What a file about to be replaced must already be (by its first bytes). */
+typedef enum { KIND_PNG, KIND_GIF, KIND_VIDEO } FileKind;
+
+/* False, with a message, when [path] exists, is a non-empty regular file
+ * and does not start as a file of [kind] does: !record replaces pictures
+ * and videos, never a script, a text file or anything else a name may
+ * point at (`!record filename="notes.txt" codec=:gif`). A missing or empty
+ * file is fine; other cases (directories, FIFOs) are left to outfile.h. */
+static bool replaceable(const char *path, FileKind kind, char *err, size_t errlen)
+{
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) return true;
+    struct stat st;
+    unsigned char b[12] = {0};
+    bool check = fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0;
+    ssize_t n = check ? read(fd, b, sizeof b) : 0;
+    close(fd);
+    if (!check) return true;
+    static const char *const what[] = {"a PNG picture", "a GIF animation", "a video"};
+    bool ok;
+    switch (kind) {
+    case KIND_PNG: ok = n >= 8 && memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0; break;
+    case KIND_GIF: ok = n >= 6 && (memcmp(b, "GIF87a", 6) == 0 || memcmp(b, "GIF89a", 6) == 0); break;
+    default:       /* ISO media (MP4, MOV: a box type at byte 4) or Matroska/WebM (EBML) */
+        ok = (n >= 8 && (memcmp(b + 4, "ftyp", 4) == 0 || memcmp(b + 4, "moov", 4) == 0 ||
+                         memcmp(b + 4, "mdat", 4) == 0 || memcmp(b + 4, "wide", 4) == 0 ||
+                         memcmp(b + 4, "free", 4) == 0)) ||
+             (n >= 4 && memcmp(b, "\x1a\x45\xdf\xa3", 4) == 0);
+    }
+    if (!ok)
+        snprintf(err, errlen, "%s: exists and is not %s; not replaced (!record writes only over "
+                 "its own kind of file)", path, what[kind]);
+    return ok;
+}
+
 int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err, size_t errlen)
 {
     cairo_surface_flush(pic);
     /* a .png name stays a still picture whatever the codec (as in Flitter) */
     bool gif = ends_with(s->path, ".gif") ||
                (!ends_with(s->path, ".png") && s->codec && strcmp(s->codec, "gif") == 0);
+    /* files kept open across frames are checked when they are started */
+    bool started = find_slot(rec, s->path) != NULL;
+    FileKind kind = gif ? KIND_GIF : ends_with(s->path, ".png") ? KIND_PNG : KIND_VIDEO;
+    if (!started && (gif || kind == KIND_PNG || video_is_video_name(s->path)) &&
+        !replaceable(s->path, kind, err, errlen)) {
+        if (kind != KIND_PNG) {   /* remembered: not retried every frame */
+            Slot *slot = add_slot(rec, s->path);
+            if (!(slot->error = strdup(err))) mem_oom();
+        }
+        return -1;
+    }
     if (gif) return write_gif(rec, s, pic, fps, err, errlen);
     if (ends_with(s->path, ".png")) return write_png(s, pic, err, errlen);
     if (video_is_video_name(s->path)) return write_video(rec, s, pic, fps, err, errlen);

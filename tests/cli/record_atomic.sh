@@ -12,7 +12,10 @@
 #      complete (trailer byte 0x3B) at the end;
 #   3. a target that is a symbolic link is written through (the link stays
 #      a link; the file it names is the PNG); a FIFO and a directory named
-#      like a PNG are refused with a message, and left as they were.
+#      like a PNG are refused with a message, and left as they were;
+#   4. a file that is not a picture of the kind written (a text file named
+#      by `codec=:gif`, text in a .png, a script named as a video) is left
+#      byte for byte as it was, with a message; a PNG over a PNG is fine.
 set -u
 flitter=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 command -v python3 >/dev/null 2>&1 || { echo "record_atomic: python3 not installed, skipped" >&2; exit 77; }
@@ -124,4 +127,22 @@ grep -qx 'fifo.png: not a regular file (a FIFO); not replaced' "$dir/err" || fai
 grep -qx 'dir.png: not a regular file (a directory); not replaced' "$dir/err" || fail "dir.png: $(cat "$dir/err")"
 [ -p "$dir/fifo.png" ] && [ -d "$dir/dir.png" ] || fail "the FIFO or the directory was replaced"
 [ -z "$(ls -A "$dir/real" | grep '^\.')" ] || fail "temporary files left in real/"
+
+# files of another kind
+printf 'my notes\n' >"$dir/notes.txt"
+printf 'text\n' >"$dir/text.png"
+printf '!window\n' >"$dir/clip.mp4"
+for f in notes.txt text.png clip.mp4; do cp "$dir/$f" "$dir/$f.orig"; done
+printf '!window size=8;8\n    !record filename="notes.txt" codec=:gif\n        !canvas\n    !record filename="text.png"\n        !canvas\n    !record filename="clip.mp4"\n        !canvas\n    !record filename="good.png"\n        !canvas\n' \
+    >"$dir/kinds.fl"
+(cd "$dir" && "$flitter" run --frames 2 kinds.fl && "$flitter" run --frames 2 kinds.fl) 2>"$dir/err" ||
+    fail "kinds.fl failed: $(cat "$dir/err")"
+for f in notes.txt text.png clip.mp4; do
+    cmp -s "$dir/$f" "$dir/$f.orig" || fail "$f was replaced"
+done
+grep -q '^notes.txt: exists and is not a GIF animation; not replaced' "$dir/err" || fail "notes.txt: $(cat "$dir/err")"
+grep -q '^text.png: exists and is not a PNG picture; not replaced' "$dir/err" || fail "text.png: $(cat "$dir/err")"
+grep -q '^clip.mp4: exists and is not a video; not replaced' "$dir/err" || fail "clip.mp4: $(cat "$dir/err")"
+grep -q 'good.png' "$dir/err" && fail "good.png (a PNG over our own PNG) was refused: $(cat "$dir/err")"
+[ "$(od -An -tx1 -N4 "$dir/good.png" | tr -d ' \n')" = "89504e47" ] || fail "good.png is not a PNG"
 exit 0
