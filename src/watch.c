@@ -54,17 +54,23 @@ void watch_set(Watch *w, fl_runtime *rt, const char *script)
 
 /* A file modified less than this long ago (seconds) may still be being
  * written in place (truncated, then written: an empty or half script in
- * between); its change is taken at a later poll. */
+ * between); its change is taken at a later poll. An empty file waits
+ * longer: a writer preempted between the truncation and its write leaves
+ * one for as long as it waits for the processor, and loading it would
+ * replace the running program with nothing (a script emptied on purpose
+ * is taken half a second later). */
 #define WATCH_SETTLE 0.02
+#define WATCH_SETTLE_EMPTY 0.5
 
-/* True when [s] was last modified at least WATCH_SETTLE ago (or is gone). */
+/* True when [s] was last modified long enough ago (or is gone). */
 static bool settled(FileStamp s)
 {
     if (!s.exists) return true;
     struct timespec now;
     clock_gettime(CLOCK_REALTIME, &now);
     double age = (double)(now.tv_sec - s.mtime.tv_sec) + (double)(now.tv_nsec - s.mtime.tv_nsec) * 1e-9;
-    return age >= WATCH_SETTLE || age < -1.0;   /* a clock step back: do not wait */
+    if (age < -1.0) return true;   /* a clock step back: do not wait */
+    return age >= (s.size == 0 ? WATCH_SETTLE_EMPTY : WATCH_SETTLE);
 }
 
 bool watch_changed(Watch *w)

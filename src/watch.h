@@ -35,10 +35,10 @@ void watch_set(Watch *w, fl_runtime *rt, const char *script);
 
 /* Poll [w]'s files: true when any of them changed since the last poll or
  * watch_set (saved, replaced, created or deleted) and every changed file
- * was last modified 20 ms ago or more (a file written in place is briefly
- * empty or half written: it is taken once it has settled, at most a frame
- * or two later); the stamps are then updated, so one save is reported
- * once.
+ * was last modified 20 ms ago or more, 500 ms for an empty file (a file
+ * written in place is briefly empty or half written: it is taken once it
+ * has settled, at most a frame or two later); the stamps are then
+ * updated, so one save is reported once.
  *   source: Flitter re-reads a page whose file changed at each frame
  *           (engine/control.py run, read_flitter_program). */
 bool watch_changed(Watch *w);
