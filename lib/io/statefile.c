@@ -92,6 +92,11 @@ static bool put_vector(Buf *b, const Vec *v, const SymTab *st)
     return v->kind != VEC_STREAM;
 }
 
+static int line_cmp(const void *x, const void *y)
+{
+    return strcmp(*(char *const *)x, *(char *const *)y);
+}
+
 int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *clock,
                    const StateOrigin *origin, const char *path, size_t *skipped, Buf *err)
 {
@@ -110,8 +115,12 @@ int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *cloc
         put_number(&b, fields[k], NULL);
     }
     buf_putc(&b, '\n');
+    /* the entries in the byte order of their lines, so that equal states
+     * give equal files (checksum included), whatever the order of the
+     * dictionary's table */
     size_t n, count = 0, skip = 0;
     StateEntry *e = state_entries(sd, &n);
+    char **lines = mem_alloc((n ? n : 1) * sizeof *lines);
     for (size_t i = 0; i < n; i++) {
         buf_reset(&line);
         bool ok = put_vector(&line, e[i].key, st);
@@ -121,11 +130,16 @@ int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *cloc
             skip++;
             continue;
         }
-        buf_add(&b, line.data, line.len);
-        buf_putc(&b, '\n');
-        count++;
+        lines[count++] = mem_strdup(buf_cstr(&line));
     }
     free(e);
+    qsort(lines, count, sizeof *lines, line_cmp);
+    for (size_t i = 0; i < count; i++) {
+        buf_puts(&b, lines[i]);
+        buf_putc(&b, '\n');
+        free(lines[i]);
+    }
+    free(lines);
     buf_printf(&b, "end %zu\n", count);
     buf_printf(&b, "checksum %016llx\n", (unsigned long long)statefile_hash(b.data, b.len));
     buf_free(&line);
