@@ -106,6 +106,14 @@ static int write_png(const RecordSpec *s, cairo_surface_t *pic, char *err, size_
     return outfile_commit(&f, false, err, errlen) ? 0 : -1;
 }
 
+/* Remember that the file at [path] could not be started ([err]): its
+ * later frames report the same error without trying again. */
+static void fail_slot(Recorder *rec, const char *path, const char *err)
+{
+    Slot *slot = add_slot(rec, path);
+    if (!(slot->error = strdup(err))) mem_oom();
+}
+
 static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err,
                      size_t errlen)
 {
@@ -119,11 +127,11 @@ static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, d
         int delay = cs >= 65535 ? 65535 : cs <= 1 ? 1 : (int)lround(cs);
         GifOut *g = gifout_open(s->path, cairo_image_surface_get_width(pic), cairo_image_surface_get_height(pic),
                                 delay, err, errlen);
-        slot = add_slot(rec, s->path);
         if (!g) {
-            if (!(slot->error = strdup(err))) mem_oom();
+            fail_slot(rec, s->path, err);
             return -1;
         }
+        slot = add_slot(rec, s->path);
         slot->gif = g;
     }
     if (gifout_frame(slot->gif, cairo_image_surface_get_data(pic), cairo_image_surface_get_stride(pic)) != 0) {
@@ -149,11 +157,11 @@ static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic,
                         .options = s->options, .noptions = s->noptions};
         VideoOut *v = video_open(s->path, cairo_image_surface_get_width(pic), cairo_image_surface_get_height(pic),
                                  fps, &vs, err, errlen, unused, sizeof unused);
-        slot = add_slot(rec, s->path);
         if (!v) {
-            if (!(slot->error = strdup(err))) mem_oom();
+            fail_slot(rec, s->path, err);
             return -1;
         }
+        slot = add_slot(rec, s->path);
         slot->video = v;
         if (s->limit >= 0) {   /* Flitter: frames up to round(limit * fps) */
             double ifps = fps >= 1 && fps <= 1000 ? floor(fps) : fps > 1000 ? 1000 : 1;
@@ -233,10 +241,7 @@ int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, dou
     FileKind kind = gif ? KIND_GIF : ends_with(s->path, ".png") ? KIND_PNG : KIND_VIDEO;
     if (!started && (gif || kind == KIND_PNG || video_is_video_name(s->path)) &&
         !replaceable(s->path, kind, err, errlen)) {
-        if (kind != KIND_PNG) {   /* remembered: not retried every frame */
-            Slot *slot = add_slot(rec, s->path);
-            if (!(slot->error = strdup(err))) mem_oom();
-        }
+        if (kind != KIND_PNG) fail_slot(rec, s->path, err);   /* not retried every frame */
         return -1;
     }
     if (gif) return write_gif(rec, s, pic, fps, err, errlen);
