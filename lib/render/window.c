@@ -9,6 +9,7 @@
 
 #include "buf.h"
 #include "canvas.h"
+#include "canvas3d.h"
 #include "mem.h"
 #include "record.h"
 #include "rnode.h"
@@ -16,7 +17,9 @@
 struct Renderer {
     const SymTab *symbols;
     RenderLog log;
+    RenderLog skiplog;     /* [log] with skipped-kind warnings always on */
     SkipLog skips;
+    Canvas3D *c3d;         /* made by the first !canvas3d (its GL context with it) */
     Recorder *rec;         /* the !record files open across frames (record.h) */
     char *record;          /* renderer_set_record: the first window's file, or NULL */
     bool saw_window;
@@ -48,7 +51,11 @@ Renderer *renderer_new(const SymTab *symbols, const RenderLog *log)
     if (!r) mem_oom();
     r->symbols = symbols;
     if (log) r->log = *log;
-    r->skips.log = &r->log;
+    /* a kind that is not drawn is always worth one warning: a picture
+     * missing a part must never come silently (issue 25) */
+    r->skiplog = r->log;
+    r->skiplog.debug = true;
+    r->skips.log = &r->skiplog;
     r->rec = recorder_new();
     return r;
 }
@@ -69,6 +76,7 @@ int renderer_free(Renderer *r)
     int rc = recorder_free(r->rec, err, sizeof err);
     if (rc != 0) render_log(&r->log, RLOG_ERROR, "%s", err);
     free(r->record);
+    canvas3d_free(r->c3d);
     for (int i = 0; i < r->nreported; i++) free(r->reported[i]);
     free(r);
     return rc;
@@ -125,6 +133,13 @@ static void render_children(Renderer *r, const Node *n, cairo_surface_t *target,
             CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips};
             canvas_draw(cr, c, &env);
             cairo_destroy(cr);
+        } else if (rnode_is(c, "canvas3d")) {
+            int cw, ch;
+            size_of(c, w, h, &cw, &ch);
+            pic = new_picture(cw, ch);
+            if (!r->c3d) r->c3d = canvas3d_new();
+            CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips};
+            canvas3d_draw(r->c3d, c, pic, &env, &r->log);
         } else if (rnode_is(c, "record")) {
             int cw, ch;
             size_of(c, w, h, &cw, &ch);
@@ -141,7 +156,7 @@ static void render_children(Renderer *r, const Node *n, cairo_surface_t *target,
                     break;
                 }
             continue;
-        } else if (rnode_nchildren(c) > 0 && !rnode_is(c, "canvas3d")) {
+        } else if (rnode_nchildren(c) > 0) {
             /* an effect (!shader, !bloom, !feedback, ...): its input drawn as is */
             skiplog_effect(&r->skips, rnode_kind(c));
             int cw, ch;

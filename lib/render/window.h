@@ -17,10 +17,14 @@
  * the end of the run (renderer_free). `!reference id=X` composites the
  * picture of the earlier sibling node with id=X. As pictures are only ever
  * written by !record, a window with no !record filename in its tree is
- * not drawn at all. A window-level effect node with children (shaders,
- * !bloom, !feedback, ...) composites its children without the effect;
- * other window-level kinds (3D, video, images) are skipped. Each
- * unsupported kind is reported once (on the debug stream).
+ * not drawn at all. A `!canvas3d` child is drawn with OpenGL (canvas3d.h)
+ * into a picture of its own size and composited in its place like a
+ * canvas; when no GL context can be made it is skipped with one warning.
+ * A window-level effect node with children (shaders, !bloom, !feedback,
+ * ...) composites its children without the effect; other window-level
+ * kinds (video, images) are skipped. Each unsupported kind is reported
+ * once as a warning, with or without log->debug (issue 25: a picture
+ * missing a part never comes silently).
  */
 #ifndef FL_RENDER_WINDOW_H
 #define FL_RENDER_WINDOW_H
@@ -36,8 +40,9 @@
 typedef struct Renderer Renderer;
 
 /* A renderer; [symbols] names symbols in attributes (borrowed, must outlive
- * it); [log] (copied; may be NULL: nowhere) receives write errors and, when
- * log->debug is set, skipped-node messages. */
+ * it); [log] (copied; may be NULL: nowhere) receives write errors and
+ * skipped-node warnings (once per kind). Its GL context, if any, is made
+ * by the first !canvas3d it draws and freed by renderer_free. */
 Renderer *renderer_new(const SymTab *symbols, const RenderLog *log);
 /* Render the windows of one frame's tree [root] (a !root node); [fps] sets
  * the frame delay of animated GIFs.

@@ -1,0 +1,800 @@
+/* canvas3d.c: the `!canvas3d` scene walk and its render passes (see
+ * canvas3d.h).
+ *
+ * One frame: collect() walks the node tree once, carrying the local
+ * transform and the current material, into a flat list of render groups
+ * (pre-order, so a parent group is drawn before the groups inside it),
+ * each holding its lights and its instances (model matrix, material, mesh)
+ * in reused arrays that only grow; cameras with an id are derived from the
+ * canvas's default camera. Then each group is drawn with the program for
+ * its max_lights: its instances sorted by mesh and by the camera distance
+ * of the nearest corner of the mesh's bounding box (Flitter's
+ * nearest_corner), opaque ones dispatched per mesh front to back in one
+ * instanced call, transparent ones afterwards back to front with depth
+ * writes off. The framebuffer is read back and encoded to sRGB. */
+#include "canvas3d.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <epoxy/gl.h>
+
+#include "buf.h"
+#include "canvas3d_shaders.h"
+#include "gl_context.h"
+#include "mat4.h"
+#include "mem.h"
+#include "models_mesh.h"
+#include "rnode.h"
+
+#define DEFAULT_MAX_LIGHTS 50
+#define DEFAULT_SEGMENTS 64
+#define SRGB_STEPS 16384
+
+typedef struct Material {
+    double albedo[3], emissive[3];
+    double ior, metal, roughness, ao, transparency, translucency;
+} Material;
+
+typedef struct Instance {
+    M4 model;
+    Material mat;
+    const GlMesh *mesh;
+    double z;          /* distance of the nearest bounding-box corner along the view axis */
+    int group;
+} Instance;
+
+typedef struct Light {
+    float data[16];   /* the shader's mat4 (canvas3d_shaders.h) */
+    int group;        /* the render group it lights */
+} Light;
+
+enum Composite { COMP_OVER, COMP_DEST_OVER, COMP_ADD, COMP_SUBTRACT, COMP_LIGHTEN, COMP_DARKEN, COMP_SOURCE, COMP_DEST };
+
+typedef struct Group {
+    int parent;                 /* index of the enclosing group, -1 for the canvas */
+    int max_lights;
+    bool depth_sort, depth_test, face_cull, cull_front;
+    int composite;              /* enum Composite */
+    int ninstances;
+} Group;
+
+typedef struct Camera {
+    double position[3], focus[3], up[3];
+    double fov, ortho_width, near, far;
+    double fog_min, fog_max, fog_color[3], fog_curve, tint[3];
+    bool orthographic, monochrome;
+    char fov_ref[12];
+    int samples;
+    M4 view, pv;
+} Camera;
+
+typedef struct Program {
+    int max_lights;
+    GLuint prog, ubo;
+    GLint u_pv, u_view_position, u_view_focus, u_orthographic, u_fog_min, u_fog_max, u_fog_curve,
+        u_fog_color, u_monochrome, u_tint, u_nlights;
+} Program;
+
+struct Canvas3D {
+    GlContext *gl;
+    bool failed;               /* no context could be made: draw nothing */
+    bool target_warned;        /* a framebuffer failure was reported (once) */
+    MeshCache *meshes;
+    Program prog[4];           /* by max_lights, least recently made replaced */
+    int nprog;
+    GLuint instance_vbo;
+    /* the frame's scene, reused across frames */
+    Group *groups; int ngroups, cap_groups;
+    Light *lights; int nlights, cap_lights;
+    Instance *inst; int ninst, cap_inst;
+    Instance **order; int cap_order;
+    float *idata; size_t cap_idata;       /* instance floats of one dispatch */
+    float *lightbuf; int cap_lightbuf;    /* mat4s of one group */
+    float *pixels; size_t cap_pixels;     /* read-back framebuffer */
+    uint8_t srgb[SRGB_STEPS + 1];         /* linear 0..1 to sRGB 0..255 */
+    /* the cameras with an id of this frame */
+    Camera cams[8]; Buf cam_id[8]; int ncams;
+    Buf name;
+    const CanvasEnv *env;
+    int width, height;
+    double ms_total;
+    long calls;
+};
+
+Canvas3D *canvas3d_new(void)
+{
+    Canvas3D *c = mem_calloc(1, sizeof *c);
+    for (int i = 0; i <= SRGB_STEPS; i++) {
+        double x = (double)i / SRGB_STEPS;
+        double s = x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1 / 2.4) - 0.055;
+        c->srgb[i] = (uint8_t)lround(s * 255);
+    }
+    for (int i = 0; i < 8; i++) c->cam_id[i] = (Buf)BUF_INIT;
+    c->name = (Buf)BUF_INIT;
+    return c;
+}
+
+/* {===== attributes */
+
+static bool nums(const Node *n, const char *name, int count, double *out)
+{
+    return canvas_attr_nums(n, name, count, out);
+}
+
+static double num(const Node *n, const char *name, double dflt)
+{
+    double x;
+    return nums(n, name, 1, &x) ? x : dflt;
+}
+
+static bool flag(const Node *n, const char *name, bool dflt)
+{
+    const Vec *v = rnode_attr(n, name);
+    return v ? vec_truthy(v) : dflt;
+}
+
+/* The text of attribute [name] (a symbol's name) in c->name, or NULL. */
+static const char *text(Canvas3D *c, const Node *n, const char *name)
+{
+    if (!canvas_attr_str(n, name, c->env->symbols, &c->name)) return NULL;
+    return buf_cstr(&c->name);
+}
+
+static double clampd(double x, double lo, double hi) { return x < lo ? lo : x > hi ? hi : x; }
+
+/* }===== */
+
+/* {===== the scene walk */
+
+/* Flitter canvas3d.pyx, update_transform_matrix: transform attributes in
+ * the node's attribute order. */
+static M4 update_transform(const Node *n, M4 t)
+{
+    for (size_t i = 0; i < rnode_nattrs(n); i++) {
+        const char *a = rnode_attr_name(n, i);
+        const Vec *v = rnode_attr_value(n, i);
+        if (!vec_is_num(v)) continue;
+        const double *x = vec_cnums(v);
+        uint32_t len = vec_len(v);
+        M4 m;
+        double three[3];
+        if (len == 1) three[0] = three[1] = three[2] = x[0];
+        else if (len == 3) three[0] = x[0], three[1] = x[1], three[2] = x[2];
+        if (strcmp(a, "translate") == 0 && (len == 1 || len == 3)) m = m4_translate(three);
+        else if (strcmp(a, "scale") == 0 && (len == 1 || len == 3)) m = m4_scale(three);
+        else if (strcmp(a, "rotate") == 0 && len == 4) m = m4_quaternion(x);
+        else if (strcmp(a, "rotate") == 0 && (len == 1 || len == 3)) m = m4_rotate(three);
+        else if (strcmp(a, "rotate_x") == 0 && len == 1) m = m4_rotate_axis(0, x[0]);
+        else if (strcmp(a, "rotate_y") == 0 && len == 1) m = m4_rotate_axis(1, x[0]);
+        else if (strcmp(a, "rotate_z") == 0 && len == 1) m = m4_rotate_axis(2, x[0]);
+        else if (strcmp(a, "matrix") == 0 && len == 16) memcpy(m.m, x, sizeof m.m);
+        else continue;
+        t = m4_mul(&t, &m);
+    }
+    return t;
+}
+
+static bool is_material_attr(const char *a)
+{
+    static const char *const names[] = {"color", "metal", "roughness", "ao", "emissive", "transparency",
+                                        "ior", "translucency"};
+    for (size_t i = 0; i < sizeof names / sizeof *names; i++)
+        if (strcmp(a, names[i]) == 0) return true;
+    return false;
+}
+
+/* Flitter canvas3d.pyx, Material.update (roughness: the smaller of the
+ * node's, default 1, and the inherited one, as Flitter does). */
+static Material update_material(const Node *n, const Material *m)
+{
+    Material r = *m;
+    if (rnode_nattrs(n) == 0) return r;
+    nums(n, "color", 3, r.albedo);
+    r.ior = fmax(1, num(n, "ior", m->ior));
+    r.roughness = fmin(fmax(1e-6, num(n, "roughness", 1)), m->roughness);
+    r.metal = clampd(num(n, "metal", m->metal), 0, 1);
+    r.ao = clampd(num(n, "ao", m->ao), 0, 1);
+    nums(n, "emissive", 3, r.emissive);
+    r.transparency = clampd(num(n, "transparency", m->transparency), 0, 1);
+    r.translucency = fmax(0, num(n, "translucency", m->translucency));
+    return r;
+}
+
+static void *grow(void *p, int *cap, int need, size_t size)
+{
+    if (need <= *cap) return p;
+    int n = *cap ? *cap : 16;
+    while (n < need) n *= 2;
+    *cap = n;
+    return mem_realloc_array(p, (size_t)n, size);
+}
+
+static void add_light(Canvas3D *c, const Node *n, const M4 *t, int group)
+{
+    double color[3];
+    if (!nums(n, "color", 3, color) || (color[0] == 0 && color[1] == 0 && color[2] == 0)) return;
+    double pos[3], focus[3], dir[3], start[3], end[3];
+    bool has_pos = nums(n, "position", 3, pos), has_focus = nums(n, "focus", 3, focus);
+    bool has_dir = nums(n, "direction", 3, dir);
+    if (!has_dir && has_pos && has_focus) {
+        for (int k = 0; k < 3; k++) dir[k] = focus[k] - pos[k];
+        has_dir = true;
+    }
+    if (has_dir && dir[0] == 0 && dir[1] == 0 && dir[2] == 0) has_dir = false;
+    if (nums(n, "start", 3, start) && nums(n, "end", 3, end)) {
+        skiplog_note(c->env->skips, "canvas3d", "light start=/end= (a line light)");
+        return;
+    }
+    c->lights = grow(c->lights, &c->cap_lights, c->nlights + 1, sizeof *c->lights);
+    Light *l = &c->lights[c->nlights++];
+    memset(l, 0, sizeof *l);
+    float *d = l->data;
+    for (int k = 0; k < 3; k++) d[k] = (float)color[k];
+    double falloff[4] = {0, 0, 1, 0};
+    nums(n, "falloff", 4, falloff);
+    for (int k = 0; k < 4; k++) d[12 + k] = (float)falloff[k];
+    double wp[3], wd[3];
+    if (has_pos && has_dir) {
+        double outer = clampd(num(n, "outer", 0.25), 0, 1);
+        double inner = clampd(num(n, "inner", 0), 0, outer);
+        d[3] = LIGHT_SPOT;
+        m4_point(t, pos, wp);
+        m4_direction(t, dir, wd);
+        d[7] = (float)cos(inner * M_PI);
+        d[11] = (float)cos(outer * M_PI);
+    } else if (has_pos) {
+        d[3] = LIGHT_POINT;
+        m4_point(t, pos, wp);
+        wd[0] = wd[1] = wd[2] = 0;
+        d[11] = (float)num(n, "radius", 0);
+    } else if (has_dir) {
+        d[3] = LIGHT_DIRECTIONAL;
+        wp[0] = wp[1] = wp[2] = 0;
+        m4_direction(t, dir, wd);
+    } else {
+        d[3] = LIGHT_AMBIENT;
+        wp[0] = wp[1] = wp[2] = wd[0] = wd[1] = wd[2] = 0;
+    }
+    for (int k = 0; k < 3; k++) d[4 + k] = (float)wp[k], d[8 + k] = (float)wd[k];
+    l->group = group;
+}
+
+/* Flitter canvas3d.pyx, Camera.derive: [base]'s settings with [n]'s
+ * attributes over them, positions through [t]; w x h the picture. */
+static void derive_camera(Canvas3D *c, const Node *n, const M4 *t, const Camera *base, int w, int h, Camera *cam)
+{
+    *cam = *base;
+    double v[3];
+    if (nums(n, "position", 3, v) || nums(n, "viewpoint", 3, v)) m4_point(t, v, cam->position);
+    if (nums(n, "focus", 3, v)) m4_point(t, v, cam->focus);
+    if (nums(n, "up", 3, v)) m4_direction(t, v, cam->up);
+    cam->fov = num(n, "fov", base->fov);
+    const char *ref = text(c, n, "fov_ref");
+    if (ref) snprintf(cam->fov_ref, sizeof cam->fov_ref, "%s", ref);
+    cam->monochrome = flag(n, "monochrome", base->monochrome);
+    nums(n, "tint", 3, cam->tint);
+    cam->orthographic = flag(n, "orthographic", base->orthographic);
+    cam->ortho_width = num(n, "width", base->ortho_width);
+    cam->near = fmax(1e-9, num(n, "near", base->near));
+    cam->far = fmax(cam->near + 1e-9, num(n, "far", base->far));
+    cam->fog_min = num(n, "fog_min", base->fog_min);
+    cam->fog_max = num(n, "fog_max", base->fog_max);
+    nums(n, "fog_color", 3, cam->fog_color);
+    cam->fog_curve = fmax(0, num(n, "fog_curve", base->fog_curve));
+    double s = num(n, "samples", base->samples);
+    cam->samples = s >= 2 && s < 1e6 ? (int)s : 0;
+    double aspect = (double)w / h;
+    M4 proj;
+    if (cam->orthographic) {
+        proj = m4_ortho(aspect, cam->ortho_width, cam->near, cam->far);
+    } else {
+        double g = tan(M_PI * cam->fov);
+        const char *r = cam->fov_ref;
+        bool vertical = strcmp(r, "vertical") == 0 || (strcmp(r, "wide") == 0 && aspect <= 1) ||
+                        (strcmp(r, "narrow") == 0 && aspect > 1);
+        if (strcmp(r, "diagonal") == 0) {
+            double dr = sqrt(1 + aspect * aspect);
+            proj = m4_project(aspect * g / dr, g / dr, cam->near, cam->far);
+        } else if (vertical) {
+            proj = m4_project(aspect * g, g, cam->near, cam->far);
+        } else {
+            proj = m4_project(g, g / aspect, cam->near, cam->far);
+        }
+    }
+    m4_look(cam->position, cam->focus, cam->up, &cam->view);
+    cam->pv = m4_mul(&proj, &cam->view);
+}
+
+static int mesh_kind(const Node *n)
+{
+    if (rnode_is(n, "box")) return MESH_BOX;
+    if (rnode_is(n, "sphere")) return MESH_SPHERE;
+    if (rnode_is(n, "cylinder")) return MESH_CYLINDER;
+    if (rnode_is(n, "cone")) return MESH_CONE;
+    return -1;
+}
+
+/* Flitter canvas3d.pyx, instance_start_end_matrix: the unit model along
+ * z from [s] to [e] with x/y scaled by [radius]; false when degenerate. */
+static bool start_end(const double s[3], const double e[3], double radius, M4 *out)
+{
+    double d[3] = {e[0] - s[0], e[1] - s[1], e[2] - s[2]};
+    double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (len == 0 || radius <= 0) return false;
+    double mid[3] = {(s[0] + e[0]) / 2, (s[1] + e[1]) / 2, (s[2] + e[2]) / 2};
+    /* the quaternion turning z onto d */
+    double u[3] = {d[0] / len, d[1] / len, d[2] / len};
+    double q[4] = {1 + u[2], -u[1], u[0], 0};   /* w, x, y, z: z cross u, 1 + z.u */
+    if (q[0] < 1e-12) q[0] = 0, q[1] = 1, q[2] = 0, q[3] = 0;   /* opposite: half a turn about x */
+    M4 m = m4_translate(mid), r = m4_quaternion(q);
+    double sz[3] = {radius, radius, len};
+    M4 sc = m4_scale(sz);
+    m = m4_mul(&m, &r);
+    *out = m4_mul(&m, &sc);
+    return true;
+}
+
+static void add_instance(Canvas3D *c, const Node *n, int kind, const M4 *t, const Material *mat, int group)
+{
+    MeshKey key = {.kind = kind, .flat = flag(n, "flat", false), .invert = flag(n, "invert", false)};
+    key.segments = mesh_segments(kind, (int)clampd(num(n, "segments", DEFAULT_SEGMENTS), 0, 1e6));
+    c->inst = grow(c->inst, &c->cap_inst, c->ninst + 1, sizeof *c->inst);
+    Instance *in = &c->inst[c->ninst++];
+    in->mesh = mesh_cache_get(c->meshes, &key);
+    in->group = group;
+    M4 m = *t, x;
+    double s[3] = {0, 0, 0}, e[3], v[3];
+    if (nums(n, "end", 3, e)) {
+        nums(n, "start", 3, s);
+        if (start_end(s, e, num(n, "radius", 1), &x)) m = m4_mul(&m, &x);
+    } else {
+        if (nums(n, "position", 3, v)) x = m4_translate(v), m = m4_mul(&m, &x);
+        if (nums(n, "rotation", 3, v)) x = m4_rotate(v), m = m4_mul(&m, &x);
+        if (nums(n, "size", 3, v)) x = m4_scale(v), m = m4_mul(&m, &x);
+    }
+    in->model = m;
+    in->mat = *mat;
+    for (size_t i = 0; i < rnode_nattrs(n); i++)
+        if (is_material_attr(rnode_attr_name(n, i))) {
+            in->mat = update_material(n, mat);
+            break;
+        }
+    if (in->mat.translucency > 0) skiplog_note(c->env->skips, "canvas3d", "translucency= (drawn opaque)");
+    c->groups[group].ninstances++;
+}
+
+static int new_group(Canvas3D *c, const Node *n, int parent)
+{
+    c->groups = grow(c->groups, &c->cap_groups, c->ngroups + 1, sizeof *c->groups);
+    Group *g = &c->groups[c->ngroups];
+    const Group *p = parent >= 0 ? &c->groups[parent] : NULL;
+    g->parent = parent;
+    g->max_lights = (int)clampd(num(n, "max_lights", p ? p->max_lights : DEFAULT_MAX_LIGHTS), 1, 1000);
+    g->depth_sort = flag(n, "depth_sort", p ? p->depth_sort : true);
+    g->depth_test = flag(n, "depth_test", p ? p->depth_test : true);
+    g->face_cull = flag(n, "face_cull", p ? p->face_cull : true);
+    const char *cf = text(c, n, "cull_face");
+    g->cull_front = cf ? strcmp(cf, "front") == 0 : (p ? p->cull_front : false);
+    g->composite = p ? p->composite : COMP_OVER;
+    const char *comp = text(c, n, "composite");
+    if (comp) {
+        static const char *const names[] = {"over", "dest_over", "add", "subtract", "lighten", "darken", "source", "dest"};
+        g->composite = COMP_OVER;
+        for (int i = 0; i < 8; i++)
+            if (strcmp(comp, names[i]) == 0) g->composite = i;
+    }
+    if (rnode_attr(n, "vertex") || rnode_attr(n, "fragment"))
+        skiplog_note(c->env->skips, "canvas3d", "group vertex=/fragment= (custom shaders)");
+    g->ninstances = 0;
+    return c->ngroups++;
+}
+
+static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int group, const Camera *base)
+{
+    Material m = *mat;
+    int kind;
+    if (rnode_is(n, "transform")) {
+        t = update_transform(n, t);
+    } else if (rnode_is(n, "material")) {
+        m = update_material(n, mat);
+    } else if (rnode_is(n, "light")) {
+        add_light(c, n, &t, group);
+        return;
+    } else if (rnode_is(n, "camera")) {
+        const char *id = text(c, n, "id");
+        if (id && c->ncams < 8) {
+            buf_reset(&c->cam_id[c->ncams]);
+            buf_printf(&c->cam_id[c->ncams], "%s", id);
+            derive_camera(c, n, &t, base, c->width, c->height, &c->cams[c->ncams]);
+            c->ncams++;
+        }
+        return;
+    } else if (rnode_is(n, "group") || rnode_is(n, "canvas3d")) {
+        t = update_transform(n, t);
+        m = update_material(n, mat);
+        group = new_group(c, n, group);
+    } else if ((kind = mesh_kind(n)) >= 0) {
+        add_instance(c, n, kind, &t, mat, group);
+        return;
+    } else {
+        skiplog_note(c->env->skips, "canvas3d", rnode_kind(n));
+        return;
+    }
+    for (size_t i = 0; i < rnode_nchildren(n); i++) collect(c, rnode_child(n, i), t, &m, group, base);
+}
+
+/* }===== */
+
+/* {===== GL programs and dispatch */
+
+static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
+{
+    GLuint s = glCreateShader(type);
+    glShaderSource(s, 1, &src, NULL);
+    glCompileShader(s);
+    GLint ok;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char logtext[512] = "";
+        glGetShaderInfoLog(s, sizeof logtext, NULL, logtext);
+        snprintf(err, errlen, "canvas3d: shader does not compile: %s", logtext);
+        glDeleteShader(s);
+        return 0;
+    }
+    return s;
+}
+
+static const Program *program_for(Canvas3D *c, int max_lights, char *err, size_t errlen)
+{
+    for (int i = 0; i < c->nprog; i++)
+        if (c->prog[i].max_lights == max_lights) return &c->prog[i];
+    size_t need = canvas3d_fragment_source(NULL, 0, max_lights) + 1;
+    char *fs = mem_alloc(need);
+    canvas3d_fragment_source(fs, need, max_lights);
+    GLuint v = compile(GL_VERTEX_SHADER, canvas3d_vertex_source, err, errlen);
+    GLuint f = v ? compile(GL_FRAGMENT_SHADER, fs, err, errlen) : 0;
+    free(fs);
+    if (!f) {
+        if (v) glDeleteShader(v);
+        return NULL;
+    }
+    GLuint p = glCreateProgram();
+    glAttachShader(p, v);
+    glAttachShader(p, f);
+    glLinkProgram(p);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    GLint ok;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char logtext[512] = "";
+        glGetProgramInfoLog(p, sizeof logtext, NULL, logtext);
+        snprintf(err, errlen, "canvas3d: shader program does not link: %s", logtext);
+        glDeleteProgram(p);
+        return NULL;
+    }
+    int slot = c->nprog < 4 ? c->nprog++ : 0;
+    Program *pr = &c->prog[slot];
+    if (pr->prog) {
+        glDeleteProgram(pr->prog);
+        glDeleteBuffers(1, &pr->ubo);
+    }
+    memset(pr, 0, sizeof *pr);
+    pr->max_lights = max_lights;
+    pr->prog = p;
+    glUniformBlockBinding(p, glGetUniformBlockIndex(p, "Lights"), 1);
+    glGenBuffers(1, &pr->ubo);
+    glBindBuffer(GL_UNIFORM_BUFFER, pr->ubo);
+    glBufferData(GL_UNIFORM_BUFFER, (GLsizeiptr)max_lights * 64, NULL, GL_DYNAMIC_DRAW);
+#define U(name) pr->u_##name = glGetUniformLocation(p, #name)
+    U(view_position); U(view_focus); U(orthographic); U(fog_min); U(fog_max); U(fog_curve);
+    U(fog_color); U(monochrome); U(tint); U(nlights);
+#undef U
+    pr->u_pv = glGetUniformLocation(p, "pv_matrix");
+    return pr;
+}
+
+static void set_blend(int composite)
+{
+    glBlendEquation(GL_FUNC_ADD);
+    switch (composite) {
+    case COMP_SOURCE: glBlendFunc(GL_ONE, GL_ZERO); break;
+    case COMP_DEST: glBlendFunc(GL_ZERO, GL_ONE); break;
+    case COMP_DEST_OVER: glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE); break;
+    case COMP_ADD: glBlendFunc(GL_ONE, GL_ONE); break;
+    case COMP_SUBTRACT: glBlendEquation(GL_FUNC_SUBTRACT); glBlendFunc(GL_ONE, GL_ONE); break;
+    case COMP_LIGHTEN: glBlendEquation(GL_MAX); glBlendFunc(GL_ONE, GL_ONE); break;
+    case COMP_DARKEN: glBlendEquation(GL_MIN); glBlendFunc(GL_ONE, GL_ONE); break;
+    default: glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); break;
+    }
+}
+
+/* Draw [n] instances of one mesh from [list]. */
+static void dispatch(Canvas3D *c, Instance **list, int n)
+{
+    if (n <= 0) return;
+    size_t need = (size_t)n * C3D_INSTANCE_FLOATS;
+    if (need > c->cap_idata) {
+        c->cap_idata = need * 2;
+        c->idata = mem_realloc_array(c->idata, c->cap_idata, sizeof(float));
+    }
+    for (int i = 0; i < n; i++) {
+        const Instance *in = list[i];
+        float *d = c->idata + (size_t)i * C3D_INSTANCE_FLOATS;
+        for (int k = 0; k < 16; k++) d[k] = (float)in->model.m[k];
+        double nm[9];
+        m4_cofactor3(&in->model, nm);
+        for (int k = 0; k < 9; k++) d[16 + k] = (float)nm[k];
+        const Material *m = &in->mat;
+        for (int k = 0; k < 3; k++) d[25 + k] = (float)m->albedo[k], d[29 + k] = (float)m->emissive[k];
+        d[28] = (float)m->transparency;
+        d[32] = (float)m->translucency;
+        d[33] = (float)m->ior, d[34] = (float)m->metal, d[35] = (float)m->roughness, d[36] = (float)m->ao;
+    }
+    const GlMesh *mesh = list[0]->mesh;
+    glBindVertexArray(mesh->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, c->instance_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(need * sizeof(float)), c->idata, GL_STREAM_DRAW);
+    static const int offsets[10] = {0, 4, 8, 12, 16, 19, 22, 25, 29, 33};
+    static const int sizes[10] = {4, 4, 4, 4, 3, 3, 3, 4, 4, 4};
+    for (int a = 0; a < 10; a++) {
+        glEnableVertexAttribArray(3 + a);
+        glVertexAttribPointer(3 + a, sizes[a], GL_FLOAT, GL_FALSE, C3D_INSTANCE_FLOATS * sizeof(float),
+                              (const void *)(sizeof(float) * (size_t)offsets[a]));
+        glVertexAttribDivisor(3 + a, 1);
+    }
+    glDrawElementsInstanced(GL_TRIANGLES, mesh->nindex, GL_UNSIGNED_INT, NULL, n);
+}
+
+static int by_mesh_then_z(const void *a, const void *b)
+{
+    const Instance *x = *(Instance *const *)a, *y = *(Instance *const *)b;
+    if (x->mesh != y->mesh) return x->mesh < y->mesh ? -1 : 1;
+    return x->z < y->z ? -1 : x->z > y->z;
+}
+
+static int far_first(const void *a, const void *b)
+{
+    const Instance *x = *(Instance *const *)a, *y = *(Instance *const *)b;
+    return x->z > y->z ? -1 : x->z < y->z;
+}
+
+/* Flitter canvas3d.pyx, nearest_corner. */
+static double nearest_corner(const float b[6], const M4 *vm)
+{
+    double best = 0;
+    for (int i = 0; i < 8; i++) {
+        double d = -vm->m[14];
+        for (int j = 0; j < 3; j++) d -= vm->m[4 * j + 2] * b[((i >> j) & 1) * 3 + j];
+        if (i == 0 || d < best) best = d;
+    }
+    return best;
+}
+
+static void draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen)
+{
+    const Group *g = &c->groups[gi];
+    const Program *p = program_for(c, g->max_lights, err, errlen);
+    if (!p) return;
+    glUseProgram(p->prog);
+    float pv[16];
+    for (int k = 0; k < 16; k++) pv[k] = (float)cam->pv.m[k];
+    glUniformMatrix4fv(p->u_pv, 1, GL_FALSE, pv);
+    glUniform3f(p->u_view_position, (float)cam->position[0], (float)cam->position[1], (float)cam->position[2]);
+    glUniform3f(p->u_view_focus, (float)cam->focus[0], (float)cam->focus[1], (float)cam->focus[2]);
+    glUniform1i(p->u_orthographic, cam->orthographic);
+    glUniform1f(p->u_fog_min, (float)cam->fog_min);
+    glUniform1f(p->u_fog_max, (float)cam->fog_max);
+    glUniform1f(p->u_fog_curve, (float)cam->fog_curve);
+    glUniform3f(p->u_fog_color, (float)cam->fog_color[0], (float)cam->fog_color[1], (float)cam->fog_color[2]);
+    glUniform1i(p->u_monochrome, cam->monochrome);
+    glUniform3f(p->u_tint, (float)cam->tint[0], (float)cam->tint[1], (float)cam->tint[2]);
+    /* the group's lights, then its ancestors' */
+    int nl = 0;
+    if (c->cap_lightbuf < g->max_lights * 16) {
+        c->cap_lightbuf = g->max_lights * 16;
+        c->lightbuf = mem_realloc_array(c->lightbuf, (size_t)c->cap_lightbuf, sizeof(float));
+    }
+    for (int k = gi; k >= 0 && nl < g->max_lights; k = c->groups[k].parent)
+        for (int l = 0; l < c->nlights && nl < g->max_lights; l++)
+            if (c->lights[l].group == k) memcpy(c->lightbuf + (size_t)16 * nl++, c->lights[l].data, 64);
+    glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
+    if (nl) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)nl * 64, c->lightbuf);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 1, p->ubo);
+    glUniform1i(p->u_nlights, nl);
+
+    glEnable(GL_BLEND);
+    set_blend(g->composite);
+    if (g->depth_test) glEnable(GL_DEPTH_TEST);
+    else glDisable(GL_DEPTH_TEST);
+    if (g->face_cull) {
+        glEnable(GL_CULL_FACE);
+        glCullFace(g->cull_front ? GL_FRONT : GL_BACK);
+    } else {
+        glDisable(GL_CULL_FACE);
+    }
+    glDepthMask(GL_TRUE);
+    bool sorted = g->depth_sort && g->depth_test;
+    for (int i = 0; i < n; i++) {
+        M4 vm = m4_mul(&cam->view, &list[i]->model);
+        list[i]->z = sorted ? nearest_corner(list[i]->mesh->bounds, &vm) : 0;
+    }
+    qsort(list, (size_t)n, sizeof *list, by_mesh_then_z);
+    /* opaque instances: per mesh, front to back; transparent ones moved to the end */
+    int nt = 0;
+    Instance **transparent = c->order + c->ninst;   /* the second half of c->order */
+    int i = 0;
+    while (i < n) {
+        int j = i, k = 0;
+        while (j < n && list[j]->mesh == list[i]->mesh) {
+            if (sorted && (list[j]->mat.transparency > 0 || list[j]->mat.translucency > 0))
+                transparent[nt++] = list[j];
+            else
+                list[i + k++] = list[j];
+            j++;
+        }
+        dispatch(c, list + i, k);
+        i = j;
+    }
+    if (nt) {
+        qsort(transparent, (size_t)nt, sizeof *transparent, far_first);
+        glDepthMask(GL_FALSE);
+        for (int a = 0; a < nt;) {
+            int b = a;
+            while (b < nt && transparent[b]->mesh == transparent[a]->mesh) b++;
+            dispatch(c, transparent + a, b - a);
+            a = b;
+        }
+        glDepthMask(GL_TRUE);
+    }
+}
+
+/* }===== */
+
+static void encode(Canvas3D *c, cairo_surface_t *pic, int w, int h)
+{
+    cairo_surface_flush(pic);
+    unsigned char *data = cairo_image_surface_get_data(pic);
+    int stride = cairo_image_surface_get_stride(pic);
+    for (int y = 0; y < h; y++) {
+        uint32_t *row = (uint32_t *)(void *)(data + (size_t)y * stride);
+        const float *src = c->pixels + (size_t)y * w * 4;
+        for (int x = 0; x < w; x++, src += 4) {
+            unsigned v[3], a = 0;
+            for (int k = 0; k < 3; k++) {
+                float f = src[k];
+                int idx = !(f > 0) ? 0 : f >= 1 ? SRGB_STEPS : (int)(f * SRGB_STEPS + 0.5f);
+                v[k] = c->srgb[idx];
+                if (v[k] > a) a = v[k];
+            }
+            float fa = src[3];
+            unsigned alpha = !(fa > 0) ? 0 : fa >= 1 ? 255 : (unsigned)lroundf(fa * 255);
+            if (alpha > a) a = alpha;
+            row[x] = (a << 24) | (v[0] << 16) | (v[1] << 8) | v[2];
+        }
+    }
+    cairo_surface_mark_dirty(pic);
+}
+
+int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env, const RenderLog *log)
+{
+    if (c->failed) return -1;
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    char err[600];
+    if (!c->gl) {
+        c->gl = gl_context_new(err, sizeof err);
+        if (!c->gl) {
+            c->failed = true;
+            render_log(log, RLOG_WARNING, "canvas3d: no OpenGL (%s): 3D canvases are not drawn", err);
+            return -1;
+        }
+        c->meshes = mesh_cache_new();
+        glGenBuffers(1, &c->instance_vbo);
+    } else if (!gl_context_use(c->gl)) {
+        render_log(log, RLOG_WARNING, "canvas3d: the OpenGL context cannot be made current");
+        return -1;
+    }
+    int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
+    c->env = env;
+    c->width = w;
+    c->height = h;
+    /* Flitter canvas3d.pyx, Canvas3D.render: the default camera */
+    Camera base = {.position = {0, 0, w / 2.0}, .up = {0, 1, 0}, .fov = 0.25, .tint = {1, 1, 1},
+                   .ortho_width = w, .near = 1, .far = w, .fog_curve = 1, .fov_ref = "horizontal"};
+    Camera dflt;
+    M4 id = m4_identity();
+    derive_camera(c, node, &id, &base, w, h, &dflt);
+    Material mat = {.ior = 1.5, .roughness = 1, .ao = 1};
+    c->ngroups = c->nlights = c->ninst = c->ncams = 0;
+    collect(c, node, id, &mat, -1, &dflt);
+    const Camera *cam = &dflt;
+    const char *want = text(c, node, "camera_id");
+    for (int i = 0; want && i < c->ncams; i++)
+        if (strcmp(buf_cstr(&c->cam_id[i]), want) == 0) cam = &c->cams[i];
+    int used;
+    int rc = 0;
+    if (!gl_target_bind(c->gl, w, h, cam->samples, &used, err, sizeof err)) {
+        if (!c->target_warned) render_log(log, RLOG_WARNING, "canvas3d: %s", err);
+        c->target_warned = true;
+        gl_context_done(c->gl);
+        return -1;
+    }
+    bool fog = cam->fog_max > cam->fog_min;
+    double fc[3] = {cam->fog_color[0], cam->fog_color[1], cam->fog_color[2]};
+    if (fog && cam->monochrome) fc[0] = fc[1] = fc[2] = 0.299 * fc[0] + 0.587 * fc[1] + 0.114 * fc[2];
+    glDepthMask(GL_TRUE);
+    glClearColor(fog ? (float)(fc[0] * cam->tint[0]) : 0, fog ? (float)(fc[1] * cam->tint[1]) : 0,
+                 fog ? (float)(fc[2] * cam->tint[2]) : 0, fog ? 1 : 0);
+    glClearDepth(1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    if (used > 0) glEnable(GL_MULTISAMPLE);
+    /* instances by group */
+    if (c->cap_order < 2 * c->ninst) {
+        c->cap_order = 2 * c->ninst;
+        c->order = mem_realloc_array(c->order, (size_t)c->cap_order, sizeof *c->order);
+    }
+    err[0] = '\0';
+    for (int g = 0; g < c->ngroups; g++) {
+        int n = 0;
+        for (int i = 0; i < c->ninst; i++)
+            if (c->inst[i].group == g) c->order[n++] = &c->inst[i];
+        if (n) draw_group(c, g, c->order, n, cam, err, sizeof err);
+        if (err[0]) {
+            render_log(log, RLOG_WARNING, "%s", err);
+            c->failed = true;
+            rc = -1;
+            break;
+        }
+    }
+    glBindVertexArray(0);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    size_t npix = (size_t)w * h * 4;
+    if (npix > c->cap_pixels) {
+        c->cap_pixels = npix;
+        free(c->pixels);
+        c->pixels = mem_alloc(npix * sizeof(float));
+    }
+    gl_target_read(c->gl, c->pixels);
+    gl_context_done(c->gl);
+    encode(c, pic, w, h);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    c->ms_total += (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) / 1e6;
+    c->calls++;
+    return rc;
+}
+
+double canvas3d_time_ms(const Canvas3D *c, long *calls)
+{
+    if (calls) *calls = c->calls;
+    return c->ms_total;
+}
+
+void canvas3d_free(Canvas3D *c)
+{
+    if (!c) return;
+    if (c->gl && gl_context_use(c->gl)) {
+        mesh_cache_free(c->meshes);
+        for (int i = 0; i < c->nprog; i++) {
+            glDeleteProgram(c->prog[i].prog);
+            glDeleteBuffers(1, &c->prog[i].ubo);
+        }
+        glDeleteBuffers(1, &c->instance_vbo);
+    }
+    gl_context_free(c->gl);
+    free(c->groups);
+    free(c->lights);
+    free(c->inst);
+    free(c->order);
+    free(c->idata);
+    free(c->lightbuf);
+    free(c->pixels);
+    for (int i = 0; i < 8; i++) buf_free(&c->cam_id[i]);
+    buf_free(&c->name);
+    free(c);
+}

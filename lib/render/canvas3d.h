@@ -1,0 +1,58 @@
+/* canvas3d.h: drawing a `!canvas3d` node tree with OpenGL into a picture.
+ *
+ * Behaviour from Flitter's documentation (docs/canvas3d.md) and renderer
+ * (render/window/canvas3d.pyx): the scene is walked once per frame into
+ * render groups (the canvas itself and each `!group`), each with its
+ * lights (its own, then its ancestors', at most `max_lights`, default 50)
+ * and its model instances; `!transform` (translate, scale, rotate as
+ * three turns or a quaternion, rotate_x/_y/_z, matrix, in attribute
+ * order), `!material` (color, ior, metal, roughness, ao, emissive,
+ * transparency) and `!light` (ambient, directional, point with radius,
+ * spot with inner/outer and falloff) nodes as documented; `!camera id=`
+ * nodes and `camera_id` pick the camera; the default camera sits at
+ * 0;0;width/2 looking at the origin with up 0;1;0, a horizontal fov of
+ * 0.25 turns, near 1 and far width. Models are `!box`, `!sphere`,
+ * `!cylinder` and `!cone` (models_mesh.h) with position, size, rotation
+ * or start/end/radius, flat and invert; identical models of a group are
+ * drawn as one instanced draw call, opaque ones front to back, transparent
+ * ones afterwards back to front without depth writes. `samples` gives
+ * MSAA, fog_color/fog_min/fog_max/fog_curve fog (the picture then starts
+ * filled with the fog colour).
+ *
+ * Lighting is computed in linear light into a half-float framebuffer; the
+ * picture handed back is the sRGB encoding of that light (clamped to
+ * 0..1, as Flitter's window does last), premultiplied, with an alpha of at
+ * least each encoded channel so that composited over black it gives
+ * exactly Flitter's window output. Line lights, translucency, textures,
+ * custom shaders, secondary cameras and model kinds other than the four
+ * primitives are not drawn: each kind is reported once.
+ */
+#ifndef FL_RENDER_CANVAS3D_H
+#define FL_RENDER_CANVAS3D_H
+
+#include <cairo.h>
+
+#include "canvas.h"
+#include "node.h"
+#include "value.h"
+
+typedef struct Canvas3D Canvas3D;
+
+/* A 3D renderer with no GL context yet: the context is created by the
+ * first canvas3d_draw (so a run without `!canvas3d` never opens EGL). */
+Canvas3D *canvas3d_new(void);
+/* Draw the `!canvas3d` node [node] into [pic], an ARGB32 cairo image
+ * surface (its size is the camera's), replacing its pixels. [env]'s
+ * symbols name symbol attributes (camera_id, fov_ref, composite,
+ * cull_face); skipped kinds go to env->skips; [log] receives one warning
+ * if no GL context can be made (then, and on every later call, nothing is
+ * drawn and -1 is returned).
+ *   errors: -1 when nothing could be drawn ([pic] left transparent), else 0. */
+int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env,
+                  const RenderLog *log);
+/* Milliseconds spent in canvas3d_draw calls so far and their count. */
+double canvas3d_time_ms(const Canvas3D *c, long *calls);
+/* Release the GL context and everything on it (NULL is a no-op). */
+void canvas3d_free(Canvas3D *c);
+
+#endif

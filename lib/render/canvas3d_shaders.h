@@ -1,0 +1,31 @@
+/* canvas3d_shaders.h: the GLSL 3.30 program of `!canvas3d`'s standard
+ * lighting, as C strings (canvas3d_shaders.c).
+ *
+ * Vertex inputs (fixed locations): 0 position, 1 normal, 2 uv (per
+ * vertex); per instance 3..6 the model matrix, 7..9 the normal matrix
+ * (the cofactor of the model matrix's upper 3x3), 10 albedo RGB and
+ * transparency, 11 emissive RGB and translucency, 12 ior, metal,
+ * roughness, ao: 37 floats per instance.
+ *
+ * Lights are a std140 uniform block `Lights` of MAX_LIGHTS mat4 (the
+ * fragment source starts with `#define MAX_LIGHTS N`, filled in by
+ * canvas3d_fragment_source); a light's columns are (color, type),
+ * (position, inner cone cosine), (direction, outer cone cosine or radius),
+ * falloff (A, B, C, D). Types are the LIGHT_ constants below.
+ */
+#ifndef FL_RENDER_CANVAS3D_SHADERS_H
+#define FL_RENDER_CANVAS3D_SHADERS_H
+
+#include <stddef.h>
+
+enum { LIGHT_AMBIENT = 1, LIGHT_DIRECTIONAL = 2, LIGHT_POINT = 3, LIGHT_SPOT = 4 };
+
+/* Floats per instance in the instance buffer. */
+#define C3D_INSTANCE_FLOATS 37
+
+extern const char canvas3d_vertex_source[];
+/* The fragment shader for [max_lights] lights into [out] (NUL-terminated);
+ * returns its length, or the length needed when [cap] is too small. */
+size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights);
+
+#endif

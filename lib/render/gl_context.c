@@ -1,0 +1,196 @@
+/* gl_context.c: an EGL surfaceless OpenGL 3.3 core context and its
+ * framebuffer (see gl_context.h).
+ *
+ * The EGL display of the surfaceless platform is one per process in EGL's
+ * model; when EGL_KHR_display_reference is offered it is opened with
+ * EGL_TRACK_REFERENCES_KHR so that each context's eglInitialize is paired
+ * with its own eglTerminate, otherwise it is never terminated (a second
+ * context may still use it). */
+#include "gl_context.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <epoxy/egl.h>
+#include <epoxy/gl.h>
+
+struct GlContext {
+    EGLDisplay dpy;
+    EGLContext ctx;
+    bool tracked;            /* the display counts references: terminate it */
+    int max_samples;         /* GL_MAX_SAMPLES */
+    int w, h, samples;       /* the framebuffer's size and sample count (0: none yet) */
+    GLuint fbo, color, depth;          /* the render pass target (multisampled or not) */
+    GLuint resolve_fbo, resolve_color; /* single-sampled copy when samples > 0 */
+    char renderer[128];
+};
+
+static bool has_ext(const char *list, const char *name)
+{
+    size_t n = strlen(name);
+    for (const char *p = list; p && (p = strstr(p, name)); p += n)
+        if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) return true;
+    return false;
+}
+
+GlContext *gl_context_new(char *err, size_t errlen)
+{
+    const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    if (!client || !has_ext(client, "EGL_MESA_platform_surfaceless") ||
+        !has_ext(client, "EGL_EXT_platform_base")) {
+        snprintf(err, errlen, "EGL has no surfaceless platform (EGL_MESA_platform_surfaceless)");
+        return NULL;
+    }
+    GlContext *gl = calloc(1, sizeof *gl);
+    if (!gl) {
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    gl->tracked = has_ext(client, "EGL_KHR_display_reference");
+    const EGLint track[] = {EGL_TRACK_REFERENCES_KHR, EGL_TRUE, EGL_NONE};
+    gl->dpy = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY,
+                                       gl->tracked ? track : NULL);
+    EGLint major, minor;
+    if (gl->dpy == EGL_NO_DISPLAY || !eglInitialize(gl->dpy, &major, &minor)) {
+        snprintf(err, errlen, "EGL cannot open the surfaceless display (error 0x%x)", (unsigned)eglGetError());
+        free(gl);
+        return NULL;
+    }
+    const char *exts = eglQueryString(gl->dpy, EGL_EXTENSIONS);
+    if (!has_ext(exts, "EGL_KHR_surfaceless_context") || !has_ext(exts, "EGL_KHR_no_config_context") ||
+        !eglBindAPI(EGL_OPENGL_API)) {
+        snprintf(err, errlen, "EGL offers no surfaceless desktop OpenGL context");
+        goto fail;
+    }
+    const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
+                            EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    gl->ctx = eglCreateContext(gl->dpy, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attrs);
+    if (gl->ctx == EGL_NO_CONTEXT) {
+        snprintf(err, errlen, "EGL cannot create an OpenGL 3.3 core context (error 0x%x)", (unsigned)eglGetError());
+        goto fail;
+    }
+    if (!gl_context_use(gl)) {
+        snprintf(err, errlen, "EGL cannot make the OpenGL context current (error 0x%x)", (unsigned)eglGetError());
+        goto fail;
+    }
+    if (epoxy_gl_version() < 33) {
+        snprintf(err, errlen, "OpenGL %d.%d is below 3.3", epoxy_gl_version() / 10, epoxy_gl_version() % 10);
+        goto fail;
+    }
+    glGetIntegerv(GL_MAX_SAMPLES, &gl->max_samples);
+    const char *name = (const char *)glGetString(GL_RENDERER);
+    snprintf(gl->renderer, sizeof gl->renderer, "%s", name ? name : "?");
+    return gl;
+fail:
+    gl_context_free(gl);
+    return NULL;
+}
+
+bool gl_context_use(GlContext *gl)
+{
+    return eglMakeCurrent(gl->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, gl->ctx) == EGL_TRUE;
+}
+
+void gl_context_done(GlContext *gl) { eglMakeCurrent(gl->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT); }
+
+const char *gl_context_renderer(const GlContext *gl) { return gl->renderer; }
+
+static void drop_target(GlContext *gl)
+{
+    GLuint fbos[2] = {gl->fbo, gl->resolve_fbo};
+    GLuint rbs[3] = {gl->color, gl->depth, gl->resolve_color};
+    glDeleteFramebuffers(2, fbos);
+    glDeleteRenderbuffers(3, rbs);
+    gl->fbo = gl->resolve_fbo = gl->color = gl->depth = gl->resolve_color = 0;
+    gl->w = gl->h = 0;
+}
+
+/* Flitter's sample count: none below 2, else the power of two at or below
+ * [samples], at most the driver's maximum. */
+static int sample_count(const GlContext *gl, int samples)
+{
+    if (samples < 2) return 0;
+    int s = 1;
+    while (s * 2 <= samples && s * 2 <= gl->max_samples) s *= 2;
+    return s >= 2 ? s : 0;
+}
+
+bool gl_target_bind(GlContext *gl, int w, int h, int samples, int *used, char *err, size_t errlen)
+{
+    int s = sample_count(gl, samples);
+    if (used) *used = s;
+    if (gl->fbo && (gl->w != w || gl->h != h || gl->samples != s)) drop_target(gl);
+    if (!gl->fbo) {
+        glGenFramebuffers(1, &gl->fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, gl->fbo);
+        glGenRenderbuffers(1, &gl->color);
+        glBindRenderbuffer(GL_RENDERBUFFER, gl->color);
+        glRenderbufferStorageMultisample(GL_RENDERBUFFER, s, GL_RGBA16F, w, h);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, gl->color);
+        glGenRenderbuffers(1, &gl->depth);
+        glBindRenderbuffer(GL_RENDERBUFFER, gl->depth);
+        glRenderbufferStorageMultisample(GL_RENDERBUFFER, s, GL_DEPTH_COMPONENT24, w, h);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, gl->depth);
+        bool ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+        if (ok && s > 0) {
+            glGenFramebuffers(1, &gl->resolve_fbo);
+            glBindFramebuffer(GL_FRAMEBUFFER, gl->resolve_fbo);
+            glGenRenderbuffers(1, &gl->resolve_color);
+            glBindRenderbuffer(GL_RENDERBUFFER, gl->resolve_color);
+            glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA16F, w, h);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, gl->resolve_color);
+            ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+        }
+        if (!ok) {
+            snprintf(err, errlen, "OpenGL cannot make a %dx%d framebuffer with %d samples", w, h, s);
+            drop_target(gl);
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            return false;
+        }
+        gl->w = w;
+        gl->h = h;
+        gl->samples = s;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, gl->fbo);
+    glViewport(0, 0, w, h);
+    return true;
+}
+
+void gl_target_read(GlContext *gl, float *rgba)
+{
+    int w = gl->w, h = gl->h;
+    GLuint src = gl->fbo;
+    if (gl->samples > 0) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, gl->fbo);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, gl->resolve_fbo);
+        glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        src = gl->resolve_fbo;
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, src);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, rgba);
+    glBindFramebuffer(GL_FRAMEBUFFER, gl->fbo);
+    /* GL's first row is the bottom one */
+    size_t row = (size_t)w * 4;
+    float *tmp = malloc(row * sizeof *tmp);
+    if (!tmp) return;
+    for (int y = 0; y < h / 2; y++) {
+        float *a = rgba + (size_t)y * row, *b = rgba + (size_t)(h - 1 - y) * row;
+        memcpy(tmp, a, row * sizeof *tmp);
+        memcpy(a, b, row * sizeof *tmp);
+        memcpy(b, tmp, row * sizeof *tmp);
+    }
+    free(tmp);
+}
+
+void gl_context_free(GlContext *gl)
+{
+    if (!gl) return;
+    if (gl->ctx != EGL_NO_CONTEXT && gl_context_use(gl)) drop_target(gl);
+    eglMakeCurrent(gl->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (gl->ctx != EGL_NO_CONTEXT) eglDestroyContext(gl->dpy, gl->ctx);
+    if (gl->tracked) eglTerminate(gl->dpy);
+    eglReleaseThread();
+    free(gl);
+}

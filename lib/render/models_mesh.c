@@ -1,0 +1,288 @@
+/* models_mesh.c: primitive model meshes and their GL buffer cache (see
+ * models_mesh.h).
+ *
+ * Every primitive is convex with its origin inside, so each triangle is
+ * generated in any order and then turned to face away from the origin
+ * (its normal's dot product with its centroid positive): one rule gives
+ * counter-clockwise winding seen from outside for all four shapes. The
+ * cache is a plain array searched linearly: a scene holds a handful of
+ * distinct shapes, while a shape may have thousands of instances. */
+#include "models_mesh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <epoxy/gl.h>
+
+#include "mem.h"
+
+#define PI 3.141592653589793
+
+/* A growing mesh. */
+typedef struct Builder {
+    MeshData m;
+    uint32_t vcap, icap;
+} Builder;
+
+static uint32_t add_vertex(Builder *b, double x, double y, double z, double nx, double ny, double nz,
+                           double u, double v)
+{
+    if (b->m.nverts == b->vcap) {
+        b->vcap = b->vcap ? b->vcap * 2 : 64;
+        b->m.verts = mem_realloc_array(b->m.verts, b->vcap, 8 * sizeof(float));
+    }
+    float *p = b->m.verts + (size_t)b->m.nverts * 8;
+    double len = sqrt(nx * nx + ny * ny + nz * nz);
+    if (len > 0) nx /= len, ny /= len, nz /= len;
+    p[0] = (float)x, p[1] = (float)y, p[2] = (float)z;
+    p[3] = (float)nx, p[4] = (float)ny, p[5] = (float)nz;
+    p[6] = (float)u, p[7] = (float)v;
+    return b->m.nverts++;
+}
+
+static const float *vert(const Builder *b, uint32_t i) { return b->m.verts + (size_t)i * 8; }
+
+/* Add triangle a,b,c wound to face away from the origin (degenerate
+ * triangles, of zero area, are dropped). */
+static void add_tri(Builder *b, uint32_t i0, uint32_t i1, uint32_t i2)
+{
+    const float *a = vert(b, i0), *p = vert(b, i1), *q = vert(b, i2);
+    double u[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+    double v[3] = {q[0] - a[0], q[1] - a[1], q[2] - a[2]};
+    double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    if (n[0] == 0 && n[1] == 0 && n[2] == 0) return;
+    double c[3] = {a[0] + p[0] + q[0], a[1] + p[1] + q[1], a[2] + p[2] + q[2]};
+    double d = n[0] * c[0] + n[1] * c[1] + n[2] * c[2];
+    if (d == 0) {   /* a face through the origin (2-segment cylinder, cone): its vertex normal decides */
+        d = n[0] * a[3] + n[1] * a[4] + n[2] * a[5];
+    }
+    if (b->m.nindex + 3 > b->icap) {
+        b->icap = b->icap ? b->icap * 2 : 192;
+        b->m.index = mem_realloc_array(b->m.index, b->icap, sizeof(uint32_t));
+    }
+    uint32_t *t = b->m.index + b->m.nindex;
+    t[0] = i0;
+    t[1] = d >= 0 ? i1 : i2;
+    t[2] = d >= 0 ? i2 : i1;
+    b->m.nindex += 3;
+}
+
+static void add_quad(Builder *b, uint32_t a, uint32_t c, uint32_t d, uint32_t e)
+{
+    add_tri(b, a, c, d);
+    add_tri(b, a, d, e);
+}
+
+int mesh_segments(int kind, int segments)
+{
+    if (kind == MESH_BOX) return 0;
+    if (segments > 4096) segments = 4096;
+    if (kind == MESH_SPHERE) {
+        if (segments < 4) return 4;
+        return (segments + 3) / 4 * 4;
+    }
+    return segments < 2 ? 2 : segments;
+}
+
+static void build_box(Builder *b)
+{
+    /* each face: its axis, its sign */
+    for (int axis = 0; axis < 3; axis++)
+        for (int sign = 1; sign >= -1; sign -= 2) {
+            int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            uint32_t k[4];
+            for (int c = 0; c < 4; c++) {
+                double p[3], n[3] = {0, 0, 0};
+                p[axis] = 0.5 * sign;
+                p[u] = (c == 1 || c == 2) ? 0.5 : -0.5;
+                p[v] = (c >= 2) ? 0.5 : -0.5;
+                n[axis] = sign;
+                double tu = (p[u] + 0.5), tv = (p[v] + 0.5);
+                double face = axis * 2 + (sign < 0);
+                k[c] = add_vertex(b, p[0], p[1], p[2], n[0], n[1], n[2], (face + tu) / 6, tv);
+            }
+            add_quad(b, k[0], k[1], k[2], k[3]);
+        }
+}
+
+/* Eight octants of [n]/4 rows each: row i (0 at the pole) has i+1
+ * vertices from the octant's x edge to its y edge. */
+static void build_sphere(Builder *b, int n)
+{
+    int rows = n / 4;
+    uint32_t *prev = mem_alloc(sizeof(uint32_t) * (size_t)(rows + 1));
+    uint32_t *cur = mem_alloc(sizeof(uint32_t) * (size_t)(rows + 1));
+    for (int oct = 0; oct < 8; oct++) {
+        double sx = (oct & 1) ? -1 : 1, sy = (oct & 2) ? -1 : 1, sz = (oct & 4) ? -1 : 1;
+        for (int i = 0; i <= rows; i++) {
+            double th = PI / 2 * i / rows;
+            for (int j = 0; j <= i; j++) {
+                double ph = i ? PI / 2 * j / i : 0;
+                double x = sin(th) * cos(ph) * sx, y = sin(th) * sin(ph) * sy, z = cos(th) * sz;
+                double lon = atan2(y, x) / (2 * PI);
+                if (lon < 0) lon += 1;
+                cur[j] = add_vertex(b, x, y, z, x, y, z, lon, 0.5 + asin(z) / PI);
+            }
+            if (i > 0) {
+                for (int j = 0; j < i; j++) {
+                    add_tri(b, prev[j], cur[j], cur[j + 1]);
+                    if (j + 1 < i) add_tri(b, prev[j], cur[j + 1], prev[j + 1]);
+                }
+            }
+            uint32_t *t = prev;
+            prev = cur;
+            cur = t;
+        }
+    }
+    free(prev);
+    free(cur);
+}
+
+/* A cylinder, or a cone: the top ring shrunk to the point, with side
+ * normals leaning up by 45 degrees (the unit cone falls 1 in radius over 1
+ * in height). */
+static void build_round(Builder *b, int n, bool cone)
+{
+    for (int i = 0; i < n; i++) {
+        double a0 = 2 * PI * i / n, a1 = 2 * PI * (i + 1) / n, am = (a0 + a1) / 2;
+        double c0 = cos(a0), s0 = sin(a0), c1 = cos(a1), s1 = sin(a1);
+        double u0 = (double)i / n, u1 = (double)(i + 1) / n;
+        double nz = cone ? 1 : 0;
+        uint32_t b0 = add_vertex(b, c0, s0, -0.5, c0, s0, nz, u0, 0.25);
+        uint32_t b1 = add_vertex(b, c1, s1, -0.5, c1, s1, nz, u1, 0.25);
+        if (cone) {
+            uint32_t t = add_vertex(b, 0, 0, 0.5, cos(am), sin(am), 1, (u0 + u1) / 2, 1);
+            add_tri(b, b0, b1, t);
+        } else {
+            uint32_t t0 = add_vertex(b, c0, s0, 0.5, c0, s0, 0, u0, 0.75);
+            uint32_t t1 = add_vertex(b, c1, s1, 0.5, c1, s1, 0, u1, 0.75);
+            add_quad(b, b0, b1, t1, t0);
+            uint32_t tc = add_vertex(b, 0, 0, 0.5, 0, 0, 1, (u0 + u1) / 2, 1);
+            uint32_t e0 = add_vertex(b, c0, s0, 0.5, 0, 0, 1, u0, 0.75);
+            uint32_t e1 = add_vertex(b, c1, s1, 0.5, 0, 0, 1, u1, 0.75);
+            add_tri(b, tc, e0, e1);
+        }
+        uint32_t bc = add_vertex(b, 0, 0, -0.5, 0, 0, -1, (u0 + u1) / 2, 0);
+        uint32_t f0 = add_vertex(b, c0, s0, -0.5, 0, 0, -1, u0, 0.25);
+        uint32_t f1 = add_vertex(b, c1, s1, -0.5, 0, 0, -1, u1, 0.25);
+        add_tri(b, bc, f0, f1);
+    }
+}
+
+/* Every triangle its own three vertices with the face normal. */
+static void flatten(Builder *b)
+{
+    Builder f = {0};
+    for (uint32_t t = 0; t + 2 < b->m.nindex; t += 3) {
+        const float *p[3] = {vert(b, b->m.index[t]), vert(b, b->m.index[t + 1]), vert(b, b->m.index[t + 2])};
+        double u[3], v[3];
+        for (int k = 0; k < 3; k++) u[k] = p[1][k] - p[0][k], v[k] = p[2][k] - p[0][k];
+        double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        uint32_t k3[3];
+        for (int k = 0; k < 3; k++)
+            k3[k] = add_vertex(&f, p[k][0], p[k][1], p[k][2], n[0], n[1], n[2], p[k][6], p[k][7]);
+        add_tri(&f, k3[0], k3[1], k3[2]);
+    }
+    mesh_data_free(&b->m);
+    *b = f;
+}
+
+static void invert(Builder *b)
+{
+    for (uint32_t i = 0; i < b->m.nverts; i++)
+        for (int k = 3; k < 6; k++) b->m.verts[(size_t)i * 8 + k] = -b->m.verts[(size_t)i * 8 + k];
+    for (uint32_t t = 0; t + 2 < b->m.nindex; t += 3) {
+        uint32_t s = b->m.index[t + 1];
+        b->m.index[t + 1] = b->m.index[t + 2];
+        b->m.index[t + 2] = s;
+    }
+}
+
+void mesh_build(const MeshKey *key, MeshData *out)
+{
+    Builder b = {0};
+    switch (key->kind) {
+    case MESH_SPHERE: build_sphere(&b, key->segments); break;
+    case MESH_CYLINDER: build_round(&b, key->segments, false); break;
+    case MESH_CONE: build_round(&b, key->segments, true); break;
+    default: build_box(&b); break;
+    }
+    if (key->flat) flatten(&b);
+    if (key->invert) invert(&b);
+    *out = b.m;
+}
+
+void mesh_data_free(MeshData *m)
+{
+    free(m->verts);
+    free(m->index);
+    memset(m, 0, sizeof *m);
+}
+
+/* {===== the GL cache */
+
+struct MeshCache {
+    GlMesh **mesh;
+    int n, cap;
+};
+
+MeshCache *mesh_cache_new(void) { return mem_calloc(1, sizeof(MeshCache)); }
+
+const GlMesh *mesh_cache_get(MeshCache *c, const MeshKey *key)
+{
+    for (int i = 0; i < c->n; i++) {
+        const MeshKey *k = &c->mesh[i]->key;
+        if (k->kind == key->kind && k->segments == key->segments && k->flat == key->flat && k->invert == key->invert)
+            return c->mesh[i];
+    }
+    MeshData d;
+    mesh_build(key, &d);
+    GlMesh *g = mem_calloc(1, sizeof *g);
+    g->key = *key;
+    g->nindex = (int)d.nindex;
+    for (int k = 0; k < 3; k++) g->bounds[k] = INFINITY, g->bounds[k + 3] = -INFINITY;
+    for (uint32_t i = 0; i < d.nverts; i++)
+        for (int k = 0; k < 3; k++) {
+            float x = d.verts[(size_t)i * 8 + k];
+            if (x < g->bounds[k]) g->bounds[k] = x;
+            if (x > g->bounds[k + 3]) g->bounds[k + 3] = x;
+        }
+    glGenVertexArrays(1, &g->vao);
+    glBindVertexArray(g->vao);
+    glGenBuffers(1, &g->vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)d.nverts * 8 * sizeof(float), d.verts, GL_STATIC_DRAW);
+    glGenBuffers(1, &g->ebo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ebo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)d.nindex * sizeof(uint32_t), d.index, GL_STATIC_DRAW);
+    /* attributes 0..2: position, normal, uv (canvas3d_shaders.h) */
+    for (int a = 0; a < 3; a++) {
+        glEnableVertexAttribArray(a);
+        glVertexAttribPointer(a, a == 2 ? 2 : 3, GL_FLOAT, GL_FALSE, 8 * sizeof(float),
+                              (const void *)(sizeof(float) * (size_t)(a * 3)));
+    }
+    glBindVertexArray(0);
+    mesh_data_free(&d);
+    if (c->n == c->cap) {
+        c->cap = c->cap ? c->cap * 2 : 8;
+        c->mesh = mem_realloc_array(c->mesh, (size_t)c->cap, sizeof *c->mesh);
+    }
+    c->mesh[c->n++] = g;
+    return g;
+}
+
+void mesh_cache_free(MeshCache *c)
+{
+    if (!c) return;
+    for (int i = 0; i < c->n; i++) {
+        glDeleteVertexArrays(1, &c->mesh[i]->vao);
+        glDeleteBuffers(1, &c->mesh[i]->vbo);
+        glDeleteBuffers(1, &c->mesh[i]->ebo);
+        free(c->mesh[i]);
+    }
+    free(c->mesh);
+    free(c);
+}
+
+/* }===== */

@@ -1,0 +1,65 @@
+/* models_mesh.h: the primitive models of `!canvas3d` as triangle meshes,
+ * and a cache of their OpenGL buffers.
+ *
+ * Shapes, sizes and segment rules follow Flitter's documentation
+ * (docs/canvas3d.md, "Primitive Models") and models.pyx: every model has
+ * its origin at the centre of its bounding box; `!box` is the unit cube
+ * (corners at +-0.5); `!sphere` the unit-radius sphere made of eight
+ * subdivided octants (segments rounded up to a multiple of 4, at least 4;
+ * an octant has segments/4 rows of triangles); `!cylinder` radius 1 and
+ * height 1 along z with flat caps; `!cone` radius 1 at z=-0.5, its point
+ * at z=+0.5 (both: at least 2 segments). Faces wind counter-clockwise seen
+ * from outside. `flat` gives every triangle its own face normal; `invert`
+ * turns the model inside out (winding and normals reversed).
+ *
+ * A vertex is 8 floats: position x,y,z, normal x,y,z, texture u,v.
+ */
+#ifndef FL_RENDER_MODELS_MESH_H
+#define FL_RENDER_MODELS_MESH_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+enum MeshKind { MESH_BOX, MESH_SPHERE, MESH_CYLINDER, MESH_CONE };
+
+/* The identity of one cached model shape. */
+typedef struct MeshKey {
+    int kind;       /* enum MeshKind */
+    int segments;   /* as normalised by mesh_segments (0 for boxes) */
+    bool flat, invert;
+} MeshKey;
+
+typedef struct MeshData {
+    float *verts;         /* nverts * 8 floats */
+    uint32_t nverts;
+    uint32_t *index;      /* nindex indices, 3 per triangle */
+    uint32_t nindex;
+} MeshData;
+
+/* The segment count used for [kind] when a node asks for [segments]
+ * (Flitter's rounding; at most 4096 to bound the mesh's size). */
+int mesh_segments(int kind, int segments);
+/* Build the mesh of [key] into [out] (free with mesh_data_free).
+ *   errors: none (allocation failure goes through mem.h). */
+void mesh_build(const MeshKey *key, MeshData *out);
+void mesh_data_free(MeshData *m);
+
+/* A model's buffers on the GL context current when it was made. */
+typedef struct GlMesh {
+    MeshKey key;
+    unsigned vao, vbo, ebo;   /* GL names */
+    int nindex;
+    float bounds[6];          /* model-space min x,y,z and max x,y,z */
+} GlMesh;
+
+typedef struct MeshCache MeshCache;
+
+MeshCache *mesh_cache_new(void);
+/* The GL mesh of [key], built and uploaded the first time it is asked for
+ * (the cache's context must be current); the pointer stays valid until
+ * mesh_cache_free. */
+const GlMesh *mesh_cache_get(MeshCache *c, const MeshKey *key);
+/* Delete the buffers (the context must be current) and free [c] (NULL is a no-op). */
+void mesh_cache_free(MeshCache *c);
+
+#endif
