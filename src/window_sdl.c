@@ -9,6 +9,7 @@
  * larger than the window's size in points (SDL mouse coordinates). */
 #include "window_sdl.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -36,6 +37,22 @@ static void fit_display(int screen, int *w, int *h)
         *w = *w * 2 / 3;
         *h = *h * 2 / 3;
     }
+}
+
+/* Whether [r] is an OpenGL renderer whose GL is a software rasteriser
+ * (Mesa's llvmpipe or softpipe, as under Xvfb without a GPU). False when
+ * the user chose a renderer with SDL_RENDER_DRIVER, which is left alone. */
+static bool software_gl(SDL_Renderer *r)
+{
+    if (SDL_GetHint(SDL_HINT_RENDER_DRIVER)) return false;
+    SDL_RendererInfo info;
+    if (SDL_GetRendererInfo(r, &info) != 0 || strncmp(info.name, "opengl", 6) != 0) return false;
+    typedef const unsigned char *(*GetString)(unsigned);
+    GetString get = (GetString)(uintptr_t)SDL_GL_GetProcAddress("glGetString");
+    if (!get || !SDL_GL_GetCurrentContext()) return false;
+    const char *name = (const char *)get(0x1F01 /* GL_RENDERER */);
+    return name && (strstr(name, "llvmpipe") || strstr(name, "softpipe") ||
+                    strstr(name, "Software Rasterizer"));
 }
 
 int winview_start(char *why, size_t cap)
@@ -68,6 +85,13 @@ int winview_open(WinView *v, const char *title, int w, int h, const WinOptions *
     if (!v->window) return -1;
     Uint32 rflags = vsync ? SDL_RENDERER_PRESENTVSYNC : 0;
     v->renderer = SDL_CreateRenderer(v->window, -1, SDL_RENDERER_ACCELERATED | rflags);
+    if (v->renderer && software_gl(v->renderer)) {
+        /* a GL rasterised on the CPU (Xvfb, no GPU): SDL's own software
+         * renderer copies the picture instead of texturing a quad with it,
+         * which costs far less CPU and leaves the cores to the frame */
+        SDL_DestroyRenderer(v->renderer);
+        v->renderer = NULL;
+    }
     if (!v->renderer) v->renderer = SDL_CreateRenderer(v->window, -1, SDL_RENDERER_SOFTWARE | rflags);
     if (!v->renderer) {
         SDL_DestroyWindow(v->window);
