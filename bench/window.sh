@@ -6,6 +6,8 @@
 #              physics view (--window-size 1920x1080)
 #   canvas10k  bench/canvas10k.fl: a !window size=1920;1080 of 10,000
 #              !ellipse nodes
+#   blank      an empty !window size=1920;1080: what presenting a picture
+#              of that size costs by itself (the display's floor)
 # and prints, per scene: frames/s, the per-frame milliseconds of
 # evaluation, physics, drawing (fl_draw_view / fl_draw_window into the
 # pixels) and presenting (texture upload, copy, present; per frame shown),
@@ -54,4 +56,6 @@ printf "%-10s %9s %8s %11s %8s %11s %9s %8s\n" scene "frames/s" "eval ms" "physi
 status=0
 run_scene petri samples/petri.fl --window-size 1920x1080 || status=1
 run_scene canvas10k bench/canvas10k.fl || status=1
+printf '!window size=1920;1080\n    !canvas\n' >"$out/blank.fl"
+run_scene blank "$out/blank.fl" || status=1
 exit $status
