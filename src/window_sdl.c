@@ -160,6 +160,11 @@ uint32_t *winview_lock(WinView *v, int w, int h, int *pitch)
     }
     void *pixels;
     if (SDL_LockTexture(v->picture, NULL, &pixels, pitch) != 0) return NULL;
+    /* the picture may be drawn with the library's own EGL context
+     * (!canvas3d): a thread cannot have a GLX and an EGL context current
+     * at once (libglvnd refuses with EGL_BAD_ACCESS), so SDL's is released
+     * here; SDL's renderer makes it current again when next used */
+    if (SDL_GL_GetCurrentContext()) SDL_GL_MakeCurrent(v->window, NULL);
     return pixels;
 }
 

@@ -64,7 +64,9 @@ void winview_output_size(const WinView *v, int *w, int *h);
 
 /* Lock the picture texture, (re)made at [w] x [h] pixels, for writing:
  * returns its pixels (0xAARRGGBB words) and their row pitch in *[pitch]
- * bytes, or NULL (SDL error) when it cannot be made. */
+ * bytes, or NULL (SDL error) when it cannot be made. SDL's OpenGL
+ * context, if any, is no longer current on the calling thread after it,
+ * so that the picture can be drawn with another (EGL) context. */
 uint32_t *winview_lock(WinView *v, int w, int h, int *pitch);
 /* Unlock the picture after winview_lock. */
 void winview_unlock(WinView *v);
