@@ -1,5 +1,5 @@
 # Plot the beads of samples/wire.fl from a --trace CSV:
-#   build/src/flitter run --frames 300 --trace wire.csv samples/wire.fl
+#   build/src/flitter run --frames 300 --trace-file wire.csv samples/wire.fl
 #   gnuplot docs/wire-trace.gp        (writes wire-trace.png)
 set terminal pngcairo size 800,360
 set output 'wire-trace.png'

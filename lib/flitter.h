@@ -385,8 +385,9 @@ FL_API int fl_outputs_frame(fl_outputs *out, fl_runtime *rt);
 /* Write the final --view picture (.png/.svg: of [rt]'s last frame, when
  * it ran any), finish animated GIFs and videos (they appear under their
  * names only now), close the files and free [out] (NULL is a no-op).
- *   errors: -1 when any output failed or could not be finished (the
- *           message of the last failure in fl_error()), else 0. */
+ *   errors: -1 when any output failed or could not be finished, a
+ *           window's !record file included (the message of the last
+ *           failure in fl_error()), else 0. */
 FL_API int fl_outputs_close(fl_outputs *out, fl_runtime *rt);
 /* Draw [rt]'s !physics systems as they are now to [path] (.png or .svg),
  * as fl_output_options.view does; [*nsystems] (may be NULL) gets the
@@ -394,6 +395,15 @@ FL_API int fl_outputs_close(fl_outputs *out, fl_runtime *rt);
  *   errors: -1 with fl_error() text when [path] has another extension or
  *           cannot be written, else 0. */
 FL_API int fl_view(fl_runtime *rt, const char *path, size_t *nsystems);
+/* Whether an output file could be written at [path] now (a `--view`,
+ * `--trace`, `--record` or `--state` file, checked before a run's first
+ * frame): symbolic links are followed, a target that exists must be a
+ * regular file, and a temporary is created next to it and removed (the
+ * way every output is written: temporary, then rename).
+ *   returns: 0 when it could; -1 with "PATH: REASON" (no newline) in
+ *            [err] ([cap] bytes, NUL-terminated) when not, e.g. no such
+ *            directory, no permission, a directory or device. */
+FL_API int fl_check_output(const char *path, char *err, size_t cap);
 
 /* {=====================================================================
  * Windows: a frame's pictures and input, for a front end that shows them

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 
 #include "mem.h"
+#include "outfile.h"
 #include "systems.h"
 #include "trace.h"
 #include "view.h"
@@ -26,6 +27,7 @@ struct fl_outputs {
     View *view;
     Trace *trace;
     bool failed;
+    bool record_failed;    /* a window's !record file could not be written */
 };
 
 /* Replace [rt]'s fl_error() text with one formatted line. */
@@ -96,7 +98,7 @@ int fl_outputs_frame(fl_outputs *out, fl_runtime *rt)
     long frame = fl_frame_count(rt) - 1;
     out->frames++;
     int rc = 0;
-    renderer_frame(out->ren, rt_root(rt), fl_target_fps(rt));
+    if (renderer_frame(out->ren, rt_root(rt), fl_target_fps(rt)) > 0) out->record_failed = true;
     bool gif = out->view && view_animated(out->view) && due(frame, out->view_every);
     bool trace = out->trace && due(frame, out->trace_every);
     if (gif || trace) {
@@ -158,6 +160,11 @@ int fl_outputs_close(fl_outputs *out, fl_runtime *rt)
         rc = -1;
     }
     if (renderer_free(out->ren) != 0) rc = -1;
+    if (out->record_failed && rc == 0) {
+        /* each file's first error was logged as it happened */
+        fail(rt, "a !record file could not be written (the error is above)");
+        rc = -1;
+    }
     free(out->view_path);
     free(out->trace_path);
     free(out);
@@ -185,4 +192,12 @@ int fl_view(fl_runtime *rt, const char *path, size_t *nsystems)
     }
     mem_leave(prev);
     return rc;
+}
+
+int fl_check_output(const char *path, char *err, size_t cap)
+{
+    char msg[600];
+    bool ok = path && outfile_check(path, msg, sizeof msg);
+    if (err && cap) snprintf(err, cap, "%s", ok ? "" : path ? msg : "no file name");
+    return ok ? 0 : -1;
 }

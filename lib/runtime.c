@@ -217,6 +217,7 @@ fl_runtime *fl_new(const fl_options *opts)
         symtab_add(rt->symtab, engine_symbols[i], strlen(engine_symbols[i]));
     for (int i = 0; i < G__COUNT; i++) globals_add(&rt->globals, engine_names[i]);
     rt->globals.simplify = !rt->opts.no_simplify;
+    rt->globals.interrupt = rt->opts.interrupt;
     rt->globals.ndynamic = G_REALTIME;   /* frame .. clock change per frame */
     rt->target_fps = rt->opts.fps;
     rt->period = 0.5;
@@ -378,8 +379,8 @@ int rt_dump_syntax(fl_runtime *rt, const char *path, bool ast, Buf *out, Buf *er
 {
     Buf text = BUF_INIT;
     const char *src = program_read(path, &text, err);
-    bool ok = src && (ast ? dump_ast(out, err, path, src, text.len, rt->symtab)
-                          : dump_tokens(out, err, path, src, text.len));
+    bool ok = src && (ast ? dump_ast(out, err, path, src, text.len, rt->symtab, rt->opts.interrupt)
+                          : dump_tokens(out, err, path, src, text.len, rt->opts.interrupt));
     buf_free(&text);
     return ok ? 0 : -1;
 }

@@ -13,10 +13,10 @@
 
 static volatile int interrupted;
 
+/* The flag holds the signal's number: a run cut short exits 128 + it. */
 static void on_signal(int sig)
 {
-    (void)sig;
-    interrupted = 1;
+    interrupted = sig;
 }
 
 /* SIGINT, SIGTERM and SIGHUP end a run the same way: the interrupt flag,
@@ -57,6 +57,9 @@ int cmd_run(int argc, char **argv)
     bool flitter_line = strcmp(argv[0], "run") != 0;
     int rc = runspec_parse(&spec, argc, argv, flitter_line ? RUNSPEC_PAGES : RUNSPEC_ONE_SCRIPT,
                            stderr);
+    if (rc == 0 && spec.verbosity >= 1)   /* --verbose: Flitter logs its version */
+        fprintf(stderr, "flitter: flitter-c %s\n", FLITTER_VERSION);
+    if (rc == 0) rc = runspec_check_outputs(&spec, stderr);
     if (rc == 0) {
         catch_signals();
         rc = WINDOW_NO_DISPLAY;

@@ -48,16 +48,25 @@ static void run_usage(FILE *f)
           "                      filter) to stdout and stop\n"
           "  --dump-ast          print the script's syntax tree as parsed (before the\n"
           "                      simplifier) to stdout and stop\n"
-          "  --runtime T         run round(T*fps) frames (T seconds of frame clock)\n"
-          "  --quiet             no progress bar or status line on a terminal\n"
-          "  --verbose           accepted for Flitter compatibility\n"
+          "  --runtime T         run round(T*fps) frames (T seconds of frame clock); T\n"
+          "                      is seconds (2.5) or Flitter's time code M:S or H:M:S\n"
+          "                      (0:05, 1:02:03.5)\n"
+          "  Log levels (Flitter's; give at most one):\n"
+          "  --quiet             warnings and errors only: no progress bar or status\n"
+          "                      line, no notes\n"
+          "  --verbose           also informational lines (the version at start)\n"
           "  --debug             also name each skipped (unsupported) drawing node kind\n"
+          "  --trace             everything --debug says, and a line per frame\n"
+          "                      (frame, clock, eval and physics ms)\n"
           "  --stats             at exit, print frames/s, allocations per frame and the\n"
           "                      eval/physics/state split to stderr\n"
           "  --view FILE         draw the physics systems: FILE.png or .svg (last frame),\n"
           "                      FILE.gif (an animation frame every --view-every K frames)\n"
-          "  --trace FILE        write particle positions and velocities each frame (or\n"
-          "                      every --trace-every K) to FILE.csv or FILE.jsonl\n"
+          "  --trace-file FILE   write particle positions and velocities each frame (or\n"
+          "                      every --trace-every K) to FILE.csv or FILE.jsonl; also\n"
+          "                      --trace=FILE, with the '=' only: a bare --trace is the\n"
+          "                      log level and never takes the next word (in Flitter,\n"
+          "                      `flitter --trace a.fl b.fl` runs two pages)\n"
           "  --record FILE       record the first window to FILE (.png, .gif, or a video:\n"
           "                      .mp4, .mov, .m4v, .mkv, .webm; written at exit)\n"
           "  --window            show each !window in a window (SDL) as it is drawn; a\n"
@@ -72,6 +81,9 @@ static void run_usage(FILE *f)
           "  --vsync             present frames in step with the display (a !window's\n"
           "                      vsync= wins)\n"
           "  --resetonswitch     empty a page's state when switching away from it\n"
+          "  --vmstats           the same as --stats (Flitter's VM statistics)\n"
+          "  --profile, --opengles, --modelcache T   Flitter's options, accepted; they\n"
+          "                      have no effect here (a note says so, unless --quiet)\n"
           "  --window-size WxH   the physics view window's size in pixels when a frame\n"
           "                      has no !window (default 512x512; a !window's size= sets\n"
           "                      its own window's)\n"
@@ -113,7 +125,7 @@ static const char *option_name(const struct option *opts, int c)
 static bool output_clobbers(const RunSpec *spec, FILE *err)
 {
     const struct { const char *option, *path; } outs[] = {
-        {"--trace", spec->trace}, {"--view", spec->view}, {"--record", spec->record},
+        {"--trace-file", spec->trace}, {"--view", spec->view}, {"--record", spec->record},
     };
     for (size_t i = 0; i < sizeof outs / sizeof outs[0]; i++) {
         const char *path = outs[i].path;
@@ -126,7 +138,7 @@ static bool output_clobbers(const RunSpec *spec, FILE *err)
                      a.st_ino == b.st_ino;
         if (script) {
             fprintf(err, "flitter run: %s %s would write over a Flitter script; refused (the "
-                         "option takes an output file: .csv/.jsonl for --trace, .png/.svg/.gif "
+                         "option takes an output file: .csv/.jsonl for --trace-file, .png/.svg/.gif "
                          "for --view, a picture or video for --record)\n", outs[i].option, path);
             return true;
         }
@@ -134,13 +146,48 @@ static bool output_clobbers(const RunSpec *spec, FILE *err)
     return false;
 }
 
+/* Flitter's time code (language/parser.py, convert_timecode_to_float):
+ * SECONDS, M:SECONDS or H:M:SECONDS, the hours and minutes whole numbers,
+ * the seconds any decimal number ("0:05", "1:02:03.5", "2.5"). */
+static bool parse_timecode(const char *s, double *out)
+{
+    double total = 0;
+    const char *p = s;
+    int colons = 0;
+    for (const char *q = s; *q; q++) colons += *q == ':';
+    if (colons > 2) return false;
+    for (int i = 0; i < colons; i++) {
+        char *end;
+        if (!isdigit((unsigned char)*p)) return false;
+        errno = 0;
+        long v = strtol(p, &end, 10);
+        if (errno || *end != ':' || v > 1000000000L) return false;
+        total += (double)v * (colons - i == 2 ? 3600.0 : 60.0);
+        p = end + 1;
+    }
+    char *end;
+    if (!*p || isspace((unsigned char)*p)) return false;
+    double sec = strtod(p, &end);
+    if (end == p || *end || !(sec >= 0) || isinf(sec)) return false;
+    *out = total + sec;
+    return true;
+}
+
+/* The one-line notes of Flitter's options that do nothing here. */
+static const char *const no_effect_note[] = {
+    "--profile has no effect in flitter-c (use --stats for the time per frame)",
+    "--opengles has no effect in flitter-c (pictures are drawn with cairo, not OpenGL)",
+    "--modelcache has no effect in flitter-c (no model cache to keep)",
+};
+
 int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
            O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
            O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_DUMP_TOKENS, O_DUMP_AST, O_STATS,
            O_MAX_STEPS, O_PARTICLES, O_PHYSICS, O_WINDOW, O_FULLSCREEN, O_SCREEN, O_VSYNC,
-           O_RESETONSWITCH, O_RECORD, O_WINDOW_SIZE };
+           O_RESETONSWITCH, O_RECORD, O_WINDOW_SIZE, O_TRACE_FILE, O_PROFILE, O_OPENGLES,
+           O_MODELCACHE, O_VMSTATS };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -170,7 +217,14 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
         {"debug", no_argument, NULL, O_DEBUG},
         {"view", required_argument, NULL, O_VIEW},
         {"view-every", required_argument, NULL, O_VIEW_EVERY},
-        {"trace", required_argument, NULL, O_TRACE},
+        /* a bare --trace is Flitter's log level; only --trace=FILE (an
+         * explicit '=') names a trace file, so no script is ever taken */
+        {"trace", optional_argument, NULL, O_TRACE},
+        {"trace-file", required_argument, NULL, O_TRACE_FILE},
+        {"profile", no_argument, NULL, O_PROFILE},
+        {"opengles", no_argument, NULL, O_OPENGLES},
+        {"modelcache", required_argument, NULL, O_MODELCACHE},
+        {"vmstats", no_argument, NULL, O_VMSTATS},
         {"trace-every", required_argument, NULL, O_TRACE_EVERY},
         {"record", required_argument, NULL, O_RECORD},
         {"window", no_argument, NULL, O_WINDOW},
@@ -186,6 +240,9 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
                       .window = scripts == RUNSPEC_PAGES,
                       .implicit_window = scripts == RUNSPEC_PAGES};
     bool frames_given = false;
+    bool notes[3] = {false, false, false};
+    int level = 0;                /* the log level option given, 0: none */
+    const char *level_name = NULL;
     spec->defines = calloc((size_t)argc + 1, sizeof(char *));
     if (!spec->defines) abort();
     optind = 0;   /* full re-initialisation of getopt */
@@ -241,9 +298,17 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
         case O_DUMP_TOKENS: spec->dump_syntax = 1; break;
         case O_DUMP_AST: spec->dump_syntax = 2; break;
         case O_RUNTIME:
-            spec->runtime = strtod(optarg, &end);
-            if (end == optarg || *end || !(spec->runtime >= 0) || isinf(spec->runtime)) goto bad_value;
+            if (!parse_timecode(optarg, &spec->runtime)) goto bad_value;
             break;
+        case O_MODELCACHE: {
+            double t;
+            if (!parse_timecode(optarg, &t)) goto bad_value;
+            notes[2] = true;
+            break;
+        }
+        case O_PROFILE: notes[0] = true; break;
+        case O_OPENGLES: notes[1] = true; break;
+        case O_VMSTATS: spec->stats = true; break;
         case O_OFFSCREEN: spec->offscreen = true; break;
         case O_WINDOW: spec->window = true; spec->implicit_window = false; break;
         case O_FULLSCREEN: spec->fullscreen = true; break;
@@ -268,11 +333,29 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
             spec->screen = (int)n;
             break;
         }
-        case O_QUIET: spec->verbosity = -1; break;
-        case O_VERBOSE: spec->verbosity = 1; break;
-        case O_DEBUG: spec->verbosity = 2; break;
+        case O_TRACE:
+            if (optarg) {   /* --trace=FILE: the trace file */
+                spec->trace = optarg;
+                break;
+            }
+            __attribute__((fallthrough));   /* a bare --trace: the log level */
+        case O_QUIET:
+        case O_VERBOSE:
+        case O_DEBUG: {
+            /* Flitter's log levels, mutually exclusive as in its argparse */
+            const char *name = option_name(longopts, c);
+            if (level && level != c) {
+                fprintf(err, "flitter run: --%s and --%s are both log levels: give one\n", level_name,
+                        name);
+                return EXIT_USAGE;
+            }
+            level = c;
+            level_name = name;
+            spec->verbosity = c == O_QUIET ? -1 : c == O_VERBOSE ? 1 : c == O_DEBUG ? 2 : 3;
+            break;
+        }
         case O_VIEW: spec->view = optarg; break;
-        case O_TRACE: spec->trace = optarg; break;
+        case O_TRACE_FILE: spec->trace = optarg; break;
         case O_RECORD: spec->record = optarg; break;
         case O_VIEW_EVERY:
             if (!parse_count(optarg, &spec->view_every) || spec->view_every < 1) goto bad_value;
@@ -293,6 +376,8 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
         fprintf(err, "flitter run: bad value '%s' for option '--%s'\n", optarg, option_name(longopts, c));
         return EXIT_USAGE;
     }
+    for (int i = 0; i < 3; i++)
+        if (notes[i] && spec->verbosity >= 0) fprintf(err, "flitter: %s\n", no_effect_note[i]);
     if (spec->runtime >= 0 && !frames_given) {   /* as Flitter: round(T*fps) frames */
         double frames = spec->runtime * spec->fps;
         if (!(frames < 1e15)) {
@@ -414,6 +499,39 @@ static void show_status(long frame, double rate, double time)
     fflush(stderr);
 }
 
+/* Flush [out] (the dumps' stream): a write that failed there (a full disk,
+ * /dev/full, a closed pipe) is reported on [log] and gives EXIT_LOAD, so a
+ * lost dump never exits 0 (issue 28, exit statuses). */
+static int finish_out(FILE *out, FILE *log, int rc)
+{
+    errno = 0;
+    if (fflush(out) != 0 || ferror(out)) {
+        int e = errno;
+        fprintf(log, "flitter run: the output is incomplete: a write to it failed%s%s\n",
+                e ? ": " : "", e ? strerror(e) : "");
+        clearerr(out);
+        return rc == EXIT_OK ? EXIT_LOAD : rc;
+    }
+    return rc;
+}
+
+int runspec_check_outputs(const RunSpec *spec, FILE *err)
+{
+    const struct { const char *option, *path; } outs[] = {
+        {"--view", spec->view}, {"--trace-file", spec->trace}, {"--record", spec->record},
+        {"--state", spec->state_file},
+    };
+    for (size_t i = 0; i < sizeof outs / sizeof outs[0]; i++) {
+        char why[700];
+        if (outs[i].path && fl_check_output(outs[i].path, why, sizeof why) != 0) {
+            fprintf(err, "flitter run: %s %s cannot be written (%s); nothing was run\n",
+                    outs[i].option, outs[i].path, why);
+            return EXIT_USAGE;
+        }
+    }
+    return 0;
+}
+
 static int save_state(fl_runtime *rt, const char *path, FILE *log)
 {
     int rc = fl_save_state(rt, path);
@@ -452,7 +570,26 @@ fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *in
     return rt;
 }
 
+static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt, bool *finished);
+
 int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt)
+{
+    bool finished = false;
+    int rc = execute(spec, out, log, interrupt, &finished);
+    /* a run of known length cut short by a signal says so, as a shell's
+     * job does: 128 + the signal number (the flag holds it; the saves and
+     * dumps were done as usual). A run without --frames ends that way by
+     * design (as Flitter's does) and keeps its status. */
+    int sig = interrupt ? *interrupt : 0;
+    if (sig > 0 && sig < 128 && !finished && (spec->frames >= 0 || spec->dump_syntax) &&
+        (rc == EXIT_OK || rc == EXIT_LOAD))
+        rc = 128 + sig;
+    return rc;
+}
+
+/* runspec_execute's run; [*finished] is set once the last frame asked for
+ * (or the dump) is done. */
+static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt, bool *finished)
 {
     RunLog files = {log, (spec->dump_state || spec->dump_tree) ? log : out};
     fl_runtime *rt = runspec_runtime(spec, &files, interrupt);
@@ -460,10 +597,10 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     if (spec->dump_syntax) {
         int bad = (spec->dump_syntax == 1 ? fl_dump_tokens : fl_dump_ast)(
             rt, spec->script, write_file, out);
-        fflush(out);
         if (bad) fputs(fl_error(rt), log);
+        *finished = !bad;
         fl_free(rt);
-        return bad ? EXIT_LOAD : EXIT_OK;
+        return finish_out(out, log, bad ? EXIT_LOAD : EXIT_OK);
     }
     if (fl_load(rt, spec->script) != 0) {
         fputs(fl_error(rt), log);
@@ -479,9 +616,9 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     if (spec->dump_simplified) {
         fl_dump_program(rt, write_file, out);
         if (spec->frames < 0) {
-            fflush(out);
             fl_free(rt);
-            return EXIT_OK;
+            *finished = true;
+            return finish_out(out, log, EXIT_OK);
         }
     }
     fl_output_options oo = {spec->view, spec->view_every, spec->trace, spec->trace_every,
@@ -495,7 +632,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
     bool dumped_last = false;
     double start = now_seconds(), last_save = start, last_progress = 0;
     long ran = 0;
-    fl_stats first = {0}, second = {0};
+    fl_stats first = {0}, second = {0}, traced = {0};
     struct timespec mtime = file_mtime(spec->script), bad_mtime = {0, 0};
     while (!(interrupt && *interrupt) && (spec->frames < 0 || ran < spec->frames)) {
         if (spec->realtime) {
@@ -519,6 +656,14 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         if (ran == 2) fl_get_stats(rt, &second);
         long n = fl_frame_count(rt) - 1;
         if (fl_outputs_frame(outs, rt) != 0) fprintf(log, "flitter run: %s", fl_error(rt));
+        if (spec->verbosity >= 3) {   /* --trace: a line per frame */
+            fl_stats st;
+            fl_get_stats(rt, &st);
+            fprintf(log, "trace: frame %ld time %.17g eval %.3f ms physics %.3f ms\n", n,
+                    fl_frame_time(rt), (st.eval_seconds - traced.eval_seconds) * 1e3,
+                    (st.physics_seconds - traced.physics_seconds) * 1e3);
+            traced = st;
+        }
         dumped_last = false;
         if (spec->dump_state && spec->dump_every > 0 && (n + 1) % spec->dump_every == 0) {
             fl_dump_state(rt, write_file, out);
@@ -546,6 +691,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
             }
         }
     }
+    *finished = spec->frames >= 0 && ran >= spec->frames;
     if (spec->progress && ran > 0) fputs("\n", stderr);
     if (spec->stats) runspec_print_stats(rt, &first, &second, now_seconds() - start, log);
     int rc = EXIT_OK;
@@ -558,7 +704,7 @@ int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *int
         if (*fl_error(rt)) fprintf(log, "flitter run: %s", fl_error(rt));
         rc = EXIT_LOAD;
     }
-    fflush(out);
+    rc = finish_out(out, log, rc);
     fl_free(rt);
     return rc;
 }

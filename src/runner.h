@@ -34,10 +34,12 @@ typedef struct RunSpec {
     int particles;        /* --particles literal|fast: FL_PARTICLES_*, default FL_PARTICLES_DEFAULT */
     int physics;          /* --physics documented|upstream: FL_PHYSICS_* */
     double runtime;       /* --runtime T seconds (sets frames), or -1 */
-    int verbosity;        /* --quiet -1, default 0, --verbose 1, --debug 2 */
+    int verbosity;        /* Flitter's log levels: --quiet -1, default 0,
+                             --verbose 1, --debug 2, --trace 3 */
     const char *view;     /* --view FILE (.png/.svg/.gif), or NULL */
     long view_every;      /* --view-every K (animations), or 0 */
-    const char *trace;    /* --trace FILE (.csv/.jsonl), or NULL */
+    const char *trace;    /* --trace-file FILE or --trace=FILE (.csv/.jsonl),
+                             or NULL (a bare --trace is the log level) */
     long trace_every;     /* --trace-every K, or 0 */
     const char *record;   /* --record FILE: the first window to FILE, or NULL */
     /* the live window (window_main.c) */
@@ -91,13 +93,27 @@ bool runspec_wants_window(const RunSpec *spec);
  *           files->log for a define with a bad name. */
 fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *interrupt);
 
+/* Refuse a run whose output files (--view, --trace-file, --record,
+ * --state) could not be written, before anything runs (fl_check_output):
+ *   errors: 2 with `flitter run: OPTION PATH cannot be written (REASON)`
+ *           on [err]; 0 when every one can be. */
+int runspec_check_outputs(const RunSpec *spec, FILE *err);
+
 /* Run [spec]: load the script, evaluate frames, write state dumps and the
  * node tree to [out]; run-time messages go to [log].
  *   errors: returns 1 when the script cannot be loaded (message on [log]),
- *           2 for a bad define, 0 on success. [interrupt], when non-NULL,
- *           is polled between frames and inside evaluation loops, calls and
- *           physics steps (flitter.h) to stop early; --state is still saved
- *           on the way out, from the last complete frame. */
+ *           when a write to [out] failed (a full disk: checked at the end),
+ *           when --state could not be saved or an output (--view, a
+ *           !record file...) could not be written; 2 for a bad define; 0 on
+ *           success. [interrupt], when non-NULL, is polled between frames
+ *           and inside evaluation loops, calls and physics steps (flitter.h)
+ *           to stop early; --state is still saved and the dumps written on
+ *           the way out, from the last complete frame. When *interrupt holds
+ *           a signal number (1..127) and it cut short a run of known length
+ *           (--frames or --runtime, or a --dump-tokens/--dump-ast), the
+ *           status is 128 + that number, as a shell reports a job ended by
+ *           a signal; a run without --frames ended by a signal returns as
+ *           usual (that is how it is meant to end, as Flitter's run). */
 int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt);
 
 /* The --stats report of [rt] on [log] ("stats: " lines: frames and

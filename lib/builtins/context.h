@@ -17,6 +17,11 @@ void eval_error(Eval *ev, const char *msg);
 void eval_debug(Eval *ev, const char *msg);
 /* The runtime's symbol table (for str and repr). */
 const SymTab *eval_symtab(const Eval *ev);
+/* True once the embedder's interrupt flag (fl_options.interrupt) is set:
+ * a built-in whose work the input sizes (a noise grid, a glob walk) asks
+ * now and then and gives up, returning null; the evaluation then stops and
+ * the frame is discarded (flitter.h, fl_step). False for a NULL [ev]. */
+bool eval_interrupted(Eval *ev);
 /* Directory of the script being evaluated ("." when unknown), for read(),
  * csv() and friends. */
 const char *eval_script_dir(const Eval *ev);

@@ -4,6 +4,15 @@
  * script's directory (`*`, `?`, `[...]`, `**` for any depth of directories;
  * wildcards also match names starting with '.') and returns the sorted
  * absolute, symlink-resolved paths.
+ *
+ * Bounded work (issue 28): a directory is searched at most once for each
+ * pattern component, however many paths lead to it (two symbolic links to
+ * "." made the walk exponential: each wildcard level followed both). The
+ * one departure: a match reached again through another link to a directory
+ * already searched is not listed again (Flitter's pathlib walk lists the
+ * same resolved path once per route, 3^N times for N levels there). The
+ * walk looks at the interrupt flag at every directory, and stops with an
+ * error beyond GLOB_MAX_MATCHES matches.
  */
 #include <dirent.h>
 #include <errno.h>
@@ -23,12 +32,55 @@
 /* glob                                                                */
 /* ------------------------------------------------------------------ */
 
+enum { GLOB_MAX_MATCHES = 1000000 };
+
+/* A directory searched for one pattern component. */
+typedef struct {
+    dev_t dev;
+    ino_t ino;
+    size_t idx;
+    bool used;
+} GlobSeen;
+
 typedef struct {
     char **parts;       /* pattern components ("." and empty ones removed) */
     size_t nparts;
     bool dir_only;      /* pattern ended with '/' */
     StrList found;      /* matching paths (unresolved) */
+    Eval *ev;           /* for the interrupt flag */
+    bool stopped;       /* interrupted, or too many matches */
+    GlobSeen *seen;     /* open-addressed set of (directory, component) */
+    size_t nseen, capseen;
 } Glob;
+
+/* True the first time directory [path] is met for component [idx]; false
+ * after (or when it cannot be read: nothing to search). */
+static bool glob_first_visit(Glob *g, const char *path, size_t idx)
+{
+    struct stat st;
+    if (stat(path, &st) != 0) return false;
+    if (2 * (g->nseen + 1) > g->capseen) {   /* grow: keep the load under 1/2 */
+        size_t cap = g->capseen ? g->capseen * 2 : 64;
+        GlobSeen *t = calloc(cap, sizeof *t);
+        if (!t) mem_oom();
+        for (size_t i = 0; i < g->capseen; i++) {
+            if (!g->seen[i].used) continue;
+            size_t h = ((size_t)g->seen[i].ino * 31u + (size_t)g->seen[i].dev * 17u + g->seen[i].idx) & (cap - 1);
+            while (t[h].used) h = (h + 1) & (cap - 1);
+            t[h] = g->seen[i];
+        }
+        free(g->seen);
+        g->seen = t;
+        g->capseen = cap;
+    }
+    size_t h = ((size_t)st.st_ino * 31u + (size_t)st.st_dev * 17u + idx) & (g->capseen - 1);
+    for (; g->seen[h].used; h = (h + 1) & (g->capseen - 1))
+        if (g->seen[h].ino == st.st_ino && g->seen[h].dev == st.st_dev && g->seen[h].idx == idx)
+            return false;
+    g->seen[h] = (GlobSeen){st.st_dev, st.st_ino, idx, true};
+    g->nseen++;
+    return true;
+}
 
 static bool has_wildcard(const char *s)
 {
@@ -48,6 +100,8 @@ static void glob_select(Glob *g, const char *dir, size_t idx);
  * (symbolic links are not followed while descending). */
 static void glob_recursive(Glob *g, const char *dir, size_t idx)
 {
+    if (g->stopped || !glob_first_visit(g, dir, idx + g->nparts + 1))
+        return;   /* a "**" walk meets each directory once */
     glob_select(g, dir, idx);
     DIR *d = opendir(dir);
     if (!d)
@@ -71,9 +125,18 @@ static void glob_recursive(Glob *g, const char *dir, size_t idx)
 
 static void glob_select(Glob *g, const char *dir, size_t idx)
 {
+    if (g->stopped || eval_interrupted(g->ev)) {
+        g->stopped = true;
+        return;
+    }
     if (idx == g->nparts) {
-        if (!g->dir_only || is_dir(dir, true))
+        if (!g->dir_only || is_dir(dir, true)) {
+            if (g->found.n >= GLOB_MAX_MATCHES) {
+                g->stopped = true;
+                return;
+            }
             strlist_push(&g->found, str_from(dir));
+        }
         return;
     }
     const char *part = g->parts[idx];
@@ -100,6 +163,8 @@ static void glob_select(Glob *g, const char *dir, size_t idx)
         buf_free(&child);
         return;
     }
+    if (!glob_first_visit(g, dir, idx))
+        return;   /* searched already for this component (a link to it) */
     DIR *d = opendir(dir);
     if (!d)
         return;
@@ -161,7 +226,7 @@ Vec *bi_glob(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
     char *copy = strdup(p);
     if (!copy)
         mem_oom();
-    Glob g = {NULL, 0, pat.len > 0 && p[pat.len - 1] == '/', {NULL, 0, 0}};
+    Glob g = {NULL, 0, pat.len > 0 && p[pat.len - 1] == '/', {NULL, 0, 0}, ev, false, NULL, 0, 0};
     g.parts = malloc((pat.len / 2 + 1) * sizeof *g.parts);
     if (!g.parts)
         mem_oom();
@@ -172,8 +237,9 @@ Vec *bi_glob(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
     Vec *r = NULL;
     if (g.nparts == 0) {
         r = bi_error(ev, bi, "Unacceptable pattern: '%s'", p);
+    } else if (glob_select(&g, eval_script_dir(ev), 0), g.stopped) {
+        r = eval_interrupted(ev) ? NULL : bi_error(ev, bi, "more than %d matches", GLOB_MAX_MATCHES);
     } else {
-        glob_select(&g, eval_script_dir(ev), 0);
         strlist_sort_unique(&g.found);
         StrList resolved = {NULL, 0, 0};
         for (size_t i = 0; i < g.found.n; i++) {
@@ -198,6 +264,7 @@ Vec *bi_glob(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
         strlist_free(&resolved);
     }
     strlist_free(&g.found);
+    free(g.seen);
     free(g.parts);
     free(copy);
     buf_free(&pat);

@@ -24,6 +24,7 @@
 
 #include "config.h"
 #include "builtins.h"
+#include "context.h"
 #include "streams.h"
 
 typedef uint64_t Lat; /* a lattice coordinate: int64 bits, wrapping */
@@ -1018,31 +1019,42 @@ static double noise4(const uint8_t *perm, double x, double y, double z, double w
  * ===================================================================== */
 
 /* Noise of [perm] over the outer product of [n] coordinate vectors (x
- * outermost), written to [out]; 1 coordinate means (x, 0). */
-static void noise_grid(const uint8_t *perm, int n, const double *const *c, const uint32_t *len,
-                       double *out)
+ * outermost), written to [out]; 1 coordinate means (x, 0). The grid can
+ * hold 2^26 points (minutes of work for many octaves), so the interrupt
+ * flag is looked at every NOISE_POLL points (issue 28).
+ *   returns: false when [ev]'s interrupt stopped it ([out] incomplete). */
+enum { NOISE_POLL = 1 << 14 };
+#define NOISE_AT(expr)                                                          \
+    do {                                                                        \
+        if ((k & (NOISE_POLL - 1)) == 0 && eval_interrupted(ev)) return false; \
+        out[k++] = (expr);                                                      \
+    } while (0)
+static bool noise_grid(Eval *ev, const uint8_t *perm, int n, const double *const *c,
+                       const uint32_t *len, double *out)
 {
     size_t k = 0;
     if (n == 1) {
         for (uint32_t i = 0; i < len[0]; i++)
-            out[k++] = noise2(perm, c[0][i], 0);
+            NOISE_AT(noise2(perm, c[0][i], 0));
     } else if (n == 2) {
         for (uint32_t i = 0; i < len[0]; i++)
             for (uint32_t j = 0; j < len[1]; j++)
-                out[k++] = noise2(perm, c[0][i], c[1][j]);
+                NOISE_AT(noise2(perm, c[0][i], c[1][j]));
     } else if (n == 3) {
         for (uint32_t i = 0; i < len[0]; i++)
             for (uint32_t j = 0; j < len[1]; j++)
                 for (uint32_t l = 0; l < len[2]; l++)
-                    out[k++] = noise3(perm, c[0][i], c[1][j], c[2][l]);
+                    NOISE_AT(noise3(perm, c[0][i], c[1][j], c[2][l]));
     } else {
         for (uint32_t i = 0; i < len[0]; i++)
             for (uint32_t j = 0; j < len[1]; j++)
                 for (uint32_t l = 0; l < len[2]; l++)
                     for (uint32_t m = 0; m < len[3]; m++)
-                        out[k++] = noise4(perm, c[0][i], c[1][j], c[2][l], c[3][m]);
+                        NOISE_AT(noise4(perm, c[0][i], c[1][j], c[2][l], c[3][m]));
     }
+    return true;
 }
+#undef NOISE_AT
 
 /* Check the [n] coordinate vectors: 1..4 of them, all numeric, result not
  * too long. Returns the result length, or 0 for null (*too_long set when
@@ -1082,7 +1094,10 @@ static Vec *noise_of(Eval *ev, const Builtin *bi, const Vec *seed, int n, Vec *c
         len[i] = coords[i]->len;
     }
     Vec *r = vec_new_num((uint32_t)total);
-    noise_grid(perm, n, c, len, vec_nums(r));
+    if (!noise_grid(ev, perm, n, c, len, vec_nums(r))) {
+        vec_release(r);   /* interrupted: the frame is discarded */
+        return NULL;
+    }
     return r;
 }
 
@@ -1133,12 +1148,13 @@ static Vec *bi_octnoise(BI_PARAMS)
     double *res = vec_nums(r), *one = vec_nums(single);
     double weight_sum = 0, weight = 1, k = vec_scalar(roughness);
     uint8_t perm[256];
-    for (int64_t i = 0; i < n; i++) {
+    bool stopped = false;
+    for (int64_t i = 0; i < n && !stopped; i++) {
         make_perm(key ^ (uint64_t)i, perm);
         if (i == 0) {
-            noise_grid(perm, nc, cc, len, res);
+            stopped = !noise_grid(ev, perm, nc, cc, len, res);
         } else {
-            noise_grid(perm, nc, cc, len, one);
+            stopped = !noise_grid(ev, perm, nc, cc, len, one);
             for (uint64_t j = 0; j < total; j++)
                 res[j] += one[j] * weight;
         }
@@ -1148,11 +1164,15 @@ static Vec *bi_octnoise(BI_PARAMS)
         weight_sum += weight;
         weight *= k;
     }
-    for (uint64_t j = 0; j < total; j++)
+    for (uint64_t j = 0; j < total && !stopped; j++)
         res[j] /= weight_sum;
     vec_release(single);
     for (int i = 0; i < nc; i++)
         vec_release(coords[i]);
+    if (stopped) {   /* interrupted: the frame is discarded */
+        vec_release(r);
+        return NULL;
+    }
     return r;
 }
 

@@ -102,6 +102,11 @@ static inline bool stop_requested(Eval *ev)
     return ev->interrupted;
 }
 
+bool eval_interrupted(Eval *ev)
+{
+    return ev && stop_requested(ev);
+}
+
 void parts_init(Parts *p)
 {
     p->v = p->small;

@@ -518,7 +518,7 @@ static AstNode *simplify_top(Program *p, AstNode *top, const Globals *g, SymTab 
         names[i] = (SimplifyName){g->names[i], i < g->ndynamic, g->values[i]};
     SimplifyEnv env = {.names = names, .nnames = g->count, .symtab = st, .dir = p->dir,
                        .first_file = 1000, .stable_ids = &p->stable_ids, .stables = sc,
-                       .is_module = g->module, .files = &p->files};
+                       .is_module = g->module, .files = &p->files, .interrupt = g->interrupt};
     top = simplify_program(top, &env, &p->warnings);
     free(names);
     return top;
@@ -592,6 +592,11 @@ Program *program_load_text(const char *path, const char *text, size_t len,
         /* kept only for simplifying again with stable values, which only
          * `let stable` bindings (numbered in stable_ids) can produce */
         if (p->stable_ids) p->simplified = ast_copy(top);
+        if (globals->interrupt && *globals->interrupt) {   /* the simplifier gave up */
+            buf_printf(err, "%s: error: interrupted while loading\n", path);
+            program_release(p);
+            return NULL;
+        }
     }
     return resolve_program(p, globals, st, err);
 }

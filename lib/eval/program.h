@@ -37,6 +37,9 @@ typedef struct Globals {
                            (static engine names, defines) are known at load */
     bool module;        /* programs loaded against these are imported modules
                            (their top-level names are all exported) */
+    volatile int *interrupt; /* the embedder's flag (NULL: none): the load-time
+                           simplifier stops once it is set, and the load
+                           fails with `PATH: error: interrupted while loading` */
 } Globals;
 
 /* Index of [name] in [g], or -1. */

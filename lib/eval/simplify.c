@@ -60,19 +60,58 @@ AstNode *resimp(Simp *s, AstNode *n_take)
     return r;
 }
 
+static uint64_t warn_hash(const char *msg, size_t len)
+{
+    uint64_t h = 1469598103934665603u;
+    for (size_t i = 0; i < len; i++) h = (h ^ (unsigned char)msg[i]) * 1099511628211u;
+    return h ? h : 1;
+}
+
+/* Put line [start, len) with hash [h] into [t] (which has room). */
+static void warn_put(WarnTable *t, uint64_t h, size_t start, size_t len)
+{
+    size_t i = (size_t)h & (t->cap - 1);
+    while (t->hash[i]) i = (i + 1) & (t->cap - 1);
+    t->hash[i] = h;
+    t->start[i] = start;
+    t->len[i] = len;
+    t->n++;
+}
+
 void simp_warn(Simp *s, const char *msg)
 {
-    if (!s->warnings) return;
+    if (!s->warnings || !s->warned) return;
+    WarnTable *t = s->warned;
     size_t len = strlen(msg);
+    uint64_t h = warn_hash(msg, len);
     /* one line per message, each once */
-    const char *p = s->warnings->data;
-    while (p && *p) {
-        const char *nl = strchr(p, '\n');
-        size_t l = nl ? (size_t)(nl - p) : strlen(p);
-        if (l == len && memcmp(p, msg, len) == 0) return;
-        p = nl ? nl + 1 : p + l;
+    for (size_t i = t->cap ? (size_t)h & (t->cap - 1) : 0; t->cap && t->hash[i]; i = (i + 1) & (t->cap - 1))
+        if (t->hash[i] == h && t->len[i] == len && memcmp(s->warnings->data + t->start[i], msg, len) == 0)
+            return;
+    if (2 * (t->n + 1) > t->cap) {   /* grow: keep the load under 1/2 */
+        WarnTable old = *t;
+        t->cap = old.cap ? old.cap * 2 : 64;
+        t->n = 0;
+        t->hash = calloc(t->cap, sizeof *t->hash);
+        t->start = malloc(t->cap * sizeof *t->start);
+        t->len = malloc(t->cap * sizeof *t->len);
+        if (!t->hash || !t->start || !t->len) mem_oom();
+        for (size_t i = 0; i < old.cap; i++)
+            if (old.hash[i]) warn_put(t, old.hash[i], old.start[i], old.len[i]);
+        free(old.hash);
+        free(old.start);
+        free(old.len);
     }
+    size_t start = s->warnings->len;
     buf_printf(s->warnings, "%s\n", msg);
+    warn_put(t, h, start, len);
+}
+
+void simp_share_warnings(Simp *sub, const Simp *s)
+{
+    if (sub->owns_warned) free(sub->warned);
+    sub->warned = s->warned;
+    sub->owns_warned = false;
 }
 
 /* Evaluate [n], whose operands are all literals, with the evaluator. */
@@ -653,6 +692,10 @@ AstNode *simp(Simp *s, const AstNode *n)
 {
     if (!n) return NULL;
     if (s->unwinding || s->too_deep) return mk_noop(n->loc);
+    if (s->ev.interrupted || (s->ev.interrupt && *s->ev.interrupt)) {
+        s->ev.interrupted = true;   /* SIGINT at load: simplify_program gives up */
+        return mk_noop(n->loc);
+    }
     if (s->depth >= SIMP_MAX_DEPTH) {   /* too deep: the file is run as written */
         s->too_deep = true;
         return mk_noop(n->loc);
@@ -708,7 +751,9 @@ static AstNode *simp_kind(Simp *s, const AstNode *n)
 void simp_init(Simp *s, SymTab *st, Buf *warnings, const char *dir, const char *path,
                uint32_t next_file)
 {
-    *s = (Simp){.symtab = st, .warnings = warnings, .next_file = next_file};
+    *s = (Simp){.symtab = st, .warnings = warnings, .next_file = next_file, .owns_warned = true};
+    s->warned = calloc(1, sizeof *s->warned);
+    if (!s->warned) mem_oom();
     s->ev = (Eval){.symtab = st, .errors = &s->errors, .debug = NULL};
     s->dir = strdup(dir ? dir : ".");
     s->path = path ? strdup(path) : NULL;
@@ -740,6 +785,13 @@ void simp_fini(Simp *s)
     }
     free(s->exports);
     msgset_clear(&s->errors);
+    if (s->owns_warned && s->warned) {
+        free(s->warned->hash);
+        free(s->warned->start);
+        free(s->warned->len);
+        free(s->warned);
+    }
+    s->warned = NULL;
     free(s->dir);
     free(s->path);
 }
@@ -762,12 +814,18 @@ AstNode *simplify_program(AstNode *top, const SimplifyEnv *env, Buf *warnings)
     s.stables = env->stables;
     s.is_module = env->is_module;
     s.files = env->files;
+    s.ev.interrupt = env->interrupt;
     simplify_number_stables(top, s.stable_ids);
     for (uint32_t i = 0; i < env->nnames; i++) {
         const SimplifyName *nm = &env->names[i];
         scope_push(&s, (Str *)nm->name, nm->dynamic ? NB_DYNAMIC : NB_LITERAL, nm->value, NULL, NULL);
     }
     AstNode *r = simp(&s, top);
+    if (s.ev.interrupted) {   /* the caller fails the load */
+        ast_free(r);
+        simp_fini(&s);
+        return top;
+    }
     if (s.too_deep) {
         ast_free(r);
         simp_warn(&s, "Program too deeply nested to simplify; running it as written");

@@ -46,6 +46,10 @@ typedef struct SimplifyEnv {
                                    exported, so no top-level binding is unused */
     struct PathList *files;     /* files read (%include, literal imports) are
                                    added here (program.h; NULL: nowhere) */
+    volatile int *interrupt;    /* the embedder's flag (NULL: none): once set,
+                                   simplification stops and the program is
+                                   returned as written (the caller fails the
+                                   load) */
 } SimplifyEnv;
 
 /* Simplify the program [top] (an AST_TOP from parse_program; consumes it) and

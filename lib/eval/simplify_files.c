@@ -119,6 +119,8 @@ static bool module_exports(Simp *s, const char *path, Simp *sub)
     if (!dir) mem_oom();
     simp_init(sub, s->symtab, s->warnings, dir, path, s->next_file);
     free(dir);
+    sub->ev.interrupt = s->ev.interrupt;
+    if (sub->warnings == s->warnings) simp_share_warnings(sub, s);
     sub->parent = s;
     sub->collect_exports = true;
     sub->is_module = true;

@@ -23,10 +23,13 @@ static void put_spelling(Buf *out, const char *s, size_t n)
     }
 }
 
-static void put_token(Buf *out, const Lexer *lx, const Token *t)
+/* How often (in tokens or nodes) the dumps look at the interrupt flag. */
+enum { POLL_EVERY = 4096 };
+
+static void put_token(Buf *out, const Lexer *lx, LineCursor *lc, const Token *t)
 {
     unsigned line, col;
-    source_line_col(lx->text, lx->len, t->start, &line, &col);
+    line_cursor_at(lc, t->start, &line, &col);
     buf_printf(out, "%u:%u %s", line, col, parse_token_name(t->kind));
     if (t->end > t->start && t->kind != TK_NL) {
         buf_putc(out, ' ');
@@ -36,17 +39,23 @@ static void put_token(Buf *out, const Lexer *lx, const Token *t)
 }
 
 bool dump_tokens(Buf *out, Buf *err, const char *path, const char *text,
-                 size_t len)
+                 size_t len, volatile int *interrupt)
 {
     Lexer lx;
     Indenter ind;
     lex_init(&lx, text, len);
     indent_init(&ind);
+    LineCursor lc = {.text = lx.text, .len = lx.len};
     bool ok = true, done = false;
-    while (ok && !done) {
+    for (size_t n = 0; ok && !done; n++) {
+        if (n % POLL_EVERY == 0 && interrupt && *interrupt) {
+            buf_printf(err, "%s: error: interrupted\n", path);
+            ok = false;
+            break;
+        }
         Token t;
         while (indent_pop(&ind, &t)) {
-            put_token(out, &lx, &t);
+            put_token(out, &lx, &lc, &t);
             token_clear(&t);
             done = t.kind == TK_END;
         }
@@ -110,9 +119,23 @@ static void put_details(Buf *out, const AstNode *n, const SymTab *st)
     }
 }
 
-static void put_node(Buf *out, const AstNode *n, const char *role, int depth,
-                     const char *text, size_t len, const SymTab *st)
+/* What put_node carries down the tree. */
+typedef struct {
+    Buf *out;
+    LineCursor lc;
+    const SymTab *st;
+    volatile int *interrupt;
+    size_t nodes;
+    bool stopped;
+} AstDump;
+
+static void put_node(AstDump *d, const AstNode *n, const char *role, int depth)
 {
+    Buf *out = d->out;
+    if (d->stopped || (++d->nodes % POLL_EVERY == 0 && d->interrupt && *d->interrupt)) {
+        d->stopped = true;
+        return;
+    }
     for (int i = 0; i < depth; i++)
         buf_puts(out, "  ");
     if (!n) {
@@ -120,29 +143,32 @@ static void put_node(Buf *out, const AstNode *n, const char *role, int depth,
         return;
     }
     buf_printf(out, "%s%s", role, ast_kind_name((AstKind)n->kind));
-    put_details(out, n, st);
+    put_details(out, n, d->st);
     unsigned line, col;
-    source_line_col(text, len, n->loc.start, &line, &col);
+    line_cursor_at(&d->lc, n->loc.start, &line, &col);
     buf_printf(out, " @%u:%u\n", line, col);
     for (uint32_t i = 0; i < n->nkids; i++)
-        put_node(out, n->kids[i], "", depth + 1, text, len, st);
+        put_node(d, n->kids[i], "", depth + 1);
     /* the parse depth cap (AST_MAX_DEPTH) bounds this recursion */
     if (n->a)
-        put_node(out, n->a, "a: ", depth + 1, text, len, st);
+        put_node(d, n->a, "a: ", depth + 1);
     if (n->b)
-        put_node(out, n->b, "b: ", depth + 1, text, len, st);
+        put_node(d, n->b, "b: ", depth + 1);
     if (n->c)
-        put_node(out, n->c, "c: ", depth + 1, text, len, st);
+        put_node(d, n->c, "c: ", depth + 1);
 }
 
 bool dump_ast(Buf *out, Buf *err, const char *path, const char *text,
-              size_t len, SymTab *st)
+              size_t len, SymTab *st, volatile int *interrupt)
 {
     AstNode *top = parse_program(path, text, len, 0, err);
     if (!top)
         return false;
     program_register_symbols(top, st);   /* literals print as :name */
-    put_node(out, top, "", 0, text, len, st);
+    AstDump d = {.out = out, .lc = {.text = text, .len = len}, .st = st, .interrupt = interrupt};
+    put_node(&d, top, "", 0);
     ast_free(top);
-    return true;
+    if (d.stopped)
+        buf_printf(err, "%s: error: interrupted\n", path);
+    return !d.stopped;
 }

@@ -166,3 +166,11 @@ void outfile_discard(OutFile *f)
     if (f->tmp) unlink(f->tmp);
     release(f);
 }
+
+bool outfile_check(const char *path, char *err, size_t errlen)
+{
+    OutFile f;
+    if (!outfile_open(&f, path, err, errlen)) return false;
+    outfile_discard(&f);
+    return true;
+}

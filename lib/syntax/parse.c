@@ -69,6 +69,31 @@ void source_line_col(const char *text, size_t len, size_t offset,
     *col = c;
 }
 
+void line_cursor_at(LineCursor *c, size_t offset, unsigned *line, unsigned *col)
+{
+    if (offset > c->len)
+        offset = c->len;
+    if (c->line == 0 || offset < c->line_start) {   /* (re)start at the top */
+        c->pos = c->line_start = 0;
+        c->line = c->col = 1;
+    } else if (offset < c->pos) {                     /* back within the line */
+        c->pos = c->line_start;
+        c->col = 1;
+    }
+    for (size_t i = c->pos; i < offset; i++) {
+        if (c->text[i] == '\n') {
+            c->line++;
+            c->col = 1;
+            c->line_start = i + 1;
+        } else if (!is_continuation((unsigned char)c->text[i])) {
+            c->col++;
+        }
+    }
+    c->pos = offset;
+    *line = c->line;
+    *col = c->col;
+}
+
 /* Write the error [msg] at bytes [start, end) of the lexer's text. */
 static void report(ParseCtx *pc, uint32_t start, uint32_t end, const char *msg)
 {

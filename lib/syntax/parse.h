@@ -36,4 +36,22 @@ const char *parse_token_name(int kind);
 void source_line_col(const char *text, size_t len, size_t offset,
                      unsigned *line, unsigned *col);
 
+/* A position in a text that source_line_col() moves on from instead of
+ * counting from the start: the dumps ask for every token's and node's line
+ * and column, mostly in increasing order, so the whole dump is linear in the
+ * text (counting from the start made one line of 200,000 tokens take
+ * minutes; issue 28). Zero it, then set text and len. */
+typedef struct LineCursor {
+    const char *text;
+    size_t len;
+    size_t pos;          /* the byte the cursor is at */
+    size_t line_start;   /* the first byte of its line */
+    unsigned line, col;  /* of pos, 1-based (0: not started) */
+} LineCursor;
+
+/* source_line_col() of [offset] through [c]: forward from the cursor, or
+ * from the start of the cursor's line (from the text's start when
+ * [offset] is on an earlier line); the same results as source_line_col. */
+void line_cursor_at(LineCursor *c, size_t offset, unsigned *line, unsigned *col);
+
 #endif

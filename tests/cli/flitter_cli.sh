@@ -1,7 +1,7 @@
 #!/bin/sh
 # flitter_cli.sh FLITTER WIRE: Flitter's own command line (`flitter
 # [options] SCRIPT` as in Flitter's documentation Makefiles), --version,
-# help, a skipped drawing node named once (with or without --debug); `run --view/--trace`
+# help, a skipped drawing node named once (with or without --debug); `run --view/--trace-file`
 # wiring on the wire sample WIRE (pictures and rows are checked in
 # tests/unit/test_view.c).
 set -u
@@ -45,9 +45,14 @@ grep -qx '# frame 3 time 0.75' "$dir/out" || fail "expected 4 frames, got: $(cat
 [ "$(cat "$dir/err")" = "window: skipping unsupported !shader" ] || fail "stderr without --debug: $(cat "$dir/err")"
 [ -f "$dir/fig2.png" ] || fail "fig2.png not written (-D)"
 
-# a !record name that is neither .png nor .gif is reported once, not written
+# a !record name that is neither .png nor .gif is reported once, not
+# written, and the run exits 1 (it exited 0 with the picture missing)
 printf '!window size=8;8\n    !record filename="fig.jpg"\n        !canvas\n' >"$dir/jpg.fl"
-(cd "$dir" && "$flitter" run --frames 3 jpg.fl) 2>"$dir/err" || fail "jpg.fl failed"
+(cd "$dir" && "$flitter" run --frames 3 jpg.fl) 2>"$dir/err"
+rc=$?
+[ $rc -eq 1 ] || fail "jpg.fl: exit status $rc (1 expected)"
+grep -qx 'flitter run: a !record file could not be written (the error is above)' "$dir/err" \
+    || fail "jpg.fl: no closing message: $(cat "$dir/err")"
 [ "$(grep -c 'fig.jpg: only .png pictures and .gif animations are written' "$dir/err")" -eq 1 ] \
     || fail "fig.jpg: $(cat "$dir/err")"
 [ -e "$dir/fig.jpg" ] && fail "fig.jpg was written"
@@ -57,17 +62,17 @@ mkdir "$dir/empty" && (cd "$dir/empty" && "$flitter" test) >"$dir/out" 2>"$dir/e
 [ $? -eq 2 ] || fail "flitter test in an empty directory should exit 2"
 grep -q "no tests in '.' (no MANIFEST there" "$dir/err" || fail "flitter test, no tests: $(cat "$dir/err")"
 
-# --trace every 2nd frame of 3: frames 0 and 2, 12 bodies each, after a
+# --trace-file every 2nd frame of 3: frames 0 and 2, 12 bodies each, after a
 # header; frame 2's row for particle 3 holds the state dump's numbers
-"$flitter" run --frames 3 --trace "$dir/t.csv" --trace-every 2 --dump-state "$wire" >"$dir/dump" \
-    || fail "run --trace failed"
+"$flitter" run --frames 3 --trace-file "$dir/t.csv" --trace-every 2 --dump-state "$wire" >"$dir/dump" \
+    || fail "run --trace-file failed"
 [ "$(wc -l <"$dir/t.csv")" -eq 25 ] || fail "trace rows: $(wc -l <"$dir/t.csv")"
 head -1 "$dir/t.csv" | grep -qx 'frame,time,system,id,kind,x,vx' || fail "trace header: $(head -1 "$dir/t.csv")"
 x=$(sed -n 's/^:wire;3 = //p' "$dir/dump") v=$(sed -n 's/^:wire;3;:velocity = //p' "$dir/dump")
 [ -n "$x" ] && [ -n "$v" ] || fail "no :wire;3 in the dump"
 grep -qx "2,0.03333333333333333,wire,3,particle,$x,$v" "$dir/t.csv" \
     || fail "frame 2 row of particle 3 is not $x,$v: $(grep '^2,.*,wire,3,' "$dir/t.csv")"
-"$flitter" run --frames 2 --trace "$dir/t.jsonl" "$wire" || fail "run --trace .jsonl failed"
+"$flitter" run --frames 2 --trace-file "$dir/t.jsonl" "$wire" || fail "run --trace-file .jsonl failed"
 [ "$(grep -c '^{"frame":1,.*"system":"wire",.*"position":\[.*\],"velocity":\[.*\]}$' "$dir/t.jsonl")" -eq 12 ] \
     || fail "jsonl: $(cat "$dir/t.jsonl")"
 # --view: a PNG 480 wide (IHDR), a GIF, and a usage error for another extension

@@ -9,6 +9,11 @@
 #      the clock short of it, and the saved file loads again.
 #   3. the same as 1 with SIGHUP (it used to kill the run at once, without
 #      the final save) and with SIGINT.
+#   4. each run above was cut short before its --frames: it exits 128 +
+#      the signal's number (143 SIGTERM, 129 SIGHUP, 130 SIGINT), as a
+#      shell reports a job ended by a signal (it used to exit 0, so a
+#      script or a job scheduler took it for a finished run); a run
+#      without --frames, which a signal is meant to end, exits 0.
 # Each run must end within 20 s of the signal (it would otherwise hang).
 set -u
 flitter=$1
@@ -58,7 +63,11 @@ run() {
     done
     wait $pid
     rc=$?
-    if [ $rc -ne 0 ]; then echo "$name: exit status $rc" >&2; cat "$dir/$name.err" >&2; fail=1; fi
+    case $sig in TERM) want=143 ;; HUP) want=129 ;; INT) want=130 ;; esac
+    [ "${WANT:-}" ] && want=$WANT
+    if [ $rc -ne $want ]; then
+        echo "$name: exit status $rc after SIG$sig, not $want" >&2; cat "$dir/$name.err" >&2; fail=1
+    fi
 }
 run loop 2 --frames 10 --state "$dir/loop.state" "$dir/loop.fl"
 grep -q '^clock 3 ' "$dir/loop.state" || { echo "loop: clock line is not frame 3" >&2; fail=1; }
@@ -80,5 +89,8 @@ for SIG in HUP INT; do
     run "loop$SIG" 2 --frames 10 --state "$dir/loop$SIG.state" "$dir/loop.fl"
     grep -q '^clock 3 ' "$dir/loop$SIG.state" || { echo "loop, SIG$SIG: clock line is not frame 3" >&2; fail=1; }
 done
+# without --frames a signal is the way a run ends: status 0, state saved
+WANT=0 run endless 1 --state "$dir/endless.state" "$dir/loop.fl"
+grep -q '^clock ' "$dir/endless.state" || { echo "endless: no state saved" >&2; fail=1; }
 [ $fail -eq 0 ] || { cat "$dir"/*.state >&2; }
 exit $fail

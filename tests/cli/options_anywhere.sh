@@ -3,9 +3,11 @@
 # (issue 23, in part):
 #   - options come before or after the SCRIPT, in `flitter run` and in
 #     Flitter's own `flitter [options] SCRIPT` (headless here: --offscreen);
-#   - an output option naming a script (`flitter --trace a.fl b.fl`: in
-#     Flitter --trace is a log level) is refused with exit 2 and a message,
-#     and both files stay byte for byte as they were.
+#   - an output option naming a script (`--trace-file a.fl b.fl`,
+#     `--trace=x.fl`, `--view a.fl`) is refused with exit 2 and a message,
+#     and both files stay byte for byte as they were (`flitter --trace a.fl
+#     b.fl`, where --trace is Flitter's log level, is in flitter_options.sh:
+#     it runs two pages since --trace took no file).
 set -u
 flitter=$1 script=$2
 case $flitter in /*) ;; *) flitter=$PWD/$flitter ;; esac
@@ -21,8 +23,8 @@ cmp -s "$dir/before" "$dir/mixed" || fail "options on both sides give another du
 cmp -s "$dir/before" "$dir/flitter" || fail "flitter SCRIPT OPTIONS gives another dump"
 cp "$script" "$dir/a.fl" && cp "$script" "$dir/b.fl" || exit 2
 cp "$dir/a.fl" "$dir/a.orig"
-for args in "--trace $dir/a.fl $dir/b.fl" "run --view $dir/a.fl $dir/b.fl" \
-            "run --frames 1 --record $dir/b.fl $dir/b.fl" "run --frames 1 --trace $dir/x.fl $dir/a.fl"; do
+for args in "--trace-file $dir/a.fl $dir/b.fl" "run --view $dir/a.fl $dir/b.fl" \
+            "run --frames 1 --record $dir/b.fl $dir/b.fl" "run --frames 1 --trace=$dir/x.fl $dir/a.fl"; do
     # shellcheck disable=SC2086
     "$flitter" $args >/dev/null 2>"$dir/err"
     rc=$?
