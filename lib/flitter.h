@@ -338,6 +338,29 @@ FL_API const char *fl_builtin_name(size_t i);
 FL_API size_t fl_number_text(double x, char *buf, size_t cap);
 
 /* {=====================================================================
+ * Particles (lib/api_particles.c)
+ * ===================================================================== */
+
+/* Receives one particle: [id_text] is the value text of its id (e.g. `12`
+ * or `:cell;3`; valid during the call), [position] and [velocity] its
+ * [dims] coordinates (state units: positions in the system's units,
+ * velocities in units per second of the system's clock). Returns non-zero
+ * to stop. */
+typedef int (*fl_particle_fn)(void *ctx, const char *id_text, const double *position,
+                              const double *velocity, size_t dims);
+/* Call [fn] (may be NULL, to count) for every particle of the !physics
+ * system whose `state=` prefix is the value text [system_text] (e.g.
+ * ":dish"), as the state dictionary holds it after the last frame: every
+ * key P;ID with a numeric value that has a numeric P;ID;:velocity of the
+ * same length (PHYSICS-ENGINE.md §2 step 8: anchors are written so too,
+ * and come with the particles; the clock keys are not).
+ * They come in the state dump's order (sorted by key text bytes); the
+ * numbers are the stored doubles, bit for bit.
+ *   returns: the number of particles visited, or -1 with fl_error() text
+ *            for an empty [system_text]. */
+FL_API long fl_particles(fl_runtime *rt, const char *system_text, fl_particle_fn fn, void *ctx);
+
+/* {=====================================================================
  * Pictures and trajectories
  * ===================================================================== */
 

@@ -6,5 +6,6 @@
 int cmd_run(int argc, char **argv);
 int cmd_repl(int argc, char **argv);
 int cmd_test(int argc, char **argv);
+int cmd_sweep(int argc, char **argv);
 
 #endif

@@ -14,6 +14,7 @@ static const struct {
     {"run", cmd_run, "run a script headless (lockstep) or in realtime, or in a window"},
     {"repl", cmd_repl, "step a script's frames and evaluate expressions interactively"},
     {"test", cmd_test, "compare scripts' outputs with their golden files"},
+    {"sweep", cmd_sweep, "list, run and collect parameter sweeps (GNU parallel, Slurm)"},
 };
 
 static void usage(FILE *f)

@@ -1,0 +1,617 @@
+/* cmd_sweep.c: `flitter sweep`, parameter sweeps for GNU parallel and Slurm
+ * job arrays (issue 26).
+ *
+ *   flitter sweep SCRIPT -D NAME=V1,V2,... [-D ...] --frames N --out DIR
+ *                 [--runs R] [--slurm]
+ *       lists the jobs: one per combination of the values (the first -D
+ *       varies slowest) and run number 0..R-1, job K = combination * R +
+ *       run. Each is printed as one shell command line (every word single-
+ *       quoted, so any value is safe: `parallel --joblog LOG < LIST` runs
+ *       them), or with --slurm written to DIR/sweep.sbatch, a job-array
+ *       batch script (`sbatch DIR/sweep.sbatch`) whose task K runs job K.
+ *   flitter sweep --job K --run R --out DIR --frames N [-D NAME=V ...] SCRIPT
+ *       runs one job: `flitter run --frames N -D ... -D run=R
+ *       --state DIR/job-K/run.state --trace-file DIR/job-K/trace.csv
+ *       --dump-state SCRIPT`, stdout into DIR/job-K/final.state and stderr
+ *       into DIR/job-K/log, then writes DIR/job-K/manifest (`NAME VALUE`
+ *       lines: job, script, frames, param NAME VALUE..., run, seed, exit,
+ *       wall_seconds). A job whose manifest says exit 0 returns at once; an
+ *       unfinished one starts over (its saved state is removed first).
+ *   flitter sweep --collect DIR
+ *       prints the manifests as one CSV: job, the parameters, run, seed,
+ *       exit, wall_seconds.
+ *
+ * The run number is bound as the name `run` (`-D run=R`): a script that
+ * gives its !physics `run=run` gets the random seed vector P;run;iteration
+ * (PHYSICS-ENGINE.md §2 step 5), so the manifest's seed is R. Nothing here
+ * goes through a shell: the job is spawned with an argument vector; the
+ * printed lines are for the user's shell, quoted for it.
+ */
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <spawn.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "commands.h"
+#include "exitcodes.h"
+
+extern char **environ;
+
+#define MAX_PARAMS 32
+
+typedef struct Param {
+    char *name;       /* the define's name */
+    char **values;    /* its values, from V1,V2,... */
+    size_t n;
+} Param;
+
+typedef struct Sweep {
+    const char *script, *out, *collect;
+    long frames, runs, job;   /* job: --job K, or -1 */
+    long run;                 /* --run R of a job: its run number */
+    int slurm;
+    Param params[MAX_PARAMS];
+    size_t nparams;
+} Sweep;
+
+static void usage(FILE *f)
+{
+    fputs("usage: flitter sweep SCRIPT -D NAME=V1,V2,... [-D ...] --frames N --out DIR\n"
+          "                     [--runs R] [--slurm]\n"
+          "       flitter sweep --collect DIR\n"
+          "  lists one shell command line per job (each combination of the values, times\n"
+          "  --runs R runs numbered 0..R-1 and bound as `run`), for `parallel --joblog`;\n"
+          "  --slurm writes DIR/sweep.sbatch, a job array for sbatch, instead. Each job\n"
+          "  writes DIR/job-K/: run.state, trace.csv, final.state (the --dump-state of\n"
+          "  its last frame), log and manifest; a finished job run again returns at\n"
+          "  once. --collect prints the manifests as CSV.\n", f);
+}
+
+static int fail(const char *fmt, const char *arg)
+{
+    fputs("flitter sweep: ", stderr);
+    fprintf(stderr, fmt, arg);
+    fputc('\n', stderr);
+    return EXIT_USAGE;
+}
+
+static void *xmalloc(size_t n)
+{
+    void *p = malloc(n ? n : 1);
+    if (!p) {
+        fputs("flitter sweep: out of memory\n", stderr);
+        exit(70);
+    }
+    return p;
+}
+
+static char *xstrdup(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    return memcpy(xmalloc(n), s, n);
+}
+
+/* A name as -D takes it: a letter or '_', then letters, digits, '_'. */
+static int good_name(const char *s, size_t n)
+{
+    if (!n || !(s[0] == '_' || ((s[0] | 32) >= 'a' && (s[0] | 32) <= 'z'))) return 0;
+    for (size_t i = 1; i < n; i++)
+        if (!(s[i] == '_' || (s[i] >= '0' && s[i] <= '9') || ((s[i] | 32) >= 'a' && (s[i] | 32) <= 'z')))
+            return 0;
+    return 1;
+}
+
+/* -D NAME=V1,V2,...: [list] splits on ',' (the sweep form), else one value. */
+static int add_param(Sweep *sw, const char *def, int list)
+{
+    const char *eq = strchr(def, '=');
+    if (!eq || !good_name(def, (size_t)(eq - def)))
+        return fail("bad define '%s' (expected NAME=V1,V2,...)", def);
+    for (const char *c = eq + 1; *c; c++)
+        if ((unsigned char)*c < 0x20 || *c == 0x7f)
+            return fail("control character in the values of '%s'", def);
+    if (sw->nparams == MAX_PARAMS) return fail("more than %s defines", "32");
+    Param *p = &sw->params[sw->nparams];
+    p->name = xstrdup(def);
+    p->name[eq - def] = '\0';
+    if (strcmp(p->name, "run") == 0)
+        return fail("%s is the run number (use --runs)", "-D run");
+    for (size_t i = 0; i < sw->nparams; i++)
+        if (strcmp(sw->params[i].name, p->name) == 0) return fail("'%s' defined twice", p->name);
+    char *vals = p->name + (eq - def) + 1;
+    p->values = xmalloc((strlen(vals) + 2) * sizeof *p->values);
+    p->n = 0;
+    for (char *v = vals;;) {
+        char *comma = list ? strchr(v, ',') : NULL;
+        if (comma) *comma = '\0';
+        p->values[p->n++] = v;
+        if (!comma) break;
+        v = comma + 1;
+    }
+    sw->nparams++;
+    return 0;
+}
+
+static int parse_long(const char *s, long min, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || end == s || *end || v < min) return 0;
+    *out = v;
+    return 1;
+}
+
+static int parse_args(Sweep *sw, int argc, char **argv)
+{
+    memset(sw, 0, sizeof *sw);
+    sw->frames = -1;
+    sw->runs = 1;
+    sw->job = -1;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *next = i + 1 < argc ? argv[i + 1] : NULL;
+        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+            usage(stdout);
+            exit(EXIT_OK);
+        } else if (strcmp(a, "--slurm") == 0) {
+            sw->slurm = 1;
+        } else if (!next && a[0] == '-' && a[1]) {
+            return fail("option %s needs a value", a);
+        } else if (strcmp(a, "-D") == 0 || strcmp(a, "--define") == 0) {
+            if (add_param(sw, argv[++i], 1)) return EXIT_USAGE;
+        } else if (strcmp(a, "--frames") == 0) {
+            if (!parse_long(argv[++i], 1, &sw->frames)) return fail("bad --frames '%s'", argv[i]);
+        } else if (strcmp(a, "--runs") == 0) {
+            if (!parse_long(argv[++i], 1, &sw->runs)) return fail("bad --runs '%s'", argv[i]);
+        } else if (strcmp(a, "--run") == 0) {
+            if (!parse_long(argv[++i], 0, &sw->run)) return fail("bad --run '%s'", argv[i]);
+        } else if (strcmp(a, "--job") == 0) {
+            if (!parse_long(argv[++i], 0, &sw->job)) return fail("bad --job '%s'", argv[i]);
+        } else if (strcmp(a, "--out") == 0) {
+            sw->out = argv[++i];
+        } else if (strcmp(a, "--collect") == 0) {
+            sw->collect = argv[++i];
+        } else if (a[0] == '-' && a[1]) {
+            return fail("unknown option '%s'", a);
+        } else if (sw->script) {
+            return fail("unexpected argument '%s' (one SCRIPT)", a);
+        } else {
+            sw->script = a;
+        }
+    }
+    if (sw->collect) return 0;
+    if (!sw->script) return fail("%s", "no SCRIPT given");
+    if (sw->frames < 0) return fail("%s", "--frames N is required");
+    if (!sw->out) return fail("%s", "--out DIR is required");
+    if (sw->job >= 0)
+        for (size_t i = 0; i < sw->nparams; i++)
+            if (sw->params[i].n != 1) return fail("--job takes one value per define (%s)", sw->params[i].name);
+    return 0;
+}
+
+/* {=====================================================================
+ * Listing the jobs
+ * ===================================================================== */
+
+/* Write [s] as one word for a POSIX shell: single-quoted, each ' as '\''. */
+static void put_quoted(FILE *f, const char *s)
+{
+    fputc('\'', f);
+    for (; *s; s++) {
+        if (*s == '\'') fputs("'\\''", f);
+        else fputc(*s, f);
+    }
+    fputc('\'', f);
+}
+
+/* The command line of job [k] (values chosen by [k]'s digits). */
+static void put_job(FILE *f, const Sweep *sw, const char *exe, const char *script,
+                    const char *out, long k)
+{
+    put_quoted(f, exe);
+    fprintf(f, " sweep --job %ld --run %ld --out ", k, k % sw->runs);
+    put_quoted(f, out);
+    fprintf(f, " --frames %ld", sw->frames);
+    long rest = k / sw->runs;
+    char **vals = xmalloc((sw->nparams + 1) * sizeof *vals);
+    for (size_t i = sw->nparams; i-- > 0;) {
+        vals[i] = sw->params[i].values[rest % (long)sw->params[i].n];
+        rest /= (long)sw->params[i].n;
+    }
+    for (size_t i = 0; i < sw->nparams; i++) {
+        fputs(" -D ", f);
+        size_t n = strlen(sw->params[i].name) + strlen(vals[i]) + 2;
+        char *d = xmalloc(n);
+        snprintf(d, n, "%s=%s", sw->params[i].name, vals[i]);
+        put_quoted(f, d);
+        free(d);
+    }
+    free(vals);
+    fputc(' ', f);
+    put_quoted(f, script);
+}
+
+/* This program's absolute path (the jobs run the same flitter). */
+static char *self_path(void)
+{
+    char buf[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+    if (n <= 0) return xstrdup("flitter");
+    buf[n] = '\0';
+    return xstrdup(buf);
+}
+
+static int list_jobs(const Sweep *sw)
+{
+    if (mkdir(sw->out, 0777) != 0 && errno != EEXIST) {
+        fprintf(stderr, "flitter sweep: cannot create %s: %s\n", sw->out, strerror(errno));
+        return 1;
+    }
+    char *out = realpath(sw->out, NULL), *script = realpath(sw->script, NULL);
+    if (!out || !script) {
+        fprintf(stderr, "flitter sweep: %s: %s\n", out ? sw->script : sw->out, strerror(errno));
+        free(out);
+        free(script);
+        return 1;
+    }
+    char *exe = self_path();
+    long njobs = sw->runs;
+    for (size_t i = 0; i < sw->nparams; i++) njobs *= (long)sw->params[i].n;
+    int rc = 0;
+    if (!sw->slurm) {
+        for (long k = 0; k < njobs; k++) {
+            put_job(stdout, sw, exe, script, out, k);
+            fputc('\n', stdout);
+        }
+        if (fflush(stdout) != 0) rc = 1;
+    } else {
+        size_t n = strlen(out) + 32;
+        char *path = xmalloc(n), *tmp = xmalloc(n + 8);
+        snprintf(path, n, "%s/sweep.sbatch", out);
+        snprintf(tmp, n + 8, "%s.tmp", path);
+        FILE *f = fopen(tmp, "w");
+        if (!f) {
+            fprintf(stderr, "flitter sweep: cannot create %s: %s\n", tmp, strerror(errno));
+            rc = 1;
+        } else {
+            fprintf(f, "#!/bin/sh\n# flitter sweep: %ld jobs; submit with sbatch\n"
+                       "#SBATCH --job-name=flitter-sweep\n#SBATCH --array=0-%ld\n"
+                       "#SBATCH --ntasks=1\n#SBATCH --output=", njobs, njobs - 1);
+            fprintf(f, "%s/slurm-%%A_%%a.out\n", out);
+            fputs("case \"$SLURM_ARRAY_TASK_ID\" in\n", f);
+            for (long k = 0; k < njobs; k++) {
+                fprintf(f, "%ld) exec ", k);
+                put_job(f, sw, exe, script, out, k);
+                fputs(" ;;\n", f);
+            }
+            fputs("*) echo \"flitter sweep: no job $SLURM_ARRAY_TASK_ID\" >&2; exit 2 ;;\nesac\n", f);
+            if (fclose(f) != 0 || chmod(tmp, 0755) != 0 || rename(tmp, path) != 0) {
+                fprintf(stderr, "flitter sweep: cannot write %s: %s\n", path, strerror(errno));
+                unlink(tmp);
+                rc = 1;
+            } else {
+                printf("%s\n", path);
+            }
+        }
+        free(path);
+        free(tmp);
+    }
+    free(exe);
+    free(out);
+    free(script);
+    return rc;
+}
+
+/* {=====================================================================
+ * Running one job
+ * ===================================================================== */
+
+static char *join(const char *dir, const char *name)
+{
+    size_t n = strlen(dir) + strlen(name) + 2;
+    char *p = xmalloc(n);
+    snprintf(p, n, "%s/%s", dir, name);
+    return p;
+}
+
+/* The value of line `KEY VALUE` in manifest text [m], copied into [buf]
+ * ([cap] bytes, truncated), or NULL when there is no such line. */
+static const char *manifest_get(const char *m, const char *key, char *buf, size_t cap)
+{
+    size_t k = strlen(key);
+    for (const char *l = m; l && *l; l = strchr(l, '\n'), l = l ? l + 1 : NULL) {
+        if (strncmp(l, key, k) == 0 && l[k] == ' ') {
+            const char *v = l + k + 1, *e = strchr(v, '\n');
+            size_t n = e ? (size_t)(e - v) : strlen(v);
+            if (n >= cap) n = cap - 1;
+            memcpy(buf, v, n);
+            buf[n] = '\0';
+            return buf;
+        }
+    }
+    return NULL;
+}
+
+static char *read_text(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    size_t cap = 4096, n = 0;
+    char *s = xmalloc(cap);
+    for (size_t r; (r = fread(s + n, 1, cap - n - 1, f)) > 0;) {
+        n += r;
+        if (n + 1 == cap) {
+            char *t = realloc(s, cap *= 2);
+            if (!t) { free(s); fclose(f); return NULL; }
+            s = t;
+        }
+    }
+    fclose(f);
+    s[n] = '\0';
+    return s;
+}
+
+/* The manifest's parameter lines, for comparing a re-run with the job. */
+static void put_params(FILE *f, const Sweep *sw, const char *script, long run)
+{
+    fprintf(f, "job %ld\nscript %s\nframes %ld\n", sw->job, script, sw->frames);
+    for (size_t i = 0; i < sw->nparams; i++)
+        fprintf(f, "param %s %s\n", sw->params[i].name, sw->params[i].values[0]);
+    fprintf(f, "run %ld\nseed %ld\n", run, run);
+}
+
+static int run_job(const Sweep *sw)
+{
+    char name[32];
+    snprintf(name, sizeof name, "job-%04ld", sw->job);
+    if (mkdir(sw->out, 0777) != 0 && errno != EEXIST) {
+        fprintf(stderr, "flitter sweep: cannot create %s: %s\n", sw->out, strerror(errno));
+        return 1;
+    }
+    char *dir = join(sw->out, name);
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+        fprintf(stderr, "flitter sweep: cannot create %s: %s\n", dir, strerror(errno));
+        free(dir);
+        return 1;
+    }
+    long run = sw->run;
+    char *manifest = join(dir, "manifest"), *mtmp = join(dir, "manifest.tmp");
+    char *state = join(dir, "run.state"), *trace = join(dir, "trace.csv");
+    char *final = join(dir, "final.state"), *ftmp = join(dir, "final.state.tmp");
+    char *logp = join(dir, "log");
+    char *script = realpath(sw->script, NULL);
+    if (!script) script = xstrdup(sw->script);
+
+    /* the parameter lines, to recognise a finished job */
+    char *want = NULL;
+    size_t wantlen = 0;
+    FILE *mf = open_memstream(&want, &wantlen);
+    put_params(mf, sw, script, run);
+    fclose(mf);
+    int rc = 0;
+    char *old = read_text(manifest);
+    char buf[64];
+    if (old && strncmp(old, want, wantlen) == 0 && manifest_get(old, "exit", buf, sizeof buf) &&
+        strcmp(buf, "0") == 0) {
+        fprintf(stderr, "flitter sweep: %s already finished\n", dir);
+        goto done;
+    }
+    unlink(manifest);
+    unlink(state);   /* an unfinished job starts over, not from its save */
+    unlink(final);
+
+    /* flitter run ... as an argument vector */
+    char *exe = self_path(), frames[32], runarg[48];
+    snprintf(frames, sizeof frames, "%ld", sw->frames);
+    snprintf(runarg, sizeof runarg, "run=%ld", run);
+    size_t na = 0;
+    char **av = xmalloc((2 * sw->nparams + 20) * sizeof *av);
+    char **defs = xmalloc((sw->nparams + 1) * sizeof *defs);
+    av[na++] = exe;
+    av[na++] = "run";
+    av[na++] = "--frames";
+    av[na++] = frames;
+    for (size_t i = 0; i < sw->nparams; i++) {
+        size_t n = strlen(sw->params[i].name) + strlen(sw->params[i].values[0]) + 2;
+        defs[i] = xmalloc(n);
+        snprintf(defs[i], n, "%s=%s", sw->params[i].name, sw->params[i].values[0]);
+        av[na++] = "-D";
+        av[na++] = defs[i];
+    }
+    av[na++] = "-D";
+    av[na++] = runarg;
+    av[na++] = "--state";
+    av[na++] = state;
+    av[na++] = "--trace-file";
+    av[na++] = trace;
+    av[na++] = "--dump-state";
+    av[na++] = script;
+    av[na] = NULL;
+
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, ftmp, O_WRONLY | O_CREAT | O_TRUNC, 0666);
+    posix_spawn_file_actions_addopen(&fa, 2, logp, O_WRONLY | O_CREAT | O_TRUNC, 0666);
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    pid_t pid;
+    int status = 0, code;
+    int err = posix_spawn(&pid, exe, &fa, NULL, av, environ);
+    posix_spawn_file_actions_destroy(&fa);
+    if (err != 0) {
+        fprintf(stderr, "flitter sweep: cannot start %s: %s\n", exe, strerror(err));
+        code = 127;
+    } else {
+        while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+        code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    }
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    double wall = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-9;
+    if (code == 0 && rename(ftmp, final) != 0) code = 1;
+    if (code != 0) unlink(ftmp);
+
+    FILE *f = fopen(mtmp, "w");
+    if (f) {
+        fwrite(want, 1, wantlen, f);
+        fprintf(f, "exit %d\nwall_seconds %.3f\n", code, wall);
+    }
+    if (!f || fclose(f) != 0 || rename(mtmp, manifest) != 0) {
+        fprintf(stderr, "flitter sweep: cannot write %s: %s\n", manifest, strerror(errno));
+        unlink(mtmp);
+        if (code == 0) code = 1;
+    }
+    if (code != 0) fprintf(stderr, "flitter sweep: job %ld exited %d (see %s)\n", sw->job, code, logp);
+    rc = code;
+    for (size_t i = 0; i < sw->nparams; i++) free(defs[i]);
+    free(defs);
+    free(av);
+    free(exe);
+done:
+    free(old);
+    free(want);
+    free(script);
+    free(dir);
+    free(manifest);
+    free(mtmp);
+    free(state);
+    free(trace);
+    free(final);
+    free(ftmp);
+    free(logp);
+    return rc;
+}
+
+/* {=====================================================================
+ * Collecting the manifests
+ * ===================================================================== */
+
+/* One CSV field: quoted when it holds ',', '"', CR or LF ('"' doubled). */
+static void put_csv(const char *s)
+{
+    if (!strpbrk(s, ",\"\r\n")) {
+        fputs(s, stdout);
+        return;
+    }
+    putchar('"');
+    for (; *s; s++) {
+        if (*s == '"') putchar('"');
+        putchar(*s);
+    }
+    putchar('"');
+}
+
+static int by_name(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* The value of `param NAME VALUE` for [name] in [m], or NULL. */
+static const char *param_value(const char *m, const char *name, char *buf, size_t cap)
+{
+    size_t n = strlen(name) + 7;
+    char *key = xmalloc(n);
+    snprintf(key, n, "param %s", name);
+    const char *v = manifest_get(m, key, buf, cap);
+    free(key);
+    return v;
+}
+
+static int collect(const char *out)
+{
+    DIR *d = opendir(out);
+    if (!d) {
+        fprintf(stderr, "flitter sweep: %s: %s\n", out, strerror(errno));
+        return 1;
+    }
+    size_t n = 0, cap = 64;
+    char **texts = xmalloc(cap * sizeof *texts), **names = xmalloc(cap * sizeof *names);
+    for (struct dirent *e; (e = readdir(d));) {
+        if (strncmp(e->d_name, "job-", 4) != 0) continue;
+        char *dir = join(out, e->d_name), *mpath = join(dir, "manifest");
+        char *text = read_text(mpath);
+        free(dir);
+        free(mpath);
+        if (!text) continue;
+        if (n == cap) {
+            cap *= 2;
+            char **t = realloc(texts, cap * sizeof *texts);
+            if (!t) exit(70);
+            texts = t;
+        }
+        size_t len = strlen(e->d_name) + 1 + strlen(text) + 1;
+        texts[n] = xmalloc(len);
+        snprintf(texts[n], len, "%s\n%s", e->d_name, text);   /* sorts by job name */
+        free(text);
+        n++;
+    }
+    closedir(d);
+    free(names);
+    qsort(texts, n, sizeof *texts, by_name);
+    /* the parameter names, in the order of their first appearance */
+    size_t np = 0;
+    char *pn[MAX_PARAMS * 4];
+    for (size_t i = 0; i < n; i++)
+        for (const char *l = strchr(texts[i], '\n'); l; l = strchr(l + 1, '\n')) {
+            if (strncmp(l + 1, "param ", 6) != 0) continue;
+            const char *s = l + 7, *sp = strchr(s, ' ');
+            if (!sp) continue;
+            size_t k = (size_t)(sp - s), j = 0;
+            for (; j < np; j++)
+                if (strlen(pn[j]) == k && strncmp(pn[j], s, k) == 0) break;
+            if (j == np && np < sizeof pn / sizeof *pn) {
+                pn[np] = xmalloc(k + 1);
+                memcpy(pn[np], s, k);
+                pn[np++][k] = '\0';
+            }
+        }
+    fputs("job", stdout);
+    for (size_t j = 0; j < np; j++) {
+        putchar(',');
+        put_csv(pn[j]);
+    }
+    fputs(",run,seed,exit,wall_seconds\n", stdout);
+    static const char *const tail[] = {"run", "seed", "exit", "wall_seconds"};
+    char buf[4096];
+    for (size_t i = 0; i < n; i++) {
+        const char *m = strchr(texts[i], '\n') + 1;
+        put_csv(manifest_get(m, "job", buf, sizeof buf) ? buf : "");
+        for (size_t j = 0; j < np; j++) {
+            putchar(',');
+            put_csv(param_value(m, pn[j], buf, sizeof buf) ? buf : "");
+        }
+        for (size_t j = 0; j < 4; j++) {
+            putchar(',');
+            put_csv(manifest_get(m, tail[j], buf, sizeof buf) ? buf : "");
+        }
+        putchar('\n');
+        free(texts[i]);
+    }
+    for (size_t j = 0; j < np; j++) free(pn[j]);
+    free(texts);
+    return fflush(stdout) != 0;
+}
+
+int cmd_sweep(int argc, char **argv)
+{
+    Sweep sw;
+    int rc = parse_args(&sw, argc, argv);
+    if (rc == 0) {
+        if (sw.collect) rc = collect(sw.collect);
+        else if (sw.job >= 0) rc = run_job(&sw);
+        else rc = list_jobs(&sw);
+    }
+    for (size_t i = 0; i < sw.nparams; i++) {
+        free(sw.params[i].name);
+        free(sw.params[i].values);
+    }
+    return rc;
+}

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# sweep.sh FLITTER SCRIPT: `flitter sweep` lists 2 strengths x 2 values x 2
+# runs = 8 jobs; GNU parallel (-j2) runs them; each job's final.state is
+# the --dump-state of the same `flitter run`; runs 0 and 1 differ (the run
+# number seeds !random); a hostile value (a quote and $(...)) reaches the
+# script and the manifest unchanged and runs nothing; a finished job run
+# again returns at once, changing nothing; --collect prints the CSV;
+# --slurm writes a job-array script whose task 3 runs job 3.
+set -uo pipefail
+flitter=$1 script=$2
+command -v parallel >/dev/null || { echo "GNU parallel not installed: skipped"; exit 77; }
+dir=$(mktemp -d) || exit 2
+trap 'rm -rf "$dir"' EXIT
+out=$dir/out
+fail() { echo "FAIL: $*" >&2; exit 1; }
+hostile="it's \$(touch $dir/pwned) \`touch $dir/pwned2\`"
+
+"$flitter" sweep "$script" -D strength=50,200 -D "tag=plain,$hostile" --runs 2 --frames 30 \
+    --out "$out" >"$dir/jobs" || fail "sweep listing exited $?"
+[ "$(wc -l <"$dir/jobs")" -eq 8 ] || fail "expected 8 job lines, got $(wc -l <"$dir/jobs")"
+parallel --will-cite -j2 --joblog "$dir/joblog" <"$dir/jobs" || fail "parallel exited $?"
+[ ! -e "$dir/pwned" ] && [ ! -e "$dir/pwned2" ] || fail "a value was run by the shell"
+# joblog: 8 rows, column 7 (Exitval) all 0
+[ "$(awk 'NR > 1 && $7 == 0' "$dir/joblog" | wc -l)" -eq 8 ] || { cat "$dir/joblog" >&2; fail "joblog"; }
+
+# job 3 = strength 50, the hostile tag, run 1
+grep -qxF "param tag $hostile" "$out/job-0003/manifest" || { cat "$out/job-0003/manifest" >&2; fail "manifest value"; }
+"$flitter" run --frames 30 -D strength=50 -D "tag=$hostile" -D run=1 --dump-state "$script" \
+    >"$dir/want3" 2>/dev/null || fail "direct run"
+cmp -s "$dir/want3" "$out/job-0003/final.state" || fail "job 3's final.state differs from the same flitter run"
+cmp -s "$out/job-0002/final.state" "$out/job-0003/final.state" && fail "runs 0 and 1 gave the same state"
+[ -s "$out/job-0003/trace.csv" ] && [ -s "$out/job-0003/run.state" ] || fail "trace or state missing"
+head -1 "$out/job-0003/trace.csv" | grep -qx 'frame,time,system,id,kind,x,y,vx,vy' || fail "trace header"
+
+# a finished job returns at once and leaves its files alone
+cp "$out/job-0003/manifest" "$dir/m3"
+line4=$(sed -n 4p "$dir/jobs")
+bash -c "$line4" 2>"$dir/again" || fail "re-run exited $?"
+grep -q "already finished" "$dir/again" || fail "re-run did not say it was finished"
+cmp -s "$dir/m3" "$out/job-0003/manifest" || fail "re-run changed the manifest"
+
+# the CSV, wall times left out (column 7)
+"$flitter" sweep --collect "$out" >"$dir/csv" || fail "collect exited $?"
+cat >"$dir/want.csv" <<'CSV'
+job,strength,tag,run,seed,exit
+0,50,plain,0,0,0
+1,50,plain,1,1,0
+2,50,HOSTILE,0,0,0
+3,50,HOSTILE,1,1,0
+4,200,plain,0,0,0
+5,200,plain,1,1,0
+6,200,HOSTILE,0,0,0
+7,200,HOSTILE,1,1,0
+CSV
+# the hostile value has no comma or quote that CSV must escape but "'": it
+# is written unquoted
+cut -d, -f1-6 "$dir/csv" | sed "s/$(sed 's/[][\\/.*^$]/\\&/g' <<<"$hostile")/HOSTILE/" >"$dir/csv6"
+diff -u "$dir/want.csv" "$dir/csv6" >&2 || fail "collected CSV"
+awk -F, 'NR > 1 && $7 !~ /^[0-9]+\.[0-9][0-9][0-9]$/ {bad = 1} END {exit bad}' "$dir/csv" || fail "wall_seconds column"
+
+# a value with a comma and a quote is quoted in the CSV (RFC 4180)
+"$flitter" sweep --job 0 --run 0 --out "$dir/q" --frames 1 -D 'tag=x' "$script" 2>/dev/null || fail "single job"
+sed -i 's/^param tag x$/param tag a,"b"/' "$dir/q/job-0000/manifest"
+"$flitter" sweep --collect "$dir/q" | sed -n 2p | cut -d, -f1-3 | grep -qx '0,"a,""b"""' || fail "CSV quoting"
+
+# Slurm: the job array script, task 3 run by hand as sbatch would
+"$flitter" sweep "$script" -D strength=50,200 -D "tag=plain,$hostile" --runs 2 --frames 30 \
+    --out "$dir/slurm" --slurm >"$dir/sb" || fail "--slurm exited $?"
+grep -qx '#SBATCH --array=0-7' "$dir/slurm/sweep.sbatch" || fail "array line"
+SLURM_ARRAY_TASK_ID=3 sh "$dir/slurm/sweep.sbatch" 2>/dev/null || fail "task 3"
+cmp -s "$dir/want3" "$dir/slurm/job-0003/final.state" || fail "slurm task 3's final.state"
+[ ! -e "$dir/pwned" ] && [ ! -e "$dir/pwned2" ] || fail "a value was run by the shell (slurm)"
+
+# bad usage: exit 2 with a message
+"$flitter" sweep "$script" -D 'bad name=1' --frames 1 --out "$dir/x" 2>"$dir/err"
+[ $? -eq 2 ] && grep -q "bad define" "$dir/err" || fail "bad define accepted"
+"$flitter" sweep "$script" -D run=1,2 --frames 1 --out "$dir/x" 2>/dev/null
+[ $? -eq 2 ] || fail "-D run accepted"
+echo "sweep: all checks passed"
