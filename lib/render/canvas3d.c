@@ -94,6 +94,7 @@ struct Canvas3D {
     float *idata; size_t cap_idata;       /* instance floats of one dispatch */
     float *lightbuf; int cap_lightbuf;    /* mat4s of one group */
     float *pixels; size_t cap_pixels;     /* read-back framebuffer */
+    bool have_pixels;                     /* [pixels] hold the last canvas3d_draw's picture */
     uint8_t srgb[SRGB_STEPS + 1];         /* linear 0..1 to sRGB 0..255 */
     /* the cameras with an id of this frame */
     Camera cams[8]; Buf cam_id[8]; int ncams;
@@ -681,6 +682,7 @@ static void encode(Canvas3D *c, cairo_surface_t *pic, int w, int h)
 
 int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env, const RenderLog *log)
 {
+    c->have_pixels = false;
     if (c->failed) return -1;
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
@@ -762,11 +764,20 @@ int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const Can
     }
     gl_target_read(c->gl, c->pixels);
     gl_context_done(c->gl);
+    c->have_pixels = true;
     encode(c, pic, w, h);
     clock_gettime(CLOCK_MONOTONIC, &t1);
     c->ms_total += (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) / 1e6;
     c->calls++;
     return rc;
+}
+
+const float *canvas3d_linear(const Canvas3D *c, int *w, int *h)
+{
+    if (!c || !c->have_pixels) return NULL;
+    *w = c->width;
+    *h = c->height;
+    return c->pixels;
 }
 
 double canvas3d_time_ms(const Canvas3D *c, long *calls)

@@ -50,6 +50,13 @@ Canvas3D *canvas3d_new(void);
  *   errors: -1 when nothing could be drawn ([pic] left transparent), else 0. */
 int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env,
                   const RenderLog *log);
+/* The linear light of the last canvas3d_draw, before its sRGB encoding:
+ * *w x *h pixels of four floats (premultiplied RGBA, top row first, values
+ * above 1 kept), as a window effect such as !bloom takes it (Flitter's
+ * canvas texture is a half-float framebuffer). Borrowed: valid until the
+ * next canvas3d_draw or canvas3d_free.
+ *   errors: NULL when the last draw drew nothing (no GL context, or none yet). */
+const float *canvas3d_linear(const Canvas3D *c, int *w, int *h);
 /* Milliseconds spent in canvas3d_draw calls so far and their count. */
 double canvas3d_time_ms(const Canvas3D *c, long *calls);
 /* Release the GL context and everything on it (NULL is a no-op). */

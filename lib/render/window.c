@@ -7,6 +7,7 @@
 
 #include <cairo.h>
 
+#include "bloom.h"
 #include "buf.h"
 #include "canvas.h"
 #include "canvas3d.h"
@@ -20,6 +21,10 @@ struct Renderer {
     RenderLog skiplog;     /* [log] with skipped-kind warnings always on */
     SkipLog skips;
     Canvas3D *c3d;         /* made by the first !canvas3d (its GL context with it) */
+    Bloom *bloom;          /* !bloom's scratch framebuffers, made by the first */
+    float *bloom_light;    /* a !bloom's linear light (bloom_cap floats), reused */
+    size_t bloom_cap;
+    bool bloom_busy;       /* bloom_light is in use (a !bloom is being drawn) */
     Recorder *rec;         /* the !record files open across frames (record.h) */
     char *record;          /* renderer_set_record: the first window's file, or NULL */
     bool saw_window;
@@ -77,6 +82,8 @@ int renderer_free(Renderer *r)
     if (rc != 0) render_log(&r->log, RLOG_ERROR, "%s", err);
     free(r->record);
     canvas3d_free(r->c3d);
+    bloom_free(r->bloom);
+    free(r->bloom_light);
     for (int i = 0; i < r->nreported; i++) free(r->reported[i]);
     free(r);
     return rc;
@@ -117,65 +124,134 @@ static void composite(cairo_surface_t *dst, cairo_surface_t *src)
 
 static void write_record(Renderer *r, const Node *n, cairo_surface_t *pic, double fps);
 
+static void render_children(Renderer *r, const Node *n, cairo_surface_t *target, int w, int h,
+                            Pass *pass);
+static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, Pass *pass);
+
+/* Draw window-level node [c] onto [target] ([w] x [h]): its picture
+ * composited in place (and kept for !reference when it has an id). */
+static void render_child(Renderer *r, const Node *c, cairo_surface_t *target, int w, int h, Pass *pass)
+{
+    Refs *refs = &pass->refs;
+    cairo_surface_t *pic = NULL;
+    if (rnode_is(c, "canvas")) {
+        int cw, ch;
+        size_of(c, w, h, &cw, &ch);
+        pic = new_picture(cw, ch);
+        cairo_t *cr = cairo_create(pic);
+        CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips};
+        canvas_draw(cr, c, &env);
+        cairo_destroy(cr);
+    } else if (rnode_is(c, "canvas3d")) {
+        int cw, ch;
+        size_of(c, w, h, &cw, &ch);
+        pic = new_picture(cw, ch);
+        if (!r->c3d) r->c3d = canvas3d_new();
+        CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips};
+        canvas3d_draw(r->c3d, c, pic, &env, &r->log);
+    } else if (rnode_is(c, "record")) {
+        int cw, ch;
+        size_of(c, w, h, &cw, &ch);
+        pic = new_picture(cw, ch);
+        render_children(r, c, pic, cw, ch, pass);
+        if (pass->write) write_record(r, c, pic, pass->fps);
+    } else if (rnode_is(c, "key") || rnode_is(c, "pointer")) {
+        return;   /* input, not a picture: lib/input.c reads them */
+    } else if (rnode_is(c, "reference")) {
+        const Vec *id = rnode_attr(c, "id");
+        for (int k = 0; id && k < refs->n; k++)
+            if (vec_equal(refs->id[k], id)) {
+                composite(target, refs->pic[k]);
+                break;
+            }
+        return;
+    } else if (rnode_is(c, "bloom")) {
+        int cw, ch;
+        size_of(c, w, h, &cw, &ch);
+        pic = render_bloom(r, c, cw, ch, pass);
+    } else if (rnode_nchildren(c) > 0) {
+        /* an effect (!shader, !adjust, !feedback, ...): its input drawn as is */
+        skiplog_effect(&r->skips, rnode_kind(c));
+        int cw, ch;
+        size_of(c, w, h, &cw, &ch);
+        pic = new_picture(cw, ch);
+        render_children(r, c, pic, cw, ch, pass);
+    } else {
+        skiplog_note(&r->skips, "window", rnode_kind(c));
+        return;
+    }
+    composite(target, pic);
+    const Vec *id = rnode_attr(c, "id");
+    if (id && refs->n < 64) {
+        refs->id[refs->n] = id;
+        refs->pic[refs->n++] = pic;
+    } else {
+        cairo_surface_destroy(pic);
+    }
+}
+
 /* Draw the window-level children of [n] onto [target] ([w] x [h]). */
 static void render_children(Renderer *r, const Node *n, cairo_surface_t *target, int w, int h,
                             Pass *pass)
 {
-    Refs *refs = &pass->refs;
+    for (size_t i = 0; i < rnode_nchildren(n); i++) render_child(r, rnode_child(n, i), target, w, h, pass);
+}
+
+/* The picture ([w] x [h]) of `!bloom` node [n] (bloom.h): its children
+ * composited `over` in linear light (a !canvas3d of the bloom's size
+ * gives its light unclamped, as Flitter's half-float textures do; any
+ * other child is drawn as in a window and decoded from sRGB), bloomed,
+ * and encoded as the window encodes its output. */
+static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, Pass *pass)
+{
+    size_t npix = (size_t)w * h;
+    /* the renderer's buffer, kept from frame to frame (a fresh one for a
+     * !bloom inside a !bloom) */
+    float *light;
+    bool own = r->bloom_busy || npix * 4 > r->bloom_cap;
+    if (!r->bloom_busy && own) {
+        free(r->bloom_light);
+        r->bloom_light = mem_alloc(npix * 4 * sizeof(float));
+        r->bloom_cap = npix * 4;
+        own = false;
+    }
+    light = own ? mem_alloc(npix * 4 * sizeof(float)) : r->bloom_light;
+    bool was_busy = r->bloom_busy;
+    r->bloom_busy = true;
+    float *one = NULL;
+    bool empty = true;
     for (size_t i = 0; i < rnode_nchildren(n); i++) {
         const Node *c = rnode_child(n, i);
-        cairo_surface_t *pic = NULL;
-        if (rnode_is(c, "canvas")) {
-            int cw, ch;
-            size_of(c, w, h, &cw, &ch);
-            pic = new_picture(cw, ch);
-            cairo_t *cr = cairo_create(pic);
-            CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips};
-            canvas_draw(cr, c, &env);
-            cairo_destroy(cr);
-        } else if (rnode_is(c, "canvas3d")) {
-            int cw, ch;
-            size_of(c, w, h, &cw, &ch);
-            pic = new_picture(cw, ch);
-            if (!r->c3d) r->c3d = canvas3d_new();
-            CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips};
-            canvas3d_draw(r->c3d, c, pic, &env, &r->log);
-        } else if (rnode_is(c, "record")) {
-            int cw, ch;
-            size_of(c, w, h, &cw, &ch);
-            pic = new_picture(cw, ch);
-            render_children(r, c, pic, cw, ch, pass);
-            if (pass->write) write_record(r, c, pic, pass->fps);
-        } else if (rnode_is(c, "key") || rnode_is(c, "pointer")) {
-            continue;   /* input, not a picture: lib/input.c reads them */
-        } else if (rnode_is(c, "reference")) {
-            const Vec *id = rnode_attr(c, "id");
-            for (int k = 0; id && k < refs->n; k++)
-                if (vec_equal(refs->id[k], id)) {
-                    composite(target, refs->pic[k]);
-                    break;
-                }
-            continue;
-        } else if (rnode_nchildren(c) > 0) {
-            /* an effect (!shader, !bloom, !feedback, ...): its input drawn as is */
-            skiplog_effect(&r->skips, rnode_kind(c));
-            int cw, ch;
-            size_of(c, w, h, &cw, &ch);
-            pic = new_picture(cw, ch);
-            render_children(r, c, pic, cw, ch, pass);
+        cairo_surface_t *layer = new_picture(w, h);
+        render_child(r, c, layer, w, h, pass);
+        int lw = 0, lh = 0;
+        const float *lin = rnode_is(c, "canvas3d") ? canvas3d_linear(r->c3d, &lw, &lh) : NULL;
+        if (lin && (lw != w || lh != h)) lin = NULL;
+        if (empty) {
+            /* the first layer over nothing is itself */
+            if (lin) memcpy(light, lin, npix * 4 * sizeof(float));
+            else bloom_decode(layer, light);
+        } else if (lin) {
+            bloom_over(light, lin, npix);
         } else {
-            skiplog_note(&r->skips, "window", rnode_kind(c));
-            continue;
+            if (!one) one = mem_alloc(npix * 4 * sizeof(float));
+            bloom_decode(layer, one);
+            bloom_over(light, one, npix);
         }
-        composite(target, pic);
-        const Vec *id = rnode_attr(c, "id");
-        if (id && refs->n < 64) {
-            refs->id[refs->n] = id;
-            refs->pic[refs->n++] = pic;
-        } else {
-            cairo_surface_destroy(pic);
-        }
+        empty = false;
+        cairo_surface_destroy(layer);
     }
+    if (empty) memset(light, 0, npix * 4 * sizeof(float));
+    if (!r->bloom) r->bloom = bloom_new();
+    BloomParams bp;
+    bloom_params(n, &bp);
+    bloom_apply(r->bloom, &bp, light, w, h);
+    cairo_surface_t *pic = new_picture(w, h);
+    bloom_encode(light, pic);
+    r->bloom_busy = was_busy;
+    if (own) free(light);
+    free(one);
+    return pic;
 }
 
 /* Count a write error of file [path] and log [line] if it is the file's

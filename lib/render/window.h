@@ -20,7 +20,9 @@
  * not drawn at all. A `!canvas3d` child is drawn with OpenGL (canvas3d.h)
  * into a picture of its own size and composited in its place like a
  * canvas; when no GL context can be made it is skipped with one warning.
- * A window-level effect node with children (shaders, !bloom, !feedback,
+ * A `!bloom` node (bloom.h) composites its children in linear light,
+ * blooms them and composites the result in its place. Any other
+ * window-level effect node with children (shaders, !adjust, !feedback,
  * ...) composites its children without the effect; other window-level
  * kinds (video, images) are skipped. Each unsupported kind is reported
  * once as a warning, with or without log->debug (issue 25: a picture

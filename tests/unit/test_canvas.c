@@ -266,7 +266,7 @@ static void test_canvas_stretched(void **st)
     cairo_surface_destroy(p.s);
 }
 
-/* A window-level effect (here !bloom) draws its children without the
+/* A window-level effect (here !blur) draws its children without the
  * effect, and says so once; a !record inside an effect is found. */
 static void test_effect_passthrough(void **st)
 {
@@ -276,11 +276,11 @@ static void test_effect_passthrough(void **st)
         "!window size=20;20\n"
         "    !shader\n"
         "        !record filename=OUT\n"
-        "            !bloom radius=5\n"
+        "            !blur radius=5\n"
         "                !canvas\n"
         "                    !rect size=10;20 fill=true color=1;0;0\n",
         "g.png", 2, path, sizeof path);
-    const char *msg = "window: unsupported !bloom, its children drawn without the effect\n";
+    const char *msg = "window: unsupported !blur, its children drawn without the effect\n";
     const char *at = strstr(log, msg);
     assert_non_null(at);
     assert_null(strstr(at + 1, msg));   /* once */

@@ -1,0 +1,345 @@
+/* bloom.c: Flitter's !bloom window effect on the CPU (see bloom.h). */
+#include "bloom.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "canvas.h"
+#include "mem.h"
+
+struct Bloom {
+    float *small, *tmp;       /* two framebuffers at the blur's size */
+    size_t cap_small;
+    int *ix; float *fx;       /* bilinear taps along one axis: index, weight of index+1 */
+    size_t cap_taps;
+    double ms_total;
+    long calls;
+};
+
+void bloom_params(const Node *n, BloomParams *p)
+{
+    /* Flitter shaders.py, Bloom.render, and ProgramNode.render (downsample) */
+    *p = (BloomParams){.sigma = {0.3, 0.3}, .exposure = -1, .contrast = 1, .alpha = 1, .downsample = 2};
+    double v[2];
+    if (canvas_attr_nums(n, "radius", 2, v))
+        for (int k = 0; k < 2; k++) p->radius[k] = !(fabs(v[k]) < 1e6) ? 0 : (int)v[k];   /* truncated */
+    if (canvas_attr_nums(n, "sigma", 2, v)) p->sigma[0] = v[0], p->sigma[1] = v[1];
+    if (canvas_attr_nums(n, "exposure", 1, v)) p->exposure = v[0];
+    if (canvas_attr_nums(n, "contrast", 1, v)) p->contrast = v[0];
+    if (canvas_attr_nums(n, "brightness", 1, v)) p->brightness = v[0];
+    if (canvas_attr_nums(n, "shadows", 1, v)) p->shadows = v[0];
+    if (canvas_attr_nums(n, "highlights", 1, v)) p->highlights = v[0];
+    if (canvas_attr_nums(n, "alpha", 1, v)) p->alpha = v[0];
+    if (canvas_attr_nums(n, "downsample", 1, v)) p->downsample = v[0] >= 1 && v[0] < 1e6 ? (int)v[0] : 1;
+}
+
+Bloom *bloom_new(void) { return mem_calloc(1, sizeof(Bloom)); }
+
+double bloom_time_ms(const Bloom *b, long *calls)
+{
+    if (calls) *calls = b->calls;
+    return b->ms_total;
+}
+
+void bloom_free(Bloom *b)
+{
+    if (!b) return;
+    free(b->small);
+    free(b->tmp);
+    free(b->ix);
+    free(b->fx);
+    free(b);
+}
+
+/* Bilinear taps for sampling a side of [from] pixels at the pixel centres
+ * of a side of [to] pixels (GL's linear filter, clamped to the edge):
+ * ix[i] and ix[i]+1 (clamped) weighted 1-fx[i] and fx[i]. */
+static void taps(int *ix, float *fx, int to, int from)
+{
+    for (int i = 0; i < to; i++) {
+        double u = (i + 0.5) * from / to - 0.5;
+        double f0 = floor(u);
+        int x0 = (int)f0;
+        double f = u - f0;
+        if (x0 < 0) x0 = 0, f = 0;
+        if (x0 >= from - 1) x0 = from - 1, f = 0;
+        ix[i] = x0;
+        fx[i] = (float)f;
+    }
+}
+
+/* Resample [src] (sw x sh RGBA) to [dst] (dw x dh) with bilinear taps. */
+static void resample(Bloom *b, float *dst, int dw, int dh, const float *src, int sw, int sh)
+{
+    size_t need = (size_t)dw + dh;
+    if (need > b->cap_taps) {
+        b->cap_taps = need;
+        free(b->ix);
+        free(b->fx);
+        b->ix = mem_alloc(need * sizeof *b->ix);
+        b->fx = mem_alloc(need * sizeof *b->fx);
+    }
+    int *ix = b->ix, *iy = b->ix + dw;
+    float *fx = b->fx, *fy = b->fx + dw;
+    taps(ix, fx, dw, sw);
+    taps(iy, fy, dh, sh);
+    for (int y = 0; y < dh; y++) {
+        const float *r0 = src + (size_t)iy[y] * sw * 4;
+        const float *r1 = iy[y] + 1 < sh ? r0 + (size_t)sw * 4 : r0;
+        float wy = fy[y];
+        float *out = dst + (size_t)y * dw * 4;
+        for (int x = 0; x < dw; x++, out += 4) {
+            int x0 = ix[x] * 4, x1 = ix[x] + 1 < sw ? x0 + 4 : x0;
+            float wx = fx[x];
+            for (int k = 0; k < 4; k++) {
+                float top = r0[x0 + k] + (r0[x1 + k] - r0[x0 + k]) * wx;
+                float bot = r1[x0 + k] + (r1[x1 + k] - r1[x0 + k]) * wx;
+                out[k] = top + (bot - top) * wy;
+            }
+        }
+    }
+}
+
+/* Flitter filter_functions.glsl, filter_adjust, on un-premultiplied
+ * light; [gain] is 2^exposure * contrast, [offset] brightness + (1 -
+ * contrast)/2. */
+static void adjust(float *px, const BloomParams *p, float gain, float offset)
+{
+    float a = px[3];
+    float c[3];
+    for (int k = 0; k < 3; k++) c[k] = (a > 0 ? px[k] / a : 0) * gain + offset;
+    if (p->shadows != 0 || p->highlights != 0) {
+        double l = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+        double s = 4 * (0.25 - l), h = 2 * (l - 0.5);
+        s = s < 0 ? 0 : s > 1 ? 1 : s;
+        h = h < 0 ? 0 : h > 1 ? 1 : h;
+        double m = pow(2.0, p->shadows * s) * pow(2.0, p->highlights * h);
+        for (int k = 0; k < 3; k++) c[k] = (float)(c[k] * m);
+    }
+    for (int k = 0; k < 3; k++) px[k] = c[k] * a;
+}
+
+/* The normalised weights of a 1D Gaussian of [r] taps each side and
+ * standard deviation [sigma] pixels into wt[0..r] (Flitter
+ * filter_functions.glsl, filter_blur: weight exp(-i^2 / 2 sigma^2), the
+ * centre 1 even when sigma is 0). */
+static void gaussian(float *wt, int r, double sigma)
+{
+    double sum = 1;
+    for (int i = 1; i <= r; i++) sum += 2 * (sigma > 0 ? exp(-0.5 * i * i / (sigma * sigma)) : 0);
+    wt[0] = (float)(1 / sum);
+    for (int i = 1; i <= r; i++) wt[i] = (float)((sigma > 0 ? exp(-0.5 * i * i / (sigma * sigma)) : 0) / sum);
+}
+
+/* o[p] += (m[p] + q[p]) * g for the [n] RGBA pixels p (four floats at a
+ * time, so that the compiler can use vector instructions). */
+static void add_pair(float *restrict o, const float *restrict m, const float *restrict q, size_t n, float g)
+{
+    for (size_t p = 0; p < n * 4; p += 4)
+        for (int k = 0; k < 4; k++) o[p + k] += (m[p + k] + q[p + k]) * g;
+}
+
+/* One output row of the x pass: o[x] = sum over i of wt[|i|] * mid[x + i*step]
+ * for [w] pixels, |i| <= [r]; [mid] is padded by r pixels each side. */
+static void weigh_rows(float *restrict o, const float *restrict mid, int w, const float *wt, int r, int step)
+{
+    for (size_t p = 0; p < (size_t)w * 4; p += 4)
+        for (int k = 0; k < 4; k++) o[p + k] = mid[p + k] * wt[0];
+    for (int i = 1; i <= r; i++)
+        add_pair(o, mid - (size_t)i * step, mid + (size_t)i * step, (size_t)w, wt[i]);
+}
+
+/* The Gaussian pass along x: [src] to [dst] ([w] x [h] RGBA), edges
+ * clamped, each row through [pad] (w + 2r pixels). */
+static void blur_x(float *dst, const float *src, int w, int h, const float *wt, int r, float *pad)
+{
+    for (int y = 0; y < h; y++) {
+        const float *row = src + (size_t)y * w * 4;
+        for (int x = -r; x < w + r; x++) {
+            int c = x < 0 ? 0 : x >= w ? w - 1 : x;
+            memcpy(pad + (size_t)(x + r) * 4, row + (size_t)c * 4, 4 * sizeof(float));
+        }
+        float *restrict o = dst + (size_t)y * w * 4;
+        const float *restrict mid = pad + (size_t)r * 4;
+        weigh_rows(o, mid, w, wt, r, 4);
+    }
+}
+
+/* The Gaussian pass along y, edges clamped. */
+static void blur_y(float *dst, const float *src, int w, int h, const float *wt, int r)
+{
+    size_t n = (size_t)w * 4;
+    for (int y = 0; y < h; y++) {
+        float *restrict o = dst + (size_t)y * n;
+        const float *mid = src + (size_t)y * n;
+        for (size_t j = 0; j < n; j++) o[j] = mid[j] * wt[0];
+        for (int i = 1; i <= r; i++) {
+            int a = y - i < 0 ? 0 : y - i, b = y + i >= h ? h - 1 : y + i;
+            add_pair(o, src + (size_t)a * n, src + (size_t)b * n, (size_t)w, wt[i]);
+        }
+    }
+}
+
+void bloom_apply(Bloom *b, const BloomParams *p, float *rgba, int w, int h)
+{
+    if (w < 1 || h < 1) return;
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    int ds = p->downsample < 1 ? 1 : p->downsample;
+    /* Flitter: RenderTarget of width//downsample x height//downsample */
+    int sw = w / ds, sh = h / ds;
+    if (sw < 1) sw = 1;
+    if (sh < 1) sh = 1;
+    size_t n = (size_t)sw * sh * 4;
+    if (n > b->cap_small) {
+        b->cap_small = n;
+        free(b->small);
+        free(b->tmp);
+        b->small = mem_alloc(n * sizeof(float));
+        b->tmp = mem_alloc(n * sizeof(float));
+    }
+    /* pass 1: down-sample and darken */
+    resample(b, b->small, sw, sh, rgba, w, h);
+    float gain = (float)(pow(2.0, p->exposure) * p->contrast);
+    float offset = (float)(p->brightness + (1 - p->contrast) / 2);
+    for (size_t i = 0; i < n; i += 4) adjust(b->small + i, p, gain, offset);
+    /* passes 2 and 3: the Gaussian, x then y, at the small size */
+    int rx = p->radius[0] / ds, ry = p->radius[1] / ds;
+    if (rx < 0) rx = 0;
+    if (ry < 0) ry = 0;
+    /* a radius over 4096 pixels at the blur's size is taken as 4096 (a
+     * bound on the work for absurd values; Flitter would loop on) */
+    if (rx > 4096) rx = 4096;
+    if (ry > 4096) ry = 4096;
+    float *wt = mem_alloc(((size_t)(rx > ry ? rx : ry) + 1) * sizeof *wt);
+    float *pad = mem_alloc(((size_t)sw + 2 * (size_t)rx) * 4 * sizeof *pad);
+    gaussian(wt, rx, rx * p->sigma[0]);
+    blur_x(b->tmp, b->small, sw, sh, wt, rx, pad);
+    gaussian(wt, ry, ry * p->sigma[1]);
+    blur_y(b->small, b->tmp, sw, sh, wt, ry);
+    free(wt);
+    free(pad);
+    /* pass 4: back to full size (a row at a time), lighten with the
+     * original, times alpha */
+    size_t row = (size_t)w * 4;
+    float *line = mem_alloc(row * sizeof(float));
+    size_t need = (size_t)w + h;
+    if (need > b->cap_taps) {
+        b->cap_taps = need;
+        free(b->ix);
+        free(b->fx);
+        b->ix = mem_alloc(need * sizeof *b->ix);
+        b->fx = mem_alloc(need * sizeof *b->fx);
+    }
+    int *ix = b->ix, *iy = b->ix + w;
+    float *fx = b->fx, *fy = b->fx + w;
+    taps(ix, fx, w, sw);
+    taps(iy, fy, h, sh);
+    float alpha = (float)p->alpha;
+    for (int y = 0; y < h; y++) {
+        const float *r0 = b->small + (size_t)iy[y] * sw * 4;
+        const float *r1 = iy[y] + 1 < sh ? r0 + (size_t)sw * 4 : r0;
+        float wy = fy[y];
+        for (int x = 0; x < w; x++) {
+            int x0 = ix[x] * 4, x1 = ix[x] + 1 < sw ? x0 + 4 : x0;
+            float wx = fx[x];
+            for (int k = 0; k < 4; k++) {
+                float top = r0[x0 + k] + (r0[x1 + k] - r0[x0 + k]) * wx;
+                float bot = r1[x0 + k] + (r1[x1 + k] - r1[x0 + k]) * wx;
+                line[x * 4 + k] = top + (bot - top) * wy;
+            }
+        }
+        float *o = rgba + (size_t)y * row;
+        for (size_t i = 0; i < row; i++) o[i] = (o[i] > line[i] ? o[i] : line[i]) * alpha;
+    }
+    free(line);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    b->ms_total += (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) / 1e6;
+    b->calls++;
+}
+
+/* {===== linear light to and from the window's 8-bit pictures */
+
+static double srgb_decode(double s)
+{
+    return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4);
+}
+
+void bloom_decode(cairo_surface_t *pic, float *rgba)
+{
+    float lin[256];
+    for (int i = 0; i < 256; i++) lin[i] = (float)srgb_decode(i / 255.0);
+    cairo_surface_flush(pic);
+    const unsigned char *data = cairo_image_surface_get_data(pic);
+    int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
+    int stride = cairo_image_surface_get_stride(pic);
+    for (int y = 0; y < h; y++) {
+        const uint32_t *src = (const uint32_t *)(const void *)(data + (size_t)y * stride);
+        float *o = rgba + (size_t)y * w * 4;
+        for (int x = 0; x < w; x++, o += 4) {
+            uint32_t p = src[x];
+            unsigned a = p >> 24;
+            if (a == 0) {
+                o[0] = o[1] = o[2] = o[3] = 0;
+                continue;
+            }
+            float fa = a / 255.0f;
+            for (int k = 0; k < 3; k++) {
+                unsigned v = (p >> (16 - 8 * k)) & 0xff;
+                /* un-premultiplied 8-bit value, as the texture would hold it */
+                unsigned u = a == 255 ? v : (v * 255 + a / 2) / a;
+                if (u > 255) u = 255;
+                o[k] = lin[u] * fa;
+            }
+            o[3] = fa;
+        }
+    }
+}
+
+void bloom_over(float *dst, const float *rgba, size_t n)
+{
+    for (size_t i = 0; i < n; i++, dst += 4, rgba += 4) {
+        float keep = 1 - rgba[3];
+        for (int k = 0; k < 4; k++) dst[k] = rgba[k] + dst[k] * keep;
+    }
+}
+
+#define STEPS 16384
+
+void bloom_encode(const float *rgba, cairo_surface_t *pic)
+{
+    uint8_t *enc = mem_alloc(STEPS + 1);
+    for (int i = 0; i <= STEPS; i++) {
+        double x = (double)i / STEPS;
+        double s = x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1 / 2.4) - 0.055;
+        enc[i] = (uint8_t)lround(s * 255);
+    }
+    cairo_surface_flush(pic);
+    unsigned char *data = cairo_image_surface_get_data(pic);
+    int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
+    int stride = cairo_image_surface_get_stride(pic);
+    for (int y = 0; y < h; y++) {
+        uint32_t *row = (uint32_t *)(void *)(data + (size_t)y * stride);
+        const float *src = rgba + (size_t)y * w * 4;
+        for (int x = 0; x < w; x++, src += 4) {
+            unsigned v[3], a = 0;
+            for (int k = 0; k < 3; k++) {
+                float f = src[k];
+                int idx = !(f > 0) ? 0 : f >= 1 ? STEPS : (int)(f * STEPS + 0.5f);
+                v[k] = enc[idx];
+                if (v[k] > a) a = v[k];
+            }
+            float fa = src[3];
+            unsigned alpha = !(fa > 0) ? 0 : fa >= 1 ? 255 : (unsigned)lroundf(fa * 255);
+            if (alpha > a) a = alpha;
+            row[x] = (a << 24) | (v[0] << 16) | (v[1] << 8) | v[2];
+        }
+    }
+    cairo_surface_mark_dirty(pic);
+    free(enc);
+}
+
+/* }===== */
