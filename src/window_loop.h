@@ -70,6 +70,7 @@ typedef struct Loop {
                                 overlay, copy, present), in total */
     double start;            /* when the frame loop began */
     double last_shown;       /* when a picture was last shown */
+    double last_show_cost;   /* seconds that showing it took (drawing included) */
     double last_save;        /* when --state was last saved */
     unsigned overlay_gen;    /* bumped whenever the overlay text changes */
     char status[512];        /* the F1 text */

@@ -9,7 +9,8 @@
  * EngineController.run: realtime frames are paced to fl_target_fps, and a
  * frame that finishes after the next one is due skips its picture
  * (counted as dropped) rather than hold the simulation up, unless nothing
- * was shown for 100 ms; in lockstep every frame is shown. */
+ * was shown for 100 ms (or twice the last picture's cost, when longer);
+ * in lockstep every frame is shown. */
 #include "window.h"
 
 #include <stdlib.h>
@@ -285,6 +286,7 @@ static int show_frame(Loop *L, bool draw)
         L->present_seconds += (t1 - t0) - (L->draw_seconds - drawn);
         L->shown++;
         L->last_shown = t1;
+        L->last_show_cost = t1 - t0;
     }
     return 0;
 }
@@ -408,9 +410,19 @@ static bool loop_once(Loop *L)
     update_status(L, false);
     if (stepped || L->redraw) {
         double now = now_seconds();
-        /* realtime: no time left to draw before the next frame is due */
+        /* realtime: no time left to draw before the next frame is due;
+         * a late frame is still shown when nothing was for 100 ms, or for
+         * twice what the last picture cost to show when that is longer
+         * (a picture that takes a second to draw, a large !canvas3d on a
+         * CPU, then holds the simulation up for at most a third of the
+         * time) */
         bool late = L->realtime && stepped && fl_frame_wait(p->rt) < 0.001;
-        if (late && now - L->last_shown < 0.1 && !L->redraw) {
+        /* (a slow picture restarts the realtime schedule, so the frame
+         * after it is not late: a picture slower than a frame counts as
+         * late on its own) */
+        bool slow = L->realtime && stepped && L->last_show_cost * fl_target_fps(p->rt) > 1;
+        double gap = L->last_show_cost * 2 > 0.1 ? L->last_show_cost * 2 : 0.1;
+        if ((late || slow) && now - L->last_shown < gap && !L->redraw) {
             L->dropped++;
         } else if (show_frame(L, true) != 0) {
             L->rc = EXIT_LOAD;
