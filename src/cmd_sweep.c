@@ -122,10 +122,16 @@ static int add_param(Sweep *sw, const char *def, int list)
     Param *p = &sw->params[sw->nparams];
     p->name = xstrdup(def);
     p->name[eq - def] = '\0';
-    if (strcmp(p->name, "run") == 0)
-        return fail("%s is the run number (use --runs)", "-D run");
-    for (size_t i = 0; i < sw->nparams; i++)
-        if (strcmp(sw->params[i].name, p->name) == 0) return fail("'%s' defined twice", p->name);
+    int clash = strcmp(p->name, "run") == 0 ? -1 : 0;
+    for (size_t i = 0; i < sw->nparams && !clash; i++)
+        clash = strcmp(sw->params[i].name, p->name) == 0;
+    if (clash) {   /* not counted in nparams: freed here */
+        int rc = clash < 0 ? fail("%s is the run number (use --runs)", "-D run")
+                           : fail("'%s' defined twice", p->name);
+        free(p->name);
+        p->name = NULL;
+        return rc;
+    }
     char *vals = p->name + (eq - def) + 1;
     p->values = xmalloc((strlen(vals) + 2) * sizeof *p->values);
     p->n = 0;
