@@ -16,12 +16,7 @@ dir=$(mktemp -d) || exit 2
 trap 'rm -rf "$dir"' EXIT
 fail=0
 bad() { echo "interrupt_work: $*" >&2; fail=1; }
-# FLITTER_TEST_SLOWDOWN=K (.ci/run's valgrind phase: 20) gives K times the
-# time for a run to end: under valgrind a poll interval takes seconds
-slow=${FLITTER_TEST_SLOWDOWN:-1}
-case $slow in ''|*[!0-9]*|0) slow=1 ;; esac
 # stop NAME ARGS...: start flitter, SIGINT after 1 s, must end within 3 s
-# (3*K s under FLITTER_TEST_SLOWDOWN=K)
 stop() {
     name=$1
     shift
@@ -32,8 +27,8 @@ stop() {
     kill -INT $pid
     waited=0
     while kill -0 $pid 2>/dev/null; do
-        if [ $waited -ge $((30 * slow)) ]; then
-            bad "$name: still running $((3 * slow)) s after SIGINT"
+        if [ $waited -ge 30 ]; then
+            bad "$name: still running 3 s after SIGINT"
             kill -KILL $pid
             break
         fi
