@@ -9,12 +9,14 @@
 
 #include "canvas.h"
 #include "mem.h"
+#include "srgb.h"
 
 struct Bloom {
     float *small, *tmp;       /* two framebuffers at the blur's size */
     size_t cap_small;
     int *ix; float *fx;       /* bilinear taps along one axis: index, weight of index+1 */
     size_t cap_taps;
+    SrgbTable srgb;           /* the output encoding, made once */
     double ms_total;
     long calls;
 };
@@ -36,7 +38,12 @@ void bloom_params(const Node *n, BloomParams *p)
     if (canvas_attr_nums(n, "downsample", 1, v)) p->downsample = v[0] >= 1 && v[0] < 1e6 ? (int)v[0] : 1;
 }
 
-Bloom *bloom_new(void) { return mem_calloc(1, sizeof(Bloom)); }
+Bloom *bloom_new(void)
+{
+    Bloom *b = mem_calloc(1, sizeof(Bloom));
+    srgb_table_init(&b->srgb);
+    return b;
+}
 
 double bloom_time_ms(const Bloom *b, long *calls)
 {
@@ -71,17 +78,21 @@ static void taps(int *ix, float *fx, int to, int from)
     }
 }
 
+/* Room in b->ix and b->fx for [need] taps. */
+static void grow_taps(Bloom *b, size_t need)
+{
+    if (need <= b->cap_taps) return;
+    b->cap_taps = need;
+    free(b->ix);
+    free(b->fx);
+    b->ix = mem_alloc(need * sizeof *b->ix);
+    b->fx = mem_alloc(need * sizeof *b->fx);
+}
+
 /* Resample [src] (sw x sh RGBA) to [dst] (dw x dh) with bilinear taps. */
 static void resample(Bloom *b, float *dst, int dw, int dh, const float *src, int sw, int sh)
 {
-    size_t need = (size_t)dw + dh;
-    if (need > b->cap_taps) {
-        b->cap_taps = need;
-        free(b->ix);
-        free(b->fx);
-        b->ix = mem_alloc(need * sizeof *b->ix);
-        b->fx = mem_alloc(need * sizeof *b->fx);
-    }
+    grow_taps(b, (size_t)dw + dh);
     int *ix = b->ix, *iy = b->ix + dw;
     float *fx = b->fx, *fy = b->fx + dw;
     taps(ix, fx, dw, sw);
@@ -226,14 +237,7 @@ void bloom_apply(Bloom *b, const BloomParams *p, float *rgba, int w, int h)
      * original, times alpha */
     size_t row = (size_t)w * 4;
     float *line = mem_alloc(row * sizeof(float));
-    size_t need = (size_t)w + h;
-    if (need > b->cap_taps) {
-        b->cap_taps = need;
-        free(b->ix);
-        free(b->fx);
-        b->ix = mem_alloc(need * sizeof *b->ix);
-        b->fx = mem_alloc(need * sizeof *b->fx);
-    }
+    grow_taps(b, (size_t)w + h);
     int *ix = b->ix, *iy = b->ix + w;
     float *fx = b->fx, *fy = b->fx + w;
     taps(ix, fx, w, sw);
@@ -307,39 +311,10 @@ void bloom_over(float *dst, const float *rgba, size_t n)
     }
 }
 
-#define STEPS 16384
-
-void bloom_encode(const float *rgba, cairo_surface_t *pic)
+void bloom_encode(Bloom *b, const float *rgba, cairo_surface_t *pic)
 {
-    uint8_t *enc = mem_alloc(STEPS + 1);
-    for (int i = 0; i <= STEPS; i++) {
-        double x = (double)i / STEPS;
-        double s = x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1 / 2.4) - 0.055;
-        enc[i] = (uint8_t)lround(s * 255);
-    }
-    cairo_surface_flush(pic);
-    unsigned char *data = cairo_image_surface_get_data(pic);
-    int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
-    int stride = cairo_image_surface_get_stride(pic);
-    for (int y = 0; y < h; y++) {
-        uint32_t *row = (uint32_t *)(void *)(data + (size_t)y * stride);
-        const float *src = rgba + (size_t)y * w * 4;
-        for (int x = 0; x < w; x++, src += 4) {
-            unsigned v[3], a = 0;
-            for (int k = 0; k < 3; k++) {
-                float f = src[k];
-                int idx = !(f > 0) ? 0 : f >= 1 ? STEPS : (int)(f * STEPS + 0.5f);
-                v[k] = enc[idx];
-                if (v[k] > a) a = v[k];
-            }
-            float fa = src[3];
-            unsigned alpha = !(fa > 0) ? 0 : fa >= 1 ? 255 : (unsigned)lroundf(fa * 255);
-            if (alpha > a) a = alpha;
-            row[x] = (a << 24) | (v[0] << 16) | (v[1] << 8) | v[2];
-        }
-    }
-    cairo_surface_mark_dirty(pic);
-    free(enc);
+    srgb_encode_surface(&b->srgb, rgba, cairo_image_surface_get_width(pic),
+                        cairo_image_surface_get_height(pic), pic);
 }
 
 /* }===== */

@@ -64,10 +64,8 @@ void bloom_decode(cairo_surface_t *pic, float *rgba);
  * [n] pixels): the `over` blend. */
 void bloom_over(float *dst, const float *rgba, size_t n);
 /* Encode linear light [rgba] into [pic] (ARGB32 of the same size),
- * replacing its pixels as the window's output does: each premultiplied
- * channel clamped to 0..1 and sRGB-encoded, with an alpha of at least
- * each encoded channel (as canvas3d.h's pictures), so that painted over
- * black it gives Flitter's window output exactly. */
-void bloom_encode(const float *rgba, cairo_surface_t *pic);
+ * replacing its pixels as the window's output does (srgb_encode_surface,
+ * with [b]'s table). */
+void bloom_encode(Bloom *b, const float *rgba, cairo_surface_t *pic);
 
 #endif

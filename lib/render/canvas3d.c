@@ -28,10 +28,10 @@
 #include "mem.h"
 #include "models_mesh.h"
 #include "rnode.h"
+#include "srgb.h"
 
 #define DEFAULT_MAX_LIGHTS 50
 #define DEFAULT_SEGMENTS 64
-#define SRGB_STEPS 16384
 
 typedef struct Material {
     double albedo[3], emissive[3];
@@ -95,7 +95,7 @@ struct Canvas3D {
     float *lightbuf; int cap_lightbuf;    /* mat4s of one group */
     float *pixels; size_t cap_pixels;     /* read-back framebuffer */
     bool have_pixels;                     /* [pixels] hold the last canvas3d_draw's picture */
-    uint8_t srgb[SRGB_STEPS + 1];         /* linear 0..1 to sRGB 0..255 */
+    SrgbTable srgb;                       /* linear 0..1 to sRGB 0..255 */
     /* the cameras with an id of this frame */
     Camera cams[8]; Buf cam_id[8]; int ncams;
     Buf name;
@@ -108,11 +108,7 @@ struct Canvas3D {
 Canvas3D *canvas3d_new(void)
 {
     Canvas3D *c = mem_calloc(1, sizeof *c);
-    for (int i = 0; i <= SRGB_STEPS; i++) {
-        double x = (double)i / SRGB_STEPS;
-        double s = x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1 / 2.4) - 0.055;
-        c->srgb[i] = (uint8_t)lround(s * 255);
-    }
+    srgb_table_init(&c->srgb);
     for (int i = 0; i < 8; i++) c->cam_id[i] = (Buf)BUF_INIT;
     c->name = (Buf)BUF_INIT;
     return c;
@@ -655,31 +651,6 @@ static void draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera
 
 /* }===== */
 
-static void encode(Canvas3D *c, cairo_surface_t *pic, int w, int h)
-{
-    cairo_surface_flush(pic);
-    unsigned char *data = cairo_image_surface_get_data(pic);
-    int stride = cairo_image_surface_get_stride(pic);
-    for (int y = 0; y < h; y++) {
-        uint32_t *row = (uint32_t *)(void *)(data + (size_t)y * stride);
-        const float *src = c->pixels + (size_t)y * w * 4;
-        for (int x = 0; x < w; x++, src += 4) {
-            unsigned v[3], a = 0;
-            for (int k = 0; k < 3; k++) {
-                float f = src[k];
-                int idx = !(f > 0) ? 0 : f >= 1 ? SRGB_STEPS : (int)(f * SRGB_STEPS + 0.5f);
-                v[k] = c->srgb[idx];
-                if (v[k] > a) a = v[k];
-            }
-            float fa = src[3];
-            unsigned alpha = !(fa > 0) ? 0 : fa >= 1 ? 255 : (unsigned)lroundf(fa * 255);
-            if (alpha > a) a = alpha;
-            row[x] = (a << 24) | (v[0] << 16) | (v[1] << 8) | v[2];
-        }
-    }
-    cairo_surface_mark_dirty(pic);
-}
-
 int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env, const RenderLog *log)
 {
     c->have_pixels = false;
@@ -765,7 +736,7 @@ int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const Can
     gl_target_read(c->gl, c->pixels);
     gl_context_done(c->gl);
     c->have_pixels = true;
-    encode(c, pic, w, h);
+    srgb_encode_surface(&c->srgb, c->pixels, w, h, pic);
     clock_gettime(CLOCK_MONOTONIC, &t1);
     c->ms_total += (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) / 1e6;
     c->calls++;

@@ -247,7 +247,7 @@ static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, P
     bloom_params(n, &bp);
     bloom_apply(r->bloom, &bp, light, w, h);
     cairo_surface_t *pic = new_picture(w, h);
-    bloom_encode(light, pic);
+    bloom_encode(r->bloom, light, pic);
     r->bloom_busy = was_busy;
     if (own) free(light);
     free(one);
