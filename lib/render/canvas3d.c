@@ -22,6 +22,7 @@
 #include <epoxy/gl.h>
 
 #include "buf.h"
+#include "canvas3d_program.h"
 #include "canvas3d_shaders.h"
 #include "gl_context.h"
 #include "mat4.h"
@@ -71,19 +72,13 @@ typedef struct Camera {
     M4 view, pv;
 } Camera;
 
-typedef struct Program {
-    int max_lights;
-    GLuint prog, ubo;
-    GLint u_pv, u_view_position, u_view_focus, u_orthographic, u_fog_min, u_fog_max, u_fog_curve,
-        u_fog_color, u_monochrome, u_tint, u_nlights;
-} Program;
 
 struct Canvas3D {
     GlContext *gl;
     bool failed;               /* no context could be made: draw nothing */
     bool target_warned;        /* a framebuffer failure was reported (once) */
     MeshCache *meshes;
-    Program prog[4];           /* by max_lights, least recently made replaced */
+    C3dProgram prog[4];        /* by max_lights, the first made replaced when full */
     int nprog;
     GLuint instance_vbo;
     /* the frame's scene, reused across frames */
@@ -91,6 +86,9 @@ struct Canvas3D {
     Light *lights; int nlights, cap_lights;
     Instance *inst; int ninst, cap_inst;
     Instance **order; int cap_order;
+    Instance **split; int cap_split;      /* one dispatch's impostors */
+    bool impostors;                       /* spheres may be drawn as impostors (FLITTER_CANVAS3D_IMPOSTORS=0: never) */
+    int samples_used;                     /* MSAA samples of this frame's target (0: none) */
     float *idata; size_t cap_idata;       /* instance floats of one dispatch */
     float *lightbuf; int cap_lightbuf;    /* mat4s of one group */
     float *pixels; size_t cap_pixels;     /* read-back framebuffer */
@@ -109,6 +107,8 @@ Canvas3D *canvas3d_new(void)
 {
     Canvas3D *c = mem_calloc(1, sizeof *c);
     srgb_table_init(&c->srgb);
+    const char *imp = getenv("FLITTER_CANVAS3D_IMPOSTORS");
+    c->impostors = !(imp && strcmp(imp, "0") == 0);
     for (int i = 0; i < 8; i++) c->cam_id[i] = (Buf)BUF_INIT;
     c->name = (Buf)BUF_INIT;
     return c;
@@ -427,71 +427,16 @@ static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int g
 
 /* {===== GL programs and dispatch */
 
-static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
-{
-    GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &src, NULL);
-    glCompileShader(s);
-    GLint ok;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char logtext[512] = "";
-        glGetShaderInfoLog(s, sizeof logtext, NULL, logtext);
-        snprintf(err, errlen, "canvas3d: shader does not compile: %s", logtext);
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
-
-static const Program *program_for(Canvas3D *c, int max_lights, char *err, size_t errlen)
+static const C3dProgram *program_for(Canvas3D *c, int max_lights, char *err, size_t errlen)
 {
     for (int i = 0; i < c->nprog; i++)
         if (c->prog[i].max_lights == max_lights) return &c->prog[i];
-    size_t need = canvas3d_fragment_source(NULL, 0, max_lights) + 1;
-    char *fs = mem_alloc(need);
-    canvas3d_fragment_source(fs, need, max_lights);
-    GLuint v = compile(GL_VERTEX_SHADER, canvas3d_vertex_source, err, errlen);
-    GLuint f = v ? compile(GL_FRAGMENT_SHADER, fs, err, errlen) : 0;
-    free(fs);
-    if (!f) {
-        if (v) glDeleteShader(v);
-        return NULL;
-    }
-    GLuint p = glCreateProgram();
-    glAttachShader(p, v);
-    glAttachShader(p, f);
-    glLinkProgram(p);
-    glDeleteShader(v);
-    glDeleteShader(f);
-    GLint ok;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char logtext[512] = "";
-        glGetProgramInfoLog(p, sizeof logtext, NULL, logtext);
-        snprintf(err, errlen, "canvas3d: shader program does not link: %s", logtext);
-        glDeleteProgram(p);
-        return NULL;
-    }
+    C3dProgram made;
+    if (!c3d_program_make(&made, max_lights, err, errlen)) return NULL;
     int slot = c->nprog < 4 ? c->nprog++ : 0;
-    Program *pr = &c->prog[slot];
-    if (pr->prog) {
-        glDeleteProgram(pr->prog);
-        glDeleteBuffers(1, &pr->ubo);
-    }
-    memset(pr, 0, sizeof *pr);
-    pr->max_lights = max_lights;
-    pr->prog = p;
-    glUniformBlockBinding(p, glGetUniformBlockIndex(p, "Lights"), 1);
-    glGenBuffers(1, &pr->ubo);
-    glBindBuffer(GL_UNIFORM_BUFFER, pr->ubo);
-    glBufferData(GL_UNIFORM_BUFFER, (GLsizeiptr)max_lights * 64, NULL, GL_DYNAMIC_DRAW);
-#define U(name) pr->u_##name = glGetUniformLocation(p, #name)
-    U(view_position); U(view_focus); U(orthographic); U(fog_min); U(fog_max); U(fog_curve);
-    U(fog_color); U(monochrome); U(tint); U(nlights);
-#undef U
-    pr->u_pv = glGetUniformLocation(p, "pv_matrix");
-    return pr;
+    c3d_program_free(&c->prog[slot]);
+    c->prog[slot] = made;
+    return &c->prog[slot];
 }
 
 static void set_blend(int composite)
@@ -509,8 +454,8 @@ static void set_blend(int composite)
     }
 }
 
-/* Draw [n] instances of one mesh from [list]. */
-static void dispatch(Canvas3D *c, Instance **list, int n)
+/* Draw [n] instances from [list] with the buffers of [mesh] and [sh]. */
+static void draw_instances(Canvas3D *c, Instance **list, int n, const GlMesh *mesh, const C3dShader *sh)
 {
     if (n <= 0) return;
     size_t need = (size_t)n * C3D_INSTANCE_FLOATS;
@@ -531,7 +476,7 @@ static void dispatch(Canvas3D *c, Instance **list, int n)
         d[32] = (float)m->translucency;
         d[33] = (float)m->ior, d[34] = (float)m->metal, d[35] = (float)m->roughness, d[36] = (float)m->ao;
     }
-    const GlMesh *mesh = list[0]->mesh;
+    glUseProgram(sh->prog);
     glBindVertexArray(mesh->vao);
     glBindBuffer(GL_ARRAY_BUFFER, c->instance_vbo);
     glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(need * sizeof(float)), c->idata, GL_STREAM_DRAW);
@@ -544,6 +489,77 @@ static void dispatch(Canvas3D *c, Instance **list, int n)
         glVertexAttribDivisor(3 + a, 1);
     }
     glDrawElementsInstanced(GL_TRIANGLES, mesh->nindex, GL_UNSIGNED_INT, NULL, n);
+}
+
+/* Whether a sphere instance may be drawn as an impostor: its bounding box
+ * (the unit sphere's, +-1 in model space) lies wholly beyond the camera's
+ * near plane, so that the box's front faces cover all of it. */
+static bool impostor_fits(const Instance *in, const Camera *cam)
+{
+    const double *m = in->model.m;
+    double reach = 0, d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        reach += sqrt(m[k * 4] * m[k * 4] + m[k * 4 + 1] * m[k * 4 + 1] + m[k * 4 + 2] * m[k * 4 + 2]);
+        d2 += (cam->position[k] - m[12 + k]) * (cam->position[k] - m[12 + k]);
+    }
+    return m[3] == 0 && m[7] == 0 && m[11] == 0 && m[15] == 1 && sqrt(d2) > reach + cam->near;
+}
+
+/* Draw [n] instances of one mesh from [list] in that order: smooth spheres
+ * (not flat, not inverted) of a group that culls back faces as ray-cast
+ * impostors when the program has them and they fit, the rest as meshes. */
+static void dispatch(Canvas3D *c, Instance **list, int n, const C3dProgram *p, const Camera *cam, bool cull_back)
+{
+    if (n <= 0) return;
+    const GlMesh *mesh = list[0]->mesh;
+    if (!(c->impostors && cull_back && p->impostor.prog && mesh->key.kind == MESH_SPHERE && !mesh->key.flat &&
+          !mesh->key.invert)) {
+        draw_instances(c, list, n, mesh, &p->mesh);
+        return;
+    }
+    if (c->cap_split < n) {
+        c->cap_split = 2 * n;
+        c->split = mem_realloc_array(c->split, (size_t)c->cap_split, sizeof *c->split);
+    }
+    int ni = 0, nm = 0;
+    for (int i = 0; i < n; i++)
+        if (impostor_fits(list[i], cam)) c->split[ni++] = list[i];
+        else list[nm++] = list[i];
+    MeshKey box = {.kind = MESH_BOX};
+    draw_instances(c, c->split, ni, mesh_cache_get(c->meshes, &box), &p->impostor);
+    draw_instances(c, list, nm, mesh, &p->mesh);
+}
+
+/* The camera's uniforms of [sh] (and the impostor's view of the target). */
+static void set_uniforms(Canvas3D *c, const C3dShader *sh, const C3dProgram *p, const Camera *cam, int nl)
+{
+    if (!sh->prog) return;
+    glUseProgram(sh->prog);
+    float pv[16];
+    for (int k = 0; k < 16; k++) pv[k] = (float)cam->pv.m[k];
+    glUniformMatrix4fv(sh->u_pv, 1, GL_FALSE, pv);
+    glUniform3f(sh->u_view_position, (float)cam->position[0], (float)cam->position[1], (float)cam->position[2]);
+    glUniform3f(sh->u_view_focus, (float)cam->focus[0], (float)cam->focus[1], (float)cam->focus[2]);
+    glUniform1i(sh->u_orthographic, cam->orthographic);
+    glUniform1f(sh->u_fog_min, (float)cam->fog_min);
+    glUniform1f(sh->u_fog_max, (float)cam->fog_max);
+    glUniform1f(sh->u_fog_curve, (float)cam->fog_curve);
+    glUniform3f(sh->u_fog_color, (float)cam->fog_color[0], (float)cam->fog_color[1], (float)cam->fog_color[2]);
+    glUniform1i(sh->u_monochrome, cam->monochrome);
+    glUniform3f(sh->u_tint, (float)cam->tint[0], (float)cam->tint[1], (float)cam->tint[2]);
+    glUniform1i(sh->u_nlights, nl);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 1, p->ubo);
+    if (sh->u_inverse_pv < 0) return;
+    M4 inv;
+    m4_inverse(&cam->pv, &inv);
+    for (int k = 0; k < 16; k++) pv[k] = (float)inv.m[k];
+    glUniformMatrix4fv(sh->u_inverse_pv, 1, GL_FALSE, pv);
+    glUniform2f(sh->u_viewport_size, (float)c->width, (float)c->height);
+    int ns = c->samples_used > 8 ? 8 : c->samples_used;
+    float offsets[16] = {0};
+    for (int i = 0; i < ns; i++) glGetMultisamplefv(GL_SAMPLE_POSITION, (GLuint)i, offsets + 2 * i);
+    glUniform1i(sh->u_nsamples, ns);
+    glUniform2fv(sh->u_sample_offsets, 8, offsets);
 }
 
 static int by_mesh_then_z(const void *a, const void *b)
@@ -574,21 +590,8 @@ static double nearest_corner(const float b[6], const M4 *vm)
 static void draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen)
 {
     const Group *g = &c->groups[gi];
-    const Program *p = program_for(c, g->max_lights, err, errlen);
+    const C3dProgram *p = program_for(c, g->max_lights, err, errlen);
     if (!p) return;
-    glUseProgram(p->prog);
-    float pv[16];
-    for (int k = 0; k < 16; k++) pv[k] = (float)cam->pv.m[k];
-    glUniformMatrix4fv(p->u_pv, 1, GL_FALSE, pv);
-    glUniform3f(p->u_view_position, (float)cam->position[0], (float)cam->position[1], (float)cam->position[2]);
-    glUniform3f(p->u_view_focus, (float)cam->focus[0], (float)cam->focus[1], (float)cam->focus[2]);
-    glUniform1i(p->u_orthographic, cam->orthographic);
-    glUniform1f(p->u_fog_min, (float)cam->fog_min);
-    glUniform1f(p->u_fog_max, (float)cam->fog_max);
-    glUniform1f(p->u_fog_curve, (float)cam->fog_curve);
-    glUniform3f(p->u_fog_color, (float)cam->fog_color[0], (float)cam->fog_color[1], (float)cam->fog_color[2]);
-    glUniform1i(p->u_monochrome, cam->monochrome);
-    glUniform3f(p->u_tint, (float)cam->tint[0], (float)cam->tint[1], (float)cam->tint[2]);
     /* the group's lights, then its ancestors' */
     int nl = 0;
     if (c->cap_lightbuf < g->max_lights * 16) {
@@ -600,8 +603,8 @@ static void draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera
             if (c->lights[l].group == k) memcpy(c->lightbuf + (size_t)16 * nl++, c->lights[l].data, 64);
     glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
     if (nl) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)nl * 64, c->lightbuf);
-    glBindBufferBase(GL_UNIFORM_BUFFER, 1, p->ubo);
-    glUniform1i(p->u_nlights, nl);
+    set_uniforms(c, &p->mesh, p, cam, nl);
+    set_uniforms(c, &p->impostor, p, cam, nl);
 
     glEnable(GL_BLEND);
     set_blend(g->composite);
@@ -633,7 +636,7 @@ static void draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera
                 list[i + k++] = list[j];
             j++;
         }
-        dispatch(c, list + i, k);
+        dispatch(c, list + i, k, p, cam, g->face_cull && !g->cull_front);
         i = j;
     }
     if (nt) {
@@ -642,7 +645,7 @@ static void draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera
         for (int a = 0; a < nt;) {
             int b = a;
             while (b < nt && transparent[b]->mesh == transparent[a]->mesh) b++;
-            dispatch(c, transparent + a, b - a);
+            dispatch(c, transparent + a, b - a, p, cam, g->face_cull && !g->cull_front);
             a = b;
         }
         glDepthMask(GL_TRUE);
@@ -704,6 +707,7 @@ int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const Can
                  fog ? (float)(fc[2] * cam->tint[2]) : 0, fog ? 1 : 0);
     glClearDepth(1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    c->samples_used = used;
     if (used > 0) glEnable(GL_MULTISAMPLE);
     /* instances by group */
     if (c->cap_order < 2 * c->ninst) {
@@ -763,8 +767,7 @@ void canvas3d_free(Canvas3D *c)
     if (c->gl && gl_context_use(c->gl)) {
         mesh_cache_free(c->meshes);
         for (int i = 0; i < c->nprog; i++) {
-            glDeleteProgram(c->prog[i].prog);
-            glDeleteBuffers(1, &c->prog[i].ubo);
+            c3d_program_free(&c->prog[i]);
         }
         glDeleteBuffers(1, &c->instance_vbo);
     }
@@ -773,6 +776,7 @@ void canvas3d_free(Canvas3D *c)
     free(c->lights);
     free(c->inst);
     free(c->order);
+    free(c->split);
     free(c->idata);
     free(c->lightbuf);
     free(c->pixels);

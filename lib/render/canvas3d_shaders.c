@@ -40,9 +40,34 @@ const char canvas3d_vertex_source[] =
     "    properties = material_properties;\n"
     "}\n";
 
+const char canvas3d_impostor_vertex_source[] =
+    "#version 330 core\n"
+    "layout(location = 0) in vec3 model_position;\n"
+    "layout(location = 3) in mat4 model_matrix;\n"
+    "layout(location = 7) in mat3 normal_matrix;\n"
+    "layout(location = 10) in vec4 material_albedo;\n"
+    "layout(location = 11) in vec4 material_emissive;\n"
+    "layout(location = 12) in vec4 material_properties;\n"
+    "out vec3 world_position;\n"
+    "flat out mat4 ray_matrix;\n"
+    "flat out mat3 normal_mat;\n"
+    "flat out vec4 albedo;\n"
+    "flat out vec4 emissive;\n"
+    "flat out vec4 properties;\n"
+    "uniform mat4 pv_matrix;\n"
+    "uniform mat4 inverse_pv;\n"
+    "void main() {\n"
+    "    vec4 p = model_matrix * vec4(model_position * 2.0, 1.0);\n"   /* the unit box, made to enclose the unit sphere */
+    "    world_position = p.xyz;\n"
+    "    gl_Position = pv_matrix * p;\n"
+    "    ray_matrix = inverse(model_matrix) * inverse_pv;\n"
+    "    normal_mat = normal_matrix;\n"
+    "    albedo = material_albedo;\n"
+    "    emissive = material_emissive;\n"
+    "    properties = material_properties;\n"
+    "}\n";
+
 static const char fragment_body[] =
-    "in vec3 world_position;\n"
-    "in vec3 world_normal;\n"
     "flat in vec4 albedo;\n"
     "flat in vec4 emissive;\n"
     "flat in vec4 properties;\n"
@@ -62,14 +87,14 @@ static const char fragment_body[] =
     "float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }\n"
     "float largest(vec3 v) { return max(v.x, max(v.y, v.z)); }\n"
     "\n"
-    "void main() {\n"
+    "void shade(vec3 P, vec3 Nw) {\n"
     "    vec3 V;\n"
     "    float distance_to_eye;\n"
     "    if (orthographic) {\n"
     "        V = normalize(view_position - view_focus);\n"
-    "        distance_to_eye = dot(view_position - world_position, V);\n"
+    "        distance_to_eye = dot(view_position - P, V);\n"
     "    } else {\n"
-    "        V = view_position - world_position;\n"
+    "        V = view_position - P;\n"
     "        distance_to_eye = length(V);\n"
     "        V /= distance_to_eye;\n"
     "    }\n"
@@ -83,7 +108,7 @@ static const char fragment_body[] =
     "    } else {\n"
     "        vec3 base = albedo.rgb;\n"
     "        float ior = properties.x, metal = properties.y, roughness = properties.z, ao = properties.w;\n"
-    "        vec3 N = normalize(world_normal);\n"
+    "        vec3 N = normalize(Nw);\n"
     "        vec3 diffuse = vec3(0.0), specular = vec3(0.0);\n"
     "        float glow = luminance(emissive.rgb);\n"
     "        if (glow > 1.0) {\n"
@@ -113,14 +138,14 @@ static const char fragment_body[] =
     "                if (type == 2) {\n"
     "                    L = -light[2].xyz;\n"
     "                } else if (type == 4) {\n"
-    "                    L = light[1].xyz - world_position;\n"
+    "                    L = light[1].xyz - P;\n"
     "                    d = length(L);\n"
     "                    L /= d;\n"
     "                    float inner = light[1].w, outer = light[2].w;\n"
     "                    strength = 1.0 - clamp((inner - dot(L, -light[2].xyz)) / (inner - outer), 0.0, 1.0);\n"
     "                } else {\n"
     "                    float radius = light[2].w;\n"
-    "                    L = light[1].xyz - world_position;\n"
+    "                    L = light[1].xyz - P;\n"
     "                    d = length(L);\n"
     "                    if (radius > 0.0) {\n"
     "                        passes = 2;\n"
@@ -163,8 +188,76 @@ static const char fragment_body[] =
     "        fragment_color = vec4(color, opacity);\n"
     "}\n";
 
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights)
+/* The mesh path: the interpolated surface of the triangles. */
+static const char mesh_main[] =
+    "in vec3 world_position;\n"
+    "in vec3 world_normal;\n"
+    "void main() { shade(world_position, world_normal); }\n";
+
+/* The impostor path: the ray from the eye through this fragment of the
+ * bounding cube meets the unit sphere of the model (found in model space,
+ * so scaled and rotated spheres are exact ellipsoids); the surface point,
+ * its normal (the normal matrix applied to the model-space point) and its
+ * depth are the sphere's, fragments whose ray misses are discarded. With
+ * MSAA the sample mask keeps only the samples whose own rays hit
+ * (sample_offsets: the 4 sample positions within the pixel). */
+static const char impostor_main[] =
+    "in vec3 world_position;\n"
+    "flat in mat4 ray_matrix;\n"
+    "flat in mat3 normal_mat;\n"
+    "uniform mat4 pv_matrix;\n"
+    "uniform mat4 inverse_pv;\n"
+    "uniform vec2 viewport_size;\n"
+    "uniform int nsamples;\n"
+    "uniform vec2 sample_offsets[8];\n"
+    "vec2 to_ndc(vec2 frag) { return frag / viewport_size * 2.0 - 1.0; }\n"
+    "bool hit_at(vec2 frag, out vec3 o, out vec3 d, out float t) {\n"   /* the ray in model space */
+    "    vec2 n = to_ndc(frag);\n"
+    "    vec4 a = ray_matrix[0] * n.x + ray_matrix[1] * n.y + ray_matrix[3] - ray_matrix[2];\n"
+    "    vec4 b = a + 2.0 * ray_matrix[2];\n"
+    "    o = a.xyz / a.w;\n"
+    "    d = b.xyz / b.w - o;\n"
+    "    float qa = dot(d, d), qb = dot(o, d), qc = dot(o, o) - 1.0;\n"
+    "    float disc = qb * qb - qa * qc;\n"
+    "    t = (-qb - sqrt(max(disc, 0.0))) / qa;\n"
+    "    return disc >= 0.0 && t >= 0.0;\n"
+    "}\n"
+    "void main() {\n"
+    "    vec3 o, d;\n"
+    "    float t;\n"
+    "    vec2 frag = gl_FragCoord.xy;\n"
+    "    bool centre = hit_at(frag, o, d, t);\n"
+    "    if (nsamples > 1) {\n"
+    "        int mask = 0;\n"
+    "        vec3 o2, d2;\n"
+    "        float t2;\n"
+    "        for (int i = 0; i < nsamples; i++) {\n"
+    "            vec2 f = floor(gl_FragCoord.xy) + sample_offsets[i];\n"
+    "            if (hit_at(f, o2, d2, t2)) {\n"
+    "                mask |= 1 << i;\n"
+    "                if (!centre) { centre = true; o = o2; d = d2; t = t2; frag = f; }\n"
+    "            }\n"
+    "        }\n"
+    "        if (mask == 0) discard;\n"
+    "        gl_SampleMask[0] = mask;\n"
+    "    } else if (!centre) {\n"
+    "        discard;\n"
+    "    }\n"
+    "    vec3 m = o + t * d;\n"   /* the same t on the world ray (the model matrix is affine) */
+    "    vec4 a = inverse_pv * vec4(to_ndc(frag), -1.0, 1.0), b = inverse_pv * vec4(to_ndc(frag), 1.0, 1.0);\n"
+    "    vec3 ro = a.xyz / a.w;\n"
+    "    vec3 wp = ro + t * (b.xyz / b.w - ro);\n"
+    "    vec4 clip = pv_matrix * vec4(wp, 1.0);\n"
+    "    float z = clip.z / clip.w;\n"
+    "    if (z > 1.0) discard;\n"
+    "    gl_FragDepth = z * 0.5 + 0.5;\n"
+    "    shade(wp, normal_mat * m);\n"
+    "}\n";
+
+size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, bool impostor)
 {
-    int n = snprintf(out, cap, "#version 330 core\n#define MAX_LIGHTS %d\n%s", max_lights, fragment_body);
+    int n = snprintf(out, cap, "#version 330 core\n%s#define MAX_LIGHTS %d\n%s%s",
+                     impostor ? "#extension GL_ARB_sample_shading : require\n" : "", max_lights, fragment_body,
+                     impostor ? impostor_main : mesh_main);
     return n < 0 ? 0 : (size_t)n;
 }

@@ -16,6 +16,7 @@
 #ifndef FL_RENDER_CANVAS3D_SHADERS_H
 #define FL_RENDER_CANVAS3D_SHADERS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 enum { LIGHT_AMBIENT = 1, LIGHT_DIRECTIONAL = 2, LIGHT_POINT = 3, LIGHT_SPOT = 4 };
@@ -23,9 +24,18 @@ enum { LIGHT_AMBIENT = 1, LIGHT_DIRECTIONAL = 2, LIGHT_POINT = 3, LIGHT_SPOT = 4
 /* Floats per instance in the instance buffer. */
 #define C3D_INSTANCE_FLOATS 37
 
+/* The vertex shader of meshes. */
 extern const char canvas3d_vertex_source[];
-/* The fragment shader for [max_lights] lights into [out] (NUL-terminated);
- * returns its length, or the length needed when [cap] is too small. */
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights);
+/* The vertex shader of sphere impostors: the same per-instance inputs,
+ * position 0 the corners of the unit box (+-0.5, doubled to enclose the
+ * unit sphere); the fragment shader finds the sphere in it. */
+extern const char canvas3d_impostor_vertex_source[];
+/* The fragment shader for [max_lights] lights into [out] (NUL-terminated),
+ * for meshes or, when [impostor], for sphere impostors (then with the
+ * uniforms inverse_pv (the inverse of pv_matrix), viewport_size (pixels),
+ * nsamples and sample_offsets[8] (MSAA sample positions within a pixel,
+ * 0..1), and GL_ARB_sample_shading for gl_SampleMask); returns its length,
+ * or the length needed when [cap] is too small. */
+size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, bool impostor);
 
 #endif

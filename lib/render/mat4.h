@@ -171,4 +171,34 @@ static inline bool m4_look(const double from[3], const double to[3], const doubl
     return true;
 }
 
+/* The inverse of [a] by Gauss-Jordan elimination with partial pivoting;
+ * false (and [*out] the identity) when [a] is singular. */
+static inline bool m4_inverse(const M4 *a, M4 *out)
+{
+    double w[4][8];   /* [a | I], row-major */
+    for (int r = 0; r < 4; r++)
+        for (int k = 0; k < 4; k++) w[r][k] = a->m[k * 4 + r], w[r][k + 4] = r == k;
+    *out = m4_identity();
+    for (int col = 0; col < 4; col++) {
+        int piv = col;
+        for (int r = col + 1; r < 4; r++)
+            if (fabs(w[r][col]) > fabs(w[piv][col])) piv = r;
+        if (!(fabs(w[piv][col]) > 0)) return false;
+        for (int k = 0; k < 8; k++) {
+            double t = w[col][k];
+            w[col][k] = w[piv][k], w[piv][k] = t;
+        }
+        double d = w[col][col];
+        for (int k = 0; k < 8; k++) w[col][k] /= d;
+        for (int r = 0; r < 4; r++) {
+            if (r == col || w[r][col] == 0) continue;
+            double f = w[r][col];
+            for (int k = 0; k < 8; k++) w[r][k] -= f * w[col][k];
+        }
+    }
+    for (int r = 0; r < 4; r++)
+        for (int k = 0; k < 4; k++) out->m[k * 4 + r] = w[r][k + 4];
+    return true;
+}
+
 #endif

@@ -240,6 +240,50 @@ static void msaa_edge(void **st)
     assert_true(partial[1] >= 10);
 }
 
+/* Smooth spheres are drawn as ray-cast impostors (one box per sphere, the
+ * sphere's surface, normal and depth found per fragment, MSAA coverage per
+ * sample): the picture must be the 64-segment mesh's, which
+ * FLITTER_CANVAS3D_IMPOSTORS=0 draws, up to the facets: a sphere and a
+ * rotated ellipsoid half sunk into a plane (depth), lit from the side
+ * (the bright side faces +x), with samples=4 (partly covered edge pixels). */
+static void impostor_spheres(void **st)
+{
+    (void)st;
+    static uint32_t pix[2][W * H];
+    const char *script = "!window size=64;64\n"
+                         "    !canvas3d samples=4\n"
+                         "        !light color=1 direction=-1;0;0\n"
+                         "        !light color=0.1\n"
+                         "        !box size=60;60;1 color=0;1;0\n"
+                         "        !sphere size=8 position=-8;6;0 color=1;0;0\n"
+                         "        !sphere size=10;5;5 rotation=0;0;0.1 position=6;-6;2 color=1;1;1\n";
+    for (int k = 0; k < 2; k++) {
+        setenv("FLITTER_CANVAS3D_IMPOSTORS", k ? "1" : "0", 1);
+        fl_runtime *rt = draw(script, pix[k]);
+        fl_free(rt);
+    }
+    unsetenv("FLITTER_CANVAS3D_IMPOSTORS");
+    int worst = 0, close = 0, partial = 0;
+    for (int i = 0; i < W * H; i++) {
+        int d = 0;
+        for (int sh = 0; sh < 32; sh += 8) {
+            int e = abs(chan(pix[0][i], sh) - chan(pix[1][i], sh));
+            if (e > d) d = e;
+        }
+        if (d > worst) worst = d;
+        if (d <= 4) close++;
+        int g = chan(pix[1][i], 8), r = chan(pix[1][i], 16);
+        if (r > 0 && g > 0 && r < 250) partial++;   /* red sphere edge over the green plane */
+    }
+    assert_true(worst <= 64);
+    assert_true(close >= W * H * 97 / 100);
+    assert_true(partial >= 4);
+    /* the red sphere's lit side faces the light (+x), its other side only ambient */
+    assert_true(chan(at(pix[1], 32 - 8 * 32 / 32 + 5, 32 - 6), 16) > chan(at(pix[1], 32 - 8 * 32 / 32 - 5, 32 - 6), 16) + 100);
+    /* the plane shows around the spheres */
+    assert_rgb_near(at(pix[1], 2, 2), 0, 0.1 * (1 - F0), 0, 2);
+}
+
 /* Two runtimes, each with its own renderer and GL context, alternate. */
 static void two_runtimes(void **st)
 {
@@ -299,6 +343,7 @@ int main(void)
         cmocka_unit_test(fog_mix),
         cmocka_unit_test(depth_and_transparency),
         cmocka_unit_test(msaa_edge),
+        cmocka_unit_test(impostor_spheres),
         cmocka_unit_test(two_runtimes),
         cmocka_unit_test(unsupported_warned_once),
     };

@@ -1,0 +1,91 @@
+/* canvas3d_program.c: compiling and linking the standard lighting
+ * programs of `!canvas3d` (see canvas3d_program.h). */
+#include "canvas3d_program.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <epoxy/gl.h>
+
+#include "canvas3d_shaders.h"
+#include "mem.h"
+
+static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
+{
+    GLuint s = glCreateShader(type);
+    glShaderSource(s, 1, &src, NULL);
+    glCompileShader(s);
+    GLint ok;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char logtext[512] = "";
+        glGetShaderInfoLog(s, sizeof logtext, NULL, logtext);
+        snprintf(err, errlen, "canvas3d: shader does not compile: %s", logtext);
+        glDeleteShader(s);
+        return 0;
+    }
+    return s;
+}
+
+static bool link(C3dShader *sh, const char *vsrc, int max_lights, bool impostor, char *err, size_t errlen)
+{
+    memset(sh, 0, sizeof *sh);
+    size_t need = canvas3d_fragment_source(NULL, 0, max_lights, impostor) + 1;
+    char *fs = mem_alloc(need);
+    canvas3d_fragment_source(fs, need, max_lights, impostor);
+    GLuint v = compile(GL_VERTEX_SHADER, vsrc, err, errlen);
+    GLuint f = v ? compile(GL_FRAGMENT_SHADER, fs, err, errlen) : 0;
+    free(fs);
+    if (!f) {
+        if (v) glDeleteShader(v);
+        return false;
+    }
+    GLuint p = glCreateProgram();
+    glAttachShader(p, v);
+    glAttachShader(p, f);
+    glLinkProgram(p);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    GLint ok;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char logtext[512] = "";
+        glGetProgramInfoLog(p, sizeof logtext, NULL, logtext);
+        snprintf(err, errlen, "canvas3d: shader program does not link: %s", logtext);
+        glDeleteProgram(p);
+        return false;
+    }
+    sh->prog = p;
+    glUniformBlockBinding(p, glGetUniformBlockIndex(p, "Lights"), 1);
+#define U(name) sh->u_##name = glGetUniformLocation(p, #name)
+    U(view_position); U(view_focus); U(orthographic); U(fog_min); U(fog_max); U(fog_curve);
+    U(fog_color); U(monochrome); U(tint); U(nlights); U(inverse_pv); U(viewport_size); U(nsamples);
+    U(sample_offsets);
+#undef U
+    sh->u_pv = glGetUniformLocation(p, "pv_matrix");
+    return true;
+}
+
+bool c3d_program_make(C3dProgram *p, int max_lights, char *err, size_t errlen)
+{
+    memset(p, 0, sizeof *p);
+    if (!link(&p->mesh, canvas3d_vertex_source, max_lights, false, err, errlen)) return false;
+    if (epoxy_has_gl_extension("GL_ARB_sample_shading")) {
+        char ignored[600];
+        link(&p->impostor, canvas3d_impostor_vertex_source, max_lights, true, ignored, sizeof ignored);
+    }
+    p->max_lights = max_lights;
+    glGenBuffers(1, &p->ubo);
+    glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
+    glBufferData(GL_UNIFORM_BUFFER, (GLsizeiptr)max_lights * 64, NULL, GL_DYNAMIC_DRAW);
+    return true;
+}
+
+void c3d_program_free(C3dProgram *p)
+{
+    if (p->mesh.prog) glDeleteProgram(p->mesh.prog);
+    if (p->impostor.prog) glDeleteProgram(p->impostor.prog);
+    if (p->ubo) glDeleteBuffers(1, &p->ubo);
+    memset(p, 0, sizeof *p);
+}

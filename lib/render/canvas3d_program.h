@@ -1,0 +1,35 @@
+/* canvas3d_program.h: the GL programs of `!canvas3d`'s standard lighting
+ * (canvas3d_shaders.h): for each max_lights, one program for meshes and
+ * one for sphere impostors, sharing the lights' uniform buffer.
+ */
+#ifndef FL_RENDER_CANVAS3D_PROGRAM_H
+#define FL_RENDER_CANVAS3D_PROGRAM_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+/* One linked program and its uniform locations (-1: absent). */
+typedef struct C3dShader {
+    unsigned prog;   /* GL name, 0 when it could not be made */
+    int u_pv, u_view_position, u_view_focus, u_orthographic, u_fog_min, u_fog_max, u_fog_curve, u_fog_color,
+        u_monochrome, u_tint, u_nlights;
+    int u_inverse_pv, u_viewport_size, u_nsamples, u_sample_offsets;   /* impostors only */
+} C3dShader;
+
+typedef struct C3dProgram {
+    int max_lights;
+    unsigned ubo;          /* the Lights block: max_lights mat4s, bound at binding point 1 */
+    C3dShader mesh;        /* triangle meshes */
+    C3dShader impostor;    /* ray-cast spheres; prog 0 when the driver cannot (no GL_ARB_sample_shading) */
+} C3dProgram;
+
+/* Compile and link both programs for [max_lights] into [p] (a GL context
+ * current). The impostor program failing leaves p->impostor.prog 0 (meshes
+ * are drawn instead).
+ *   errors: false with a message in [err] when the mesh program does not
+ *           compile or link ([p] then holds nothing). */
+bool c3d_program_make(C3dProgram *p, int max_lights, char *err, size_t errlen);
+/* Delete [p]'s programs and buffer (the context current); [p] is zeroed. */
+void c3d_program_free(C3dProgram *p);
+
+#endif
