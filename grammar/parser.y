@@ -138,7 +138,7 @@ Loc parse_start(ParseCtx *pc);
 %precedence GROUP_END
 %precedence NAME STABLE FROM LET IMPORT ELIF FUNC NOT ELSE
 
-%type <node> pragmas pragma sequence stmts let_tail statement
+%type <node> pragmas pragma sequence items let_head statement
 %type <node> let_bindings stable_bindings let_line binding_line binding_lines
 %type <node> binding_let binding_any binding_next names names_let names_next
 %type <node> if_chain iterators iterator tattrs tag_attr_binding
@@ -186,36 +186,42 @@ pragma
     : PRAGMA name literal NL  { $$ = ast_pragma($name, $literal, @$); }
     ;
 
-/* sequence -> statement* let_tail? */
-sequence
-    : stmts
-    | stmts let_tail  { $$ = ast_add($1, $2, @$); }
-    ;
-
-stmts
-    : %empty           { $$ = ast_list(AST_SEQUENCE, NULL, @$); }
-    | stmts statement  { $$ = ast_add($1, $2, @$); }
-    ;
-
-/* let_tail -> "let" bindings_ml sequence
+/* sequence -> statement* let_tail?
+ * let_tail -> "let" bindings_ml sequence
  *           | "let" "stable" bindings_ml sequence
  *           | "let" name_list "=" NL INDENT sequence DEDENT sequence
  *           | "func" "(" params ")" NL INDENT sequence DEDENT sequence
  *           | "func" NAME "(" params ")" NL INDENT sequence DEDENT sequence
- *           | "import" name_list "from" composition NL sequence */
-let_tail
-    : LET let_bindings sequence
-        { $$ = ast_let($let_bindings, $sequence, 0, @$); }
-    | LET STABLE stable_bindings sequence
-        { $$ = ast_let($stable_bindings, $sequence, 1, @$); }
-    | LET names_let ASSIGN NL INDENT sequence[block] DEDENT sequence[rest]
-        { $$ = ast_let_block($names_let, $block, $rest, @$); }
-    | FUNC LPAREN params RPAREN NL INDENT sequence[body] DEDENT sequence[rest]
-        { $$ = ast_anon_block($params, $body, $rest, @$); }
-    | FUNC name LPAREN params RPAREN NL INDENT sequence[body] DEDENT sequence[rest]
-        { $$ = ast_func_let($name, $params, $body, $rest, @$); }
-    | IMPORT names FROM composition NL sequence
-        { $$ = ast_import($names, $composition, $sequence, @$); }
+ *           | "import" name_list "from" composition NL sequence
+ * Each let_tail ends with the rest of its sequence, so the sequence is read
+ * flat here, as (statement | let_head)*, where a let_head is a let_tail
+ * without its trailing sequence; ast_sequence() then gives every head the
+ * items after it as its body. Written right-recursively, every `let` line
+ * kept parser stack entries until the end of the block, so a flat script of
+ * 3,332 `let` lines or 1,000 `func`s overflowed the stack (issue 28). */
+sequence
+    : items  { $$ = ast_sequence($1, @$); }
+    ;
+
+items
+    : %empty           { $$ = ast_list(AST_SEQUENCE, NULL, @$); }
+    | items statement  { $$ = ast_add($1, $2, @$); }
+    | items let_head   { $$ = ast_add($1, $2, @$); }
+    ;
+
+let_head
+    : LET let_bindings
+        { $$ = ast_head_let($let_bindings, 0, @$); }
+    | LET STABLE stable_bindings
+        { $$ = ast_head_let($stable_bindings, 1, @$); }
+    | LET names_let ASSIGN NL INDENT sequence[block] DEDENT
+        { $$ = ast_head_let_block($names_let, $block, @$); }
+    | FUNC LPAREN params RPAREN NL INDENT sequence[body] DEDENT
+        { $$ = ast_head_anon($params, $body, @$); }
+    | FUNC name LPAREN params RPAREN NL INDENT sequence[body] DEDENT
+        { $$ = ast_head_func($name, $params, $body, @$); }
+    | IMPORT names FROM composition NL
+        { $$ = ast_head_import($names, $composition, @$); }
     ;
 
 /* bindings_ml -> binding+ NL ( INDENT ( binding+ NL )+ DEDENT )?

@@ -6,11 +6,15 @@
  */
 #include "runtime.h"
 
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "builtins.h"
+#include "config.h"
 #include "format.h"
+#include "mem.h"
 
 const char *fl_version(void) { return FL_VERSION_STRING; }
 
@@ -25,6 +29,7 @@ static void copy_out(const Buf *b, char *buf, size_t cap)
 
 size_t fl_number_text(double x, char *buf, size_t cap)
 {
+    if (!buf) cap = 0;   /* a NULL [buf] receives nothing */
     Buf b = BUF_INIT;
     fmt_double(&b, x);
     copy_out(&b, buf, cap);
@@ -47,8 +52,22 @@ const char *fl_builtin_name(size_t i)
 
 const char *fl_error(const fl_runtime *rt)
 {
+    if (!rt) return "no runtime: the fl_runtime pointer is NULL (did fl_new fail?)\n";
     Buf *b = rt_error_buf((fl_runtime *)rt);
     return b->len ? b->data : "";
+}
+
+int rt_fail(fl_runtime *rt, const char *fmt, ...)
+{
+    char line[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    Buf *b = rt_error_buf(rt);
+    buf_reset(b);
+    buf_printf(b, "%s\n", line);
+    return -1;
 }
 
 /* Start a call that can fail: clear the error text, enter the handler. */
@@ -62,11 +81,13 @@ static MemHandler begin(fl_runtime *rt)
 /* Hand [b]'s text to [fn] (nothing when it is empty). */
 static void deliver(const Buf *b, fl_write_fn fn, void *ctx)
 {
-    if (b->len) fn(ctx, b->data, b->len);
+    if (b->len && fn) fn(ctx, b->data, b->len);
 }
 
 int fl_load(fl_runtime *rt, const char *path)
 {
+    if (!rt) return -1;
+    if (!path) return rt_fail(rt, "fl_load: [path] is NULL");
     MemHandler prev = begin(rt);
     int rc = rt_load(rt, path, rt_error_buf(rt));
     mem_leave(prev);
@@ -75,6 +96,13 @@ int fl_load(fl_runtime *rt, const char *path)
 
 int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len)
 {
+    if (!rt) return -1;
+    if (!name) return rt_fail(rt, "fl_load_text: [name] is NULL");
+    if (!text && len) return rt_fail(rt, "fl_load_text: [text] is NULL for %zu bytes", len);
+    if (len > FILE_READ_MAX)
+        return rt_fail(rt, "%s: program text of %zu bytes: over the %zu-byte limit of a script",
+                       name, len, FILE_READ_MAX);
+    if (!text) text = "";
     MemHandler prev = begin(rt);
     int rc = rt_load_text(rt, name, text, len, rt_error_buf(rt));
     mem_leave(prev);
@@ -83,6 +111,8 @@ int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len)
 
 int fl_save_state(fl_runtime *rt, const char *path)
 {
+    if (!rt) return -1;
+    if (!path) return rt_fail(rt, "fl_save_state: [path] is NULL");
     MemHandler prev = begin(rt);
     int rc = rt_save_state(rt, path, rt_error_buf(rt));
     mem_leave(prev);
@@ -91,6 +121,8 @@ int fl_save_state(fl_runtime *rt, const char *path)
 
 int fl_restore_state(fl_runtime *rt, const char *path)
 {
+    if (!rt) return -1;
+    if (!path) return rt_fail(rt, "fl_restore_state: [path] is NULL");
     MemHandler prev = begin(rt);
     int rc = rt_restore_state(rt, path, rt_error_buf(rt));
     mem_leave(prev);
@@ -99,6 +131,12 @@ int fl_restore_state(fl_runtime *rt, const char *path)
 
 int fl_eval(fl_runtime *rt, const char *text, size_t len, fl_write_fn fn, void *ctx)
 {
+    if (!rt) return -1;
+    if (!text && len) return rt_fail(rt, "fl_eval: [text] is NULL for %zu bytes", len);
+    if (len > FILE_READ_MAX)
+        return rt_fail(rt, "fl_eval: text of %zu bytes: over the %zu-byte limit of a script",
+                       len, FILE_READ_MAX);
+    if (!text) text = "";
     MemHandler prev = begin(rt);
     Buf out = BUF_INIT;
     int rc = rt_eval(rt, text, len, &out, rt_error_buf(rt));
@@ -108,11 +146,29 @@ int fl_eval(fl_runtime *rt, const char *text, size_t len, fl_write_fn fn, void *
     return rc;
 }
 
+int fl_state_set_expr(fl_runtime *rt, const char *key_expr, const char *value_expr,
+                      fl_write_fn fn, void *ctx)
+{
+    if (!rt) return -1;
+    if (!key_expr) return rt_fail(rt, "fl_state_set_expr: [key_expr] is NULL");
+    if (!value_expr) return rt_fail(rt, "fl_state_set_expr: [value_expr] is NULL");
+    MemHandler prev = begin(rt);
+    Buf out = BUF_INIT;
+    int rc = rt_state_set_expr(rt, key_expr, value_expr, &out, rt_error_buf(rt));
+    deliver(&out, fn, ctx);
+    buf_free(&out);
+    mem_leave(prev);
+    return rc;
+}
+
 int fl_dump_program(fl_runtime *rt, fl_write_fn fn, void *ctx)
 {
+    if (!rt) return -1;
+    if (!fn) return rt_fail(rt, "fl_dump_program: [fn] is NULL");
     MemHandler prev = rt_enter(rt);
     Buf out = BUF_INIT;
     int rc = rt_dump_program(rt, &out);
+    if (rc < 0) rt_fail(rt, "fl_dump_program: no program is loaded");
     deliver(&out, fn, ctx);
     buf_free(&out);
     mem_leave(prev);
@@ -121,6 +177,10 @@ int fl_dump_program(fl_runtime *rt, fl_write_fn fn, void *ctx)
 
 static int dump_syntax(fl_runtime *rt, const char *path, bool ast, fl_write_fn fn, void *ctx)
 {
+    const char *name = ast ? "fl_dump_ast" : "fl_dump_tokens";
+    if (!rt) return -1;
+    if (!path) return rt_fail(rt, "%s: [path] is NULL", name);
+    if (!fn) return rt_fail(rt, "%s: [fn] is NULL", name);
     MemHandler prev = begin(rt);
     Buf out = BUF_INIT;
     int rc = rt_dump_syntax(rt, path, ast, &out, rt_error_buf(rt));
@@ -142,8 +202,10 @@ int fl_dump_ast(fl_runtime *rt, const char *path, fl_write_fn fn, void *ctx)
 
 int fl_dump_tree(fl_runtime *rt, fl_write_fn fn, void *ctx)
 {
+    if (!rt) return -1;
+    if (!fn) return rt_fail(rt, "fl_dump_tree: [fn] is NULL");
     const Node *root = rt_root(rt);
-    if (!root) return -1;
+    if (!root) return rt_fail(rt, "fl_dump_tree: no frame has been evaluated yet");
     MemHandler prev = rt_enter(rt);
     Buf out = BUF_INIT;
     fmt_tree(&out, root, rt_symbols(rt));
@@ -155,6 +217,11 @@ int fl_dump_tree(fl_runtime *rt, fl_write_fn fn, void *ctx)
 
 void fl_dump_state(fl_runtime *rt, fl_write_fn fn, void *ctx)
 {
+    if (!rt) return;
+    if (!fn) {
+        rt_fail(rt, "fl_dump_state: [fn] is NULL");
+        return;
+    }
     MemHandler prev = rt_enter(rt);
     Buf out = BUF_INIT;
     fmt_state_dump(&out, rt_state(rt), fl_frame_count(rt) - 1, fl_frame_time(rt), rt_symbols(rt));
@@ -165,6 +232,11 @@ void fl_dump_state(fl_runtime *rt, fl_write_fn fn, void *ctx)
 
 size_t fl_scope_names(fl_runtime *rt, int (*fn)(void *ctx, const char *name), void *ctx)
 {
+    if (!rt) return 0;
+    if (!fn) {
+        rt_fail(rt, "fl_scope_names: [fn] is NULL");
+        return 0;
+    }
     MemHandler prev = rt_enter(rt);
     size_t n, i;
     const Str *const *names = rt_scope_names(rt, &n);
@@ -189,6 +261,12 @@ static const Vec *lookup(fl_runtime *rt, const char *key_text)
 
 long fl_state_get(fl_runtime *rt, const char *key_text, char *buf, size_t cap)
 {
+    if (!rt) return -3;
+    if (!key_text) {
+        rt_fail(rt, "fl_state_get: [key_text] is NULL");
+        return -3;
+    }
+    if (!buf) cap = 0;   /* a NULL [buf] receives nothing */
     MemHandler prev = rt_enter(rt);
     const Vec *v = lookup(rt, key_text);
     long n = -1;
@@ -205,6 +283,12 @@ long fl_state_get(fl_runtime *rt, const char *key_text, char *buf, size_t cap)
 
 long fl_state_get_numbers(fl_runtime *rt, const char *key_text, double *out, size_t cap)
 {
+    if (!rt) return -3;
+    if (!key_text) {
+        rt_fail(rt, "fl_state_get_numbers: [key_text] is NULL");
+        return -3;
+    }
+    if (!out) cap = 0;   /* a NULL [out] receives nothing */
     MemHandler prev = rt_enter(rt);
     const Vec *v = lookup(rt, key_text);
     long n = -1;
@@ -219,14 +303,17 @@ long fl_state_get_numbers(fl_runtime *rt, const char *key_text, double *out, siz
     return n;
 }
 
-/* Store [value] (consumed; NULL deletes) under [key_text]. */
-static int store(fl_runtime *rt, const char *key_text, Vec *value)
+/* Store [value] (consumed; NULL deletes) under [key_text]; [fn] names
+ * the caller in the message for an empty key. */
+static int store(fl_runtime *rt, const char *fn, const char *key_text, Vec *value)
 {
     Vec *key = rt_parse_value(rt, key_text);
     int rc = -1;
     if (key) {
         state_set(rt_state(rt), key, value);
         rc = 0;
+    } else {
+        rt_fail(rt, "%s: the key text is empty (null is never stored)", fn);
     }
     vec_release(key);
     vec_release(value);
@@ -235,22 +322,40 @@ static int store(fl_runtime *rt, const char *key_text, Vec *value)
 
 int fl_state_set(fl_runtime *rt, const char *key_text, const char *value_text)
 {
+    if (!rt) return -1;
+    if (!key_text) return rt_fail(rt, "fl_state_set: [key_text] is NULL");
+    if (!value_text) return rt_fail(rt, "fl_state_set: [value_text] is NULL (\"\" deletes)");
     MemHandler prev = rt_enter(rt);
-    int rc = store(rt, key_text, rt_parse_value(rt, value_text));
+    int rc = store(rt, "fl_state_set", key_text, rt_parse_value(rt, value_text));
     mem_leave(prev);
     return rc;
 }
 
 int fl_state_set_numbers(fl_runtime *rt, const char *key_text, const double *values, size_t n)
 {
+    if (!rt) return -1;
+    if (!key_text) return rt_fail(rt, "fl_state_set_numbers: [key_text] is NULL");
+    if (!values && n)
+        return rt_fail(rt, "fl_state_set_numbers: [values] is NULL for %zu numbers", n);
+    if (n > MAX_COMPOSE_LEN)
+        return rt_fail(rt, "fl_state_set_numbers: %zu numbers: more than the longest vector (%llu)",
+                       n, (unsigned long long)MAX_COMPOSE_LEN);
     MemHandler prev = rt_enter(rt);
-    if (n > UINT32_MAX) mem_fail("vector too long");
-    int rc = store(rt, key_text, n ? vec_from_nums(values, (uint32_t)n) : NULL);
+    if (!mem_fits(sizeof(Vec) + n * sizeof(double))) {
+        mem_leave(prev);
+        return rt_fail(rt, "fl_state_set_numbers: %zu numbers: out of memory (the budget, "
+                       "fl_options.max_memory)", n);
+    }
+    int rc = store(rt, "fl_state_set_numbers", key_text,
+                   n ? vec_from_nums(values, (uint32_t)n) : NULL);
     mem_leave(prev);
     return rc;
 }
 
-size_t fl_state_count(const fl_runtime *rt) { return state_count(rt_state((fl_runtime *)rt)); }
+size_t fl_state_count(const fl_runtime *rt)
+{
+    return rt ? state_count(rt_state((fl_runtime *)rt)) : 0;
+}
 
 /* One entry as text, for sorting by key text (the state dump's order). */
 typedef struct TextEntry {
@@ -264,6 +369,11 @@ static int by_key(const void *a, const void *b)
 
 size_t fl_state_iterate(fl_runtime *rt, fl_state_fn fn, void *ctx)
 {
+    if (!rt) return 0;
+    if (!fn) {
+        rt_fail(rt, "fl_state_iterate: [fn] is NULL");
+        return 0;
+    }
     MemHandler prev = rt_enter(rt);
     size_t n;
     StateEntry *e = state_entries(rt_state(rt), &n);
@@ -292,4 +402,9 @@ size_t fl_state_iterate(fl_runtime *rt, fl_state_fn fn, void *ctx)
     free(t);
     mem_leave(prev);
     return visited;
+}
+
+bool fl_parse_memory(const char *text, size_t *out)
+{
+    return out && mem_parse_size(text, out);
 }

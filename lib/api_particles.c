@@ -76,9 +76,11 @@ static bool under_prefix(const Vec *key, const Vec *P)
 
 long fl_particles(fl_runtime *rt, const char *system_text, fl_particle_fn fn, void *ctx)
 {
+    if (!rt) return -1;
+    if (!system_text) return rt_fail(rt, "fl_particles: [system_text] is NULL");
     MemHandler prev = rt_enter(rt);
     buf_reset(rt_error_buf(rt));
-    Vec *P = system_text ? rt_parse_value(rt, system_text) : NULL;
+    Vec *P = rt_parse_value(rt, system_text);
     if (!P) {
         buf_printf(rt_error_buf(rt), "empty !physics state prefix\n");
         mem_leave(prev);

@@ -31,8 +31,13 @@
  * pointer the caller passed in, except the option callbacks' [ctx].
  *
  * Errors: functions that can fail return a negative number and leave a
- * message, ending in a newline, for fl_error(). Out of memory is the only
- * abort: the message goes to the runtime's error callback (fl_options.error)
+ * message, ending in a newline, for fl_error(). A NULL pointer where a
+ * function's comment does not allow one, or a size past its stated limit,
+ * is such an error (the value its `errors:` line gives; a void function
+ * does nothing), never a crash. A NULL output array receives nothing,
+ * whatever its capacity. A NULL runtime cannot hold a message: the call
+ * returns its error value and fl_error(NULL) a fixed text. Out of memory
+ * is the only abort: the message goes to the runtime's error callback (fl_options.error)
  * first. Script run-time errors do not fail a call: they are logged
  * (fl_options.log) and the frame goes on with null (LANGUAGE.md §4.16).
  *
@@ -106,6 +111,21 @@ typedef struct fl_options {
                             script's `%pragma physics` overrides it */
     bool no_simplify;    /* --nosimplify: run the program as parsed, without the
                             load-time simplifier (LANGUAGE.md §4.17) */
+    size_t max_memory;   /* --max-memory: the memory budget in bytes (0: the
+                            default, half of physical memory and at most half
+                            of RLIMIT_AS). Vectors, strings, nodes, the state
+                            file's numbers, !physics systems and the parser
+                            are charged against it before they allocate; past
+                            it an expression gives null with `Execution error:
+                            ... out of memory` (LANGUAGE.md §4.16), a load or
+                            fl_state_load fails with `PATH:LINE:COL: error:
+                            out of memory` (the call returns its error value,
+                            see fl_error), and an oversized !physics system is
+                            skipped with a `Physics error:`. The budget is
+                            per runtime; it is reached through a per-thread
+                            pointer that every fl_ call sets on entry. Only an
+                            allocation that fails inside the budget (the
+                            machine really out of memory) still aborts. */
     fl_log_fn log;       /* message lines; NULL: errors and warnings to stderr,
                             debug lines to stdout, each with a newline */
     fl_error_fn error;   /* fatal errors; NULL: `flitter: MESSAGE` on stderr */
@@ -143,8 +163,13 @@ enum {
  * fields, so that fields added later get their defaults. */
 FL_API fl_options fl_default_options(void);
 
+/* Parse a --max-memory value: "N", "NK", "NM" or "NG" (binary multiples,
+ * case-insensitive, N a whole number > 0) into *[out] bytes; returns false,
+ * leaving *[out] alone, for anything else (a NULL [text] or [out] too). */
+FL_API bool fl_parse_memory(const char *text, size_t *out);
 /* Parse a --pairs value ("naive" or "fast") into *[out] (FL_PAIRS_*);
- * returns false, leaving *[out] alone, for anything else. */
+ * returns false, leaving *[out] alone, for anything else (a NULL [text]
+ * or [out] included; the same in the next two). */
 FL_API bool fl_parse_pairs(const char *text, int *out);
 /* Parse a --particles value ("literal" or "fast") into *[out]
  * (FL_PARTICLES_*); returns false, leaving *[out] alone, for anything else. */
@@ -162,13 +187,15 @@ FL_API void fl_free(fl_runtime *rt);
 
 /* The message of the last failed call on [rt] (one or more lines, each
  * ending in a newline), or "" when the last failing call left none. Owned
- * by [rt]; valid until the next call that can fail. */
+ * by [rt]; valid until the next call that can fail. For a NULL [rt], a
+ * fixed text (static storage) saying that the runtime is NULL. */
 FL_API const char *fl_error(const fl_runtime *rt);
 
 /* Bind [name] to the value text [value_text] for every frame (`-D
  * NAME=VALUE`, FORMATS.md §4). Call it before fl_load: the loaded program
  * sees the names that were defined when it was loaded.
- *   errors: returns -1 for an empty or invalid name, else 0. */
+ *   errors: returns -1 with fl_error() text for an empty or invalid name
+ *           or a NULL [name] or [value_text] (-1 for a NULL [rt]), else 0. */
 FL_API int fl_define(fl_runtime *rt, const char *name, const char *value_text);
 
 /* Load (or reload, keeping the state) the script at [path]. Pragmas take
@@ -176,10 +203,13 @@ FL_API int fl_define(fl_runtime *rt, const char *name, const char *value_text);
  *   errors: returns -1 with `PATH:LINE:COL: error: MESSAGE` (the source
  *           line and a caret under it) for fl_error(); the previous
  *           program, if any, stays loaded. Load-time warnings (unbound
- *           names) go to the log as FL_LOG_WARNING. */
+ *           names) go to the log as FL_LOG_WARNING. -1 for a NULL [path]
+ *           (with fl_error() text) or [rt]. */
 FL_API int fl_load(fl_runtime *rt, const char *path);
 /* Load program text [text] of [len] bytes from memory; [name] is used in
- * messages and to resolve relative file names. Same errors as fl_load. */
+ * messages and to resolve relative file names. Same errors as fl_load, and
+ * -1 for a NULL [name], a NULL [text] with [len] > 0 (NULL with 0 is the
+ * empty program) or [len] over a script file's limit (256 MiB). */
 FL_API int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len);
 
 /* Evaluate and simulate one frame: compute the frame names (FORMATS.md
@@ -190,16 +220,18 @@ FL_API int fl_load_text(fl_runtime *rt, const char *name, const char *text, size
  *           `Execution error: MESSAGE`; a !physics system with a non-finite
  *           `time`/`resolution` skips the frame and one needing more than
  *           max_physics_steps steps is cut short (each logged once per
- *           runtime). Returns -1 when no program is loaded, 1 when
+ *           runtime). Returns -1 when no program is loaded (with
+ *           fl_error() text) or [rt] is NULL, 1 when
  *           *interrupt stopped the evaluation (the frame is discarded:
  *           tree, state, clock and frame count stay as they were; an
  *           interrupt during physics steps keeps the frame, with fewer
  *           steps), else 0. */
 FL_API int fl_step(fl_runtime *rt);
 
-/* Number of frames evaluated so far. */
+/* Number of frames evaluated so far (-1 for a NULL [rt]). */
 FL_API long fl_frame_count(const fl_runtime *rt);
-/* The `time` of the last evaluated frame, in seconds (0 before the first). */
+/* The `time` of the last evaluated frame, in seconds (0 before the first;
+ * NaN for a NULL [rt], as in the next two). */
 FL_API double fl_frame_time(const fl_runtime *rt);
 /* The frame rate the runtime steps at, in frames per second: the `fps`
  * option, or the loaded program's `%pragma fps` once a frame has applied
@@ -217,7 +249,8 @@ FL_API double fl_target_fps(const fl_runtime *rt);
 FL_API double fl_frame_wait(const fl_runtime *rt);
 /* Realtime: stop ([paused]) or restart the clock: while it is stopped
  * fl_frame_wait() stands still, and after it restarts `time` goes on from
- * where it stopped (a front end's pause key). No-op in lockstep. */
+ * where it stopped (a front end's pause key). No-op in lockstep and for a
+ * NULL [rt]. */
 FL_API void fl_clock_pause(fl_runtime *rt, bool paused);
 
 /* {=====================================================================
@@ -225,46 +258,55 @@ FL_API void fl_clock_pause(fl_runtime *rt, bool paused);
  * ===================================================================== */
 
 /* Write the value text of the state value under the key [key_text] into
- * [buf] ([cap] bytes, NUL-terminated, truncated to fit; [buf] may be NULL
- * when [cap] is 0), like snprintf.
+ * [buf] ([cap] bytes, NUL-terminated, truncated to fit; a NULL [buf]
+ * receives nothing), like snprintf.
  *   returns: the length of the whole value text (without the NUL), or -1
  *            when no value is stored under that key (the empty key text
- *            is null, which is never stored). */
+ *            is null, which is never stored), or -3 for a NULL [rt] or
+ *            [key_text] (with fl_error() text for the latter). */
 FL_API long fl_state_get(fl_runtime *rt, const char *key_text, char *buf, size_t cap);
 /* Copy the numbers of the state value under [key_text] into [out] (at
- * most [cap] of them).
+ * most [cap] of them; a NULL [out] receives nothing).
  *   returns: the number of elements of the value (which may exceed [cap]),
  *            -1 when there is none, -2 when it is not all numbers (strings;
- *            a symbol counts as the number Flitter gives it). */
+ *            a symbol counts as the number Flitter gives it), -3 as
+ *            fl_state_get for a NULL [rt] or [key_text]. */
 FL_API long fl_state_get_numbers(fl_runtime *rt, const char *key_text, double *out, size_t cap);
 /* Store the value text [value_text] under [key_text] (both parsed as the
  * top of this file says); the empty value text deletes the entry.
- *   errors: returns -1 (state unchanged) when the key text is empty. */
+ *   errors: returns -1 (state unchanged) with fl_error() text when the
+ *           key text is empty or [key_text] or [value_text] is NULL; -1
+ *           for a NULL [rt]. */
 FL_API int fl_state_set(fl_runtime *rt, const char *key_text, const char *value_text);
 /* Store the [n] numbers [values] under [key_text]; n = 0 deletes.
- *   errors: as fl_state_set. */
+ *   errors: as fl_state_set, and -1 with fl_error() text for a NULL
+ *           [values] with [n] > 0 or [n] over 2^26 (the longest vector a
+ *           program may build, MAX_COMPOSE_LEN). */
 FL_API int fl_state_set_numbers(fl_runtime *rt, const char *key_text, const double *values,
                                 size_t n);
-/* Number of entries in the state dictionary. */
+/* Number of entries in the state dictionary (0 for a NULL [rt]). */
 FL_API size_t fl_state_count(const fl_runtime *rt);
 /* Receives one state entry as key text and value text (valid during the
  * call); returns non-zero to stop the iteration. */
 typedef int (*fl_state_fn)(void *ctx, const char *key_text, const char *value_text);
 /* Call [fn] for every state entry, sorted by key text bytes (the order of
  * the state dump); [fn] must not change the state.
- *   returns: the number of entries visited. */
+ *   returns: the number of entries visited; 0 for a NULL [rt], or for a
+ *            NULL [fn] with fl_error() text. */
 FL_API size_t fl_state_iterate(fl_runtime *rt, fl_state_fn fn, void *ctx);
-/* Empty the state dictionary (the clock keeps running). */
+/* Empty the state dictionary (the clock keeps running; NULL [rt]: no-op). */
 FL_API void fl_reset_state(fl_runtime *rt);
 
 /* Save the state dictionary and the clock to [path] atomically (the file
  * is replaced only when complete; FORMATS.md, `flitter run --state`).
- *   errors: returns -1 with a message for fl_error(); 0 on success. */
+ *   errors: returns -1 with a message for fl_error() (a NULL [path]
+ *           included; -1 for a NULL [rt]); 0 on success. */
 FL_API int fl_save_state(fl_runtime *rt, const char *path);
 /* Restore the state dictionary and the clock from [path], so that the run
  * continues exactly where the saved one stopped.
  *   errors: returns -1 with a message for fl_error(), leaving everything
- *           untouched, when the file is missing, truncated or malformed. */
+ *           untouched, when the file is missing, truncated or malformed
+ *           or [path] is NULL (-1 for a NULL [rt]). */
 FL_API int fl_restore_state(fl_runtime *rt, const char *path);
 
 /* {=====================================================================
@@ -274,29 +316,33 @@ FL_API int fl_restore_state(fl_runtime *rt, const char *path);
 /* The state dump block of the last frame (FORMATS.md §2: `frame N time T`
  * then one `KEY = VALUE` line per entry, string keys starting with '_' left
  * out), as `flitter run --dump-state` prints it (before the first frame:
- * `frame -1 time 0`). */
+ * `frame -1 time 0`). A NULL [rt] or [fn] writes nothing (fl_error() text
+ * for the latter). */
 FL_API void fl_dump_state(fl_runtime *rt, fl_write_fn fn, void *ctx);
 /* The node tree of the last frame (FORMATS.md §3), as `--dump-tree` prints
  * it.
- *   errors: returns -1 (writing nothing) before the first frame, else 0. */
+ *   errors: returns -1 (writing nothing) with fl_error() text before the
+ *           first frame or for a NULL [fn] (-1 for a NULL [rt]), else 0. */
 FL_API int fl_dump_tree(fl_runtime *rt, fl_write_fn fn, void *ctx);
 /* The loaded program as it will run (after the simplifier unless
  * no_simplify), as Flitter-like source (`--dump-simplified`).
- *   errors: returns -1 (writing nothing) when no program is loaded. */
+ *   errors: returns -1 (writing nothing) with fl_error() text when no
+ *           program is loaded or [fn] is NULL (-1 for a NULL [rt]). */
 FL_API int fl_dump_program(fl_runtime *rt, fl_write_fn fn, void *ctx);
 /* The tokens the parser reads from the script file [path] (after the
  * indentation filter: NL, INDENT, DEDENT), one a line: `LINE:COL KIND`,
  * then the token's source text when it has one (`--dump-tokens`).
  *   errors: returns -1 when the file cannot be read or at a lexical error
  *           (the tokens before it are written; `PATH:LINE:COL: error: ...`
- *           for fl_error()), else 0. */
+ *           for fl_error()), else 0. As fl_dump_ast for NULL arguments. */
 FL_API int fl_dump_tokens(fl_runtime *rt, const char *path, fl_write_fn fn, void *ctx);
 /* The syntax tree of the script file [path] as parsed (before the
  * simplifier), one node a line, children indented two spaces: kind,
  * operator, names, literal value, `@LINE:COL`; fixed children marked `a:`,
  * `b:`, `c:` (`--dump-ast`).
  *   errors: returns -1 (writing nothing) when the file cannot be read or
- *           does not parse, with the message for fl_error(), else 0. */
+ *           does not parse or [path] or [fn] is NULL, with the message
+ *           for fl_error() (-1 for a NULL [rt]), else 0. */
 FL_API int fl_dump_ast(fl_runtime *rt, const char *path, fl_write_fn fn, void *ctx);
 
 /* {=====================================================================
@@ -308,22 +354,40 @@ FL_API int fl_dump_ast(fl_runtime *rt, const char *path, fl_write_fn fn, void *c
  * and `func` names, the frame names, defines) plus the names bound by
  * earlier fl_eval calls; state lookups see the current state.
  *   output: through [fn]: the value text of an expression's result, or
- *           `NAME = VALUE` lines for the names a `let` bound, each line
- *           ending in a newline.
+ *           `NAME = VALUE` lines for the names a `let` bound, each ending
+ *           in a newline; a node in a result is written with its tags,
+ *           attributes and children as the node-tree dump writes it
+ *           (FORMATS.md §3), on lines of its own. An expression's result
+ *           is bound to the name `_` for later calls.
  *   errors: returns -1 with `<repl>:LINE:COL: error: ...` for fl_error()
  *           on a syntax error; returns 1 (writing nothing) when the text
  *           ended early, so a caller may read more lines; run-time errors
  *           go to the log; returns -1 with `<repl>: error: interrupted`
- *           (nothing bound or written) when *interrupt stopped it; 0 on
- *           success. */
+ *           (nothing bound or written) when *interrupt stopped it; -1 with
+ *           fl_error() text for a NULL [text] with [len] > 0 or [len] over
+ *           256 MiB (-1 for a NULL [rt]); 0 on success. A NULL [fn] drops
+ *           the output. */
 FL_API int fl_eval(fl_runtime *rt, const char *text, size_t len, fl_write_fn fn, void *ctx);
-/* Forget the names bound by fl_eval. */
+/* Evaluate the Flitter expressions [key_expr] and [value_expr] (NUL-
+ * terminated) as fl_eval does, in the same scope, and store the value
+ * under the key (the REPL's `:set :collapse 1`); a null value deletes the
+ * entry. Binds no name (not `_` either).
+ *   output: through [fn]: `KEY = VALUE` in value text with a newline
+ *           (`KEY = null` after a deletion).
+ *   errors: returns -1 with `<repl>...: error: ...` for fl_error(), the
+ *           state unchanged, when either text does not parse, ends early
+ *           or is a `let`, when either logged a run-time error, when the
+ *           key is null, or when *interrupt stopped it; 0 on success. */
+FL_API int fl_state_set_expr(fl_runtime *rt, const char *key_expr, const char *value_expr,
+                             fl_write_fn fn, void *ctx);
+/* Forget the names bound by fl_eval (NULL [rt]: no-op). */
 FL_API void fl_eval_reset(fl_runtime *rt);
 /* Call [fn] with each name visible to fl_eval (engine names and defines,
  * the script's top level, earlier fl_eval bindings), for completion, in
  * that order (a name bound in two of them comes twice); [fn] returns
  * non-zero to stop.
- *   returns: the number of names visited. */
+ *   returns: the number of names visited; 0 for a NULL [rt], or for a
+ *            NULL [fn] with fl_error() text. */
 FL_API size_t fl_scope_names(fl_runtime *rt, int (*fn)(void *ctx, const char *name), void *ctx);
 
 /* The [i]-th name of the built-in functions (LANGUAGE.md §5), from 0, or
@@ -333,7 +397,7 @@ FL_API const char *fl_builtin_name(size_t i);
 /* Write the value text of the number [x] (the shortest decimal text that
  * reads back to exactly [x], as the dumps print numbers: `0`, `-2.5`,
  * `1e+20`, `nan`, `inf`) into [buf] ([cap] bytes, NUL-terminated, truncated
- * to fit; [buf] may be NULL when [cap] is 0), like snprintf.
+ * to fit; a NULL [buf] receives nothing), like snprintf.
  *   returns: the length of the whole text (without the NUL). */
 FL_API size_t fl_number_text(double x, char *buf, size_t cap);
 
@@ -357,7 +421,7 @@ typedef int (*fl_particle_fn)(void *ctx, const char *id_text, const double *posi
  * They come in the state dump's order (sorted by key text bytes); the
  * numbers are the stored doubles, bit for bit.
  *   returns: the number of particles visited, or -1 with fl_error() text
- *            for an empty [system_text]. */
+ *            for an empty or NULL [system_text] (-1 for a NULL [rt]). */
 FL_API long fl_particles(fl_runtime *rt, const char *system_text, fl_particle_fn fn, void *ctx);
 
 /* {=====================================================================
@@ -397,26 +461,29 @@ typedef struct fl_outputs fl_outputs;
  * in every frame that fl_outputs_frame() is given.
  *   errors: NULL with fl_error() text when the --view or --trace file
  *           cannot be created or has an unknown extension (nothing is
- *           left open). */
+ *           left open); NULL for a NULL [rt]; a NULL [o] asks for none. */
 FL_API fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *o);
 /* After each fl_step() of [rt]: draw its windows, append the trace rows
  * and animation frames due (every K-th frame, counted from frame 0).
  * Windows that cannot be written are logged (FL_LOG_ERROR, once).
  *   errors: -1 with fl_error() text when the view or the trace cannot be
- *           written (that output then stops), else 0. */
+ *           written (that output then stops) or [out] is NULL (-1 for a
+ *           NULL [rt]), else 0. */
 FL_API int fl_outputs_frame(fl_outputs *out, fl_runtime *rt);
 /* Write the final --view picture (.png/.svg: of [rt]'s last frame, when
  * it ran any), finish animated GIFs and videos (they appear under their
  * names only now), close the files and free [out] (NULL is a no-op).
  *   errors: -1 when any output failed or could not be finished, a
  *           window's !record file included (the message of the last
- *           failure in fl_error()), else 0. */
+ *           failure in fl_error()), else 0. With a NULL [rt], [out] is
+ *           closed and freed without the final picture and the result is
+ *           -1. */
 FL_API int fl_outputs_close(fl_outputs *out, fl_runtime *rt);
 /* Draw [rt]'s !physics systems as they are now to [path] (.png or .svg),
  * as fl_output_options.view does; [*nsystems] (may be NULL) gets the
  * number of systems drawn.
- *   errors: -1 with fl_error() text when [path] has another extension or
- *           cannot be written, else 0. */
+ *   errors: -1 with fl_error() text when [path] has another extension,
+ *           cannot be written or is NULL (-1 for a NULL [rt]), else 0. */
 FL_API int fl_view(fl_runtime *rt, const char *path, size_t *nsystems);
 /* Whether an output file could be written at [path] now (a `--view`,
  * `--trace`, `--record` or `--state` file, checked before a run's first
@@ -424,8 +491,9 @@ FL_API int fl_view(fl_runtime *rt, const char *path, size_t *nsystems);
  * regular file, and a temporary is created next to it and removed (the
  * way every output is written: temporary, then rename).
  *   returns: 0 when it could; -1 with "PATH: REASON" (no newline) in
- *            [err] ([cap] bytes, NUL-terminated) when not, e.g. no such
- *            directory, no permission, a directory or device. */
+ *            [err] ([cap] bytes, NUL-terminated; a NULL [err] receives
+ *            nothing) when not, e.g. no such directory, no permission, a
+ *            directory or device, or "no file name" for a NULL [path]. */
 FL_API int fl_check_output(const char *path, char *err, size_t cap);
 
 /* {=====================================================================
@@ -447,7 +515,8 @@ typedef struct fl_window_info {
 
 /* The windows of [rt]'s last frame: returns how many top-level !window
  * and !offscreen nodes it has, and fills out[0 .. min(count, cap)) with
- * them ([out] may be NULL when [cap] is 0). 0 before the first frame. */
+ * them (a NULL [out] receives nothing). 0 before the first frame and for a
+ * NULL [rt]. */
 FL_API size_t fl_windows(fl_runtime *rt, fl_window_info *out, size_t cap);
 
 /* Draw window [index] of [rt]'s last frame into [pixels]: [width] x
@@ -460,7 +529,7 @@ FL_API size_t fl_windows(fl_runtime *rt, fl_window_info *out, size_t cap);
  *           size other than the window's, a NULL [pixels], or a stride
  *           below width*4 or not a multiple of 4; else 0 (node kinds that
  *           cannot be drawn are skipped, each logged once per runtime as a
- *           warning). */
+ *           warning); -1 for a NULL [rt]. */
 FL_API int fl_draw_window(fl_runtime *rt, size_t index, uint32_t *pixels, int width, int height,
                           size_t stride);
 
@@ -468,8 +537,8 @@ FL_API int fl_draw_window(fl_runtime *rt, size_t index, uint32_t *pixels, int wi
  * as fl_draw_window), as `--view` draws them (fl_view), scaled to fit
  * [width] x [height]; [*nsystems] (may be NULL) gets the number drawn.
  *   errors: -1 with fl_error() text for a size outside 1..16384, a NULL
- *           [pixels], or a stride below width*4 or not a multiple of 4,
- *           else 0. */
+ *           [pixels], or a stride below width*4 or not a multiple of 4
+ *           (-1 for a NULL [rt]), else 0. */
 FL_API int fl_draw_view(fl_runtime *rt, uint32_t *pixels, int width, int height, size_t stride,
                         size_t *nsystems);
 
@@ -488,24 +557,26 @@ FL_API int fl_draw_view(fl_runtime *rt, uint32_t *pixels, int width, int height,
  * remembers which keys are down in which window: after each frame, a
  * `!key` whose S is not in the state starts at S = 1, S;:pushed = 1,
  * S;:released = 0 when its key is held, else 0, 0, 1 (Window.handle_node;
- * off-screen and without any front end too, as Flitter's hidden windows). */
+ * off-screen and without any front end too, as Flitter's hidden windows).
+ *   errors: -1 with fl_error() text for a NULL [name] (-1 for a NULL [rt]). */
 FL_API int fl_key(fl_runtime *rt, size_t window, const char *name, bool pressed);
 
 /* The pointer moved over window [window]: with [inside], the state key of
  * the window's `!pointer state=P` (directly under it, last frame; the last
  * one) gets P = x;y, fractions of the window's width and height (0..1, top
  * left 0;0); without, P = null (Flitter's pointer_movement_callback).
- * No-op when the window has no !pointer. */
+ * No-op when the window has no !pointer, and for a NULL [rt]. */
 FL_API void fl_pointer(fl_runtime *rt, size_t window, bool inside, double x, double y);
 /* Pointer button [button] (0 left, 1 right, 2 middle, as GLFW numbers
  * them) of window [window] went down or up: P;button = 1/0
- * (pointer_button_callback); no-op without a !pointer. */
+ * (pointer_button_callback); no-op without a !pointer or [rt]. */
 FL_API void fl_pointer_button(fl_runtime *rt, size_t window, int button, bool pressed);
 
 /* The files the loaded program was read from: the script, then every
  * file it `%include`s and every module it `import`s, each once. Returns
  * how many there are and fills out[0 .. min(count, cap)) with their paths
- * (owned by [rt], valid until the next fl_load). 0 when nothing is loaded.
+ * (owned by [rt], valid until the next fl_load; a NULL [out] receives
+ * nothing). 0 when nothing is loaded and for a NULL [rt].
  * Included files and literal imports are known at load; a module imported
  * only while running (--nosimplify, a computed path, or a module's own
  * imports) is listed after the first frame that imports it; a module file
@@ -533,7 +604,8 @@ typedef struct fl_stats {
 
 /* Fill [out] with [rt]'s statistics (wall-clock seconds, monotonic clock).
  * Allocation counts cover the values the runtime pools (vectors, strings,
- * nodes and their arrays, evaluator scratch): a steady frame makes none. */
+ * nodes and their arrays, evaluator scratch): a steady frame makes none.
+ * A NULL [out]: no-op; a NULL [rt]: all zero. */
 FL_API void fl_get_stats(const fl_runtime *rt, fl_stats *out);
 
 #endif

@@ -212,7 +212,8 @@ void input_frame(Input *in, const Node *root, StateDict *state, const SymTab *st
 
 int fl_key(fl_runtime *rt, size_t window, const char *name, bool pressed)
 {
-    if (!name) return 0;
+    if (!rt) return -1;
+    if (!name) return rt_fail(rt, "fl_key: [name] is NULL");
     int code = input_key_code(name, strlen(name));
     if (code < 0) return 0;
     MemHandler prev = rt_enter(rt);
@@ -230,6 +231,7 @@ int fl_key(fl_runtime *rt, size_t window, const char *name, bool pressed)
 
 void fl_pointer(fl_runtime *rt, size_t window, bool inside, double x, double y)
 {
+    if (!rt) return;
     MemHandler prev = rt_enter(rt);
     const Node *win = window_at(rt_root(rt), window);
     const Vec *p = win ? pointer_claim(win) : NULL;
@@ -244,6 +246,7 @@ void fl_pointer(fl_runtime *rt, size_t window, bool inside, double x, double y)
 
 void fl_pointer_button(fl_runtime *rt, size_t window, int button, bool pressed)
 {
+    if (!rt) return;
     MemHandler prev = rt_enter(rt);
     const Node *win = window_at(rt_root(rt), window);
     const Vec *p = win ? pointer_claim(win) : NULL;

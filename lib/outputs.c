@@ -54,6 +54,7 @@ static int gif_delay(long every, double fps)
 
 fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *opts)
 {
+    if (!rt) return NULL;
     MemHandler prev = rt_enter(rt);
     buf_reset(rt_error_buf(rt));
     fl_output_options none = {0};
@@ -94,6 +95,8 @@ static bool due(long frame, long every) { return every <= 1 || frame % every == 
 
 int fl_outputs_frame(fl_outputs *out, fl_runtime *rt)
 {
+    if (!rt) return -1;
+    if (!out) return rt_fail(rt, "fl_outputs_frame: [out] is NULL");
     MemHandler prev = rt_enter(rt);
     long frame = fl_frame_count(rt) - 1;
     out->frames++;
@@ -142,6 +145,16 @@ static int view_now(fl_runtime *rt, View *v, long frame, size_t *nsystems, char 
 int fl_outputs_close(fl_outputs *out, fl_runtime *rt)
 {
     if (!out) return 0;
+    if (!rt) {
+        /* no runtime: no final picture, no message; close and free the rest */
+        view_close(out->view);
+        trace_close(out->trace);
+        renderer_free(out->ren);
+        free(out->view_path);
+        free(out->trace_path);
+        free(out);
+        return -1;
+    }
     MemHandler prev = rt_enter(rt);
     buf_reset(rt_error_buf(rt));
     int rc = out->failed ? -1 : 0;
@@ -174,6 +187,8 @@ int fl_outputs_close(fl_outputs *out, fl_runtime *rt)
 
 int fl_view(fl_runtime *rt, const char *path, size_t *nsystems)
 {
+    if (!rt) return -1;
+    if (!path) return rt_fail(rt, "fl_view: [path] is NULL");
     MemHandler prev = rt_enter(rt);
     buf_reset(rt_error_buf(rt));
     char err[600];

@@ -95,6 +95,7 @@ static void copy_title(const Node *win, const SymTab *st, char *out, size_t cap)
 
 size_t fl_windows(fl_runtime *rt, fl_window_info *out, size_t cap)
 {
+    if (!rt) return 0;
     MemHandler prev = rt_enter(rt);
     const Node *root = rt_root(rt);
     size_t k = 0;
@@ -148,6 +149,7 @@ static cairo_surface_t *wrap(uint32_t *pixels, int width, int height, size_t str
 int fl_draw_window(fl_runtime *rt, size_t index, uint32_t *pixels, int width, int height,
                    size_t stride)
 {
+    if (!rt) return -1;
     MemHandler prev = rt_enter(rt);
     buf_reset(rt_error_buf(rt));
     int rc = -1;
@@ -175,10 +177,11 @@ int fl_draw_window(fl_runtime *rt, size_t index, uint32_t *pixels, int width, in
 int fl_draw_view(fl_runtime *rt, uint32_t *pixels, int width, int height, size_t stride,
                  size_t *nsystems)
 {
+    if (nsystems) *nsystems = 0;
+    if (!rt) return -1;
     MemHandler prev = rt_enter(rt);
     buf_reset(rt_error_buf(rt));
     int rc = -1;
-    if (nsystems) *nsystems = 0;
     if (check_buffer(rt, "fl_draw_view", pixels, width, height, stride) == 0) {
         cairo_surface_t *s = wrap(pixels, width, height, stride);
         if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS) {

@@ -50,6 +50,7 @@ static const char *const engine_names[G__COUNT] = {
 struct fl_runtime {
     fl_options opts;        /* as given to fl_new */
     Pool *pool;             /* free lists for per-frame values */
+    MemBudget budget;       /* fl_options.max_memory, charged through rt_enter (mem.h) */
     fl_stats stats;         /* counters and timers for fl_get_stats */
     SymTab *symtab;         /* symbol names for value text */
     StateDict *state;       /* the state dictionary */
@@ -149,7 +150,11 @@ void rt_log_target(const fl_runtime *rt, fl_log_fn *fn, void **ctx)
     *ctx = rt->opts.ctx;
 }
 
-MemHandler rt_enter(const fl_runtime *rt) { return mem_enter(rt->opts.error, rt->opts.ctx); }
+MemHandler rt_enter(const fl_runtime *rt)
+{
+    /* the budget is the runtime's own state, changed by every call that allocates */
+    return mem_enter_budget(rt->opts.error, rt->opts.ctx, (MemBudget *)&rt->budget);
+}
 
 Buf *rt_error_buf(fl_runtime *rt) { return &rt->error; }
 
@@ -157,6 +162,7 @@ Buf *rt_error_buf(fl_runtime *rt) { return &rt->error; }
  * [va]) and [b] (value [vb]); false, leaving *[out] alone, for others. */
 static bool parse_choice(const char *text, const char *a, int va, const char *b, int vb, int *out)
 {
+    if (!text || !out) return false;
     if (strcmp(text, a) && strcmp(text, b))
         return false;
     *out = strcmp(text, a) ? vb : va;
@@ -193,6 +199,9 @@ fl_runtime *fl_new(const fl_options *opts)
     fl_runtime *rt = mem_calloc(1, sizeof *rt);
     rt->opts = o;
     if (!rt->opts.log) rt->opts.log = log_default;
+    rt->budget.limit = o.max_memory ? o.max_memory : mem_default_limit();
+    mem_leave(prev);
+    prev = rt_enter(rt);
     rt->pool = pool_new();
     if (!(rt->opts.fps > 0)) rt->opts.fps = 60.0;
     rt->symtab = symtab_new();
@@ -324,7 +333,10 @@ Vec *rt_parse_value(fl_runtime *rt, const char *text) { return parse_value(rt, t
 
 int fl_define(fl_runtime *rt, const char *name, const char *text)
 {
-    if (!valid_name(name)) return -1;
+    if (!rt) return -1;
+    if (!name) return rt_fail(rt, "fl_define: [name] is NULL");
+    if (!text) return rt_fail(rt, "fl_define: [value_text] is NULL");
+    if (!valid_name(name)) return rt_fail(rt, "fl_define: '%.200s' is not a name", name);
     MemHandler prev = rt_enter(rt);
     int g = globals_add(&rt->globals, name);
     Vec *v = parse_value(rt, text, false);
@@ -516,6 +528,9 @@ static void run_physics(fl_runtime *rt, Node *const *nodes, size_t n, double t)
                        .interrupt = rt->opts.interrupt, .nonfinite = &nonfinite,
                        .capped = &capped, .upstream = rt->upstream};
     phys_run_frame(rt->physics, nodes, n, rt->state, &pf);
+    if (mem_take_refusal())   /* world.c: a system past the memory budget (mem.h) */
+        emit(rt, FL_LOG_ERROR, "Physics error: system too large for the memory budget "
+             "(--max-memory); skipped");
     if (nonfinite && !rt->warned_nonfinite)
         emit(rt, FL_LOG_ERROR, "Physics error: non-finite time or resolution; frame skipped");
     if (capped && !rt->warned_capped)
@@ -556,7 +571,8 @@ static int step(fl_runtime *rt);
 
 int fl_step(fl_runtime *rt)
 {
-    if (!rt->prog) return -1;
+    if (!rt) return -1;
+    if (!rt->prog) return rt_fail(rt, "fl_step: no program is loaded");
     MemHandler mprev = rt_enter(rt);
     Pool *prev = pool_enter(rt->pool);
     PoolStats before = pool_stats(rt->pool);
@@ -688,6 +704,11 @@ static int step(fl_runtime *rt)
 
 void fl_get_stats(const fl_runtime *rt, fl_stats *out)
 {
+    if (!out) return;
+    if (!rt) {
+        *out = (fl_stats){0};
+        return;
+    }
     *out = rt->stats;
     StateCounts c = state_counts(rt->state);
     out->state_gets = c.gets;
@@ -730,8 +751,17 @@ static void build_scope(const fl_runtime *rt, Globals *g)
             globals_set(g, globals_add(g, layers[l]->names[i]->bytes), layers[l]->values[i]);
 }
 
-int rt_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
+/* Parse and evaluate [text] in the REPL scope (build_scope). Returns 1
+ * when the text ended early, -1 with the message in [err] on a syntax
+ * error or an interrupt, else 0 with the result in [*value] (new, NULL
+ * for null) and the names a `let` bound in [bound]; [*errors] is the
+ * number of run-time errors logged, plus one when the text had load-time
+ * warnings (an unbound name). */
+static int eval_in_scope(fl_runtime *rt, const char *text, size_t len, Vec **value,
+                         Exports *bound, uint32_t *errors, Buf *err)
 {
+    *value = NULL;
+    *errors = 0;
     Globals g = {0};
     build_scope(rt, &g);
     Buf perr = BUF_INIT;
@@ -745,46 +775,133 @@ int rt_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
     }
     buf_free(&perr);
     log_warnings(rt, p);
-    MsgSet errors = {0}, debug = {0};
-    Exports bound = {0};
+    uint32_t warned = p->warnings.len ? 1 : 0;
+    MsgSet errs = {0}, debug = {0};
     Eval ev = {
         .prog = p, .globals = &g, .state = rt->state, .symtab = rt->symtab,
-        .errors = &errors, .debug = &debug, .modules = rt->modules, .exports = &bound,
+        .errors = &errs, .debug = &debug, .modules = rt->modules, .exports = bound,
         .interrupt = rt->opts.interrupt,
     };
     Vec *v = eval_program_value(&ev);
     int rc = 0;
-    report(rt, FL_LOG_ERROR, "Execution error: ", &errors, &(MsgSet){0});
+    report(rt, FL_LOG_ERROR, "Execution error: ", &errs, &(MsgSet){0});
     report(rt, FL_LOG_DEBUG, "", &debug, &(MsgSet){0});
+    *errors = errs.count + warned;
     if (ev.interrupted) {
         /* incomplete: bind and print nothing */
         buf_puts(err, "<repl>: error: interrupted\n");
-        exports_clear(&bound);
+        exports_clear(bound);
         vec_release(v);
         v = NULL;
         rc = -1;
-    } else if (bound.count) {
-        for (uint32_t i = bound.count; i-- > 0;) {
-            exports_put(&rt->repl, bound.names[i], bound.values[i]);
-            buf_printf(out, "%s = ", bound.names[i]->bytes);
-            fmt_value(out, bound.values[i], rt->symtab);
-            buf_putc(out, '\n');
-        }
     }
-    if (rc == 0 && (v || !bound.count)) {
-        fmt_value(out, v, rt->symtab);
-        buf_putc(out, '\n');
-    }
-    vec_release(v);
-    exports_clear(&bound);
-    msgset_clear(&errors);
+    *value = v;
+    msgset_clear(&errs);
     msgset_clear(&debug);
     program_release(p);
     globals_free(&g);
     return rc;
 }
 
-void fl_eval_reset(fl_runtime *rt) { exports_clear(&rt->repl); }
+/* The REPL's text of a result [v]: value text (FORMATS.md §1), except
+ * that a node is written with its tags, attributes and children as the
+ * node-tree dump writes it (FORMATS.md §3), starting on a line of its own;
+ * the other elements between nodes are joined by `;` on their own lines. */
+static void result_text(Buf *out, const Vec *v, const SymTab *st)
+{
+    bool nodes = false;
+    uint32_t n = vec_len(v);
+    if (v && !vec_is_num(v))
+        for (uint32_t i = 0; i < n && !nodes; i++) nodes = vec_celems(v)[i].kind == EL_NODE;
+    if (!nodes) {
+        fmt_value(out, v, st);
+        buf_putc(out, '\n');
+        return;
+    }
+    const Elem *e = vec_celems(v);
+    for (uint32_t i = 0; i < n;) {
+        if (e[i].kind == EL_NODE) {
+            fmt_tree(out, e[i].node, st);
+            i++;
+            continue;
+        }
+        for (; i < n && e[i].kind != EL_NODE; i++) {
+            Vec *item = vec_item(v, i);
+            fmt_value(out, item, st);
+            vec_release(item);
+            buf_putc(out, i + 1 < n && e[i + 1].kind != EL_NODE ? ';' : '\n');
+        }
+    }
+}
+
+int rt_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err)
+{
+    Exports bound = {0};
+    Vec *v;
+    uint32_t errors;
+    int rc = eval_in_scope(rt, text, len, &v, &bound, &errors, err);
+    if (rc != 0) return rc;
+    for (uint32_t i = bound.count; i-- > 0;) {
+        exports_put(&rt->repl, bound.names[i], bound.values[i]);
+        buf_printf(out, "%s = ", bound.names[i]->bytes);
+        result_text(out, bound.values[i], rt->symtab);
+    }
+    if (v || !bound.count) {
+        /* an expression: its value is `_` from now on */
+        Str *last = str_from("_");
+        exports_put(&rt->repl, last, v);
+        str_release(last);
+        result_text(out, v, rt->symtab);
+    }
+    vec_release(v);
+    exports_clear(&bound);
+    return 0;
+}
+
+int rt_state_set_expr(fl_runtime *rt, const char *key_expr, const char *value_expr, Buf *out,
+                      Buf *err)
+{
+    const char *texts[2] = {key_expr, value_expr};
+    Vec *v[2] = {NULL, NULL};
+    int rc = 0;
+    for (int k = 0; k < 2 && rc == 0; k++) {
+        Exports bound = {0};
+        uint32_t errors;
+        rc = eval_in_scope(rt, texts[k], strlen(texts[k]), &v[k], &bound, &errors, err);
+        if (rc == 1) {
+            buf_printf(err, "<repl>: error: the %s ended early (unexpected end of input)\n",
+                       k ? "value" : "key");
+        } else if (rc == 0 && bound.count) {
+            buf_printf(err, "<repl>: error: the %s is a `let`; expected an expression\n",
+                       k ? "value" : "key");
+        } else if (rc == 0 && errors) {
+            buf_printf(err, "<repl>: error: the %s had errors or warnings (state unchanged)\n",
+                       k ? "value" : "key");
+        } else if (rc == 0 && k == 0 && !v[0]) {
+            buf_puts(err, "<repl>: error: the key is null\n");
+        } else {
+            exports_clear(&bound);
+            continue;
+        }
+        rc = -1;
+        exports_clear(&bound);
+    }
+    if (rc == 0) {
+        fmt_value(out, v[0], rt->symtab);
+        buf_puts(out, " = ");
+        fmt_value(out, v[1], rt->symtab);
+        buf_putc(out, '\n');
+        state_set(rt->state, v[0], v[1]);
+    }
+    vec_release(v[0]);
+    vec_release(v[1]);
+    return rc;
+}
+
+void fl_eval_reset(fl_runtime *rt)
+{
+    if (rt) exports_clear(&rt->repl);
+}
 
 const Str *const *rt_scope_names(const fl_runtime *rt, size_t *n)
 {
@@ -856,7 +973,10 @@ int rt_restore_state(fl_runtime *rt, const char *path, Buf *err)
     return 0;
 }
 
-void fl_reset_state(fl_runtime *rt) { state_clear(rt->state); }
+void fl_reset_state(fl_runtime *rt)
+{
+    if (rt) state_clear(rt->state);
+}
 
 const Node *rt_root(const fl_runtime *rt) { return rt->root; }
 Pictures *rt_pictures(fl_runtime *rt) { return rt->pictures; }
@@ -865,18 +985,20 @@ double rt_beat(const fl_runtime *rt) { return rt->last_beat; }
 
 size_t fl_program_files(fl_runtime *rt, const char **out, size_t cap)
 {
-    if (!rt->prog) return 0;
+    if (!rt || !rt->prog) return 0;
+    if (!out) cap = 0;   /* a NULL [out] receives nothing */
     for (size_t i = 0; i < rt->files.count && i < cap; i++) out[i] = rt->files.paths[i];
     return rt->files.count;
 }
 StateDict *rt_state(fl_runtime *rt) { return rt->state; }
 const SymTab *rt_symbols(const fl_runtime *rt) { return rt->symtab; }
-long fl_frame_count(const fl_runtime *rt) { return rt->frame; }
-double fl_frame_time(const fl_runtime *rt) { return rt->last_time; }
-double fl_target_fps(const fl_runtime *rt) { return rt->target_fps; }
+long fl_frame_count(const fl_runtime *rt) { return rt ? rt->frame : -1; }
+double fl_frame_time(const fl_runtime *rt) { return rt ? rt->last_time : NAN; }
+double fl_target_fps(const fl_runtime *rt) { return rt ? rt->target_fps : NAN; }
 
 double fl_frame_wait(const fl_runtime *rt)
 {
+    if (!rt) return NAN;
     if (!rt->opts.realtime || !rt->clock_started) return 0;
     double now = rt->paused_at >= 0 ? rt->paused_at : monotonic();
     return rt->frame_time - (now - rt->wall_start);
@@ -884,6 +1006,7 @@ double fl_frame_wait(const fl_runtime *rt)
 
 void fl_clock_pause(fl_runtime *rt, bool paused)
 {
+    if (!rt) return;
     if (paused && rt->paused_at < 0) {
         rt->paused_at = monotonic();
     } else if (!paused && rt->paused_at >= 0) {

@@ -22,6 +22,7 @@
 #include "value.h"
 
 /* The Buf-based forms of fl_load, fl_load_text, fl_dump_program, fl_eval,
+ * fl_state_set_expr,
  * fl_save_state and fl_restore_state: the same behaviour, with messages
  * appended to [err] (and output to [out]) instead of fl_error() and a
  * callback. */
@@ -30,6 +31,8 @@ int rt_load_text(fl_runtime *rt, const char *name, const char *text, size_t len,
 int rt_dump_program(const fl_runtime *rt, Buf *out);
 int rt_dump_syntax(fl_runtime *rt, const char *path, bool ast, Buf *out, Buf *err);
 int rt_eval(fl_runtime *rt, const char *text, size_t len, Buf *out, Buf *err);
+int rt_state_set_expr(fl_runtime *rt, const char *key_expr, const char *value_expr, Buf *out,
+                      Buf *err);
 int rt_save_state(const fl_runtime *rt, const char *path, Buf *err);
 int rt_restore_state(fl_runtime *rt, const char *path, Buf *err);
 
@@ -59,6 +62,10 @@ Vec *rt_parse_value(fl_runtime *rt, const char *text);
 
 /* The runtime's fl_error() text, to be filled by a failing call. */
 Buf *rt_error_buf(fl_runtime *rt);
+/* Replace [rt]'s fl_error() text with one formatted line (the newline is
+ * added; at most 511 bytes): a public call refusing an argument. Returns
+ * -1, the usual error value. */
+int rt_fail(fl_runtime *rt, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* Make this thread's allocation-failure handler (mem.h) [rt]'s error
  * callback (fl_options.error); returns the previous handler, for

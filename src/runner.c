@@ -31,6 +31,10 @@ static void run_usage(FILE *f)
           "  --max-steps N       at most N physics steps per system per frame (default\n"
           "                      10000; 0: no limit); beyond, the simulation slows down\n"
           "  --threads N         physics threads (default: FLITTER_THREADS, else all cores)\n"
+          "  --max-memory SIZE   memory budget, SIZE bytes or with K, M or G (default: half\n"
+          "                      of physical memory, at most half of ulimit -v); past it\n"
+          "                      an expression gives null with an error, a load fails\n"
+          "                      with `out of memory` (exit 1)\n"
           "  --pairs naive|fast  physics pair loop: the reference all-pairs loop, or the\n"
           "                      neighbour grid and threads (default fast; same results)\n"
           "  --particles literal|fast  physics particle pass: PHYSICS-ENGINE.md as written,\n"
@@ -187,7 +191,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
            O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_DUMP_TOKENS, O_DUMP_AST, O_STATS,
            O_MAX_STEPS, O_PARTICLES, O_PHYSICS, O_WINDOW, O_FULLSCREEN, O_SCREEN, O_VSYNC,
            O_RESETONSWITCH, O_RECORD, O_WINDOW_SIZE, O_TRACE_FILE, O_PROFILE, O_OPENGLES,
-           O_MODELCACHE, O_VMSTATS };
+           O_MODELCACHE, O_VMSTATS, O_MAX_MEMORY };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
         {"fps", required_argument, NULL, O_FPS},
@@ -200,6 +204,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
         {"state", required_argument, NULL, O_STATE},
         {"max-steps", required_argument, NULL, O_MAX_STEPS},
         {"threads", required_argument, NULL, O_THREADS},
+        {"max-memory", required_argument, NULL, O_MAX_MEMORY},
         {"pairs", required_argument, NULL, O_PAIRS},
         {"particles", required_argument, NULL, O_PARTICLES},
         {"physics", required_argument, NULL, O_PHYSICS},
@@ -283,6 +288,9 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
             spec->threads = (int)n;
             break;
         }
+        case O_MAX_MEMORY:
+            if (!fl_parse_memory(optarg, &spec->max_memory)) goto bad_value;
+            break;
         case O_PAIRS:
             if (!fl_parse_pairs(optarg, &spec->pairs)) goto bad_value;
             break;
@@ -546,6 +554,7 @@ fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *in
     opts.frames = spec->frames;
     opts.realtime = spec->realtime;
     opts.threads = spec->threads;
+    opts.max_memory = spec->max_memory;
     opts.pairs = spec->pairs;
     opts.particles = spec->particles;
     opts.physics = spec->physics;

@@ -30,6 +30,7 @@ typedef struct RunSpec {
     int ndefines;
     const char *script;   /* SCRIPT */
     int threads;          /* --threads N, or 0 (FLITTER_THREADS / every core) */
+    size_t max_memory;    /* --max-memory SIZE in bytes, or 0 (the default budget) */
     int pairs;            /* --pairs naive|fast: FL_PAIRS_*, default FL_PAIRS_DEFAULT */
     int particles;        /* --particles literal|fast: FL_PARTICLES_*, default FL_PARTICLES_DEFAULT */
     int physics;          /* --physics documented|upstream: FL_PHYSICS_* */

@@ -17,6 +17,7 @@
 #include "config.h"
 #include "builtins.h"
 #include "matrix.h"
+#include "mem.h"
 #include "turns.h"
 
 /* The parameter list every builtin shares (BuiltinFn in builtins.h). */
@@ -127,6 +128,8 @@ static Vec *bi_polar(BI_PARAMS)
         return NULL;
     if (2 * (uint64_t)th->len > MAX_RESULT)
         return bi_error(ev, bi, "result too long");
+    if (!mem_fits(sizeof(Vec) + 2 * (size_t)th->len * sizeof(double)) && mem_take_refusal())
+        return bi_error(ev, bi, "out of memory");
     Vec *r = vec_new_num(2 * th->len);
     const double *t = vec_cnums(th);
     double *y = vec_nums(r);

@@ -25,6 +25,7 @@
 #include "config.h"
 #include "builtins.h"
 #include "context.h"
+#include "mem.h"
 #include "streams.h"
 
 typedef uint64_t Lat; /* a lattice coordinate: int64 bits, wrapping */
@@ -1074,6 +1075,10 @@ static uint64_t grid_size(int n, Vec *const *coords, bool *too_long)
             return 0;
         }
     }
+    if (!mem_fits(sizeof(Vec) + total * sizeof(double))) {   /* the budget, mem.h */
+        *too_long = true;
+        return 0;
+    }
     return total;
 }
 
@@ -1084,7 +1089,7 @@ static Vec *noise_of(Eval *ev, const Builtin *bi, const Vec *seed, int n, Vec *c
     bool too_long;
     uint64_t total = grid_size(n, coords, &too_long);
     if (total == 0)
-        return too_long ? bi_error(ev, bi, "result too long") : NULL;
+        return too_long ? bi_error(ev, bi, mem_take_refusal() ? "out of memory" : "result too long") : NULL;
     uint8_t perm[256];
     make_perm(vec_hash(seed, true), perm);
     const double *c[4];
@@ -1130,7 +1135,7 @@ static Vec *bi_octnoise(BI_PARAMS)
     bool too_long;
     uint64_t total = grid_size(nc, args + 3, &too_long);
     if (total == 0)
-        return too_long ? bi_error(ev, bi, "result too long") : NULL;
+        return too_long ? bi_error(ev, bi, mem_take_refusal() ? "out of memory" : "result too long") : NULL;
     if (n > MAX_OCTAVES)
         return bi_error(ev, bi, "too many octaves");
     uint64_t key = vec_hash(args[0], true);

@@ -122,6 +122,8 @@ static Vec *fold_lanes(Eval *ev, const Builtin *bi, int nargs, Vec *const *args,
         return NULL;
     if ((uint64_t)m > MAX_RESULT)
         return bi_error(ev, bi, "too many lanes");
+    if (!mem_fits(sizeof(Vec) + (size_t)m * sizeof(double)) && mem_take_refusal())
+        return bi_error(ev, bi, "out of memory");   /* the budget, mem.h */
     Vec *r = vec_new_num((uint32_t)m);
     double *y = vec_nums(r);
     for (int j = 0; j < m; j++)
@@ -167,6 +169,8 @@ static Vec *bi_mean(BI_PARAMS)
         return NULL;
     if ((uint64_t)m > MAX_RESULT)
         return bi_error(ev, bi, "too many lanes");
+    if (!mem_fits(sizeof(Vec) + (size_t)m * sizeof(double)) && mem_take_refusal())
+        return bi_error(ev, bi, "out of memory");   /* the budget, mem.h */
     uint32_t um = (uint32_t)m, n = vec_is_num(xs) ? xs->len : 0;
     Vec *r = vec_new_num(um);
     double *y = vec_nums(r);
@@ -366,6 +370,9 @@ static Vec *bi_zipv(BI_PARAMS)
         r = vec_retain((Vec *)vs[0]);
     } else if ((uint64_t)n * (uint64_t)m > MAX_RESULT) {
         r = bi_error(ev, bi, "result too long");
+    } else if (!mem_fits(sizeof(Vec) + (size_t)n * (size_t)m * (numeric ? sizeof(double) : sizeof(Elem))) &&
+               mem_take_refusal()) {
+        r = bi_error(ev, bi, "out of memory");   /* the budget, mem.h */
     } else {
         uint32_t len = n * (uint32_t)m;
         r = numeric ? vec_new_num(len) : vec_new_obj(len);

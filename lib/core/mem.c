@@ -8,23 +8,105 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <errno.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 static _Thread_local MemHandler handler;     /* this thread's failure handler */
 static _Thread_local long test_fail = -1;    /* mem_test_fail_after countdown */
 
-MemHandler mem_enter(MemFailFn fn, void *ctx)
+MemHandler mem_enter(MemFailFn fn, void *ctx) { return mem_enter_budget(fn, ctx, NULL); }
+
+MemHandler mem_enter_budget(MemFailFn fn, void *ctx, MemBudget *budget)
 {
     MemHandler prev = handler;
-    handler = (MemHandler){fn, ctx};
+    handler = (MemHandler){fn, ctx, budget};
+    if (budget) budget->refused = false;
     return prev;
 }
 
 void mem_leave(MemHandler prev) { handler = prev; }
 
+/* {====================================================================
+ * The budget
+ * ===================================================================== */
+
+bool mem_fits(size_t bytes)
+{
+    MemBudget *b = handler.budget;
+    if (!b || !b->limit) return true;
+    if (b->used <= b->limit && bytes <= b->limit - b->used) return true;
+    b->refused = true;
+    return false;
+}
+
+bool mem_reserve(size_t bytes)
+{
+    if (!mem_fits(bytes)) return false;
+    mem_charge(bytes);
+    return true;
+}
+
+void mem_charge(size_t bytes)
+{
+    MemBudget *b = handler.budget;
+    if (b) b->used = bytes > SIZE_MAX - b->used ? SIZE_MAX : b->used + bytes;
+}
+
+void mem_unreserve(size_t bytes)
+{
+    MemBudget *b = handler.budget;
+    /* a block made outside any runtime call may come back inside one */
+    if (b) b->used = bytes < b->used ? b->used - bytes : 0;
+}
+
+bool mem_take_refusal(void)
+{
+    MemBudget *b = handler.budget;
+    if (!b || !b->refused) return false;
+    b->refused = false;
+    return true;
+}
+
+size_t mem_default_limit(void)
+{
+    size_t limit = 0;
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && page > 0) limit = (size_t)pages / 2 * (size_t)page;
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) {
+        size_t as = rl.rlim_cur / 2 > SIZE_MAX ? SIZE_MAX : (size_t)(rl.rlim_cur / 2);
+        if (!limit || as < limit) limit = as ? as : 1;
+    }
+    return limit;
+}
+
+bool mem_parse_size(const char *text, size_t *out)
+{
+    if (!text || !out || *text < '0' || *text > '9') return false;
+    errno = 0;
+    char *end;
+    unsigned long long n = strtoull(text, &end, 10);
+    if (errno || n == 0) return false;
+    unsigned shift = 0;
+    switch (*end) {
+    case '\0': break;
+    case 'k': case 'K': shift = 10; end++; break;
+    case 'm': case 'M': shift = 20; end++; break;
+    case 'g': case 'G': shift = 30; end++; break;
+    default: return false;
+    }
+    if (*end || n > (SIZE_MAX >> shift)) return false;
+    *out = (size_t)n << shift;
+    return true;
+}
+
+/* }==================================================================== */
+
 _Noreturn void mem_fail(const char *message)
 {
     MemHandler h = handler;
-    handler = (MemHandler){NULL, NULL};
+    handler = (MemHandler){NULL, NULL, NULL};
     if (h.fn)
         h.fn(h.ctx, message);
     else

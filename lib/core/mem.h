@@ -22,6 +22,7 @@
 #ifndef FL_MEM_H
 #define FL_MEM_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 /* A failure handler: receives the message ("out of memory", "string too
@@ -29,14 +30,66 @@
  * expecting it to continue (the library aborts when it returns). */
 typedef void (*MemFailFn)(void *ctx, const char *message);
 
+/* A memory budget (issue 23 item 5, issue 28 item 5): the bytes one
+ * runtime may hold in the memory that input can make huge. It lives in the
+ * runtime (runtime.c) and is reached from the allocators through this
+ * thread's handler (mem_enter_budget), which the runtime installs on entry
+ * to every public call: nothing is global.
+ *
+ * What is charged: every block the pool (pool.c) takes from malloc or
+ * gives back to free (vectors, strings, nodes, attribute arrays: held
+ * blocks stay charged while they wait on a free list), and the explicit
+ * reservations of the other big arrays (the state-file reader's numbers,
+ * !physics systems, the parser's estimate). The paths whose size the
+ * input decides ask mem_fits() (or mem_reserve()) before allocating and
+ * turn a refusal into Flitter's null-and-log, a load error or a physics
+ * error; small allocations are not checked one by one. */
+typedef struct MemBudget {
+    size_t limit;    /* bytes; 0: no limit */
+    size_t used;     /* bytes charged now */
+    bool refused;    /* a request was refused since the last mem_enter_budget
+                        or mem_take_refusal */
+} MemBudget;
+
 typedef struct MemHandler {
-    MemFailFn fn;   /* NULL: write to stderr */
-    void *ctx;      /* passed to fn */
+    MemFailFn fn;        /* NULL: write to stderr */
+    void *ctx;           /* passed to fn */
+    MemBudget *budget;   /* the budget charged on this thread, or NULL */
 } MemHandler;
 
-/* Install [fn] with [ctx] as this thread's failure handler; returns the one
- * it replaces, to be handed back to mem_leave(). */
+/* Install [fn] with [ctx] as this thread's failure handler, with no
+ * budget; returns the one it replaces, to be handed back to mem_leave(). */
 MemHandler mem_enter(MemFailFn fn, void *ctx);
+/* The same with [budget] (may be NULL) charged on this thread until
+ * mem_leave; clears budget->refused, so each public call starts afresh. */
+MemHandler mem_enter_budget(MemFailFn fn, void *ctx, MemBudget *budget);
+
+/* The text of an execution error for a request the budget refused
+ * (LANGUAGE.md §4.16: the expression gives null, the frame goes on). */
+#define MEM_OOM_MESSAGE "Out of memory (past the memory budget, --max-memory)"
+
+/* True when [bytes] more fit in this thread's budget (always true without
+ * one). A refusal sets budget->refused; nothing is charged (the pool
+ * charges the block when it allocates it). */
+bool mem_fits(size_t bytes);
+/* mem_fits([bytes]) and, when it fits, charge them (give them back with
+ * mem_unreserve): for big arrays that do not come from the pool. */
+bool mem_reserve(size_t bytes);
+/* Give back [bytes] charged by mem_reserve (or by the pool). */
+void mem_unreserve(size_t bytes);
+/* Charge [bytes] without asking (the pool, for a block it has malloc'd). */
+void mem_charge(size_t bytes);
+/* True when a request was refused since the last call (or since the
+ * current public call began); clears the mark. The code that logs the
+ * failure asks this to say "out of memory" rather than something else. */
+bool mem_take_refusal(void);
+/* The default budget in bytes: half of physical memory, and never more
+ * than half of the address-space limit (RLIMIT_AS; the rest is for code,
+ * stacks, the parser and uncharged allocations); 0 when neither is known. */
+size_t mem_default_limit(void);
+/* Parse a size "N", "NK", "NM" or "NG" (binary multiples, case-insensitive,
+ * N a whole number > 0) into *[out]; false, leaving it alone, otherwise. */
+bool mem_parse_size(const char *text, size_t *out);
 /* Restore [prev] (from mem_enter) as this thread's failure handler. */
 void mem_leave(MemHandler prev);
 

@@ -75,6 +75,7 @@ void *pool_alloc_slow(size_t size)
     if (!r) {
         mem_oom();
     }
+    mem_charge(block);   /* this thread's budget (mem.h) holds it until it is freed */
     if (p) p->stats.mallocs++;
     return r;
 }
@@ -104,5 +105,6 @@ void pool_release_slow(void *ptr, size_t size)
         return;
     }
     if (p) p->stats.frees++;
+    mem_unreserve(block);
     free(ptr);
 }

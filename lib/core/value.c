@@ -124,6 +124,8 @@ Vec *vec_new_obj(uint32_t n)
 Vec *vec_from_nums(const double *x, uint32_t n)
 {
     if (!n) return NULL;
+    /* the budget (mem.h): null, with the refusal marked for the caller */
+    if (!mem_fits(sizeof(Vec) + (size_t)n * sizeof(double))) return NULL;
     Vec *v = vec_new_num(n);
     memcpy(vec_nums(v), x, n * sizeof(double));
     return v;
@@ -252,6 +254,8 @@ Vec *vec_compose(Vec *const *parts, size_t n)
     if (total > UINT32_MAX) {
         mem_fail("vector too long");
     }
+    /* the budget (mem.h): null, with the refusal marked for the caller */
+    if (!mem_fits(sizeof(Vec) + total * (numeric ? sizeof(double) : sizeof(Elem)))) return NULL;
     if (numeric) {
         Vec *r = vec_new_num((uint32_t)total);
         double *d = vec_nums(r);
@@ -305,6 +309,10 @@ Vec *vec_compose_take(Vec **parts, size_t n)
         return r;
     }
     if (total > UINT32_MAX) mem_fail("vector too long");
+    if (!mem_fits(sizeof(Vec) + total * sizeof(Elem))) {
+        for (size_t i = 0; i < n; i++) vec_release(parts[i]);
+        return NULL;
+    }
     Vec *r = vec_new_obj((uint32_t)total);
     Elem *d = vec_elems(r);
     for (size_t i = 0; i < n; i++) {
@@ -697,7 +705,8 @@ Vec *vec_range(const Vec *start, const Vec *stop, const Vec *step,
     if (!(q > 0.0) || isinf(q)) return NULL;
     if (q >= 9223372036854775808.0) return NULL;
     int64_t n = (int64_t)q;
-    if ((uint64_t)n > max_len) {
+    /* past the budget (mem.h) too: too long, with the refusal marked */
+    if ((uint64_t)n > max_len || !mem_fits(sizeof(Vec) + (size_t)n * sizeof(double))) {
         if (too_long) *too_long = true;
         return NULL;
     }

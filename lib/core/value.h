@@ -21,8 +21,10 @@
  * arguments are BORROWED unless the function's name ends in `_take` or its
  * comment says "consumes". `vec_release(NULL)` is a no-op.
  *
- * Allocation failure aborts the process (an interpreter cannot continue
- * without memory); every other bad input gives null, never a crash.
+ * The paths whose size the input decides (composition, ranges) ask the
+ * runtime's memory budget first (mem.h) and give null past it; an
+ * allocation that fails inside the budget aborts the process; every other
+ * bad input gives null, never a crash.
  */
 #ifndef FL_VALUE_H
 #define FL_VALUE_H
@@ -179,7 +181,8 @@ static inline Vec *vec_num1(double x)
     vec_nums(v)[0] = x;
     return v;
 }
-/* A numeric vector copied from [n] doubles ([n] == 0 gives null). */
+/* A numeric vector copied from [n] doubles ([n] == 0 gives null; null
+ * too past the memory budget, mem.h, with the refusal marked). */
 Vec *vec_from_nums(const double *x, uint32_t n);
 /* A one-element string vector from [len] UTF-8 bytes. */
 Vec *vec_str(const char *s, size_t len);
@@ -201,7 +204,9 @@ Vec *vec_normalize_take(Vec *v);
 bool vec_truthy(const Vec *v);
 
 /* Composition (§3.2) of [n] parts: concatenation, empty parts and streams
- * vanish, numeric if every part is numeric, null if the total is empty. */
+ * vanish, numeric if every part is numeric, null if the total is empty.
+ * Null too when the result does not fit the memory budget (mem.h
+ * mem_fits; mem_take_refusal() then says so). */
 Vec *vec_compose(Vec *const *parts, size_t n);
 /* The same, consuming the [n] parts (the result is equal to vec_compose's):
  * the elements of an object part held by nothing else move into the
@@ -266,7 +271,8 @@ uint64_t vec_hash(const Vec *v, bool floor_floats);
 /* ------------------------------------------------------------------ */
 
 /* start..stop|step; [start]/[step] may be NULL (missing). Invalid → null.
- * Ranges longer than [max_len] elements give null and set *[too_long]. */
+ * Ranges longer than [max_len] elements, or past the memory budget (mem.h;
+ * mem_take_refusal() then says so), give null and set *[too_long]. */
 Vec *vec_range(const Vec *start, const Vec *stop, const Vec *step,
                uint64_t max_len, bool *too_long);
 /* src[index] with 32-bit C int index conversion (or 64-bit when [literal]).

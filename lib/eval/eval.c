@@ -141,11 +141,13 @@ Vec *parts_finish(Eval *ev, Parts *p)
 {
     Vec *r;
     if (p->too_long) {
-        errorf(ev, "Vector too long (over %llu elements)", (unsigned long long)MAX_COMPOSE_LEN);
+        if (mem_take_refusal()) eval_error(ev, MEM_OOM_MESSAGE);
+        else errorf(ev, "Vector too long (over %llu elements)", (unsigned long long)MAX_COMPOSE_LEN);
         r = NULL;
         if (p->pushed == 1) vec_release(p->v[0]);
     } else {
         r = p->pushed == 1 ? p->v[0] : vec_compose_take(p->v, p->n);
+        if (!r && p->pushed > 1 && mem_take_refusal()) eval_error(ev, MEM_OOM_MESSAGE);
     }
     if (p->too_long && p->pushed != 1)
         for (size_t i = 0; i < p->n; i++) vec_release(p->v[i]);
@@ -579,7 +581,8 @@ __attribute__((noinline)) static Vec *eval_range(Eval *ev, const AstNode *n)
     Vec *c = n->c ? eval(ev, n->c) : NULL;
     bool too_long = false;
     Vec *r = vec_range(a, b, c, MAX_RANGE_LEN, &too_long);
-    if (too_long) errorf(ev, "Range too long (over %llu elements)", (unsigned long long)MAX_RANGE_LEN);
+    if (too_long && mem_take_refusal()) eval_error(ev, MEM_OOM_MESSAGE);
+    else if (too_long) errorf(ev, "Range too long (over %llu elements)", (unsigned long long)MAX_RANGE_LEN);
     vec_release(a);
     vec_release(b);
     vec_release(c);
@@ -622,8 +625,14 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
     uint32_t len = vec_len(src), k = n->nnames ? n->nnames : 1;
     Parts parts;
     parts_init(&parts);
-    /* once the result is too long it is null: stop evaluating the body */
+    /* once the result is too long it is null: stop evaluating the body;
+     * so too once the memory budget is spent (mem.h: the nodes and
+     * vectors each pass makes are charged as the pool allocates them) */
     for (uint32_t p = 0; p < len && !parts.too_long && !stop_requested(ev); p += k) {
+        if (!mem_fits(0)) {
+            parts.too_long = true;
+            break;
+        }
         for (uint32_t j = 0; j < n->nnames; j++) {
             Vec *cur = ev->frame[n->slots[j]];
             if (p + j < len && src->kind == VEC_NUM && cur && cur->refs == 1 &&
@@ -826,6 +835,9 @@ Vec *eval_program_value(Eval *ev)
     ev->frame = frame;
     ev->overflow = false;
     Vec *v = eval(ev, prog->top);
+    /* a refusal of the memory budget that no expression reported (a
+     * builtin's or a composition's inside compiled code) is still said */
+    if (mem_take_refusal()) eval_error(ev, MEM_OOM_MESSAGE);
     ev->frame = saved;
     for (uint32_t i = 0; i < prog->nslots; i++) vec_release(frame[i]);
     pool_release(frame, frame_size);

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "builtins.h"
+#include "config.h"
 #include "evalcode.h"
 #include "fileio.h"
 #include "mem.h"
@@ -109,12 +110,19 @@ void msgset_clear(MsgSet *s)
 typedef struct Visible {
     const Str *name;   /* bound name */
     int32_t slot;      /* its slot in the function frame */
+    uint32_t hash;     /* of the name (name_hash) */
+    uint32_t prev;     /* the entry before it in its hash bucket + 1, or 0 */
 } Visible;
 
 typedef struct FnCtx {
     struct FnCtx *parent;   /* enclosing function context, or NULL at top */
     Visible *scope;         /* visible names, innermost last */
     uint32_t nscope, capscope;
+    uint32_t *heads;        /* hash buckets of scope[]: the innermost entry
+                               + 1 (0 empty; nheads, a power of two), chained
+                               through Visible.prev, so that a name is found
+                               in O(1) among any number bound (issue 28) */
+    uint32_t nheads;
     uint32_t nslots;        /* frame size so far */
     const Str **cap_names;  /* names captured from outer frames */
     int32_t *cap_src, *cap_dst;
@@ -146,6 +154,15 @@ typedef struct Resolver {
     PathList *files;        /* the program's files: included ones are added */
 } Resolver;
 
+static uint32_t name_hash(const char *s);
+
+static void link_visible(FnCtx *c, uint32_t i)
+{
+    uint32_t *head = &c->heads[c->scope[i].hash & (c->nheads - 1)];
+    c->scope[i].prev = *head;
+    *head = i + 1;
+}
+
 static void push_visible(FnCtx *c, const Str *name, int32_t slot)
 {
     if (c->nscope == c->capscope) {
@@ -153,7 +170,36 @@ static void push_visible(FnCtx *c, const Str *name, int32_t slot)
         c->scope = realloc(c->scope, c->capscope * sizeof(Visible));
         if (!c->scope) mem_oom();
     }
-    c->scope[c->nscope++] = (Visible){name, (int32_t)slot};
+    uint32_t i = c->nscope++;
+    c->scope[i] = (Visible){name, (int32_t)slot, name_hash(name->bytes), 0};
+    if (c->nscope > c->nheads) {   /* grow: about one entry a bucket */
+        c->nheads = c->nheads ? c->nheads * 2 : 16;
+        free(c->heads);
+        c->heads = calloc(c->nheads, sizeof *c->heads);
+        if (!c->heads) mem_oom();
+        for (uint32_t k = 0; k < c->nscope; k++) link_visible(c, k);
+    } else {
+        link_visible(c, i);
+    }
+}
+
+/* Drop the names made visible after [mark]. */
+static void pop_visible(FnCtx *c, uint32_t mark)
+{
+    while (c->nscope > mark) {
+        const Visible *v = &c->scope[--c->nscope];
+        c->heads[v->hash & (c->nheads - 1)] = v->prev;
+    }
+}
+
+/* The innermost entry of scope[] binding [name] + 1, or 0. */
+static uint32_t find_visible(const FnCtx *c, const Str *name)
+{
+    if (!c->nheads) return 0;
+    uint32_t h = name_hash(name->bytes);
+    for (uint32_t i = c->heads[h & (c->nheads - 1)]; i; i = c->scope[i - 1].prev)
+        if (c->scope[i - 1].hash == h && str_eq(c->scope[i - 1].name, name)) return i;
+    return 0;
 }
 
 static void add_capture(FnCtx *c, const Str *name, int32_t src, int32_t dst)
@@ -175,8 +221,8 @@ static void add_capture(FnCtx *c, const Str *name, int32_t src, int32_t dst)
  * no function context binds it. */
 static int32_t lookup_local(FnCtx *c, const Str *name)
 {
-    for (uint32_t i = c->nscope; i-- > 0;)
-        if (str_eq(c->scope[i].name, name)) return c->scope[i].slot;
+    uint32_t found = find_visible(c, name);
+    if (found) return c->scope[found - 1].slot;
     if (!c->parent) return -1;
     for (uint32_t i = 0; i < c->ncaps; i++)
         if (str_eq(c->cap_names[i], name)) return c->cap_dst[i];
@@ -340,9 +386,7 @@ static void resolve_export(FnCtx *c, AstNode *n)
     x->slots = malloc((c->nscope ? c->nscope : 1) * sizeof(int32_t));
     if (!x->names || !x->slots) mem_oom();
     for (uint32_t i = c->nscope; i-- > 0;) {
-        bool seen = false;
-        for (uint32_t k = 0; k < x->count && !seen; k++) seen = str_eq(x->names[k], c->scope[i].name);
-        if (seen) continue;
+        if (find_visible(c, c->scope[i].name) != i + 1) continue;   /* shadowed */
         x->names[x->count] = c->scope[i].name;
         x->slots[x->count] = c->scope[i].slot;
         x->count++;
@@ -433,6 +477,7 @@ static void resolve_function(Resolver *r, FnCtx *c, AstNode *n)
     n->aux = fi;
     n->aux_free = fninfo_free;
     free(inner.scope);
+    free(inner.heads);
     free(inner.cap_names);
     free(inner.cap_src);
     free(inner.cap_dst);
@@ -474,19 +519,19 @@ static void resolve_node(Resolver *r, FnCtx *c, AstNode *n)
             bind_names(c, b);
         }
         resolve(r, c, n->a);
-        c->nscope = mark;
+        pop_visible(c, mark);
         return;
     case AST_FOR:
         resolve(r, c, n->a);
         bind_names(c, n);
         resolve(r, c, n->b);
-        c->nscope = mark;
+        pop_visible(c, mark);
         return;
     case AST_IMPORT:
         resolve(r, c, n->a);
         bind_names(c, n);
         resolve(r, c, n->b);
-        c->nscope = mark;
+        pop_visible(c, mark);
         return;
     case AST_FUNCTION:
         resolve_function(r, c, n);
@@ -561,6 +606,7 @@ static Program *resolve_program(Program *p, Globals *globals, SymTab *st, Buf *e
     free(r.included);
     p->nslots = ctx.nslots;
     free(ctx.scope);
+    free(ctx.heads);
     free(ctx.cap_names);
     free(ctx.cap_src);
     free(ctx.cap_dst);
@@ -591,6 +637,14 @@ static char *dir_of(const char *path)
 Program *program_load_text(const char *path, const char *text, size_t len,
                            Globals *globals, SymTab *st, Buf *err)
 {
+    /* the parser's memory, estimated from the size of the source (its
+     * measured cost per byte, config.h), must fit the budget (mem.h) */
+    if (len > SIZE_MAX / PARSE_BYTES_PER_BYTE || !mem_fits(len * PARSE_BYTES_PER_BYTE)) {
+        mem_take_refusal();
+        buf_printf(err, "%s:1:1: error: out of memory (parsing %zu bytes of source needs about "
+                   "%zu MiB, past the memory budget)\n", path, len, len / (1u << 20) * PARSE_BYTES_PER_BYTE);
+        return NULL;
+    }
     AstNode *top = parse_program(path, text, len, 0, err);
     if (!top) return NULL;
     Program *p = calloc(1, sizeof *p);
@@ -620,6 +674,12 @@ Program *program_load_text(const char *path, const char *text, size_t len,
         if (p->stable_ids) p->simplified = ast_copy(top);
         if (globals->interrupt && *globals->interrupt) {   /* the simplifier gave up */
             buf_printf(err, "%s: error: interrupted while loading\n", path);
+            program_release(p);
+            return NULL;
+        }
+        if (mem_take_refusal()) {   /* a value folded at load time did not fit the budget */
+            buf_printf(err, "%s:1:1: error: out of memory (a value computed while simplifying "
+                       "is past the memory budget)\n", path);
             program_release(p);
             return NULL;
         }

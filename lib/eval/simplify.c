@@ -764,6 +764,8 @@ void simp_fini(Simp *s)
 {
     scope_restore(s, 0);
     free(s->names);
+    free(s->heads);
+    free(s->renames);
     for (uint32_t i = 0; i < s->ndeps; i++) free(s->deps[i]);
     free(s->deps);
     for (uint32_t i = 0; i < s->nbuiltins; i++) {

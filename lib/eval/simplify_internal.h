@@ -18,6 +18,8 @@ typedef struct NameBind {
     Str *target;           /* NB_RENAME: the name it stands for (one reference) */
     const AstNode *fn;     /* NB_FUNCTION: an inlineable AST_FUNCTION (borrowed
                               from the Let being simplified) */
+    uint32_t hash;         /* of the name (name_hash) */
+    uint32_t prev;         /* the entry of the same name it shadows + 1, or 0 */
 } NameBind;
 
 /* AST_EXPORT `op` after simplification: the main program's end, which does
@@ -48,6 +50,15 @@ typedef struct Simp Simp;
 struct Simp {
     NameBind *names;        /* scope stack: later entries shadow earlier */
     uint32_t nnames, capnames;
+    uint32_t *heads;        /* hash of names[] by name: the innermost entry
+                               + 1 (0 empty; nheads slots, a power of two);
+                               each entry links to the one it shadows
+                               (NameBind.prev), so lookups are O(1) however
+                               many names are bound (issue 28) */
+    uint32_t nheads;
+    uint32_t *renames;      /* indexes of the NB_RENAME entries of names[],
+                               ascending (a `let` looks only at these) */
+    uint32_t nrenames, caprenames;
     SymTab *symtab;
     Buf *warnings;
     WarnTable *warned;      /* lines written to warnings (shared with the
@@ -133,6 +144,11 @@ typedef struct NameSet {
     const Str **v;
     uint32_t n, cap;
     bool all;
+    uint32_t *index;     /* past a few names: open-addressed hash of v
+                            (index + 1, 0 empty; nindex slots, a power of
+                            two), so that a set of N names is built in
+                            O(N), not O(N^2) (issue 28) */
+    uint32_t nindex;
 } NameSet;
 void free_names(const AstNode *n, NameSet *out);
 bool nameset_has(const NameSet *set, const Str *name);

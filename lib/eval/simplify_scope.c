@@ -24,11 +24,37 @@ AstNode *simp_sequence_of(AstNode **items, uint32_t n, uint32_t cap, Loc loc);
  * The scope stack
  * ==================================================================== */
 
+static uint32_t name_hash(const Str *name)
+{
+    uint32_t h = 2166136261u;   /* FNV-1a */
+    for (uint32_t i = 0; i < name->len; i++) h = (h ^ (unsigned char)name->bytes[i]) * 16777619u;
+    return h;
+}
+
+/* Chain entry [i] into the bucket of its hash (entries are chained from
+ * the innermost down). */
+static void scope_link(Simp *s, uint32_t i)
+{
+    uint32_t *head = &s->heads[s->names[i].hash & (s->nheads - 1)];
+    s->names[i].prev = *head;
+    *head = i + 1;
+}
+
+/* The innermost entry binding [name] below index [below], or NULL. */
+static NameBind *scope_find_below(Simp *s, const Str *name, uint32_t below)
+{
+    if (!s->nheads) return NULL;
+    uint32_t h = name_hash(name);
+    for (uint32_t i = s->heads[h & (s->nheads - 1)]; i; i = s->names[i - 1].prev) {
+        NameBind *e = &s->names[i - 1];
+        if (i - 1 < below && e->hash == h && str_eq(e->name, name)) return e;
+    }
+    return NULL;
+}
+
 NameBind *scope_find(Simp *s, const Str *name)
 {
-    for (uint32_t i = s->nnames; i-- > 0;)
-        if (str_eq(s->names[i].name, name)) return &s->names[i];
-    return NULL;
+    return scope_find_below(s, name, s->nnames);
 }
 
 void scope_push(Simp *s, Str *name, int kind, const Vec *value, Str *target, const AstNode *fn)
@@ -38,14 +64,34 @@ void scope_push(Simp *s, Str *name, int kind, const Vec *value, Str *target, con
         s->names = realloc(s->names, s->capnames * sizeof *s->names);
         if (!s->names) mem_oom();
     }
-    s->names[s->nnames++] = (NameBind){str_retain(name), kind, vec_retain((Vec *)value),
-                                       str_retain(target), fn};
+    uint32_t i = s->nnames++;
+    s->names[i] = (NameBind){str_retain(name), kind, vec_retain((Vec *)value),
+                             str_retain(target), fn, name_hash(name), 0};
+    if (kind == NB_RENAME) {
+        if (s->nrenames == s->caprenames) {
+            s->caprenames = s->caprenames ? s->caprenames * 2 : 16;
+            s->renames = realloc(s->renames, s->caprenames * sizeof *s->renames);
+            if (!s->renames) mem_oom();
+        }
+        s->renames[s->nrenames++] = i;
+    }
+    if (s->nnames > s->nheads) {   /* grow: at most one entry a bucket on average */
+        s->nheads = s->nheads ? s->nheads * 2 : 64;
+        free(s->heads);
+        s->heads = calloc(s->nheads, sizeof *s->heads);
+        if (!s->heads) mem_oom();
+        for (uint32_t k = 0; k < s->nnames; k++) scope_link(s, k);
+    } else {
+        scope_link(s, i);
+    }
 }
 
 void scope_restore(Simp *s, uint32_t mark)
 {
     while (s->nnames > mark) {
         NameBind *b = &s->names[--s->nnames];
+        s->heads[b->hash & (s->nheads - 1)] = b->prev;
+        if (b->kind == NB_RENAME) s->nrenames--;
         str_release(b->name);
         vec_release(b->value);
         str_release(b->target);
@@ -114,9 +160,23 @@ static bool is_builtin_name(const Str *name)
 
 bool nameset_has(const NameSet *set, const Str *name)
 {
+    if (set->index) {
+        uint32_t mask = set->nindex - 1;
+        for (uint32_t i = name_hash(name) & mask; set->index[i]; i = (i + 1) & mask)
+            if (str_eq(set->v[set->index[i] - 1], name)) return true;
+        return false;
+    }
     for (uint32_t i = 0; i < set->n; i++)
         if (str_eq(set->v[i], name)) return true;
     return false;
+}
+
+/* Put v[k] into the hash index (which has room). */
+static void nameset_index(NameSet *set, uint32_t k)
+{
+    uint32_t mask = set->nindex - 1, i = name_hash(set->v[k]) & mask;
+    while (set->index[i]) i = (i + 1) & mask;
+    set->index[i] = k + 1;
 }
 
 static void nameset_add(NameSet *set, const Str *name)
@@ -128,11 +188,22 @@ static void nameset_add(NameSet *set, const Str *name)
         if (!set->v) mem_oom();
     }
     set->v[set->n++] = name;
+    if (set->n <= 16) return;   /* a linear search is quicker */
+    if (2 * set->n > set->nindex) {   /* keep the load under 1/2 */
+        set->nindex = set->nindex ? set->nindex * 2 : 64;
+        free(set->index);
+        set->index = calloc(set->nindex, sizeof *set->index);
+        if (!set->index) mem_oom();
+        for (uint32_t k = 0; k < set->n; k++) nameset_index(set, k);
+    } else {
+        nameset_index(set, set->n - 1);
+    }
 }
 
 void nameset_free(NameSet *set)
 {
     free(set->v);
+    free(set->index);
     *set = (NameSet){0};
 }
 
@@ -382,10 +453,10 @@ AstNode *simp_let(Simp *s, const AstNode *n)
             const Str *target = b->names[j];
             if (nameset_has(&shadowed, target)) continue;
             bool any = false;
-            uint32_t top = s->nnames;
-            for (uint32_t k = 0; k < top; k++) {
-                NameBind *e = &s->names[k];
-                if (e->kind != NB_RENAME || !str_eq(e->target, target)) continue;
+            uint32_t top = s->nrenames;
+            for (uint32_t r = 0; r < top; r++) {
+                NameBind *e = &s->names[s->renames[r]];
+                if (!str_eq(e->target, target)) continue;
                 if (scope_find(s, e->name) != e) continue;   /* not the visible binding */
                 Str *alias = str_retain(e->name);
                 blist_push(&rem, mk_binding1(alias, ast_name(str_retain((Str *)target), b->loc), b->loc));
@@ -594,8 +665,7 @@ AstNode *simp_function(Simp *s, const AstNode *n)
         for (uint32_t j = 0; j < n->nkids && !param; j++) param = str_eq(n->kids[j]->names[0], name);
         if (param) continue;
         /* a builtin name counts as bound unless the enclosing scope binds it */
-        bool outer = false;
-        for (uint32_t k = 0; k < mark && !outer; k++) outer = str_eq(s->names[k].name, name);
+        bool outer = scope_find_below(s, name, mark) != NULL;
         if (is_builtin_name(name) && !outer) continue;
         captures = true;
     }

@@ -268,11 +268,57 @@ static Vec *read_element(Reader *r)
     return read_number(r, &x) ? vec_num1(x) : NULL;
 }
 
+/* A value of numbers and symbols only (no string on the rest of the
+ * line): parsed straight into one numeric vector, so that memory is the
+ * vector itself, proportional to the file (issue 28 item 5), instead of
+ * one object per element; its size is asked of the memory budget first
+ * (mem.h). false on a malformed element or a refusal (*[oom] set). */
+static bool read_numbers(Reader *r, Vec **out, bool *oom)
+{
+    size_t n = 1;
+    for (const char *q = r->p; (q = memchr(q, ';', (size_t)(r->end - q))); q++) n++;
+    if (n > MAX_COMPOSE_LEN || !mem_fits(sizeof(Vec) + n * sizeof(double))) {
+        mem_take_refusal();
+        *oom = true;
+        return false;
+    }
+    Vec *v = vec_new_num((uint32_t)n);
+    double *d = vec_nums(v);
+    for (size_t i = 0; i < n; i++) {
+        bool ok;
+        if (*r->p == ':') {
+            const char *q = ++r->p;
+            while (r->p < r->end && *r->p != ';' && *r->p != ' ') r->p++;
+            ok = r->p != q;
+            if (ok) d[i] = symtab_add(r->st, q, (size_t)(r->p - q));
+        } else {
+            ok = read_number(r, &d[i]);
+        }
+        if (!ok || (i + 1 < n ? *r->p++ != ';' : r->p != r->end)) {
+            vec_release(v);
+            return false;
+        }
+    }
+    *out = v;
+    return true;
+}
+
 /* One vector of `;`-separated elements: a key ([key]: up to the first
  * " = " after a whole element, so a string may hold " = ") or a value (up
- * to the end of the line); false on a malformed element. */
-static bool read_vector(Reader *r, bool key, Vec **out)
+ * to the end of the line); false on a malformed element or when the
+ * memory budget refuses it (*[oom] set). */
+static bool read_vector(Reader *r, bool key, Vec **out, bool *oom)
 {
+    if (!key && !memchr(r->p, '"', (size_t)(r->end - r->p))) return read_numbers(r, out, oom);
+    /* one object per element, about 100 bytes each, for at most one
+     * element per two bytes of the text (a key: up to its first " = "):
+     * asked of the budget first */
+    const char *end = key ? memmem(r->p, (size_t)(r->end - r->p), " = ", 3) : NULL;
+    if (!mem_fits((size_t)((end ? end : r->end) - r->p) / 2 * 100)) {
+        mem_take_refusal();
+        *oom = true;
+        return false;
+    }
     Vec **els = NULL;
     size_t n = 0, cap = 0;
     bool ok = true;
@@ -400,10 +446,13 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, StateOrigin *or
             ended = true;
         } else {
             Vec *k = NULL, *v = NULL;
-            if (!read_vector(&r, true, &k)) why = "malformed key (expected KEY = VALUE)";
+            bool oom = false;
+            if (!read_vector(&r, true, &k, &oom))
+                why = oom ? "out of memory (past the memory budget)" : "malformed key (expected KEY = VALUE)";
             else {
                 r.p += 3;
-                if (!read_vector(&r, false, &v)) why = "malformed value";
+                if (!read_vector(&r, false, &v, &oom))
+                    why = oom ? "out of memory (past the memory budget)" : "malformed value";
                 else if (!k || !v) why = "empty key or value";
                 else {
                     state_set(fresh, k, v);

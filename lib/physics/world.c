@@ -119,6 +119,20 @@ static void system_free(PhysSystem *s)
 /* One frame of one system (PHYSICS-ENGINE.md §2)                      */
 /* ------------------------------------------------------------------ */
 
+/* How many arrays of D numbers a particle may need at most (position,
+ * velocity, acceleration, force, own force, direction, anchor, geometry
+ * and the pair routes' copies), for the budget check of system_frame. */
+#define SYSTEM_ARRAYS 16
+
+/* The nodes below [n] (particles, anchors, appliers, in groups too). */
+static size_t count_nodes(const Node *n)
+{
+    size_t c = n->nchildren;
+    for (uint32_t i = 0; i < n->nchildren; i++)
+        if (n->children[i]->nchildren) c += count_nodes(n->children[i]);
+    return c;
+}
+
 static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
                          const PhysicsFrame *fr)
 {
@@ -127,6 +141,10 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
     int64_t run = phys_attr_int(node, "run", 0);
     int64_t D = phys_attr_int(node, "dimensions", 0);
     if (D < 1 || D > (int64_t)PHYS_MAX_DIMENSIONS)
+        return;
+    /* the memory budget (mem.h): a system whose per-particle arrays would
+     * not fit is skipped, and the runtime logs a physics error */
+    if (!mem_fits((count_nodes(node) + 1) * (SYSTEM_ARRAYS * (size_t)D * sizeof(double) + 256)))
         return;
     const Vec *P = node_attr(node, "state");
     if (!P)

@@ -375,6 +375,120 @@ AstNode *ast_top(AstNode *pragmas, AstNode *body, Loc loc)
 
 /* }===================================================================== */
 
+/* {=====================================================================
+ * Flat sequences: heads and their bodies (ast.h, ast_sequence)
+ * ===================================================================== */
+
+/* Head kinds, in `scope` until ast_sequence() sets the body (0: no head). */
+enum { HEAD_LET = 1, HEAD_LET_BLOCK, HEAD_FUNC, HEAD_ANON, HEAD_IMPORT, HEAD_DONE };
+
+static AstNode *head(AstNode *n, int kind)
+{
+    n->scope = (uint8_t)kind;
+    return n;
+}
+
+AstNode *ast_head_let(AstNode *bindings, int stable, Loc loc)
+{
+    return head(ast_let(bindings, NULL, stable, loc), HEAD_LET);
+}
+
+AstNode *ast_head_let_block(AstNode *names, AstNode *block, Loc loc)
+{
+    return head(ast_let_block(names, block, NULL, loc), HEAD_LET_BLOCK);
+}
+
+AstNode *ast_head_func(Str *name, AstNode *params, AstNode *body, Loc loc)
+{
+    return head(ast_func_let(name, params, body, NULL, loc), HEAD_FUNC);
+}
+
+AstNode *ast_head_anon(AstNode *params, AstNode *body, Loc loc)
+{
+    return head(ast_list(AST_SEQUENCE, ast_function(NULL, params, body, loc), loc), HEAD_ANON);
+}
+
+AstNode *ast_head_import(AstNode *names, AstNode *file, Loc loc)
+{
+    return head(ast_import(names, file, NULL, loc), HEAD_IMPORT);
+}
+
+AstNode *ast_sequence(AstNode *items, Loc loc)
+{
+    /* Right to left: the head at i takes items i+1.. (statements, then at
+     * most the head folded before) as its rest. As in the right-recursive
+     * rules, the rest starts where the head ends (an empty sequence sits
+     * at the end of the symbol before it) and ends with the whole
+     * sequence; the let_tail, and for `func` and `let x =` blocks its
+     * binding and function, span from the keyword to that end. */
+    uint32_t n = items->nkids;
+    for (uint32_t i = n; i-- > 0;) {
+        AstNode *h = items->kids[i];
+        int kind = h ? h->scope : 0;
+        if (!kind || kind == HEAD_DONE) {
+            continue;
+        }
+        Loc rest_loc = {loc.file, h->loc.end, loc.end};
+        Loc tail = {loc.file, h->loc.start, loc.end};
+        AstNode *rest = ast_new(AST_SEQUENCE, rest_loc);
+        for (uint32_t k = i + 1; k < n; k++)
+            ast_push(rest, items->kids[k]);
+        n = i + 1;
+        h->scope = HEAD_DONE;
+        h->loc = tail;
+        switch (kind) {
+        case HEAD_FUNC:
+            h->kids[0]->a->loc = tail;
+            /* fall through */
+        case HEAD_LET_BLOCK:
+            h->kids[0]->loc = tail;
+            /* fall through */
+        case HEAD_LET:
+            h->a = rest;
+            break;
+        case HEAD_ANON:
+            h->kids[0]->loc = tail;
+            ast_push(h, rest);
+            break;
+        default:
+            h->b = rest;
+            break;
+        }
+    }
+    items->nkids = n;
+    /* Outermost first, merge each plain let whose rest is only another
+     * plain let (let a=.. + (let b=.. + body) -> let a=.. b=.. + body):
+     * every binding is moved once. Only the last item of a sequence can
+     * be a head. */
+    AstNode *seq = items;
+    while (seq && seq->nkids) {
+        AstNode *h = seq->kids[seq->nkids - 1];
+        if (!h || h->scope != HEAD_DONE)
+            break;
+        h->scope = 0;
+        if (h->kind == AST_LET) {
+            AstNode *rest = h->a, *inner;
+            while (h->op == 0 && rest->nkids == 1 && (inner = rest->kids[0])->scope == HEAD_DONE
+                   && inner->kind == AST_LET && inner->op == 0) {
+                for (uint32_t k = 0; k < inner->nkids; k++)
+                    ast_push(h, inner->kids[k]);
+                inner->nkids = 0;
+                h->a = inner->a;
+                inner->a = NULL;
+                ast_free(rest);
+                rest = h->a;
+            }
+            seq = h->a;
+        } else if (h->kind == AST_IMPORT) {
+            seq = h->b;
+        } else {
+            seq = h->kids[h->nkids - 1];
+        }
+    }
+    items->loc = loc;
+    return items;
+}
+
 static const char *const kind_names[] = {
     "Top", "Sequence", "Literal", "Name", "Lookup",
     "BinOp", "Neg", "Pos", "Not", "And", "Or", "Xor",

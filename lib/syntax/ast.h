@@ -181,6 +181,24 @@ AstNode *ast_attributes(AstNode *node, AstNode *binding, Loc loc);
 /* Pragma `%pragma name literal`: AST_BINDING with names[0] = [name] and
  * `value` taken from the AST_LITERAL [literal] (which is freed). */
 AstNode *ast_pragma(Str *name, AstNode *literal, Loc loc);
+/* The flat form of a sequence (parser.y `sequence`, issue 28): a `let`,
+ * `func` or `import` statement is built as a "head" without the rest of
+ * its sequence (the node's `scope` holds its head kind until then);
+ * ast_sequence() gives each head the items after it as its body, so that
+ * the tree is the one the right-recursive LANGUAGE.md §2.1 rules describe,
+ * with the same locations. Consecutive heads that build plain (not
+ * stable) AST_LETs are merged into one AST_LET whose bindings run in the
+ * same order (the evaluator, resolver and simplifier bind a let's names
+ * one after another, exactly as nested lets do), so a flat script of any
+ * number of `let` lines or `func`s is one level deep, not one per line. */
+AstNode *ast_head_let(AstNode *bindings, int stable, Loc loc);
+AstNode *ast_head_let_block(AstNode *names, AstNode *block, Loc loc);
+AstNode *ast_head_func(Str *name, AstNode *params, AstNode *body, Loc loc);
+AstNode *ast_head_anon(AstNode *params, AstNode *body, Loc loc);
+AstNode *ast_head_import(AstNode *names, AstNode *file, Loc loc);
+/* The AST_SEQUENCE of the holder [items] (statements and heads, consumed)
+ * spanning [loc], every head given its body. */
+AstNode *ast_sequence(AstNode *items, Loc loc);
 /* AST_TOP from the holder [pragmas] (an AST_TOP whose kids are pragma
  * bindings) and the program [body]; `c` is left for the symbol list. */
 AstNode *ast_top(AstNode *pragmas, AstNode *body, Loc loc);

@@ -1,0 +1,150 @@
+/* test_budget.c: the memory budget (lib/core/mem.h MemBudget, issue 23
+ * item 5, issue 28 item 5): size parsing, the charging rules (the pool
+ * charges the blocks it mallocs and gives back those it frees; requests
+ * past the limit are refused and marked), and what an embedding host sees
+ * through flitter.h: error codes and log lines, never an abort, and a
+ * runtime that goes on working afterwards. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "flitter.h"
+#include "mem.h"
+#include "value.h"
+
+static void test_parse_size(void **st)
+{
+    (void)st;
+    size_t n = 7;
+    assert_true(mem_parse_size("1", &n));
+    assert_int_equal(n, 1);
+    assert_true(mem_parse_size("64k", &n));
+    assert_int_equal(n, 65536);
+    assert_true(mem_parse_size("200M", &n));
+    assert_int_equal(n, (size_t)200 << 20);
+    assert_true(fl_parse_memory("2G", &n));
+    assert_int_equal(n, (size_t)2 << 30);
+    n = 7;
+    const char *badv[] = {"", "0", "-1", "1.5G", "12X", "G", " 1", "1 ", "1MB",
+                          "99999999999999999999", "17179869184G", NULL};
+    for (int i = 0; badv[i]; i++) assert_false(mem_parse_size(badv[i], &n));
+    assert_false(mem_parse_size(NULL, &n));
+    assert_int_equal(n, 7);   /* left alone */
+}
+
+static void test_charging(void **st)
+{
+    (void)st;
+    MemBudget b = {.limit = 300000};   /* blocks are charged by their pool class size */
+    MemHandler prev = mem_enter_budget(NULL, NULL, &b);
+    assert_true(mem_fits(300000));
+    assert_false(b.refused);
+    assert_false(mem_fits(300001));
+    assert_true(b.refused);
+    assert_true(mem_take_refusal());
+    assert_false(mem_take_refusal());
+    assert_true(mem_reserve(200000));
+    assert_int_equal(b.used, 200000);
+    assert_false(mem_reserve(150000));
+    assert_int_equal(b.used, 200000);
+    mem_take_refusal();
+    mem_unreserve(200000);
+    assert_int_equal(b.used, 0);
+    mem_unreserve(5);   /* never below 0 */
+    assert_int_equal(b.used, 0);
+    /* the pool (no pool active: straight to malloc/free) charges blocks */
+    Vec *v = vec_new_num(1000);
+    assert_true(b.used >= 8000 && b.used < 8200);
+    vec_release(v);
+    assert_int_equal(b.used, 0);
+    /* composition and ranges past the budget: null and marked */
+    Vec *big = vec_new_num(10000);   /* 80 KB: a 128 KiB block */
+    assert_int_equal(b.used, 131072);
+    for (int i = 0; i < 10000; i++) vec_nums(big)[i] = i;
+    Vec *parts[3] = {big, big, big};
+    assert_null(vec_compose(parts, 3));
+    assert_true(mem_take_refusal());
+    Vec *two = vec_compose(parts, 1);   /* the part itself: nothing new */
+    assert_ptr_equal(two, big);
+    vec_release(two);
+    Vec *stop = vec_num1(30000);
+    bool too_long = false;
+    assert_null(vec_range(NULL, stop, NULL, UINT64_C(1) << 26, &too_long));
+    assert_true(too_long && mem_take_refusal());
+    vec_release(stop);
+    stop = vec_num1(100);
+    too_long = false;
+    Vec *r = vec_range(NULL, stop, NULL, UINT64_C(1) << 26, &too_long);
+    assert_false(too_long || mem_take_refusal());
+    assert_int_equal(vec_len(r), 100);
+    vec_release(r);
+    vec_release(stop);
+    vec_release(big);
+    assert_int_equal(b.used, 0);
+    /* entering again clears the mark: each public call starts afresh */
+    assert_false(mem_fits(SIZE_MAX));
+    mem_enter_budget(NULL, NULL, &b);
+    assert_false(b.refused);
+    mem_leave(prev);
+    /* without a budget everything fits */
+    assert_true(mem_fits(SIZE_MAX));
+    assert_false(mem_take_refusal());
+}
+
+typedef struct Log {
+    char text[4096];
+} Log;
+
+static void collect(void *ctx, int kind, const char *line)
+{
+    (void)kind;
+    Log *log = ctx;
+    size_t n = strlen(log->text);
+    snprintf(log->text + n, sizeof log->text - n, "%s\n", line);
+}
+
+static void test_api(void **st)
+{
+    (void)st;
+    Log log = {{0}};
+    fl_options o = fl_default_options();
+    o.max_memory = (size_t)1 << 20;   /* 1 MiB */
+    o.log = collect;
+    o.ctx = &log;
+    fl_runtime *rt = fl_new(&o);
+    assert_non_null(rt);
+    /* folded at load: an error code and the message, no abort */
+    const char *huge = "let a=..1000000\n!foo n=len(a)\n";
+    assert_int_not_equal(fl_load_text(rt, "huge.fl", huge, strlen(huge)), 0);
+    assert_non_null(strstr(fl_error(rt), "huge.fl:1:1: error: out of memory"));
+    /* at run time: null and a logged execution error; the frame goes on */
+    const char *run = "!foo n=len(..(frame+1000000)) m=1\n";
+    assert_int_equal(fl_load_text(rt, "run.fl", run, strlen(run)), 0);
+    assert_int_equal(fl_step(rt), 0);
+    assert_non_null(strstr(log.text, "Out of memory"));
+    /* the state: an error code past the budget, fine below it */
+    static double xs[1 << 18];
+    size_t n0 = fl_state_count(rt);
+    assert_int_equal(fl_state_set_numbers(rt, ":big", xs, 1 << 18), -1);
+    assert_non_null(strstr(fl_error(rt), "out of memory"));
+    assert_int_equal(fl_state_count(rt), n0);
+    assert_int_equal(fl_state_set_numbers(rt, ":small", xs, 10), 0);
+    assert_int_equal(fl_state_count(rt), n0 + 1);
+    assert_int_equal(fl_step(rt), 0);
+    fl_free(rt);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_parse_size),
+        cmocka_unit_test(test_charging),
+        cmocka_unit_test(test_api),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
