@@ -6,7 +6,8 @@
 #      simplifier at load time ("interrupted while loading"; it ran to the end before: 61 s for
 #      8001 x 8001 and 20 octaves);
 #   2. the same at run time (the built-in polls the flag);
-#   3. --dump-tokens of a 6,000,000-token script;
+#   3. --dump-tokens of an 18,000,000-token script (about 3.6 s natively;
+#      6,000,000 tokens took 1.2 s, so the signal came too late);
 #   4. glob() through a directory with three symbolic links to itself and
 #      a 19-level wildcard pattern (3^19 routes: it never ended) finishes
 #      at once without a signal, each directory searched once per level.
@@ -44,7 +45,7 @@ stop load run --frames 1 "$dir/load.fl"
 grep -qx "$dir/load.fl: error: interrupted while loading" "$dir/load.err" || bad "load: $(cat "$dir/load.err")"
 printf '!n x=len(octnoise(1, 100, 0.5, 0..2001+frame, 0..2001))\n' >"$dir/frame.fl"
 stop frame run --frames 1 "$dir/frame.fl"
-python3 -c "import sys; open(sys.argv[1], 'w').write(('x=' + '+'.join(['1'] * 1000) + '\n') * 3000)" \
+python3 -c "import sys; open(sys.argv[1], 'w').write(('x=' + '+'.join(['1'] * 1000) + '\n') * 9000)" \
     "$dir/tokens.fl" || exit 2
 stop tokens run --dump-tokens "$dir/tokens.fl"
 grep -qx "$dir/tokens.fl: error: interrupted" "$dir/tokens.err" || bad "tokens: $(cat "$dir/tokens.err")"
