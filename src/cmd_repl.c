@@ -31,7 +31,15 @@
  * to stderr, so the two streams interleave in order. An error never ends
  * the session; a scripted session that met one exits with status 1. In a
  * terminal session Ctrl-C stops a :step between frames or drops the line
- * being typed; a second Ctrl-C at an empty prompt ends the session.
+ * being typed; a second Ctrl-C at an empty prompt asks before quitting, and
+ * quitting then saves the state and clock to the recovery file
+ * ($FLITTER_RECOVERY, else ~/.flitter_recovery.state) and says where. A
+ * long :step on a terminal shows a progress line on stderr.
+ *
+ * `_` is the last expression's result and a node result prints with its
+ * attributes (both fl_eval); `:set KEY VALUE` and `:unset KEY` edit the
+ * state through fl_state_set_expr. On a terminal a multi-line block is one
+ * history entry; recalled, its lines are taken one by one.
  *
  * Terminal line editing (libedit, history, completion, Ctrl-C at the
  * prompt) lives in repl_edit.c; the session state both share in repl.h.
@@ -44,6 +52,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <editline/readline.h>
@@ -240,6 +249,63 @@ static int cmd_window(Repl *r, const char *arg)
     return 0;
 }
 
+/* The progress line of a long :step on a terminal: shown on stderr once
+ * the command has run for PROGRESS_AFTER seconds, redrawn at most every
+ * PROGRESS_EVERY seconds (with a carriage return, no terminal escapes),
+ * and blanked out when the command ends. */
+#define PROGRESS_AFTER 0.5
+#define PROGRESS_EVERY 0.2
+
+typedef struct Progress {
+    bool on;          /* on a terminal, more than one frame */
+    long total;       /* frames asked for */
+    double start;     /* monotonic seconds at the start */
+    double shown;     /* when the line was last drawn, or 0 */
+    int width;        /* columns of the last line drawn */
+} Progress;
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static void progress_begin(Progress *p, const Repl *r, long total)
+{
+    *p = (Progress){.on = r->tty && total > 1 && isatty(STDERR_FILENO) == 1, .total = total};
+    if (p->on) p->start = now_seconds();
+}
+
+/* Before frame [done] (0-based) of the command. */
+static void progress_show(Progress *p, long done)
+{
+    if (!p->on || done == 0) return;
+    double t = now_seconds();
+    if (t - p->start < PROGRESS_AFTER || (p->shown > 0 && t - p->shown < PROGRESS_EVERY)) return;
+    p->shown = t;
+    double left = (t - p->start) / (double)done * (double)(p->total - done);
+    fflush(stdout);
+    int w = fprintf(stderr, "\rstepping: %ld of %ld frames (%d%%), about %.0f s to go; Ctrl-C stops",
+                    done, p->total, (int)(100.0 * (double)done / (double)p->total), ceil(left));
+    if (w > 0) {
+        for (int i = w; i < p->width; i++) fputc(' ', stderr);
+        if (w > p->width) p->width = w;
+    }
+    fflush(stderr);
+}
+
+/* Blank the progress line out, if one was drawn. */
+static void progress_end(Progress *p)
+{
+    if (!p->on || !p->width) return;
+    fputc('\r', stderr);
+    for (int i = 0; i < p->width; i++) fputc(' ', stderr);
+    fputc('\r', stderr);
+    fflush(stderr);
+    p->width = 0;
+}
+
 static int cmd_step(Repl *r, const char *arg)
 {
     long n = 1;
@@ -256,8 +322,12 @@ static int cmd_step(Repl *r, const char *arg)
         repl_error(r, "no script loaded (use :load FILE)");
         return 0;
     }
+    Progress progress;
+    progress_begin(&progress, r, n);
     for (long i = 0; i < n; i++) {
+        progress_show(&progress, i);
         if (repl_take_interrupt()) {   /* Ctrl-C: stop between frames, keep the session */
+            progress_end(&progress);
             fflush(stdout);
             fprintf(stderr, "interrupted after %ld of %ld frames\n", i, n);
             break;
@@ -265,16 +335,19 @@ static int cmd_step(Repl *r, const char *arg)
         int rc = fl_step(r->rt);
         if (rc == 1) {   /* Ctrl-C inside the frame: discarded, as if not begun */
             repl_take_interrupt();
+            progress_end(&progress);
             fflush(stdout);
             fprintf(stderr, "interrupted after %ld of %ld frames\n", i, n);
             break;
         }
         if (rc != 0) {
+            progress_end(&progress);
             repl_error(r, "no program to step");
             return 0;
         }
         if (r->window) window_frame(r, false);
     }
+    progress_end(&progress);
     if (r->window) window_frame(r, true);
     print_frame(r);
     return 0;
@@ -313,6 +386,61 @@ static int cmd_get(Repl *r, const char *arg)
     if (eval_text(r, text.data, text.len) == 1)
         repl_error(r, "incomplete key expression '%s'", arg);
     text_free(&text);
+    return 0;
+}
+
+/* The length of the key at the start of a :set argument: up to the first
+ * blank outside brackets and string quotes. */
+static size_t key_length(const char *arg)
+{
+    int depth = 0;
+    char quote = 0;
+    size_t i = 0;
+    for (; arg[i]; i++) {
+        char c = arg[i];
+        if (quote) {
+            if (c == '\\' && arg[i + 1]) i++;
+            else if (c == quote) quote = 0;
+        } else if (c == '"' || c == '\'') {
+            quote = c;
+        } else if (c == '(' || c == '[' || c == '{') {
+            depth++;
+        } else if ((c == ')' || c == ']' || c == '}') && depth > 0) {
+            depth--;
+        } else if ((c == ' ' || c == '\t') && depth == 0) {
+            break;
+        }
+    }
+    return i;
+}
+
+/* Store [value] under [key] (Flitter expressions) and print the entry. */
+static void set_state(Repl *r, const char *key, const char *value)
+{
+    if (fl_state_set_expr(r->rt, key, value, write_file, stdout) != 0) put_error(r);
+}
+
+/* `:set KEY VALUE`: KEY is one word or bracketed expression, VALUE the
+ * rest, both Flitter expressions (`:set :collapse 1`). */
+static int cmd_set(Repl *r, const char *arg)
+{
+    size_t klen = key_length(arg);
+    const char *value = skip_space(arg + klen);
+    if (!*value) {
+        repl_error(r, "usage: :set KEY VALUE (e.g. :set :collapse 1)");
+        return 0;
+    }
+    char *key = strndup(arg, klen);
+    if (!key) abort();
+    set_state(r, key, value);
+    free(key);
+    return 0;
+}
+
+/* `:unset KEY`: delete the state entry. */
+static int cmd_unset(Repl *r, const char *arg)
+{
+    set_state(r, arg, "null");
     return 0;
 }
 
@@ -407,6 +535,8 @@ static const Command commands[] = {
     {"state", ARG_OPTIONAL, "[PREFIX]", "list state entries (KEY = VALUE) whose key text starts with PREFIX", cmd_state},
     {"tree", ARG_NONE, "", "print the node tree of the last frame", cmd_tree},
     {"get", ARG_REQUIRED, "KEY", "print the state value $(KEY); KEY is Flitter text, e.g. :dish;0", cmd_get},
+    {"set", ARG_REQUIRED, "KEY VALUE", "store VALUE under KEY in the state (expressions: :set :collapse 1)", cmd_set},
+    {"unset", ARG_REQUIRED, "KEY", "delete the state entry KEY", cmd_unset},
     {"reload", ARG_NONE, "", "re-read the script, keeping the state", cmd_reload},
     {"load", ARG_REQUIRED, "FILE", "load another script, keeping the state", cmd_load},
     {"define", ARG_REQUIRED, "NAME=VALUE", "bind NAME for every frame (as -D), then reload", cmd_define},
@@ -427,7 +557,12 @@ static int cmd_help(Repl *r, const char *arg)
     (void)r;
     (void)arg;
     puts("Type a Flitter expression or `let` bindings to evaluate them in the scope of the\n"
-         "script's last frame; end an indented multi-line block with an empty line.\n"
+         "script's last frame; end an indented multi-line block with an empty line (it is\n"
+         "one history entry). `_` is the last expression's result. A node prints with its\n"
+         "attributes and children, as :tree prints them.\n"
+         "Ctrl-C stops a :step (a long one shows its progress), a line being evaluated or\n"
+         "its output, or drops the line being typed; Ctrl-C twice at an empty prompt asks\n"
+         "before quitting, and quitting then saves the state to a recovery file first.\n"
          "Commands:");
     for (size_t i = 0; i < NCOMMANDS; i++) {
         char head[40];
@@ -484,11 +619,7 @@ static int run_command(Repl *r, const char *line)
  * of input. */
 static char *read_line(Repl *r)
 {
-    if (r->tty) {
-        char *line = readline(r->in_block ? PROMPT_MORE : PROMPT);
-        if (line) repl_remember(r, line);
-        return line;
-    }
+    if (r->tty) return readline(r->in_block ? PROMPT_MORE : PROMPT);
     if (r->peeked || r->peeked_eof) {
         char *line = r->peeked;
         r->peeked = NULL;
@@ -536,12 +667,42 @@ static void take_indented(Repl *r)
  * The session
  * ==================================================================== */
 
+/* Terminal sessions: add [line] to the input being read, which becomes
+ * one history entry when it is complete (end_entry). */
+static void note_line(Repl *r, const char *line)
+{
+    if (!r->tty) return;
+    if (r->entry.len) text_putc(&r->entry, '\n');
+    text_puts(&r->entry, line);
+}
+
+/* The input read so far (a line, or a whole multi-line block) is
+ * complete: one history entry. */
+static void end_entry(Repl *r)
+{
+    if (!r->tty) return;
+    if (r->entry.len) repl_remember(r, text_cstr(&r->entry));
+    text_reset(&r->entry);
+}
+
+/* The pending block is over when it evaluates (it was complete): then it
+ * is done with. */
+static void end_block_if_complete(Repl *r)
+{
+    if (eval_text(r, r->block.data, r->block.len) != 1) {
+        text_reset(&r->block);
+        r->in_block = false;
+        end_entry(r);
+    }
+}
+
 /* Handle one input line. Returns 1 to end the session. */
 static int handle_line(Repl *r, const char *line)
 {
     if (r->in_block) {
         if (is_blank(line)) {
             finish_block(r);
+            end_entry(r);
             return 0;
         }
         bool indented = line[0] == ' ' || line[0] == '\t';
@@ -550,21 +711,24 @@ static int handle_line(Repl *r, const char *line)
         if (!indented && eval_text(r, r->block.data, r->block.len) != 1) {
             text_reset(&r->block);
             r->in_block = false;
+            end_entry(r);
             return handle_line(r, line);
         }
+        note_line(r, line);
         text_puts(&r->block, line);
         text_putc(&r->block, '\n');
         take_indented(r);
         /* ... and a non-indented line that completes it ends it */
-        if (!indented && eval_text(r, r->block.data, r->block.len) != 1) {
-            text_reset(&r->block);
-            r->in_block = false;
-        }
+        if (!indented) end_block_if_complete(r);
         return 0;
     }
     line = skip_space(line);
     if (!*line) return 0;
-    if (line[0] == ':') return run_command(r, line);
+    note_line(r, line);
+    if (line[0] == ':') {
+        end_entry(r);
+        return run_command(r, line);
+    }
     text_puts(&r->block, line);
     text_putc(&r->block, '\n');
     take_indented(r);
@@ -572,8 +736,67 @@ static int handle_line(Repl *r, const char *line)
         r->in_block = true;
     } else {
         text_reset(&r->block);
+        end_entry(r);
     }
     return 0;
+}
+
+/* Handle what one read gave: a line, or on a terminal a multi-line
+ * history entry recalled whole, whose lines are taken one by one and whose
+ * block ends with it when it is complete. Returns 1 to end the session. */
+static int handle_input(Repl *r, char *input)
+{
+    char *nl = strchr(input, '\n');
+    if (!nl) return handle_line(r, input);
+    for (char *line = input; line;) {
+        nl = strchr(line, '\n');
+        if (nl) *nl = '\0';
+        if (handle_line(r, line)) return 1;
+        line = nl ? nl + 1 : NULL;
+    }
+    if (r->in_block) end_block_if_complete(r);
+    return 0;
+}
+
+/* Save the state and the clock to the recovery file, saying where.
+ * Returns false (reported) when it cannot be written. */
+static bool save_recovery(Repl *r)
+{
+    if (fl_state_count(r->rt) == 0 && fl_frame_count(r->rt) == 0) return true;   /* nothing */
+    if (!r->recovery) {
+        repl_error(r, "no recovery file (set FLITTER_RECOVERY or HOME)");
+        return false;
+    }
+    if (fl_save_state(r->rt, r->recovery) != 0) {
+        put_error(r);
+        return false;
+    }
+    printf("state saved to %s (frame %ld; `flitter repl SCRIPT` then `:restore %s` resumes)\n",
+           r->recovery, fl_frame_count(r->rt) - 1, r->recovery);
+    return true;
+}
+
+/* A second Ctrl-C at an empty prompt: ask before ending the session.
+ * Yes (or Ctrl-D) quits, the state and clock saved first to the recovery
+ * file; anything else, or Ctrl-C, goes on. Returns true to quit. */
+static bool confirm_quit(Repl *r)
+{
+    char *answer = repl_ask("\nQuit? The state is saved to the recovery file first. [y/N] ");
+    bool cancelled = repl_take_interrupt();
+    const char *a = answer ? skip_space(answer) : NULL;
+    bool yes = !cancelled && (!answer || *a == 'y' || *a == 'Y');
+    if (cancelled || !answer) putchar('\n');
+    free(answer);
+    if (!yes) {
+        puts("(going on)");
+        return false;
+    }
+    if (!save_recovery(r)) {
+        fflush(stdout);
+        fputs("not quitting: the state would be lost (:save FILE, then :quit)\n", stderr);
+        return false;
+    }
+    return true;
 }
 
 static void repl_usage(FILE *f)
@@ -582,6 +805,7 @@ static void repl_usage(FILE *f)
           "  --fps F             frame rate of :step (default 60; %pragma fps overrides it)\n"
           "  -D, --define NAME=VALUE  bind NAME before evaluation\n"
           "  --threads N         physics threads (default: FLITTER_THREADS, else all cores)\n"
+          "  --max-memory SIZE   memory budget (K, M, G; default half of physical memory)\n"
           "  --pairs naive|fast  physics pair loop (default fast; same results)\n"
           "  --particles literal|fast  physics particle pass (default fast; same results)\n"
           "  --physics documented|upstream  PHYSICS.md (default) or Flitter 1.0.0b28's\n"
@@ -600,6 +824,7 @@ static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
         {"fps", required_argument, NULL, 'f'},
         {"define", required_argument, NULL, 'D'},
         {"threads", required_argument, NULL, 't'},
+        {"max-memory", required_argument, NULL, 'm'},
         {"pairs", required_argument, NULL, 'p'},
         {"particles", required_argument, NULL, 'P'},
         {"physics", required_argument, NULL, 'y'},
@@ -632,6 +857,12 @@ static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
             opts->threads = (int)n;
             break;
         }
+        case 'm':
+            if (!fl_parse_memory(optarg, &opts->max_memory)) {
+                fprintf(stderr, "flitter repl: bad value '%s' for option '--max-memory'\n", optarg);
+                rc = EXIT_USAGE;
+            }
+            break;
         case 'p':
             if (!fl_parse_pairs(optarg, &opts->pairs)) {
                 fprintf(stderr, "flitter repl: bad value '%s' for option '--pairs'\n", optarg);
@@ -699,7 +930,7 @@ int cmd_repl(int argc, char **argv)
 {
     fl_options opts = fl_default_options();
     const char *script;
-    Repl r = {.tty = isatty(STDIN_FILENO) == 1, .block = TEXT_INIT};
+    Repl r = {.tty = isatty(STDIN_FILENO) == 1, .block = TEXT_INIT, .entry = TEXT_INIT};
     if (r.tty)   /* Ctrl-C (caught in terminal sessions) stops a long line or frame */
         opts.interrupt = repl_interrupt_flag();
     setvbuf(stdout, NULL, _IOLBF, 0);   /* keep stdout and stderr lines in order */
@@ -725,21 +956,24 @@ int cmd_repl(int argc, char **argv)
             free(line);
             text_reset(&r.block);
             r.in_block = false;
+            end_entry(&r);   /* the lines of a dropped block stay in the history */
             if (empty && after_interrupt) {
-                putchar('\n');
-                break;
+                after_interrupt = false;
+                if (confirm_quit(&r)) break;
+                continue;
             }
             after_interrupt = empty;
-            fputs(empty ? "\n(Ctrl-C again or Ctrl-D to quit)\n" : "\n", stdout);
+            fputs(empty ? "\n(Ctrl-C again to quit, or Ctrl-D)\n" : "\n", stdout);
             continue;
         }
         after_interrupt = false;
         if (!line) {
             if (r.in_block) finish_block(&r);
+            end_entry(&r);
             if (r.tty) putchar('\n');
             break;
         }
-        int quit = handle_line(&r, line);
+        int quit = handle_input(&r, line);
         free(line);
         fflush(stdout);
         if (quit) break;
@@ -748,7 +982,9 @@ int cmd_repl(int argc, char **argv)
     fflush(stdout);
     if (r.tty) repl_edit_end(&r);
     text_free(&r.block);
+    text_free(&r.entry);
     text_free(&r.cpl_path);
+    free(r.recovery);
     free(r.peeked);
     free(r.last_entry);
     free(r.history);

@@ -12,8 +12,10 @@
  * from a header line `# options: OPTIONS...` at the top of the expected
  * file (default: --frames 1). Each test runs in-process; its output is
  * compared byte for byte. On a mismatch the runner prints a short unified
- * diff (from diff(1)) and, for state dumps, the largest numeric difference
- * in units in the last place. `--update` rewrites the expected files
+ * diff (from diff(1)) and, for state dumps, says whether the frames line
+ * up (when they do not, no ULP figure pretends they were compared), which
+ * keys are only on one side, and the largest numeric difference in units
+ * in the last place between the numbers that line up. `--update` rewrites the expected files
  * (atomically: temporary file, fsync, rename). The last line is
  * `N passed, M failed`.
  */
@@ -146,40 +148,151 @@ static uint64_t ordered(double x)
     return (u >> 63) ? ~u : u | UINT64_C(0x8000000000000000);
 }
 
-/* Largest ULP distance between numbers of lines with equal keys. */
-static double max_ulps(const char *expected, const char *actual, char *where, size_t wlen)
+/* One line of a state dump: [text] up to [len] bytes (no newline). */
+typedef struct Line {
+    const char *text;
+    size_t len;
+} Line;
+
+/* The next line at *[s] (advancing it), false at the end. */
+static bool next_line(const char **s, Line *l)
 {
-    double worst = 0;
-    const char *e = expected, *a = actual;
-    while (*e && *a) {
-        const char *ee = strchr(e, '\n'), *ae = strchr(a, '\n');
-        size_t el = ee ? (size_t)(ee - e) : strlen(e), al = ae ? (size_t)(ae - a) : strlen(a);
-        const char *eq = strstr(e, " = "), *aq = strstr(a, " = ");
-        if (eq && aq && eq < e + el && aq < a + al && eq - e == aq - a && memcmp(e, a, (size_t)(eq - e)) == 0) {
-            const char *x = eq + 3, *y = aq + 3;
-            while (x < e + el && y < a + al) {
-                char *xe, *ye;
-                double dx = strtod(x, &xe), dy = strtod(y, &ye);
-                if (xe == x || ye == y) break;
-                if (!isnan(dx) && !isnan(dy)) {
-                    uint64_t ox = ordered(dx), oy = ordered(dy);
-                    double d = (double)(ox > oy ? ox - oy : oy - ox);
-                    if (d > worst) {
-                        worst = d;
-                        snprintf(where, wlen, "%.*s", (int)(eq - e), e);
-                    }
-                }
-                x = strchr(xe, ';');
-                y = strchr(ye, ';');
-                if (!x || !y || x > e + el || y > a + al) break;
-                x++;
-                y++;
-            }
+    if (!**s) return false;
+    const char *nl = strchr(*s, '\n');
+    l->text = *s;
+    l->len = nl ? (size_t)(nl - *s) : strlen(*s);
+    *s = nl ? nl + 1 : *s + l->len;
+    return true;
+}
+
+static bool is_header(const Line *l) { return l->len >= 8 && strncmp(l->text, "# frame ", 8) == 0; }
+
+/* The key of a `KEY = VALUE` line (its length in [*klen]), or NULL. */
+static const char *line_key(const Line *l, size_t *klen)
+{
+    for (size_t i = 0; i + 3 <= l->len; i++)
+        if (memcmp(l->text + i, " = ", 3) == 0) {
+            *klen = i;
+            return l->text;
         }
-        e = ee ? ee + 1 : e + el;
-        a = ae ? ae + 1 : a + al;
+    return NULL;
+}
+
+/* The frame numbers of the dump's blocks, as text ("2, 5, 8"), at most
+ * [cap] bytes, and their count. */
+static int frame_list(const char *dump, char *out, size_t cap)
+{
+    int n = 0;
+    size_t used = 0;
+    out[0] = '\0';
+    Line l;
+    for (const char *s = dump; next_line(&s, &l);) {
+        if (!is_header(&l)) continue;
+        const char *num = l.text + 8, *sp = memchr(num, ' ', l.len - 8);
+        int w = (int)(sp ? (size_t)(sp - num) : l.len - 8);
+        if (used + (size_t)w + 8 < cap) used += (size_t)snprintf(out + used, cap - used, "%s%.*s", n ? ", " : "", w, num);
+        else if (used + 5 < cap && !strstr(out, "...")) used += (size_t)snprintf(out + used, cap - used, ", ...");
+        n++;
     }
-    return worst;
+    return n;
+}
+
+/* The block of [dump] whose header is [header] (its lines after the
+ * header, up to the next header), or NULL. */
+static const char *find_block(const char *dump, const Line *header)
+{
+    Line l;
+    for (const char *s = dump; next_line(&s, &l);)
+        if (is_header(&l) && l.len == header->len && memcmp(l.text, header->text, l.len) == 0) return s;
+    return NULL;
+}
+
+/* Bytewise order of two keys (the dump's order: a prefix first). */
+static int key_cmp(const char *a, size_t al, const char *b, size_t bl)
+{
+    int c = memcmp(a, b, al < bl ? al : bl);
+    return c ? c : (al > bl) - (al < bl);
+}
+
+/* Compare two state-dump streams as numbers and say how they differ:
+ * whether their frames line up (blocks are matched by their `# frame N
+ * time T` header), keys only in one of them, values of another length,
+ * and the largest distance in units in the last place between numbers of
+ * equal keys in matching frames. */
+static void explain_state_diff(const char *expected, const char *actual)
+{
+    char ef[512], af[512];
+    int en = frame_list(expected, ef, sizeof ef), an = frame_list(actual, af, sizeof af);
+    bool frames_match = en == an && strcmp(ef, af) == 0;
+    if (!frames_match)
+        printf("frames do not line up: expected %d dump%s (frame %s), got %d (frame %s); "
+               "numbers are compared only in frames both have\n",
+               en, en == 1 ? "" : "s", en ? ef : "none", an, an ? af : "none");
+    double worst = 0;
+    char where[300] = "";
+    long only_e = 0, only_a = 0, length = 0, compared = 0, matched_blocks = 0;
+    char first_e[200] = "", first_a[200] = "", first_len[200] = "";
+    Line h;
+    for (const char *s = expected; next_line(&s, &h);) {
+        if (!is_header(&h)) continue;
+        const char *e = s, *a = find_block(actual, &h);
+        if (!a) continue;
+        matched_blocks++;
+        Line el, al;
+        bool he = next_line(&e, &el) && !is_header(&el), ha = next_line(&a, &al) && !is_header(&al);
+        while (he || ha) {
+            size_t ek = 0, ak = 0;
+            const char *ekey = he ? line_key(&el, &ek) : NULL, *akey = ha ? line_key(&al, &ak) : NULL;
+            int c = !ha ? -1 : !he ? 1 : (!ekey || !akey) ? 0 : key_cmp(ekey, ek, akey, ak);
+            if (c < 0) {
+                if (!only_e++) snprintf(first_e, sizeof first_e, "%.*s", (int)(ekey ? ek : el.len), el.text);
+            } else if (c > 0) {
+                if (!only_a++) snprintf(first_a, sizeof first_a, "%.*s", (int)(akey ? ak : al.len), al.text);
+            } else if (ekey && akey) {
+                const char *x = el.text + ek + 3, *y = al.text + ak + 3;
+                const char *xend = el.text + el.len, *yend = al.text + al.len;
+                long nx = 1, ny = 1;
+                for (const char *p = x; p < xend; p++) nx += *p == ';';
+                for (const char *p = y; p < yend; p++) ny += *p == ';';
+                if (nx != ny && !length++) snprintf(first_len, sizeof first_len, "%.*s", (int)ek, ekey);
+                while (nx == ny && x < xend && y < yend) {
+                    char *xe, *ye;
+                    double dx = strtod(x, &xe), dy = strtod(y, &ye);
+                    if (xe == x || ye == y) break;
+                    if (!isnan(dx) && !isnan(dy)) {
+                        compared++;
+                        uint64_t ox = ordered(dx), oy = ordered(dy);
+                        double d = (double)(ox > oy ? ox - oy : oy - ox);
+                        if (d > worst) {
+                            worst = d;
+                            snprintf(where, sizeof where, "%.*s (%.*s)", (int)ek, ekey,
+                                     (int)(h.len - 2), h.text + 2);
+                        }
+                    }
+                    x = memchr(xe, ';', (size_t)(xend - xe));
+                    y = memchr(ye, ';', (size_t)(yend - ye));
+                    if (!x || !y) break;
+                    x++;
+                    y++;
+                }
+            }
+            if (c <= 0) he = next_line(&e, &el) && !is_header(&el);
+            if (c >= 0) ha = next_line(&a, &al) && !is_header(&al);
+        }
+    }
+    if (only_e || only_a)
+        printf("keys that do not line up: %ld only in expected%s%s%s, %ld only in actual%s%s%s\n",
+               only_e, only_e ? " (first: " : "", first_e, only_e ? ")" : "",
+               only_a, only_a ? " (first: " : "", first_a, only_a ? ")" : "");
+    if (length) printf("values of another length: %ld (first: %s)\n", length, first_len);
+    if (worst > 0)
+        printf("largest numeric difference: %.0f ULP at %s\n", worst, where);
+    else if (!matched_blocks)
+        puts("no numbers compared: no frame is in both");
+    else if (compared)
+        printf("no numeric difference in the %ld numbers that line up\n", compared);
+    else
+        puts("no numbers compared");
 }
 
 /* Print a unified diff of the two texts (first 40 lines) using diff(1),
@@ -317,11 +430,7 @@ static void run_one(const char *dir, const char *script, const char *kind, bool 
         } else {
             printf("FAIL %s\n", label);
             show_diff(label, want, out);
-            if (is_state_kind(kind)) {
-                char where[256] = "";
-                double u = max_ulps(want, out, where, sizeof where);
-                printf("largest numeric difference: %.0f ULP%s%s\n", u, *where ? " at " : "", where);
-            }
+            if (is_state_kind(kind)) explain_state_diff(want, out);
             t->failed++;
         }
         free(out);
@@ -381,8 +490,9 @@ static int run_dir(const char *dir, bool update, Totals *t)
         char *manifest = NULL;
         bool has_manifest = asprintf(&manifest, "%s/MANIFEST", dir) >= 0 && stat(manifest, &sb) == 0;
         free(manifest);
-        fprintf(stderr, "flitter test: no tests in '%s' (%s; a test is NAME.fl with NAME.state "
-                "or NAME.tree beside it)\n", dir, has_manifest ? "its MANIFEST names none with expected output"
+        fprintf(stderr, "flitter test: no tests in '%s' (%s; a test is NAME.fl with NAME.state, "
+                "NAME.tree, NAME.simplified.state, NAME.simplified.tree or NAME.upstream.state "
+                "beside it)\n", dir, has_manifest ? "its MANIFEST names none with expected output"
                                                                : "no MANIFEST there");
         return -1;
     }

@@ -21,7 +21,9 @@ typedef struct Repl {
     bool tty;                  /* stdin is a terminal: libedit, prompts, history */
     char *history;             /* history file path (owned), or NULL for none */
     bool history_failed;       /* a history write failed (reported once) */
-    char *last_entry;          /* last line added to the history (owned), to skip repeats */
+    char *last_entry;          /* last entry added to the history (owned), to skip repeats */
+    Text entry;                 /* the lines of the input being read, for one history entry */
+    char *recovery;            /* where a quit after Ctrl-C saves the state (owned), or NULL */
     Text block;                 /* Flitter text of a multi-line input so far */
     bool in_block;             /* [block] is being continued */
     char *peeked;              /* scripted mode: the next line, read ahead (owned), or NULL */
@@ -61,13 +63,20 @@ const char *repl_command_name(size_t i);
 /* Terminal sessions (repl_edit.c). Catch SIGINT (a flag, see
  * repl_take_interrupt) and set libedit up for [r]: its character reader,
  * a UTF-8 character type, Tab completion, the history file
- * ($FLITTER_HISTORY, else ~/.flitter_history). */
+ * ($FLITTER_HISTORY, else ~/.flitter_history; a multi-line entry is kept
+ * as one, its newlines encoded by libedit), and the recovery file
+ * ($FLITTER_RECOVERY, else ~/.flitter_recovery.state). */
 void repl_edit_begin(Repl *r);
 /* Forget the in-memory history and [r] (the file stays). */
 void repl_edit_end(Repl *r);
-/* Add [line] to the history (skipping blanks and a repeat of the last
- * entry) and rewrite the history file (a failure is reported once). */
-void repl_remember(Repl *r, const char *line);
+/* Add [entry] (one line, or the lines of a multi-line block joined by
+ * newlines) to the history, skipping blanks and a repeat of the last
+ * entry, and rewrite the history file (a failure is reported once). */
+void repl_remember(Repl *r, const char *entry);
+/* Read one line at [prompt] with libedit, outside the history (a
+ * question's answer). Returns it (malloc'd), or NULL at the end of input
+ * or after a Ctrl-C (whose flag is then left set). */
+char *repl_ask(const char *prompt);
 /* Whether Ctrl-C was pressed since the last call (clears the flag). */
 bool repl_take_interrupt(void);
 /* The flag itself, for fl_options.interrupt: the runtime polls it inside

@@ -1,7 +1,8 @@
 /* repl_edit.c: terminal line editing for `flitter repl` (see repl.h):
- * libedit set-up, history, Tab completion of `:` commands, of names in
- * scope and built-in functions, and of file names after :load, :save,
- * :restore and :view; Ctrl-C at the prompt.
+ * libedit set-up, history (a multi-line block is one entry), Tab
+ * completion of `:` commands, of names in scope and built-in functions, and
+ * of file names after :load, :save, :restore and :view; Ctrl-C at the
+ * prompt; the recovery file's path; questions asked at the prompt.
  *
  * The globals: `interrupted`, the SIGINT flag; and, as libedit's completion
  * callbacks take no user pointer, `completing`, which points at the
@@ -160,12 +161,12 @@ static char **complete(const char *text, int start, int end)
     return matches;
 }
 
-void repl_remember(Repl *r, const char *line)
+void repl_remember(Repl *r, const char *entry)
 {
-    if (is_blank(line) || (r->last_entry && strcmp(r->last_entry, line) == 0)) return;
-    add_history(line);
+    if (is_blank(entry) || (r->last_entry && strcmp(r->last_entry, entry) == 0)) return;
+    add_history(entry);
     free(r->last_entry);
-    r->last_entry = strdup(line);
+    r->last_entry = strdup(entry);
     if (!r->last_entry) abort();
     if (r->history && write_history(r->history) != 0 && !r->history_failed) {
         r->history_failed = true;
@@ -248,6 +249,24 @@ static void setup_editing(Repl *r)
         if (r->history) snprintf(r->history, n, "%s/.flitter_history", home);
     }
     if (r->history) read_history(r->history);   /* a missing file is fine */
+    env = getenv("FLITTER_RECOVERY");
+    if (env && *env) {
+        r->recovery = strdup(env);
+    } else if (home && *home) {
+        size_t n = strlen(home) + sizeof "/.flitter_recovery.state";
+        r->recovery = malloc(n);
+        if (r->recovery) snprintf(r->recovery, n, "%s/.flitter_recovery.state", home);
+    }
+}
+
+char *repl_ask(const char *prompt)
+{
+    char *answer = readline(prompt);
+    if (interrupted) {
+        free(answer);
+        return NULL;
+    }
+    return answer;
 }
 
 void repl_edit_begin(Repl *r)

@@ -4,7 +4,9 @@ Ctrl-C interrupts a long :step between frames and returns to the prompt
 with the session intact; Ctrl-C stops a line that runs for ever (an
 interrupted evaluation) and cuts the output of a long result; Ctrl-C drops
 a half-typed line; a second Ctrl-C at
-an empty prompt ends the session with status 0; UTF-8 typing comes through
+an empty prompt asks before quitting ("n" goes on with the state intact,
+"y" saves the state to the recovery file, says where, and ends the session
+with status 0; the file restores the frame); UTF-8 typing comes through
 whole; Tab completes a built-in function name. Waits on the output (not on
 fixed sleeps) with generous time limits, so a loaded machine only slows it.
 """
@@ -16,9 +18,14 @@ import sys
 import time
 
 flitter, script = sys.argv[1], sys.argv[2]
+import tempfile
+
+scratch = tempfile.mkdtemp()
+recovery = os.path.join(scratch, "recovery.state")
 pid, fd = pty.fork()
 if pid == 0:
     os.environ["FLITTER_HISTORY"] = os.devnull
+    os.environ["FLITTER_RECOVERY"] = recovery
     os.environ["TERM"] = "dumb"
     os.execv(flitter, [flitter, "repl", script])
 
@@ -106,7 +113,21 @@ send('"h\u00e9\u2192"\r'.encode())     # non-ASCII typing survives the reader
 wait_for('\n"h\u00e9\u2192"\r?\n.*flitter> ')
 send(b"\x03")
 wait_for(r"Ctrl-C again")
+out = b""
+send(b"\x03")                         # a second Ctrl-C asks first; "n" goes on
+wait_for(r"Quit\? .*\[y/N\] ")
+send(b"n\r")
+wait_for(r"\(going on\)\r?\n.*flitter> ")
+out = b""
+send(b"$(:dish;:clock) > 0\r")        # the session and its state are still there
+wait_for(r"\n1\r?\n.*flitter> ")
+out = b""
 send(b"\x03")
+wait_for(r"Ctrl-C again")
+send(b"\x03")                         # yes: the state goes to the recovery file
+wait_for(r"Quit\? .*\[y/N\] ")
+send(b"y\r")
+wait_for(r"state saved to " + re.escape(recovery) + r" \(frame (\d+);")
 end = time.time() + 30
 while True:
     done, status = os.waitpid(pid, os.WNOHANG)
@@ -122,4 +143,13 @@ while True:
         pass
 if not os.WIFEXITED(status) or os.WEXITSTATUS(status) != 0:
     fail(f"exit status {status}")
+# the recovery file restores the session's state and clock
+frame = int(re.search(rb"state saved to .* \(frame (\d+);", out).group(1))
+import subprocess
+got = subprocess.run([flitter, "repl", script], input=f":restore {recovery}\n$(:dish;:clock) > 0\n",
+                     capture_output=True, text=True, timeout=120)
+os.unlink(recovery)
+os.rmdir(scratch)
+if got.returncode != 0 or f"(frame {frame})" not in got.stdout or not got.stdout.endswith("\n1\n"):
+    fail(f"the recovery file does not restore frame {frame}: {got.stdout!r} {got.stderr!r}")
 sys.exit(0)

@@ -25,6 +25,13 @@ printf '1+2\n(1+\n' | "$flitter" repl "$petri" >"$dir/out" 2>&1
 [ $? -eq 1 ] || fail "an unclosed bracket at the end should give exit 1"
 grep -q 'input ended early' "$dir/out" || fail "unclosed bracket not reported: $(cat "$dir/out")"
 
+# :set stores an expression's value; a value with an unbound name is refused
+printf ':set :x 2*3\n$(:x)\n:set :x nosuch\n$(:x)\n' | "$flitter" repl "$petri" >"$dir/out" 2>&1
+[ $? -eq 1 ] || fail "a refused :set should give exit 1: $(cat "$dir/out")"
+[ "$(grep -cx 6 "$dir/out")" -eq 2 ] && grep -qx ':x = 6' "$dir/out" \
+    && grep -q 'state unchanged' "$dir/out" && [ "$(tail -1 "$dir/out")" = 6 ] \
+    || fail ":set: $(cat "$dir/out")"
+
 printf ':bogus\n:step\n' | "$flitter" repl "$petri" >"$dir/out" 2>&1
 [ $? -eq 1 ] || fail "an unknown command should give exit 1"
 exit 0
