@@ -1,8 +1,14 @@
-/* window_loop.h: the state of a run with live windows, shared by the
- * frame loop (window_main.c) and the input handler (window_input.c). */
+/* window_loop.h: the state of a run with live windows. Two threads share
+ * it: the frame loop (window_main.c, its own thread) steps the runtimes
+ * and draws each shown frame's pictures into plain pixel buffers; the
+ * display (window_display.c, the thread that started SDL, as SDL's video
+ * wants) owns the SDL windows, turns SDL events into Inputs for the frame
+ * loop (window_input.c applies them) and presents the pictures. They meet
+ * only in a Handover (window_handover.c), under its mutex. */
 #ifndef FL_WINDOW_LOOP_H
 #define FL_WINDOW_LOOP_H
 
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -12,9 +18,96 @@
 #include "watch.h"
 #include "window_sdl.h"
 
-/* Slot.index of the window that shows the physics view of a frame
+/* The fl_windows index of a window that shows the physics view of a frame
  * without !window. */
 #define NO_WINDOW SIZE_MAX
+
+/* {=====================================================================
+ * The handover between the frame loop and the display
+ * ===================================================================== */
+
+/* One window's part of a picture set: what its !window asks for, and its
+ * picture (0xAARRGGBB words, premultiplied, rows pw*4 bytes apart). */
+typedef struct ShownWindow {
+    size_t index;            /* fl_windows index of its !window, or NO_WINDOW */
+    char title[256];         /* the window's title */
+    int width, height;       /* size= of the !window (the window's size), pixels */
+    bool fullscreen, vsync;
+    uint32_t *px;            /* the picture, pw x ph pixels, or NULL when not drawn */
+    int pw, ph;
+    size_t cap;              /* words allocated at px */
+} ShownWindow;
+
+/* The pictures of one frame, one per window to show. */
+typedef struct PictureSet {
+    ShownWindow *win;
+    size_t n, cap;
+    long frame;              /* the frame they show (fl_frame_count - 1) */
+} PictureSet;
+
+/* What happened in a window, resolved by the display from an SDL event
+ * (window_display.c) and applied by the frame loop (window_input.c). */
+typedef enum InputKind {
+    INPUT_KEY,               /* a key pressed or released (repeats left out) */
+    INPUT_POINTER,           /* the pointer moved, or left the window */
+    INPUT_BUTTON,            /* a pointer button pressed or released */
+    INPUT_QUIT,              /* a window was closed */
+    INPUT_RESIZED,           /* the physics view window's output size changed */
+} InputKind;
+
+typedef struct Input {
+    InputKind kind;
+    size_t index;            /* fl_windows index of the window, or NO_WINDOW */
+    int scancode;            /* INPUT_KEY: the SDL_Scancode */
+    bool pressed;            /* INPUT_KEY, INPUT_BUTTON */
+    bool inside;             /* INPUT_POINTER: on the picture (else it left) */
+    double fx, fy;           /* INPUT_POINTER: fractions of the picture, 0..1 */
+    int button;              /* INPUT_BUTTON: GLFW's number, left 0 */
+} Input;
+
+enum { SET_FREE, SET_DRAWING, SET_PENDING, SET_SHOWING };
+
+typedef struct Handover {
+    pthread_mutex_t mu;
+    pthread_cond_t cond;     /* the frame loop waits on it: inputs came, a set was taken */
+    pthread_cond_t display_cond; /* the display waits on it: a set or overlay text came,
+                                    the frame loop ended */
+    PictureSet sets[2];
+    int state[2];            /* SET_* of each set */
+    Input *inputs;           /* queued for the frame loop, oldest first */
+    size_t ninputs, cap_inputs;
+    int view_w, view_h;      /* output size of the physics view window (0: not open yet) */
+    char *status;            /* the F1 text, or NULL when hidden */
+    char *error;             /* the failed reload's message, or NULL */
+    unsigned overlay_gen;    /* bumped whenever status or error changes */
+    bool done;               /* the frame loop has ended */
+    bool failed;             /* the display could not open a window */
+    long shown;              /* sets presented */
+    double present_seconds;  /* spent presenting them, in total */
+} Handover;
+
+/* Make [h] (mutex, conditions on CLOCK_MONOTONIC, no sets drawn);
+ * handover_free() frees it. Aborts when out of memory or when pthreads
+ * cannot make a mutex. */
+void handover_init(Handover *h);
+void handover_free(Handover *h);
+/* Wake the display (h->display_cond; the frame loop makes no SDL call:
+ * SDL_PushEvent would wake SDL_WaitEvent with an X11 request from the
+ * frame loop's thread, which killed a run with BadWindow). */
+void handover_wake(Handover *h);
+/* Queue [in] for the frame loop and wake it (display side). */
+void handover_input(Handover *h, const Input *in);
+/* Wait on h->cond until monotonic time [due] (seconds) or a signal;
+ * h->mu must be held. */
+void handover_wait(Handover *h, double due);
+/* The same on condition [cond]. */
+void handover_wait_on(Handover *h, pthread_cond_t *cond, double due);
+/* Monotonic seconds. */
+double handover_now(void);
+
+/* {=====================================================================
+ * The frame loop's state
+ * ===================================================================== */
 
 /* One script of the command line: its own runtime, state and clock. */
 typedef struct Page {
@@ -29,15 +122,6 @@ typedef struct Page {
     fl_stats first, second;  /* its statistics after its first and second frames (--stats) */
 } Page;
 
-/* One open window. */
-typedef struct Slot {
-    WinView view;
-    size_t index;            /* fl_windows index of its !window, or NO_WINDOW */
-    int width, height;       /* its picture's size in pixels (size=) */
-    unsigned overlay_gen;    /* Loop.overlay_gen its overlay was painted for */
-    bool warned;             /* a drawing failure was logged */
-} Slot;
-
 typedef struct Loop {
     const RunSpec *spec;
     RunSpec runspec;         /* *spec with the window's clock (realtime) */
@@ -45,14 +129,13 @@ typedef struct Loop {
     RunLog files;            /* the runtimes' log lines */
     volatile int *interrupt; /* set by SIGINT/SIGTERM */
     volatile int never;      /* *interrupt when the caller gives none */
+    Handover *hand;
     Page *pages;
     int npages, cur;         /* pages and the current one */
     int switch_to;           /* page to switch to after this frame, or -1 */
-    Slot *slots;
-    size_t nslots, cap_slots;
     fl_window_info *info;    /* fl_windows of the last frame */
     size_t cap_info;
-    WinOptions wopt;
+    bool warned;             /* a drawing failure was logged */
     bool realtime;           /* the clock: realtime, or lockstep */
     bool quit;               /* Escape or a window closed */
     int rc;                  /* exit status so far */
@@ -60,33 +143,41 @@ typedef struct Loop {
     bool show_view;          /* F2: the physics view instead of the pictures */
     bool paused;             /* F5 */
     int steps;               /* F6: frames to step while paused */
-    bool redraw;             /* draw the pictures again (page switch, F2) */
-    bool represent;          /* present again (exposed, resized, overlay changed) */
+    bool redraw;             /* draw the pictures again (page switch, F2, resize) */
+    bool overlay_changed;    /* the status or error text changed */
     bool dumped_last;        /* --dump-every dumped the last frame */
     long ran;                /* frames stepped, every page */
-    long shown, dropped;     /* frames whose pictures were shown / dropped */
+    long drawn, dropped;     /* frames whose pictures were drawn / dropped */
     double draw_seconds;     /* spent drawing pictures (fl_draw_window, fl_draw_view), in total */
-    double present_seconds;  /* spent showing them (windows followed, texture upload,
-                                overlay, copy, present), in total */
+    double wait_seconds;     /* the frame loop spent waiting (pacing, lockstep handover) */
     double start;            /* when the frame loop began */
-    double last_shown;       /* when a picture was last shown */
-    double last_show_cost;   /* seconds that showing it took (drawing included) */
+    double last_drawn;       /* when a picture was last drawn */
+    double last_draw_cost;   /* seconds that drawing it took */
     double last_save;        /* when --state was last saved */
-    unsigned overlay_gen;    /* bumped whenever the overlay text changes */
     char status[512];        /* the F1 text */
     fl_stats stat;           /* statistics at the last status update */
     long stat_shown;
     double stat_draw, stat_present, stat_time;
+    long stat_drawn;
 } Loop;
 
-/* Handle one SDL event [ev] of a run (window_input.c): keys go to the
- * window's !key nodes first (fl_key), and only unclaimed ones act: Escape
- * ends the run, left/right arrows (on release) switch pages, F1 status,
- * F2 picture/physics view, F5 pause, F6 one frame; pointer motion and
- * buttons go to its !pointer (fl_pointer, fl_pointer_button); closing a
- * window ends the run.
+/* Apply input [in] to the current page of [L] (window_input.c): keys go
+ * to the window's !key nodes first (fl_key), and only unclaimed ones act:
+ * Escape ends the run, left/right arrows (on release) switch pages, F1
+ * status, F2 picture/physics view, F5 pause, F6 one frame; pointer motion
+ * and buttons go to its !pointer (fl_pointer, fl_pointer_button); closing
+ * a window ends the run.
  *   source: Flitter render/window/__init__.py key_callback,
  *           pointer_movement_callback, pointer_button_callback. */
-void window_event(Loop *L, const SDL_Event *ev);
+void window_input(Loop *L, const Input *in);
+
+/* The display's side of a run (window_display.c), on the thread that
+ * started SDL: handle SDL events (as Inputs to the frame loop), open and
+ * close windows to follow each picture set, present it, until the frame
+ * loop is done (h->done) and its last set is shown; then close the
+ * windows. [wopt]: the command line's window options. A window that
+ * cannot be opened is logged on [log] and sets h->failed (the frame loop
+ * then ends). */
+void window_display(Handover *h, const WinOptions *wopt, FILE *log);
 
 #endif

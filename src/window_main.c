@@ -1,33 +1,33 @@
-/* window_main.c: the frame loop of a run with live windows (Flitter's
- * everyday mode, `flitter SCRIPT...`). A Loop holds the pages (one
- * fl_runtime each, only the current one steps) and the open windows
- * (Slots): after each frame the slots follow the !window nodes of the
- * current page's tree (fl_windows, !offscreen ones excluded), each showing
- * its picture (fl_draw_window) or, with F2 or when the frame has no
- * !window, the physics view (fl_draw_view). Input (window_input.c) reaches
+/* window_main.c: a run with live windows (Flitter's everyday mode,
+ * `flitter SCRIPT...`) and its frame loop. The frame loop runs on a thread
+ * of its own: a Loop holds the pages (one fl_runtime each, only the
+ * current one steps); after each frame it describes the windows to show,
+ * one per !window of the current page's tree (fl_windows, !offscreen ones
+ * excluded), and draws each one's picture (fl_draw_window) or, with F2 or
+ * when the frame has no !window, the physics view (fl_draw_view) into a
+ * picture set that it hands to the display (window_display.c), which
+ * presents it on the thread that started SDL while the next frames run:
+ * presenting never holds the simulation up. Input (window_input.c) reaches
  * the runtime between frames. The clock follows Flitter's
- * EngineController.run: realtime frames are paced to fl_target_fps, and a
- * frame that finishes after the next one is due skips its picture
- * (counted as dropped) rather than hold the simulation up, unless nothing
- * was shown for 100 ms (or twice the last picture's cost, when longer);
- * in lockstep every frame is shown. */
+ * EngineController.run: realtime frames are paced to fl_target_fps; a
+ * frame's picture is skipped (counted as dropped) while the display has
+ * not yet taken the last one, or when the frame finished after the next
+ * one was due, unless nothing was drawn for 100 ms (or twice the last
+ * picture's cost, when longer). In lockstep every frame is shown: the
+ * frame loop waits for the display to take a picture before it draws the
+ * next. */
 #include "window.h"
 
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "exitcodes.h"
-#include "overlay.h"
 #include "window_loop.h"
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
+static double now_seconds(void) { return handover_now(); }
 
 static void *xrealloc(void *p, size_t n)
 {
@@ -62,14 +62,14 @@ static void check_reload(Loop *L)
         if (p->error) {
             free(p->error);
             p->error = NULL;
-            L->overlay_gen++;
+            L->overlay_changed = true;
         }
     } else {
         const char *e = fl_error(p->rt);
         fputs(e, L->log);
         free(p->error);
         p->error = strdup(e);
-        L->overlay_gen++;
+        L->overlay_changed = true;
     }
     fflush(L->log);
 }
@@ -155,22 +155,19 @@ static void switch_page(Loop *L, int to)
     if (to < 0 || to >= L->npages || to == L->cur) return;
     if (L->spec->reset_on_switch) fl_reset_state(L->pages[L->cur].rt);
     L->cur = to;
-    L->overlay_gen++;
+    L->overlay_changed = true;
     fprintf(L->log, "page %d: %s\n", to + 1, L->pages[to].script);
     fflush(L->log);
 }
 
 /* {=====================================================================
- * Windows: follow the frame's !window nodes, draw, present
+ * Pictures: describe the windows of a frame, draw, hand over
  * ===================================================================== */
 
-static void close_slot(Slot *s) { winview_close(&s->view); }
-
-/* Open or close windows so that there is one per visible !window of the
- * current page's last frame (one physics view window when it has none),
- * and make each follow its node's title, size, fullscreen and vsync.
- * Returns -1 (message logged) when a window cannot be opened. */
-static int sync_windows(Loop *L)
+/* Make [set] describe the windows to show for the current page's last
+ * frame: one per visible !window, or one physics view window when it has
+ * none, with the title, size, fullscreen and vsync each asks for. */
+static void describe_windows(Loop *L, PictureSet *set)
 {
     fl_runtime *rt = L->pages[L->cur].rt;
     size_t n = fl_windows(rt, NULL, 0);
@@ -183,113 +180,141 @@ static int sync_windows(Loop *L)
     for (size_t i = 0; i < n; i++) want += !L->info[i].offscreen;
     bool view_only = want == 0;
     if (view_only) want = 1;
-    while (L->nslots > want) close_slot(&L->slots[--L->nslots]);
-    if (want > L->cap_slots) {
-        L->slots = xrealloc(L->slots, want * sizeof *L->slots);
-        L->cap_slots = want;
+    if (want > set->cap) {
+        set->win = xrealloc(set->win, want * sizeof *set->win);
+        memset(set->win + set->cap, 0, (want - set->cap) * sizeof *set->win);
+        set->cap = want;
     }
+    set->n = want;
+    set->frame = fl_frame_count(rt) - 1;
     const char *name = base_name(L->pages[L->cur].script);
     size_t k = 0;
     for (size_t i = 0; k < want; i++) {
         const fl_window_info *w = view_only ? NULL : &L->info[i];
         if (w && w->offscreen) continue;
-        const char *title = w && w->title[0] ? w->title : name;
-        int width = w ? w->width : L->spec->view_width;
-        int height = w ? w->height : L->spec->view_height;
-        bool full = w && w->fullscreen >= 0 ? w->fullscreen : L->wopt.fullscreen;
-        bool vsync = w && w->vsync >= 0 ? w->vsync : L->wopt.vsync;
-        Slot *s = &L->slots[k];
-        if (k == L->nslots) {
-            *s = (Slot){0};
-            if (winview_open(&s->view, title, width, height, &L->wopt, full, vsync) != 0) {
-                fprintf(L->log, "flitter: cannot open a window: %s\n", SDL_GetError());
-                return -1;
-            }
-            L->nslots++;
-        } else if (view_only) {
-            winview_update(&s->view, title, s->view.want_w, s->view.want_h, full, vsync);
-        } else {
-            winview_update(&s->view, title, width, height, full, vsync);
-        }
+        ShownWindow *s = &set->win[k++];
         s->index = view_only ? NO_WINDOW : i;
-        s->width = width;
-        s->height = height;
-        k++;
+        snprintf(s->title, sizeof s->title, "%s", w && w->title[0] ? w->title : name);
+        s->width = w ? w->width : L->spec->view_width;
+        s->height = w ? w->height : L->spec->view_height;
+        s->fullscreen = w && w->fullscreen >= 0 ? w->fullscreen : L->spec->fullscreen;
+        s->vsync = w && w->vsync >= 0 ? w->vsync : L->spec->vsync;
     }
-    return 0;
 }
 
-/* Draw slot [s]'s picture into its texture: the window's picture, or the
- * physics view (at the picture's size, or at the output's for the view
- * window). */
-static void draw_slot(Loop *L, Slot *s)
+/* Draw window [s]'s picture: the window's picture, or the physics view
+ * (at the picture's size, or at the window's output size [view_w] x
+ * [view_h] for the view window when the display has told it). */
+static void draw_window(Loop *L, ShownWindow *s, int view_w, int view_h)
 {
     fl_runtime *rt = L->pages[L->cur].rt;
     bool view = s->index == NO_WINDOW || L->show_view;
     int w = s->width, h = s->height;
-    if (s->index == NO_WINDOW) winview_output_size(&s->view, &w, &h);
-    int pitch;
-    uint32_t *px = winview_lock(&s->view, w, h, &pitch);
-    if (!px) {
-        if (!s->warned) fprintf(L->log, "flitter: cannot show a %dx%d picture: %s\n", w, h, SDL_GetError());
-        s->warned = true;
+    if (s->index == NO_WINDOW && view_w > 0 && view_h > 0) {
+        w = view_w;
+        h = view_h;
+    }
+    size_t words = (size_t)w * (size_t)h;
+    if (words > s->cap) {
+        free(s->px);
+        s->px = malloc(words * sizeof *s->px);
+        s->cap = s->px ? words : 0;
+    }
+    if (!s->px) {
+        if (!L->warned) fprintf(L->log, "flitter: no memory for a %dx%d picture\n", w, h);
+        L->warned = true;
+        s->pw = s->ph = 0;
         return;
     }
-    double t0 = now_seconds();
-    int rc = view ? fl_draw_view(rt, px, w, h, (size_t)pitch, NULL)
-                  : fl_draw_window(rt, s->index, px, w, h, (size_t)pitch);
-    L->draw_seconds += now_seconds() - t0;
-    winview_unlock(&s->view);
-    if (rc != 0 && !s->warned) {
+    int rc = view ? fl_draw_view(rt, s->px, w, h, (size_t)w * 4, NULL)
+                  : fl_draw_window(rt, s->index, s->px, w, h, (size_t)w * 4);
+    s->pw = w;
+    s->ph = h;
+    if (rc != 0 && !L->warned) {
         fputs(fl_error(rt), L->log);
-        s->warned = true;
+        L->warned = true;
     }
 }
 
-/* Repaint slot [s]'s overlay when the text or the output size changed. */
-static void paint_overlay(Loop *L, Slot *s)
+/* Draw the current frame's pictures into a free set and hand it to the
+ * display. In lockstep, first wait until the display has taken the last
+ * one; in realtime, return false (nothing drawn) when it has not. */
+static bool draw_frame(Loop *L)
 {
+    Handover *h = L->hand;
+    pthread_mutex_lock(&h->mu);
+    for (;;) {
+        bool pending = h->state[0] == SET_PENDING || h->state[1] == SET_PENDING;
+        if (!pending) break;
+        if (L->realtime || h->failed || *L->interrupt) {
+            pthread_mutex_unlock(&h->mu);
+            return false;
+        }
+        double t0 = now_seconds();
+        handover_wait(h, t0 + 0.02);
+        L->wait_seconds += now_seconds() - t0;
+    }
+    int i = h->state[0] == SET_FREE ? 0 : 1;   /* the other is shown, if either */
+    h->state[i] = SET_DRAWING;
+    int view_w = h->view_w, view_h = h->view_h;
+    pthread_mutex_unlock(&h->mu);
+
+    double t0 = now_seconds();
+    PictureSet *set = &h->sets[i];
+    describe_windows(L, set);
+    for (size_t k = 0; k < set->n; k++) draw_window(L, &set->win[k], view_w, view_h);
+    double t1 = now_seconds();
+    L->draw_seconds += t1 - t0;
+    L->last_drawn = t1;
+    L->last_draw_cost = t1 - t0;
+    L->drawn++;
+
+    pthread_mutex_lock(&h->mu);
+    h->state[i] = SET_PENDING;
+    pthread_mutex_unlock(&h->mu);
+    handover_wake(h);
+    return true;
+}
+
+/* Hand the overlay's text (the F1 status when shown, the page's reload
+ * error) to the display when it changed. */
+static void publish_overlay(Loop *L)
+{
+    if (!L->overlay_changed) return;
+    L->overlay_changed = false;
     const char *error = L->pages[L->cur].error;
-    const char *status = L->show_status ? L->status : NULL;
-    int W, H;
-    winview_output_size(&s->view, &W, &H);
-    if (s->overlay_gen == L->overlay_gen && W == s->view.ov_w && H == s->view.ov_h) return;
-    s->overlay_gen = L->overlay_gen;
-    if (!error && !status) {
-        s->view.has_overlay = false;
-        return;
-    }
-    int w, h, pitch;
-    uint32_t *px = winview_overlay_lock(&s->view, &w, &h, &pitch);
-    if (!px) return;
-    int pw, ph;
-    SDL_GetWindowSize(s->view.window, &pw, &ph);
-    double scale = pw > 0 ? (double)w / pw : 1.0;
-    overlay_paint(px, w, h, (size_t)pitch, scale, status, error);
-    winview_overlay_done(&s->view, true);
+    char *status = L->show_status ? strdup(L->status) : NULL;
+    char *err = error ? strdup(error) : NULL;
+    Handover *h = L->hand;
+    pthread_mutex_lock(&h->mu);
+    free(h->status);
+    free(h->error);
+    h->status = status;
+    h->error = err;
+    h->overlay_gen++;
+    pthread_mutex_unlock(&h->mu);
+    handover_wake(h);
 }
 
-/* Show the current frame in every window; [draw]: draw the pictures
- * anew (else only the overlay and the presentation). */
-static int show_frame(Loop *L, bool draw)
+/* Apply the inputs the display queued, oldest first. Returns false when
+ * the display failed (no window could be opened). */
+static bool take_inputs(Loop *L, Input **buf, size_t *cap)
 {
-    double t0 = now_seconds(), drawn = L->draw_seconds;
-    if (draw && sync_windows(L) != 0) return -1;
-    for (size_t i = 0; i < L->nslots; i++) {
-        if (draw) draw_slot(L, &L->slots[i]);
-        paint_overlay(L, &L->slots[i]);
-        winview_present(&L->slots[i].view);
-    }
-    if (draw) {
-        double t1 = now_seconds();
-        /* the rest of the time is presenting: draw_slot counted its drawing */
-        L->present_seconds += (t1 - t0) - (L->draw_seconds - drawn);
-        L->shown++;
-        L->last_shown = t1;
-        L->last_show_cost = t1 - t0;
-    }
-    return 0;
+    Handover *h = L->hand;
+    pthread_mutex_lock(&h->mu);
+    Input *in = h->inputs;
+    size_t n = h->ninputs, c = h->cap_inputs;
+    h->inputs = *buf;
+    h->cap_inputs = *cap;
+    h->ninputs = 0;
+    bool failed = h->failed;
+    pthread_mutex_unlock(&h->mu);
+    *buf = in;
+    *cap = c;
+    for (size_t i = 0; i < n; i++) window_input(L, &in[i]);
+    return !failed;
 }
+
 
 /* {=====================================================================
  * The status overlay (F1)
@@ -304,11 +329,16 @@ static void update_status(Loop *L, bool force)
     fl_runtime *rt = L->pages[L->cur].rt;
     fl_stats st;
     fl_get_stats(rt, &st);
+    pthread_mutex_lock(&L->hand->mu);
+    long all_shown = L->hand->shown;
+    double all_present = L->hand->present_seconds;
+    pthread_mutex_unlock(&L->hand->mu);
     double dt = now - L->stat_time;
-    long frames = st.frames - L->stat.frames, shown = L->shown - L->stat_shown;
+    long frames = st.frames - L->stat.frames, shown = all_shown - L->stat_shown;
+    long drawn = L->drawn - L->stat_drawn;
     double per = frames > 0 ? 1e3 / (double)frames : 0;
-    double draw = shown > 0 ? (L->draw_seconds - L->stat_draw) * 1e3 / (double)shown : 0;
-    double present = shown > 0 ? (L->present_seconds - L->stat_present) * 1e3 / (double)shown : 0;
+    double draw = drawn > 0 ? (L->draw_seconds - L->stat_draw) * 1e3 / (double)drawn : 0;
+    double present = shown > 0 ? (all_present - L->stat_present) * 1e3 / (double)shown : 0;
     snprintf(L->status, sizeof L->status,
              "page %d/%d %s\n"
              "frame %ld  time %.2f s\n"
@@ -324,18 +354,21 @@ static void update_status(Loop *L, bool force)
              (st.physics_seconds - L->stat.physics_seconds) * per, draw, present,
              L->paused ? "paused (F5 resume, F6 one frame)" : "");
     L->stat = st;
-    L->stat_shown = L->shown;
+    L->stat_shown = all_shown;
+    L->stat_drawn = L->drawn;
     L->stat_draw = L->draw_seconds;
-    L->stat_present = L->present_seconds;
+    L->stat_present = all_present;
     L->stat_time = now;
-    if (L->show_status) L->overlay_gen++;
+    if (L->show_status) L->overlay_changed = true;
 }
 
 /* The --stats report at the end of the run: each page's lines as a
  * headless run prints them (runspec_print_stats; a "page N" line first
- * when there are several), then the windows': drawing and presenting
- * milliseconds per frame shown, frames shown and dropped. [loop]: the
- * frame loop's wall time in seconds. */
+ * when there are several), then the windows': drawing milliseconds per
+ * picture drawn and presenting milliseconds per picture shown, frames
+ * shown and dropped, and the frame loop's busy milliseconds per frame
+ * (its wall time less its waits: what a frame costs the simulation).
+ * [loop]: the frame loop's wall time in seconds. */
 static void print_stats(Loop *L, double loop)
 {
     for (int i = 0; i < L->npages; i++) {
@@ -346,10 +379,14 @@ static void print_stats(Loop *L, double loop)
         }
         runspec_print_stats(p->rt, &p->first, &p->second, loop, L->log);
     }
-    double n = L->shown > 0 ? (double)L->shown : 1;
+    Handover *h = L->hand;
+    double drawn = L->drawn > 0 ? (double)L->drawn : 1, shown = h->shown > 0 ? (double)h->shown : 1;
     fprintf(L->log, "stats: window: per frame shown: draw %.3f ms, present %.3f ms\n",
-            L->draw_seconds / n * 1e3, L->present_seconds / n * 1e3);
-    fprintf(L->log, "stats: window: %ld frames shown, %ld dropped\n", L->shown, L->dropped);
+            L->draw_seconds / drawn * 1e3, h->present_seconds / shown * 1e3);
+    fprintf(L->log, "stats: window: %ld frames shown, %ld dropped\n", h->shown, L->dropped);
+    double ran = L->ran > 0 ? (double)L->ran : 1;
+    fprintf(L->log, "stats: window: frame loop busy %.3f ms per frame, %ld pictures drawn\n",
+            (loop - L->wait_seconds) / ran * 1e3, L->drawn);
     fflush(L->log);
 }
 
@@ -357,25 +394,32 @@ static void print_stats(Loop *L, double loop)
  * The frame loop
  * ===================================================================== */
 
-/* Wait until [due] (monotonic seconds), handling window events. */
-static void wait_until(Loop *L, double due)
+/* Wait until [due] (monotonic seconds), applying inputs as they come;
+ * returns early when the run ends. */
+static void wait_until(Loop *L, double due, Input **buf, size_t *cap)
 {
+    Handover *h = L->hand;
+    double t0 = now_seconds();
     for (;;) {
-        double wait = due - now_seconds();
-        if (wait <= 0 || L->quit || *L->interrupt) return;
-        SDL_Event ev;
-        int ms = (int)(wait * 1e3);
-        if (SDL_WaitEventTimeout(&ev, ms > 0 ? ms : 1)) window_event(L, &ev);
+        if (!take_inputs(L, buf, cap) || L->quit || *L->interrupt) break;
+        pthread_mutex_lock(&h->mu);
+        if (h->ninputs == 0 && !h->failed && now_seconds() < due) handover_wait(h, due);
+        bool more = h->ninputs > 0 || h->failed;
+        pthread_mutex_unlock(&h->mu);
+        if (!more && now_seconds() >= due) break;
     }
+    L->wait_seconds += now_seconds() - t0;
 }
 
-/* One pass: events, reload, a frame (unless paused), its picture, pacing.
- * Returns false when the run ends. */
-static bool loop_once(Loop *L)
+/* One pass: inputs, reload, a frame (unless paused), its pictures,
+ * pacing. Returns false when the run ends. */
+static bool loop_once(Loop *L, Input **buf, size_t *cap)
 {
     const RunSpec *spec = L->spec;
-    SDL_Event ev;
-    while (SDL_PollEvent(&ev)) window_event(L, &ev);
+    if (!take_inputs(L, buf, cap)) {
+        L->rc = EXIT_LOAD;
+        return false;
+    }
     if (L->quit || *L->interrupt) return false;
     if (L->switch_to >= 0) {
         switch_page(L, L->switch_to);
@@ -411,8 +455,8 @@ static bool loop_once(Loop *L)
     if (stepped || L->redraw) {
         double now = now_seconds();
         /* realtime: no time left to draw before the next frame is due;
-         * a late frame is still shown when nothing was for 100 ms, or for
-         * twice what the last picture cost to show when that is longer
+         * a late frame is still drawn when nothing was for 100 ms, or for
+         * twice what the last picture cost to draw when that is longer
          * (a picture that takes a second to draw, a large !canvas3d on a
          * CPU, then holds the simulation up for at most a third of the
          * time) */
@@ -420,40 +464,60 @@ static bool loop_once(Loop *L)
         /* (a slow picture restarts the realtime schedule, so the frame
          * after it is not late: a picture slower than a frame counts as
          * late on its own) */
-        bool slow = L->realtime && stepped && L->last_show_cost * fl_target_fps(p->rt) > 1;
-        double gap = L->last_show_cost * 2 > 0.1 ? L->last_show_cost * 2 : 0.1;
-        if ((late || slow) && now - L->last_shown < gap && !L->redraw) {
+        bool slow = L->realtime && stepped && L->last_draw_cost * fl_target_fps(p->rt) > 1;
+        double gap = L->last_draw_cost * 2 > 0.1 ? L->last_draw_cost * 2 : 0.1;
+        if ((late || slow) && now - L->last_drawn < gap && !L->redraw) {
             L->dropped++;
-        } else if (show_frame(L, true) != 0) {
-            L->rc = EXIT_LOAD;
-            return false;
+        } else if (draw_frame(L)) {
+            L->redraw = false;
+        } else if (L->realtime && !L->redraw) {
+            L->dropped++;   /* the display is still busy with the last picture */
         }
-        L->redraw = false;
-    } else if (L->represent) {
-        show_frame(L, false);
+        /* (a redraw the display could not take yet stays asked for) */
+    } else if (L->overlay_changed) {
+        update_status(L, true);
     }
-    L->represent = false;
+    publish_overlay(L);
     if (spec->frames >= 0 && L->ran >= spec->frames) return false;
     /* pacing (EngineController.run, through fl_frame_wait): realtime
      * frames 1/fps apart, a slow frame restarts the schedule from now;
-     * lockstep and pause wait 1 ms */
+     * lockstep (which also waits for the display in draw_frame) 1 ms,
+     * so that a window shows at most 1,000 frames a second; paused 20 ms
+     * or until the next input */
     if (L->realtime && stepped) {
         double wait = fl_frame_wait(p->rt);
-        if (wait >= 0.001)
-            wait_until(L, now_seconds() + wait - 0.001);
+        if (wait >= 0.001) wait_until(L, now_seconds() + wait - 0.001, buf, cap);
     } else {
-        wait_until(L, now_seconds() + (L->paused ? 0.02 : 0.001));
+        wait_until(L, now_seconds() + (stepped ? 0.001 : 0.02), buf, cap);
     }
     return true;
+}
+
+/* The frame loop's thread: frames until the run ends, then tell the
+ * display. */
+static void *frame_thread(void *arg)
+{
+    Loop *L = arg;
+    Input *buf = NULL;
+    size_t cap = 0;
+    while (loop_once(L, &buf, &cap)) {}
+    free(buf);
+    pthread_mutex_lock(&L->hand->mu);
+    L->hand->done = true;
+    pthread_mutex_unlock(&L->hand->mu);
+    handover_wake(L->hand);
+    return NULL;
 }
 
 int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt, char *why,
                size_t cap)
 {
     if (winview_start(why, cap) != 0) return WINDOW_NO_DISPLAY;
-    Loop L = {.spec = spec, .out = out, .log = log, .interrupt = interrupt,
-              .switch_to = -1, .runspec = *spec,
-              .wopt = {spec->screen, spec->fullscreen, spec->vsync}};
+    Handover hand;
+    handover_init(&hand);
+    Loop L = {.spec = spec, .out = out, .log = log, .interrupt = interrupt, .hand = &hand,
+              .switch_to = -1, .runspec = *spec};
+    WinOptions wopt = {spec->screen, spec->fullscreen, spec->vsync};
     if (!L.interrupt) L.interrupt = &L.never;
     /* Flitter's windows run on the realtime clock unless --lockstep */
     L.realtime = spec->clock_given ? spec->realtime : true;
@@ -463,9 +527,17 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
     if (rc == EXIT_OK) {
         if (spec->dump_simplified) fl_dump_program(L.pages[0].rt, write_file, out);
         L.last_save = L.stat_time = L.start = now_seconds();
-        L.last_shown = -1;
-        while (loop_once(&L)) {}
+        L.last_drawn = -1;
+        pthread_t thread;
+        if (pthread_create(&thread, NULL, frame_thread, &L) != 0) {
+            fprintf(log, "flitter: cannot start the frame loop's thread\n");
+            L.rc = EXIT_LOAD;
+        } else {
+            window_display(&hand, &wopt, log);
+            pthread_join(thread, NULL);
+        }
         rc = L.rc;
+        if (hand.failed) rc = EXIT_LOAD;
         if (spec->stats) print_stats(&L, now_seconds() - L.start);
         Page *p = &L.pages[L.cur];
         if (fl_frame_count(p->rt) > 0) {
@@ -474,10 +546,9 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
         }
         fflush(out);
     }
-    for (size_t i = 0; i < L.nslots; i++) close_slot(&L.slots[i]);
-    free(L.slots);
     free(L.info);
     rc = close_pages(&L, rc);
+    handover_free(&hand);
     SDL_Quit();
     return rc;
 }

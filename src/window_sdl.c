@@ -88,9 +88,15 @@ int winview_open(WinView *v, const char *title, int w, int h, const WinOptions *
     if (v->renderer && software_gl(v->renderer)) {
         /* a GL rasterised on the CPU (Xvfb, no GPU): SDL's own software
          * renderer copies the picture instead of texturing a quad with it,
-         * which costs far less CPU and leaves the cores to the frame */
+         * which costs far less CPU and leaves the cores to the frame;
+         * and its window surface is then plain X11 memory (XShm), not a
+         * texture of that same GL, which SDL would otherwise use for it
+         * (SDL_HINT_FRAMEBUFFER_ACCELERATION; measured under Xvfb at
+         * 1920x1080: presenting a frame went from about 25 ms to a few;
+         * the user's SDL_FRAMEBUFFER_ACCELERATION still wins) */
         SDL_DestroyRenderer(v->renderer);
         v->renderer = NULL;
+        SDL_SetHintWithPriority(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0", SDL_HINT_DEFAULT);
     }
     if (!v->renderer) v->renderer = SDL_CreateRenderer(v->window, -1, SDL_RENDERER_SOFTWARE | rflags);
     if (!v->renderer) {
@@ -147,7 +153,8 @@ void winview_output_size(const WinView *v, int *w, int *h)
     if (SDL_GetRendererOutputSize(v->renderer, w, h) != 0) SDL_GetWindowSize(v->window, w, h);
 }
 
-uint32_t *winview_lock(WinView *v, int w, int h, int *pitch)
+/* (Re)make the picture texture at [w] x [h] pixels; -1 on failure. */
+static int picture_texture(WinView *v, int w, int h)
 {
     if (!v->picture || w != v->pic_w || h != v->pic_h) {
         if (v->picture) SDL_DestroyTexture(v->picture);
@@ -155,9 +162,21 @@ uint32_t *winview_lock(WinView *v, int w, int h, int *pitch)
                                        SDL_TEXTUREACCESS_STREAMING, w, h);
         v->pic_w = v->picture ? w : 0;
         v->pic_h = v->picture ? h : 0;
-        if (!v->picture) return NULL;
+        if (!v->picture) return -1;
         SDL_SetTextureBlendMode(v->picture, SDL_BLENDMODE_NONE);
     }
+    return 0;
+}
+
+int winview_upload(WinView *v, const uint32_t *px, int w, int h)
+{
+    if (picture_texture(v, w, h) != 0) return -1;
+    return SDL_UpdateTexture(v->picture, NULL, px, w * 4) == 0 ? 0 : -1;
+}
+
+uint32_t *winview_lock(WinView *v, int w, int h, int *pitch)
+{
+    if (picture_texture(v, w, h) != 0) return NULL;
     void *pixels;
     if (SDL_LockTexture(v->picture, NULL, &pixels, pitch) != 0) return NULL;
     /* the picture may be drawn with the library's own EGL context

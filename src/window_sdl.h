@@ -71,6 +71,11 @@ uint32_t *winview_lock(WinView *v, int w, int h, int *pitch);
 /* Unlock the picture after winview_lock. */
 void winview_unlock(WinView *v);
 
+/* Copy the picture [px] ([w] x [h] 0xAARRGGBB words, rows w*4 bytes
+ * apart) into the picture texture, (re)made at that size.
+ *   errors: -1 (SDL error) when the texture cannot be made; else 0. */
+int winview_upload(WinView *v, const uint32_t *px, int w, int h);
+
 /* The overlay texture at the output size, locked for overlay_paint (NULL
  * on failure), and its pitch; then winview_overlay_done(). */
 uint32_t *winview_overlay_lock(WinView *v, int *w, int *h, int *pitch);

@@ -5,15 +5,15 @@
 # and 4 threads against the reference loop) and of the particle pass (a
 # sample of 2,000 systems, 8 of them big enough to be split over threads),
 # every physics golden and the
-# benchmark scenes for a few frames on 2 threads, each as one test that
-# fails on any report. Ends with `N passed, M failed`.
+# benchmark scenes for a few frames on 2 threads, and the live window's
+# two threads under Xvfb, each as one test that fails on any report. Ends with `N passed, M failed`.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 build=$1
 [ -f "$build/build.ninja" ] ||
     CC=${TSAN_CC:-clang-14} meson setup "$build" -Db_sanitize=thread -Db_lundef=false >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
-ninja -C "$build" src/flitter tests/test_physics_routes tests/test_particle_pass >/dev/null ||
+ninja -C "$build" src/flitter src/flitter-window.so tests/test_physics_routes tests/test_particle_pass >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
 export TSAN_OPTIONS="halt_on_error=1 exitcode=66"
 passed=0 failed=0
@@ -42,5 +42,12 @@ for s in "petri200 60" "discs2k 20" "charges1k 3" "discs20k 3"; do
     set -- $s
     check "bench/$1" "$build/src/flitter" run --threads 2 --frames "$2" "bench/$1.fl"
 done
+# the live window: the frame loop's thread and the display's, under a
+# private Xvfb (skipped without xvfb-run): lockstep (every picture handed
+# over) and realtime (pictures dropped while the display is busy)
+if command -v xvfb-run >/dev/null 2>&1; then
+    check window/lockstep xvfb-run -a "$build/src/flitter" run --window --lockstep --frames 60 samples/petri.fl
+    check window/realtime xvfb-run -a "$build/src/flitter" run --window --realtime --runtime 2 samples/petri.fl
+fi
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

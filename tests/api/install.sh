@@ -3,8 +3,9 @@
 # against the installed library through pkg-config only and run it on the
 # petri dish: its output must equal tests/api/embed_petri.out exactly (the
 # position is the one in samples/petri.state after 120 frames).
-# Also checks the installed files: the flitter binary, libflitter.so with
-# its soname, libflitter.a, flitter.h, libflitter.pc and flitter(1); then
+# Also checks the installed files: the flitter binary and its window and
+# REPL modules (which it must find and load), libflitter.so
+# with its soname, libflitter.a, flitter.h, libflitter.pc and flitter(1); then
 # builds the sample again against libflitter.a alone (static), which must
 # define no global symbol but the fl_ functions.
 # usage: install.sh BUILD_DIR SOURCE_ROOT VERSION CC [CFLAGS...]
@@ -21,7 +22,7 @@ meson install -C "$build" --no-rebuild --destdir "$root" >"$tmp/install.log" 2>&
 
 # where things went (prefix and libdir as configured)
 find_one() { find "$root" -name "$1" -print -quit; }
-bin=$(find_one flitter)
+bin=$(find "$root" -type f -name flitter -print -quit)   # not LIBDIR/flitter/
 pc=$(find_one libflitter.pc)
 so=$(find_one libflitter.so)
 [ -n "$bin" ] && [ -x "$bin" ] || fail "no flitter binary installed"
@@ -36,6 +37,20 @@ soname=$(readelf -d "$so" | sed -n 's/.*Library soname: \[\(.*\)\]/\1/p')
 man=$(find_one flitter.1)
 [ -n "$man" ] && [ "$(basename "$(dirname "$man")")" = man1 ] || fail "no man1/flitter.1 installed"
 "$bin" --version | grep -q "$version" || fail "installed flitter --version"
+# the window and REPL modules (src/module.h) in LIBDIR/flitter, which the
+# installed flitter finds from where it is (here the staging tree) and
+# loads when asked for a window (SDL's own refusal of a video driver that
+# does not exist shows that it did) or a REPL
+[ -f "$libdir/flitter/flitter-window.so" ] || fail "no flitter/flitter-window.so in $libdir"
+[ -f "$libdir/flitter/flitter-repl.so" ] || fail "no flitter/flitter-repl.so in $libdir"
+printf ':step\n' | "$bin" repl "$src/samples/petri.fl" >"$tmp/repl.out" 2>&1 ||
+    fail "installed flitter repl: $(cat "$tmp/repl.out")"
+grep -q '^frame 0 ' "$tmp/repl.out" || fail "installed flitter repl did not step: $(cat "$tmp/repl.out")"
+DISPLAY=:none SDL_VIDEODRIVER=nodriver "$bin" run --window --frames 1 "$src/samples/petri.fl" \
+    >/dev/null 2>"$tmp/window.err" || fail "installed flitter run --window: $(cat "$tmp/window.err")"
+# its message alone (a sanitizer's report of the suppressions it used may follow)
+[ "$(grep '^flitter: ' "$tmp/window.err")" = 'flitter: cannot open the display: nodriver not available: running headless' ] ||
+    fail "the installed flitter did not load its window module: $(cat "$tmp/window.err")"
 
 # the sample, through pkg-config against the staging tree
 export PKG_CONFIG_PATH=$(dirname "$pc") PKG_CONFIG_SYSROOT_DIR=$root
