@@ -267,11 +267,6 @@ void bloom_apply(Bloom *b, const BloomParams *p, float *rgba, int w, int h)
 
 /* {===== linear light to and from the window's 8-bit pictures */
 
-static double srgb_decode(double s)
-{
-    return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4);
-}
-
 void bloom_decode(cairo_surface_t *pic, float *rgba)
 {
     float lin[256];
@@ -299,6 +294,23 @@ void bloom_decode(cairo_surface_t *pic, float *rgba)
                 o[k] = lin[u] * fa;
             }
             o[3] = fa;
+        }
+    }
+}
+
+void bloom_decode_linear(cairo_surface_t *lin, float *rgba)
+{
+    cairo_surface_flush(lin);
+    const unsigned char *data = cairo_image_surface_get_data(lin);
+    int w = cairo_image_surface_get_width(lin), h = cairo_image_surface_get_height(lin);
+    int stride = cairo_image_surface_get_stride(lin);
+    for (int y = 0; y < h; y++) {
+        const uint32_t *src = (const uint32_t *)(const void *)(data + (size_t)y * stride);
+        float *o = rgba + (size_t)y * w * 4;
+        for (int x = 0; x < w; x++, o += 4) {
+            uint32_t p = src[x];
+            for (int k = 0; k < 3; k++) o[k] = (float)((p >> (16 - 8 * k)) & 0xff) / 255.0f;
+            o[3] = (float)(p >> 24) / 255.0f;
         }
     }
 }

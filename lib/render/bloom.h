@@ -60,6 +60,11 @@ void bloom_free(Bloom *b);
  * an sRGB texture is read by GL: each channel un-premultiplied, decoded,
  * premultiplied again. */
 void bloom_decode(cairo_surface_t *pic, float *rgba);
+/* The linear light of [lin] (an ARGB32 cairo image surface whose
+ * premultiplied 8-bit values are linear: a `!canvas linear=true`, as
+ * Flitter's 8-bit linear canvas texture is read) into [rgba]: each value
+ * over 255, premultiplied as it is. */
+void bloom_decode_linear(cairo_surface_t *lin, float *rgba);
 /* Paint linear light [rgba] over linear light [dst] (both premultiplied,
  * [n] pixels): the `over` blend. */
 void bloom_over(float *dst, const float *rgba, size_t n);

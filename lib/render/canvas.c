@@ -17,6 +17,7 @@
 #include "format.h"
 #include "mem.h"
 #include "rnode.h"
+#include "srgb.h"
 
 #define TAU 6.283185307179586
 
@@ -94,6 +95,13 @@ static bool attr_bool(const Node *n, const char *name, bool dflt)
     return v ? vec_truthy(v) : dflt;
 }
 
+bool canvas_is_linear(const Node *canvas)
+{
+    /* Flitter: node.get('linear', 1, bool, False), one value */
+    const Vec *v = rnode_attr(canvas, "linear");
+    return v && vec_len(v) == 1 && vec_truthy(v);
+}
+
 /* ---- paint and font state (inherited down the tree) ---- */
 
 typedef struct Paint {
@@ -146,6 +154,45 @@ static bool node_color(const Node *n, double rgba[4])
     case 4: memcpy(rgba, x, 4 * sizeof *x); return true;
     default: return false;
     }
+}
+
+static double clamp01(double x) { return x > 0 ? (x < 1 ? x : 1) : 0; }
+
+/* Colour [in] as cairo is to be given it on a linear canvas, so that it
+ * lands as Flitter's 8-bit linear target stores it: each premultiplied
+ * channel rounded to the nearest of 255 steps (the GPU's conversion),
+ * where cairo would truncate its 16-bit colour to 8 bits. The alpha
+ * becomes A/255 and each channel p/A, p the rounded premultiplied value,
+ * so that cairo's premultiplied 16-bit value is 257p, which truncates to
+ * p exactly. */
+static void linear_rgba(const double in[4], double out[4])
+{
+    double a = clamp01(in[3]);
+    double big_a = round(a * 255);
+    out[3] = big_a / 255;
+    for (int k = 0; k < 3; k++) {
+        double p = round(clamp01(in[k]) * a * 255);
+        out[k] = big_a > 0 ? fmin(p / big_a, 1) : 0;
+    }
+}
+
+/* A gradient stop's colour [rgba] on a linear canvas: Flitter hands Skia
+ * stop colours as 8-bit sRGB colours (Color4f.toColor, in canvas.pyx
+ * make_shader), which Skia converts to the linear target's space and
+ * interpolates there; so each channel is rounded to 8 bits and decoded. */
+static void linear_stop(double rgba[4])
+{
+    for (int k = 0; k < 3; k++) rgba[k] = srgb_decode(round(clamp01(rgba[k]) * 255) / 255);
+    rgba[3] = round(clamp01(rgba[3]) * 255) / 255;
+}
+
+/* A solid-colour pattern of [rgba] for the canvas of [c]. */
+static cairo_pattern_t *color_pattern(const Ctx *c, const double rgba[4])
+{
+    double v[4];
+    if (c->env->linear) linear_rgba(rgba, v);
+    else memcpy(v, rgba, sizeof v);
+    return cairo_pattern_create_rgba(v[0], v[1], v[2], v[3]);
 }
 
 static const struct { const char *name; cairo_operator_t op; } composites[] = {
@@ -417,8 +464,15 @@ static void line_path(Ctx *c, Path *p, const double *pts, uint32_t n, double cur
 static void set_source(Ctx *c, const Paint *p)
 {
     cairo_t *cr = c->cr;
-    if (p->shader) cairo_set_source(cr, p->shader);
-    else cairo_set_source_rgba(cr, p->rgba[0], p->rgba[1], p->rgba[2], p->rgba[3]);
+    double v[4];
+    if (p->shader) {
+        cairo_set_source(cr, p->shader);
+    } else if (c->env->linear) {
+        linear_rgba(p->rgba, v);
+        cairo_set_source_rgba(cr, v[0], v[1], v[2], v[3]);
+    } else {
+        cairo_set_source_rgba(cr, p->rgba[0], p->rgba[1], p->rgba[2], p->rgba[3]);
+    }
     cairo_set_operator(cr, p->op);
     cairo_set_antialias(cr, p->antialias ? CAIRO_ANTIALIAS_DEFAULT : CAIRO_ANTIALIAS_NONE);
 }
@@ -494,7 +548,7 @@ static void draw_text(Ctx *c, const Node *n, const Paint *p, const Font *inherit
 
 /* !gradient start=X;Y end=X;Y | radius=RX;RY [point=X;Y rotate=T], with
  * !stop [offset=F] [color=...] children: a new shader for [p]. */
-static bool make_gradient(const Node *n, Paint *p)
+static bool make_gradient(const Ctx *c, const Node *n, Paint *p)
 {
     size_t nstops = 0;
     for (size_t i = 0; i < rnode_nchildren(n); i++)
@@ -523,6 +577,7 @@ static bool make_gradient(const Node *n, Paint *p)
         double rgba[4];
         memcpy(rgba, p->rgba, sizeof rgba);
         node_color(s, rgba);
+        if (c->env->linear) linear_stop(rgba);
         double off = attr_num(s, "offset", nstops > 1 ? (double)k / (double)(nstops - 1) : 0);
         cairo_pattern_add_color_stop_rgba(pat, off, rgba[0], rgba[1], rgba[2], rgba[3]);
         k++;
@@ -702,13 +757,13 @@ static void draw_node(Ctx *c, const Node *n, Paint *paint, const Font *font, Pat
         cairo_set_operator(cr, CAIRO_OPERATOR_OVER);
         cairo_paint_with_alpha(cr, alpha);
     } else if (strcmp(kind, "gradient") == 0) {
-        make_gradient(n, paint);
+        make_gradient(c, n, paint);
     } else if (strcmp(kind, "color") == 0) {
         double rgba[4];
         memcpy(rgba, paint->rgba, sizeof rgba);
         node_color(n, rgba);
         paint_done(paint);
-        paint->shader = cairo_pattern_create_rgba(rgba[0], rgba[1], rgba[2], rgba[3]);
+        paint->shader = color_pattern(c, rgba);
     } else {
         skiplog_note(c->env->skips, "canvas", kind);
     }

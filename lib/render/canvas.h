@@ -5,7 +5,9 @@
  * in pixels with the origin top-left and y down; `rotate`, arc `start`,
  * `end` and `sweep` in turns (1 = 360 degrees, positive turns clockwise on
  * screen); colours as 1 (grey), 3 (RGB) or 4 (RGBA) numbers in 0..1 written
- * straight into the sRGB picture; paint attributes inherited down the tree.
+ * straight into the sRGB picture (into a linear-light picture for a
+ * `linear=true` canvas: CanvasEnv.linear); paint attributes inherited down
+ * the tree.
  * The default paint is opaque black, anti-aliased, hairline strokes, miter
  * joins, butt caps; the default font is Helvetica 20 (fontconfig picks a
  * metric-compatible face, e.g. Liberation Sans). Besides the issue's set,
@@ -59,7 +61,19 @@ void skiplog_effect(SkipLog *log, const char *kind);
 typedef struct CanvasEnv {
     const SymTab *symbols;   /* names symbol values such as :italic (may be NULL) */
     SkipLog *skips;          /* skipped-kind messages (may be NULL) */
+    bool linear;             /* the target holds linear light (`!canvas
+                                linear=true`, canvas_is_linear): colours are
+                                linear values, rounded to 8 bits as Flitter's
+                                8-bit target stores them, and gradient stops
+                                are sRGB colours decoded to linear light */
 } CanvasEnv;
+
+/* Whether `!canvas` node [canvas] is drawn in linear light: its `linear`
+ * attribute is one true value (Flitter docs/canvas.md `linear=`;
+ * render/window/canvas.pyx, Canvas.create: a linear-sRGB Skia surface on
+ * an 8-bit non-sRGB texture, whose colours, blending and anti-aliasing
+ * are all in linear light, read by the window as linear light). */
+bool canvas_is_linear(const Node *canvas);
 
 /* The string conversion of attribute [name] of [n] (LANGUAGE.md §3.13, so
  * symbols give their names) into [b]; false when absent. */

@@ -4,6 +4,12 @@
 #include <math.h>
 #include <stddef.h>
 
+/* The step of enc for linear [f] (clamped to 0..1, NaN to 0). */
+static inline int encode_index(float f)
+{
+    return !(f > 0) ? 0 : f >= 1 ? SRGB_STEPS : (int)(f * SRGB_STEPS + 0.5f);
+}
+
 void srgb_table_init(SrgbTable *t)
 {
     for (int i = 0; i <= SRGB_STEPS; i++) {
@@ -11,6 +17,28 @@ void srgb_table_init(SrgbTable *t)
         double s = x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1 / 2.4) - 0.055;
         t->enc[i] = (uint8_t)lround(s * 255);
     }
+    for (int v = 0; v < 256; v++) t->enc8[v] = t->enc[encode_index((float)v / 255.0f)];
+}
+
+double srgb_decode(double s)
+{
+    return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4);
+}
+
+/* One pixel of premultiplied linear light [src] (RGBA) as the window's
+ * output holds it: an ARGB32 word of encoded channels and an alpha of at
+ * least each of them. */
+static inline uint32_t encode_pixel(const SrgbTable *t, const float src[4])
+{
+    unsigned v[3], a = 0;
+    for (int k = 0; k < 3; k++) {
+        v[k] = t->enc[encode_index(src[k])];
+        if (v[k] > a) a = v[k];
+    }
+    float fa = src[3];
+    unsigned alpha = !(fa > 0) ? 0 : fa >= 1 ? 255 : (unsigned)lroundf(fa * 255);
+    if (alpha > a) a = alpha;
+    return (a << 24) | (v[0] << 16) | (v[1] << 8) | v[2];
 }
 
 void srgb_encode_surface(const SrgbTable *t, const float *rgba, int w, int h, cairo_surface_t *pic)
@@ -21,18 +49,32 @@ void srgb_encode_surface(const SrgbTable *t, const float *rgba, int w, int h, ca
     for (int y = 0; y < h; y++) {
         uint32_t *row = (uint32_t *)(void *)(data + (size_t)y * stride);
         const float *src = rgba + (size_t)y * w * 4;
-        for (int x = 0; x < w; x++, src += 4) {
-            unsigned v[3], a = 0;
-            for (int k = 0; k < 3; k++) {
-                float f = src[k];
-                int idx = !(f > 0) ? 0 : f >= 1 ? SRGB_STEPS : (int)(f * SRGB_STEPS + 0.5f);
-                v[k] = t->enc[idx];
-                if (v[k] > a) a = v[k];
-            }
-            float fa = src[3];
-            unsigned alpha = !(fa > 0) ? 0 : fa >= 1 ? 255 : (unsigned)lroundf(fa * 255);
-            if (alpha > a) a = alpha;
-            row[x] = (a << 24) | (v[0] << 16) | (v[1] << 8) | v[2];
+        for (int x = 0; x < w; x++, src += 4) row[x] = encode_pixel(t, src);
+    }
+    cairo_surface_mark_dirty(pic);
+}
+
+void srgb_encode_linear8(const SrgbTable *t, cairo_surface_t *lin, cairo_surface_t *pic)
+{
+    int w = cairo_image_surface_get_width(lin), h = cairo_image_surface_get_height(lin);
+    if (cairo_image_surface_get_width(pic) != w || cairo_image_surface_get_height(pic) != h) return;
+    cairo_surface_flush(lin);
+    if (pic != lin) cairo_surface_flush(pic);
+    const unsigned char *in = cairo_image_surface_get_data(lin);
+    unsigned char *out = cairo_image_surface_get_data(pic);
+    int istride = cairo_image_surface_get_stride(lin), ostride = cairo_image_surface_get_stride(pic);
+    for (int y = 0; y < h; y++) {
+        const uint32_t *src = (const uint32_t *)(const void *)(in + (size_t)y * istride);
+        uint32_t *dst = (uint32_t *)(void *)(out + (size_t)y * ostride);
+        for (int x = 0; x < w; x++) {
+            /* encode_pixel of the values over 255, through enc8 */
+            uint32_t p = src[x];
+            unsigned r = t->enc8[(p >> 16) & 0xff], g = t->enc8[(p >> 8) & 0xff], b = t->enc8[p & 0xff];
+            unsigned a = p >> 24;
+            if (r > a) a = r;
+            if (g > a) a = g;
+            if (b > a) a = b;
+            dst[x] = (a << 24) | (r << 16) | (g << 8) | b;
         }
     }
     cairo_surface_mark_dirty(pic);

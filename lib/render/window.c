@@ -14,6 +14,8 @@
 #include "mem.h"
 #include "record.h"
 #include "rnode.h"
+#include "srgb.h"
+#include "turns.h"
 
 struct Renderer {
     const SymTab *symbols;
@@ -25,6 +27,10 @@ struct Renderer {
     float *bloom_light;    /* a !bloom's linear light (bloom_cap floats), reused */
     size_t bloom_cap;
     bool bloom_busy;       /* bloom_light is in use (a !bloom is being drawn) */
+    cairo_surface_t *canvas_light;  /* while a !bloom is drawn: the linear
+                                       light of the last `linear=true`
+                                       canvas drawn (8-bit), or NULL */
+    SrgbTable *srgb;       /* linear canvases' output encoding, made by the first */
     Recorder *rec;         /* the !record files open across frames (record.h) */
     char *record;          /* renderer_set_record: the first window's file, or NULL */
     bool saw_window;
@@ -84,6 +90,8 @@ int renderer_free(Renderer *r)
     canvas3d_free(r->c3d);
     bloom_free(r->bloom);
     free(r->bloom_light);
+    if (r->canvas_light) cairo_surface_destroy(r->canvas_light);
+    free(r->srgb);
     for (int i = 0; i < r->nreported; i++) free(r->reported[i]);
     free(r);
     return rc;
@@ -107,17 +115,28 @@ static cairo_surface_t *new_picture(int w, int h)
     return cairo_image_surface_create(CAIRO_FORMAT_ARGB32, w, h);
 }
 
+/* How the children of a window-level `!transform` are placed on its
+ * picture: [m] maps the picture's pixels (each child stretched over it)
+ * to where they land, sampled with [filter] and [extend] outside. */
+typedef struct Place {
+    cairo_matrix_t m;
+    cairo_filter_t filter;
+    cairo_extend_t extend;
+} Place;
+
 /* Paint [src] over [dst], stretched to [dst]'s size when they differ (as
- * Flitter's window shader samples each child over the whole output). */
-static void composite(cairo_surface_t *dst, cairo_surface_t *src)
+ * Flitter's window shader samples each child over the whole output), and
+ * then placed by [at] (NULL: as it is). */
+static void composite(cairo_surface_t *dst, cairo_surface_t *src, const Place *at)
 {
     cairo_t *cr = cairo_create(dst);
     int dw = cairo_image_surface_get_width(dst), dh = cairo_image_surface_get_height(dst);
     int sw = cairo_image_surface_get_width(src), sh = cairo_image_surface_get_height(src);
+    if (at) cairo_transform(cr, &at->m);
     if (dw != sw || dh != sh) cairo_scale(cr, (double)dw / sw, (double)dh / sh);
     cairo_set_source_surface(cr, src, 0, 0);
-    cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_BILINEAR);
-    cairo_pattern_set_extend(cairo_get_source(cr), CAIRO_EXTEND_PAD);
+    cairo_pattern_set_filter(cairo_get_source(cr), at ? at->filter : CAIRO_FILTER_BILINEAR);
+    cairo_pattern_set_extend(cairo_get_source(cr), at ? at->extend : CAIRO_EXTEND_PAD);
     cairo_paint(cr);
     cairo_destroy(cr);
 }
@@ -125,23 +144,52 @@ static void composite(cairo_surface_t *dst, cairo_surface_t *src)
 static void write_record(Renderer *r, const Node *n, cairo_surface_t *pic, double fps);
 
 static void render_children(Renderer *r, const Node *n, cairo_surface_t *target, int w, int h,
-                            Pass *pass);
+                            Pass *pass, const Place *at);
 static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, Pass *pass);
+static cairo_surface_t *render_transform(Renderer *r, const Node *n, int w, int h, Pass *pass);
+
+/* The picture ([w] x [h]) of `!canvas` node [c]. A `linear=true` canvas
+ * (canvas_is_linear) is drawn with linear colours into an 8-bit picture,
+ * blending in linear light as Flitter's 8-bit linear target does, and
+ * encoded as the window encodes its output (srgb_encode_linear8), so that
+ * over black it shows what Flitter's window shows; while a !bloom is
+ * drawn its linear light is kept in r->canvas_light for the bloom. */
+static cairo_surface_t *render_canvas(Renderer *r, const Node *c, int w, int h)
+{
+    bool linear = canvas_is_linear(c);
+    cairo_surface_t *pic = new_picture(w, h);
+    cairo_t *cr = cairo_create(pic);
+    CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips, .linear = linear};
+    canvas_draw(cr, c, &env);
+    cairo_destroy(cr);
+    if (!linear) return pic;
+    if (!r->srgb) {
+        r->srgb = mem_alloc(sizeof *r->srgb);
+        srgb_table_init(r->srgb);
+    }
+    if (!r->bloom_busy) {
+        srgb_encode_linear8(r->srgb, pic, pic);
+        return pic;
+    }
+    if (r->canvas_light) cairo_surface_destroy(r->canvas_light);
+    r->canvas_light = pic;
+    cairo_surface_t *enc = new_picture(w, h);
+    srgb_encode_linear8(r->srgb, pic, enc);
+    return enc;
+}
 
 /* Draw window-level node [c] onto [target] ([w] x [h]): its picture
- * composited in place (and kept for !reference when it has an id). */
-static void render_child(Renderer *r, const Node *c, cairo_surface_t *target, int w, int h, Pass *pass)
+ * composited in place, placed by [at] (NULL: as it is; the children of a
+ * !transform), and kept for !reference when it has an id. */
+static void render_child(Renderer *r, const Node *c, cairo_surface_t *target, int w, int h, Pass *pass,
+                         const Place *at)
 {
     Refs *refs = &pass->refs;
     cairo_surface_t *pic = NULL;
     if (rnode_is(c, "canvas")) {
         int cw, ch;
         size_of(c, w, h, &cw, &ch);
-        pic = new_picture(cw, ch);
-        cairo_t *cr = cairo_create(pic);
-        CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips};
-        canvas_draw(cr, c, &env);
-        cairo_destroy(cr);
+        pic = render_canvas(r, c, cw, ch);
     } else if (rnode_is(c, "canvas3d")) {
         int cw, ch;
         size_of(c, w, h, &cw, &ch);
@@ -153,7 +201,7 @@ static void render_child(Renderer *r, const Node *c, cairo_surface_t *target, in
         int cw, ch;
         size_of(c, w, h, &cw, &ch);
         pic = new_picture(cw, ch);
-        render_children(r, c, pic, cw, ch, pass);
+        render_children(r, c, pic, cw, ch, pass, NULL);
         if (pass->write) write_record(r, c, pic, pass->fps);
     } else if (rnode_is(c, "key") || rnode_is(c, "pointer")) {
         return;   /* input, not a picture: lib/input.c reads them */
@@ -161,7 +209,7 @@ static void render_child(Renderer *r, const Node *c, cairo_surface_t *target, in
         const Vec *id = rnode_attr(c, "id");
         for (int k = 0; id && k < refs->n; k++)
             if (vec_equal(refs->id[k], id)) {
-                composite(target, refs->pic[k]);
+                composite(target, refs->pic[k], at);
                 break;
             }
         return;
@@ -169,18 +217,22 @@ static void render_child(Renderer *r, const Node *c, cairo_surface_t *target, in
         int cw, ch;
         size_of(c, w, h, &cw, &ch);
         pic = render_bloom(r, c, cw, ch, pass);
+    } else if (rnode_is(c, "transform")) {
+        int cw, ch;
+        size_of(c, w, h, &cw, &ch);
+        pic = render_transform(r, c, cw, ch, pass);
     } else if (rnode_nchildren(c) > 0) {
         /* an effect (!shader, !adjust, !feedback, ...): its input drawn as is */
         skiplog_effect(&r->skips, rnode_kind(c));
         int cw, ch;
         size_of(c, w, h, &cw, &ch);
         pic = new_picture(cw, ch);
-        render_children(r, c, pic, cw, ch, pass);
+        render_children(r, c, pic, cw, ch, pass, NULL);
     } else {
         skiplog_note(&r->skips, "window", rnode_kind(c));
         return;
     }
-    composite(target, pic);
+    composite(target, pic, at);
     const Vec *id = rnode_attr(c, "id");
     if (id && refs->n < 64) {
         refs->id[refs->n] = id;
@@ -190,18 +242,109 @@ static void render_child(Renderer *r, const Node *c, cairo_surface_t *target, in
     }
 }
 
-/* Draw the window-level children of [n] onto [target] ([w] x [h]). */
+/* Draw the window-level children of [n] onto [target] ([w] x [h]),
+ * placed by [at] (NULL: as they are). */
 static void render_children(Renderer *r, const Node *n, cairo_surface_t *target, int w, int h,
-                            Pass *pass)
+                            Pass *pass, const Place *at)
 {
-    for (size_t i = 0; i < rnode_nchildren(n); i++) render_child(r, rnode_child(n, i), target, w, h, pass);
+    for (size_t i = 0; i < rnode_nchildren(n); i++)
+        render_child(r, rnode_child(n, i), target, w, h, pass, at);
+}
+
+/* The placement of the children of window-level `!transform` [n] on its
+ * picture ([w] x [h]), as Flitter's Transform filter does (docs/shaders.md
+ * "!transform"; render/window/shaders.py, Transform.render, and
+ * glsl/transform.frag): `scale` (one or two numbers), `translate` (one or
+ * two, pixels) and `rotate` (turns) make one matrix in attribute order
+ * (the last applied first to the picture), about the picture's centre and
+ * with the y axis pointing up, so translate=0;10 moves the picture 10
+ * pixels up and rotate=0.25 turns it a quarter turn anticlockwise on
+ * screen (Matrix33.rotate; Flitter's documentation says clockwise, its
+ * code turns anticlockwise, and this follows the code). Pixels are
+ * sampled bilinearly (`nearest=true`: the nearest), transparent outside
+ * the children unless `repeat=true`. false when the matrix is singular or
+ * not finite (nothing is drawn: Flitter samples at NaN). `keystone=`
+ * (a projective map), `border=` and a `repeat` of one axis only are not
+ * drawn; each is reported once. */
+static bool transform_place(Renderer *r, const Node *n, int w, int h, Place *at)
+{
+    cairo_matrix_init_translate(&at->m, w / 2.0, h / 2.0);
+    double v[4];
+    for (size_t i = 0; i < rnode_nattrs(n); i++) {
+        const char *key = rnode_attr_name(n, i);
+        cairo_matrix_t step;
+        if (strcmp(key, "scale") == 0 && canvas_attr_nums(n, key, 2, v)) {
+            cairo_matrix_init_scale(&step, v[0], v[1]);
+        } else if (strcmp(key, "translate") == 0 && canvas_attr_nums(n, key, 2, v)) {
+            cairo_matrix_init_translate(&step, v[0], -v[1]);   /* y up */
+        } else if (strcmp(key, "rotate") == 0 && canvas_attr_nums(n, key, 1, v) && !isnan(v[0])) {
+            /* Flitter's rotation in y-up space, seen in cairo's y-down space */
+            double c = cos_t(v[0]), s = sin_t(v[0]);
+            cairo_matrix_init(&step, c, -s, s, c, 0, 0);
+        } else {
+            if (strcmp(key, "keystone") == 0 && canvas_attr_nums(n, key, 2, v) && (v[0] != 0 || v[1] != 0))
+                skiplog_note(&r->skips, "window", "transform keystone=");
+            continue;
+        }
+        cairo_matrix_multiply(&at->m, &step, &at->m);   /* [step] first, then what came before */
+    }
+    cairo_matrix_translate(&at->m, -w / 2.0, -h / 2.0);
+    at->filter = rnode_attr(n, "nearest") && vec_truthy(rnode_attr(n, "nearest")) ? CAIRO_FILTER_NEAREST
+                                                                                  : CAIRO_FILTER_BILINEAR;
+    at->extend = CAIRO_EXTEND_NONE;
+    if (canvas_attr_nums(n, "border", 4, v)) {
+        if (v[0] != 0 || v[1] != 0 || v[2] != 0 || v[3] != 0) skiplog_note(&r->skips, "window", "transform border=");
+    } else if (rnode_attr(n, "repeat")) {
+        const Vec *rep = rnode_attr(n, "repeat");
+        bool rx = vec_truthy(rep), ry = rx;
+        if (vec_is_num(rep) && vec_len(rep) == 2) rx = vec_cnums(rep)[0] != 0, ry = vec_cnums(rep)[1] != 0;
+        if (rx && ry) at->extend = CAIRO_EXTEND_REPEAT;
+        else if (rx || ry) skiplog_note(&r->skips, "window", "transform repeat= of one axis");
+    }
+    cairo_matrix_t inv = at->m;
+    const cairo_matrix_t *m = &at->m;
+    if (!isfinite(m->xx) || !isfinite(m->yx) || !isfinite(m->xy) || !isfinite(m->yy) || !isfinite(m->x0) ||
+        !isfinite(m->y0))
+        return false;
+    return cairo_matrix_invert(&inv) == CAIRO_STATUS_SUCCESS;
+}
+
+/* The picture ([w] x [h]) of window-level `!transform` node [n]: its
+ * children composited `over`, each stretched over the picture and placed
+ * by transform_place in one resampling (as Flitter's shader samples each
+ * child once), times `alpha` (one number, default 1, clamped to 0..1 in
+ * this 8-bit picture). */
+static cairo_surface_t *render_transform(Renderer *r, const Node *n, int w, int h, Pass *pass)
+{
+    cairo_surface_t *pic = new_picture(w, h);
+    Place at;
+    if (!transform_place(r, n, w, h, &at)) return pic;
+    render_children(r, n, pic, w, h, pass, &at);
+    double alpha;
+    if (canvas_attr_nums(n, "alpha", 1, &alpha) && !(alpha >= 1)) {
+        cairo_t *cr = cairo_create(pic);
+        cairo_set_operator(cr, CAIRO_OPERATOR_DEST_IN);   /* every pixel times alpha */
+        cairo_set_source_rgba(cr, 0, 0, 0, alpha > 0 ? alpha : 0);
+        cairo_paint(cr);
+        cairo_destroy(cr);
+    }
+    return pic;
+}
+
+/* Forget the kept linear light of a canvas (r->canvas_light). */
+static void drop_canvas_light(Renderer *r)
+{
+    if (r->canvas_light) cairo_surface_destroy(r->canvas_light);
+    r->canvas_light = NULL;
 }
 
 /* The picture ([w] x [h]) of `!bloom` node [n] (bloom.h): its children
  * composited `over` in linear light (a !canvas3d of the bloom's size
- * gives its light unclamped, as Flitter's half-float textures do; any
- * other child is drawn as in a window and decoded from sRGB), bloomed,
- * and encoded as the window encodes its output. */
+ * gives its light unclamped, as Flitter's half-float textures do; a
+ * `linear=true` !canvas of its size its 8-bit linear light, as Flitter's
+ * linear canvas texture is read; any other child is drawn as in a window
+ * and decoded from sRGB), bloomed, and encoded as the window encodes its
+ * output. */
 static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, Pass *pass)
 {
     size_t npix = (size_t)w * h;
@@ -223,21 +366,29 @@ static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, P
     for (size_t i = 0; i < rnode_nchildren(n); i++) {
         const Node *c = rnode_child(n, i);
         cairo_surface_t *layer = new_picture(w, h);
-        render_child(r, c, layer, w, h, pass);
+        drop_canvas_light(r);
+        render_child(r, c, layer, w, h, pass, NULL);
         int lw = 0, lh = 0;
         const float *lin = rnode_is(c, "canvas3d") ? canvas3d_linear(r->c3d, &lw, &lh) : NULL;
         if (lin && (lw != w || lh != h)) lin = NULL;
-        if (empty) {
-            /* the first layer over nothing is itself */
-            if (lin) memcpy(light, lin, npix * 4 * sizeof(float));
-            else bloom_decode(layer, light);
-        } else if (lin) {
-            bloom_over(light, lin, npix);
-        } else {
+        /* a linear canvas of the bloom's size gives its own linear light */
+        cairo_surface_t *clight = rnode_is(c, "canvas") ? r->canvas_light : NULL;
+        if (clight && (cairo_image_surface_get_width(clight) != w || cairo_image_surface_get_height(clight) != h))
+            clight = NULL;
+        float *dst = light;
+        if (!empty && (clight || !lin)) {
             if (!one) one = mem_alloc(npix * 4 * sizeof(float));
-            bloom_decode(layer, one);
-            bloom_over(light, one, npix);
+            dst = one;
         }
+        if (lin) {
+            if (empty) memcpy(light, lin, npix * 4 * sizeof(float));   /* the first layer over nothing is itself */
+            else bloom_over(light, lin, npix);
+        } else {
+            if (clight) bloom_decode_linear(clight, dst);
+            else bloom_decode(layer, dst);
+            if (!empty) bloom_over(light, one, npix);
+        }
+        drop_canvas_light(r);
         empty = false;
         cairo_surface_destroy(layer);
     }
@@ -345,7 +496,7 @@ static void draw_window(Renderer *r, const Node *win, cairo_surface_t *target, d
 {
     int w = cairo_image_surface_get_width(target), h = cairo_image_surface_get_height(target);
     Pass pass = {.refs.n = 0, .fps = fps, .write = write};
-    render_children(r, win, target, w, h, &pass);
+    render_children(r, win, target, w, h, &pass, NULL);
     for (int k = 0; k < pass.refs.n; k++) cairo_surface_destroy(pass.refs.pic[k]);
 }
 

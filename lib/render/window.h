@@ -20,6 +20,11 @@
  * not drawn at all. A `!canvas3d` child is drawn with OpenGL (canvas3d.h)
  * into a picture of its own size and composited in its place like a
  * canvas; when no GL context can be made it is skipped with one warning.
+ * A `!canvas linear=true` is drawn in linear light into an 8-bit picture
+ * and encoded to sRGB as the window's output is (Flitter canvas.pyx,
+ * Canvas.create). A `!transform` node composites its children scaled,
+ * rotated and translated about its centre with y up, as Flitter's
+ * window-level Transform filter does (shaders.py, glsl/transform.frag).
  * A `!bloom` node (bloom.h) composites its children in linear light,
  * blooms them and composites the result in its place. Any other
  * window-level effect node with children (shaders, !adjust, !feedback,

@@ -321,6 +321,153 @@ static void test_dash_mask(void **st)
     cairo_surface_destroy(p.s);
 }
 
+/* `!canvas linear=true` (Flitter docs/canvas.md; canvas.pyx Canvas.create:
+ * a linear-sRGB surface on an 8-bit texture the window reads as linear
+ * light): colours are linear values, stored rounded to 8 bits, blended in
+ * linear light, and the window's sRGB output encodes them. Worked by hand
+ * with enc(x) = 255 (1.055 x^(1/2.4) - 0.055) and dec its inverse:
+ *   - white at alpha 0.5 over black: premultiplied round(127.5) = 128, so
+ *     linear 128/255 = 0.50196 and enc = 187.9 -> 188, where a non-linear
+ *     canvas gives 128;
+ *   - colour 0.01: round(2.55) = 3 (Flitter's GPU rounds; cairo alone
+ *     would truncate to 2, enc 21.7 -> 22), 3/255 = 0.011765, enc 28.2 ->
+ *     28; drawn twice with composite=:add, 6/255, enc 42.4 -> 42;
+ *   - a gradient's stop colours are sRGB colours (Flitter passes them to
+ *     Skia as 8-bit colours): two stops of 0.5 decode to round(127.5) =
+ *     128 -> dec(128/255) = 0.2159, stored round(55.04) = 55, enc(55/255)
+ *     = 127.9 -> 128: the same grey as on a non-linear canvas, not 188. */
+static void test_linear_canvas(void **st)
+{
+    (void)st;
+    char path[256];
+    const char *body =
+        "            !rect size=40;20 fill=true color=0\n"
+        "            !rect size=10;10 fill=true color=1;1;1;0.5\n"
+        "            !rect point=10;0 size=10;10 fill=true color=0.01\n"
+        "            !group composite=:add\n"
+        "                !rect point=10;10 size=10;10 fill=true color=0.01\n"
+        "                !rect point=10;10 size=10;10 fill=true color=0.01\n"
+        "            !group\n"
+        "                !gradient start=20;0 end=40;0\n"
+        "                    !stop color=0.5\n"
+        "                    !stop color=0.5\n"
+        "                !rect point=20;0 size=20;20 fill=true\n";
+    char src[1024];
+    snprintf(src, sizeof src, "!window size=40;20\n    !record filename=OUT\n        !canvas linear=true\n%s", body);
+    char *log = render(src, "lin.png", 1, path, sizeof path);
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(px(&p, 5, 5), 0xffbcbcbcu);    /* 188 */
+    assert_int_equal(px(&p, 5, 15), 0xff000000u);   /* black stays black */
+    assert_int_equal(px(&p, 15, 5), 0xff1c1c1cu);   /* 28 */
+    assert_int_equal(px(&p, 15, 15), 0xff2a2a2au);  /* 42 */
+    assert_near(chan(px(&p, 30, 10), 16), 128, 1);
+    cairo_surface_destroy(p.s);
+    /* the same canvas without linear: the colours are sRGB values */
+    snprintf(src, sizeof src, "!window size=40;20\n    !record filename=OUT\n        !canvas\n%s", body);
+    log = render(src, "nonlin.png", 1, path, sizeof path);
+    free(log);
+    p = load_png(path);
+    assert_near(chan(px(&p, 5, 5), 16), 128, 1);
+    assert_near(chan(px(&p, 30, 10), 16), 128, 1);
+    cairo_surface_destroy(p.s);
+}
+
+/* In a !bloom, a linear canvas gives its linear light as it is (Flitter
+ * reads its 8-bit linear texture): white at alpha 0.5 alone is linear
+ * 128/255 at alpha 128/255, and the bloom (radius 0: the original, which
+ * is lighter than its darkened copy) encodes it as 188 = enc(0.50196),
+ * alpha 188. Decoding the encoded picture instead would un-premultiply
+ * 188 at alpha 188 to white and give enc(0.737) = 224. */
+static void test_linear_canvas_bloom(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=40;40\n"
+        "    !record filename=OUT keep_alpha=true\n"
+        "        !bloom\n"
+        "            !canvas linear=true\n"
+        "                !rect size=40;40 fill=true color=1;1;1;0.5\n",
+        "linbloom.png", 1, path, sizeof path);
+    free(log);
+    Pic p = load_png(path);
+    uint32_t v = px(&p, 20, 20);
+    assert_near(chan(v, 24), 188, 1);
+    assert_near(chan(v, 16), 188, 1);
+    cairo_surface_destroy(p.s);
+}
+
+/* A !transform under !window (Flitter docs/shaders.md "!transform";
+ * shaders.py Transform and glsl/transform.frag): its children are
+ * scaled, rotated and translated about the picture's centre with y up,
+ * the last attribute applied first, transparent outside. Here a canvas
+ * of 100x100 (red top-left quarter, white elsewhere) under
+ * translate=20;10 scale=0.5: a canvas point s lands at
+ * 0.5 (s - 50) + (20;-10) + 50 = 0.5 s + (45;15), so the canvas covers
+ * x 45..95, y 15..65 (10 up from the centred 25..75), its red quarter x
+ * 45..70, y 15..40. At scale 0.5 each pixel centre samples exactly
+ * between four canvas pixels, so every pixel is exact. */
+static void test_window_transform(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=100;100\n"
+        "    !record filename=OUT keep_alpha=true\n"
+        "        !transform translate=20;10 scale=0.5\n"
+        "            !canvas\n"
+        "                !rect size=100;100 fill=true color=1\n"
+        "                !rect size=50;50 fill=true color=1;0;0\n",
+        "xf.png", 1, path, sizeof path);
+    assert_null(strstr(log, "unsupported !transform"));
+    free(log);
+    Pic p = load_png(path);
+    assert_int_equal(px(&p, 45, 15), 0xffff0000u);
+    assert_int_equal(px(&p, 69, 39), 0xffff0000u);
+    assert_int_equal(px(&p, 70, 39), 0xffffffffu);
+    assert_int_equal(px(&p, 69, 40), 0xffffffffu);
+    assert_int_equal(px(&p, 94, 64), 0xffffffffu);
+    assert_int_equal(px(&p, 44, 30), 0x00000000u);
+    assert_int_equal(px(&p, 50, 14), 0x00000000u);
+    assert_int_equal(px(&p, 95, 50), 0x00000000u);
+    assert_int_equal(px(&p, 80, 65), 0x00000000u);
+    assert_int_equal(px(&p, 10, 90), 0x00000000u);
+    cairo_surface_destroy(p.s);
+}
+
+/* rotate=0.25 turns the picture a quarter turn anticlockwise on screen
+ * (Flitter's Matrix33.rotate in y-up space): the red top-left quarter
+ * goes to the bottom-left (centred (-25;-25) y down is (-25;25) y up,
+ * turned to (-25;-25) y up, (25;75) on screen). alpha=0.5 halves every
+ * pixel (premultiplied 128); keystone= (projective) is reported once and
+ * left out. */
+static void test_window_transform_rotate(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "!window size=100;100\n"
+        "    !record filename=OUT keep_alpha=true\n"
+        "        !transform rotate=0.25 alpha=0.5 keystone=0.1;0\n"
+        "            !canvas\n"
+        "                !rect size=100;100 fill=true color=1\n"
+        "                !rect size=50;50 fill=true color=1;0;0\n",
+        "xfr.png", 1, path, sizeof path);
+    assert_non_null(strstr(log, "window: skipping unsupported !transform keystone="));
+    free(log);
+    Pic p = load_png(path);
+    uint32_t red = px(&p, 25, 75), white = px(&p, 25, 25);
+    assert_near(chan(red, 24), 128, 1);
+    assert_near(chan(red, 16), 128, 1);
+    assert_int_equal(chan(red, 8), 0);
+    assert_near(chan(white, 24), 128, 1);
+    assert_near(chan(white, 8), 128, 1);
+    assert_near(chan(px(&p, 75, 25), 8), 128, 1);   /* white: red is not top-right (clockwise) */
+    assert_near(chan(px(&p, 75, 75), 8), 128, 1);
+    cairo_surface_destroy(p.s);
+}
+
 static void test_gif_frames(void **st)
 {
     (void)st;
@@ -363,6 +510,10 @@ int main(void)
         cmocka_unit_test(test_effect_passthrough),
         cmocka_unit_test(test_dash_mask),
         cmocka_unit_test(test_gif_frames),
+        cmocka_unit_test(test_linear_canvas),
+        cmocka_unit_test(test_linear_canvas_bloom),
+        cmocka_unit_test(test_window_transform),
+        cmocka_unit_test(test_window_transform_rotate),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
