@@ -130,6 +130,16 @@ typedef struct fl_options {
                             debug lines to stdout, each with a newline */
     fl_error_fn error;   /* fatal errors; NULL: `flitter: MESSAGE` on stderr */
     void *ctx;           /* passed to log and error */
+    int view_axes[2];    /* --view-axes: the flat projection of the physics
+                            view (--view, fl_view, fl_draw_view): the
+                            coordinates (0 x, 1 y, 2 z, 3 w; fl_parse_view_axes)
+                            on its horizontal and vertical axes, for every
+                            system that has both. {0, 0} (the default, and
+                            anything but two different numbers of 0..3): a 3D
+                            system is drawn in perspective, lit, through the
+                            !canvas3d renderer (issue 25; flat on x/y when no
+                            OpenGL context can be made, said once), other
+                            systems on x/y */
 } fl_options;
 
 /* fl_options.pairs: the physics pair loop. Every route gives the same bits. */
@@ -177,6 +187,11 @@ FL_API bool fl_parse_particles(const char *text, int *out);
 /* Parse a --physics value ("documented" or "upstream") into *[out]
  * (FL_PHYSICS_*); returns false, leaving *[out] alone, for anything else. */
 FL_API bool fl_parse_physics(const char *text, int *out);
+
+/* Parse a --view-axes value, two of x, y, z, w separated by ';' and not
+ * the same (e.g. "x;z"), into out[0], out[1] (0..3: fl_options.view_axes);
+ * returns false, leaving [out] alone, for anything else. */
+FL_API bool fl_parse_view_axes(const char *text, int out[2]);
 
 /* A new runtime with empty state and no program; [opts] NULL means
  * fl_default_options(). The options are copied.

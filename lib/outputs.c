@@ -61,12 +61,15 @@ fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *opts)
     const fl_output_options *o = opts ? opts : &none;
     fl_outputs *out = mem_calloc(1, sizeof *out);
     char err[600];
+    RenderLog log = {NULL, NULL, o->debug};
+    rt_log_target(rt, &log.fn, &log.ctx);
     if (o->view) {
         out->view_path = mem_strdup(o->view);
         out->view_every = o->view_every;
         out->view = view_open(o->view, gif_delay(o->view_every, fl_target_fps(rt)),
                               rt_symbols(rt), err, sizeof err);
         if (!out->view) goto fail;
+        view_set_style(out->view, rt_options(rt)->view_axes, &log);
     }
     if (o->trace) {
         out->trace_path = mem_strdup(o->trace);
@@ -74,8 +77,6 @@ fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *opts)
         out->trace = trace_open(o->trace, rt_symbols(rt), err, sizeof err);
         if (!out->trace) goto fail;
     }
-    RenderLog log = {NULL, NULL, o->debug};
-    rt_log_target(rt, &log.fn, &log.ctx);
     out->ren = renderer_new(rt_symbols(rt), &log);
     renderer_set_record(out->ren, o->record);
     mem_leave(prev);
@@ -198,6 +199,9 @@ int fl_view(fl_runtime *rt, const char *path, size_t *nsystems)
         fail(rt, "%s", err);
         rc = -1;
     } else {
+        RenderLog log = {NULL, NULL, false};
+        rt_log_target(rt, &log.fn, &log.ctx);
+        view_set_style(v, rt_options(rt)->view_axes, &log);
         rc = view_now(rt, v, fl_frame_count(rt) - 1, nsystems, err, sizeof err);
         if (rc != 0) fail(rt, "%s", err);
         if (view_close(v) != 0 && rc == 0) {
@@ -215,4 +219,9 @@ int fl_check_output(const char *path, char *err, size_t cap)
     bool ok = path && outfile_check(path, msg, sizeof msg);
     if (err && cap) snprintf(err, cap, "%s", ok ? "" : path ? msg : "no file name");
     return ok ? 0 : -1;
+}
+
+bool fl_parse_view_axes(const char *text, int out[2])
+{
+    return out && view_parse_axes(text, out);
 }

@@ -22,14 +22,17 @@
 
 struct Pictures {
     Renderer *ren;   /* draws windows; never writes !record files */
+    View *view;      /* draws the physics view (its 3D renderer kept across frames) */
+    RenderLog log;
 };
 
 Pictures *pictures_new(const SymTab *symbols, fl_log_fn log, void *ctx)
 {
     Pictures *p = mem_calloc(1, sizeof *p);
     /* skipped kinds are worth a warning here: a shown window lacks them */
-    RenderLog rl = {log, ctx, true};
-    p->ren = renderer_new(symbols, &rl);
+    p->log = (RenderLog){log, ctx, true};
+    p->ren = renderer_new(symbols, &p->log);
+    p->view = view_new_fit(symbols);
     return p;
 }
 
@@ -37,6 +40,7 @@ void pictures_free(Pictures *p)
 {
     if (!p) return;
     renderer_free(p->ren);   /* writes nothing: no GIF to finish */
+    view_close(p->view);
     free(p);
 }
 
@@ -190,7 +194,9 @@ int fl_draw_view(fl_runtime *rt, uint32_t *pixels, int width, int height, size_t
             PsSystem *sys;
             size_t n;
             ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
-            size_t drawn = view_draw_fit(s, sys, n, rt_symbols(rt));
+            Pictures *p = rt_pictures(rt);
+            view_set_style(p->view, rt_options(rt)->view_axes, &p->log);
+            size_t drawn = view_draw_fit(p->view, s, sys, n);
             ps_free(sys, n);
             if (nsystems) *nsystems = drawn;
             rc = 0;

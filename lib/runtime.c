@@ -980,6 +980,7 @@ void fl_reset_state(fl_runtime *rt)
 
 const Node *rt_root(const fl_runtime *rt) { return rt->root; }
 Pictures *rt_pictures(fl_runtime *rt) { return rt->pictures; }
+const fl_options *rt_options(const fl_runtime *rt) { return &rt->opts; }
 Input *rt_input(fl_runtime *rt) { return rt->input; }
 double rt_beat(const fl_runtime *rt) { return rt->last_beat; }
 

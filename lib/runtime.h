@@ -54,6 +54,8 @@ double rt_beat(const fl_runtime *rt);
 StateDict *rt_state(fl_runtime *rt);
 /* The symbol table used for value text. */
 const SymTab *rt_symbols(const fl_runtime *rt);
+/* The options [rt] was made with (fl_new's copy, log defaulted). */
+const fl_options *rt_options(const fl_runtime *rt);
 
 /* The vector that value text [text] stands for (flitter.h, top: the `-D`
  * syntax of FORMATS.md §4, plus `-NUMBER` parts as negative numbers), new;

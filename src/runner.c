@@ -65,7 +65,11 @@ static void run_usage(FILE *f)
           "  --stats             at exit, print frames/s, allocations per frame and the\n"
           "                      eval/physics/state split to stderr\n"
           "  --view FILE         draw the physics systems: FILE.png or .svg (last frame),\n"
-          "                      FILE.gif (an animation frame every --view-every K frames)\n"
+          "                      FILE.gif (an animation frame every --view-every K frames);\n"
+          "                      a 3D system in perspective with lit spheres (OpenGL)\n"
+          "  --view-axes A;B     draw the physics view flat on coordinates A and B (two of\n"
+          "                      x, y, z, w), e.g. x;z, for every system that has both\n"
+          "                      (also the window's physics view)\n"
           "  --trace-file FILE   write particle positions and velocities each frame (or\n"
           "                      every --trace-every K) to FILE.csv or FILE.jsonl; also\n"
           "                      --trace=FILE, with the '=' only: a bare --trace is the\n"
@@ -188,7 +192,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
 {
     enum { O_FRAMES = 256, O_FPS, O_LOCKSTEP, O_REALTIME, O_DUMP_STATE, O_DUMP_EVERY, O_DUMP_TREE,
            O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
-           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_DUMP_TOKENS, O_DUMP_AST, O_STATS,
+           O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_VIEW_AXES, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_DUMP_TOKENS, O_DUMP_AST, O_STATS,
            O_MAX_STEPS, O_PARTICLES, O_PHYSICS, O_WINDOW, O_FULLSCREEN, O_SCREEN, O_VSYNC,
            O_RESETONSWITCH, O_RECORD, O_WINDOW_SIZE, O_TRACE_FILE, O_PROFILE, O_OPENGLES,
            O_MODELCACHE, O_VMSTATS, O_MAX_MEMORY };
@@ -222,6 +226,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
         {"debug", no_argument, NULL, O_DEBUG},
         {"view", required_argument, NULL, O_VIEW},
         {"view-every", required_argument, NULL, O_VIEW_EVERY},
+        {"view-axes", required_argument, NULL, O_VIEW_AXES},
         /* a bare --trace is Flitter's log level; only --trace=FILE (an
          * explicit '=') names a trace file, so no script is ever taken */
         {"trace", optional_argument, NULL, O_TRACE},
@@ -363,6 +368,9 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
             break;
         }
         case O_VIEW: spec->view = optarg; break;
+        case O_VIEW_AXES:
+            if (!fl_parse_view_axes(optarg, spec->view_axes)) goto bad_value;
+            break;
         case O_TRACE_FILE: spec->trace = optarg; break;
         case O_RECORD: spec->record = optarg; break;
         case O_VIEW_EVERY:
@@ -556,6 +564,8 @@ fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *in
     opts.threads = spec->threads;
     opts.max_memory = spec->max_memory;
     opts.pairs = spec->pairs;
+    opts.view_axes[0] = spec->view_axes[0];
+    opts.view_axes[1] = spec->view_axes[1];
     opts.particles = spec->particles;
     opts.physics = spec->physics;
     opts.no_simplify = spec->no_simplify;

@@ -39,6 +39,7 @@ typedef struct RunSpec {
                              --verbose 1, --debug 2, --trace 3 */
     const char *view;     /* --view FILE (.png/.svg/.gif), or NULL */
     long view_every;      /* --view-every K (animations), or 0 */
+    int view_axes[2];     /* --view-axes A;B: fl_options.view_axes ({0, 0}: none) */
     const char *trace;    /* --trace-file FILE or --trace=FILE (.csv/.jsonl),
                              or NULL (a bare --trace is the log level) */
     long trace_every;     /* --trace-every K, or 0 */

@@ -183,6 +183,31 @@ static bool is_material_attr(const char *a)
     return false;
 }
 
+/* Texture attributes (Flitter docs/canvas3d.md, Texture Mapping; canvas3d.pyx,
+ * Material.update): each material property's texture by id, under its
+ * name and its older alias, one warning per property for the whole run
+ * (env->skips), as textures are not drawn: the property's own value is
+ * used alone. */
+static void note_textures(Canvas3D *c, const Node *n)
+{
+    static const char *const names[][3] = {
+        {"color_id", "texture_id", "color_id=/texture_id= (a texture)"},
+        {"metal_id", "metal_texture_id", "metal_id=/metal_texture_id= (a texture)"},
+        {"roughness_id", "roughness_texture_id", "roughness_id=/roughness_texture_id= (a texture)"},
+        {"ao_id", "ao_texture_id", "ao_id=/ao_texture_id= (a texture)"},
+        {"emissive_id", "emissive_texture_id", "emissive_id=/emissive_texture_id= (a texture)"},
+        {"transparency_id", "transparency_texture_id", "transparency_id=/transparency_texture_id= (a texture)"},
+    };
+    for (size_t i = 0; i < rnode_nattrs(n); i++) {
+        const char *a = rnode_attr_name(n, i);
+        size_t len = strlen(a);
+        if (len < 5 || strcmp(a + len - 3, "_id") != 0) continue;   /* the common case, quickly */
+        for (size_t k = 0; k < sizeof names / sizeof *names; k++)
+            if (strcmp(a, names[k][0]) == 0 || strcmp(a, names[k][1]) == 0)
+                skiplog_note(c->env->skips, "canvas3d", names[k][2]);
+    }
+}
+
 /* Flitter canvas3d.pyx, Material.update (roughness: the smaller of the
  * node's, default 1, and the inherited one, as Flitter does). */
 static Material update_material(const Node *n, const Material *m)
@@ -221,10 +246,7 @@ static void add_light(Canvas3D *c, const Node *n, const M4 *t, int group)
         has_dir = true;
     }
     if (has_dir && dir[0] == 0 && dir[1] == 0 && dir[2] == 0) has_dir = false;
-    if (nums(n, "start", 3, start) && nums(n, "end", 3, end)) {
-        skiplog_note(c->env->skips, "canvas3d", "light start=/end= (a line light)");
-        return;
-    }
+    bool line = nums(n, "start", 3, start) && nums(n, "end", 3, end);
     c->lights = grow(c->lights, &c->cap_lights, c->nlights + 1, sizeof *c->lights);
     Light *l = &c->lights[c->nlights++];
     memset(l, 0, sizeof *l);
@@ -234,7 +256,21 @@ static void add_light(Canvas3D *c, const Node *n, const M4 *t, int group)
     nums(n, "falloff", 4, falloff);
     for (int k = 0; k < 4; k++) d[12 + k] = (float)falloff[k];
     double wp[3], wd[3];
-    if (has_pos && has_dir) {
+    if (line) {
+        /* Flitter canvas3d.pyx, collect: a line light is its start and the
+         * vector to its end, both through the full transform, and radius */
+        double we[3];
+        m4_point(t, start, wp);
+        m4_point(t, end, we);
+        for (int k = 0; k < 3; k++) wd[k] = we[k] - wp[k];
+        d[11] = (float)num(n, "radius", 0);
+        /* a line of no length (in single precision, as the shader sees it)
+         * would divide by zero there: it is a point light with the radius */
+        float len2 = 0;
+        for (int k = 0; k < 3; k++) len2 += (float)wd[k] * (float)wd[k];
+        d[3] = len2 > 0 && isfinite(len2) ? LIGHT_LINE : LIGHT_POINT;
+        if (d[3] == LIGHT_POINT) wd[0] = wd[1] = wd[2] = 0;
+    } else if (has_pos && has_dir) {
         double outer = clampd(num(n, "outer", 0.25), 0, 1);
         double inner = clampd(num(n, "inner", 0), 0, outer);
         d[3] = LIGHT_SPOT;
@@ -258,6 +294,8 @@ static void add_light(Canvas3D *c, const Node *n, const M4 *t, int group)
     for (int k = 0; k < 3; k++) d[4 + k] = (float)wp[k], d[8 + k] = (float)wd[k];
     l->group = group;
 }
+
+static void camera_matrices(Camera *cam, int w, int h);
 
 /* Flitter canvas3d.pyx, Camera.derive: [base]'s settings with [n]'s
  * attributes over them, positions through [t]; w x h the picture. */
@@ -283,6 +321,13 @@ static void derive_camera(Canvas3D *c, const Node *n, const M4 *t, const Camera 
     cam->fog_curve = fmax(0, num(n, "fog_curve", base->fog_curve));
     double s = num(n, "samples", base->samples);
     cam->samples = s >= 2 && s < 1e6 ? (int)s : 0;
+    camera_matrices(cam, w, h);
+}
+
+/* [cam]'s view and projection matrices for a w x h picture, from its
+ * position, focus, up, fov/fov_ref or orthographic width, near and far. */
+static void camera_matrices(Camera *cam, int w, int h)
+{
     double aspect = (double)w / h;
     M4 proj;
     if (cam->orthographic) {
@@ -397,6 +442,7 @@ static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int g
         t = update_transform(n, t);
     } else if (rnode_is(n, "material")) {
         m = update_material(n, mat);
+        note_textures(c, n);
     } else if (rnode_is(n, "light")) {
         add_light(c, n, &t, group);
         return;
@@ -412,9 +458,11 @@ static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int g
     } else if (rnode_is(n, "group") || rnode_is(n, "canvas3d")) {
         t = update_transform(n, t);
         m = update_material(n, mat);
+        note_textures(c, n);
         group = new_group(c, n, group);
     } else if ((kind = mesh_kind(n)) >= 0) {
         add_instance(c, n, kind, &t, mat, group);
+        note_textures(c, n);
         return;
     } else {
         skiplog_note(c->env->skips, "canvas3d", rnode_kind(n));
@@ -654,51 +702,49 @@ static void draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera
 
 /* }===== */
 
-int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env, const RenderLog *log)
+/* Make the GL context current, creating it the first time.
+ *   errors: -1 with a message in [err] ("" when it was reported before:
+ *           no context could be made earlier). */
+static int begin(Canvas3D *c, char *err, size_t errlen)
 {
-    c->have_pixels = false;
+    err[0] = '\0';
     if (c->failed) return -1;
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
-    char err[600];
     if (!c->gl) {
-        c->gl = gl_context_new(err, sizeof err);
+        char why[500];
+        c->gl = gl_context_new(why, sizeof why);
         if (!c->gl) {
             c->failed = true;
-            render_log(log, RLOG_WARNING, "canvas3d: no OpenGL (%s): 3D canvases are not drawn", err);
+            snprintf(err, errlen, "canvas3d: no OpenGL (%s)", why);
             return -1;
         }
         c->meshes = mesh_cache_new();
         glGenBuffers(1, &c->instance_vbo);
     } else if (!gl_context_use(c->gl)) {
-        render_log(log, RLOG_WARNING, "canvas3d: the OpenGL context cannot be made current");
+        snprintf(err, errlen, "canvas3d: the OpenGL context cannot be made current");
         return -1;
     }
-    int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
-    c->env = env;
-    c->width = w;
-    c->height = h;
-    /* Flitter canvas3d.pyx, Canvas3D.render: the default camera */
-    Camera base = {.position = {0, 0, w / 2.0}, .up = {0, 1, 0}, .fov = 0.25, .tint = {1, 1, 1},
-                   .ortho_width = w, .near = 1, .far = w, .fog_curve = 1, .fov_ref = "horizontal"};
-    Camera dflt;
-    M4 id = m4_identity();
-    derive_camera(c, node, &id, &base, w, h, &dflt);
-    Material mat = {.ior = 1.5, .roughness = 1, .ao = 1};
-    c->ngroups = c->nlights = c->ninst = c->ncams = 0;
-    collect(c, node, id, &mat, -1, &dflt);
-    const Camera *cam = &dflt;
-    const char *want = text(c, node, "camera_id");
-    for (int i = 0; want && i < c->ncams; i++)
-        if (strcmp(buf_cstr(&c->cam_id[i]), want) == 0) cam = &c->cams[i];
-    int used;
-    int rc = 0;
-    if (!gl_target_bind(c->gl, w, h, cam->samples, &used, err, sizeof err)) {
-        if (!c->target_warned) render_log(log, RLOG_WARNING, "canvas3d: %s", err);
+    return 0;
+}
+
+/* Draw the collected groups, lights and instances through [cam] into
+ * [pic] (c->width x c->height), then release the context.
+ *   errors: -1 with a message in [err] ("" when reported before) when the
+ *           framebuffer cannot be made (nothing drawn) or a program does
+ *           not compile (the groups before it are drawn); else 0. */
+static int render(Canvas3D *c, const Camera *cam, cairo_surface_t *pic, char *err, size_t errlen)
+{
+    int w = c->width, h = c->height, used;
+    err[0] = '\0';
+    if (!gl_target_bind(c->gl, w, h, cam->samples, &used, err, errlen)) {
+        char why[600];
+        snprintf(why, sizeof why, "%s", err);
+        snprintf(err, errlen, c->target_warned ? "" : "canvas3d: %s", why);
         c->target_warned = true;
         gl_context_done(c->gl);
         return -1;
     }
+    int rc = 0;
+    err[0] = '\0';
     bool fog = cam->fog_max > cam->fog_min;
     double fc[3] = {cam->fog_color[0], cam->fog_color[1], cam->fog_color[2]};
     if (fog && cam->monochrome) fc[0] = fc[1] = fc[2] = 0.299 * fc[0] + 0.587 * fc[1] + 0.114 * fc[2];
@@ -714,14 +760,12 @@ int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const Can
         c->cap_order = 2 * c->ninst;
         c->order = mem_realloc_array(c->order, (size_t)c->cap_order, sizeof *c->order);
     }
-    err[0] = '\0';
     for (int g = 0; g < c->ngroups; g++) {
         int n = 0;
         for (int i = 0; i < c->ninst; i++)
             if (c->inst[i].group == g) c->order[n++] = &c->inst[i];
-        if (n) draw_group(c, g, c->order, n, cam, err, sizeof err);
+        if (n) draw_group(c, g, c->order, n, cam, err, errlen);
         if (err[0]) {
-            render_log(log, RLOG_WARNING, "%s", err);
             c->failed = true;
             rc = -1;
             break;
@@ -741,9 +785,105 @@ int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const Can
     gl_context_done(c->gl);
     c->have_pixels = true;
     srgb_encode_surface(&c->srgb, c->pixels, w, h, pic);
+    return rc;
+}
+
+static void add_time(Canvas3D *c, const struct timespec *t0)
+{
+    struct timespec t1;
     clock_gettime(CLOCK_MONOTONIC, &t1);
-    c->ms_total += (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) / 1e6;
+    c->ms_total += (double)(t1.tv_sec - t0->tv_sec) * 1e3 + (double)(t1.tv_nsec - t0->tv_nsec) / 1e6;
     c->calls++;
+}
+
+int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env, const RenderLog *log)
+{
+    c->have_pixels = false;
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    char err[600];
+    if (begin(c, err, sizeof err) != 0) {
+        if (err[0] && c->failed)
+            render_log(log, RLOG_WARNING, "%s: 3D canvases are not drawn", err);
+        else if (err[0])
+            render_log(log, RLOG_WARNING, "%s", err);
+        return -1;
+    }
+    int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
+    c->env = env;
+    c->width = w;
+    c->height = h;
+    /* Flitter canvas3d.pyx, Canvas3D.render: the default camera */
+    Camera base = {.position = {0, 0, w / 2.0}, .up = {0, 1, 0}, .fov = 0.25, .tint = {1, 1, 1},
+                   .ortho_width = w, .near = 1, .far = w, .fog_curve = 1, .fov_ref = "horizontal"};
+    Camera dflt;
+    M4 id = m4_identity();
+    derive_camera(c, node, &id, &base, w, h, &dflt);
+    Material mat = {.ior = 1.5, .roughness = 1, .ao = 1};
+    c->ngroups = c->nlights = c->ninst = c->ncams = 0;
+    collect(c, node, id, &mat, -1, &dflt);
+    const Camera *cam = &dflt;
+    const char *want = text(c, node, "camera_id");
+    for (int i = 0; want && i < c->ncams; i++)
+        if (strcmp(buf_cstr(&c->cam_id[i]), want) == 0) cam = &c->cams[i];
+    int rc = render(c, cam, pic, err, sizeof err);
+    if (err[0]) render_log(log, RLOG_WARNING, "%s", err);
+    if (c->have_pixels) add_time(c, &t0);
+    return rc;
+}
+
+int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, cairo_surface_t *pic, char *err, size_t errlen)
+{
+    c->have_pixels = false;
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    if (begin(c, err, errlen) != 0) return -1;
+    c->env = NULL;
+    c->width = cairo_image_surface_get_width(pic);
+    c->height = cairo_image_surface_get_height(pic);
+    c->ngroups = c->nlights = c->ninst = c->ncams = 0;
+    c->groups = grow(c->groups, &c->cap_groups, 1, sizeof *c->groups);
+    c->groups[0] = (Group){.parent = -1, .max_lights = 2, .depth_sort = true, .depth_test = true,
+                           .face_cull = true, .composite = COMP_OVER};
+    c->ngroups = 1;
+    c->lights = grow(c->lights, &c->cap_lights, 2, sizeof *c->lights);
+    memset(c->lights, 0, 2 * sizeof *c->lights);
+    float *d = c->lights[0].data;
+    for (int k = 0; k < 3; k++) d[k] = (float)s->ambient[k];
+    d[3] = LIGHT_AMBIENT;
+    d = c->lights[1].data;
+    double len = sqrt(s->sun_direction[0] * s->sun_direction[0] + s->sun_direction[1] * s->sun_direction[1] +
+                      s->sun_direction[2] * s->sun_direction[2]);
+    for (int k = 0; k < 3; k++) d[k] = (float)s->sun[k], d[8 + k] = len > 0 ? (float)(s->sun_direction[k] / len) : 0;
+    d[3] = LIGHT_DIRECTIONAL;
+    d[14] = 1;   /* falloff 0;0;1;0 (unused by a directional light, whose distance is 1) */
+    c->nlights = len > 0 && isfinite(len) ? 2 : 1;
+    c->inst = grow(c->inst, &c->cap_inst, (int)s->nitems, sizeof *c->inst);
+    for (size_t i = 0; i < s->nitems; i++) {
+        const C3dItem *it = &s->items[i];
+        MeshKey key = {.kind = it->shape == C3D_SHAPE_SPHERE     ? MESH_SPHERE
+                               : it->shape == C3D_SHAPE_CYLINDER ? MESH_CYLINDER
+                                                                 : MESH_BOX};
+        key.segments = mesh_segments(key.kind, DEFAULT_SEGMENTS);
+        Instance *in = &c->inst[c->ninst++];
+        memset(in, 0, sizeof *in);
+        in->mesh = mesh_cache_get(c->meshes, &key);
+        memcpy(in->model.m, it->model, sizeof in->model.m);
+        for (int k = 0; k < 3; k++) in->mat.albedo[k] = it->color[k];
+        in->mat.ior = 1.5;
+        in->mat.roughness = clampd(s->roughness, 1e-6, 1);
+        in->mat.ao = 1;
+        in->mat.transparency = clampd(it->transparency, 0, 1);
+        in->group = 0;
+    }
+    Camera cam = {.fov = s->fov, .near = s->near, .far = s->far, .tint = {1, 1, 1}, .fog_curve = 1,
+                  .fov_ref = "horizontal", .samples = s->samples};
+    memcpy(cam.position, s->position, sizeof cam.position);
+    memcpy(cam.focus, s->focus, sizeof cam.focus);
+    memcpy(cam.up, s->up, sizeof cam.up);
+    camera_matrices(&cam, c->width, c->height);
+    int rc = render(c, &cam, pic, err, errlen);
+    if (c->have_pixels) add_time(c, &t0);
     return rc;
 }
 

@@ -8,7 +8,8 @@
  * three turns or a quaternion, rotate_x/_y/_z, matrix, in attribute
  * order), `!material` (color, ior, metal, roughness, ao, emissive,
  * transparency) and `!light` (ambient, directional, point with radius,
- * spot with inner/outer and falloff) nodes as documented; `!camera id=`
+ * spot with inner/outer, line from start to end with radius, and
+ * falloff) nodes as documented; `!camera id=`
  * nodes and `camera_id` pick the camera; the default camera sits at
  * 0;0;width/2 looking at the origin with up 0;1;0, a horizontal fov of
  * 0.25 turns, near 1 and far width. Models are `!box`, `!sphere`,
@@ -23,9 +24,11 @@
  * picture handed back is the sRGB encoding of that light (clamped to
  * 0..1, as Flitter's window does last), premultiplied, with an alpha of at
  * least each encoded channel so that composited over black it gives
- * exactly Flitter's window output. Line lights, translucency, textures,
+ * exactly Flitter's window output. Translucency, textures,
  * custom shaders, secondary cameras and model kinds other than the four
- * primitives are not drawn: each kind is reported once.
+ * primitives are not drawn: each kind is reported once (textures once per
+ * material property: color_id/texture_id, metal_id, roughness_id, ao_id,
+ * emissive_id, transparency_id and their *_texture_id aliases).
  */
 #ifndef FL_RENDER_CANVAS3D_H
 #define FL_RENDER_CANVAS3D_H
@@ -50,6 +53,46 @@ Canvas3D *canvas3d_new(void);
  *   errors: -1 when nothing could be drawn ([pic] left transparent), else 0. */
 int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env,
                   const RenderLog *log);
+/* A scene given as shapes rather than as a node tree: the physics view's
+ * (view.c). One render group (depth sorted and tested, back faces culled,
+ * `over`) lit by an ambient and a directional light, with every item's
+ * material Flitter's default but for its colour, transparency and the
+ * scene's roughness (ior 1.5, metal 0, ao 1: Flitter docs/canvas3d.md,
+ * Materials); seen by a perspective camera (Flitter docs/canvas3d.md,
+ * Cameras: `position`, `focus`, `up`, `fov` in turns across the picture's
+ * width, `near`, `far`, `samples`). */
+enum { C3D_SHAPE_BOX, C3D_SHAPE_SPHERE, C3D_SHAPE_CYLINDER };
+typedef struct C3dItem {
+    int shape;             /* C3D_SHAPE_*: the unit model of `!box` (corners
+                              at +-0.5), `!sphere` (radius 1) or `!cylinder`
+                              (radius 1, height 1 along z) */
+    double model[16];      /* model to world, column-major (m[12..14] the
+                              translation) */
+    double color[3];       /* albedo, linear */
+    double transparency;   /* 0..1 */
+} C3dItem;
+
+typedef struct C3dScene {
+    double position[3], focus[3], up[3];   /* the camera */
+    double fov;                            /* horizontal field of view, turns */
+    double near, far;
+    int samples;                           /* MSAA samples (below 2: none) */
+    double ambient[3];                     /* ambient light, linear */
+    double sun[3], sun_direction[3];       /* directional light and the
+                                              direction it shines in (a zero
+                                              direction: none) */
+    double roughness;                      /* every item's */
+    const C3dItem *items;
+    size_t nitems;
+} C3dScene;
+
+/* Draw [s] into [pic], an ARGB32 cairo image surface whose size is the
+ * camera's, replacing its pixels as canvas3d_draw does (transparent where
+ * nothing is drawn). The GL context is made by the first call of either.
+ *   errors: -1 with one line in [err] (no OpenGL; "" when that was said
+ *           by an earlier call, then nothing is drawn again) when nothing
+ *           could be drawn, else 0. */
+int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, cairo_surface_t *pic, char *err, size_t errlen);
 /* The linear light of the last canvas3d_draw, before its sRGB encoding:
  * *w x *h pixels of four floats (premultiplied RGBA, top row first, values
  * above 1 kept), as a window effect such as !bloom takes it (Flitter's

@@ -7,7 +7,14 @@
  * (1-F0)(1-metal), ambient light times ao, light fall-off
  * 1/(A + B d + C d^2 + D d^3), spot cones fading linearly in cosine
  * between inner and outer, point lights with a radius as Flitter's
- * two-pass approximation, emissive colour with its directional part when
+ * two-pass approximation, line lights (a segment from a start, with an
+ * optional radius making it a capsule) as Flitter's two passes: for the
+ * diffuse term a point on the part of the segment above the surface's
+ * tangent plane, a quarter of the way from the point nearest the surface
+ * to that part's middle, nearer by the radius; for the specular term the
+ * point of the segment nearest the reflected view ray, moved towards the
+ * ray by up to the radius (Flitter lighting_functions.glsl,
+ * compute_pbr_lighting, the Line case), emissive colour with its directional part when
  * brighter than 1, fog mixed by ((d - fog_min)/(fog_max - fog_min))^(1/curve)
  * and transparency as premultiplied alpha. */
 #include "canvas3d_shaders.h"
@@ -143,6 +150,43 @@ static const char fragment_body[] =
     "                    L /= d;\n"
     "                    float inner = light[1].w, outer = light[2].w;\n"
     "                    strength = 1.0 - clamp((inner - dot(L, -light[2].xyz)) / (inner - outer), 0.0, 1.0);\n"
+    "                } else if (type == 5) {\n"
+    "                    passes = 2;\n"
+    "                    vec3 span = light[2].xyz;\n"
+    "                    float len = length(span);\n"
+    "                    vec3 axis = span / len;\n"
+    "                    float radius = light[2].w;\n"
+    "                    L = light[1].xyz - P;\n"                       /* to the start */
+    "                    if (pass == 0) {\n"
+    "                        float above = dot(L, N);\n"
+    "                        float nearest = clamp(-dot(L, axis), 0.0, len);\n"
+    "                        float an = dot(axis, N);\n"
+    "                        float crossing = an != 0.0 ? clamp(-above / an, 0.0, len) : 0.0;\n"
+    "                        float middle = 0.5 * len;\n"
+    "                        if (above < 0.0) {\n"
+    "                            middle = 0.5 * (crossing + len);\n"
+    "                            nearest = max(nearest, crossing);\n"
+    "                        } else if (dot(L + span, N) < 0.0) {\n"
+    "                            middle = 0.5 * crossing;\n"
+    "                            nearest = min(nearest, crossing);\n"
+    "                        }\n"
+    "                        L += axis * (0.75 * nearest + 0.25 * middle);\n"
+    "                        d = length(L);\n"
+    "                        L /= d;\n"
+    "                        strength = clamp(1.0 - radius / d, 0.0, 1.0);\n"
+    "                        d -= min(radius, d * 0.99);\n"
+    "                    } else {\n"
+    "                        vec3 R = reflect(V, N);\n"
+    "                        float c = dot(R, axis), q = 1.0 - c * c;\n"
+    "                        float s = q > 1e-6 ? (c * dot(L, R) - dot(L, axis)) / q : -dot(L, axis);\n"
+    "                        L += clamp(s, 0.0, len) * axis;\n"
+    "                        vec3 off = dot(L, R) * R - L;\n"
+    "                        d = length(L);\n"
+    "                        L += off * min(0.99, radius / d);\n"
+    "                        strength = clamp(1.0 - radius / d, 0.0, 1.0);\n"
+    "                        d = length(L);\n"
+    "                        L /= d;\n"
+    "                    }\n"
     "                } else {\n"
     "                    float radius = light[2].w;\n"
     "                    L = light[1].xyz - P;\n"

@@ -11,7 +11,9 @@
  * fragment source starts with `#define MAX_LIGHTS N`, filled in by
  * canvas3d_fragment_source); a light's columns are (color, type),
  * (position, inner cone cosine), (direction, outer cone cosine or radius),
- * falloff (A, B, C, D). Types are the LIGHT_ constants below.
+ * falloff (A, B, C, D); a line light's position is its start and its
+ * direction the vector from start to end (not normalised, never zero).
+ * Types are the LIGHT_ constants below (Flitter canvas3d.pyx, LightType).
  */
 #ifndef FL_RENDER_CANVAS3D_SHADERS_H
 #define FL_RENDER_CANVAS3D_SHADERS_H
@@ -19,7 +21,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-enum { LIGHT_AMBIENT = 1, LIGHT_DIRECTIONAL = 2, LIGHT_POINT = 3, LIGHT_SPOT = 4 };
+enum { LIGHT_AMBIENT = 1, LIGHT_DIRECTIONAL = 2, LIGHT_POINT = 3, LIGHT_SPOT = 4, LIGHT_LINE = 5 };
 
 /* Floats per instance in the instance buffer. */
 #define C3D_INSTANCE_FLOATS 37

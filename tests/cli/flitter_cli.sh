@@ -2,7 +2,7 @@
 # flitter_cli.sh FLITTER WIRE: Flitter's own command line (`flitter
 # [options] SCRIPT` as in Flitter's documentation Makefiles), --version,
 # help, a skipped drawing node named once (with or without --debug); `run --view/--trace-file`
-# wiring on the wire sample WIRE (pictures and rows are checked in
+# (and --view-axes) wiring on the wire sample WIRE (pictures and rows are checked in
 # tests/unit/test_view.c).
 set -u
 flitter=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
@@ -82,4 +82,11 @@ grep -qx "2,0.03333333333333333,wire,3,particle,$x,$v" "$dir/t.csv" \
 [ "$(head -c 6 "$dir/v.gif")" = "GIF89a" ] || fail "v.gif is not a GIF89a"
 "$flitter" run --frames 5 --view "$dir/v.jpg" "$wire" 2>"$dir/err"
 [ $? -eq 2 ] && grep -q 'v.jpg: a view is written to a .png, .svg or .gif file' "$dir/err" || fail "--view v.jpg: $(cat "$dir/err")"
+# --view-axes: a 3D system drawn flat on x;z (no OpenGL needed, nothing
+# said), and a usage error for a bad pair
+printf '!physics state=:b dimensions=3\n    !particle id=1 position=0;0;5 radius=1\n' >"$dir/b3.fl"
+"$flitter" run --frames 2 --view "$dir/b3.png" --view-axes 'x;z' "$dir/b3.fl" 2>"$dir/err" || fail "--view-axes x;z failed"
+[ -s "$dir/b3.png" ] && [ ! -s "$dir/err" ] || fail "--view-axes x;z: $(cat "$dir/err")"
+"$flitter" run --frames 2 --view "$dir/b3.png" --view-axes 'z;z' "$dir/b3.fl" 2>"$dir/err"
+[ $? -eq 2 ] && grep -q "bad value 'z;z' for option '--view-axes'" "$dir/err" || fail "--view-axes z;z: $(cat "$dir/err")"
 exit 0

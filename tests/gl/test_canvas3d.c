@@ -3,8 +3,10 @@
  * hand-built scenes: the default camera's scale, ambient light alone, a
  * directional light facing the camera (Lambert plus the GGX specular at
  * normal incidence), an orthographic camera's edges, fog at a known
- * depth, depth testing, transparency, MSAA on an edge, two runtimes in
- * one process, and one warning per unsupported 3D node kind. Expected
+ * depth, depth testing, transparency, MSAA on an edge, line lights (both
+ * passes, a radius, a line through the surface), two runtimes in
+ * one process, and one warning per unsupported 3D node kind and per
+ * texture attribute kind. Expected
  * values are computed here from the documented equations (Flitter
  * docs/canvas3d.md; glsl/lighting_functions.glsl): dielectric F0 =
  * ((ior-1)/(ior+1))^2 = 0.04 at the default ior 1.5, diffuse
@@ -284,6 +286,147 @@ static void impostor_spheres(void **st)
     assert_rgb_near(at(pix[1], 2, 2), 0, 0.1 * (1 - F0), 0, 2);
 }
 
+/* Line lights (Flitter docs/canvas3d.md, Lights: `start`/`end`, `radius`;
+ * glsl/lighting_functions.glsl, compute_pbr_lighting, the Line case). The
+ * camera looks straight down at the top face (z=0) of a wide box from
+ * above, orthographic, one unit per pixel: pixel (col, row) is the point
+ * x = col - 31.5, y = 31.5 - row, with N = V = 0;0;1 (so the reflected
+ * ray is 0;0;-1). A line 32 long at height h=8 runs along row 32 (y=-0.5)
+ * from x=-15.5 to 16.5, centred over column 32. By hand, for a point at
+ * distance x0 along the line from its middle (|x0| <= 16): the diffuse
+ * pass's point is 3/4 of the way from the middle to the nearest point,
+ * i.e. x0/4 from above the fragment: d = sqrt(h^2 + x0^2/16), NdotL = h/d;
+ * the specular pass's point is straight above (the nearest to the ray):
+ * NdotL = H.V = 1, D = G = 1 at roughness 1, so F0/4 of light/h^2.
+ * Beyond the end (x0 > 16) the diffuse point is 3/4 of the way from the
+ * middle to the end (the nearest point): 12 along; the specular point is
+ * the end. */
+static double ggx_rough1_spec(const double L[3])   /* V = N = z, roughness 1, light from L (unnormalised) */
+{
+    double d = sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
+    double nl = L[2] / d;
+    double h[3] = {L[0] / d, L[1] / d, L[2] / d + 1};
+    double hn = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+    double hv = h[2] / hn;
+    double f = F0 + (1 - F0) * pow(1 - hv, 5);
+    double g = nl / (nl * 0.5 + 0.5);   /* k = (1+1)^2/8, G(V) = 1 */
+    return f * g / 4 / (d * d);         /* times the light's colour */
+}
+
+static void line_light(void **st)
+{
+    (void)st;
+    uint32_t pix[W * H];
+    const char *head = "!window size=64;64\n"
+                       "    !canvas3d orthographic=true width=64 viewpoint=0;0;100 far=1000\n"
+                       "        !box size=64;64;2 position=0;0;-1 color=0.5\n";
+    char script[1024];
+    snprintf(script, sizeof script, "%s        !light start=-15.5;-0.5;8 end=16.5;-0.5;8 color=64\n", head);
+    fl_runtime *rt = draw(script, pix);
+    assert_null(strstr(logged, "line light"));
+    double h = 8, c = 64, alb = 0.5;
+    /* under the middle: light / h^2 * ((1-F0) albedo + F0/4) */
+    double v = c / (h * h) * ((1 - F0) * alb + F0 / 4);
+    assert_rgb_near(at(pix, 32, 32), v, v, v, 1);
+    /* 8 along: the diffuse point is 2 back towards the fragment */
+    double d = sqrt(h * h + 4);
+    v = c * ((1 - F0) * alb * h / (d * d * d) + F0 / (4 * h * h));
+    assert_rgb_near(at(pix, 40, 32), v, v, v, 1);
+    assert_rgb_near(at(pix, 24, 32), v, v, v, 1);   /* symmetric */
+    /* 24 along, beyond the end (16): the diffuse point 12 along, the
+     * specular one the end itself, 8 back */
+    d = sqrt(h * h + 12 * 12);
+    double Ls[3] = {-8, 0, h};
+    v = c * ((1 - F0) * alb * h / (d * d * d) + ggx_rough1_spec(Ls));
+    assert_rgb_near(at(pix, 56, 32), v, v, v, 1);
+    /* a point light at the middle is dimmer 8 along than the line is */
+    int line8 = chan(at(pix, 40, 32), 0);
+    fl_free(rt);
+    snprintf(script, sizeof script, "%s        !light position=0.5;-0.5;8 color=64\n", head);
+    rt = draw(script, pix);
+    assert_true(chan(at(pix, 40, 32), 0) + 10 < line8);
+    fl_free(rt);
+
+    /* radius r=2 (a capsule): under the middle both passes have strength
+     * 1 - r/h; the diffuse distance is h - r, the specular one h */
+    snprintf(script, sizeof script, "%s        !light start=-15.5;-0.5;8 end=16.5;-0.5;8 radius=2 color=64\n",
+             head);
+    rt = draw(script, pix);
+    double s = 1 - 2 / h;
+    v = c * s * ((1 - F0) * alb / ((h - 2) * (h - 2)) + F0 / (4 * h * h));
+    assert_rgb_near(at(pix, 32, 32), v, v, v, 1);
+    fl_free(rt);
+
+    /* a line through the surface (z from -10 to 10 at x=0.5, y=-0.5): only
+     * the part above the tangent plane lights it. 4 columns away the
+     * diffuse point is 3/4 of the way from the crossing (z=0) to the
+     * middle of the part above (z=5): 1.25 high at distance 4 across; the
+     * reflected ray runs along the line, whose nearest point is then the
+     * crossing, in the plane: no specular light. */
+    snprintf(script, sizeof script, "%s        !light start=0.5;-0.5;-10 end=0.5;-0.5;10 color=100\n", head);
+    rt = draw(script, pix);
+    d = sqrt(16 + 1.25 * 1.25);
+    v = 100 * (1 - F0) * alb * (1.25 / d) / (d * d);
+    assert_rgb_near(at(pix, 36, 32), v, v, v, 1);
+    assert_rgb_near(at(pix, 32, 28), v, v, v, 1);
+    fl_free(rt);
+    /* the same line from its top down: the part above is now before the crossing */
+    snprintf(script, sizeof script, "%s        !light start=0.5;-0.5;10 end=0.5;-0.5;-10 color=100\n", head);
+    rt = draw(script, pix);
+    assert_rgb_near(at(pix, 36, 32), v, v, v, 1);
+    fl_free(rt);
+
+    /* the specular point is the line's point nearest the reflected ray,
+     * not the one nearest the fragment: a sloping line (x=4.5, z = 10 +
+     * 0.4 y) over a metal surface (metal=1, albedo 1: no diffuse light,
+     * F = 1). The ray from pixel (32,32) is vertical through 0.5;-0.5, so
+     * its nearest line point is the one at y=-0.5: L = 4;0;9.8, and with
+     * NdotV = 1, D = 1 at roughness 1: colour / d^2 * G(L) / 4 with G(L) =
+     * NdotL / (NdotL/2 + 1/2). (The point nearest the fragment, y=-3.88,
+     * would give 0.698 instead of 0.644.) */
+    snprintf(script, sizeof script,
+             "!window size=64;64\n"
+             "    !canvas3d orthographic=true width=64 viewpoint=0;0;100 far=1000\n"
+             "        !box size=64;64;2 position=0;0;-1 color=1 metal=1\n"
+             "        !light start=4.5;-20;2 end=4.5;20;18 color=300\n");
+    rt = draw(script, pix);
+    double d2 = 16 + 9.8 * 9.8, nl = 9.8 / sqrt(d2);
+    v = 300 / d2 * (nl / (nl / 2 + 0.5)) / 4;
+    assert_rgb_near(at(pix, 32, 32), v, v, v, 1);
+    fl_free(rt);
+
+    /* start == end: a point light there (with its radius) */
+    uint32_t point[W * H];
+    snprintf(script, sizeof script, "%s        !light position=0.5;-0.5;8 radius=1 color=64\n", head);
+    rt = draw(script, point);
+    fl_free(rt);
+    snprintf(script, sizeof script, "%s        !light start=0.5;-0.5;8 end=0.5;-0.5;8 radius=1 color=64\n", head);
+    rt = draw(script, pix);
+    assert_memory_equal(pix, point, sizeof pix);
+    fl_free(rt);
+
+    /* the full transform applies to both ends: a line scaled by 2 about
+     * the origin from half-size coordinates is the first line */
+    snprintf(script, sizeof script,
+             "%s        !transform scale=2\n"
+             "            !light start=-7.75;-0.25;4 end=8.25;-0.25;4 color=64\n", head);
+    rt = draw(script, pix);
+    v = c / (h * h) * ((1 - F0) * alb + F0 / 4);
+    assert_rgb_near(at(pix, 32, 32), v, v, v, 1);
+    fl_free(rt);
+
+    /* bad input: infinite or NaN ends, huge radius; nothing crashes, the
+     * box is still drawn (the ambient light keeps it visible) */
+    const char *bad[] = {"start=0;0;1/0 end=0;0;8", "start=0/0 end=1;2;3", "start=0;0;8 end=1/0;0;8",
+                         "start=-10;0;8 end=10;0;8 radius=1e30", "start=0;0;8 end=0;0;8 radius=-5"};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        snprintf(script, sizeof script, "%s        !light color=0.1\n        !light %s color=64\n", head, bad[i]);
+        rt = draw(script, pix);
+        assert_int_equal(chan(at(pix, 10, 10), 24), 255);
+        fl_free(rt);
+    }
+}
+
 /* Two runtimes, each with its own renderer and GL context, alternate. */
 static void two_runtimes(void **st)
 {
@@ -334,6 +477,39 @@ static void unsupported_warned_once(void **st)
     fl_free(rt);
 }
 
+/* Texture attributes (Flitter docs/canvas3d.md, Texture Mapping) are not
+ * drawn: each property's texture is named once, under either of its
+ * names, on a model, a !material, a !group or the canvas, and the model is
+ * drawn with its plain colour; camera_id (also ending in _id) is no
+ * texture. */
+static void textures_warned_once(void **st)
+{
+    (void)st;
+    uint32_t pix[W * H];
+    fl_runtime *rt = draw("!window size=64;64\n"
+                          "    !canvas3d camera_id=:nothing emissive_id=:glow\n"
+                          "        !light color=1\n"
+                          "        !group metal_texture_id=:m\n"
+                          "            !material color_id=:pic\n"
+                          "                !box size=20 color=1;0;0 texture_id=:other\n"
+                          "                !sphere size=2 position=25;25;0 color=1 metal_id=:m2 texture_id=:x\n",
+                          pix);
+    assert_int_equal(fl_step(rt), 0);
+    assert_int_equal(fl_draw_window(rt, 0, pix, W, H, W * 4), 0);
+    const char *kinds[] = {"color_id=/texture_id= (a texture)", "metal_id=/metal_texture_id= (a texture)",
+                           "emissive_id=/emissive_texture_id= (a texture)"};
+    for (size_t i = 0; i < sizeof kinds / sizeof *kinds; i++) {
+        const char *p = strstr(logged, kinds[i]);
+        if (!p) fail_msg("no warning for %s in:\n%s", kinds[i], logged);
+        assert_non_null(strstr(logged, "canvas3d: skipping unsupported !"));
+        assert_null(strstr(p + 1, kinds[i]));   /* once, over two frames and four uses */
+    }
+    assert_null(strstr(logged, "roughness_id"));
+    assert_null(strstr(logged, "camera_id"));
+    assert_rgb_near(at(pix, 32, 32), 1 - F0, 0, 0, 1);   /* the box in its own colour */
+    fl_free(rt);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -344,8 +520,10 @@ int main(void)
         cmocka_unit_test(depth_and_transparency),
         cmocka_unit_test(msaa_edge),
         cmocka_unit_test(impostor_spheres),
+        cmocka_unit_test(line_light),
         cmocka_unit_test(two_runtimes),
         cmocka_unit_test(unsupported_warned_once),
+        cmocka_unit_test(textures_warned_once),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -162,6 +162,20 @@ NULL_TEST(fl_parse_physics)
     parse_nulls(fl_parse_physics, "upstream", FL_PHYSICS_UPSTREAM);
 }
 
+NULL_TEST(fl_parse_view_axes)
+{
+    (void)unused;
+    int out[2] = {12345, 12345};
+    assert_false(fl_parse_view_axes(NULL, out));
+    assert_true(out[0] == 12345 && out[1] == 12345);
+    assert_false(fl_parse_view_axes("x;z", NULL));
+    assert_false(fl_parse_view_axes(NULL, NULL));
+    assert_false(fl_parse_view_axes("x;x", out));
+    assert_true(out[0] == 12345 && out[1] == 12345);
+    assert_true(fl_parse_view_axes("x;z", out));
+    assert_true(out[0] == 0 && out[1] == 2);
+}
+
 NULL_TEST(fl_parse_memory)
 {
     (void)unused;
@@ -842,7 +856,7 @@ static void every_function_is_covered(void **unused);
 #define T(fn) cmocka_unit_test(null_##fn)
 static const struct CMUnitTest tests[] = {
     T(fl_version), T(fl_default_options), T(fl_parse_memory), T(fl_parse_pairs),
-    T(fl_parse_particles), T(fl_parse_physics), T(fl_new), T(fl_free), T(fl_error), T(fl_define), T(fl_load),
+    T(fl_parse_particles), T(fl_parse_physics), T(fl_parse_view_axes), T(fl_new), T(fl_free), T(fl_error), T(fl_define), T(fl_load),
     T(fl_load_text), T(fl_step), T(fl_frame_count), T(fl_frame_time), T(fl_target_fps),
     T(fl_frame_wait), T(fl_clock_pause), T(fl_state_get), T(fl_state_get_numbers),
     T(fl_state_set), T(fl_state_set_numbers), T(fl_state_count), T(fl_state_iterate),

@@ -1,7 +1,8 @@
 /* test_view.c: physics systems read from tree + state (systems.h), their
  * --view picture (view.h) and --trace rows (trace.h). A small 2D system
  * with no moving forces keeps its particles where they start, so pixel
- * places and trace values can be worked out by hand. */
+ * places and trace values can be worked out by hand; a 3D one drawn flat
+ * by --view-axes x;z, or for want of OpenGL. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -187,6 +188,124 @@ static void test_view_gif(void **st)
     fl_free(rt);
 }
 
+/* --view-axes x;z (view_set_style): a 3D system drawn flat on x and z,
+ * z down the panel as y is in the x/y view. Particle 3 is displaced along
+ * z (50) and a little along y (7, which x;z leaves out): the bounds are
+ * x -110..110, z -10..60, so the pixels are test_view_png's with z for y. */
+static const char *const SCRIPT3 =
+    "!physics state=:s dimensions=3\n"
+    "    !particle id=1 position=100;0;0 radius=10 charge=1\n"
+    "    !particle id=2 position=-100;0;0 radius=10 charge=-1\n"
+    "    !particle id=3 position=0;7;50 radius=10\n"
+    "    !barrier position=0;0;-30 normal=0;0;1\n";
+
+static cairo_surface_t *view_png(fl_runtime *rt, const int axes[2], const char *name, const RenderLog *log)
+{
+    PsSystem *sys;
+    size_t n;
+    ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
+    char path[128], err[256];
+    snprintf(path, sizeof path, "%s/%s", scratch, name);
+    View *v = view_open(path, 10, rt_symbols(rt), err, sizeof err);
+    assert_non_null(v);
+    view_set_style(v, axes, log);
+    assert_int_equal(view_frame(v, 1, sys, n, err, sizeof err), 0);
+    assert_int_equal(view_frame(v, 2, sys, n, err, sizeof err), 0);
+    assert_int_equal(view_close(v), 0);
+    ps_free(sys, n);
+    cairo_surface_t *s = cairo_image_surface_create_from_png(path);
+    assert_int_equal(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
+    return s;
+}
+
+static void test_view_axes(void **st)
+{
+    (void)st;
+    fl_runtime *rt = run(SCRIPT3, 2);
+    int xz[2] = {0, 2};
+    cairo_surface_t *s = view_png(rt, xz, "xz.png", NULL);
+    double k = 432.0 / 220.0;
+    int z0 = (int)(268 + (0 - 25) * k);   /* world z = 0 */
+    assert_rgb(px(s, (int)(240 + 100 * k), z0), 217, 38, 26);
+    assert_rgb(px(s, (int)(240 - 100 * k), z0), 26, 77, 217);
+    assert_rgb(px(s, 240, (int)(268 + 25 * k)), 140, 140, 140);   /* z = 50: below the middle */
+    assert_rgb(px(s, 240, (int)(268 - 18 * k)), 255, 255, 255);  /* where x;y would put it: nothing */
+    /* the barrier's plane z = -30 is a line across */
+    assert_true((px(s, 100, (int)(268 + (-30 - 25) * k)) & 0xff) < 80);
+    cairo_surface_destroy(s);
+    /* a 2D system has no z: x;z leaves it on x;y, the same picture */
+    fl_free(rt);
+    rt = run(SCRIPT, 2);
+    cairo_surface_t *a = view_png(rt, xz, "a.png", NULL), *b = view_png(rt, NULL, "b.png", NULL);
+    assert_memory_equal(cairo_image_surface_get_data(a), cairo_image_surface_get_data(b),
+                        (size_t)cairo_image_surface_get_stride(a) * (size_t)cairo_image_surface_get_height(a));
+    cairo_surface_destroy(a);
+    cairo_surface_destroy(b);
+    fl_free(rt);
+    /* axes out of 0..3 (an embedder's fl_options) are none: a 6D system on x;y */
+    rt = run("!physics state=:s dimensions=6\n"
+             "    !particle id=1 position=1;2;3;4;5;6 radius=1\n"
+             "    !particle id=2 position=-9;8;7;6;5;40 radius=1\n", 2);
+    int far[2] = {0, 5}, xy[2] = {0, 1};
+    a = view_png(rt, far, "far.png", NULL);
+    b = view_png(rt, xy, "xy6.png", NULL);
+    assert_memory_equal(cairo_image_surface_get_data(a), cairo_image_surface_get_data(b),
+                        (size_t)cairo_image_surface_get_stride(a) * (size_t)cairo_image_surface_get_height(a));
+    cairo_surface_destroy(a);
+    cairo_surface_destroy(b);
+    fl_free(rt);
+}
+
+static void test_view_parse_axes(void **st)
+{
+    (void)st;
+    int ax[2] = {7, 7};
+    assert_true(view_parse_axes("x;z", ax) && ax[0] == 0 && ax[1] == 2);
+    assert_true(view_parse_axes("w;y", ax) && ax[0] == 3 && ax[1] == 1);
+    const char *bad[] = {"x;x", "x", "x;", ";z", "xz", "x;z;y", "X;Z", "x,z", "a;b", "", "x;\0"};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        ax[0] = ax[1] = 7;
+        assert_false(view_parse_axes(bad[i], ax));
+        assert_true(ax[0] == 7 && ax[1] == 7);
+    }
+    assert_false(view_parse_axes(NULL, ax));
+    assert_true(fl_parse_view_axes("z;x", ax) && ax[0] == 2 && ax[1] == 0);
+    assert_false(fl_parse_view_axes("z;x", NULL));
+}
+
+static int nsaid;
+static char said[512];
+
+static void keep(void *ctx, int kind, const char *line)
+{
+    (void)ctx;
+    assert_int_equal(kind, RLOG_WARNING);
+    nsaid++;
+    snprintf(said, sizeof said, "%s", line);
+}
+
+/* Without OpenGL (main() hides EGL's vendors, so no context can be made):
+ * a 3D system is drawn flat on x;y, said once per view, and the picture is
+ * the one --view-axes x;y asks for. */
+static void test_view_3d_without_gl(void **st)
+{
+    (void)st;
+    fl_runtime *rt = run(SCRIPT3, 2);
+    RenderLog log = {keep, NULL, false};
+    nsaid = 0;
+    cairo_surface_t *a = view_png(rt, NULL, "nogl.png", &log);   /* two frames, one message */
+    assert_int_equal(nsaid, 1);
+    assert_non_null(strstr(said, "view: 3D systems are drawn flat on x;y: canvas3d: no OpenGL"));
+    int xy[2] = {0, 1};
+    cairo_surface_t *b = view_png(rt, xy, "xy.png", &log);
+    assert_int_equal(nsaid, 1);   /* asked for: nothing to say */
+    assert_memory_equal(cairo_image_surface_get_data(a), cairo_image_surface_get_data(b),
+                        (size_t)cairo_image_surface_get_stride(a) * (size_t)cairo_image_surface_get_height(a));
+    cairo_surface_destroy(a);
+    cairo_surface_destroy(b);
+    fl_free(rt);
+}
+
 static char *slurp(const char *path)
 {
     FILE *f = fopen(path, "rb");
@@ -241,10 +360,17 @@ static void test_trace(void **st)
 
 int main(void)
 {
+    /* no OpenGL here: glvnd finds no EGL vendor, so a 3D system's view is
+     * drawn flat (Mesa's JIT is no business of the unit tests, which also
+     * run under valgrind; tests/gl draws the 3D view) */
+    setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent", 1);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_collect),
         cmocka_unit_test(test_view_png),
         cmocka_unit_test(test_view_gif),
+        cmocka_unit_test(test_view_axes),
+        cmocka_unit_test(test_view_parse_axes),
+        cmocka_unit_test(test_view_3d_without_gl),
         cmocka_unit_test(test_trace),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
