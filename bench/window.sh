@@ -9,16 +9,21 @@
 #   blank      an empty !window size=1920;1080: what presenting a picture
 #              of that size costs by itself (the display's floor)
 # and prints, per scene: frames/s, the per-frame milliseconds of
-# evaluation, physics, drawing (fl_draw_view / fl_draw_window into the
-# pixels) and presenting (texture upload, copy, present; per frame shown),
+# evaluation, physics, drawing on the frame loop (fl_draw_window into the
+# pixels, fl_draw_view for a 3D view, or the snapshot of a flat physics
+# view), painting on the display's thread (a flat physics view drawn from
+# its snapshot, fl_view_painter_draw; per picture painted) and presenting
+# (texture upload, copy, present; per frame shown),
 # the frame loop's busy milliseconds per frame (its wall time less its
 # waits: eval, physics and drawing, the drawing only for frames shown),
 # the milliseconds to spare in a 60 frames/s frame (1000/60 minus the
 # frame loop's busy time; a build whose frame loop also presents, which
-# prints no busy line, 1000/60 minus eval + physics + draw + present), and
-# the frames dropped (pictures skipped). Presenting runs on the display's
-# own thread, beside the frame loop: its cost shows in the frames shown a
-# second (frames/s less dropped ones), not in the spare time.
+# prints no busy line, 1000/60 minus eval + physics + draw + present), the
+# display thread's own spare time (1000/60 minus paint and present), and
+# the frames dropped (pictures skipped). Painting and presenting run on the
+# display's own thread, beside the frame loop: their cost shows in the
+# frames shown a second (frames/s less dropped ones) and in the display's
+# spare time, not in the frame loop's.
 # The Xvfb screen is 2048x1152 so that a 1920x1080 window fits in 95% of
 # it (windows larger than that are shrunk, as Flitter does). Xvfb draws in
 # software: a real display presents faster.
@@ -52,15 +57,16 @@ run_scene() {   # NAME SCRIPT [OPTIONS...]
     /^stats: window: per frame shown: draw/ { dr = $7; pr = $10 }
     /^stats: window: [0-9]+ frames shown/ { dropped = $6 }
     /^stats: window: frame loop busy/ { busy = $6 }
+    /^stats: window: physics view painted by the display/ { pa = $9 }
     END {
       spare = busy != "" ? 1000 / 60 - busy : 1000 / 60 - (ev + ph + dr + pr)
-      printf "%-10s %9.1f %8.3f %11.3f %8.3f %11.3f %8s %9.3f %8d\n", name, fps, ev, ph, dr, pr,
-             busy != "" ? sprintf("%.3f", busy) : "-", spare, dropped
+      printf "%-10s %9.1f %8.3f %11.3f %8.3f %8.3f %11.3f %8s %9.3f %12.3f %8d\n", name, fps, ev, ph, dr,
+             pa, pr, busy != "" ? sprintf("%.3f", busy) : "-", spare, 1000 / 60 - pa - pr, dropped
     }' "$out/$name.err"
 }
 
-printf "%-10s %9s %8s %11s %8s %11s %8s %9s %8s\n" scene "frames/s" "eval ms" "physics ms" "draw ms" \
-    "present ms" "loop ms" "spare ms" dropped
+printf "%-10s %9s %8s %11s %8s %8s %11s %8s %9s %12s %8s\n" scene "frames/s" "eval ms" "physics ms" \
+    "draw ms" "paint ms" "present ms" "loop ms" "spare ms" "display spare" dropped
 status=0
 run_scene petri samples/petri.fl --window-size 1920x1080 || status=1
 run_scene canvas10k bench/canvas10k.fl || status=1

@@ -206,3 +206,80 @@ int fl_draw_view(fl_runtime *rt, uint32_t *pixels, int width, int height, size_t
     mem_leave(prev);
     return rc;
 }
+
+/* {=====================================================================
+ * The view drawn on another thread
+ * ===================================================================== */
+
+struct fl_view_snapshot {
+    PsFrozen frozen;   /* the systems, owning their numbers and titles */
+    int axes[2];       /* the runtime's flat projection (fl_options.view_axes) */
+};
+
+struct fl_view_painter {
+    View *view;        /* its fitted extents, kept from picture to picture */
+};
+
+fl_view_snapshot *fl_view_snapshot_take(fl_runtime *rt, fl_view_snapshot *reuse)
+{
+    if (!rt) return NULL;
+    MemHandler prev = rt_enter(rt);
+    buf_reset(rt_error_buf(rt));
+    PsSystem *sys;
+    size_t n;
+    ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
+    const int *axes = rt_options(rt)->view_axes;
+    fl_view_snapshot *snap = NULL;
+    if (!view_draws_3d(axes, sys, n)) {
+        snap = reuse ? reuse : mem_calloc(1, sizeof *snap);
+        ps_freeze(&snap->frozen, sys, n, rt_symbols(rt));
+        snap->axes[0] = axes[0];
+        snap->axes[1] = axes[1];
+    }
+    ps_free(sys, n);
+    mem_leave(prev);
+    return snap;
+}
+
+void fl_view_snapshot_free(fl_view_snapshot *snap)
+{
+    if (!snap) return;
+    ps_frozen_free(&snap->frozen);
+    free(snap);
+}
+
+fl_view_painter *fl_view_painter_new(void)
+{
+    fl_view_painter *p = mem_calloc(1, sizeof *p);
+    p->view = view_new_fit(NULL);   /* titles come written in the snapshot */
+    return p;
+}
+
+void fl_view_painter_free(fl_view_painter *painter)
+{
+    if (!painter) return;
+    view_close(painter->view);
+    free(painter);
+}
+
+int fl_view_painter_draw(fl_view_painter *painter, const fl_view_snapshot *snap, uint32_t *pixels,
+                         int width, int height, size_t stride, size_t *nsystems)
+{
+    if (nsystems) *nsystems = 0;
+    if (!painter || !snap || !pixels || width < 1 || height < 1 || width > 16384 || height > 16384 ||
+        stride < (size_t)width * 4 || stride % 4 != 0 || stride > (size_t)INT32_MAX)
+        return -1;
+    cairo_surface_t *s = wrap(pixels, width, height, stride);
+    int rc = -1;
+    if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS) {
+        /* a snapshot has no 3D system (fl_view_snapshot_take): nothing to log */
+        view_set_style(painter->view, snap->axes, NULL);
+        size_t drawn = view_draw_fit(painter->view, s, snap->frozen.sys, snap->frozen.n);
+        if (nsystems) *nsystems = drawn;
+        rc = 0;
+    }
+    cairo_surface_destroy(s);
+    return rc;
+}
+
+/* }===================================================================== */

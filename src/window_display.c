@@ -32,6 +32,7 @@ typedef struct Display {
     bool represent;          /* present again (exposed, resized) */
     int view_w, view_h;      /* the view window's output size last told the frame loop */
     bool screen_told;        /* a missing --screen was reported */
+    fl_view_painter *painter; /* paints the physics view's snapshots (made when first needed) */
 } Display;
 
 /* The slot of the SDL window [id], or NULL (a window already closed). */
@@ -184,14 +185,31 @@ static void paint_overlay(Display *D, Slot *s)
     winview_overlay_done(&s->view, true);
 }
 
-/* Show picture set [i] of the handover (taken: SET_SHOWING): windows
- * followed, pictures uploaded, the set given back, overlays, present.
- * Returns -1 when a window cannot be opened. */
+/* Show picture set [i] of the handover (taken: SET_SHOWING): physics
+ * views painted from their snapshots, windows followed, pictures
+ * uploaded, the set given back, overlays, present. Returns -1 when a
+ * window cannot be opened. */
 static int show_set(Display *D, int i)
 {
     Handover *h = D->h;
-    double t0 = handover_now();
-    const PictureSet *set = &h->sets[i];
+    PictureSet *set = &h->sets[i];
+    /* the physics views the frame loop left to paint (its snapshots) */
+    double t0 = handover_now(), painted = 0;
+    long npainted = 0;
+    for (size_t k = 0; k < set->n; k++) {
+        ShownWindow *w = &set->win[k];
+        if (!w->paint) continue;
+        w->paint = false;
+        if (!D->painter) D->painter = fl_view_painter_new();
+        if (fl_view_painter_draw(D->painter, w->snap, w->px, w->pw, w->ph, (size_t)w->pw * 4, NULL) != 0)
+            w->pw = w->ph = 0;   /* not shown (cannot happen for a picture the frame loop sized) */
+        npainted++;
+    }
+    if (npainted) {
+        double t1 = handover_now();
+        painted = t1 - t0;
+        t0 = t1;
+    }
     int rc = sync_windows(D, set);
     if (rc == 0)
         for (size_t k = 0; k < set->n; k++) {
@@ -213,6 +231,8 @@ static int show_set(Display *D, int i)
     pthread_mutex_lock(&h->mu);
     h->shown++;
     h->present_seconds += t1 - t0;
+    h->painted += npainted;
+    h->paint_seconds += painted;
     pthread_mutex_unlock(&h->mu);
     return 0;
 }
@@ -266,6 +286,7 @@ void window_display(Handover *h, const WinOptions *wopt, FILE *log)
         if (done) break;   /* (its last set was taken with done) */
     }
     for (size_t k = 0; k < D.nslots; k++) winview_close(&D.slots[k].view);
+    fl_view_painter_free(D.painter);
     free(D.slots);
     free(D.status);
     free(D.error);

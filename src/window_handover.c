@@ -29,7 +29,10 @@ void handover_free(Handover *h)
 {
     for (int i = 0; i < 2; i++) {
         PictureSet *s = &h->sets[i];
-        for (size_t k = 0; k < s->cap; k++) free(s->win[k].px);
+        for (size_t k = 0; k < s->cap; k++) {
+            free(s->win[k].px);
+            fl_view_snapshot_free(s->win[k].snap);
+        }
         free(s->win);
     }
     free(h->inputs);

@@ -1,9 +1,11 @@
 /* window_loop.h: the state of a run with live windows. Two threads share
  * it: the frame loop (window_main.c, its own thread) steps the runtimes
- * and draws each shown frame's pictures into plain pixel buffers; the
- * display (window_display.c, the thread that started SDL, as SDL's video
- * wants) owns the SDL windows, turns SDL events into Inputs for the frame
- * loop (window_input.c applies them) and presents the pictures. They meet
+ * and draws each shown frame's pictures into plain pixel buffers, except
+ * a flat physics view, of which it takes a snapshot (fl_view_snapshot);
+ * the display (window_display.c, the thread that started SDL, as SDL's
+ * video wants) owns the SDL windows, turns SDL events into Inputs for the
+ * frame loop (window_input.c applies them), paints the snapshots
+ * (fl_view_painter) and presents the pictures. They meet
  * only in a Handover (window_handover.c), under its mutex. */
 #ifndef FL_WINDOW_LOOP_H
 #define FL_WINDOW_LOOP_H
@@ -36,6 +38,8 @@ typedef struct ShownWindow {
     uint32_t *px;            /* the picture, pw x ph pixels, or NULL when not drawn */
     int pw, ph;
     size_t cap;              /* words allocated at px */
+    fl_view_snapshot *snap;  /* the physics view to paint into px (kept for reuse) */
+    bool paint;              /* px is still to be painted from snap, by the display */
 } ShownWindow;
 
 /* The pictures of one frame, one per window to show. */
@@ -84,6 +88,8 @@ typedef struct Handover {
     bool failed;             /* the display could not open a window */
     long shown;              /* sets presented */
     double present_seconds;  /* spent presenting them, in total */
+    long painted;            /* physics views painted by the display (ShownWindow.paint) */
+    double paint_seconds;    /* spent painting them, in total (not in present_seconds) */
 } Handover;
 
 /* Make [h] (mutex, conditions on CLOCK_MONOTONIC, no sets drawn);

@@ -226,10 +226,22 @@ static void draw_window(Loop *L, ShownWindow *s, int view_w, int view_h)
         s->pw = s->ph = 0;
         return;
     }
-    int rc = view ? fl_draw_view(rt, s->px, w, h, (size_t)w * 4, NULL)
-                  : fl_draw_window(rt, s->index, s->px, w, h, (size_t)w * 4);
     s->pw = w;
     s->ph = h;
+    s->paint = false;
+    if (view) {
+        /* the physics view is painted by the display from a copy of the
+         * systems, so that drawing it never holds the simulation up; a 3D
+         * system needs the runtime's renderer: drawn here */
+        fl_view_snapshot *snap = fl_view_snapshot_take(rt, s->snap);
+        if (snap) {
+            s->snap = snap;
+            s->paint = true;
+            return;
+        }
+    }
+    int rc = view ? fl_draw_view(rt, s->px, w, h, (size_t)w * 4, NULL)
+                  : fl_draw_window(rt, s->index, s->px, w, h, (size_t)w * 4);
     if (rc != 0 && !L->warned) {
         fputs(fl_error(rt), L->log);
         L->warned = true;
@@ -383,6 +395,9 @@ static void print_stats(Loop *L, double loop)
     double drawn = L->drawn > 0 ? (double)L->drawn : 1, shown = h->shown > 0 ? (double)h->shown : 1;
     fprintf(L->log, "stats: window: per frame shown: draw %.3f ms, present %.3f ms\n",
             L->draw_seconds / drawn * 1e3, h->present_seconds / shown * 1e3);
+    if (h->painted > 0)
+        fprintf(L->log, "stats: window: physics view painted by the display: %.3f ms per picture, "
+                "%ld pictures\n", h->paint_seconds / (double)h->painted * 1e3, h->painted);
     fprintf(L->log, "stats: window: %ld frames shown, %ld dropped\n", h->shown, L->dropped);
     double ran = L->ran > 0 ? (double)L->ran : 1;
     fprintf(L->log, "stats: window: frame loop busy %.3f ms per frame, %ld pictures drawn\n",

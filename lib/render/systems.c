@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "buf.h"
+#include "format.h"
 #include "mem.h"
 #include "rnode.h"
 
@@ -136,6 +138,131 @@ void ps_free(PsSystem *systems, size_t n)
     }
     free(systems);
 }
+
+/* {=====================================================================
+ * Frozen copies
+ * ===================================================================== */
+
+/* Bytes of a frozen copy of numeric vector [v] (0 for NULL), a multiple
+ * of 16 so that every copy's data stays aligned as a Vec's is. */
+static size_t frozen_size(const Vec *v)
+{
+    if (!v) return 0;
+    size_t bytes = sizeof(Vec) + (size_t)v->len * sizeof(double);
+    return (bytes + 15) & ~(size_t)15;
+}
+
+/* Copy numeric vector [v] (or NULL) to the block at *[at], advancing it;
+ * the copy, or NULL. */
+static const Vec *frozen_copy(const Vec *v, unsigned char **at)
+{
+    if (!v) return NULL;
+    Vec *c = (Vec *)(void *)*at;
+    c->refs = 1;
+    c->kind = VEC_NUM;
+    c->stream = 0;
+    c->hashed = 0;
+    c->len = v->len;
+    c->key = 0;
+    memcpy(vec_nums(c), vec_cnums(v), (size_t)v->len * sizeof(double));
+    *at += frozen_size(v);
+    return c;
+}
+
+/* [n] elements of [size] bytes from [src], into the owned array *[dst]
+ * (reallocated; NULL when [n] is 0). */
+static void *frozen_array(void *dst, const void *src, size_t n, size_t size)
+{
+    if (!n) {
+        free(dst);
+        return NULL;
+    }
+    dst = mem_realloc(dst, n * size);
+    memcpy(dst, src, n * size);
+    return dst;
+}
+
+void ps_freeze(PsFrozen *into, const PsSystem *systems, size_t n, const SymTab *symbols)
+{
+    /* the sizes first: the block is allocated once, so the copies stay put */
+    size_t bytes = 0;
+    Buf titles = BUF_INIT;
+    size_t *title_at = n ? mem_alloc(n * sizeof *title_at) : NULL;
+    for (size_t i = 0; i < n; i++) {
+        const PsSystem *s = &systems[i];
+        for (size_t k = 0; k < s->nbodies; k++)
+            bytes += frozen_size(s->bodies[k].pos) + frozen_size(s->bodies[k].vel);
+        for (size_t k = 0; k < s->nlinks; k++)
+            bytes += frozen_size(s->links[k].from) + frozen_size(s->links[k].to);
+        for (size_t k = 0; k < s->nbarriers; k++)
+            bytes += frozen_size(s->barriers[k].pos) + frozen_size(s->barriers[k].normal);
+        title_at[i] = titles.len;
+        if (s->title) buf_puts(&titles, s->title);
+        else fmt_str(&titles, s->prefix, symbols);
+        buf_putc(&titles, '\0');
+    }
+    /* the previous copy's systems: their arrays are reused */
+    for (size_t i = n; i < into->n; i++) {
+        free(into->sys[i].bodies);
+        free(into->sys[i].links);
+        free(into->sys[i].barriers);
+    }
+    if (n > into->n) {
+        into->sys = mem_realloc(into->sys, n * sizeof *into->sys);
+        memset(into->sys + into->n, 0, (n - into->n) * sizeof *into->sys);
+    }
+    into->n = n;
+    if (bytes > into->cap_block) {
+        free(into->block);
+        into->block = mem_alloc(bytes);
+        into->cap_block = bytes;
+    }
+    if (titles.len > into->cap_titles) {
+        free(into->titles);
+        into->titles = mem_alloc(titles.len);
+        into->cap_titles = titles.len;
+    }
+    if (titles.len) memcpy(into->titles, titles.data, titles.len);
+    buf_free(&titles);
+    unsigned char *at = into->block;
+    for (size_t i = 0; i < n; i++) {
+        const PsSystem *s = &systems[i];
+        PsSystem *d = &into->sys[i];
+        d->prefix = NULL;
+        d->title = into->titles + title_at[i];
+        d->dims = s->dims;
+        d->nbodies = s->nbodies;
+        d->bodies = frozen_array(d->bodies, s->bodies, s->nbodies, sizeof *s->bodies);
+        for (size_t k = 0; k < s->nbodies; k++) {
+            d->bodies[k].id = NULL;
+            d->bodies[k].pos = frozen_copy(s->bodies[k].pos, &at);
+            d->bodies[k].vel = frozen_copy(s->bodies[k].vel, &at);
+        }
+        d->nlinks = s->nlinks;
+        d->links = frozen_array(d->links, s->links, s->nlinks, sizeof *s->links);
+        for (size_t k = 0; k < s->nlinks; k++) {
+            d->links[k].from = frozen_copy(s->links[k].from, &at);
+            d->links[k].to = frozen_copy(s->links[k].to, &at);
+        }
+        d->nbarriers = s->nbarriers;
+        d->barriers = frozen_array(d->barriers, s->barriers, s->nbarriers, sizeof *s->barriers);
+        for (size_t k = 0; k < s->nbarriers; k++) {
+            d->barriers[k].pos = frozen_copy(s->barriers[k].pos, &at);
+            d->barriers[k].normal = frozen_copy(s->barriers[k].normal, &at);
+        }
+    }
+    free(title_at);
+}
+
+void ps_frozen_free(PsFrozen *f)
+{
+    ps_free(f->sys, f->n);
+    free(f->block);
+    free(f->titles);
+    *f = (PsFrozen){0};
+}
+
+/* }===================================================================== */
 
 double ps_coord(const Vec *v, int k)
 {

@@ -37,7 +37,10 @@ typedef struct PsBarrier {
 } PsBarrier;
 
 typedef struct PsSystem {
-    const Vec *prefix;    /* the `state` attribute (borrowed) */
+    const Vec *prefix;    /* the `state` attribute (borrowed); NULL in a
+                             frozen copy (ps_freeze), which has [title] */
+    const char *title;    /* the prefix as text (a frozen copy), or NULL:
+                             the view formats [prefix] itself */
     int dims;             /* `dimensions` (>= 1) */
     PsBody *bodies;
     size_t nbodies;
@@ -55,6 +58,28 @@ typedef struct PsSystem {
 void ps_collect(const Node *root, const StateDict *sd, PsSystem **out, size_t *n);
 /* Free what ps_collect returned. */
 void ps_free(PsSystem *systems, size_t n);
+/* A copy of [n] systems from ps_collect that owns everything it points
+ * to, so that it can be drawn (view.h) on another thread after the state
+ * and the tree have moved on: positions, velocities, links and barriers
+ * are copied into one block of numeric vectors of its own, each prefix is
+ * written as text with [symbols] into `title`, and body ids are left out
+ * (NULL; the view does not show them). [into] is filled, its storage
+ * reused from a previous ps_freeze; free it with ps_frozen_free. The
+ * vectors of a frozen copy are never retained or released.
+ *   errors: none (aborts when out of memory). */
+typedef struct PsFrozen {
+    PsSystem *sys;        /* the copies (bodies, links and barriers owned) */
+    size_t n;
+    unsigned char *block; /* the copied vectors */
+    size_t cap_block;
+    char *titles;         /* the prefixes' text, NUL after each */
+    size_t cap_titles;
+} PsFrozen;
+void ps_freeze(PsFrozen *into, const PsSystem *systems, size_t n, const SymTab *symbols);
+/* Free the storage of [f] (its systems, vectors and titles); it is left
+ * empty, ready for another ps_freeze. */
+void ps_frozen_free(PsFrozen *f);
+
 /* Coordinate [k] of the numeric vector [v]: a single number stands for
  * every coordinate (as Flitter matches a `position=0` attribute to any
  * dimension); 0 when absent or short. */

@@ -121,12 +121,24 @@ bool view_parse_axes(const char *text, int axes[2])
  * flat projection asked for); else false with the two coordinates of its
  * flat projection in [ax]: the ones asked for when the system has both,
  * else x and y. */
-static bool panel_axes(const View *v, const PsSystem *s, int ax[2])
+static bool axes_of(const int axes[2], const PsSystem *s, int ax[2])
 {
-    bool asked = v->axes[0] != v->axes[1] && v->axes[0] < s->dims && v->axes[1] < s->dims;   /* 0..3 */
-    ax[0] = asked ? v->axes[0] : 0;
-    ax[1] = asked ? v->axes[1] : 1;
+    bool asked = axes[0] != axes[1] && axes[0] < s->dims && axes[1] < s->dims;   /* 0..3 */
+    ax[0] = asked ? axes[0] : 0;
+    ax[1] = asked ? axes[1] : 1;
     return s->dims == 3 && !asked;
+}
+
+static bool panel_axes(const View *v, const PsSystem *s, int ax[2]) { return axes_of(v->axes, s, ax); }
+
+bool view_draws_3d(const int axes[2], const PsSystem *systems, size_t n)
+{
+    /* the projection view_set_style would take from [axes] */
+    bool ok = axes && axes[0] >= 0 && axes[0] <= 3 && axes[1] >= 0 && axes[1] <= 3 && axes[0] != axes[1];
+    int ax[2], use[2] = {ok ? axes[0] : 0, ok ? axes[1] : 0};
+    for (size_t i = 0; i < n; i++)
+        if (axes_of(use, &systems[i], ax)) return true;
+    return false;
 }
 
 /* Projected x/y of a position on coordinates [ax] (1D: y = 0 is the
@@ -381,7 +393,8 @@ static void draw_panel(View *v, cairo_t *cr, int index, long frame, const PsSyst
     bool solid = panel_axes(v, s, ax);
     /* title */
     Buf title = BUF_INIT;
-    fmt_str(&title, s->prefix, v->symbols);
+    if (s->title) buf_puts(&title, s->title);   /* a frozen copy's (systems.h) */
+    else fmt_str(&title, s->prefix, v->symbols);
     size_t np = 0;
     for (size_t i = 0; i < s->nbodies; i++) np += !s->bodies[i].anchor;
     buf_printf(&title, "  %dD  %zu particles", s->dims, np);

@@ -767,6 +767,63 @@ NULL_TEST(fl_draw_view)
     fl_free(rt);
 }
 
+NULL_TEST(fl_view_snapshot_take)
+{
+    (void)unused;
+    assert_null(fl_view_snapshot_take(NULL, NULL));
+    fl_runtime *rt = loaded();
+    fl_view_snapshot *snap = fl_view_snapshot_take(rt, NULL);   /* NULL [reuse]: a new one */
+    assert_non_null(snap);
+    assert_null(fl_view_snapshot_take(NULL, snap));
+    assert_ptr_equal(fl_view_snapshot_take(rt, snap), snap);
+    fl_view_snapshot_free(snap);
+    fl_free(rt);
+}
+
+NULL_TEST(fl_view_snapshot_free)
+{
+    (void)unused;
+    fl_view_snapshot_free(NULL);
+}
+
+NULL_TEST(fl_view_painter_new)
+{
+    (void)unused;
+    fl_view_painter *p = fl_view_painter_new();
+    assert_non_null(p);
+    fl_view_painter_free(p);
+}
+
+NULL_TEST(fl_view_painter_free)
+{
+    (void)unused;
+    fl_view_painter_free(NULL);
+}
+
+NULL_TEST(fl_view_painter_draw)
+{
+    (void)unused;
+    uint32_t pix[16 * 8];
+    size_t ns = 99;
+    fl_runtime *rt = loaded();
+    fl_view_snapshot *snap = fl_view_snapshot_take(rt, NULL);
+    fl_view_painter *p = fl_view_painter_new();
+    assert_int_equal(fl_view_painter_draw(NULL, snap, pix, 16, 8, 64, &ns), -1);
+    assert_int_equal(ns, 0);
+    assert_int_equal(fl_view_painter_draw(p, NULL, pix, 16, 8, 64, NULL), -1);
+    assert_int_equal(fl_view_painter_draw(p, snap, NULL, 16, 8, 64, NULL), -1);
+    assert_int_equal(fl_view_painter_draw(p, snap, pix, INT_MAX, 8, 64, NULL), -1);
+    assert_int_equal(fl_view_painter_draw(p, snap, pix, 16, -8, 64, NULL), -1);
+    assert_int_equal(fl_view_painter_draw(p, snap, pix, 16, 8, SIZE_MAX, NULL), -1);
+    assert_int_equal(fl_view_painter_draw(p, snap, pix, 16, 8, 63, NULL), -1);
+    assert_int_equal(fl_view_painter_draw(p, snap, pix, 16, 8, 64, NULL), 0);   /* NULL [nsystems] */
+    assert_int_equal(fl_view_painter_draw(p, snap, pix, 16, 8, 64, &ns), 0);
+    assert_int_equal(ns, 1);
+    fl_view_painter_free(p);
+    fl_view_snapshot_free(snap);
+    fl_free(rt);
+}
+
 /* {=====================================================================
  * Input
  * ===================================================================== */
@@ -865,7 +922,8 @@ static const struct CMUnitTest tests[] = {
     T(fl_state_set_expr), T(fl_eval_reset), T(fl_scope_names), T(fl_builtin_name),
     T(fl_number_text), T(fl_particles), T(fl_outputs_open), T(fl_outputs_frame),
     T(fl_outputs_close), T(fl_view), T(fl_check_output), T(fl_windows), T(fl_draw_window),
-    T(fl_draw_view), T(fl_key), T(fl_pointer), T(fl_pointer_button), T(fl_program_files),
+    T(fl_draw_view), T(fl_view_snapshot_take), T(fl_view_snapshot_free),
+    T(fl_view_painter_new), T(fl_view_painter_free), T(fl_view_painter_draw), T(fl_key), T(fl_pointer), T(fl_pointer_button), T(fl_program_files),
     T(fl_get_stats),
     cmocka_unit_test(every_function_is_covered),
 };

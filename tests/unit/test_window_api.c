@@ -286,6 +286,112 @@ static void test_draw_view(void **st)
     fl_free(rt);
 }
 
+/* The view drawn away from the runtime (fl_view_snapshot_take on the
+ * runtime's side, fl_view_painter_draw anywhere): every frame's snapshot,
+ * drawn after the runtime has gone on to the next frame (and after it is
+ * freed), gives fl_draw_view's pixels of its own frame, byte for byte;
+ * the painter keeps the view's growing extents as fl_draw_view does. */
+static void test_view_snapshot(void **st)
+{
+    (void)st;
+    static const char *const DISH =
+        "!physics state=:dish dimensions=2\n"
+        "    !anchor id=:centre position=0;0\n"
+        "    for i in ..12\n"
+        "        !particle id=i charge=i%3-1 radius=4 position=(i*37%50-25);(i*11%40-20) velocity=i;-i\n"
+        "        !distance strength=50 max=60 from=i to=:centre\n"
+        "    !barrier position=0;-40 normal=0;1\n"
+        "    !electrostatic strength=500\n"
+        "    !collision\n";
+    fl_runtime *rt = load(DISH, true);
+    enum { VW = 300, VH = 200 };
+    size_t words = (size_t)VW * VH;
+    uint32_t *want = malloc(words * 4), *got = malloc(words * 4);
+    fl_view_painter *painter = fl_view_painter_new();
+    assert_non_null(painter);
+    fl_view_snapshot *snap = NULL;
+    for (int frame = 0; frame < 20; frame++) {
+        assert_int_equal(fl_step(rt), 0);
+        size_t n = 0, m = 0;
+        assert_int_equal(fl_draw_view(rt, want, VW, VH, VW * 4, &n), 0);
+        fl_view_snapshot *again = fl_view_snapshot_take(rt, snap);
+        assert_non_null(again);
+        if (snap) assert_ptr_equal(again, snap);   /* refilled in place */
+        snap = again;
+        assert_int_equal(fl_step(rt), 0);         /* the runtime moves on */
+        memset(got, 0x55, words * 4);
+        assert_int_equal(fl_view_painter_draw(painter, snap, got, VW, VH, VW * 4, &m), 0);
+        assert_int_equal(m, n);
+        assert_int_equal(n, 1);
+        if (memcmp(got, want, words * 4) != 0) fail_msg("frame %d: the snapshot's picture differs", frame);
+    }
+    /* the particles moved: the last picture is not the first frame's */
+    assert_int_equal(fl_draw_view(rt, want, VW, VH, VW * 4, NULL), 0);
+    assert_true(memcmp(got, want, words * 4) != 0);
+    /* a snapshot outlives its runtime */
+    assert_non_null(fl_view_snapshot_take(rt, snap));
+    memcpy(want, got, words * 4);
+    assert_int_equal(fl_view_painter_draw(painter, snap, want, VW, VH, VW * 4, NULL), 0);
+    fl_free(rt);
+    assert_int_equal(fl_view_painter_draw(painter, snap, got, VW, VH, VW * 4, NULL), 0);
+    assert_memory_equal(got, want, words * 4);
+    /* bad arguments: -1, nothing drawn */
+    size_t n = 7;
+    assert_int_equal(fl_view_painter_draw(NULL, snap, got, VW, VH, VW * 4, &n), -1);
+    assert_int_equal(n, 0);
+    assert_int_equal(fl_view_painter_draw(painter, NULL, got, VW, VH, VW * 4, NULL), -1);
+    assert_int_equal(fl_view_painter_draw(painter, snap, NULL, VW, VH, VW * 4, NULL), -1);
+    assert_int_equal(fl_view_painter_draw(painter, snap, got, 0, VH, VW * 4, NULL), -1);
+    assert_int_equal(fl_view_painter_draw(painter, snap, got, VW, VH, VW * 4 - 4, NULL), -1);
+    assert_int_equal(fl_view_painter_draw(painter, snap, got, VW, VH, VW * 4 + 2, NULL), -1);
+    assert_null(fl_view_snapshot_take(NULL, snap));
+    fl_view_snapshot_free(snap);
+    fl_view_snapshot_free(NULL);
+    fl_view_painter_free(painter);
+    fl_view_painter_free(NULL);
+    free(want);
+    free(got);
+}
+
+/* A 3D system is drawn through the runtime's OpenGL renderer: no snapshot
+ * (the one passed in stays as it was); drawn flat (--view-axes), it has
+ * one, titled as fl_draw_view titles it. */
+static void test_view_snapshot_3d(void **st)
+{
+    (void)st;
+    static const char *const BOX = "!physics state=:box dimensions=3\n"
+                                   "    !particle id=1 position=1;2;3 radius=1\n";
+    fl_runtime *flat2d = load("!physics state=:p dimensions=2\n    !particle id=1 position=0;0\n", true);
+    assert_int_equal(fl_step(flat2d), 0);
+    fl_view_snapshot *snap = fl_view_snapshot_take(flat2d, NULL);
+    assert_non_null(snap);
+    fl_runtime *rt = load(BOX, true);
+    assert_int_equal(fl_step(rt), 0);
+    assert_null(fl_view_snapshot_take(rt, snap));
+    fl_free(rt);
+    fl_options o = fl_default_options();
+    o.log = quiet;
+    assert_true(fl_parse_view_axes("x;z", o.view_axes));
+    rt = fl_new(&o);
+    char path[256];
+    write_file("main.fl", BOX, path, sizeof path);
+    assert_int_equal(fl_load(rt, path), 0);
+    assert_int_equal(fl_step(rt), 0);
+    assert_ptr_equal(fl_view_snapshot_take(rt, snap), snap);
+    enum { VW = 240, VH = 254 };
+    uint32_t *want = malloc((size_t)VW * VH * 4), *got = malloc((size_t)VW * VH * 4);
+    assert_int_equal(fl_draw_view(rt, want, VW, VH, VW * 4, NULL), 0);
+    fl_view_painter *painter = fl_view_painter_new();
+    assert_int_equal(fl_view_painter_draw(painter, snap, got, VW, VH, VW * 4, NULL), 0);
+    assert_memory_equal(got, want, (size_t)VW * VH * 4);
+    fl_view_painter_free(painter);
+    fl_view_snapshot_free(snap);
+    fl_free(rt);
+    fl_free(flat2d);
+    free(want);
+    free(got);
+}
+
 /* {=====================================================================
  * fl_key, fl_pointer, fl_pointer_button
  * ===================================================================== */
@@ -468,6 +574,8 @@ int main(void)
         cmocka_unit_test(test_draw_window_pixels_and_record),
         cmocka_unit_test(test_draw_window_errors),
         cmocka_unit_test(test_draw_view),
+        cmocka_unit_test(test_view_snapshot),
+        cmocka_unit_test(test_view_snapshot_3d),
         cmocka_unit_test(test_keys),
         cmocka_unit_test(test_pointer),
         cmocka_unit_test(test_program_files),
