@@ -94,8 +94,6 @@ static void write_buf(void *ctx, const char *text, size_t len) { text_add(ctx, t
  * Evaluating Flitter text
  * ==================================================================== */
 
-/* Evaluate [len] bytes at [text]; print the result or the error. Returns
- * fl_eval's status (1: the text ended early, nothing printed). */
 /* fl_error()'s message of the last failed call on stderr; counted. */
 static void put_error(Repl *r)
 {
@@ -125,6 +123,8 @@ static void write_result(void *ctx, const char *text, size_t len)
     }
 }
 
+/* Evaluate [len] bytes at [text]; print the result or the error. Returns
+ * fl_eval's status (1: the text ended early, nothing printed). */
 static int eval_text(Repl *r, const char *text, size_t len)
 {
     bool cut = false;
