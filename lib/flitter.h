@@ -562,17 +562,17 @@ FL_API int fl_draw_view(fl_runtime *rt, uint32_t *pixels, int width, int height,
  * on the first after each frame (cheap: the systems' numbers are copied)
  * and draws it on the second, so that drawing never holds the simulation
  * up. A snapshot drawn by a painter gives the very pixels fl_draw_view
- * gives for that frame (the same drawing code), provided every picture of
- * the view is drawn by one painter (it keeps the view's fitted extents,
- * which only grow, as one runtime's fl_draw_view does).
+ * gives for that frame (the same drawing code; each picture is fitted to
+ * its own frame's systems, with no history).
  *
  * fl_view_snapshot_take copies what fl_draw_view would draw now into
  * [reuse] (a snapshot from an earlier call, refilled in place and
  * returned; NULL: a new one). It returns NULL, leaving [reuse] as it was,
  * when a system would be drawn in 3D (through OpenGL, which needs the
- * runtime's own renderer: draw that frame with fl_draw_view), and for a
- * NULL [rt]. The snapshot holds no reference into [rt]: it outlives the
- * frame, and [rt] itself. */
+ * runtime's own renderer: draw that frame with fl_draw_view), when the
+ * copy does not fit the memory budget (fl_options.max_memory; draw with
+ * fl_draw_view too), and for a NULL [rt]. The snapshot holds no reference
+ * into [rt]: it outlives the frame, and [rt] itself. */
 typedef struct fl_view_snapshot fl_view_snapshot;
 typedef struct fl_view_painter fl_view_painter;
 FL_API fl_view_snapshot *fl_view_snapshot_take(fl_runtime *rt, fl_view_snapshot *reuse);
@@ -586,8 +586,9 @@ FL_API void fl_view_painter_free(fl_view_painter *painter);
  * fl_draw_view); [*nsystems] (may be NULL) gets the number drawn. Touches
  * no runtime: any thread may call it, one at a time per painter.
  *   errors: -1 (there is no runtime to hold a message) for a NULL
- *           [painter], [snap] or [pixels], a size outside 1..16384, or a
- *           stride below width*4 or not a multiple of 4; else 0. */
+ *           [painter], [snap] or [pixels], a size outside 1..16384, a
+ *           stride below width*4, not a multiple of 4 or over 2^31-1
+ *           bytes, or cairo refusing the buffer; else 0. */
 FL_API int fl_view_painter_draw(fl_view_painter *painter, const fl_view_snapshot *snap,
                                 uint32_t *pixels, int width, int height, size_t stride,
                                 size_t *nsystems);

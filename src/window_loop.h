@@ -35,7 +35,8 @@ typedef struct ShownWindow {
     char title[256];         /* the window's title */
     int width, height;       /* size= of the !window (the window's size), pixels */
     bool fullscreen, vsync;
-    uint32_t *px;            /* the picture, pw x ph pixels, or NULL when not drawn */
+    uint32_t *px;            /* the picture, pw x ph pixels (still to be painted
+                                when [paint]), or NULL when not drawn */
     int pw, ph;
     size_t cap;              /* words allocated at px */
     fl_view_snapshot *snap;  /* the physics view to paint into px (kept for reuse) */
@@ -164,6 +165,8 @@ typedef struct Loop {
     fl_stats stat;           /* statistics at the last status update */
     long stat_shown;
     double stat_draw, stat_present, stat_time;
+    long stat_painted;       /* the display's painting at the last status update */
+    double stat_paint;
     long stat_drawn;
 } Loop;
 

@@ -229,7 +229,10 @@ static void draw_window(Loop *L, ShownWindow *s, int view_w, int view_h)
     s->pw = w;
     s->ph = h;
     s->paint = false;
-    if (view) {
+    if (!view) {   /* its snapshot, if it had one, is not needed now */
+        fl_view_snapshot_free(s->snap);
+        s->snap = NULL;
+    } else {
         /* the physics view is painted by the display from a copy of the
          * systems, so that drawing it never holds the simulation up; a 3D
          * system needs the runtime's renderer: drawn here */
@@ -342,8 +345,8 @@ static void update_status(Loop *L, bool force)
     fl_stats st;
     fl_get_stats(rt, &st);
     pthread_mutex_lock(&L->hand->mu);
-    long all_shown = L->hand->shown;
-    double all_present = L->hand->present_seconds;
+    long all_shown = L->hand->shown, all_painted = L->hand->painted;
+    double all_present = L->hand->present_seconds, all_paint = L->hand->paint_seconds;
     pthread_mutex_unlock(&L->hand->mu);
     double dt = now - L->stat_time;
     long frames = st.frames - L->stat.frames, shown = all_shown - L->stat_shown;
@@ -351,25 +354,29 @@ static void update_status(Loop *L, bool force)
     double per = frames > 0 ? 1e3 / (double)frames : 0;
     double draw = drawn > 0 ? (L->draw_seconds - L->stat_draw) * 1e3 / (double)drawn : 0;
     double present = shown > 0 ? (all_present - L->stat_present) * 1e3 / (double)shown : 0;
+    long painted = all_painted - L->stat_painted;
+    double paint = painted > 0 ? (all_paint - L->stat_paint) * 1e3 / (double)painted : 0;
     snprintf(L->status, sizeof L->status,
              "page %d/%d %s\n"
              "frame %ld  time %.2f s\n"
              "%.1f frames/s (target %g), shown %.1f/s\n"
              "dropped %ld frames\n"
              "eval %.2f ms  physics %.2f ms\n"
-             "draw %.2f ms  present %.2f ms\n"
+             "draw %.2f ms  paint %.2f ms  present %.2f ms\n"
              "%s",
              L->cur + 1, L->npages, base_name(L->pages[L->cur].script), fl_frame_count(rt) - 1,
              fl_frame_time(rt), dt > 0 ? (double)frames / dt : 0.0, fl_target_fps(rt),
              dt > 0 ? (double)shown / dt : 0.0, L->dropped,
              (st.eval_seconds - L->stat.eval_seconds) * per,
-             (st.physics_seconds - L->stat.physics_seconds) * per, draw, present,
+             (st.physics_seconds - L->stat.physics_seconds) * per, draw, paint, present,
              L->paused ? "paused (F5 resume, F6 one frame)" : "");
     L->stat = st;
     L->stat_shown = all_shown;
     L->stat_drawn = L->drawn;
     L->stat_draw = L->draw_seconds;
     L->stat_present = all_present;
+    L->stat_painted = all_painted;
+    L->stat_paint = all_paint;
     L->stat_time = now;
     if (L->show_status) L->overlay_changed = true;
 }

@@ -182,6 +182,23 @@ static void *frozen_array(void *dst, const void *src, size_t n, size_t size)
     return dst;
 }
 
+size_t ps_frozen_bytes(const PsSystem *systems, size_t n)
+{
+    size_t bytes = n * sizeof *systems;
+    for (size_t i = 0; i < n; i++) {
+        const PsSystem *s = &systems[i];
+        bytes += s->nbodies * sizeof *s->bodies + s->nlinks * sizeof *s->links +
+                 s->nbarriers * sizeof *s->barriers;
+        for (size_t k = 0; k < s->nbodies; k++)
+            bytes += frozen_size(s->bodies[k].pos) + frozen_size(s->bodies[k].vel);
+        for (size_t k = 0; k < s->nlinks; k++)
+            bytes += frozen_size(s->links[k].from) + frozen_size(s->links[k].to);
+        for (size_t k = 0; k < s->nbarriers; k++)
+            bytes += frozen_size(s->barriers[k].pos) + frozen_size(s->barriers[k].normal);
+    }
+    return bytes;
+}
+
 void ps_freeze(PsFrozen *into, const PsSystem *systems, size_t n, const SymTab *symbols)
 {
     /* the sizes first: the block is allocated once, so the copies stay put */

@@ -76,6 +76,9 @@ typedef struct PsFrozen {
     size_t cap_titles;
 } PsFrozen;
 void ps_freeze(PsFrozen *into, const PsSystem *systems, size_t n, const SymTab *symbols);
+/* About the bytes a frozen copy of [n] [systems] takes (its vectors,
+ * bodies, links and barriers; not the titles), for the memory budget. */
+size_t ps_frozen_bytes(const PsSystem *systems, size_t n);
 /* Free the storage of [f] (its systems, vectors and titles); it is left
  * empty, ready for another ps_freeze. */
 void ps_frozen_free(PsFrozen *f);

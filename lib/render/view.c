@@ -136,7 +136,7 @@ bool view_draws_3d(const int axes[2], const PsSystem *systems, size_t n)
     /* the projection view_set_style would take from [axes] */
     bool ok = axes && axes[0] >= 0 && axes[0] <= 3 && axes[1] >= 0 && axes[1] <= 3 && axes[0] != axes[1];
     int ax[2], use[2] = {ok ? axes[0] : 0, ok ? axes[1] : 0};
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n && i < MAX_PANELS; i++)   /* the systems a view shows */
         if (axes_of(use, &systems[i], ax)) return true;
     return false;
 }
@@ -254,12 +254,10 @@ static bool draw_panel_3d(View *v, cairo_t *cr, int index, const PsSystem *s)
 {
     int w = v->pw[index], h = v->ph[index];
     Bounds3 now = bounds3_of(s), *b = &v->fit3[index];
-    if (now.valid) {
-        if (v->format == FMT_GIF && b->valid) {
-            for (int k = 0; k < 3; k++) b->lo[k] = fmin(b->lo[k], now.lo[k]), b->hi[k] = fmax(b->hi[k], now.hi[k]);
-        } else {
-            *b = now;
-        }
+    if (now.valid && v->format == FMT_GIF && b->valid) {
+        for (int k = 0; k < 3; k++) b->lo[k] = fmin(b->lo[k], now.lo[k]), b->hi[k] = fmax(b->hi[k], now.hi[k]);
+    } else if (now.valid || v->format != FMT_GIF) {
+        *b = now;   /* a single picture has no history: it is fitted to itself alone */
     }
     if (!b->valid) return true;   /* no body to show: the panel stays empty, as a flat one would */
     /* the picture's size in device pixels (the panel inside its frame) */
@@ -415,15 +413,13 @@ static void draw_panel(View *v, cairo_t *cr, int index, long frame, const PsSyst
 
     if (solid && draw_panel_3d(v, cr, index, s)) return;
     Bounds now = bounds_of(s, ax), *b = &v->fit[index];
-    if (now.valid) {
-        if (v->format == FMT_GIF && b->valid) {
-            b->x0 = fmin(b->x0, now.x0);
-            b->x1 = fmax(b->x1, now.x1);
-            b->y0 = fmin(b->y0, now.y0);
-            b->y1 = fmax(b->y1, now.y1);
-        } else {
-            *b = now;
-        }
+    if (now.valid && v->format == FMT_GIF && b->valid) {
+        b->x0 = fmin(b->x0, now.x0);
+        b->x1 = fmax(b->x1, now.x1);
+        b->y0 = fmin(b->y0, now.y0);
+        b->y1 = fmax(b->y1, now.y1);
+    } else if (now.valid || v->format != FMT_GIF) {
+        *b = now;   /* a single picture has no history: it is fitted to itself alone */
     }
     if (!b->valid) return;
     double bw = b->x1 - b->x0, bh = b->y1 - b->y0;

@@ -74,7 +74,8 @@ int view_frame(View *v, long frame, const PsSystem *systems, size_t n, char *err
  * it when the shapes differ (fl_draw_view); returns the number of systems
  * drawn (at most 16, as in a view file). */
 size_t view_draw_fit(View *v, cairo_surface_t *target, const PsSystem *systems, size_t n);
-/* True when one of [n] [systems] would be drawn in 3D (through OpenGL)
+/* True when one of [n] [systems] (of the first 16, those a view shows)
+ * would be drawn in 3D (through OpenGL)
  * by a view whose flat projection is [axes] (view_set_style; NULL or
  * {0, 0}: none): a drawing that needs the GL context of the thread it is
  * drawn on, not only its own data (pictures.c, fl_view_snapshot). */

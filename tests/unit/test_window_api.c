@@ -289,8 +289,8 @@ static void test_draw_view(void **st)
 /* The view drawn away from the runtime (fl_view_snapshot_take on the
  * runtime's side, fl_view_painter_draw anywhere): every frame's snapshot,
  * drawn after the runtime has gone on to the next frame (and after it is
- * freed), gives fl_draw_view's pixels of its own frame, byte for byte;
- * the painter keeps the view's growing extents as fl_draw_view does. */
+ * freed), gives fl_draw_view's pixels of its own frame, byte for byte,
+ * whatever the painter drew before. */
 static void test_view_snapshot(void **st)
 {
     (void)st;
@@ -328,6 +328,21 @@ static void test_view_snapshot(void **st)
     /* the particles moved: the last picture is not the first frame's */
     assert_int_equal(fl_draw_view(rt, want, VW, VH, VW * 4, NULL), 0);
     assert_true(memcmp(got, want, words * 4) != 0);
+    /* a picture has no history: after this dish, another page whose only
+     * particle is lost (NaN) is painted as its own fl_draw_view paints it,
+     * not fitted to the dish's extents */
+    fl_runtime *lost = load("!physics state=:lost dimensions=2\n"
+                            "    !particle id=1 position=0/0;0\n"
+                            "    !barrier position=0;0 normal=0;1\n",
+                            true);
+    assert_int_equal(fl_step(lost), 0);
+    fl_view_snapshot *other = fl_view_snapshot_take(lost, NULL);
+    assert_non_null(other);
+    assert_int_equal(fl_view_painter_draw(painter, other, got, VW, VH, VW * 4, NULL), 0);
+    assert_int_equal(fl_draw_view(lost, want, VW, VH, VW * 4, NULL), 0);
+    assert_memory_equal(got, want, words * 4);
+    fl_view_snapshot_free(other);
+    fl_free(lost);
     /* a snapshot outlives its runtime */
     assert_non_null(fl_view_snapshot_take(rt, snap));
     memcpy(want, got, words * 4);
