@@ -230,13 +230,17 @@ fl_view_snapshot *fl_view_snapshot_take(fl_runtime *rt, fl_view_snapshot *reuse)
     ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
     const int *axes = rt_options(rt)->view_axes;
     fl_view_snapshot *snap = NULL;
-    /* a copy the memory budget (mem.h) cannot take is no snapshot either:
-     * the frame is drawn with fl_draw_view */
-    if (!view_draws_3d(axes, sys, n) && mem_fits(ps_frozen_bytes(sys, n))) {
+    if (!view_draws_3d(axes, sys, n)) {
         snap = reuse ? reuse : mem_calloc(1, sizeof *snap);
-        ps_freeze(&snap->frozen, sys, n, rt_symbols(rt));
-        snap->axes[0] = axes[0];
-        snap->axes[1] = axes[1];
+        if (ps_freeze(&snap->frozen, sys, n, rt_symbols(rt))) {
+            snap->axes[0] = axes[0];
+            snap->axes[1] = axes[1];
+        } else {
+            /* past the memory budget (mem.h): no snapshot, the frame is
+             * drawn with fl_draw_view ([reuse] is as it was) */
+            if (snap != reuse) free(snap);
+            snap = NULL;
+        }
     }
     ps_free(sys, n);
     mem_leave(prev);

@@ -182,37 +182,36 @@ static void *frozen_array(void *dst, const void *src, size_t n, size_t size)
     return dst;
 }
 
-size_t ps_frozen_bytes(const PsSystem *systems, size_t n)
+/* Bytes of the frozen copies of [s]'s vectors (the block ps_freeze
+ * allocates for it). */
+static size_t vector_bytes(const PsSystem *s)
 {
-    size_t bytes = n * sizeof *systems;
-    for (size_t i = 0; i < n; i++) {
-        const PsSystem *s = &systems[i];
-        bytes += s->nbodies * sizeof *s->bodies + s->nlinks * sizeof *s->links +
-                 s->nbarriers * sizeof *s->barriers;
-        for (size_t k = 0; k < s->nbodies; k++)
-            bytes += frozen_size(s->bodies[k].pos) + frozen_size(s->bodies[k].vel);
-        for (size_t k = 0; k < s->nlinks; k++)
-            bytes += frozen_size(s->links[k].from) + frozen_size(s->links[k].to);
-        for (size_t k = 0; k < s->nbarriers; k++)
-            bytes += frozen_size(s->barriers[k].pos) + frozen_size(s->barriers[k].normal);
-    }
+    size_t bytes = 0;
+    for (size_t k = 0; k < s->nbodies; k++)
+        bytes += frozen_size(s->bodies[k].pos) + frozen_size(s->bodies[k].vel);
+    for (size_t k = 0; k < s->nlinks; k++)
+        bytes += frozen_size(s->links[k].from) + frozen_size(s->links[k].to);
+    for (size_t k = 0; k < s->nbarriers; k++)
+        bytes += frozen_size(s->barriers[k].pos) + frozen_size(s->barriers[k].normal);
     return bytes;
 }
 
-void ps_freeze(PsFrozen *into, const PsSystem *systems, size_t n, const SymTab *symbols)
+bool ps_freeze(PsFrozen *into, const PsSystem *systems, size_t n, const SymTab *symbols)
 {
-    /* the sizes first: the block is allocated once, so the copies stay put */
-    size_t bytes = 0;
+    /* the sizes first: the block is allocated once, so the copies stay put;
+     * the whole copy is asked of the memory budget before anything changes */
+    size_t bytes = 0, arrays = n * sizeof *systems;
+    for (size_t i = 0; i < n; i++) {
+        const PsSystem *s = &systems[i];
+        bytes += vector_bytes(s);
+        arrays += s->nbodies * sizeof *s->bodies + s->nlinks * sizeof *s->links +
+                  s->nbarriers * sizeof *s->barriers;
+    }
+    if (!mem_fits(bytes + arrays)) return false;
     Buf titles = BUF_INIT;
     size_t *title_at = n ? mem_alloc(n * sizeof *title_at) : NULL;
     for (size_t i = 0; i < n; i++) {
         const PsSystem *s = &systems[i];
-        for (size_t k = 0; k < s->nbodies; k++)
-            bytes += frozen_size(s->bodies[k].pos) + frozen_size(s->bodies[k].vel);
-        for (size_t k = 0; k < s->nlinks; k++)
-            bytes += frozen_size(s->links[k].from) + frozen_size(s->links[k].to);
-        for (size_t k = 0; k < s->nbarriers; k++)
-            bytes += frozen_size(s->barriers[k].pos) + frozen_size(s->barriers[k].normal);
         title_at[i] = titles.len;
         if (s->title) buf_puts(&titles, s->title);
         else fmt_str(&titles, s->prefix, symbols);
@@ -269,6 +268,7 @@ void ps_freeze(PsFrozen *into, const PsSystem *systems, size_t n, const SymTab *
         }
     }
     free(title_at);
+    return true;
 }
 
 void ps_frozen_free(PsFrozen *f)

@@ -66,7 +66,9 @@ void ps_free(PsSystem *systems, size_t n);
  * (NULL; the view does not show them). [into] is filled, its storage
  * reused from a previous ps_freeze; free it with ps_frozen_free. The
  * vectors of a frozen copy are never retained or released.
- *   errors: none (aborts when out of memory). */
+ *   errors: false, [into] left as it was, when the copy (its vectors,
+ *           bodies, links and barriers) does not fit the memory budget
+ *           (mem.h mem_fits); aborts when really out of memory. */
 typedef struct PsFrozen {
     PsSystem *sys;        /* the copies (bodies, links and barriers owned) */
     size_t n;
@@ -75,10 +77,7 @@ typedef struct PsFrozen {
     char *titles;         /* the prefixes' text, NUL after each */
     size_t cap_titles;
 } PsFrozen;
-void ps_freeze(PsFrozen *into, const PsSystem *systems, size_t n, const SymTab *symbols);
-/* About the bytes a frozen copy of [n] [systems] takes (its vectors,
- * bodies, links and barriers; not the titles), for the memory budget. */
-size_t ps_frozen_bytes(const PsSystem *systems, size_t n);
+bool ps_freeze(PsFrozen *into, const PsSystem *systems, size_t n, const SymTab *symbols);
 /* Free the storage of [f] (its systems, vectors and titles); it is left
  * empty, ready for another ps_freeze. */
 void ps_frozen_free(PsFrozen *f);
