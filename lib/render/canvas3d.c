@@ -1,17 +1,15 @@
-/* canvas3d.c: the `!canvas3d` scene walk and its render passes (see
- * canvas3d.h).
+/* canvas3d.c: the `!canvas3d` scene walk and the frame around its render
+ * passes (see canvas3d.h).
  *
  * One frame: collect() walks the node tree once, carrying the local
  * transform and the current material, into a flat list of render groups
  * (pre-order, so a parent group is drawn before the groups inside it),
  * each holding its lights and its instances (model matrix, material, mesh)
- * in reused arrays that only grow; cameras with an id are derived from the
- * canvas's default camera. Then each group is drawn with the program for
- * its max_lights: its instances sorted by mesh and by the camera distance
- * of the nearest corner of the mesh's bounding box (Flitter's
- * nearest_corner), opaque ones dispatched per mesh front to back in one
- * instanced call, transparent ones afterwards back to front with depth
- * writes off. The framebuffer is read back and encoded to sRGB. */
+ * in reused arrays that only grow (canvas3d_scene.h); cameras with an id
+ * are derived from the canvas's default camera. Then the target is
+ * cleared, each group is drawn by canvas3d_draw.c (opaque instances front
+ * to back, then transparent ones back to front), and the framebuffer is
+ * read back and encoded to sRGB. */
 #include "canvas3d.h"
 
 #include <math.h>
@@ -21,87 +19,13 @@
 
 #include <epoxy/gl.h>
 
-#include "buf.h"
-#include "canvas3d_program.h"
+#include "canvas3d_scene.h"
 #include "canvas3d_shaders.h"
-#include "gl_context.h"
-#include "mat4.h"
 #include "mem.h"
-#include "models_mesh.h"
 #include "rnode.h"
-#include "srgb.h"
 
 #define DEFAULT_MAX_LIGHTS 50
 #define DEFAULT_SEGMENTS 64
-
-typedef struct Material {
-    double albedo[3], emissive[3];
-    double ior, metal, roughness, ao, transparency, translucency;
-} Material;
-
-typedef struct Instance {
-    M4 model;
-    Material mat;
-    const GlMesh *mesh;
-    double z;          /* distance of the nearest bounding-box corner along the view axis */
-    int group;
-} Instance;
-
-typedef struct Light {
-    float data[16];   /* the shader's mat4 (canvas3d_shaders.h) */
-    int group;        /* the render group it lights */
-} Light;
-
-enum Composite { COMP_OVER, COMP_DEST_OVER, COMP_ADD, COMP_SUBTRACT, COMP_LIGHTEN, COMP_DARKEN, COMP_SOURCE, COMP_DEST };
-
-typedef struct Group {
-    int parent;                 /* index of the enclosing group, -1 for the canvas */
-    int max_lights;
-    bool depth_sort, depth_test, face_cull, cull_front;
-    int composite;              /* enum Composite */
-    int ninstances;
-} Group;
-
-typedef struct Camera {
-    double position[3], focus[3], up[3];
-    double fov, ortho_width, near, far;
-    double fog_min, fog_max, fog_color[3], fog_curve, tint[3];
-    bool orthographic, monochrome;
-    char fov_ref[12];
-    int samples;
-    M4 view, pv;
-} Camera;
-
-
-struct Canvas3D {
-    GlContext *gl;
-    bool failed;               /* no context could be made: draw nothing */
-    bool target_warned;        /* a framebuffer failure was reported (once) */
-    MeshCache *meshes;
-    C3dProgram prog[4];        /* by max_lights, the first made replaced when full */
-    int nprog;
-    GLuint instance_vbo;
-    /* the frame's scene, reused across frames */
-    Group *groups; int ngroups, cap_groups;
-    Light *lights; int nlights, cap_lights;
-    Instance *inst; int ninst, cap_inst;
-    Instance **order; int cap_order;
-    Instance **split; int cap_split;      /* one dispatch's impostors */
-    bool impostors;                       /* spheres may be drawn as impostors (FLITTER_CANVAS3D_IMPOSTORS=0: never) */
-    int samples_used;                     /* MSAA samples of this frame's target (0: none) */
-    float *idata; size_t cap_idata;       /* instance floats of one dispatch */
-    float *lightbuf; int cap_lightbuf;    /* mat4s of one group */
-    float *pixels; size_t cap_pixels;     /* read-back framebuffer */
-    bool have_pixels;                     /* [pixels] hold the last canvas3d_draw's picture */
-    SrgbTable srgb;                       /* linear 0..1 to sRGB 0..255 */
-    /* the cameras with an id of this frame */
-    Camera cams[8]; Buf cam_id[8]; int ncams;
-    Buf name;
-    const CanvasEnv *env;
-    int width, height;
-    double ms_total;
-    long calls;
-};
 
 Canvas3D *canvas3d_new(void)
 {
@@ -473,235 +397,6 @@ static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int g
 
 /* }===== */
 
-/* {===== GL programs and dispatch */
-
-static const C3dProgram *program_for(Canvas3D *c, int max_lights, char *err, size_t errlen)
-{
-    for (int i = 0; i < c->nprog; i++)
-        if (c->prog[i].max_lights == max_lights) return &c->prog[i];
-    C3dProgram made;
-    if (!c3d_program_make(&made, max_lights, err, errlen)) return NULL;
-    int slot = c->nprog < 4 ? c->nprog++ : 0;
-    c3d_program_free(&c->prog[slot]);
-    c->prog[slot] = made;
-    return &c->prog[slot];
-}
-
-static void set_blend(int composite)
-{
-    glBlendEquation(GL_FUNC_ADD);
-    switch (composite) {
-    case COMP_SOURCE: glBlendFunc(GL_ONE, GL_ZERO); break;
-    case COMP_DEST: glBlendFunc(GL_ZERO, GL_ONE); break;
-    case COMP_DEST_OVER: glBlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE); break;
-    case COMP_ADD: glBlendFunc(GL_ONE, GL_ONE); break;
-    case COMP_SUBTRACT: glBlendEquation(GL_FUNC_SUBTRACT); glBlendFunc(GL_ONE, GL_ONE); break;
-    case COMP_LIGHTEN: glBlendEquation(GL_MAX); glBlendFunc(GL_ONE, GL_ONE); break;
-    case COMP_DARKEN: glBlendEquation(GL_MIN); glBlendFunc(GL_ONE, GL_ONE); break;
-    default: glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); break;
-    }
-}
-
-/* Draw [n] instances from [list] with the buffers of [mesh] and [sh]. */
-static void draw_instances(Canvas3D *c, Instance **list, int n, const GlMesh *mesh, const C3dShader *sh)
-{
-    if (n <= 0) return;
-    size_t need = (size_t)n * C3D_INSTANCE_FLOATS;
-    if (need > c->cap_idata) {
-        c->cap_idata = need * 2;
-        c->idata = mem_realloc_array(c->idata, c->cap_idata, sizeof(float));
-    }
-    for (int i = 0; i < n; i++) {
-        const Instance *in = list[i];
-        float *d = c->idata + (size_t)i * C3D_INSTANCE_FLOATS;
-        for (int k = 0; k < 16; k++) d[k] = (float)in->model.m[k];
-        double nm[9];
-        m4_cofactor3(&in->model, nm);
-        for (int k = 0; k < 9; k++) d[16 + k] = (float)nm[k];
-        const Material *m = &in->mat;
-        for (int k = 0; k < 3; k++) d[25 + k] = (float)m->albedo[k], d[29 + k] = (float)m->emissive[k];
-        d[28] = (float)m->transparency;
-        d[32] = (float)m->translucency;
-        d[33] = (float)m->ior, d[34] = (float)m->metal, d[35] = (float)m->roughness, d[36] = (float)m->ao;
-    }
-    glUseProgram(sh->prog);
-    glBindVertexArray(mesh->vao);
-    glBindBuffer(GL_ARRAY_BUFFER, c->instance_vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(need * sizeof(float)), c->idata, GL_STREAM_DRAW);
-    static const int offsets[10] = {0, 4, 8, 12, 16, 19, 22, 25, 29, 33};
-    static const int sizes[10] = {4, 4, 4, 4, 3, 3, 3, 4, 4, 4};
-    for (int a = 0; a < 10; a++) {
-        glEnableVertexAttribArray(3 + a);
-        glVertexAttribPointer(3 + a, sizes[a], GL_FLOAT, GL_FALSE, C3D_INSTANCE_FLOATS * sizeof(float),
-                              (const void *)(sizeof(float) * (size_t)offsets[a]));
-        glVertexAttribDivisor(3 + a, 1);
-    }
-    glDrawElementsInstanced(GL_TRIANGLES, mesh->nindex, GL_UNSIGNED_INT, NULL, n);
-}
-
-/* Whether a sphere instance may be drawn as an impostor: its bounding box
- * (the unit sphere's, +-1 in model space) lies wholly beyond the camera's
- * near plane, so that the box's front faces cover all of it. */
-static bool impostor_fits(const Instance *in, const Camera *cam)
-{
-    const double *m = in->model.m;
-    double reach = 0, d2 = 0;
-    for (int k = 0; k < 3; k++) {
-        reach += sqrt(m[k * 4] * m[k * 4] + m[k * 4 + 1] * m[k * 4 + 1] + m[k * 4 + 2] * m[k * 4 + 2]);
-        d2 += (cam->position[k] - m[12 + k]) * (cam->position[k] - m[12 + k]);
-    }
-    return m[3] == 0 && m[7] == 0 && m[11] == 0 && m[15] == 1 && sqrt(d2) > reach + cam->near;
-}
-
-/* Draw [n] instances of one mesh from [list] in that order: smooth spheres
- * (not flat, not inverted) of a group that culls back faces as ray-cast
- * impostors when the program has them and they fit, the rest as meshes. */
-static void dispatch(Canvas3D *c, Instance **list, int n, const C3dProgram *p, const Camera *cam, bool cull_back)
-{
-    if (n <= 0) return;
-    const GlMesh *mesh = list[0]->mesh;
-    if (!(c->impostors && cull_back && p->impostor.prog && mesh->key.kind == MESH_SPHERE && !mesh->key.flat &&
-          !mesh->key.invert)) {
-        draw_instances(c, list, n, mesh, &p->mesh);
-        return;
-    }
-    if (c->cap_split < n) {
-        c->cap_split = 2 * n;
-        c->split = mem_realloc_array(c->split, (size_t)c->cap_split, sizeof *c->split);
-    }
-    int ni = 0, nm = 0;
-    for (int i = 0; i < n; i++)
-        if (impostor_fits(list[i], cam)) c->split[ni++] = list[i];
-        else list[nm++] = list[i];
-    MeshKey box = {.kind = MESH_BOX};
-    draw_instances(c, c->split, ni, mesh_cache_get(c->meshes, &box), &p->impostor);
-    draw_instances(c, list, nm, mesh, &p->mesh);
-}
-
-/* The camera's uniforms of [sh] (and the impostor's view of the target). */
-static void set_uniforms(Canvas3D *c, const C3dShader *sh, const C3dProgram *p, const Camera *cam, int nl)
-{
-    if (!sh->prog) return;
-    glUseProgram(sh->prog);
-    float pv[16];
-    for (int k = 0; k < 16; k++) pv[k] = (float)cam->pv.m[k];
-    glUniformMatrix4fv(sh->u_pv, 1, GL_FALSE, pv);
-    glUniform3f(sh->u_view_position, (float)cam->position[0], (float)cam->position[1], (float)cam->position[2]);
-    glUniform3f(sh->u_view_focus, (float)cam->focus[0], (float)cam->focus[1], (float)cam->focus[2]);
-    glUniform1i(sh->u_orthographic, cam->orthographic);
-    glUniform1f(sh->u_fog_min, (float)cam->fog_min);
-    glUniform1f(sh->u_fog_max, (float)cam->fog_max);
-    glUniform1f(sh->u_fog_curve, (float)cam->fog_curve);
-    glUniform3f(sh->u_fog_color, (float)cam->fog_color[0], (float)cam->fog_color[1], (float)cam->fog_color[2]);
-    glUniform1i(sh->u_monochrome, cam->monochrome);
-    glUniform3f(sh->u_tint, (float)cam->tint[0], (float)cam->tint[1], (float)cam->tint[2]);
-    glUniform1i(sh->u_nlights, nl);
-    glBindBufferBase(GL_UNIFORM_BUFFER, 1, p->ubo);
-    if (sh->u_inverse_pv < 0) return;
-    M4 inv;
-    m4_inverse(&cam->pv, &inv);
-    for (int k = 0; k < 16; k++) pv[k] = (float)inv.m[k];
-    glUniformMatrix4fv(sh->u_inverse_pv, 1, GL_FALSE, pv);
-    glUniform2f(sh->u_viewport_size, (float)c->width, (float)c->height);
-    int ns = c->samples_used > 8 ? 8 : c->samples_used;
-    float offsets[16] = {0};
-    for (int i = 0; i < ns; i++) glGetMultisamplefv(GL_SAMPLE_POSITION, (GLuint)i, offsets + 2 * i);
-    glUniform1i(sh->u_nsamples, ns);
-    glUniform2fv(sh->u_sample_offsets, 8, offsets);
-}
-
-static int by_mesh_then_z(const void *a, const void *b)
-{
-    const Instance *x = *(Instance *const *)a, *y = *(Instance *const *)b;
-    if (x->mesh != y->mesh) return x->mesh < y->mesh ? -1 : 1;
-    return x->z < y->z ? -1 : x->z > y->z;
-}
-
-static int far_first(const void *a, const void *b)
-{
-    const Instance *x = *(Instance *const *)a, *y = *(Instance *const *)b;
-    return x->z > y->z ? -1 : x->z < y->z;
-}
-
-/* Flitter canvas3d.pyx, nearest_corner. */
-static double nearest_corner(const float b[6], const M4 *vm)
-{
-    double best = 0;
-    for (int i = 0; i < 8; i++) {
-        double d = -vm->m[14];
-        for (int j = 0; j < 3; j++) d -= vm->m[4 * j + 2] * b[((i >> j) & 1) * 3 + j];
-        if (i == 0 || d < best) best = d;
-    }
-    return best;
-}
-
-static void draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen)
-{
-    const Group *g = &c->groups[gi];
-    const C3dProgram *p = program_for(c, g->max_lights, err, errlen);
-    if (!p) return;
-    /* the group's lights, then its ancestors' */
-    int nl = 0;
-    if (c->cap_lightbuf < g->max_lights * 16) {
-        c->cap_lightbuf = g->max_lights * 16;
-        c->lightbuf = mem_realloc_array(c->lightbuf, (size_t)c->cap_lightbuf, sizeof(float));
-    }
-    for (int k = gi; k >= 0 && nl < g->max_lights; k = c->groups[k].parent)
-        for (int l = 0; l < c->nlights && nl < g->max_lights; l++)
-            if (c->lights[l].group == k) memcpy(c->lightbuf + (size_t)16 * nl++, c->lights[l].data, 64);
-    glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
-    if (nl) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)nl * 64, c->lightbuf);
-    set_uniforms(c, &p->mesh, p, cam, nl);
-    set_uniforms(c, &p->impostor, p, cam, nl);
-
-    glEnable(GL_BLEND);
-    set_blend(g->composite);
-    if (g->depth_test) glEnable(GL_DEPTH_TEST);
-    else glDisable(GL_DEPTH_TEST);
-    if (g->face_cull) {
-        glEnable(GL_CULL_FACE);
-        glCullFace(g->cull_front ? GL_FRONT : GL_BACK);
-    } else {
-        glDisable(GL_CULL_FACE);
-    }
-    glDepthMask(GL_TRUE);
-    bool sorted = g->depth_sort && g->depth_test;
-    for (int i = 0; i < n; i++) {
-        M4 vm = m4_mul(&cam->view, &list[i]->model);
-        list[i]->z = sorted ? nearest_corner(list[i]->mesh->bounds, &vm) : 0;
-    }
-    qsort(list, (size_t)n, sizeof *list, by_mesh_then_z);
-    /* opaque instances: per mesh, front to back; transparent ones moved to the end */
-    int nt = 0;
-    Instance **transparent = c->order + c->ninst;   /* the second half of c->order */
-    int i = 0;
-    while (i < n) {
-        int j = i, k = 0;
-        while (j < n && list[j]->mesh == list[i]->mesh) {
-            if (sorted && (list[j]->mat.transparency > 0 || list[j]->mat.translucency > 0))
-                transparent[nt++] = list[j];
-            else
-                list[i + k++] = list[j];
-            j++;
-        }
-        dispatch(c, list + i, k, p, cam, g->face_cull && !g->cull_front);
-        i = j;
-    }
-    if (nt) {
-        qsort(transparent, (size_t)nt, sizeof *transparent, far_first);
-        glDepthMask(GL_FALSE);
-        for (int a = 0; a < nt;) {
-            int b = a;
-            while (b < nt && transparent[b]->mesh == transparent[a]->mesh) b++;
-            dispatch(c, transparent + a, b - a, p, cam, g->face_cull && !g->cull_front);
-            a = b;
-        }
-        glDepthMask(GL_TRUE);
-    }
-}
-
-/* }===== */
-
 /* Make the GL context current, creating it the first time.
  *   errors: -1 with a message in [err] ("" when it was reported before:
  *           no context could be made earlier). */
@@ -764,7 +459,7 @@ static int render(Canvas3D *c, const Camera *cam, cairo_surface_t *pic, char *er
         int n = 0;
         for (int i = 0; i < c->ninst; i++)
             if (c->inst[i].group == g) c->order[n++] = &c->inst[i];
-        if (n) draw_group(c, g, c->order, n, cam, err, errlen);
+        if (n) c3d_draw_group(c, g, c->order, n, cam, err, errlen);
         if (err[0]) {
             c->failed = true;
             rc = -1;

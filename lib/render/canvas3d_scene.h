@@ -1,0 +1,99 @@
+/* canvas3d_scene.h: one frame's `!canvas3d` scene as canvas3d.c collects
+ * it (render groups, lights, model instances, cameras) and the renderer
+ * that holds it, shared with canvas3d_draw.c, which draws a render group.
+ * Internal to the two files; canvas3d.h is the interface.
+ */
+#ifndef FL_RENDER_CANVAS3D_SCENE_H
+#define FL_RENDER_CANVAS3D_SCENE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include <epoxy/gl.h>
+
+#include "buf.h"
+#include "canvas.h"
+#include "canvas3d.h"
+#include "canvas3d_program.h"
+#include "gl_context.h"
+#include "mat4.h"
+#include "models_mesh.h"
+#include "srgb.h"
+
+typedef struct Material {
+    double albedo[3], emissive[3];
+    double ior, metal, roughness, ao, transparency, translucency;
+} Material;
+
+typedef struct Instance {
+    M4 model;
+    Material mat;
+    const GlMesh *mesh;
+    double z;          /* distance of the nearest bounding-box corner along the view axis */
+    int group;
+} Instance;
+
+typedef struct Light {
+    float data[16];   /* the shader's mat4 (canvas3d_shaders.h) */
+    int group;        /* the render group it lights */
+} Light;
+
+enum Composite { COMP_OVER, COMP_DEST_OVER, COMP_ADD, COMP_SUBTRACT, COMP_LIGHTEN, COMP_DARKEN, COMP_SOURCE, COMP_DEST };
+
+typedef struct Group {
+    int parent;                 /* index of the enclosing group, -1 for the canvas */
+    int max_lights;
+    bool depth_sort, depth_test, face_cull, cull_front;
+    int composite;              /* enum Composite */
+    int ninstances;
+} Group;
+
+typedef struct Camera {
+    double position[3], focus[3], up[3];
+    double fov, ortho_width, near, far;
+    double fog_min, fog_max, fog_color[3], fog_curve, tint[3];
+    bool orthographic, monochrome;
+    char fov_ref[12];
+    int samples;
+    M4 view, pv;
+} Camera;
+
+
+struct Canvas3D {
+    GlContext *gl;
+    bool failed;               /* no context could be made: draw nothing */
+    bool target_warned;        /* a framebuffer failure was reported (once) */
+    MeshCache *meshes;
+    C3dProgram prog[4];        /* by max_lights, the first made replaced when full */
+    int nprog;
+    GLuint instance_vbo;
+    /* the frame's scene, reused across frames */
+    Group *groups; int ngroups, cap_groups;
+    Light *lights; int nlights, cap_lights;
+    Instance *inst; int ninst, cap_inst;
+    Instance **order; int cap_order;
+    Instance **split; int cap_split;      /* one dispatch's impostors */
+    bool impostors;                       /* spheres may be drawn as impostors (FLITTER_CANVAS3D_IMPOSTORS=0: never) */
+    int samples_used;                     /* MSAA samples of this frame's target (0: none) */
+    float *idata; size_t cap_idata;       /* instance floats of one dispatch */
+    float *lightbuf; int cap_lightbuf;    /* mat4s of one group */
+    float *pixels; size_t cap_pixels;     /* read-back framebuffer */
+    bool have_pixels;                     /* [pixels] hold the last canvas3d_draw's picture */
+    SrgbTable srgb;                       /* linear 0..1 to sRGB 0..255 */
+    /* the cameras with an id of this frame */
+    Camera cams[8]; Buf cam_id[8]; int ncams;
+    Buf name;
+    const CanvasEnv *env;
+    int width, height;
+    double ms_total;
+    long calls;
+};
+
+/* Draw render group [gi] of [c]'s scene: its [n] instances [list] (in any
+ * order; reordered here) through [cam] into the bound framebuffer, lit by
+ * the group's lights and its ancestors' (at most its max_lights).
+ *   errors: a message in [err] when its program does not compile (nothing
+ *           drawn); [err] untouched otherwise. */
+void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen);
+
+#endif
