@@ -8,8 +8,9 @@
  * in reused arrays that only grow (canvas3d_scene.h); cameras with an id
  * are derived from the canvas's default camera. Then the target is
  * cleared, each group is drawn by canvas3d_draw.c (opaque instances front
- * to back, then transparent ones back to front), and the framebuffer is
- * read back and encoded to sRGB. */
+ * to back, translucent ones' back faces, then transparent and translucent
+ * ones back to front), and the framebuffer is read back and encoded to
+ * sRGB. */
 #include "canvas3d.h"
 
 #include <math.h>
@@ -328,7 +329,6 @@ static void add_instance(Canvas3D *c, const Node *n, int kind, const M4 *t, cons
             in->mat = update_material(n, mat);
             break;
         }
-    if (in->mat.translucency > 0) skiplog_note(c->env->skips, "canvas3d", "translucency= (drawn opaque)");
     c->groups[group].ninstances++;
 }
 
@@ -605,6 +605,7 @@ void canvas3d_free(Canvas3D *c)
             c3d_program_free(&c->prog[i]);
         }
         glDeleteBuffers(1, &c->instance_vbo);
+        c3d_backface_free(&c->backface);
     }
     gl_context_free(c->gl);
     free(c->groups);
@@ -612,6 +613,7 @@ void canvas3d_free(Canvas3D *c)
     free(c->inst);
     free(c->order);
     free(c->split);
+    free(c->tl);
     free(c->idata);
     free(c->lightbuf);
     free(c->pixels);

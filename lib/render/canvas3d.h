@@ -7,7 +7,7 @@
  * and its model instances; `!transform` (translate, scale, rotate as
  * three turns or a quaternion, rotate_x/_y/_z, matrix, in attribute
  * order), `!material` (color, ior, metal, roughness, ao, emissive,
- * transparency) and `!light` (ambient, directional, point with radius,
+ * transparency, translucency) and `!light` (ambient, directional, point with radius,
  * spot with inner/outer, line from start to end with radius, and
  * falloff) nodes as documented; `!camera id=`
  * nodes and `camera_id` pick the camera; the default camera sits at
@@ -16,7 +16,11 @@
  * `!cylinder` and `!cone` (models_mesh.h) with position, size, rotation
  * or start/end/radius, flat and invert; identical models of a group are
  * drawn as one instanced draw call, opaque ones front to back, transparent
- * ones afterwards back to front without depth writes. `samples` gives
+ * ones afterwards back to front without depth writes; translucent ones
+ * have their back faces drawn first into a framebuffer of their own
+ * (canvas3d_backface.h), then are drawn among the transparent ones with
+ * depth writes, letting through the back faces' light by thickness
+ * (canvas3d_shaders.h). `samples` gives
  * MSAA, fog_color/fog_min/fog_max/fog_curve fog (the picture then starts
  * filled with the fog colour).
  *
@@ -24,7 +28,7 @@
  * picture handed back is the sRGB encoding of that light (clamped to
  * 0..1, as Flitter's window does last), premultiplied, with an alpha of at
  * least each encoded channel so that composited over black it gives
- * exactly Flitter's window output. Translucency, textures,
+ * exactly Flitter's window output. Textures,
  * custom shaders, secondary cameras and model kinds other than the four
  * primitives are not drawn: each kind is reported once (textures once per
  * material property: color_id/texture_id, metal_id, roughness_id, ao_id,

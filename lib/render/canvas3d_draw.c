@@ -1,10 +1,15 @@
 /* canvas3d_draw.c: the GL passes of one `!canvas3d` render group (see
- * canvas3d_scene.h). The group's lights go into its program's uniform
- * buffer; its instances are sorted by mesh and by the camera distance of
- * the nearest corner of the mesh's bounding box (Flitter's
- * nearest_corner); opaque ones are dispatched per mesh front to back in one
- * instanced call (smooth spheres as ray-cast impostors where they fit);
- * then transparent ones are drawn back to front with depth writes off. */
+ * canvas3d_scene.h; the order of passes is Flitter's canvas3d.pyx, render,
+ * and docs/canvas3d.md, Instance Ordering). The group's lights go into its
+ * program's uniform buffer; its instances are sorted by mesh and by the
+ * camera distance of the nearest corner of the mesh's bounding box
+ * (Flitter's nearest_corner); opaque ones are dispatched per mesh front to
+ * back in one instanced call (smooth spheres as ray-cast impostors where
+ * they fit); translucent ones have their back faces drawn, nearest first,
+ * into the back-face framebuffer (canvas3d_backface.h); then transparent
+ * and translucent ones are drawn back to front, the transparent ones with
+ * depth writes off, the translucent ones with them on and with the
+ * translucent program, always as meshes. */
 #include "canvas3d_scene.h"
 
 #include <math.h>
@@ -14,7 +19,7 @@
 #include "canvas3d_shaders.h"
 #include "mem.h"
 
-static const C3dProgram *program_for(Canvas3D *c, int max_lights, char *err, size_t errlen)
+static C3dProgram *program_for(Canvas3D *c, int max_lights, char *err, size_t errlen)
 {
     for (int i = 0; i < c->nprog; i++)
         if (c->prog[i].max_lights == max_lights) return &c->prog[i];
@@ -174,10 +179,78 @@ static double nearest_corner(const float b[6], const M4 *vm)
     return best;
 }
 
+static int near_first(const void *a, const void *b)
+{
+    const Instance *x = *(Instance *const *)a, *y = *(Instance *const *)b;
+    return x->z < y->z ? -1 : x->z > y->z;
+}
+
+/* The blending, depth test and face culling of [g]. */
+static void group_state(const Group *g)
+{
+    glEnable(GL_BLEND);
+    set_blend(g->composite);
+    if (g->depth_test) glEnable(GL_DEPTH_TEST);
+    else glDisable(GL_DEPTH_TEST);
+    if (g->face_cull) {
+        glEnable(GL_CULL_FACE);
+        glCullFace(g->cull_front ? GL_FRONT : GL_BACK);
+    } else {
+        glDisable(GL_CULL_FACE);
+    }
+}
+
+/* Make [p]'s translucency programs and give them the camera's uniforms
+ * and the group's [nl] lights (already in p->ubo).
+ *   errors: false when they cannot be made (said once through the skip
+ *           log: translucent instances are then drawn as before, opaque
+ *           in their light). */
+static bool translucency_ready(Canvas3D *c, C3dProgram *p, const Camera *cam, int nl)
+{
+    char err[600];
+    if (!c3d_program_translucency(p, err, sizeof err)) {
+        if (c->env) skiplog_note(c->env->skips, "canvas3d", "translucency= (no shader program: drawn opaque)");
+        return false;
+    }
+    set_uniforms(c, &p->backface, p, cam, nl);
+    set_uniforms(c, &p->translucent, p, cam, nl);
+    return true;
+}
+
+/* The back-face pass of Flitter's translucency (canvas3d.pyx, render):
+ * the back faces of the [n] translucent instances [list] (nearest first;
+ * each run of one mesh in one call) lit by the group's lights, with their
+ * eye distance, into the cleared back-face framebuffer (with [n] 0 it
+ * holds no back face), depth tested among themselves, front faces culled,
+ * without blending; then the group's target and state again, and the
+ * back faces on texture unit 0.
+ *   errors: false when the framebuffer cannot be made (nothing drawn,
+ *           said once through the skip log). */
+static bool back_faces(Canvas3D *c, const C3dProgram *p, Instance **list, int n, const Group *g)
+{
+    if (!c3d_backface_begin(&c->backface, c->width, c->height)) {
+        if (c->env) skiplog_note(c->env->skips, "canvas3d", "translucency= (no back-face framebuffer: drawn opaque)");
+        return false;
+    }
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_FRONT);
+    for (int a = 0; a < n;) {
+        int b = a;
+        while (b < n && list[b]->mesh == list[a]->mesh) b++;
+        draw_instances(c, list + a, b - a, list[a]->mesh, &p->backface);
+        a = b;
+    }
+    c3d_backface_end(&c->backface);
+    group_state(g);
+    return true;
+}
+
 void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen)
 {
     const Group *g = &c->groups[gi];
-    const C3dProgram *p = program_for(c, g->max_lights, err, errlen);
+    C3dProgram *p = program_for(c, g->max_lights, err, errlen);
     if (!p) return;
     /* the group's lights, then its ancestors' */
     int nl = 0;
@@ -193,48 +266,68 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     set_uniforms(c, &p->mesh, p, cam, nl);
     set_uniforms(c, &p->impostor, p, cam, nl);
 
-    glEnable(GL_BLEND);
-    set_blend(g->composite);
-    if (g->depth_test) glEnable(GL_DEPTH_TEST);
-    else glDisable(GL_DEPTH_TEST);
-    if (g->face_cull) {
-        glEnable(GL_CULL_FACE);
-        glCullFace(g->cull_front ? GL_FRONT : GL_BACK);
-    } else {
-        glDisable(GL_CULL_FACE);
-    }
+    group_state(g);
     glDepthMask(GL_TRUE);
     bool sorted = g->depth_sort && g->depth_test;
+    bool see_through = false;
+    for (int i = 0; i < n && !see_through; i++) see_through = list[i]->mat.translucency > 0;
+    if (see_through) {
+        see_through = translucency_ready(c, p, cam, nl);
+        if (c->cap_tl < n) {
+            c->cap_tl = 2 * n;
+            c->tl = mem_realloc_array(c->tl, (size_t)c->cap_tl, sizeof *c->tl);
+        }
+    }
+    /* unsorted, translucent instances find no back faces (Flitter gives
+     * them an empty texture): only their specular light is drawn */
+    if (see_through && !sorted) see_through = back_faces(c, p, NULL, 0, g);
     for (int i = 0; i < n; i++) {
         M4 vm = m4_mul(&cam->view, &list[i]->model);
         list[i]->z = sorted ? nearest_corner(list[i]->mesh->bounds, &vm) : 0;
     }
     qsort(list, (size_t)n, sizeof *list, by_mesh_then_z);
-    /* opaque instances: per mesh, front to back; transparent ones moved to the end */
+    /* opaque instances: per mesh, front to back; transparent and
+     * translucent ones moved to the end (unsorted translucent ones drawn
+     * after their mesh's others) */
     int nt = 0;
     Instance **transparent = c->order + c->ninst;   /* the second half of c->order */
     int i = 0;
     while (i < n) {
-        int j = i, k = 0;
+        int j = i, k = 0, kt = 0;
         while (j < n && list[j]->mesh == list[i]->mesh) {
             if (sorted && (list[j]->mat.transparency > 0 || list[j]->mat.translucency > 0))
                 transparent[nt++] = list[j];
+            else if (see_through && list[j]->mat.translucency > 0)
+                c->tl[kt++] = list[j];
             else
                 list[i + k++] = list[j];
             j++;
         }
         dispatch(c, list + i, k, p, cam, g->face_cull && !g->cull_front);
+        draw_instances(c, c->tl, kt, list[i]->mesh, &p->translucent);
         i = j;
     }
-    if (nt) {
-        qsort(transparent, (size_t)nt, sizeof *transparent, far_first);
-        glDepthMask(GL_FALSE);
-        for (int a = 0; a < nt;) {
-            int b = a;
-            while (b < nt && transparent[b]->mesh == transparent[a]->mesh) b++;
-            dispatch(c, transparent + a, b - a, p, cam, g->face_cull && !g->cull_front);
-            a = b;
-        }
-        glDepthMask(GL_TRUE);
+    if (nt == 0) return;
+    if (see_through) {
+        /* Flitter: the translucent instances' back faces first, nearest first */
+        int m = 0;
+        for (int a = 0; a < nt; a++)
+            if (transparent[a]->mat.translucency > 0) c->tl[m++] = transparent[a];
+        qsort(c->tl, (size_t)m, sizeof *c->tl, near_first);
+        see_through = back_faces(c, p, c->tl, m, g);
     }
+    /* then all of them back to front, translucent ones writing depth (Flitter does) */
+    qsort(transparent, (size_t)nt, sizeof *transparent, far_first);
+    for (int a = 0; a < nt;) {
+        bool tl = see_through && transparent[a]->mat.translucency > 0;
+        int b = a;
+        while (b < nt && transparent[b]->mesh == transparent[a]->mesh &&
+               (see_through && transparent[b]->mat.translucency > 0) == tl)
+            b++;
+        glDepthMask(tl ? GL_TRUE : GL_FALSE);
+        if (tl) draw_instances(c, transparent + a, b - a, transparent[a]->mesh, &p->translucent);
+        else dispatch(c, transparent + a, b - a, p, cam, g->face_cull && !g->cull_front);
+        a = b;
+    }
+    glDepthMask(GL_TRUE);
 }

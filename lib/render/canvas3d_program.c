@@ -28,12 +28,12 @@ static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
     return s;
 }
 
-static bool link(C3dShader *sh, const char *vsrc, int max_lights, bool impostor, char *err, size_t errlen)
+static bool link(C3dShader *sh, const char *vsrc, int max_lights, int variant, char *err, size_t errlen)
 {
     memset(sh, 0, sizeof *sh);
-    size_t need = canvas3d_fragment_source(NULL, 0, max_lights, impostor) + 1;
+    size_t need = canvas3d_fragment_source(NULL, 0, max_lights, variant) + 1;
     char *fs = mem_alloc(need);
-    canvas3d_fragment_source(fs, need, max_lights, impostor);
+    canvas3d_fragment_source(fs, need, max_lights, variant);
     GLuint v = compile(GL_VERTEX_SHADER, vsrc, err, errlen);
     GLuint f = v ? compile(GL_FRAGMENT_SHADER, fs, err, errlen) : 0;
     free(fs);
@@ -64,16 +64,21 @@ static bool link(C3dShader *sh, const char *vsrc, int max_lights, bool impostor,
     U(sample_offsets);
 #undef U
     sh->u_pv = glGetUniformLocation(p, "pv_matrix");
+    GLint backfaces = glGetUniformLocation(p, "backface_data");
+    if (backfaces >= 0) {
+        glUseProgram(p);
+        glUniform1i(backfaces, 0);
+    }
     return true;
 }
 
 bool c3d_program_make(C3dProgram *p, int max_lights, char *err, size_t errlen)
 {
     memset(p, 0, sizeof *p);
-    if (!link(&p->mesh, canvas3d_vertex_source, max_lights, false, err, errlen)) return false;
+    if (!link(&p->mesh, canvas3d_vertex_source, max_lights, C3D_FRAG_MESH, err, errlen)) return false;
     if (epoxy_has_gl_extension("GL_ARB_sample_shading")) {
         char ignored[600];
-        link(&p->impostor, canvas3d_impostor_vertex_source, max_lights, true, ignored, sizeof ignored);
+        link(&p->impostor, canvas3d_impostor_vertex_source, max_lights, C3D_FRAG_IMPOSTOR, ignored, sizeof ignored);
     }
     p->max_lights = max_lights;
     glGenBuffers(1, &p->ubo);
@@ -82,10 +87,26 @@ bool c3d_program_make(C3dProgram *p, int max_lights, char *err, size_t errlen)
     return true;
 }
 
+bool c3d_program_translucency(C3dProgram *p, char *err, size_t errlen)
+{
+    err[0] = '\0';
+    if (p->translucent.prog) return true;
+    if (p->translucency_failed) return false;
+    if (link(&p->backface, canvas3d_vertex_source, p->max_lights, C3D_FRAG_BACKFACE, err, errlen) &&
+        link(&p->translucent, canvas3d_vertex_source, p->max_lights, C3D_FRAG_TRANSLUCENT, err, errlen))
+        return true;
+    if (p->backface.prog) glDeleteProgram(p->backface.prog);
+    memset(&p->backface, 0, sizeof p->backface);
+    p->translucency_failed = true;
+    return false;
+}
+
 void c3d_program_free(C3dProgram *p)
 {
     if (p->mesh.prog) glDeleteProgram(p->mesh.prog);
     if (p->impostor.prog) glDeleteProgram(p->impostor.prog);
+    if (p->backface.prog) glDeleteProgram(p->backface.prog);
+    if (p->translucent.prog) glDeleteProgram(p->translucent.prog);
     if (p->ubo) glDeleteBuffers(1, &p->ubo);
     memset(p, 0, sizeof *p);
 }

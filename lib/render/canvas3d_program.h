@@ -1,6 +1,8 @@
 /* canvas3d_program.h: the GL programs of `!canvas3d`'s standard lighting
  * (canvas3d_shaders.h): for each max_lights, one program for meshes and
- * one for sphere impostors, sharing the lights' uniform buffer.
+ * one for sphere impostors, sharing the lights' uniform buffer, and, made
+ * when a frame first has translucent instances, the two programs of
+ * `translucency=`: the back-face pass and translucent meshes.
  */
 #ifndef FL_RENDER_CANVAS3D_PROGRAM_H
 #define FL_RENDER_CANVAS3D_PROGRAM_H
@@ -21,6 +23,9 @@ typedef struct C3dProgram {
     unsigned ubo;          /* the Lights block: max_lights mat4s, bound at binding point 1 */
     C3dShader mesh;        /* triangle meshes */
     C3dShader impostor;    /* ray-cast spheres; prog 0 when the driver cannot (no GL_ARB_sample_shading) */
+    C3dShader backface;    /* translucent meshes' back faces: light in, distance (prog 0 until made) */
+    C3dShader translucent; /* translucent meshes, reading the back faces from texture unit 0 (0 until made) */
+    bool translucency_failed;   /* making the two did not work: not tried again */
 } C3dProgram;
 
 /* Compile and link both programs for [max_lights] into [p] (a GL context
@@ -29,6 +34,11 @@ typedef struct C3dProgram {
  *   errors: false with a message in [err] when the mesh program does not
  *           compile or link ([p] then holds nothing). */
 bool c3d_program_make(C3dProgram *p, int max_lights, char *err, size_t errlen);
+/* Make [p]'s back-face and translucent programs when not made yet (a GL
+ * context current).
+ *   errors: false with a message in [err] when they do not compile or link
+ *           (then, and on every later call, false with "" in [err]). */
+bool c3d_program_translucency(C3dProgram *p, char *err, size_t errlen);
 /* Delete [p]'s programs and buffer (the context current); [p] is zeroed. */
 void c3d_program_free(C3dProgram *p);
 

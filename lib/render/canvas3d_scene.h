@@ -14,6 +14,7 @@
 #include "buf.h"
 #include "canvas.h"
 #include "canvas3d.h"
+#include "canvas3d_backface.h"
 #include "canvas3d_program.h"
 #include "gl_context.h"
 #include "mat4.h"
@@ -73,6 +74,8 @@ struct Canvas3D {
     Instance *inst; int ninst, cap_inst;
     Instance **order; int cap_order;
     Instance **split; int cap_split;      /* one dispatch's impostors */
+    Instance **tl; int cap_tl;            /* one group's translucent instances */
+    C3dBackface backface;                 /* the back-face pass's framebuffer */
     bool impostors;                       /* spheres may be drawn as impostors (FLITTER_CANVAS3D_IMPOSTORS=0: never) */
     int samples_used;                     /* MSAA samples of this frame's target (0: none) */
     float *idata; size_t cap_idata;       /* instance floats of one dispatch */

@@ -16,7 +16,15 @@
  * ray by up to the radius (Flitter lighting_functions.glsl,
  * compute_pbr_lighting, the Line case), emissive colour with its directional part when
  * brighter than 1, fog mixed by ((d - fog_min)/(fog_max - fog_min))^(1/curve)
- * and transparency as premultiplied alpha. */
+ * and transparency as premultiplied alpha. Two more variants serve
+ * `translucency=` (canvas3d.c draws them only for translucent instances,
+ * so that the pictures of other scenes come from the unchanged mesh and
+ * impostor programs): BACKFACE writes, for a back face, the light that
+ * gets into it (each light's diffuse-pass radiance, times
+ * (1-F0)(1-metal)(1+albedo)/2, with the face's own normal as the view
+ * direction: Flitter backface_lighting.frag and the transmission term of
+ * compute_pbr_lighting) and its distance from the eye; TRANSLUCENT adds
+ * the light let through to the front face's (see_through below). */
 #include "canvas3d_shaders.h"
 
 #include <stdio.h>
@@ -106,8 +114,12 @@ static const char fragment_body[] =
     "        V /= distance_to_eye;\n"
     "    }\n"
     "    float fog = 0.0;\n"
+    "#ifdef BACKFACE\n"
+    "    V = normalize(Nw);\n"   /* a back face is lit as if seen along its own normal, without fog */
+    "#else\n"
     "    if (fog_max > fog_min && fog_curve > 0.0)\n"
     "        fog = pow(clamp((distance_to_eye - fog_min) / (fog_max - fog_min), 0.0, 1.0), 1.0 / fog_curve);\n"
+    "#endif\n"
     "    float opacity = 1.0 - albedo.a;\n"
     "    vec3 color;\n"
     "    if (fog >= 1.0) {\n"
@@ -117,6 +129,9 @@ static const char fragment_body[] =
     "        float ior = properties.x, metal = properties.y, roughness = properties.z, ao = properties.w;\n"
     "        vec3 N = normalize(Nw);\n"
     "        vec3 diffuse = vec3(0.0), specular = vec3(0.0);\n"
+    "#ifdef BACKFACE\n"
+    "        vec3 transmitted = vec3(0.0);\n"
+    "#endif\n"
     "        float glow = luminance(emissive.rgb);\n"
     "        if (glow > 1.0) {\n"
     "            vec3 e = emissive.rgb / glow;\n"
@@ -211,6 +226,9 @@ static const char fragment_body[] =
     "                vec3 radiance = light_color * strength * NdotL;\n"
     "                if (largest(abs(radiance)) < (pass == passes - 1 ? 1e-3 * a2 : 1e-3)) continue;\n"
     "                if (pass == 0) diffuse += radiance * (1.0 - F0) * (1.0 - metal) * base;\n"
+    "#ifdef BACKFACE\n"
+    "                if (pass == 0) transmitted += radiance * (1.0 - F0) * (1.0 - metal) * (1.0 + base) * 0.5;\n"
+    "#endif\n"
     "                if (pass == passes - 1) {\n"
     "                    vec3 H = normalize(V + L);\n"
     "                    float HdotV = clamp(dot(H, V), 0.0, 1.0);\n"
@@ -222,6 +240,13 @@ static const char fragment_body[] =
     "                }\n"
     "            }\n"
     "        }\n"
+    "#ifdef BACKFACE\n"
+    "        fragment_color = vec4(transmitted, distance_to_eye);\n"
+    "        return;\n"
+    "#endif\n"
+    "#ifdef TRANSLUCENT\n"
+    "        if (emissive.a > 0.0) see_through(P, V, distance_to_eye, base, emissive.a, opacity, specular);\n"
+    "#endif\n"
     "        color = mix(diffuse, fog_color, fog) * opacity + specular * (1.0 - fog);\n"
     "    }\n"
     "    if (monochrome) color = vec3(luminance(color));\n"
@@ -230,6 +255,81 @@ static const char fragment_body[] =
     "        fragment_color = vec4(0.0);\n"
     "    else\n"
     "        fragment_color = vec4(color, opacity);\n"
+    "}\n";
+
+/* Light let through a translucent surface (TRANSLUCENT only; Flitter
+ * docs/canvas3d.md, Materials, `translucency=`, and
+ * lighting_functions.glsl, compute_translucency). backface_data holds the
+ * back-face pass: per pixel the light arriving on the nearest back face of
+ * the translucent instances (rgb) and that face's distance from the eye
+ * (a; 0 where there is none). Behind the fragment at distance [dist] the
+ * object is back.a - dist thick; where it has no back face the surface
+ * keeps only its specular light (opacity 0). Otherwise the back-face light
+ * is averaged over a cloud of points around the back face, offsets drawn
+ * from a normal distribution of deviation thickness^2 / (5 translucency)
+ * per axis (Box-Muller pairs from a PCG hash seeded by the pixel: Jarzynski
+ * and Olano, "Hash Functions for GPU Rendering", JCGT 2020), 1000 c (1 - c)
+ * pairs for c = thickness / (5 translucency) held to 0.01..0.99, keeping
+ * the points whose back face lies behind the fragment; with the averaged
+ * thickness T, t = 0.5^(T / translucency) of the light passes: the colour
+ * gains back light * albedo * t (1 - t) and the opacity is scaled by
+ * 1 - t^5. The cloud is centred on the back face itself (P - V thickness);
+ * Flitter steps from the eye away from the surface instead, which projects
+ * to the same place in a perspective view (and to the picture's middle in
+ * an orthographic one). */
+static const char translucency_functions[] =
+    "uniform sampler2D backface_data;\n"
+    "uniform mat4 pv_matrix;\n"
+    "uint pcg_hash(uint v) {\n"
+    "    uint s = v * 747796405u + 2891336453u;\n"
+    "    uint w = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;\n"
+    "    return (w >> 22u) ^ w;\n"
+    "}\n"
+    "float unit_random(inout uint seed) {\n"   /* in (0, 1), never 0 or 1 */
+    "    seed = pcg_hash(seed);\n"
+    "    return (float(seed >> 8u) + 0.5) * (1.0 / 16777216.0);\n"
+    "}\n"
+    "vec3 unit_random3(inout uint seed) {\n"
+    "    float x = unit_random(seed);\n"
+    "    float y = unit_random(seed);\n"
+    "    float z = unit_random(seed);\n"
+    "    return vec3(x, y, z);\n"
+    "}\n"
+    "vec2 screen_of(vec3 p) {\n"
+    "    vec4 clip = pv_matrix * vec4(p, 1.0);\n"
+    "    return (clip.xy / clip.w + 1.0) * 0.5;\n"
+    "}\n"
+    "void see_through(vec3 P, vec3 V, float dist, vec3 base, float translucency, inout float opacity,\n"
+    "                 inout vec3 light) {\n"
+    "    vec2 uv = screen_of(P);\n"
+    "    vec4 back = textureLod(backface_data, uv, 0.0);\n"
+    "    if (!(back.a > dist)) {\n"
+    "        opacity = 0.0;\n"
+    "        return;\n"
+    "    }\n"
+    "    float thickness = back.a - dist;\n"
+    "    vec3 B = P - V * thickness;\n"
+    "    float spread = thickness / (5.0 * translucency);\n"
+    "    float c = clamp(spread, 0.01, 0.99);\n"
+    "    float deviation = thickness * spread;\n"
+    "    int pairs = int(round(1000.0 * c * (1.0 - c)));\n"
+    "    ivec2 size = textureSize(backface_data, 0);\n"
+    "    ivec2 texel = clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);\n"
+    "    uint seed = uint(texel.y) * uint(size.x) + uint(texel.x);\n"
+    "    vec4 sum = back;\n"
+    "    float count = 1.0;\n"
+    "    for (int i = 0; i < pairs; i++) {\n"
+    "        vec3 r = sqrt(-2.0 * log(unit_random3(seed))) * deviation;\n"
+    "        vec3 angle = 6.283185307179586 * unit_random3(seed);\n"
+    "        vec4 s = textureLod(backface_data, screen_of(B - r * sin(angle)), 0.0);\n"
+    "        if (s.a > dist) { sum += s; count += 1.0; }\n"
+    "        s = textureLod(backface_data, screen_of(B - r * cos(angle)), 0.0);\n"
+    "        if (s.a > dist) { sum += s; count += 1.0; }\n"
+    "    }\n"
+    "    sum /= count;\n"
+    "    float t = pow(0.5, (sum.a - dist) / translucency);\n"
+    "    light += sum.rgb * base * t * (1.0 - t);\n"
+    "    opacity *= 1.0 - pow(t, 5.0);\n"
     "}\n";
 
 /* The mesh path: the interpolated surface of the triangles. */
@@ -298,10 +398,15 @@ static const char impostor_main[] =
     "    shade(wp, normal_mat * m);\n"
     "}\n";
 
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, bool impostor)
+size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, int variant)
 {
-    int n = snprintf(out, cap, "#version 330 core\n%s#define MAX_LIGHTS %d\n%s%s",
-                     impostor ? "#extension GL_ARB_sample_shading : require\n" : "", max_lights, fragment_body,
+    bool impostor = variant == C3D_FRAG_IMPOSTOR;
+    const char *defines = variant == C3D_FRAG_BACKFACE      ? "#define BACKFACE\n"
+                          : variant == C3D_FRAG_TRANSLUCENT ? "#define TRANSLUCENT\n"
+                                                            : "";
+    int n = snprintf(out, cap, "#version 330 core\n%s#define MAX_LIGHTS %d\n%s%s%s%s",
+                     impostor ? "#extension GL_ARB_sample_shading : require\n" : "", max_lights, defines,
+                     variant == C3D_FRAG_TRANSLUCENT ? translucency_functions : "", fragment_body,
                      impostor ? impostor_main : mesh_main);
     return n < 0 ? 0 : (size_t)n;
 }

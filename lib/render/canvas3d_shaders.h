@@ -32,12 +32,19 @@ extern const char canvas3d_vertex_source[];
  * position 0 the corners of the unit box (+-0.5, doubled to enclose the
  * unit sphere); the fragment shader finds the sphere in it. */
 extern const char canvas3d_impostor_vertex_source[];
+/* Fragment shader variants: meshes; sphere impostors; the back-face pass
+ * of translucent meshes (out: rgb the light arriving on the back face, a
+ * its distance from the eye); translucent meshes (the mesh shader plus the
+ * light let through from the back-face pass, read from the uniform
+ * sampler2D backface_data, texture unit 0). */
+enum { C3D_FRAG_MESH, C3D_FRAG_IMPOSTOR, C3D_FRAG_BACKFACE, C3D_FRAG_TRANSLUCENT };
+
 /* The fragment shader for [max_lights] lights into [out] (NUL-terminated),
- * for meshes or, when [impostor], for sphere impostors (then with the
- * uniforms inverse_pv (the inverse of pv_matrix), viewport_size (pixels),
- * nsamples and sample_offsets[8] (MSAA sample positions within a pixel,
- * 0..1), and GL_ARB_sample_shading for gl_SampleMask); returns its length,
- * or the length needed when [cap] is too small. */
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, bool impostor);
+ * of [variant] (C3D_FRAG_*); the impostor one has the uniforms inverse_pv
+ * (the inverse of pv_matrix), viewport_size (pixels), nsamples and
+ * sample_offsets[8] (MSAA sample positions within a pixel, 0..1), and
+ * needs GL_ARB_sample_shading for gl_SampleMask. Returns its length, or
+ * the length needed when [cap] is too small. */
+size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, int variant);
 
 #endif

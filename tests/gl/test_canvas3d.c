@@ -4,7 +4,9 @@
  * directional light facing the camera (Lambert plus the GGX specular at
  * normal incidence), an orthographic camera's edges, fog at a known
  * depth, depth testing, transparency, MSAA on an edge, line lights (both
- * passes, a radius, a line through the surface), two runtimes in
+ * passes, a radius, a line through the surface), translucency (light
+ * from behind let through by thickness, thin edges brighter than thick
+ * middles, translucency=0 unchanged), two runtimes in
  * one process, and one warning per unsupported 3D node kind and per
  * texture attribute kind. Expected
  * values are computed here from the documented equations (Flitter
@@ -427,6 +429,154 @@ static void line_light(void **st)
     }
 }
 
+/* translucency= (Flitter docs/canvas3d.md, Materials; glsl/backface_lighting.frag
+ * and lighting_functions.glsl, compute_translucency): a box of size 20 lit
+ * only from behind (a directional light shining towards the camera). Its
+ * front face gets no light of its own, so opaque it is black; translucent,
+ * the light arriving on its back face, (1 - F0) (1 + albedo) / 2 of the
+ * light, shows through it: back light * albedo * t (1 - t) for the share t
+ * = 0.5^(thickness / translucency) that passes. Straight through the
+ * middle the box is 20 thick; at translucency=1000 the sample cloud is a
+ * small fraction of a pixel across, so t = 0.5^(20/1000) exactly; at
+ * translucency=20, t = 0.5 in the middle of the back face (the cloud,
+ * about three pixels across, stays almost all on it). */
+static void translucency_backlit(void **st)
+{
+    (void)st;
+    uint32_t pix[W * H];
+    const char *fmt = "!window size=64;64\n"
+                      "    !canvas3d\n"
+                      "        !light color=1 direction=0;0;1\n"
+                      "        !box size=20 color=1 translucency=%s\n";
+    char script[512];
+    snprintf(script, sizeof script, fmt, "0");
+    fl_runtime *rt = draw(script, pix);
+    assert_int_equal(at(pix, 32, 32), 0xff000000u);
+    fl_free(rt);
+    double back = (1 - F0) * (1 + 1) / 2;
+    snprintf(script, sizeof script, fmt, "1000");
+    rt = draw(script, pix);
+    double t = pow(0.5, 20.0 / 1000);
+    assert_rgb_near(at(pix, 32, 32), back * t * (1 - t), back * t * (1 - t), back * t * (1 - t), 1);
+    assert_rgb_near(at(pix, 28, 36), back * t * (1 - t), back * t * (1 - t), back * t * (1 - t), 1);
+    assert_null(strstr(logged, "translucency"));   /* no "drawn opaque" any more */
+    fl_free(rt);
+    snprintf(script, sizeof script, fmt, "20");
+    rt = draw(script, pix);
+    assert_rgb_near(at(pix, 32, 32), back * 0.25, back * 0.25, back * 0.25, 3);
+    assert_int_equal(at(pix, 2, 2), 0x00000000u);   /* around it, nothing */
+    fl_free(rt);
+    /* a light from the front instead: the translucent box's front face is
+     * lit as the opaque one's (the back faces get no light to let through) */
+    uint32_t opaque[W * H];
+    rt = draw("!window size=64;64\n"
+              "    !canvas3d\n"
+              "        !light color=0.5 direction=0;0;-1\n"
+              "        !box size=20 color=1;0.5;0\n", opaque);
+    fl_free(rt);
+    rt = draw("!window size=64;64\n"
+              "    !canvas3d\n"
+              "        !light color=0.5 direction=0;0;-1\n"
+              "        !box size=20 color=1;0.5;0 translucency=5\n", pix);
+    for (int y = 26; y < 38; y++)
+        for (int x = 26; x < 38; x++) assert_int_equal(at(pix, x, y), at(opaque, x, y));
+    fl_free(rt);
+}
+
+/* A translucent sphere (radius 10, translucency 2) lit from behind glows
+ * through its thin edges, not its thick middle (20 deep: 0.5^10 of the
+ * light passes); drawn as a mesh whether or not spheres may be impostors.
+ * The same sphere opaque is black all over. */
+static void translucency_thin_edges(void **st)
+{
+    (void)st;
+    static uint32_t pix[2][W * H];
+    const char *script = "!window size=64;64\n"
+                         "    !canvas3d\n"
+                         "        !light color=1 direction=0;0;1\n"
+                         "        !sphere size=10 color=1 translucency=2\n";
+    for (int k = 0; k < 2; k++) {
+        setenv("FLITTER_CANVAS3D_IMPOSTORS", k ? "1" : "0", 1);
+        fl_runtime *rt = draw(script, pix[k]);
+        fl_free(rt);
+    }
+    unsetenv("FLITTER_CANVAS3D_IMPOSTORS");
+    assert_memory_equal(pix[0], pix[1], sizeof pix[0]);
+    int middle = 0, edge = 0;
+    for (int d = -1; d <= 1; d++) {
+        middle += chan(at(pix[1], 32 + d, 32), 8) + chan(at(pix[1], 32, 32 + d), 8);
+        edge += chan(at(pix[1], 22, 32 + d), 8) + chan(at(pix[1], 41, 32 + d), 8);
+    }
+    middle /= 6, edge /= 6;
+    if (!(middle < 12 && edge > middle + 8)) fail_msg("middle %d, edges %d", middle, edge);
+    fl_runtime *rt = draw("!window size=64;64\n"
+                          "    !canvas3d\n"
+                          "        !light color=1 direction=0;0;1\n"
+                          "        !sphere size=10 color=1\n", pix[0]);
+    for (int d = -1; d <= 1; d++) {
+        assert_int_equal(at(pix[0], 22, 32 + d) & 0xffffff, 0);
+        assert_int_equal(at(pix[0], 32 + d, 32) & 0xffffff, 0);
+    }
+    fl_free(rt);
+}
+
+/* translucency=0 is no translucency: the picture is byte for byte the one
+ * without the attribute (with impostor spheres, MSAA, a transparent box);
+ * a translucent sphere in a corner leaves the rest of the picture as it
+ * was; in a group without depth sorting translucent instances find no
+ * back faces and keep only their specular light (Flitter binds an empty
+ * texture there); bad values never crash. */
+static void translucency_zero_unchanged(void **st)
+{
+    (void)st;
+    static uint32_t plain[W * H], pix[W * H];
+    const char *fmt = "!window size=64;64\n"
+                      "    !canvas3d samples=4\n"
+                      "        !light color=1 direction=-1;-1;-1\n"
+                      "        !light color=0.1\n"
+                      "        !box size=20 color=1;0.5;0 rotation=0.1;0.1;0 %s\n"
+                      "        !sphere size=6 position=-15;15;5 color=0;1;1 %s\n"
+                      "        !box size=8 position=15;-15;5 color=1 transparency=0.5 %s\n"
+                      "%s";
+    char script[1024];
+    snprintf(script, sizeof script, fmt, "", "", "", "");
+    fl_runtime *rt = draw(script, plain);
+    fl_free(rt);
+    snprintf(script, sizeof script, fmt, "translucency=0", "translucency=0", "translucency=0", "");
+    rt = draw(script, pix);
+    assert_memory_equal(pix, plain, sizeof pix);
+    fl_free(rt);
+    snprintf(script, sizeof script, fmt, "", "", "",
+             "        !sphere size=4 position=25;25;0 color=1 translucency=3\n");
+    rt = draw(script, pix);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            if (x < 48 || y > 16) assert_int_equal(at(pix, x, y), at(plain, x, y));
+    fl_free(rt);
+
+    rt = draw("!window size=64;64\n"
+              "    !canvas3d\n"
+              "        !light color=1 direction=0;0;1\n"
+              "        !group depth_sort=false\n"
+              "            !box size=20 color=1 translucency=20\n", pix);
+    assert_int_equal(at(pix, 32, 32), 0x00000000u);
+    fl_free(rt);
+
+    const char *bad[] = {"1/0", "0/0", "-5", "1e-30", "1e30", "null", "1;2"};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        snprintf(script, sizeof script,
+                 "!window size=64;64\n"
+                 "    !canvas3d samples=4\n"
+                 "        !light color=0.1\n"
+                 "        !light color=1 direction=0;0;1\n"
+                 "        !box size=20 color=1 translucency=%s\n"
+                 "        !box size=200;200;1 position=0;0;-25 color=1\n", bad[i]);
+        rt = draw(script, pix);
+        assert_int_equal(chan(at(pix, 2, 2), 24), 255);   /* the wall behind is drawn */
+        fl_free(rt);
+    }
+}
+
 /* Two runtimes, each with its own renderer and GL context, alternate. */
 static void two_runtimes(void **st)
 {
@@ -521,6 +671,9 @@ int main(void)
         cmocka_unit_test(msaa_edge),
         cmocka_unit_test(impostor_spheres),
         cmocka_unit_test(line_light),
+        cmocka_unit_test(translucency_backlit),
+        cmocka_unit_test(translucency_thin_edges),
+        cmocka_unit_test(translucency_zero_unchanged),
         cmocka_unit_test(two_runtimes),
         cmocka_unit_test(unsupported_warned_once),
         cmocka_unit_test(textures_warned_once),
