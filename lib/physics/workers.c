@@ -1,12 +1,24 @@
 /* workers.c: the physics engine's thread pool (workers.h).
  *
- * n - 1 threads sleep on a condition variable until a job is posted: the
- * job (function, context, task count) is published under the mutex together
- * with a new generation number, and every thread, the caller included,
- * takes tasks from one atomic counter until it runs past the count. The
- * caller then waits under the mutex until every started thread has
- * reported the job done, so all task writes happen before the job returns.
- * Scheduling decides only which thread runs a task, never what it writes.
+ * n - 1 threads wait for a job: the caller publishes the job (function,
+ * context, task count) and then a new generation number (release), and
+ * every thread, the caller included, takes tasks from one atomic counter
+ * until it runs past the count; each started thread then counts itself off
+ * `busy` (release) and the caller waits until `busy` is 0 (acquire), so all
+ * task writes happen before the job returns. Scheduling decides only which
+ * thread runs a task, never what it writes.
+ *
+ * Waiting spins first and sleeps after: a frame posts several short jobs
+ * back to back (a pair level, then the particle pass, for each step), and
+ * waking a sleeping thread through the kernel costs tens of microseconds,
+ * as much as a small scene's whole job. A worker polls the generation for
+ * up to SPIN_NS after its last job before it sleeps on the condition
+ * variable; the caller polls `busy` for up to SPIN_NS before it sleeps.
+ * The sleeping side announces itself (`sleepers`, `waiting`, sequentially
+ * consistent) and then checks again under the mutex; the waking side
+ * changes the value (sequentially consistent), then looks for a sleeper
+ * and signals under the mutex: one of the two always sees the other, so
+ * no wake-up is lost.
  */
 #include "workers.h"
 
@@ -17,7 +29,11 @@
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <time.h>
 #include <unistd.h>
+
+/* How long a waiting thread polls before it sleeps, in nanoseconds. */
+#define SPIN_NS 100000
 
 /* What a thread is started with; owned by the pool (the thread does not
  * free it: a thread that is late to start would then free memory during
@@ -34,15 +50,49 @@ struct PhysWorkers {
     WorkerArg *args;            /* one per started thread */
     pthread_mutex_t mu;
     pthread_cond_t go, done;
-    uint64_t gen;               /* job generation, under mu */
-    unsigned busy;              /* started threads still on the job */
-    bool quit;
-    PhysTaskFn fn;
+    atomic_uint_fast64_t gen;   /* job generation */
+    atomic_uint busy;           /* started threads still on the job */
+    atomic_uint sleepers;       /* workers asleep (or about to be) on go */
+    atomic_bool waiting;        /* the caller asleep (or about to be) on done */
+    atomic_bool quit;
+    PhysTaskFn fn;              /* the job: written before gen moves */
     void *ctx;
     size_t ntasks;
     atomic_size_t next;         /* next task to hand out */
 };
 
+/* One polling pause. */
+static inline void spin_pause(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
+
+static uint64_t now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
+}
+
+/* Whether *v stays [old] for SPIN_NS (false as soon as it changes). */
+static bool spin_while_gen(atomic_uint_fast64_t *v, uint64_t old)
+{
+    uint64_t until = 0;
+    for (unsigned i = 0;; i++) {
+        if (atomic_load_explicit(v, memory_order_acquire) != old)
+            return false;
+        spin_pause();
+        if ((i & 63) == 63) {
+            uint64_t t = now_ns();
+            if (!until)
+                until = t + SPIN_NS;
+            else if (t >= until)
+                return true;
+        }
+    }
+}
 
 static void take_tasks(PhysWorkers *w, unsigned id)
 {
@@ -59,20 +109,25 @@ static void *worker_main(void *arg)
     WorkerArg a = *(const WorkerArg *)arg;
     PhysWorkers *w = a.w;
     uint64_t seen = 0;
-    pthread_mutex_lock(&w->mu);
     for (;;) {
-        while (w->gen == seen && !w->quit)
-            pthread_cond_wait(&w->go, &w->mu);
-        if (w->quit)
+        if (spin_while_gen(&w->gen, seen)) {
+            pthread_mutex_lock(&w->mu);
+            atomic_fetch_add(&w->sleepers, 1);
+            while (atomic_load(&w->gen) == seen && !atomic_load(&w->quit))
+                pthread_cond_wait(&w->go, &w->mu);
+            atomic_fetch_sub(&w->sleepers, 1);
+            pthread_mutex_unlock(&w->mu);
+        }
+        if (atomic_load_explicit(&w->quit, memory_order_acquire))
             break;
-        seen = w->gen;
-        pthread_mutex_unlock(&w->mu);
+        seen = atomic_load_explicit(&w->gen, memory_order_acquire);
         take_tasks(w, a.id);
-        pthread_mutex_lock(&w->mu);
-        if (--w->busy == 0)
+        if (atomic_fetch_sub(&w->busy, 1) == 1 && atomic_load(&w->waiting)) {
+            pthread_mutex_lock(&w->mu);
             pthread_cond_signal(&w->done);
+            pthread_mutex_unlock(&w->mu);
+        }
     }
-    pthread_mutex_unlock(&w->mu);
     return NULL;
 }
 
@@ -85,6 +140,11 @@ PhysWorkers *phys_workers_new(unsigned n)
         return NULL;
     w->n = n;
     atomic_init(&w->next, 0);
+    atomic_init(&w->gen, 0);
+    atomic_init(&w->busy, 0);
+    atomic_init(&w->sleepers, 0);
+    atomic_init(&w->waiting, false);
+    atomic_init(&w->quit, false);
     if (n == 1)
         return w;
     w->th = calloc(n - 1, sizeof *w->th);
@@ -124,7 +184,8 @@ void phys_workers_free(PhysWorkers *w)
         return;
     if (w->th) {
         pthread_mutex_lock(&w->mu);
-        w->quit = true;
+        atomic_store(&w->quit, true);
+        atomic_fetch_add(&w->gen, 1);
         pthread_cond_broadcast(&w->go);
         pthread_mutex_unlock(&w->mu);
         for (unsigned i = 0; i < w->started; i++)
@@ -150,20 +211,38 @@ void phys_workers_run(PhysWorkers *w, size_t ntasks, PhysTaskFn fn, void *ctx)
             fn(ctx, t, 0);
         return;
     }
-    pthread_mutex_lock(&w->mu);
     w->fn = fn;
     w->ctx = ctx;
     w->ntasks = ntasks;
     atomic_store_explicit(&w->next, 0, memory_order_relaxed);
-    w->busy = w->started;
-    w->gen++;
-    pthread_cond_broadcast(&w->go);
-    pthread_mutex_unlock(&w->mu);
+    atomic_store_explicit(&w->busy, w->started, memory_order_relaxed);
+    atomic_fetch_add(&w->gen, 1);   /* publishes the job (sequentially consistent) */
+    if (atomic_load(&w->sleepers) > 0) {
+        pthread_mutex_lock(&w->mu);
+        pthread_cond_broadcast(&w->go);
+        pthread_mutex_unlock(&w->mu);
+    }
     take_tasks(w, 0);
-    pthread_mutex_lock(&w->mu);
-    while (w->busy > 0)
-        pthread_cond_wait(&w->done, &w->mu);
-    pthread_mutex_unlock(&w->mu);
+    uint64_t until = 0;
+    for (unsigned i = 0; atomic_load_explicit(&w->busy, memory_order_acquire) > 0; i++) {
+        spin_pause();
+        if ((i & 63) != 63)
+            continue;
+        uint64_t t = now_ns();
+        if (!until) {
+            until = t + SPIN_NS;
+            continue;
+        }
+        if (t < until)
+            continue;
+        pthread_mutex_lock(&w->mu);
+        atomic_store(&w->waiting, true);
+        while (atomic_load(&w->busy) > 0)
+            pthread_cond_wait(&w->done, &w->mu);
+        atomic_store(&w->waiting, false);
+        pthread_mutex_unlock(&w->mu);
+        break;
+    }
 }
 
 unsigned phys_available_cores(void)
