@@ -248,7 +248,17 @@ static void pair_pass(PhysSystem *s, const PhysGroup *g)
 /* §4 second pass for particles [q0, q1) of group [g] (with particles):
  * particle appliers and barrier soft forces of the chain, step, rebounds,
  * force reset; compiled once for each D of 1..3 (the per-element loops
- * then unroll) and once for any D. */
+ * then unroll) and once for any D.
+ *
+ * Each particle's work reads and writes only that particle (and reads the
+ * appliers), so it is done a block of STEP_BLOCK particles at a time: the
+ * appliers and steps of the whole block, then its rebounds. Every
+ * particle sees the same operations in the same order; the processor no
+ * longer has each rebound's reads of the position wait for the step's
+ * writes of it just before (a read of both elements at once cannot be
+ * served from two pending stores), so the steps of a block overlap. */
+#define STEP_BLOCK 64
+
 static inline __attribute__((always_inline)) void
 particle_range_fixed(PhysSystem *s, const PhysGroup *g, double clock,
                      double delta, bool more, size_t q0, size_t q1,
@@ -256,19 +266,27 @@ particle_range_fixed(PhysSystem *s, const PhysGroup *g, double clock,
 {
     const uint32_t *pf = s->chain + g->pf_off;
     const uint32_t *bl = s->chain + g->b_off;
-    for (size_t q = q0; q < q1; q++) {
-        size_t p = g->pstart + q;
-        if (s->anchor[p])
-            continue;
-        for (size_t j = 0; j < g->pf_n; j++)
-            apply_particle(s, &s->ap[pf[j]], p, delta, D);
-        for (size_t j = 0; j < g->b_n; j++)
-            barrier_distance(s, &s->ap[bl[j]], p, D);
-        particle_step(s, p, clock, delta, D);
-        for (size_t j = 0; j < g->b_n; j++)
-            barrier_rebound(s, &s->ap[bl[j]], p, clock, delta, D);
-        if (more)
-            phys_copy(s->force + p * D, s->own + p * D, D);
+    for (size_t b0 = q0; b0 < q1; b0 += STEP_BLOCK) {
+        const size_t b1 = q1 - b0 < STEP_BLOCK ? q1 : b0 + STEP_BLOCK;
+        for (size_t q = b0; q < b1; q++) {
+            size_t p = g->pstart + q;
+            if (s->anchor[p])
+                continue;
+            for (size_t j = 0; j < g->pf_n; j++)
+                apply_particle(s, &s->ap[pf[j]], p, delta, D);
+            for (size_t j = 0; j < g->b_n; j++)
+                barrier_distance(s, &s->ap[bl[j]], p, D);
+            particle_step(s, p, clock, delta, D);
+        }
+        for (size_t q = b0; q < b1; q++) {
+            size_t p = g->pstart + q;
+            if (s->anchor[p])
+                continue;
+            for (size_t j = 0; j < g->b_n; j++)
+                barrier_rebound(s, &s->ap[bl[j]], p, clock, delta, D);
+            if (more)
+                phys_copy(s->force + p * D, s->own + p * D, D);
+        }
     }
 }
 
