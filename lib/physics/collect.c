@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "physics_internal.h"
+#include "workers.h"
 
 /* Grow array [ptr] (capacity variable [cap]) to at least [need] elements. */
 #define GROW(ptr, cap, need) \
@@ -546,6 +547,100 @@ static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *
         s->acc[i * D + j] = 0;
 }
 
+/* fill_particle() of a particle that is last frame's in every respect:
+ * the same id in its slot (its key entry found without hashing), the same
+ * node (not eased), and its position and velocity read back from the
+ * slot's retained values (PhysKeySlot cp/cv, usable this frame). Such a
+ * fill reads nothing shared but the node's fields and writes only its slot
+ * and its key entry's `seen` (claimed atomically: a second claim in one
+ * frame means two particles share an id, reported in *dup), so fills run
+ * on any thread with the bits of fill_particle(). Returns false, having
+ * changed nothing, for any other particle. */
+static bool fill_same(PhysSystem *s, const PhysCollect *c, const PhysPNode *pn, bool *dup)
+{
+    const size_t D = s->D, i = pn->storage;
+    PhysKeySlot *k = &s->slots[i];
+    if (pn->anchor || c->iteration == 0 || !s->cuse || k->node != pn->node || k->eased ||
+        !k->ent1 || k->ent1 > s->nkent || s->kent[k->ent1 - 1].id != pn->id)
+        return false;
+    const Vec *cp = k->cp, *cv = k->cv;
+    if (!vec_is_num(cp) || cp->len != D || !vec_is_num(cv) || cv->len != D)
+        return false;
+    PhysKeyEnt *e = &s->kent[k->ent1 - 1];
+    if (__atomic_exchange_n(&e->seen, s->kframe, __ATOMIC_RELAXED) == s->kframe)
+        *dup = true;
+    k->hit = true;
+    k->pkey = e->pkey;
+    k->vkey = e->vkey;
+    k->phash = e->phash;
+    k->vhash = e->vhash;
+    phys_copy(s->pos + i * D, vec_cnums(cp), D);
+    k->pval = (Vec *)cp;
+    phys_copy(s->vel + i * D, vec_cnums(cv), D);
+    k->vval = (Vec *)cv;
+    phys_copy(s->force + i * D, s->own + i * D, D);
+    for (size_t j = 0; j < D; j++)
+        s->acc[i * D + j] = 0;
+    return true;
+}
+
+/* Particles per task of the parallel fill, and the fewest that are split
+ * over threads; at most 64 tasks (no allocation per frame). */
+#define FILL_CHUNK 4096
+
+typedef struct FillRun {
+    PhysSystem *s;
+    const PhysCollect *c;
+    size_t chunk;
+    size_t left[64];      /* per task: particles fill_same() left */
+    bool dup[64];         /* per task: an id claimed twice */
+} FillRun;
+
+static void fill_task(void *ctx, size_t t, unsigned thread)
+{
+    (void)thread;
+    FillRun *r = ctx;
+    size_t i1 = (t + 1) * r->chunk < r->s->npn ? (t + 1) * r->chunk : r->s->npn;
+    r->left[t] = 0;
+    r->dup[t] = false;
+    for (size_t i = t * r->chunk; i < i1; i++) {
+        bool done = fill_same(r->s, r->c, &r->s->pn[i], &r->dup[t]);
+        r->s->filled[i] = done;
+        r->left[t] += !done;
+    }
+}
+
+/* fill_particle() of every particle of an unchanged tree, in collection
+ * order. A large system fills the particles that are last frame's on all
+ * threads first (fill_same); the rest, which may add key entries, read the
+ * state or the node's attributes, are then filled in order on this
+ * thread. The key entries added are the same and in the same order, as
+ * fill_same() never adds one. */
+static void fill_all(PhysSystem *s, const PhysCollect *c, const StateDict *sd)
+{
+    const size_t n = s->npn;
+    if (!s->workers || n < 2 * FILL_CHUNK) {
+        for (size_t i = 0; i < n; i++)
+            fill_particle(s, c, sd, &s->pn[i]);
+        return;
+    }
+    GROW(s->filled, s->capfilled, n);
+    FillRun r = {.s = s, .c = c, .chunk = (n + 63) / 64};
+    if (r.chunk < FILL_CHUNK)
+        r.chunk = FILL_CHUNK;
+    size_t ntasks = (n + r.chunk - 1) / r.chunk;
+    phys_workers_run(s->workers, ntasks, fill_task, &r);
+    for (size_t t = 0; t < ntasks; t++) {
+        s->dupids |= r.dup[t];
+        if (!r.left[t])
+            continue;
+        size_t i1 = (t + 1) * r.chunk < n ? (t + 1) * r.chunk : n;
+        for (size_t i = t * r.chunk; i < i1; i++)
+            if (!s->filled[i])
+                fill_particle(s, c, sd, &s->pn[i]);
+    }
+}
+
 /* Category of an applier in its group's own lists. */
 static int category(PhysApplierKind k)
 {
@@ -675,6 +770,14 @@ static void keep_kids(PhysSystem *s, const Node *root)
     s->nkids = root->nchildren;
     s->kidsD = s->D;
     s->kids_ok = true;
+    s->kids_nodes = SIZE_MAX;
+}
+
+bool phys_kids_same(const PhysSystem *s, const Node *root)
+{
+    return s->kids_ok && root->nchildren == s->nkids &&
+           (s->nkids == 0 ||
+            memcmp(root->children, s->kids, s->nkids * sizeof *s->kids) == 0);
 }
 
 /* True when [root] has the very children of the last collection, with the
@@ -682,9 +785,7 @@ static void keep_kids(PhysSystem *s, const Node *root)
  * appliers with the same attributes, and lay them out the same. */
 static bool same_kids(const PhysSystem *s, const Node *root)
 {
-    return s->kids_ok && s->kidsD == s->D && root->nchildren == s->nkids &&
-           (s->nkids == 0 ||
-            memcmp(root->children, s->kids, s->nkids * sizeof *s->kids) == 0);
+    return s->kidsD == s->D && phys_kids_same(s, root);
 }
 
 /* §3 in full: walk, lay particles out group-major, fill them, resolve the
@@ -706,8 +807,7 @@ bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
         for (size_t i = 0; i < s->nclocked; i++)
             applier_clock(&s->ap[s->clocked[i]], c);
         s->dupids = false;
-        for (size_t i = 0; i < s->npn; i++)
-            fill_particle(s, c, sd, &s->pn[i]);
+        fill_all(s, c, sd);
         phys_keys_sweep(s);
         phys_plan_levels(s);
         return true;

@@ -163,6 +163,97 @@ static inline uint64_t cell_hash(const int32_t *c)
 #define DENSE_PER_ENTRY 4.0
 #define DENSE_SLACK 4096.0
 
+/* The grid's per-entry loops are split over the threads when the level
+ * is large: every entry's results go to its own places, so they are the
+ * same bits on any number of threads. At most GRID_TASKS tasks of at
+ * least GRID_CHUNK entries (no allocation per frame). */
+#define GRID_CHUNK 4096
+#define GRID_TASKS 64
+
+/* One task's share of the cell loop: the box of its cells and how many
+ * of its entries are odd. */
+typedef struct GridPart {
+    int32_t lo[3], hi[3];
+    size_t nodd;
+} GridPart;
+
+typedef struct GridRun {
+    PhysSystem *s;
+    const uint32_t *pool;
+    size_t n;           /* entries */
+    size_t chunk;       /* entries per task */
+    size_t count;       /* items of the loop in hand */
+    GridPart part[GRID_TASKS];
+} GridRun;
+
+/* Entry q's cell (cell[3q..3q+2], 0 past D) and whether it is odd
+ * (bucket[q] = UINT32_MAX: a coordinate out of CELL_LIMIT cells). */
+static void cell_task(void *ctx, size_t t, unsigned thread)
+{
+    (void)thread;
+    GridRun *r = ctx;
+    PhysGrid *gr = &r->s->grid;
+    const size_t D = r->s->D;
+    const double h = gr->h;
+    GridPart *P = &r->part[t];
+    *P = (GridPart){{INT32_MAX, INT32_MAX, INT32_MAX}, {INT32_MIN, INT32_MIN, INT32_MIN}, 0};
+    size_t q1 = (t + 1) * r->chunk < r->count ? (t + 1) * r->chunk : r->count;
+    for (size_t q = t * r->chunk; q < q1; q++) {
+        const double *x = r->s->pos + (size_t)r->pool[q] * D;
+        int32_t *c = gr->cell + 3 * q;
+        c[0] = c[1] = c[2] = 0;
+        bool ok = true;
+        for (size_t k = 0; k < D; k++) {
+            double v = x[k] / h;
+            if (!(v > -CELL_LIMIT && v < CELL_LIMIT)) {
+                ok = false;
+                break;
+            }
+            c[k] = (int32_t)floor(v);
+        }
+        if (!ok) {
+            gr->bucket[q] = UINT32_MAX;
+            P->nodd++;
+            continue;
+        }
+        gr->bucket[q] = 0;
+        for (size_t k = 0; k < 3; k++) {
+            if (c[k] < P->lo[k])
+                P->lo[k] = c[k];
+            if (c[k] > P->hi[k])
+                P->hi[k] = c[k];
+        }
+    }
+}
+
+/* The coordinates of slots [t*chunk, ...) in slot order (sx). */
+static void copy_task(void *ctx, size_t t, unsigned thread)
+{
+    (void)thread;
+    GridRun *r = ctx;
+    PhysGrid *gr = &r->s->grid;
+    const size_t D = r->s->D, m = gr->nslot;
+    size_t i1 = (t + 1) * r->chunk < r->count ? (t + 1) * r->chunk : r->count;
+    for (size_t i = t * r->chunk; i < i1; i++) {
+        const double *x = r->s->pos + (size_t)r->pool[gr->slotq[i]] * D;
+        for (size_t k = 0; k < D; k++)
+            gr->sx[k * m + i] = x[k];
+    }
+}
+
+/* Run [fn] over [count] items in tasks; returns the number of tasks. */
+static size_t grid_run(GridRun *r, size_t count, PhysTaskFn fn)
+{
+    size_t chunk = (count + GRID_TASKS - 1) / GRID_TASKS;
+    if (chunk < GRID_CHUNK)
+        chunk = GRID_CHUNK;
+    r->chunk = chunk;
+    r->count = count;
+    size_t ntasks = count ? (count + chunk - 1) / chunk : 0;
+    phys_workers_run(phys_workers_count(r->s->workers) > 1 ? r->s->workers : NULL, ntasks, fn, r);
+    return ntasks;
+}
+
 /* Lay the non-odd entries out cell by cell (counting sort by the dense cell
  * index, filled from the last entry down so each cell's slots come out in
  * ascending pool order) and copy their coordinates into that order. */
@@ -198,12 +289,9 @@ static void grid_dense(PhysSystem *s, const uint32_t *pool, size_t n,
         if (cell != UINT32_MAX)
             gr->slotq[--gr->cstart[cell]] = (uint32_t)q;
     }
-    for (size_t i = 0; i < m; i++) {
-        const double *x = s->pos + (size_t)pool[gr->slotq[i]] * D;
-        for (size_t k = 0; k < D; k++)
-            gr->sx[k * m + i] = x[k];
-    }
     gr->nslot = m;
+    GridRun r = {.s = s, .pool = pool, .n = n};
+    grid_run(&r, m, copy_task);
 }
 
 /* Grid the first [n] pool entries with cell size h: densely when the box
@@ -218,32 +306,25 @@ static void grid_build(PhysSystem *s, const uint32_t *pool, size_t n, double h)
     GROW(gr->cell, gr->capcell, 3 * n);
     gr->h = h;
     gr->nodd = 0;
+    GridRun r = {.s = s, .pool = pool, .n = n};
+    size_t ntasks = grid_run(&r, n, cell_task);
     int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX};
     int32_t hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
-    for (size_t q = 0; q < n; q++) {
-        const double *x = s->pos + (size_t)pool[q] * D;
-        int32_t *c = gr->cell + 3 * q;
-        c[0] = c[1] = c[2] = 0;
-        bool ok = true;
-        for (size_t k = 0; k < D; k++) {
-            double v = x[k] / h;
-            if (!(v > -CELL_LIMIT && v < CELL_LIMIT)) {
-                ok = false;
-                break;
-            }
-            c[k] = (int32_t)floor(v);
-        }
-        if (!ok) {
-            gr->bucket[q] = UINT32_MAX;
-            gr->odd[gr->nodd++] = (uint32_t)q;
-            continue;
-        }
-        gr->bucket[q] = 0;
+    size_t nodd = 0;
+    for (size_t t = 0; t < ntasks; t++) {
         for (size_t k = 0; k < 3; k++) {
-            if (c[k] < lo[k])
-                lo[k] = c[k];
-            if (c[k] > hi[k])
-                hi[k] = c[k];
+            if (r.part[t].lo[k] < lo[k])
+                lo[k] = r.part[t].lo[k];
+            if (r.part[t].hi[k] > hi[k])
+                hi[k] = r.part[t].hi[k];
+        }
+        nodd += r.part[t].nodd;
+    }
+    /* the odd entries in ascending pool order */
+    for (size_t q = 0; nodd && q < n; q++) {
+        if (gr->bucket[q] == UINT32_MAX) {
+            gr->odd[gr->nodd++] = (uint32_t)q;
+            nodd--;
         }
     }
     /* the dense box: one cell of padding before and after on each axis in

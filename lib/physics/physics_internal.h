@@ -283,11 +283,16 @@ typedef struct PhysSystem {
 
     /* tree walk scratch */
     PhysPNode *pn; size_t npn, cappn;
+    /* per particle of pn: filled on a worker this frame (collect.c) */
+    bool *filled; size_t capfilled;
     /* the children of the root collected last (retained; kids_ok when that
      * collection succeeded, with kidsD dimensions): the same children next
      * frame mean the same groups, particles and appliers (collect.c) */
     Node **kids; size_t nkids, capkids, kidsD;
     bool kids_ok;
+    /* the nodes below the root when it had the kept children (world.c:
+     * the budget check counts them once, not every frame) */
+    size_t kids_nodes;
     /* the appliers applier_clock() changes: eased or !random (collect.c) */
     uint32_t *clocked; size_t nclocked, capclocked;
     struct PhysWalk *walk; size_t capwalk;
@@ -341,6 +346,9 @@ void phys_slot_nodes_drop(PhysSystem *s);
 /* Forget (release) the root's children kept by the last collection, so the
  * next one walks the tree in full. */
 void phys_kids_drop(PhysSystem *s);
+/* True when [root] has the very children kept by the last full collection
+ * (whatever its D): the same subtree, as nodes are immutable. */
+bool phys_kids_same(const PhysSystem *s, const Node *root);
 /* Release the name caches of [s]. */
 void phys_names_free(PhysSystem *s);
 /* Empty [h] and size it for [n] entries. */

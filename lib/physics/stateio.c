@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "physics_internal.h"
+#include "workers.h"
 
 /* Grow array [ptr] (capacity variable [cap]) to at least [need] elements. */
 #define GROW(ptr, cap, need) \
@@ -168,37 +169,119 @@ static void store_nums(StateDict *sd, const Vec *key, const double *x, size_t D)
     vec_release(v);
 }
 
-/* §2 step 8 writes: position and velocity of every particle (anchors too)
- * in group order, each only when all its elements are finite. */
-void phys_write_particles(PhysSystem *s, StateDict *sd)
+/* Whether slot [k]'s value [cur] (read at collection; [cached] is the
+ * slot's retained copy) may be overwritten in place: it is still the
+ * state's (nothing set this key since, unless two particles share it) and
+ * only the state and the slot's cache hold it. */
+static bool writable_in_place(const PhysSystem *s, const Vec *cur, const Vec *cached)
+{
+    return cur && !s->dupids && cur->refs == 1 + (cur == cached);
+}
+
+/* Whether all [D] numbers of [x] are finite. */
+static bool all_finite(const double *x, size_t D)
+{
+    for (size_t d = 0; d < D; d++)
+        if (!isfinite(x[d]))
+            return false;
+    return true;
+}
+
+/* The writes of slots [i0, i1) that go in place, each to its own vector
+ * (distinct slots hold distinct vectors when no two share an id, which
+ * writable_in_place() asks); returns how many writes were left for
+ * write_slot(). */
+static size_t write_in_place(PhysSystem *s, size_t i0, size_t i1)
 {
     const size_t D = s->D;
-    for (size_t i = 0; i < s->n; i++) {
+    size_t left = 0;
+    for (size_t i = i0; i < i1; i++) {
         const PhysKeySlot *k = &s->slots[i];
-        const double *vecs[2] = {s->pos + i * D, s->vel + i * D};
-        const Vec *keys[2] = {k->pkey, k->vkey};
-        Vec *vals[2] = {k->pval, k->vval};
-        for (int j = 0; j < 2; j++) {
-            bool finite = true;
-            for (size_t d = 0; d < D && finite; d++)
-                finite = isfinite(vecs[j][d]);
-            if (!finite)
-                continue;
-            /* the value read at collection is still the state's (nothing
-             * set this key since, unless two particles share it); it is
-             * overwritten in place when only the state and the slot's
-             * cache hold it */
-            Vec *cur = vals[j];
-            Vec *cached = j ? k->cv : k->cp;
-            if (cur && !s->dupids && cur->refs == 1 + (cur == cached)) {
-                phys_copy(vec_nums(cur), vecs[j], D);
-            } else {
-                store_nums(sd, keys[j], vecs[j], D);
-                /* what the state holds now (store_nums may have kept an
-                 * equal vector) */
-                *(j ? &s->slots[i].vval : &s->slots[i].pval) = state_get_mutable(sd, keys[j]);
-            }
+        const double *pos = s->pos + i * D, *vel = s->vel + i * D;
+        if (all_finite(pos, D)) {
+            if (writable_in_place(s, k->pval, k->cp))
+                phys_copy(vec_nums(k->pval), pos, D);
+            else
+                left++;
         }
+        if (all_finite(vel, D)) {
+            if (writable_in_place(s, k->vval, k->cv))
+                phys_copy(vec_nums(k->vval), vel, D);
+            else
+                left++;
+        }
+    }
+    return left;
+}
+
+/* Slot [i]'s writes, in place or through the dictionary. */
+static void write_slot(PhysSystem *s, StateDict *sd, size_t i)
+{
+    const size_t D = s->D;
+    PhysKeySlot *k = &s->slots[i];
+    const double *vecs[2] = {s->pos + i * D, s->vel + i * D};
+    const Vec *keys[2] = {k->pkey, k->vkey};
+    for (int j = 0; j < 2; j++) {
+        if (!all_finite(vecs[j], D))
+            continue;
+        Vec *cur = j ? k->vval : k->pval;
+        if (writable_in_place(s, cur, j ? k->cv : k->cp)) {
+            phys_copy(vec_nums(cur), vecs[j], D);
+            continue;
+        }
+        store_nums(sd, keys[j], vecs[j], D);
+        /* what the state holds now (store_nums may have kept an equal
+         * vector) */
+        *(j ? &k->vval : &k->pval) = state_get_mutable(sd, keys[j]);
+    }
+}
+
+/* Particles per task of the in-place writes, and the fewest that are split
+ * over threads. */
+#define WRITE_CHUNK 4096
+
+typedef struct WriteRun {
+    PhysSystem *s;
+    size_t left[64];    /* per task */
+    size_t chunk;
+} WriteRun;
+
+static void write_task(void *ctx, size_t t, unsigned thread)
+{
+    (void)thread;
+    WriteRun *r = ctx;
+    size_t i1 = (t + 1) * r->chunk < r->s->n ? (t + 1) * r->chunk : r->s->n;
+    r->left[t] = write_in_place(r->s, t * r->chunk, i1);
+}
+
+/* §2 step 8 writes: position and velocity of every particle (anchors too)
+ * in group order, each only when all its elements are finite. A value
+ * vector only the state and the slot hold is overwritten in place. Those
+ * writes touch nothing shared, so a large system first does them on all
+ * threads; then every task that left a write through the dictionary has
+ * its slots written again in order on this thread, as one pass would
+ * (rewriting an in-place value writes the same numbers). Every key ends
+ * with the value of the one-by-one pass: a vector written in place is
+ * held by one key only, so no other slot's write can reach it. */
+void phys_write_particles(PhysSystem *s, StateDict *sd)
+{
+    const size_t n = s->n;
+    if (!s->workers || n < 2 * WRITE_CHUNK) {
+        for (size_t i = 0; i < n; i++)
+            write_slot(s, sd, i);
+        return;
+    }
+    WriteRun r = {.s = s, .chunk = (n + 63) / 64};
+    if (r.chunk < WRITE_CHUNK)
+        r.chunk = WRITE_CHUNK;
+    size_t ntasks = (n + r.chunk - 1) / r.chunk;
+    phys_workers_run(s->workers, ntasks, write_task, &r);
+    for (size_t t = 0; t < ntasks; t++) {
+        if (!r.left[t])
+            continue;
+        size_t i1 = (t + 1) * r.chunk < n ? (t + 1) * r.chunk : n;
+        for (size_t i = t * r.chunk; i < i1; i++)
+            write_slot(s, sd, i);
     }
 }
 

@@ -107,7 +107,7 @@ static void system_free(PhysSystem *s)
     free(s->ap); free(s->avec);
     free(s->groups); free(s->gidx); free(s->chain); free(s->levels);
     free(s->pool);
-    free(s->pn); free(s->walk);
+    free(s->pn); free(s->walk); free(s->filled);
     free(s->ids.slot); free(s->newkeys.slot);
     free(s->slots); free(s->prev); free(s->next); free(s->nexthash);
     phys_pairs_free(s);
@@ -144,7 +144,15 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
         return;
     /* the memory budget (mem.h): a system whose per-particle arrays would
      * not fit is skipped, and the runtime logs a physics error */
-    if (!mem_fits((count_nodes(node) + 1) * (SYSTEM_ARRAYS * (size_t)D * sizeof(double) + 256)))
+    size_t nodes;
+    if (phys_kids_same(s, node) && s->kids_nodes != SIZE_MAX) {
+        nodes = s->kids_nodes;
+    } else {
+        nodes = count_nodes(node);
+        if (phys_kids_same(s, node))
+            s->kids_nodes = nodes;
+    }
+    if (!mem_fits((nodes + 1) * (SYSTEM_ARRAYS * (size_t)D * sizeof(double) + 256)))
         return;
     const Vec *P = node_attr(node, "state");
     if (!P)

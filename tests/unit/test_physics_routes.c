@@ -388,6 +388,118 @@ static void test_grid_layouts(void **st)
     }
 }
 
+/* Grids large enough for their build to be split into tasks (pairs.c:
+ * 4,096 entries a task): 8,500 discs, densely packed, with a few far
+ * outside the grid's range (odd entries, which must stay in ascending pool
+ * order), a few anchors and eased particles, over 3 frames of one step
+ * each, so particles move between cells; the same tree every frame, so
+ * the particles are filled from last frame's slots (collect.c, on several
+ * threads); 1, 2 and 4 threads against the reference loop. In
+ * D = 2 they are one cluster (the dense grid); in D = 3 three clusters far
+ * apart (the grid hashed by cell). */
+static void test_large_grids(void **st)
+{
+    (void)st;
+    for (size_t D = 2; D <= 3; D++) {
+        {
+            int clusters = D == 2 ? 1 : 3;
+            uint64_t seed = 4500 + 10 * D + (uint64_t)clusters;
+            Rng r = {seed};
+            Node *ph = physics_node(D);
+            set(ph, "resolution", num(0.25));
+            double box = D == 2 ? 150 : 30;
+            for (size_t i = 0; i < 8500; i++) {
+                Node *p = add(ph, chance(&r, 0.02) ? "anchor" : "particle");
+                /* in D = 3 one id twice: the later particle's values win */
+                set(p, "id", num((double)(D == 3 && i == 8000 ? 10 : i)));
+                if (chance(&r, 0.01))
+                    set(p, "ease", num(0.6));
+                double x[3];
+                int c = (int)below(&r, (size_t)clusters);
+                for (size_t k = 0; k < D; k++)
+                    x[k] = 1e5 * c + (uni(&r) - 0.5) * box;
+                if (chance(&r, 0.002))
+                    x[below(&r, D)] = chance(&r, 0.5) ? 3e9 : -1e15;
+                set(p, "position", vec_from_nums(x, (uint32_t)D));
+                set(p, "velocity", rvec(&r, D, 40, 0));
+                set(p, "radius", num(0.3 + uni(&r)));
+            }
+            set(add(ph, "collision"), "strength", num(50));
+            StateDict *ref = simulate(ph, true, 1, 3);
+            static const unsigned threads[] = {1, 2, 4};
+            for (size_t ti = 0; ti < 3; ti++) {
+                StateDict *sd = simulate(ph, false, threads[ti], 3);
+                assert_same_state(ref, sd, seed, threads[ti]);
+                state_free(sd);
+            }
+            state_free(ref);
+            node_release(ph);
+        }
+    }
+}
+
+/* The position and velocity writes of a large system (8,192 particles or
+ * more) are split over threads when they can go in place (stateio.c); a
+ * value someone else also holds (a script that kept it: here every 97th
+ * particle's values, retained between frames) must instead be replaced
+ * through the dictionary, leaving the held vector as it was. 1, 2 and 4
+ * threads give the same dictionaries, and the held vectors keep their
+ * numbers. */
+static void test_shared_values(void **st)
+{
+    (void)st;
+    Rng r = {4600};
+    Node *ph = physics_node(2);
+    for (size_t i = 0; i < 8400; i++) {
+        Node *p = add(ph, "particle");
+        set(p, "id", num((double)i));
+        set(p, "position", rvec(&r, 2, 300, 0));
+        set(p, "velocity", rvec(&r, 2, 10, 0));
+        set(p, "radius", num(1));
+    }
+    set(add(ph, "collision"), "strength", num(5));
+    StateDict *sds[3];
+    static const unsigned threads[] = {1, 2, 4};
+    for (size_t ti = 0; ti < 3; ti++) {
+        PhysicsWorld *w = phys_new();
+        phys_set_threads(w, threads[ti]);
+        StateDict *sd = state_new();
+        Vec *held[2 * 87] = {0};
+        double was[2 * 87][2];
+        for (int f = 0; f < 4; f++) {
+            PhysicsFrame fr = {.time = 0.25 * f, .fps = 4, .performance = 2};
+            phys_run_frame(w, &ph, 1, sd, &fr);
+            for (size_t h = 0; f > 0 && h < 2 * 87; h++) {   /* frame 0 does not step */
+                vec_release(held[h]);
+                /* keys P;id (position) and P;id;:velocity */
+                Vec *parts[3] = {num(7), num((double)(97 * (h / 2))),
+                                 num(symbol_value("velocity", 8))};
+                Vec *key = vec_compose(parts, h % 2 ? 3 : 2);
+                held[h] = (Vec *)state_get(sd, key);
+                assert_non_null(held[h]);
+                vec_retain(held[h]);
+                memcpy(was[h], vec_cnums(held[h]), sizeof was[h]);
+                for (int k = 0; k < 3; k++)
+                    vec_release(parts[k]);
+                vec_release(key);
+            }
+        }
+        PhysicsFrame fr = {.time = 1.0, .fps = 4, .performance = 2};
+        phys_run_frame(w, &ph, 1, sd, &fr);
+        for (size_t h = 0; h < 2 * 87; h++) {
+            assert_memory_equal(vec_cnums(held[h]), was[h], sizeof was[h]);
+            vec_release(held[h]);
+        }
+        phys_free(w);
+        sds[ti] = sd;
+    }
+    assert_same_state(sds[0], sds[1], 4600, 2);
+    assert_same_state(sds[0], sds[2], 4600, 4);
+    for (size_t ti = 0; ti < 3; ti++)
+        state_free(sds[ti]);
+    node_release(ph);
+}
+
 /* Levels of unlimited reach (!electrostatic without max_distance, mixed
  * with !gravity with and without it, !collision with and without power,
  * up to four appliers): these take the tiled reference loop of tiles.c
@@ -647,6 +759,8 @@ int main(void)
         cmocka_unit_test(test_comparison_detects_change),
         cmocka_unit_test(test_grid_edge),
         cmocka_unit_test(test_grid_layouts),
+        cmocka_unit_test(test_large_grids),
+        cmocka_unit_test(test_shared_values),
         cmocka_unit_test(test_unlimited_levels),
         cmocka_unit_test(test_tile_specs),
         cmocka_unit_test(test_full_tiles),
