@@ -19,13 +19,15 @@
 #include "canvas3d_shaders.h"
 #include "mem.h"
 
-static C3dProgram *program_for(Canvas3D *c, int max_lights, char *err, size_t errlen)
+/* The program for [max_lights] lights of the [kinds] (bit 1 << LIGHT_*),
+ * made when not kept. */
+static C3dProgram *program_for(Canvas3D *c, int max_lights, unsigned kinds, char *err, size_t errlen)
 {
     for (int i = 0; i < c->nprog; i++)
-        if (c->prog[i].max_lights == max_lights) return &c->prog[i];
+        if (c->prog[i].max_lights == max_lights && c->prog[i].kinds == kinds) return &c->prog[i];
     C3dProgram made;
-    if (!c3d_program_make(&made, max_lights, err, errlen)) return NULL;
-    int slot = c->nprog < 4 ? c->nprog++ : 0;
+    if (!c3d_program_make(&made, max_lights, kinds, err, errlen)) return NULL;
+    int slot = c->nprog < C3D_PROGRAMS ? c->nprog++ : c->prog_turn++ % C3D_PROGRAMS;
     c3d_program_free(&c->prog[slot]);
     c->prog[slot] = made;
     return &c->prog[slot];
@@ -250,17 +252,21 @@ static bool back_faces(Canvas3D *c, const C3dProgram *p, Instance **list, int n,
 void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen)
 {
     const Group *g = &c->groups[gi];
-    C3dProgram *p = program_for(c, g->max_lights, err, errlen);
-    if (!p) return;
-    /* the group's lights, then its ancestors' */
+    /* the group's lights, then its ancestors', and their kinds */
     int nl = 0;
+    unsigned kinds = 0;
     if (c->cap_lightbuf < g->max_lights * 16) {
         c->cap_lightbuf = g->max_lights * 16;
         c->lightbuf = mem_realloc_array(c->lightbuf, (size_t)c->cap_lightbuf, sizeof(float));
     }
     for (int k = gi; k >= 0 && nl < g->max_lights; k = c->groups[k].parent)
         for (int l = 0; l < c->nlights && nl < g->max_lights; l++)
-            if (c->lights[l].group == k) memcpy(c->lightbuf + (size_t)16 * nl++, c->lights[l].data, 64);
+            if (c->lights[l].group == k) {
+                memcpy(c->lightbuf + (size_t)16 * nl++, c->lights[l].data, 64);
+                kinds |= 1u << (int)c->lights[l].data[3];
+            }
+    C3dProgram *p = program_for(c, g->max_lights, kinds, err, errlen);
+    if (!p) return;
     glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
     if (nl) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)nl * 64, c->lightbuf);
     set_uniforms(c, &p->mesh, p, cam, nl);

@@ -28,12 +28,13 @@ static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
     return s;
 }
 
-static bool link(C3dShader *sh, const char *vsrc, int max_lights, int variant, char *err, size_t errlen)
+static bool link(C3dShader *sh, const char *vsrc, int max_lights, unsigned kinds, int variant, char *err,
+                 size_t errlen)
 {
     memset(sh, 0, sizeof *sh);
-    size_t need = canvas3d_fragment_source(NULL, 0, max_lights, variant) + 1;
+    size_t need = canvas3d_fragment_source(NULL, 0, max_lights, kinds, variant) + 1;
     char *fs = mem_alloc(need);
-    canvas3d_fragment_source(fs, need, max_lights, variant);
+    canvas3d_fragment_source(fs, need, max_lights, kinds, variant);
     GLuint v = compile(GL_VERTEX_SHADER, vsrc, err, errlen);
     GLuint f = v ? compile(GL_FRAGMENT_SHADER, fs, err, errlen) : 0;
     free(fs);
@@ -72,15 +73,17 @@ static bool link(C3dShader *sh, const char *vsrc, int max_lights, int variant, c
     return true;
 }
 
-bool c3d_program_make(C3dProgram *p, int max_lights, char *err, size_t errlen)
+bool c3d_program_make(C3dProgram *p, int max_lights, unsigned kinds, char *err, size_t errlen)
 {
     memset(p, 0, sizeof *p);
-    if (!link(&p->mesh, canvas3d_vertex_source, max_lights, C3D_FRAG_MESH, err, errlen)) return false;
+    if (!link(&p->mesh, canvas3d_vertex_source, max_lights, kinds, C3D_FRAG_MESH, err, errlen)) return false;
     if (epoxy_has_gl_extension("GL_ARB_sample_shading")) {
         char ignored[600];
-        link(&p->impostor, canvas3d_impostor_vertex_source, max_lights, C3D_FRAG_IMPOSTOR, ignored, sizeof ignored);
+        link(&p->impostor, canvas3d_impostor_vertex_source, max_lights, kinds, C3D_FRAG_IMPOSTOR, ignored,
+             sizeof ignored);
     }
     p->max_lights = max_lights;
+    p->kinds = kinds;
     glGenBuffers(1, &p->ubo);
     glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
     glBufferData(GL_UNIFORM_BUFFER, (GLsizeiptr)max_lights * 64, NULL, GL_DYNAMIC_DRAW);
@@ -92,8 +95,8 @@ bool c3d_program_translucency(C3dProgram *p, char *err, size_t errlen)
     err[0] = '\0';
     if (p->translucent.prog) return true;
     if (p->translucency_failed) return false;
-    if (link(&p->backface, canvas3d_vertex_source, p->max_lights, C3D_FRAG_BACKFACE, err, errlen) &&
-        link(&p->translucent, canvas3d_vertex_source, p->max_lights, C3D_FRAG_TRANSLUCENT, err, errlen))
+    if (link(&p->backface, canvas3d_vertex_source, p->max_lights, p->kinds, C3D_FRAG_BACKFACE, err, errlen) &&
+        link(&p->translucent, canvas3d_vertex_source, p->max_lights, p->kinds, C3D_FRAG_TRANSLUCENT, err, errlen))
         return true;
     if (p->backface.prog) glDeleteProgram(p->backface.prog);
     memset(&p->backface, 0, sizeof p->backface);

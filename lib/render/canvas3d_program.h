@@ -20,6 +20,7 @@ typedef struct C3dShader {
 
 typedef struct C3dProgram {
     int max_lights;
+    unsigned kinds;        /* the kinds of light it has code for (canvas3d_fragment_source) */
     unsigned ubo;          /* the Lights block: max_lights mat4s, bound at binding point 1 */
     C3dShader mesh;        /* triangle meshes */
     C3dShader impostor;    /* ray-cast spheres; prog 0 when the driver cannot (no GL_ARB_sample_shading) */
@@ -28,12 +29,12 @@ typedef struct C3dProgram {
     bool translucency_failed;   /* making the two did not work: not tried again */
 } C3dProgram;
 
-/* Compile and link both programs for [max_lights] into [p] (a GL context
- * current). The impostor program failing leaves p->impostor.prog 0 (meshes
+/* Compile and link both programs for [max_lights] lights of the [kinds]
+ * (canvas3d_fragment_source) into [p] (a GL context current). The impostor program failing leaves p->impostor.prog 0 (meshes
  * are drawn instead).
  *   errors: false with a message in [err] when the mesh program does not
  *           compile or link ([p] then holds nothing). */
-bool c3d_program_make(C3dProgram *p, int max_lights, char *err, size_t errlen);
+bool c3d_program_make(C3dProgram *p, int max_lights, unsigned kinds, char *err, size_t errlen);
 /* Make [p]'s back-face and translucent programs when not made yet (a GL
  * context current).
  *   errors: false with a message in [err] when they do not compile or link

@@ -34,6 +34,10 @@ typedef struct Instance {
     int group;
 } Instance;
 
+/* Programs kept by a canvas (one per max_lights and set of light kinds its
+ * render groups use). */
+#define C3D_PROGRAMS 8
+
 typedef struct Light {
     float data[16];   /* the shader's mat4 (canvas3d_shaders.h) */
     int group;        /* the render group it lights */
@@ -65,8 +69,8 @@ struct Canvas3D {
     bool failed;               /* no context could be made: draw nothing */
     bool target_warned;        /* a framebuffer failure was reported (once) */
     MeshCache *meshes;
-    C3dProgram prog[4];        /* by max_lights, the first made replaced when full */
-    int nprog;
+    C3dProgram prog[C3D_PROGRAMS];   /* by max_lights and kinds of light; when full, */
+    int nprog, prog_turn;            /* each new one replaces the next in turn */
     GLuint instance_vbo;
     /* the frame's scene, reused across frames */
     Group *groups; int ngroups, cap_groups;

@@ -153,18 +153,25 @@ static const char fragment_body[] =
     "                diffuse += (1.0 - F0) * (1.0 - metal) * base * light_color * ao;\n"
     "                continue;\n"
     "            }\n"
+    "#if LIGHTS_DIRECTIONAL || LIGHTS_POINT || LIGHTS_SPOT || LIGHTS_LINE\n"
     "            int passes = 1;\n"
     "            for (int pass = 0; pass < passes; pass++) {\n"
     "                vec3 L;\n"
     "                float d = 1.0, strength = 1.0;\n"
-    "                if (type == 2) {\n"
+    "                if (false) {\n"
+    "#if LIGHTS_DIRECTIONAL\n"
+    "                } else if (type == 2) {\n"
     "                    L = -light[2].xyz;\n"
+    "#endif\n"
+    "#if LIGHTS_SPOT\n"
     "                } else if (type == 4) {\n"
     "                    L = light[1].xyz - P;\n"
     "                    d = length(L);\n"
     "                    L /= d;\n"
     "                    float inner = light[1].w, outer = light[2].w;\n"
     "                    strength = 1.0 - clamp((inner - dot(L, -light[2].xyz)) / (inner - outer), 0.0, 1.0);\n"
+    "#endif\n"
+    "#if LIGHTS_LINE\n"
     "                } else if (type == 5) {\n"
     "                    passes = 2;\n"
     "                    vec3 span = light[2].xyz;\n"
@@ -202,7 +209,9 @@ static const char fragment_body[] =
     "                        d = length(L);\n"
     "                        L /= d;\n"
     "                    }\n"
-    "                } else {\n"
+    "#endif\n"
+    "#if LIGHTS_POINT\n"
+    "                } else if (type == 3) {\n"
     "                    float radius = light[2].w;\n"
     "                    L = light[1].xyz - P;\n"
     "                    d = length(L);\n"
@@ -219,6 +228,9 @@ static const char fragment_body[] =
     "                        }\n"
     "                    }\n"
     "                    L = normalize(L);\n"
+    "#endif\n"
+    "                } else {\n"
+    "                    continue;\n"
     "                }\n"
     "                float NdotL = clamp(dot(N, L), 0.0, 1.0);\n"
     "                if (NdotL == 0.0) continue;\n"
@@ -239,6 +251,7 @@ static const char fragment_body[] =
     "                    specular += radiance * (a2 / (q * q)) * G * F / (4.0 * NdotV * NdotL + 1e-6);\n"
     "                }\n"
     "            }\n"
+    "#endif\n"
     "        }\n"
     "#ifdef BACKFACE\n"
     "        fragment_color = vec4(transmitted, distance_to_eye);\n"
@@ -398,15 +411,21 @@ static const char impostor_main[] =
     "    shade(wp, normal_mat * m);\n"
     "}\n";
 
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, int variant)
+size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant)
 {
     bool impostor = variant == C3D_FRAG_IMPOSTOR;
     const char *defines = variant == C3D_FRAG_BACKFACE      ? "#define BACKFACE\n"
                           : variant == C3D_FRAG_TRANSLUCENT ? "#define TRANSLUCENT\n"
                                                             : "";
-    int n = snprintf(out, cap, "#version 330 core\n%s#define MAX_LIGHTS %d\n%s%s%s%s",
-                     impostor ? "#extension GL_ARB_sample_shading : require\n" : "", max_lights, defines,
+#define KIND(k) ((kinds >> (k)) & 1u)
+    int n = snprintf(out, cap,
+                     "#version 330 core\n%s#define MAX_LIGHTS %d\n"
+                     "#define LIGHTS_DIRECTIONAL %u\n#define LIGHTS_POINT %u\n"
+                     "#define LIGHTS_SPOT %u\n#define LIGHTS_LINE %u\n%s%s%s%s",
+                     impostor ? "#extension GL_ARB_sample_shading : require\n" : "", max_lights,
+                     KIND(LIGHT_DIRECTIONAL), KIND(LIGHT_POINT), KIND(LIGHT_SPOT), KIND(LIGHT_LINE), defines,
                      variant == C3D_FRAG_TRANSLUCENT ? translucency_functions : "", fragment_body,
                      impostor ? impostor_main : mesh_main);
+#undef KIND
     return n < 0 ? 0 : (size_t)n;
 }

@@ -40,11 +40,15 @@ extern const char canvas3d_impostor_vertex_source[];
 enum { C3D_FRAG_MESH, C3D_FRAG_IMPOSTOR, C3D_FRAG_BACKFACE, C3D_FRAG_TRANSLUCENT };
 
 /* The fragment shader for [max_lights] lights into [out] (NUL-terminated),
- * of [variant] (C3D_FRAG_*); the impostor one has the uniforms inverse_pv
+ * of [variant] (C3D_FRAG_*), with the code of only the kinds of light in
+ * [kinds] (bit 1 << LIGHT_*; ambient light is always there): a light of
+ * another kind contributes nothing. On a CPU rasteriser (llvmpipe) every
+ * branch of a shader runs for every fragment, masked, so leaving out the
+ * kinds a scene does not have saves most of the light loop's work; the impostor one has the uniforms inverse_pv
  * (the inverse of pv_matrix), viewport_size (pixels), nsamples and
  * sample_offsets[8] (MSAA sample positions within a pixel, 0..1), and
  * needs GL_ARB_sample_shading for gl_SampleMask. Returns its length, or
  * the length needed when [cap] is too small. */
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, int variant);
+size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant);
 
 #endif

@@ -577,6 +577,65 @@ static void translucency_zero_unchanged(void **st)
     }
 }
 
+/* Each render group's program has the code of only the kinds of light it
+ * sees (its own and its ancestors'), and a canvas keeps 8 programs. Nine
+ * groups in a 3x3 grid, two by two sharing max_lights but not their kinds
+ * of light (9 programs in one frame), under a canvas-level line light:
+ * every group's box is drawn exactly as when its group is the canvas's
+ * only one. */
+static void light_kinds_per_group(void **st)
+{
+    (void)st;
+    static const char *const lights[9] = {
+        "!light color=3 position=%d;%d;12\n",
+        "!light color=3 position=%d;%d;12 focus=%d;%d;0 outer=0.1\n",
+        "!light color=1 direction=0;0.3;-1\n",
+        "!light color=0.5\n",
+        "!light color=2 position=%d;%d;12\n                !light color=2 position=%d;%d;14 focus=%d;%d;0\n",
+        "!light color=1 direction=0.3;0;-1\n                !light color=2 position=%d;%d;14 focus=%d;%d;0\n",
+        "!light color=2 start=%d;%d;10 end=%d;%d;12\n",
+        "!light color=2 position=%d;%d;12 radius=2\n                !light color=1 direction=0;0;-1\n",
+        "!light color=1 position=%d;%d;12\n                !light color=1 position=%d;%d;14 focus=%d;%d;0\n"
+        "                !light color=0.5 direction=-0.2;0;-1\n                !light color=1 start=%d;%d;9 end=%d;%d;9\n",
+    };
+    char groups[9][600];
+    for (int g = 0; g < 9; g++) {
+        int x = (g % 3 - 1) * 20, y = (g / 3 - 1) * 20;
+        char light[400];
+        snprintf(light, sizeof light, lights[g], x, y, x, y, x + 1, y, x + 1, y, x - 2, y, x + 2, y);
+        snprintf(groups[g], sizeof groups[g],
+                 "        !group max_lights=%d\n"
+                 "            !transform\n"
+                 "                %s"
+                 "                !box position=%d;%d;0 size=9 color=0.8;0.6;0.4\n",
+                 2 + g / 2, light, x, y);
+    }
+    static const char head[] = "!window size=64;64\n"
+                               "    !canvas3d\n"
+                               "        !light color=0.3;0.3;0.5 start=-30;30;20 end=30;-30;20\n";
+    char all[8192];
+    int n = snprintf(all, sizeof all, "%s", head);
+    for (int g = 0; g < 9; g++)
+        n += snprintf(all + n, sizeof all - (size_t)n, "%s", groups[g]);
+    uint32_t pix[W * H], one[W * H];
+    fl_free(draw(all, pix));
+    for (int g = 0; g < 9; g++) {
+        char script[8192];
+        snprintf(script, sizeof script, "%s%s", head, groups[g]);
+        fl_free(draw(script, one));
+        /* the box's face: 9 units at z=4.5, about 13 pixels, centred */
+        int cx = 32 + (g % 3 - 1) * 20 * 32 / 27, cy = 32 - (g / 3 - 1) * 20 * 32 / 27;
+        bool lit = false;
+        for (int y = cy - 4; y <= cy + 4; y++)
+            for (int x = cx - 4; x <= cx + 4; x++) {
+                if (at(pix, x, y) != at(one, x, y))
+                    fail_msg("group %d: pixel %d,%d is %08x, alone %08x", g, x, y, at(pix, x, y), at(one, x, y));
+                lit = lit || chan(at(one, x, y), 16) > 20;
+            }
+        assert_true(lit);
+    }
+}
+
 /* Two runtimes, each with its own renderer and GL context, alternate. */
 static void two_runtimes(void **st)
 {
@@ -674,6 +733,7 @@ int main(void)
         cmocka_unit_test(translucency_backlit),
         cmocka_unit_test(translucency_thin_edges),
         cmocka_unit_test(translucency_zero_unchanged),
+        cmocka_unit_test(light_kinds_per_group),
         cmocka_unit_test(two_runtimes),
         cmocka_unit_test(unsupported_warned_once),
         cmocka_unit_test(textures_warned_once),
