@@ -433,7 +433,10 @@ static int render(Canvas3D *c, const Camera *cam, cairo_surface_t *pic, char *er
     if (!gl_target_bind(c->gl, w, h, cam->samples, &used, err, errlen)) {
         char why[600];
         snprintf(why, sizeof why, "%s", err);
-        snprintf(err, errlen, c->target_warned ? "" : "canvas3d: %s", why);
+        if (c->target_warned)
+            err[0] = '\0';
+        else
+            snprintf(err, errlen, "canvas3d: %s", why);
         c->target_warned = true;
         gl_context_done(c->gl);
         return -1;
