@@ -112,7 +112,7 @@ static int script_mode(int argc, char **argv)
     o.fps = 10;
     const char *defines[64];
     int ndefines = 0;
-    for (int i = 1; i < argc; i++) {
+    for (int i = 1; i < argc; i += 2) {   /* options and their values in pairs */
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!v) return usage();
         if (strcmp(a, "--script") == 0) path = v;
@@ -122,7 +122,6 @@ static int script_mode(int argc, char **argv)
             if (!fl_parse_physics(v, &o.physics)) return usage();
         } else if (strcmp(a, "-D") == 0 && ndefines < 64) defines[ndefines++] = v;
         else return usage();
-        i++;
     }
     if (!path || frames < 1 || !(o.fps > 0)) return usage();
     o.frames = frames + 1;

@@ -595,8 +595,8 @@ static void light_kinds_per_group(void **st)
         "!light color=1 direction=0.3;0;-1\n                !light color=2 position=%d;%d;14 focus=%d;%d;0\n",
         "!light color=2 start=%d;%d;10 end=%d;%d;12\n",
         "!light color=2 position=%d;%d;12 radius=2\n                !light color=1 direction=0;0;-1\n",
-        "!light color=1 position=%d;%d;12\n                !light color=1 position=%d;%d;14 focus=%d;%d;0\n"
-        "                !light color=0.5 direction=-0.2;0;-1\n                !light color=1 start=%d;%d;9 end=%d;%d;9\n",
+        ("!light color=1 position=%d;%d;12\n                !light color=1 position=%d;%d;14 focus=%d;%d;0\n"
+         "                !light color=0.5 direction=-0.2;0;-1\n                !light color=1 start=%d;%d;9 end=%d;%d;9\n"),
     };
     char groups[9][600];
     for (int g = 0; g < 9; g++) {
