@@ -584,26 +584,25 @@ static bool fill_same(PhysSystem *s, const PhysCollect *c, const PhysPNode *pn, 
     return true;
 }
 
-/* Particles per task of the parallel fill, and the fewest that are split
- * over threads; at most 64 tasks (no allocation per frame). */
+/* Particles per task of the parallel fill, and half the fewest that are
+ * split over threads. */
 #define FILL_CHUNK 4096
 
 typedef struct FillRun {
     PhysSystem *s;
     const PhysCollect *c;
     size_t chunk;
-    size_t left[64];      /* per task: particles fill_same() left */
-    bool dup[64];         /* per task: an id claimed twice */
+    size_t left[PHYS_MAX_TASKS];   /* per task: particles fill_same() left */
+    bool dup[PHYS_MAX_TASKS];      /* per task: an id claimed twice */
 } FillRun;
 
 static void fill_task(void *ctx, size_t t, unsigned thread)
 {
     (void)thread;
     FillRun *r = ctx;
-    size_t i1 = (t + 1) * r->chunk < r->s->npn ? (t + 1) * r->chunk : r->s->npn;
     r->left[t] = 0;
     r->dup[t] = false;
-    for (size_t i = t * r->chunk; i < i1; i++) {
+    for (size_t i = t * r->chunk, i1 = phys_task_end(t, r->chunk, r->s->npn); i < i1; i++) {
         bool done = fill_same(r->s, r->c, &r->s->pn[i], &r->dup[t]);
         r->s->filled[i] = done;
         r->left[t] += !done;
@@ -625,17 +624,14 @@ static void fill_all(PhysSystem *s, const PhysCollect *c, const StateDict *sd)
         return;
     }
     GROW(s->filled, s->capfilled, n);
-    FillRun r = {.s = s, .c = c, .chunk = (n + 63) / 64};
-    if (r.chunk < FILL_CHUNK)
-        r.chunk = FILL_CHUNK;
-    size_t ntasks = (n + r.chunk - 1) / r.chunk;
+    FillRun r = {.s = s, .c = c};
+    size_t ntasks = phys_workers_split(n, FILL_CHUNK, &r.chunk);
     phys_workers_run(s->workers, ntasks, fill_task, &r);
     for (size_t t = 0; t < ntasks; t++) {
         s->dupids |= r.dup[t];
         if (!r.left[t])
             continue;
-        size_t i1 = (t + 1) * r.chunk < n ? (t + 1) * r.chunk : n;
-        for (size_t i = t * r.chunk; i < i1; i++)
+        for (size_t i = t * r.chunk, i1 = phys_task_end(t, r.chunk, n); i < i1; i++)
             if (!s->filled[i])
                 fill_particle(s, c, sd, &s->pn[i]);
     }
@@ -780,12 +776,13 @@ bool phys_kids_same(const PhysSystem *s, const Node *root)
             memcmp(root->children, s->kids, s->nkids * sizeof *s->kids) == 0);
 }
 
-/* True when [root] has the very children of the last collection, with the
- * same D: then the walk would find the same groups, particles, anchors and
- * appliers with the same attributes, and lay them out the same. */
-static bool same_kids(const PhysSystem *s, const Node *root)
+/* True when the root has the very children of the last collection
+ * (c->same_tree), with the same D: then the walk would find the same
+ * groups, particles, anchors and appliers with the same attributes, and
+ * lay them out the same. */
+static bool same_kids(const PhysSystem *s, const PhysCollect *c)
 {
-    return s->kidsD == s->D && phys_kids_same(s, root);
+    return s->kidsD == s->D && c->same_tree;
 }
 
 /* §3 in full: walk, lay particles out group-major, fill them, resolve the
@@ -803,7 +800,7 @@ static bool same_kids(const PhysSystem *s, const Node *root)
 bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
                     const StateDict *sd)
 {
-    if (same_kids(s, root)) {
+    if (same_kids(s, c)) {
         for (size_t i = 0; i < s->nclocked; i++)
             applier_clock(&s->ap[s->clocked[i]], c);
         s->dupids = false;

@@ -165,10 +165,9 @@ static inline uint64_t cell_hash(const int32_t *c)
 
 /* The grid's per-entry loops are split over the threads when the level
  * is large: every entry's results go to its own places, so they are the
- * same bits on any number of threads. At most GRID_TASKS tasks of at
- * least GRID_CHUNK entries (no allocation per frame). */
+ * same bits on any number of threads. Tasks of at least GRID_CHUNK
+ * entries (phys_workers_split). */
 #define GRID_CHUNK 4096
-#define GRID_TASKS 64
 
 /* One task's share of the cell loop: the box of its cells and how many
  * of its entries are odd. */
@@ -180,10 +179,9 @@ typedef struct GridPart {
 typedef struct GridRun {
     PhysSystem *s;
     const uint32_t *pool;
-    size_t n;           /* entries */
-    size_t chunk;       /* entries per task */
+    size_t chunk;       /* items per task */
     size_t count;       /* items of the loop in hand */
-    GridPart part[GRID_TASKS];
+    GridPart part[PHYS_MAX_TASKS];
 } GridRun;
 
 /* Entry q's cell (cell[3q..3q+2], 0 past D) and whether it is odd
@@ -197,8 +195,7 @@ static void cell_task(void *ctx, size_t t, unsigned thread)
     const double h = gr->h;
     GridPart *P = &r->part[t];
     *P = (GridPart){{INT32_MAX, INT32_MAX, INT32_MAX}, {INT32_MIN, INT32_MIN, INT32_MIN}, 0};
-    size_t q1 = (t + 1) * r->chunk < r->count ? (t + 1) * r->chunk : r->count;
-    for (size_t q = t * r->chunk; q < q1; q++) {
+    for (size_t q = t * r->chunk, q1 = phys_task_end(t, r->chunk, r->count); q < q1; q++) {
         const double *x = r->s->pos + (size_t)r->pool[q] * D;
         int32_t *c = gr->cell + 3 * q;
         c[0] = c[1] = c[2] = 0;
@@ -233,8 +230,7 @@ static void copy_task(void *ctx, size_t t, unsigned thread)
     GridRun *r = ctx;
     PhysGrid *gr = &r->s->grid;
     const size_t D = r->s->D, m = gr->nslot;
-    size_t i1 = (t + 1) * r->chunk < r->count ? (t + 1) * r->chunk : r->count;
-    for (size_t i = t * r->chunk; i < i1; i++) {
+    for (size_t i = t * r->chunk, i1 = phys_task_end(t, r->chunk, r->count); i < i1; i++) {
         const double *x = r->s->pos + (size_t)r->pool[gr->slotq[i]] * D;
         for (size_t k = 0; k < D; k++)
             gr->sx[k * m + i] = x[k];
@@ -244,12 +240,8 @@ static void copy_task(void *ctx, size_t t, unsigned thread)
 /* Run [fn] over [count] items in tasks; returns the number of tasks. */
 static size_t grid_run(GridRun *r, size_t count, PhysTaskFn fn)
 {
-    size_t chunk = (count + GRID_TASKS - 1) / GRID_TASKS;
-    if (chunk < GRID_CHUNK)
-        chunk = GRID_CHUNK;
-    r->chunk = chunk;
     r->count = count;
-    size_t ntasks = count ? (count + chunk - 1) / chunk : 0;
+    size_t ntasks = phys_workers_split(count, GRID_CHUNK, &r->chunk);
     phys_workers_run(phys_workers_count(r->s->workers) > 1 ? r->s->workers : NULL, ntasks, fn, r);
     return ntasks;
 }
@@ -290,7 +282,7 @@ static void grid_dense(PhysSystem *s, const uint32_t *pool, size_t n,
             gr->slotq[--gr->cstart[cell]] = (uint32_t)q;
     }
     gr->nslot = m;
-    GridRun r = {.s = s, .pool = pool, .n = n};
+    GridRun r = {.s = s, .pool = pool};
     grid_run(&r, m, copy_task);
 }
 
@@ -306,7 +298,7 @@ static void grid_build(PhysSystem *s, const uint32_t *pool, size_t n, double h)
     GROW(gr->cell, gr->capcell, 3 * n);
     gr->h = h;
     gr->nodd = 0;
-    GridRun r = {.s = s, .pool = pool, .n = n};
+    GridRun r = {.s = s, .pool = pool};
     size_t ntasks = grid_run(&r, n, cell_task);
     int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX};
     int32_t hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};

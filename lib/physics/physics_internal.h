@@ -339,6 +339,7 @@ typedef struct PhysCollect {
     double clock;
     Vec *seed;          /* current !random seed vector (lazily built) */
     bool upstream;      /* Flitter 1.0.0b28's eases (PhysicsFrame.upstream) */
+    bool same_tree;     /* phys_kids_same() of the root, asked once a frame */
 } PhysCollect;
 
 /* Forget (release) the nodes the slots' attribute values came from. */

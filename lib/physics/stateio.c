@@ -187,6 +187,20 @@ static bool all_finite(const double *x, size_t D)
     return true;
 }
 
+/* Write the [D] numbers [x] of a slot into its value [cur] ([cached]: the
+ * slot's retained copy) when that may go in place. True when done, or
+ * when x is not all finite (no write at all); false when the write must go
+ * through the dictionary. */
+static bool put_in_place(const PhysSystem *s, Vec *cur, const Vec *cached, const double *x)
+{
+    if (!all_finite(x, s->D))
+        return true;
+    if (!writable_in_place(s, cur, cached))
+        return false;
+    phys_copy(vec_nums(cur), x, s->D);
+    return true;
+}
+
 /* The writes of slots [i0, i1) that go in place, each to its own vector
  * (distinct slots hold distinct vectors when no two share an id, which
  * writable_in_place() asks); returns how many writes were left for
@@ -197,19 +211,8 @@ static size_t write_in_place(PhysSystem *s, size_t i0, size_t i1)
     size_t left = 0;
     for (size_t i = i0; i < i1; i++) {
         const PhysKeySlot *k = &s->slots[i];
-        const double *pos = s->pos + i * D, *vel = s->vel + i * D;
-        if (all_finite(pos, D)) {
-            if (writable_in_place(s, k->pval, k->cp))
-                phys_copy(vec_nums(k->pval), pos, D);
-            else
-                left++;
-        }
-        if (all_finite(vel, D)) {
-            if (writable_in_place(s, k->vval, k->cv))
-                phys_copy(vec_nums(k->vval), vel, D);
-            else
-                left++;
-        }
+        left += !put_in_place(s, k->pval, k->cp, s->pos + i * D);
+        left += !put_in_place(s, k->vval, k->cv, s->vel + i * D);
     }
     return left;
 }
@@ -222,13 +225,8 @@ static void write_slot(PhysSystem *s, StateDict *sd, size_t i)
     const double *vecs[2] = {s->pos + i * D, s->vel + i * D};
     const Vec *keys[2] = {k->pkey, k->vkey};
     for (int j = 0; j < 2; j++) {
-        if (!all_finite(vecs[j], D))
+        if (put_in_place(s, j ? k->vval : k->pval, j ? k->cv : k->cp, vecs[j]))
             continue;
-        Vec *cur = j ? k->vval : k->pval;
-        if (writable_in_place(s, cur, j ? k->cv : k->cp)) {
-            phys_copy(vec_nums(cur), vecs[j], D);
-            continue;
-        }
         store_nums(sd, keys[j], vecs[j], D);
         /* what the state holds now (store_nums may have kept an equal
          * vector) */
@@ -236,13 +234,13 @@ static void write_slot(PhysSystem *s, StateDict *sd, size_t i)
     }
 }
 
-/* Particles per task of the in-place writes, and the fewest that are split
- * over threads. */
+/* Particles per task of the in-place writes, and half the fewest that are
+ * split over threads. */
 #define WRITE_CHUNK 4096
 
 typedef struct WriteRun {
     PhysSystem *s;
-    size_t left[64];    /* per task */
+    size_t left[PHYS_MAX_TASKS];    /* per task */
     size_t chunk;
 } WriteRun;
 
@@ -250,8 +248,7 @@ static void write_task(void *ctx, size_t t, unsigned thread)
 {
     (void)thread;
     WriteRun *r = ctx;
-    size_t i1 = (t + 1) * r->chunk < r->s->n ? (t + 1) * r->chunk : r->s->n;
-    r->left[t] = write_in_place(r->s, t * r->chunk, i1);
+    r->left[t] = write_in_place(r->s, t * r->chunk, phys_task_end(t, r->chunk, r->s->n));
 }
 
 /* §2 step 8 writes: position and velocity of every particle (anchors too)
@@ -271,16 +268,13 @@ void phys_write_particles(PhysSystem *s, StateDict *sd)
             write_slot(s, sd, i);
         return;
     }
-    WriteRun r = {.s = s, .chunk = (n + 63) / 64};
-    if (r.chunk < WRITE_CHUNK)
-        r.chunk = WRITE_CHUNK;
-    size_t ntasks = (n + r.chunk - 1) / r.chunk;
+    WriteRun r = {.s = s};
+    size_t ntasks = phys_workers_split(n, WRITE_CHUNK, &r.chunk);
     phys_workers_run(s->workers, ntasks, write_task, &r);
     for (size_t t = 0; t < ntasks; t++) {
         if (!r.left[t])
             continue;
-        size_t i1 = (t + 1) * r.chunk < n ? (t + 1) * r.chunk : n;
-        for (size_t i = t * r.chunk; i < i1; i++)
+        for (size_t i = t * r.chunk, i1 = phys_task_end(t, r.chunk, n); i < i1; i++)
             write_slot(s, sd, i);
     }
 }

@@ -245,6 +245,13 @@ void phys_workers_run(PhysWorkers *w, size_t ntasks, PhysTaskFn fn, void *ctx)
     }
 }
 
+size_t phys_workers_split(size_t n, size_t min_chunk, size_t *chunk)
+{
+    size_t c = (n + PHYS_MAX_TASKS - 1) / PHYS_MAX_TASKS;
+    *chunk = c > min_chunk ? c : min_chunk > 0 ? min_chunk : 1;
+    return (n + *chunk - 1) / *chunk;
+}
+
 unsigned phys_available_cores(void)
 {
     cpu_set_t set;

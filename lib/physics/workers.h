@@ -28,6 +28,18 @@ unsigned phys_workers_count(const PhysWorkers *w);
 /* Run fn(ctx, t, thread) for every t < ntasks and wait for all of them.
  * With NULL or one thread, runs them in order on the caller (thread 0). */
 void phys_workers_run(PhysWorkers *w, size_t ntasks, PhysTaskFn fn, void *ctx);
+/* The most tasks phys_workers_split() makes, so per-task results fit in
+ * fixed arrays (no allocation per frame). */
+#define PHYS_MAX_TASKS 64
+/* Split [n] items into tasks of [*chunk] consecutive items each (the last
+ * one shorter): at least [min_chunk] items a task, at most PHYS_MAX_TASKS
+ * tasks. Returns the number of tasks (0 when n is 0). */
+size_t phys_workers_split(size_t n, size_t min_chunk, size_t *chunk);
+/* One past the last item of task [t] of [n] items split in [chunk]s. */
+static inline size_t phys_task_end(size_t t, size_t chunk, size_t n)
+{
+    return (t + 1) * chunk < n ? (t + 1) * chunk : n;
+}
 /* The number of processors this process may run on (at least 1). */
 unsigned phys_available_cores(void);
 

@@ -144,14 +144,12 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
         return;
     /* the memory budget (mem.h): a system whose per-particle arrays would
      * not fit is skipped, and the runtime logs a physics error */
-    size_t nodes;
-    if (phys_kids_same(s, node) && s->kids_nodes != SIZE_MAX) {
-        nodes = s->kids_nodes;
-    } else {
-        nodes = count_nodes(node);
-        if (phys_kids_same(s, node))
-            s->kids_nodes = nodes;
-    }
+    const bool same_tree = phys_kids_same(s, node);
+    size_t nodes = same_tree && s->kids_nodes != SIZE_MAX ? s->kids_nodes : count_nodes(node);
+    if (same_tree)
+        s->kids_nodes = nodes;
+    if (!mem_fits((nodes + 1) * (SYSTEM_ARRAYS * (size_t)D * sizeof(double) + 256)))
+        return;
     if (!mem_fits((nodes + 1) * (SYSTEM_ARRAYS * (size_t)D * sizeof(double) + 256)))
         return;
     const Vec *P = node_attr(node, "state");
@@ -195,7 +193,7 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
     phys_state_set_num(sd, s->krun, (double)run);
     phys_state_set_num(sd, s->kiter, (double)iteration);
     /* §2.6: collect (the !random seed is P;run;iteration) */
-    PhysCollect c = {P, run, iteration, clock, NULL, fr->upstream};
+    PhysCollect c = {P, run, iteration, clock, NULL, fr->upstream, same_tree};
     bool ok = phys_collect(s, &c, node, sd);
     vec_release(c.seed);
     if (!ok)
