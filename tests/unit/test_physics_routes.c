@@ -341,6 +341,20 @@ static void test_grid_edge(void **st)
     node_release(ph);
 }
 
+/* 3 frames of [ph] on the fast route with 1, 2 and 4 threads give the
+ * reference loop's dictionary, bit for bit. */
+static void check_threads_124(Node *ph, uint64_t seed)
+{
+    StateDict *ref = simulate(ph, true, 1, 3);
+    static const unsigned threads[] = {1, 2, 4};
+    for (size_t ti = 0; ti < 3; ti++) {
+        StateDict *sd = simulate(ph, false, threads[ti], 3);
+        assert_same_state(ref, sd, seed, threads[ti]);
+        state_free(sd);
+    }
+    state_free(ref);
+}
+
 /* Clusters of discs far apart: the box of grid cells around them is too
  * large for the dense grid (more than 4 cells per entry + 4096), so the
  * level takes the grid hashed by cell (pairs.c); one cluster alone (the
@@ -375,14 +389,7 @@ static void test_grid_layouts(void **st)
             Node *gv = add(ph, "gravity");
             set(gv, "strength", num(2));
             set(gv, "max_distance", num(2.5));
-            StateDict *ref = simulate(ph, true, 1, 3);
-            static const unsigned threads[] = {1, 2, 4};
-            for (size_t ti = 0; ti < 3; ti++) {
-                StateDict *sd = simulate(ph, false, threads[ti], 3);
-                assert_same_state(ref, sd, seed, threads[ti]);
-                state_free(sd);
-            }
-            state_free(ref);
+            check_threads_124(ph, seed);
             node_release(ph);
         }
     }
@@ -401,40 +408,31 @@ static void test_large_grids(void **st)
 {
     (void)st;
     for (size_t D = 2; D <= 3; D++) {
-        {
-            int clusters = D == 2 ? 1 : 3;
-            uint64_t seed = 4500 + 10 * D + (uint64_t)clusters;
-            Rng r = {seed};
-            Node *ph = physics_node(D);
-            set(ph, "resolution", num(0.25));
-            double box = D == 2 ? 150 : 30;
-            for (size_t i = 0; i < 8500; i++) {
-                Node *p = add(ph, chance(&r, 0.02) ? "anchor" : "particle");
-                /* in D = 3 one id twice: the later particle's values win */
-                set(p, "id", num((double)(D == 3 && i == 8000 ? 10 : i)));
-                if (chance(&r, 0.01))
-                    set(p, "ease", num(0.6));
-                double x[3];
-                int c = (int)below(&r, (size_t)clusters);
-                for (size_t k = 0; k < D; k++)
-                    x[k] = 1e5 * c + (uni(&r) - 0.5) * box;
-                if (chance(&r, 0.002))
-                    x[below(&r, D)] = chance(&r, 0.5) ? 3e9 : -1e15;
-                set(p, "position", vec_from_nums(x, (uint32_t)D));
-                set(p, "velocity", rvec(&r, D, 40, 0));
-                set(p, "radius", num(0.3 + uni(&r)));
-            }
-            set(add(ph, "collision"), "strength", num(50));
-            StateDict *ref = simulate(ph, true, 1, 3);
-            static const unsigned threads[] = {1, 2, 4};
-            for (size_t ti = 0; ti < 3; ti++) {
-                StateDict *sd = simulate(ph, false, threads[ti], 3);
-                assert_same_state(ref, sd, seed, threads[ti]);
-                state_free(sd);
-            }
-            state_free(ref);
-            node_release(ph);
+        int clusters = D == 2 ? 1 : 3;
+        uint64_t seed = 4500 + 10 * D + (uint64_t)clusters;
+        Rng r = {seed};
+        Node *ph = physics_node(D);
+        set(ph, "resolution", num(0.25));
+        double box = D == 2 ? 150 : 30;
+        for (size_t i = 0; i < 8500; i++) {
+            Node *p = add(ph, chance(&r, 0.02) ? "anchor" : "particle");
+            /* in D = 3 one id twice: the later particle's values win */
+            set(p, "id", num((double)(D == 3 && i == 8000 ? 10 : i)));
+            if (chance(&r, 0.01))
+                set(p, "ease", num(0.6));
+            double x[3];
+            int c = (int)below(&r, (size_t)clusters);
+            for (size_t k = 0; k < D; k++)
+                x[k] = 1e5 * c + (uni(&r) - 0.5) * box;
+            if (chance(&r, 0.002))
+                x[below(&r, D)] = chance(&r, 0.5) ? 3e9 : -1e15;
+            set(p, "position", vec_from_nums(x, (uint32_t)D));
+            set(p, "velocity", rvec(&r, D, 40, 0));
+            set(p, "radius", num(0.3 + uni(&r)));
         }
+        set(add(ph, "collision"), "strength", num(50));
+        check_threads_124(ph, seed);
+        node_release(ph);
     }
 }
 
