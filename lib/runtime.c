@@ -379,12 +379,22 @@ static int install(fl_runtime *rt, Program *p)
 
 int rt_load(fl_runtime *rt, const char *path, Buf *err)
 {
-    return install(rt, program_load(path, &rt->globals, rt->symtab, err));
+    /* with the runtime's pool active, the simplifier's many short-lived
+     * vectors and trees reuse blocks instead of calling malloc and free */
+    Pool *prev = pool_enter(rt->pool);
+    int rc = install(rt, program_load(path, &rt->globals, rt->symtab, err));
+    pool_leave(prev);
+    pool_trim(rt->pool);
+    return rc;
 }
 
 int rt_load_text(fl_runtime *rt, const char *name, const char *text, size_t len, Buf *err)
 {
-    return install(rt, program_load_text(name, text, len, &rt->globals, rt->symtab, err));
+    Pool *prev = pool_enter(rt->pool);
+    int rc = install(rt, program_load_text(name, text, len, &rt->globals, rt->symtab, err));
+    pool_leave(prev);
+    pool_trim(rt->pool);
+    return rc;
 }
 
 int rt_dump_syntax(fl_runtime *rt, const char *path, bool ast, Buf *out, Buf *err)

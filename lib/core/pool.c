@@ -54,6 +54,21 @@ void pool_free(Pool *p)
     free(p);
 }
 
+void pool_trim(Pool *p)
+{
+    if (!p) return;
+    for (int c = 0; c < POOL_NCLASS; c++) {
+        size_t block = c < NSMALL ? (size_t)(c + 1) * SMALL_STEP : (size_t)1 << (BIG_MIN_LOG + c - NSMALL);
+        PoolStack *s = &p->free[c];
+        for (uint32_t i = 0; i < s->n; i++) {
+            mem_unreserve(block);
+            free(s->items[i]);
+        }
+        p->stats.frees += s->n;
+        s->n = 0;
+    }
+}
+
 Pool *pool_enter(Pool *p)
 {
     Pool *prev = pool_active_;

@@ -43,6 +43,9 @@ Pool *pool_new(void);
 /* Free every cached block and the pool (NULL is a no-op). The pool must not
  * be active. */
 void pool_free(Pool *p);
+/* Give every cached block of [p] back to free() (NULL is a no-op): after
+ * a load, whose trees leave many blocks of sizes a frame rarely asks for. */
+void pool_trim(Pool *p);
 /* Make [p] (may be NULL) the active pool of this thread; returns the one it
  * replaces, to be handed back to pool_leave(). */
 Pool *pool_enter(Pool *p);

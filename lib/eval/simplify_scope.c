@@ -341,6 +341,11 @@ AstNode *simp_name(Simp *s, const AstNode *n)
         default: return ast_copy(n);
         }
     }
+    /* a builtin function met before (every unrolled iteration names the
+     * same ones): its shared vector, without the scans below; builtin
+     * functions and constants have no name in common */
+    for (uint32_t i = 0; i < s->nbuiltins; i++)
+        if (str_eq(s->builtin_names[i], name)) return mk_lit(vec_retain(s->builtins[i]), n->loc);
     Vec *v;
     if (constant_value(s, name, &v)) return mk_lit(v, n->loc);
     const Builtin *bi = bi_lookup(name->bytes, name->len);

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "mem.h"
+#include "pool.h"
 
 /* {=====================================================================
  * Basic nodes
@@ -26,18 +27,35 @@
 
 AstNode *ast_new(AstKind kind, Loc loc)
 {
-    AstNode *n = mem_realloc(NULL, sizeof *n);
+    /* nodes and their kid and name arrays come from the active pool (the
+     * runtime's while it loads a script): the simplifier makes and drops
+     * several trees per unrolled iteration, and the pool's free lists reuse
+     * their blocks where malloc and free cost far more; with no pool active
+     * they are plain malloc blocks (pool.h) */
+    AstNode *n = pool_alloc(sizeof *n);
     memset(n, 0, sizeof *n);
     n->kind = (uint8_t)kind;
     n->loc = loc;
     return n;
 }
 
+/* [old] (of [cap] pointers, NULL when 0) moved into a pool block of
+ * [newcap] pointers. */
+static void *grow_ptrs(void *old, uint32_t cap, uint32_t newcap)
+{
+    void *q = pool_alloc((size_t)newcap * sizeof(void *));
+    if (cap) memcpy(q, old, (size_t)cap * sizeof(void *));
+    pool_release(old, (size_t)cap * sizeof(void *));
+    return q;
+}
+
 void ast_push(AstNode *n, AstNode *kid)
 {
     if (n->nkids == n->cap_kids) {
-        n->cap_kids = n->cap_kids ? 2 * n->cap_kids : 4;
-        n->kids = mem_realloc(n->kids, n->cap_kids * sizeof *n->kids);
+        uint32_t cap = n->cap_kids ? 2 * n->cap_kids : 4;
+        if (cap < n->cap_kids) mem_oom();
+        n->kids = grow_ptrs(n->kids, n->cap_kids, cap);
+        n->cap_kids = cap;
     }
     n->kids[n->nkids++] = kid;
 }
@@ -45,8 +63,10 @@ void ast_push(AstNode *n, AstNode *kid)
 void ast_push_name(AstNode *n, Str *s)
 {
     if (n->nnames == n->cap_names) {
-        n->cap_names = n->cap_names ? 2 * n->cap_names : 2;
-        n->names = mem_realloc(n->names, n->cap_names * sizeof *n->names);
+        uint32_t cap = n->cap_names ? 2 * n->cap_names : 2;
+        if (cap < n->cap_names) mem_oom();
+        n->names = grow_ptrs(n->names, n->cap_names, cap);
+        n->cap_names = cap;
     }
     n->names[n->nnames++] = s;
 }
@@ -56,13 +76,13 @@ static void free_shallow(AstNode *n)
 {
     for (uint32_t i = 0; i < n->nnames; i++)
         str_release(n->names[i]);
-    free(n->names);
+    pool_release(n->names, (size_t)n->cap_names * sizeof *n->names);
     vec_release(n->value);
     if (n->aux && n->aux_free)
         n->aux_free(n->aux);
     free(n->slots);
-    free(n->kids);
-    free(n);
+    pool_release(n->kids, (size_t)n->cap_kids * sizeof *n->kids);
+    pool_release(n, sizeof *n);
 }
 
 /* Iterative so that long left-recursive chains (`1+1+1+...`) cannot

@@ -85,13 +85,15 @@ struct AstNode {
     uint8_t fast;         /* 1: aux is a compiled NumExpr (numexpr.h) */
     uint32_t count;       /* AST_CALL: number of positional args */
     Loc loc;              /* source span */
+    int32_t slot;         /* resolver: slot of a name or frame size (here,
+                             beside the 12-byte Loc, the node is 112 bytes:
+                             one pool class, and one 128-byte malloc chunk) */
     AstNode *a, *b, *c;   /* fixed children, per kind */
     AstNode **kids;       /* variable children */
     uint32_t nkids, cap_kids;
     Str **names;          /* names bound or used */
     uint32_t nnames, cap_names;
     Vec *value;           /* AST_LITERAL / pragma value (one reference) */
-    int32_t slot;         /* resolver: slot of a name or frame size */
     int32_t *slots;       /* resolver: one slot per entry of names[] */
     void *aux;            /* resolver: per-kind extra data (freed by ast_free
                              through aux_free) */
