@@ -34,6 +34,7 @@ AstNode *ast_copy(const AstNode *n)
     for (uint32_t i = 0; i < n->nkids; i++) ast_push(c, ast_copy(n->kids[i]));
     for (uint32_t i = 0; i < n->nnames; i++) ast_push_name(c, str_retain(n->names[i]));
     c->value = vec_retain(n->value);
+    if (has_col(n)) col_attach(c, col_retain(n->aux));
     return c;
 }
 
@@ -80,6 +81,10 @@ static void warn_put(WarnTable *t, uint64_t h, size_t start, size_t len)
 
 void simp_warn(Simp *s, const char *msg)
 {
+    if (s->tg) {   /* a template pass writes nothing: its loop is unrolled one copy at a time */
+        s->tabort = true;
+        return;
+    }
     if (!s->warnings || !s->warned) return;
     WarnTable *t = s->warned;
     size_t len = strlen(msg);
@@ -123,13 +128,41 @@ static Vec *fold(Simp *s, const AstNode *n)
     return v;
 }
 
-static bool lit_numeric(const AstNode *n) { return vec_is_num(n->value); }
+static Vec *fold_fn(Simp *s, AstNode *n) { return fold(s, n); }
+
+/* [n] (all operands literal) folded into a literal at [loc], with the
+ * members' values in a template pass. */
+static AstNode *fold_lit(Simp *s, AstNode *n, Loc loc)
+{
+    Column *c = tcol_eval(s, n, fold_fn);
+    return tlit(s, fold(s, n), c, loc);
+}
+
+static bool lit_numeric(Simp *s, const AstNode *n) { return tdecide(s, n, TD_NUMERIC, 0); }
 
 /* The literal equals the one-element vector [x] (tree.pyx `eq(...) is true_`). */
-static bool lit_equals(const AstNode *n, double x)
+static bool lit_equals(Simp *s, const AstNode *n, double x) { return tdecide(s, n, TD_EQUALS, x); }
+
+/* In a template pass, [f] of each member's value of literal [n]; NULL
+ * when [n] has no column. */
+static Column *col_map(Simp *s, const AstNode *n, Vec *(*f)(const Vec *))
 {
-    return vec_is_scalar(n->value) && vec_scalar(n->value) == x;
+    if (!s->tg || !has_col(n)) return NULL;
+    Column *c = col_new(s->tg);
+    for (uint32_t m = 0; m < s->tg; m++) c->v[m] = f(tval(n, m));
+    return c;
 }
+
+static Vec *vec_inverse(const Vec *v)
+{
+    Vec *one = vec_num1(1.0);
+    Vec *inv = vec_arith(OP_DIV, one, v);
+    vec_release(one);
+    return inv;
+}
+
+static Vec *vec_neg_fn(const Vec *v) { return vec_neg(v); }
+static Vec *vec_pos_fn(const Vec *v) { return vec_pos((Vec *)v); }
 
 static bool is_maths(const AstNode *n) { return n && n->kind == AST_BINOP; }
 static bool is_binop(const AstNode *n, int op) { return n && n->kind == AST_BINOP && n->op == op; }
@@ -142,9 +175,9 @@ static bool is_binop(const AstNode *n, int op) { return n && n->kind == AST_BINO
  * simplified; consumed when a rule applies), or NULL when none applies (l
  * and r then untouched). Sums and products use it for a literal on either
  * side, as tree.pyx does. */
-static AstNode *constant_left(int op, AstNode *l, AstNode *r, Loc loc)
+static AstNode *constant_left(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
 {
-    if (!lit_numeric(l)) {
+    if (!lit_numeric(s, l)) {
         if (op == OP_ADD || op == OP_SUB || op == OP_MUL || op == OP_DIV || op == OP_FLOORDIV ||
             op == OP_MOD || op == OP_POW) {
             ast_free(l);
@@ -155,23 +188,23 @@ static AstNode *constant_left(int op, AstNode *l, AstNode *r, Loc loc)
     }
     switch (op) {
     case OP_ADD:
-        if (lit_equals(l, 0.0)) {            /* S2 */
+        if (lit_equals(s, l, 0.0)) {            /* S2 */
             ast_free(l);
             return mk_un(AST_POS, r, loc);
         }
         return NULL;
     case OP_SUB:
-        if (lit_equals(l, 0.0)) {            /* S3 */
+        if (lit_equals(s, l, 0.0)) {            /* S3 */
             ast_free(l);
             return mk_un(AST_NEG, r, loc);
         }
         return NULL;
     case OP_MUL:
-        if (lit_equals(l, 1.0)) {            /* S5 */
+        if (lit_equals(s, l, 1.0)) {            /* S5 */
             ast_free(l);
             return mk_un(AST_POS, r, loc);
         }
-        if (lit_equals(l, -1.0)) {
+        if (lit_equals(s, l, -1.0)) {
             ast_free(l);
             return mk_un(AST_NEG, r, loc);
         }
@@ -209,7 +242,7 @@ static AstNode *constant_left(int op, AstNode *l, AstNode *r, Loc loc)
             return NULL;
         }
         if (r->kind == AST_NEG) {            /* S10 */
-            AstNode *e = mk_bin(AST_BINOP, OP_MUL, mk_lit(vec_neg(l->value), loc), r->a, loc);
+            AstNode *e = mk_bin(AST_BINOP, OP_MUL, tlit(s, vec_neg(l->value), col_map(s, l, vec_neg_fn), loc), r->a, loc);
             r->a = NULL;
             ast_free(r);
             ast_free(l);
@@ -227,32 +260,31 @@ static AstNode *constant_right(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
     switch (op) {
     case OP_ADD:
     case OP_MUL:
-        return constant_left(op, r, l, loc);   /* commutative: same rules */
+        return constant_left(s, op, r, l, loc);   /* commutative: same rules */
     case OP_SUB:
-        if (lit_equals(r, 0.0)) {              /* S3 */
+        if (lit_equals(s, r, 0.0)) {              /* S3 */
             ast_free(r);
             return mk_un(AST_POS, l, loc);
         }
         {                                      /* S4: x - L -> x + (-L) */
-            AstNode *e = mk_bin(AST_BINOP, OP_ADD, l, mk_lit(vec_neg(r->value), loc), loc);
+            AstNode *e = mk_bin(AST_BINOP, OP_ADD, l, tlit(s, vec_neg(r->value), col_map(s, r, vec_neg_fn), loc), loc);
             ast_free(r);
             return e;
         }
     default:
         break;
     }
-    if (!lit_numeric(r)) {                     /* S17 */
+    if (!lit_numeric(s, r)) {                  /* S17 */
         ast_free(l);
         ast_free(r);
         return mk_noop(loc);
     }
-    if (!lit_equals(r, 1.0)) {
+    if (!lit_equals(s, r, 1.0)) {
         if (op == OP_DIV) {                    /* S6: x / L -> (1/L) * x */
-            Vec *one = vec_num1(1.0);
-            Vec *inv = vec_arith(OP_DIV, one, r->value);
-            vec_release(one);
+            Vec *inv = vec_inverse(r->value);
+            Column *c = col_map(s, r, vec_inverse);
             ast_free(r);
-            return mk_bin(AST_BINOP, OP_MUL, mk_lit(inv, loc), l, loc);
+            return mk_bin(AST_BINOP, OP_MUL, tlit(s, inv, c, loc), l, loc);
         }
         return NULL;
     }
@@ -314,12 +346,17 @@ static AstNode *binop_rules(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
 {
     if (is_lit(l) && is_lit(r)) {               /* S1 (unfused) */
         Vec *v = vec_arith((ArithOp)op, l->value, r->value);
+        Column *c = NULL;
+        if (s->tg && (has_col(l) || has_col(r))) {
+            c = col_new(s->tg);
+            for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_arith((ArithOp)op, tval(l, m), tval(r, m));
+        }
         ast_free(l);
         ast_free(r);
-        return mk_lit(v, loc);
+        return tlit(s, v, c, loc);
     }
     AstNode *e = NULL;
-    if (is_lit(l)) e = constant_left(op, l, r, loc);
+    if (is_lit(l)) e = constant_left(s, op, l, r, loc);
     else if (is_lit(r)) e = constant_right(s, op, l, r, loc);
     if (!e) e = additional_rules(op, l, r, loc);
     if (e) return resimp(s, e);
@@ -340,8 +377,9 @@ static AstNode *simp_neg(Simp *s, const AstNode *n)
     Loc loc = n->loc;
     if (is_lit(e)) {
         Vec *v = vec_neg(e->value);
+        Column *c = col_map(s, e, vec_neg_fn);
         ast_free(e);
-        return mk_lit(v, loc);
+        return tlit(s, v, c, loc);
     }
     if (e->kind == AST_NEG) {                   /* -(-y) -> +y */
         AstNode *p = mk_un(AST_POS, e->a, loc);
@@ -380,9 +418,10 @@ static AstNode *simp_pos(Simp *s, const AstNode *n)
     AstNode *e = simp(s, n->a);
     if (is_lit(e)) {
         Vec *v = vec_pos(e->value);
+        Column *c = col_map(s, e, vec_pos_fn);
         Loc loc = n->loc;
         ast_free(e);
-        return mk_lit(v, loc);
+        return tlit(s, v, c, loc);
     }
     if (e->kind == AST_NEG || e->kind == AST_POS || is_maths(e)) return resimp(s, e);
     return mk_un(AST_POS, e, n->loc);
@@ -394,11 +433,11 @@ static AstNode *simp_compare(Simp *s, const AstNode *n)
     AstNode *l = simp(s, n->a), *r = simp(s, n->b);
     AstNode *e = mk_bin(AST_COMPARE, n->op, l, r, n->loc);
     if (is_lit(l) && is_lit(r)) {
-        Vec *v = fold(s, e);
+        AstNode *v = fold_lit(s, e, n->loc);
         ast_free(e);
-        return mk_lit(v, n->loc);
+        return v;
     }
-    if (n->op == CMP_IN && is_lit(l) && vec_len(l->value) == 0) {
+    if (n->op == CMP_IN && is_lit(l) && tdecide(s, l, TD_LEN, 0) == 0) {
         ast_free(e);
         return mk_lit(vec_num1(1.0), n->loc);
     }
@@ -410,7 +449,7 @@ static AstNode *simp_andor(Simp *s, const AstNode *n)
 {
     AstNode *l = simp(s, n->a);
     if (is_lit(l)) {
-        bool t = vec_truthy(l->value);
+        bool t = tdecide(s, l, TD_TRUTHY, 0);
         if (n->kind == AST_AND ? t : !t) {
             ast_free(l);
             return simp(s, n->b);
@@ -423,11 +462,11 @@ static AstNode *simp_andor(Simp *s, const AstNode *n)
 static AstNode *simp_xor(Simp *s, const AstNode *n)
 {
     AstNode *l = simp(s, n->a), *r = simp(s, n->b);
-    if (is_lit(l) && !vec_truthy(l->value)) {
+    if (is_lit(l) && !tdecide(s, l, TD_TRUTHY, 0)) {
         ast_free(l);
         return r;
     }
-    if (is_lit(r) && !vec_truthy(r->value)) {
+    if (is_lit(r) && !tdecide(s, r, TD_TRUTHY, 0)) {
         ast_free(r);
         return l;
     }
@@ -450,24 +489,44 @@ static AstNode *simp_generic(Simp *s, const AstNode *n)
     e->b = n->b ? simp(s, n->b) : NULL;
     e->c = n->c ? simp(s, n->c) : NULL;
     bool all = (!e->a || is_lit(e->a)) && (!e->b || is_lit(e->b)) && (!e->c || is_lit(e->c));
-    if (n->kind == AST_INDEX && is_lit(e->b)) e->b->op = vec_is_scalar(e->b->value) ? 1 : 0;
+    if (n->kind == AST_INDEX && is_lit(e->b)) e->b->op = tdecide(s, e->b, TD_SCALAR, 0) ? 1 : 0;
     if (!all) return e;
+    bool cols = s->tg && (has_col(e->a) || has_col(e->b) || has_col(e->c));
     if (n->kind == AST_RANGE) {
         bool too_long = false;
         Vec *v = vec_range(e->a ? e->a->value : NULL, e->b->value, e->c ? e->c->value : NULL,
                            SIMP_MAX_RANGE, &too_long);
-        if (too_long) return e;
+        Column *c = NULL;
+        if (cols) {
+            c = col_new(s->tg);
+            for (uint32_t m = 0; m < s->tg; m++) {
+                bool tl = false;
+                c->v[m] = vec_range(e->a ? tval(e->a, m) : NULL, tval(e->b, m), e->c ? tval(e->c, m) : NULL,
+                                    SIMP_MAX_RANGE, &tl);
+                if (tl != too_long) s->tabort = true;   /* some members' ranges stay ranges */
+            }
+        }
+        if (too_long) {
+            vec_release(v);
+            col_release(c);
+            return e;
+        }
         ast_free(e);
-        return mk_lit(v, n->loc);
+        return tlit(s, v, c, n->loc);
     }
     if (n->kind == AST_INDEX) {
         Vec *v = vec_index(e->a->value, e->b->value, false);
+        Column *c = NULL;
+        if (cols) {
+            c = col_new(s->tg);
+            for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_index(tval(e->a, m), tval(e->b, m), false);
+        }
         ast_free(e);
-        return mk_lit(v, n->loc);
+        return tlit(s, v, c, n->loc);
     }
-    Vec *v = fold(s, e);
+    AstNode *r = fold_lit(s, e, n->loc);
     ast_free(e);
-    return mk_lit(v, n->loc);
+    return r;
 }
 
 /* ====================================================================
@@ -497,7 +556,7 @@ static AstNode *simp_attributes(Simp *s, const AstNode *n)
         node = node->a;
     }
     AstNode *base = simp(s, node);
-    if (is_lit(base) && !vec_is_obj(base->value)) {
+    if (is_lit(base) && !tdecide(s, base, TD_OBJ, 0)) {
         for (uint32_t i = 0; i < k; i++) ast_free(rev[i]);
         free(rev);
         ast_free(out);
@@ -508,9 +567,8 @@ static AstNode *simp_attributes(Simp *s, const AstNode *n)
         AstNode *e = ast_new(AST_ATTRIBUTES, n->loc);
         e->a = base;
         while (k && is_lit(rev[k - 1]->a)) ast_push(e, rev[--k]);
-        Vec *v = fold(s, e);
+        base = fold_lit(s, e, n->loc);
         ast_free(e);
-        base = mk_lit(v, n->loc);
     }
     out->a = base;
     for (uint32_t i = k; i-- > 0;) ast_push(out, rev[i]);
@@ -528,16 +586,16 @@ static AstNode *simp_attributes(Simp *s, const AstNode *n)
 static AstNode *simp_append(Simp *s, const AstNode *n)
 {
     AstNode *node = simp(s, n->a), *kids = simp(s, n->b);
-    if ((is_lit(node) && !vec_is_obj(node->value)) || (is_lit(kids) && !vec_is_obj(kids->value))) {
+    if ((is_lit(node) && !tdecide(s, node, TD_OBJ, 0)) || (is_lit(kids) && !tdecide(s, kids, TD_OBJ, 0))) {
         ast_free(kids);
         return node;
     }
     AstNode *e = mk_bin(AST_APPEND, 0, node, kids, n->loc);
     if (is_lit(node)) {
         if (is_lit(kids)) {
-            Vec *v = fold(s, e);
+            AstNode *v = fold_lit(s, e, n->loc);
             ast_free(e);
-            return mk_lit(v, n->loc);
+            return v;
         }
         if (kids->kind == AST_SEQUENCE && kids->nkids && is_lit(kids->kids[0])) {
             /* (node << first) << rest */
@@ -563,7 +621,7 @@ static AstNode *simp_append(Simp *s, const AstNode *n)
 /* tree.pyx sequence_pack: flatten nested sequences, compose runs of
  * literals, drop null literals. Consumes the [n] items of [items]; returns
  * the packed count (items reused in place). */
-static uint32_t sequence_pack(AstNode ***itemsp, uint32_t n, uint32_t *cap)
+static uint32_t sequence_pack(Simp *s, AstNode ***itemsp, uint32_t n, uint32_t *cap)
 {
     AstNode **items = *itemsp;
     /* flatten first */
@@ -590,12 +648,23 @@ static uint32_t sequence_pack(AstNode ***itemsp, uint32_t n, uint32_t *cap)
             uint32_t j = i + 1;
             while (j < n && is_lit(items[j])) j++;
             uint64_t total = 0;
-            for (uint32_t k = i; k < j; k++) total += vec_len(items[k]->value);
+            bool cols = false;
+            for (uint32_t k = i; k < j; k++) {
+                total += vec_len(items[k]->value);
+                cols = cols || (s->tg && has_col(items[k]));
+            }
+            if (cols && j - i > 1) {   /* members must agree on the limit below */
+                for (uint32_t m = 0; m < s->tg; m++) {
+                    uint64_t tm = 0;
+                    for (uint32_t k = i; k < j; k++) tm += vec_len(tval(items[k], m));
+                    if ((tm > SIMP_MAX_RANGE) != (total > SIMP_MAX_RANGE)) s->tabort = true;
+                }
+            }
             /* past the evaluator's composition limit (eval.c MAX_COMPOSE_LEN,
              * 2^26) the run is left for the evaluator, which reports it */
             if (j - i > 1 && total > SIMP_MAX_RANGE) {
                 for (uint32_t k = i; k < j; k++) {
-                    if (items[k]->value) items[out++] = items[k];
+                    if (!tdecide(s, items[k], TD_NULL, 0)) items[out++] = items[k];
                     else ast_free(items[k]);
                 }
                 i = j;
@@ -606,13 +675,21 @@ static uint32_t sequence_pack(AstNode ***itemsp, uint32_t n, uint32_t *cap)
                 if (!parts) mem_oom();
                 for (uint32_t k = i; k < j; k++) parts[k - i] = items[k]->value;
                 Vec *v = vec_compose(parts, j - i);
+                Column *c = NULL;
+                if (cols) {
+                    c = col_new(s->tg);
+                    for (uint32_t m = 0; m < s->tg; m++) {
+                        for (uint32_t k = i; k < j; k++) parts[k - i] = tval(items[k], m);
+                        c->v[m] = vec_compose(parts, j - i);
+                    }
+                }
                 free(parts);
                 Loc loc = e->loc;
                 for (uint32_t k = i; k < j; k++) ast_free(items[k]);
-                e = mk_lit(v, loc);
+                e = tlit(s, v, c, loc);
             }
             i = j;
-            if (!e->value) {
+            if (tdecide(s, e, TD_NULL, 0)) {
                 ast_free(e);
                 continue;
             }
@@ -626,10 +703,10 @@ static uint32_t sequence_pack(AstNode ***itemsp, uint32_t n, uint32_t *cap)
 }
 
 /* Build a node from packed items: null, the single item, or a sequence. */
-AstNode *simp_sequence_of(AstNode **items, uint32_t n, uint32_t cap, Loc loc);
-AstNode *simp_sequence_of(AstNode **items, uint32_t n, uint32_t cap, Loc loc)
+AstNode *simp_sequence_of(Simp *s, AstNode **items, uint32_t n, uint32_t cap, Loc loc);
+AstNode *simp_sequence_of(Simp *s, AstNode **items, uint32_t n, uint32_t cap, Loc loc)
 {
-    n = sequence_pack(&items, n, &cap);
+    n = sequence_pack(s, &items, n, &cap);
     AstNode *r;
     if (n == 0) r = mk_noop(loc);
     else if (n == 1) r = items[0];
@@ -647,7 +724,7 @@ static AstNode *simp_sequence(Simp *s, const AstNode *n)
     AstNode **items = malloc(cap * sizeof *items);
     if (!items) mem_oom();
     for (uint32_t i = 0; i < n->nkids; i++) items[i] = simp(s, n->kids[i]);
-    return simp_sequence_of(items, n->nkids, cap, n->loc);
+    return simp_sequence_of(s, items, n->nkids, cap, n->loc);
 }
 
 /* AST_IFELSE: literal conditions select or drop their branches. */
@@ -657,7 +734,7 @@ static AstNode *simp_ifelse(Simp *s, const AstNode *n)
     for (uint32_t i = 0; i + 1 < n->nkids; i += 2) {
         AstNode *cond = simp(s, n->kids[i]);
         if (is_lit(cond)) {
-            bool t = vec_truthy(cond->value);
+            bool t = tdecide(s, cond, TD_TRUTHY, 0);
             ast_free(cond);
             if (t) {
                 AstNode *then = simp(s, n->kids[i + 1]);
@@ -691,7 +768,7 @@ static AstNode *simp_kind(Simp *s, const AstNode *n);
 AstNode *simp(Simp *s, const AstNode *n)
 {
     if (!n) return NULL;
-    if (s->unwinding || s->too_deep) return mk_noop(n->loc);
+    if (s->unwinding || s->too_deep || s->tabort || s->tkey) return mk_noop(n->loc);
     if (s->ev.interrupted || (s->ev.interrupt && *s->ev.interrupt)) {
         s->ev.interrupted = true;   /* SIGINT at load: simplify_program gives up */
         return mk_noop(n->loc);
@@ -755,6 +832,10 @@ void simp_init(Simp *s, SymTab *st, Buf *warnings, const char *dir, const char *
     s->warned = calloc(1, sizeof *s->warned);
     if (!s->warned) mem_oom();
     s->ev = (Eval){.symtab = st, .errors = &s->errors, .debug = NULL};
+    const char *e = getenv("FLITTER_NOTEMPLATES");
+    s->no_templates = e && *e && strcmp(e, "0") != 0;
+    e = getenv("FLITTER_TEMPLATE_CHECK");
+    s->check_templates = e && *e && strcmp(e, "0") != 0;
     s->dir = strdup(dir ? dir : ".");
     s->path = path ? strdup(path) : NULL;
     if (!s->dir || (path && !s->path)) mem_oom();

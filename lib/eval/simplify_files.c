@@ -44,6 +44,10 @@ static char *dir_of(const char *path)
 
 AstNode *simp_include(Simp *s, const AstNode *n)
 {
+    if (s->tg) {   /* files read once per copy: not shared by a template pass */
+        s->tabort = true;
+        return mk_lit(NULL, n->loc);
+    }
     AstNode *file = simp(s, n->a);
     if (!is_lit(file)) return ast_unary(AST_INCLUDE, file, n->loc);
     const Vec *v = file->value;
@@ -144,6 +148,10 @@ static bool module_exports(Simp *s, const char *path, Simp *sub)
  * rest; the others stay imported when the program runs. */
 AstNode *simp_import(Simp *s, const AstNode *n)
 {
+    if (s->tg) {   /* files read once per copy: not shared by a template pass */
+        s->tabort = true;
+        return mk_lit(NULL, n->loc);
+    }
     AstNode *file = simp(s, n->a);
     Simp sub;
     bool have = false, circular = false;
@@ -213,6 +221,10 @@ AstNode *simp_import(Simp *s, const AstNode *n)
  * and exports only what is left, for the REPL's scope. */
 AstNode *simp_export(Simp *s, const AstNode *n)
 {
+    if (s->tg) {   /* files read once per copy: not shared by a template pass */
+        s->tabort = true;
+        return mk_lit(NULL, n->loc);
+    }
     if (s->in_include) return mk_lit(NULL, n->loc);
     AstNode *x = ast_new(AST_EXPORT, n->loc);
     if (!s->is_module) x->op = EXPORT_MAIN;

@@ -8,6 +8,16 @@
 #include "program.h"
 #include "simplify.h"
 
+/* One value per member of a template pass's group (simplify_template.c):
+ * the values a literal takes in each of the loop iterations simplified
+ * together. Reference-counted: copies of a literal share it, as they share
+ * their value. */
+typedef struct Column {
+    uint32_t refs;
+    uint32_t n;            /* members */
+    Vec *v[];              /* one reference each (NULL: null) */
+} Column;
+
 /* What a name stands for while simplifying (tree.pyx Context.names). */
 enum { NB_DYNAMIC, NB_LITERAL, NB_RENAME, NB_FUNCTION };
 
@@ -20,6 +30,8 @@ typedef struct NameBind {
                               from the Let being simplified) */
     uint32_t hash;         /* of the name (name_hash) */
     uint32_t prev;         /* the entry of the same name it shadows + 1, or 0 */
+    Column *col;           /* NB_LITERAL in a template pass: the members'
+                              values (one reference), or NULL: [value] */
 } NameBind;
 
 /* AST_EXPORT `op` after simplification: the main program's end, which does
@@ -92,7 +104,50 @@ struct Simp {
     const struct StableCache *stables;  /* known stable values, or NULL */
     PathList *files;        /* files read are added here (shared with
                                module sub-simplifiers; NULL: nowhere) */
+    /* template passes (simplify_template.c) */
+    uint32_t tg;            /* members of the group being simplified
+                               together, 0: not in a template pass */
+    bool tabort;            /* the pass met what it cannot share (a
+                               warning, a nested limit): unroll one copy
+                               at a time */
+    int64_t *tkey;          /* the first test whose outcome differs between
+                               members: each member's outcome, or NULL */
+    bool no_templates;      /* FLITTER_NOTEMPLATES: one copy at a time */
+    bool check_templates;   /* FLITTER_TEMPLATE_CHECK: compare every
+                               templated copy with its one-at-a-time twin */
 };
+
+/* ---- simplify_template.c ---- */
+/* Tests a template pass must agree on across its members (tdecide). */
+enum { TD_NUMERIC, TD_EQUALS, TD_TRUTHY, TD_LEN, TD_SCALAR, TD_OBJ, TD_NULL };
+/* True when [n] is a literal carrying a Column (in a template pass). */
+bool has_col(const AstNode *n);
+/* Member [m]'s value of literal [n] (borrowed): its column's, or its own. */
+Vec *tval(const AstNode *n, uint32_t m);
+/* A new column of [n] members, all NULL, one reference. */
+Column *col_new(uint32_t n);
+Column *col_retain(Column *c);
+void col_release(Column *c);
+/* Attach [c] (consumed; NULL: none) to literal [n]. */
+void col_attach(AstNode *n, Column *c);
+/* The outcome of test [kind] (TD_*, [x] for TD_EQUALS) on literal [n]'s
+ * value; in a template pass where members' outcomes differ, the first
+ * such test is recorded (s->tkey) and the group is split. */
+int64_t tdecide(Simp *s, const AstNode *n, int kind, double x);
+/* The literal of [rep_take] with column [c] (consumed; NULL: none). */
+AstNode *tlit(Simp *s, Vec *rep_take, Column *c, Loc loc);
+/* In a template pass, [f] applied to [e] once per member with each
+ * literal child (a, b, c, kids and the values of binding kids) holding
+ * that member's value: the results' column; NULL when no child has a
+ * column (or outside a pass). */
+typedef Vec *(*TEvalFn)(Simp *s, AstNode *e);
+Column *tcol_eval(Simp *s, AstNode *e, TEvalFn f);
+/* Unroll the body of for-loop [n] for the [count] bindings of literal
+ * [values] ([k] names each) into items[0..count) by template passes: the
+ * body is simplified once for each group of iterations that every test
+ * treats alike, and copied for its members. False (items untouched, no
+ * warning written) when the loop must be unrolled one copy at a time. */
+bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items);
 
 /* Set up [s] for a file in [dir] ([path]: the module's path, or NULL). */
 void simp_init(Simp *s, SymTab *st, Buf *warnings, const char *dir, const char *path,
@@ -120,6 +175,8 @@ void simp_share_warnings(Simp *sub, const Simp *s);
 NameBind *scope_find(Simp *s, const Str *name);
 /* Bind [name] (retained) to the given meaning in the current scope. */
 void scope_push(Simp *s, Str *name, int kind, const Vec *value, Str *target, const AstNode *fn);
+/* The same for NB_LITERAL [value] with column [col] (retained; may be NULL). */
+void scope_push_col(Simp *s, Str *name, const Vec *value, Column *col);
 /* Drop every binding made after [mark]. */
 void scope_restore(Simp *s, uint32_t mark);
 AstNode *simp_name(Simp *s, const AstNode *n);

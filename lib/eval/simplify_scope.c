@@ -18,7 +18,7 @@
 #include "mem.h"
 #include "stable.h"
 
-AstNode *simp_sequence_of(AstNode **items, uint32_t n, uint32_t cap, Loc loc);
+AstNode *simp_sequence_of(Simp *s, AstNode **items, uint32_t n, uint32_t cap, Loc loc);
 
 /* ====================================================================
  * The scope stack
@@ -66,7 +66,7 @@ void scope_push(Simp *s, Str *name, int kind, const Vec *value, Str *target, con
     }
     uint32_t i = s->nnames++;
     s->names[i] = (NameBind){str_retain(name), kind, vec_retain((Vec *)value),
-                             str_retain(target), fn, name_hash(name), 0};
+                             str_retain(target), fn, name_hash(name), 0, NULL};
     if (kind == NB_RENAME) {
         if (s->nrenames == s->caprenames) {
             s->caprenames = s->caprenames ? s->caprenames * 2 : 16;
@@ -86,6 +86,12 @@ void scope_push(Simp *s, Str *name, int kind, const Vec *value, Str *target, con
     }
 }
 
+void scope_push_col(Simp *s, Str *name, const Vec *value, Column *col)
+{
+    scope_push(s, name, NB_LITERAL, value, NULL, NULL);
+    s->names[s->nnames - 1].col = col_retain(col);
+}
+
 void scope_restore(Simp *s, uint32_t mark)
 {
     while (s->nnames > mark) {
@@ -95,6 +101,7 @@ void scope_restore(Simp *s, uint32_t mark)
         str_release(b->name);
         vec_release(b->value);
         str_release(b->target);
+        col_release(b->col);
     }
 }
 
@@ -333,7 +340,14 @@ AstNode *simp_name(Simp *s, const AstNode *n)
     NameBind *nb = scope_find(s, name);
     if (nb) {
         switch (nb->kind) {
-        case NB_LITERAL: return mk_lit(vec_fresh(nb->value), n->loc);
+        case NB_LITERAL: {
+            Column *c = NULL;
+            if (s->tg && nb->col) {
+                c = col_new(s->tg);
+                for (uint32_t m = 0; m < s->tg; m++) c->v[m] = nb->col->v[m] ? vec_fresh(nb->col->v[m]) : NULL;
+            }
+            return tlit(s, nb->value ? vec_fresh(nb->value) : NULL, c, n->loc);
+        }
         case NB_RENAME: {
             AstNode *t = ast_name(str_retain(nb->target), n->loc);
             return resimp(s, t);
@@ -479,13 +493,20 @@ AstNode *simp_let(Simp *s, const AstNode *n)
             continue;
         }
         if (is_lit(expr)) {
+            Column *ec = s->tg && has_col(expr) ? (Column *)expr->aux : NULL;
             if (b->nnames == 1) {
-                scope_push(s, b->names[0], NB_LITERAL, expr->value, NULL, NULL);
+                scope_push_col(s, b->names[0], expr->value, ec);
                 nameset_add(&discarded, b->names[0]);
             } else {
                 for (uint32_t j = 0; j < b->nnames; j++) {
                     Vec *item = vec_item(expr->value, j);
-                    scope_push(s, b->names[j], NB_LITERAL, item, NULL, NULL);
+                    Column *c = NULL;
+                    if (ec) {
+                        c = col_new(s->tg);
+                        for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_item(ec->v[m], j);
+                    }
+                    scope_push_col(s, b->names[j], item, c);
+                    col_release(c);
                     vec_release(item);
                     nameset_add(&discarded, b->names[j]);
                 }
@@ -599,12 +620,15 @@ AstNode *simp_for(Simp *s, const AstNode *n)
     uint32_t mark = s->nnames;
     bool unroll = is_lit(src);
     if (unroll) {
-        uint64_t copies = vec_len(src->value) / (n->nnames ? n->nnames : 1) + 1;
-        if (s->unrolled + copies > SIMP_MAX_UNROLL) {
+        uint64_t copies = (uint64_t)tdecide(s, src, TD_LEN, 0) / (n->nnames ? n->nnames : 1) + 1;
+        /* in a template pass each member unrolls its own copies */
+        uint64_t members = s->tg ? s->tg : 1;
+        if (s->unrolled + copies * members > SIMP_MAX_UNROLL) {
+            if (s->tg) s->tabort = true;   /* members would differ in where the limit falls */
             simp_warn(s, "Loop too long to unroll at load time; it is run as a loop");
             unroll = false;
         } else {
-            s->unrolled += copies;
+            s->unrolled += copies * members;
         }
     }
     if (!unroll) {
@@ -622,10 +646,22 @@ AstNode *simp_for(Simp *s, const AstNode *n)
     uint32_t cap = len / k + 1, count = 0;
     AstNode **items = malloc(cap * sizeof *items);
     if (!items) mem_oom();
+    uint32_t nitems = (len + k - 1) / k;
+    if (!s->tg && nitems > 1 && simp_unroll_templates(s, n, values, nitems, items)) {
+        ast_free(src);
+        return simp_sequence_of(s, items, nitems, cap, n->loc);
+    }
+    Column *scol = s->tg && has_col(src) ? (Column *)src->aux : NULL;
     for (uint32_t i = 0; i < len;) {
         for (uint32_t j = 0; j < n->nnames; j++, i++) {
             Vec *item = i < len ? vec_item(values, i) : NULL;
-            scope_push(s, n->names[j], NB_LITERAL, item, NULL, NULL);
+            Column *c = NULL;
+            if (scol) {   /* a nested loop over a source that differs between members */
+                c = col_new(s->tg);
+                for (uint32_t m = 0; m < s->tg; m++) c->v[m] = i < len ? vec_item(scol->v[m], i) : NULL;
+            }
+            scope_push_col(s, n->names[j], item, c);
+            col_release(c);
             vec_release(item);
         }
         if (!n->nnames) i++;
@@ -633,7 +669,7 @@ AstNode *simp_for(Simp *s, const AstNode *n)
         scope_restore(s, mark);
     }
     ast_free(src);
-    return simp_sequence_of(items, count, cap, n->loc);
+    return simp_sequence_of(s, items, count, cap, n->loc);
 }
 
 /* ====================================================================
@@ -731,12 +767,18 @@ static AstNode *inline_call(Simp *s, const AstNode *fn, AstNode **args, uint32_t
 
 /* Call every builtin of the literal [fn] with literal arguments at load
  * time (errors become warnings). */
-static AstNode *call_now(Simp *s, AstNode *call)
+static Vec *call_value(Simp *s, AstNode *call)
 {
     Vec *v = eval_expr(&s->ev, call);
     for (uint32_t i = 0; i < s->errors.count; i++) simp_warn(s, s->errors.items[i]);
     msgset_clear(&s->errors);
-    return mk_lit(v, call->loc);
+    return v;
+}
+
+static AstNode *call_now(Simp *s, AstNode *call)
+{
+    Column *c = tcol_eval(s, call, call_value);
+    return tlit(s, call_value(s, call), c, call->loc);
 }
 
 AstNode *simp_call(Simp *s, const AstNode *n)
@@ -749,7 +791,7 @@ AstNode *simp_call(Simp *s, const AstNode *n)
         NameBind *nb = scope_find(s, fn->names[0]);
         if (nb && nb->kind == NB_FUNCTION) fexpr = nb->fn;
     }
-    if (is_lit(fn) && !fn->value) return fn;
+    if (is_lit(fn) && tdecide(s, fn, TD_NULL, 0)) return fn;
     AstNode *c = ast_new(AST_CALL, n->loc);
     c->op = n->op;
     c->count = n->count;

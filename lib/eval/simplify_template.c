@@ -1,0 +1,351 @@
+/* simplify_template.c: unrolled loops simplified once per group of
+ * iterations, not once per iteration (issue 24).
+ *
+ * Flitter's simplifier unrolls a loop over a literal source into one
+ * simplified copy of the body per iteration (LANGUAGE.md §4.17), and the
+ * copies of one loop differ mostly in their literal values: in
+ * `for i in ..N` the copy for i=7 folds `i*0.07` to 0.49 where the copy
+ * for i=8 folds it to 0.56, and is otherwise the same tree. A template
+ * pass simplifies the body once for a group of iterations (its members)
+ * in lockstep: the simplifier runs as for the first member (the
+ * representative; every `->value` it reads is that member's), and every
+ * literal it makes from the loop variables carries a Column of all the
+ * members' values, computed with the same operations (the column helpers
+ * below, called where simplify.c and simplify_scope.c fold). Every test a
+ * rule makes on a literal's value goes through tdecide(): when the
+ * members' outcomes differ (i*0.07 is 0 only for i=0, where S2 turns
+ * `time + 0` into `+time`), the pass is abandoned and its group split by
+ * that outcome, each part simplified by a pass of its own. A pass that
+ * completes has treated every member alike, so the member's copy is the
+ * pass's tree with the member's values put in its literals (tinst): the
+ * same tree, value for value, that simplifying the body for that member
+ * alone makes. Copies come out in iteration order, so what follows
+ * (sequence packing, the evaluator, the dumps) sees exactly what it saw.
+ *
+ * What a pass cannot share makes the loop unroll one copy at a time, as
+ * before, with nothing of the pass left behind: a warning (written once
+ * per message, in iteration order), a nested loop whose unrolling limit
+ * would fall between members, a range or composition limit reached by
+ * some members only, includes, imports and exports, or too many groups.
+ * FLITTER_NOTEMPLATES=1 unrolls every loop one copy at a time (the
+ * reference route); FLITTER_TEMPLATE_CHECK=1 also simplifies every copy
+ * alone and aborts when the two differ (tests/simplify_templates.sh runs
+ * the golden scripts so).
+ */
+#include "simplify_internal.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mem.h"
+
+/* {===== columns */
+
+static void col_aux_free(void *p) { col_release(p); }
+
+bool has_col(const AstNode *n)
+{
+    return n && n->kind == AST_LITERAL && n->aux && n->aux_free == col_aux_free;
+}
+
+Vec *tval(const AstNode *n, uint32_t m)
+{
+    if (has_col(n)) return ((const Column *)n->aux)->v[m];
+    return n ? n->value : NULL;
+}
+
+Column *col_new(uint32_t n)
+{
+    Column *c = mem_calloc(1, sizeof *c + (size_t)n * sizeof c->v[0]);
+    c->refs = 1;
+    c->n = n;
+    return c;
+}
+
+Column *col_retain(Column *c)
+{
+    if (c) c->refs++;
+    return c;
+}
+
+void col_release(Column *c)
+{
+    if (!c || --c->refs) return;
+    for (uint32_t m = 0; m < c->n; m++) vec_release(c->v[m]);
+    free(c);
+}
+
+void col_attach(AstNode *n, Column *c)
+{
+    if (!c) return;
+    if (n->aux && n->aux_free) n->aux_free(n->aux);
+    n->aux = c;
+    n->aux_free = col_aux_free;
+}
+
+/* }===== */
+
+/* {===== tests and folds in a pass */
+
+static int64_t outcome(const Vec *v, int kind, double x)
+{
+    switch (kind) {
+    case TD_NUMERIC: return vec_is_num(v);
+    case TD_EQUALS: return vec_is_scalar(v) && vec_scalar(v) == x;
+    case TD_TRUTHY: return vec_truthy(v);
+    case TD_LEN: return (int64_t)vec_len(v);
+    case TD_SCALAR: return vec_is_scalar(v);
+    case TD_OBJ: return vec_is_obj(v);
+    case TD_NULL: return v == NULL;
+    default: return 0;
+    }
+}
+
+int64_t tdecide(Simp *s, const AstNode *n, int kind, double x)
+{
+    int64_t r = outcome(n->value, kind, x);
+    if (!s->tg || s->tkey || !has_col(n)) return r;
+    const Column *c = n->aux;
+    for (uint32_t m = 0; m < c->n; m++) {
+        if (outcome(c->v[m], kind, x) == r) continue;
+        s->tkey = mem_realloc(NULL, (size_t)c->n * sizeof *s->tkey);
+        for (uint32_t j = 0; j < c->n; j++) s->tkey[j] = outcome(c->v[j], kind, x);
+        break;
+    }
+    return r;
+}
+
+AstNode *tlit(Simp *s, Vec *rep_take, Column *c, Loc loc)
+{
+    AstNode *n = mk_lit(rep_take, loc);
+    if (!c) return n;
+    if (!s->tg) {
+        col_release(c);
+        return n;
+    }
+    col_attach(n, c);
+    tdecide(s, n, TD_SCALAR, 0);   /* mk_lit's IndexLiteral flag must hold for all */
+    return n;
+}
+
+/* The literal children of [e] that tcol_eval swaps: a, b, c, the kids and
+ * the values of binding kids. */
+static uint32_t literal_children(AstNode *e, AstNode **out, uint32_t cap)
+{
+    uint32_t n = 0;
+    AstNode *fixed[3] = {e->a, e->b, e->c};
+    for (int i = 0; i < 3; i++)
+        if (has_col(fixed[i]) && n < cap) out[n++] = fixed[i];
+    for (uint32_t i = 0; i < e->nkids; i++) {
+        AstNode *k = e->kids[i];
+        if (k && k->kind == AST_BINDING) k = k->a;
+        if (has_col(k) && n < cap) out[n++] = k;
+    }
+    return n;
+}
+
+Column *tcol_eval(Simp *s, AstNode *e, TEvalFn f)
+{
+    if (!s->tg) return NULL;
+    AstNode *small[8], **kids = small;
+    uint32_t cap = 3 + e->nkids;
+    if (cap > 8) kids = mem_realloc(NULL, cap * sizeof *kids);
+    uint32_t nk = literal_children(e, kids, cap);
+    Column *c = NULL;
+    if (nk) {
+        c = col_new(s->tg);
+        Vec *saved[8], **rep = saved;
+        if (nk > 8) rep = mem_realloc(NULL, nk * sizeof *rep);
+        for (uint32_t i = 0; i < nk; i++) rep[i] = kids[i]->value;
+        for (uint32_t m = 0; m < s->tg; m++) {
+            /* borrowed for the call: the column keeps its reference */
+            for (uint32_t i = 0; i < nk; i++) kids[i]->value = ((Column *)kids[i]->aux)->v[m];
+            c->v[m] = f(s, e);
+        }
+        for (uint32_t i = 0; i < nk; i++) kids[i]->value = rep[i];
+        if (rep != saved) free(rep);
+    }
+    if (kids != small) free(kids);
+    return c;
+}
+
+/* }===== */
+
+/* {===== the driver */
+
+/* Member [m]'s copy of template [t]: its literals hold the member's values. */
+static AstNode *tinst(const AstNode *t, uint32_t m)
+{
+    if (!t) return NULL;
+    AstNode *c = ast_new((AstKind)t->kind, t->loc);
+    c->op = t->op;
+    c->count = t->count;
+    c->a = tinst(t->a, m);
+    c->b = tinst(t->b, m);
+    c->c = tinst(t->c, m);
+    for (uint32_t i = 0; i < t->nkids; i++) ast_push(c, tinst(t->kids[i], m));
+    for (uint32_t i = 0; i < t->nnames; i++) ast_push_name(c, str_retain(t->names[i]));
+    c->value = vec_retain(has_col(t) ? ((const Column *)t->aux)->v[m] : t->value);
+    return c;
+}
+
+/* False when the body holds what a pass must not share. */
+static bool shareable(const AstNode *n)
+{
+    if (!n) return true;
+    if (n->kind == AST_INCLUDE || n->kind == AST_IMPORT || n->kind == AST_EXPORT) return false;
+    if (!shareable(n->a) || !shareable(n->b) || !shareable(n->c)) return false;
+    for (uint32_t i = 0; i < n->nkids; i++)
+        if (!shareable(n->kids[i])) return false;
+    return true;
+}
+
+typedef struct KeyPos {
+    int64_t key;
+    uint32_t pos;
+} KeyPos;
+
+static int keypos_cmp(const void *a, const void *b)
+{
+    const KeyPos *x = a, *y = b;
+    if (x->key != y->key) return x->key < y->key ? -1 : 1;
+    return x->pos < y->pos ? -1 : x->pos > y->pos;
+}
+
+typedef struct Range {
+    uint32_t start, n;
+} Range;
+
+/* FLITTER_TEMPLATE_CHECK: every copy against the body simplified for its
+ * iteration alone; a difference is a bug in a column helper or a missing
+ * tdecide, reported with both trees. */
+static void check_copies(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items)
+{
+    uint32_t k = n->nnames ? n->nnames : 1, len = vec_len(values);
+    uint64_t u = s->unrolled;
+    for (uint32_t it = 0; it < count; it++) {
+        uint32_t mark = s->nnames;
+        for (uint32_t j = 0; j < n->nnames; j++) {
+            uint32_t idx = it * k + j;
+            Vec *item = idx < len ? vec_item(values, idx) : NULL;
+            scope_push(s, n->names[j], NB_LITERAL, item, NULL, NULL);
+            vec_release(item);
+        }
+        AstNode *alone = simp(s, n->b);
+        scope_restore(s, mark);
+        Buf a = BUF_INIT, b = BUF_INIT;
+        ast_dump(&a, items[it], s->symtab);
+        ast_dump(&b, alone, s->symtab);
+        if (a.len != b.len || memcmp(a.data, b.data, a.len) != 0) {
+            fprintf(stderr, "flitter: template copy %u differs from its iteration alone\n--- template\n%.*s\n"
+                            "--- alone\n%.*s\n", it, (int)a.len, a.data, (int)b.len, b.data);
+            abort();
+        }
+        buf_free(&a);
+        buf_free(&b);
+        ast_free(alone);
+    }
+    s->unrolled = u;
+}
+
+bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items)
+{
+    if (s->no_templates || s->tg || count < 2 || !shareable(n->b)) return false;
+    uint32_t k = n->nnames ? n->nnames : 1, len = vec_len(values);
+    uint64_t u0 = s->unrolled;
+    bool deep0 = s->too_deep, unwinding0 = s->unwinding;
+    memset(items, 0, count * sizeof *items);
+    uint32_t *order = mem_realloc(NULL, (size_t)count * sizeof *order);
+    for (uint32_t i = 0; i < count; i++) order[i] = i;
+    Range *stack = mem_realloc(NULL, sizeof *stack);
+    uint32_t nstack = 1, capstack = 1, groups = 1;
+    stack[0] = (Range){0, count};
+    KeyPos *kp = NULL;
+    bool ok = true;
+    while (nstack && ok) {
+        Range g = stack[--nstack];
+        s->tg = g.n;
+        s->tabort = false;
+        s->tkey = NULL;
+        uint64_t ub = s->unrolled;
+        uint32_t mark = s->nnames;
+        for (uint32_t j = 0; j < n->nnames; j++) {
+            Column *c = col_new(g.n);
+            for (uint32_t m = 0; m < g.n; m++) {
+                uint32_t idx = order[g.start + m] * k + j;
+                c->v[m] = idx < len ? vec_item(values, idx) : NULL;
+            }
+            scope_push_col(s, n->names[j], c->v[0], c);
+            col_release(c);
+        }
+        AstNode *t = simp(s, n->b);
+        scope_restore(s, mark);
+        s->tg = 0;
+        if (s->tabort || s->too_deep != deep0 || s->unwinding != unwinding0 || s->ev.interrupted) {
+            ast_free(t);
+            ok = false;
+            break;
+        }
+        if (s->tkey) {
+            /* split the group by the outcome, members in iteration order */
+            s->unrolled = ub;
+            ast_free(t);
+            kp = mem_realloc(kp, (size_t)g.n * sizeof *kp);
+            for (uint32_t m = 0; m < g.n; m++) kp[m] = (KeyPos){s->tkey[m], order[g.start + m]};
+            free(s->tkey);
+            s->tkey = NULL;
+            qsort(kp, g.n, sizeof *kp, keypos_cmp);
+            uint32_t parts = 0;
+            for (uint32_t m = 0; m < g.n; m++) {
+                order[g.start + m] = kp[m].pos;
+                if (m == 0 || kp[m].key != kp[m - 1].key) parts++;
+            }
+            groups += parts - 1;
+            /* as many groups as copies would cost more than copies */
+            if (groups > 8 + count / 8) {
+                ok = false;
+                break;
+            }
+            if (nstack + parts > capstack) {
+                capstack = 2 * (nstack + parts);
+                stack = mem_realloc(stack, capstack * sizeof *stack);
+            }
+            for (uint32_t m = 0; m < g.n;) {
+                uint32_t e = m + 1;
+                while (e < g.n && kp[e].key == kp[m].key) e++;
+                stack[nstack++] = (Range){g.start + m, e - m};
+                m = e;
+            }
+            continue;
+        }
+        for (uint32_t m = 0; m < g.n && !s->ev.interrupted; m++) {
+            if (s->ev.interrupt && *s->ev.interrupt) s->ev.interrupted = true;   /* SIGINT: the load gives up */
+            items[order[g.start + m]] = tinst(t, m);
+        }
+        ast_free(t);
+        if (s->ev.interrupted) ok = false;
+    }
+    s->tg = 0;
+    s->tabort = false;
+    free(s->tkey);
+    s->tkey = NULL;
+    free(kp);
+    free(stack);
+    free(order);
+    if (!ok) {
+        for (uint32_t i = 0; i < count; i++) ast_free(items[i]);
+        s->unrolled = u0;
+        s->too_deep = deep0;
+        s->unwinding = unwinding0;
+        return false;
+    }
+    if (s->check_templates) {
+        check_copies(s, n, values, count, items);
+        fprintf(stderr, "flitter: template check: loop at byte %u of source %u: %u copies from %u groups, each as alone\n",
+                n->loc.start, n->loc.file, count, groups);
+    }
+    return true;
+}
+
+/* }===== */

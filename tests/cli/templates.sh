@@ -1,0 +1,44 @@
+#!/bin/sh
+# templates.sh FLITTER TESTS_DIR BENCH_DIR: unrolled loops simplified by
+# template passes (lib/eval/simplify_template.c) against the one copy at a
+# time route (FLITTER_NOTEMPLATES=1): for cli/templates.fl (loops whose
+# copies differ in shape) and every golden, language and bench script, the
+# simplified program (--dump-simplified) and the load's messages must be
+# byte for byte the same, and FLITTER_TEMPLATE_CHECK=1 (every templated
+# copy compared with its iteration simplified alone, abort on a
+# difference) must pass. cli/templates.fl must have all its loops
+# templated, and the benches' unrolled loops too.
+set -u
+flitter=$1 tests=$2 bench=$3
+dir=$(mktemp -d) || exit 2
+trap 'rm -rf "$dir"' EXIT
+fail=0 count=0
+check() {   # check FILE: compare the routes; print the number of templated loops
+    f=$1
+    FLITTER_NOTEMPLATES=1 "$flitter" run --frames 0 --dump-simplified "$f" >"$dir/one" 2>"$dir/one.err"
+    rc1=$?
+    env -u FLITTER_NOTEMPLATES FLITTER_TEMPLATE_CHECK=1 "$flitter" run --frames 0 --dump-simplified "$f" \
+        >"$dir/tmpl" 2>"$dir/tmpl.all"
+    rc2=$?
+    grep -v '^flitter: template check: ' "$dir/tmpl.all" >"$dir/tmpl.err"
+    count=$((count + 1))
+    if [ $rc1 -ne $rc2 ] || ! cmp -s "$dir/one" "$dir/tmpl" || ! cmp -s "$dir/one.err" "$dir/tmpl.err"; then
+        echo "template and one-copy routes differ: $f (exit $rc1 / $rc2)" >&2
+        diff "$dir/one" "$dir/tmpl" | head -10 >&2
+        diff "$dir/one.err" "$dir/tmpl.err" | head -10 >&2
+        fail=1
+    fi
+    templated=$(grep -c '^flitter: template check: ' "$dir/tmpl.all")
+}
+check "$tests/cli/templates.fl"
+# its 22 loops (and, as the check simplifies copies alone, their nested ones) over ..N or literal lists, each with a handful of shapes
+[ "$templated" -ge 22 ] || { echo "cli/templates.fl: only $templated loops templated" >&2; fail=1; }
+for f in "$tests"/golden/*.fl "$tests"/lang/*.fl; do
+    check "$f"
+done
+for f in canvas10k discs2k discs20k charges1k petri200; do
+    check "$bench/$f.fl"
+    [ "$templated" -ge 1 ] || { echo "bench/$f.fl: its loop was not templated" >&2; fail=1; }
+done
+[ $count -ge 30 ] || { echo "only $count scripts compared" >&2; exit 1; }
+exit $fail
