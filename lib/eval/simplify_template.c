@@ -22,6 +22,14 @@
  * alone makes. Copies come out in iteration order, so what follows
  * (sequence packing, the evaluator, the dumps) sees exactly what it saw.
  *
+ * Better still, a run of consecutive members of one group need not be
+ * copied at all: loop_form() makes it one loop over the members' column
+ * values, bound to hidden names where the template had its column
+ * literals, which the evaluator runs as it ran the copies (a name bound to
+ * a single item evaluates as that item's literal, except in the places
+ * collect_cols() refuses). 10,000 copies of canvas10k's body become one
+ * loop body and a vector of their values.
+ *
  * What a pass cannot share makes the loop unroll one copy at a time, as
  * before, with nothing of the pass left behind: a warning (written once
  * per message, in iteration order), a nested loop whose unrolling limit
@@ -217,6 +225,115 @@ typedef struct Range {
     uint32_t start, n;
 } Range;
 
+/* {===== the loop form */
+
+/* The distinct columns of [t] into cols (growable); false when one sits
+ * where the evaluator treats a literal unlike a name bound to the same
+ * value: a called function, an index (IndexLiteral, LANGUAGE.md §3.11),
+ * the exponent of `**` (F2), the base of attributes or appended children,
+ * or inside a function (whose capture flags were made for literals), or
+ * when a member's value is not a single item (the loop binds items). */
+static bool collect_cols(const AstNode *t, bool in_fn, Column ***cols, uint32_t *n, uint32_t *cap)
+{
+    if (!t) return true;
+    if (has_col(t)) {
+        Column *c = t->aux;
+        if (in_fn) return false;
+        for (uint32_t m = 0; m < c->n; m++)
+            if (vec_len(c->v[m]) != 1) return false;
+        for (uint32_t i = 0; i < *n; i++)
+            if ((*cols)[i] == c) return true;
+        if (*n == *cap) {
+            *cap = *cap ? 2 * *cap : 8;
+            *cols = mem_realloc(*cols, *cap * sizeof **cols);
+        }
+        (*cols)[(*n)++] = c;
+        return true;
+    }
+    if ((t->kind == AST_CALL || t->kind == AST_ATTRIBUTES || t->kind == AST_APPEND) && has_col(t->a)) return false;
+    if (t->kind == AST_INDEX && has_col(t->b)) return false;
+    if (t->kind == AST_BINOP && t->op == OP_POW && has_col(t->b)) return false;
+    bool fn = in_fn || t->kind == AST_FUNCTION;
+    if (!collect_cols(t->a, fn, cols, n, cap) || !collect_cols(t->b, fn, cols, n, cap) ||
+        !collect_cols(t->c, fn, cols, n, cap))
+        return false;
+    for (uint32_t i = 0; i < t->nkids; i++)
+        if (!collect_cols(t->kids[i], fn, cols, n, cap)) return false;
+    return true;
+}
+
+/* The hidden name of column [h] (no identifier can be written so). */
+static Str *hidden_name(uint32_t h)
+{
+    char b[32];
+    snprintf(b, sizeof b, "\xe2\x9f\xa8t%u\xe2\x9f\xa9", h);   /* ⟨tH⟩ */
+    return str_from(b);
+}
+
+/* [t] with each column literal replaced by the name of its column. */
+static AstNode *name_cols(const AstNode *t, Column *const *cols, uint32_t ncols)
+{
+    if (!t) return NULL;
+    if (has_col(t)) {
+        uint32_t h = 0;
+        while (cols[h] != t->aux) h++;
+        return ast_name(hidden_name(h), t->loc);
+    }
+    AstNode *c = ast_new((AstKind)t->kind, t->loc);
+    c->op = t->op;
+    c->count = t->count;
+    c->a = name_cols(t->a, cols, ncols);
+    c->b = name_cols(t->b, cols, ncols);
+    c->c = name_cols(t->c, cols, ncols);
+    for (uint32_t i = 0; i < t->nkids; i++) ast_push(c, name_cols(t->kids[i], cols, ncols));
+    for (uint32_t i = 0; i < t->nnames; i++) ast_push_name(c, str_retain(t->names[i]));
+    c->value = vec_retain(t->value);
+    return c;
+}
+
+/* The copies of the group whose members are iterations order[0..g) (in
+ * iteration order), from its template [t], into items: each run of
+ * consecutive iterations as one loop over the run's column values, bound
+ * to hidden names (`for ⟨t0⟩;⟨t1⟩ in v00;v10;v01;v11...`), which the
+ * evaluator runs as it ran the copies; the run's other items are null
+ * (dropped by the sequence packing). False (nothing made) when the group
+ * is better copied: few members, short runs, a literal template (its
+ * copies pack into one literal vector), or columns the loop cannot bind
+ * (collect_cols). */
+static bool loop_form(const AstNode *t, const uint32_t *order, uint32_t g, AstNode **items)
+{
+    uint32_t runs = 1;
+    for (uint32_t m = 1; m < g; m++) runs += order[m] != order[m - 1] + 1;
+    /* a literal template's copies pack into one literal: nothing to run */
+    if (g < 16 || g < 8 * runs || is_lit(t)) return false;
+    Column **cols = NULL;
+    uint32_t ncols = 0, capcols = 0;
+    bool ok = collect_cols(t, false, &cols, &ncols, &capcols) && ncols;
+    if (!ok) {
+        free(cols);
+        return false;
+    }
+    for (uint32_t m = 0; m < g;) {
+        uint32_t e = m + 1;
+        while (e < g && order[e] == order[e - 1] + 1) e++;
+        Vec **parts = mem_realloc(NULL, (size_t)(e - m) * ncols * sizeof *parts);
+        for (uint32_t j = m; j < e; j++)
+            for (uint32_t h = 0; h < ncols; h++) parts[(j - m) * ncols + h] = cols[h]->v[j];
+        AstNode *f = ast_new(AST_FOR, t->loc);
+        for (uint32_t h = 0; h < ncols; h++) ast_push_name(f, hidden_name(h));
+        f->a = mk_lit(vec_compose(parts, (e - m) * ncols), t->loc);
+        f->b = name_cols(t, cols, ncols);
+        free(parts);
+        items[order[m]] = f;
+        for (uint32_t j = m + 1; j < e; j++) items[order[j]] = mk_lit(NULL, t->loc);
+        m = e;
+    }
+    free(cols);
+    return true;
+}
+
+/* }===== */
+
 /* FLITTER_TEMPLATE_CHECK: every copy against the body simplified for its
  * iteration alone; a difference is a bug in a column helper or a missing
  * tdecide, reported with both trees. */
@@ -319,9 +436,11 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
             }
             continue;
         }
-        for (uint32_t m = 0; m < g.n && !s->ev.interrupted; m++) {
-            if (s->ev.interrupt && *s->ev.interrupt) s->ev.interrupted = true;   /* SIGINT: the load gives up */
-            items[order[g.start + m]] = tinst(t, m);
+        if (s->check_templates || !loop_form(t, order + g.start, g.n, items)) {
+            for (uint32_t m = 0; m < g.n && !s->ev.interrupted; m++) {
+                if (s->ev.interrupt && *s->ev.interrupt) s->ev.interrupted = true;   /* SIGINT: the load gives up */
+                items[order[g.start + m]] = tinst(t, m);
+            }
         }
         ast_free(t);
         if (s->ev.interrupted) ok = false;

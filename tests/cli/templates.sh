@@ -1,13 +1,16 @@
 #!/bin/sh
 # templates.sh FLITTER TESTS_DIR BENCH_DIR: unrolled loops simplified by
 # template passes (lib/eval/simplify_template.c) against the one copy at a
-# time route (FLITTER_NOTEMPLATES=1): for cli/templates.fl (loops whose
-# copies differ in shape) and every golden, language and bench script, the
-# simplified program (--dump-simplified) and the load's messages must be
-# byte for byte the same, and FLITTER_TEMPLATE_CHECK=1 (every templated
-# copy compared with its iteration simplified alone, abort on a
-# difference) must pass. cli/templates.fl must have all its loops
-# templated, and the benches' unrolled loops too.
+# time route (FLITTER_NOTEMPLATES=1), for cli/templates.fl (loops whose
+# copies differ in shape) and every golden, language and bench script:
+# - with FLITTER_TEMPLATE_CHECK=1 (every templated copy compared with its
+#   iteration simplified alone, abort on a difference; copies are made,
+#   not loops) the simplified program (--dump-simplified) and the load's
+#   messages must be byte for byte the same; cli/templates.fl must have all
+#   its loops templated, and the benches' unrolled loops too;
+# - by default (runs of alike copies become loops over hidden names) the
+#   state dumps and node trees they evaluate to, and their messages, must
+#   be byte for byte the same; canvas10k must have become such a loop.
 set -u
 flitter=$1 tests=$2 bench=$3
 dir=$(mktemp -d) || exit 2
@@ -40,5 +43,32 @@ for f in canvas10k discs2k discs20k charges1k petri200; do
     check "$bench/$f.fl"
     [ "$templated" -ge 1 ] || { echo "bench/$f.fl: its loop was not templated" >&2; fail=1; }
 done
-[ $count -ge 30 ] || { echo "only $count scripts compared" >&2; exit 1; }
+run() {   # run NAME ARGS...: the evaluated outputs of the two routes
+    name=$1
+    shift
+    FLITTER_NOTEMPLATES=1 "$flitter" run "$@" >"$dir/one" 2>"$dir/one.err"
+    rc1=$?
+    env -u FLITTER_NOTEMPLATES -u FLITTER_TEMPLATE_CHECK "$flitter" run "$@" >"$dir/loop" 2>"$dir/loop.err"
+    rc2=$?
+    count=$((count + 1))
+    if [ $rc1 -ne $rc2 ] || ! cmp -s "$dir/one" "$dir/loop" || ! cmp -s "$dir/one.err" "$dir/loop.err"; then
+        echo "template and one-copy routes evaluate differently: $name ($*)" >&2
+        diff "$dir/one" "$dir/loop" | head -10 >&2
+        diff "$dir/one.err" "$dir/loop.err" | head -10 >&2
+        fail=1
+    fi
+}
+run templates --frames 3 --dump-every 1 --dump-tree "$tests/cli/templates.fl"
+for f in "$tests"/golden/*.fl; do
+    run "$f" --frames 60 --dump-every 20 --dump-state "$f"
+done
+for f in "$tests"/lang/*.fl; do
+    run "$f" --frames 2 --dump-tree "$f"
+done
+run canvas10k --frames 2 --dump-tree "$bench/canvas10k.fl"
+run petri200 --frames 30 --dump-state "$bench/petri200.fl"
+env -u FLITTER_NOTEMPLATES -u FLITTER_TEMPLATE_CHECK "$flitter" run --frames 0 --dump-simplified \
+    "$bench/canvas10k.fl" >"$dir/loop" 2>&1
+grep -q "for ⟨t0⟩" "$dir/loop" || { echo "bench/canvas10k.fl: its loop was copied, not run as a loop" >&2; fail=1; }
+[ $count -ge 60 ] || { echo "only $count scripts compared" >&2; exit 1; }
 exit $fail
