@@ -227,13 +227,82 @@ typedef struct Range {
 
 /* {===== the loop form */
 
-/* The distinct columns of [t] into cols (growable); false when one sits
- * where the evaluator treats a literal unlike a name bound to the same
- * value: a called function, an index (IndexLiteral, LANGUAGE.md §3.11),
- * the exponent of `**` (F2), the base of attributes or appended children,
- * or inside a function (whose capture flags were made for literals), or
- * when a member's value is not a single item (the loop binds items). */
-static bool collect_cols(const AstNode *t, bool in_fn, Column ***cols, uint32_t *n, uint32_t *cap)
+/* The columns of a template to bind: the distinct Column objects met
+ * (col), the hidden name each takes (name: columns whose members hold
+ * equal values, bit for bit and without NaN, share one), and how many
+ * names there are. */
+typedef struct ColSet {
+    Column **col;
+    uint32_t *name;
+    uint64_t *hash;     /* per column: of its members' values */
+    bool *dedup;        /* per column: NaN-free, may share a name */
+    uint32_t n, cap, names;
+} ColSet;
+
+static bool nan_free(const Vec *v)
+{
+    if (!vec_is_num(v)) return true;
+    for (uint32_t i = 0; i < v->len; i++)
+        if (vec_cnums(v)[i] != vec_cnums(v)[i]) return false;
+    return true;
+}
+
+static void colset_add(ColSet *cs, Column *c)
+{
+    uint64_t h = 1469598103934665603u;
+    bool dedup = true;
+    for (uint32_t m = 0; m < c->n; m++) {
+        h = (h ^ vec_hash(c->v[m], false)) * 1099511628211u;
+        dedup = dedup && nan_free(c->v[m]);
+    }
+    if (cs->n == cs->cap) {
+        cs->cap = cs->cap ? 2 * cs->cap : 16;
+        cs->col = mem_realloc(cs->col, cs->cap * sizeof *cs->col);
+        cs->name = mem_realloc(cs->name, cs->cap * sizeof *cs->name);
+        cs->hash = mem_realloc(cs->hash, cs->cap * sizeof *cs->hash);
+        cs->dedup = mem_realloc(cs->dedup, cs->cap * sizeof *cs->dedup);
+    }
+    uint32_t name = cs->names;
+    for (uint32_t i = 0; dedup && i < cs->n; i++) {
+        if (!cs->dedup[i] || cs->hash[i] != h) continue;
+        bool same = true;
+        for (uint32_t m = 0; m < c->n && same; m++) same = vec_key_equal(c->v[m], cs->col[i]->v[m]);
+        if (same) {
+            name = cs->name[i];
+            break;
+        }
+    }
+    if (name == cs->names) cs->names++;
+    cs->col[cs->n] = c;
+    cs->name[cs->n] = name;
+    cs->hash[cs->n] = h;
+    cs->dedup[cs->n] = dedup;
+    cs->n++;
+}
+
+static void colset_free(ColSet *cs)
+{
+    free(cs->col);
+    free(cs->name);
+    free(cs->hash);
+    free(cs->dedup);
+}
+
+/* The hidden name index of column [c] in [cs]. */
+static uint32_t colset_name(const ColSet *cs, const Column *c)
+{
+    uint32_t i = 0;
+    while (cs->col[i] != c) i++;
+    return cs->name[i];
+}
+
+/* The columns of [t] into [cs]; false when one sits where the evaluator
+ * treats a literal unlike a name bound to the same value: a called
+ * function, an index (IndexLiteral, LANGUAGE.md §3.11), the exponent of
+ * `**` (F2), the base of attributes or appended children, or inside a
+ * function (whose capture flags were made for literals), or when a
+ * member's value is not a single item (the loop binds items). */
+static bool collect_cols(const AstNode *t, bool in_fn, ColSet *cs)
 {
     if (!t) return true;
     if (has_col(t)) {
@@ -241,24 +310,18 @@ static bool collect_cols(const AstNode *t, bool in_fn, Column ***cols, uint32_t 
         if (in_fn) return false;
         for (uint32_t m = 0; m < c->n; m++)
             if (vec_len(c->v[m]) != 1) return false;
-        for (uint32_t i = 0; i < *n; i++)
-            if ((*cols)[i] == c) return true;
-        if (*n == *cap) {
-            *cap = *cap ? 2 * *cap : 8;
-            *cols = mem_realloc(*cols, *cap * sizeof **cols);
-        }
-        (*cols)[(*n)++] = c;
+        for (uint32_t i = 0; i < cs->n; i++)
+            if (cs->col[i] == c) return true;
+        colset_add(cs, c);
         return true;
     }
     if ((t->kind == AST_CALL || t->kind == AST_ATTRIBUTES || t->kind == AST_APPEND) && has_col(t->a)) return false;
     if (t->kind == AST_INDEX && has_col(t->b)) return false;
     if (t->kind == AST_BINOP && t->op == OP_POW && has_col(t->b)) return false;
     bool fn = in_fn || t->kind == AST_FUNCTION;
-    if (!collect_cols(t->a, fn, cols, n, cap) || !collect_cols(t->b, fn, cols, n, cap) ||
-        !collect_cols(t->c, fn, cols, n, cap))
-        return false;
+    if (!collect_cols(t->a, fn, cs) || !collect_cols(t->b, fn, cs) || !collect_cols(t->c, fn, cs)) return false;
     for (uint32_t i = 0; i < t->nkids; i++)
-        if (!collect_cols(t->kids[i], fn, cols, n, cap)) return false;
+        if (!collect_cols(t->kids[i], fn, cs)) return false;
     return true;
 }
 
@@ -271,21 +334,17 @@ static Str *hidden_name(uint32_t h)
 }
 
 /* [t] with each column literal replaced by the name of its column. */
-static AstNode *name_cols(const AstNode *t, Column *const *cols, uint32_t ncols)
+static AstNode *name_cols(const AstNode *t, const ColSet *cs)
 {
     if (!t) return NULL;
-    if (has_col(t)) {
-        uint32_t h = 0;
-        while (cols[h] != t->aux) h++;
-        return ast_name(hidden_name(h), t->loc);
-    }
+    if (has_col(t)) return ast_name(hidden_name(colset_name(cs, t->aux)), t->loc);
     AstNode *c = ast_new((AstKind)t->kind, t->loc);
     c->op = t->op;
     c->count = t->count;
-    c->a = name_cols(t->a, cols, ncols);
-    c->b = name_cols(t->b, cols, ncols);
-    c->c = name_cols(t->c, cols, ncols);
-    for (uint32_t i = 0; i < t->nkids; i++) ast_push(c, name_cols(t->kids[i], cols, ncols));
+    c->a = name_cols(t->a, cs);
+    c->b = name_cols(t->b, cs);
+    c->c = name_cols(t->c, cs);
+    for (uint32_t i = 0; i < t->nkids; i++) ast_push(c, name_cols(t->kids[i], cs));
     for (uint32_t i = 0; i < t->nnames; i++) ast_push_name(c, str_retain(t->names[i]));
     c->value = vec_retain(t->value);
     return c;
@@ -306,29 +365,32 @@ static bool loop_form(const AstNode *t, const uint32_t *order, uint32_t g, AstNo
     for (uint32_t m = 1; m < g; m++) runs += order[m] != order[m - 1] + 1;
     /* a literal template's copies pack into one literal: nothing to run */
     if (g < 16 || g < 8 * runs || is_lit(t)) return false;
-    Column **cols = NULL;
-    uint32_t ncols = 0, capcols = 0;
-    bool ok = collect_cols(t, false, &cols, &ncols, &capcols) && ncols;
-    if (!ok) {
-        free(cols);
+    ColSet cs = {0};
+    if (!collect_cols(t, false, &cs) || !cs.names) {
+        colset_free(&cs);
         return false;
     }
+    /* each name's column: the first column that takes it */
+    Column **byname = mem_realloc(NULL, cs.names * sizeof *byname);
+    for (uint32_t i = cs.n; i-- > 0;) byname[cs.name[i]] = cs.col[i];
+    uint32_t k = cs.names;
     for (uint32_t m = 0; m < g;) {
         uint32_t e = m + 1;
         while (e < g && order[e] == order[e - 1] + 1) e++;
-        Vec **parts = mem_realloc(NULL, (size_t)(e - m) * ncols * sizeof *parts);
+        Vec **parts = mem_realloc(NULL, (size_t)(e - m) * k * sizeof *parts);
         for (uint32_t j = m; j < e; j++)
-            for (uint32_t h = 0; h < ncols; h++) parts[(j - m) * ncols + h] = cols[h]->v[j];
+            for (uint32_t h = 0; h < k; h++) parts[(j - m) * k + h] = byname[h]->v[j];
         AstNode *f = ast_new(AST_FOR, t->loc);
-        for (uint32_t h = 0; h < ncols; h++) ast_push_name(f, hidden_name(h));
-        f->a = mk_lit(vec_compose(parts, (e - m) * ncols), t->loc);
-        f->b = name_cols(t, cols, ncols);
+        for (uint32_t h = 0; h < k; h++) ast_push_name(f, hidden_name(h));
+        f->a = mk_lit(vec_compose(parts, (e - m) * k), t->loc);
+        f->b = name_cols(t, &cs);
         free(parts);
         items[order[m]] = f;
         for (uint32_t j = m + 1; j < e; j++) items[order[j]] = mk_lit(NULL, t->loc);
         m = e;
     }
-    free(cols);
+    free(byname);
+    colset_free(&cs);
     return true;
 }
 
