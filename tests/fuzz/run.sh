@@ -5,15 +5,16 @@
 # any finding (crash, sanitizer report, leak, timeout, out-of-memory); the
 # reproducer and the log are kept in $FUZZ_ARTIFACTS (default
 # BUILD_DIR/fuzz-artifacts). Prints one line per target with its executions.
-# Seeds: scripts from tests/golden, tests/lang, tests/errors and samples
-# (for `script` and `repl`), tests/fuzz/corpus/TARGET for the others.
+# Seeds: scripts from tests/golden, tests/lang, tests/errors, samples and
+# tests/cli (for `script`, `repl` and `templates`), tests/fuzz/corpus/TARGET
+# for the others.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 build=$(cd "$1" && pwd) seconds=$2
 shift 2
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(script statefile repl define)
+[ ${#targets[@]} -gt 0 ] || targets=(script statefile repl define templates)
 artifacts=${FUZZ_ARTIFACTS:-$build/fuzz-artifacts}
 mkdir -p "$artifacts"
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:allocator_may_return_null=0}
@@ -30,8 +31,8 @@ for t in "${targets[@]}"; do
     work=$(mktemp -d -p "$shm")
     mkdir "$work/corpus" "$work/tmp"
     case $t in
-        script|repl)
-            for d in tests/golden tests/lang tests/errors samples; do
+        script|repl|templates)
+            for d in tests/golden tests/lang tests/errors samples tests/cli; do
                 for f in "$root/$d"/*.fl; do
                     # not the seeds that build 2^24-element vectors on
                     # purpose: slow, and the REPL prints every element
