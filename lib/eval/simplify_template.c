@@ -182,21 +182,36 @@ Column *tcol_eval(Simp *s, AstNode *e, TEvalFn f)
 
 /* {===== the driver */
 
-/* Member [m]'s copy of template [t]: its literals hold the member's values. */
-static AstNode *tinst(const AstNode *t, uint32_t m)
+/* A copy of template [t] in which each column literal is what [leaf]
+ * makes of it ([ctx] passed on); the rest as ast_copy copies it. */
+typedef AstNode *(*LeafFn)(const AstNode *lit, const void *ctx);
+
+static AstNode *copy_with(const AstNode *t, LeafFn leaf, const void *ctx)
 {
     if (!t) return NULL;
+    if (has_col(t)) return leaf(t, ctx);
     AstNode *c = ast_new((AstKind)t->kind, t->loc);
     c->op = t->op;
     c->count = t->count;
-    c->a = tinst(t->a, m);
-    c->b = tinst(t->b, m);
-    c->c = tinst(t->c, m);
-    for (uint32_t i = 0; i < t->nkids; i++) ast_push(c, tinst(t->kids[i], m));
+    c->a = copy_with(t->a, leaf, ctx);
+    c->b = copy_with(t->b, leaf, ctx);
+    c->c = copy_with(t->c, leaf, ctx);
+    for (uint32_t i = 0; i < t->nkids; i++) ast_push(c, copy_with(t->kids[i], leaf, ctx));
     for (uint32_t i = 0; i < t->nnames; i++) ast_push_name(c, str_retain(t->names[i]));
-    c->value = vec_retain(has_col(t) ? ((const Column *)t->aux)->v[m] : t->value);
+    c->value = vec_retain(t->value);
     return c;
 }
+
+/* A column literal holding member *[ctx]'s value. */
+static AstNode *member_leaf(const AstNode *lit, const void *ctx)
+{
+    AstNode *c = ast_literal(vec_retain(((const Column *)lit->aux)->v[*(const uint32_t *)ctx]), lit->loc);
+    c->op = lit->op;
+    return c;
+}
+
+/* Member [m]'s copy of template [t]: its literals hold the member's values. */
+static AstNode *tinst(const AstNode *t, uint32_t m) { return copy_with(t, member_leaf, &m); }
 
 /* False when the body holds what a pass must not share. */
 static bool shareable(const AstNode *n)
@@ -227,15 +242,19 @@ typedef struct Range {
 
 /* {===== the loop form */
 
-/* The columns of a template to bind: the distinct Column objects met
- * (col), the hidden name each takes (name: columns whose members hold
- * equal values, bit for bit and without NaN, share one), and how many
- * names there are. */
+/* A column of a template to bind: the hidden name it takes (columns
+ * whose members hold equal values, bit for bit and without NaN, share
+ * one). */
+typedef struct ColName {
+    Column *col;
+    uint64_t hash;      /* of its members' values */
+    uint32_t name;
+    bool dedup;         /* NaN-free: may share a name */
+} ColName;
+
+/* The distinct Column objects of a template, and how many names they take. */
 typedef struct ColSet {
-    Column **col;
-    uint32_t *name;
-    uint64_t *hash;     /* per column: of its members' values */
-    bool *dedup;        /* per column: NaN-free, may share a name */
+    ColName *e;
     uint32_t n, cap, names;
 } ColSet;
 
@@ -257,43 +276,29 @@ static void colset_add(ColSet *cs, Column *c)
     }
     if (cs->n == cs->cap) {
         cs->cap = cs->cap ? 2 * cs->cap : 16;
-        cs->col = mem_realloc(cs->col, cs->cap * sizeof *cs->col);
-        cs->name = mem_realloc(cs->name, cs->cap * sizeof *cs->name);
-        cs->hash = mem_realloc(cs->hash, cs->cap * sizeof *cs->hash);
-        cs->dedup = mem_realloc(cs->dedup, cs->cap * sizeof *cs->dedup);
+        cs->e = mem_realloc(cs->e, cs->cap * sizeof *cs->e);
     }
     uint32_t name = cs->names;
     for (uint32_t i = 0; dedup && i < cs->n; i++) {
-        if (!cs->dedup[i] || cs->hash[i] != h) continue;
+        const ColName *o = &cs->e[i];
+        if (!o->dedup || o->hash != h) continue;
         bool same = true;
-        for (uint32_t m = 0; m < c->n && same; m++) same = vec_key_equal(c->v[m], cs->col[i]->v[m]);
+        for (uint32_t m = 0; m < c->n && same; m++) same = vec_key_equal(c->v[m], o->col->v[m]);
         if (same) {
-            name = cs->name[i];
+            name = o->name;
             break;
         }
     }
     if (name == cs->names) cs->names++;
-    cs->col[cs->n] = c;
-    cs->name[cs->n] = name;
-    cs->hash[cs->n] = h;
-    cs->dedup[cs->n] = dedup;
-    cs->n++;
+    cs->e[cs->n++] = (ColName){c, h, name, dedup};
 }
 
-static void colset_free(ColSet *cs)
+/* The entry of column [c] in [cs], or NULL. */
+static const ColName *colset_find(const ColSet *cs, const Column *c)
 {
-    free(cs->col);
-    free(cs->name);
-    free(cs->hash);
-    free(cs->dedup);
-}
-
-/* The hidden name index of column [c] in [cs]. */
-static uint32_t colset_name(const ColSet *cs, const Column *c)
-{
-    uint32_t i = 0;
-    while (cs->col[i] != c) i++;
-    return cs->name[i];
+    for (uint32_t i = 0; i < cs->n; i++)
+        if (cs->e[i].col == c) return &cs->e[i];
+    return NULL;
 }
 
 /* The columns of [t] into [cs]; false when one sits where the evaluator
@@ -310,9 +315,7 @@ static bool collect_cols(const AstNode *t, bool in_fn, ColSet *cs)
         if (in_fn) return false;
         for (uint32_t m = 0; m < c->n; m++)
             if (vec_len(c->v[m]) != 1) return false;
-        for (uint32_t i = 0; i < cs->n; i++)
-            if (cs->col[i] == c) return true;
-        colset_add(cs, c);
+        if (!colset_find(cs, c)) colset_add(cs, c);
         return true;
     }
     if ((t->kind == AST_CALL || t->kind == AST_ATTRIBUTES || t->kind == AST_APPEND) && has_col(t->a)) return false;
@@ -333,21 +336,10 @@ static Str *hidden_name(uint32_t h)
     return str_from(b);
 }
 
-/* [t] with each column literal replaced by the name of its column. */
-static AstNode *name_cols(const AstNode *t, const ColSet *cs)
+/* A column literal as the hidden name of its column in ColSet *[ctx]. */
+static AstNode *name_leaf(const AstNode *lit, const void *ctx)
 {
-    if (!t) return NULL;
-    if (has_col(t)) return ast_name(hidden_name(colset_name(cs, t->aux)), t->loc);
-    AstNode *c = ast_new((AstKind)t->kind, t->loc);
-    c->op = t->op;
-    c->count = t->count;
-    c->a = name_cols(t->a, cs);
-    c->b = name_cols(t->b, cs);
-    c->c = name_cols(t->c, cs);
-    for (uint32_t i = 0; i < t->nkids; i++) ast_push(c, name_cols(t->kids[i], cs));
-    for (uint32_t i = 0; i < t->nnames; i++) ast_push_name(c, str_retain(t->names[i]));
-    c->value = vec_retain(t->value);
-    return c;
+    return ast_name(hidden_name(colset_find(ctx, lit->aux)->name), lit->loc);
 }
 
 /* The copies of the group whose members are iterations order[0..g) (in
@@ -367,12 +359,12 @@ static bool loop_form(const AstNode *t, const uint32_t *order, uint32_t g, AstNo
     if (g < 16 || g < 8 * runs || is_lit(t)) return false;
     ColSet cs = {0};
     if (!collect_cols(t, false, &cs) || !cs.names) {
-        colset_free(&cs);
+        free(cs.e);
         return false;
     }
     /* each name's column: the first column that takes it */
     Column **byname = mem_realloc(NULL, cs.names * sizeof *byname);
-    for (uint32_t i = cs.n; i-- > 0;) byname[cs.name[i]] = cs.col[i];
+    for (uint32_t i = cs.n; i-- > 0;) byname[cs.e[i].name] = cs.e[i].col;
     uint32_t k = cs.names;
     for (uint32_t m = 0; m < g;) {
         uint32_t e = m + 1;
@@ -383,14 +375,14 @@ static bool loop_form(const AstNode *t, const uint32_t *order, uint32_t g, AstNo
         AstNode *f = ast_new(AST_FOR, t->loc);
         for (uint32_t h = 0; h < k; h++) ast_push_name(f, hidden_name(h));
         f->a = mk_lit(vec_compose(parts, (e - m) * k), t->loc);
-        f->b = name_cols(t, &cs);
+        f->b = copy_with(t, name_leaf, &cs);
         free(parts);
         items[order[m]] = f;
         for (uint32_t j = m + 1; j < e; j++) items[order[j]] = mk_lit(NULL, t->loc);
         m = e;
     }
     free(byname);
-    colset_free(&cs);
+    free(cs.e);
     return true;
 }
 
