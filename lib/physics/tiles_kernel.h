@@ -186,7 +186,12 @@ TK(tile)(const TileLevel *T, size_t i0, size_t j0, TK_VI lane, TK_VD *FA,
         TK_VI valid = diag ? inpool & (lane > (int64_t)r) : inpool;
         if (i0 + r >= T->npart)
             valid = (TK_VI){0};
-        TK_VD ga[TILE_MAX_F][TILE_MAX_D] = {{{0}}}, gb[TILE_MAX_F][TILE_MAX_D] = {{{0}}};
+        /* only the nf x D entries in use are cleared (the whole arrays
+         * would be 1.5 KB of stores a row) */
+        TK_VD ga[TILE_MAX_F][TILE_MAX_D], gb[TILE_MAX_F][TILE_MAX_D];
+        for (size_t f = 0; f < nf; f++)
+            for (size_t k = 0; k < D; k++)
+                ga[f][k] = gb[f][k] = pz;
         const unsigned acts = TK(pair_values)(T, i0 + r, valid, Xl, Rl, Rnz, Vl,
                                               Vnz, ga, gb, D, nf, spec, full);
         tacts |= acts;
