@@ -772,22 +772,24 @@ gather_dense_fixed(const LevelRun *L, size_t i, PhysScratch *sc, const size_t D)
     uint32_t *cand = sc->cand;
     size_t nc = 0;
     const int lo1 = D > 1 ? -1 : 0, lo2 = D > 2 ? -1 : 0;
+    const bool rowq = q < L->npart;   /* partner(): as bits, no branches */
     for (int dz = lo2; dz <= -lo2; dz++) {
         for (int dy = lo1; dy <= -lo1; dy++) {
             size_t mid = cq + (size_t)((ptrdiff_t)dz * (ptrdiff_t)e01 +
                                        (ptrdiff_t)dy * (ptrdiff_t)e0);
             const uint32_t end = gr->cstart[mid + 2];
+            /* branch-free: about half the slots scanned are within
+             * reach, so a branch on it would mispredict that often; the
+             * slot's entry is written always and kept when it counts */
             for (uint32_t j = gr->cstart[mid - 1]; j < end; j++) {
                 double sum = 0;
                 for (size_t k = 0; k < D; k++) {
                     double d = gr->sx[k * m + j] - x[k];
                     sum += d * d;
                 }
-                if (sum > r2)
-                    continue;
                 uint32_t e = gr->slotq[j];
-                if (partner(L, q, e))
-                    cand[nc++] = e;
+                cand[nc] = e;
+                nc += !(sum > r2) & (e != q) & (rowq | (e < L->npart));
             }
         }
     }
