@@ -390,7 +390,8 @@ static bool loop_form(const AstNode *t, const uint32_t *order, uint32_t g, AstNo
 
 /* FLITTER_TEMPLATE_CHECK: every copy against the body simplified for its
  * iteration alone; a difference is a bug in a column helper or a missing
- * tdecide, reported with both trees. */
+ * tdecide, reported with both trees. An interrupt (Ctrl-C, the fuzz
+ * targets' time budget) ends the check: the load is abandoned. */
 static void check_copies(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items)
 {
     uint32_t k = n->nnames ? n->nnames : 1, len = vec_len(values);
@@ -405,6 +406,12 @@ static void check_copies(Simp *s, const AstNode *n, const Vec *values, uint32_t 
         }
         AstNode *alone = simp(s, n->b);
         scope_restore(s, mark);
+        if (s->ev.interrupt && *s->ev.interrupt) s->ev.interrupted = true;
+        if (s->ev.interrupted) {
+            /* the load gives up: a copy cut short is not a difference */
+            ast_free(alone);
+            break;
+        }
         Buf a = BUF_INIT, b = BUF_INIT;
         ast_dump(&a, items[it], s->symtab);
         ast_dump(&b, alone, s->symtab);
@@ -515,8 +522,9 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
     }
     if (s->check_templates) {
         check_copies(s, n, values, count, items);
-        fprintf(stderr, "flitter: template check: loop at byte %u of source %u: %u copies from %u groups, each as alone\n",
-                n->loc.start, n->loc.file, count, groups);
+        if (!s->ev.interrupted)
+            fprintf(stderr, "flitter: template check: loop at byte %u of source %u: %u copies from %u groups, each as alone\n",
+                    n->loc.start, n->loc.file, count, groups);
     }
     return true;
 }
