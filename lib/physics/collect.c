@@ -304,6 +304,7 @@ static void applier_clock(PhysApplier *ap, PhysCollect *c)
     ap->key = vec_hash(seed, true);
     ap->index = 0;
     ap->pair_at = UINT64_MAX;
+    ap->pre_n = 0;
 }
 
 /* §3 "every other child": a force applier or barrier of group [group],

@@ -948,4 +948,5 @@ void phys_pairs_free(PhysSystem *s)
     free(s->scratch);
     free(s->rows);
     free(s->tiles);
+    free(s->rnd);
 }

@@ -90,6 +90,11 @@ typedef struct PhysApplier {
     uint64_t pair_at;      /* random: the even index of the draws in pair
                             * (odd, UINT64_MAX: none yet) */
     double pair[2];        /* ... rng_normal_pair()'s */
+    uint64_t pre_at;       /* random: pairs pre_at, pre_at + 2, ... (even
+                            * indices) were drawn ahead into PhysSystem.rnd
+                            * from offset pre_off, pre_n of them (step.c) */
+    uint64_t pre_n;
+    size_t pre_off;
     size_t vec;            /* offset of this applier's 2*D doubles in avec:
                             * drag flow | buoyancy gravity | constant force,
                             * acceleration | field direction | barrier
@@ -273,6 +278,8 @@ typedef struct PhysSystem {
     int simd;                     /* PHYS_SIMD_* the tile kernel may use */
     double *tiles; size_t captiles;   /* tiles.c: the level in pool order,
                                        * 64-byte aligned */
+    double *rnd; size_t caprnd;   /* step.c: !random draws made ahead, two
+                                   * doubles a pair */
 
     /* names seen in the tree, classified once while the string lives
      * (collect.c): direct-mapped by address, strings retained */
@@ -475,6 +482,9 @@ bool phys_tiles_suits(const PhysSystem *s, const PhysLevel *lv);
  * at a time in vector instructions of level s->simd. Reuses s->tiles;
  * aborts with a message if memory runs out. */
 void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
+/* Whether phys_run_tiles() runs level [lv] of group [g] on two threads
+ * (enough pairs to pay for the hand-offs, and a pool of two or more). */
+bool phys_tiles_threaded(const PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
 /* Grow s->tiles for a level of [npool] pool entries now (at planning). */
 void phys_tiles_reserve(PhysSystem *s, size_t npool);
 

@@ -16,6 +16,8 @@
  * in the order written there.
  */
 #include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "physics_internal.h"
@@ -181,7 +183,13 @@ apply_particle(PhysSystem *s, PhysApplier *ap, size_t p, double delta,
         for (size_t i = 0; i < D; i++) {
             const uint64_t e = ap->index & ~(uint64_t)1;
             if (ap->pair_at != e) {
-                rng_normal_pair(ap->key, e, ap->pair);
+                /* drawn ahead (random_ahead) or now: the same function of
+                 * key and index either way */
+                const uint64_t k = (e - ap->pre_at) / 2;
+                if (e >= ap->pre_at && k < ap->pre_n)
+                    memcpy(ap->pair, s->rnd + ap->pre_off + 2 * k, sizeof ap->pair);
+                else
+                    rng_normal_pair(ap->key, e, ap->pair);
                 ap->pair_at = e;
             }
             F[i] = F[i] + ap->strength * ap->pair[ap->index & 1];
@@ -354,6 +362,131 @@ static void particle_pass(PhysSystem *s, const PhysGroup *g, double clock,
                      pass_task, &r);
 }
 
+/* {===== !random draws made on a second thread during the first pass
+ *
+ * The normal draws of a !random applier are a function of its key and draw
+ * index alone (streams.h), not of the particles, so the draws a step's
+ * particle pass will take can be made while the pair pass runs. When the
+ * pair pass keeps to one thread (every level on a one-thread route) and a
+ * second thread is there, the first pass is one job of two tasks: the pair
+ * pass of every group, and the draws, from each applier's next index for as
+ * many draws as the particles of the groups whose chains hold it take (an
+ * anchor takes none: a few draws to spare). The particle pass copies a pair
+ * drawn ahead instead of drawing it; the values are the same bits. */
+
+/* Fewest pairs of draws worth a job of their own. */
+#define AHEAD_MIN_PAIRS 32
+
+typedef struct FirstPass {
+    PhysSystem *s;
+} FirstPass;
+
+/* Whether the pair pass of [s] runs on one thread: no level on the
+ * gather routes (split over the threads) or on two-thread tiles. */
+static bool pairs_one_thread(const PhysSystem *s)
+{
+    for (size_t gi = 0; gi < s->ngroups; gi++) {
+        const PhysGroup *g = &s->groups[gi];
+        if (g->npart == 0)
+            continue;
+        for (size_t l = 0; l < g->lvl_n; l++) {
+            const PhysLevel *lv = &s->levels[g->lvl_off + l];
+            switch (lv->route) {
+            case PHYS_ROUTE_SKIP:
+            case PHYS_ROUTE_SCATTER:
+            case PHYS_ROUTE_ROWS:
+                break;
+            case PHYS_ROUTE_TILES:
+                if (phys_tiles_threaded(s, g, lv))
+                    return false;
+                break;
+            default:
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+/* Plan this step's draws ahead: each !random applier's range (pre_at,
+ * pre_n, pre_off) and room for them in s->rnd. False (nothing planned)
+ * when there are too few to be worth it or no memory. */
+static bool plan_ahead(PhysSystem *s)
+{
+    size_t total = 0;
+    for (size_t a = 0; a < s->nap; a++) {
+        PhysApplier *ap = &s->ap[a];
+        if (ap->kind != AP_RANDOM)
+            continue;
+        ap->pre_n = 0;
+        uint64_t draws = 0;
+        for (size_t gi = 0; gi < s->ngroups; gi++) {
+            const PhysGroup *g = &s->groups[gi];
+            const uint32_t *pf = s->chain + g->pf_off;
+            for (size_t j = 0; j < g->pf_n; j++)
+                if (pf[j] == a)
+                    draws += (uint64_t)g->npart * s->D;
+        }
+        ap->pre_at = ap->index & ~(uint64_t)1;
+        ap->pre_n = (draws + (ap->index & 1) + 1) / 2;
+        ap->pre_off = 2 * total;
+        total += ap->pre_n;
+    }
+    if (total < AHEAD_MIN_PAIRS || total > SIZE_MAX / 4 / sizeof(double))
+        goto none;
+    if (2 * total > s->caprnd) {
+        double *r = realloc(s->rnd, 2 * total * sizeof(double));
+        if (!r)
+            goto none;
+        s->rnd = r;
+        s->caprnd = 2 * total;
+    }
+    return true;
+none:
+    for (size_t a = 0; a < s->nap; a++)
+        s->ap[a].pre_n = 0;
+    return false;
+}
+
+/* Task 0: the pair pass of every group; task 1: the planned draws. */
+static void first_pass_task(void *ctx, size_t t, unsigned thread)
+{
+    (void)thread;
+    PhysSystem *s = ((FirstPass *)ctx)->s;
+    if (t == 0) {
+        for (size_t g = 0; g < s->ngroups; g++)
+            pair_pass(s, &s->groups[g]);
+        return;
+    }
+    for (size_t a = 0; a < s->nap; a++) {
+        const PhysApplier *ap = &s->ap[a];
+        if (ap->kind != AP_RANDOM)
+            continue;
+        double *out = s->rnd + ap->pre_off;
+        for (uint64_t k = 0; k < ap->pre_n; k++)
+            rng_normal_pair(ap->key, ap->pre_at + 2 * k, out + 2 * k);
+    }
+}
+
+/* The first pass of one step (§4: the pair pass of every group), with the
+ * draws of the step made alongside when that pays. */
+static void first_pass(PhysSystem *s, bool random)
+{
+    PhysWorkers *w = s->workers;
+    if (!random || s->literal || phys_workers_count(w) < 2 || !pairs_one_thread(s) || !plan_ahead(s)) {
+        for (size_t g = 0; g < s->ngroups; g++)
+            pair_pass(s, &s->groups[g]);
+        return;
+    }
+    FirstPass fp = {s};
+    /* the pair pass inside the job keeps to its thread */
+    s->workers = NULL;
+    phys_workers_run(w, 2, first_pass_task, &fp);
+    s->workers = w;
+}
+
+/* }===== */
+
 /* §4 loop:
  *   delta = min(resolution, time - last); last = last + delta
  *   more  = last < time  (realtime: and spare performance, once per frame)
@@ -367,6 +500,9 @@ double phys_run_steps(PhysSystem *s, double time, double last, double clock,
 {
     const PhysicsFrame *fr = s->frame;
     long steps = 0;
+    bool random = false;
+    for (size_t a = 0; a < s->nap && !random; a++)
+        random = s->ap[a].kind == AP_RANDOM;
     for (;;) {
         double gap = time - last;
         double delta = gap < resolution ? gap : resolution;
@@ -384,8 +520,7 @@ double phys_run_steps(PhysSystem *s, double time, double last, double clock,
         if (more && fr && fr->interrupt && *fr->interrupt)
             more = false;
         last = next;
-        for (size_t g = 0; g < s->ngroups; g++)
-            pair_pass(s, &s->groups[g]);
+        first_pass(s, random);
         for (size_t g = 0; g < s->ngroups; g++) {
             if (s->groups[g].npart)
                 particle_pass(s, &s->groups[g], clock, delta, more);

@@ -361,6 +361,17 @@ static void tiles_task(void *ctx, size_t t, unsigned thread)
     tiles_part(ctx, (int)t + 1);
 }
 
+/* The pairs of the reference loop over [rows] rows and [n] pool entries. */
+static double level_pairs(size_t rows, size_t n)
+{
+    return (double)rows * (double)(n - 1) - (double)rows * (double)(rows - 1) / 2;
+}
+
+bool phys_tiles_threaded(const PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
+{
+    return phys_workers_count(s->workers) >= 2 && level_pairs(g->npart, lv->npool) >= TILES_PIPE_PAIRS;
+}
+
 void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
 {
     const size_t D = s->D, n = lv->npool;
@@ -411,11 +422,11 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     /* pairs of the reference loop, and those of partners below cut c */
     const size_t W = s->simd == PHYS_SIMD_AVX512 ? 8 : s->simd == PHYS_SIMD_AVX2 ? 4 : 2;
     const size_t rows = T.npart;
-    const double all = (double)rows * (double)(n - 1) - (double)rows * (double)(rows - 1) / 2;
+    const double all = level_pairs(rows, n);
     TileRun run = {.T = &T, .simd = s->simd, .spec = tile_spec_of(&T), .D = D,
                    .buf = F + D * ns};
     atomic_init(&run.done, 0);
-    if (phys_workers_count(s->workers) < 2 || all < TILES_PIPE_PAIRS) {
+    if (!phys_tiles_threaded(s, g, lv)) {
         tiles_part(&run, 0);
     } else {
         size_t c = W;
