@@ -20,6 +20,9 @@
 #include "view.h"
 #include "window.h"
 
+/* last: it turns the library's names into calls through its table */
+#include "cairo_lib.h"
+
 struct Pictures {
     Renderer *ren;   /* draws windows; never writes !record files */
     View *view;      /* draws the physics view (its 3D renderer kept across frames) */
@@ -135,6 +138,11 @@ static int check_buffer(fl_runtime *rt, const char *fn, const uint32_t *pixels, 
     if (stride < (size_t)width * 4 || stride % 4 != 0 || stride > (size_t)INT32_MAX) {
         fail(rt, "%s: stride %zu bytes: must be a multiple of 4 and at least width*4 = %zu",
              fn, stride, (size_t)width * 4);
+        return -1;
+    }
+    char why[300];
+    if (!cairo_lib_ready(why, sizeof why)) {
+        fail(rt, "%s: %s", fn, why);
         return -1;
     }
     return 0;
@@ -273,7 +281,7 @@ int fl_view_painter_draw(fl_view_painter *painter, const fl_view_snapshot *snap,
 {
     if (nsystems) *nsystems = 0;
     if (!painter || !snap || !pixels || width < 1 || height < 1 || width > 16384 || height > 16384 ||
-        stride < (size_t)width * 4 || stride % 4 != 0 || stride > (size_t)INT32_MAX)
+        stride < (size_t)width * 4 || stride % 4 != 0 || stride > (size_t)INT32_MAX || !cairo_lib_ready(NULL, 0))
         return -1;
     cairo_surface_t *s = wrap(pixels, width, height, stride);
     int rc = -1;

@@ -11,6 +11,9 @@
 #include "mem.h"
 #include "srgb.h"
 
+/* last: it turns the library's names into calls through its table */
+#include "cairo_lib.h"
+
 struct Bloom {
     float *small, *tmp;       /* two framebuffers at the blur's size */
     size_t cap_small;

@@ -19,6 +19,9 @@
 #include "rnode.h"
 #include "srgb.h"
 
+/* last: it turns the library's names into calls through its table */
+#include "cairo_lib.h"
+
 #define TAU 6.283185307179586
 
 /* True the first time [kind] is seen by [log] (remembering it). */

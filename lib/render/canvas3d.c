@@ -25,6 +25,10 @@
 #include "mem.h"
 #include "rnode.h"
 
+/* last: they turn the libraries' names into calls through their tables */
+#include "cairo_lib.h"
+#include "gl_lib.h"
+
 #define DEFAULT_MAX_LIGHTS 50
 #define DEFAULT_SEGMENTS 64
 

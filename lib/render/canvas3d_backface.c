@@ -7,6 +7,9 @@
 
 #include <epoxy/gl.h>
 
+/* last: it turns the library's names into calls through its table */
+#include "gl_lib.h"
+
 void c3d_backface_free(C3dBackface *b)
 {
     if (b->fbo) glDeleteFramebuffers(1, &b->fbo);

@@ -19,6 +19,9 @@
 #include "canvas3d_shaders.h"
 #include "mem.h"
 
+/* last: it turns the library's names into calls through its table */
+#include "gl_lib.h"
+
 /* The program for [max_lights] lights of the [kinds] (bit 1 << LIGHT_*),
  * made when not kept. */
 static C3dProgram *program_for(Canvas3D *c, int max_lights, unsigned kinds, char *err, size_t errlen)

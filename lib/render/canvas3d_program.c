@@ -11,6 +11,9 @@
 #include "canvas3d_shaders.h"
 #include "mem.h"
 
+/* last: it turns the library's names into calls through its table */
+#include "gl_lib.h"
+
 static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
 {
     GLuint s = glCreateShader(type);

@@ -15,6 +15,9 @@
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
+/* last: it turns the library's names into calls through its table */
+#include "gl_lib.h"
+
 struct GlContext {
     EGLDisplay dpy;
     EGLContext ctx;
@@ -36,6 +39,7 @@ static bool has_ext(const char *list, const char *name)
 
 GlContext *gl_context_new(char *err, size_t errlen)
 {
+    if (!gl_lib_ready(err, errlen)) return NULL;
     const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (!client || !has_ext(client, "EGL_MESA_platform_surfaceless") ||
         !has_ext(client, "EGL_EXT_platform_base")) {

@@ -17,6 +17,9 @@
 
 #include "mem.h"
 
+/* last: it turns the library's names into calls through its table */
+#include "gl_lib.h"
+
 #define PI 3.141592653589793
 
 /* A growing mesh. */

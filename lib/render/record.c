@@ -22,6 +22,9 @@
 #include "mem.h"
 #include "outfile.h"
 
+/* last: it turns the library's names into calls through its table */
+#include "cairo_lib.h"
+
 typedef struct Slot {
     char *path;       /* the file name as given */
     GifOut *gif;      /* an animation, or NULL */

@@ -4,6 +4,9 @@
 #include <math.h>
 #include <stddef.h>
 
+/* last: it turns the library's names into calls through its table */
+#include "cairo_lib.h"
+
 /* The step of enc for linear [f] (clamped to 0..1, NaN to 0). */
 static inline int encode_index(float f)
 {

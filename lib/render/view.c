@@ -18,6 +18,9 @@
 #include "mem.h"
 #include "srgb.h"
 
+/* last: it turns the library's names into calls through its table */
+#include "cairo_lib.h"
+
 enum { PANEL = 480, PANEL_1D = 160, MARGIN = 24, TITLE = 28, MAX_PANELS = 16 };
 enum { FMT_PNG, FMT_SVG, FMT_GIF };
 
@@ -580,6 +583,7 @@ size_t view_draw_fit(View *v, cairo_surface_t *target, const PsSystem *systems, 
 
 int view_frame(View *v, long frame, const PsSystem *systems, size_t n, char *err, size_t errlen)
 {
+    if (!cairo_lib_ready(err, errlen)) return -1;
     if (v->npanels == 0 && v->width == 0) lay_out(v, systems, n);   /* fix the layout */
     cairo_surface_t *surf;
     if (v->format == FMT_SVG) surf = cairo_svg_surface_create(v->path, v->width, v->height);

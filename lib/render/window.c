@@ -17,6 +17,9 @@
 #include "srgb.h"
 #include "turns.h"
 
+/* last: it turns the library's names into calls through its table */
+#include "cairo_lib.h"
+
 struct Renderer {
     const SymTab *symbols;
     RenderLog log;
@@ -511,6 +514,11 @@ int renderer_frame(Renderer *r, const Node *root, double fps)
         bool extra = first && r->record;
         first = false;
         if (!has_record(win) && !extra) continue;
+        char why[300];
+        if (!cairo_lib_ready(why, sizeof why)) {
+            report(r, "window", why);   /* logged once: the same answer every frame */
+            return r->failed_reported - before;
+        }
         int w, h;
         window_size(win, &w, &h);
         cairo_surface_t *pic = new_picture(w, h);
@@ -523,6 +531,7 @@ int renderer_frame(Renderer *r, const Node *root, double fps)
 
 int renderer_draw_window(Renderer *r, const Node *win, cairo_surface_t *target)
 {
+    if (!cairo_lib_ready(NULL, 0)) return -1;   /* the caller made [target] with its own cairo */
     int w, h;
     window_size(win, &w, &h);
     if (cairo_surface_get_type(target) != CAIRO_SURFACE_TYPE_IMAGE ||

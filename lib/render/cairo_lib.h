@@ -1,0 +1,161 @@
+/* cairo_lib.h: cairo, loaded with dlopen the first time something is drawn,
+ * not linked.
+ *
+ * Why: libcairo.so.2 brings about twenty libraries with it on Debian 12
+ * (pixman, fontconfig, freetype, libpng, X11 and xcb); mapping and
+ * relocating them took about 1.7 ms of every process, more than a tenth of
+ * a 120-frame physics run. Loaded on first use, only a run that draws a
+ * picture pays for it. The headers (libcairo2-dev) are still needed to
+ * build; at run time the library of the same major version is opened by
+ * soname.
+ *
+ * The render files call cairo by its usual names: this header, included
+ * after <cairo.h>, makes each name used in lib/ a call through the table
+ * of entry points (FL_CAIRO_FUNCTIONS is that list: a function missing
+ * from it fails to link, as the library no longer links cairo). The table
+ * is process-wide, like the dynamic linker's own: it is filled once, under
+ * pthread_once, and never changes; every runtime in the process shares the
+ * one loaded libcairo, as it would if it were linked.
+ *
+ * Every path that draws starts at a function that calls cairo_lib_ready
+ * (renderer_frame, renderer_draw_window, view_new, pictures), so no call
+ * goes through the table before it is filled. */
+#ifndef FL_RENDER_CAIRO_LIB_H
+#define FL_RENDER_CAIRO_LIB_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include <cairo-svg.h>
+#include <cairo.h>
+
+#define FL_CAIRO_FUNCTIONS(X)                                                                           \
+    X(cairo_arc) X(cairo_arc_negative) X(cairo_clip) X(cairo_clip_extents) X(cairo_close_path)          \
+    X(cairo_create) X(cairo_curve_to) X(cairo_destroy) X(cairo_device_to_user_distance)                 \
+    X(cairo_fill_preserve) X(cairo_get_current_point) X(cairo_get_matrix) X(cairo_get_source)           \
+    X(cairo_has_current_point) X(cairo_identity_matrix) X(cairo_image_surface_create)                   \
+    X(cairo_image_surface_create_for_data) X(cairo_image_surface_get_data)                              \
+    X(cairo_image_surface_get_format) X(cairo_image_surface_get_height)                                 \
+    X(cairo_image_surface_get_stride) X(cairo_image_surface_get_width) X(cairo_line_to)                 \
+    X(cairo_matrix_init) X(cairo_matrix_init_scale) X(cairo_matrix_init_translate)                      \
+    X(cairo_matrix_invert) X(cairo_matrix_multiply) X(cairo_matrix_rotate) X(cairo_matrix_scale)        \
+    X(cairo_matrix_translate) X(cairo_move_to) X(cairo_new_path) X(cairo_new_sub_path) X(cairo_paint)   \
+    X(cairo_paint_with_alpha) X(cairo_pattern_add_color_stop_rgba) X(cairo_pattern_create_linear)       \
+    X(cairo_pattern_create_radial) X(cairo_pattern_create_rgba) X(cairo_pattern_destroy)                \
+    X(cairo_pattern_reference) X(cairo_pattern_set_extend) X(cairo_pattern_set_filter)                  \
+    X(cairo_pattern_set_matrix) X(cairo_pop_group_to_source) X(cairo_push_group) X(cairo_rectangle)     \
+    X(cairo_restore) X(cairo_rotate) X(cairo_save) X(cairo_scale) X(cairo_select_font_face)             \
+    X(cairo_set_antialias) X(cairo_set_dash) X(cairo_set_fill_rule) X(cairo_set_font_size)              \
+    X(cairo_set_line_cap) X(cairo_set_line_join) X(cairo_set_line_width) X(cairo_set_matrix)            \
+    X(cairo_set_miter_limit) X(cairo_set_operator) X(cairo_set_source) X(cairo_set_source_rgb)          \
+    X(cairo_set_source_rgba) X(cairo_set_source_surface) X(cairo_show_text) X(cairo_status_to_string)   \
+    X(cairo_stroke) X(cairo_stroke_preserve) X(cairo_surface_destroy) X(cairo_surface_finish)           \
+    X(cairo_surface_flush) X(cairo_surface_get_type) X(cairo_surface_mark_dirty) X(cairo_surface_status) \
+    X(cairo_surface_write_to_png) X(cairo_surface_write_to_png_stream) X(cairo_svg_surface_create)      \
+    X(cairo_text_extents) X(cairo_text_path) X(cairo_transform) X(cairo_translate)                      \
+    X(cairo_user_to_device_distance)
+
+/* cairo's entry points: f_NAME for each NAME of FL_CAIRO_FUNCTIONS. */
+typedef struct CairoLib {
+#define FL_CAIRO_FIELD(name) __typeof__(&name) f_##name;
+    FL_CAIRO_FUNCTIONS(FL_CAIRO_FIELD)
+#undef FL_CAIRO_FIELD
+} CairoLib;
+
+/* The filled table (NULL before cairo_lib_ready succeeds). */
+extern const CairoLib *fl_cairo;
+
+/* Load cairo if it is not loaded yet (thread-safe; only the first call
+ * does any work) and say whether its entry points can be called.
+ *   errors: false with one line in [why] ([cap] bytes): the library or
+ *           one of its functions missing; the same answer every time. */
+bool cairo_lib_ready(char *why, size_t cap);
+
+/* The names the render files call (FL_CAIRO_FUNCTIONS). */
+#define cairo_arc (fl_cairo->f_cairo_arc)
+#define cairo_arc_negative (fl_cairo->f_cairo_arc_negative)
+#define cairo_clip (fl_cairo->f_cairo_clip)
+#define cairo_clip_extents (fl_cairo->f_cairo_clip_extents)
+#define cairo_close_path (fl_cairo->f_cairo_close_path)
+#define cairo_create (fl_cairo->f_cairo_create)
+#define cairo_curve_to (fl_cairo->f_cairo_curve_to)
+#define cairo_destroy (fl_cairo->f_cairo_destroy)
+#define cairo_device_to_user_distance (fl_cairo->f_cairo_device_to_user_distance)
+#define cairo_fill_preserve (fl_cairo->f_cairo_fill_preserve)
+#define cairo_get_current_point (fl_cairo->f_cairo_get_current_point)
+#define cairo_get_matrix (fl_cairo->f_cairo_get_matrix)
+#define cairo_get_source (fl_cairo->f_cairo_get_source)
+#define cairo_has_current_point (fl_cairo->f_cairo_has_current_point)
+#define cairo_identity_matrix (fl_cairo->f_cairo_identity_matrix)
+#define cairo_image_surface_create (fl_cairo->f_cairo_image_surface_create)
+#define cairo_image_surface_create_for_data (fl_cairo->f_cairo_image_surface_create_for_data)
+#define cairo_image_surface_get_data (fl_cairo->f_cairo_image_surface_get_data)
+#define cairo_image_surface_get_format (fl_cairo->f_cairo_image_surface_get_format)
+#define cairo_image_surface_get_height (fl_cairo->f_cairo_image_surface_get_height)
+#define cairo_image_surface_get_stride (fl_cairo->f_cairo_image_surface_get_stride)
+#define cairo_image_surface_get_width (fl_cairo->f_cairo_image_surface_get_width)
+#define cairo_line_to (fl_cairo->f_cairo_line_to)
+#define cairo_matrix_init (fl_cairo->f_cairo_matrix_init)
+#define cairo_matrix_init_scale (fl_cairo->f_cairo_matrix_init_scale)
+#define cairo_matrix_init_translate (fl_cairo->f_cairo_matrix_init_translate)
+#define cairo_matrix_invert (fl_cairo->f_cairo_matrix_invert)
+#define cairo_matrix_multiply (fl_cairo->f_cairo_matrix_multiply)
+#define cairo_matrix_rotate (fl_cairo->f_cairo_matrix_rotate)
+#define cairo_matrix_scale (fl_cairo->f_cairo_matrix_scale)
+#define cairo_matrix_translate (fl_cairo->f_cairo_matrix_translate)
+#define cairo_move_to (fl_cairo->f_cairo_move_to)
+#define cairo_new_path (fl_cairo->f_cairo_new_path)
+#define cairo_new_sub_path (fl_cairo->f_cairo_new_sub_path)
+#define cairo_paint (fl_cairo->f_cairo_paint)
+#define cairo_paint_with_alpha (fl_cairo->f_cairo_paint_with_alpha)
+#define cairo_pattern_add_color_stop_rgba (fl_cairo->f_cairo_pattern_add_color_stop_rgba)
+#define cairo_pattern_create_linear (fl_cairo->f_cairo_pattern_create_linear)
+#define cairo_pattern_create_radial (fl_cairo->f_cairo_pattern_create_radial)
+#define cairo_pattern_create_rgba (fl_cairo->f_cairo_pattern_create_rgba)
+#define cairo_pattern_destroy (fl_cairo->f_cairo_pattern_destroy)
+#define cairo_pattern_reference (fl_cairo->f_cairo_pattern_reference)
+#define cairo_pattern_set_extend (fl_cairo->f_cairo_pattern_set_extend)
+#define cairo_pattern_set_filter (fl_cairo->f_cairo_pattern_set_filter)
+#define cairo_pattern_set_matrix (fl_cairo->f_cairo_pattern_set_matrix)
+#define cairo_pop_group_to_source (fl_cairo->f_cairo_pop_group_to_source)
+#define cairo_push_group (fl_cairo->f_cairo_push_group)
+#define cairo_rectangle (fl_cairo->f_cairo_rectangle)
+#define cairo_restore (fl_cairo->f_cairo_restore)
+#define cairo_rotate (fl_cairo->f_cairo_rotate)
+#define cairo_save (fl_cairo->f_cairo_save)
+#define cairo_scale (fl_cairo->f_cairo_scale)
+#define cairo_select_font_face (fl_cairo->f_cairo_select_font_face)
+#define cairo_set_antialias (fl_cairo->f_cairo_set_antialias)
+#define cairo_set_dash (fl_cairo->f_cairo_set_dash)
+#define cairo_set_fill_rule (fl_cairo->f_cairo_set_fill_rule)
+#define cairo_set_font_size (fl_cairo->f_cairo_set_font_size)
+#define cairo_set_line_cap (fl_cairo->f_cairo_set_line_cap)
+#define cairo_set_line_join (fl_cairo->f_cairo_set_line_join)
+#define cairo_set_line_width (fl_cairo->f_cairo_set_line_width)
+#define cairo_set_matrix (fl_cairo->f_cairo_set_matrix)
+#define cairo_set_miter_limit (fl_cairo->f_cairo_set_miter_limit)
+#define cairo_set_operator (fl_cairo->f_cairo_set_operator)
+#define cairo_set_source (fl_cairo->f_cairo_set_source)
+#define cairo_set_source_rgb (fl_cairo->f_cairo_set_source_rgb)
+#define cairo_set_source_rgba (fl_cairo->f_cairo_set_source_rgba)
+#define cairo_set_source_surface (fl_cairo->f_cairo_set_source_surface)
+#define cairo_show_text (fl_cairo->f_cairo_show_text)
+#define cairo_status_to_string (fl_cairo->f_cairo_status_to_string)
+#define cairo_stroke (fl_cairo->f_cairo_stroke)
+#define cairo_stroke_preserve (fl_cairo->f_cairo_stroke_preserve)
+#define cairo_surface_destroy (fl_cairo->f_cairo_surface_destroy)
+#define cairo_surface_finish (fl_cairo->f_cairo_surface_finish)
+#define cairo_surface_flush (fl_cairo->f_cairo_surface_flush)
+#define cairo_surface_get_type (fl_cairo->f_cairo_surface_get_type)
+#define cairo_surface_mark_dirty (fl_cairo->f_cairo_surface_mark_dirty)
+#define cairo_surface_status (fl_cairo->f_cairo_surface_status)
+#define cairo_surface_write_to_png (fl_cairo->f_cairo_surface_write_to_png)
+#define cairo_surface_write_to_png_stream (fl_cairo->f_cairo_surface_write_to_png_stream)
+#define cairo_svg_surface_create (fl_cairo->f_cairo_svg_surface_create)
+#define cairo_text_extents (fl_cairo->f_cairo_text_extents)
+#define cairo_text_path (fl_cairo->f_cairo_text_path)
+#define cairo_transform (fl_cairo->f_cairo_transform)
+#define cairo_translate (fl_cairo->f_cairo_translate)
+#define cairo_user_to_device_distance (fl_cairo->f_cairo_user_to_device_distance)
+
+#endif
