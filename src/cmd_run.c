@@ -68,6 +68,7 @@ int cmd_run(int argc, char **argv)
             /* a progress bar for a lockstep run of known length, else a status line */
             spec.progress = spec.verbosity >= 0 && isatty(STDERR_FILENO) &&
                             (spec.frames < 0 || !spec.realtime);
+            spec.exiting = true;   /* cmd_run's return ends the process (main.c) */
             rc = runspec_execute(&spec, stdout, stderr, &interrupted);
         }
     } else if (rc < 0) {

@@ -57,6 +57,9 @@ typedef struct RunSpec {
     int view_width, view_height; /* --window-size WxH: the physics view window's
                                     size (default 512x512) */
     bool reset_on_switch; /* --resetonswitch: a page left loses its state */
+    bool exiting;         /* the process ends after runspec_execute returns (`flitter
+                             run`, not `flitter test`): the runtime is left to the
+                             exit, not freed piece by piece (runner.c, left_to_exit) */
     char **scripts;       /* the SCRIPTs (pages), borrowed from argv; script is scripts[0] */
     int nscripts;
 } RunSpec;
