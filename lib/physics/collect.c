@@ -552,12 +552,12 @@ static void fill_particle(PhysSystem *s, const PhysCollect *c, const StateDict *
  * the same id in its slot (its key entry found without hashing), the same
  * node (not eased), and its position and velocity read back from the
  * slot's retained values (PhysKeySlot cp/cv, usable this frame). Such a
- * fill reads nothing shared but the node's fields and writes only its slot
- * and its key entry's `seen` (claimed atomically: a second claim in one
- * frame means two particles share an id, reported in *dup), so fills run
- * on any thread with the bits of fill_particle(). Returns false, having
- * changed nothing, for any other particle. */
-static bool fill_same(PhysSystem *s, const PhysCollect *c, const PhysPNode *pn, bool *dup)
+ * fill reads nothing shared but the node's fields and its key entry, and
+ * writes only its slot, so fills run on any thread with the bits of
+ * fill_particle(); the key entry is claimed afterwards, on one thread
+ * (fill_all). Returns false, having changed nothing, for any other
+ * particle. */
+static bool fill_same(PhysSystem *s, const PhysCollect *c, const PhysPNode *pn)
 {
     const size_t D = s->D, i = pn->storage;
     PhysKeySlot *k = &s->slots[i];
@@ -567,9 +567,7 @@ static bool fill_same(PhysSystem *s, const PhysCollect *c, const PhysPNode *pn, 
     const Vec *cp = k->cp, *cv = k->cv;
     if (!vec_is_num(cp) || cp->len != D || !vec_is_num(cv) || cv->len != D)
         return false;
-    PhysKeyEnt *e = &s->kent[k->ent1 - 1];
-    if (__atomic_exchange_n(&e->seen, s->kframe, __ATOMIC_RELAXED) == s->kframe)
-        *dup = true;
+    const PhysKeyEnt *e = &s->kent[k->ent1 - 1];
     k->hit = true;
     k->pkey = e->pkey;
     k->vkey = e->vkey;
@@ -587,35 +585,39 @@ static bool fill_same(PhysSystem *s, const PhysCollect *c, const PhysPNode *pn, 
 
 /* Particles per task of the parallel fill, and half the fewest that are
  * split over threads. */
-#define FILL_CHUNK 4096
+#define FILL_CHUNK 512
 
 typedef struct FillRun {
     PhysSystem *s;
     const PhysCollect *c;
     size_t chunk;
     size_t left[PHYS_MAX_TASKS];   /* per task: particles fill_same() left */
-    bool dup[PHYS_MAX_TASKS];      /* per task: an id claimed twice */
 } FillRun;
 
 static void fill_task(void *ctx, size_t t, unsigned thread)
 {
     (void)thread;
     FillRun *r = ctx;
-    r->left[t] = 0;
-    r->dup[t] = false;
+    /* counted here, stored once: the tasks' entries of [r] share cache
+     * lines, which per-particle stores would pass between the cores */
+    size_t left = 0;
     for (size_t i = t * r->chunk, i1 = phys_task_end(t, r->chunk, r->s->npn); i < i1; i++) {
-        bool done = fill_same(r->s, r->c, &r->s->pn[i], &r->dup[t]);
+        bool done = fill_same(r->s, r->c, &r->s->pn[i]);
         r->s->filled[i] = done;
-        r->left[t] += !done;
+        left += !done;
     }
+    r->left[t] = left;
 }
 
 /* fill_particle() of every particle of an unchanged tree, in collection
  * order. A large system fills the particles that are last frame's on all
- * threads first (fill_same); the rest, which may add key entries, read the
- * state or the node's attributes, are then filled in order on this
- * thread. The key entries added are the same and in the same order, as
- * fill_same() never adds one. */
+ * threads first (fill_same) and claims their key entries on this thread
+ * (`seen`: a second claim in one frame means two particles share an id;
+ * an atomic claim on the threads, a locked instruction waiting for the
+ * fill's stores each time, made the fills cost twice as much); the rest,
+ * which may add key entries, read the state or the node's attributes, are
+ * then filled in order on this thread. The key entries added are the same
+ * and in the same order, as fill_same() never adds one. */
 static void fill_all(PhysSystem *s, const PhysCollect *c, const StateDict *sd)
 {
     const size_t n = s->npn;
@@ -628,8 +630,15 @@ static void fill_all(PhysSystem *s, const PhysCollect *c, const StateDict *sd)
     FillRun r = {.s = s, .c = c};
     size_t ntasks = phys_workers_split(n, FILL_CHUNK, &r.chunk);
     phys_workers_run(s->workers, ntasks, fill_task, &r);
+    for (size_t i = 0; i < n; i++) {
+        if (!s->filled[i])
+            continue;
+        PhysKeyEnt *e = &s->kent[s->slots[s->pn[i].storage].ent1 - 1];
+        if (e->seen == s->kframe)
+            s->dupids = true;
+        e->seen = s->kframe;
+    }
     for (size_t t = 0; t < ntasks; t++) {
-        s->dupids |= r.dup[t];
         if (!r.left[t])
             continue;
         for (size_t i = t * r.chunk, i1 = phys_task_end(t, r.chunk, n); i < i1; i++)

@@ -167,7 +167,7 @@ static inline uint64_t cell_hash(const int32_t *c)
  * is large: every entry's results go to its own places, so they are the
  * same bits on any number of threads. Tasks of at least GRID_CHUNK
  * entries (phys_workers_split). */
-#define GRID_CHUNK 4096
+#define GRID_CHUNK 512
 
 /* One task's share of the cell loop: the box of its cells and how many
  * of its entries are odd. */
@@ -193,8 +193,9 @@ static void cell_task(void *ctx, size_t t, unsigned thread)
     PhysGrid *gr = &r->s->grid;
     const size_t D = r->s->D;
     const double h = gr->h;
-    GridPart *P = &r->part[t];
-    *P = (GridPart){{INT32_MAX, INT32_MAX, INT32_MAX}, {INT32_MIN, INT32_MIN, INT32_MIN}, 0};
+    /* the box and count kept here, stored once: the tasks' parts share
+     * cache lines, which per-entry stores would pass between the cores */
+    GridPart P_ = {{INT32_MAX, INT32_MAX, INT32_MAX}, {INT32_MIN, INT32_MIN, INT32_MIN}, 0}, *P = &P_;
     for (size_t q = t * r->chunk, q1 = phys_task_end(t, r->chunk, r->count); q < q1; q++) {
         const double *x = r->s->pos + (size_t)r->pool[q] * D;
         int32_t *c = gr->cell + 3 * q;
@@ -221,6 +222,7 @@ static void cell_task(void *ctx, size_t t, unsigned thread)
                 P->hi[k] = c[k];
         }
     }
+    r->part[t] = P_;
 }
 
 /* The coordinates of slots [t*chunk, ...) in slot order (sx). */

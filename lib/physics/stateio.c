@@ -236,7 +236,7 @@ static void write_slot(PhysSystem *s, StateDict *sd, size_t i)
 
 /* Particles per task of the in-place writes, and half the fewest that are
  * split over threads. */
-#define WRITE_CHUNK 4096
+#define WRITE_CHUNK 512
 
 typedef struct WriteRun {
     PhysSystem *s;
