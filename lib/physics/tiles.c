@@ -252,7 +252,7 @@ __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
 }
 
 #define TK(name) name##_avx512
-#define TK_SPECIALISE 0
+#define TK_SPECIALISE 1
 #define TK_ANY(m) (_mm512_test_epi64_mask((__m512i)(m), (__m512i)(m)) != 0)
 #define TK_MAX(a, b) ((v8d)_mm512_max_pd((__m512d)(a), (__m512d)(b)))
 #define TK_ALL(m) (_mm512_test_epi64_mask((__m512i)(m), (__m512i)(m)) == 0xff)
