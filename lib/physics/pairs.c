@@ -950,5 +950,7 @@ void phys_pairs_free(PhysSystem *s)
     free(s->scratch);
     free(s->rows);
     free(s->tiles);
+    free(s->ttasks);
+    free(s->tprog);
     free(s->rnd);
 }

@@ -278,6 +278,10 @@ typedef struct PhysSystem {
     int simd;                     /* PHYS_SIMD_* the tile kernel may use */
     double *tiles; size_t captiles;   /* tiles.c: the level in pool order,
                                        * 64-byte aligned */
+    struct TileTask *ttasks; size_t capttasks;   /* tiles.c: the tasks of a
+                                                  * level on two threads */
+    struct TileProgress *tprog; size_t captprog; /* tiles.c: their progress,
+                                                  * per row block */
     double *rnd; size_t caprnd;   /* step.c: !random draws made ahead, two
                                    * doubles a pair */
 

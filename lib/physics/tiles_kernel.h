@@ -283,37 +283,32 @@ TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
 typedef void (*TK(RowBlockFn))(const TileLevel *T, size_t i0, size_t jbeg,
                                size_t jend, const double *FAin, double *FAout);
 
-/* The level, or one side of it (TilePart, tiles.c): role 0 runs every
- * tile; role 1 (first thread) the tiles of partners below P->cut of the
- * row blocks that start below it, handing each block's partial sums on
- * through P; role 2 (second thread) the rest, after the first thread's
- * part of the same block. [rows] runs one row block. */
+/* The level (TilePart, tiles.c): every row block in order, or (P->wave)
+ * the tasks of P's list taken in order until none is left, each once its
+ * row block's previous task and the previous row block's task over the
+ * same partners are done, its row sums handed on through P->buf. [rows]
+ * runs one row block over a range of partners. */
 static inline __attribute__((always_inline)) TK_TARGET void
 TK(level_run)(const TileLevel *T, TilePart *P, const size_t D,
               const TK(RowBlockFn) rows)
 {
-    const size_t n = T->npool;
-    size_t blk = 0;
-    for (size_t i0 = 0; i0 < T->npart; i0 += TK_W, blk++) {
-        if (P->role == 0) {
-            rows(T, i0, i0, n, NULL, NULL);
-            continue;
-        }
-        const size_t cut = P->cut;
-        double *buf = P->buf + blk * D * TK_W;
-        if (i0 >= cut) {
-            /* past the cut: the second thread's alone */
-            if (P->role == 2)
-                rows(T, i0, i0, n, NULL, NULL);
-            continue;
-        }
-        if (P->role == 1) {
-            rows(T, i0, i0, cut < n ? cut : n, NULL, buf);
-            tile_post(P, blk);
-        } else {
-            tile_wait(P, blk);
-            rows(T, i0, cut, n, buf, NULL);
-        }
+    if (!P->wave) {
+        for (size_t i0 = 0; i0 < T->npart; i0 += TK_W)
+            rows(T, i0, i0, T->npool, NULL, NULL);
+        return;
+    }
+    for (;;) {
+        const size_t t = atomic_fetch_add_explicit(P->next, 1, memory_order_relaxed);
+        if (t >= P->ntasks)
+            break;
+        const TileTask *k = &P->tasks[t];
+        if (k->seq)
+            tile_wait(&P->prog[k->blk].done, k->seq);
+        if (k->above)
+            tile_wait(&P->prog[k->blk - 1].done, k->above);
+        double *buf = P->buf + k->blk * D * TK_W;
+        rows(T, k->blk * TK_W, k->jbeg, k->jend, buf, k->last ? NULL : buf);
+        atomic_store_explicit(&P->prog[k->blk].done, k->seq + 1, memory_order_release);
     }
 }
 
