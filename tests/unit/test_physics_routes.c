@@ -505,7 +505,8 @@ static void test_shared_values(void **st)
  * widths (2, 4 and 8 lanes: portable, AVX2, AVX-512, as far as the
  * processor has them), whose row blocks and tiles end part-filled unless
  * the sizes are multiples of the width; the two largest have enough pairs
- * for the two-thread split of tiles.c. Sizes around the widths, D = 1..3,
+ * for the threaded route of tiles.c (tasks over chunks of partners, the
+ * last chunk part-filled). Sizes around the widths, D = 1..3,
  * a nested group (a level whose pool reaches the parent's particles), zero
  * charges and masses, coincident particles, NaN/infinite/far elements. */
 static void test_unlimited_levels(void **st)
