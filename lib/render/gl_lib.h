@@ -14,8 +14,8 @@
  * name used in lib/ a call through the address of epoxy's pointer
  * (FL_GL_POINTERS), and epoxy's own functions calls through the table
  * (FL_GL_FUNCTIONS); a name missing from the lists fails to link. The
- * table is process-wide, like the dynamic linker's own: filled once,
- * under pthread_once, never changed, shared by every runtime in the
+ * table is process-wide, like the dynamic linker's own: filled once
+ * (dynload.h, under a mutex), never changed, shared by every runtime in the
  * process. gl_context_new calls gl_lib_ready before any other GL or EGL
  * call, and every other GL call is made with a GlContext. */
 #ifndef FL_RENDER_GL_LIB_H
@@ -58,7 +58,8 @@ typedef struct GlLib {
 } GlLib;
 
 /* The filled table (NULL before gl_lib_ready succeeds). */
-extern const GlLib *fl_gl;
+extern const void *fl_gl;
+#define FL_GL ((const GlLib *)fl_gl)
 
 /* Load libepoxy if it is not loaded yet (thread-safe; only the first call
  * does any work) and say whether its entry points can be called.
@@ -67,163 +68,163 @@ extern const GlLib *fl_gl;
 bool gl_lib_ready(char *why, size_t cap);
 
 /* The names the render files call. */
-#define epoxy_gl_version (fl_gl->f_epoxy_gl_version)
-#define epoxy_has_gl_extension (fl_gl->f_epoxy_has_gl_extension)
+#define epoxy_gl_version (FL_GL->f_epoxy_gl_version)
+#define epoxy_has_gl_extension (FL_GL->f_epoxy_has_gl_extension)
 #undef eglBindAPI
-#define eglBindAPI (*fl_gl->p_eglBindAPI)
+#define eglBindAPI (*FL_GL->p_eglBindAPI)
 #undef eglCreateContext
-#define eglCreateContext (*fl_gl->p_eglCreateContext)
+#define eglCreateContext (*FL_GL->p_eglCreateContext)
 #undef eglDestroyContext
-#define eglDestroyContext (*fl_gl->p_eglDestroyContext)
+#define eglDestroyContext (*FL_GL->p_eglDestroyContext)
 #undef eglGetError
-#define eglGetError (*fl_gl->p_eglGetError)
+#define eglGetError (*FL_GL->p_eglGetError)
 #undef eglGetPlatformDisplayEXT
-#define eglGetPlatformDisplayEXT (*fl_gl->p_eglGetPlatformDisplayEXT)
+#define eglGetPlatformDisplayEXT (*FL_GL->p_eglGetPlatformDisplayEXT)
 #undef eglInitialize
-#define eglInitialize (*fl_gl->p_eglInitialize)
+#define eglInitialize (*FL_GL->p_eglInitialize)
 #undef eglMakeCurrent
-#define eglMakeCurrent (*fl_gl->p_eglMakeCurrent)
+#define eglMakeCurrent (*FL_GL->p_eglMakeCurrent)
 #undef eglQueryString
-#define eglQueryString (*fl_gl->p_eglQueryString)
+#define eglQueryString (*FL_GL->p_eglQueryString)
 #undef eglReleaseThread
-#define eglReleaseThread (*fl_gl->p_eglReleaseThread)
+#define eglReleaseThread (*FL_GL->p_eglReleaseThread)
 #undef eglTerminate
-#define eglTerminate (*fl_gl->p_eglTerminate)
+#define eglTerminate (*FL_GL->p_eglTerminate)
 #undef glActiveTexture
-#define glActiveTexture (*fl_gl->p_glActiveTexture)
+#define glActiveTexture (*FL_GL->p_glActiveTexture)
 #undef glAttachShader
-#define glAttachShader (*fl_gl->p_glAttachShader)
+#define glAttachShader (*FL_GL->p_glAttachShader)
 #undef glBindBuffer
-#define glBindBuffer (*fl_gl->p_glBindBuffer)
+#define glBindBuffer (*FL_GL->p_glBindBuffer)
 #undef glBindBufferBase
-#define glBindBufferBase (*fl_gl->p_glBindBufferBase)
+#define glBindBufferBase (*FL_GL->p_glBindBufferBase)
 #undef glBindFramebuffer
-#define glBindFramebuffer (*fl_gl->p_glBindFramebuffer)
+#define glBindFramebuffer (*FL_GL->p_glBindFramebuffer)
 #undef glBindRenderbuffer
-#define glBindRenderbuffer (*fl_gl->p_glBindRenderbuffer)
+#define glBindRenderbuffer (*FL_GL->p_glBindRenderbuffer)
 #undef glBindTexture
-#define glBindTexture (*fl_gl->p_glBindTexture)
+#define glBindTexture (*FL_GL->p_glBindTexture)
 #undef glBindVertexArray
-#define glBindVertexArray (*fl_gl->p_glBindVertexArray)
+#define glBindVertexArray (*FL_GL->p_glBindVertexArray)
 #undef glBlendEquation
-#define glBlendEquation (*fl_gl->p_glBlendEquation)
+#define glBlendEquation (*FL_GL->p_glBlendEquation)
 #undef glBlendFunc
-#define glBlendFunc (*fl_gl->p_glBlendFunc)
+#define glBlendFunc (*FL_GL->p_glBlendFunc)
 #undef glBlitFramebuffer
-#define glBlitFramebuffer (*fl_gl->p_glBlitFramebuffer)
+#define glBlitFramebuffer (*FL_GL->p_glBlitFramebuffer)
 #undef glBufferData
-#define glBufferData (*fl_gl->p_glBufferData)
+#define glBufferData (*FL_GL->p_glBufferData)
 #undef glBufferSubData
-#define glBufferSubData (*fl_gl->p_glBufferSubData)
+#define glBufferSubData (*FL_GL->p_glBufferSubData)
 #undef glCheckFramebufferStatus
-#define glCheckFramebufferStatus (*fl_gl->p_glCheckFramebufferStatus)
+#define glCheckFramebufferStatus (*FL_GL->p_glCheckFramebufferStatus)
 #undef glClear
-#define glClear (*fl_gl->p_glClear)
+#define glClear (*FL_GL->p_glClear)
 #undef glClearColor
-#define glClearColor (*fl_gl->p_glClearColor)
+#define glClearColor (*FL_GL->p_glClearColor)
 #undef glClearDepth
-#define glClearDepth (*fl_gl->p_glClearDepth)
+#define glClearDepth (*FL_GL->p_glClearDepth)
 #undef glCompileShader
-#define glCompileShader (*fl_gl->p_glCompileShader)
+#define glCompileShader (*FL_GL->p_glCompileShader)
 #undef glCreateProgram
-#define glCreateProgram (*fl_gl->p_glCreateProgram)
+#define glCreateProgram (*FL_GL->p_glCreateProgram)
 #undef glCreateShader
-#define glCreateShader (*fl_gl->p_glCreateShader)
+#define glCreateShader (*FL_GL->p_glCreateShader)
 #undef glCullFace
-#define glCullFace (*fl_gl->p_glCullFace)
+#define glCullFace (*FL_GL->p_glCullFace)
 #undef glDeleteBuffers
-#define glDeleteBuffers (*fl_gl->p_glDeleteBuffers)
+#define glDeleteBuffers (*FL_GL->p_glDeleteBuffers)
 #undef glDeleteFramebuffers
-#define glDeleteFramebuffers (*fl_gl->p_glDeleteFramebuffers)
+#define glDeleteFramebuffers (*FL_GL->p_glDeleteFramebuffers)
 #undef glDeleteProgram
-#define glDeleteProgram (*fl_gl->p_glDeleteProgram)
+#define glDeleteProgram (*FL_GL->p_glDeleteProgram)
 #undef glDeleteRenderbuffers
-#define glDeleteRenderbuffers (*fl_gl->p_glDeleteRenderbuffers)
+#define glDeleteRenderbuffers (*FL_GL->p_glDeleteRenderbuffers)
 #undef glDeleteShader
-#define glDeleteShader (*fl_gl->p_glDeleteShader)
+#define glDeleteShader (*FL_GL->p_glDeleteShader)
 #undef glDeleteTextures
-#define glDeleteTextures (*fl_gl->p_glDeleteTextures)
+#define glDeleteTextures (*FL_GL->p_glDeleteTextures)
 #undef glDeleteVertexArrays
-#define glDeleteVertexArrays (*fl_gl->p_glDeleteVertexArrays)
+#define glDeleteVertexArrays (*FL_GL->p_glDeleteVertexArrays)
 #undef glDepthMask
-#define glDepthMask (*fl_gl->p_glDepthMask)
+#define glDepthMask (*FL_GL->p_glDepthMask)
 #undef glDisable
-#define glDisable (*fl_gl->p_glDisable)
+#define glDisable (*FL_GL->p_glDisable)
 #undef glDrawElementsInstanced
-#define glDrawElementsInstanced (*fl_gl->p_glDrawElementsInstanced)
+#define glDrawElementsInstanced (*FL_GL->p_glDrawElementsInstanced)
 #undef glEnable
-#define glEnable (*fl_gl->p_glEnable)
+#define glEnable (*FL_GL->p_glEnable)
 #undef glEnableVertexAttribArray
-#define glEnableVertexAttribArray (*fl_gl->p_glEnableVertexAttribArray)
+#define glEnableVertexAttribArray (*FL_GL->p_glEnableVertexAttribArray)
 #undef glFramebufferRenderbuffer
-#define glFramebufferRenderbuffer (*fl_gl->p_glFramebufferRenderbuffer)
+#define glFramebufferRenderbuffer (*FL_GL->p_glFramebufferRenderbuffer)
 #undef glFramebufferTexture2D
-#define glFramebufferTexture2D (*fl_gl->p_glFramebufferTexture2D)
+#define glFramebufferTexture2D (*FL_GL->p_glFramebufferTexture2D)
 #undef glGenBuffers
-#define glGenBuffers (*fl_gl->p_glGenBuffers)
+#define glGenBuffers (*FL_GL->p_glGenBuffers)
 #undef glGenFramebuffers
-#define glGenFramebuffers (*fl_gl->p_glGenFramebuffers)
+#define glGenFramebuffers (*FL_GL->p_glGenFramebuffers)
 #undef glGenRenderbuffers
-#define glGenRenderbuffers (*fl_gl->p_glGenRenderbuffers)
+#define glGenRenderbuffers (*FL_GL->p_glGenRenderbuffers)
 #undef glGenTextures
-#define glGenTextures (*fl_gl->p_glGenTextures)
+#define glGenTextures (*FL_GL->p_glGenTextures)
 #undef glGenVertexArrays
-#define glGenVertexArrays (*fl_gl->p_glGenVertexArrays)
+#define glGenVertexArrays (*FL_GL->p_glGenVertexArrays)
 #undef glGetIntegerv
-#define glGetIntegerv (*fl_gl->p_glGetIntegerv)
+#define glGetIntegerv (*FL_GL->p_glGetIntegerv)
 #undef glGetMultisamplefv
-#define glGetMultisamplefv (*fl_gl->p_glGetMultisamplefv)
+#define glGetMultisamplefv (*FL_GL->p_glGetMultisamplefv)
 #undef glGetProgramInfoLog
-#define glGetProgramInfoLog (*fl_gl->p_glGetProgramInfoLog)
+#define glGetProgramInfoLog (*FL_GL->p_glGetProgramInfoLog)
 #undef glGetProgramiv
-#define glGetProgramiv (*fl_gl->p_glGetProgramiv)
+#define glGetProgramiv (*FL_GL->p_glGetProgramiv)
 #undef glGetShaderInfoLog
-#define glGetShaderInfoLog (*fl_gl->p_glGetShaderInfoLog)
+#define glGetShaderInfoLog (*FL_GL->p_glGetShaderInfoLog)
 #undef glGetShaderiv
-#define glGetShaderiv (*fl_gl->p_glGetShaderiv)
+#define glGetShaderiv (*FL_GL->p_glGetShaderiv)
 #undef glGetString
-#define glGetString (*fl_gl->p_glGetString)
+#define glGetString (*FL_GL->p_glGetString)
 #undef glGetUniformBlockIndex
-#define glGetUniformBlockIndex (*fl_gl->p_glGetUniformBlockIndex)
+#define glGetUniformBlockIndex (*FL_GL->p_glGetUniformBlockIndex)
 #undef glGetUniformLocation
-#define glGetUniformLocation (*fl_gl->p_glGetUniformLocation)
+#define glGetUniformLocation (*FL_GL->p_glGetUniformLocation)
 #undef glLinkProgram
-#define glLinkProgram (*fl_gl->p_glLinkProgram)
+#define glLinkProgram (*FL_GL->p_glLinkProgram)
 #undef glPixelStorei
-#define glPixelStorei (*fl_gl->p_glPixelStorei)
+#define glPixelStorei (*FL_GL->p_glPixelStorei)
 #undef glReadPixels
-#define glReadPixels (*fl_gl->p_glReadPixels)
+#define glReadPixels (*FL_GL->p_glReadPixels)
 #undef glRenderbufferStorage
-#define glRenderbufferStorage (*fl_gl->p_glRenderbufferStorage)
+#define glRenderbufferStorage (*FL_GL->p_glRenderbufferStorage)
 #undef glRenderbufferStorageMultisample
-#define glRenderbufferStorageMultisample (*fl_gl->p_glRenderbufferStorageMultisample)
+#define glRenderbufferStorageMultisample (*FL_GL->p_glRenderbufferStorageMultisample)
 #undef glShaderSource
-#define glShaderSource (*fl_gl->p_glShaderSource)
+#define glShaderSource (*FL_GL->p_glShaderSource)
 #undef glTexImage2D
-#define glTexImage2D (*fl_gl->p_glTexImage2D)
+#define glTexImage2D (*FL_GL->p_glTexImage2D)
 #undef glTexParameteri
-#define glTexParameteri (*fl_gl->p_glTexParameteri)
+#define glTexParameteri (*FL_GL->p_glTexParameteri)
 #undef glUniform1f
-#define glUniform1f (*fl_gl->p_glUniform1f)
+#define glUniform1f (*FL_GL->p_glUniform1f)
 #undef glUniform1i
-#define glUniform1i (*fl_gl->p_glUniform1i)
+#define glUniform1i (*FL_GL->p_glUniform1i)
 #undef glUniform2f
-#define glUniform2f (*fl_gl->p_glUniform2f)
+#define glUniform2f (*FL_GL->p_glUniform2f)
 #undef glUniform2fv
-#define glUniform2fv (*fl_gl->p_glUniform2fv)
+#define glUniform2fv (*FL_GL->p_glUniform2fv)
 #undef glUniform3f
-#define glUniform3f (*fl_gl->p_glUniform3f)
+#define glUniform3f (*FL_GL->p_glUniform3f)
 #undef glUniformBlockBinding
-#define glUniformBlockBinding (*fl_gl->p_glUniformBlockBinding)
+#define glUniformBlockBinding (*FL_GL->p_glUniformBlockBinding)
 #undef glUniformMatrix4fv
-#define glUniformMatrix4fv (*fl_gl->p_glUniformMatrix4fv)
+#define glUniformMatrix4fv (*FL_GL->p_glUniformMatrix4fv)
 #undef glUseProgram
-#define glUseProgram (*fl_gl->p_glUseProgram)
+#define glUseProgram (*FL_GL->p_glUseProgram)
 #undef glVertexAttribDivisor
-#define glVertexAttribDivisor (*fl_gl->p_glVertexAttribDivisor)
+#define glVertexAttribDivisor (*FL_GL->p_glVertexAttribDivisor)
 #undef glVertexAttribPointer
-#define glVertexAttribPointer (*fl_gl->p_glVertexAttribPointer)
+#define glVertexAttribPointer (*FL_GL->p_glVertexAttribPointer)
 #undef glViewport
-#define glViewport (*fl_gl->p_glViewport)
+#define glViewport (*FL_GL->p_glViewport)
 
 #endif
