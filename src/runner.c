@@ -98,8 +98,8 @@ static void run_usage(FILE *f)
           "  --debug             also name each skipped (unsupported) drawing node kind\n"
           "  --trace             everything --debug says, and a line per frame\n"
           "                      (frame, clock, eval and physics ms)\n"
-          "  --stats             at exit, print frames/s, allocations per frame and the\n"
-          "                      eval/physics/state split to stderr\n"
+          "  --stats             at exit, print frames/s, allocations per frame, the\n"
+          "                      eval/physics/state split and the load's ms to stderr\n"
           "  --view FILE         draw the physics systems: FILE.png or .svg (last frame),\n"
           "                      FILE.gif (an animation frame every --view-every K frames);\n"
           "                      a 3D system in perspective with lit spheres (OpenGL)\n"
@@ -488,7 +488,7 @@ static void fatal(void *ctx, const char *message)
     fflush(f->log);
 }
 
-static double now_seconds(void)
+double runspec_now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -523,7 +523,7 @@ static void show_progress(long done, long total, double elapsed)
 }
 
 void runspec_print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *second,
-                         double loop, FILE *log)
+                         double loop, const LoadTimes *load, FILE *log)
 {
     fl_stats s;
     fl_get_stats(rt, &s);
@@ -542,6 +542,12 @@ void runspec_print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *
             (double)(s.frees - second->frees) / steady, s.last_mallocs, s.last_frees);
     fprintf(log, "stats: state per frame: %.1f reads, %.1f writes\n", (double)s.state_gets / n,
             (double)s.state_sets / n);
+    if (!load) return;
+    fprintf(log, "stats: load %.3f ms", load->first * 1e3);
+    if (load->reloads > 0)
+        fprintf(log, "; %ld live reload%s, the last %.3f ms", load->reloads,
+                load->reloads == 1 ? "" : "s", load->last * 1e3);
+    fputc('\n', log);
 }
 
 /* The status line of a run without --frames: frame, frames/s, clock. */
@@ -657,11 +663,14 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
         fl_free(rt);
         return finish_out(out, log, bad ? EXIT_LOAD : EXIT_OK);
     }
+    LoadTimes load = {0};
+    double t0 = runspec_now();
     if (fl_load(rt, spec->script) != 0) {
         fputs(fl_error(rt), log);
         fl_free(rt);
         return EXIT_LOAD;
     }
+    load.first = runspec_now() - t0;
     if (spec->state_file && access(spec->state_file, F_OK) == 0 &&
         fl_restore_state(rt, spec->state_file) != 0) {
         fputs(fl_error(rt), log);
@@ -685,7 +694,7 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
         return EXIT_USAGE;
     }
     bool dumped_last = false;
-    double start = now_seconds(), last_save = start, last_progress = 0;
+    double start = runspec_now(), last_save = start, last_progress = 0;
     long ran = 0;
     fl_stats first = {0}, second = {0}, traced = {0};
     struct timespec mtime = file_mtime(spec->script), bad_mtime = {0, 0};
@@ -695,7 +704,10 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
              * version is reported once and the last good one keeps running */
             struct timespec m = file_mtime(spec->script);
             if (!same_time(m, mtime) && !same_time(m, bad_mtime)) {
+                t0 = runspec_now();
                 if (fl_load(rt, spec->script) == 0) {
+                    load.last = runspec_now() - t0;
+                    load.reloads++;
                     mtime = m;
                     fprintf(log, "%s: reloaded\n", spec->script);
                 } else {
@@ -724,7 +736,7 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
             fl_dump_state(rt, write_file, out);
             dumped_last = true;
         }
-        double now = now_seconds();
+        double now = runspec_now();
         if (spec->progress && spec->frames > 0 && (now - last_progress > 0.1 || ran == spec->frames)) {
             show_progress(ran, spec->frames, now - start);
             last_progress = now;
@@ -748,7 +760,7 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
     }
     *finished = spec->frames >= 0 && ran >= spec->frames;
     if (spec->progress && ran > 0) fputs("\n", stderr);
-    if (spec->stats) runspec_print_stats(rt, &first, &second, now_seconds() - start, log);
+    if (spec->stats) runspec_print_stats(rt, &first, &second, runspec_now() - start, &load, log);
     int rc = EXIT_OK;
     if (ran > 0) {
         if (spec->dump_state && !dumped_last) fl_dump_state(rt, write_file, out);

@@ -121,13 +121,25 @@ int runspec_check_outputs(const RunSpec *spec, FILE *err);
  *           usual (that is how it is meant to end, as Flitter's run). */
 int runspec_execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt);
 
+/* Wall time of a run's loads (fl_load: reading, parsing, simplifying and
+ * compiling the script), for --stats. */
+typedef struct LoadTimes {
+    double first;       /* the load before the first frame, seconds */
+    double last;        /* the last good live reload, seconds */
+    long reloads;       /* good live reloads */
+} LoadTimes;
+
 /* The --stats report of [rt] on [log] ("stats: " lines: frames and
  * frames/s, eval/physics/other ms per frame, allocations, state reads and
- * writes): [first] and [second] hold its statistics after the first and
- * second frames of the run (which fill the free lists: the first frame's
- * tree is still alive while the second is built, and physics builds its
- * tables), [loop] the wall time of the frame loop in seconds. */
+ * writes, load milliseconds): [first] and [second] hold its statistics
+ * after the first and second frames of the run (which fill the free
+ * lists: the first frame's tree is still alive while the second is built,
+ * and physics builds its tables), [loop] the wall time of the frame loop
+ * in seconds, [load] the times of its loads (NULL: no load line). */
 void runspec_print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *second,
-                         double loop, FILE *log);
+                         double loop, const LoadTimes *load, FILE *log);
+
+/* Seconds on the monotonic clock. */
+double runspec_now(void);
 
 #endif

@@ -127,6 +127,7 @@ typedef struct Page {
     fl_outputs *outs;        /* its !record pictures (and --view/--trace: page 1) */
     long ran;                /* frames stepped on this page in this run */
     fl_stats first, second;  /* its statistics after its first and second frames (--stats) */
+    LoadTimes load;          /* its load and live reloads (--stats) */
 } Page;
 
 typedef struct Loop {

@@ -56,7 +56,10 @@ static void check_reload(Loop *L)
 {
     Page *p = &L->pages[L->cur];
     if (!watch_changed(&p->watch)) return;
+    double t0 = runspec_now();
     if (fl_load(p->rt, p->script) == 0) {
+        p->load.last = runspec_now() - t0;
+        p->load.reloads++;
         watch_set(&p->watch, p->rt, p->script);
         fprintf(L->log, "%s: reloaded\n", p->script);
         if (p->error) {
@@ -95,10 +98,12 @@ static int open_pages(Loop *L)
         p->script = spec->scripts[i];
         p->rt = runspec_runtime(&L->runspec, &L->files, L->interrupt);
         if (!p->rt) return EXIT_USAGE;
+        double t0 = runspec_now();
         if (fl_load(p->rt, p->script) != 0) {
             fputs(fl_error(p->rt), L->log);
             return EXIT_LOAD;
         }
+        p->load.first = runspec_now() - t0;
         watch_set(&p->watch, p->rt, p->script);
         if (spec->state_file) {
             size_t n = strlen(spec->state_file) + 16;
@@ -396,7 +401,7 @@ static void print_stats(Loop *L, double loop)
             if (p->ran == 0) continue;
             fprintf(L->log, "stats: page %d: %s\n", i + 1, p->script);
         }
-        runspec_print_stats(p->rt, &p->first, &p->second, loop, L->log);
+        runspec_print_stats(p->rt, &p->first, &p->second, loop, &p->load, L->log);
     }
     Handover *h = L->hand;
     double drawn = L->drawn > 0 ? (double)L->drawn : 1, shown = h->shown > 0 ? (double)h->shown : 1;

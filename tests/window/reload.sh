@@ -18,7 +18,7 @@ FL
     mv main.fl.new main.fl
 }
 write_main col
-"$flitter" run --window main.fl >out 2>err &
+"$flitter" run --stats --window main.fl >out 2>err &
 pid=$!; pids=$pid
 wait_window "reload test"
 wait_pixel 10 10 255,0,0 5
@@ -52,4 +52,8 @@ echo "fixed: error gone, new picture after $TOOK s"
 xdotool key Escape
 wait_exit $pid 5
 [ "$RC" = 0 ] || fail "exit status $RC"
-echo "ok: live reload, broken save shown and survived"
+# --stats counts the good reloads (the import, the script, the fix: at
+# least 3; a save seen half-written may add one) and times the last
+reloads=$(sed -n 's/^stats: load [0-9]*\.[0-9]\{3\} ms; \([0-9]*\) live reloads, the last [0-9]*\.[0-9]\{3\} ms$/\1/p' err)
+[ -n "$reloads" ] && [ "$reloads" -ge 3 ] || fail "--stats load line: $(grep '^stats: load' err)"
+echo "ok: live reload, broken save shown and survived ($reloads reloads counted)"
