@@ -1,24 +1,32 @@
 /* workers.c: the physics engine's thread pool (workers.h).
  *
- * n - 1 threads wait for a job: the caller publishes the job (function,
- * context, task count) and then a new generation number (release), and
- * every thread, the caller included, takes tasks from one atomic counter
- * until it runs past the count; each started thread then counts itself off
- * `busy` (release) and the caller waits until `busy` is 0 (acquire), so all
- * task writes happen before the job returns. Scheduling decides only which
- * thread runs a task, never what it writes.
+ * n - 1 threads wait for a job. A job is published as one 64-bit ticket of
+ * its generation, its task count and the next task to hand out: the caller
+ * writes the job (function, context, task count) and zeroes the count of
+ * finished tasks, then stores the ticket (g, 0) (release). A thread claims
+ * task k < count by changing the ticket from (g, k) to (g, k + 1) with a
+ * compare-and-swap (acquire), runs it, and adds one to the finished count;
+ * the caller takes tasks the same way and then waits until
+ * every task is finished (acquire). A thread that wakes late, after the
+ * job is done, claims nothing (the ticket has moved on or its tasks are
+ * all handed out), so the caller never waits for a thread to wake: only
+ * for tasks that a running thread holds. The job's fields are not
+ * rewritten before all its tasks are finished, and a claim of (g, k) can
+ * only succeed while job g is the current one, so a task always runs with
+ * its own job's function. Scheduling decides only which thread runs a
+ * task, never what it writes.
  *
  * Waiting spins first and sleeps after: a frame posts several short jobs
  * back to back (a pair level, then the particle pass, for each step), and
  * waking a sleeping thread through the kernel costs tens of microseconds,
- * as much as a small scene's whole job. A worker polls the generation for
- * up to SPIN_NS after its last job before it sleeps on the condition
- * variable; the caller polls `busy` for up to SPIN_NS before it sleeps.
- * The sleeping side announces itself (`sleepers`, `waiting`, sequentially
- * consistent) and then checks again under the mutex; the waking side
- * changes the value (sequentially consistent), then looks for a sleeper
- * and signals under the mutex: one of the two always sees the other, so
- * no wake-up is lost.
+ * as much as a small scene's whole job. A worker polls the ticket for up
+ * to SPIN_NS after its last job before it sleeps on the condition
+ * variable; the caller polls the finished count for up to SPIN_NS before
+ * it sleeps. The sleeping side announces itself (`sleepers`, `waiting`,
+ * sequentially consistent) and then checks again under the mutex; the
+ * waking side changes the value (sequentially consistent), then looks for
+ * a sleeper and signals under the mutex: one of the two always sees the
+ * other, so no wake-up is lost.
  */
 #include "workers.h"
 
@@ -50,16 +58,28 @@ struct PhysWorkers {
     WorkerArg *args;            /* one per started thread */
     pthread_mutex_t mu;
     pthread_cond_t go, done;
-    atomic_uint_fast64_t gen;   /* job generation */
-    atomic_uint busy;           /* started threads still on the job */
+    atomic_uint_fast64_t ticket; /* the current job: generation, task count, next task */
+    atomic_size_t finished;     /* tasks of the current job done */
     atomic_uint sleepers;       /* workers asleep (or about to be) on go */
     atomic_bool waiting;        /* the caller asleep (or about to be) on done */
     atomic_bool quit;
-    PhysTaskFn fn;              /* the job: written before gen moves */
+    PhysTaskFn fn;              /* the job: written before the ticket moves */
     void *ctx;
     size_t ntasks;
-    atomic_size_t next;         /* next task to hand out */
 };
+
+/* The ticket's fields: generation (24 bits), task count (20), next task
+ * to hand out (20). Jobs of more tasks run on the caller alone. Should the
+ * generation wrap while a thread holds an old ticket value, a claim with
+ * it can only succeed when the ticket holds exactly that value again:
+ * then it claims that task of the job that is current, with that job's
+ * count, which is what a fresh read would have done. */
+#define T_BITS 20
+#define T_MASK (((uint64_t)1 << T_BITS) - 1)
+#define T_GEN(x) ((x) >> (2 * T_BITS))
+#define T_COUNT(x) (((x) >> T_BITS) & T_MASK)
+#define T_NEXT(x) ((x) & T_MASK)
+#define T_MAKE(gen, count) ((((gen) & 0xffffffu) << (2 * T_BITS)) | ((uint64_t)(count) << T_BITS))
 
 /* One polling pause. */
 static inline void spin_pause(void)
@@ -76,12 +96,13 @@ static uint64_t now_ns(void)
     return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
 }
 
-/* Whether *v stays [old] for SPIN_NS (false as soon as it changes). */
-static bool spin_while_gen(atomic_uint_fast64_t *v, uint64_t old)
+/* Whether the generation of *v stays [gen] for SPIN_NS (false as soon as
+ * it changes). */
+static bool spin_while_gen(atomic_uint_fast64_t *v, uint64_t gen)
 {
     uint64_t until = 0;
     for (unsigned i = 0;; i++) {
-        if (atomic_load_explicit(v, memory_order_acquire) != old)
+        if (T_GEN(atomic_load_explicit(v, memory_order_relaxed)) != gen)
             return false;
         spin_pause();
         if ((i & 63) == 63) {
@@ -94,13 +115,33 @@ static bool spin_while_gen(atomic_uint_fast64_t *v, uint64_t old)
     }
 }
 
-static void take_tasks(PhysWorkers *w, unsigned id)
+/* Claim and run tasks of the job of ticket value [cur] (read before)
+ * until none is left to hand out or another job is current. */
+static void take_tasks(PhysWorkers *w, unsigned id, uint64_t cur)
 {
+    const uint64_t gen = T_GEN(cur), n = T_COUNT(cur);
     for (;;) {
-        size_t t = atomic_fetch_add_explicit(&w->next, 1, memory_order_relaxed);
-        if (t >= w->ntasks)
-            break;
-        w->fn(w->ctx, t, id);
+        if (T_GEN(cur) != gen || T_NEXT(cur) >= n)
+            return;
+        /* a claim succeeds only while the job is current and the task is
+         * not yet handed out; the job's fields are then the ones stored
+         * before the ticket (acquire pairs with the caller's store), and
+         * they stay until this task is counted finished */
+        if (!atomic_compare_exchange_weak_explicit(&w->ticket, &cur, cur + 1,
+                                                   memory_order_acquire,
+                                                   memory_order_relaxed))
+            continue;
+        w->fn(w->ctx, (size_t)T_NEXT(cur), id);
+        /* sequentially consistent, as the look at `waiting` after it: the
+         * caller stores `waiting` and then looks at the count, so one of
+         * the two sees the other and no wake-up is lost */
+        size_t done = atomic_fetch_add(&w->finished, 1) + 1;
+        if (done == n && id != 0 && atomic_load(&w->waiting)) {
+            pthread_mutex_lock(&w->mu);
+            pthread_cond_signal(&w->done);
+            pthread_mutex_unlock(&w->mu);
+        }
+        cur++;
     }
 }
 
@@ -108,25 +149,21 @@ static void *worker_main(void *arg)
 {
     WorkerArg a = *(const WorkerArg *)arg;
     PhysWorkers *w = a.w;
-    uint64_t seen = 0;
+    uint64_t seen = 0;          /* the last generation this thread joined */
     for (;;) {
-        if (spin_while_gen(&w->gen, seen)) {
+        if (spin_while_gen(&w->ticket, seen)) {
             pthread_mutex_lock(&w->mu);
             atomic_fetch_add(&w->sleepers, 1);
-            while (atomic_load(&w->gen) == seen && !atomic_load(&w->quit))
+            while (T_GEN(atomic_load(&w->ticket)) == seen && !atomic_load(&w->quit))
                 pthread_cond_wait(&w->go, &w->mu);
             atomic_fetch_sub(&w->sleepers, 1);
             pthread_mutex_unlock(&w->mu);
         }
         if (atomic_load_explicit(&w->quit, memory_order_acquire))
             break;
-        seen = atomic_load_explicit(&w->gen, memory_order_acquire);
-        take_tasks(w, a.id);
-        if (atomic_fetch_sub(&w->busy, 1) == 1 && atomic_load(&w->waiting)) {
-            pthread_mutex_lock(&w->mu);
-            pthread_cond_signal(&w->done);
-            pthread_mutex_unlock(&w->mu);
-        }
+        uint64_t cur = atomic_load_explicit(&w->ticket, memory_order_relaxed);
+        seen = T_GEN(cur);
+        take_tasks(w, a.id, cur);
     }
     return NULL;
 }
@@ -139,9 +176,8 @@ PhysWorkers *phys_workers_new(unsigned n)
     if (!w)
         return NULL;
     w->n = n;
-    atomic_init(&w->next, 0);
-    atomic_init(&w->gen, 0);
-    atomic_init(&w->busy, 0);
+    atomic_init(&w->ticket, 0);
+    atomic_init(&w->finished, 0);
     atomic_init(&w->sleepers, 0);
     atomic_init(&w->waiting, false);
     atomic_init(&w->quit, false);
@@ -185,7 +221,7 @@ void phys_workers_free(PhysWorkers *w)
     if (w->th) {
         pthread_mutex_lock(&w->mu);
         atomic_store(&w->quit, true);
-        atomic_fetch_add(&w->gen, 1);
+        atomic_store(&w->ticket, T_MAKE(T_GEN(atomic_load(&w->ticket)) + 1, 0));
         pthread_cond_broadcast(&w->go);
         pthread_mutex_unlock(&w->mu);
         for (unsigned i = 0; i < w->started; i++)
@@ -206,25 +242,30 @@ unsigned phys_workers_count(const PhysWorkers *w)
 
 void phys_workers_run(PhysWorkers *w, size_t ntasks, PhysTaskFn fn, void *ctx)
 {
-    if (!w || w->n == 1 || ntasks <= 1) {
+    if (!w || w->n == 1 || ntasks <= 1 || ntasks > T_MASK) {
         for (size_t t = 0; t < ntasks; t++)
             fn(ctx, t, 0);
         return;
     }
+    /* every task of the job before is finished, so no thread reads these
+     * now: a claim needs the new ticket, stored after them */
     w->fn = fn;
     w->ctx = ctx;
     w->ntasks = ntasks;
-    atomic_store_explicit(&w->next, 0, memory_order_relaxed);
-    atomic_store_explicit(&w->busy, w->started, memory_order_relaxed);
-    atomic_fetch_add(&w->gen, 1);   /* publishes the job (sequentially consistent) */
+    atomic_store_explicit(&w->finished, 0, memory_order_relaxed);
+    const uint64_t ticket = T_MAKE(T_GEN(atomic_load_explicit(&w->ticket, memory_order_relaxed)) + 1,
+                                   ntasks);
+    /* publishes the job (sequentially consistent, so the look at
+     * `sleepers` below cannot come before it) */
+    atomic_store(&w->ticket, ticket);
     if (atomic_load(&w->sleepers) > 0) {
         pthread_mutex_lock(&w->mu);
         pthread_cond_broadcast(&w->go);
         pthread_mutex_unlock(&w->mu);
     }
-    take_tasks(w, 0);
+    take_tasks(w, 0, ticket);
     uint64_t until = 0;
-    for (unsigned i = 0; atomic_load_explicit(&w->busy, memory_order_acquire) > 0; i++) {
+    for (unsigned i = 0; atomic_load_explicit(&w->finished, memory_order_acquire) < ntasks; i++) {
         spin_pause();
         if ((i & 63) != 63)
             continue;
@@ -237,7 +278,7 @@ void phys_workers_run(PhysWorkers *w, size_t ntasks, PhysTaskFn fn, void *ctx)
             continue;
         pthread_mutex_lock(&w->mu);
         atomic_store(&w->waiting, true);
-        while (atomic_load(&w->busy) > 0)
+        while (atomic_load(&w->finished) < ntasks)
             pthread_cond_wait(&w->done, &w->mu);
         atomic_store(&w->waiting, false);
         pthread_mutex_unlock(&w->mu);
