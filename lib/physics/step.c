@@ -224,6 +224,10 @@ barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p,
 {
     if (!b->enabled || (s->upstream && b->minimum <= 0))
         return;
+    /* neither branch below can be taken (a NaN maximum still measures):
+     * the distance is not needed */
+    if (!(b->minimum > 0) && b->maximum == 0)
+        return;
     const double *bp = s->avec + b->vec, *nv = bp + D;
     const double *pos = s->pos + p * D;
     double *F = s->force + p * D;
