@@ -54,18 +54,23 @@ void pool_free(Pool *p)
     free(p);
 }
 
-void pool_trim(Pool *p)
+void pool_trim(Pool *p, size_t keep)
 {
     if (!p) return;
     for (int c = 0; c < POOL_NCLASS; c++) {
         size_t block = c < NSMALL ? (size_t)(c + 1) * SMALL_STEP : (size_t)1 << (BIG_MIN_LOG + c - NSMALL);
         PoolStack *s = &p->free[c];
-        for (uint32_t i = 0; i < s->n; i++) {
+        /* the stack's bottom blocks were released first: keep its top */
+        uint32_t kept = (uint32_t)(keep / block < s->n ? keep / block : s->n);
+        keep -= (size_t)kept * block;
+        uint32_t drop = s->n - kept;
+        for (uint32_t i = 0; i < drop; i++) {
             mem_unreserve(block);
             free(s->items[i]);
         }
-        p->stats.frees += s->n;
-        s->n = 0;
+        if (drop) memmove(s->items, s->items + drop, (size_t)kept * sizeof *s->items);
+        p->stats.frees += drop;
+        s->n = kept;
     }
 }
 

@@ -43,9 +43,14 @@ Pool *pool_new(void);
 /* Free every cached block and the pool (NULL is a no-op). The pool must not
  * be active. */
 void pool_free(Pool *p);
-/* Give every cached block of [p] back to free() (NULL is a no-op): after
- * a load, whose trees leave many blocks of sizes a frame rarely asks for. */
-void pool_trim(Pool *p);
+/* Give cached blocks of [p] back to free() until at most [keep] bytes of
+ * blocks stay cached (NULL is a no-op): after a load, whose trees leave
+ * blocks behind. The smallest classes (a frame's vectors and nodes) are
+ * kept first, and within a class the most recently released blocks; the
+ * first frames then take them instead of calling malloc, and the trim
+ * itself frees fewer. Kept blocks stay charged to the memory budget
+ * (mem.h), so the caller sizes [keep] from it. */
+void pool_trim(Pool *p, size_t keep);
 /* Make [p] (may be NULL) the active pool of this thread; returns the one it
  * replaces, to be handed back to pool_leave(). */
 Pool *pool_enter(Pool *p);

@@ -89,12 +89,61 @@ static void test_nopool(void **st)
     pool_free(p);
 }
 
+/* pool_trim(p, keep): cached blocks are freed until at most [keep] bytes
+ * stay, the smallest classes kept first and, within a class, the blocks
+ * released last; the kept ones are handed out again without malloc. */
+static void test_trim_keeps(void **st)
+{
+    (void)st;
+    unsetenv("FLITTER_NOPOOL");
+    Pool *p = pool_new();
+    Pool *prev = pool_enter(p);
+    void *s16[4], *s64[3], *b1k[2];
+    for (int i = 0; i < 4; i++) s16[i] = pool_alloc(16);
+    for (int i = 0; i < 3; i++) s64[i] = pool_alloc(64);
+    for (int i = 0; i < 2; i++) b1k[i] = pool_alloc(1000);       /* class 1024 */
+    for (int i = 0; i < 4; i++) pool_release(s16[i], 16);
+    for (int i = 0; i < 3; i++) pool_release(s64[i], 64);
+    for (int i = 0; i < 2; i++) pool_release(b1k[i], 1000);
+    assert_int_equal(pool_stats(p).mallocs, 9);
+    assert_int_equal(pool_stats(p).frees, 0);
+    pool_leave(prev);
+    /* 4 * 16 = 64 bytes of the 16-byte class, then 2 of the 3 64-byte
+     * blocks (128 bytes; 64 + 128 + 64 would pass 200), none of 1024 */
+    pool_trim(p, 200);
+    assert_int_equal(pool_stats(p).frees, 1 + 2);
+    prev = pool_enter(p);
+    /* the 64-byte blocks kept are the two released last, last out first */
+    assert_ptr_equal(pool_alloc(64), s64[2]);
+    assert_ptr_equal(pool_alloc(64), s64[1]);
+    for (int i = 3; i >= 0; i--) assert_ptr_equal(pool_alloc(16), s16[i]);
+    assert_int_equal(pool_stats(p).mallocs, 9);
+    void *x = pool_alloc(64);                 /* the class is empty again */
+    assert_int_equal(pool_stats(p).mallocs, 10);
+    pool_release(x, 64);
+    pool_release(s64[1], 64);
+    pool_release(s64[2], 64);
+    for (int i = 0; i < 4; i++) pool_release(s16[i], 16);
+    pool_leave(prev);
+    uint64_t f = pool_stats(p).frees;
+    pool_trim(p, 0);                          /* everything goes */
+    assert_int_equal(pool_stats(p).frees, f + 7);
+    prev = pool_enter(p);
+    void *y = pool_alloc(16);
+    assert_int_equal(pool_stats(p).mallocs, 11);
+    pool_release(y, 16);
+    pool_leave(prev);
+    pool_trim(NULL, 0);
+    pool_free(p);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_classes_and_reuse),
         cmocka_unit_test(test_inactive_and_nesting),
         cmocka_unit_test(test_nopool),
+        cmocka_unit_test(test_trim_keeps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
