@@ -40,12 +40,6 @@ double phys_pair(PhysSystem *s, size_t a, size_t b)
     return pair_of(s->pos + a * D, s->pos + b * D, s->dir, D);
 }
 
-double phys_shape(double k, double power, double strength)
-{
-    if (power != 1)
-        k = pow(k, power);
-    return k * strength;
-}
 
 /* a.F -= dir*k; b.F += dir*k (per element, f = dir_i*k computed once). */
 static inline void push_apart(double *fa, double *fb, const double *dir,
@@ -200,71 +194,9 @@ void phys_apply_pair_level(PhysSystem *s, const PhysGroup *g,
     }
 }
 
-/* F += dir*k (plus) or F -= dir*k, per element with f = dir_i*k: one side
- * of push_apart()/pull_together(). */
-static inline void add_side(double *F, const double *dir, double k, size_t D,
-                            bool plus)
-{
-    if (plus) {
-        for (size_t i = 0; i < D; i++)
-            F[i] = F[i] + dir[i] * k;
-    } else {
-        for (size_t i = 0; i < D; i++)
-            F[i] = F[i] - dir[i] * k;
-    }
-}
-
-/* The per-particle half of pair_force(): the same conditions and the same
- * k, then only the one side's element operations (a push apart subtracts
- * from a and adds to b; a pull together the reverse). */
 void phys_pair_force_one(const PhysSystem *s, const PhysApplier *ap, size_t a,
                          size_t b, double dist, const double *dir, double *F,
                          bool to_b)
 {
-    const size_t D = s->D;
-    switch (ap->kind) {
-    case AP_COLLISION: {
-        double ra = s->radius[a], rb = s->radius[b];
-        if (ra != 0 && rb != 0) {
-            double r = ra + rb;
-            if (dist < r)
-                add_side(F, dir, phys_shape(r - dist, ap->power, ap->strength), D, to_b);
-        }
-        break;
-    }
-    case AP_GRAVITY: {
-        double ma = s->mass[a], mb = s->mass[b];
-        if (ma != 0 && mb != 0) {
-            double m = py_max(s->radius[a] + s->radius[b], dist);
-            double k = ap->strength * ma * mb / (m * m);
-            add_side(F, dir, k, D, !to_b);
-        }
-        break;
-    }
-    case AP_ELECTROSTATIC: {
-        double qa = s->charge[a], qb = s->charge[b];
-        if (qa != 0 && qb != 0) {
-            double m = py_max(s->radius[a] + s->radius[b], dist);
-            double k = ap->strength * qa * qb / (m * m);
-            add_side(F, dir, k, D, to_b);
-        }
-        break;
-    }
-    case AP_ADHESION: {
-        double ra = s->radius[a], rb = s->radius[b];
-        if (ra != 0 && rb != 0) {
-            double r = ra + rb;
-            if (dist < r) {
-                double o = r - dist;
-                double lmin = fabs(ra - rb);
-                double l = lmin * ap->overlap + r * (1 - ap->overlap);
-                double k = ap->strength * o * (dist - l);
-                add_side(F, dir, k, D, !to_b);
-            }
-        }
-        break;
-    }
-    default:
-        break;
-    }
+    phys_pair_force_side(s, ap, a, b, dist, dir, F, to_b, s->D);
 }

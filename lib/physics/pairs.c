@@ -423,7 +423,7 @@ take_pair(const LevelRun *L, size_t q, size_t e, double *F, double *dir,
     for (size_t f = 0; f < L->nf; f++) {
         const PhysApplier *ap = &s->ap[L->forces[f]];
         if (ap->maxd == 0 || dist < ap->maxd)
-            phys_pair_force_one(s, ap, a, b, dist, dir, F, q > e);
+            phys_pair_force_side(s, ap, a, b, dist, dir, F, q > e, D);
     }
 }
 
@@ -612,7 +612,7 @@ gather_all_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
             for (size_t f = 0; f < L->nf; f++) {
                 const PhysApplier *ap = &s->ap[L->forces[f]];
                 if (ap->maxd == 0 || dist[j] < ap->maxd)
-                    phys_pair_force_one(s, ap, a, b, dist[j], dir, F, to_b);
+                    phys_pair_force_side(s, ap, a, b, dist[j], dir, F, to_b, D);
             }
         }
     }

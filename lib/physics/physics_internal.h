@@ -24,6 +24,7 @@
 #ifndef FL_PHYSICS_INTERNAL_H
 #define FL_PHYSICS_INTERNAL_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -50,7 +51,12 @@ static inline void phys_copy(double *dst, const double *src, size_t D)
 }
 
 /* k = pow(k, power) unless power == 1, then k * strength (§4 distance). */
-double phys_shape(double k, double power, double strength);
+static inline double phys_shape(double k, double power, double strength)
+{
+    if (power != 1)
+        k = pow(k, power);
+    return k * strength;
+}
 
 typedef enum PhysApplierKind {
     AP_DISTANCE,        /* explicit pair by id */
@@ -426,10 +432,80 @@ void phys_apply_distances(PhysSystem *s, const uint32_t *list, size_t n);
 void phys_apply_pair_level(PhysSystem *s, const PhysGroup *g,
                            const PhysLevel *lv);
 
+/* F += dir*k (plus) or F -= dir*k, per element with f = dir_i*k: one side
+ * of a push apart or a pull together (forces.c). */
+static inline __attribute__((always_inline)) void
+phys_add_side(double *F, const double *dir, double k, size_t D, bool plus)
+{
+    if (plus) {
+        for (size_t i = 0; i < D; i++)
+            F[i] = F[i] + dir[i] * k;
+    } else {
+        for (size_t i = 0; i < D; i++)
+            F[i] = F[i] - dir[i] * k;
+    }
+}
+
 /* Gather side of a pair applier: what applier [ap] adds to one particle of
  * the pair (a, b) measured as dist/dir by pair(a, b): to a's force [F] when
- * [to_b] is false, to b's when true (the same element operations as the
- * reference loop performs on that particle). */
+ * [to_b] is false, to b's when true (the same conditions, the same k and
+ * the same element operations as the reference loop performs on that
+ * particle: a push apart subtracts from a and adds to b, a pull together
+ * the reverse). [D] is s->D; inline, so that a caller compiled for one D
+ * has the element loops unrolled (PHYSICS-ENGINE.md §4, pair appliers). */
+static inline __attribute__((always_inline)) void
+phys_pair_force_side(const PhysSystem *s, const PhysApplier *ap, size_t a,
+                     size_t b, double dist, const double *dir, double *F,
+                     bool to_b, const size_t D)
+{
+    switch (ap->kind) {
+    case AP_COLLISION: {
+        double ra = s->radius[a], rb = s->radius[b];
+        if (ra != 0 && rb != 0) {
+            double r = ra + rb;
+            if (dist < r)
+                phys_add_side(F, dir, phys_shape(r - dist, ap->power, ap->strength), D, to_b);
+        }
+        break;
+    }
+    case AP_GRAVITY: {
+        double ma = s->mass[a], mb = s->mass[b];
+        if (ma != 0 && mb != 0) {
+            double m = py_max(s->radius[a] + s->radius[b], dist);
+            double k = ap->strength * ma * mb / (m * m);
+            phys_add_side(F, dir, k, D, !to_b);
+        }
+        break;
+    }
+    case AP_ELECTROSTATIC: {
+        double qa = s->charge[a], qb = s->charge[b];
+        if (qa != 0 && qb != 0) {
+            double m = py_max(s->radius[a] + s->radius[b], dist);
+            double k = ap->strength * qa * qb / (m * m);
+            phys_add_side(F, dir, k, D, to_b);
+        }
+        break;
+    }
+    case AP_ADHESION: {
+        double ra = s->radius[a], rb = s->radius[b];
+        if (ra != 0 && rb != 0) {
+            double r = ra + rb;
+            if (dist < r) {
+                double o = r - dist;
+                double lmin = fabs(ra - rb);
+                double l = lmin * ap->overlap + r * (1 - ap->overlap);
+                double k = ap->strength * o * (dist - l);
+                phys_add_side(F, dir, k, D, !to_b);
+            }
+        }
+        break;
+    }
+    default:
+        break;
+    }
+}
+
+/* phys_pair_force_side() for any D, out of line. */
 void phys_pair_force_one(const PhysSystem *s, const PhysApplier *ap, size_t a,
                          size_t b, double dist, const double *dir, double *F,
                          bool to_b);
