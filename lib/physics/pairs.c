@@ -50,6 +50,9 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -752,12 +755,89 @@ gather_grid_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
     grid_finish(L, q, x, F, sc, nc, D);
 }
 
+#ifdef HAVE_AVX2_COPIES
+/* Byte shuffles that move the 32-bit lanes set in a 4-bit mask to the
+ * front, in lane order (the rest zero). */
+static const uint8_t pack_lanes4[16][16] = {
+    {128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128},
+    {0, 1, 2, 3, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128},
+    {4, 5, 6, 7, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128},
+    {0, 1, 2, 3, 4, 5, 6, 7, 128, 128, 128, 128, 128, 128, 128, 128},
+    {8, 9, 10, 11, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128},
+    {0, 1, 2, 3, 8, 9, 10, 11, 128, 128, 128, 128, 128, 128, 128, 128},
+    {4, 5, 6, 7, 8, 9, 10, 11, 128, 128, 128, 128, 128, 128, 128, 128},
+    {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 128, 128, 128, 128},
+    {12, 13, 14, 15, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128, 128},
+    {0, 1, 2, 3, 12, 13, 14, 15, 128, 128, 128, 128, 128, 128, 128, 128},
+    {4, 5, 6, 7, 12, 13, 14, 15, 128, 128, 128, 128, 128, 128, 128, 128},
+    {0, 1, 2, 3, 4, 5, 6, 7, 12, 13, 14, 15, 128, 128, 128, 128},
+    {8, 9, 10, 11, 12, 13, 14, 15, 128, 128, 128, 128, 128, 128, 128, 128},
+    {0, 1, 2, 3, 8, 9, 10, 11, 12, 13, 14, 15, 128, 128, 128, 128},
+    {4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 128, 128, 128, 128},
+    {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15},
+};
+
+/* gather_dense_fixed()'s scan of the slots [j, end) of one run, four slots
+ * at a time: the same squared distances (sum over k ascending of
+ * (sx - x)^2; the scalar loop's leading 0 + d0^2 is d0^2, a square being
+ * +0 or more, or NaN), the same test !(sum > r2) and partner rule, the
+ * candidates appended in slot order as the scalar loop appends them.
+ * Writes up to 3 entries past the new count (the caller's array has room:
+ * ensure_scratch). Returns the new count. */
+__attribute__((target("avx2"))) static size_t
+scan_run_avx2(const PhysGrid *gr, uint32_t j, uint32_t end, const double *x,
+              const size_t D, double r2, uint32_t q, bool rowq, uint32_t npart,
+              uint32_t *cand, size_t nc)
+{
+    const size_t m = gr->nslot;
+    const double *sx = gr->sx;
+    __m256d X[GRID_MAX_D];
+    for (size_t k = 0; k < D; k++)
+        X[k] = _mm256_set1_pd(x[k]);
+    const __m256d R2 = _mm256_set1_pd(r2);
+    /* unsigned comparisons as signed ones after flipping the top bit */
+    const __m128i top = _mm_set1_epi32(INT32_MIN);
+    const __m128i Q = _mm_set1_epi32((int32_t)q);
+    const __m128i NP = _mm_xor_si128(_mm_set1_epi32((int32_t)npart), top);
+    const __m128i ROW = _mm_set1_epi32(rowq ? -1 : 0);
+    for (; j + 4 <= end; j += 4) {
+        __m256d d = _mm256_sub_pd(_mm256_loadu_pd(sx + j), X[0]);
+        __m256d sum = _mm256_mul_pd(d, d);
+        for (size_t k = 1; k < D; k++) {
+            d = _mm256_sub_pd(_mm256_loadu_pd(sx + k * m + j), X[k]);
+            sum = _mm256_add_pd(sum, _mm256_mul_pd(d, d));
+        }
+        const int near = ~_mm256_movemask_pd(_mm256_cmp_pd(sum, R2, _CMP_GT_OQ)) & 0xf;
+        const __m128i e = _mm_loadu_si128((const __m128i *)(const void *)(gr->slotq + j));
+        const __m128i row = _mm_or_si128(ROW, _mm_cmpgt_epi32(NP, _mm_xor_si128(e, top)));
+        const __m128i ok = _mm_andnot_si128(_mm_cmpeq_epi32(e, Q), row);
+        const int mask = near & _mm_movemask_ps(_mm_castsi128_ps(ok));
+        const __m128i packed = _mm_shuffle_epi8(
+            e, _mm_loadu_si128((const __m128i *)(const void *)pack_lanes4[mask]));
+        _mm_storeu_si128((__m128i *)(void *)(cand + nc), packed);
+        nc += (size_t)__builtin_popcount((unsigned)mask);
+    }
+    for (; j < end; j++) {
+        double sum = 0;
+        for (size_t k = 0; k < D; k++) {
+            double dk = sx[k * m + j] - x[k];
+            sum += dk * dk;
+        }
+        uint32_t e = gr->slotq[j];
+        cand[nc] = e;
+        nc += !(sum > r2) & (e != q) & (rowq | (e < npart));
+    }
+    return nc;
+}
+#endif
+
 /* Gather over the dense grid (grid_dense) for the entry in slot [i]: the
  * 3^D cells around its own are 3^(D-1) runs of 3 consecutive cells, each a
  * contiguous run of slots whose coordinates are read in order; candidates
  * within the reach, then the odd entries, sorted into pool order. */
 static inline __attribute__((always_inline)) void
-gather_dense_fixed(const LevelRun *L, size_t i, PhysScratch *sc, const size_t D)
+gather_dense_fixed(const LevelRun *L, size_t i, PhysScratch *sc, const size_t D,
+                   const bool avx2)
 {
     PhysSystem *s = L->s;
     const PhysGrid *gr = &s->grid;
@@ -780,6 +860,15 @@ gather_dense_fixed(const LevelRun *L, size_t i, PhysScratch *sc, const size_t D)
             size_t mid = cq + (size_t)((ptrdiff_t)dz * (ptrdiff_t)e01 +
                                        (ptrdiff_t)dy * (ptrdiff_t)e0);
             const uint32_t end = gr->cstart[mid + 2];
+#ifdef HAVE_AVX2_COPIES
+            if (avx2) {
+                nc = scan_run_avx2(gr, gr->cstart[mid - 1], end, x, D, r2, (uint32_t)q, rowq,
+                                   (uint32_t)L->npart, cand, nc);
+                continue;
+            }
+#else
+            (void)avx2;
+#endif
             /* branch-free: about half the slots scanned are within
              * reach, so a branch on it would mispredict that often; the
              * slot's entry is written always and kept when it counts */
@@ -798,23 +887,23 @@ gather_dense_fixed(const LevelRun *L, size_t i, PhysScratch *sc, const size_t D)
     grid_finish(L, q, x, F, sc, nc, D);
 }
 
-#define GRID_COPY(name, dim, attr)                                            \
+#define GRID_COPY(name, dim, attr, avx)                                       \
     attr static void name(const LevelRun *L, size_t q, PhysScratch *sc)      \
     {                                                                         \
         gather_grid_fixed(L, q, sc, dim);                                     \
     }                                                                         \
     attr static void name##_dense(const LevelRun *L, size_t i, PhysScratch *sc) \
     {                                                                         \
-        gather_dense_fixed(L, i, sc, dim);                                    \
+        gather_dense_fixed(L, i, sc, dim, avx);                               \
     }
 
-GRID_COPY(gather_grid_1, 1, )
-GRID_COPY(gather_grid_2, 2, )
-GRID_COPY(gather_grid_3, 3, )
+GRID_COPY(gather_grid_1, 1, , false)
+GRID_COPY(gather_grid_2, 2, , false)
+GRID_COPY(gather_grid_3, 3, , false)
 #ifdef HAVE_AVX2_COPIES
-GRID_COPY(gather_grid_1_avx2, 1, __attribute__((target("avx2"))))
-GRID_COPY(gather_grid_2_avx2, 2, __attribute__((target("avx2"))))
-GRID_COPY(gather_grid_3_avx2, 3, __attribute__((target("avx2"))))
+GRID_COPY(gather_grid_1_avx2, 1, __attribute__((target("avx2"))), true)
+GRID_COPY(gather_grid_2_avx2, 2, __attribute__((target("avx2"))), true)
+GRID_COPY(gather_grid_3_avx2, 3, __attribute__((target("avx2"))), true)
 #endif
 
 /* A gather of one entry: over the hashed grid (by pool entry q) or over
@@ -890,7 +979,8 @@ static void ensure_scratch(PhysSystem *s, unsigned nth, size_t npool)
     for (unsigned i = 0; i < nth; i++) {
         PhysScratch *sc = &s->scratch[i];
         GROW(sc->dir, sc->capdir, s->D);
-        GROW(sc->cand, sc->capcand, npool);
+        /* + 4: the AVX2 scan stores four candidates at a time (scan_run_avx2) */
+        GROW(sc->cand, sc->capcand, npool + 4);
     }
 }
 
@@ -916,7 +1006,9 @@ void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
         .s = s, .pool = s->pool + g->pool_off, .npart = g->npart,
         .npool = lv->npool, .forces = s->gidx + fg->pair_off, .nf = fg->pair_n,
         .r2 = INFINITY, .grid = lv->route == PHYS_ROUTE_GRID,
-        .avx2 = use_avx2(),
+        /* the portable copies at the portable level (FLITTER_SIMD,
+         * phys_set_simd), so the tests run both against the reference */
+        .avx2 = s->simd >= PHYS_SIMD_AVX2 && use_avx2(),
     };
     L.simple = L.nf <= SIMPLE_MAX;
     for (size_t f = 0; f < L.nf && L.simple; f++) {
