@@ -271,6 +271,10 @@ static void pair_pass(PhysSystem *s, const PhysGroup *g)
  * served from two pending stores), so the steps of a block overlap. */
 #define STEP_BLOCK 64
 
+/* The most barriers of a chain sorted into the lists below; a longer chain
+ * runs every barrier for every particle. */
+#define RANGE_BARRIERS 32
+
 static inline __attribute__((always_inline)) void
 particle_range_fixed(PhysSystem *s, const PhysGroup *g, double clock,
                      double delta, bool more, size_t q0, size_t q1,
@@ -278,6 +282,27 @@ particle_range_fixed(PhysSystem *s, const PhysGroup *g, double clock,
 {
     const uint32_t *pf = s->chain + g->pf_off;
     const uint32_t *bl = s->chain + g->b_off;
+    /* The chain's barriers that can act, in chain order: those whose soft
+     * force can be non-zero (barrier_distance() returns at once for the
+     * others) and the enabled ones (barrier_rebound() returns at once for
+     * the others). Nothing changes a barrier during the pass, so leaving
+     * out the early returns changes no operation on any particle. */
+    uint32_t soft[RANGE_BARRIERS], hard[RANGE_BARRIERS];
+    size_t nsoft = g->b_n, nhard = g->b_n;
+    const uint32_t *sl = bl, *hl = bl;
+    if (g->b_n <= RANGE_BARRIERS) {
+        nsoft = nhard = 0;
+        for (size_t j = 0; j < g->b_n; j++) {
+            const PhysApplier *b = &s->ap[bl[j]];
+            if (!b->enabled)
+                continue;
+            hard[nhard++] = bl[j];
+            if (!(s->upstream && b->minimum <= 0) && (b->minimum > 0 || b->maximum != 0))
+                soft[nsoft++] = bl[j];
+        }
+        sl = soft;
+        hl = hard;
+    }
     for (size_t b0 = q0; b0 < q1; b0 += STEP_BLOCK) {
         const size_t b1 = q1 - b0 < STEP_BLOCK ? q1 : b0 + STEP_BLOCK;
         for (size_t q = b0; q < b1; q++) {
@@ -286,16 +311,16 @@ particle_range_fixed(PhysSystem *s, const PhysGroup *g, double clock,
                 continue;
             for (size_t j = 0; j < g->pf_n; j++)
                 apply_particle(s, &s->ap[pf[j]], p, delta, D);
-            for (size_t j = 0; j < g->b_n; j++)
-                barrier_distance(s, &s->ap[bl[j]], p, D);
+            for (size_t j = 0; j < nsoft; j++)
+                barrier_distance(s, &s->ap[sl[j]], p, D);
             particle_step(s, p, clock, delta, D);
         }
         for (size_t q = b0; q < b1; q++) {
             size_t p = g->pstart + q;
             if (s->anchor[p])
                 continue;
-            for (size_t j = 0; j < g->b_n; j++)
-                barrier_rebound(s, &s->ap[bl[j]], p, clock, delta, D);
+            for (size_t j = 0; j < nhard; j++)
+                barrier_rebound(s, &s->ap[hl[j]], p, clock, delta, D);
             if (more)
                 phys_copy(s->force + p * D, s->own + p * D, D);
         }
