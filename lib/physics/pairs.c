@@ -279,8 +279,14 @@ static void grid_dense(PhysSystem *s, const uint32_t *pool, size_t n,
     for (size_t c = 1; c < ncells; c++)
         gr->cstart[c] += gr->cstart[c - 1];
     gr->cstart[ncells] = (uint32_t)m;
-    GROW(gr->slotq, gr->capslotq, m + 1);
-    GROW(gr->sx, gr->capsx, D * m + 1);
+    /* + 4: the AVX2 scan reads whole groups of four slots past a run's
+     * end (scan_run_avx2), the padding defined */
+    GROW(gr->slotq, gr->capslotq, m + 4);
+    GROW(gr->sx, gr->capsx, D * m + 4);
+    for (size_t i = 0; i < 4; i++) {
+        gr->slotq[m + i] = 0;
+        gr->sx[D * m + i] = 0;
+    }
     for (size_t q = n; q-- > 0;) {
         uint32_t cell = gr->cellof[q];
         if (cell != UINT32_MAX)
@@ -781,8 +787,10 @@ static const uint8_t pack_lanes4[16][16] = {
  * at a time: the same squared distances (sum over k ascending of
  * (sx - x)^2; the scalar loop's leading 0 + d0^2 is d0^2, a square being
  * +0 or more, or NaN), the same test !(sum > r2) and partner rule, the
- * candidates appended in slot order as the scalar loop appends them.
- * Writes up to 3 entries past the new count (the caller's array has room:
+ * candidates appended in slot order as the scalar loop appends them. A
+ * run's last group of four reads up to 3 slots past its end (the grid's
+ * arrays are padded: grid_dense) and leaves them out. Writes up to 3
+ * entries past the new count (the caller's array has room:
  * ensure_scratch). Returns the new count. */
 __attribute__((target("avx2"))) static size_t
 scan_run_avx2(const PhysGrid *gr, uint32_t j, uint32_t end, const double *x,
@@ -800,7 +808,7 @@ scan_run_avx2(const PhysGrid *gr, uint32_t j, uint32_t end, const double *x,
     const __m128i Q = _mm_set1_epi32((int32_t)q);
     const __m128i NP = _mm_xor_si128(_mm_set1_epi32((int32_t)npart), top);
     const __m128i ROW = _mm_set1_epi32(rowq ? -1 : 0);
-    for (; j + 4 <= end; j += 4) {
+    for (; j < end; j += 4) {
         __m256d d = _mm256_sub_pd(_mm256_loadu_pd(sx + j), X[0]);
         __m256d sum = _mm256_mul_pd(d, d);
         for (size_t k = 1; k < D; k++) {
@@ -811,21 +819,13 @@ scan_run_avx2(const PhysGrid *gr, uint32_t j, uint32_t end, const double *x,
         const __m128i e = _mm_loadu_si128((const __m128i *)(const void *)(gr->slotq + j));
         const __m128i row = _mm_or_si128(ROW, _mm_cmpgt_epi32(NP, _mm_xor_si128(e, top)));
         const __m128i ok = _mm_andnot_si128(_mm_cmpeq_epi32(e, Q), row);
-        const int mask = near & _mm_movemask_ps(_mm_castsi128_ps(ok));
+        /* the last group of a run: only its slots before [end] count */
+        const int lanes = end - j >= 4 ? 0xf : (1 << (end - j)) - 1;
+        const int mask = near & lanes & _mm_movemask_ps(_mm_castsi128_ps(ok));
         const __m128i packed = _mm_shuffle_epi8(
             e, _mm_loadu_si128((const __m128i *)(const void *)pack_lanes4[mask]));
         _mm_storeu_si128((__m128i *)(void *)(cand + nc), packed);
         nc += (size_t)__builtin_popcount((unsigned)mask);
-    }
-    for (; j < end; j++) {
-        double sum = 0;
-        for (size_t k = 0; k < D; k++) {
-            double dk = sx[k * m + j] - x[k];
-            sum += dk * dk;
-        }
-        uint32_t e = gr->slotq[j];
-        cand[nc] = e;
-        nc += !(sum > r2) & (e != q) & (rowq | (e < npart));
     }
     return nc;
 }
