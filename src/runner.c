@@ -488,7 +488,7 @@ static void fatal(void *ctx, const char *message)
     fflush(f->log);
 }
 
-double runspec_now(void)
+static double now_seconds(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -664,13 +664,13 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
         return finish_out(out, log, bad ? EXIT_LOAD : EXIT_OK);
     }
     LoadTimes load = {0};
-    double t0 = runspec_now();
+    double t0 = now_seconds();
     if (fl_load(rt, spec->script) != 0) {
         fputs(fl_error(rt), log);
         fl_free(rt);
         return EXIT_LOAD;
     }
-    load.first = runspec_now() - t0;
+    load.first = now_seconds() - t0;
     if (spec->state_file && access(spec->state_file, F_OK) == 0 &&
         fl_restore_state(rt, spec->state_file) != 0) {
         fputs(fl_error(rt), log);
@@ -694,7 +694,7 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
         return EXIT_USAGE;
     }
     bool dumped_last = false;
-    double start = runspec_now(), last_save = start, last_progress = 0;
+    double start = now_seconds(), last_save = start, last_progress = 0;
     long ran = 0;
     fl_stats first = {0}, second = {0}, traced = {0};
     struct timespec mtime = file_mtime(spec->script), bad_mtime = {0, 0};
@@ -704,9 +704,9 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
              * version is reported once and the last good one keeps running */
             struct timespec m = file_mtime(spec->script);
             if (!same_time(m, mtime) && !same_time(m, bad_mtime)) {
-                t0 = runspec_now();
+                t0 = now_seconds();
                 if (fl_load(rt, spec->script) == 0) {
-                    load.last = runspec_now() - t0;
+                    load.last = now_seconds() - t0;
                     load.reloads++;
                     mtime = m;
                     fprintf(log, "%s: reloaded\n", spec->script);
@@ -736,7 +736,7 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
             fl_dump_state(rt, write_file, out);
             dumped_last = true;
         }
-        double now = runspec_now();
+        double now = now_seconds();
         if (spec->progress && spec->frames > 0 && (now - last_progress > 0.1 || ran == spec->frames)) {
             show_progress(ran, spec->frames, now - start);
             last_progress = now;
@@ -760,7 +760,7 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
     }
     *finished = spec->frames >= 0 && ran >= spec->frames;
     if (spec->progress && ran > 0) fputs("\n", stderr);
-    if (spec->stats) runspec_print_stats(rt, &first, &second, runspec_now() - start, &load, log);
+    if (spec->stats) runspec_print_stats(rt, &first, &second, now_seconds() - start, &load, log);
     int rc = EXIT_OK;
     if (ran > 0) {
         if (spec->dump_state && !dumped_last) fl_dump_state(rt, write_file, out);

@@ -139,7 +139,4 @@ typedef struct LoadTimes {
 void runspec_print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *second,
                          double loop, const LoadTimes *load, FILE *log);
 
-/* Seconds on the monotonic clock. */
-double runspec_now(void);
-
 #endif

@@ -56,9 +56,9 @@ static void check_reload(Loop *L)
 {
     Page *p = &L->pages[L->cur];
     if (!watch_changed(&p->watch)) return;
-    double t0 = runspec_now();
+    double t0 = now_seconds();
     if (fl_load(p->rt, p->script) == 0) {
-        p->load.last = runspec_now() - t0;
+        p->load.last = now_seconds() - t0;
         p->load.reloads++;
         watch_set(&p->watch, p->rt, p->script);
         fprintf(L->log, "%s: reloaded\n", p->script);
@@ -98,12 +98,12 @@ static int open_pages(Loop *L)
         p->script = spec->scripts[i];
         p->rt = runspec_runtime(&L->runspec, &L->files, L->interrupt);
         if (!p->rt) return EXIT_USAGE;
-        double t0 = runspec_now();
+        double t0 = now_seconds();
         if (fl_load(p->rt, p->script) != 0) {
             fputs(fl_error(p->rt), L->log);
             return EXIT_LOAD;
         }
-        p->load.first = runspec_now() - t0;
+        p->load.first = now_seconds() - t0;
         watch_set(&p->watch, p->rt, p->script);
         if (spec->state_file) {
             size_t n = strlen(spec->state_file) + 16;

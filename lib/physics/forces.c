@@ -40,7 +40,6 @@ double phys_pair(PhysSystem *s, size_t a, size_t b)
     return pair_of(s->pos + a * D, s->pos + b * D, s->dir, D);
 }
 
-
 /* a.F -= dir*k; b.F += dir*k (per element, f = dir_i*k computed once). */
 static inline void push_apart(double *fa, double *fb, const double *dir,
                               double k, size_t D)

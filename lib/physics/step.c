@@ -214,6 +214,15 @@ apply_particle(PhysSystem *s, PhysApplier *ap, size_t p, double delta,
     }
 }
 
+/* Whether barrier_distance() can add anything for barrier [b]: enabled,
+ * not an upstream barrier with min <= 0, and with a minimum > 0 or a
+ * maximum != 0 (a NaN maximum counts: it is measured against). */
+static inline bool barrier_soft(const PhysSystem *s, const PhysApplier *b)
+{
+    return b->enabled && !(s->upstream && b->minimum <= 0) &&
+           (b->minimum > 0 || b->maximum != 0);
+}
+
 /* §4 Barrier distance(p): x = sum (pos_i - bpos_i)*n_i; [doc] if min > 0
  * and 0 <= x < min: k = min - x, power, strength, F_i += n_i*k; else if
  * max != 0 and x > max: k = x - max, power, strength, F_i -= n_i*k.
@@ -222,11 +231,7 @@ static inline __attribute__((always_inline)) void
 barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p,
                  const size_t D)
 {
-    if (!b->enabled || (s->upstream && b->minimum <= 0))
-        return;
-    /* neither branch below can be taken (a NaN maximum still measures):
-     * the distance is not needed */
-    if (!(b->minimum > 0) && b->maximum == 0)
+    if (!barrier_soft(s, b))
         return;
     const double *bp = s->avec + b->vec, *nv = bp + D;
     const double *pos = s->pos + p * D;
@@ -297,7 +302,7 @@ particle_range_fixed(PhysSystem *s, const PhysGroup *g, double clock,
             if (!b->enabled)
                 continue;
             hard[nhard++] = bl[j];
-            if (!(s->upstream && b->minimum <= 0) && (b->minimum > 0 || b->maximum != 0))
+            if (barrier_soft(s, b))
                 soft[nsoft++] = bl[j];
         }
         sl = soft;

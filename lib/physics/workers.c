@@ -2,7 +2,7 @@
  *
  * n - 1 threads wait for a job. A job is published as one 64-bit ticket of
  * its generation, its task count and the next task to hand out: the caller
- * writes the job (function, context, task count) and zeroes the count of
+ * writes the job (function, context) and zeroes the count of
  * finished tasks, then stores the ticket (g, 0) (release). A thread claims
  * task k < count by changing the ticket from (g, k) to (g, k + 1) with a
  * compare-and-swap (acquire), runs it, and adds one to the finished count;
@@ -63,9 +63,9 @@ struct PhysWorkers {
     atomic_uint sleepers;       /* workers asleep (or about to be) on go */
     atomic_bool waiting;        /* the caller asleep (or about to be) on done */
     atomic_bool quit;
-    PhysTaskFn fn;              /* the job: written before the ticket moves */
+    PhysTaskFn fn;              /* the job (its task count is in the ticket):
+                                   written before the ticket moves */
     void *ctx;
-    size_t ntasks;
 };
 
 /* The ticket's fields: generation (24 bits), task count (20), next task
@@ -251,7 +251,6 @@ void phys_workers_run(PhysWorkers *w, size_t ntasks, PhysTaskFn fn, void *ctx)
      * now: a claim needs the new ticket, stored after them */
     w->fn = fn;
     w->ctx = ctx;
-    w->ntasks = ntasks;
     atomic_store_explicit(&w->finished, 0, memory_order_relaxed);
     const uint64_t ticket = T_MAKE(T_GEN(atomic_load_explicit(&w->ticket, memory_order_relaxed)) + 1,
                                    ntasks);
