@@ -65,7 +65,7 @@ static bool link(C3dShader *sh, const char *vsrc, int max_lights, unsigned kinds
 #define U(name) sh->u_##name = glGetUniformLocation(p, #name)
     U(view_position); U(view_focus); U(orthographic); U(fog_min); U(fog_max); U(fog_curve);
     U(fog_color); U(monochrome); U(tint); U(nlights); U(inverse_pv); U(viewport_size); U(nsamples);
-    U(sample_offsets);
+    U(sample_offsets); U(billboard);
 #undef U
     sh->u_pv = glGetUniformLocation(p, "pv_matrix");
     GLint backfaces = glGetUniformLocation(p, "backface_data");

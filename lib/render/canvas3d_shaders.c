@@ -71,8 +71,35 @@ const char canvas3d_impostor_vertex_source[] =
     "flat out vec4 properties;\n"
     "uniform mat4 pv_matrix;\n"
     "uniform mat4 inverse_pv;\n"
+    "uniform bool billboard;\n"
+    "uniform vec3 view_position;\n"
+    "uniform vec3 view_focus;\n"
+    "uniform bool orthographic;\n"
     "void main() {\n"
-    "    vec4 p = model_matrix * vec4(model_position * 2.0, 1.0);\n"   /* the unit box, made to enclose the unit sphere */
+    "    vec4 p;\n"
+    "    if (billboard) {\n"
+    /* a sphere of radius r about c: the octagon in the plane that touches its near
+     * side, facing the eye, around the circle in which the cone of the eye's rays
+     * that touch the sphere (a cylinder in an orthographic view) meets that plane,
+     * one part in a hundred larger; every ray that hits the sphere crosses it */
+    "        vec3 c = model_matrix[3].xyz;\n"
+    "        float r = length(model_matrix[0].xyz);\n"
+    "        vec3 v;\n"
+    "        float rho = r;\n"
+    "        if (orthographic) {\n"
+    "            v = normalize(view_focus - view_position);\n"
+    "        } else {\n"
+    "            v = c - view_position;\n"
+    "            float dist = length(v);\n"
+    "            v /= dist;\n"
+    "            rho = (dist - r) * r / sqrt(dist * dist - r * r);\n"
+    "        }\n"
+    "        vec3 right = normalize(cross(v, abs(v.z) < 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0)));\n"
+    "        vec3 up = cross(right, v);\n"
+    "        p = vec4(c - v * r + (model_position.x * right + model_position.y * up) * (rho * 1.01), 1.0);\n"
+    "    } else {\n"
+    "        p = model_matrix * vec4(model_position * 2.0, 1.0);\n"   /* the unit box, made to enclose the unit sphere */
+    "    }\n"
     "    world_position = p.xyz;\n"
     "    gl_Position = pv_matrix * p;\n"
     "    ray_matrix = inverse(model_matrix) * inverse_pv;\n"

@@ -173,6 +173,19 @@ static void build_round(Builder *b, int n, bool cone)
     }
 }
 
+/* The octagon around the unit circle: a centre and eight rim vertices at
+ * 1/cos(pi/8), a fan of eight triangles. */
+static void build_octagon(Builder *b)
+{
+    double r = 1 / cos(PI / 8);
+    uint32_t c = add_vertex(b, 0, 0, 0, 0, 0, 1, 0.5, 0.5), rim[8];
+    for (int i = 0; i < 8; i++) {
+        double a = PI / 8 + PI / 4 * i;
+        rim[i] = add_vertex(b, r * cos(a), r * sin(a), 0, 0, 0, 1, 0.5 + 0.5 * cos(a), 0.5 + 0.5 * sin(a));
+    }
+    for (int i = 0; i < 8; i++) add_tri(b, c, rim[i], rim[(i + 1) % 8]);
+}
+
 /* Every triangle its own three vertices with the face normal. */
 static void flatten(Builder *b)
 {
@@ -209,6 +222,7 @@ void mesh_build(const MeshKey *key, MeshData *out)
     case MESH_SPHERE: build_sphere(&b, key->segments); break;
     case MESH_CYLINDER: build_round(&b, key->segments, false); break;
     case MESH_CONE: build_round(&b, key->segments, true); break;
+    case MESH_OCTAGON: build_octagon(&b); break;
     default: build_box(&b); break;
     }
     if (key->flat) flatten(&b);

@@ -20,7 +20,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-enum MeshKind { MESH_BOX, MESH_SPHERE, MESH_CYLINDER, MESH_CONE };
+/* MESH_OCTAGON is not a model: the flat octagon in the xy plane (normal
+ * +z, counter-clockwise seen from +z) whose inscribed circle is the unit
+ * circle, the proxy a sphere impostor is drawn with (canvas3d_draw.c). */
+enum MeshKind { MESH_BOX, MESH_SPHERE, MESH_CYLINDER, MESH_CONE, MESH_OCTAGON };
 
 /* The identity of one cached model shape. */
 typedef struct MeshKey {

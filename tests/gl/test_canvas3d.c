@@ -288,6 +288,58 @@ static void impostor_spheres(void **st)
     assert_rgb_near(at(pix[1], 2, 2), 0, 0.1 * (1 - F0), 0, 2);
 }
 
+/* An evenly scaled sphere's impostor is drawn on an octagon facing the
+ * eye, around the circle where the cone of rays touching the sphere (a
+ * cylinder, orthographic) meets the plane touching its near side: it must
+ * cover every sample the sphere covers. The 64-segment mesh lies inside
+ * the sphere, so every pixel a mesh sphere touches must be touched by its
+ * impostor: large spheres far off the axis of a wide view and near the
+ * camera, in perspective and orthographic views, with samples=4; one
+ * sphere is so near (radius 0.3 of its distance) that the cone's circle
+ * is 5% wider than (distance - r) r / distance, the circle of a cone
+ * through the sphere's rim seen face on (caught without that term). */
+static void impostor_billboards(void **st)
+{
+    (void)st;
+    static uint32_t pix[2][W * H];
+    static const char *scripts[] = {
+        "!window size=64;64\n"
+        "    !canvas3d samples=4 viewpoint=0;0;40 fov=0.35 near=1\n"
+        "        !light color=1\n"
+        "        !sphere size=16 position=20;16;0 color=1;0;0\n"
+        "        !sphere size=12 position=-18;-12;12 color=1;0;0\n"
+        "        !sphere size=3 position=-9;13;25 color=1;0;0\n"
+        "        !sphere size=5 position=2;-3;-30 color=1;0;0\n",
+        "!window size=64;64\n"
+        "    !canvas3d samples=4 viewpoint=10;5;40 focus=0 orthographic=true width=64 near=1\n"
+        "        !light color=1\n"
+        "        !sphere size=12 position=26;22;0 color=1;0;0\n"
+        "        !sphere size=2.5 position=-20;-14;14 color=1;0;0\n",
+        "!window size=64;64\n"
+        "    !canvas3d samples=4 viewpoint=0;0;40 fov=0.15 near=1\n"
+        "        !light color=1\n"
+        "        !sphere size=4.9 position=-2;2;24 color=1;0;0\n",
+    };
+    for (int s = 0; s < 3; s++) {
+        for (int k = 0; k < 2; k++) {
+            setenv("FLITTER_CANVAS3D_IMPOSTORS", k ? "1" : "0", 1);
+            fl_runtime *rt = draw(scripts[s], pix[k]);
+            fl_free(rt);
+        }
+        unsetenv("FLITTER_CANVAS3D_IMPOSTORS");
+        int mesh = 0, missed = 0, extra = 0;
+        for (int i = 0; i < W * H; i++) {
+            int m = chan(pix[0][i], 16), q = chan(pix[1][i], 16);
+            mesh += m > 0;
+            missed += m > 0 && q == 0;
+            extra += q > 0 && m == 0;
+        }
+        if (missed) fail_msg("script %d: %d of the mesh spheres' %d pixels not drawn by the impostors", s, missed, mesh);
+        assert_true(mesh > 300);
+        assert_true(extra <= mesh / 10);   /* the facets' share */
+    }
+}
+
 /* Line lights (Flitter docs/canvas3d.md, Lights: `start`/`end`, `radius`;
  * glsl/lighting_functions.glsl, compute_pbr_lighting, the Line case). The
  * camera looks straight down at the top face (z=0) of a wide box from
@@ -729,6 +781,7 @@ int main(void)
         cmocka_unit_test(depth_and_transparency),
         cmocka_unit_test(msaa_edge),
         cmocka_unit_test(impostor_spheres),
+        cmocka_unit_test(impostor_billboards),
         cmocka_unit_test(line_light),
         cmocka_unit_test(translucency_backlit),
         cmocka_unit_test(translucency_thin_edges),
