@@ -426,7 +426,8 @@ static int begin(Canvas3D *c, char *err, size_t errlen)
 }
 
 /* Draw the collected groups, lights and instances through [cam] into
- * [pic] (c->width x c->height), then release the context.
+ * [pic] (c->width x c->height; NULL: the linear light only), then
+ * release the context.
  *   errors: -1 with a message in [err] ("" when reported before) when the
  *           framebuffer cannot be made (nothing drawn) or a program does
  *           not compile (the groups before it are drawn); else 0. */
@@ -486,7 +487,7 @@ static int render(Canvas3D *c, const Camera *cam, cairo_surface_t *pic, char *er
     gl_target_read(c->gl, c->pixels);
     gl_context_done(c->gl);
     c->have_pixels = true;
-    srgb_encode_surface(&c->srgb, c->pixels, w, h, pic);
+    if (pic) srgb_encode_surface(&c->srgb, c->pixels, w, h, pic);
     return rc;
 }
 
@@ -498,7 +499,10 @@ static void add_time(Canvas3D *c, const struct timespec *t0)
     c->calls++;
 }
 
-int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env, const RenderLog *log)
+/* canvas3d_draw into [pic] when not NULL, else canvas3d_draw_linear; w x h
+ * the picture's size. */
+static int draw_node(Canvas3D *c, const Node *node, cairo_surface_t *pic, int w, int h, const CanvasEnv *env,
+                     const RenderLog *log)
 {
     c->have_pixels = false;
     struct timespec t0;
@@ -511,7 +515,6 @@ int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const Can
             render_log(log, RLOG_WARNING, "%s", err);
         return -1;
     }
-    int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
     c->env = env;
     c->width = w;
     c->height = h;
@@ -532,6 +535,18 @@ int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const Can
     if (err[0]) render_log(log, RLOG_WARNING, "%s", err);
     if (c->have_pixels) add_time(c, &t0);
     return rc;
+}
+
+int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env, const RenderLog *log)
+{
+    return draw_node(c, node, pic, cairo_image_surface_get_width(pic), cairo_image_surface_get_height(pic), env,
+                     log);
+}
+
+int canvas3d_draw_linear(Canvas3D *c, const Node *node, int w, int h, const CanvasEnv *env, const RenderLog *log)
+{
+    if (w < 1 || h < 1) return -1;
+    return draw_node(c, node, NULL, w, h, env, log);
 }
 
 int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, cairo_surface_t *pic, char *err, size_t errlen)

@@ -57,6 +57,12 @@ Canvas3D *canvas3d_new(void);
  *   errors: -1 when nothing could be drawn ([pic] left transparent), else 0. */
 int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env,
                   const RenderLog *log);
+/* canvas3d_draw for a w x h picture of which only the linear light is
+ * wanted (canvas3d_linear; a !bloom's input): the same drawing without the
+ * 8-bit sRGB picture.
+ *   errors: -1 when nothing could be drawn (no linear light then), else 0. */
+int canvas3d_draw_linear(Canvas3D *c, const Node *node, int w, int h, const CanvasEnv *env,
+                         const RenderLog *log);
 /* A scene given as shapes rather than as a node tree: the physics view's
  * (view.c). One render group (depth sorted and tested, back faces culled,
  * `over`) lit by an ambient and a directional light, with every item's

@@ -368,12 +368,30 @@ static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, P
     bool empty = true;
     for (size_t i = 0; i < rnode_nchildren(n); i++) {
         const Node *c = rnode_child(n, i);
-        cairo_surface_t *layer = new_picture(w, h);
+        cairo_surface_t *layer = NULL;
         drop_canvas_light(r);
-        render_child(r, c, layer, w, h, pass, NULL);
         int lw = 0, lh = 0;
-        const float *lin = rnode_is(c, "canvas3d") ? canvas3d_linear(r->c3d, &lw, &lh) : NULL;
+        const float *lin = NULL;
+        if (rnode_is(c, "canvas3d") && !rnode_attr(c, "id")) {
+            /* a !canvas3d of the bloom's size that nothing refers to gives
+             * its linear light alone: its 8-bit picture would not be used */
+            int cw, ch;
+            size_of(c, w, h, &cw, &ch);
+            if (cw == w && ch == h) {
+                if (!r->c3d) r->c3d = canvas3d_new();
+                CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips};
+                if (canvas3d_draw_linear(r->c3d, c, w, h, &env, &r->log) == 0)
+                    lin = canvas3d_linear(r->c3d, &lw, &lh);
+                if (!lin) layer = new_picture(w, h);   /* nothing drawn: a transparent layer */
+            }
+        }
+        if (!lin && !layer) {
+            layer = new_picture(w, h);
+            render_child(r, c, layer, w, h, pass, NULL);
+            lin = rnode_is(c, "canvas3d") ? canvas3d_linear(r->c3d, &lw, &lh) : NULL;
+        }
         if (lin && (lw != w || lh != h)) lin = NULL;
+        if (!lin && !layer) layer = new_picture(w, h);
         /* a linear canvas of the bloom's size gives its own linear light */
         cairo_surface_t *clight = rnode_is(c, "canvas") ? r->canvas_light : NULL;
         if (clight && (cairo_image_surface_get_width(clight) != w || cairo_image_surface_get_height(clight) != h))
@@ -393,7 +411,7 @@ static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, P
         }
         drop_canvas_light(r);
         empty = false;
-        cairo_surface_destroy(layer);
+        if (layer) cairo_surface_destroy(layer);
     }
     if (empty) memset(light, 0, npix * 4 * sizeof(float));
     if (!r->bloom) r->bloom = bloom_new();
