@@ -4,7 +4,7 @@
 # here when missing). Runs the differential tests of the pair routes (1, 2
 # and 4 threads against the reference loop) and of the particle pass (a
 # sample of 2,000 systems, 8 of them big enough to be split over threads),
-# every physics golden and the
+# every physics golden, the window's two-thread row split (halves.h), the
 # benchmark scenes for a few frames on 2 threads, and the live window's
 # two threads under Xvfb, each as one test that fails on any report. Ends with `N passed, M failed`.
 set -uo pipefail
@@ -13,7 +13,8 @@ build=$1
 [ -f "$build/build.ninja" ] ||
     CC=${TSAN_CC:-clang-14} meson setup "$build" -Db_sanitize=thread -Db_lundef=false >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
-ninja -C "$build" src/flitter src/flitter-window.so tests/test_physics_routes tests/test_particle_pass >/dev/null ||
+ninja -C "$build" src/flitter src/flitter-window.so tests/test_physics_routes tests/test_particle_pass \
+    tests/test_halves >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
 export TSAN_OPTIONS="halt_on_error=1 exitcode=66"
 passed=0 failed=0
@@ -33,6 +34,16 @@ check() {   # check NAME CMD...
 }
 check physics_routes "$build/tests/test_physics_routes"
 check particle_pass env FLITTER_PROPTEST_SYSTEMS=2000 "$build/tests/test_particle_pass"
+check halves "$build/tests/test_halves"
+# a !bloom of a 2D canvas, drawn offscreen: its passes and the sRGB
+# encoding split over two threads (halves.h)
+tmpd=$(mktemp -d)
+printf '%s\n' '!window size=256;256' '    !record filename=OUTPUT' '        !bloom radius=16' \
+    '            !canvas' '                !fill color=1;0.5;0.25' '                    !rect point=64;64 size=128;128' \
+    >"$tmpd/bloom.fl"
+check window/bloom "$build/src/flitter" --offscreen --lockstep --fps=1 --runtime=1 --define "OUTPUT=$tmpd/bloom.png" "$tmpd/bloom.fl"
+[ -s "$tmpd/bloom.png" ] || { failed=$((failed + 1)); echo "FAIL window/bloom: no picture"; }
+rm -rf "$tmpd"
 while read -r script opts; do
     case "$script" in ''|'#'*) continue ;; esac
     # shellcheck disable=SC2086

@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "canvas.h"
+#include "halves.h"
 #include "mem.h"
 #include "srgb.h"
 
@@ -92,31 +93,6 @@ static void grow_taps(Bloom *b, size_t need)
     b->fx = mem_alloc(need * sizeof *b->fx);
 }
 
-/* Resample [src] (sw x sh RGBA) to [dst] (dw x dh) with bilinear taps. */
-static void resample(Bloom *b, float *dst, int dw, int dh, const float *src, int sw, int sh)
-{
-    grow_taps(b, (size_t)dw + dh);
-    int *ix = b->ix, *iy = b->ix + dw;
-    float *fx = b->fx, *fy = b->fx + dw;
-    taps(ix, fx, dw, sw);
-    taps(iy, fy, dh, sh);
-    for (int y = 0; y < dh; y++) {
-        const float *r0 = src + (size_t)iy[y] * sw * 4;
-        const float *r1 = iy[y] + 1 < sh ? r0 + (size_t)sw * 4 : r0;
-        float wy = fy[y];
-        float *out = dst + (size_t)y * dw * 4;
-        for (int x = 0; x < dw; x++, out += 4) {
-            int x0 = ix[x] * 4, x1 = ix[x] + 1 < sw ? x0 + 4 : x0;
-            float wx = fx[x];
-            for (int k = 0; k < 4; k++) {
-                float top = r0[x0 + k] + (r0[x1 + k] - r0[x0 + k]) * wx;
-                float bot = r1[x0 + k] + (r1[x1 + k] - r1[x0 + k]) * wx;
-                out[k] = top + (bot - top) * wy;
-            }
-        }
-    }
-}
-
 /* Flitter filter_functions.glsl, filter_adjust, on un-premultiplied
  * light; [gain] is 2^exposure * contrast, [offset] brightness + (1 -
  * contrast)/2. */
@@ -166,36 +142,109 @@ static void weigh_rows(float *restrict o, const float *restrict mid, int w, cons
         add_pair(o, mid - (size_t)i * step, mid + (size_t)i * step, (size_t)w, wt[i]);
 }
 
-/* The Gaussian pass along x: [src] to [dst] ([w] x [h] RGBA), edges
- * clamped, each row through [pad] (w + 2r pixels). */
-static void blur_x(float *dst, const float *src, int w, int h, const float *wt, int r, float *pad)
+/* The passes of one bloom_apply, by rows (rows_in_halves). */
+typedef struct Passes {
+    const BloomParams *p;
+    float *rgba;                 /* the picture, w x h */
+    int w, h, sw, sh;            /* the picture's size and the blur's */
+    float *small, *tmp;          /* sw x sh */
+    const int *ix, *iy;          /* bilinear taps: down (to sw, sh) or up (to w, h) */
+    const float *fx, *fy;
+    float gain, offset, alpha;
+    const float *wt;             /* the Gaussian's weights, r + 1 */
+    int r;
+    float *scratch[2];           /* per thread: a padded row, or a full-size row */
+} Passes;
+
+/* Pass 1, rows y0..y1-1 of the small framebuffer: the picture resampled
+ * (bilinear taps), then adjusted. */
+static void down_rows(void *ctx, int y0, int y1, int part)
 {
-    for (int y = 0; y < h; y++) {
-        const float *row = src + (size_t)y * w * 4;
+    (void)part;
+    const Passes *q = ctx;
+    int sw = q->w, sh = q->h, dw = q->sw;
+    for (int y = y0; y < y1; y++) {
+        const float *r0 = q->rgba + (size_t)q->iy[y] * sw * 4;
+        const float *r1 = q->iy[y] + 1 < sh ? r0 + (size_t)sw * 4 : r0;
+        float wy = q->fy[y];
+        float *out = q->small + (size_t)y * dw * 4;
+        for (int x = 0; x < dw; x++, out += 4) {
+            int x0 = q->ix[x] * 4, x1 = q->ix[x] + 1 < sw ? x0 + 4 : x0;
+            float wx = q->fx[x];
+            for (int k = 0; k < 4; k++) {
+                float top = r0[x0 + k] + (r0[x1 + k] - r0[x0 + k]) * wx;
+                float bot = r1[x0 + k] + (r1[x1 + k] - r1[x0 + k]) * wx;
+                out[k] = top + (bot - top) * wy;
+            }
+            adjust(out, q->p, q->gain, q->offset);
+        }
+    }
+}
+
+/* Pass 2, the Gaussian along x: small to tmp, edges clamped, each row
+ * through the thread's padded row (w + 2r pixels). */
+static void blur_x_rows(void *ctx, int y0, int y1, int part)
+{
+    const Passes *q = ctx;
+    int w = q->sw, r = q->r;
+    float *pad = q->scratch[part];
+    for (int y = y0; y < y1; y++) {
+        const float *row = q->small + (size_t)y * w * 4;
         for (int x = -r; x < w + r; x++) {
             int c = x < 0 ? 0 : x >= w ? w - 1 : x;
             memcpy(pad + (size_t)(x + r) * 4, row + (size_t)c * 4, 4 * sizeof(float));
         }
-        float *restrict o = dst + (size_t)y * w * 4;
-        const float *restrict mid = pad + (size_t)r * 4;
-        weigh_rows(o, mid, w, wt, r, 4);
+        weigh_rows(q->tmp + (size_t)y * w * 4, pad + (size_t)r * 4, w, q->wt, r, 4);
     }
 }
 
-/* The Gaussian pass along y, edges clamped. */
-static void blur_y(float *dst, const float *src, int w, int h, const float *wt, int r)
+/* Pass 3, the Gaussian along y: tmp to small, edges clamped. */
+static void blur_y_rows(void *ctx, int y0, int y1, int part)
 {
-    size_t n = (size_t)w * 4;
-    for (int y = 0; y < h; y++) {
-        float *restrict o = dst + (size_t)y * n;
-        const float *mid = src + (size_t)y * n;
-        for (size_t j = 0; j < n; j++) o[j] = mid[j] * wt[0];
+    (void)part;
+    const Passes *q = ctx;
+    int h = q->sh, r = q->r;
+    size_t n = (size_t)q->sw * 4;
+    for (int y = y0; y < y1; y++) {
+        float *restrict o = q->small + (size_t)y * n;
+        const float *mid = q->tmp + (size_t)y * n;
+        for (size_t j = 0; j < n; j++) o[j] = mid[j] * q->wt[0];
         for (int i = 1; i <= r; i++) {
             int a = y - i < 0 ? 0 : y - i, b = y + i >= h ? h - 1 : y + i;
-            add_pair(o, src + (size_t)a * n, src + (size_t)b * n, (size_t)w, wt[i]);
+            add_pair(o, q->tmp + (size_t)a * n, q->tmp + (size_t)b * n, (size_t)q->sw, q->wt[i]);
         }
     }
 }
+
+/* Pass 4, rows y0..y1-1 of the picture: the blur brought back to full size
+ * (bilinear taps, a row at a time into the thread's scratch row), lighten
+ * with the original, times alpha. */
+static void up_rows(void *ctx, int y0, int y1, int part)
+{
+    const Passes *q = ctx;
+    int w = q->w, sw = q->sw, sh = q->sh;
+    size_t row = (size_t)w * 4;
+    float *line = q->scratch[part];
+    for (int y = y0; y < y1; y++) {
+        const float *r0 = q->small + (size_t)q->iy[y] * sw * 4;
+        const float *r1 = q->iy[y] + 1 < sh ? r0 + (size_t)sw * 4 : r0;
+        float wy = q->fy[y];
+        for (int x = 0; x < w; x++) {
+            int x0 = q->ix[x] * 4, x1 = q->ix[x] + 1 < sw ? x0 + 4 : x0;
+            float wx = q->fx[x];
+            for (int k = 0; k < 4; k++) {
+                float top = r0[x0 + k] + (r0[x1 + k] - r0[x0 + k]) * wx;
+                float bot = r1[x0 + k] + (r1[x1 + k] - r1[x0 + k]) * wx;
+                line[x * 4 + k] = top + (bot - top) * wy;
+            }
+        }
+        float *o = q->rgba + (size_t)y * row;
+        for (size_t i = 0; i < row; i++) o[i] = (o[i] > line[i] ? o[i] : line[i]) * q->alpha;
+    }
+}
+
+/* Rows a thread must have before a pass is split between two. */
+#define SPLIT_ROWS 64
 
 void bloom_apply(Bloom *b, const BloomParams *p, float *rgba, int w, int h)
 {
@@ -215,11 +264,18 @@ void bloom_apply(Bloom *b, const BloomParams *p, float *rgba, int w, int h)
         b->small = mem_alloc(n * sizeof(float));
         b->tmp = mem_alloc(n * sizeof(float));
     }
+    Passes q = {.p = p, .rgba = rgba, .w = w, .h = h, .sw = sw, .sh = sh, .small = b->small, .tmp = b->tmp,
+                .alpha = (float)p->alpha};
     /* pass 1: down-sample and darken */
-    resample(b, b->small, sw, sh, rgba, w, h);
-    float gain = (float)(pow(2.0, p->exposure) * p->contrast);
-    float offset = (float)(p->brightness + (1 - p->contrast) / 2);
-    for (size_t i = 0; i < n; i += 4) adjust(b->small + i, p, gain, offset);
+    grow_taps(b, (size_t)w + h);
+    int *ix = b->ix, *iy = b->ix + sw;
+    float *fx = b->fx, *fy = b->fx + sw;
+    taps(ix, fx, sw, w);
+    taps(iy, fy, sh, h);
+    q.ix = ix, q.iy = iy, q.fx = fx, q.fy = fy;
+    q.gain = (float)(pow(2.0, p->exposure) * p->contrast);
+    q.offset = (float)(p->brightness + (1 - p->contrast) / 2);
+    rows_in_halves(sh, SPLIT_ROWS, down_rows, &q);
     /* passes 2 and 3: the Gaussian, x then y, at the small size */
     int rx = p->radius[0] / ds, ry = p->radius[1] / ds;
     if (rx < 0) rx = 0;
@@ -229,40 +285,26 @@ void bloom_apply(Bloom *b, const BloomParams *p, float *rgba, int w, int h)
     if (rx > 4096) rx = 4096;
     if (ry > 4096) ry = 4096;
     float *wt = mem_alloc(((size_t)(rx > ry ? rx : ry) + 1) * sizeof *wt);
-    float *pad = mem_alloc(((size_t)sw + 2 * (size_t)rx) * 4 * sizeof *pad);
+    size_t pad = ((size_t)sw + 2 * (size_t)rx) * 4, row = (size_t)w * 4;
+    size_t scratch = pad > row ? pad : row;
+    q.scratch[0] = mem_alloc(2 * scratch * sizeof(float));
+    q.scratch[1] = q.scratch[0] + scratch;
+    q.wt = wt;
     gaussian(wt, rx, rx * p->sigma[0]);
-    blur_x(b->tmp, b->small, sw, sh, wt, rx, pad);
+    q.r = rx;
+    rows_in_halves(sh, SPLIT_ROWS, blur_x_rows, &q);
     gaussian(wt, ry, ry * p->sigma[1]);
-    blur_y(b->small, b->tmp, sw, sh, wt, ry);
-    free(wt);
-    free(pad);
-    /* pass 4: back to full size (a row at a time), lighten with the
-     * original, times alpha */
-    size_t row = (size_t)w * 4;
-    float *line = mem_alloc(row * sizeof(float));
-    grow_taps(b, (size_t)w + h);
-    int *ix = b->ix, *iy = b->ix + w;
-    float *fx = b->fx, *fy = b->fx + w;
+    q.r = ry;
+    rows_in_halves(sh, SPLIT_ROWS, blur_y_rows, &q);
+    /* pass 4: back to full size, lighten with the original, times alpha */
+    ix = b->ix, iy = b->ix + w;
+    fx = b->fx, fy = b->fx + w;
     taps(ix, fx, w, sw);
     taps(iy, fy, h, sh);
-    float alpha = (float)p->alpha;
-    for (int y = 0; y < h; y++) {
-        const float *r0 = b->small + (size_t)iy[y] * sw * 4;
-        const float *r1 = iy[y] + 1 < sh ? r0 + (size_t)sw * 4 : r0;
-        float wy = fy[y];
-        for (int x = 0; x < w; x++) {
-            int x0 = ix[x] * 4, x1 = ix[x] + 1 < sw ? x0 + 4 : x0;
-            float wx = fx[x];
-            for (int k = 0; k < 4; k++) {
-                float top = r0[x0 + k] + (r0[x1 + k] - r0[x0 + k]) * wx;
-                float bot = r1[x0 + k] + (r1[x1 + k] - r1[x0 + k]) * wx;
-                line[x * 4 + k] = top + (bot - top) * wy;
-            }
-        }
-        float *o = rgba + (size_t)y * row;
-        for (size_t i = 0; i < row; i++) o[i] = (o[i] > line[i] ? o[i] : line[i]) * alpha;
-    }
-    free(line);
+    q.ix = ix, q.iy = iy, q.fx = fx, q.fy = fy;
+    rows_in_halves(h, SPLIT_ROWS, up_rows, &q);
+    free(wt);
+    free(q.scratch[0]);
     clock_gettime(CLOCK_MONOTONIC, &t1);
     b->ms_total += (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) / 1e6;
     b->calls++;

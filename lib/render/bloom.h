@@ -47,7 +47,9 @@ void bloom_params(const Node *n, BloomParams *p);
 /* An empty set of scratch framebuffers. */
 Bloom *bloom_new(void);
 /* Apply the bloom [p] in place to [rgba]: [w] x [h] pixels of linear,
- * premultiplied RGBA floats, top row first.
+ * premultiplied RGBA floats, top row first. Each pass of 64 rows or more
+ * is split between two threads (halves.h), row by row as one thread
+ * would compute it.
  *   errors: none; a size under 1 does nothing. */
 void bloom_apply(Bloom *b, const BloomParams *p, float *rgba, int w, int h);
 /* Milliseconds spent in bloom_apply so far and its call count. */

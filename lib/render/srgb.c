@@ -4,6 +4,8 @@
 #include <math.h>
 #include <stddef.h>
 
+#include "halves.h"
+
 /* last: it turns the library's names into calls through its table */
 #include "cairo_lib.h"
 
@@ -44,16 +46,29 @@ static inline uint32_t encode_pixel(const SrgbTable *t, const float src[4])
     return (a << 24) | (v[0] << 16) | (v[1] << 8) | v[2];
 }
 
+typedef struct Encoding {
+    const SrgbTable *t;
+    const float *rgba;
+    int w, stride;
+    unsigned char *data;
+} Encoding;
+
+static void encode_rows(void *ctx, int y0, int y1, int part)
+{
+    (void)part;
+    const Encoding *e = ctx;
+    for (int y = y0; y < y1; y++) {
+        uint32_t *row = (uint32_t *)(void *)(e->data + (size_t)y * e->stride);
+        const float *src = e->rgba + (size_t)y * e->w * 4;
+        for (int x = 0; x < e->w; x++, src += 4) row[x] = encode_pixel(e->t, src);
+    }
+}
+
 void srgb_encode_surface(const SrgbTable *t, const float *rgba, int w, int h, cairo_surface_t *pic)
 {
     cairo_surface_flush(pic);
-    unsigned char *data = cairo_image_surface_get_data(pic);
-    int stride = cairo_image_surface_get_stride(pic);
-    for (int y = 0; y < h; y++) {
-        uint32_t *row = (uint32_t *)(void *)(data + (size_t)y * stride);
-        const float *src = rgba + (size_t)y * w * 4;
-        for (int x = 0; x < w; x++, src += 4) row[x] = encode_pixel(t, src);
-    }
+    Encoding e = {t, rgba, w, cairo_image_surface_get_stride(pic), cairo_image_surface_get_data(pic)};
+    rows_in_halves(h, 64, encode_rows, &e);
     cairo_surface_mark_dirty(pic);
 }
 

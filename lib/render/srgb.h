@@ -28,7 +28,9 @@ double srgb_decode(double s);
  * its pixels as the window's output does: each channel clamped to 0..1
  * and sRGB-encoded through [t], with an alpha of at least each encoded
  * channel, so that painted over black it gives Flitter's window output
- * exactly (Flitter render/window: the sRGB framebuffer). */
+ * exactly (Flitter render/window: the sRGB framebuffer). Pictures of 64
+ * rows or more are encoded by two threads, half the rows each
+ * (halves.h). */
 void srgb_encode_surface(const SrgbTable *t, const float *rgba, int w, int h, cairo_surface_t *pic);
 
 /* Encode the ARGB32 surface [lin], whose premultiplied 8-bit values are
