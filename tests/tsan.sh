@@ -41,8 +41,11 @@ tmpd=$(mktemp -d)
 printf '%s\n' '!window size=256;256' '    !record filename=OUTPUT' '        !bloom radius=16' \
     '            !canvas' '                !fill color=1;0.5;0.25' '                    !rect point=64;64 size=128;128' \
     >"$tmpd/bloom.fl"
-check window/bloom "$build/src/flitter" --offscreen --lockstep --fps=1 --runtime=1 --define "OUTPUT=$tmpd/bloom.png" "$tmpd/bloom.fl"
-[ -s "$tmpd/bloom.png" ] || { failed=$((failed + 1)); echo "FAIL window/bloom: no picture"; }
+bloom_picture() {
+    "$build/src/flitter" --offscreen --lockstep --fps=1 --runtime=1 --define "OUTPUT=$tmpd/bloom.png" \
+        "$tmpd/bloom.fl" && [ -s "$tmpd/bloom.png" ]
+}
+check window/bloom bloom_picture
 rm -rf "$tmpd"
 while read -r script opts; do
     case "$script" in ''|'#'*) continue ;; esac

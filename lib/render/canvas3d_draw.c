@@ -126,7 +126,19 @@ static bool billboard_fits(const Instance *in, const Camera *cam)
      * nearer than the centre along the line of sight and its rim at most
      * 1.1 r from that plane's middle */
     double depth = -(v[2] * m[12] + v[6] * m[13] + v[10] * m[14] + v[14]);
-    return depth - 2.2 * r > cam->near * 1.01;
+    if (!(depth - 2.2 * r > cam->near * 1.01)) return false;
+    /* the shader builds the octagon from the camera's position and focus:
+     * only when the view matrix is theirs (not the identity of a look-at
+     * that failed: focus at the position, or up along the line of sight) */
+    double e[3], f[3], scale = 1;
+    for (int k = 0; k < 3; k++) {
+        e[k] = v[k] * cam->position[0] + v[4 + k] * cam->position[1] + v[8 + k] * cam->position[2] + v[12 + k];
+        f[k] = v[k] * cam->focus[0] + v[4 + k] * cam->focus[1] + v[8 + k] * cam->focus[2] + v[12 + k];
+        scale += fabs(cam->position[k]) + fabs(cam->focus[k]);
+    }
+    double eps = 1e-9 * scale;
+    return fabs(e[0]) <= eps && fabs(e[1]) <= eps && fabs(e[2]) <= eps && fabs(f[0]) <= eps && fabs(f[1]) <= eps &&
+           f[2] < -eps;
 }
 
 /* Draw [n] instances of one mesh from [list] in that order: smooth spheres

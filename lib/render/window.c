@@ -380,8 +380,9 @@ static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, P
             if (cw == w && ch == h) {
                 if (!r->c3d) r->c3d = canvas3d_new();
                 CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips};
-                if (canvas3d_draw_linear(r->c3d, c, w, h, &env, &r->log) == 0)
-                    lin = canvas3d_linear(r->c3d, &lw, &lh);
+                /* (a group whose program fails leaves those before it drawn) */
+                canvas3d_draw_linear(r->c3d, c, w, h, &env, &r->log);
+                lin = canvas3d_linear(r->c3d, &lw, &lh);
                 if (!lin) layer = new_picture(w, h);   /* nothing drawn: a transparent layer */
             }
         }

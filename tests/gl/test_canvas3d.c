@@ -297,7 +297,9 @@ static void impostor_spheres(void **st)
  * camera, in perspective and orthographic views, with samples=4; one
  * sphere is so near (radius 0.3 of its distance) that the cone's circle
  * is 5% wider than (distance - r) r / distance, the circle of a cone
- * through the sphere's rim seen face on (caught without that term). */
+ * through the sphere's rim seen face on (caught without that term); and
+ * a camera whose look-at fails (up along the line of sight), whose
+ * picture comes from the identity view, not from its viewpoint. */
 static void impostor_billboards(void **st)
 {
     (void)st;
@@ -319,8 +321,15 @@ static void impostor_billboards(void **st)
         "    !canvas3d samples=4 viewpoint=0;0;40 fov=0.15 near=1\n"
         "        !light color=1\n"
         "        !sphere size=4.9 position=-2;2;24 color=1;0;0\n",
+        /* up along the line of sight: no look-at, the identity view (the
+         * eye at the origin looking along -z), not the viewpoint */
+        "!window size=64;64\n"
+        "    !canvas3d samples=4 viewpoint=0;40;0 focus=0 near=1\n"
+        "        !light color=1\n"
+        "        !sphere size=6 position=8;5;-30 color=1;0;0\n"
+        "        !sphere size=4 position=-6;-4;-20 color=1;0;0\n",
     };
-    for (int s = 0; s < 3; s++) {
+    for (int s = 0; s < 4; s++) {
         for (int k = 0; k < 2; k++) {
             setenv("FLITTER_CANVAS3D_IMPOSTORS", k ? "1" : "0", 1);
             fl_runtime *rt = draw(scripts[s], pix[k]);
