@@ -12,6 +12,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "halffloat.h"
+#include "halves.h"
+
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
@@ -27,6 +30,8 @@ struct GlContext {
     GLuint fbo, color, depth;          /* the render pass target (multisampled or not) */
     GLuint resolve_fbo, resolve_color; /* single-sampled copy when samples > 0 */
     char renderer[128];
+    uint16_t *half;          /* gl_target_read's half floats, cap_half of them */
+    size_t cap_half;
 };
 
 static bool has_ext(const char *list, const char *name)
@@ -161,21 +166,10 @@ bool gl_target_bind(GlContext *gl, int w, int h, int samples, int *used, char *e
     return true;
 }
 
-void gl_target_read(GlContext *gl, float *rgba)
+/* Rows of [rgba] (w x h RGBA floats) in the opposite order: GL's first row
+ * is the bottom one. */
+static void flip_rows(float *rgba, int w, int h)
 {
-    int w = gl->w, h = gl->h;
-    GLuint src = gl->fbo;
-    if (gl->samples > 0) {
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, gl->fbo);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, gl->resolve_fbo);
-        glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-        src = gl->resolve_fbo;
-    }
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, src);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, rgba);
-    glBindFramebuffer(GL_FRAMEBUFFER, gl->fbo);
-    /* GL's first row is the bottom one */
     size_t row = (size_t)w * 4;
     float *tmp = malloc(row * sizeof *tmp);
     if (!tmp) return;
@@ -188,6 +182,55 @@ void gl_target_read(GlContext *gl, float *rgba)
     free(tmp);
 }
 
+/* The framebuffer's half floats, bottom row first, widened to floats top
+ * row first (rows_in_halves). */
+typedef struct Widening {
+    const uint16_t *half;
+    float *rgba;
+    int w, h;
+} Widening;
+
+static void widen_rows(void *ctx, int y0, int y1, int part)
+{
+    (void)part;
+    const Widening *j = ctx;
+    size_t row = (size_t)j->w * 4;
+    for (int y = y0; y < y1; y++)
+        halves_to_floats(j->half + (size_t)(j->h - 1 - y) * row, j->rgba + (size_t)y * row, row, 0);
+}
+
+void gl_target_read(GlContext *gl, float *rgba)
+{
+    int w = gl->w, h = gl->h;
+    GLuint src = gl->fbo;
+    if (gl->samples > 0) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, gl->fbo);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, gl->resolve_fbo);
+        glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        src = gl->resolve_fbo;
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, src);
+    glPixelStorei(GL_PACK_ALIGNMENT, 2);
+    size_t n = (size_t)w * h * 4;
+    if (n > gl->cap_half) {
+        uint16_t *more = realloc(gl->half, n * sizeof *more);
+        if (!more) {   /* no room for the halves: GL converts */
+            glPixelStorei(GL_PACK_ALIGNMENT, 4);
+            glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, rgba);
+            glBindFramebuffer(GL_FRAMEBUFFER, gl->fbo);
+            flip_rows(rgba, w, h);
+            return;
+        }
+        gl->half = more;
+        gl->cap_half = n;
+    }
+    /* the framebuffer's own format, copied as it is; widened here */
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_HALF_FLOAT, gl->half);
+    glBindFramebuffer(GL_FRAMEBUFFER, gl->fbo);
+    Widening job = {gl->half, rgba, w, h};
+    rows_in_halves(h, 64, widen_rows, &job);
+}
+
 void gl_context_free(GlContext *gl)
 {
     if (!gl) return;
@@ -196,5 +239,6 @@ void gl_context_free(GlContext *gl)
     if (gl->ctx != EGL_NO_CONTEXT) eglDestroyContext(gl->dpy, gl->ctx);
     if (gl->tracked) eglTerminate(gl->dpy);
     eglReleaseThread();
+    free(gl->half);
     free(gl);
 }
