@@ -40,7 +40,9 @@ void gl_context_done(GlContext *gl);
 bool gl_target_bind(GlContext *gl, int w, int h, int samples, int *used, char *err, size_t errlen);
 /* Resolve the bound framebuffer and read its pixels into [rgba]: w*h*4
  * floats, linear premultiplied RGBA, the top row first (GL's rows are
- * bottom-up; this flips them). */
+ * bottom-up; this flips them). The framebuffer's half floats are read as
+ * they are and widened exactly on two threads (halffloat.h, halves.h);
+ * when no buffer for them can be had, GL converts to floats itself. */
 void gl_target_read(GlContext *gl, float *rgba);
 /* The renderer string of the driver (e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"). */
 const char *gl_context_renderer(const GlContext *gl);
