@@ -25,7 +25,17 @@ float half_to_float(uint16_t h)
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
+#include <cpuid.h>
 #include <immintrin.h>
+
+/* Whether the processor has F16C (CPUID leaf 1, ECX bit 29) and the
+ * system keeps the AVX registers (__builtin_cpu_supports("avx") checks
+ * XGETBV too); not every compiler's __builtin_cpu_supports knows "f16c". */
+static int has_f16c(void)
+{
+    unsigned a, b, c, d;
+    return __builtin_cpu_supports("avx") && __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C);
+}
 
 __attribute__((target("avx,f16c"))) static void halves_f16c(const uint16_t *src, float *dst, size_t n)
 {
@@ -36,10 +46,19 @@ __attribute__((target("avx,f16c"))) static void halves_f16c(const uint16_t *src,
 }
 #endif
 
+int halves_fast_route(void)
+{
+#if defined(__x86_64__) && defined(__GNUC__)
+    return has_f16c();
+#else
+    return 0;
+#endif
+}
+
 void halves_to_floats(const uint16_t *src, float *dst, size_t n, int literal)
 {
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (!literal && __builtin_cpu_supports("f16c") && __builtin_cpu_supports("avx")) {
+    if (!literal && has_f16c()) {
         halves_f16c(src, dst, n);
         return;
     }

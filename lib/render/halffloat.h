@@ -17,5 +17,7 @@ float half_to_float(uint16_t h);
  * [literal] forces the literal route (for tests).
  *   errors: none. */
 void halves_to_floats(const uint16_t *src, float *dst, size_t n, int literal);
+/* Whether halves_to_floats has a fast route on this processor (F16C). */
+int halves_fast_route(void);
 
 #endif
