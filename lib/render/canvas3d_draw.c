@@ -102,9 +102,27 @@ static bool impostor_fits(const Instance *in, const Camera *cam)
     return m[3] == 0 && m[7] == 0 && m[11] == 0 && m[15] == 1 && sqrt(d2) > reach + cam->near;
 }
 
-/* Whether an impostor (impostor_fits) may be drawn on the octagon facing
- * the eye (the impostor vertex shader's billboard) rather than on its
- * box: its model matrix scales the unit sphere evenly (a sphere, not an
+/* Whether [cam]'s view matrix is the look-at of its position and focus,
+ * from which the impostor vertex shader builds its octagons (not the
+ * identity of a look-at that failed: focus at the position, or up along
+ * the line of sight). */
+static bool view_is_look_at(const Camera *cam)
+{
+    const double *v = cam->view.m;
+    double e[3], f[3], scale = 1;
+    for (int k = 0; k < 3; k++) {
+        e[k] = v[k] * cam->position[0] + v[4 + k] * cam->position[1] + v[8 + k] * cam->position[2] + v[12 + k];
+        f[k] = v[k] * cam->focus[0] + v[4 + k] * cam->focus[1] + v[8 + k] * cam->focus[2] + v[12 + k];
+        scale += fabs(cam->position[k]) + fabs(cam->focus[k]);
+    }
+    double eps = 1e-9 * scale;
+    return fabs(e[0]) <= eps && fabs(e[1]) <= eps && fabs(e[2]) <= eps && fabs(f[0]) <= eps && fabs(f[1]) <= eps &&
+           f[2] < -eps;
+}
+
+/* Whether an impostor (impostor_fits) of a camera whose view_is_look_at
+ * may be drawn on the octagon facing the eye (the impostor vertex
+ * shader's billboard) rather than on its box: its model matrix scales the unit sphere evenly (a sphere, not an
  * ellipsoid: equal, orthogonal columns) and the whole octagon, which lies
  * within 2.1 r of the sphere's centre, is beyond the near plane. The
  * octagon covers a sphere's picture with fewer fragments than its box's
@@ -126,19 +144,7 @@ static bool billboard_fits(const Instance *in, const Camera *cam)
      * nearer than the centre along the line of sight and its rim at most
      * 1.1 r from that plane's middle */
     double depth = -(v[2] * m[12] + v[6] * m[13] + v[10] * m[14] + v[14]);
-    if (!(depth - 2.2 * r > cam->near * 1.01)) return false;
-    /* the shader builds the octagon from the camera's position and focus:
-     * only when the view matrix is theirs (not the identity of a look-at
-     * that failed: focus at the position, or up along the line of sight) */
-    double e[3], f[3], scale = 1;
-    for (int k = 0; k < 3; k++) {
-        e[k] = v[k] * cam->position[0] + v[4 + k] * cam->position[1] + v[8 + k] * cam->position[2] + v[12 + k];
-        f[k] = v[k] * cam->focus[0] + v[4 + k] * cam->focus[1] + v[8 + k] * cam->focus[2] + v[12 + k];
-        scale += fabs(cam->position[k]) + fabs(cam->focus[k]);
-    }
-    double eps = 1e-9 * scale;
-    return fabs(e[0]) <= eps && fabs(e[1]) <= eps && fabs(e[2]) <= eps && fabs(f[0]) <= eps && fabs(f[1]) <= eps &&
-           f[2] < -eps;
+    return depth - 2.2 * r > cam->near * 1.01;
 }
 
 /* Draw [n] instances of one mesh from [list] in that order: smooth spheres
@@ -153,29 +159,25 @@ static void dispatch(Canvas3D *c, Instance **list, int n, const C3dProgram *p, c
         draw_instances(c, list, n, mesh, &p->mesh);
         return;
     }
-    if (c->cap_split < n) {
+    if (c->cap_split < 2 * n) {
         c->cap_split = 2 * n;
         c->split = mem_realloc_array(c->split, (size_t)c->cap_split, sizeof *c->split);
     }
-    /* c->split: the billboards from the front, the box impostors from the
-     * back (reversed, so last to first) */
+    /* the billboards into c->split[0..), the box impostors into
+     * c->split[n..), the meshes back into list, each in the list's order */
+    Instance **bill = c->split, **boxed = c->split + n;
+    bool look = view_is_look_at(cam);
     int nb = 0, nx = 0, nm = 0;
     for (int i = 0; i < n; i++)
         if (!impostor_fits(list[i], cam)) list[nm++] = list[i];
-        else if (billboard_fits(list[i], cam)) c->split[nb++] = list[i];
-        else c->split[n - 1 - nx++] = list[i];
-    for (int i = 0; i < nx / 2; i++) {   /* back in the list's order */
-        Instance *t = c->split[n - 1 - i];
-        c->split[n - 1 - i] = c->split[n - nx + i];
-        c->split[n - nx + i] = t;
-    }
+        else if (look && billboard_fits(list[i], cam)) bill[nb++] = list[i];
+        else boxed[nx++] = list[i];
     MeshKey octagon = {.kind = MESH_OCTAGON}, box = {.kind = MESH_BOX};
-    glUseProgram(p->impostor.prog);
+    glUseProgram(p->impostor.prog);   /* (draw_instances keeps it in use) */
     glUniform1i(p->impostor.u_billboard, 1);
-    draw_instances(c, c->split, nb, mesh_cache_get(c->meshes, &octagon), &p->impostor);
-    glUseProgram(p->impostor.prog);
+    draw_instances(c, bill, nb, mesh_cache_get(c->meshes, &octagon), &p->impostor);
     glUniform1i(p->impostor.u_billboard, 0);
-    draw_instances(c, c->split + (n - nx), nx, mesh_cache_get(c->meshes, &box), &p->impostor);
+    draw_instances(c, boxed, nx, mesh_cache_get(c->meshes, &box), &p->impostor);
     draw_instances(c, list, nm, mesh, &p->mesh);
 }
 

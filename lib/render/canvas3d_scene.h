@@ -77,7 +77,7 @@ struct Canvas3D {
     Light *lights; int nlights, cap_lights;
     Instance *inst; int ninst, cap_inst;
     Instance **order; int cap_order;
-    Instance **split; int cap_split;      /* one dispatch's impostors */
+    Instance **split; int cap_split;      /* one dispatch's impostors: billboards, box ones from n (2n) */
     Instance **tl; int cap_tl;            /* one group's translucent instances */
     C3dBackface backface;                 /* the back-face pass's framebuffer */
     bool impostors;                       /* spheres may be drawn as impostors (FLITTER_CANVAS3D_IMPOSTORS=0: never) */
