@@ -550,14 +550,7 @@ simple_block(const LevelRun *L, size_t q, size_t e0, size_t n, double *F,
             /* collision and electrostatics push apart (a -= f, b += f),
              * gravity pulls together (a += f, b -= f) */
             bool plus = (s->ap[L->forces[f]].kind == AP_GRAVITY) != to_b;
-            double k = K[f][j];
-            if (plus) {
-                for (size_t i = 0; i < D; i++)
-                    F[i] = F[i] + dir[i] * k;
-            } else {
-                for (size_t i = 0; i < D; i++)
-                    F[i] = F[i] - dir[i] * k;
-            }
+            phys_add_side(F, dir, K[f][j], D, plus);
         }
     }
 }
