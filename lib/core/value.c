@@ -396,6 +396,8 @@ static void arith_into(ArithOp op, double *r, const Vec *a, const Vec *b, uint32
     }
 }
 
+double num_arith(ArithOp op, double a, double b) { return arith1(op, a, b); }
+
 Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b)
 {
     if (!vec_is_num(a) || !vec_is_num(b) || !a->len || !b->len) return NULL;

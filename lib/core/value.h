@@ -221,6 +221,9 @@ typedef enum { OP_ADD, OP_SUB, OP_MUL, OP_DIV, OP_FLOORDIV, OP_MOD, OP_POW } Ari
 
 /* [a] OP [b] element-wise with cyclic broadcasting. */
 Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b);
+/* [a] OP [b] on two numbers: the number vec_arith makes of two
+ * one-number vectors, bit for bit. */
+double num_arith(ArithOp op, double a, double b);
 /* The same, consuming [a] and [b]: the result is written into an operand
  * that has no other owner and the result's length (no new vector). */
 Vec *vec_arith_take(ArithOp op, Vec *a, Vec *b);
@@ -265,6 +268,15 @@ uint64_t vec_key_hash(const Vec *v);
 /* Vector hash of §3.16; [floor_floats] floors numbers first (seed hash).
  * Nodes hash structurally, functions by address. null → HASH_START. */
 uint64_t vec_hash(const Vec *v, bool floor_floats);
+/* The bits of [x] (for comparing numbers bit for bit). */
+static inline uint64_t num_bits(double x)
+{
+    uint64_t b;
+    memcpy(&b, &x, sizeof b);
+    return b;
+}
+/* vec_hash(v, false) of the one-number vector of [x], without making it. */
+static inline uint64_t vec_hash_num1(double x) { return hash_update(HASH_START, num_bits(x)); }
 
 /* ------------------------------------------------------------------ */
 /* Ranges and indexing (§3.10, §3.11)                                  */

@@ -153,6 +153,21 @@ static Column *col_map(Simp *s, const AstNode *n, Vec *(*f)(const Vec *))
     return c;
 }
 
+/* The numeric column of literal [n] in a template pass: its own column
+ * when that is numeric, or a one-number value (every member's) in [*one]
+ * with NULL returned; false when neither. */
+static bool num_operand(const AstNode *n, const Column **col, double *one)
+{
+    *col = NULL;
+    if (has_col(n)) {
+        *col = n->aux;
+        return (*col)->num != NULL;
+    }
+    if (!vec_is_scalar(n->value)) return false;
+    *one = vec_cnums(n->value)[0];
+    return true;
+}
+
 static Vec *vec_inverse(const Vec *v)
 {
     Vec *one = vec_num1(1.0);
@@ -163,6 +178,24 @@ static Vec *vec_inverse(const Vec *v)
 
 static Vec *vec_neg_fn(const Vec *v) { return vec_neg(v); }
 static Vec *vec_pos_fn(const Vec *v) { return vec_pos((Vec *)v); }
+
+enum { MAP_NEG, MAP_POS, MAP_INV };
+
+/* col_map of -x (vec_neg), +x (vec_pos) or 1/x (vec_inverse) of literal
+ * [n]; a numeric column maps to a numeric column, with the operation
+ * vec_neg or vec_arith performs on a one-number vector. */
+static Column *col_unary(Simp *s, const AstNode *n, int how)
+{
+    if (!s->tg || !has_col(n)) return NULL;
+    const Column *a = n->aux;
+    if (!a->num) return col_map(s, n, how == MAP_NEG ? vec_neg_fn : how == MAP_POS ? vec_pos_fn : vec_inverse);
+    Column *c = col_new_num(s->tg);
+    for (uint32_t m = 0; m < s->tg; m++) {
+        double x = a->num[m];
+        c->num[m] = how == MAP_NEG ? -x : how == MAP_POS ? x : num_arith(OP_DIV, 1.0, x);
+    }
+    return c;
+}
 
 static bool is_maths(const AstNode *n) { return n && n->kind == AST_BINOP; }
 static bool is_binop(const AstNode *n, int op) { return n && n->kind == AST_BINOP && n->op == op; }
@@ -242,7 +275,7 @@ static AstNode *constant_left(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
             return NULL;
         }
         if (r->kind == AST_NEG) {            /* S10 */
-            AstNode *e = mk_bin(AST_BINOP, OP_MUL, tlit(s, vec_neg(l->value), col_map(s, l, vec_neg_fn), loc), r->a, loc);
+            AstNode *e = mk_bin(AST_BINOP, OP_MUL, tlit(s, vec_neg(l->value), col_unary(s, l, MAP_NEG), loc), r->a, loc);
             r->a = NULL;
             ast_free(r);
             ast_free(l);
@@ -267,7 +300,7 @@ static AstNode *constant_right(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
             return mk_un(AST_POS, l, loc);
         }
         {                                      /* S4: x - L -> x + (-L) */
-            AstNode *e = mk_bin(AST_BINOP, OP_ADD, l, tlit(s, vec_neg(r->value), col_map(s, r, vec_neg_fn), loc), loc);
+            AstNode *e = mk_bin(AST_BINOP, OP_ADD, l, tlit(s, vec_neg(r->value), col_unary(s, r, MAP_NEG), loc), loc);
             ast_free(r);
             return e;
         }
@@ -282,7 +315,7 @@ static AstNode *constant_right(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
     if (!lit_equals(s, r, 1.0)) {
         if (op == OP_DIV) {                    /* S6: x / L -> (1/L) * x */
             Vec *inv = vec_inverse(r->value);
-            Column *c = col_map(s, r, vec_inverse);
+            Column *c = col_unary(s, r, MAP_INV);
             ast_free(r);
             return mk_bin(AST_BINOP, OP_MUL, tlit(s, inv, c, loc), l, loc);
         }
@@ -347,9 +380,18 @@ static AstNode *binop_rules(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
     if (is_lit(l) && is_lit(r)) {               /* S1 (unfused) */
         Vec *v = vec_arith((ArithOp)op, l->value, r->value);
         Column *c = NULL;
+        const Column *cl, *cr;
+        double xl = 0, xr = 0;
         if (s->tg && (has_col(l) || has_col(r))) {
-            c = col_new(s->tg);
-            for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_arith((ArithOp)op, tval(l, m), tval(r, m));
+            if (num_operand(l, &cl, &xl) && num_operand(r, &cr, &xr)) {
+                /* one number each in every member: vec_arith's number */
+                c = col_new_num(s->tg);
+                for (uint32_t m = 0; m < s->tg; m++)
+                    c->num[m] = num_arith((ArithOp)op, cl ? cl->num[m] : xl, cr ? cr->num[m] : xr);
+            } else {
+                c = col_new(s->tg);
+                for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_arith((ArithOp)op, tval(l, m), tval(r, m));
+            }
         }
         ast_free(l);
         ast_free(r);
@@ -377,7 +419,7 @@ static AstNode *simp_neg(Simp *s, const AstNode *n)
     Loc loc = n->loc;
     if (is_lit(e)) {
         Vec *v = vec_neg(e->value);
-        Column *c = col_map(s, e, vec_neg_fn);
+        Column *c = col_unary(s, e, MAP_NEG);
         ast_free(e);
         return tlit(s, v, c, loc);
     }
@@ -418,7 +460,7 @@ static AstNode *simp_pos(Simp *s, const AstNode *n)
     AstNode *e = simp(s, n->a);
     if (is_lit(e)) {
         Vec *v = vec_pos(e->value);
-        Column *c = col_map(s, e, vec_pos_fn);
+        Column *c = col_unary(s, e, MAP_POS);
         Loc loc = n->loc;
         ast_free(e);
         return tlit(s, v, c, loc);

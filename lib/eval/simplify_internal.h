@@ -15,7 +15,13 @@
 typedef struct Column {
     uint32_t refs;
     uint32_t n;            /* members */
-    Vec *v[];              /* one reference each (NULL: null) */
+    double *num;           /* a numeric column (col_new_num): every member
+                              is one number, num[m], and v[m] is that
+                              number's vector once col_get has made it
+                              (NULL before); NULL: a column of v[] */
+    Vec *v[];              /* one reference each (NULL: null); read them
+                              with col_get, which makes a numeric
+                              column's on demand */
 } Column;
 
 /* What a name stands for while simplifying (tree.pyx Context.names). */
@@ -126,6 +132,19 @@ bool has_col(const AstNode *n);
 Vec *tval(const AstNode *n, uint32_t m);
 /* A new column of [n] members, all NULL, one reference. */
 Column *col_new(uint32_t n);
+/* A new numeric column of [n] members (their numbers in num[], to be
+ * filled by the caller), one reference. Numeric columns carry a template
+ * pass's one-number values without a vector each: the column helpers
+ * compute them with the operations the vector route performs on
+ * one-element vectors, so every member's value has the same bits. */
+Column *col_new_num(uint32_t n);
+/* Member [m]'s value (borrowed; NULL: null), made now for a numeric
+ * column's member whose vector was not asked for before. */
+Vec *col_get(Column *c, uint32_t m);
+/* [c] as a numeric column: [c] itself (retained) when it is one, a new
+ * numeric column when every member is a one-element numeric vector, else
+ * NULL. */
+Column *col_as_num(Column *c);
 Column *col_retain(Column *c);
 void col_release(Column *c);
 /* Attach [c] (consumed; NULL: none) to literal [n]. */

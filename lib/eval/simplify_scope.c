@@ -342,7 +342,11 @@ AstNode *simp_name(Simp *s, const AstNode *n)
         switch (nb->kind) {
         case NB_LITERAL: {
             Column *c = NULL;
-            if (s->tg && nb->col) {
+            if (s->tg && nb->col && nb->col->num) {
+                /* numbers: nothing shared to copy */
+                c = col_new_num(s->tg);
+                memcpy(c->num, nb->col->num, (size_t)s->tg * sizeof *c->num);
+            } else if (s->tg && nb->col) {
                 c = col_new(s->tg);
                 for (uint32_t m = 0; m < s->tg; m++) c->v[m] = nb->col->v[m] ? vec_fresh(nb->col->v[m]) : NULL;
             }
@@ -503,7 +507,7 @@ AstNode *simp_let(Simp *s, const AstNode *n)
                     Column *c = NULL;
                     if (ec) {
                         c = col_new(s->tg);
-                        for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_item(ec->v[m], j);
+                        for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_item(col_get(ec, m), j);
                     }
                     scope_push_col(s, b->names[j], item, c);
                     col_release(c);
@@ -658,7 +662,7 @@ AstNode *simp_for(Simp *s, const AstNode *n)
             Column *c = NULL;
             if (scol) {   /* a nested loop over a source that differs between members */
                 c = col_new(s->tg);
-                for (uint32_t m = 0; m < s->tg; m++) c->v[m] = i < len ? vec_item(scol->v[m], i) : NULL;
+                for (uint32_t m = 0; m < s->tg; m++) c->v[m] = i < len ? vec_item(col_get(scol, m), i) : NULL;
             }
             scope_push_col(s, n->names[j], item, c);
             col_release(c);

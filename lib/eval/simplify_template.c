@@ -42,6 +42,7 @@
  */
 #include "simplify_internal.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -59,7 +60,7 @@ bool has_col(const AstNode *n)
 
 Vec *tval(const AstNode *n, uint32_t m)
 {
-    if (has_col(n)) return ((const Column *)n->aux)->v[m];
+    if (has_col(n)) return col_get(n->aux, m);
     return n ? n->value : NULL;
 }
 
@@ -69,6 +70,32 @@ Column *col_new(uint32_t n)
     c->refs = 1;
     c->n = n;
     return c;
+}
+
+Column *col_new_num(uint32_t n)
+{
+    /* the numbers follow the (initially empty) vectors in one block */
+    Column *c = mem_calloc(1, sizeof *c + (size_t)n * (sizeof c->v[0] + sizeof(double)));
+    c->refs = 1;
+    c->n = n;
+    c->num = (double *)(void *)(c->v + n);
+    return c;
+}
+
+Vec *col_get(Column *c, uint32_t m)
+{
+    if (c->num && !c->v[m]) c->v[m] = vec_num1(c->num[m]);
+    return c->v[m];
+}
+
+Column *col_as_num(Column *c)
+{
+    if (!c || c->num) return col_retain(c);
+    for (uint32_t m = 0; m < c->n; m++)
+        if (!vec_is_scalar(c->v[m])) return NULL;
+    Column *r = col_new_num(c->n);
+    for (uint32_t m = 0; m < c->n; m++) r->num[m] = vec_cnums(c->v[m])[0];
+    return r;
 }
 
 Column *col_retain(Column *c)
@@ -110,15 +137,34 @@ static int64_t outcome(const Vec *v, int kind, double x)
     }
 }
 
+/* outcome() of the one-element numeric vector of [y]. */
+static int64_t num_outcome(double y, int kind, double x)
+{
+    switch (kind) {
+    case TD_NUMERIC: return 1;
+    case TD_EQUALS: return y == x;
+    case TD_TRUTHY: return y != 0.0 || isnan(y);   /* vec_truthy */
+    case TD_LEN: return 1;
+    case TD_SCALAR: return 1;
+    default: return 0;   /* TD_OBJ, TD_NULL */
+    }
+}
+
+/* Member [m]'s outcome of test [kind] on column [c]. */
+static int64_t col_outcome(const Column *c, uint32_t m, int kind, double x)
+{
+    return c->num ? num_outcome(c->num[m], kind, x) : outcome(c->v[m], kind, x);
+}
+
 int64_t tdecide(Simp *s, const AstNode *n, int kind, double x)
 {
     int64_t r = outcome(n->value, kind, x);
     if (!s->tg || s->tkey || !has_col(n)) return r;
     const Column *c = n->aux;
     for (uint32_t m = 0; m < c->n; m++) {
-        if (outcome(c->v[m], kind, x) == r) continue;
+        if (col_outcome(c, m, kind, x) == r) continue;
         s->tkey = mem_realloc(NULL, (size_t)c->n * sizeof *s->tkey);
-        for (uint32_t j = 0; j < c->n; j++) s->tkey[j] = outcome(c->v[j], kind, x);
+        for (uint32_t j = 0; j < c->n; j++) s->tkey[j] = col_outcome(c, j, kind, x);
         break;
     }
     return r;
@@ -168,7 +214,7 @@ Column *tcol_eval(Simp *s, AstNode *e, TEvalFn f)
         for (uint32_t i = 0; i < nk; i++) rep[i] = kids[i]->value;
         for (uint32_t m = 0; m < s->tg; m++) {
             /* borrowed for the call: the column keeps its reference */
-            for (uint32_t i = 0; i < nk; i++) kids[i]->value = ((Column *)kids[i]->aux)->v[m];
+            for (uint32_t i = 0; i < nk; i++) kids[i]->value = col_get(kids[i]->aux, m);
             c->v[m] = f(s, e);
         }
         for (uint32_t i = 0; i < nk; i++) kids[i]->value = rep[i];
@@ -205,7 +251,7 @@ static AstNode *copy_with(const AstNode *t, LeafFn leaf, const void *ctx)
 /* A column literal holding member *[ctx]'s value. */
 static AstNode *member_leaf(const AstNode *lit, const void *ctx)
 {
-    AstNode *c = ast_literal(vec_retain(((const Column *)lit->aux)->v[*(const uint32_t *)ctx]), lit->loc);
+    AstNode *c = ast_literal(vec_retain(col_get(lit->aux, *(const uint32_t *)ctx)), lit->loc);
     c->op = lit->op;
     return c;
 }
@@ -266,13 +312,28 @@ static bool nan_free(const Vec *v)
     return true;
 }
 
+/* Whether members [m] of [a] and [b] are the same value (vec_key_equal). */
+static bool col_key_equal(Column *a, Column *b, uint32_t m)
+{
+    if (a->num && b->num) return num_bits(a->num[m]) == num_bits(b->num[m]);
+    return vec_key_equal(col_get(a, m), col_get(b, m));
+}
+
 static void colset_add(ColSet *cs, Column *c)
 {
     uint64_t h = 1469598103934665603u;
     bool dedup = true;
-    for (uint32_t m = 0; m < c->n; m++) {
-        h = (h ^ vec_hash(c->v[m], false)) * 1099511628211u;
-        dedup = dedup && nan_free(c->v[m]);
+    if (c->num) {
+        /* vec_hash of a one-number vector, without making it */
+        for (uint32_t m = 0; m < c->n; m++) {
+            h = (h ^ vec_hash_num1(c->num[m])) * 1099511628211u;
+            dedup = dedup && c->num[m] == c->num[m];
+        }
+    } else {
+        for (uint32_t m = 0; m < c->n; m++) {
+            h = (h ^ vec_hash(c->v[m], false)) * 1099511628211u;
+            dedup = dedup && nan_free(c->v[m]);
+        }
     }
     if (cs->n == cs->cap) {
         cs->cap = cs->cap ? 2 * cs->cap : 16;
@@ -283,7 +344,7 @@ static void colset_add(ColSet *cs, Column *c)
         const ColName *o = &cs->e[i];
         if (!o->dedup || o->hash != h) continue;
         bool same = true;
-        for (uint32_t m = 0; m < c->n && same; m++) same = vec_key_equal(c->v[m], o->col->v[m]);
+        for (uint32_t m = 0; m < c->n && same; m++) same = col_key_equal(c, o->col, m);
         if (same) {
             name = o->name;
             break;
@@ -313,7 +374,7 @@ static bool collect_cols(const AstNode *t, bool in_fn, ColSet *cs)
     if (has_col(t)) {
         Column *c = t->aux;
         if (in_fn) return false;
-        for (uint32_t m = 0; m < c->n; m++)
+        for (uint32_t m = 0; m < c->n && !c->num; m++)
             if (vec_len(c->v[m]) != 1) return false;
         if (!colset_find(cs, c)) colset_add(cs, c);
         return true;
@@ -366,17 +427,29 @@ static bool loop_form(const AstNode *t, const uint32_t *order, uint32_t g, AstNo
     Column **byname = mem_realloc(NULL, cs.names * sizeof *byname);
     for (uint32_t i = cs.n; i-- > 0;) byname[cs.e[i].name] = cs.e[i].col;
     uint32_t k = cs.names;
+    bool all_num = true;
+    for (uint32_t h = 0; h < k; h++) all_num = all_num && byname[h]->num;
     for (uint32_t m = 0; m < g;) {
         uint32_t e = m + 1;
         while (e < g && order[e] == order[e - 1] + 1) e++;
-        Vec **parts = mem_realloc(NULL, (size_t)(e - m) * k * sizeof *parts);
-        for (uint32_t j = m; j < e; j++)
-            for (uint32_t h = 0; h < k; h++) parts[(j - m) * k + h] = byname[h]->v[j];
+        Vec *src;
+        if (all_num) {
+            /* what vec_compose makes of one-number vectors: their numbers */
+            src = vec_new_num((e - m) * k);
+            double *x = vec_nums(src);
+            for (uint32_t j = m; j < e; j++)
+                for (uint32_t h = 0; h < k; h++) x[(j - m) * k + h] = byname[h]->num[j];
+        } else {
+            Vec **parts = mem_realloc(NULL, (size_t)(e - m) * k * sizeof *parts);
+            for (uint32_t j = m; j < e; j++)
+                for (uint32_t h = 0; h < k; h++) parts[(j - m) * k + h] = col_get(byname[h], j);
+            src = vec_compose(parts, (e - m) * k);
+            free(parts);
+        }
         AstNode *f = ast_new(AST_FOR, t->loc);
         for (uint32_t h = 0; h < k; h++) ast_push_name(f, hidden_name(h));
-        f->a = mk_lit(vec_compose(parts, (e - m) * k), t->loc);
+        f->a = mk_lit(src, t->loc);
         f->b = copy_with(t, name_leaf, &cs);
-        free(parts);
         items[order[m]] = f;
         for (uint32_t j = m + 1; j < e; j++) items[order[j]] = mk_lit(NULL, t->loc);
         m = e;
@@ -449,12 +522,31 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
         uint64_t ub = s->unrolled;
         uint32_t mark = s->nnames;
         for (uint32_t j = 0; j < n->nnames; j++) {
-            Column *c = col_new(g.n);
-            for (uint32_t m = 0; m < g.n; m++) {
-                uint32_t idx = order[g.start + m] * k + j;
-                c->v[m] = idx < len ? vec_item(values, idx) : NULL;
+            Column *c;
+            if (vec_is_num(values) && (uint64_t)order[g.start + g.n - 1] * k + j < len) {
+                /* every member one number of a numeric source (order is
+                 * ascending within a group only at first: check them all) */
+                c = col_new_num(g.n);
+                for (uint32_t m = 0; m < g.n && c; m++) {
+                    uint32_t idx = order[g.start + m] * k + j;
+                    if (idx < len) {
+                        c->num[m] = vec_cnums(values)[idx];
+                    } else {
+                        col_release(c);
+                        c = NULL;
+                    }
+                }
+            } else {
+                c = NULL;
             }
-            scope_push_col(s, n->names[j], c->v[0], c);
+            if (!c) {
+                c = col_new(g.n);
+                for (uint32_t m = 0; m < g.n; m++) {
+                    uint32_t idx = order[g.start + m] * k + j;
+                    c->v[m] = idx < len ? vec_item(values, idx) : NULL;
+                }
+            }
+            scope_push_col(s, n->names[j], col_get(c, 0), c);
             col_release(c);
         }
         AstNode *t = simp(s, n->b);
