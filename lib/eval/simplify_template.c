@@ -161,6 +161,8 @@ int64_t tdecide(Simp *s, const AstNode *n, int kind, double x)
     int64_t r = outcome(n->value, kind, x);
     if (!s->tg || s->tkey || !has_col(n)) return r;
     const Column *c = n->aux;
+    /* a numeric column's members agree on every test but these two */
+    if (c->num && kind != TD_EQUALS && kind != TD_TRUTHY) return r;
     for (uint32_t m = 0; m < c->n; m++) {
         if (col_outcome(c, m, kind, x) == r) continue;
         s->tkey = mem_realloc(NULL, (size_t)c->n * sizeof *s->tkey);
