@@ -770,6 +770,18 @@ Vec *vec_index(const Vec *src, const Vec *index, bool literal)
     return vec_normalize_take(r);
 }
 
+bool vec_index_num1(const Vec *src, double k, bool literal, double *out)
+{
+    if (vec_is_stream(src)) {
+        *out = rng_value((StreamKind)src->stream, src->key, (uint64_t)index64(k));
+        return true;
+    }
+    if (!src || src->kind != VEC_NUM || !src->len) return false;
+    int64_t j = literal ? index64(k) : index32(k);
+    *out = vec_cnums(src)[wrap(j, src->len)];
+    return true;
+}
+
 Vec *vec_item(const Vec *v, int64_t i)
 {
     if (vec_is_stream(v)) return vec_num1(rng_value((StreamKind)v->stream, v->key, (uint64_t)i));

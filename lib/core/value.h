@@ -290,6 +290,11 @@ Vec *vec_range(const Vec *start, const Vec *stop, const Vec *step,
 /* src[index] with 32-bit C int index conversion (or 64-bit when [literal]).
  * Streams are indexed as in §5.8. */
 Vec *vec_index(const Vec *src, const Vec *index, bool literal);
+/* vec_index(src, [k], literal) of a stream or a numeric [src] and the
+ * one-number index [k], without making vectors: its number in *out, bit
+ * for bit; false (nothing written) for other sources, whose result takes
+ * vec_index itself. */
+bool vec_index_num1(const Vec *src, double k, bool literal, double *out);
 /* item(v, i) (§3.11): element i mod n as a one-element vector; null if empty;
  * streams give their value at index i. */
 Vec *vec_item(const Vec *v, int64_t i);

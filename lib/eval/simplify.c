@@ -559,7 +559,13 @@ static AstNode *simp_generic(Simp *s, const AstNode *n)
     if (n->kind == AST_INDEX) {
         Vec *v = vec_index(e->a->value, e->b->value, false);
         Column *c = NULL;
-        if (cols) {
+        const Column *ci = has_col(e->b) ? e->b->aux : NULL;
+        double x;
+        if (cols && !has_col(e->a) && ci && ci->num && vec_index_num1(e->a->value, ci->num[0], false, &x)) {
+            /* a stream or numbers indexed by one number per member */
+            c = col_new_num(s->tg);
+            for (uint32_t m = 0; m < s->tg; m++) vec_index_num1(e->a->value, ci->num[m], false, &c->num[m]);
+        } else if (cols) {
             c = col_new(s->tg);
             for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_index(tval(e->a, m), tval(e->b, m), false);
         }
