@@ -701,7 +701,14 @@ static uint32_t sequence_pack(Simp *s, AstNode ***itemsp, uint32_t n, uint32_t *
                 total += vec_len(items[k]->value);
                 cols = cols || (s->tg && has_col(items[k]));
             }
-            if (cols && j - i > 1) {   /* members must agree on the limit below */
+            /* a run of numbers: numeric columns and numeric literals */
+            bool nums = cols;
+            for (uint32_t k = i; k < j && nums; k++) {
+                const AstNode *it = items[k];
+                nums = has_col(it) ? ((const Column *)it->aux)->num != NULL
+                                   : it->value && it->value->kind == VEC_NUM && it->value->len;
+            }
+            if (cols && j - i > 1 && !nums) {   /* members must agree on the limit below */
                 for (uint32_t m = 0; m < s->tg; m++) {
                     uint64_t tm = 0;
                     for (uint32_t k = i; k < j; k++) tm += vec_len(tval(items[k], m));
@@ -726,7 +733,25 @@ static uint32_t sequence_pack(Simp *s, AstNode ***itemsp, uint32_t n, uint32_t *
                 Column *c = NULL;
                 if (cols) {
                     c = col_new(s->tg);
+                    /* a run of numbers is [total] numbers in every member
+                     * (one per numeric column): vec_compose's vector of
+                     * them, made from the numbers */
                     for (uint32_t m = 0; m < s->tg; m++) {
+                        if (nums && mem_fits(sizeof(Vec) + total * sizeof(double))) {   /* as vec_compose asks */
+                            Vec *r = vec_new_num((uint32_t)total);
+                            double *d = vec_nums(r);
+                            for (uint32_t k = i; k < j; k++) {
+                                const AstNode *it = items[k];
+                                if (has_col(it)) {
+                                    *d++ = ((const Column *)it->aux)->num[m];
+                                } else {
+                                    memcpy(d, vec_cnums(it->value), it->value->len * sizeof *d);
+                                    d += it->value->len;
+                                }
+                            }
+                            c->v[m] = r;
+                            continue;
+                        }
                         for (uint32_t k = i; k < j; k++) parts[k - i] = tval(items[k], m);
                         c->v[m] = vec_compose(parts, j - i);
                     }
