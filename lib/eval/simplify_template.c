@@ -37,8 +37,20 @@
  * some members only, includes, imports and exports, or too many groups.
  * FLITTER_NOTEMPLATES=1 unrolls every loop one copy at a time (the
  * reference route); FLITTER_TEMPLATE_CHECK=1 also simplifies every copy
- * alone and aborts when the two differ (tests/simplify_templates.sh runs
- * the golden scripts so).
+ * alone and aborts when the two differ (tests/cli/templates.sh runs the
+ * golden, language and bench scripts so).
+ *
+ * Most columns hold one number per member (the loop variable of `..N`,
+ * and what arithmetic, indexing by it and sequences of numbers make of
+ * it). Such a column is numeric (Column.num): its members are doubles and
+ * a member's vector is made only when something asks for it (col_get),
+ * so folding `i*0.07` for 10,000 members is 10,000 multiplications, not
+ * 10,000 vectors made, tested and freed. The helpers that compute
+ * numeric columns (simplify.c: binop_rules, col_unary, the index and
+ * sequence folds; here: tdecide, colset_add, loop_form) perform the
+ * operations the vector route performs on one-element vectors
+ * (num_arith, vec_index_num1 in value.c), so every member's value keeps
+ * its bits.
  */
 #include "simplify_internal.h"
 
