@@ -32,6 +32,7 @@ struct GlContext {
     char renderer[128];
     uint16_t *half;          /* gl_target_read's half floats, cap_half of them */
     size_t cap_half;
+    int f16c;                /* halves_fast_route(), asked once */
 };
 
 static bool has_ext(const char *list, const char *name)
@@ -57,6 +58,7 @@ GlContext *gl_context_new(char *err, size_t errlen)
         return NULL;
     }
     gl->tracked = has_ext(client, "EGL_KHR_display_reference");
+    gl->f16c = halves_fast_route();
     const EGLint track[] = {EGL_TRACK_REFERENCES_KHR, EGL_TRUE, EGL_NONE};
     gl->dpy = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY,
                                        gl->tracked ? track : NULL);
@@ -188,6 +190,7 @@ typedef struct Widening {
     const uint16_t *half;
     float *rgba;
     int w, h;
+    int fast;                /* the F16C route (GlContext.f16c) */
 } Widening;
 
 static void widen_rows(void *ctx, int y0, int y1, int part)
@@ -196,7 +199,7 @@ static void widen_rows(void *ctx, int y0, int y1, int part)
     const Widening *j = ctx;
     size_t row = (size_t)j->w * 4;
     for (int y = y0; y < y1; y++)
-        halves_to_floats(j->half + (size_t)(j->h - 1 - y) * row, j->rgba + (size_t)y * row, row, 0);
+        halves_to_floats(j->half + (size_t)(j->h - 1 - y) * row, j->rgba + (size_t)y * row, row, j->fast);
 }
 
 void gl_target_read(GlContext *gl, float *rgba)
@@ -227,7 +230,7 @@ void gl_target_read(GlContext *gl, float *rgba)
     /* the framebuffer's own format, copied as it is; widened here */
     glReadPixels(0, 0, w, h, GL_RGBA, GL_HALF_FLOAT, gl->half);
     glBindFramebuffer(GL_FRAMEBUFFER, gl->fbo);
-    Widening job = {gl->half, rgba, w, h};
+    Widening job = {gl->half, rgba, w, h, gl->f16c};
     rows_in_halves(h, 64, widen_rows, &job);
 }
 

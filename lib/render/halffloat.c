@@ -55,10 +55,10 @@ int halves_fast_route(void)
 #endif
 }
 
-void halves_to_floats(const uint16_t *src, float *dst, size_t n, int literal)
+void halves_to_floats(const uint16_t *src, float *dst, size_t n, int fast)
 {
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (!literal && has_f16c()) {
+    if (fast) {
         halves_f16c(src, dst, n);
         return;
     }

@@ -12,12 +12,17 @@
  * its payload and is made quiet, as x86's F16C conversion does). */
 float half_to_float(uint16_t h);
 
-/* dst[i] = half_to_float(src[i]) for i < n, with the processor's F16C
- * conversion when it has one (the same values), else the literal route.
- * [literal] forces the literal route (for tests).
+/* dst[i] = half_to_float(src[i]) for i < n: with the processor's F16C
+ * conversion when [fast] is set (the same values), else the literal route.
+ * [fast] must be what halves_fast_route() answered: the caller asks once
+ * and keeps the answer (GlContext does), because the question executes
+ * CPUID, which a virtual machine may trap (9.4 us a call on the machine of
+ * bench/PROFILE.md, where asking once per framebuffer row cost 10 ms of
+ * CPU time a frame at 1080x1080).
  *   errors: none. */
-void halves_to_floats(const uint16_t *src, float *dst, size_t n, int literal);
-/* Whether halves_to_floats has a fast route on this processor (F16C). */
+void halves_to_floats(const uint16_t *src, float *dst, size_t n, int fast);
+/* Whether halves_to_floats has a fast route on this processor (F16C):
+ * ask once (see above). */
 int halves_fast_route(void);
 
 #endif
