@@ -18,6 +18,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "builtins.h"
 #include "counter.h"
 #include "fileio.h"
 #include "format.h"
@@ -65,6 +66,7 @@ struct fl_runtime {
     Program *prog;          /* current program, or NULL */
     Program *run_prog;      /* prog simplified again with stable values (stable.h), or NULL */
     StableCache *stables;   /* `let stable` values */
+    NoisePerms *noise_perms; /* noise()'s permutation tables of late (builtins.h) */
     bool pragmas_pending;   /* apply pragmas at the next step */
     Node *root;             /* last frame's tree */
     MsgSet errors[2];       /* this and the previous frame's errors */
@@ -216,6 +218,7 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->upstream = rt->opts.physics == FL_PHYSICS_UPSTREAM;
     rt->modules = module_cache_new();
     rt->stables = stable_new();
+    rt->noise_perms = noise_perms_new();
     rt->counter_key = vec_str("_counter", 8);
     /* symbols the physics engine writes into state keys (PHYSICS.md) */
     static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity",
@@ -259,6 +262,7 @@ void fl_free(fl_runtime *rt)
     program_release(rt->prog);
     program_release(rt->run_prog);
     stable_free(rt->stables);
+    noise_perms_free(rt->noise_perms);
     node_release(rt->root);
     phys_free(rt->physics);
     module_cache_free(rt->modules);
@@ -650,7 +654,7 @@ static int step(fl_runtime *rt)
         .state = rt->state, .symtab = rt->symtab, .errors = &rt->errors[rt->cur],
         .debug = &rt->debug[rt->cur], .modules = rt->modules, .exports = &rt->scope,
         .stables = rt->globals.simplify ? rt->stables : NULL,
-        .interrupt = rt->opts.interrupt, .files = &rt->files,
+        .interrupt = rt->opts.interrupt, .files = &rt->files, .noise_perms = rt->noise_perms,
     };
     exports_empty(&rt->scope);
     double t1 = monotonic();
@@ -804,7 +808,7 @@ static int eval_in_scope(fl_runtime *rt, const char *text, size_t len, Vec **val
     Eval ev = {
         .prog = p, .globals = &g, .state = rt->state, .symtab = rt->symtab,
         .errors = &errs, .debug = &debug, .modules = rt->modules, .exports = bound,
-        .interrupt = rt->opts.interrupt,
+        .interrupt = rt->opts.interrupt, .noise_perms = rt->noise_perms,
     };
     Vec *v = eval_program_value(&ev);
     int rc = 0;

@@ -17,6 +17,19 @@
 typedef struct Eval Eval;   /* the evaluator's per-call context (context.h) */
 typedef struct Builtin Builtin;
 
+/* A runtime's memo of noise() permutation tables (noise.c): the tables of
+ * the last few seeds, so that `noise(:seed, i/5, t) for i in ..500` builds
+ * its table (255 uniform draws) once a frame, not 500 times. A table is a
+ * function of its seed's hash alone, so a kept one is the one that would
+ * be made. One per runtime (the evaluator finds it through
+ * eval_noise_perms, context.h); not shared between threads. */
+typedef struct NoisePerms NoisePerms;
+/* A new, empty memo; NULL when out of memory (noise then builds every
+ * table, as without one). */
+NoisePerms *noise_perms_new(void);
+/* Free [p] (NULL is a no-op). */
+void noise_perms_free(NoisePerms *p);
+
 /* [nargs] arguments in [args] (each may be NULL = null; a named argument
  * that skipped an earlier parameter leaves that one NULL). nargs is between
  * the descriptor's min_args and max_args (checked by the caller). */

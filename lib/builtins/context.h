@@ -25,5 +25,9 @@ bool eval_interrupted(Eval *ev);
 /* Directory of the script being evaluated ("." when unknown), for read(),
  * csv() and friends. */
 const char *eval_script_dir(const Eval *ev);
+/* The runtime's memo of noise permutation tables (builtins.h), or NULL
+ * when this evaluation has none (load-time folding): noise() then builds
+ * each table it needs. */
+struct NoisePerms *eval_noise_perms(Eval *ev);
 
 #endif

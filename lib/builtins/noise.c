@@ -21,6 +21,7 @@
 #include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 #include "config.h"
 #include "builtins.h"
@@ -99,6 +100,45 @@ static void make_perm(uint64_t key, uint8_t perm[256])
         perm[i] = perm[j];
         perm[j] = t;
     }
+}
+
+/* The memo of permutation tables (builtins.h): NOISE_PERMS tables by
+ * key, the least recently used one replaced. Eight: physics.fl's two
+ * seeds, and octnoise's octaves of a seed or two. */
+#define NOISE_PERMS 8
+
+struct NoisePerms {
+    uint64_t key[NOISE_PERMS];
+    uint64_t used[NOISE_PERMS];   /* when each was last handed out (0: empty) */
+    uint64_t clock;
+    uint8_t perm[NOISE_PERMS][256];
+};
+
+NoisePerms *noise_perms_new(void) { return calloc(1, sizeof(NoisePerms)); }
+
+void noise_perms_free(NoisePerms *p) { free(p); }
+
+/* The table of [key]: the memo's, made there if it is not kept, or, with
+ * no memo, made in [scratch]. */
+static const uint8_t *perm_of(Eval *ev, uint64_t key, uint8_t scratch[256])
+{
+    NoisePerms *p = eval_noise_perms(ev);
+    if (!p) {
+        make_perm(key, scratch);
+        return scratch;
+    }
+    int victim = 0;
+    for (int i = 0; i < NOISE_PERMS; i++) {
+        if (p->used[i] && p->key[i] == key) {
+            p->used[i] = ++p->clock;
+            return p->perm[i];
+        }
+        if (p->used[i] < p->used[victim]) victim = i;
+    }
+    make_perm(key, p->perm[victim]);
+    p->key[victim] = key;
+    p->used[victim] = ++p->clock;
+    return p->perm[victim];
 }
 
 static double grad2(const uint8_t *p, Lat x, Lat y, double dx, double dy)
@@ -1090,8 +1130,8 @@ static Vec *noise_of(Eval *ev, const Builtin *bi, const Vec *seed, int n, Vec *c
     uint64_t total = grid_size(n, coords, &too_long);
     if (total == 0)
         return too_long ? bi_error(ev, bi, mem_take_refusal() ? "out of memory" : "result too long") : NULL;
-    uint8_t perm[256];
-    make_perm(vec_hash(seed, true), perm);
+    uint8_t scratch[256];
+    const uint8_t *perm = perm_of(ev, vec_hash(seed, true), scratch);
     const double *c[4];
     uint32_t len[4];
     for (int i = 0; i < n; i++) {
@@ -1152,10 +1192,10 @@ static Vec *bi_octnoise(BI_PARAMS)
     Vec *r = vec_new_num((uint32_t)total), *single = vec_new_num((uint32_t)total);
     double *res = vec_nums(r), *one = vec_nums(single);
     double weight_sum = 0, weight = 1, k = vec_scalar(roughness);
-    uint8_t perm[256];
+    uint8_t scratch[256];
     bool stopped = false;
     for (int64_t i = 0; i < n && !stopped; i++) {
-        make_perm(key ^ (uint64_t)i, perm);
+        const uint8_t *perm = perm_of(ev, key ^ (uint64_t)i, scratch);
         if (i == 0) {
             stopped = !noise_grid(ev, perm, nc, cc, len, res);
         } else {

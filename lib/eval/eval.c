@@ -47,6 +47,8 @@ const char *eval_script_dir(const Eval *ev)
     return ev && ev->prog && ev->prog->dir ? ev->prog->dir : ".";
 }
 
+struct NoisePerms *eval_noise_perms(Eval *ev) { return ev ? ev->noise_perms : NULL; }
+
 static void errorf(Eval *ev, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static void errorf(Eval *ev, const char *fmt, ...)
 {

@@ -180,6 +180,8 @@ struct Eval {
                                (evalcode.h) */
     PathList *files;        /* where the files of modules imported while
                                running are recorded (NULL: nowhere) */
+    struct NoisePerms *noise_perms; /* the runtime's noise tables (builtins.h;
+                                       NULL: none kept) */
 };
 
 /* Evaluate the whole program: compose the top-level sequence and append
