@@ -312,11 +312,36 @@ typedef struct ColName {
     bool dedup;         /* NaN-free: may share a name */
 } ColName;
 
+/* A column whose members are numeric vectors of one length (2 to
+ * SPLIT_MAX: a state key `(:cell;i)`, a slice `i*3..(i+1)*3`), taken
+ * apart by position: a position where every member holds the same bits is
+ * a constant, the others columns of their own (numeric, one number a
+ * member), each bound to a hidden name. In the loop body the literal
+ * becomes the sequence of its positions, which composes to the same
+ * vector. */
+#define SPLIT_MAX 16
+
+typedef struct SplitCol {
+    Column *col;            /* the column taken apart (the template's) */
+    uint32_t len;
+    Column *pos[SPLIT_MAX]; /* a position's column (one reference), or NULL: constant */
+} SplitCol;
+
 /* The distinct Column objects of a template, and how many names they take. */
 typedef struct ColSet {
     ColName *e;
     uint32_t n, cap, names;
+    SplitCol *sp;           /* the columns taken apart */
+    uint32_t nsp, capsp;
 } ColSet;
+
+static void colset_free(ColSet *cs)
+{
+    for (uint32_t i = 0; i < cs->nsp; i++)
+        for (uint32_t p = 0; p < cs->sp[i].len; p++) col_release(cs->sp[i].pos[p]);
+    free(cs->sp);
+    free(cs->e);
+}
 
 static bool nan_free(const Vec *v)
 {
@@ -376,6 +401,59 @@ static const ColName *colset_find(const ColSet *cs, const Column *c)
     return NULL;
 }
 
+/* The entry of split column [c] in [cs], or NULL. */
+static const SplitCol *split_find(const ColSet *cs, const Column *c)
+{
+    for (uint32_t i = 0; i < cs->nsp; i++)
+        if (cs->sp[i].col == c) return &cs->sp[i];
+    return NULL;
+}
+
+/* Take column [c] apart by position into [cs] (see SplitCol); false when
+ * its members are not numeric vectors of one length from 2 to SPLIT_MAX. */
+static bool split_col(ColSet *cs, Column *c)
+{
+    if (split_find(cs, c)) return true;
+    const Vec *v0 = c->v[0];
+    if (!v0 || v0->kind != VEC_NUM || v0->len < 2 || v0->len > SPLIT_MAX) return false;
+    uint32_t len = v0->len;
+    for (uint32_t m = 1; m < c->n; m++)
+        if (!c->v[m] || c->v[m]->kind != VEC_NUM || c->v[m]->len != len) return false;
+    if (cs->nsp == cs->capsp) {
+        cs->capsp = cs->capsp ? 2 * cs->capsp : 4;
+        cs->sp = mem_realloc(cs->sp, cs->capsp * sizeof *cs->sp);
+    }
+    SplitCol *sc = &cs->sp[cs->nsp++];
+    *sc = (SplitCol){.col = c, .len = len};
+    for (uint32_t p = 0; p < len; p++) {
+        uint64_t b0 = num_bits(vec_cnums(v0)[p]);
+        bool same = true;
+        for (uint32_t m = 1; m < c->n && same; m++) same = num_bits(vec_cnums(c->v[m])[p]) == b0;
+        if (same) continue;
+        Column *pc = col_new_num(c->n);
+        for (uint32_t m = 0; m < c->n; m++) pc->num[m] = vec_cnums(c->v[m])[p];
+        sc->pos[p] = pc;
+        colset_add(cs, pc);
+    }
+    return true;
+}
+
+/* Whether every member of index column [c] indexes as the literal index
+ * does: numbers whose floor is a 32-bit int, where the evaluator's name
+ * index (index32) and literal index (index64, LANGUAGE.md §3.11) agree. */
+static bool index_col_safe(Column *c)
+{
+    for (uint32_t m = 0; m < c->n; m++) {
+        const Vec *v = col_get(c, m);
+        if (!v || v->kind != VEC_NUM) return false;
+        for (uint32_t i = 0; i < v->len; i++) {
+            double f = floor(vec_cnums(v)[i]);
+            if (!(f >= -2147483648.0 && f < 2147483648.0)) return false;
+        }
+    }
+    return true;
+}
+
 /* The columns of [t] into [cs]; false when one sits where the evaluator
  * treats a literal unlike a name bound to the same value: a called
  * function, an index (IndexLiteral, LANGUAGE.md §3.11), the exponent of
@@ -389,12 +467,12 @@ static bool collect_cols(const AstNode *t, bool in_fn, ColSet *cs)
         Column *c = t->aux;
         if (in_fn) return false;
         for (uint32_t m = 0; m < c->n && !c->num; m++)
-            if (vec_len(c->v[m]) != 1) return false;
+            if (vec_len(c->v[m]) != 1) return split_col(cs, c);
         if (!colset_find(cs, c)) colset_add(cs, c);
         return true;
     }
     if ((t->kind == AST_CALL || t->kind == AST_ATTRIBUTES || t->kind == AST_APPEND) && has_col(t->a)) return false;
-    if (t->kind == AST_INDEX && has_col(t->b)) return false;
+    if (t->kind == AST_INDEX && has_col(t->b) && !index_col_safe(t->b->aux)) return false;
     if (t->kind == AST_BINOP && t->op == OP_POW && has_col(t->b)) return false;
     bool fn = in_fn || t->kind == AST_FUNCTION;
     if (!collect_cols(t->a, fn, cs) || !collect_cols(t->b, fn, cs) || !collect_cols(t->c, fn, cs)) return false;
@@ -411,10 +489,20 @@ static Str *hidden_name(uint32_t h)
     return str_from(b);
 }
 
-/* A column literal as the hidden name of its column in ColSet *[ctx]. */
+/* A column literal as the hidden name of its column in ColSet *[ctx], or,
+ * for a column taken apart, the sequence of its positions. */
 static AstNode *name_leaf(const AstNode *lit, const void *ctx)
 {
-    return ast_name(hidden_name(colset_find(ctx, lit->aux)->name), lit->loc);
+    const SplitCol *sc = split_find(ctx, lit->aux);
+    if (!sc) return ast_name(hidden_name(colset_find(ctx, lit->aux)->name), lit->loc);
+    AstNode *seq = ast_new(AST_SEQUENCE, lit->loc);
+    for (uint32_t p = 0; p < sc->len; p++) {
+        if (sc->pos[p])
+            ast_push(seq, ast_name(hidden_name(colset_find(ctx, sc->pos[p])->name), lit->loc));
+        else
+            ast_push(seq, mk_lit(vec_num1(vec_cnums(sc->col->v[0])[p]), lit->loc));
+    }
+    return seq;
 }
 
 /* The copies of the group whose members are iterations order[0..g) (in
@@ -434,7 +522,7 @@ static bool loop_form(const AstNode *t, const uint32_t *order, uint32_t g, AstNo
     if (g < 16 || g < 8 * runs || is_lit(t)) return false;
     ColSet cs = {0};
     if (!collect_cols(t, false, &cs) || !cs.names) {
-        free(cs.e);
+        colset_free(&cs);
         return false;
     }
     /* each name's column: the first column that takes it */
@@ -469,7 +557,7 @@ static bool loop_form(const AstNode *t, const uint32_t *order, uint32_t g, AstNo
         m = e;
     }
     free(byname);
-    free(cs.e);
+    colset_free(&cs);
     return true;
 }
 
