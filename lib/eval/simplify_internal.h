@@ -141,10 +141,6 @@ Column *col_new_num(uint32_t n);
 /* Member [m]'s value (borrowed; NULL: null), made now for a numeric
  * column's member whose vector was not asked for before. */
 Vec *col_get(Column *c, uint32_t m);
-/* [c] as a numeric column: [c] itself (retained) when it is one, a new
- * numeric column when every member is a one-element numeric vector, else
- * NULL. */
-Column *col_as_num(Column *c);
 Column *col_retain(Column *c);
 void col_release(Column *c);
 /* Attach [c] (consumed; NULL: none) to literal [n]. */

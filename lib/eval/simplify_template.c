@@ -100,16 +100,6 @@ Vec *col_get(Column *c, uint32_t m)
     return c->v[m];
 }
 
-Column *col_as_num(Column *c)
-{
-    if (!c || c->num) return col_retain(c);
-    for (uint32_t m = 0; m < c->n; m++)
-        if (!vec_is_scalar(c->v[m])) return NULL;
-    Column *r = col_new_num(c->n);
-    for (uint32_t m = 0; m < c->n; m++) r->num[m] = vec_cnums(c->v[m])[0];
-    return r;
-}
-
 Column *col_retain(Column *c)
 {
     if (c) c->refs++;
@@ -443,7 +433,11 @@ static bool split_col(ColSet *cs, Column *c)
  * index (index32) and literal index (index64, LANGUAGE.md §3.11) agree. */
 static bool index_col_safe(Column *c)
 {
-    for (uint32_t m = 0; m < c->n; m++) {
+    for (uint32_t m = 0; m < c->n && c->num; m++) {
+        double f = floor(c->num[m]);
+        if (!(f >= -2147483648.0 && f < 2147483648.0)) return false;
+    }
+    for (uint32_t m = 0; m < c->n && !c->num; m++) {
         const Vec *v = col_get(c, m);
         if (!v || v->kind != VEC_NUM) return false;
         for (uint32_t i = 0; i < v->len; i++) {
@@ -602,10 +596,31 @@ static void check_copies(Simp *s, const AstNode *n, const Vec *values, uint32_t 
     s->unrolled = u;
 }
 
+/* The column of loop name [j] ([k] names a binding) of [values] for the
+ * members order[0..gn): numeric when the source is and every member's
+ * binding lies within it, else a column of the items (null past the end). */
+static Column *loop_col(const Vec *values, uint32_t k, uint32_t j, const uint32_t *order, uint32_t gn)
+{
+    uint32_t len = vec_len(values);
+    if (vec_is_num(values)) {
+        Column *c = col_new_num(gn);
+        uint32_t m = 0;
+        for (; m < gn && order[m] * k + j < len; m++) c->num[m] = vec_cnums(values)[order[m] * k + j];
+        if (m == gn) return c;
+        col_release(c);
+    }
+    Column *c = col_new(gn);
+    for (uint32_t m = 0; m < gn; m++) {
+        uint32_t idx = order[m] * k + j;
+        c->v[m] = idx < len ? vec_item(values, idx) : NULL;
+    }
+    return c;
+}
+
 bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items)
 {
     if (s->no_templates || s->tg || count < 2 || !shareable(n->b)) return false;
-    uint32_t k = n->nnames ? n->nnames : 1, len = vec_len(values);
+    uint32_t k = n->nnames ? n->nnames : 1;
     uint64_t u0 = s->unrolled;
     bool deep0 = s->too_deep, unwinding0 = s->unwinding;
     memset(items, 0, count * sizeof *items);
@@ -624,30 +639,7 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
         uint64_t ub = s->unrolled;
         uint32_t mark = s->nnames;
         for (uint32_t j = 0; j < n->nnames; j++) {
-            Column *c;
-            if (vec_is_num(values) && (uint64_t)order[g.start + g.n - 1] * k + j < len) {
-                /* every member one number of a numeric source (order is
-                 * ascending within a group only at first: check them all) */
-                c = col_new_num(g.n);
-                for (uint32_t m = 0; m < g.n && c; m++) {
-                    uint32_t idx = order[g.start + m] * k + j;
-                    if (idx < len) {
-                        c->num[m] = vec_cnums(values)[idx];
-                    } else {
-                        col_release(c);
-                        c = NULL;
-                    }
-                }
-            } else {
-                c = NULL;
-            }
-            if (!c) {
-                c = col_new(g.n);
-                for (uint32_t m = 0; m < g.n; m++) {
-                    uint32_t idx = order[g.start + m] * k + j;
-                    c->v[m] = idx < len ? vec_item(values, idx) : NULL;
-                }
-            }
+            Column *c = loop_col(values, k, j, order + g.start, g.n);
             scope_push_col(s, n->names[j], col_get(c, 0), c);
             col_release(c);
         }
