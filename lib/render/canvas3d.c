@@ -38,6 +38,7 @@ Canvas3D *canvas3d_new(void)
     srgb_table_init(&c->srgb);
     const char *imp = getenv("FLITTER_CANVAS3D_IMPOSTORS");
     c->impostors = !(imp && strcmp(imp, "0") == 0);
+    c->octagons = !(imp && strcmp(imp, "box") == 0);
     for (int i = 0; i < 8; i++) c->cam_id[i] = (Buf)BUF_INIT;
     c->name = (Buf)BUF_INIT;
     return c;
@@ -533,6 +534,10 @@ static int draw_node(Canvas3D *c, const Node *node, cairo_surface_t *pic, int w,
         if (strcmp(buf_cstr(&c->cam_id[i]), want) == 0) cam = &c->cams[i];
     int rc = render(c, cam, pic, err, sizeof err);
     if (err[0]) render_log(log, RLOG_WARNING, "%s", err);
+    if (c->program_note[0] && !c->program_noted) {
+        render_log(log, RLOG_WARNING, "%s", c->program_note);
+        c->program_noted = true;
+    }
     if (c->have_pixels) add_time(c, &t0);
     return rc;
 }

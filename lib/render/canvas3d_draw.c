@@ -22,14 +22,21 @@
 /* last: it turns the library's names into calls through its table */
 #include "gl_lib.h"
 
-/* The program for [max_lights] lights of the [kinds] (bit 1 << LIGHT_*),
- * made when not kept. */
+/* The number of MSAA samples whose rays the impostor shaders test. */
+static int tested_samples(const Canvas3D *c) { return c->samples_used > 8 ? 8 : c->samples_used; }
+
+/* The program for [max_lights] lights of the [kinds] (bit 1 << LIGHT_*)
+ * and this frame's sample count, made when not kept. */
 static C3dProgram *program_for(Canvas3D *c, int max_lights, unsigned kinds, char *err, size_t errlen)
 {
+    int ns = tested_samples(c);
     for (int i = 0; i < c->nprog; i++)
-        if (c->prog[i].max_lights == max_lights && c->prog[i].kinds == kinds) return &c->prog[i];
+        if (c->prog[i].max_lights == max_lights && c->prog[i].kinds == kinds && c->prog[i].nsamples == ns)
+            return &c->prog[i];
     C3dProgram made;
-    if (!c3d_program_make(&made, max_lights, kinds, err, errlen)) return NULL;
+    char note[sizeof c->program_note];
+    if (!c3d_program_make(&made, max_lights, kinds, ns, err, errlen, note, sizeof note)) return NULL;
+    if (note[0] && !c->program_note[0]) memcpy(c->program_note, note, sizeof note);
     int slot = c->nprog < C3D_PROGRAMS ? c->nprog++ : c->prog_turn++ % C3D_PROGRAMS;
     c3d_program_free(&c->prog[slot]);
     c->prog[slot] = made;
@@ -170,12 +177,15 @@ static void dispatch(Canvas3D *c, Instance **list, int n, const C3dProgram *p, c
     int nb = 0, nx = 0, nm = 0;
     for (int i = 0; i < n; i++)
         if (!impostor_fits(list[i], cam)) list[nm++] = list[i];
-        else if (look && billboard_fits(list[i], cam)) bill[nb++] = list[i];
+        else if (look && c->octagons && billboard_fits(list[i], cam)) bill[nb++] = list[i];
         else boxed[nx++] = list[i];
     MeshKey octagon = {.kind = MESH_OCTAGON}, box = {.kind = MESH_BOX};
-    glUseProgram(p->impostor.prog);   /* (draw_instances keeps it in use) */
-    glUniform1i(p->impostor.u_billboard, 1);
-    draw_instances(c, bill, nb, mesh_cache_get(c->meshes, &octagon), &p->impostor);
+    /* (draw_instances keeps the program in use) */
+    const C3dShader *octagons = p->billboard.prog ? &p->billboard : &p->impostor;
+    glUseProgram(octagons->prog);
+    glUniform1i(octagons->u_billboard, 1);
+    draw_instances(c, bill, nb, mesh_cache_get(c->meshes, &octagon), octagons);
+    glUseProgram(p->impostor.prog);
     glUniform1i(p->impostor.u_billboard, 0);
     draw_instances(c, boxed, nx, mesh_cache_get(c->meshes, &box), &p->impostor);
     draw_instances(c, list, nm, mesh, &p->mesh);
@@ -206,7 +216,7 @@ static void set_uniforms(Canvas3D *c, const C3dShader *sh, const C3dProgram *p, 
     for (int k = 0; k < 16; k++) pv[k] = (float)inv.m[k];
     glUniformMatrix4fv(sh->u_inverse_pv, 1, GL_FALSE, pv);
     glUniform2f(sh->u_viewport_size, (float)c->width, (float)c->height);
-    int ns = c->samples_used > 8 ? 8 : c->samples_used;
+    int ns = tested_samples(c);
     float offsets[16] = {0};
     for (int i = 0; i < ns; i++) glGetMultisamplefv(GL_SAMPLE_POSITION, (GLuint)i, offsets + 2 * i);
     glUniform1i(sh->u_nsamples, ns);
@@ -328,6 +338,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     if (nl) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)nl * 64, c->lightbuf);
     set_uniforms(c, &p->mesh, p, cam, nl);
     set_uniforms(c, &p->impostor, p, cam, nl);
+    set_uniforms(c, &p->billboard, p, cam, nl);
 
     group_state(g);
     glDepthMask(GL_TRUE);

@@ -1,6 +1,7 @@
 /* canvas3d_program.h: the GL programs of `!canvas3d`'s standard lighting
- * (canvas3d_shaders.h): for each max_lights, one program for meshes and
- * one for sphere impostors, sharing the lights' uniform buffer, and, made
+ * (canvas3d_shaders.h): for each max_lights, kinds of light and MSAA
+ * sample count, one program for meshes and two for sphere impostors (on
+ * their box, and on their octagon), sharing the lights' uniform buffer, and, made
  * when a frame first has translucent instances, the two programs of
  * `translucency=`: the back-face pass and translucent meshes.
  */
@@ -23,18 +24,26 @@ typedef struct C3dProgram {
     unsigned kinds;        /* the kinds of light it has code for (canvas3d_fragment_source) */
     unsigned ubo;          /* the Lights block: max_lights mat4s, bound at binding point 1 */
     C3dShader mesh;        /* triangle meshes */
-    C3dShader impostor;    /* ray-cast spheres; prog 0 when the driver cannot (no GL_ARB_sample_shading) */
+    int nsamples;          /* the MSAA samples billboard tests (canvas3d_fragment_source) */
+    C3dShader impostor;    /* ray-cast spheres on their box; prog 0 when the driver cannot (no GL_ARB_sample_shading) */
+    C3dShader billboard;   /* ray-cast spheres on their octagon (BILLBOARD); prog 0 when it could not be made,
+                              then impostor draws them */
     C3dShader backface;    /* translucent meshes' back faces: light in, distance (prog 0 until made) */
     C3dShader translucent; /* translucent meshes, reading the back faces from texture unit 0 (0 until made) */
     bool translucency_failed;   /* making the two did not work: not tried again */
 } C3dProgram;
 
-/* Compile and link both programs for [max_lights] lights of the [kinds]
- * (canvas3d_fragment_source) into [p] (a GL context current). The impostor program failing leaves p->impostor.prog 0 (meshes
- * are drawn instead).
+/* Compile and link the programs for [max_lights] lights of the [kinds]
+ * and a target of [nsamples] MSAA samples (canvas3d_fragment_source) into
+ * [p] (a GL context current). The impostor program failing leaves
+ * p->impostor.prog 0 (meshes are drawn instead), the billboard one
+ * p->billboard.prog 0 (the impostor program draws octagons too).
  *   errors: false with a message in [err] when the mesh program does not
- *           compile or link ([p] then holds nothing). */
-bool c3d_program_make(C3dProgram *p, int max_lights, unsigned kinds, char *err, size_t errlen);
+ *           compile or link ([p] then holds nothing); the billboard
+ *           program failing where the impostor one did not is described
+ *           in [note] ("" otherwise), to be reported once. */
+bool c3d_program_make(C3dProgram *p, int max_lights, unsigned kinds, int nsamples, char *err, size_t errlen,
+                      char *note, size_t notelen);
 /* Make [p]'s back-face and translucent programs when not made yet (a GL
  * context current).
  *   errors: false with a message in [err] when they do not compile or link

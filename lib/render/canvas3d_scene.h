@@ -81,6 +81,9 @@ struct Canvas3D {
     Instance **tl; int cap_tl;            /* one group's translucent instances */
     C3dBackface backface;                 /* the back-face pass's framebuffer */
     bool impostors;                       /* spheres may be drawn as impostors (FLITTER_CANVAS3D_IMPOSTORS=0: never) */
+    bool octagons;                        /* impostors may be drawn on octagons (=box: always on their box) */
+    char program_note[600];               /* a program that failed without failing the frame (reported once) */
+    bool program_noted;
     int samples_used;                     /* MSAA samples of this frame's target (0: none) */
     float *idata; size_t cap_idata;       /* instance floats of one dispatch */
     float *lightbuf; int cap_lightbuf;    /* mat4s of one group */

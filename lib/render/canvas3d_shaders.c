@@ -384,7 +384,21 @@ static const char mesh_main[] =
  * its normal (the normal matrix applied to the model-space point) and its
  * depth are the sphere's, fragments whose ray misses are discarded. With
  * MSAA the sample mask keeps only the samples whose own rays hit
- * (sample_offsets: the 4 sample positions within the pixel). */
+ * (sample_offsets: the sample positions within the pixel).
+ *
+ * BILLBOARD (the octagon of a sphere wholly beyond the near plane, so
+ * that every point of it on a ray is in front of the eye) tests the
+ * NSAMPLES samples' rays more cheaply: a ray's line, through its points
+ * a on the near plane and b on the far one (homogeneous, model space),
+ * has the Plücker coordinates u = a.w b.xyz - b.w a.xyz (its direction)
+ * and m = a.xyz x b.xyz (its moment), and passes within |m| / |u| of the
+ * unit sphere's centre; both are linear in the sample's offset within
+ * the pixel (a and b move by the same s, and b - a = 2 c is constant), so
+ * a sample costs two small updates and two dot products instead of the
+ * ray's divisions and square root. Near and far points are used, not the
+ * eye, so that neither is computed as a difference of nearly equal
+ * numbers. The fragment is then shaded on the centre's ray, or on the
+ * first covered sample's when the centre's misses, as below. */
 static const char impostor_main[] =
     "in vec3 world_position;\n"
     "flat in mat4 ray_matrix;\n"
@@ -410,6 +424,27 @@ static const char impostor_main[] =
     "    vec3 o, d;\n"
     "    float t;\n"
     "    vec2 frag = gl_FragCoord.xy;\n"
+    "#if defined(BILLBOARD) && NSAMPLES > 1\n"
+    "    vec2 n = to_ndc(frag);\n"
+    "    vec4 c = ray_matrix[2];\n"
+    "    vec4 na = ray_matrix[0] * n.x + ray_matrix[1] * n.y + ray_matrix[3] - c;\n"   /* near */
+    "    vec4 fa = na + 2.0 * c;\n"   /* far */
+    "    vec3 u0 = na.w * fa.xyz - fa.w * na.xyz, m0 = cross(na.xyz, fa.xyz);\n"
+    "    int mask = 0;\n"
+    "    vec2 first = vec2(0.5);\n"
+    "    for (int i = NSAMPLES - 1; i >= 0; i--) {\n"   /* constant bounds: unrolled, no branches */
+    "        vec2 e = (sample_offsets[i] - 0.5) * 2.0 / viewport_size;\n"
+    "        vec4 s = ray_matrix[0] * e.x + ray_matrix[1] * e.y;\n"
+    "        vec3 u = u0 - 2.0 * (c.w * s.xyz - s.w * c.xyz), m = m0 + 2.0 * cross(s.xyz, c.xyz);\n"
+    "        bool hit = dot(m, m) <= dot(u, u);\n"
+    "        mask |= hit ? 1 << i : 0;\n"
+    "        first = hit ? sample_offsets[i] : first;\n"
+    "    }\n"
+    "    if (mask == 0) discard;\n"
+    "    frag = floor(frag) + (dot(m0, m0) <= dot(u0, u0) ? vec2(0.5) : first);\n"
+    "    if (!hit_at(frag, o, d, t)) discard;\n"
+    "    gl_SampleMask[0] = mask;\n"
+    "#else\n"
     "    bool centre = hit_at(frag, o, d, t);\n"
     "    if (nsamples > 1) {\n"
     "        int mask = 0;\n"
@@ -427,6 +462,7 @@ static const char impostor_main[] =
     "    } else if (!centre) {\n"
     "        discard;\n"
     "    }\n"
+    "#endif\n"
     "    vec3 m = o + t * d;\n"   /* the same t on the world ray (the model matrix is affine) */
     "    vec4 a = inverse_pv * vec4(to_ndc(frag), -1.0, 1.0), b = inverse_pv * vec4(to_ndc(frag), 1.0, 1.0);\n"
     "    vec3 ro = a.xyz / a.w;\n"
@@ -438,12 +474,15 @@ static const char impostor_main[] =
     "    shade(wp, normal_mat * m);\n"
     "}\n";
 
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant)
+size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant, int nsamples)
 {
-    bool impostor = variant == C3D_FRAG_IMPOSTOR;
-    const char *defines = variant == C3D_FRAG_BACKFACE      ? "#define BACKFACE\n"
-                          : variant == C3D_FRAG_TRANSLUCENT ? "#define TRANSLUCENT\n"
-                                                            : "";
+    bool impostor = variant == C3D_FRAG_IMPOSTOR || variant == C3D_FRAG_BILLBOARD;
+    char defines[64] = "";
+    if (variant == C3D_FRAG_BACKFACE) snprintf(defines, sizeof defines, "#define BACKFACE\n");
+    if (variant == C3D_FRAG_TRANSLUCENT) snprintf(defines, sizeof defines, "#define TRANSLUCENT\n");
+    if (variant == C3D_FRAG_BILLBOARD)
+        snprintf(defines, sizeof defines, "#define BILLBOARD\n#define NSAMPLES %d\n",
+                 nsamples < 1 ? 1 : nsamples > 8 ? 8 : nsamples);
 #define KIND(k) ((kinds >> (k)) & 1u)
     int n = snprintf(out, cap,
                      "#version 330 core\n%s#define MAX_LIGHTS %d\n"

@@ -32,23 +32,28 @@ extern const char canvas3d_vertex_source[];
  * position 0 the corners of the unit box (+-0.5, doubled to enclose the
  * unit sphere); the fragment shader finds the sphere in it. */
 extern const char canvas3d_impostor_vertex_source[];
-/* Fragment shader variants: meshes; sphere impostors; the back-face pass
+/* Fragment shader variants: meshes; sphere impostors (on their box or
+ * octagon); sphere impostors on their octagon only (BILLBOARD: for
+ * spheres wholly beyond the near plane, with the sample count fixed at
+ * compile time); the back-face pass
  * of translucent meshes (out: rgb the light arriving on the back face, a
  * its distance from the eye); translucent meshes (the mesh shader plus the
  * light let through from the back-face pass, read from the uniform
  * sampler2D backface_data, texture unit 0). */
-enum { C3D_FRAG_MESH, C3D_FRAG_IMPOSTOR, C3D_FRAG_BACKFACE, C3D_FRAG_TRANSLUCENT };
+enum { C3D_FRAG_MESH, C3D_FRAG_IMPOSTOR, C3D_FRAG_BACKFACE, C3D_FRAG_TRANSLUCENT, C3D_FRAG_BILLBOARD };
 
 /* The fragment shader for [max_lights] lights into [out] (NUL-terminated),
  * of [variant] (C3D_FRAG_*), with the code of only the kinds of light in
  * [kinds] (bit 1 << LIGHT_*; ambient light is always there): a light of
  * another kind contributes nothing. On a CPU rasteriser (llvmpipe) every
  * branch of a shader runs for every fragment, masked, so leaving out the
- * kinds a scene does not have saves most of the light loop's work; the impostor one has the uniforms inverse_pv
+ * kinds a scene does not have saves most of the light loop's work; the impostor ones have the uniforms inverse_pv
  * (the inverse of pv_matrix), viewport_size (pixels), nsamples and
  * sample_offsets[8] (MSAA sample positions within a pixel, 0..1), and
- * needs GL_ARB_sample_shading for gl_SampleMask. Returns its length, or
+ * need GL_ARB_sample_shading for gl_SampleMask. The BILLBOARD variant
+ * tests the first [nsamples] (clamped to 1..8; 1: no sample mask) of
+ * sample_offsets, the others ignore [nsamples]. Returns its length, or
  * the length needed when [cap] is too small. */
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant);
+size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant, int nsamples);
 
 #endif

@@ -27,6 +27,7 @@ struct GlContext {
     bool tracked;            /* the display counts references: terminate it */
     int max_samples;         /* GL_MAX_SAMPLES */
     int w, h, samples;       /* the framebuffer's size and sample count (0: none yet) */
+    int given;               /* the samples the driver gave for [samples] (it may give more) */
     GLuint fbo, color, depth;          /* the render pass target (multisampled or not) */
     GLuint resolve_fbo, resolve_color; /* single-sampled copy when samples > 0 */
     char renderer[128];
@@ -130,7 +131,6 @@ static int sample_count(const GlContext *gl, int samples)
 bool gl_target_bind(GlContext *gl, int w, int h, int samples, int *used, char *err, size_t errlen)
 {
     int s = sample_count(gl, samples);
-    if (used) *used = s;
     if (gl->fbo && (gl->w != w || gl->h != h || gl->samples != s)) drop_target(gl);
     if (!gl->fbo) {
         glGenFramebuffers(1, &gl->fbo);
@@ -162,7 +162,14 @@ bool gl_target_bind(GlContext *gl, int w, int h, int samples, int *used, char *e
         gl->w = w;
         gl->h = h;
         gl->samples = s;
+        /* a driver may round a count up (llvmpipe gives 4 for 2): the
+         * impostors' sample masks need the real one */
+        GLint given = 0;
+        glBindRenderbuffer(GL_RENDERBUFFER, gl->color);
+        glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_SAMPLES, &given);
+        gl->given = s > 0 && given > s ? (int)given : s;
     }
+    if (used) *used = gl->given;
     glBindFramebuffer(GL_FRAMEBUFFER, gl->fbo);
     glViewport(0, 0, w, h);
     return true;

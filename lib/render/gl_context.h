@@ -32,8 +32,9 @@ bool gl_context_use(GlContext *gl);
  * the context may be used from another thread next time). */
 void gl_context_done(GlContext *gl);
 /* Bind a framebuffer of [w] x [h] pixels (1..16384) with [samples]
- * multisampling (the count actually used, after rounding and capping, is
- * returned through [used] when not NULL), reallocating its buffers only
+ * multisampling (the count actually used, after rounding and capping and
+ * as the driver gave it, which may be more than asked, is returned
+ * through [used] when not NULL), reallocating its buffers only
  * when the size or sample count changed; sets the viewport.
  *   errors: false with a message in [err] when the framebuffer is
  *           incomplete (e.g. too large for the driver). */

@@ -39,7 +39,7 @@
     X(glDepthMask) X(glDisable) X(glDrawElementsInstanced) X(glEnable) X(glEnableVertexAttribArray) \
     X(glFramebufferRenderbuffer) X(glFramebufferTexture2D) X(glGenBuffers) X(glGenFramebuffers) X(glGenRenderbuffers) \
     X(glGenTextures) X(glGenVertexArrays) X(glGetIntegerv) X(glGetMultisamplefv) X(glGetProgramInfoLog) \
-    X(glGetProgramiv) X(glGetShaderInfoLog) X(glGetShaderiv) X(glGetString) X(glGetUniformBlockIndex) \
+    X(glGetProgramiv) X(glGetRenderbufferParameteriv) X(glGetShaderInfoLog) X(glGetShaderiv) X(glGetString) X(glGetUniformBlockIndex) \
     X(glGetUniformLocation) X(glLinkProgram) X(glPixelStorei) X(glReadPixels) X(glRenderbufferStorage) \
     X(glRenderbufferStorageMultisample) X(glShaderSource) X(glTexImage2D) X(glTexParameteri) X(glUniform1f) \
     X(glUniform1i) X(glUniform2f) X(glUniform2fv) X(glUniform3f) X(glUniformBlockBinding) X(glUniformMatrix4fv) \
@@ -178,6 +178,8 @@ bool gl_lib_ready(char *why, size_t cap);
 #define glGetProgramInfoLog (*FL_GL->p_glGetProgramInfoLog)
 #undef glGetProgramiv
 #define glGetProgramiv (*FL_GL->p_glGetProgramiv)
+#undef glGetRenderbufferParameteriv
+#define glGetRenderbufferParameteriv (*FL_GL->p_glGetRenderbufferParameteriv)
 #undef glGetShaderInfoLog
 #define glGetShaderInfoLog (*FL_GL->p_glGetShaderInfoLog)
 #undef glGetShaderiv
