@@ -50,7 +50,7 @@
     X(cairo_set_miter_limit) X(cairo_set_operator) X(cairo_set_source) X(cairo_set_source_rgb)          \
     X(cairo_set_source_rgba) X(cairo_set_source_surface) X(cairo_show_text) X(cairo_status_to_string)   \
     X(cairo_stroke) X(cairo_stroke_preserve) X(cairo_surface_destroy) X(cairo_surface_finish)           \
-    X(cairo_surface_flush) X(cairo_surface_get_type) X(cairo_surface_mark_dirty) X(cairo_surface_status) \
+    X(cairo_surface_flush) X(cairo_surface_get_reference_count) X(cairo_surface_get_type) X(cairo_surface_mark_dirty) X(cairo_surface_status) \
     X(cairo_surface_write_to_png) X(cairo_surface_write_to_png_stream) X(cairo_svg_surface_create)      \
     X(cairo_text_extents) X(cairo_text_path) X(cairo_transform) X(cairo_translate)                      \
     X(cairo_user_to_device_distance)
@@ -147,6 +147,7 @@ bool cairo_lib_ready(char *why, size_t cap);
 #define cairo_surface_destroy (FL_CAIRO->f_cairo_surface_destroy)
 #define cairo_surface_finish (FL_CAIRO->f_cairo_surface_finish)
 #define cairo_surface_flush (FL_CAIRO->f_cairo_surface_flush)
+#define cairo_surface_get_reference_count (FL_CAIRO->f_cairo_surface_get_reference_count)
 #define cairo_surface_get_type (FL_CAIRO->f_cairo_surface_get_type)
 #define cairo_surface_mark_dirty (FL_CAIRO->f_cairo_surface_mark_dirty)
 #define cairo_surface_status (FL_CAIRO->f_cairo_surface_status)

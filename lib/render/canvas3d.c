@@ -617,6 +617,17 @@ const float *canvas3d_linear(const Canvas3D *c, int *w, int *h)
     return c->pixels;
 }
 
+float *canvas3d_take_linear(Canvas3D *c, float *buf, size_t cap, size_t *taken_cap)
+{
+    if (!c || !c->have_pixels) return NULL;
+    float *taken = c->pixels;
+    *taken_cap = c->cap_pixels;
+    c->pixels = buf;
+    c->cap_pixels = buf ? cap : 0;
+    c->have_pixels = false;
+    return taken;
+}
+
 double canvas3d_time_ms(const Canvas3D *c, long *calls)
 {
     if (calls) *calls = c->calls;

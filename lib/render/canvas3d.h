@@ -110,6 +110,13 @@ int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, cairo_surface_t *pic, ch
  * next canvas3d_draw or canvas3d_free.
  *   errors: NULL when the last draw drew nothing (no GL context, or none yet). */
 const float *canvas3d_linear(const Canvas3D *c, int *w, int *h);
+/* The buffer of canvas3d_linear's light, taken over by the caller (its
+ * capacity in floats through [taken_cap]), instead of copied; [buf] (a
+ * malloc'd buffer of [cap] floats, or NULL) becomes the canvas's buffer
+ * for its next drawing. The canvas then has no picture (canvas3d_linear
+ * is NULL) until it draws again.
+ *   errors: NULL when there is no picture ([buf] is not taken). */
+float *canvas3d_take_linear(Canvas3D *c, float *buf, size_t cap, size_t *taken_cap);
 /* Milliseconds spent in canvas3d_draw calls so far and their count. */
 double canvas3d_time_ms(const Canvas3D *c, long *calls);
 /* Release the GL context and everything on it (NULL is a no-op). */

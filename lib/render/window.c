@@ -20,6 +20,11 @@
 /* last: it turns the library's names into calls through its table */
 #include "cairo_lib.h"
 
+/* How many finished pictures a renderer keeps for reuse: a frame's
+ * pictures (window, !record, !bloom, canvases) are mostly the same sizes
+ * as the last frame's. */
+#define SPARE_PICTURES 6
+
 struct Renderer {
     const SymTab *symbols;
     RenderLog log;
@@ -41,6 +46,8 @@ struct Renderer {
     char *reported[64];    /* the files whose write error was logged (errors
                               of further files are counted, not logged) */
     int nreported;
+    cairo_surface_t *spare[SPARE_PICTURES];   /* pictures of past frames for new_picture */
+    int nspare;
 };
 
 /* Pictures of id'd nodes drawn so far in this window, for !reference. */
@@ -94,6 +101,7 @@ int renderer_free(Renderer *r)
     bloom_free(r->bloom);
     free(r->bloom_light);
     if (r->canvas_light) cairo_surface_destroy(r->canvas_light);
+    for (int i = 0; i < r->nspare; i++) cairo_surface_destroy(r->spare[i]);
     free(r->srgb);
     for (int i = 0; i < r->nreported; i++) free(r->reported[i]);
     free(r);
@@ -113,9 +121,35 @@ static void size_of(const Node *n, int dflt_w, int dflt_h, int *w, int *h)
     }
 }
 
-static cairo_surface_t *new_picture(int w, int h)
+/* A transparent ARGB32 picture of [w] x [h]: a kept one of that size
+ * cleared (a 1080x1080 picture is 4.6 MB, which a fresh allocation would
+ * fault in page by page every frame), else a new one. Give it back with
+ * drop_picture. */
+static cairo_surface_t *new_picture(Renderer *r, int w, int h)
 {
+    for (int i = r->nspare - 1; i >= 0; i--) {
+        cairo_surface_t *s = r->spare[i];
+        if (cairo_image_surface_get_width(s) != w || cairo_image_surface_get_height(s) != h) continue;
+        r->spare[i] = r->spare[--r->nspare];
+        cairo_surface_flush(s);
+        memset(cairo_image_surface_get_data(s), 0, (size_t)cairo_image_surface_get_stride(s) * (size_t)h);
+        cairo_surface_mark_dirty(s);
+        return s;
+    }
     return cairo_image_surface_create(CAIRO_FORMAT_ARGB32, w, h);
+}
+
+/* Release picture [s] (new_picture's), keeping it for reuse when nothing
+ * else holds it (an encoder may) and it is sound; NULL is a no-op. */
+static void drop_picture(Renderer *r, cairo_surface_t *s)
+{
+    if (!s) return;
+    if (r->nspare < SPARE_PICTURES && cairo_surface_status(s) == CAIRO_STATUS_SUCCESS &&
+        cairo_surface_get_reference_count(s) == 1 && cairo_image_surface_get_data(s)) {
+        r->spare[r->nspare++] = s;
+        return;
+    }
+    cairo_surface_destroy(s);
 }
 
 /* How the children of a window-level `!transform` are placed on its
@@ -160,7 +194,7 @@ static cairo_surface_t *render_transform(Renderer *r, const Node *n, int w, int 
 static cairo_surface_t *render_canvas(Renderer *r, const Node *c, int w, int h)
 {
     bool linear = canvas_is_linear(c);
-    cairo_surface_t *pic = new_picture(w, h);
+    cairo_surface_t *pic = new_picture(r, w, h);
     cairo_t *cr = cairo_create(pic);
     CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips, .linear = linear};
     canvas_draw(cr, c, &env);
@@ -174,9 +208,9 @@ static cairo_surface_t *render_canvas(Renderer *r, const Node *c, int w, int h)
         srgb_encode_linear8(r->srgb, pic, pic);
         return pic;
     }
-    if (r->canvas_light) cairo_surface_destroy(r->canvas_light);
+    if (r->canvas_light) drop_picture(r, r->canvas_light);
     r->canvas_light = pic;
-    cairo_surface_t *enc = new_picture(w, h);
+    cairo_surface_t *enc = new_picture(r, w, h);
     srgb_encode_linear8(r->srgb, pic, enc);
     return enc;
 }
@@ -196,14 +230,14 @@ static void render_child(Renderer *r, const Node *c, cairo_surface_t *target, in
     } else if (rnode_is(c, "canvas3d")) {
         int cw, ch;
         size_of(c, w, h, &cw, &ch);
-        pic = new_picture(cw, ch);
+        pic = new_picture(r, cw, ch);
         if (!r->c3d) r->c3d = canvas3d_new();
         CanvasEnv env = {.symbols = r->symbols, .skips = &r->skips};
         canvas3d_draw(r->c3d, c, pic, &env, &r->log);
     } else if (rnode_is(c, "record")) {
         int cw, ch;
         size_of(c, w, h, &cw, &ch);
-        pic = new_picture(cw, ch);
+        pic = new_picture(r, cw, ch);
         render_children(r, c, pic, cw, ch, pass, NULL);
         if (pass->write) write_record(r, c, pic, pass->fps);
     } else if (rnode_is(c, "key") || rnode_is(c, "pointer")) {
@@ -229,7 +263,7 @@ static void render_child(Renderer *r, const Node *c, cairo_surface_t *target, in
         skiplog_effect(&r->skips, rnode_kind(c));
         int cw, ch;
         size_of(c, w, h, &cw, &ch);
-        pic = new_picture(cw, ch);
+        pic = new_picture(r, cw, ch);
         render_children(r, c, pic, cw, ch, pass, NULL);
     } else {
         skiplog_note(&r->skips, "window", rnode_kind(c));
@@ -241,7 +275,7 @@ static void render_child(Renderer *r, const Node *c, cairo_surface_t *target, in
         refs->id[refs->n] = id;
         refs->pic[refs->n++] = pic;
     } else {
-        cairo_surface_destroy(pic);
+        drop_picture(r, pic);
     }
 }
 
@@ -319,7 +353,7 @@ static bool transform_place(Renderer *r, const Node *n, int w, int h, Place *at)
  * this 8-bit picture). */
 static cairo_surface_t *render_transform(Renderer *r, const Node *n, int w, int h, Pass *pass)
 {
-    cairo_surface_t *pic = new_picture(w, h);
+    cairo_surface_t *pic = new_picture(r, w, h);
     Place at;
     if (!transform_place(r, n, w, h, &at)) return pic;
     render_children(r, n, pic, w, h, pass, &at);
@@ -337,7 +371,7 @@ static cairo_surface_t *render_transform(Renderer *r, const Node *n, int w, int 
 /* Forget the kept linear light of a canvas (r->canvas_light). */
 static void drop_canvas_light(Renderer *r)
 {
-    if (r->canvas_light) cairo_surface_destroy(r->canvas_light);
+    if (r->canvas_light) drop_picture(r, r->canvas_light);
     r->canvas_light = NULL;
 }
 
@@ -383,16 +417,16 @@ static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, P
                 /* (a group whose program fails leaves those before it drawn) */
                 canvas3d_draw_linear(r->c3d, c, w, h, &env, &r->log);
                 lin = canvas3d_linear(r->c3d, &lw, &lh);
-                if (!lin) layer = new_picture(w, h);   /* nothing drawn: a transparent layer */
+                if (!lin) layer = new_picture(r, w, h);   /* nothing drawn: a transparent layer */
             }
         }
         if (!lin && !layer) {
-            layer = new_picture(w, h);
+            layer = new_picture(r, w, h);
             render_child(r, c, layer, w, h, pass, NULL);
             lin = rnode_is(c, "canvas3d") ? canvas3d_linear(r->c3d, &lw, &lh) : NULL;
         }
         if (lin && (lw != w || lh != h)) lin = NULL;
-        if (!lin && !layer) layer = new_picture(w, h);
+        if (!lin && !layer) layer = new_picture(r, w, h);
         /* a linear canvas of the bloom's size gives its own linear light */
         cairo_surface_t *clight = rnode_is(c, "canvas") ? r->canvas_light : NULL;
         if (clight && (cairo_image_surface_get_width(clight) != w || cairo_image_surface_get_height(clight) != h))
@@ -403,8 +437,19 @@ static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, P
             dst = one;
         }
         if (lin) {
-            if (empty) memcpy(light, lin, npix * 4 * sizeof(float));   /* the first layer over nothing is itself */
-            else bloom_over(light, lin, npix);
+            size_t cap;
+            float *taken;
+            if (empty && !own && (taken = canvas3d_take_linear(r->c3d, r->bloom_light, r->bloom_cap, &cap))) {
+                /* the first layer over nothing is itself: the canvas's
+                 * buffer becomes the bloom's and the bloom's the canvas's
+                 * next, instead of a copy (18 MB at 1080x1080) */
+                light = r->bloom_light = taken;
+                r->bloom_cap = cap;
+            } else if (empty) {
+                memcpy(light, lin, npix * 4 * sizeof(float));
+            } else {
+                bloom_over(light, lin, npix);
+            }
         } else {
             if (clight) bloom_decode_linear(clight, dst);
             else bloom_decode(layer, dst);
@@ -412,14 +457,14 @@ static cairo_surface_t *render_bloom(Renderer *r, const Node *n, int w, int h, P
         }
         drop_canvas_light(r);
         empty = false;
-        if (layer) cairo_surface_destroy(layer);
+        drop_picture(r, layer);
     }
     if (empty) memset(light, 0, npix * 4 * sizeof(float));
     if (!r->bloom) r->bloom = bloom_new();
     BloomParams bp;
     bloom_params(n, &bp);
     bloom_apply(r->bloom, &bp, light, w, h);
-    cairo_surface_t *pic = new_picture(w, h);
+    cairo_surface_t *pic = new_picture(r, w, h);
     bloom_encode(r->bloom, light, pic);
     r->bloom_busy = was_busy;
     if (own) free(light);
@@ -519,7 +564,7 @@ static void draw_window(Renderer *r, const Node *win, cairo_surface_t *target, d
     int w = cairo_image_surface_get_width(target), h = cairo_image_surface_get_height(target);
     Pass pass = {.refs.n = 0, .fps = fps, .write = write};
     render_children(r, win, target, w, h, &pass, NULL);
-    for (int k = 0; k < pass.refs.n; k++) cairo_surface_destroy(pass.refs.pic[k]);
+    for (int k = 0; k < pass.refs.n; k++) drop_picture(r, pass.refs.pic[k]);
 }
 
 int renderer_frame(Renderer *r, const Node *root, double fps)
@@ -540,10 +585,10 @@ int renderer_frame(Renderer *r, const Node *root, double fps)
         }
         int w, h;
         window_size(win, &w, &h);
-        cairo_surface_t *pic = new_picture(w, h);
+        cairo_surface_t *pic = new_picture(r, w, h);
         draw_window(r, win, pic, fps, true);
         if (extra) write_spec(r, &(RecordSpec){.path = r->record, .limit = -1}, pic, fps);
-        cairo_surface_destroy(pic);
+        drop_picture(r, pic);
     }
     return r->failed_reported - before;
 }

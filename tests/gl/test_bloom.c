@@ -200,12 +200,63 @@ static void canvas3d_light_unclamped(void **st)
     assert_int_equal(at(pix, 63, 0), 0x00000000u);                          /* out of reach */
 }
 
+/* The bloom takes over the canvas's linear light instead of copying it,
+ * handing its own buffer to the canvas for the next drawing: frame after
+ * frame in one runtime, a moving box's bloomed picture must be exactly
+ * the one a fresh runtime draws for the box where it is. */
+static void canvas3d_light_each_frame(void **st)
+{
+    (void)st;
+    static uint32_t pix[W * H], fresh[W * H], first[W * H];
+    char path[256], one[256];
+    snprintf(path, sizeof path, "%s/moving.fl", scratch);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs("!window size=64;64\n"
+          "    !bloom radius=8\n"
+          "        !canvas3d\n"
+          "            !light color=4\n"
+          "            !box size=12 position=(frame*10-10);0;0 color=1\n",
+          f);
+    fclose(f);
+    fl_options o = fl_default_options();
+    o.log = keep_log;
+    fl_runtime *rt = fl_new(&o);
+    assert_int_equal(fl_load(rt, path), 0);
+    for (int frame = 0; frame < 3; frame++) {
+        assert_int_equal(fl_step(rt), 0);
+        for (int twice = 0; twice < 2; twice++) {
+            assert_int_equal(fl_draw_window(rt, 0, pix, W, H, W * 4), 0);
+            snprintf(one, sizeof one,
+                     "!window size=64;64\n"
+                     "    !bloom radius=8\n"
+                     "        !canvas3d\n"
+                     "            !light color=4\n"
+                     "            !box size=12 position=%d;0;0 color=1\n",
+                     frame * 10 - 10);
+            draw(one, fresh);
+            for (int i = 0; i < W * H; i++)
+                if (pix[i] != fresh[i])
+                    fail_msg("frame %d, drawing %d: pixel (%d,%d) is %08x, fresh %08x", frame, twice, i % W, i / W,
+                             pix[i], fresh[i]);
+        }
+        if (frame == 0) memcpy(first, pix, sizeof first);
+    }
+    /* the box moved: the last frame differs from the first */
+    int moved = 0;
+    for (int i = 0; i < W * H; i++) moved += pix[i] != first[i];
+    assert_true(moved > 200);
+    fl_free(rt);
+    unlink(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(glow_is_gaussian),
         cmocka_unit_test(dark_scene_unchanged),
         cmocka_unit_test(canvas3d_light_unclamped),
+        cmocka_unit_test(canvas3d_light_each_frame),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

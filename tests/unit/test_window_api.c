@@ -223,6 +223,32 @@ static void test_draw_window_pixels_and_record(void **st)
     fl_free(rt);
 }
 
+/* A window's pictures (a !record's, a !transform's, a canvas's) are kept
+ * from frame to frame for reuse: each must start transparent again. Frame
+ * 0 draws a red square at the top left, frame 1 one at the bottom right;
+ * frame 1's picture must not keep frame 0's square, at either depth. */
+static void test_draw_window_pictures_reused(void **st)
+{
+    (void)st;
+    fl_runtime *rt = load("!window size=100;80\n"
+                          "    !record\n"
+                          "        !transform\n"
+                          "            !canvas\n"
+                          "                !rect point=((10;10) if frame == 0 else (60;40)) size=20;20 "
+                          "fill=true color=1;0;0\n",
+                          true);
+    uint32_t *pix = malloc((size_t)STRIDE * H);
+    for (int frame = 0; frame < 3; frame++) {
+        assert_int_equal(fl_step(rt), 0);
+        assert_int_equal(fl_draw_window(rt, 0, pix, W, H, STRIDE), 0);
+        bool first = frame == 0;
+        assert_int_equal(at(pix, STRIDE, 20, 20), first ? 0xffff0000u : 0u);
+        assert_int_equal(at(pix, STRIDE, 70, 50), first ? 0u : 0xffff0000u);
+    }
+    free(pix);
+    fl_free(rt);
+}
+
 static void test_draw_window_errors(void **st)
 {
     (void)st;
@@ -587,6 +613,7 @@ int main(void)
         cmocka_unit_test(test_windows_list),
         cmocka_unit_test(test_title_truncated),
         cmocka_unit_test(test_draw_window_pixels_and_record),
+        cmocka_unit_test(test_draw_window_pictures_reused),
         cmocka_unit_test(test_draw_window_errors),
         cmocka_unit_test(test_draw_view),
         cmocka_unit_test(test_view_snapshot),
