@@ -25,17 +25,29 @@
 /* The number of MSAA samples whose rays the impostor shaders test. */
 static int tested_samples(const Canvas3D *c) { return c->samples_used > 8 ? 8 : c->samples_used; }
 
-/* The program for [max_lights] lights of the [kinds] (bit 1 << LIGHT_*)
- * and this frame's sample count, made when not kept. */
-static C3dProgram *program_for(Canvas3D *c, int max_lights, unsigned kinds, char *err, size_t errlen)
+/* The kind of camera a program is compiled for (C3D_* of
+ * canvas3d_shaders.h), decided on the floats the shader would see. */
+static unsigned camera_kind(const Camera *cam)
+{
+    float fog_min = (float)cam->fog_min, fog_max = (float)cam->fog_max, fog_curve = (float)cam->fog_curve;
+    return (cam->orthographic ? C3D_ORTHOGRAPHIC : 0u) | (fog_max > fog_min && fog_curve > 0 ? C3D_FOG : 0u) |
+           (cam->monochrome ? C3D_MONOCHROME : 0u);
+}
+
+/* The program for [max_lights] lights of the [kinds] (bit 1 << LIGHT_*),
+ * this frame's sample count and camera [cam], made when not kept. */
+static C3dProgram *program_for(Canvas3D *c, int max_lights, unsigned kinds, const Camera *cam, char *err,
+                               size_t errlen)
 {
     int ns = tested_samples(c);
+    unsigned camera = camera_kind(cam);
     for (int i = 0; i < c->nprog; i++)
-        if (c->prog[i].max_lights == max_lights && c->prog[i].kinds == kinds && c->prog[i].nsamples == ns)
+        if (c->prog[i].max_lights == max_lights && c->prog[i].kinds == kinds && c->prog[i].nsamples == ns &&
+            c->prog[i].camera == camera)
             return &c->prog[i];
     C3dProgram made;
     char note[sizeof c->program_note];
-    if (!c3d_program_make(&made, max_lights, kinds, ns, err, errlen, note, sizeof note)) return NULL;
+    if (!c3d_program_make(&made, max_lights, kinds, ns, camera, err, errlen, note, sizeof note)) return NULL;
     if (note[0] && !c->program_note[0]) memcpy(c->program_note, note, sizeof note);
     int slot = c->nprog < C3D_PROGRAMS ? c->nprog++ : c->prog_turn++ % C3D_PROGRAMS;
     c3d_program_free(&c->prog[slot]);
@@ -332,7 +344,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
                 memcpy(c->lightbuf + (size_t)16 * nl++, c->lights[l].data, 64);
                 kinds |= 1u << (int)c->lights[l].data[3];
             }
-    C3dProgram *p = program_for(c, g->max_lights, kinds, err, errlen);
+    C3dProgram *p = program_for(c, g->max_lights, kinds, cam, err, errlen);
     if (!p) return;
     glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
     if (nl) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)nl * 64, c->lightbuf);

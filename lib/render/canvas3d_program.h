@@ -1,6 +1,6 @@
 /* canvas3d_program.h: the GL programs of `!canvas3d`'s standard lighting
- * (canvas3d_shaders.h): for each max_lights, kinds of light and MSAA
- * sample count, one program for meshes and two for sphere impostors (on
+ * (canvas3d_shaders.h): for each max_lights, kinds of light, MSAA
+ * sample count and kind of camera, one program for meshes and two for sphere impostors (on
  * their box, and on their octagon), sharing the lights' uniform buffer, and, made
  * when a frame first has translucent instances, the two programs of
  * `translucency=`: the back-face pass and translucent meshes.
@@ -25,6 +25,7 @@ typedef struct C3dProgram {
     unsigned ubo;          /* the Lights block: max_lights mat4s, bound at binding point 1 */
     C3dShader mesh;        /* triangle meshes */
     int nsamples;          /* the MSAA samples billboard tests (canvas3d_fragment_source) */
+    unsigned camera;       /* the camera it is compiled for (C3D_ORTHOGRAPHIC, ...) */
     C3dShader impostor;    /* ray-cast spheres on their box; prog 0 when the driver cannot (no GL_ARB_sample_shading) */
     C3dShader billboard;   /* ray-cast spheres on their octagon (BILLBOARD); prog 0 when it could not be made,
                               then impostor draws them */
@@ -33,8 +34,9 @@ typedef struct C3dProgram {
     bool translucency_failed;   /* making the two did not work: not tried again */
 } C3dProgram;
 
-/* Compile and link the programs for [max_lights] lights of the [kinds]
- * and a target of [nsamples] MSAA samples (canvas3d_fragment_source) into
+/* Compile and link the programs for [max_lights] lights of the [kinds],
+ * a target of [nsamples] MSAA samples and a [camera] (C3D_* bits of
+ * canvas3d_shaders.h; all these as canvas3d_fragment_source takes them) into
  * [p] (a GL context current). The impostor program failing leaves
  * p->impostor.prog 0 (meshes are drawn instead), the billboard one
  * p->billboard.prog 0 (the impostor program draws octagons too).
@@ -42,8 +44,8 @@ typedef struct C3dProgram {
  *           compile or link ([p] then holds nothing); the billboard
  *           program failing where the impostor one did not is described
  *           in [note] ("" otherwise), to be reported once. */
-bool c3d_program_make(C3dProgram *p, int max_lights, unsigned kinds, int nsamples, char *err, size_t errlen,
-                      char *note, size_t notelen);
+bool c3d_program_make(C3dProgram *p, int max_lights, unsigned kinds, int nsamples, unsigned camera, char *err,
+                      size_t errlen, char *note, size_t notelen);
 /* Make [p]'s back-face and translucent programs when not made yet (a GL
  * context current).
  *   errors: false with a message in [err] when they do not compile or link

@@ -132,20 +132,21 @@ static const char fragment_body[] =
     "void shade(vec3 P, vec3 Nw) {\n"
     "    vec3 V;\n"
     "    float distance_to_eye;\n"
-    "    if (orthographic) {\n"
-    "        V = normalize(view_position - view_focus);\n"
-    "        distance_to_eye = dot(view_position - P, V);\n"
-    "    } else {\n"
-    "        V = view_position - P;\n"
-    "        distance_to_eye = length(V);\n"
-    "        V /= distance_to_eye;\n"
-    "    }\n"
+    "#if ORTHOGRAPHIC\n"
+    "    V = normalize(view_position - view_focus);\n"
+    "    distance_to_eye = dot(view_position - P, V);\n"
+    "#else\n"
+    "    V = view_position - P;\n"
+    "    distance_to_eye = length(V);\n"
+    "    V /= distance_to_eye;\n"
+    "#endif\n"
     "    float fog = 0.0;\n"
     "#ifdef BACKFACE\n"
     "    V = normalize(Nw);\n"   /* a back face is lit as if seen along its own normal, without fog */
     "#else\n"
-    "    if (fog_max > fog_min && fog_curve > 0.0)\n"
-    "        fog = pow(clamp((distance_to_eye - fog_min) / (fog_max - fog_min), 0.0, 1.0), 1.0 / fog_curve);\n"
+    "#if FOG\n"   /* fog_max > fog_min and fog_curve > 0 */
+    "    fog = pow(clamp((distance_to_eye - fog_min) / (fog_max - fog_min), 0.0, 1.0), 1.0 / fog_curve);\n"
+    "#endif\n"
     "#endif\n"
     "    float opacity = 1.0 - albedo.a;\n"
     "    vec3 color;\n"
@@ -289,7 +290,9 @@ static const char fragment_body[] =
     "#endif\n"
     "        color = mix(diffuse, fog_color, fog) * opacity + specular * (1.0 - fog);\n"
     "    }\n"
-    "    if (monochrome) color = vec3(luminance(color));\n"
+    "#if MONOCHROME\n"
+    "    color = vec3(luminance(color));\n"
+    "#endif\n"
     "    color *= tint;\n"
     "    if (any(isinf(color)) || any(isnan(color)))\n"
     "        fragment_color = vec4(0.0);\n"
@@ -474,7 +477,8 @@ static const char impostor_main[] =
     "    shade(wp, normal_mat * m);\n"
     "}\n";
 
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant, int nsamples)
+size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant, int nsamples,
+                                unsigned camera)
 {
     bool impostor = variant == C3D_FRAG_IMPOSTOR || variant == C3D_FRAG_BILLBOARD;
     char defines[64] = "";
@@ -487,9 +491,11 @@ size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned 
     int n = snprintf(out, cap,
                      "#version 330 core\n%s#define MAX_LIGHTS %d\n"
                      "#define LIGHTS_DIRECTIONAL %u\n#define LIGHTS_POINT %u\n"
-                     "#define LIGHTS_SPOT %u\n#define LIGHTS_LINE %u\n%s%s%s%s",
+                     "#define LIGHTS_SPOT %u\n#define LIGHTS_LINE %u\n"
+                     "#define ORTHOGRAPHIC %d\n#define FOG %d\n#define MONOCHROME %d\n%s%s%s%s",
                      impostor ? "#extension GL_ARB_sample_shading : require\n" : "", max_lights,
-                     KIND(LIGHT_DIRECTIONAL), KIND(LIGHT_POINT), KIND(LIGHT_SPOT), KIND(LIGHT_LINE), defines,
+                     KIND(LIGHT_DIRECTIONAL), KIND(LIGHT_POINT), KIND(LIGHT_SPOT), KIND(LIGHT_LINE),
+                     (camera & C3D_ORTHOGRAPHIC) != 0, (camera & C3D_FOG) != 0, (camera & C3D_MONOCHROME) != 0, defines,
                      variant == C3D_FRAG_TRANSLUCENT ? translucency_functions : "", fragment_body,
                      impostor ? impostor_main : mesh_main);
 #undef KIND

@@ -42,6 +42,13 @@ extern const char canvas3d_impostor_vertex_source[];
  * sampler2D backface_data, texture unit 0). */
 enum { C3D_FRAG_MESH, C3D_FRAG_IMPOSTOR, C3D_FRAG_BACKFACE, C3D_FRAG_TRANSLUCENT, C3D_FRAG_BILLBOARD };
 
+/* What of the camera a fragment shader is compiled for (bits of its
+ * [camera] argument), so that the paths a camera does not take are not in
+ * it (a CPU rasteriser runs both sides of a branch): an orthographic
+ * view; fog (fog_max > fog_min and fog_curve > 0, as single-precision
+ * floats, the uniforms' values); monochrome. */
+enum { C3D_ORTHOGRAPHIC = 1, C3D_FOG = 2, C3D_MONOCHROME = 4 };
+
 /* The fragment shader for [max_lights] lights into [out] (NUL-terminated),
  * of [variant] (C3D_FRAG_*), with the code of only the kinds of light in
  * [kinds] (bit 1 << LIGHT_*; ambient light is always there): a light of
@@ -52,8 +59,10 @@ enum { C3D_FRAG_MESH, C3D_FRAG_IMPOSTOR, C3D_FRAG_BACKFACE, C3D_FRAG_TRANSLUCENT
  * sample_offsets[8] (MSAA sample positions within a pixel, 0..1), and
  * need GL_ARB_sample_shading for gl_SampleMask. The BILLBOARD variant
  * tests the first [nsamples] (clamped to 1..8; 1: no sample mask) of
- * sample_offsets, the others ignore [nsamples]. Returns its length, or
+ * sample_offsets, the others ignore [nsamples]. [camera]: C3D_* above.
+ * Returns its length, or
  * the length needed when [cap] is too small. */
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant, int nsamples);
+size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant, int nsamples,
+                                unsigned camera);
 
 #endif

@@ -193,6 +193,50 @@ static void fog_mix(void **st)
     fl_free(rt);
 }
 
+/* monochrome=true (Flitter docs/canvas3d.md, Cameras): the colour becomes
+ * its luminance, 0.2126 R + 0.7152 G + 0.0722 B, in every channel, and
+ * `tint` multiplies after that. The program is compiled for the kind of
+ * camera (orthographic, fog, monochrome), so one canvas switching
+ * between kinds from frame to frame must draw each frame as its camera
+ * says: colour, monochrome tinted, fogged, then colour again. */
+static void camera_kinds_per_frame(void **st)
+{
+    (void)st;
+    uint32_t pix[W * H];
+    char path[256];
+    snprintf(path, sizeof path, "%s/kinds.fl", scratch);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs("!window size=64;64\n"
+          "    !canvas3d orthographic=true width=64 viewpoint=0;0;100 far=1000 monochrome=(frame == 1)"
+          " tint=((1;0.5;0.25) if frame == 1 else 1) fog_color=1;0;0 fog_min=50 fog_max=(150 if frame == 2 else 0)\n"
+          "        !light color=1\n"
+          "        !box size=20 color=0.5;0.25;1\n",
+          f);
+    fclose(f);
+    logged[0] = '\0';
+    fl_options o = fl_default_options();
+    o.log = keep_log;
+    fl_runtime *rt = fl_new(&o);
+    assert_int_equal(fl_load(rt, path), 0);
+    double luma = (1 - F0) * (0.2126 * 0.5 + 0.7152 * 0.25 + 0.0722 * 1);
+    for (int frame = 0; frame < 4; frame++) {
+        assert_int_equal(fl_step(rt), 0);
+        assert_int_equal(fl_draw_window(rt, 0, pix, W, H, W * 4), 0);
+        uint32_t p = at(pix, 32, 32);
+        if (frame == 1)
+            assert_rgb_near(p, luma, luma * 0.5, luma * 0.25, 1);
+        else if (frame == 2)   /* 40% fog at distance 90 (fog_mix) */
+            assert_rgb_near(p, 0.4 + 0.6 * (1 - F0) * 0.5, 0.6 * (1 - F0) * 0.25, 0.6 * (1 - F0), 1);
+        else
+            assert_rgb_near(p, (1 - F0) * 0.5, (1 - F0) * 0.25, (1 - F0) * 1, 1);
+        assert_int_equal(at(pix, 0, 0), frame == 2 ? 0xffff0000u : 0u);
+    }
+    assert_null(strstr(logged, "compile"));
+    fl_free(rt);
+    unlink(path);
+}
+
 /* Depth: a box behind a nearer one is hidden whatever the tree order; a
  * transparent box in front lets the one behind show through. */
 static void depth_and_transparency(void **st)
@@ -861,6 +905,7 @@ int main(void)
         cmocka_unit_test(directional_lambert),
         cmocka_unit_test(orthographic_edges),
         cmocka_unit_test(fog_mix),
+        cmocka_unit_test(camera_kinds_per_frame),
         cmocka_unit_test(depth_and_transparency),
         cmocka_unit_test(msaa_edge),
         cmocka_unit_test(impostor_spheres),
