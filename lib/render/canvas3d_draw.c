@@ -34,20 +34,37 @@ static unsigned camera_kind(const Camera *cam)
            (cam->monochrome ? C3D_MONOCHROME : 0u);
 }
 
-/* The program for [max_lights] lights of the [kinds] (bit 1 << LIGHT_*),
- * this frame's sample count and camera [cam], made when not kept. */
-static C3dProgram *program_for(Canvas3D *c, int max_lights, unsigned kinds, const Camera *cam, char *err,
-                               size_t errlen)
+/* The program for [key] (its camera, sample count and light list filled
+ * in here from [cam], the frame and the [nl] lights of c->lightbuf),
+ * made when not kept. A canvas compiles at most C3D_LISTED_MAX programs
+ * with a list of lights; after that (lights that change from frame to
+ * frame) lights without a kept program are looped over instead. */
+static C3dProgram *program_for(Canvas3D *c, C3dFragSpec *key, const Camera *cam, int nl, char *err, size_t errlen)
 {
-    int ns = tested_samples(c);
-    unsigned camera = camera_kind(cam);
-    for (int i = 0; i < c->nprog; i++)
-        if (c->prog[i].max_lights == max_lights && c->prog[i].kinds == kinds && c->prog[i].nsamples == ns &&
-            c->prog[i].camera == camera)
-            return &c->prog[i];
+    key->nsamples = tested_samples(c);
+    key->camera = camera_kind(cam);
+    key->nlist = 0;
+    if (nl > 0 && nl <= C3D_LIST_MAX) {
+        key->nlist = nl;
+        for (int i = 0; i < nl; i++) {
+            const float *d = c->lightbuf + (size_t)16 * i;
+            int type = (int)d[3];   /* the shader's test of a radius: light[2].w > 0 */
+            bool two = type == LIGHT_LINE || (type == LIGHT_POINT && d[11] > 0);
+            key->list[i] = (unsigned char)(type | (two ? C3D_TWO_PASS : 0));
+        }
+    }
+    for (int round = 0; round < 2; round++) {
+        for (int i = 0; i < c->nprog; i++)
+            if (memcmp(&c->prog[i].key, key, sizeof *key) == 0) return &c->prog[i];
+        if (key->nlist == 0 || c->listed_made < C3D_LISTED_MAX) break;
+        /* enough listed programs made: the looping one */
+        key->nlist = 0;
+        memset(key->list, 0, sizeof key->list);
+    }
     C3dProgram made;
     char note[sizeof c->program_note];
-    if (!c3d_program_make(&made, max_lights, kinds, ns, camera, err, errlen, note, sizeof note)) return NULL;
+    if (!c3d_program_make(&made, key, err, errlen, note, sizeof note)) return NULL;
+    if (key->nlist) c->listed_made++;
     if (note[0] && !c->program_note[0]) memcpy(c->program_note, note, sizeof note);
     int slot = c->nprog < C3D_PROGRAMS ? c->nprog++ : c->prog_turn++ % C3D_PROGRAMS;
     c3d_program_free(&c->prog[slot]);
@@ -344,7 +361,11 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
                 memcpy(c->lightbuf + (size_t)16 * nl++, c->lights[l].data, 64);
                 kinds |= 1u << (int)c->lights[l].data[3];
             }
-    C3dProgram *p = program_for(c, g->max_lights, kinds, cam, err, errlen);
+    C3dFragSpec key;
+    memset(&key, 0, sizeof key);
+    key.max_lights = g->max_lights;
+    key.kinds = kinds;
+    C3dProgram *p = program_for(c, &key, cam, nl, err, errlen);
     if (!p) return;
     glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
     if (nl) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)nl * 64, c->lightbuf);

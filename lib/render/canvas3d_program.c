@@ -31,13 +31,15 @@ static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
     return s;
 }
 
-static bool link(C3dShader *sh, const char *vsrc, int max_lights, unsigned kinds, int variant, int nsamples,
-                 unsigned camera, char *err, size_t errlen)
+/* Link [sh] from [vsrc] and the fragment shader of [key] as [variant]. */
+static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int variant, char *err, size_t errlen)
 {
     memset(sh, 0, sizeof *sh);
-    size_t need = canvas3d_fragment_source(NULL, 0, max_lights, kinds, variant, nsamples, camera) + 1;
+    C3dFragSpec spec = *key;
+    spec.variant = variant;
+    size_t need = canvas3d_fragment_source(NULL, 0, &spec) + 1;
     char *fs = mem_alloc(need);
-    canvas3d_fragment_source(fs, need, max_lights, kinds, variant, nsamples, camera);
+    canvas3d_fragment_source(fs, need, &spec);
     GLuint v = compile(GL_VERTEX_SHADER, vsrc, err, errlen);
     GLuint f = v ? compile(GL_FRAGMENT_SHADER, fs, err, errlen) : 0;
     free(fs);
@@ -82,32 +84,27 @@ static bool link(C3dShader *sh, const char *vsrc, int max_lights, unsigned kinds
     return true;
 }
 
-bool c3d_program_make(C3dProgram *p, int max_lights, unsigned kinds, int nsamples, unsigned camera, char *err,
-                      size_t errlen, char *note, size_t notelen)
+bool c3d_program_make(C3dProgram *p, const C3dFragSpec *key, char *err, size_t errlen, char *note, size_t notelen)
 {
     memset(p, 0, sizeof *p);
     note[0] = '\0';
-    if (!link(&p->mesh, canvas3d_vertex_source, max_lights, kinds, C3D_FRAG_MESH, 0, camera, err, errlen))
-        return false;
+    p->key = *key;
+    p->key.variant = 0;
+    if (!link(&p->mesh, canvas3d_vertex_source, &p->key, C3D_FRAG_MESH, err, errlen)) return false;
     if (epoxy_has_gl_extension("GL_ARB_sample_shading")) {
         char ignored[600];
         /* without the extension (or with a driver that cannot) the
          * impostor program may fail: spheres are meshes then, quietly;
          * the billboard program failing where it did not is a fault of
          * ours, worth a word */
-        if (link(&p->impostor, canvas3d_impostor_vertex_source, max_lights, kinds, C3D_FRAG_IMPOSTOR, 0, camera,
-                 ignored, sizeof ignored) &&
-            !link(&p->billboard, canvas3d_impostor_vertex_source, max_lights, kinds, C3D_FRAG_BILLBOARD, nsamples,
-                  camera, ignored, sizeof ignored))
+        if (link(&p->impostor, canvas3d_impostor_vertex_source, &p->key, C3D_FRAG_IMPOSTOR, ignored, sizeof ignored) &&
+            !link(&p->billboard, canvas3d_impostor_vertex_source, &p->key, C3D_FRAG_BILLBOARD, ignored,
+                  sizeof ignored))
             snprintf(note, notelen, "canvas3d: spheres on octagons are drawn on their boxes instead: %s", ignored);
     }
-    p->max_lights = max_lights;
-    p->kinds = kinds;
-    p->nsamples = nsamples;
-    p->camera = camera;
     glGenBuffers(1, &p->ubo);
     glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
-    glBufferData(GL_UNIFORM_BUFFER, (GLsizeiptr)max_lights * 64, NULL, GL_DYNAMIC_DRAW);
+    glBufferData(GL_UNIFORM_BUFFER, (GLsizeiptr)p->key.max_lights * 64, NULL, GL_DYNAMIC_DRAW);
     return true;
 }
 
@@ -116,10 +113,8 @@ bool c3d_program_translucency(C3dProgram *p, char *err, size_t errlen)
     err[0] = '\0';
     if (p->translucent.prog) return true;
     if (p->translucency_failed) return false;
-    if (link(&p->backface, canvas3d_vertex_source, p->max_lights, p->kinds, C3D_FRAG_BACKFACE, 0, p->camera, err,
-             errlen) &&
-        link(&p->translucent, canvas3d_vertex_source, p->max_lights, p->kinds, C3D_FRAG_TRANSLUCENT, 0, p->camera,
-             err, errlen))
+    if (link(&p->backface, canvas3d_vertex_source, &p->key, C3D_FRAG_BACKFACE, err, errlen) &&
+        link(&p->translucent, canvas3d_vertex_source, &p->key, C3D_FRAG_TRANSLUCENT, err, errlen))
         return true;
     if (p->backface.prog) glDeleteProgram(p->backface.prog);
     memset(&p->backface, 0, sizeof p->backface);

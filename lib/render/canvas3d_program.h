@@ -1,15 +1,18 @@
 /* canvas3d_program.h: the GL programs of `!canvas3d`'s standard lighting
- * (canvas3d_shaders.h): for each max_lights, kinds of light, MSAA
- * sample count and kind of camera, one program for meshes and two for sphere impostors (on
- * their box, and on their octagon), sharing the lights' uniform buffer, and, made
- * when a frame first has translucent instances, the two programs of
- * `translucency=`: the back-face pass and translucent meshes.
+ * (canvas3d_shaders.h): for each C3dFragSpec (max_lights, kinds of light,
+ * MSAA sample count, kind of camera, list of lights), one program for
+ * meshes and two for sphere impostors (on their box, and on their
+ * octagon), sharing the lights' uniform buffer, and, made when a frame
+ * first has translucent instances, the two programs of `translucency=`:
+ * the back-face pass and translucent meshes.
  */
 #ifndef FL_RENDER_CANVAS3D_PROGRAM_H
 #define FL_RENDER_CANVAS3D_PROGRAM_H
 
 #include <stdbool.h>
 #include <stddef.h>
+
+#include "canvas3d_shaders.h"
 
 /* One linked program and its uniform locations (-1: absent). */
 typedef struct C3dShader {
@@ -20,12 +23,9 @@ typedef struct C3dShader {
 } C3dShader;
 
 typedef struct C3dProgram {
-    int max_lights;
-    unsigned kinds;        /* the kinds of light it has code for (canvas3d_fragment_source) */
-    unsigned ubo;          /* the Lights block: max_lights mat4s, bound at binding point 1 */
+    C3dFragSpec key;       /* what its shaders are made for (variant 0) */
+    unsigned ubo;          /* the Lights block: key.max_lights mat4s, bound at binding point 1 */
     C3dShader mesh;        /* triangle meshes */
-    int nsamples;          /* the MSAA samples billboard tests (canvas3d_fragment_source) */
-    unsigned camera;       /* the camera it is compiled for (C3D_ORTHOGRAPHIC, ...) */
     C3dShader impostor;    /* ray-cast spheres on their box; prog 0 when the driver cannot (no GL_ARB_sample_shading) */
     C3dShader billboard;   /* ray-cast spheres on their octagon (BILLBOARD); prog 0 when it could not be made,
                               then impostor draws them */
@@ -34,18 +34,15 @@ typedef struct C3dProgram {
     bool translucency_failed;   /* making the two did not work: not tried again */
 } C3dProgram;
 
-/* Compile and link the programs for [max_lights] lights of the [kinds],
- * a target of [nsamples] MSAA samples and a [camera] (C3D_* bits of
- * canvas3d_shaders.h; all these as canvas3d_fragment_source takes them) into
- * [p] (a GL context current). The impostor program failing leaves
+/* Compile and link the programs for [key] (its variant ignored; see
+ * C3dFragSpec in canvas3d_shaders.h) into [p] (a GL context current). The impostor program failing leaves
  * p->impostor.prog 0 (meshes are drawn instead), the billboard one
  * p->billboard.prog 0 (the impostor program draws octagons too).
  *   errors: false with a message in [err] when the mesh program does not
  *           compile or link ([p] then holds nothing); the billboard
  *           program failing where the impostor one did not is described
  *           in [note] ("" otherwise), to be reported once. */
-bool c3d_program_make(C3dProgram *p, int max_lights, unsigned kinds, int nsamples, unsigned camera, char *err,
-                      size_t errlen, char *note, size_t notelen);
+bool c3d_program_make(C3dProgram *p, const C3dFragSpec *key, char *err, size_t errlen, char *note, size_t notelen);
 /* Make [p]'s back-face and translucent programs when not made yet (a GL
  * context current).
  *   errors: false with a message in [err] when they do not compile or link

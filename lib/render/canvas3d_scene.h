@@ -37,6 +37,9 @@ typedef struct Instance {
 /* Programs kept by a canvas (one per max_lights and set of light kinds its
  * render groups use). */
 #define C3D_PROGRAMS 8
+/* How many programs with their lights listed (C3dFragSpec.nlist) one
+ * canvas compiles before it makes only looping ones. */
+#define C3D_LISTED_MAX 16
 
 typedef struct Light {
     float data[16];   /* the shader's mat4 (canvas3d_shaders.h) */
@@ -69,8 +72,9 @@ struct Canvas3D {
     bool failed;               /* no context could be made: draw nothing */
     bool target_warned;        /* a framebuffer failure was reported (once) */
     MeshCache *meshes;
-    C3dProgram prog[C3D_PROGRAMS];   /* by max_lights and kinds of light; when full, */
+    C3dProgram prog[C3D_PROGRAMS];   /* by C3dFragSpec; when full, */
     int nprog, prog_turn;            /* each new one replaces the next in turn */
+    int listed_made;                 /* programs made with a list of lights (C3D_LISTED_MAX) */
     GLuint instance_vbo;
     /* the frame's scene, reused across frames */
     Group *groups; int ngroups, cap_groups;

@@ -27,6 +27,7 @@
  * the light let through to the front face's (see_through below). */
 #include "canvas3d_shaders.h"
 
+#include <stdarg.h>
 #include <stdio.h>
 
 const char canvas3d_vertex_source[] =
@@ -109,7 +110,8 @@ const char canvas3d_impostor_vertex_source[] =
     "    properties = material_properties;\n"
     "}\n";
 
-static const char fragment_body[] =
+/* shade() up to its lights. */
+static const char fragment_head[] =
     "flat in vec4 albedo;\n"
     "flat in vec4 emissive;\n"
     "flat in vec4 properties;\n"
@@ -172,17 +174,20 @@ static const char fragment_body[] =
     "        float a2 = roughness * roughness * roughness * roughness;\n"
     "        float k = (roughness + 1.0) * (roughness + 1.0) / 8.0;\n"
     "        float NdotV = clamp(dot(N, V), 0.0, 1.0);\n"
-    "        float GV = NdotV / (NdotV * (1.0 - k) + k);\n"
-    "        for (int i = 0; i < nlights; i++) {\n"
-    "            mat4 light = lights[i];\n"
-    "            int type = int(light[0].w);\n"
+    "        float GV = NdotV / (NdotV * (1.0 - k) + k);\n";
+
+/* One light's part of shade(): in scope are `light` (its mat4), `type`
+ * (its LIGHT_ type) and `two` (lit in two passes). canvas3d_fragment_source
+ * puts it in the loop over the lights, or once per listed light in a
+ * block of its own with type and two constant (C3dFragSpec). */
+static const char light_body[] =
     "            vec3 light_color = light[0].xyz;\n"
     "            if (type == 1) {\n"
     "                diffuse += (1.0 - F0) * (1.0 - metal) * base * light_color * ao;\n"
-    "                continue;\n"
     "            }\n"
     "#if LIGHTS_DIRECTIONAL || LIGHTS_POINT || LIGHTS_SPOT || LIGHTS_LINE\n"
-    "            int passes = 1;\n"
+    "            else {\n"
+    "            int passes = two ? 2 : 1;\n"
     "            for (int pass = 0; pass < passes; pass++) {\n"
     "                vec3 L;\n"
     "                float d = 1.0, strength = 1.0;\n"
@@ -201,7 +206,6 @@ static const char fragment_body[] =
     "#endif\n"
     "#if LIGHTS_LINE\n"
     "                } else if (type == 5) {\n"
-    "                    passes = 2;\n"
     "                    vec3 span = light[2].xyz;\n"
     "                    float len = length(span);\n"
     "                    vec3 axis = span / len;\n"
@@ -243,8 +247,7 @@ static const char fragment_body[] =
     "                    float radius = light[2].w;\n"
     "                    L = light[1].xyz - P;\n"
     "                    d = length(L);\n"
-    "                    if (radius > 0.0) {\n"
-    "                        passes = 2;\n"
+    "                    if (two) {\n"
     "                        strength = clamp(1.0 - radius / d, 0.005, 1.0);\n"
     "                        if (pass == 0) {\n"
     "                            d -= min(radius, d * 0.99);\n"
@@ -258,13 +261,14 @@ static const char fragment_body[] =
     "                    L = normalize(L);\n"
     "#endif\n"
     "                } else {\n"
-    "                    continue;\n"
+    "                    L = vec3(0.0);\n"   /* another kind: NdotL 0, nothing */
     "                }\n"
+    /* if-blocks rather than `continue`: llvmpipe's code for the lights
+     * listed one by one is then straight */
     "                float NdotL = clamp(dot(N, L), 0.0, 1.0);\n"
-    "                if (NdotL == 0.0) continue;\n"
     "                strength /= dot(vec4(1.0, d, d * d, d * d * d), light[3]);\n"
     "                vec3 radiance = light_color * strength * NdotL;\n"
-    "                if (largest(abs(radiance)) < (pass == passes - 1 ? 1e-3 * a2 : 1e-3)) continue;\n"
+    "                if (NdotL != 0.0 && !(largest(abs(radiance)) < (pass == passes - 1 ? 1e-3 * a2 : 1e-3))) {\n"
     "                if (pass == 0) diffuse += radiance * (1.0 - F0) * (1.0 - metal) * base;\n"
     "#ifdef BACKFACE\n"
     "                if (pass == 0) transmitted += radiance * (1.0 - F0) * (1.0 - metal) * (1.0 + base) * 0.5;\n"
@@ -278,9 +282,13 @@ static const char fragment_body[] =
     "                    float G = GV * NdotL / (NdotL * (1.0 - k) + k);\n"
     "                    specular += radiance * (a2 / (q * q)) * G * F / (4.0 * NdotV * NdotL + 1e-6);\n"
     "                }\n"
+    "                }\n"
     "            }\n"
-    "#endif\n"
-    "        }\n"
+    "            }\n"
+    "#endif\n";
+
+/* The rest of shade() after the lights. */
+static const char fragment_tail[] =
     "#ifdef BACKFACE\n"
     "        fragment_color = vec4(transmitted, distance_to_eye);\n"
     "        return;\n"
@@ -477,27 +485,58 @@ static const char impostor_main[] =
     "    shade(wp, normal_mat * m);\n"
     "}\n";
 
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant, int nsamples,
-                                unsigned camera)
+/* Append to [out] (of [cap] bytes, NULL to measure) at *[n], as
+ * snprintf would; *[n] counts what the whole text needs. */
+static void put(char *out, size_t cap, size_t *n, const char *fmt, ...)
 {
+    va_list ap;
+    va_start(ap, fmt);
+    int k = vsnprintf(out && *n < cap ? out + *n : NULL, out && *n < cap ? cap - *n : 0, fmt, ap);
+    va_end(ap);
+    if (k > 0) *n += (size_t)k;
+}
+
+size_t canvas3d_fragment_source(char *out, size_t cap, const C3dFragSpec *spec)
+{
+    int variant = spec->variant;
+    unsigned kinds = spec->kinds, camera = spec->camera;
     bool impostor = variant == C3D_FRAG_IMPOSTOR || variant == C3D_FRAG_BILLBOARD;
-    char defines[64] = "";
-    if (variant == C3D_FRAG_BACKFACE) snprintf(defines, sizeof defines, "#define BACKFACE\n");
-    if (variant == C3D_FRAG_TRANSLUCENT) snprintf(defines, sizeof defines, "#define TRANSLUCENT\n");
-    if (variant == C3D_FRAG_BILLBOARD)
-        snprintf(defines, sizeof defines, "#define BILLBOARD\n#define NSAMPLES %d\n",
-                 nsamples < 1 ? 1 : nsamples > 8 ? 8 : nsamples);
+    size_t n = 0;
+    if (out && cap) out[0] = '\0';
 #define KIND(k) ((kinds >> (k)) & 1u)
-    int n = snprintf(out, cap,
-                     "#version 330 core\n%s#define MAX_LIGHTS %d\n"
-                     "#define LIGHTS_DIRECTIONAL %u\n#define LIGHTS_POINT %u\n"
-                     "#define LIGHTS_SPOT %u\n#define LIGHTS_LINE %u\n"
-                     "#define ORTHOGRAPHIC %d\n#define FOG %d\n#define MONOCHROME %d\n%s%s%s%s",
-                     impostor ? "#extension GL_ARB_sample_shading : require\n" : "", max_lights,
-                     KIND(LIGHT_DIRECTIONAL), KIND(LIGHT_POINT), KIND(LIGHT_SPOT), KIND(LIGHT_LINE),
-                     (camera & C3D_ORTHOGRAPHIC) != 0, (camera & C3D_FOG) != 0, (camera & C3D_MONOCHROME) != 0, defines,
-                     variant == C3D_FRAG_TRANSLUCENT ? translucency_functions : "", fragment_body,
-                     impostor ? impostor_main : mesh_main);
+    put(out, cap, &n,
+        "#version 330 core\n%s#define MAX_LIGHTS %d\n"
+        "#define LIGHTS_DIRECTIONAL %u\n#define LIGHTS_POINT %u\n"
+        "#define LIGHTS_SPOT %u\n#define LIGHTS_LINE %u\n"
+        "#define ORTHOGRAPHIC %d\n#define FOG %d\n#define MONOCHROME %d\n",
+        impostor ? "#extension GL_ARB_sample_shading : require\n" : "", spec->max_lights, KIND(LIGHT_DIRECTIONAL),
+        KIND(LIGHT_POINT), KIND(LIGHT_SPOT), KIND(LIGHT_LINE), (camera & C3D_ORTHOGRAPHIC) != 0,
+        (camera & C3D_FOG) != 0, (camera & C3D_MONOCHROME) != 0);
 #undef KIND
-    return n < 0 ? 0 : (size_t)n;
+    if (variant == C3D_FRAG_BACKFACE) put(out, cap, &n, "#define BACKFACE\n");
+    if (variant == C3D_FRAG_TRANSLUCENT) put(out, cap, &n, "#define TRANSLUCENT\n%s", translucency_functions);
+    if (variant == C3D_FRAG_BILLBOARD)
+        put(out, cap, &n, "#define BILLBOARD\n#define NSAMPLES %d\n",
+            spec->nsamples < 1 ? 1 : spec->nsamples > 8 ? 8 : spec->nsamples);
+    put(out, cap, &n, "%s", fragment_head);
+    int nlist = spec->nlist > C3D_LIST_MAX ? C3D_LIST_MAX : spec->nlist;
+    if (nlist <= 0) {
+        put(out, cap, &n,
+            "        for (int i = 0; i < nlights; i++) {\n"
+            "            mat4 light = lights[i];\n"
+            "            int type = int(light[0].w);\n"
+            "            bool two = type == 5 || (type == 3 && light[2].w > 0.0);\n"
+            "%s        }\n",
+            light_body);
+    }
+    for (int i = 0; i < nlist; i++)
+        put(out, cap, &n,
+            "        {\n"
+            "            mat4 light = lights[%d];\n"
+            "            const int type = %d;\n"
+            "            const bool two = %s;\n"
+            "%s        }\n",
+            i, spec->list[i] & (C3D_TWO_PASS - 1), spec->list[i] & C3D_TWO_PASS ? "true" : "false", light_body);
+    put(out, cap, &n, "%s%s", fragment_tail, impostor ? impostor_main : mesh_main);
+    return n;
 }

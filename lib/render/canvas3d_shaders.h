@@ -42,27 +42,54 @@ extern const char canvas3d_impostor_vertex_source[];
  * sampler2D backface_data, texture unit 0). */
 enum { C3D_FRAG_MESH, C3D_FRAG_IMPOSTOR, C3D_FRAG_BACKFACE, C3D_FRAG_TRANSLUCENT, C3D_FRAG_BILLBOARD };
 
-/* What of the camera a fragment shader is compiled for (bits of its
- * [camera] argument), so that the paths a camera does not take are not in
- * it (a CPU rasteriser runs both sides of a branch): an orthographic
- * view; fog (fog_max > fog_min and fog_curve > 0, as single-precision
- * floats, the uniforms' values); monochrome. */
+/* What of the camera a fragment shader is compiled for (C3dFragSpec's
+ * camera bits), so that the paths a camera does not take are not in it
+ * (a CPU rasteriser runs both sides of a branch): an orthographic view;
+ * fog (fog_max > fog_min and fog_curve > 0, as single-precision floats,
+ * the uniforms' values); monochrome. */
 enum { C3D_ORTHOGRAPHIC = 1, C3D_FOG = 2, C3D_MONOCHROME = 4 };
 
-/* The fragment shader for [max_lights] lights into [out] (NUL-terminated),
- * of [variant] (C3D_FRAG_*), with the code of only the kinds of light in
- * [kinds] (bit 1 << LIGHT_*; ambient light is always there): a light of
- * another kind contributes nothing. On a CPU rasteriser (llvmpipe) every
- * branch of a shader runs for every fragment, masked, so leaving out the
- * kinds a scene does not have saves most of the light loop's work; the impostor ones have the uniforms inverse_pv
- * (the inverse of pv_matrix), viewport_size (pixels), nsamples and
- * sample_offsets[8] (MSAA sample positions within a pixel, 0..1), and
- * need GL_ARB_sample_shading for gl_SampleMask. The BILLBOARD variant
- * tests the first [nsamples] (clamped to 1..8; 1: no sample mask) of
- * sample_offsets, the others ignore [nsamples]. [camera]: C3D_* above.
- * Returns its length, or
- * the length needed when [cap] is too small. */
-size_t canvas3d_fragment_source(char *out, size_t cap, int max_lights, unsigned kinds, int variant, int nsamples,
-                                unsigned camera);
+/* At most this many lights are compiled in one by one (C3dFragSpec.list). */
+#define C3D_LIST_MAX 8
+/* A listed light's code: its LIGHT_ type, plus C3D_TWO_PASS when it is
+ * lit in two passes (a line light, or a point light with a radius > 0). */
+#define C3D_TWO_PASS 8
+
+/* What a fragment shader is made for (zero it, then fill it in: programs
+ * are cached by its bytes):
+ *   max_lights  the size of the Lights block (MAX_LIGHTS);
+ *   kinds       the kinds of light it has code for (bit 1 << LIGHT_*;
+ *               ambient light is always there): a light of another kind
+ *               contributes nothing;
+ *   variant     C3D_FRAG_*;
+ *   nsamples    the samples the BILLBOARD variant tests: the first
+ *               [nsamples] (clamped to 1..8; 1: no sample mask) of
+ *               sample_offsets; the others ignore it;
+ *   camera      C3D_* camera bits above;
+ *   nlist       0: the lights are read in a loop over the uniform
+ *               nlights, each dispatched on its type; 1..C3D_LIST_MAX:
+ *               exactly [nlist] lights, list[i] the code of lights[i]
+ *               (C3D_TWO_PASS), each compiled in as straight code with
+ *               its type known, as llvmpipe runs a loop over a uniform
+ *               block and a dispatch on a type much slower.
+ * On a CPU rasteriser (llvmpipe) every branch of a shader runs for every
+ * fragment, masked: hence the kinds, the camera bits and the list. */
+typedef struct C3dFragSpec {
+    int max_lights;
+    unsigned kinds;
+    int variant;
+    int nsamples;
+    unsigned camera;
+    int nlist;
+    unsigned char list[C3D_LIST_MAX];
+} C3dFragSpec;
+
+/* The fragment shader [spec] describes into [out] (NUL-terminated). The
+ * impostor variants have the uniforms inverse_pv (the inverse of
+ * pv_matrix), viewport_size (pixels), nsamples and sample_offsets[8]
+ * (MSAA sample positions within a pixel, 0..1), and need
+ * GL_ARB_sample_shading for gl_SampleMask. Returns its length, or the
+ * length needed when [cap] is too small. */
+size_t canvas3d_fragment_source(char *out, size_t cap, const C3dFragSpec *spec);
 
 #endif

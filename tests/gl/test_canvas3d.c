@@ -756,6 +756,105 @@ static void translucency_zero_unchanged(void **st)
     }
 }
 
+/* A group of at most 8 lights gets a program with its lights compiled in
+ * one by one (their types and passes known); more go through the loop
+ * over the Lights block. The two must light alike: every kind of light
+ * (ambient, directional, a point light with a radius (two passes) and
+ * one without, a spot, a line with a radius) on a rough and a shiny
+ * sphere and a box, drawn with the 6 lights listed and again with 4
+ * lights too faint to add anything (10: the loop), pixel for pixel; the
+ * programs compile. */
+static void listed_lights_as_looped(void **st)
+{
+    (void)st;
+    static uint32_t pix[2][W * H];
+    const char *lights = "        !light color=0.03\n"
+                         "        !light color=0.15 direction=-1;-0.5;-1\n"
+                         "        !light color=40 position=-12;8;14 radius=2\n"
+                         "        !light color=30 position=14;-6;10\n"
+                         "        !light color=80 position=0;0;30 focus=4;0;0 outer=0.08 inner=0.03\n"
+                         "        !light color=8 start=-14;-14;6 end=14;-14;6 radius=1\n";
+    /* lights too faint to count (radiance under the shader's 1e-3 a2
+     * threshold, exactly nothing added), but lights: 10 in all */
+    const char *faint = "        !light color=0.000000001 position=1;1;30\n"
+                        "        !light color=0.000000001 position=2;2;30 radius=1\n"
+                        "        !light color=0.000000001 direction=0;0;-1\n"
+                        "        !light color=0.000000001 position=4;4;30\n";
+    const char *models = "        !sphere size=7 position=-7;4;0 color=1;0.5;0.2 roughness=0.3\n"
+                         "        !sphere size=6 position=8;3;0 color=0.2;0.6;1 roughness=0.9 metal=0.5\n"
+                         "        !box size=30;12;2 position=0;-10;-4 color=0.8\n";
+    char script[2048];
+    for (int k = 0; k < 2; k++) {
+        snprintf(script, sizeof script, "!window size=64;64\n    !canvas3d samples=4 viewpoint=0;0;60 fov=0.12\n%s%s%s",
+                 lights, k ? faint : "", models);
+        fl_runtime *rt = draw(script, pix[k]);
+        if (strstr(logged, "compile")) fail_msg("%s", logged);
+        fl_free(rt);
+    }
+    int lit = 0;
+    for (int i = 0; i < W * H; i++) {
+        if (pix[0][i] != pix[1][i])
+            fail_msg("pixel (%d,%d) is %08x with the lights listed, %08x looped", i % W, i / W, pix[0][i], pix[1][i]);
+        lit += chan(pix[0][i], 16) > 20 || chan(pix[0][i], 0) > 20;
+    }
+    assert_true(lit > 1000);
+}
+
+/* A canvas compiles at most 16 programs with their lights listed; lights
+ * that change from frame to frame after that are looped over. 24 frames,
+ * each with its own list (1 to 8 point lights with and without a radius
+ * and spots, in an order that shifts every 8 frames): every frame's
+ * picture must be what a fresh runtime (its programs listed) draws for
+ * that frame. */
+static void listed_programs_capped(void **st)
+{
+    (void)st;
+    static uint32_t pix[W * H], fresh[W * H];
+    static const char script[] =
+        "let f=(F if F else frame)\n"
+        "!window size=64;64\n"
+        "    !canvas3d viewpoint=0;0;60 fov=0.12\n"
+        "        for i in ..(f % 8) + 1\n"
+        "            let t=(i + f // 8) % 3\n"
+        "            if t == 2\n"
+        "                !light color=600 position=(i*3-10);5;25 focus=0 outer=0.1\n"
+        "            else\n"
+        "                !light color=300 position=(i*3-10);5;25 radius=t*2\n"
+        "        !sphere size=9 color=1 roughness=0.4\n"
+        "        !box size=40;40;1 position=0;0;-9 color=0.5\n";
+    char path[256];
+    snprintf(path, sizeof path, "%s/capped.fl", scratch);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(script, f);
+    fclose(f);
+    fl_options o = fl_default_options();
+    o.log = keep_log;
+    fl_runtime *rt = fl_new(&o);
+    assert_int_equal(fl_load(rt, path), 0);
+    for (int frame = 0; frame < 24; frame++) {
+        assert_int_equal(fl_step(rt), 0);
+        assert_int_equal(fl_draw_window(rt, 0, pix, W, H, W * 4), 0);
+        fl_runtime *one = fl_new(&o);
+        char value[16];
+        snprintf(value, sizeof value, "%d", frame);
+        assert_int_equal(fl_define(one, "F", value), 0);
+        assert_int_equal(fl_load(one, path), 0);
+        assert_int_equal(fl_step(one), 0);
+        assert_int_equal(fl_draw_window(one, 0, fresh, W, H, W * 4), 0);
+        fl_free(one);
+        int lit = 0;
+        for (int i = 0; i < W * H; i++) {
+            if (pix[i] != fresh[i])
+                fail_msg("frame %d: pixel (%d,%d) is %08x, fresh %08x", frame, i % W, i / W, pix[i], fresh[i]);
+            lit += chan(pix[i], 16) > 10;
+        }
+        assert_true(lit > 300);
+    }
+    fl_free(rt);
+    unlink(path);
+}
+
 /* Each render group's program has the code of only the kinds of light it
  * sees (its own and its ancestors'), and a canvas keeps 8 programs. Nine
  * groups in a 3x3 grid, two by two sharing max_lights but not their kinds
@@ -915,6 +1014,8 @@ int main(void)
         cmocka_unit_test(translucency_backlit),
         cmocka_unit_test(translucency_thin_edges),
         cmocka_unit_test(translucency_zero_unchanged),
+        cmocka_unit_test(listed_lights_as_looped),
+        cmocka_unit_test(listed_programs_capped),
         cmocka_unit_test(light_kinds_per_group),
         cmocka_unit_test(two_runtimes),
         cmocka_unit_test(unsupported_warned_once),
