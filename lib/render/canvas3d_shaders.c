@@ -66,6 +66,7 @@ const char canvas3d_impostor_vertex_source[] =
     "layout(location = 12) in vec4 material_properties;\n"
     "out vec3 world_position;\n"
     "flat out mat4 ray_matrix;\n"
+    "flat out mat4x3 model_affine;\n"
     "flat out mat3 normal_mat;\n"
     "flat out vec4 albedo;\n"
     "flat out vec4 emissive;\n"
@@ -104,6 +105,7 @@ const char canvas3d_impostor_vertex_source[] =
     "    world_position = p.xyz;\n"
     "    gl_Position = pv_matrix * p;\n"
     "    ray_matrix = inverse(model_matrix) * inverse_pv;\n"
+    "    model_affine = mat4x3(model_matrix);\n"
     "    normal_mat = normal_matrix;\n"
     "    albedo = material_albedo;\n"
     "    emissive = material_emissive;\n"
@@ -413,6 +415,7 @@ static const char mesh_main[] =
 static const char impostor_main[] =
     "in vec3 world_position;\n"
     "flat in mat4 ray_matrix;\n"
+    "flat in mat4x3 model_affine;\n"
     "flat in mat3 normal_mat;\n"
     "uniform mat4 pv_matrix;\n"
     "uniform mat4 inverse_pv;\n"
@@ -420,10 +423,14 @@ static const char impostor_main[] =
     "uniform int nsamples;\n"
     "uniform vec2 sample_offsets[8];\n"
     "vec2 to_ndc(vec2 frag) { return frag / viewport_size * 2.0 - 1.0; }\n"
-    "bool hit_at(vec2 frag, out vec3 o, out vec3 d, out float t) {\n"   /* the ray in model space */
+    /* the ray in model space, from o (near plane) to o + d (far plane);
+     * w: the homogeneous w of those two points (the model matrix is
+     * affine: the same as in world space) */
+    "bool hit_at(vec2 frag, out vec3 o, out vec3 d, out float t, out vec2 w) {\n"
     "    vec2 n = to_ndc(frag);\n"
     "    vec4 a = ray_matrix[0] * n.x + ray_matrix[1] * n.y + ray_matrix[3] - ray_matrix[2];\n"
     "    vec4 b = a + 2.0 * ray_matrix[2];\n"
+    "    w = vec2(a.w, b.w);\n"
     "    o = a.xyz / a.w;\n"
     "    d = b.xyz / b.w - o;\n"
     "    float qa = dot(d, d), qb = dot(o, d), qc = dot(o, o) - 1.0;\n"
@@ -434,6 +441,7 @@ static const char impostor_main[] =
     "void main() {\n"
     "    vec3 o, d;\n"
     "    float t;\n"
+    "    vec2 w;\n"
     "    vec2 frag = gl_FragCoord.xy;\n"
     "#if defined(BILLBOARD) && NSAMPLES > 1\n"
     "    vec2 n = to_ndc(frag);\n"
@@ -453,19 +461,20 @@ static const char impostor_main[] =
     "    }\n"
     "    if (mask == 0) discard;\n"
     "    frag = floor(frag) + (dot(m0, m0) <= dot(u0, u0) ? vec2(0.5) : first);\n"
-    "    if (!hit_at(frag, o, d, t)) discard;\n"
+    "    if (!hit_at(frag, o, d, t, w)) discard;\n"
     "    gl_SampleMask[0] = mask;\n"
     "#else\n"
-    "    bool centre = hit_at(frag, o, d, t);\n"
+    "    bool centre = hit_at(frag, o, d, t, w);\n"
     "    if (nsamples > 1) {\n"
     "        int mask = 0;\n"
     "        vec3 o2, d2;\n"
     "        float t2;\n"
+    "        vec2 w2;\n"
     "        for (int i = 0; i < nsamples; i++) {\n"
     "            vec2 f = floor(gl_FragCoord.xy) + sample_offsets[i];\n"
-    "            if (hit_at(f, o2, d2, t2)) {\n"
+    "            if (hit_at(f, o2, d2, t2, w2)) {\n"
     "                mask |= 1 << i;\n"
-    "                if (!centre) { centre = true; o = o2; d = d2; t = t2; frag = f; }\n"
+    "                if (!centre) { centre = true; o = o2; d = d2; t = t2; w = w2; frag = f; }\n"
     "            }\n"
     "        }\n"
     "        if (mask == 0) discard;\n"
@@ -474,15 +483,14 @@ static const char impostor_main[] =
     "        discard;\n"
     "    }\n"
     "#endif\n"
-    "    vec3 m = o + t * d;\n"   /* the same t on the world ray (the model matrix is affine) */
-    "    vec4 a = inverse_pv * vec4(to_ndc(frag), -1.0, 1.0), b = inverse_pv * vec4(to_ndc(frag), 1.0, 1.0);\n"
-    "    vec3 ro = a.xyz / a.w;\n"
-    "    vec3 wp = ro + t * (b.xyz / b.w - ro);\n"
-    "    vec4 clip = pv_matrix * vec4(wp, 1.0);\n"
-    "    float z = clip.z / clip.w;\n"
-    "    if (z > 1.0) discard;\n"
-    "    gl_FragDepth = z * 0.5 + 0.5;\n"
-    "    shade(wp, normal_mat * m);\n"
+    "    vec3 m = o + t * d;\n"
+    /* the depth: the point at t of the way from o to o + d is, in
+     * homogeneous coordinates, s of the way from near to far (NDC z =
+     * 2s - 1, window depth s), s = t w0 / ((1 - t) w1 + t w0) */
+    "    float s = t * w.x / ((1.0 - t) * w.y + t * w.x);\n"
+    "    if (s > 1.0) discard;\n"
+    "    gl_FragDepth = s;\n"
+    "    shade(model_affine * vec4(m, 1.0), normal_mat * m);\n"
     "}\n";
 
 /* Append to [out] (of [cap] bytes, NULL to measure) at *[n], as
