@@ -278,7 +278,8 @@ static const char light_body[] =
     "                if (pass == passes - 1) {\n"
     "                    vec3 H = normalize(V + L);\n"
     "                    float HdotV = clamp(dot(H, V), 0.0, 1.0);\n"
-    "                    vec3 F = F0 + (1.0 - F0) * pow(1.0 - HdotV, 5.0);\n"
+    "                    float f1 = 1.0 - HdotV, f2 = f1 * f1;\n"   /* (1 - HdotV)^5: llvmpipe makes pow() exp2(log2) */
+    "                    vec3 F = F0 + (1.0 - F0) * (f2 * f2 * f1);\n"
     "                    float NdotH = clamp(dot(N, H), 0.0, 1.0);\n"
     "                    float q = NdotH * NdotH * (a2 - 1.0) + 1.0;\n"
     "                    float G = GV * NdotL / (NdotL * (1.0 - k) + k);\n"
