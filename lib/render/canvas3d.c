@@ -654,6 +654,7 @@ void canvas3d_free(Canvas3D *c)
     free(c->tl);
     free(c->idata);
     free(c->lightbuf);
+    free(c->lightsort);
     free(c->pixels);
     for (int i = 0; i < 8; i++) buf_free(&c->cam_id[i]);
     buf_free(&c->name);

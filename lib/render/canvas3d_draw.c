@@ -220,8 +220,41 @@ static void dispatch(Canvas3D *c, Instance **list, int n, const C3dProgram *p, c
     draw_instances(c, list, nm, mesh, &p->mesh);
 }
 
+/* The slot (C3D_LIGHT_SLOTS) of light [d] (16 floats): its kind, a point
+ * light with a radius (the shader's test: light[2].w > 0) apart. */
+static int light_slot(const float *d)
+{
+    switch ((int)d[3]) {
+    case LIGHT_AMBIENT: return 0;
+    case LIGHT_DIRECTIONAL: return 1;
+    case LIGHT_POINT: return d[11] > 0 ? 3 : 2;
+    case LIGHT_SPOT: return 4;
+    default: return 5;
+    }
+}
+
+/* Sort the [nl] lights of c->lightbuf by slot, keeping their order within
+ * each (a counting sort), and set c->light_ends. */
+static void sort_lights(Canvas3D *c, int nl)
+{
+    int count[C3D_LIGHT_SLOTS] = {0}, at[C3D_LIGHT_SLOTS];
+    for (int i = 0; i < nl; i++) count[light_slot(c->lightbuf + (size_t)16 * i)]++;
+    for (int k = 0, sum = 0; k < C3D_LIGHT_SLOTS; k++) {
+        at[k] = sum;
+        sum += count[k];
+        c->light_ends[k] = sum;
+    }
+    for (int i = 0; i < nl; i++) {
+        const float *d = c->lightbuf + (size_t)16 * i;
+        memcpy(c->lightsort + (size_t)16 * at[light_slot(d)]++, d, 64);
+    }
+    float *t = c->lightbuf;
+    c->lightbuf = c->lightsort;
+    c->lightsort = t;
+}
+
 /* The camera's uniforms of [sh] (and the impostor's view of the target). */
-static void set_uniforms(Canvas3D *c, const C3dShader *sh, const C3dProgram *p, const Camera *cam, int nl)
+static void set_uniforms(Canvas3D *c, const C3dShader *sh, const C3dProgram *p, const Camera *cam)
 {
     if (!sh->prog) return;
     glUseProgram(sh->prog);
@@ -237,7 +270,7 @@ static void set_uniforms(Canvas3D *c, const C3dShader *sh, const C3dProgram *p, 
     glUniform3f(sh->u_fog_color, (float)cam->fog_color[0], (float)cam->fog_color[1], (float)cam->fog_color[2]);
     glUniform1i(sh->u_monochrome, cam->monochrome);
     glUniform3f(sh->u_tint, (float)cam->tint[0], (float)cam->tint[1], (float)cam->tint[2]);
-    glUniform1i(sh->u_nlights, nl);
+    glUniform1iv(sh->u_light_ends, C3D_LIGHT_SLOTS, c->light_ends);
     glBindBufferBase(GL_UNIFORM_BUFFER, 1, p->ubo);
     if (sh->u_inverse_pv < 0) return;
     M4 inv;
@@ -299,19 +332,20 @@ static void group_state(const Group *g)
 }
 
 /* Make [p]'s translucency programs and give them the camera's uniforms
- * and the group's [nl] lights (already in p->ubo).
+ * and the group's lights (already in p->ubo, their slots' ends in
+ * c->light_ends).
  *   errors: false when they cannot be made (said once through the skip
  *           log: translucent instances are then drawn as before, opaque
  *           in their light). */
-static bool translucency_ready(Canvas3D *c, C3dProgram *p, const Camera *cam, int nl)
+static bool translucency_ready(Canvas3D *c, C3dProgram *p, const Camera *cam)
 {
     char err[600];
     if (!c3d_program_translucency(p, err, sizeof err)) {
         if (c->env) skiplog_note(c->env->skips, "canvas3d", "translucency= (no shader program: drawn opaque)");
         return false;
     }
-    set_uniforms(c, &p->backface, p, cam, nl);
-    set_uniforms(c, &p->translucent, p, cam, nl);
+    set_uniforms(c, &p->backface, p, cam);
+    set_uniforms(c, &p->translucent, p, cam);
     return true;
 }
 
@@ -354,6 +388,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     if (c->cap_lightbuf < g->max_lights * 16) {
         c->cap_lightbuf = g->max_lights * 16;
         c->lightbuf = mem_realloc_array(c->lightbuf, (size_t)c->cap_lightbuf, sizeof(float));
+        c->lightsort = mem_realloc_array(c->lightsort, (size_t)c->cap_lightbuf, sizeof(float));
     }
     for (int k = gi; k >= 0 && nl < g->max_lights; k = c->groups[k].parent)
         for (int l = 0; l < c->nlights && nl < g->max_lights; l++)
@@ -361,6 +396,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
                 memcpy(c->lightbuf + (size_t)16 * nl++, c->lights[l].data, 64);
                 kinds |= 1u << (int)c->lights[l].data[3];
             }
+    sort_lights(c, nl);
     C3dFragSpec key;
     memset(&key, 0, sizeof key);
     key.max_lights = g->max_lights;
@@ -369,9 +405,9 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     if (!p) return;
     glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
     if (nl) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)nl * 64, c->lightbuf);
-    set_uniforms(c, &p->mesh, p, cam, nl);
-    set_uniforms(c, &p->impostor, p, cam, nl);
-    set_uniforms(c, &p->billboard, p, cam, nl);
+    set_uniforms(c, &p->mesh, p, cam);
+    set_uniforms(c, &p->impostor, p, cam);
+    set_uniforms(c, &p->billboard, p, cam);
 
     group_state(g);
     glDepthMask(GL_TRUE);
@@ -379,7 +415,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     bool see_through = false;
     for (int i = 0; i < n && !see_through; i++) see_through = list[i]->mat.translucency > 0;
     if (see_through) {
-        see_through = translucency_ready(c, p, cam, nl);
+        see_through = translucency_ready(c, p, cam);
         if (c->cap_tl < n) {
             c->cap_tl = 2 * n;
             c->tl = mem_realloc_array(c->tl, (size_t)c->cap_tl, sizeof *c->tl);

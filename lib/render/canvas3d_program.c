@@ -66,7 +66,7 @@ static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int va
     glUniformBlockBinding(p, glGetUniformBlockIndex(p, "Lights"), 1);
 #define U(name) sh->u_##name = glGetUniformLocation(p, #name)
     U(view_position); U(view_focus); U(orthographic); U(fog_min); U(fog_max); U(fog_curve);
-    U(fog_color); U(monochrome); U(tint); U(nlights); U(inverse_pv); U(viewport_size); U(nsamples);
+    U(fog_color); U(monochrome); U(tint); U(light_ends); U(inverse_pv); U(viewport_size); U(nsamples);
     U(sample_offsets); U(billboard);
 #undef U
     sh->u_pv = glGetUniformLocation(p, "pv_matrix");

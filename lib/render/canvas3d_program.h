@@ -18,7 +18,7 @@
 typedef struct C3dShader {
     unsigned prog;   /* GL name, 0 when it could not be made */
     int u_pv, u_view_position, u_view_focus, u_orthographic, u_fog_min, u_fog_max, u_fog_curve, u_fog_color,
-        u_monochrome, u_tint, u_nlights;
+        u_monochrome, u_tint, u_light_ends;
     int u_inverse_pv, u_viewport_size, u_nsamples, u_sample_offsets, u_billboard;   /* impostors only */
 } C3dShader;
 

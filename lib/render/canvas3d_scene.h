@@ -90,7 +90,9 @@ struct Canvas3D {
     bool program_noted;
     int samples_used;                     /* MSAA samples of this frame's target (0: none) */
     float *idata; size_t cap_idata;       /* instance floats of one dispatch */
-    float *lightbuf; int cap_lightbuf;    /* mat4s of one group */
+    float *lightbuf; int cap_lightbuf;    /* mat4s of one group, sorted by slot (C3D_LIGHT_SLOTS) */
+    float *lightsort;                     /* scratch of cap_lightbuf floats for the sort */
+    int light_ends[C3D_LIGHT_SLOTS];      /* where each slot's lights end in lightbuf */
     float *pixels; size_t cap_pixels;     /* read-back framebuffer */
     bool have_pixels;                     /* [pixels] hold the last canvas3d_draw's picture */
     SrgbTable srgb;                       /* linear 0..1 to sRGB 0..255 */

@@ -127,7 +127,7 @@ static const char fragment_head[] =
     "uniform vec3 fog_color;\n"
     "uniform bool monochrome;\n"
     "uniform vec3 tint;\n"
-    "uniform int nlights;\n"
+    "uniform int light_ends[6];\n"
     "layout(std140) uniform Lights { mat4 lights[MAX_LIGHTS]; };\n"
     "\n"
     "float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }\n"
@@ -529,14 +529,28 @@ size_t canvas3d_fragment_source(char *out, size_t cap, const C3dFragSpec *spec)
             spec->nsamples < 1 ? 1 : spec->nsamples > 8 ? 8 : spec->nsamples);
     put(out, cap, &n, "%s", fragment_head);
     int nlist = spec->nlist > C3D_LIST_MAX ? C3D_LIST_MAX : spec->nlist;
-    if (nlist <= 0) {
+    /* the slots' kinds (C3D_LIGHT_SLOTS), and the #if of each */
+    static const struct {
+        int type;
+        const char *two, *kind;
+    } slot[C3D_LIGHT_SLOTS] = {{1, "false", "1"},
+                               {2, "false", "LIGHTS_DIRECTIONAL"},
+                               {3, "false", "LIGHTS_POINT"},
+                               {3, "true", "LIGHTS_POINT"},
+                               {4, "false", "LIGHTS_SPOT"},
+                               {5, "true", "LIGHTS_LINE"}};
+    for (int k = 0; nlist <= 0 && k < C3D_LIGHT_SLOTS; k++) {
+        char start[24] = "0";
+        if (k) snprintf(start, sizeof start, "light_ends[%d]", k - 1);
         put(out, cap, &n,
-            "        for (int i = 0; i < nlights; i++) {\n"
+            "#if %s\n"
+            "        for (int i = %s; i < light_ends[%d]; i++) {\n"
             "            mat4 light = lights[i];\n"
-            "            int type = int(light[0].w);\n"
-            "            bool two = type == 5 || (type == 3 && light[2].w > 0.0);\n"
-            "%s        }\n",
-            light_body);
+            "            const int type = %d;\n"
+            "            const bool two = %s;\n"
+            "%s        }\n"
+            "#endif\n",
+            slot[k].kind, start, k, slot[k].type, slot[k].two, light_body);
     }
     for (int i = 0; i < nlist; i++)
         put(out, cap, &n,

@@ -49,6 +49,14 @@ enum { C3D_FRAG_MESH, C3D_FRAG_IMPOSTOR, C3D_FRAG_BACKFACE, C3D_FRAG_TRANSLUCENT
  * the uniforms' values); monochrome. */
 enum { C3D_ORTHOGRAPHIC = 1, C3D_FOG = 2, C3D_MONOCHROME = 4 };
 
+/* A group's lights are uploaded sorted by what their code is (stable
+ * within each): ambient, directional, point, point with a radius (two
+ * passes), spot, line (two passes), these 6 slots; the uniform
+ * `int light_ends[C3D_LIGHT_SLOTS]` gives where each slot's lights end
+ * (cumulative), and the looping shader runs one loop per slot, its code
+ * only that of the slot's kind. */
+#define C3D_LIGHT_SLOTS 6
+
 /* At most this many lights are compiled in one by one (C3dFragSpec.list). */
 #define C3D_LIST_MAX 8
 /* A listed light's code: its LIGHT_ type, plus C3D_TWO_PASS when it is
@@ -66,8 +74,8 @@ enum { C3D_ORTHOGRAPHIC = 1, C3D_FOG = 2, C3D_MONOCHROME = 4 };
  *               [nsamples] (clamped to 1..8; 1: no sample mask) of
  *               sample_offsets; the others ignore it;
  *   camera      C3D_* camera bits above;
- *   nlist       0: the lights are read in a loop over the uniform
- *               nlights, each dispatched on its type; 1..C3D_LIST_MAX:
+ *   nlist       0: the lights are read in one loop per slot (above),
+ *               over the uniform light_ends; 1..C3D_LIST_MAX:
  *               exactly [nlist] lights, list[i] the code of lights[i]
  *               (C3D_TWO_PASS), each compiled in as straight code with
  *               its type known, as llvmpipe runs a loop over a uniform

@@ -42,7 +42,7 @@
     X(glGetProgramiv) X(glGetRenderbufferParameteriv) X(glGetShaderInfoLog) X(glGetShaderiv) X(glGetString) X(glGetUniformBlockIndex) \
     X(glGetUniformLocation) X(glLinkProgram) X(glPixelStorei) X(glReadPixels) X(glRenderbufferStorage) \
     X(glRenderbufferStorageMultisample) X(glShaderSource) X(glTexImage2D) X(glTexParameteri) X(glUniform1f) \
-    X(glUniform1i) X(glUniform2f) X(glUniform2fv) X(glUniform3f) X(glUniformBlockBinding) X(glUniformMatrix4fv) \
+    X(glUniform1i) X(glUniform1iv) X(glUniform2f) X(glUniform2fv) X(glUniform3f) X(glUniformBlockBinding) X(glUniformMatrix4fv) \
     X(glUseProgram) X(glVertexAttribDivisor) X(glVertexAttribPointer) X(glViewport)
 
 /* epoxy's own functions. */
@@ -210,6 +210,8 @@ bool gl_lib_ready(char *why, size_t cap);
 #define glUniform1f (*FL_GL->p_glUniform1f)
 #undef glUniform1i
 #define glUniform1i (*FL_GL->p_glUniform1i)
+#undef glUniform1iv
+#define glUniform1iv (*FL_GL->p_glUniform1iv)
 #undef glUniform2f
 #define glUniform2f (*FL_GL->p_glUniform2f)
 #undef glUniform2fv
