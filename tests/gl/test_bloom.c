@@ -49,11 +49,12 @@ static void keep_log(void *ctx, int kind, const char *line)
     snprintf(logged + n, sizeof logged - n, "%s\n", line);
 }
 
-/* Run one frame of [script] and draw its window (W x H) into [pix]. */
-static void draw(const char *script, uint32_t *pix)
+/* A new runtime (logging into `logged`, emptied) with [script] written
+ * to scratch/[name] and loaded. */
+static fl_runtime *load_script(const char *name, const char *script)
 {
     char path[256];
-    snprintf(path, sizeof path, "%s/main.fl", scratch);
+    snprintf(path, sizeof path, "%s/%s", scratch, name);
     FILE *f = fopen(path, "w");
     assert_non_null(f);
     fputs(script, f);
@@ -63,6 +64,13 @@ static void draw(const char *script, uint32_t *pix)
     o.log = keep_log;
     fl_runtime *rt = fl_new(&o);
     assert_int_equal(fl_load(rt, path), 0);
+    return rt;
+}
+
+/* Run one frame of [script] and draw its window (W x H) into [pix]. */
+static void draw(const char *script, uint32_t *pix)
+{
+    fl_runtime *rt = load_script("main.fl", script);
     assert_int_equal(fl_step(rt), 0);
     assert_int_equal(fl_draw_window(rt, 0, pix, W, H, W * 4), 0);
     assert_null(strstr(logged, "no OpenGL"));
@@ -153,16 +161,7 @@ static void dark_scene_unchanged(void **st)
     uint32_t a[W * H], b[W * H];
     draw(with, a);
     /* the unbloomed window through the same path (a !group: composited as is) */
-    char path[256];
-    snprintf(path, sizeof path, "%s/main.fl", scratch);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs(without, f);
-    fclose(f);
-    fl_options o = fl_default_options();
-    o.log = keep_log;
-    fl_runtime *rt = fl_new(&o);
-    assert_int_equal(fl_load(rt, path), 0);
+    fl_runtime *rt = load_script("main.fl", without);
     assert_int_equal(fl_step(rt), 0);
     assert_int_equal(fl_draw_window(rt, 0, b, W, H, W * 4), 0);
     fl_free(rt);
@@ -210,19 +209,11 @@ static void canvas3d_light_each_frame(void **st)
     static uint32_t pix[W * H], fresh[W * H], first[W * H];
     char path[256], one[256];
     snprintf(path, sizeof path, "%s/moving.fl", scratch);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs("!window size=64;64\n"
-          "    !bloom radius=8\n"
-          "        !canvas3d\n"
-          "            !light color=4\n"
-          "            !box size=12 position=(frame*10-10);0;0 color=1\n",
-          f);
-    fclose(f);
-    fl_options o = fl_default_options();
-    o.log = keep_log;
-    fl_runtime *rt = fl_new(&o);
-    assert_int_equal(fl_load(rt, path), 0);
+    fl_runtime *rt = load_script("moving.fl", "!window size=64;64\n"
+                                              "    !bloom radius=8\n"
+                                              "        !canvas3d\n"
+                                              "            !light color=4\n"
+                                              "            !box size=12 position=(frame*10-10);0;0 color=1\n");
     for (int frame = 0; frame < 3; frame++) {
         assert_int_equal(fl_step(rt), 0);
         for (int twice = 0; twice < 2; twice++) {

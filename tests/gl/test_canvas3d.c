@@ -57,20 +57,40 @@ static void keep_log(void *ctx, int kind, const char *line)
     snprintf(logged + n, sizeof logged - n, "%s\n", line);
 }
 
-/* Run one frame of [script] and draw its window (W x H) into [pix]. */
-static fl_runtime *draw(const char *script, uint32_t *pix)
+/* A new runtime (logging into `logged`, emptied) with scratch/[name]
+ * loaded: [script] written there first unless NULL, and the name F bound
+ * to the value text [f] first unless NULL. */
+static fl_runtime *load_script(const char *name, const char *script, const char *f)
 {
     char path[256];
-    snprintf(path, sizeof path, "%s/main.fl", scratch);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs(script, f);
-    fclose(f);
+    snprintf(path, sizeof path, "%s/%s", scratch, name);
+    if (script) {
+        FILE *file = fopen(path, "w");
+        assert_non_null(file);
+        fputs(script, file);
+        fclose(file);
+    }
     logged[0] = '\0';
     fl_options o = fl_default_options();
     o.log = keep_log;
     fl_runtime *rt = fl_new(&o);
+    if (f) assert_int_equal(fl_define(rt, "F", f), 0);
     assert_int_equal(fl_load(rt, path), 0);
+    return rt;
+}
+
+/* The path of scratch/[name] removed. */
+static void remove_script(const char *name)
+{
+    char path[256];
+    snprintf(path, sizeof path, "%s/%s", scratch, name);
+    unlink(path);
+}
+
+/* Run one frame of [script] and draw its window (W x H) into [pix]. */
+static fl_runtime *draw(const char *script, uint32_t *pix)
+{
+    fl_runtime *rt = load_script("main.fl", script, NULL);
     assert_int_equal(fl_step(rt), 0);
     assert_int_equal(fl_draw_window(rt, 0, pix, W, H, W * 4), 0);
     assert_null(strstr(logged, "no OpenGL"));
@@ -203,22 +223,14 @@ static void camera_kinds_per_frame(void **st)
 {
     (void)st;
     uint32_t pix[W * H];
-    char path[256];
-    snprintf(path, sizeof path, "%s/kinds.fl", scratch);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs("!window size=64;64\n"
-          "    !canvas3d orthographic=true width=64 viewpoint=0;0;100 far=1000 monochrome=(frame == 1)"
-          " tint=((1;0.5;0.25) if frame == 1 else 1) fog_color=1;0;0 fog_min=50 fog_max=(150 if frame == 2 else 0)\n"
-          "        !light color=1\n"
-          "        !box size=20 color=0.5;0.25;1\n",
-          f);
-    fclose(f);
-    logged[0] = '\0';
-    fl_options o = fl_default_options();
-    o.log = keep_log;
-    fl_runtime *rt = fl_new(&o);
-    assert_int_equal(fl_load(rt, path), 0);
+    fl_runtime *rt = load_script(
+        "kinds.fl",
+        "!window size=64;64\n"
+        "    !canvas3d orthographic=true width=64 viewpoint=0;0;100 far=1000 monochrome=(frame == 1)"
+        " tint=((1;0.5;0.25) if frame == 1 else 1) fog_color=1;0;0 fog_min=50 fog_max=(150 if frame == 2 else 0)\n"
+        "        !light color=1\n"
+        "        !box size=20 color=0.5;0.25;1\n",
+        NULL);
     double luma = (1 - F0) * (0.2126 * 0.5 + 0.7152 * 0.25 + 0.0722 * 1);
     for (int frame = 0; frame < 4; frame++) {
         assert_int_equal(fl_step(rt), 0);
@@ -234,7 +246,7 @@ static void camera_kinds_per_frame(void **st)
     }
     assert_null(strstr(logged, "compile"));
     fl_free(rt);
-    unlink(path);
+    remove_script("kinds.fl");
 }
 
 /* Depth: a box behind a nearer one is hidden whatever the tree order; a
@@ -822,24 +834,13 @@ static void listed_programs_capped(void **st)
         "                !light color=300 position=(i*3-10);5;25 radius=t*2\n"
         "        !sphere size=9 color=1 roughness=0.4\n"
         "        !box size=40;40;1 position=0;0;-9 color=0.5\n";
-    char path[256];
-    snprintf(path, sizeof path, "%s/capped.fl", scratch);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs(script, f);
-    fclose(f);
-    fl_options o = fl_default_options();
-    o.log = keep_log;
-    fl_runtime *rt = fl_new(&o);
-    assert_int_equal(fl_load(rt, path), 0);
+    fl_runtime *rt = load_script("capped.fl", script, NULL);
     for (int frame = 0; frame < 24; frame++) {
         assert_int_equal(fl_step(rt), 0);
         assert_int_equal(fl_draw_window(rt, 0, pix, W, H, W * 4), 0);
-        fl_runtime *one = fl_new(&o);
         char value[16];
         snprintf(value, sizeof value, "%d", frame);
-        assert_int_equal(fl_define(one, "F", value), 0);
-        assert_int_equal(fl_load(one, path), 0);
+        fl_runtime *one = load_script("capped.fl", NULL, value);
         assert_int_equal(fl_step(one), 0);
         assert_int_equal(fl_draw_window(one, 0, fresh, W, H, W * 4), 0);
         fl_free(one);
@@ -852,7 +853,7 @@ static void listed_programs_capped(void **st)
         assert_true(lit > 300);
     }
     fl_free(rt);
-    unlink(path);
+    remove_script("capped.fl");
 }
 
 /* Each render group's program has the code of only the kinds of light it
