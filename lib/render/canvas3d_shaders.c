@@ -127,7 +127,7 @@ static const char fragment_head[] =
     "uniform vec3 fog_color;\n"
     "uniform bool monochrome;\n"
     "uniform vec3 tint;\n"
-    "uniform int light_ends[6];\n"
+    "uniform int light_ends[LIGHT_SLOTS];\n"
     "layout(std140) uniform Lights { mat4 lights[MAX_LIGHTS]; };\n"
     "\n"
     "float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }\n"
@@ -179,9 +179,10 @@ static const char fragment_head[] =
     "        float GV = NdotV / (NdotV * (1.0 - k) + k);\n";
 
 /* One light's part of shade(): in scope are `light` (its mat4), `type`
- * (its LIGHT_ type) and `two` (lit in two passes). canvas3d_fragment_source
- * puts it in the loop over the lights, or once per listed light in a
- * block of its own with type and two constant (C3dFragSpec). */
+ * (its LIGHT_ type) and `two` (lit in two passes), type and two constant.
+ * canvas3d_fragment_source puts it in the loop of each slot of lights
+ * (C3D_LIGHT_SLOTS), or once per listed light in a block of its own
+ * (C3dFragSpec). */
 static const char light_body[] =
     "            vec3 light_color = light[0].xyz;\n"
     "            if (type == 1) {\n"
@@ -517,10 +518,10 @@ size_t canvas3d_fragment_source(char *out, size_t cap, const C3dFragSpec *spec)
         "#version 330 core\n%s#define MAX_LIGHTS %d\n"
         "#define LIGHTS_DIRECTIONAL %u\n#define LIGHTS_POINT %u\n"
         "#define LIGHTS_SPOT %u\n#define LIGHTS_LINE %u\n"
-        "#define ORTHOGRAPHIC %d\n#define FOG %d\n#define MONOCHROME %d\n",
+        "#define ORTHOGRAPHIC %d\n#define FOG %d\n#define MONOCHROME %d\n#define LIGHT_SLOTS %d\n",
         impostor ? "#extension GL_ARB_sample_shading : require\n" : "", spec->max_lights, KIND(LIGHT_DIRECTIONAL),
         KIND(LIGHT_POINT), KIND(LIGHT_SPOT), KIND(LIGHT_LINE), (camera & C3D_ORTHOGRAPHIC) != 0,
-        (camera & C3D_FOG) != 0, (camera & C3D_MONOCHROME) != 0);
+        (camera & C3D_FOG) != 0, (camera & C3D_MONOCHROME) != 0, C3D_LIGHT_SLOTS);
 #undef KIND
     if (variant == C3D_FRAG_BACKFACE) put(out, cap, &n, "#define BACKFACE\n");
     if (variant == C3D_FRAG_TRANSLUCENT) put(out, cap, &n, "#define TRANSLUCENT\n%s", translucency_functions);

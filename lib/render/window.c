@@ -130,7 +130,8 @@ static cairo_surface_t *new_picture(Renderer *r, int w, int h)
     for (int i = r->nspare - 1; i >= 0; i--) {
         cairo_surface_t *s = r->spare[i];
         if (cairo_image_surface_get_width(s) != w || cairo_image_surface_get_height(s) != h) continue;
-        r->spare[i] = r->spare[--r->nspare];
+        memmove(r->spare + i, r->spare + i + 1, (size_t)(r->nspare - i - 1) * sizeof *r->spare);
+        r->nspare--;
         cairo_surface_flush(s);
         memset(cairo_image_surface_get_data(s), 0, (size_t)cairo_image_surface_get_stride(s) * (size_t)h);
         cairo_surface_mark_dirty(s);
@@ -140,16 +141,23 @@ static cairo_surface_t *new_picture(Renderer *r, int w, int h)
 }
 
 /* Release picture [s] (new_picture's), keeping it for reuse when nothing
- * else holds it (an encoder may) and it is sound; NULL is a no-op. */
+ * else holds it (an encoder may) and it is sound; the oldest kept one
+ * makes room (so that the sizes of a window that changed size age out);
+ * NULL is a no-op. */
 static void drop_picture(Renderer *r, cairo_surface_t *s)
 {
     if (!s) return;
-    if (r->nspare < SPARE_PICTURES && cairo_surface_status(s) == CAIRO_STATUS_SUCCESS &&
-        cairo_surface_get_reference_count(s) == 1 && cairo_image_surface_get_data(s)) {
-        r->spare[r->nspare++] = s;
+    if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS || cairo_surface_get_reference_count(s) != 1 ||
+        !cairo_image_surface_get_data(s)) {
+        cairo_surface_destroy(s);
         return;
     }
-    cairo_surface_destroy(s);
+    if (r->nspare == SPARE_PICTURES) {
+        cairo_surface_destroy(r->spare[0]);
+        memmove(r->spare, r->spare + 1, (SPARE_PICTURES - 1) * sizeof *r->spare);
+        r->nspare--;
+    }
+    r->spare[r->nspare++] = s;
 }
 
 /* How the children of a window-level `!transform` are placed on its

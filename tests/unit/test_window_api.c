@@ -226,7 +226,8 @@ static void test_draw_window_pixels_and_record(void **st)
 /* A window's pictures (a !record's, a !transform's, a canvas's) are kept
  * from frame to frame for reuse: each must start transparent again. Frame
  * 0 draws a red square at the top left, frame 1 one at the bottom right;
- * frame 1's picture must not keep frame 0's square, at either depth. */
+ * frame 1's picture must not keep frame 0's square, at either depth; nor
+ * a later picture of the same size when sizes alternate. */
 static void test_draw_window_pictures_reused(void **st)
 {
     (void)st;
@@ -244,6 +245,20 @@ static void test_draw_window_pictures_reused(void **st)
         bool first = frame == 0;
         assert_int_equal(at(pix, STRIDE, 20, 20), first ? 0xffff0000u : 0u);
         assert_int_equal(at(pix, STRIDE, 70, 50), first ? 0u : 0xffff0000u);
+    }
+    fl_free(rt);
+    /* pictures of two sizes in turn: the square of frame 0 (a 100x80
+     * picture) must not come back in frame 2 (a 100x80 picture again,
+     * after a 50x40 one) */
+    rt = load("!window size=100;80\n"
+              "    !record size=((100;80) if frame % 2 == 0 else (50;40))\n"
+              "        !canvas\n"
+              "            !rect point=10;10 size=(20;20 if frame == 0 else 0) fill=true color=1;0;0\n",
+              true);
+    for (int frame = 0; frame < 4; frame++) {
+        assert_int_equal(fl_step(rt), 0);
+        assert_int_equal(fl_draw_window(rt, 0, pix, W, H, STRIDE), 0);
+        assert_int_equal(at(pix, STRIDE, 20, 20), frame == 0 ? 0xffff0000u : 0u);
     }
     free(pix);
     fl_free(rt);
