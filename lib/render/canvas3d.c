@@ -458,6 +458,7 @@ static int render(Canvas3D *c, const Camera *cam, cairo_surface_t *pic, char *er
     glClearDepth(1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     c->samples_used = used;
+    c->frames++;
     if (used > 0) glEnable(GL_MULTISAMPLE);
     /* instances by group */
     if (c->cap_order < 2 * c->ninst) {

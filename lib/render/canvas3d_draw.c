@@ -36,9 +36,9 @@ static unsigned camera_kind(const Camera *cam)
 
 /* The program for [key] (its camera, sample count and light list filled
  * in here from [cam], the frame and the [nl] lights of c->lightbuf),
- * made when not kept. A canvas compiles at most C3D_LISTED_MAX programs
- * with a list of lights; after that (lights that change from frame to
- * frame) lights without a kept program are looped over instead. */
+ * made when not kept. A canvas compiles C3D_LISTED_MAX programs with a
+ * list of lights at once and then one more every C3D_LISTED_FRAMES
+ * frames; lights without a kept program are looped over meanwhile. */
 static C3dProgram *program_for(Canvas3D *c, C3dFragSpec *key, const Camera *cam, int nl, char *err, size_t errlen)
 {
     key->nsamples = tested_samples(c);
@@ -52,6 +52,10 @@ static C3dProgram *program_for(Canvas3D *c, C3dFragSpec *key, const Camera *cam,
             bool two = type == LIGHT_LINE || (type == LIGHT_POINT && d[11] > 0);
             key->list[i] = (unsigned char)(type | (two ? C3D_TWO_PASS : 0));
         }
+    }
+    if (c->listed_made > 0 && c->frames - c->listed_at >= C3D_LISTED_FRAMES) {
+        c->listed_made--;
+        c->listed_at = c->frames;
     }
     for (int round = 0; round < 2; round++) {
         for (int i = 0; i < c->nprog; i++)

@@ -37,9 +37,13 @@ typedef struct Instance {
 /* Programs kept by a canvas (one per max_lights and set of light kinds its
  * render groups use). */
 #define C3D_PROGRAMS 8
-/* How many programs with their lights listed (C3dFragSpec.nlist) one
- * canvas compiles before it makes only looping ones. */
+/* Programs with their lights listed (C3dFragSpec.nlist) that one canvas
+ * may compile at once (each some tens of milliseconds of compiling), and
+ * the frames after which it may compile one more: a scene whose lights
+ * change every frame soon has its lights looped over, and a long live
+ * session is not left looping for good. */
 #define C3D_LISTED_MAX 16
+#define C3D_LISTED_FRAMES 30
 
 typedef struct Light {
     float data[16];   /* the shader's mat4 (canvas3d_shaders.h) */
@@ -74,7 +78,8 @@ struct Canvas3D {
     MeshCache *meshes;
     C3dProgram prog[C3D_PROGRAMS];   /* by C3dFragSpec; when full, */
     int nprog, prog_turn;            /* each new one replaces the next in turn */
-    int listed_made;                 /* programs made with a list of lights (C3D_LISTED_MAX) */
+    int listed_made;                 /* listed programs made, less one per C3D_LISTED_FRAMES frames */
+    long frames, listed_at;          /* frames drawn; the frame listed_made last went down */
     GLuint instance_vbo;
     /* the frame's scene, reused across frames */
     Group *groups; int ngroups, cap_groups;

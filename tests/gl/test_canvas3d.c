@@ -812,12 +812,13 @@ static void listed_lights_as_looped(void **st)
     assert_true(lit > 1000);
 }
 
-/* A canvas compiles at most 16 programs with their lights listed; lights
- * that change from frame to frame after that are looped over. 24 frames,
- * each with its own list (1 to 8 point lights with and without a radius
- * and spots, in an order that shifts every 8 frames): every frame's
- * picture must be what a fresh runtime (its programs listed) draws for
- * that frame. */
+/* A canvas compiles 16 programs with their lights listed at once, then
+ * one more every 30 frames; lights without a program meanwhile are looped
+ * over. 40 frames, each with its own list (1 to 8 point lights with and
+ * without a radius and spots, in an order that shifts every 8 frames):
+ * past the 16 (frames 16 to 28 loop, frame 29 lists again, then loop),
+ * every frame's picture must be what a fresh runtime (its programs
+ * listed) draws for that frame. */
 static void listed_programs_capped(void **st)
 {
     (void)st;
@@ -835,7 +836,7 @@ static void listed_programs_capped(void **st)
         "        !sphere size=9 color=1 roughness=0.4\n"
         "        !box size=40;40;1 position=0;0;-9 color=0.5\n";
     fl_runtime *rt = load_script("capped.fl", script, NULL);
-    for (int frame = 0; frame < 24; frame++) {
+    for (int frame = 0; frame < 40; frame++) {
         assert_int_equal(fl_step(rt), 0);
         assert_int_equal(fl_draw_window(rt, 0, pix, W, H, W * 4), 0);
         char value[16];
