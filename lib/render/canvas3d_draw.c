@@ -34,6 +34,19 @@ static unsigned camera_kind(const Camera *cam)
            (cam->monochrome ? C3D_MONOCHROME : 0u);
 }
 
+/* The slot (C3D_LIGHT_SLOTS) of light [d] (16 floats): its kind, a point
+ * light with a radius (the shader's test: light[2].w > 0) apart. */
+static int light_slot(const float *d)
+{
+    switch ((int)d[3]) {
+    case LIGHT_AMBIENT: return 0;
+    case LIGHT_DIRECTIONAL: return 1;
+    case LIGHT_POINT: return d[11] > 0 ? 3 : 2;
+    case LIGHT_SPOT: return 4;
+    default: return 5;
+    }
+}
+
 /* The program for [key] (its camera, sample count and light list filled
  * in here from [cam], the frame and the [nl] lights of c->lightbuf),
  * made when not kept. A canvas compiles C3D_LISTED_MAX programs with a
@@ -46,12 +59,7 @@ static C3dProgram *program_for(Canvas3D *c, C3dFragSpec *key, const Camera *cam,
     key->nlist = 0;
     if (nl > 0 && nl <= C3D_LIST_MAX) {
         key->nlist = nl;
-        for (int i = 0; i < nl; i++) {
-            const float *d = c->lightbuf + (size_t)16 * i;
-            int type = (int)d[3];   /* the shader's test of a radius: light[2].w > 0 */
-            bool two = type == LIGHT_LINE || (type == LIGHT_POINT && d[11] > 0);
-            key->list[i] = (unsigned char)(type | (two ? C3D_TWO_PASS : 0));
-        }
+        for (int i = 0; i < nl; i++) key->list[i] = c3d_slot_codes[light_slot(c->lightbuf + (size_t)16 * i)];
     }
     if (c->listed_made > 0 && c->frames - c->listed_at >= C3D_LISTED_FRAMES) {
         c->listed_made--;
@@ -222,19 +230,6 @@ static void dispatch(Canvas3D *c, Instance **list, int n, const C3dProgram *p, c
     glUniform1i(p->impostor.u_billboard, 0);
     draw_instances(c, boxed, nx, mesh_cache_get(c->meshes, &box), &p->impostor);
     draw_instances(c, list, nm, mesh, &p->mesh);
-}
-
-/* The slot (C3D_LIGHT_SLOTS) of light [d] (16 floats): its kind, a point
- * light with a radius (the shader's test: light[2].w > 0) apart. */
-static int light_slot(const float *d)
-{
-    switch ((int)d[3]) {
-    case LIGHT_AMBIENT: return 0;
-    case LIGHT_DIRECTIONAL: return 1;
-    case LIGHT_POINT: return d[11] > 0 ? 3 : 2;
-    case LIGHT_SPOT: return 4;
-    default: return 5;
-    }
 }
 
 /* Sort the [nl] lights of c->lightbuf by slot, keeping their order within

@@ -495,6 +495,9 @@ static const char impostor_main[] =
     "    shade(model_affine * vec4(m, 1.0), normal_mat * m);\n"
     "}\n";
 
+const unsigned char c3d_slot_codes[C3D_LIGHT_SLOTS] = {
+    LIGHT_AMBIENT, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_POINT | C3D_TWO_PASS, LIGHT_SPOT, LIGHT_LINE | C3D_TWO_PASS};
+
 /* Append to [out] (of [cap] bytes, NULL to measure) at *[n], as
  * snprintf would; *[n] counts what the whole text needs. */
 static void put(char *out, size_t cap, size_t *n, const char *fmt, ...)
@@ -530,16 +533,9 @@ size_t canvas3d_fragment_source(char *out, size_t cap, const C3dFragSpec *spec)
             spec->nsamples < 1 ? 1 : spec->nsamples > 8 ? 8 : spec->nsamples);
     put(out, cap, &n, "%s", fragment_head);
     int nlist = spec->nlist > C3D_LIST_MAX ? C3D_LIST_MAX : spec->nlist;
-    /* the slots' kinds (C3D_LIGHT_SLOTS), and the #if of each */
-    static const struct {
-        int type;
-        const char *two, *kind;
-    } slot[C3D_LIGHT_SLOTS] = {{1, "false", "1"},
-                               {2, "false", "LIGHTS_DIRECTIONAL"},
-                               {3, "false", "LIGHTS_POINT"},
-                               {3, "true", "LIGHTS_POINT"},
-                               {4, "false", "LIGHTS_SPOT"},
-                               {5, "true", "LIGHTS_LINE"}};
+    /* the #if of each slot's kind of light */
+    static const char *const kind[C3D_LIGHT_SLOTS] = {"1", "LIGHTS_DIRECTIONAL", "LIGHTS_POINT", "LIGHTS_POINT",
+                                                      "LIGHTS_SPOT", "LIGHTS_LINE"};
     for (int k = 0; nlist <= 0 && k < C3D_LIGHT_SLOTS; k++) {
         char start[24] = "0";
         if (k) snprintf(start, sizeof start, "light_ends[%d]", k - 1);
@@ -551,7 +547,8 @@ size_t canvas3d_fragment_source(char *out, size_t cap, const C3dFragSpec *spec)
             "            const bool two = %s;\n"
             "%s        }\n"
             "#endif\n",
-            slot[k].kind, start, k, slot[k].type, slot[k].two, light_body);
+            kind[k], start, k, c3d_slot_codes[k] & (C3D_TWO_PASS - 1),
+            c3d_slot_codes[k] & C3D_TWO_PASS ? "true" : "false", light_body);
     }
     for (int i = 0; i < nlist; i++)
         put(out, cap, &n,

@@ -62,6 +62,8 @@ enum { C3D_ORTHOGRAPHIC = 1, C3D_FOG = 2, C3D_MONOCHROME = 4 };
 /* A listed light's code: its LIGHT_ type, plus C3D_TWO_PASS when it is
  * lit in two passes (a line light, or a point light with a radius > 0). */
 #define C3D_TWO_PASS 8
+/* The code of each slot's lights (C3D_LIGHT_SLOTS order). */
+extern const unsigned char c3d_slot_codes[C3D_LIGHT_SLOTS];
 
 /* What a fragment shader is made for (zero it, then fill it in: programs
  * are cached by its bytes):
