@@ -25,6 +25,32 @@ struct Bloom {
     long calls;
 };
 
+/* Four floats (one RGBA pixel) as one vector value (GCC/clang vector
+ * extensions): each lane takes the scalar code's operations in its order,
+ * so a result is the scalar one bit for bit (the build contracts nothing
+ * into FMA). */
+typedef float v4f __attribute__((vector_size(4 * sizeof(float))));
+typedef int32_t v4i __attribute__((vector_size(4 * sizeof(int32_t))));
+
+static inline v4f ld4(const float *p)
+{
+    v4f v;
+    memcpy(&v, p, sizeof v);
+    return v;
+}
+
+static inline void st4(float *p, v4f v)
+{
+    memcpy(p, &v, sizeof v);
+}
+
+/* Per lane a > b ? a : b. */
+static inline v4f max4(v4f a, v4f b)
+{
+    v4i m = a > b;
+    return (v4f)(((v4i)a & m) | ((v4i)b & ~m));
+}
+
 void bloom_params(const Node *n, BloomParams *p)
 {
     /* Flitter shaders.py, Bloom.render, and ProgramNode.render (downsample) */
@@ -124,22 +150,18 @@ static void gaussian(float *wt, int r, double sigma)
     for (int i = 1; i <= r; i++) wt[i] = (float)((sigma > 0 ? exp(-0.5 * i * i / (sigma * sigma)) : 0) / sum);
 }
 
-/* o[p] += (m[p] + q[p]) * g for the [n] RGBA pixels p (four floats at a
- * time, so that the compiler can use vector instructions). */
-static void add_pair(float *restrict o, const float *restrict m, const float *restrict q, size_t n, float g)
-{
-    for (size_t p = 0; p < n * 4; p += 4)
-        for (int k = 0; k < 4; k++) o[p + k] += (m[p + k] + q[p + k]) * g;
-}
-
 /* One output row of the x pass: o[x] = sum over i of wt[|i|] * mid[x + i*step]
- * for [w] pixels, |i| <= [r]; [mid] is padded by r pixels each side. */
+ * for [w] pixels, |i| <= [r], summed as mid[x]*wt[0] + (mid[x-step] +
+ * mid[x+step])*wt[1] + ... in that order; [mid] is padded by r pixels each
+ * side. */
 static void weigh_rows(float *restrict o, const float *restrict mid, int w, const float *wt, int r, int step)
 {
-    for (size_t p = 0; p < (size_t)w * 4; p += 4)
-        for (int k = 0; k < 4; k++) o[p + k] = mid[p + k] * wt[0];
-    for (int i = 1; i <= r; i++)
-        add_pair(o, mid - (size_t)i * step, mid + (size_t)i * step, (size_t)w, wt[i]);
+    for (size_t p = 0; p < (size_t)w * 4; p += 4) {
+        v4f acc = ld4(mid + p) * wt[0];
+        for (int i = 1; i <= r; i++)
+            acc = acc + (ld4(mid + p - (size_t)i * step) + ld4(mid + p + (size_t)i * step)) * wt[i];
+        st4(o + p, acc);
+    }
 }
 
 /* The passes of one bloom_apply, by rows (rows_in_halves). */
@@ -153,7 +175,7 @@ typedef struct Passes {
     float gain, offset, alpha;
     const float *wt;             /* the Gaussian's weights, r + 1 */
     int r;
-    float *scratch[2];           /* per thread: a padded row, or a full-size row */
+    float *scratch[2];           /* per thread: a padded row, or two full-size rows */
 } Passes;
 
 /* Pass 1, rows y0..y1-1 of the small framebuffer: the picture resampled
@@ -168,7 +190,23 @@ static void down_rows(void *ctx, int y0, int y1, int part)
         const float *r1 = q->iy[y] + 1 < sh ? r0 + (size_t)sw * 4 : r0;
         float wy = q->fy[y];
         float *out = q->small + (size_t)y * dw * 4;
-        for (int x = 0; x < dw; x++, out += 4) {
+        int x = 0;
+        if (q->p->shadows == 0 && q->p->highlights == 0) {
+            /* a pixel a vector: the lanes of adjust() without its
+             * shadows and highlights */
+            const float gain = q->gain, offset = q->offset;
+            for (; x < dw; x++, out += 4) {
+                int x0 = q->ix[x] * 4, x1 = q->ix[x] + 1 < sw ? x0 + 4 : x0;
+                float wx = q->fx[x];
+                v4f t0 = ld4(r0 + x0), u0 = ld4(r1 + x0);
+                v4f top = t0 + (ld4(r0 + x1) - t0) * wx, bot = u0 + (ld4(r1 + x1) - u0) * wx;
+                v4f px = top + (bot - top) * wy;
+                v4f a = __builtin_shufflevector(px, px, 3, 3, 3, 3);
+                v4f c = (v4f)((v4i)(px / a) & (a > 0)) * gain + offset;
+                st4(out, __builtin_shufflevector(c * a, px, 0, 1, 2, 7));
+            }
+        }
+        for (; x < dw; x++, out += 4) {
             int x0 = q->ix[x] * 4, x1 = q->ix[x] + 1 < sw ? x0 + 4 : x0;
             float wx = q->fx[x];
             for (int k = 0; k < 4; k++) {
@@ -208,38 +246,71 @@ static void blur_y_rows(void *ctx, int y0, int y1, int part)
     for (int y = y0; y < y1; y++) {
         float *restrict o = q->small + (size_t)y * n;
         const float *mid = q->tmp + (size_t)y * n;
-        for (size_t j = 0; j < n; j++) o[j] = mid[j] * q->wt[0];
+        /* the sum of weigh_rows, in its order, row by row into o */
+        size_t j;
+        for (j = 0; j < n; j += 4) st4(o + j, ld4(mid + j) * q->wt[0]);
         for (int i = 1; i <= r; i++) {
             int a = y - i < 0 ? 0 : y - i, b = y + i >= h ? h - 1 : y + i;
-            add_pair(o, q->tmp + (size_t)a * n, q->tmp + (size_t)b * n, (size_t)q->sw, q->wt[i]);
+            const float *ra = q->tmp + (size_t)a * n, *rb = q->tmp + (size_t)b * n;
+            float g = q->wt[i];
+            for (j = 0; j < n; j += 4) st4(o + j, ld4(o + j) + (ld4(ra + j) + ld4(rb + j)) * g);
         }
     }
 }
 
+/* Row [sy] of the small framebuffer resampled along x to the picture's
+ * width (bilinear taps ix, fx): out[x] = m[x0] + (m[x1] - m[x0]) * fx[x],
+ * per channel. */
+static void widen_row(const Passes *q, int sy, float *restrict out)
+{
+    const float *m = q->small + (size_t)sy * q->sw * 4;
+    int sw = q->sw;
+    for (int x = 0; x < q->w; x++) {
+        int x0 = q->ix[x] * 4, x1 = q->ix[x] + 1 < sw ? x0 + 4 : x0;
+        float wx = q->fx[x];
+        for (int k = 0; k < 4; k++) out[x * 4 + k] = m[x0 + k] + (m[x1 + k] - m[x0 + k]) * wx;
+    }
+}
+
 /* Pass 4, rows y0..y1-1 of the picture: the blur brought back to full size
- * (bilinear taps, a row at a time into the thread's scratch row), lighten
- * with the original, times alpha. */
+ * (bilinear taps: the two small rows around the picture row, each widened
+ * along x, then weighed along y), lighten with the original, times alpha.
+ * A thread's rows are consecutive and their small rows never go down, so
+ * each small row is widened once per thread, into the thread's scratch
+ * (two rows of the picture's width). */
 static void up_rows(void *ctx, int y0, int y1, int part)
 {
     const Passes *q = ctx;
-    int w = q->w, sw = q->sw, sh = q->sh;
-    size_t row = (size_t)w * 4;
-    float *line = q->scratch[part];
+    int sh = q->sh;
+    size_t row = (size_t)q->w * 4;
+    float *wide[2] = {q->scratch[part], q->scratch[part] + row};
+    int held[2] = {-1, -1};          /* the small row in wide[0], wide[1] */
     for (int y = y0; y < y1; y++) {
-        const float *r0 = q->small + (size_t)q->iy[y] * sw * 4;
-        const float *r1 = q->iy[y] + 1 < sh ? r0 + (size_t)sw * 4 : r0;
-        float wy = q->fy[y];
-        for (int x = 0; x < w; x++) {
-            int x0 = q->ix[x] * 4, x1 = q->ix[x] + 1 < sw ? x0 + 4 : x0;
-            float wx = q->fx[x];
-            for (int k = 0; k < 4; k++) {
-                float top = r0[x0 + k] + (r0[x1 + k] - r0[x0 + k]) * wx;
-                float bot = r1[x0 + k] + (r1[x1 + k] - r1[x0 + k]) * wx;
-                line[x * 4 + k] = top + (bot - top) * wy;
-            }
+        int s0 = q->iy[y], s1 = s0 + 1 < sh ? s0 + 1 : s0;
+        int t = held[0] == s0 ? 0 : held[1] == s0 ? 1 : -1;
+        if (t < 0) {
+            t = held[0] == s1 ? 1 : 0;        /* keep s1 if it is held */
+            widen_row(q, s0, wide[t]);
+            held[t] = s0;
         }
-        float *o = q->rgba + (size_t)y * row;
-        for (size_t i = 0; i < row; i++) o[i] = (o[i] > line[i] ? o[i] : line[i]) * q->alpha;
+        int u = held[t] == s1 ? t : held[1 - t] == s1 ? 1 - t : -1;
+        if (u < 0) {
+            u = 1 - t;
+            widen_row(q, s1, wide[u]);
+            held[u] = s1;
+        }
+        const float *top = wide[t], *bot = wide[u];
+        float wy = q->fy[y], alpha = q->alpha;
+        float *restrict o = q->rgba + (size_t)y * row;
+        size_t i = 0;
+        for (; i + 4 <= row; i += 4) {
+            v4f t = ld4(top + i), l = t + (ld4(bot + i) - t) * wy;
+            st4(o + i, max4(ld4(o + i), l) * alpha);
+        }
+        for (; i < row; i++) {
+            float l = top[i] + (bot[i] - top[i]) * wy;
+            o[i] = (o[i] > l ? o[i] : l) * alpha;
+        }
     }
 }
 
@@ -285,7 +356,7 @@ void bloom_apply(Bloom *b, const BloomParams *p, float *rgba, int w, int h)
     if (rx > 4096) rx = 4096;
     if (ry > 4096) ry = 4096;
     float *wt = mem_alloc(((size_t)(rx > ry ? rx : ry) + 1) * sizeof *wt);
-    size_t pad = ((size_t)sw + 2 * (size_t)rx) * 4, row = (size_t)w * 4;
+    size_t pad = ((size_t)sw + 2 * (size_t)rx) * 4, row = (size_t)w * 4 * 2;
     size_t scratch = pad > row ? pad : row;
     q.scratch[0] = mem_alloc(2 * scratch * sizeof(float));
     q.scratch[1] = q.scratch[0] + scratch;

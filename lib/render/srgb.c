@@ -3,6 +3,8 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "halves.h"
 
@@ -30,14 +32,25 @@ double srgb_decode(double s)
     return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4);
 }
 
+typedef float v4f __attribute__((vector_size(4 * sizeof(float))));
+typedef int32_t v4i __attribute__((vector_size(4 * sizeof(int32_t))));
+
 /* One pixel of premultiplied linear light [src] (RGBA) as the window's
  * output holds it: an ARGB32 word of encoded channels and an alpha of at
- * least each of them. */
+ * least each of them. The four indices of encode_index() are computed as
+ * one vector (the value clamped to 0..1 first, NaN to 0: the same index,
+ * as 1 * SRGB_STEPS + 0.5 truncates to SRGB_STEPS and 0.5 to 0). */
 static inline uint32_t encode_pixel(const SrgbTable *t, const float src[4])
 {
+    v4f f;
+    memcpy(&f, src, sizeof f);
+    const v4f one = {1, 1, 1, 1};
+    v4i pos = f > 0, top = f >= 1;
+    v4f c = (v4f)(((v4i)f & pos & ~top) | ((v4i)one & top));
+    v4i ix = __builtin_convertvector(c * (float)SRGB_STEPS + 0.5f, v4i);
     unsigned v[3], a = 0;
     for (int k = 0; k < 3; k++) {
-        v[k] = t->enc[encode_index(src[k])];
+        v[k] = t->enc[ix[k]];
         if (v[k] > a) a = v[k];
     }
     float fa = src[3];
