@@ -39,6 +39,8 @@ Canvas3D *canvas3d_new(void)
     const char *imp = getenv("FLITTER_CANVAS3D_IMPOSTORS");
     c->impostors = !(imp && strcmp(imp, "0") == 0);
     c->octagons = !(imp && strcmp(imp, "box") == 0);
+    const char *rd = getenv("FLITTER_CANVAS3D_READ");
+    c->read_whole = rd && strcmp(rd, "whole") == 0;
     for (int i = 0; i < 8; i++) c->cam_id[i] = (Buf)BUF_INIT;
     c->name = (Buf)BUF_INIT;
     return c;
@@ -426,6 +428,49 @@ static int begin(Canvas3D *c, char *err, size_t errlen)
     return 0;
 }
 
+/* The pixels the frame's instances can touch, through [cam] on a [w] x
+ * [h] framebuffer: the rectangle (x0, y0, x1, y1 in rect: GL window
+ * pixels, bottom-up, x1 and y1 exclusive; empty when nothing is drawn)
+ * around the projections of the corners of every instance's bounding box
+ * (a mesh lies within its box; an impostor's fragments within the
+ * sphere's silhouette, which lies within the projection of its box),
+ * widened by two pixels for the float matrices of the shaders and for
+ * samples off the pixel centres. False when it is the whole framebuffer,
+ * or cannot be bounded: a corner at or behind the eye's plane (w <= 0,
+ * or not finite), or c->read_whole (FLITTER_CANVAS3D_READ=whole). */
+static bool drawn_rect(const Canvas3D *c, const Camera *cam, int w, int h, int rect[4])
+{
+    if (c->read_whole) return false;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int i = 0; i < c->ninst; i++) {
+        const Instance *in = &c->inst[i];
+        M4 m = m4_mul(&cam->pv, &in->model);
+        const float *b = in->mesh->bounds;
+        for (int k = 0; k < 8; k++) {
+            double v[3] = {b[(k & 1) ? 3 : 0], b[(k & 2) ? 4 : 1], b[(k & 4) ? 5 : 2]}, clip[4];
+            for (int r = 0; r < 4; r++)
+                clip[r] = m.m[r] * v[0] + m.m[4 + r] * v[1] + m.m[8 + r] * v[2] + m.m[12 + r];
+            if (!(clip[3] > 1e-9) || !isfinite(clip[0]) || !isfinite(clip[1]) || !isfinite(clip[3])) return false;
+            for (int a = 0; a < 2; a++) {
+                double p = (clip[a] / clip[3] * 0.5 + 0.5) * (a ? h : w);
+                if (p < lo[a]) lo[a] = p;
+                if (p > hi[a]) hi[a] = p;
+            }
+        }
+    }
+    if (c->ninst == 0 || hi[0] < -2 || hi[1] < -2 || lo[0] > w + 2 || lo[1] > h + 2) {
+        rect[0] = rect[1] = rect[2] = rect[3] = 0;
+        return true;
+    }
+    int size[2] = {w, h};
+    for (int a = 0; a < 2; a++) {
+        double a0 = floor(lo[a]) - 2, a1 = ceil(hi[a]) + 2;
+        rect[a] = a0 < 0 ? 0 : (int)a0;
+        rect[2 + a] = a1 > size[a] ? size[a] : (int)a1;
+    }
+    return rect[0] > 0 || rect[1] > 0 || rect[2] < w || rect[3] < h;
+}
+
 /* Draw the collected groups, lights and instances through [cam] into
  * [pic] (c->width x c->height; NULL: the linear light only), then
  * release the context.
@@ -456,7 +501,12 @@ static int render(Canvas3D *c, const Camera *cam, cairo_surface_t *pic, char *er
     glClearColor(fog ? (float)(fc[0] * cam->tint[0]) : 0, fog ? (float)(fc[1] * cam->tint[1]) : 0,
                  fog ? (float)(fc[2] * cam->tint[2]) : 0, fog ? 1 : 0);
     glClearDepth(1);
+    /* the whole framebuffer is cleared (a scissored clear may store the
+     * colour rounded otherwise); only the pixels the instances can touch
+     * are resolved and read back */
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    int rect[4];
+    bool part = drawn_rect(c, cam, w, h, rect);
     c->samples_used = used;
     c->frames++;
     if (used > 0) glEnable(GL_MULTISAMPLE);
@@ -486,7 +536,10 @@ static int render(Canvas3D *c, const Camera *cam, cairo_surface_t *pic, char *er
         free(c->pixels);
         c->pixels = mem_alloc(npix * sizeof(float));
     }
-    gl_target_read(c->gl, c->pixels);
+    if (part)
+        gl_target_read_rect(c->gl, c->pixels, rect);
+    else
+        gl_target_read(c->gl, c->pixels);
     gl_context_done(c->gl);
     c->have_pixels = true;
     if (pic) srgb_encode_surface(&c->srgb, c->pixels, w, h, pic);

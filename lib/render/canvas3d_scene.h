@@ -91,6 +91,7 @@ struct Canvas3D {
     C3dBackface backface;                 /* the back-face pass's framebuffer */
     bool impostors;                       /* spheres may be drawn as impostors (FLITTER_CANVAS3D_IMPOSTORS=0: never) */
     bool octagons;                        /* impostors may be drawn on octagons (=box: always on their box) */
+    bool read_whole;                      /* clear, resolve and read every pixel (FLITTER_CANVAS3D_READ=whole) */
     char program_note[600];               /* a program that failed without failing the frame (reported once) */
     bool program_noted;
     int samples_used;                     /* MSAA samples of this frame's target (0: none) */

@@ -191,55 +191,121 @@ static void flip_rows(float *rgba, int w, int h)
     free(tmp);
 }
 
-/* The framebuffer's half floats, bottom row first, widened to floats top
- * row first (rows_in_halves). */
+/* The framebuffer's half floats of the columns x0 .. x1-1 of rows y0 ..
+ * y1-1 (GL's, bottom-up), bottom row first, widened to floats top row
+ * first, each other pixel of a row set to [outside] (rows_in_halves). */
 typedef struct Widening {
     const uint16_t *half;
     float *rgba;
     int w, h;
+    int x0, y0, x1, y1;
+    const float *outside;
     int fast;                /* the F16C route (GlContext.f16c) */
 } Widening;
+
+static void fill_pixels(float *px, size_t n, const float *v)
+{
+    for (size_t i = 0; i < n; i++) memcpy(px + 4 * i, v, 4 * sizeof(float));
+}
 
 static void widen_rows(void *ctx, int y0, int y1, int part)
 {
     (void)part;
     const Widening *j = ctx;
-    size_t row = (size_t)j->w * 4;
-    for (int y = y0; y < y1; y++)
-        halves_to_floats(j->half + (size_t)(j->h - 1 - y) * row, j->rgba + (size_t)y * row, row, j->fast);
+    size_t row = (size_t)j->w * 4, span = (size_t)(j->x1 - j->x0) * 4;
+    for (int y = y0; y < y1; y++) {
+        float *out = j->rgba + (size_t)y * row;
+        int gy = j->h - 1 - y;   /* GL's row */
+        if (gy < j->y0 || gy >= j->y1 || span == 0) {
+            fill_pixels(out, (size_t)j->w, j->outside);
+            continue;
+        }
+        fill_pixels(out, (size_t)j->x0, j->outside);
+        halves_to_floats(j->half + (size_t)(gy - j->y0) * span, out + (size_t)j->x0 * 4, span, j->fast);
+        fill_pixels(out + (size_t)j->x1 * 4, (size_t)(j->w - j->x1), j->outside);
+    }
 }
 
-void gl_target_read(GlContext *gl, float *rgba)
+/* The pixel (x, y) of the bound framebuffer, resolved, as floats. */
+static void read_pixel(GlContext *gl, int x, int y, float out[4])
 {
-    int w = gl->w, h = gl->h;
     GLuint src = gl->fbo;
     if (gl->samples > 0) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, gl->fbo);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, gl->resolve_fbo);
-        glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        glBlitFramebuffer(x, y, x + 1, y + 1, x, y, x + 1, y + 1, GL_COLOR_BUFFER_BIT, GL_NEAREST);
         src = gl->resolve_fbo;
     }
     glBindFramebuffer(GL_READ_FRAMEBUFFER, src);
     glPixelStorei(GL_PACK_ALIGNMENT, 2);
-    size_t n = (size_t)w * h * 4;
+    uint16_t half[4];
+    glReadPixels(x, y, 1, 1, GL_RGBA, GL_HALF_FLOAT, half);
+    for (int k = 0; k < 4; k++) out[k] = half_to_float(half[k]);
+}
+
+/* Resolve (when multisampled) and read back [rect] of the bound
+ * framebuffer, the rest the value of one pixel outside it; [rect] NULL:
+ * the whole framebuffer. */
+static void read_rect(GlContext *gl, float *rgba, const int *rect)
+{
+    int w = gl->w, h = gl->h;
+    float outside[4] = {0, 0, 0, 0};
+    if (rect) {
+        /* a pixel outside: a corner the rectangle leaves out */
+        bool low = rect[0] > 0 || rect[1] > 0;
+        read_pixel(gl, low ? 0 : w - 1, low ? 0 : h - 1, outside);
+    }
+    int x0 = rect ? rect[0] : 0, y0 = rect ? rect[1] : 0, x1 = rect ? rect[2] : w, y1 = rect ? rect[3] : h;
+    int rw = x1 > x0 ? x1 - x0 : 0, rh = y1 > y0 ? y1 - y0 : 0;
+    GLuint src = gl->fbo;
+    if (gl->samples > 0 && rw && rh) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, gl->fbo);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, gl->resolve_fbo);
+        glBlitFramebuffer(x0, y0, x1, y1, x0, y0, x1, y1, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        src = gl->resolve_fbo;
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, src);
+    glPixelStorei(GL_PACK_ALIGNMENT, 2);
+    size_t n = (size_t)rw * rh * 4;
     if (n > gl->cap_half) {
         uint16_t *more = realloc(gl->half, n * sizeof *more);
-        if (!more) {   /* no room for the halves: GL converts */
+        if (!more) {   /* no room for the halves: GL converts the whole picture */
+            if (gl->samples > 0 && rect) {
+                glBindFramebuffer(GL_READ_FRAMEBUFFER, gl->fbo);
+                glBindFramebuffer(GL_DRAW_FRAMEBUFFER, gl->resolve_fbo);
+                glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+                glBindFramebuffer(GL_READ_FRAMEBUFFER, gl->resolve_fbo);
+            }
             glPixelStorei(GL_PACK_ALIGNMENT, 4);
             glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, rgba);
             glBindFramebuffer(GL_FRAMEBUFFER, gl->fbo);
             flip_rows(rgba, w, h);
+            /* outside the rectangle the framebuffer may hold anything */
+            for (int y = 0; rect && y < h; y++) {
+                float *out = rgba + (size_t)y * w * 4;
+                int gy = h - 1 - y;
+                if (gy < y0 || gy >= y0 + rh || rw == 0) {
+                    fill_pixels(out, (size_t)w, outside);
+                } else {
+                    fill_pixels(out, (size_t)x0, outside);
+                    fill_pixels(out + (size_t)(x0 + rw) * 4, (size_t)(w - x0 - rw), outside);
+                }
+            }
             return;
         }
         gl->half = more;
         gl->cap_half = n;
     }
     /* the framebuffer's own format, copied as it is; widened here */
-    glReadPixels(0, 0, w, h, GL_RGBA, GL_HALF_FLOAT, gl->half);
+    if (n) glReadPixels(x0, y0, rw, rh, GL_RGBA, GL_HALF_FLOAT, gl->half);
     glBindFramebuffer(GL_FRAMEBUFFER, gl->fbo);
-    Widening job = {gl->half, rgba, w, h, gl->f16c};
+    Widening job = {gl->half, rgba, w, h, x0, y0, x0 + rw, y0 + rh, outside, gl->f16c};
     rows_in_halves(h, 64, widen_rows, &job);
 }
+
+void gl_target_read(GlContext *gl, float *rgba) { read_rect(gl, rgba, NULL); }
+
+void gl_target_read_rect(GlContext *gl, float *rgba, const int rect[4]) { read_rect(gl, rgba, rect); }
 
 void gl_context_free(GlContext *gl)
 {

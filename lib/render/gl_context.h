@@ -45,6 +45,15 @@ bool gl_target_bind(GlContext *gl, int w, int h, int samples, int *used, char *e
  * they are and widened exactly on two threads (halffloat.h, halves.h);
  * when no buffer for them can be had, GL converts to floats itself. */
 void gl_target_read(GlContext *gl, float *rgba);
+/* gl_target_read for a framebuffer whose pixels outside the rectangle
+ * [rect] (x0, y0, x1, y1: GL window pixels, bottom-up, x0 <= x < x1, y0 <=
+ * y < y1, within the framebuffer, not all of it) all hold one colour,
+ * the clear colour: only the rectangle and one pixel outside it are
+ * resolved and read back, and every other pixel of [rgba] takes that
+ * pixel's value (the clear colour as the driver stored it, whatever its
+ * rounding). The result is the whole read's, bit for bit, when that
+ * promise holds. An empty rectangle reads that one pixel. */
+void gl_target_read_rect(GlContext *gl, float *rgba, const int rect[4]);
 /* The renderer string of the driver (e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"). */
 const char *gl_context_renderer(const GlContext *gl);
 /* Release the framebuffer and the context (NULL is a no-op). */

@@ -999,6 +999,82 @@ static void textures_warned_once(void **st)
     fl_free(rt);
 }
 
+/* Only the pixels a frame's models can touch are cleared, resolved and
+ * read back; every other pixel is the clear colour as the framebuffer
+ * holds it (each channel a binary16). Each scene is drawn that way and
+ * with FLITTER_CANVAS3D_READ=whole (every pixel cleared and read), and
+ * the two pictures must be equal: small models with and without samples,
+ * fogged (the fog colour is the clear colour; the binary16 of 0.294 and
+ * of 0.494 encode to other 8-bit codes than their floats: 147 and 186,
+ * not 148 and 187), monochrome and tinted, a model
+ * partly off the picture, one behind the eye and one through the eye's
+ * plane (no rectangle: the whole picture), orthographic, and no model at
+ * all. */
+static void read_rect_as_whole(void **st)
+{
+    (void)st;
+    static uint32_t pix[2][W * H];
+    static const char *scripts[] = {
+        "!window size=64;64\n"
+        "    !canvas3d samples=4 viewpoint=0;0;100 fov=0.2 near=1 far=1000 fog_color=0.294;0.349;0.494 fog_min=50"
+        " fog_max=200\n"
+        "        !light color=1 direction=0;0;-1\n"
+        "        !sphere size=6 position=5;3;0 color=1;0.5;0\n"
+        "        !box size=4 position=-3;-4;10 rotation=0.1;0.2;0 color=0;1;1\n",
+        "!window size=64;64\n"
+        "    !canvas3d viewpoint=0;0;100 fov=0.2 near=1 far=1000 fog_color=0.294;0.349;0.494 fog_min=50 fog_max=200\n"
+        "        !light color=1 direction=0;0;-1\n"
+        "        !cylinder size=3;3;8 position=-6;2;0 rotation=0.25;0;0 color=1\n",
+        "!window size=64;64\n"
+        "    !canvas3d samples=4 viewpoint=0;0;100 fov=0.2 near=1 far=1000 monochrome=true tint=1;0.5;0.25"
+        " fog_color=0.494;0.294;0.349 fog_min=50 fog_max=200\n"
+        "        !light color=1 direction=0;0;-1\n"
+        "        !cone size=5 position=2;-2;0 color=1;0;0\n",
+        "!window size=64;64\n"
+        "    !canvas3d samples=4 viewpoint=0;0;100 fov=0.2 near=1 far=1000\n"
+        "        !light color=1 direction=0;0;-1\n"
+        "        !sphere size=8 position=19;-18;0 color=1\n",
+        "!window size=64;64\n"
+        "    !canvas3d samples=4 viewpoint=0;0;100 fov=0.2 near=1 far=1000 fog_color=0.294;0.349;0.494 fog_min=50"
+        " fog_max=200\n"
+        "        !light color=1 direction=0;0;-1\n"
+        "        !sphere size=5 position=0;0;0 color=1\n"
+        "        !box size=5 position=0;0;150 color=1\n"
+        "        !box size=3;3;100 position=6;0;100 color=1\n",
+        "!window size=64;64\n"
+        "    !canvas3d samples=4 viewpoint=10;5;100 focus=0 orthographic=true width=64 near=1 far=1000\n"
+        "        !light color=1 direction=0;0;-1\n"
+        "        !box size=6 position=-12;9;0 color=1;1;0\n",
+        "!window size=64;64\n"
+        "    !canvas3d samples=4 viewpoint=0;0;100 near=1 far=1000 fog_color=0.294;0.349;0.494 fog_min=50 fog_max=200\n"
+        "        !light color=1 direction=0;0;-1\n",
+    };
+    for (int s = 0; s < (int)(sizeof scripts / sizeof *scripts); s++) {
+        for (int k = 0; k < 2; k++) {
+            if (k)
+                setenv("FLITTER_CANVAS3D_READ", "whole", 1);
+            fl_runtime *rt = draw(scripts[s], pix[k]);
+            fl_free(rt);
+        }
+        unsetenv("FLITTER_CANVAS3D_READ");
+        int lit = 0;
+        for (int i = 0; i < W * H; i++) {
+            if (pix[0][i] != pix[1][i])
+                fail_msg("script %d: pixel %d,%d is %08x, the whole read's %08x", s, i % W, i / W, pix[0][i],
+                         pix[1][i]);
+            lit += pix[0][i] != pix[0][0];
+        }
+        if (s != 6 && lit == 0) fail_msg("script %d: no model drawn", s);
+        if (s == 0 || s == 1 || s == 4 || s == 6) {
+            /* the corner: the fog colour as the framebuffer's binary16
+             * holds it (red and blue: the same whether the driver rounds
+             * to nearest or toward zero), not as the float encodes */
+            assert_int_equal(chan(at(pix[0], 0, 0), 16), 147);
+            assert_int_equal(chan(at(pix[0], 0, 0), 0), 186);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1018,6 +1094,7 @@ int main(void)
         cmocka_unit_test(translucency_zero_unchanged),
         cmocka_unit_test(listed_lights_as_looped),
         cmocka_unit_test(listed_programs_capped),
+        cmocka_unit_test(read_rect_as_whole),
         cmocka_unit_test(light_kinds_per_group),
         cmocka_unit_test(two_runtimes),
         cmocka_unit_test(unsupported_warned_once),
