@@ -706,6 +706,7 @@ void canvas3d_free(Canvas3D *c)
     free(c->order);
     free(c->split);
     free(c->tl);
+    free(c->seen);
     free(c->idata);
     free(c->lightbuf);
     free(c->lightsort);

@@ -1,9 +1,9 @@
 /* canvas3d_draw.c: the GL passes of one `!canvas3d` render group (see
  * canvas3d_scene.h; the order of passes is Flitter's canvas3d.pyx, render,
  * and docs/canvas3d.md, Instance Ordering). The group's lights go into its
- * program's uniform buffer; its instances are sorted by mesh and by the
- * camera distance of the nearest corner of the mesh's bounding box
- * (Flitter's nearest_corner); opaque ones are dispatched per mesh front to
+ * program's uniform buffer; its instances are sorted by mesh (in order of
+ * first appearance) and by the camera distance of the nearest corner of
+ * the mesh's bounding box (Flitter's nearest_corner); opaque ones are dispatched per mesh front to
  * back in one instanced call (smooth spheres as ray-cast impostors where
  * they fit); translucent ones have their back faces drawn, nearest first,
  * into the back-face framebuffer (canvas3d_backface.h); then transparent
@@ -284,11 +284,33 @@ static void set_uniforms(Canvas3D *c, const C3dShader *sh, const C3dProgram *p, 
     glUniform2fv(sh->u_sample_offsets, 8, offsets);
 }
 
+/* Meshes in order of first appearance in the group (Flitter iterates its
+ * group's dict of models, filled in tree order), each mesh's instances
+ * nearest first. */
 static int by_mesh_then_z(const void *a, const void *b)
 {
     const Instance *x = *(Instance *const *)a, *y = *(Instance *const *)b;
-    if (x->mesh != y->mesh) return x->mesh < y->mesh ? -1 : 1;
+    if (x->rank != y->rank) return x->rank < y->rank ? -1 : 1;
     return x->z < y->z ? -1 : x->z > y->z;
+}
+
+/* Number each instance's mesh by its first appearance in [list] (tree
+ * order): Instance.rank. */
+static void rank_meshes(Canvas3D *c, Instance **list, int n)
+{
+    int nseen = 0;
+    for (int i = 0; i < n; i++) {
+        int r = 0;
+        while (r < nseen && c->seen[r] != list[i]->mesh) r++;
+        if (r == nseen) {
+            if (nseen == c->cap_seen) {
+                c->cap_seen = c->cap_seen ? 2 * c->cap_seen : 8;
+                c->seen = mem_realloc_array(c->seen, (size_t)c->cap_seen, sizeof *c->seen);
+            }
+            c->seen[nseen++] = list[i]->mesh;
+        }
+        list[i]->rank = r;
+    }
 }
 
 static int far_first(const void *a, const void *b)
@@ -427,6 +449,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
         M4 vm = m4_mul(&cam->view, &list[i]->model);
         list[i]->z = sorted ? nearest_corner(list[i]->mesh->bounds, &vm) : 0;
     }
+    rank_meshes(c, list, n);
     qsort(list, (size_t)n, sizeof *list, by_mesh_then_z);
     /* opaque instances: per mesh, front to back; transparent and
      * translucent ones moved to the end (unsorted translucent ones drawn

@@ -32,6 +32,7 @@ typedef struct Instance {
     const GlMesh *mesh;
     double z;          /* distance of the nearest bounding-box corner along the view axis */
     int group;
+    int rank;          /* its mesh's place among its group's meshes, by first appearance (c3d_draw_group) */
 } Instance;
 
 /* Programs kept by a canvas (one per max_lights and set of light kinds its
@@ -88,6 +89,7 @@ struct Canvas3D {
     Instance **order; int cap_order;
     Instance **split; int cap_split;      /* one dispatch's impostors: billboards, box ones from n (2n) */
     Instance **tl; int cap_tl;            /* one group's translucent instances */
+    const GlMesh **seen; int cap_seen;    /* one group's meshes, in order of first appearance */
     C3dBackface backface;                 /* the back-face pass's framebuffer */
     bool impostors;                       /* spheres may be drawn as impostors (FLITTER_CANVAS3D_IMPOSTORS=0: never) */
     bool octagons;                        /* impostors may be drawn on octagons (=box: always on their box) */

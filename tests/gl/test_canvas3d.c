@@ -1075,6 +1075,39 @@ static void read_rect_as_whole(void **st)
     }
 }
 
+/* A group's meshes are drawn in the order of their first appearance in
+ * it (Flitter iterates its group's models so), each mesh's instances
+ * nearest first. In a group of composite "add", where the order shows: a
+ * far box drawn before the nearer cylinder in front of it adds its light
+ * under the cylinder's; drawn after, it fails the depth test there. */
+static void mesh_order_first_appearance(void **st)
+{
+    (void)st;
+    static uint32_t pix[W * H];
+    static const char *far_box = "            !box size=30 position=0;0;-20 color=0;0;1\n";
+    static const char *near_cylinder = "            !cylinder size=8;8;4 position=0;0;10 color=1;0;0\n";
+    char script[1024];
+    for (int order = 0; order < 2; order++) {
+        snprintf(script, sizeof script,
+                 "!window size=64;64\n"
+                 "    !canvas3d samples=4 viewpoint=0;0;80 focus=0 fov=0.12 near=1 far=500\n"
+                 "        !group composite=:add\n"
+                 "            !light color=1\n"
+                 "%s%s",
+                 order ? near_cylinder : far_box, order ? far_box : near_cylinder);
+        fl_runtime *rt = draw(script, pix);
+        uint32_t centre = at(pix, 32, 32), side = at(pix, 32, 20);
+        assert_true(chan(centre, 16) > 200);          /* the cylinder's red */
+        assert_true(chan(side, 0) > 200);             /* the box's blue beside it */
+        assert_int_equal(chan(side, 16), 0);
+        if (order == 0)
+            assert_true(chan(centre, 0) > 200);       /* the box first: its blue under the red */
+        else
+            assert_int_equal(chan(centre, 0), 0);     /* the cylinder first: the box hidden */
+        fl_free(rt);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1095,6 +1128,7 @@ int main(void)
         cmocka_unit_test(listed_lights_as_looped),
         cmocka_unit_test(listed_programs_capped),
         cmocka_unit_test(read_rect_as_whole),
+        cmocka_unit_test(mesh_order_first_appearance),
         cmocka_unit_test(light_kinds_per_group),
         cmocka_unit_test(two_runtimes),
         cmocka_unit_test(unsupported_warned_once),
