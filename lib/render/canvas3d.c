@@ -41,6 +41,10 @@ Canvas3D *canvas3d_new(void)
     c->octagons = !(imp && strcmp(imp, "box") == 0);
     const char *rd = getenv("FLITTER_CANVAS3D_READ");
     c->read_whole = rd && strcmp(rd, "whole") == 0;
+    const char *occ = getenv("FLITTER_CANVAS3D_OCCLUSION");
+    c->occlusion_mode = !occ ? C3D_OCCLUSION_AUTO
+                   : strcmp(occ, "0") == 0 ? C3D_OCCLUSION_NEVER
+                   : strcmp(occ, "1") == 0 ? C3D_OCCLUSION_ALWAYS : C3D_OCCLUSION_AUTO;
     for (int i = 0; i < 8; i++) c->cam_id[i] = (Buf)BUF_INIT;
     c->name = (Buf)BUF_INIT;
     return c;
@@ -698,6 +702,7 @@ void canvas3d_free(Canvas3D *c)
         }
         glDeleteBuffers(1, &c->instance_vbo);
         c3d_backface_free(&c->backface);
+        c3d_occlusion_free(&c->occlusion);
     }
     gl_context_free(c->gl);
     free(c->groups);
@@ -706,6 +711,7 @@ void canvas3d_free(Canvas3D *c)
     free(c->order);
     free(c->split);
     free(c->tl);
+    free(c->occ);
     free(c->seen);
     free(c->idata);
     free(c->lightbuf);

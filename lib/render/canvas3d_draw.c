@@ -3,9 +3,11 @@
  * and docs/canvas3d.md, Instance Ordering). The group's lights go into its
  * program's uniform buffer; its instances are sorted by mesh (in order of
  * first appearance) and by the camera distance of the nearest corner of
- * the mesh's bounding box (Flitter's nearest_corner); opaque ones are dispatched per mesh front to
- * back in one instanced call (smooth spheres as ray-cast impostors where
- * they fit); translucent ones have their back faces drawn, nearest first,
+ * the mesh's bounding box (Flitter's nearest_corner); with samples and
+ * many lights, the opaque meshes may first be drawn depth only (the
+ * occluders' pass, canvas3d_occlusion.h); opaque ones are dispatched per
+ * mesh front to back in one instanced call (smooth spheres as ray-cast
+ * impostors where they fit); translucent ones have their back faces drawn, nearest first,
  * into the back-face framebuffer (canvas3d_backface.h); then transparent
  * and translucent ones are drawn back to front, the transparent ones with
  * depth writes off, the translucent ones with them on and with the
@@ -197,14 +199,16 @@ static bool billboard_fits(const Instance *in, const Camera *cam)
 
 /* Draw [n] instances of one mesh from [list] in that order: smooth spheres
  * (not flat, not inverted) of a group that culls back faces as ray-cast
- * impostors when the program has them and they fit, the rest as meshes. */
-static void dispatch(Canvas3D *c, Instance **list, int n, const C3dProgram *p, const Camera *cam, bool cull_back)
+ * impostors when the program has them and they fit, the rest as meshes
+ * with [mesh_sh] (p->mesh, or p->occluded after the occluders' pass). */
+static void dispatch(Canvas3D *c, Instance **list, int n, const C3dProgram *p, const Camera *cam, bool cull_back,
+                     const C3dShader *mesh_sh)
 {
     if (n <= 0) return;
     const GlMesh *mesh = list[0]->mesh;
     if (!(c->impostors && cull_back && p->impostor.prog && mesh->key.kind == MESH_SPHERE && !mesh->key.flat &&
           !mesh->key.invert)) {
-        draw_instances(c, list, n, mesh, &p->mesh);
+        draw_instances(c, list, n, mesh, mesh_sh);
         return;
     }
     if (c->cap_split < 2 * n) {
@@ -229,7 +233,7 @@ static void dispatch(Canvas3D *c, Instance **list, int n, const C3dProgram *p, c
     glUseProgram(p->impostor.prog);
     glUniform1i(p->impostor.u_billboard, 0);
     draw_instances(c, boxed, nx, mesh_cache_get(c->meshes, &box), &p->impostor);
-    draw_instances(c, list, nm, mesh, &p->mesh);
+    draw_instances(c, list, nm, mesh, mesh_sh);
 }
 
 /* Sort the [nl] lights of c->lightbuf by slot, keeping their order within
@@ -400,6 +404,130 @@ static bool back_faces(Canvas3D *c, const C3dProgram *p, Instance **list, int n,
     return true;
 }
 
+/* Lights of a render group, and layers of its opaque meshes (their
+ * pixels' sum over the pixels of their union, as estimated by
+ * layers()), from which the occluders' pass pays for itself (its cost:
+ * clearing and filling a multisampled depth buffer, and the samples'
+ * depth read by every mesh fragment; its gain: the lighting of the
+ * hidden layers). */
+#define OCCLUSION_MIN_LIGHTS 12
+#define OCCLUSION_MIN_LAYERS 2.0
+
+/* The area of the convex hull of the [n] (at most 8) points xy (x0, y0,
+ * x1, ...): Andrew's monotone chain, then the shoelace formula. */
+static double hull_area(double *xy, int n)
+{
+    /* sort by x, then y (insertion: n <= 8) */
+    for (int i = 1; i < n; i++)
+        for (int j = i; j > 0 && (xy[2 * j] < xy[2 * j - 2] ||
+                                  (xy[2 * j] == xy[2 * j - 2] && xy[2 * j + 1] < xy[2 * j - 1])); j--) {
+            double tx = xy[2 * j], ty = xy[2 * j + 1];
+            xy[2 * j] = xy[2 * j - 2], xy[2 * j + 1] = xy[2 * j - 1];
+            xy[2 * j - 2] = tx, xy[2 * j - 1] = ty;
+        }
+    double h[2 * 17];
+    int k = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        int start = k;
+        for (int t = 0; t < n; t++) {
+            int i = pass ? n - 1 - t : t;
+            double x = xy[2 * i], y = xy[2 * i + 1];
+            while (k - start >= 2) {
+                double ax = h[2 * k - 4], ay = h[2 * k - 3], bx = h[2 * k - 2], by = h[2 * k - 1];
+                if ((bx - ax) * (y - ay) - (by - ay) * (x - ax) > 0) break;
+                k--;
+            }
+            h[2 * k] = x, h[2 * k + 1] = y;
+            k++;
+        }
+        k--;   /* the last point is the other chain's first */
+    }
+    double area = 0;
+    for (int i = 0; i < k; i++) {
+        int j = (i + 1) % k;
+        area += h[2 * i] * h[2 * j + 1] - h[2 * j] * h[2 * i + 1];
+    }
+    return fabs(area) / 2;
+}
+
+/* How many layers deep the [m] instances of c->occ lie on the picture:
+ * the sum of the areas of their bounding boxes' projections (each the
+ * convex hull of its 8 projected corners: about the pixels a closed mesh
+ * with its back faces culled covers) over the area of the rectangle
+ * around them all (clamped to the picture). 0 when a corner is at or
+ * behind the eye's plane (no estimate: no pass). */
+static double layers(const Canvas3D *c, const Camera *cam, int m)
+{
+    double sum = 0, lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int i = 0; i < m; i++) {
+        const Instance *in = c->occ[i];
+        M4 t = m4_mul(&cam->pv, &in->model);
+        const float *b = in->mesh->bounds;
+        double xy[16];
+        for (int k = 0; k < 8; k++) {
+            double v[3] = {b[(k & 1) ? 3 : 0], b[(k & 2) ? 4 : 1], b[(k & 4) ? 5 : 2]}, cl[4];
+            for (int r = 0; r < 4; r++) cl[r] = t.m[r] * v[0] + t.m[4 + r] * v[1] + t.m[8 + r] * v[2] + t.m[12 + r];
+            if (!(cl[3] > 1e-9) || !isfinite(cl[0]) || !isfinite(cl[1])) return 0;
+            xy[2 * k] = (cl[0] / cl[3] * 0.5 + 0.5) * c->width;
+            xy[2 * k + 1] = (cl[1] / cl[3] * 0.5 + 0.5) * c->height;
+            for (int a = 0; a < 2; a++) {
+                if (xy[2 * k + a] < lo[a]) lo[a] = xy[2 * k + a];
+                if (xy[2 * k + a] > hi[a]) hi[a] = xy[2 * k + a];
+            }
+        }
+        sum += hull_area(xy, 8);
+    }
+    double size[2] = {c->width, c->height}, area = 1;
+    for (int a = 0; a < 2; a++) {
+        double l = lo[a] < 0 ? 0 : lo[a], h = hi[a] > size[a] ? size[a] : hi[a];
+        area *= h > l ? h - l : 0;
+    }
+    return area > 0 ? sum / area : 0;
+}
+
+/* The occluders' pass of group [g] (canvas3d_occlusion.h): with
+ * multisampling, a depth test and composite "over" (an opaque fragment
+ * then replaces what is behind it: hidden ones leave no trace), its
+ * opaque non-sphere meshes of [list] (n, sorted by mesh) drawn depth
+ * only into c->occlusion, when there are at least two, they lie
+ * OCCLUSION_MIN_LAYERS deep or more and the group has
+ * OCCLUSION_MIN_LIGHTS lights ([nl]) or more (with
+ * FLITTER_CANVAS3D_OCCLUSION=1 whenever there is one). True when it was drawn:
+ * the group's opaque meshes are then drawn with p->occluded, whose
+ * uniforms are set. */
+static bool occluders(Canvas3D *c, const Group *g, C3dProgram *p, Instance **list, int n, int nl, bool sorted,
+                      bool see_through, const Camera *cam)
+{
+    bool always = c->occlusion_mode == C3D_OCCLUSION_ALWAYS;
+    if (c->occlusion_mode == C3D_OCCLUSION_NEVER || c->samples_used < 2 || !g->depth_test || g->composite != COMP_OVER ||
+        (nl < OCCLUSION_MIN_LIGHTS && !always))
+        return false;
+    if (c->cap_occ < n) {
+        c->cap_occ = n;
+        c->occ = mem_realloc_array(c->occ, (size_t)c->cap_occ, sizeof *c->occ);
+    }
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        const Instance *in = list[i];
+        bool opaque = !(sorted && (in->mat.transparency > 0 || in->mat.translucency > 0)) &&
+                      !(see_through && in->mat.translucency > 0);
+        if (opaque && in->mesh->key.kind != MESH_SPHERE) c->occ[m++] = list[i];
+    }
+    if (m < 1 || (!always && (m < 2 || layers(c, cam, m) < OCCLUSION_MIN_LAYERS)) || !c3d_program_occlusion(p))
+        return false;
+    set_uniforms(c, &p->depth, p, cam);
+    set_uniforms(c, &p->occluded, p, cam);
+    if (!c3d_occlusion_begin(&c->occlusion, c->width, c->height, c->samples_used)) return false;
+    for (int a = 0; a < m;) {
+        int b = a;
+        while (b < m && c->occ[b]->mesh == c->occ[a]->mesh) b++;
+        draw_instances(c, c->occ + a, b - a, c->occ[a]->mesh, &p->depth);
+        a = b;
+    }
+    c3d_occlusion_end(&c->occlusion);
+    return true;
+}
+
 void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen)
 {
     const Group *g = &c->groups[gi];
@@ -451,6 +579,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     }
     rank_meshes(c, list, n);
     qsort(list, (size_t)n, sizeof *list, by_mesh_then_z);
+    bool occluded = occluders(c, g, p, list, n, nl, sorted, see_through, cam);
     /* opaque instances: per mesh, front to back; transparent and
      * translucent ones moved to the end (unsorted translucent ones drawn
      * after their mesh's others) */
@@ -468,10 +597,11 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
                 list[i + k++] = list[j];
             j++;
         }
-        dispatch(c, list + i, k, p, cam, g->face_cull && !g->cull_front);
+        dispatch(c, list + i, k, p, cam, g->face_cull && !g->cull_front, occluded ? &p->occluded : &p->mesh);
         draw_instances(c, c->tl, kt, list[i]->mesh, &p->translucent);
         i = j;
     }
+    if (occluded) c3d_occlusion_unbind();
     if (nt == 0) return;
     if (see_through) {
         /* Flitter: the translucent instances' back faces first, nearest first */
@@ -491,7 +621,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
             b++;
         glDepthMask(tl ? GL_TRUE : GL_FALSE);
         if (tl) draw_instances(c, transparent + a, b - a, transparent[a]->mesh, &p->translucent);
-        else dispatch(c, transparent + a, b - a, p, cam, g->face_cull && !g->cull_front);
+        else dispatch(c, transparent + a, b - a, p, cam, g->face_cull && !g->cull_front, &p->mesh);
         a = b;
     }
     glDepthMask(GL_TRUE);

@@ -63,7 +63,8 @@ static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int va
         return false;
     }
     sh->prog = p;
-    glUniformBlockBinding(p, glGetUniformBlockIndex(p, "Lights"), 1);
+    GLuint lights = glGetUniformBlockIndex(p, "Lights");
+    if (lights != GL_INVALID_INDEX) glUniformBlockBinding(p, lights, 1);
 #define U(name) sh->u_##name = glGetUniformLocation(p, #name)
     U(view_position); U(view_focus); U(orthographic); U(fog_min); U(fog_max); U(fog_curve);
     U(fog_color); U(monochrome); U(tint); U(light_ends); U(inverse_pv); U(viewport_size); U(nsamples);
@@ -74,6 +75,11 @@ static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int va
     if (backfaces >= 0) {
         glUseProgram(p);
         glUniform1i(backfaces, 0);
+    }
+    GLint occluders = glGetUniformLocation(p, "occluders");
+    if (occluders >= 0) {
+        glUseProgram(p);
+        glUniform1i(occluders, 1);
     }
     if (sh->u_billboard >= 0) {
         /* the vertex shader's proxy: the octagon for the BILLBOARD
@@ -122,8 +128,24 @@ bool c3d_program_translucency(C3dProgram *p, char *err, size_t errlen)
     return false;
 }
 
+bool c3d_program_occlusion(C3dProgram *p)
+{
+    if (p->occluded.prog) return true;
+    if (p->occlusion_failed) return false;
+    char err[600];
+    if (link(&p->depth, canvas3d_vertex_source, &p->key, C3D_FRAG_DEPTH, err, sizeof err) &&
+        link(&p->occluded, canvas3d_vertex_source, &p->key, C3D_FRAG_OCCLUDED, err, sizeof err))
+        return true;
+    if (p->depth.prog) glDeleteProgram(p->depth.prog);
+    memset(&p->depth, 0, sizeof p->depth);
+    p->occlusion_failed = true;
+    return false;
+}
+
 void c3d_program_free(C3dProgram *p)
 {
+    if (p->depth.prog) glDeleteProgram(p->depth.prog);
+    if (p->occluded.prog) glDeleteProgram(p->occluded.prog);
     if (p->mesh.prog) glDeleteProgram(p->mesh.prog);
     if (p->impostor.prog) glDeleteProgram(p->impostor.prog);
     if (p->billboard.prog) glDeleteProgram(p->billboard.prog);

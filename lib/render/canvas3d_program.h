@@ -32,6 +32,9 @@ typedef struct C3dProgram {
     C3dShader backface;    /* translucent meshes' back faces: light in, distance (prog 0 until made) */
     C3dShader translucent; /* translucent meshes, reading the back faces from texture unit 0 (0 until made) */
     bool translucency_failed;   /* making the two did not work: not tried again */
+    C3dShader depth;       /* the occluders' depth pass (prog 0 until made) */
+    C3dShader occluded;    /* meshes discarding what the occluders hide, texture unit 1 (0 until made) */
+    bool occlusion_failed;      /* making the two did not work: not tried again */
 } C3dProgram;
 
 /* Compile and link the programs for [key] (its variant ignored; see
@@ -48,6 +51,11 @@ bool c3d_program_make(C3dProgram *p, const C3dFragSpec *key, char *err, size_t e
  *   errors: false with a message in [err] when they do not compile or link
  *           (then, and on every later call, false with "" in [err]). */
 bool c3d_program_translucency(C3dProgram *p, char *err, size_t errlen);
+/* Make [p]'s occluders' depth program and its OCCLUDED mesh program
+ * (canvas3d_occlusion.h) when not made yet (a GL context current).
+ *   errors: false when they do not compile or link (then, and on every
+ *           later call, false; the meshes are drawn without). */
+bool c3d_program_occlusion(C3dProgram *p);
 /* Delete [p]'s programs and buffer (the context current); [p] is zeroed. */
 void c3d_program_free(C3dProgram *p);
 

@@ -15,6 +15,7 @@
 #include "canvas.h"
 #include "canvas3d.h"
 #include "canvas3d_backface.h"
+#include "canvas3d_occlusion.h"
 #include "canvas3d_program.h"
 #include "gl_context.h"
 #include "mat4.h"
@@ -34,6 +35,11 @@ typedef struct Instance {
     int group;
     int rank;          /* its mesh's place among its group's meshes, by first appearance (c3d_draw_group) */
 } Instance;
+
+/* When render groups have an occluders' pass (canvas3d_occlusion.h):
+ * when it is likely to pay (the default), whenever it can (for the
+ * tests), never. */
+enum { C3D_OCCLUSION_AUTO, C3D_OCCLUSION_ALWAYS, C3D_OCCLUSION_NEVER };
 
 /* Programs kept by a canvas (one per max_lights and set of light kinds its
  * render groups use). */
@@ -89,8 +95,11 @@ struct Canvas3D {
     Instance **order; int cap_order;
     Instance **split; int cap_split;      /* one dispatch's impostors: billboards, box ones from n (2n) */
     Instance **tl; int cap_tl;            /* one group's translucent instances */
-    const GlMesh **seen; int cap_seen;    /* one group's meshes, in order of first appearance */
     C3dBackface backface;                 /* the back-face pass's framebuffer */
+    C3dOcclusion occlusion;               /* the occluders' pass's framebuffer */
+    int occlusion_mode;                   /* C3D_OCCLUSION_*: FLITTER_CANVAS3D_OCCLUSION unset, =1, =0 */
+    Instance **occ; int cap_occ;          /* one group's occluders */
+    const GlMesh **seen; int cap_seen;    /* one group's meshes, in order of first appearance */
     bool impostors;                       /* spheres may be drawn as impostors (FLITTER_CANVAS3D_IMPOSTORS=0: never) */
     bool octagons;                        /* impostors may be drawn on octagons (=box: always on their box) */
     bool read_whole;                      /* clear, resolve and read every pixel (FLITTER_CANVAS3D_READ=whole) */

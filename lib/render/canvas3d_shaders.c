@@ -391,7 +391,26 @@ static const char translucency_functions[] =
 static const char mesh_main[] =
     "in vec3 world_position;\n"
     "in vec3 world_normal;\n"
-    "void main() { shade(world_position, world_normal); }\n";
+    "#ifdef OCCLUDED\n"
+    "uniform sampler2DMS occluders;\n"
+    "#endif\n"
+    "void main() {\n"
+    "#ifdef OCCLUDED\n"
+    /* the farthest occluder among the pixel's samples, against the
+     * nearest this fragment's plane comes within the pixel (a sample
+     * lies within half a pixel of the centre along each axis), less a
+     * margin of a few steps of the 24-bit depth buffer for the
+     * rasteriser's own interpolation: only a fragment behind at every
+     * sample is discarded */
+    "    ivec2 at = ivec2(gl_FragCoord.xy);\n"
+    "    float occluder = texelFetch(occluders, at, 0).r;\n"
+    "    for (int i = 1; i < NSAMPLES; i++) occluder = max(occluder, texelFetch(occluders, at, i).r);\n"
+    "    float z = gl_FragCoord.z;\n"
+    "    float nearest = z - 0.5 * (abs(dFdx(z)) + abs(dFdy(z)));\n"
+    "    if (nearest > occluder + 4.0 / 16777216.0) discard;\n"
+    "#endif\n"
+    "    shade(world_position, world_normal);\n"
+    "}\n";
 
 /* The impostor path: the ray from the eye through this fragment of the
  * bounding cube meets the unit sphere of the model (found in model space,
@@ -512,6 +531,11 @@ static void put(char *out, size_t cap, size_t *n, const char *fmt, ...)
 size_t canvas3d_fragment_source(char *out, size_t cap, const C3dFragSpec *spec)
 {
     int variant = spec->variant;
+    if (variant == C3D_FRAG_DEPTH) {
+        static const char depth_only[] = "#version 330 core\nvoid main() {}\n";
+        if (out && cap) snprintf(out, cap, "%s", depth_only);
+        return sizeof depth_only - 1;
+    }
     unsigned kinds = spec->kinds, camera = spec->camera;
     bool impostor = variant == C3D_FRAG_IMPOSTOR || variant == C3D_FRAG_BILLBOARD;
     size_t n = 0;
@@ -528,8 +552,8 @@ size_t canvas3d_fragment_source(char *out, size_t cap, const C3dFragSpec *spec)
 #undef KIND
     if (variant == C3D_FRAG_BACKFACE) put(out, cap, &n, "#define BACKFACE\n");
     if (variant == C3D_FRAG_TRANSLUCENT) put(out, cap, &n, "#define TRANSLUCENT\n%s", translucency_functions);
-    if (variant == C3D_FRAG_BILLBOARD)
-        put(out, cap, &n, "#define BILLBOARD\n#define NSAMPLES %d\n",
+    if (variant == C3D_FRAG_BILLBOARD || variant == C3D_FRAG_OCCLUDED)
+        put(out, cap, &n, "%s\n#define NSAMPLES %d\n", variant == C3D_FRAG_BILLBOARD ? "#define BILLBOARD" : "#define OCCLUDED",
             spec->nsamples < 1 ? 1 : spec->nsamples > 8 ? 8 : spec->nsamples);
     put(out, cap, &n, "%s", fragment_head);
     int nlist = spec->nlist > C3D_LIST_MAX ? C3D_LIST_MAX : spec->nlist;

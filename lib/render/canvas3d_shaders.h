@@ -39,8 +39,13 @@ extern const char canvas3d_impostor_vertex_source[];
  * of translucent meshes (out: rgb the light arriving on the back face, a
  * its distance from the eye); translucent meshes (the mesh shader plus the
  * light let through from the back-face pass, read from the uniform
- * sampler2D backface_data, texture unit 0). */
-enum { C3D_FRAG_MESH, C3D_FRAG_IMPOSTOR, C3D_FRAG_BACKFACE, C3D_FRAG_TRANSLUCENT, C3D_FRAG_BILLBOARD };
+ * sampler2D backface_data, texture unit 0); meshes behind occluders
+ * (OCCLUDED: the mesh shader, first discarding a fragment that lies, at
+ * every one of the NSAMPLES samples of its pixel, behind the depth of
+ * the uniform sampler2DMS occluders, texture unit 1:
+ * canvas3d_occlusion.h); the occluders' depth pass (DEPTH: no output). */
+enum { C3D_FRAG_MESH, C3D_FRAG_IMPOSTOR, C3D_FRAG_BACKFACE, C3D_FRAG_TRANSLUCENT, C3D_FRAG_BILLBOARD,
+       C3D_FRAG_OCCLUDED, C3D_FRAG_DEPTH };
 
 /* What of the camera a fragment shader is compiled for (C3dFragSpec's
  * camera bits), so that the paths a camera does not take are not in it
@@ -74,7 +79,8 @@ extern const unsigned char c3d_slot_codes[C3D_LIGHT_SLOTS];
  *   variant     C3D_FRAG_*;
  *   nsamples    the samples the BILLBOARD variant tests: the first
  *               [nsamples] (clamped to 1..8; 1: no sample mask) of
- *               sample_offsets; the others ignore it;
+ *               sample_offsets; the samples of the occluders the
+ *               OCCLUDED variant reads; the others ignore it;
  *   camera      C3D_* camera bits above;
  *   nlist       0: the lights are read in one loop per slot (above),
  *               over the uniform light_ends; 1..C3D_LIST_MAX:

@@ -36,12 +36,12 @@
     X(glBufferData) X(glBufferSubData) X(glCheckFramebufferStatus) X(glClear) X(glClearColor) X(glClearDepth) \
     X(glCompileShader) X(glCreateProgram) X(glCreateShader) X(glCullFace) X(glDeleteBuffers) X(glDeleteFramebuffers) \
     X(glDeleteProgram) X(glDeleteRenderbuffers) X(glDeleteShader) X(glDeleteTextures) X(glDeleteVertexArrays) \
-    X(glDepthMask) X(glDisable) X(glDrawElementsInstanced) X(glEnable) X(glEnableVertexAttribArray) \
+    X(glDepthMask) X(glDisable) X(glDrawBuffer) X(glDrawElementsInstanced) X(glEnable) X(glEnableVertexAttribArray) \
     X(glFramebufferRenderbuffer) X(glFramebufferTexture2D) X(glGenBuffers) X(glGenFramebuffers) X(glGenRenderbuffers) \
     X(glGenTextures) X(glGenVertexArrays) X(glGetIntegerv) X(glGetMultisamplefv) X(glGetProgramInfoLog) \
     X(glGetProgramiv) X(glGetRenderbufferParameteriv) X(glGetShaderInfoLog) X(glGetShaderiv) X(glGetString) X(glGetUniformBlockIndex) \
-    X(glGetUniformLocation) X(glLinkProgram) X(glPixelStorei) X(glReadPixels) X(glRenderbufferStorage) \
-    X(glRenderbufferStorageMultisample) X(glShaderSource) X(glTexImage2D) X(glTexParameteri) X(glUniform1f) \
+    X(glGetUniformLocation) X(glLinkProgram) X(glPixelStorei) X(glReadBuffer) X(glReadPixels) X(glRenderbufferStorage) \
+    X(glRenderbufferStorageMultisample) X(glShaderSource) X(glTexImage2D) X(glTexImage2DMultisample) X(glTexParameteri) X(glUniform1f) \
     X(glUniform1i) X(glUniform1iv) X(glUniform2f) X(glUniform2fv) X(glUniform3f) X(glUniformBlockBinding) X(glUniformMatrix4fv) \
     X(glUseProgram) X(glVertexAttribDivisor) X(glVertexAttribPointer) X(glViewport)
 
@@ -118,6 +118,12 @@ bool gl_lib_ready(char *why, size_t cap);
 #define glBufferSubData (*FL_GL->p_glBufferSubData)
 #undef glCheckFramebufferStatus
 #define glCheckFramebufferStatus (*FL_GL->p_glCheckFramebufferStatus)
+#undef glDrawBuffer
+#define glDrawBuffer (*FL_GL->p_glDrawBuffer)
+#undef glReadBuffer
+#define glReadBuffer (*FL_GL->p_glReadBuffer)
+#undef glTexImage2DMultisample
+#define glTexImage2DMultisample (*FL_GL->p_glTexImage2DMultisample)
 #undef glClear
 #define glClear (*FL_GL->p_glClear)
 #undef glClearColor

@@ -1075,6 +1075,98 @@ static void read_rect_as_whole(void **st)
     }
 }
 
+/* With samples, a render group of opaque meshes lying two or more deep
+ * under 12 lights or more is first drawn depth only (the occluders), and
+ * its meshes discard the fragments hidden at every sample of their pixel
+ * (canvas3d_occlusion.h). Each scene is drawn with
+ * FLITTER_CANVAS3D_OCCLUSION=1 (the pass wherever it can be) and =0
+ * (never), and the two pictures must be equal pixel for pixel: boxes stacked front to back and back to front, meshes
+ * crossing one another at angles (the depth varies across a pixel at
+ * their edges), two boxes sharing a face, fog, with transparent boxes
+ * and impostor spheres among them, and, in a group whose composite is
+ * "add" (no pass there: a hidden fragment drawn first has added its
+ * light), boxes and cones each in front of the other kind. */
+static void occlusion_as_without(void **st)
+{
+    (void)st;
+    static uint32_t pix[2][W * H];
+    static const char *lights =
+        "        for i in ..8\n"
+        "            !light color=0.4;0.3;0.2 position=(i-4)*10;(i%3-1)*15;40 falloff=0;0;1;0\n"
+        "        !light color=0.05\n";
+    static const char *bodies[] = {
+        "        for i in ..6\n"
+        "            !box size=14-i position=i-3;i-2;-i*4 rotation=0.05*i;0.1;0 color=0.2*i;0.5;1-0.1*i\n",
+        "        for i in ..6\n"
+        "            !box size=8+i position=3-i;2-i;i*4-20 rotation=0.1;0.05*i;0 color=1;0.2*i;0.3\n",
+        "        !box size=30;4;4 rotation=0;0;0.1 color=1;0;0\n"
+        "        !box size=4;30;4 rotation=0.2;0;0 color=0;1;0\n"
+        "        !cylinder size=3;3;40 rotation=0.25;0.1;0 color=0;0;1\n"
+        "        !cone size=8;8;20 position=0;0;5 rotation=0.1;0.3;0 color=1;1;0\n"
+        "        !box size=12 position=4;4;-8 rotation=0.1;0.1;0.1 color=0.5\n",
+        "        !box size=10 position=-5;0;0 color=1;0.5;0\n"
+        "        !box size=10 position=5;0;0 color=0;0.5;1\n"
+        "        !box size=20;20;2 position=0;0;-8 color=0.8\n"
+        "        !box size=6 position=0;0;3 color=1\n",
+        "        for i in ..5\n"
+        "            !box size=12 position=i*2-4;0;-i*6 rotation=0;0.1*i;0 color=1;1-0.2*i;0.5\n"
+        "        !box size=9 position=0;3;6 color=0;1;0 transparency=0.5\n"
+        "        !sphere size=4 position=-5;-5;8 color=1;0;1\n"
+        "        !sphere size=3 position=6;-4;2 color=0;1;1\n",
+        /* each kind of mesh both in front of and behind the other, so that
+         * whichever is drawn first, something far is drawn before what
+         * hides it */
+        "        !box size=26 position=0;0;-25 color=1;0;0\n"
+        "        !cone size=22;22;10 position=1;1;10 color=0;1;0\n"
+        "        !cone size=26;26;10 position=-1;0;-32 color=0;0;1\n"
+        "        !box size=12 position=0;-1;18 color=1;1;0\n",
+    };
+    static const char *heads[] = {
+        "!window size=64;64\n    !canvas3d samples=4 viewpoint=10;8;80 focus=0 fov=0.12 near=1 far=500\n",
+        "!window size=64;64\n    !canvas3d samples=4 viewpoint=-6;10;70 focus=0 fov=0.12 near=1 far=500"
+        " fog_color=0.2;0.3;0.4 fog_min=40 fog_max=120\n",
+    };
+    char script[2048];
+    for (int s = 0; s < 7; s++) {
+        const char *head = heads[s == 5];
+        const char *body = bodies[s < 5 ? s : s == 5 ? 0 : 5];
+        snprintf(script, sizeof script, "%s%s%s", head, lights, body);
+        if (s == 6) {
+            /* the same in a group of composite "add" (no pass there):
+             * the lights and models one level deeper */
+            char deeper[2048];
+            size_t n = 0;
+            n += (size_t)snprintf(deeper + n, sizeof deeper - n, "%s        !group composite=:add\n", head);
+            for (const char *t = lights; *t;) {
+                const char *e = strchr(t, '\n');
+                n += (size_t)snprintf(deeper + n, sizeof deeper - n, "    %.*s\n", (int)(e - t), t);
+                t = e + 1;
+            }
+            for (const char *t = body; *t;) {
+                const char *e = strchr(t, '\n');
+                n += (size_t)snprintf(deeper + n, sizeof deeper - n, "    %.*s\n", (int)(e - t), t);
+                t = e + 1;
+            }
+            snprintf(script, sizeof script, "%s", deeper);
+        }
+        for (int k = 0; k < 2; k++) {
+            setenv("FLITTER_CANVAS3D_OCCLUSION", k ? "0" : "1", 1);
+            fl_runtime *rt = draw(script, pix[k]);
+            if (strstr(logged, "compile") || strstr(logged, "link")) fail_msg("script %d: %s", s, logged);
+            fl_free(rt);
+        }
+        unsetenv("FLITTER_CANVAS3D_OCCLUSION");
+        int lit = 0;
+        for (int i = 0; i < W * H; i++) {
+            if (pix[0][i] != pix[1][i])
+                fail_msg("script %d: pixel %d,%d is %08x, without occluders %08x", s, i % W, i / W, pix[0][i],
+                         pix[1][i]);
+            lit += pix[0][i] != pix[0][0];
+        }
+        if (lit < 200) fail_msg("script %d: only %d pixels drawn", s, lit);
+    }
+}
+
 /* A group's meshes are drawn in the order of their first appearance in
  * it (Flitter iterates its group's models so), each mesh's instances
  * nearest first. In a group of composite "add", where the order shows: a
@@ -1128,6 +1220,7 @@ int main(void)
         cmocka_unit_test(listed_lights_as_looped),
         cmocka_unit_test(listed_programs_capped),
         cmocka_unit_test(read_rect_as_whole),
+        cmocka_unit_test(occlusion_as_without),
         cmocka_unit_test(mesh_order_first_appearance),
         cmocka_unit_test(light_kinds_per_group),
         cmocka_unit_test(two_runtimes),
