@@ -7,8 +7,9 @@
  * many lights, the opaque meshes may first be drawn depth only (the
  * occluders' pass, canvas3d_occlusion.h); opaque ones are dispatched per
  * mesh front to back in one instanced call (smooth spheres as ray-cast
- * impostors where they fit); translucent ones have their back faces drawn, nearest first,
- * into the back-face framebuffer (canvas3d_backface.h); then transparent
+ * impostors where they fit); translucent ones have their back faces
+ * drawn, nearest first, into the back-face framebuffer
+ * (canvas3d_backface.h); then transparent
  * and translucent ones are drawn back to front, the transparent ones with
  * depth writes off, the translucent ones with them on and with the
  * translucent program, always as meshes. */
@@ -485,6 +486,15 @@ static double layers(const Canvas3D *c, const Camera *cam, int m)
     return area > 0 ? sum / area : 0;
 }
 
+/* Whether [in] is drawn with a group's opaque instances (not moved to the
+ * transparent ones of a sorted group, nor drawn with the translucent
+ * program). */
+static bool drawn_opaque(const Instance *in, bool sorted, bool see_through)
+{
+    if (sorted && (in->mat.transparency > 0 || in->mat.translucency > 0)) return false;
+    return !(see_through && in->mat.translucency > 0);
+}
+
 /* The occluders' pass of group [g] (canvas3d_occlusion.h): with
  * multisampling, a depth test and composite "over" (an opaque fragment
  * then replaces what is behind it: hidden ones leave no trace), its
@@ -509,9 +519,7 @@ static bool occluders(Canvas3D *c, const Group *g, C3dProgram *p, Instance **lis
     int m = 0;
     for (int i = 0; i < n; i++) {
         const Instance *in = list[i];
-        bool opaque = !(sorted && (in->mat.transparency > 0 || in->mat.translucency > 0)) &&
-                      !(see_through && in->mat.translucency > 0);
-        if (opaque && in->mesh->key.kind != MESH_SPHERE) c->occ[m++] = list[i];
+        if (drawn_opaque(in, sorted, see_through) && in->mesh->key.kind != MESH_SPHERE) c->occ[m++] = list[i];
     }
     if (m < 1 || (!always && (m < 2 || layers(c, cam, m) < OCCLUSION_MIN_LAYERS)) || !c3d_program_occlusion(p))
         return false;
@@ -589,12 +597,12 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     while (i < n) {
         int j = i, k = 0, kt = 0;
         while (j < n && list[j]->mesh == list[i]->mesh) {
-            if (sorted && (list[j]->mat.transparency > 0 || list[j]->mat.translucency > 0))
-                transparent[nt++] = list[j];
-            else if (see_through && list[j]->mat.translucency > 0)
-                c->tl[kt++] = list[j];
-            else
+            if (drawn_opaque(list[j], sorted, see_through))
                 list[i + k++] = list[j];
+            else if (sorted && (list[j]->mat.transparency > 0 || list[j]->mat.translucency > 0))
+                transparent[nt++] = list[j];
+            else
+                c->tl[kt++] = list[j];
             j++;
         }
         dispatch(c, list + i, k, p, cam, g->face_cull && !g->cull_front, occluded ? &p->occluded : &p->mesh);

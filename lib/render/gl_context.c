@@ -269,7 +269,8 @@ static void read_rect(GlContext *gl, float *rgba, const int *rect)
     size_t n = (size_t)rw * rh * 4;
     if (n > gl->cap_half) {
         uint16_t *more = realloc(gl->half, n * sizeof *more);
-        if (!more) {   /* no room for the halves: GL converts the whole picture */
+        if (!more) {   /* no room for the halves: GL converts the whole picture (the part
+                          outside [rect] holds [outside] too: the same pixels) */
             if (gl->samples > 0 && rect) {
                 glBindFramebuffer(GL_READ_FRAMEBUFFER, gl->fbo);
                 glBindFramebuffer(GL_DRAW_FRAMEBUFFER, gl->resolve_fbo);
@@ -280,17 +281,6 @@ static void read_rect(GlContext *gl, float *rgba, const int *rect)
             glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, rgba);
             glBindFramebuffer(GL_FRAMEBUFFER, gl->fbo);
             flip_rows(rgba, w, h);
-            /* outside the rectangle the framebuffer may hold anything */
-            for (int y = 0; rect && y < h; y++) {
-                float *out = rgba + (size_t)y * w * 4;
-                int gy = h - 1 - y;
-                if (gy < y0 || gy >= y0 + rh || rw == 0) {
-                    fill_pixels(out, (size_t)w, outside);
-                } else {
-                    fill_pixels(out, (size_t)x0, outside);
-                    fill_pixels(out + (size_t)(x0 + rw) * 4, (size_t)(w - x0 - rw), outside);
-                }
-            }
             return;
         }
         gl->half = more;
