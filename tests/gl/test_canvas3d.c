@@ -999,17 +999,18 @@ static void textures_warned_once(void **st)
     fl_free(rt);
 }
 
-/* Only the pixels a frame's models can touch are cleared, resolved and
- * read back; every other pixel is the clear colour as the framebuffer
- * holds it (each channel a binary16). Each scene is drawn that way and
- * with FLITTER_CANVAS3D_READ=whole (every pixel cleared and read), and
- * the two pictures must be equal: small models with and without samples,
- * fogged (the fog colour is the clear colour; the binary16 of 0.294 and
- * of 0.494 encode to other 8-bit codes than their floats: 147 and 186,
- * not 148 and 187), monochrome and tinted, a model
- * partly off the picture, one behind the eye and one through the eye's
- * plane (no rectangle: the whole picture), orthographic, and no model at
- * all. */
+/* Only the pixels a frame's models can touch are resolved and read back;
+ * every other pixel takes the value of one pixel read outside them (the
+ * clear colour as the framebuffer holds it: each channel a binary16).
+ * Each scene is drawn that way and with FLITTER_CANVAS3D_READ=whole
+ * (every pixel read), and the two pictures must be equal: small models
+ * with and without samples, fogged (the fog colour is the clear colour;
+ * the binary16 of 0.294 and of 0.494 encode to other 8-bit codes than
+ * their floats: 147 and 186, not 148 and 187), monochrome and tinted, a
+ * model near the bottom right, one over the bottom left corner (the
+ * pixel read outside is then the top right one), one behind the eye and
+ * one through the eye's plane (no rectangle: the whole picture),
+ * orthographic, and no model at all. */
 static void read_rect_as_whole(void **st)
 {
     (void)st;
@@ -1034,6 +1035,11 @@ static void read_rect_as_whole(void **st)
         "    !canvas3d samples=4 viewpoint=0;0;100 fov=0.2 near=1 far=1000\n"
         "        !light color=1 direction=0;0;-1\n"
         "        !sphere size=8 position=19;-18;0 color=1\n",
+        "!window size=64;64\n"
+        "    !canvas3d samples=4 viewpoint=0;0;100 fov=0.2 near=1 far=1000 fog_color=0.294;0.349;0.494 fog_min=50"
+        " fog_max=200\n"
+        "        !light color=1 direction=0;0;-1\n"
+        "        !box size=30 position=-70;-70;0 color=1\n",
         "!window size=64;64\n"
         "    !canvas3d samples=4 viewpoint=0;0;100 fov=0.2 near=1 far=1000 fog_color=0.294;0.349;0.494 fog_min=50"
         " fog_max=200\n"
@@ -1064,8 +1070,8 @@ static void read_rect_as_whole(void **st)
                          pix[1][i]);
             lit += pix[0][i] != pix[0][0];
         }
-        if (s != 6 && lit == 0) fail_msg("script %d: no model drawn", s);
-        if (s == 0 || s == 1 || s == 4 || s == 6) {
+        if (s != 7 && lit == 0) fail_msg("script %d: no model drawn", s);
+        if (s == 0 || s == 1 || s == 4 || s == 5 || s == 7) {
             /* the corner: the fog colour as the framebuffer's binary16
              * holds it (red and blue: the same whether the driver rounds
              * to nearest or toward zero), not as the float encodes */
