@@ -447,19 +447,11 @@ static bool drawn_rect(const Canvas3D *c, const Camera *cam, int w, int h, int r
     if (c->read_whole) return false;
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (int i = 0; i < c->ninst; i++) {
-        const Instance *in = &c->inst[i];
-        M4 m = m4_mul(&cam->pv, &in->model);
-        const float *b = in->mesh->bounds;
-        for (int k = 0; k < 8; k++) {
-            double v[3] = {b[(k & 1) ? 3 : 0], b[(k & 2) ? 4 : 1], b[(k & 4) ? 5 : 2]}, clip[4];
-            for (int r = 0; r < 4; r++)
-                clip[r] = m.m[r] * v[0] + m.m[4 + r] * v[1] + m.m[8 + r] * v[2] + m.m[12 + r];
-            if (!(clip[3] > 1e-9) || !isfinite(clip[0]) || !isfinite(clip[1]) || !isfinite(clip[3])) return false;
-            for (int a = 0; a < 2; a++) {
-                double p = (clip[a] / clip[3] * 0.5 + 0.5) * (a ? h : w);
-                if (p < lo[a]) lo[a] = p;
-                if (p > hi[a]) hi[a] = p;
-            }
+        double xy[16];
+        if (!c3d_project_box(&cam->pv, &c->inst[i], w, h, xy)) return false;
+        for (int k = 0; k < 16; k++) {
+            if (xy[k] < lo[k & 1]) lo[k & 1] = xy[k];
+            if (xy[k] > hi[k & 1]) hi[k & 1] = xy[k];
         }
     }
     if (c->ninst == 0 || hi[0] < -2 || hi[1] < -2 || lo[0] > w + 2 || lo[1] > h + 2) {

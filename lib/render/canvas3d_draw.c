@@ -461,20 +461,11 @@ static double layers(const Canvas3D *c, const Camera *cam, int m)
 {
     double sum = 0, lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (int i = 0; i < m; i++) {
-        const Instance *in = c->occ[i];
-        M4 t = m4_mul(&cam->pv, &in->model);
-        const float *b = in->mesh->bounds;
         double xy[16];
-        for (int k = 0; k < 8; k++) {
-            double v[3] = {b[(k & 1) ? 3 : 0], b[(k & 2) ? 4 : 1], b[(k & 4) ? 5 : 2]}, cl[4];
-            for (int r = 0; r < 4; r++) cl[r] = t.m[r] * v[0] + t.m[4 + r] * v[1] + t.m[8 + r] * v[2] + t.m[12 + r];
-            if (!(cl[3] > 1e-9) || !isfinite(cl[0]) || !isfinite(cl[1])) return 0;
-            xy[2 * k] = (cl[0] / cl[3] * 0.5 + 0.5) * c->width;
-            xy[2 * k + 1] = (cl[1] / cl[3] * 0.5 + 0.5) * c->height;
-            for (int a = 0; a < 2; a++) {
-                if (xy[2 * k + a] < lo[a]) lo[a] = xy[2 * k + a];
-                if (xy[2 * k + a] > hi[a]) hi[a] = xy[2 * k + a];
-            }
+        if (!c3d_project_box(&cam->pv, c->occ[i], c->width, c->height, xy)) return 0;
+        for (int k = 0; k < 16; k++) {
+            if (xy[k] < lo[k & 1]) lo[k & 1] = xy[k];
+            if (xy[k] > hi[k & 1]) hi[k & 1] = xy[k];
         }
         sum += hull_area(xy, 8);
     }

@@ -6,6 +6,7 @@
 #ifndef FL_RENDER_CANVAS3D_SCENE_H
 #define FL_RENDER_CANVAS3D_SCENE_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -128,5 +129,23 @@ struct Canvas3D {
  *   errors: a message in [err] when its program does not compile (nothing
  *           drawn); [err] untouched otherwise. */
 void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen);
+
+/* The 8 corners of [in]'s mesh's bounding box projected through [pv]
+ * onto a [w] x [h] framebuffer: GL window coordinates (pixels, y up) in
+ * xy (x0, y0, x1, ...). False when a corner is at or behind the eye's
+ * plane (clip w <= 1e-9) or not finite: no projection bounds it then. */
+static inline bool c3d_project_box(const M4 *pv, const Instance *in, int w, int h, double xy[16])
+{
+    M4 m = m4_mul(pv, &in->model);
+    const float *b = in->mesh->bounds;
+    for (int k = 0; k < 8; k++) {
+        double v[3] = {b[(k & 1) ? 3 : 0], b[(k & 2) ? 4 : 1], b[(k & 4) ? 5 : 2]}, clip[4];
+        for (int r = 0; r < 4; r++) clip[r] = m.m[r] * v[0] + m.m[4 + r] * v[1] + m.m[8 + r] * v[2] + m.m[12 + r];
+        if (!(clip[3] > 1e-9) || !isfinite(clip[0]) || !isfinite(clip[1]) || !isfinite(clip[3])) return false;
+        xy[2 * k] = (clip[0] / clip[3] * 0.5 + 0.5) * w;
+        xy[2 * k + 1] = (clip[1] / clip[3] * 0.5 + 0.5) * h;
+    }
+    return true;
+}
 
 #endif
