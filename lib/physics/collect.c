@@ -591,7 +591,7 @@ typedef struct FillRun {
     PhysSystem *s;
     const PhysCollect *c;
     size_t chunk;
-    size_t left[PHYS_MAX_TASKS];   /* per task: particles fill_same() left */
+    size_t left[WORKERS_MAX_TASKS];   /* per task: particles fill_same() left */
 } FillRun;
 
 static void fill_task(void *ctx, size_t t, unsigned thread)
@@ -601,7 +601,7 @@ static void fill_task(void *ctx, size_t t, unsigned thread)
     /* counted here, stored once: the tasks' entries of [r] share cache
      * lines, which per-particle stores would pass between the cores */
     size_t left = 0;
-    for (size_t i = t * r->chunk, i1 = phys_task_end(t, r->chunk, r->s->npn); i < i1; i++) {
+    for (size_t i = t * r->chunk, i1 = workers_task_end(t, r->chunk, r->s->npn); i < i1; i++) {
         bool done = fill_same(r->s, r->c, &r->s->pn[i]);
         r->s->filled[i] = done;
         left += !done;
@@ -628,8 +628,8 @@ static void fill_all(PhysSystem *s, const PhysCollect *c, const StateDict *sd)
     }
     GROW(s->filled, s->capfilled, n);
     FillRun r = {.s = s, .c = c};
-    size_t ntasks = phys_workers_split(n, FILL_CHUNK, &r.chunk);
-    phys_workers_run(s->workers, ntasks, fill_task, &r);
+    size_t ntasks = workers_split(n, FILL_CHUNK, &r.chunk);
+    workers_run(s->workers, ntasks, fill_task, &r);
     for (size_t i = 0; i < n; i++) {
         if (!s->filled[i])
             continue;
@@ -641,7 +641,7 @@ static void fill_all(PhysSystem *s, const PhysCollect *c, const StateDict *sd)
     for (size_t t = 0; t < ntasks; t++) {
         if (!r.left[t])
             continue;
-        for (size_t i = t * r.chunk, i1 = phys_task_end(t, r.chunk, n); i < i1; i++)
+        for (size_t i = t * r.chunk, i1 = workers_task_end(t, r.chunk, n); i < i1; i++)
             if (!s->filled[i])
                 fill_particle(s, c, sd, &s->pn[i]);
     }

@@ -99,7 +99,7 @@ static double applier_reach(const PhysApplier *ap, double rmax)
 
 void phys_plan_levels(PhysSystem *s)
 {
-    unsigned nth = phys_workers_count(s->workers);
+    unsigned nth = workers_count(s->workers);
     for (size_t g = 0; g < s->ngroups; g++) {
         const PhysGroup *G = &s->groups[g];
         if (!G->npart)
@@ -169,7 +169,7 @@ static inline uint64_t cell_hash(const int32_t *c)
 /* The grid's per-entry loops are split over the threads when the level
  * is large: every entry's results go to its own places, so they are the
  * same bits on any number of threads. Tasks of at least GRID_CHUNK
- * entries (phys_workers_split). */
+ * entries (workers_split). */
 #define GRID_CHUNK 512
 
 /* One task's share of the cell loop: the box of its cells and how many
@@ -184,7 +184,7 @@ typedef struct GridRun {
     const uint32_t *pool;
     size_t chunk;       /* items per task */
     size_t count;       /* items of the loop in hand */
-    GridPart part[PHYS_MAX_TASKS];
+    GridPart part[WORKERS_MAX_TASKS];
 } GridRun;
 
 /* Entry q's cell (cell[3q..3q+2], 0 past D) and whether it is odd
@@ -199,7 +199,7 @@ static void cell_task(void *ctx, size_t t, unsigned thread)
     /* the box and count kept here, stored once: the tasks' parts share
      * cache lines, which per-entry stores would pass between the cores */
     GridPart P_ = {{INT32_MAX, INT32_MAX, INT32_MAX}, {INT32_MIN, INT32_MIN, INT32_MIN}, 0}, *P = &P_;
-    for (size_t q = t * r->chunk, q1 = phys_task_end(t, r->chunk, r->count); q < q1; q++) {
+    for (size_t q = t * r->chunk, q1 = workers_task_end(t, r->chunk, r->count); q < q1; q++) {
         const double *x = r->s->pos + (size_t)r->pool[q] * D;
         int32_t *c = gr->cell + 3 * q;
         c[0] = c[1] = c[2] = 0;
@@ -235,7 +235,7 @@ static void copy_task(void *ctx, size_t t, unsigned thread)
     GridRun *r = ctx;
     PhysGrid *gr = &r->s->grid;
     const size_t D = r->s->D, m = gr->nslot;
-    for (size_t i = t * r->chunk, i1 = phys_task_end(t, r->chunk, r->count); i < i1; i++) {
+    for (size_t i = t * r->chunk, i1 = workers_task_end(t, r->chunk, r->count); i < i1; i++) {
         const double *x = r->s->pos + (size_t)r->pool[gr->slotq[i]] * D;
         for (size_t k = 0; k < D; k++)
             gr->sx[k * m + i] = x[k];
@@ -243,11 +243,11 @@ static void copy_task(void *ctx, size_t t, unsigned thread)
 }
 
 /* Run [fn] over [count] items in tasks; returns the number of tasks. */
-static size_t grid_run(GridRun *r, size_t count, PhysTaskFn fn)
+static size_t grid_run(GridRun *r, size_t count, WorkersTaskFn fn)
 {
     r->count = count;
-    size_t ntasks = phys_workers_split(count, GRID_CHUNK, &r->chunk);
-    phys_workers_run(phys_workers_count(r->s->workers) > 1 ? r->s->workers : NULL, ntasks, fn, r);
+    size_t ntasks = workers_split(count, GRID_CHUNK, &r->chunk);
+    workers_run(workers_count(r->s->workers) > 1 ? r->s->workers : NULL, ntasks, fn, r);
     return ntasks;
 }
 
@@ -1016,10 +1016,10 @@ void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     if (L.grid) {
         grid_build(s, L.pool, L.npool, R * (1 + 0x1p-20));
     }
-    unsigned nth = phys_workers_count(s->workers);
+    unsigned nth = workers_count(s->workers);
     ensure_scratch(s, nth, L.npool);
     size_t ntasks = (L.npool + TARGETS_PER_TASK - 1) / TARGETS_PER_TASK;
-    phys_workers_run(nth > 1 ? s->workers : NULL, ntasks, level_task, &L);
+    workers_run(nth > 1 ? s->workers : NULL, ntasks, level_task, &L);
 }
 
 void phys_pairs_free(PhysSystem *s)

@@ -185,7 +185,7 @@ typedef struct PhysGrid {
     size_t capbucket, capcell, capstart, capent, capodd;
 } PhysGrid;
 
-typedef struct PhysWorkers PhysWorkers;
+typedef struct Workers Workers;
 
 /* State keys of one storage slot for this frame (borrowed from the key
  * table). */
@@ -277,7 +277,7 @@ typedef struct PhysSystem {
 
     /* pair routes (pairs.c) */
     bool naive;                   /* always the reference loop */
-    PhysWorkers *workers;         /* borrowed from the world; NULL = 1 thread */
+    Workers *workers;         /* borrowed from the world; NULL = 1 thread */
     PhysGrid grid;
     PhysScratch *scratch; size_t capscratch;  /* one per thread */
     double *rows; size_t caprows; /* rows.c: the level in pool order */

@@ -240,7 +240,7 @@ static void write_slot(PhysSystem *s, StateDict *sd, size_t i)
 
 typedef struct WriteRun {
     PhysSystem *s;
-    size_t left[PHYS_MAX_TASKS];    /* per task */
+    size_t left[WORKERS_MAX_TASKS];    /* per task */
     size_t chunk;
 } WriteRun;
 
@@ -248,7 +248,7 @@ static void write_task(void *ctx, size_t t, unsigned thread)
 {
     (void)thread;
     WriteRun *r = ctx;
-    r->left[t] = write_in_place(r->s, t * r->chunk, phys_task_end(t, r->chunk, r->s->n));
+    r->left[t] = write_in_place(r->s, t * r->chunk, workers_task_end(t, r->chunk, r->s->n));
 }
 
 /* §2 step 8 writes: position and velocity of every particle (anchors too)
@@ -269,12 +269,12 @@ void phys_write_particles(PhysSystem *s, StateDict *sd)
         return;
     }
     WriteRun r = {.s = s};
-    size_t ntasks = phys_workers_split(n, WRITE_CHUNK, &r.chunk);
-    phys_workers_run(s->workers, ntasks, write_task, &r);
+    size_t ntasks = workers_split(n, WRITE_CHUNK, &r.chunk);
+    workers_run(s->workers, ntasks, write_task, &r);
     for (size_t t = 0; t < ntasks; t++) {
         if (!r.left[t])
             continue;
-        for (size_t i = t * r.chunk, i1 = phys_task_end(t, r.chunk, n); i < i1; i++)
+        for (size_t i = t * r.chunk, i1 = workers_task_end(t, r.chunk, n); i < i1; i++)
             write_slot(s, sd, i);
     }
 }

@@ -392,7 +392,7 @@ static void particle_pass(PhysSystem *s, const PhysGroup *g, double clock,
         return;
     }
     PassRun r = {s, g, clock, delta, more};
-    phys_workers_run(s->workers, (g->npart + PASS_CHUNK - 1) / PASS_CHUNK,
+    workers_run(s->workers, (g->npart + PASS_CHUNK - 1) / PASS_CHUNK,
                      pass_task, &r);
 }
 
@@ -506,8 +506,8 @@ static void first_pass_task(void *ctx, size_t t, unsigned thread)
  * draws of the step made alongside when that pays. */
 static void first_pass(PhysSystem *s, bool random)
 {
-    PhysWorkers *w = s->workers;
-    if (!random || s->literal || phys_workers_count(w) < 2 || !pairs_one_thread(s) || !plan_ahead(s)) {
+    Workers *w = s->workers;
+    if (!random || s->literal || workers_count(w) < 2 || !pairs_one_thread(s) || !plan_ahead(s)) {
         for (size_t g = 0; g < s->ngroups; g++)
             pair_pass(s, &s->groups[g]);
         return;
@@ -515,7 +515,7 @@ static void first_pass(PhysSystem *s, bool random)
     FirstPass fp = {s};
     /* the pair pass inside the job keeps to its thread */
     s->workers = NULL;
-    phys_workers_run(w, 2, first_pass_task, &fp);
+    workers_run(w, 2, first_pass_task, &fp);
     s->workers = w;
 }
 

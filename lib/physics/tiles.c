@@ -438,7 +438,7 @@ static double level_pairs(size_t rows, size_t n)
 
 bool phys_tiles_threaded(const PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
 {
-    return phys_workers_count(s->workers) >= 2 && level_pairs(g->npart, lv->npool) >= TILES_PIPE_PAIRS;
+    return workers_count(s->workers) >= 2 && level_pairs(g->npart, lv->npool) >= TILES_PIPE_PAIRS;
 }
 
 void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
@@ -498,8 +498,8 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
         run.ntasks = list_tasks(s, T.npart, n, W);
         run.tasks = s->ttasks;
         run.prog = s->tprog;
-        unsigned nw = phys_workers_count(s->workers);
-        phys_workers_run(s->workers, nw < PHYS_MAX_TASKS ? nw : PHYS_MAX_TASKS, tiles_task, &run);
+        unsigned nw = workers_count(s->workers);
+        workers_run(s->workers, nw < WORKERS_MAX_TASKS ? nw : WORKERS_MAX_TASKS, tiles_task, &run);
     }
     for (size_t q = 0; q < n; q++) {
         size_t p = pool[q];

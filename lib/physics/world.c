@@ -33,7 +33,7 @@ struct PhysicsWorld {
     bool naive;             /* --pairs naive: the reference pair loop only */
     bool literal;           /* --particles literal: literal.c's particle pass */
     unsigned threads;       /* wanted threads; the pool is made on first use */
-    PhysWorkers *workers;   /* NULL until needed or when threads == 1 */
+    Workers *workers;   /* NULL until needed or when threads == 1 */
     int simd;               /* PHYS_SIMD_* level of the tile kernel */
 };
 
@@ -243,9 +243,9 @@ PhysicsWorld *phys_new(void)
 void phys_set_threads(PhysicsWorld *w, unsigned n)
 {
     if (n == 0)
-        n = phys_available_cores();
+        n = workers_available_cores();
     if (n != w->threads) {
-        phys_workers_free(w->workers);
+        workers_free(w->workers);
         w->workers = NULL;
     }
     w->threads = n;
@@ -276,7 +276,7 @@ void phys_free(PhysicsWorld *w)
     for (size_t i = 0; i < w->n; i++)
         system_free(w->sys[i]);
     free(w->sys);
-    phys_workers_free(w->workers);
+    workers_free(w->workers);
     free(w);
 }
 
@@ -291,7 +291,7 @@ void phys_run_frame(PhysicsWorld *w, Node *const *nodes, size_t n,
     while (w->n < n)
         w->sys[w->n++] = system_new();
     if (w->threads > 1 && !w->workers && !w->naive)
-        w->workers = phys_workers_new(w->threads);
+        w->workers = workers_new(w->threads);
     for (size_t i = 0; i < n; i++) {
         PhysSystem *s = w->sys[i];
         s->naive = w->naive;

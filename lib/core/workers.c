@@ -1,4 +1,4 @@
-/* workers.c: the physics engine's thread pool (workers.h).
+/* workers.c: the thread pool of workers.h.
  *
  * n - 1 threads wait for a job. A job is published as one 64-bit ticket of
  * its generation, its task count and the next task to hand out: the caller
@@ -47,11 +47,11 @@
  * free it: a thread that is late to start would then free memory during
  * some later frame, which steady frames must not do). */
 typedef struct WorkerArg {
-    PhysWorkers *w;
+    Workers *w;
     unsigned id;
 } WorkerArg;
 
-struct PhysWorkers {
+struct Workers {
     unsigned n;                 /* threads in all, the caller included */
     unsigned started;           /* threads actually running */
     pthread_t *th;
@@ -63,7 +63,7 @@ struct PhysWorkers {
     atomic_uint sleepers;       /* workers asleep (or about to be) on go */
     atomic_bool waiting;        /* the caller asleep (or about to be) on done */
     atomic_bool quit;
-    PhysTaskFn fn;              /* the job (its task count is in the ticket):
+    WorkersTaskFn fn;              /* the job (its task count is in the ticket):
                                    written before the ticket moves */
     void *ctx;
 };
@@ -117,7 +117,7 @@ static bool spin_while_gen(atomic_uint_fast64_t *v, uint64_t gen)
 
 /* Claim and run tasks of the job of ticket value [cur] (read before)
  * until none is left to hand out or another job is current. */
-static void take_tasks(PhysWorkers *w, unsigned id, uint64_t cur)
+static void take_tasks(Workers *w, unsigned id, uint64_t cur)
 {
     const uint64_t gen = T_GEN(cur), n = T_COUNT(cur);
     for (;;) {
@@ -148,7 +148,7 @@ static void take_tasks(PhysWorkers *w, unsigned id, uint64_t cur)
 static void *worker_main(void *arg)
 {
     WorkerArg a = *(const WorkerArg *)arg;
-    PhysWorkers *w = a.w;
+    Workers *w = a.w;
     uint64_t seen = 0;          /* the last generation this thread joined */
     for (;;) {
         if (spin_while_gen(&w->ticket, seen)) {
@@ -168,11 +168,11 @@ static void *worker_main(void *arg)
     return NULL;
 }
 
-PhysWorkers *phys_workers_new(unsigned n)
+Workers *workers_new(unsigned n)
 {
     if (n < 1)
         n = 1;
-    PhysWorkers *w = calloc(1, sizeof *w);
+    Workers *w = calloc(1, sizeof *w);
     if (!w)
         return NULL;
     w->n = n;
@@ -214,7 +214,7 @@ PhysWorkers *phys_workers_new(unsigned n)
     return w;
 }
 
-void phys_workers_free(PhysWorkers *w)
+void workers_free(Workers *w)
 {
     if (!w)
         return;
@@ -235,12 +235,12 @@ void phys_workers_free(PhysWorkers *w)
     free(w);
 }
 
-unsigned phys_workers_count(const PhysWorkers *w)
+unsigned workers_count(const Workers *w)
 {
     return w ? w->n : 1;
 }
 
-void phys_workers_run(PhysWorkers *w, size_t ntasks, PhysTaskFn fn, void *ctx)
+void workers_run(Workers *w, size_t ntasks, WorkersTaskFn fn, void *ctx)
 {
     if (!w || w->n == 1 || ntasks <= 1 || ntasks > T_MASK) {
         for (size_t t = 0; t < ntasks; t++)
@@ -285,14 +285,14 @@ void phys_workers_run(PhysWorkers *w, size_t ntasks, PhysTaskFn fn, void *ctx)
     }
 }
 
-size_t phys_workers_split(size_t n, size_t min_chunk, size_t *chunk)
+size_t workers_split(size_t n, size_t min_chunk, size_t *chunk)
 {
-    size_t c = (n + PHYS_MAX_TASKS - 1) / PHYS_MAX_TASKS;
+    size_t c = (n + WORKERS_MAX_TASKS - 1) / WORKERS_MAX_TASKS;
     *chunk = c > min_chunk ? c : min_chunk > 0 ? min_chunk : 1;
     return (n + *chunk - 1) / *chunk;
 }
 
-unsigned phys_available_cores(void)
+unsigned workers_available_cores(void)
 {
     cpu_set_t set;
     if (sched_getaffinity(0, sizeof set, &set) == 0) {
