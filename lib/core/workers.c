@@ -115,33 +115,43 @@ static bool spin_while_gen(atomic_uint_fast64_t *v, uint64_t gen)
     }
 }
 
-/* Claim and run tasks of the job of ticket value [cur] (read before)
- * until none is left to hand out or another job is current. */
-static void take_tasks(Workers *w, unsigned id, uint64_t cur)
+/* Claim one task of the job of ticket value *[cur] (read before) and run
+ * it; false when none is left to hand out or another job is current.
+ * *[cur] is left at the ticket's value after the claim (or as last seen). */
+static bool take_one(Workers *w, unsigned id, uint64_t *cur)
 {
-    const uint64_t gen = T_GEN(cur), n = T_COUNT(cur);
+    const uint64_t gen = T_GEN(*cur), n = T_COUNT(*cur);
     for (;;) {
-        if (T_GEN(cur) != gen || T_NEXT(cur) >= n)
-            return;
+        if (T_GEN(*cur) != gen || T_NEXT(*cur) >= n)
+            return false;
         /* a claim succeeds only while the job is current and the task is
          * not yet handed out; the job's fields are then the ones stored
          * before the ticket (acquire pairs with the caller's store), and
          * they stay until this task is counted finished */
-        if (!atomic_compare_exchange_weak_explicit(&w->ticket, &cur, cur + 1,
-                                                   memory_order_acquire,
-                                                   memory_order_relaxed))
-            continue;
-        w->fn(w->ctx, (size_t)T_NEXT(cur), id);
-        /* sequentially consistent, as the look at `waiting` after it: the
-         * caller stores `waiting` and then looks at the count, so one of
-         * the two sees the other and no wake-up is lost */
-        size_t done = atomic_fetch_add(&w->finished, 1) + 1;
-        if (done == n && id != 0 && atomic_load(&w->waiting)) {
-            pthread_mutex_lock(&w->mu);
-            pthread_cond_signal(&w->done);
-            pthread_mutex_unlock(&w->mu);
-        }
-        cur++;
+        if (atomic_compare_exchange_weak_explicit(&w->ticket, cur, *cur + 1,
+                                                  memory_order_acquire,
+                                                  memory_order_relaxed))
+            break;
+    }
+    w->fn(w->ctx, (size_t)T_NEXT(*cur), id);
+    /* sequentially consistent, as the look at `waiting` after it: the
+     * caller stores `waiting` and then looks at the count, so one of
+     * the two sees the other and no wake-up is lost */
+    size_t done = atomic_fetch_add(&w->finished, 1) + 1;
+    if (done == n && id != 0 && atomic_load(&w->waiting)) {
+        pthread_mutex_lock(&w->mu);
+        pthread_cond_signal(&w->done);
+        pthread_mutex_unlock(&w->mu);
+    }
+    (*cur)++;
+    return true;
+}
+
+/* Claim and run tasks of the job of ticket value [cur] (read before)
+ * until none is left to hand out or another job is current. */
+static void take_tasks(Workers *w, unsigned id, uint64_t cur)
+{
+    while (take_one(w, id, &cur)) {
     }
 }
 
@@ -240,11 +250,11 @@ unsigned workers_count(const Workers *w)
     return w ? w->n : 1;
 }
 
-void workers_run(Workers *w, size_t ntasks, WorkersTaskFn fn, void *ctx)
+void workers_start(Workers *w, WorkersJob *j, size_t ntasks, WorkersTaskFn fn, void *ctx)
 {
+    *j = (WorkersJob){w, ntasks, 0, fn, ctx};
     if (!w || w->n == 1 || ntasks <= 1 || ntasks > T_MASK) {
-        for (size_t t = 0; t < ntasks; t++)
-            fn(ctx, t, 0);
+        j->w = NULL;
         return;
     }
     /* every task of the job before is finished, so no thread reads these
@@ -262,7 +272,30 @@ void workers_run(Workers *w, size_t ntasks, WorkersTaskFn fn, void *ctx)
         pthread_cond_broadcast(&w->go);
         pthread_mutex_unlock(&w->mu);
     }
-    take_tasks(w, 0, ticket);
+}
+
+bool workers_help(WorkersJob *j)
+{
+    if (!j->w) {
+        if (j->next >= j->ntasks)
+            return false;
+        j->fn(j->ctx, j->next++, 0);
+        return true;
+    }
+    uint64_t cur = atomic_load_explicit(&j->w->ticket, memory_order_relaxed);
+    return take_one(j->w, 0, &cur);
+}
+
+void workers_finish(WorkersJob *j)
+{
+    Workers *w = j->w;
+    if (!w) {
+        while (workers_help(j)) {
+        }
+        return;
+    }
+    const size_t ntasks = j->ntasks;
+    take_tasks(w, 0, atomic_load_explicit(&w->ticket, memory_order_relaxed));
     uint64_t until = 0;
     for (unsigned i = 0; atomic_load_explicit(&w->finished, memory_order_acquire) < ntasks; i++) {
         spin_pause();
@@ -283,6 +316,13 @@ void workers_run(Workers *w, size_t ntasks, WorkersTaskFn fn, void *ctx)
         pthread_mutex_unlock(&w->mu);
         break;
     }
+}
+
+void workers_run(Workers *w, size_t ntasks, WorkersTaskFn fn, void *ctx)
+{
+    WorkersJob j;
+    workers_start(w, &j, ntasks, fn, ctx);
+    workers_finish(&j);
 }
 
 size_t workers_split(size_t n, size_t min_chunk, size_t *chunk)

@@ -10,6 +10,7 @@
 #ifndef FL_WORKERS_H
 #define FL_WORKERS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 typedef struct Workers Workers;
@@ -29,6 +30,39 @@ unsigned workers_count(const Workers *w);
 /* Run fn(ctx, t, thread) for every t < ntasks and wait for all of them.
  * With NULL or one thread, runs them in order on the caller (thread 0). */
 void workers_run(Workers *w, size_t ntasks, WorkersTaskFn fn, void *ctx);
+/* A job started with workers_start(): the caller may take its tasks one
+ * at a time (workers_help) while the other threads take theirs, and must
+ * end it with workers_finish(). Filled by workers_start; the caller only
+ * keeps it. */
+typedef struct WorkersJob {
+    Workers *w;             /* the pool running it, or NULL: the caller runs
+                               every task (no pool, one thread, one task) */
+    size_t ntasks;
+    size_t next;            /* without a pool: the next task to run */
+    WorkersTaskFn fn;
+    void *ctx;
+} WorkersJob;
+/* Start fn(ctx, t, thread) for every t < ntasks on the pool's other threads
+ * and return at once (with NULL or one thread, nothing runs yet). Tasks are
+ * handed out in increasing order of t. The caller must call
+ * workers_finish(j) before it starts another job on [w] or frees anything
+ * the tasks use. */
+void workers_start(Workers *w, WorkersJob *j, size_t ntasks, WorkersTaskFn fn, void *ctx);
+/* Take the next task of [j] not yet handed out and run it on the caller
+ * (thread 0); false when every task has been handed out (some may still be
+ * running on other threads). */
+bool workers_help(WorkersJob *j);
+/* Run the tasks of [j] not yet handed out on the caller and wait until
+ * every task of [j] is finished. */
+void workers_finish(WorkersJob *j);
+/* A pause for a thread polling a flag another thread will set (a spin
+ * loop's hint to the processor). */
+static inline void workers_pause(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
 /* The most tasks workers_split() makes, so per-task results fit in
  * fixed arrays (no allocation per frame). */
 #define WORKERS_MAX_TASKS 64
