@@ -28,13 +28,14 @@ enum {
     NX_NEG, NX_NOT, NX_CMP, NX_CALL1,
     /* an arithmetic operator whose right operand is the constant k */
     NX_ADDK, NX_SUBK, NX_MULK, NX_DIVK,
+    NX_REG,     /* a register of numexpr_run_regs (numexpr_to_regs copies) */
     NX_END,     /* the last instruction */
 };
 
 typedef struct NxIns {
     uint8_t op;         /* NX_* */
     uint8_t sub;        /* NX_CMP: CmpOp */
-    int32_t arg;        /* NX_LOCAL: slot; NX_GLOBAL: index */
+    int32_t arg;        /* NX_LOCAL: slot; NX_GLOBAL: index; NX_REG: register */
     union {
         double k;                  /* NX_CONST */
         double (*fn)(double);      /* NX_CALL1 */
@@ -296,7 +297,10 @@ static double compare(uint8_t op, double x, double y)
     }
 }
 
-bool numexpr_run(const NumExpr *x, Eval *ev, double *out)
+/* numexpr_run and numexpr_run_regs: names read from [ev]'s frame and
+ * globals, registers from [regs] (a NumExpr has one kind or the other).
+ * Not inline: the table of label addresses must exist once. */
+__attribute__((noinline)) static bool exec(const NumExpr *x, Eval *ev, const double *regs, double *out)
 {
     /* threaded dispatch (GNU C labels as values): each instruction jumps
      * straight to the next one's code */
@@ -306,7 +310,7 @@ bool numexpr_run(const NumExpr *x, Eval *ev, double *out)
         [NX_FLOORDIV] = &&l_floordiv, [NX_MOD] = &&l_mod, [NX_POW] = &&l_pow,
         [NX_SQUARE] = &&l_square, [NX_NEG] = &&l_neg, [NX_NOT] = &&l_not, [NX_CMP] = &&l_cmp,
         [NX_CALL1] = &&l_call1, [NX_ADDK] = &&l_addk, [NX_SUBK] = &&l_subk,
-        [NX_MULK] = &&l_mulk, [NX_DIVK] = &&l_divk, [NX_END] = &&l_end,
+        [NX_MULK] = &&l_mulk, [NX_DIVK] = &&l_divk, [NX_REG] = &&l_reg, [NX_END] = &&l_end,
     };
     _Static_assert(sizeof code / sizeof code[0] == NX_END + 1, "every instruction has code");
     /* the top of the stack lives in t; st[1..] holds the rest (the first
@@ -332,6 +336,7 @@ l_global:
     *sp++ = t;
     t = vec_cnums(v)[0];
     NEXT;
+l_reg: *sp++ = t; t = regs[i->arg]; NEXT;
 l_add: a = *--sp; t = a + t; NEXT;
 l_sub: a = *--sp; t = a - t; NEXT;
 l_mul: a = *--sp; t = a * t; NEXT;
@@ -368,4 +373,60 @@ l_end:
     }
     out[nout - 1] = t;
     return true;
+}
+
+bool numexpr_run(const NumExpr *x, Eval *ev, double *out)
+{
+    return exec(x, ev, NULL, out);
+}
+
+bool numexpr_run_regs(const NumExpr *x, const double *regs, double *out)
+{
+    return exec(x, NULL, regs, out);
+}
+
+NumExpr *numexpr_to_regs(const NumExpr *x, NumExprRegMap map, void *ctx)
+{
+    size_t size = numexpr_size(x);
+    NumExpr *y = mem_alloc(size);
+    memcpy(y, x, size);
+    for (uint32_t i = 0; i < y->h.nins; i++) {
+        NxIns *in = &y->ins[i];
+        if (in->op != NX_LOCAL && in->op != NX_GLOBAL) continue;
+        int32_t r = map(ctx, in->op == NX_GLOBAL, in->arg);
+        if (r < 0) {
+            free(y);
+            return NULL;
+        }
+        in->op = NX_REG;
+        in->arg = r;
+    }
+    return y;
+}
+
+void numexpr_renumber_regs(NumExpr *x, int32_t (*map)(void *ctx, int32_t reg), void *ctx)
+{
+    for (uint32_t i = 0; i < x->h.nins; i++)
+        if (x->ins[i].op == NX_REG) x->ins[i].arg = map(ctx, x->ins[i].arg);
+}
+
+uint32_t numexpr_reg_reads(const NumExpr *x, int32_t *regs, uint32_t max)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < x->h.nins; i++) {
+        if (x->ins[i].op != NX_REG) continue;
+        uint32_t j = 0;
+        while (j < n && regs[j] != x->ins[i].arg) j++;
+        if (j < n) continue;
+        if (n == max) return UINT32_MAX;
+        regs[n++] = x->ins[i].arg;
+    }
+    return n;
+}
+
+uint32_t numexpr_cost(const NumExpr *x)
+{
+    uint32_t c = 0;
+    for (uint32_t i = 0; i < x->h.nins; i++) c += x->ins[i].op == NX_CALL1 || x->ins[i].op == NX_POW ? 16 : 1;
+    return c;
 }

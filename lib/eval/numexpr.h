@@ -99,4 +99,34 @@ int numexpr_globals(const NumExpr *x, int32_t *idx);
  * generically instead. */
 bool numexpr_run(const NumExpr *x, Eval *ev, double *out);
 
+/* Registers (loop kernels, kernel.h): a copy of a compiled expression
+ * whose names are read from an array of doubles instead of a frame.
+ * [map](ctx, global, arg) gives the register of local slot [arg]
+ * (global false) or of engine name [arg] (global true), or -1 when that
+ * name cannot be a register. */
+typedef int32_t (*NumExprRegMap)(void *ctx, bool global, int32_t arg);
+
+/* A copy of [x] (free it with free()) with every name turned into a
+ * register read through [map]; NULL when [map] gives -1 for a name. */
+NumExpr *numexpr_to_regs(const NumExpr *x, NumExprRegMap map, void *ctx);
+
+/* Renumber the registers of a numexpr_to_regs() copy [x] in place: each
+ * read of register r becomes one of map(ctx, r). */
+void numexpr_renumber_regs(NumExpr *x, int32_t (*map)(void *ctx, int32_t reg), void *ctx);
+
+/* Run a numexpr_to_regs() copy [x] on registers [regs], writing its
+ * numexpr_outputs(x) numbers to [out]; false when a comparison meets a NaN
+ * (evaluate the expression's subtree generically instead). Reads nothing
+ * but [x] and [regs]: any thread may run it. */
+bool numexpr_run_regs(const NumExpr *x, const double *regs, double *out);
+
+/* The distinct registers a numexpr_to_regs() copy [x] reads, in order of
+ * first use, written to [regs]; returns how many, or UINT32_MAX when there
+ * are more than [max]. */
+uint32_t numexpr_reg_reads(const NumExpr *x, int32_t *regs, uint32_t max);
+
+/* A rough cost of running [x]: one per instruction, 16 per call of an
+ * element function or power (for sizing batches of work). */
+uint32_t numexpr_cost(const NumExpr *x);
+
 #endif
