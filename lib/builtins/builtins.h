@@ -74,6 +74,22 @@ Vec *bi_error(Eval *ev, const Builtin *bi, const char *fmt, ...)
 typedef double (*BiKernel)(double);
 BiKernel bi_kernel(const Builtin *bi);
 
+/* The numeric kernel of a builtin of one argument whose result, for a
+ * numeric argument, is a numeric vector of a length set by the argument's
+ * (hsv, hsl: three numbers), for callers holding the argument as [n]
+ * doubles (the evaluator's loop kernels, kernel.h): run(x, n, out) writes
+ * the result's nout(n) numbers to [out], the same numbers the builtin's
+ * result holds, and returns true; false when the builtin's result is
+ * anything else (null: the caller calls the builtin). Pure: any thread may
+ * run it. */
+typedef struct BiVecKernel {
+    BuiltinFn fn;                                          /* the builtin */
+    uint32_t (*nout)(uint32_t n);                          /* at most 16 */
+    bool (*run)(const double *x, uint32_t n, double *out);
+} BiVecKernel;
+/* [bi]'s numeric kernel, or NULL when it has none. */
+const BiVecKernel *bi_vec_kernel(const Builtin *bi);
+
 /* The family tables (each ends with a {NULL} entry). */
 extern const Builtin bi_vector_table[];
 extern const Builtin bi_maths_table[];

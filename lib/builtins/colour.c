@@ -55,47 +55,89 @@ static double hue_to_rgb(double m1, double m2, double t)
     return m1;
 }
 
-/* RGB of hue [h], saturation [s], lightness [l] (already clamped). */
-static Vec *hsl_to_rgb(double h, double s, double l)
+/* RGB of hue [h], saturation [s], lightness [l] (already clamped) into
+ * out[0..3). */
+static void hsl_rgb(double h, double s, double l, double *out)
 {
     double m2 = (l <= 0.5) ? l * (s + 1) : l + s - l * s;
     double m1 = l * 2 - m2;
     h *= 6;
-    Vec *rgb = vec_new_num(3);
-    double *out = vec_nums(rgb);
     out[0] = hue_to_rgb(m1, m2, h + 2);
     out[1] = hue_to_rgb(m1, m2, h);
     out[2] = hue_to_rgb(m1, m2, h - 2);
-    return rgb;
+}
+
+/* hsl of the [n] numbers [x] into out[0..3); false when its result is
+ * null (not three numbers). */
+static bool hsl_nums(const double *x, uint32_t n, double *out)
+{
+    if (n != 3)
+        return false;
+    double s = cmin(cmax(0, x[1]), 1);
+    double l = cmin(cmax(0, x[2]), 1);
+    hsl_rgb(x[0], s, l, out);
+    return true;
+}
+
+/* hsv of the [n] numbers [x] into out[0..3); false when its result is
+ * null (not one to three numbers). */
+static bool hsv_nums(const double *x, uint32_t n, double *out)
+{
+    if (n < 1 || n > 3)
+        return false;
+    double h = x[0];
+    double s = n > 1 ? x[1] : 1;
+    double v = n == 3 ? x[2] : 1;
+    s = cmin(cmax(0, s), 1);
+    v = cmin(cmax(0, v), 1);
+    double l = v * (1 - s / 2);
+    double s2 = (l == 0 || l == 1) ? 0 : (v - l) / cmin(l, 1 - l);
+    hsl_rgb(h, s2, l, out);
+    return true;
+}
+
+/* A builtin of one numeric argument whose result is three numbers. */
+static Vec *rgb_of(const Vec *c, bool (*f)(const double *, uint32_t, double *))
+{
+    double rgb[3];
+    if (!vec_is_num(c) || !f(vec_cnums(c), c->len, rgb))
+        return NULL;
+    Vec *v = vec_new_num(3);
+    double *d = vec_nums(v);
+    d[0] = rgb[0];
+    d[1] = rgb[1];
+    d[2] = rgb[2];
+    return v;
 }
 
 static Vec *bi_hsl(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
 {
     (void)ev; (void)bi; (void)nargs;
-    const Vec *c = args[0];
-    if (!vec_is_num(c) || c->len != 3)
-        return NULL;
-    const double *x = vec_cnums(c);
-    double s = cmin(cmax(0, x[1]), 1);
-    double l = cmin(cmax(0, x[2]), 1);
-    return hsl_to_rgb(x[0], s, l);
+    return rgb_of(args[0], hsl_nums);
 }
 
 static Vec *bi_hsv(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
 {
     (void)ev; (void)bi; (void)nargs;
-    const Vec *c = args[0];
-    if (!vec_is_num(c) || c->len < 1 || c->len > 3)
-        return NULL;
-    const double *x = vec_cnums(c);
-    double h = x[0];
-    double s = c->len > 1 ? x[1] : 1;
-    double v = c->len == 3 ? x[2] : 1;
-    s = cmin(cmax(0, s), 1);
-    v = cmin(cmax(0, v), 1);
-    double l = v * (1 - s / 2);
-    double s2 = (l == 0 || l == 1) ? 0 : (v - l) / cmin(l, 1 - l);
-    return hsl_to_rgb(h, s2, l);
+    return rgb_of(args[0], hsv_nums);
+}
+
+static uint32_t three(uint32_t n)
+{
+    (void)n;
+    return 3;
+}
+
+static const BiVecKernel vec_kernels[] = {
+    {bi_hsl, three, hsl_nums},
+    {bi_hsv, three, hsv_nums},
+};
+
+const BiVecKernel *bi_vec_kernel(const Builtin *bi)
+{
+    for (size_t i = 0; i < sizeof vec_kernels / sizeof vec_kernels[0]; i++)
+        if (vec_kernels[i].fn == bi->fn) return &vec_kernels[i];
+    return NULL;
 }
 
 /* ------------------------------------------------------------------ */
