@@ -104,7 +104,8 @@ typedef struct fl_options {
     volatile int *interrupt; /* polled inside loops, calls and physics steps;
                                 when *interrupt becomes non-zero fl_step ends
                                 the frame early and discards it (NULL: none) */
-    int threads;         /* physics threads (--threads); 0: FLITTER_THREADS, else every core */
+    int threads;         /* threads of the physics engine and the evaluator's loop
+                            kernels (--threads); 0: FLITTER_THREADS, else every core */
     int pairs;           /* physics pair route (--pairs): FL_PAIRS_* */
     int particles;       /* physics particle-pass route (--particles): FL_PARTICLES_* */
     int physics;         /* physics behaviour (--physics): FL_PHYSICS_*; the

@@ -53,6 +53,8 @@ struct fl_runtime {
     Pool *pool;             /* free lists for per-frame values */
     MemBudget budget;       /* fl_options.max_memory, charged through rt_enter (mem.h) */
     fl_stats stats;         /* counters and timers for fl_get_stats */
+    uint64_t kernel_iterations; /* loop iterations run with their kernel
+                                   (kernel.h), all frames */
     SymTab *symtab;         /* symbol names for value text */
     StateDict *state;       /* the state dictionary */
     PhysicsWorld *physics;  /* persistent physics systems */
@@ -655,6 +657,7 @@ static int step(fl_runtime *rt)
         .debug = &rt->debug[rt->cur], .modules = rt->modules, .exports = &rt->scope,
         .stables = rt->globals.simplify ? rt->stables : NULL,
         .interrupt = rt->opts.interrupt, .files = &rt->files, .noise_perms = rt->noise_perms,
+        .workers = phys_workers(rt->physics),
     };
     exports_empty(&rt->scope);
     double t1 = monotonic();
@@ -682,6 +685,7 @@ static int step(fl_runtime *rt)
     }
     node_release(rt->root);
     rt->root = root;
+    rt->kernel_iterations += ev.kiters;
     double t2 = monotonic();
     report(rt, FL_LOG_ERROR, "Execution error: ", &rt->errors[rt->cur], &rt->errors[prev]);
     report(rt, FL_LOG_DEBUG, "", &rt->debug[rt->cur], &rt->debug[prev]);
@@ -729,6 +733,8 @@ static int step(fl_runtime *rt)
     rt->stats.other_seconds += (t1 - t0) + (t3 - t2) + (t5 - t4);
     return 0;
 }
+
+uint64_t rt_kernel_iterations(const fl_runtime *rt) { return rt->kernel_iterations; }
 
 void fl_get_stats(const fl_runtime *rt, fl_stats *out)
 {

@@ -54,6 +54,9 @@ double rt_beat(const fl_runtime *rt);
 StateDict *rt_state(fl_runtime *rt);
 /* The symbol table used for value text. */
 const SymTab *rt_symbols(const fl_runtime *rt);
+/* How many loop iterations the frames so far ran with their loop's
+ * kernel (kernel.h): the tests' evidence that the kernel route ran. */
+uint64_t rt_kernel_iterations(const fl_runtime *rt);
 /* The options [rt] was made with (fl_new's copy, log defaulted). */
 const fl_options *rt_options(const fl_runtime *rt);
 

@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# tsan.sh BUILD_DIR: the physics engine's threads under ThreadSanitizer.
+# tsan.sh BUILD_DIR: the physics engine's threads, and the evaluator's loop
+# kernels on them, under ThreadSanitizer.
 # BUILD_DIR is a build configured with clang and -Db_sanitize=thread (made
 # here when missing). Runs the differential tests of the pair routes (1, 2
 # and 4 threads against the reference loop) and of the particle pass (a
 # sample of 2,000 systems, 8 of them big enough to be split over threads),
-# every physics golden, the window's two-thread row split (halves.h), the
+# every physics golden, the loop kernels' route tests (1 to 3 threads),
+# the window's two-thread row split (halves.h), the
 # benchmark scenes for a few frames on 2 threads, and the live window's
 # two threads under Xvfb, each as one test that fails on any report. Ends with `N passed, M failed`.
 set -uo pipefail
@@ -14,7 +16,7 @@ build=$1
     CC=${TSAN_CC:-clang-14} meson setup "$build" -Db_sanitize=thread -Db_lundef=false >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
 ninja -C "$build" src/flitter src/flitter-window.so tests/test_physics_routes tests/test_particle_pass \
-    tests/test_halves >/dev/null ||
+    tests/test_halves tests/test_kernel >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
 export TSAN_OPTIONS="halt_on_error=1 exitcode=66"
 passed=0 failed=0
@@ -35,6 +37,7 @@ check() {   # check NAME CMD...
 check physics_routes "$build/tests/test_physics_routes"
 check particle_pass env FLITTER_PROPTEST_SYSTEMS=2000 "$build/tests/test_particle_pass"
 check halves "$build/tests/test_halves"
+check kernel "$build/tests/test_kernel"
 # a !bloom of a 2D canvas, drawn offscreen: its passes and the sRGB
 # encoding split over two threads (halves.h)
 tmpd=$(mktemp -d)
@@ -52,7 +55,7 @@ while read -r script opts; do
     # shellcheck disable=SC2086
     check "golden/$script" "$build/src/flitter" run --threads 2 $opts --dump-state "tests/golden/$script"
 done < tests/golden/MANIFEST
-for s in "petri200 60" "discs2k 20" "charges1k 3" "discs20k 3"; do
+for s in "petri200 60" "discs2k 20" "charges1k 3" "discs20k 3" "canvas10k 3"; do
     set -- $s
     check "bench/$1" "$build/src/flitter" run --threads 2 --frames "$2" "bench/$1.fl"
 done

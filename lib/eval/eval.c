@@ -20,6 +20,7 @@
 #include "context.h"
 #include "eval_internal.h"
 #include "format.h"
+#include "kernel.h"
 #include "mem.h"
 #include "module.h"
 #include "numexpr.h"
@@ -94,15 +95,6 @@ __attribute__((noinline)) static Vec *eval_fast(Eval *ev, const AstNode *n)
 /* ====================================================================
  * Helpers
  * ==================================================================== */
-
-/* True once the embedder's interrupt flag is set (then ev->interrupted):
- * loops and calls stop early so a long frame ends promptly (flitter.h). */
-static inline bool stop_requested(Eval *ev)
-{
-    if (ev->interrupt && *ev->interrupt)
-        ev->interrupted = true;
-    return ev->interrupted;
-}
 
 bool eval_interrupted(Eval *ev)
 {
@@ -619,12 +611,41 @@ __attribute__((noinline)) static Vec *eval_let(Eval *ev, const AstNode *n)
     return eval(ev, n->a);
 }
 
+void bind_loop_names(Eval *ev, const AstNode *n, const Vec *src, uint32_t p)
+{
+    uint32_t len = vec_len(src);
+    for (uint32_t j = 0; j < n->nnames; j++) {
+        Vec *cur = ev->frame[n->slots[j]];
+        if (p + j < len && src->kind == VEC_NUM && cur && cur->refs == 1 &&
+            cur->kind == VEC_NUM && cur->len == 1) {
+            /* the previous item is held by nothing else: reuse it */
+            cur->hashed = 0;
+            vec_nums(cur)[0] = vec_cnums(src)[p + j];
+        } else {
+            set_slot(ev, n->slots[j], p + j < len ? vec_item(src, p + j) : NULL);
+        }
+    }
+}
+
 /* AST_FOR: names in source, body per group of len(names) items, no
- * wrap-around (§4.6). */
+ * wrap-around (§4.6); with a loop kernel (kernel.h) over numbers, its
+ * route. */
 __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
 {
     Vec *src = eval(ev, n->a);
+    if (n->fast == 3 && vec_is_num(src)) {
+        bool done;
+        Vec *r = kernel_eval_for(ev, n, src, &done);
+        if (done) {
+            vec_release(src);
+            return r;
+        }
+    }
     uint32_t len = vec_len(src), k = n->nnames ? n->nnames : 1;
+    /* the body's C_KNUM records (kernel.h) run as C_NUM here, also when
+     * this loop runs inside a kernel's run of itself (recursion) */
+    const unsigned char *kbase = ev->kbase;
+    ev->kbase = NULL;
     Parts parts;
     parts_init(&parts);
     /* once the result is too long it is null: stop evaluating the body;
@@ -635,19 +656,10 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
             parts.too_long = true;
             break;
         }
-        for (uint32_t j = 0; j < n->nnames; j++) {
-            Vec *cur = ev->frame[n->slots[j]];
-            if (p + j < len && src->kind == VEC_NUM && cur && cur->refs == 1 &&
-                cur->kind == VEC_NUM && cur->len == 1) {
-                /* the previous item is held by nothing else: reuse it */
-                cur->hashed = 0;
-                vec_nums(cur)[0] = vec_cnums(src)[p + j];
-            } else {
-                set_slot(ev, n->slots[j], p + j < len ? vec_item(src, p + j) : NULL);
-            }
-        }
+        bind_loop_names(ev, n, src, p);
         parts_push(&parts, eval(ev, n->b));
     }
+    ev->kbase = kbase;
     vec_release(src);
     return parts_finish(ev, &parts);
 }

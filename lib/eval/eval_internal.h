@@ -32,6 +32,19 @@ static inline Vec *run_num(Eval *ev, const AstNode *n, const NumExpr *x)
     return eval_node(ev, n);
 }
 
+/* True once the embedder's interrupt flag is set (then ev->interrupted):
+ * loops and calls stop early so a long frame ends promptly (flitter.h). */
+static inline bool stop_requested(Eval *ev)
+{
+    if (ev->interrupt && *ev->interrupt)
+        ev->interrupted = true;
+    return ev->interrupted;
+}
+
+/* Bind the names of the AST_FOR [n] to the items of [src] (borrowed) from
+ * [p] on, as each of its iterations does (null past the end). */
+void bind_loop_names(Eval *ev, const AstNode *n, const Vec *src, uint32_t p);
+
 /* Parts composed at a time into one (parts_collapse). */
 #define PARTS_CHUNK 64
 

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "builtins.h"
+#include "kernel.h"
 #include "mem.h"
 #include "numexpr.h"
 #include "program.h"
@@ -457,4 +458,5 @@ static void compile_children(AstNode *n)
     evalcode_compile_tree(n->b);
     evalcode_compile_tree(n->c);
     for (uint32_t i = 0; i < n->nkids; i++) evalcode_compile_tree(n->kids[i]);
+    if (n->kind == AST_FOR && n->b && n->b->fast == 2) kernel_compile_for(n);
 }

@@ -52,6 +52,18 @@ enum {
                    children; p.kind is its kind, borrowed from the AST): a
                    new node of that kind with the attributes set, the
                    literal left untouched */
+    C_KNUM,     /* a C_NUM of a loop body whose loop kernel computes it
+                   (kernel.h): n is the register of its first output;
+                   while that kernel runs (Eval.kbase is this block's code)
+                   and holds the number, the record returns it, else it
+                   runs as C_NUM */
+    C_KCALL,    /* a C_CALLBI of one argument, a C_KNUM, whose loop kernel
+                   computes it through the builtin's numeric kernel
+                   (builtins.h BiVecKernel): n is the register of its first
+                   output, aux how many, pad the argument's numexpr_depth;
+                   one uint32 offset (the argument) follows, as for
+                   C_CALLBI, which it runs as when the kernel does not hold
+                   its numbers */
 };
 
 struct Builtin;

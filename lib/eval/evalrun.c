@@ -52,6 +52,22 @@ __attribute__((noinline)) static Vec *run_memo(Eval *ev, const unsigned char *ba
     return v;
 }
 
+/* C_KNUM: the number its loop kernel computed for this iteration
+ * (kernel.h), or, when there is none, C_NUM. */
+static inline Vec *run_knum(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const NumExpr *x = (const NumExpr *)(const void *)(r + 1);
+    if (ev->kbase == base && ev->kok[r->n] && ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH) {
+        uint32_t n = numexpr_outputs(x);
+        Vec *v = vec_new_num(n);
+        double *d = vec_nums(v);
+        const double *s = ev->kregs + r->n;
+        for (uint32_t i = 0; i < n; i++) d[i] = s[i];
+        return v;
+    }
+    return run_num(ev, r->p.node, x);
+}
+
 /* eval_node's depth guard; false (with the error) on overflow. */
 static inline bool depth_enter(Eval *ev)
 {
@@ -78,6 +94,7 @@ static inline Vec *run_val(Eval *ev, const unsigned char *base, uint32_t off)
     case C_GLOBAL: return ev->globals ? vec_retain(ev->globals->values[r->n]) : NULL;
     case C_NUM: return run_num(ev, r->p.node, (const NumExpr *)(const void *)(r + 1));
     case C_MEMO: return run_memo(ev, base, r);
+    case C_KNUM: return run_knum(ev, base, r);
     /* a C_AST node is never a literal, a name or compiled (those have
      * records of their own): eval() would call eval_node */
     case C_AST: return eval_node(ev, r->p.node);
@@ -162,6 +179,25 @@ __attribute__((noinline)) static Vec *run_callbi(Eval *ev, const unsigned char *
     return v;
 }
 
+/* C_KCALL (inside run_rec's depth guard): the numbers the loop kernel
+ * computed for this iteration, or, when it holds none, C_CALLBI of its
+ * one argument */
+__attribute__((noinline)) static Vec *run_kcall(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    if (ev->kbase == base && ev->kok[r->n] && ev->depth + r->pad <= MAX_EVAL_DEPTH) {
+        Vec *v = vec_new_num(r->aux);
+        double *d = vec_nums(v);
+        const double *s = ev->kregs + r->n;
+        for (uint32_t i = 0; i < r->aux; i++) d[i] = s[i];
+        return v;
+    }
+    Vec *arg = run_val(ev, base, rec_offs(r)[0]);
+    Args a = {&arg, 1, NULL, NULL, 0};
+    Vec *v = call_builtin(ev, r->p.bi, &a);
+    vec_release(arg);
+    return v;
+}
+
 /* C_APPEND: eval_append */
 static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
 {
@@ -188,6 +224,7 @@ __attribute__((noinline)) static Vec *run_rec(Eval *ev, const unsigned char *bas
     case C_CALLBI: v = run_callbi(ev, base, r); break;
     case C_APPEND: v = run_append(ev, base, r); break;
     case C_NEWNODE: v = run_newnode(ev, base, r); break;
+    case C_KCALL: v = run_kcall(ev, base, r); break;
     default: v = NULL; break;
     }
     ev->depth--;

@@ -182,6 +182,14 @@ struct Eval {
                                running are recorded (NULL: nowhere) */
     struct NoisePerms *noise_perms; /* the runtime's noise tables (builtins.h;
                                        NULL: none kept) */
+    struct Workers *workers; /* threads the runtime lends to loop kernels
+                                (kernel.h; NULL: the caller alone) */
+    const unsigned char *kbase; /* the code of the loop body whose kernel is
+                                   running (kernel.h: its C_KNUM records take
+                                   their numbers from kregs), or NULL */
+    const double *kregs;    /* that kernel's registers of this iteration */
+    const uint8_t *kok;     /* which of them hold their number */
+    uint64_t kiters;        /* iterations run with their loop's kernel */
 };
 
 /* Evaluate the whole program: compose the top-level sequence and append

@@ -54,6 +54,12 @@ PhysicsWorld *phys_new(void);
  * small systems run on one thread whatever n is. Default: FLITTER_THREADS
  * if it is a positive integer, else 0. */
 void phys_set_threads(PhysicsWorld *w, unsigned n);
+/* The world's thread pool (workers.h), made now if it has none yet, for
+ * the runtime to lend to other work between physics frames (the
+ * evaluator's loop kernels); NULL when the world runs on one thread or the
+ * threads cannot be had. Owned by the world: valid until the next
+ * phys_set_threads or phys_free. */
+struct Workers *phys_workers(PhysicsWorld *w);
 /* [naive] true: always use the reference all-pairs loop of
  * PHYSICS-ENGINE.md §4 on one thread (the slow route that the neighbour
  * grid and the threaded gather are checked against). Default: true when

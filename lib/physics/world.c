@@ -251,6 +251,13 @@ void phys_set_threads(PhysicsWorld *w, unsigned n)
     w->threads = n;
 }
 
+Workers *phys_workers(PhysicsWorld *w)
+{
+    if (w->threads > 1 && !w->workers)
+        w->workers = workers_new(w->threads);
+    return w->workers;
+}
+
 void phys_set_pairs(PhysicsWorld *w, bool naive)
 {
     w->naive = naive;

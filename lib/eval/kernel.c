@@ -1,0 +1,503 @@
+/* kernel.c: loop kernels (kernel.h): compiling a loop body's numeric
+ * records into register expressions, and running a loop with them.
+ */
+#include "kernel.h"
+
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "builtins.h"
+#include "eval_internal.h"
+#include "evalcode.h"
+#include "mem.h"
+#include "numexpr.h"
+#include "pool.h"
+#include "workers.h"
+
+/* Most registers an expression of a kernel may read (more: not taken). */
+#define K_MAX_IN 16
+/* Most registers of an iteration (past it, no kernel). */
+#define K_MAX_REGS (1u << 20)
+/* Work (numexpr_cost units) below which a loop runs without its kernel:
+ * setting up the chunks would cost about as much as it saves. */
+#define K_MIN_WORK 2048
+/* Work of a chunk, the unit handed to a thread: large enough that taking
+ * it costs little, small enough that the caller soon has one to run. */
+#define K_CHUNK_WORK 24576
+/* Most bytes of registers computed ahead (a loop longer than this in
+ * registers is run as several windows, one after the other). */
+#define K_WINDOW_BYTES (2u << 20)
+/* Registers of the file during compilation: outer names are numbered
+ * from K_OUTER_TAG, outputs from 0 (renumbered at the end). */
+#define K_OUTER_TAG (1 << 30)
+#define K_NAME_TAG (1 << 29)
+
+typedef struct KExpr {
+    NumExpr *x;         /* register copy (numexpr_to_regs), or NULL: */
+    const BiVecKernel *vk;  /* a builtin's numeric kernel, of the outputs of
+                               expression [arg] (its inputs) */
+    uint32_t arg;
+    uint32_t out;       /* its first output register */
+    uint32_t nout;
+    uint32_t in;        /* its inputs: kernel->in[in .. in + nin) */
+    uint32_t nin;
+} KExpr;
+
+struct LoopKernel {
+    uint32_t k;         /* the loop's names per iteration: registers 0..k */
+    uint32_t nouter;    /* names from outside: registers k .. k + nouter */
+    int32_t *outer;     /* each one's local slot, or -1 - its global index */
+    uint32_t nregs;     /* registers of an iteration */
+    KExpr *ex;          /* in evaluation order */
+    uint32_t nex;
+    int32_t *in;        /* the expressions' input registers */
+    uint64_t cost;      /* numexpr_cost of an iteration */
+    uint32_t chunk;     /* FLITTER_KERNEL_CHUNK, or 0 */
+    uint32_t window;    /* FLITTER_KERNEL_WINDOW, or 0 */
+};
+
+static void kernel_free(void *p)
+{
+    LoopKernel *k = p;
+    for (uint32_t i = 0; i < k->nex; i++) free(k->ex[i].x);
+    free(k->ex);
+    free(k->in);
+    free(k->outer);
+    free(k);
+}
+
+/* ====================================================================
+ * Compiling
+ * ==================================================================== */
+
+typedef struct KScope {
+    int32_t slot;
+    int32_t reg;        /* its output register (output numbering), or -1 */
+} KScope;
+
+typedef struct KNum {
+    uint32_t off;       /* the record */
+    uint32_t ex;        /* its expression */
+} KNum;
+
+typedef struct KB {
+    const AstNode *loop;
+    CBlock *b;
+    KScope *scope;      /* the `let`s around the record being walked */
+    uint32_t nscope, capscope;
+    int32_t *outer;     /* names from outside, as LoopKernel.outer */
+    uint32_t nouter, capouter;
+    KExpr *ex;
+    uint32_t nex, capex;
+    int32_t *in;
+    uint32_t nin, capin;
+    uint32_t nouts;     /* outputs so far */
+    KNum *knum;         /* the C_NUM records taken */
+    uint32_t nknum, capknum;
+    KNum *kcall;        /* the C_CALLBI records taken */
+    uint32_t nkcall, capkcall;
+    bool full;          /* a limit was reached: take nothing more */
+} KB;
+
+#define GROW(p, n, cap)                                                \
+    do {                                                               \
+        if ((n) == (cap)) {                                            \
+            (cap) = (cap) ? 2 * (cap) : 16;                            \
+            (p) = mem_realloc_array((p), (cap), sizeof *(p));          \
+        }                                                              \
+    } while (0)
+
+static CRec *krec(KB *kb, uint32_t off) { return (CRec *)(void *)(kb->b->code + off); }
+
+/* The register of name [arg] for numexpr_to_regs (compilation numbering). */
+static int32_t map_name(void *ctx, bool global, int32_t arg)
+{
+    KB *kb = ctx;
+    int32_t key = global ? -1 - arg : arg;
+    if (!global) {
+        for (uint32_t j = 0; j < kb->loop->nnames; j++)
+            if (kb->loop->slots[j] == arg) return K_NAME_TAG + (int32_t)j;
+        /* the innermost `let` of the slot (every binding has a slot of
+         * its own, program.c, so a slot bound by none of the body's lets
+         * around this record is bound outside the loop) */
+        for (uint32_t i = kb->nscope; i-- > 0;)
+            if (kb->scope[i].slot == arg) return kb->scope[i].reg;
+    }
+    for (uint32_t i = 0; i < kb->nouter; i++)
+        if (kb->outer[i] == key) return K_OUTER_TAG + (int32_t)i;
+    GROW(kb->outer, kb->nouter, kb->capouter);
+    kb->outer[kb->nouter] = key;
+    return K_OUTER_TAG + (int32_t)kb->nouter++;
+}
+
+/* Take the compiled expression [x] into the kernel; its expression index,
+ * or -1 when it reads a name the kernel cannot hold. */
+static int32_t take_expr(KB *kb, const NumExpr *x)
+{
+    if (kb->full) return -1;
+    NumExpr *y = numexpr_to_regs(x, map_name, kb);
+    if (!y) return -1;
+    int32_t in[K_MAX_IN];
+    uint32_t nin = numexpr_reg_reads(y, in, K_MAX_IN);
+    uint32_t nout = numexpr_outputs(y);
+    if (nin == UINT32_MAX || kb->nouts + nout + kb->nouter + kb->loop->nnames > K_MAX_REGS) {
+        free(y);
+        kb->full = true;
+        return -1;
+    }
+    GROW(kb->ex, kb->nex, kb->capex);
+    for (uint32_t i = 0; i < nin; i++) {
+        GROW(kb->in, kb->nin, kb->capin);
+        kb->in[kb->nin++] = in[i];
+    }
+    kb->ex[kb->nex] = (KExpr){y, NULL, 0, kb->nouts, nout, kb->nin - nin, nin};
+    kb->nouts += nout;
+    return (int32_t)kb->nex++;
+}
+
+/* Take a call of numeric kernel [vk] on the outputs of expression [arg]
+ * into the kernel; its expression index, or -1. */
+static int32_t take_call(KB *kb, const BiVecKernel *vk, uint32_t arg)
+{
+    uint32_t nout = vk->nout(kb->ex[arg].nout);
+    if (kb->full || nout < 1 || nout > 16 || kb->nouts + nout + kb->nouter + kb->loop->nnames > K_MAX_REGS)
+        return -1;
+    GROW(kb->ex, kb->nex, kb->capex);
+    kb->ex[kb->nex] = (KExpr){NULL, vk, arg, kb->nouts, nout, 0, 0};
+    kb->nouts += nout;
+    return (int32_t)kb->nex++;
+}
+
+/* The NumExpr of a C_MEMO record (kept once per cell after the code). */
+static const NumExpr *memo_expr(KB *kb, const CRec *r)
+{
+    return (const NumExpr *)(const void *)(kb->b->code + kb->b->memos[r->n].expr);
+}
+
+static void walk(KB *kb, uint32_t off);
+
+/* The output register (compilation numbering) a `let` of the record at
+ * [off] binds its name to, or -1: a one-number expression the kernel
+ * took. */
+static int32_t let_reg(KB *kb, uint32_t off)
+{
+    const CRec *r = krec(kb, off);
+    int32_t e = -1;
+    if (r->op == C_NUM && kb->nknum && kb->knum[kb->nknum - 1].off == off)
+        e = (int32_t)kb->knum[kb->nknum - 1].ex;
+    else if (r->op == C_MEMO && numexpr_outputs(memo_expr(kb, r)) == 1)
+        e = take_expr(kb, memo_expr(kb, r));
+    if (e < 0 || kb->ex[e].nout != 1) return -1;
+    return (int32_t)kb->ex[e].out;
+}
+
+static void walk(KB *kb, uint32_t off)
+{
+    const CRec *r = krec(kb, off);
+    const uint32_t *k = (const uint32_t *)(const void *)(r + 1);
+    switch (r->op) {
+    case C_NUM: {
+        int32_t e = take_expr(kb, (const NumExpr *)(const void *)(r + 1));
+        if (e >= 0) {
+            GROW(kb->knum, kb->nknum, kb->capknum);
+            kb->knum[kb->nknum++] = (KNum){off, (uint32_t)e};
+        }
+        break;
+    }
+    case C_SEQ:
+        for (uint32_t i = 0; i < r->n; i++) walk(kb, k[i]);
+        break;
+    case C_CALLBI: {
+        for (uint32_t i = 0; i < r->n; i++) walk(kb, k[i]);
+        const BiVecKernel *vk = r->n == 1 ? bi_vec_kernel(r->p.bi) : NULL;
+        if (vk && kb->nknum && kb->knum[kb->nknum - 1].off == k[0]) {
+            int32_t e = take_call(kb, vk, kb->knum[kb->nknum - 1].ex);
+            if (e >= 0) {
+                GROW(kb->kcall, kb->nkcall, kb->capkcall);
+                kb->kcall[kb->nkcall++] = (KNum){off, (uint32_t)e};
+            }
+        }
+        break;
+    }
+    case C_APPEND:
+        walk(kb, k[0]);
+        walk(kb, k[1]);
+        break;
+    case C_LET: {
+        const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
+        uint32_t mark = kb->nscope;
+        for (uint32_t i = 0; i < r->n; i++) {
+            walk(kb, t->binds[i].off);
+            int32_t reg = let_reg(kb, t->binds[i].off);
+            GROW(kb->scope, kb->nscope, kb->capscope);
+            kb->scope[kb->nscope++] = (KScope){t->binds[i].slot, reg};
+        }
+        walk(kb, t->body);
+        kb->nscope = mark;
+        break;
+    }
+    case C_ATTRS:
+    case C_NEWNODE: {
+        const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+        if (r->op == C_ATTRS) walk(kb, t->node);
+        for (uint32_t i = 0; i < r->n; i++) walk(kb, t->attrs[i].off);
+        break;
+    }
+    default:   /* C_AST, C_LIT, C_LOCAL, C_GLOBAL, C_MEMO */
+        break;
+    }
+}
+
+/* Final register of compilation-numbered register [reg]. */
+static int32_t final_reg(const KB *kb, int32_t reg)
+{
+    if (reg >= K_OUTER_TAG) return (int32_t)kb->loop->nnames + (reg - K_OUTER_TAG);
+    if (reg >= K_NAME_TAG) return reg - K_NAME_TAG;
+    return (int32_t)(kb->loop->nnames + kb->nouter) + reg;
+}
+
+static int32_t renumber(void *ctx, int32_t reg)
+{
+    return final_reg(ctx, reg);
+}
+
+void kernel_compile_for(AstNode *n)
+{
+    const char *off = getenv("FLITTER_NOKERNEL");
+    if ((off && *off) || n->fast || n->aux || !n->b || n->b->fast != 2) return;
+    KB kb = {.loop = n, .b = n->b->aux};
+    walk(&kb, 0);
+    if (!kb.nknum) {
+        for (uint32_t i = 0; i < kb.nex; i++) free(kb.ex[i].x);
+        free(kb.ex);
+        free(kb.in);
+        free(kb.outer);
+        free(kb.scope);
+        free(kb.knum);
+        free(kb.kcall);
+        return;
+    }
+    LoopKernel *lk = mem_calloc(1, sizeof *lk);
+    lk->k = n->nnames;
+    lk->nouter = kb.nouter;
+    lk->outer = kb.outer;
+    lk->nregs = n->nnames + kb.nouter + kb.nouts;
+    lk->nex = kb.nex;
+    lk->ex = kb.ex;
+    lk->in = kb.in;
+    for (uint32_t i = 0; i < kb.nin; i++) lk->in[i] = final_reg(&kb, lk->in[i]);
+    for (uint32_t i = 0; i < kb.nex; i++) {
+        KExpr *e = &lk->ex[i];
+        e->out = (uint32_t)final_reg(&kb, (int32_t)e->out);
+        if (e->x) {
+            numexpr_renumber_regs(e->x, renumber, &kb);
+            lk->cost += numexpr_cost(e->x) + e->nout;
+        } else {
+            lk->cost += 24 + e->nout;
+        }
+    }
+    lk->cost += lk->nregs / 4 + 1;
+    for (uint32_t i = 0; i < kb.nknum; i++) {
+        CRec *r = krec(&kb, kb.knum[i].off);
+        r->op = C_KNUM;
+        r->n = lk->ex[kb.knum[i].ex].out;
+    }
+    for (uint32_t i = 0; i < kb.nkcall; i++) {
+        CRec *r = krec(&kb, kb.kcall[i].off);
+        const KExpr *e = &lk->ex[kb.kcall[i].ex];
+        const CRec *a = krec(&kb, ((const uint32_t *)(const void *)(r + 1))[0]);
+        r->op = C_KCALL;
+        r->n = e->out;
+        r->aux = (uint16_t)e->nout;
+        r->pad = (uint8_t)numexpr_depth((const NumExpr *)(const void *)(a + 1));
+    }
+    free(kb.scope);
+    free(kb.knum);
+    free(kb.kcall);
+    const char *e = getenv("FLITTER_KERNEL_CHUNK");
+    lk->chunk = e ? (uint32_t)strtoul(e, NULL, 10) : 0;
+    e = getenv("FLITTER_KERNEL_WINDOW");
+    lk->window = e ? (uint32_t)strtoul(e, NULL, 10) : 0;
+    n->aux = lk;
+    n->aux_free = kernel_free;
+    n->fast = 3;
+}
+
+/* ====================================================================
+ * Running
+ * ==================================================================== */
+
+/* A window of iterations being computed (the context of the tasks). */
+typedef struct KRun {
+    const LoopKernel *lk;
+    const double *src;          /* the source's numbers */
+    uint32_t len;               /* how many */
+    uint32_t first;             /* the window's first iteration */
+    uint32_t iters;             /* iterations in the window */
+    uint32_t chunk;             /* iterations a task */
+    double *regs;               /* iters x nregs */
+    uint8_t *ok;                /* iters x nregs */
+    const double *outer;        /* the names from outside */
+    const uint8_t *outer_ok;
+    bool outer_clean;           /* every one of them holds a number */
+    uint8_t *clean;             /* per iteration: compute_iteration's answer */
+    atomic_uchar *done;         /* per task: its registers are ready */
+    atomic_bool cancel;         /* the caller stopped: compute nothing more */
+} KRun;
+
+/* The registers of iteration [it] of the loop into [regs]; true when
+ * every one holds its number, else false with [ok] saying which do. */
+static bool compute_iteration(const KRun *kr, uint32_t it, double *regs, uint8_t *ok)
+{
+    const LoopKernel *lk = kr->lk;
+    const uint32_t k = lk->k, p = it * (k ? k : 1);
+    bool clean = kr->outer_clean && p + k <= kr->len;
+    for (uint32_t j = 0; j < k; j++) regs[j] = p + j < kr->len ? kr->src[p + j] : 0.0;
+    for (uint32_t i = 0; i < lk->nouter; i++) regs[k + i] = kr->outer[i];
+    if (clean) {
+        /* every input holds its number until an expression fails */
+        uint32_t e = 0;
+        for (; e < lk->nex; e++) {
+            const KExpr *x = &lk->ex[e];
+            if (!(x->x ? numexpr_run_regs(x->x, regs, regs + x->out)
+                       : x->vk->run(regs + lk->ex[x->arg].out, lk->ex[x->arg].nout, regs + x->out)))
+                break;
+        }
+        if (e == lk->nex) return true;
+    }
+    /* which registers hold their numbers, expression by expression */
+    for (uint32_t j = 0; j < k; j++) ok[j] = p + j < kr->len;
+    for (uint32_t i = 0; i < lk->nouter; i++) ok[k + i] = kr->outer_ok[i];
+    for (uint32_t e = 0; e < lk->nex; e++) {
+        const KExpr *x = &lk->ex[e];
+        bool good;
+        if (x->x) {
+            good = true;
+            for (uint32_t i = 0; i < x->nin; i++) good = good && ok[lk->in[x->in + i]];
+            if (good) good = numexpr_run_regs(x->x, regs, regs + x->out);
+        } else {
+            const KExpr *a = &lk->ex[x->arg];
+            good = ok[a->out] && x->vk->run(regs + a->out, a->nout, regs + x->out);
+        }
+        memset(ok + x->out, good, x->nout);
+    }
+    return false;
+}
+
+/* A task: the registers of one chunk of the window. */
+static void chunk_task(void *ctx, size_t t, unsigned thread)
+{
+    (void)thread;
+    KRun *kr = ctx;
+    if (!atomic_load_explicit(&kr->cancel, memory_order_relaxed)) {
+        const uint32_t nregs = kr->lk->nregs;
+        uint32_t a = (uint32_t)t * kr->chunk, b = a + kr->chunk < kr->iters ? a + kr->chunk : kr->iters;
+        for (uint32_t i = a; i < b; i++)
+            kr->clean[i] = compute_iteration(kr, kr->first + i, kr->regs + (size_t)i * nregs,
+                                             kr->ok + (size_t)i * nregs);
+    }
+    atomic_store_explicit(&kr->done[t], 1, memory_order_release);
+}
+
+Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
+{
+    const LoopKernel *lk = n->aux;
+    const uint32_t len = src->len, k = n->nnames ? n->nnames : 1;
+    const uint32_t iters = len / k + (len % k != 0);
+    if (iters < 2 || (!lk->chunk && (uint64_t)iters * lk->cost < K_MIN_WORK)) {
+        *done = false;
+        return NULL;
+    }
+    *done = true;
+    /* the names from outside, as they are while the loop runs */
+    double outer_small[16];
+    uint8_t outer_ok_small[16];
+    const size_t outer_bytes = lk->nouter * (sizeof(double) + 1);
+    unsigned char *outer_big = lk->nouter > 16 ? pool_alloc(outer_bytes) : NULL;
+    double *outer = outer_big ? (double *)(void *)outer_big : outer_small;
+    uint8_t *outer_ok = outer_big ? outer_big + lk->nouter * sizeof(double) : outer_ok_small;
+    for (uint32_t i = 0; i < lk->nouter; i++) {
+        int32_t w = lk->outer[i];
+        const Vec *v = w >= 0 ? ev->frame[w] : ev->globals ? ev->globals->values[-1 - w] : NULL;
+        outer_ok[i] = vec_is_scalar(v);
+        outer[i] = outer_ok[i] ? vec_scalar(v) : 0.0;
+    }
+    const uint32_t nregs = lk->nregs;
+    uint64_t per_chunk = lk->chunk ? lk->chunk : K_CHUNK_WORK / lk->cost;
+    uint32_t chunk = per_chunk < 1 ? 1 : per_chunk > iters ? iters : (uint32_t)per_chunk;
+    uint64_t per_window = lk->window ? lk->window : K_WINDOW_BYTES / ((uint64_t)nregs * 9);
+    uint32_t window = per_window < chunk ? chunk : per_window > iters ? iters : (uint32_t)per_window;
+    window = (window + chunk - 1) / chunk * chunk;
+    const uint32_t maxtasks = (window + chunk - 1) / chunk;
+    /* the window's registers, their flags, a flag file of all ones (for a
+     * clean iteration), each iteration's cleanness, each task's end */
+    const size_t nr = (size_t)window * nregs;
+    size_t bytes = nr * (sizeof(double) + 1) + nregs + window + maxtasks;
+    unsigned char *buf = pool_alloc(bytes);
+    KRun kr = {
+        .lk = lk, .src = vec_cnums(src), .len = len, .chunk = chunk,
+        .regs = (double *)(void *)buf, .ok = buf + nr * sizeof(double),
+        .outer = outer, .outer_ok = outer_ok, .outer_clean = true,
+        .clean = buf + nr * (sizeof(double) + 1) + nregs,
+        .done = (atomic_uchar *)(buf + nr * (sizeof(double) + 1) + nregs + window),
+    };
+    uint8_t *ones = buf + nr * (sizeof(double) + 1);
+    memset(ones, 1, nregs);
+    for (uint32_t i = 0; i < lk->nouter; i++) kr.outer_clean = kr.outer_clean && outer_ok[i];
+    Workers *pool = ev->workers;
+    const unsigned char *kbase = ev->kbase;
+    const double *kregs = ev->kregs;
+    const uint8_t *kok = ev->kok;
+    const unsigned char *base = ((const CBlock *)n->b->aux)->code;
+    Parts parts;
+    parts_init(&parts);
+    bool stop = false;
+    for (uint32_t first = 0; first < iters && !stop; first += window) {
+        kr.first = first;
+        kr.iters = iters - first < window ? iters - first : window;
+        const uint32_t ntasks = (kr.iters + chunk - 1) / chunk;
+        for (uint32_t t = 0; t < ntasks; t++) atomic_init(&kr.done[t], 0);
+        atomic_init(&kr.cancel, false);
+        WorkersJob job;
+        workers_start(pool, &job, ntasks, chunk_task, &kr);
+        /* the pool runs one job at a time: a kernel run by this one's
+         * body (a nested loop, a recursive call) runs on this thread */
+        ev->workers = NULL;
+        for (uint32_t t = 0; t < ntasks && !stop; t++) {
+            /* the chunk's registers: take later chunks meanwhile */
+            while (!atomic_load_explicit(&kr.done[t], memory_order_acquire))
+                if (!workers_help(&job)) workers_pause();
+            uint32_t a = t * chunk, b = a + chunk < kr.iters ? a + chunk : kr.iters;
+            for (uint32_t i = a; i < b; i++) {
+                /* eval_for's iteration, the body's C_KNUM records reading
+                 * this iteration's registers */
+                uint32_t p = (first + i) * k;
+                if (parts.too_long || stop_requested(ev)) {
+                    stop = true;
+                    break;
+                }
+                if (!mem_fits(0)) {
+                    parts.too_long = true;
+                    stop = true;
+                    break;
+                }
+                bind_loop_names(ev, n, src, p);
+                ev->kbase = base;
+                ev->kregs = kr.regs + (size_t)i * nregs;
+                ev->kok = kr.clean[i] ? ones : kr.ok + (size_t)i * nregs;
+                ev->kiters++;
+                parts_push(&parts, eval_code(ev, n->b));
+            }
+        }
+        if (stop) atomic_store_explicit(&kr.cancel, true, memory_order_relaxed);
+        workers_finish(&job);
+        ev->workers = pool;
+    }
+    ev->kbase = kbase;
+    ev->kregs = kregs;
+    ev->kok = kok;
+    pool_release(buf, bytes);
+    if (outer_big) pool_release(outer_big, outer_bytes);
+    return parts_finish(ev, &parts);
+}

@@ -1,0 +1,69 @@
+/* kernel.h: loop kernels, the numbers of a loop's iterations computed
+ * ahead of its body, on every thread (issue 24).
+ *
+ * A `for` loop whose body is a compiled region (evalcode.h) evaluates, for
+ * each iteration, the region's compiled numeric records (numexpr.h) one at
+ * a time, between the allocations of the nodes and vectors they go into;
+ * on a canvas of 10,000 time-dependent nodes, those numbers (sine, cosine,
+ * the arithmetic) are half of a frame. The numbers of an iteration depend
+ * only on the loop's names, on names bound before the loop (and the
+ * frame's engine names, which stay the same while it runs) and on the
+ * other numbers of the same iteration bound by the body's `let`s: no
+ * allocation, no side effect, no order (numexpr.h). So they can all be
+ * computed first, iteration by iteration, as pure arithmetic on arrays of
+ * doubles that any thread may run; the body is then run as before, in
+ * order, on the calling thread, and each of those records takes its
+ * number from the array instead of computing it.
+ *
+ * At load, kernel_compile_for() turns every compiled numeric record of a
+ * loop body (C_NUM) whose names are the loop's names, names bound outside
+ * the loop, engine names or the body's own `let`s of such records into a
+ * C_KNUM record, and gives the loop a LoopKernel: a register copy of each
+ * such expression (numexpr_to_regs), in evaluation order, reading a
+ * register file of [the loop's names | the names from outside | the
+ * expressions' outputs]. A `let` bound to a memoized record (C_MEMO) of
+ * engine names gives its number to the kernel as well (the record itself
+ * is left alone: it keeps its memo).
+ *
+ * At run time (kernel_eval_for), a loop over a numeric source with enough
+ * work splits its iterations into chunks; the threads lent by the runtime
+ * (Eval.workers) and the caller compute the chunks' registers while the
+ * caller runs the body over the finished chunks in order, exactly as
+ * eval_for does (the same bindings, checks and composition). A C_KNUM
+ * record whose number its iteration holds returns it in a new vector;
+ * when the kernel could not compute it (an input was not one number, a
+ * comparison met a NaN: numexpr_run's cases), or outside a kernel's run,
+ * the record runs as C_NUM. The numbers are the same bits either way: the
+ * same instructions on the same numbers (numexpr.h).
+ *
+ * FLITTER_NOKERNEL=1 (read when a program is compiled) leaves loops
+ * without kernels: the reference for tests/cli/fast_route.sh. For tests,
+ * FLITTER_KERNEL_CHUNK=N (also read then) makes chunks of N iterations
+ * and lets every loop of two iterations or more take its kernel, and
+ * FLITTER_KERNEL_WINDOW=N computes at most N iterations ahead.
+ */
+#ifndef FL_KERNEL_H
+#define FL_KERNEL_H
+
+#include "ast.h"
+#include "value.h"
+
+typedef struct Eval Eval;
+typedef struct LoopKernel LoopKernel;
+
+/* Give the resolved AST_FOR [n], whose body n->b is a compiled region
+ * (n->b->fast == 2), a kernel when the region has numeric records it can
+ * take (see above): rewrites those records to C_KNUM and sets n->fast = 3
+ * and n->aux to the kernel. Leaves [n] alone otherwise, and when
+ * FLITTER_NOKERNEL is set. Never fails. */
+void kernel_compile_for(AstNode *n);
+
+/* eval_for's route for an AST_FOR [n] with a kernel (n->fast == 3) over
+ * the numeric source [src] (borrowed): the composed values of the body's
+ * iterations, the same as eval_for's loop gives, errors and all, with
+ * *[done] set; *[done] false (nothing evaluated, NULL returned) when the
+ * loop is too small for the kernel to pay, and eval_for then runs it as
+ * usual. */
+Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done);
+
+#endif

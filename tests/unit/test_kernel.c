@@ -1,0 +1,337 @@
+/* test_kernel.c: loop kernels (lib/eval/kernel.c) against the routes
+ * without them.
+ *
+ * Each script runs three frames on five routes: the generic tree walk
+ * (FLITTER_NOFAST=1), the compiled route without kernels
+ * (FLITTER_NOKERNEL=1), and kernels on one, two and three threads
+ * (FLITTER_THREADS), each with and without the simplifier. Every route must
+ * give the generic route's node tree and log, byte for byte, and the
+ * kernel routes must really have run loops with their kernels
+ * (rt_kernel_iterations). The scripts cover what a kernel must hand back
+ * to the body's own records: names from outside that are not one number,
+ * NaN in comparisons, builtins given the wrong shapes, loops of several
+ * names whose last iteration is short, nested kernels, a loop run again
+ * by a recursive call from its own body, the recursion limit, and loops
+ * longer than a window of registers. One case is checked against values
+ * worked out by hand.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "format.h"
+#include "program.h"
+#include "runtime.h"
+
+/* FLITTER_KERNEL_WINDOW for the runs ("0": K_WINDOW_BYTES). */
+static const char *kernel_window = "63";
+
+enum { R_GENERIC, R_NOKERNEL, R_THREADS1, R_THREADS2, R_THREADS3, R_COUNT };
+
+static const char *const route_names[R_COUNT] = {"generic", "no kernel", "kernel, 1 thread",
+                                                 "kernel, 2 threads", "kernel, 3 threads"};
+
+/* The tree dump of the last of [frames] frames of [src] on [route], the
+ * log in *[log_out] and the kernel's iterations in *[kiters]. */
+static char *run_route(const char *src, int frames, bool simplify, int route, char **log_out,
+                       uint64_t *kiters)
+{
+    unsetenv("FLITTER_NOFAST");
+    unsetenv("FLITTER_NOKERNEL");
+    if (route == R_GENERIC) setenv("FLITTER_NOFAST", "1", 1);
+    if (route == R_NOKERNEL) setenv("FLITTER_NOKERNEL", "1", 1);
+    setenv("FLITTER_THREADS", route == R_THREADS3 ? "3" : route == R_THREADS2 ? "2" : "1", 1);
+    /* small chunks and windows, so that small loops (quick under valgrind)
+     * are many tasks, taken in any order, and several windows */
+    setenv("FLITTER_KERNEL_CHUNK", "7", 1);
+    setenv("FLITTER_KERNEL_WINDOW", kernel_window, 1);
+    char *log = NULL;
+    size_t loglen;
+    FILE *lf = open_memstream(&log, &loglen);
+    fl_options o = fl_default_options();
+    RtStreams streams = {lf, lf};
+    rt_log_to_files(&o, &streams);
+    o.no_simplify = !simplify;
+    fl_runtime *rt = fl_new(&o);
+    Buf err = BUF_INIT;
+    assert_int_equal(rt_load_text(rt, "kernel.fl", src, strlen(src), &err), 0);
+    buf_free(&err);
+    for (int i = 0; i < frames; i++) fl_step(rt);
+    Buf t = BUF_INIT;
+    fmt_tree(&t, rt_root(rt), rt_symbols(rt));
+    char *tree = strdup(buf_cstr(&t));
+    buf_free(&t);
+    *kiters = rt_kernel_iterations(rt);
+    fl_free(rt);
+    fclose(lf);
+    unsetenv("FLITTER_NOFAST");
+    unsetenv("FLITTER_NOKERNEL");
+    unsetenv("FLITTER_THREADS");
+    unsetenv("FLITTER_KERNEL_CHUNK");
+    unsetenv("FLITTER_KERNEL_WINDOW");
+    *log_out = log;
+    return tree;
+}
+
+/* Every route of [src] gives the generic route's tree and log in both
+ * modes; the kernel routes ran at least [min_kiters] iterations with
+ * kernels in each mode. Returns the generic tree of the simplifier's mode
+ * (the caller frees it). */
+static char *expect_routes(const char *src, int frames, uint64_t min_kiters)
+{
+    char *keep = NULL;
+    for (int simplify = 0; simplify < 2; simplify++) {
+        char *log0, *tree0;
+        uint64_t k;
+        tree0 = run_route(src, frames, simplify, R_GENERIC, &log0, &k);
+        assert_int_equal(k, 0);
+        for (int route = R_NOKERNEL; route < R_COUNT; route++) {
+            char *log;
+            char *tree = run_route(src, frames, simplify, route, &log, &k);
+            if (strcmp(tree, tree0) != 0 || strcmp(log, log0) != 0)
+                fprintf(stderr, "route %s, simplify %d differs\n", route_names[route], simplify);
+            assert_string_equal(tree, tree0);
+            assert_string_equal(log, log0);
+            if (route == R_NOKERNEL) assert_int_equal(k, 0);
+            else if (k < min_kiters) fail_msg("route %s, simplify %d: %llu kernel iterations, want %llu",
+                                              route_names[route], simplify, (unsigned long long)k,
+                                              (unsigned long long)min_kiters);
+            free(tree);
+            free(log);
+        }
+        free(log0);
+        if (simplify) keep = tree0;
+        else free(tree0);
+    }
+    return keep;
+}
+
+/* Values worked out by hand: i*0.5 and i*0.5 + 1 are exact; sin in turns
+ * of i*0.25 reduces to quadrant i%4 with a zero remainder, so it is
+ * sin(+0) = 0, cos(0) = 1, -sin(+0) = -0 or -cos(0) = -1 (LANGUAGE.md
+ * §5.2); hsv(h;0;v) is v;v;v (no saturation: lightness v, both hue
+ * bounds v). The tree checked is the simplifier's mode's. The loop is long enough for its kernel; `time` is 0 in the
+ * first frame. */
+static void test_hand_values(void **s)
+{
+    (void)s;
+    char *tree = expect_routes("let n=400+floor(time)\n!g\n    for i in ..n\n        let p=i*0.5+time\n"
+                               "        !d x=p;p+1 y=sin(p*0.5) c=hsv(time;0;p/1000) t=p>1\n",
+                               1, 400);
+    Buf want = BUF_INIT;
+    buf_puts(&want, "!root\n !g\n");
+    /* (trees write -0 as 0) */
+    static const char *const quadrant[] = {"0", "1", "0", "-1"};
+    for (int i = 0; i < 400; i++) {
+        /* the simplifier's x/k is x*(1/k) (Flitter's rule, LANGUAGE.md
+         * §4.17): p/1000 is p*0.001 */
+        double p = i * 0.5, v = p * (1.0 / 1000);
+        char c[32];
+        /* the shortest text that reads back as v, as values are written */
+        for (int d = 1; d <= 17; d++) {
+            snprintf(c, sizeof c, "%.*g", d, v);
+            if (strtod(c, NULL) == v) break;
+        }
+        buf_printf(&want, "  !d x=%g;%g y=%s c=%s;%s;%s t=%d\n", p, p + 1, quadrant[i % 4], c, c, c, p > 1);
+    }
+    assert_string_equal(tree, buf_cstr(&want));
+    free(tree);
+    buf_free(&want);
+}
+
+/* Lets, element functions and hsv/hsl calls the kernel computes, in a loop
+ * that stays a loop (its length depends on `time`), over three frames. */
+static void test_lets_and_calls(void **s)
+{
+    (void)s;
+    free(expect_routes("let n=300+floor(time)\n"
+                       "!g\n"
+                       "    for i in ..n\n"
+                       "        let p=time+i*0.01\n"
+                       "            q=p*2\n"
+                       "        !dot x=(i+0.5)*2+8*sin(p);(q+1)*cos(p) r=2+sin(time*2+i*i/100) "
+                       "c=hsv(time/10+i/n;0.8;0.5+0.5*sin(p)) s=time>0 k=hsl(i/n;0.5;q) "
+                       "m=i//7 o=i%7 w=q**0.5 z=(-i)**0.5\n",
+                       3, 3 * 300));
+}
+
+/* What the kernel cannot compute goes back to the body's own records:
+ * names from outside that are a vector, null, a string or NaN; NaN in
+ * comparisons (the identity rule of §3.6); builtins given other shapes. */
+static void test_fallbacks(void **s)
+{
+    (void)s;
+    free(expect_routes("let n=200+floor(time)\n"
+                       "    v=(1;2)+time\n"
+                       "    z=null\n"
+                       "    s=\"a\"\n"
+                       "    h=0/0+time\n"
+                       "!g\n"
+                       "    for i in ..n\n"
+                       "        let c=h>i\n"
+                       "            e=(i/(i%5)) > 1\n"
+                       "            f=c+1\n"
+                       "        !f a=v*i b=z+i c=c+1 d=s+i e=h==h f=f*2 g=hsv(v) h=hsv(v;i) "
+                       "k=hsv(i;1;1;1) m=e o=hsl(i;i) p=hsv(i/n) q=(h+i)<(h+i) r=e+i\n",
+                       3, 3 * 200));
+    /* names from outside that are not one number, with nothing failing
+     * in the iteration before them */
+    free(expect_routes("let n=200+floor(time)\n"
+                       "    v=(1;2)+time\n"
+                       "    s=\"a\"\n"
+                       "!g\n"
+                       "    for i in ..n\n"
+                       "        !f a=i*2 b=v*i c=s+i d=v+i*0.5 e=sin(i*0.01)\n",
+                       3, 3 * 200));
+}
+
+/* Loops of several names over a source whose length is no multiple of
+ * theirs: the last iteration's missing names are null. */
+static void test_several_names(void **s)
+{
+    (void)s;
+    free(expect_routes("let n=301+floor(time)\n"
+                       "    src=(k*0.5+time for k in ..n)\n"
+                       "!g\n"
+                       "    for a;b;c in src\n"
+                       "        let d=a*b\n"
+                       "        !t x=a+b*c y=sin(a)+cos(b) z=c w=d+c\n",
+                       2, 2 * 100));
+}
+
+/* A kernel inside a kernel's body: the inner loop reads the outer one's
+ * `let` as a name from outside, afresh each time it starts. */
+static void test_nested(void **s)
+{
+    (void)s;
+    free(expect_routes("let n=30+floor(time)\n"
+                       "!g\n"
+                       "    for i in ..n\n"
+                       "        let u=i*0.1+time\n"
+                       "        !row u=u\n"
+                       "        for j in ..n\n"
+                       "            !p x=u+j y=sin(u*j) z=hsv(u;j/n;0.5)\n",
+                       2, 2 * 30 * 30));
+}
+
+/* A recursive call from a loop's body runs the same loop again while its
+ * kernel is running; deep enough, the recursion limit's message. */
+static void test_recursion(void **s)
+{
+    (void)s;
+    free(expect_routes("func f(d)\n"
+                       "    for i in ..(100+floor(time))\n"
+                       "        let p=i*d+time\n"
+                       "        !r x=p*2 y=sin(p) d=d\n"
+                       "        f(d-1) if d > 0 and i == 3 else null\n"
+                       "!g << f(3)\n",
+                       2, 2 * 400));
+    /* the run again is too short for the kernel: it runs as eval_for, its
+     * C_KNUM records computing their own numbers, not the kernel's */
+    free(expect_routes("func f(d)\n"
+                       "    for i in ..(100+floor(time) if d == 0 else 3)\n"
+                       "        let p=i*(d+1)+time\n"
+                       "        !r x=p*2 y=sin(p) d=d\n"
+                       "        f(d+1) if d < 2 and i == 1 else null\n"
+                       "!g << f(0)\n",
+                       2, 2 * 100));
+    free(expect_routes("func f(d)\n"
+                       "    for i in ..(300+floor(time))\n"
+                       "        let p=i*d+time\n"
+                       "        !r x=p*2\n"
+                       "        f(d+1) if i == 299 else null\n"
+                       "!g << f(0)\n",
+                       1, 300));
+}
+
+/* The simplifier's loop forms (literal ranges, template passes): nested
+ * literal loops as canvas10k has them. */
+static void test_loop_forms(void **s)
+{
+    (void)s;
+    free(expect_routes("let W=640\n    N=40\n"
+                       "!window size=W;W\n"
+                       "    !canvas\n"
+                       "        for i in ..N\n"
+                       "            for j in ..N\n"
+                       "                let phase=time+i*0.07+j*0.05\n"
+                       "                !ellipse point=(i+0.5)*W/N+8*sin(phase);(j+0.5)*W/N+8*cos(phase) "
+                       "radius=2+sin(time*2+i*j/100) fill=hsv(time/10+i/N;0.8;0.5+0.5*sin(phase)) "
+                       "stroke=time>0\n",
+                       3, 3 * 39));
+}
+
+/* A loop longer than one window of registers (here 63 iterations; the
+ * first and the last window's last chunk short): several windows, one
+ * after the other; and the same with the windows of K_WINDOW_BYTES. */
+static void test_windows(void **s)
+{
+    (void)s;
+    free(expect_routes("let n=1000+floor(time)\n"
+                       "!g\n"
+                       "    for i in ..n\n"
+                       "        !w x=i*0.25+time y=sin(i/n) z=i%3\n",
+                       1, 1000));
+    /* 60 numbers an iteration, about 600 bytes of registers: the
+     * windows of K_WINDOW_BYTES take about 3,500 iterations each */
+    Buf src = BUF_INIT;
+    buf_puts(&src, "let n=8000+floor(time)\n!g\n    for i in ..n\n        !w");
+    for (int a = 0; a < 60; a++) buf_printf(&src, " a%d=i*%d+time", a, a + 1);
+    buf_puts(&src, "\n");
+    kernel_window = "0";
+    free(expect_routes(buf_cstr(&src), 1, 8000));
+    kernel_window = "63";
+    buf_free(&src);
+}
+
+/* FLITTER_NOKERNEL leaves loops without kernels (AstNode.fast 3). */
+static int count_kernels(const AstNode *n)
+{
+    if (!n) return 0;
+    int c = n->kind == AST_FOR && n->fast == 3;
+    c += count_kernels(n->a) + count_kernels(n->b) + count_kernels(n->c);
+    for (uint32_t i = 0; i < n->nkids; i++) c += count_kernels(n->kids[i]);
+    return c;
+}
+
+static void test_compiled(void **s)
+{
+    (void)s;
+    const char *src = "let n=9+time\nfor i in ..n\n    !a x=i*2+sin(i)\n";
+    SymTab *st = symtab_new();
+    Buf err = BUF_INIT;
+    unsetenv("FLITTER_NOKERNEL");
+    Program *p = program_load_text("t.fl", src, strlen(src), NULL, st, &err);
+    assert_non_null(p);
+    assert_int_equal(count_kernels(p->top), 1);
+    program_release(p);
+    setenv("FLITTER_NOKERNEL", "1", 1);
+    p = program_load_text("t.fl", src, strlen(src), NULL, st, &err);
+    unsetenv("FLITTER_NOKERNEL");
+    assert_non_null(p);
+    assert_int_equal(count_kernels(p->top), 0);
+    program_release(p);
+    buf_free(&err);
+    symtab_free(st);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_hand_values),
+        cmocka_unit_test(test_lets_and_calls),
+        cmocka_unit_test(test_fallbacks),
+        cmocka_unit_test(test_several_names),
+        cmocka_unit_test(test_nested),
+        cmocka_unit_test(test_recursion),
+        cmocka_unit_test(test_loop_forms),
+        cmocka_unit_test(test_windows),
+        cmocka_unit_test(test_compiled),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
