@@ -330,8 +330,10 @@ Vec *vec_compose_take(Vec **parts, size_t n)
             }
             vec_release(p);
         } else if (p->refs == 1) {
-            /* the last reference: the elements move, with their references */
-            memcpy(d, vec_celems(p), len * sizeof(Elem));
+            /* the last reference: the elements move, with their references
+             * (one element, a node of a long sequence, without a call) */
+            if (len == 1) d[0] = vec_celems(p)[0];
+            else memcpy(d, vec_celems(p), len * sizeof(Elem));
             pool_release(p, sizeof(Vec) + (size_t)len * sizeof(Elem));
         } else {
             memcpy(d, vec_celems(p), len * sizeof(Elem));

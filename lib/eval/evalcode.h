@@ -64,6 +64,13 @@ enum {
                    one uint32 offset (the argument) follows, as for
                    C_CALLBI, which it runs as when the kernel does not hold
                    its numbers */
+    C_KLET,     /* a C_LET of a loop body some of whose bindings only the
+                   kernel's records read (kernel.h): CLetTail.pad has a bit
+                   for each such binding (the first 32); while the kernel
+                   runs a clean iteration (Eval.kclean) and the depth is at
+                   most MAX_EVAL_DEPTH - aux, those bindings are not made
+                   (their records take the kernel's numbers and read no
+                   slot); otherwise it runs as C_LET */
 };
 
 struct Builtin;

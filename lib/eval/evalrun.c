@@ -130,6 +130,22 @@ static Vec *run_let(Eval *ev, const unsigned char *base, const CRec *r)
     return v;
 }
 
+/* C_KLET: run_let without the bindings that only the loop kernel's
+ * records read, while the kernel holds every number of this iteration
+ * (kernel.h); its values are pure numbers, so nothing else changes */
+static Vec *run_klet(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    if (ev->kbase != base || !ev->kclean || ev->depth + r->aux > MAX_EVAL_DEPTH) return run_let(ev, base, r);
+    const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
+    const uint32_t skip = t->pad;
+    for (uint32_t i = 0; i < r->n; i++)
+        if (i >= 32 || !(skip >> i & 1)) set_slot(ev, t->binds[i].slot, run_val(ev, base, t->binds[i].off));
+    Vec *v = run_val(ev, base, t->body);
+    for (uint32_t i = 0; i < r->n; i++)
+        if (i >= 32 || !(skip >> i & 1)) set_slot(ev, t->binds[i].slot, NULL);
+    return v;
+}
+
 /* C_ATTRS: eval_attributes */
 __attribute__((noinline)) static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
 {
@@ -220,6 +236,7 @@ __attribute__((noinline)) static Vec *run_rec(Eval *ev, const unsigned char *bas
     switch (r->op) {
     case C_SEQ: v = run_seq(ev, base, r); break;
     case C_LET: v = run_let(ev, base, r); break;
+    case C_KLET: v = run_klet(ev, base, r); break;
     case C_ATTRS: v = run_attrs(ev, base, r); break;
     case C_CALLBI: v = run_callbi(ev, base, r); break;
     case C_APPEND: v = run_append(ev, base, r); break;

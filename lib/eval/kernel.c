@@ -249,6 +249,129 @@ static void walk(KB *kb, uint32_t off)
     }
 }
 
+/* True when the AST [n] may read frame slot [slot]: a name of it, or a
+ * function (which may capture it). */
+static bool ast_reads_slot(const AstNode *n, int32_t slot)
+{
+    if (!n) return false;
+    if (n->kind == AST_FUNCTION) return true;
+    if (n->kind == AST_NAME && n->scope == SCOPE_LOCAL && n->slot == slot) return true;
+    if (ast_reads_slot(n->a, slot) || ast_reads_slot(n->b, slot) || ast_reads_slot(n->c, slot)) return true;
+    for (uint32_t i = 0; i < n->nkids; i++)
+        if (ast_reads_slot(n->kids[i], slot)) return true;
+    return false;
+}
+
+/* Whether the record at [off], [m] composite records below a `let`'s own
+ * level, or anything below it, reads slot [slot] when the kernel runs a
+ * clean iteration; the C_KNUM records that would read it only when the
+ * depth runs out raise *[guard] to the depth (above the `let`'s) at
+ * which they would. */
+static bool reads_slot(KB *kb, uint32_t off, int32_t slot, uint32_t m, uint32_t *guard)
+{
+    const CRec *r = krec(kb, off);
+    const uint32_t *k = (const uint32_t *)(const void *)(r + 1);
+    const NumExpr *x = (const NumExpr *)(const void *)(r + 1);
+    switch (r->op) {
+    case C_LOCAL:
+        return (int32_t)r->n == slot;
+    case C_NUM:
+        return numexpr_reads_local(x, slot);
+    case C_KNUM:
+        if (numexpr_reads_local(x, slot) && m + numexpr_depth(x) > *guard) *guard = m + numexpr_depth(x);
+        return false;
+    case C_AST:
+        return ast_reads_slot(r->p.node, slot);
+    case C_KCALL:
+        /* its argument, a C_KNUM, runs only when the depth runs out */
+        if (numexpr_reads_local((const NumExpr *)(const void *)(krec(kb, k[0]) + 1), slot) &&
+            m + 1 + r->pad > *guard)
+            *guard = m + 1 + r->pad;
+        return false;
+    case C_SEQ:
+    case C_CALLBI:
+        for (uint32_t i = 0; i < r->n; i++)
+            if (reads_slot(kb, k[i], slot, m + 1, guard)) return true;
+        return false;
+    case C_APPEND:
+        return reads_slot(kb, k[0], slot, m + 1, guard) || reads_slot(kb, k[1], slot, m + 1, guard);
+    case C_LET:
+    case C_KLET: {
+        const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
+        for (uint32_t i = 0; i < r->n; i++)
+            if (reads_slot(kb, t->binds[i].off, slot, m + 1, guard)) return true;
+        return reads_slot(kb, t->body, slot, m + 1, guard);
+    }
+    case C_ATTRS:
+    case C_NEWNODE: {
+        const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+        if (r->op == C_ATTRS && reads_slot(kb, t->node, slot, m + 1, guard)) return true;
+        for (uint32_t i = 0; i < r->n; i++)
+            if (reads_slot(kb, t->attrs[i].off, slot, m + 1, guard)) return true;
+        return false;
+    }
+    default:   /* C_LIT, C_GLOBAL, C_MEMO (engine names only) */
+        return false;
+    }
+}
+
+/* Turn the `let`s at and below [off] whose bindings of kernel numbers
+ * only the kernel's records read into C_KLET (evalcode.h). */
+static void mark_lets(KB *kb, uint32_t off)
+{
+    CRec *r = krec(kb, off);
+    const uint32_t *k = (const uint32_t *)(const void *)(r + 1);
+    switch (r->op) {
+    case C_SEQ:
+    case C_CALLBI:
+        for (uint32_t i = 0; i < r->n; i++) mark_lets(kb, k[i]);
+        break;
+    case C_KCALL:
+        mark_lets(kb, k[0]);
+        break;
+    case C_APPEND:
+        mark_lets(kb, k[0]);
+        mark_lets(kb, k[1]);
+        break;
+    case C_LET: {
+        CLetTail *t = (CLetTail *)(void *)(r + 1);
+        uint32_t mask = 0, guard = 0;
+        for (uint32_t i = 0; i < r->n && i < 32; i++) {
+            const CRec *v = krec(kb, t->binds[i].off);
+            if (v->op != C_KNUM && v->op != C_MEMO) continue;
+            uint32_t g = 0;
+            bool read = reads_slot(kb, t->body, t->binds[i].slot, 0, &g);
+            for (uint32_t j = i + 1; j < r->n && !read; j++)
+                read = reads_slot(kb, t->binds[j].off, t->binds[i].slot, 0, &g);
+            /* the value itself is evaluated at the let's depth */
+            if (v->op == C_KNUM && numexpr_depth((const NumExpr *)(const void *)(v + 1)) > g)
+                g = numexpr_depth((const NumExpr *)(const void *)(v + 1));
+            if (!read && g <= UINT16_MAX) {
+                mask |= UINT32_C(1) << i;
+                if (g > guard) guard = g;
+            }
+        }
+        for (uint32_t i = 0; i < r->n; i++) mark_lets(kb, t->binds[i].off);
+        mark_lets(kb, t->body);
+        if (mask) {
+            r->op = C_KLET;
+            r->aux = (uint16_t)guard;
+            t->pad = mask;
+        }
+        break;
+    }
+    case C_ATTRS:
+    case C_NEWNODE: {
+        const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+        if (r->op == C_ATTRS) mark_lets(kb, t->node);
+        for (uint32_t i = 0; i < r->n; i++) mark_lets(kb, t->attrs[i].off);
+        break;
+    }
+    default:
+        break;
+    }
+}
+
 /* Final register of compilation-numbered register [reg]. */
 static int32_t final_reg(const KB *kb, int32_t reg)
 {
@@ -292,6 +415,7 @@ void kernel_compile_for(AstNode *n)
         e->out = (uint32_t)final_reg(&kb, (int32_t)e->out);
         if (e->x) {
             numexpr_renumber_regs(e->x, renumber, &kb);
+            numexpr_set_out(e->x, e->out);
             lk->cost += numexpr_cost(e->x) + e->nout;
         } else {
             lk->cost += 24 + e->nout;
@@ -312,6 +436,7 @@ void kernel_compile_for(AstNode *n)
         r->aux = (uint16_t)e->nout;
         r->pad = (uint8_t)numexpr_depth((const NumExpr *)(const void *)(a + 1));
     }
+    mark_lets(&kb, 0);
     free(kb.scope);
     free(kb.knum);
     free(kb.kcall);
@@ -346,29 +471,22 @@ typedef struct KRun {
     atomic_bool cancel;         /* the caller stopped: compute nothing more */
 } KRun;
 
-/* The registers of iteration [it] of the loop into [regs]; true when
- * every one holds its number, else false with [ok] saying which do. */
-static bool compute_iteration(const KRun *kr, uint32_t it, double *regs, uint8_t *ok)
+/* The registers of iteration [it] into [regs] and which of them hold
+ * their numbers into [ok], one expression at a time: for an iteration
+ * that lacks a name or a name from outside, or where an expression gave
+ * up. */
+static void careful_iteration(const KRun *kr, uint32_t it, double *regs, uint8_t *ok)
 {
     const LoopKernel *lk = kr->lk;
     const uint32_t k = lk->k, p = it * (k ? k : 1);
-    bool clean = kr->outer_clean && p + k <= kr->len;
-    for (uint32_t j = 0; j < k; j++) regs[j] = p + j < kr->len ? kr->src[p + j] : 0.0;
-    for (uint32_t i = 0; i < lk->nouter; i++) regs[k + i] = kr->outer[i];
-    if (clean) {
-        /* every input holds its number until an expression fails */
-        uint32_t e = 0;
-        for (; e < lk->nex; e++) {
-            const KExpr *x = &lk->ex[e];
-            if (!(x->x ? numexpr_run_regs(x->x, regs, regs + x->out)
-                       : x->vk->run(regs + lk->ex[x->arg].out, lk->ex[x->arg].nout, regs + x->out)))
-                break;
-        }
-        if (e == lk->nex) return true;
+    for (uint32_t j = 0; j < k; j++) {
+        ok[j] = p + j < kr->len;
+        regs[j] = ok[j] ? kr->src[p + j] : 0.0;
     }
-    /* which registers hold their numbers, expression by expression */
-    for (uint32_t j = 0; j < k; j++) ok[j] = p + j < kr->len;
-    for (uint32_t i = 0; i < lk->nouter; i++) ok[k + i] = kr->outer_ok[i];
+    for (uint32_t i = 0; i < lk->nouter; i++) {
+        regs[k + i] = kr->outer[i];
+        ok[k + i] = kr->outer_ok[i];
+    }
     for (uint32_t e = 0; e < lk->nex; e++) {
         const KExpr *x = &lk->ex[e];
         bool good;
@@ -382,7 +500,51 @@ static bool compute_iteration(const KRun *kr, uint32_t it, double *regs, uint8_t
         }
         memset(ok + x->out, good, x->nout);
     }
-    return false;
+}
+
+/* The registers of iterations [i0, i0 + n) of the window (n at most
+ * NUMEXPR_LANES), all at once, each expression for every lane in turn;
+ * the lanes that lack an input or where an expression gave up are done
+ * again one at a time, carefully. Sets their clean flags. */
+static void compute_lanes(KRun *kr, uint32_t i0, uint32_t n)
+{
+    const LoopKernel *lk = kr->lk;
+    const uint32_t k = lk->k, nregs = lk->nregs;
+    double *regs = kr->regs + (size_t)i0 * nregs;
+    uint8_t fail[NUMEXPR_LANES] = {0};
+    for (uint32_t l = 0; l < n; l++) {
+        double *r = regs + (size_t)l * nregs;
+        const uint32_t p = (kr->first + i0 + l) * (k ? k : 1);
+        fail[l] = !kr->outer_clean || p + k > kr->len;
+        for (uint32_t j = 0; j < k; j++) r[j] = p + j < kr->len ? kr->src[p + j] : 0.0;
+        for (uint32_t i = 0; i < lk->nouter; i++) r[k + i] = kr->outer[i];
+    }
+    for (uint32_t e = 0; e < lk->nex; e++) {
+        const KExpr *x = &lk->ex[e];
+        if (x->x) {
+            numexpr_run_lanes(x->x, regs, nregs, n, fail);
+        } else {
+            const KExpr *a = &lk->ex[x->arg];
+            for (uint32_t l = 0; l < n; l++) {
+                double *r = regs + (size_t)l * nregs;
+                if (!fail[l] && !x->vk->run(r + a->out, a->nout, r + x->out)) fail[l] = 1;
+            }
+        }
+    }
+    for (uint32_t l = 0; l < n; l++) {
+        kr->clean[i0 + l] = !fail[l];
+        if (fail[l])
+            careful_iteration(kr, kr->first + i0 + l, regs + (size_t)l * nregs,
+                              kr->ok + (size_t)(i0 + l) * nregs);
+    }
+}
+
+/* The first iteration (of the window) of task [t]; the window's end for
+ * t = the task count. */
+static uint32_t task_start(const KRun *kr, uint32_t t)
+{
+    uint64_t s = (uint64_t)t * kr->chunk;
+    return s < kr->iters ? (uint32_t)s : kr->iters;
 }
 
 /* A task: the registers of one chunk of the window. */
@@ -391,11 +553,9 @@ static void chunk_task(void *ctx, size_t t, unsigned thread)
     (void)thread;
     KRun *kr = ctx;
     if (!atomic_load_explicit(&kr->cancel, memory_order_relaxed)) {
-        const uint32_t nregs = kr->lk->nregs;
-        uint32_t a = (uint32_t)t * kr->chunk, b = a + kr->chunk < kr->iters ? a + kr->chunk : kr->iters;
-        for (uint32_t i = a; i < b; i++)
-            kr->clean[i] = compute_iteration(kr, kr->first + i, kr->regs + (size_t)i * nregs,
-                                             kr->ok + (size_t)i * nregs);
+        uint32_t a = task_start(kr, (uint32_t)t), b = task_start(kr, (uint32_t)t + 1);
+        for (uint32_t i = a; i < b; i += NUMEXPR_LANES)
+            compute_lanes(kr, i, b - i < NUMEXPR_LANES ? b - i : NUMEXPR_LANES);
     }
     atomic_store_explicit(&kr->done[t], 1, memory_order_release);
 }
@@ -425,6 +585,7 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     }
     const uint32_t nregs = lk->nregs;
     uint64_t per_chunk = lk->chunk ? lk->chunk : K_CHUNK_WORK / lk->cost;
+    if (!lk->chunk && per_chunk < NUMEXPR_LANES) per_chunk = NUMEXPR_LANES;
     uint32_t chunk = per_chunk < 1 ? 1 : per_chunk > iters ? iters : (uint32_t)per_chunk;
     uint64_t per_window = lk->window ? lk->window : K_WINDOW_BYTES / ((uint64_t)nregs * 9);
     uint32_t window = per_window < chunk ? chunk : per_window > iters ? iters : (uint32_t)per_window;
@@ -449,6 +610,7 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     const unsigned char *kbase = ev->kbase;
     const double *kregs = ev->kregs;
     const uint8_t *kok = ev->kok;
+    const bool kclean = ev->kclean;
     const unsigned char *base = ((const CBlock *)n->b->aux)->code;
     Parts parts;
     parts_init(&parts);
@@ -468,7 +630,7 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
             /* the chunk's registers: take later chunks meanwhile */
             while (!atomic_load_explicit(&kr.done[t], memory_order_acquire))
                 if (!workers_help(&job)) workers_pause();
-            uint32_t a = t * chunk, b = a + chunk < kr.iters ? a + chunk : kr.iters;
+            uint32_t a = task_start(&kr, t), b = task_start(&kr, t + 1);
             for (uint32_t i = a; i < b; i++) {
                 /* eval_for's iteration, the body's C_KNUM records reading
                  * this iteration's registers */
@@ -486,6 +648,7 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
                 ev->kbase = base;
                 ev->kregs = kr.regs + (size_t)i * nregs;
                 ev->kok = kr.clean[i] ? ones : kr.ok + (size_t)i * nregs;
+                ev->kclean = kr.clean[i];
                 ev->kiters++;
                 parts_push(&parts, eval_code(ev, n->b));
             }
@@ -497,6 +660,7 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     ev->kbase = kbase;
     ev->kregs = kregs;
     ev->kok = kok;
+    ev->kclean = kclean;
     pool_release(buf, bytes);
     if (outer_big) pool_release(outer_big, outer_bytes);
     return parts_finish(ev, &parts);

@@ -404,6 +404,78 @@ NumExpr *numexpr_to_regs(const NumExpr *x, NumExprRegMap map, void *ctx)
     return y;
 }
 
+__attribute__((optimize("tree-vectorize"))) void numexpr_run_lanes(const NumExpr *x, double *regs, size_t stride, uint32_t lanes, uint8_t *fail)
+{
+    /* the stack of columns: each operand is a column of [lanes] numbers;
+     * the top is t, st[1..] the rest (as in exec) */
+    double st[NX_STACK + 1][NUMEXPR_LANES];
+    double t[NUMEXPR_LANES], *a;
+    uint32_t sp = 0;
+    const uint32_t n = lanes;
+    for (const NxIns *i = x->ins;; i++) {
+        switch (i->op) {
+        case NX_REG:
+            memcpy(st[sp++], t, n * sizeof *t);
+            for (uint32_t l = 0; l < n; l++) t[l] = regs[l * stride + (uint32_t)i->arg];
+            break;
+        case NX_CONST:
+            memcpy(st[sp++], t, n * sizeof *t);
+            for (uint32_t l = 0; l < n; l++) t[l] = i->k;
+            break;
+        case NX_ADD: a = st[--sp]; for (uint32_t l = 0; l < n; l++) t[l] = a[l] + t[l]; break;
+        case NX_SUB: a = st[--sp]; for (uint32_t l = 0; l < n; l++) t[l] = a[l] - t[l]; break;
+        case NX_MUL: a = st[--sp]; for (uint32_t l = 0; l < n; l++) t[l] = a[l] * t[l]; break;
+        case NX_DIV: a = st[--sp]; for (uint32_t l = 0; l < n; l++) t[l] = a[l] / t[l]; break;
+        case NX_FLOORDIV: a = st[--sp]; for (uint32_t l = 0; l < n; l++) t[l] = num_floordiv(a[l], t[l]); break;
+        case NX_MOD: a = st[--sp]; for (uint32_t l = 0; l < n; l++) t[l] = num_mod(a[l], t[l]); break;
+        case NX_POW: a = st[--sp]; for (uint32_t l = 0; l < n; l++) t[l] = pow(a[l], t[l]); break;
+        case NX_SQUARE: for (uint32_t l = 0; l < n; l++) t[l] = t[l] * t[l]; break;
+        case NX_NEG: for (uint32_t l = 0; l < n; l++) t[l] = -t[l]; break;
+        case NX_NOT: for (uint32_t l = 0; l < n; l++) t[l] = (t[l] != 0.0 || isnan(t[l])) ? 0.0 : 1.0; break;
+        case NX_CMP:
+            a = st[--sp];
+            for (uint32_t l = 0; l < n; l++) {
+                /* NaN: the lane gives up, as exec does */
+                if (isnan(a[l]) || isnan(t[l])) {
+                    fail[l] = 1;
+                    t[l] = 0.0;
+                } else {
+                    t[l] = compare(i->sub, a[l], t[l]);
+                }
+            }
+            break;
+        case NX_CALL1: for (uint32_t l = 0; l < n; l++) t[l] = i->fn(t[l]); break;
+        case NX_ADDK: for (uint32_t l = 0; l < n; l++) t[l] = t[l] + i->k; break;
+        case NX_SUBK: for (uint32_t l = 0; l < n; l++) t[l] = t[l] - i->k; break;
+        case NX_MULK: for (uint32_t l = 0; l < n; l++) t[l] = t[l] * i->k; break;
+        case NX_DIVK: for (uint32_t l = 0; l < n; l++) t[l] = t[l] / i->k; break;
+        case NX_END: {
+            /* the outputs: st[1..nout-1], then t */
+            const uint32_t nout = x->h.nout, out = (uint32_t)i->arg;
+            for (uint32_t o = 0; o + 1 < nout; o++)
+                for (uint32_t l = 0; l < n; l++) regs[l * stride + out + o] = st[o + 1][l];
+            for (uint32_t l = 0; l < n; l++) regs[l * stride + out + nout - 1] = t[l];
+            return;
+        }
+        default:   /* NX_LOCAL, NX_GLOBAL: not in a register copy */
+            for (uint32_t l = 0; l < n; l++) fail[l] = 1;
+            return;
+        }
+    }
+}
+
+void numexpr_set_out(NumExpr *x, uint32_t out)
+{
+    x->ins[x->h.nins - 1].arg = (int32_t)out;
+}
+
+bool numexpr_reads_local(const NumExpr *x, int32_t slot)
+{
+    for (uint32_t i = 0; i < x->h.nins; i++)
+        if (x->ins[i].op == NX_LOCAL && x->ins[i].arg == slot) return true;
+    return false;
+}
+
 void numexpr_renumber_regs(NumExpr *x, int32_t (*map)(void *ctx, int32_t reg), void *ctx)
 {
     for (uint32_t i = 0; i < x->h.nins; i++)

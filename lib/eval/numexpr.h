@@ -89,6 +89,9 @@ static inline uint32_t numexpr_depth(const NumExpr *x)
  * stay the same (evalcode.h C_MEMO). */
 bool numexpr_memoizable(const NumExpr *x);
 
+/* True when [x] reads frame slot [slot]. */
+bool numexpr_reads_local(const NumExpr *x, int32_t slot);
+
 /* For a memoizable [x]: the indices of the engine names it reads, in
  * instruction order, written to [idx]; returns how many. */
 int numexpr_globals(const NumExpr *x, int32_t *idx);
@@ -119,6 +122,23 @@ void numexpr_renumber_regs(NumExpr *x, int32_t (*map)(void *ctx, int32_t reg), v
  * (evaluate the expression's subtree generically instead). Reads nothing
  * but [x] and [regs]: any thread may run it. */
 bool numexpr_run_regs(const NumExpr *x, const double *regs, double *out);
+
+/* Most lanes numexpr_run_lanes runs at once. */
+#define NUMEXPR_LANES 16
+
+/* Run a numexpr_to_regs() copy [x] for [lanes] (at most NUMEXPR_LANES)
+ * register files at once: lane l's registers are regs[l * stride ...];
+ * [x]'s outputs go to each lane's registers from the one that
+ * numexpr_set_out() recorded in [x]. fail[l] is set for a lane whose
+ * comparison met a NaN (its outputs are then undefined); the others are
+ * left alone. Every lane's numbers are those numexpr_run_regs gives, one
+ * instruction at a time for all the lanes instead of one lane at a time.
+ * Reads nothing but [x] and [regs]: any thread may run it. */
+void numexpr_run_lanes(const NumExpr *x, double *regs, size_t stride, uint32_t lanes, uint8_t *fail);
+
+/* Record in the register copy [x] the register its outputs go to
+ * (numexpr_run_lanes). */
+void numexpr_set_out(NumExpr *x, uint32_t out);
 
 /* The distinct registers a numexpr_to_regs() copy [x] reads, in order of
  * first use, written to [regs]; returns how many, or UINT32_MAX when there

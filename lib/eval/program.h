@@ -189,6 +189,7 @@ struct Eval {
                                    their numbers from kregs), or NULL */
     const double *kregs;    /* that kernel's registers of this iteration */
     const uint8_t *kok;     /* which of them hold their number */
+    bool kclean;            /* all of them do */
     uint64_t kiters;        /* iterations run with their loop's kernel */
 };
 

@@ -160,6 +160,25 @@ static void test_lets_and_calls(void **s)
                        3, 3 * 300));
 }
 
+/* A `let` of a kernel's number is not made while only the kernel's
+ * records read it (C_KLET); read by anything else (the name itself, a
+ * sequence with a string, an if-else, a later binding of the same
+ * `let`), it is. */
+static void test_lets_read_elsewhere(void **s)
+{
+    (void)s;
+    free(expect_routes("let n=200+floor(time)\n"
+                       "!g\n"
+                       "    for i in ..n\n"
+                       "        let p=i*0.5+time\n"
+                       "            q=i*2+time\n"
+                       "            r=i+time\n"
+                       "            u=i-time\n"
+                       "            w=q+1\n"
+                       "        !a x=p y=sin(q) z=(\"a\";r) v=(u if i%2 else -u) m=w*2 k=q*2\n",
+                       2, 2 * 200));
+}
+
 /* What the kernel cannot compute goes back to the body's own records:
  * names from outside that are a vector, null, a string or NaN; NaN in
  * comparisons (the identity rule of §3.6); builtins given other shapes. */
@@ -325,6 +344,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_hand_values),
         cmocka_unit_test(test_lets_and_calls),
+        cmocka_unit_test(test_lets_read_elsewhere),
         cmocka_unit_test(test_fallbacks),
         cmocka_unit_test(test_several_names),
         cmocka_unit_test(test_nested),
