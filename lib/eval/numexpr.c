@@ -404,7 +404,12 @@ NumExpr *numexpr_to_regs(const NumExpr *x, NumExprRegMap map, void *ctx)
     return y;
 }
 
-__attribute__((optimize("tree-vectorize"))) void numexpr_run_lanes(const NumExpr *x, double *regs, size_t stride, uint32_t lanes, uint8_t *fail)
+/* GCC at -O2 vectorizes no loop with an epilogue; the lanes' loops are
+ * such loops (IEEE operations lane by lane, the same with SIMD) */
+#if defined(__GNUC__) && !defined(__clang__)
+__attribute__((optimize("tree-vectorize")))
+#endif
+void numexpr_run_lanes(const NumExpr *x, double *regs, size_t stride, uint32_t lanes, uint8_t *fail)
 {
     /* the stack of columns: each operand is a column of [lanes] numbers;
      * the top is t, st[1..] the rest (as in exec) */
