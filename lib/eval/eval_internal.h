@@ -44,6 +44,8 @@ static inline bool stop_requested(Eval *ev)
 /* Bind the names of the AST_FOR [n] to the items of [src] (borrowed) from
  * [p] on, as each of its iterations does (null past the end). */
 void bind_loop_names(Eval *ev, const AstNode *n, const Vec *src, uint32_t p);
+/* The same for its [j]-th name alone. */
+void bind_loop_name(Eval *ev, const AstNode *n, const Vec *src, uint32_t p, uint32_t j);
 
 /* Parts composed at a time into one (parts_collapse). */
 #define PARTS_CHUNK 64

@@ -24,6 +24,11 @@ static Vec *run_rec(Eval *ev, const unsigned char *base, const CRec *r);
 __attribute__((noinline)) static Vec *run_memo(Eval *ev, const unsigned char *base, const CRec *r)
 {
     CMemo *m = &ev->memos[r->n];
+    /* in a loop kernel's body: the engine names stay as they are while the
+     * loop runs, so the value kept at its first use in the loop is the
+     * one the cell would hand out (kernel.h, Eval.kmemo) */
+    Vec **km = ev->kbase == base ? ev->kmemo : NULL;
+    if (km && km[r->n] && ev->depth + r->aux <= MAX_EVAL_DEPTH) return vec_retain(km[r->n]);
     uint64_t keys[NUMEXPR_MEMO_KEYS];
     /* the cells (and their values) the coming C_MEMO records will read are
      * usually cold: ask for them now (evalcode.h CMemoHint) */
@@ -40,7 +45,10 @@ __attribute__((noinline)) static Vec *run_memo(Eval *ev, const unsigned char *ba
         memcpy(&keys[k], vec_cnums(g), sizeof keys[k]);
         same = same && keys[k] == m->keys[k];
     }
-    if (same) return vec_retain(m->value);
+    if (same) {
+        if (km) km[r->n] = vec_retain(m->value);
+        return vec_retain(m->value);
+    }
     Vec *v = run_num(ev, r->p.node, x);
     if (vec_is_num(v)) {
         for (uint32_t i = 0; i < v->len; i++)
@@ -48,6 +56,7 @@ __attribute__((noinline)) static Vec *run_memo(Eval *ev, const unsigned char *ba
         vec_release(m->value);
         m->value = vec_retain(v);
         for (int32_t k = 0; k < m->nkeys; k++) m->keys[k] = keys[k];
+        if (km) km[r->n] = vec_retain(v);
     }
     return v;
 }

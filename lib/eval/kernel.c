@@ -53,6 +53,11 @@ struct LoopKernel {
     uint32_t nex;
     int32_t *in;        /* the expressions' input registers */
     uint64_t cost;      /* numexpr_cost of an iteration */
+    uint8_t *name_read; /* per loop name: read by a record the kernel does not
+                           hold (else a clean iteration need not bind it) */
+    uint32_t nread;     /* how many are */
+    uint32_t name_guard; /* the depth above the loop's at which a C_KNUM
+                            record would read a name itself */
     uint32_t chunk;     /* FLITTER_KERNEL_CHUNK, or 0 */
     uint32_t window;    /* FLITTER_KERNEL_WINDOW, or 0 */
 };
@@ -64,6 +69,7 @@ static void kernel_free(void *p)
     free(k->ex);
     free(k->in);
     free(k->outer);
+    free(k->name_read);
     free(k);
 }
 
@@ -249,126 +255,180 @@ static void walk(KB *kb, uint32_t off)
     }
 }
 
-/* True when the AST [n] may read frame slot [slot]: a name of it, or a
- * function (which may capture it). */
-static bool ast_reads_slot(const AstNode *n, int32_t slot)
+/* The slots the body's records read, for C_KLET and the loop names a
+ * clean iteration need not bind: a map from slot to whether a record the
+ * kernel does not hold reads it (`other`), and the depth [need] (above the
+ * loop's) from which a kernel record reading it would fall back and read
+ * it itself. Depths: the body's root record runs at the loop's depth, a
+ * composite record's parts one deeper (run_rec's depth_enter). */
+typedef struct SlotUse {
+    int32_t slot;       /* -1: empty */
+    bool other;
+    uint32_t need;
+} SlotUse;
+
+typedef struct Uses {
+    SlotUse *t;
+    uint32_t cap, n;    /* cap a power of two */
+    bool all;           /* a function may capture any slot: every one is read */
+} Uses;
+
+static SlotUse *use_of(Uses *u, int32_t slot)
 {
-    if (!n) return false;
-    if (n->kind == AST_FUNCTION) return true;
-    if (n->kind == AST_NAME && n->scope == SCOPE_LOCAL && n->slot == slot) return true;
-    if (ast_reads_slot(n->a, slot) || ast_reads_slot(n->b, slot) || ast_reads_slot(n->c, slot)) return true;
-    for (uint32_t i = 0; i < n->nkids; i++)
-        if (ast_reads_slot(n->kids[i], slot)) return true;
-    return false;
+    if (2 * (u->n + 1) > u->cap) {
+        uint32_t cap = u->cap ? 2 * u->cap : 64;
+        SlotUse *t = mem_alloc(cap * sizeof *t);
+        for (uint32_t i = 0; i < cap; i++) t[i].slot = -1;
+        for (uint32_t i = 0; i < u->cap; i++) {
+            if (u->t[i].slot < 0) continue;
+            uint32_t h = (uint32_t)u->t[i].slot * 2654435761u & (cap - 1);
+            while (t[h].slot >= 0) h = (h + 1) & (cap - 1);
+            t[h] = u->t[i];
+        }
+        free(u->t);
+        u->t = t;
+        u->cap = cap;
+    }
+    uint32_t h = (uint32_t)slot * 2654435761u & (u->cap - 1);
+    while (u->t[h].slot >= 0 && u->t[h].slot != slot) h = (h + 1) & (u->cap - 1);
+    if (u->t[h].slot < 0) {
+        u->t[h] = (SlotUse){slot, false, 0};
+        u->n++;
+    }
+    return &u->t[h];
 }
 
-/* Whether the record at [off], [m] composite records below a `let`'s own
- * level, or anything below it, reads slot [slot] when the kernel runs a
- * clean iteration; the C_KNUM records that would read it only when the
- * depth runs out raise *[guard] to the depth (above the `let`'s) at
- * which they would. */
-static bool reads_slot(KB *kb, uint32_t off, int32_t slot, uint32_t m, uint32_t *guard)
+/* What [u] knows of [slot] (all zero when nothing reads it). */
+static SlotUse use_find(const Uses *u, int32_t slot)
+{
+    if (u->all) return (SlotUse){slot, true, 0};
+    if (!u->cap) return (SlotUse){slot, false, 0};
+    uint32_t h = (uint32_t)slot * 2654435761u & (u->cap - 1);
+    while (u->t[h].slot >= 0 && u->t[h].slot != slot) h = (h + 1) & (u->cap - 1);
+    return u->t[h].slot < 0 ? (SlotUse){slot, false, 0} : u->t[h];
+}
+
+/* The slots [x] reads, read by a record the kernel does not hold
+ * (other) or by a kernel record that falls back at depth [need]. */
+static void use_expr(Uses *u, const NumExpr *x, bool other, uint32_t need)
+{
+    int32_t slots[K_MAX_IN];
+    uint32_t n = numexpr_local_reads(x, slots, K_MAX_IN);
+    if (n == UINT32_MAX) {
+        u->all = true;
+        return;
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        SlotUse *e = use_of(u, slots[i]);
+        if (other) e->other = true;
+        else if (need > e->need) e->need = need;
+    }
+}
+
+/* The slots the AST [n] reads (a function may capture any). */
+static void use_ast(Uses *u, const AstNode *n)
+{
+    if (!n || u->all) return;
+    if (n->kind == AST_FUNCTION) {
+        u->all = true;
+        return;
+    }
+    if (n->kind == AST_NAME && n->scope == SCOPE_LOCAL) use_of(u, n->slot)->other = true;
+    use_ast(u, n->a);
+    use_ast(u, n->b);
+    use_ast(u, n->c);
+    for (uint32_t i = 0; i < n->nkids; i++) use_ast(u, n->kids[i]);
+}
+
+/* A C_LET record and its depth. */
+typedef struct LetAt {
+    uint32_t off, depth;
+} LetAt;
+
+/* Walk the record at [off], run at [depth] above the loop's, into [u],
+ * listing the C_LETs in *[lets]. */
+static void use_walk(KB *kb, Uses *u, uint32_t off, uint32_t depth, LetAt **lets, uint32_t *nlets,
+                     uint32_t *caplets)
 {
     const CRec *r = krec(kb, off);
     const uint32_t *k = (const uint32_t *)(const void *)(r + 1);
     const NumExpr *x = (const NumExpr *)(const void *)(r + 1);
     switch (r->op) {
     case C_LOCAL:
-        return (int32_t)r->n == slot;
+        use_of(u, (int32_t)r->n)->other = true;
+        break;
     case C_NUM:
-        return numexpr_reads_local(x, slot);
+        use_expr(u, x, true, 0);
+        break;
     case C_KNUM:
-        if (numexpr_reads_local(x, slot) && m + numexpr_depth(x) > *guard) *guard = m + numexpr_depth(x);
-        return false;
+        use_expr(u, x, false, depth + numexpr_depth(x));
+        break;
     case C_AST:
-        return ast_reads_slot(r->p.node, slot);
+        use_ast(u, r->p.node);
+        break;
     case C_KCALL:
-        /* its argument, a C_KNUM, runs only when the depth runs out */
-        if (numexpr_reads_local((const NumExpr *)(const void *)(krec(kb, k[0]) + 1), slot) &&
-            m + 1 + r->pad > *guard)
-            *guard = m + 1 + r->pad;
-        return false;
+        /* its argument runs only when the call falls back, one deeper */
+        use_expr(u, (const NumExpr *)(const void *)(krec(kb, k[0]) + 1), false, depth + 1 + r->pad);
+        break;
     case C_SEQ:
     case C_CALLBI:
-        for (uint32_t i = 0; i < r->n; i++)
-            if (reads_slot(kb, k[i], slot, m + 1, guard)) return true;
-        return false;
+        for (uint32_t i = 0; i < r->n; i++) use_walk(kb, u, k[i], depth + 1, lets, nlets, caplets);
+        break;
     case C_APPEND:
-        return reads_slot(kb, k[0], slot, m + 1, guard) || reads_slot(kb, k[1], slot, m + 1, guard);
-    case C_LET:
-    case C_KLET: {
+        use_walk(kb, u, k[0], depth + 1, lets, nlets, caplets);
+        use_walk(kb, u, k[1], depth + 1, lets, nlets, caplets);
+        break;
+    case C_LET: {
         const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
-        for (uint32_t i = 0; i < r->n; i++)
-            if (reads_slot(kb, t->binds[i].off, slot, m + 1, guard)) return true;
-        return reads_slot(kb, t->body, slot, m + 1, guard);
+        GROW(*lets, *nlets, *caplets);
+        (*lets)[(*nlets)++] = (LetAt){off, depth};
+        for (uint32_t i = 0; i < r->n; i++) use_walk(kb, u, t->binds[i].off, depth + 1, lets, nlets, caplets);
+        use_walk(kb, u, t->body, depth + 1, lets, nlets, caplets);
+        break;
     }
     case C_ATTRS:
     case C_NEWNODE: {
         const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
-        if (r->op == C_ATTRS && reads_slot(kb, t->node, slot, m + 1, guard)) return true;
-        for (uint32_t i = 0; i < r->n; i++)
-            if (reads_slot(kb, t->attrs[i].off, slot, m + 1, guard)) return true;
-        return false;
+        if (r->op == C_ATTRS) use_walk(kb, u, t->node, depth + 1, lets, nlets, caplets);
+        for (uint32_t i = 0; i < r->n; i++) use_walk(kb, u, t->attrs[i].off, depth + 1, lets, nlets, caplets);
+        break;
     }
     default:   /* C_LIT, C_GLOBAL, C_MEMO (engine names only) */
-        return false;
+        break;
     }
 }
 
-/* Turn the `let`s at and below [off] whose bindings of kernel numbers
- * only the kernel's records read into C_KLET (evalcode.h). */
-static void mark_lets(KB *kb, uint32_t off)
+/* Turn the `let`s [lets] whose bindings of kernel numbers only the
+ * kernel's records read into C_KLET (evalcode.h); every binding has a slot
+ * of its own (program.c), so a slot's readers are in its scope. */
+static void mark_lets(KB *kb, const Uses *u, const LetAt *lets, uint32_t nlets)
 {
-    CRec *r = krec(kb, off);
-    const uint32_t *k = (const uint32_t *)(const void *)(r + 1);
-    switch (r->op) {
-    case C_SEQ:
-    case C_CALLBI:
-        for (uint32_t i = 0; i < r->n; i++) mark_lets(kb, k[i]);
-        break;
-    case C_KCALL:
-        mark_lets(kb, k[0]);
-        break;
-    case C_APPEND:
-        mark_lets(kb, k[0]);
-        mark_lets(kb, k[1]);
-        break;
-    case C_LET: {
+    for (uint32_t l = 0; l < nlets; l++) {
+        CRec *r = krec(kb, lets[l].off);
         CLetTail *t = (CLetTail *)(void *)(r + 1);
+        /* the let's parts run at depth d + 1, where run_klet checks
+         * ev->depth (= the loop's + d + 1) + guard */
+        const uint32_t d = lets[l].depth + 1;
         uint32_t mask = 0, guard = 0;
         for (uint32_t i = 0; i < r->n && i < 32; i++) {
             const CRec *v = krec(kb, t->binds[i].off);
             if (v->op != C_KNUM && v->op != C_MEMO) continue;
-            uint32_t g = 0;
-            bool read = reads_slot(kb, t->body, t->binds[i].slot, 0, &g);
-            for (uint32_t j = i + 1; j < r->n && !read; j++)
-                read = reads_slot(kb, t->binds[j].off, t->binds[i].slot, 0, &g);
-            /* the value itself is evaluated at the let's depth */
-            if (v->op == C_KNUM && numexpr_depth((const NumExpr *)(const void *)(v + 1)) > g)
-                g = numexpr_depth((const NumExpr *)(const void *)(v + 1));
-            if (!read && g <= UINT16_MAX) {
-                mask |= UINT32_C(1) << i;
-                if (g > guard) guard = g;
-            }
+            SlotUse e = use_find(u, t->binds[i].slot);
+            if (e.other) continue;
+            uint32_t need = e.need;
+            /* the value itself runs at the let's parts' depth */
+            if (v->op == C_KNUM && d + numexpr_depth((const NumExpr *)(const void *)(v + 1)) > need)
+                need = d + numexpr_depth((const NumExpr *)(const void *)(v + 1));
+            uint32_t g = need > d ? need - d : 0;
+            if (g > UINT16_MAX) continue;
+            mask |= UINT32_C(1) << i;
+            if (g > guard) guard = g;
         }
-        for (uint32_t i = 0; i < r->n; i++) mark_lets(kb, t->binds[i].off);
-        mark_lets(kb, t->body);
         if (mask) {
             r->op = C_KLET;
             r->aux = (uint16_t)guard;
             t->pad = mask;
         }
-        break;
-    }
-    case C_ATTRS:
-    case C_NEWNODE: {
-        const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
-        if (r->op == C_ATTRS) mark_lets(kb, t->node);
-        for (uint32_t i = 0; i < r->n; i++) mark_lets(kb, t->attrs[i].off);
-        break;
-    }
-    default:
-        break;
     }
 }
 
@@ -436,7 +496,22 @@ void kernel_compile_for(AstNode *n)
         r->aux = (uint16_t)e->nout;
         r->pad = (uint8_t)numexpr_depth((const NumExpr *)(const void *)(a + 1));
     }
-    mark_lets(&kb, 0);
+    /* what reads which slot: the lets and the loop's names that only
+     * the kernel's records read */
+    Uses u = {0};
+    LetAt *lets = NULL;
+    uint32_t nlets = 0, caplets = 0;
+    use_walk(&kb, &u, 0, 0, &lets, &nlets, &caplets);
+    mark_lets(&kb, &u, lets, nlets);
+    lk->name_read = mem_alloc(n->nnames ? n->nnames : 1);
+    for (uint32_t j = 0; j < n->nnames; j++) {
+        SlotUse e = use_find(&u, n->slots[j]);
+        lk->name_read[j] = e.other;
+        if (e.other) lk->nread++;
+        else if (e.need > lk->name_guard) lk->name_guard = e.need;
+    }
+    free(u.t);
+    free(lets);
     free(kb.scope);
     free(kb.knum);
     free(kb.kcall);
@@ -611,7 +686,14 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     const double *kregs = ev->kregs;
     const uint8_t *kok = ev->kok;
     const bool kclean = ev->kclean;
-    const unsigned char *base = ((const CBlock *)n->b->aux)->code;
+    Vec **kmemo = ev->kmemo;
+    const CBlock *blk = n->b->aux;
+    const unsigned char *base = blk->code;
+    /* the body's memo values for this run of the loop (evalrun.c) */
+    Vec *kmemo_small[8] = {0};
+    const size_t kmemo_bytes = blk->nmemos * sizeof(Vec *);
+    Vec **km = blk->nmemos > 8 ? pool_calloc(kmemo_bytes) : kmemo_small;
+    ev->kmemo = km;
     Parts parts;
     parts_init(&parts);
     bool stop = false;
@@ -644,7 +726,13 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
                     stop = true;
                     break;
                 }
-                bind_loop_names(ev, n, src, p);
+                if (kr.clean[i] && lk->nread < lk->k && ev->depth + lk->name_guard <= MAX_EVAL_DEPTH) {
+                    /* the names that records other than the kernel's read */
+                    for (uint32_t j = 0; lk->nread && j < lk->k; j++)
+                        if (lk->name_read[j]) bind_loop_name(ev, n, src, p, j);
+                } else {
+                    bind_loop_names(ev, n, src, p);
+                }
                 ev->kbase = base;
                 ev->kregs = kr.regs + (size_t)i * nregs;
                 ev->kok = kr.clean[i] ? ones : kr.ok + (size_t)i * nregs;
@@ -661,6 +749,9 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     ev->kregs = kregs;
     ev->kok = kok;
     ev->kclean = kclean;
+    ev->kmemo = kmemo;
+    for (uint32_t i = 0; i < blk->nmemos; i++) vec_release(km[i]);
+    if (km != kmemo_small) pool_release(km, kmemo_bytes);
     pool_release(buf, bytes);
     if (outer_big) pool_release(outer_big, outer_bytes);
     return parts_finish(ev, &parts);

@@ -474,11 +474,18 @@ void numexpr_set_out(NumExpr *x, uint32_t out)
     x->ins[x->h.nins - 1].arg = (int32_t)out;
 }
 
-bool numexpr_reads_local(const NumExpr *x, int32_t slot)
+uint32_t numexpr_local_reads(const NumExpr *x, int32_t *slots, uint32_t max)
 {
-    for (uint32_t i = 0; i < x->h.nins; i++)
-        if (x->ins[i].op == NX_LOCAL && x->ins[i].arg == slot) return true;
-    return false;
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < x->h.nins; i++) {
+        if (x->ins[i].op != NX_LOCAL) continue;
+        uint32_t j = 0;
+        while (j < n && slots[j] != x->ins[i].arg) j++;
+        if (j < n) continue;
+        if (n == max) return UINT32_MAX;
+        slots[n++] = x->ins[i].arg;
+    }
+    return n;
 }
 
 void numexpr_renumber_regs(NumExpr *x, int32_t (*map)(void *ctx, int32_t reg), void *ctx)

@@ -89,8 +89,10 @@ static inline uint32_t numexpr_depth(const NumExpr *x)
  * stay the same (evalcode.h C_MEMO). */
 bool numexpr_memoizable(const NumExpr *x);
 
-/* True when [x] reads frame slot [slot]. */
-bool numexpr_reads_local(const NumExpr *x, int32_t slot);
+/* The distinct frame slots [x] reads, in order of first use, written to
+ * [slots]; returns how many, or UINT32_MAX when there are more than
+ * [max]. */
+uint32_t numexpr_local_reads(const NumExpr *x, int32_t *slots, uint32_t max);
 
 /* For a memoizable [x]: the indices of the engine names it reads, in
  * instruction order, written to [idx]; returns how many. */

@@ -190,6 +190,9 @@ struct Eval {
     const double *kregs;    /* that kernel's registers of this iteration */
     const uint8_t *kok;     /* which of them hold their number */
     bool kclean;            /* all of them do */
+    struct Vec **kmemo;     /* per memo cell of that body: the value its
+                               C_MEMO records gave in this run of the loop
+                               (NULL: none yet) */
     uint64_t kiters;        /* iterations run with their loop's kernel */
 };
 

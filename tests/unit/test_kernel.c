@@ -161,9 +161,9 @@ static void test_lets_and_calls(void **s)
 }
 
 /* A `let` of a kernel's number is not made while only the kernel's
- * records read it (C_KLET); read by anything else (the name itself, a
- * sequence with a string, an if-else, a later binding of the same
- * `let`), it is. */
+ * records read it (C_KLET), nor a loop name; read by anything else (the
+ * name itself, a sequence with a string, an if-else, a later binding of
+ * the same `let`), it is. */
 static void test_lets_read_elsewhere(void **s)
 {
     (void)s;
@@ -175,8 +175,31 @@ static void test_lets_read_elsewhere(void **s)
                        "            r=i+time\n"
                        "            u=i-time\n"
                        "            w=q+1\n"
-                       "        !a x=p y=sin(q) z=(\"a\";r) v=(u if i%2 else -u) m=w*2 k=q*2\n",
-                       2, 2 * 200));
+                       "        !a x=p y=sin(q) z=(\"a\";r) v=(u if i%2 else -u) m=w*2 k=q*2\n"
+                       "    for j in ..n\n"
+                       "        !b x=j*2 y=(\"b\";j)\n"
+                       "    for j in ..n\n"
+                       "        !c x=j*2 y=(j if j%2 else -j)\n",
+                       2, 2 * 3 * 200));
+}
+
+/* Memoized expressions of engine names in a kernel's body keep their
+ * value for the loop's run; a NaN result is never kept (two NaN vectors
+ * are not the same vector: c is 0, §3.6). */
+static void test_memo(void **s)
+{
+    (void)s;
+    char *tree = expect_routes("let n=200+floor(time)\n"
+                               "!g\n"
+                               "    for i in ..n\n"
+                               "        let p=time+0/0\n"
+                               "            q=time+0/0\n"
+                               "        !m a=sin(time+0.25) b=time>0 c=p==q d=(time+0/0) e=time*0.5 f=i*2\n"
+                               "        !k a=sin(time+0.25) b=time>0 c=p==q e=time*0.5 g=(time*0.5)+i\n",
+                               3, 3 * 200);
+    /* frame 3: time 2/60 */
+    assert_non_null(strstr(tree, " b=1 c=0 d=nan e=0.016666666666666666 f=398\n"));
+    free(tree);
 }
 
 /* What the kernel cannot compute goes back to the body's own records:
@@ -345,6 +368,7 @@ int main(void)
         cmocka_unit_test(test_hand_values),
         cmocka_unit_test(test_lets_and_calls),
         cmocka_unit_test(test_lets_read_elsewhere),
+        cmocka_unit_test(test_memo),
         cmocka_unit_test(test_fallbacks),
         cmocka_unit_test(test_several_names),
         cmocka_unit_test(test_nested),
