@@ -71,6 +71,12 @@ enum {
                    most MAX_EVAL_DEPTH - aux, those bindings are not made
                    (their records take the kernel's numbers and read no
                    slot); otherwise it runs as C_LET */
+    C_KNODE,    /* a C_NEWNODE of a loop body whose attributes are all
+                   C_KNUM, C_KCALL or C_MEMO records (kernel.h): while the
+                   kernel runs a clean iteration and the depth is at most
+                   MAX_EVAL_DEPTH - aux, the node is built from the
+                   kernel's numbers directly; otherwise it runs as
+                   C_NEWNODE */
 };
 
 struct Builtin;

@@ -192,6 +192,30 @@ static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
     return vec_node_take(nn);
 }
 
+/* C_KNODE (inside run_rec's depth guard, the kernel's clean iteration
+ * and depth checked): run_newnode with each attribute's record done here,
+ * the numbers copied from the kernel's registers */
+static Vec *run_knode(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+    Node *nn = node_new_sized(r->p.kind, r->n);
+    for (uint32_t k = 0; k < r->n; k++) {
+        const CRec *a = crec(base, t->attrs[k].off);
+        Vec *v;
+        if (a->op == C_MEMO) {
+            v = run_memo(ev, base, a);
+        } else {
+            uint32_t n = a->op == C_KCALL ? a->aux : numexpr_outputs((const NumExpr *)(const void *)(a + 1));
+            v = vec_new_num(n);
+            double *d = vec_nums(v);
+            const double *s = ev->kregs + a->n;
+            for (uint32_t i = 0; i < n; i++) d[i] = s[i];
+        }
+        node_add_new_attr(nn, t->attrs[k].name, v);
+    }
+    return vec_node_take(nn);
+}
+
 /* C_CALLBI: eval_call's direct route for a builtin callee */
 __attribute__((noinline)) static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
 {
@@ -250,6 +274,10 @@ __attribute__((noinline)) static Vec *run_rec(Eval *ev, const unsigned char *bas
     case C_CALLBI: v = run_callbi(ev, base, r); break;
     case C_APPEND: v = run_append(ev, base, r); break;
     case C_NEWNODE: v = run_newnode(ev, base, r); break;
+    case C_KNODE:
+        v = ev->kbase == base && ev->kclean && ev->depth + r->aux <= MAX_EVAL_DEPTH ? run_knode(ev, base, r)
+                                                                                  : run_newnode(ev, base, r);
+        break;
     case C_KCALL: v = run_kcall(ev, base, r); break;
     default: v = NULL; break;
     }

@@ -103,6 +103,8 @@ typedef struct KB {
     uint32_t nknum, capknum;
     KNum *kcall;        /* the C_CALLBI records taken */
     uint32_t nkcall, capkcall;
+    uint32_t *nodes;    /* the C_NEWNODE records */
+    uint32_t nnodes, capnodes;
     bool full;          /* a limit was reached: take nothing more */
 } KB;
 
@@ -391,10 +393,40 @@ static void use_walk(KB *kb, Uses *u, uint32_t off, uint32_t depth, LetAt **lets
         const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
         if (r->op == C_ATTRS) use_walk(kb, u, t->node, depth + 1, lets, nlets, caplets);
         for (uint32_t i = 0; i < r->n; i++) use_walk(kb, u, t->attrs[i].off, depth + 1, lets, nlets, caplets);
+        if (r->op == C_NEWNODE) {
+            GROW(kb->nodes, kb->nnodes, kb->capnodes);
+            kb->nodes[kb->nnodes++] = off;
+        }
         break;
     }
     default:   /* C_LIT, C_GLOBAL, C_MEMO (engine names only) */
         break;
+    }
+}
+
+/* Turn the C_NEWNODE records whose attributes are all kernel numbers or
+ * memoized values into C_KNODE (evalcode.h), with the depth their
+ * attributes need above the node's. */
+static void mark_nodes(KB *kb)
+{
+    for (uint32_t i = 0; i < kb->nnodes; i++) {
+        CRec *r = krec(kb, kb->nodes[i]);
+        const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+        uint32_t guard = 0;
+        bool all = true;
+        for (uint32_t k = 0; k < r->n && all; k++) {
+            const CRec *a = krec(kb, t->attrs[k].off);
+            uint32_t g;
+            if (a->op == C_KNUM) g = numexpr_depth((const NumExpr *)(const void *)(a + 1));
+            else if (a->op == C_KCALL) g = 1u + a->pad;   /* its run_rec, then its argument */
+            else if (a->op == C_MEMO) g = a->aux;
+            else all = false, g = 0;
+            if (g > guard) guard = g;
+        }
+        if (all && guard <= UINT16_MAX) {
+            r->op = C_KNODE;
+            r->aux = (uint16_t)guard;
+        }
     }
 }
 
@@ -459,6 +491,7 @@ void kernel_compile_for(AstNode *n)
         free(kb.scope);
         free(kb.knum);
         free(kb.kcall);
+        free(kb.nodes);
         return;
     }
     LoopKernel *lk = mem_calloc(1, sizeof *lk);
@@ -503,6 +536,8 @@ void kernel_compile_for(AstNode *n)
     uint32_t nlets = 0, caplets = 0;
     use_walk(&kb, &u, 0, 0, &lets, &nlets, &caplets);
     mark_lets(&kb, &u, lets, nlets);
+    mark_nodes(&kb);
+    free(kb.nodes);
     lk->name_read = mem_alloc(n->nnames ? n->nnames : 1);
     for (uint32_t j = 0; j < n->nnames; j++) {
         SlotUse e = use_find(&u, n->slots[j]);

@@ -233,7 +233,9 @@ static void test_fallbacks(void **s)
 }
 
 /* Loops of several names over a source whose length is no multiple of
- * theirs: the last iteration's missing names are null. */
+ * theirs: the last iteration's missing names are null; nodes of kernel
+ * numbers alone (C_KNODE) in such an iteration, and in iterations where
+ * a comparison meets a NaN, are built as the body's records build them. */
 static void test_several_names(void **s)
 {
     (void)s;
@@ -242,7 +244,9 @@ static void test_several_names(void **s)
                        "!g\n"
                        "    for a;b;c in src\n"
                        "        let d=a*b\n"
-                       "        !t x=a+b*c y=sin(a)+cos(b) z=c w=d+c\n",
+                       "        !t x=a+b*c y=sin(a)+cos(b) z=c w=d+c\n"
+                       "        !u x=a*2 y=b+1 z=hsv(a;b;c)\n"
+                       "        !v x=(a/(a%3)) > 1 y=a*3\n",
                        2, 2 * 100));
 }
 
