@@ -1037,5 +1037,6 @@ void phys_pairs_free(PhysSystem *s)
     free(s->tiles);
     free(s->ttasks);
     free(s->tprog);
+    free(s->tune);
     free(s->rnd);
 }

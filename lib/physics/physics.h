@@ -76,7 +76,10 @@ void phys_set_particles(PhysicsWorld *w, bool literal);
  * code only, 1 = up to AVX2, 2 = up to AVX-512; capped at what the
  * processor runs. Returns the level in force. Every level gives the same
  * bits (lib/physics/tiles.c). Default: FLITTER_SIMD ("portable", "avx2",
- * anything else: the best available). */
+ * anything else: the best available); with FLITTER_SIMD unset and no
+ * call of this, where the processor has AVX-512 each system times AVX2
+ * against it on the first runs of each kind of pair level and keeps the
+ * faster (tiles.c). */
 int phys_set_simd(PhysicsWorld *w, int level);
 /* Free [w] and all its systems (NULL is a no-op). */
 void phys_free(PhysicsWorld *w);

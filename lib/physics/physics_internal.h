@@ -282,6 +282,10 @@ typedef struct PhysSystem {
     PhysScratch *scratch; size_t capscratch;  /* one per thread */
     double *rows; size_t caprows; /* rows.c: the level in pool order */
     int simd;                     /* PHYS_SIMD_* the tile kernel may use */
+    bool simd_auto;               /* tiles.c may take AVX2 where it runs a
+                                   * kind of level faster than AVX-512 */
+    struct TileTune *tune;        /* tiles.c: those timings, per kind of
+                                   * level (NULL until the first) */
     double *tiles; size_t captiles;   /* tiles.c: the level in pool order,
                                        * 64-byte aligned */
     struct TileTask *ttasks; size_t capttasks;   /* tiles.c: the tasks of a

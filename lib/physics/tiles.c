@@ -59,7 +59,8 @@
  * pool order (struct of arrays, padded to whole tiles) before and the
  * forces copied back after. The kernel is compiled for AVX-512, AVX2 and
  * the portable baseline (tiles_kernel.h) and chosen at run time by the
- * system's SIMD level (phys_simd_best(), FLITTER_SIMD).
+ * system's SIMD level (phys_simd_best(), FLITTER_SIMD) or, by default on
+ * a processor with AVX-512, by timing AVX2 against it (tune_route below).
  */
 #include <math.h>
 #include <sched.h>
@@ -68,6 +69,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -441,6 +443,74 @@ bool phys_tiles_threaded(const PhysSystem *s, const PhysGroup *g, const PhysLeve
     return workers_count(s->workers) >= 2 && level_pairs(g->npart, lv->npool) >= TILES_PIPE_PAIRS;
 }
 
+/* AVX-512 against AVX2 (PhysSystem.simd_auto): every route gives the same
+ * bits, but which is faster depends on the processor and the level. On
+ * one Xeon, petri200's 2-D level of 200 charged discs runs 15% faster
+ * with AVX2 (its divisions and square roots no faster a lane in 512 bits,
+ * the clock lower), and charges1k's 3-D level of 1,000 on two threads
+ * twice as fast with AVX-512. So each kind of level (threaded or not, D,
+ * the specialised copy) is timed on its first runs: TUNE_WARM runs with
+ * AVX-512 untimed, then TUNE_RUNS of each route, alternating; the one
+ * with the lower median time a pair is kept for it from then on. */
+#define TUNE_WARM 2
+#define TUNE_RUNS 4
+#define TUNE_KINDS (2 * TILE_MAX_D * (TILE_NSPECS + 1))
+
+typedef struct TileTune {
+    uint16_t runs;              /* runs of this kind so far */
+    int8_t choice;              /* PHYS_SIMD_*, or -1 while timing */
+    double ns[2][TUNE_RUNS];    /* nanoseconds a pair: [0] AVX2, [1] AVX-512 */
+} TileTune;
+
+static double now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The route for a level of kind [kind] (s->simd_auto): its choice, or the
+ * next one to time. */
+static int tune_route(PhysSystem *s, size_t kind)
+{
+    if (!s->tune) {
+        s->tune = calloc(TUNE_KINDS, sizeof *s->tune);
+        if (!s->tune)
+            return s->simd;
+        for (size_t i = 0; i < TUNE_KINDS; i++)
+            s->tune[i].choice = -1;
+    }
+    TileTune *t = &s->tune[kind];
+    if (t->choice >= 0)
+        return t->choice;
+    if (t->runs < TUNE_WARM)
+        return PHYS_SIMD_AVX512;
+    return (t->runs - TUNE_WARM) % 2 ? PHYS_SIMD_AVX512 : PHYS_SIMD_AVX2;
+}
+
+/* Record a timed run of kind [kind] with [route]: [ns] for [pairs]. */
+static void tune_record(PhysSystem *s, size_t kind, int route, double ns, double pairs)
+{
+    TileTune *t = &s->tune[kind];
+    if (t->runs >= TUNE_WARM) {
+        size_t k = (size_t)(t->runs - TUNE_WARM) / 2;
+        t->ns[route == PHYS_SIMD_AVX512][k] = ns / (pairs > 1 ? pairs : 1);
+        if (k + 1 == TUNE_RUNS && route == PHYS_SIMD_AVX512) {
+            qsort(t->ns[0], TUNE_RUNS, sizeof(double), cmp_double);
+            qsort(t->ns[1], TUNE_RUNS, sizeof(double), cmp_double);
+            const size_t m = TUNE_RUNS / 2;
+            t->choice = t->ns[0][m] < t->ns[1][m] ? PHYS_SIMD_AVX2 : PHYS_SIMD_AVX512;
+        }
+    }
+    t->runs++;
+}
+
 void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
 {
     const size_t D = s->D, n = lv->npool;
@@ -491,16 +561,25 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     TileRun run = {.T = &T, .simd = s->simd, .spec = tile_spec_of(&T), .D = D,
                    .buf = F + D * ns};
     atomic_init(&run.next, 0);
-    if (!phys_tiles_threaded(s, g, lv)) {
+    const bool threaded = phys_tiles_threaded(s, g, lv);
+    const size_t kind = ((size_t)threaded * TILE_MAX_D + (D - 1)) * (TILE_NSPECS + 1) + (size_t)(run.spec + 1);
+    double t0 = 0;
+    if (s->simd_auto) {
+        run.simd = tune_route(s, kind);
+        t0 = now_ns();
+    }
+    if (!threaded) {
         tiles_part(&run, false);
     } else {
-        const size_t W = s->simd == PHYS_SIMD_AVX512 ? 8 : s->simd == PHYS_SIMD_AVX2 ? 4 : 2;
+        const size_t W = run.simd == PHYS_SIMD_AVX512 ? 8 : run.simd == PHYS_SIMD_AVX2 ? 4 : 2;
         run.ntasks = list_tasks(s, T.npart, n, W);
         run.tasks = s->ttasks;
         run.prog = s->tprog;
         unsigned nw = workers_count(s->workers);
         workers_run(s->workers, nw < WORKERS_MAX_TASKS ? nw : WORKERS_MAX_TASKS, tiles_task, &run);
     }
+    if (s->simd_auto && s->tune && s->tune[kind].choice < 0)
+        tune_record(s, kind, run.simd, now_ns() - t0, level_pairs(g->npart, n));
     for (size_t q = 0; q < n; q++) {
         size_t p = pool[q];
         for (size_t k = 0; k < D; k++)

@@ -35,6 +35,9 @@ struct PhysicsWorld {
     unsigned threads;       /* wanted threads; the pool is made on first use */
     Workers *workers;   /* NULL until needed or when threads == 1 */
     int simd;               /* PHYS_SIMD_* level of the tile kernel */
+    bool simd_auto;         /* no level asked for (FLITTER_SIMD unset,
+                               phys_set_simd not called): the systems time
+                               AVX2 against AVX-512 (tiles.c) */
 };
 
 /* ------------------------------------------------------------------ */
@@ -237,6 +240,7 @@ PhysicsWorld *phys_new(void)
     phys_set_particles(w, e && !strcmp(e, "literal"));
     e = getenv("FLITTER_SIMD");
     phys_set_simd(w, !e ? 2 : !strcmp(e, "portable") ? 0 : !strcmp(e, "avx2") ? 1 : 2);
+    w->simd_auto = !e;
     return w;
 }
 
@@ -272,6 +276,7 @@ int phys_set_simd(PhysicsWorld *w, int level)
 {
     int best = phys_simd_best();
     w->simd = level < 0 ? 0 : level < best ? level : best;
+    w->simd_auto = false;
     return w->simd;
 }
 
@@ -304,6 +309,7 @@ void phys_run_frame(PhysicsWorld *w, Node *const *nodes, size_t n,
         s->naive = w->naive;
         s->literal = w->literal;
         s->simd = w->simd;
+        s->simd_auto = w->simd_auto && w->simd == PHYS_SIMD_AVX512;
         s->workers = w->naive ? NULL : w->workers;
         system_frame(s, nodes[i], state, frame);
     }
