@@ -448,18 +448,22 @@ bool phys_tiles_threaded(const PhysSystem *s, const PhysGroup *g, const PhysLeve
  * one Xeon, petri200's 2-D level of 200 charged discs runs 15% faster
  * with AVX2 (its divisions and square roots no faster a lane in 512 bits,
  * the clock lower), and charges1k's 3-D level of 1,000 on two threads
- * twice as fast with AVX-512. So each kind of level (threaded or not, D,
- * the specialised copy) is timed on its first runs: TUNE_WARM runs with
- * AVX-512 untimed, then TUNE_RUNS of each route, alternating; the one
- * with the lower median time a pair is kept for it from then on. */
+ * 40% faster with AVX-512. So each kind of level (threaded or not, D, the
+ * specialised copy) is timed on its first runs: TUNE_WARM runs with
+ * AVX-512 untimed, then the two routes in turn, up to TUNE_RUNS each; the
+ * one with the lower best time a pair is kept for it from then on, as
+ * soon as one is TUNE_CLEAR times the other (a slow route is not run
+ * more than it must be). */
 #define TUNE_WARM 2
 #define TUNE_RUNS 4
+#define TUNE_CLEAR 1.25
 #define TUNE_KINDS (2 * TILE_MAX_D * (TILE_NSPECS + 1))
 
 typedef struct TileTune {
     uint16_t runs;              /* runs of this kind so far */
     int8_t choice;              /* PHYS_SIMD_*, or -1 while timing */
-    double ns[2][TUNE_RUNS];    /* nanoseconds a pair: [0] AVX2, [1] AVX-512 */
+    double best[2];             /* least nanoseconds a pair so far: [0]
+                                   AVX2, [1] AVX-512 */
 } TileTune;
 
 static double now_ns(void)
@@ -467,12 +471,6 @@ static double now_ns(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
 }
 
 /* The route for a level of kind [kind] (s->simd_auto): its choice, or the
@@ -494,19 +492,19 @@ static int tune_route(PhysSystem *s, size_t kind)
     return (t->runs - TUNE_WARM) % 2 ? PHYS_SIMD_AVX512 : PHYS_SIMD_AVX2;
 }
 
-/* Record a timed run of kind [kind] with [route]: [ns] for [pairs]. */
+/* Record a run of kind [kind] with [route]: [ns] for [pairs]. */
 static void tune_record(PhysSystem *s, size_t kind, int route, double ns, double pairs)
 {
     TileTune *t = &s->tune[kind];
     if (t->runs >= TUNE_WARM) {
-        size_t k = (size_t)(t->runs - TUNE_WARM) / 2;
-        t->ns[route == PHYS_SIMD_AVX512][k] = ns / (pairs > 1 ? pairs : 1);
-        if (k + 1 == TUNE_RUNS && route == PHYS_SIMD_AVX512) {
-            qsort(t->ns[0], TUNE_RUNS, sizeof(double), cmp_double);
-            qsort(t->ns[1], TUNE_RUNS, sizeof(double), cmp_double);
-            const size_t m = TUNE_RUNS / 2;
-            t->choice = t->ns[0][m] < t->ns[1][m] ? PHYS_SIMD_AVX2 : PHYS_SIMD_AVX512;
-        }
+        const double a = ns / (pairs > 1 ? pairs : 1);
+        double *b = &t->best[route == PHYS_SIMD_AVX512];
+        if (*b == 0 || a < *b)
+            *b = a;
+        const unsigned k = (unsigned)(t->runs - TUNE_WARM) / 2 + 1;   /* runs of each so far */
+        if (route == PHYS_SIMD_AVX512 &&
+            (k == TUNE_RUNS || t->best[0] > TUNE_CLEAR * t->best[1] || t->best[1] > TUNE_CLEAR * t->best[0]))
+            t->choice = t->best[0] < t->best[1] ? PHYS_SIMD_AVX2 : PHYS_SIMD_AVX512;
     }
     t->runs++;
 }
