@@ -40,6 +40,12 @@ bool mem_fits(size_t bytes)
     return false;
 }
 
+bool mem_room(size_t bytes)
+{
+    const MemBudget *b = handler.budget;
+    return !b || !b->limit || (b->used <= b->limit && bytes <= b->limit - b->used);
+}
+
 bool mem_reserve(size_t bytes)
 {
     if (!mem_fits(bytes)) return false;

@@ -72,6 +72,9 @@ MemHandler mem_enter_budget(MemFailFn fn, void *ctx, MemBudget *budget);
  * one). A refusal sets budget->refused; nothing is charged (the pool
  * charges the block when it allocates it). */
 bool mem_fits(size_t bytes);
+/* The same question without marking a refusal: for a caller that has
+ * another way to go on when the answer is no (nothing to report). */
+bool mem_room(size_t bytes);
 /* mem_fits([bytes]) and, when it fits, charge them (give them back with
  * mem_unreserve): for big arrays that do not come from the pool. */
 bool mem_reserve(size_t bytes);

@@ -679,11 +679,33 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
         *done = false;
         return NULL;
     }
+    const uint32_t nregs = lk->nregs;
+    const uint64_t iter_bytes = (uint64_t)nregs * 9;
+    uint64_t per_chunk = lk->chunk ? lk->chunk : K_CHUNK_WORK / lk->cost;
+    if (!lk->chunk && per_chunk < NUMEXPR_LANES) per_chunk = NUMEXPR_LANES;
+    /* no more than a window's bytes a chunk, whatever the lanes want */
+    if (!lk->chunk && per_chunk * iter_bytes > K_WINDOW_BYTES) per_chunk = K_WINDOW_BYTES / iter_bytes;
+    uint32_t chunk = per_chunk < 1 ? 1 : per_chunk > iters ? iters : (uint32_t)per_chunk;
+    uint64_t per_window = lk->window ? lk->window : K_WINDOW_BYTES / iter_bytes;
+    uint32_t window = per_window < chunk ? chunk : per_window > iters ? iters : (uint32_t)per_window;
+    window = (window + chunk - 1) / chunk * chunk;
+    const uint32_t maxtasks = (window + chunk - 1) / chunk;
+    /* the window's registers, their flags, a flag file of all ones (for a
+     * clean iteration), each iteration's cleanness, each task's end */
+    const size_t nr = (size_t)window * nregs;
+    size_t bytes = nr * (sizeof(double) + 1) + nregs + window + maxtasks;
+    const size_t outer_bytes = lk->nouter * (sizeof(double) + 1);
+    /* past the memory budget, the loop runs as eval_for does (and its
+     * own allocations meet the budget there, as they would without a
+     * kernel) */
+    if (!mem_room(bytes + (lk->nouter > 16 ? outer_bytes : 0))) {
+        *done = false;
+        return NULL;
+    }
     *done = true;
     /* the names from outside, as they are while the loop runs */
     double outer_small[16];
     uint8_t outer_ok_small[16];
-    const size_t outer_bytes = lk->nouter * (sizeof(double) + 1);
     unsigned char *outer_big = lk->nouter > 16 ? pool_alloc(outer_bytes) : NULL;
     double *outer = outer_big ? (double *)(void *)outer_big : outer_small;
     uint8_t *outer_ok = outer_big ? outer_big + lk->nouter * sizeof(double) : outer_ok_small;
@@ -693,18 +715,6 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
         outer_ok[i] = vec_is_scalar(v);
         outer[i] = outer_ok[i] ? vec_scalar(v) : 0.0;
     }
-    const uint32_t nregs = lk->nregs;
-    uint64_t per_chunk = lk->chunk ? lk->chunk : K_CHUNK_WORK / lk->cost;
-    if (!lk->chunk && per_chunk < NUMEXPR_LANES) per_chunk = NUMEXPR_LANES;
-    uint32_t chunk = per_chunk < 1 ? 1 : per_chunk > iters ? iters : (uint32_t)per_chunk;
-    uint64_t per_window = lk->window ? lk->window : K_WINDOW_BYTES / ((uint64_t)nregs * 9);
-    uint32_t window = per_window < chunk ? chunk : per_window > iters ? iters : (uint32_t)per_window;
-    window = (window + chunk - 1) / chunk * chunk;
-    const uint32_t maxtasks = (window + chunk - 1) / chunk;
-    /* the window's registers, their flags, a flag file of all ones (for a
-     * clean iteration), each iteration's cleanness, each task's end */
-    const size_t nr = (size_t)window * nregs;
-    size_t bytes = nr * (sizeof(double) + 1) + nregs + window + maxtasks;
     unsigned char *buf = pool_alloc(bytes);
     KRun kr = {
         .lk = lk, .src = vec_cnums(src), .len = len, .chunk = chunk,
