@@ -474,18 +474,25 @@ void numexpr_set_out(NumExpr *x, uint32_t out)
     x->ins[x->h.nins - 1].arg = (int32_t)out;
 }
 
-uint32_t numexpr_local_reads(const NumExpr *x, int32_t *slots, uint32_t max)
+/* The distinct arguments of [x]'s instructions of kind [op], in order of
+ * first use, into out[0 ..]; how many, or UINT32_MAX past [max]. */
+static uint32_t distinct_args(const NumExpr *x, uint8_t op, int32_t *out, uint32_t max)
 {
     uint32_t n = 0;
     for (uint32_t i = 0; i < x->h.nins; i++) {
-        if (x->ins[i].op != NX_LOCAL) continue;
+        if (x->ins[i].op != op) continue;
         uint32_t j = 0;
-        while (j < n && slots[j] != x->ins[i].arg) j++;
+        while (j < n && out[j] != x->ins[i].arg) j++;
         if (j < n) continue;
         if (n == max) return UINT32_MAX;
-        slots[n++] = x->ins[i].arg;
+        out[n++] = x->ins[i].arg;
     }
     return n;
+}
+
+uint32_t numexpr_local_reads(const NumExpr *x, int32_t *slots, uint32_t max)
+{
+    return distinct_args(x, NX_LOCAL, slots, max);
 }
 
 void numexpr_renumber_regs(NumExpr *x, int32_t (*map)(void *ctx, int32_t reg), void *ctx)
@@ -496,16 +503,7 @@ void numexpr_renumber_regs(NumExpr *x, int32_t (*map)(void *ctx, int32_t reg), v
 
 uint32_t numexpr_reg_reads(const NumExpr *x, int32_t *regs, uint32_t max)
 {
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < x->h.nins; i++) {
-        if (x->ins[i].op != NX_REG) continue;
-        uint32_t j = 0;
-        while (j < n && regs[j] != x->ins[i].arg) j++;
-        if (j < n) continue;
-        if (n == max) return UINT32_MAX;
-        regs[n++] = x->ins[i].arg;
-    }
-    return n;
+    return distinct_args(x, NX_REG, regs, max);
 }
 
 uint32_t numexpr_cost(const NumExpr *x)

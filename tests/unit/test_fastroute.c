@@ -20,35 +20,16 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "format.h"
 #include "program.h"
-#include "runtime.h"
+#include "runscript.h"
 
 /* The tree dump of the last of [frames] frames of [src], and the log. */
 static char *run_frames(const char *src, int frames, bool simplify, bool fast, char **log_out)
 {
     if (fast) unsetenv("FLITTER_NOFAST");
     else setenv("FLITTER_NOFAST", "1", 1);
-    char *log = NULL;
-    size_t loglen;
-    FILE *lf = open_memstream(&log, &loglen);
-    fl_options o = fl_default_options();
-    RtStreams streams = {lf, lf};
-    rt_log_to_files(&o, &streams);
-    o.no_simplify = !simplify;
-    fl_runtime *rt = fl_new(&o);
-    Buf err = BUF_INIT;
-    assert_int_equal(rt_load_text(rt, "fast.fl", src, strlen(src), &err), 0);
-    buf_free(&err);
-    for (int i = 0; i < frames; i++) fl_step(rt);
-    Buf t = BUF_INIT;
-    fmt_tree(&t, rt_root(rt), rt_symbols(rt));
-    char *tree = strdup(buf_cstr(&t));
-    buf_free(&t);
-    fl_free(rt);
-    fclose(lf);
+    char *tree = run_script("fast.fl", src, frames, simplify, log_out, NULL);
     unsetenv("FLITTER_NOFAST");
-    *log_out = log;
     return tree;
 }
 

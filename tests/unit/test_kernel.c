@@ -24,9 +24,8 @@
 #include <string.h>
 #include <cmocka.h>
 
-#include "format.h"
 #include "program.h"
-#include "runtime.h"
+#include "runscript.h"
 
 /* FLITTER_KERNEL_WINDOW for the runs ("0": K_WINDOW_BYTES). */
 static const char *kernel_window = "63";
@@ -50,31 +49,12 @@ static char *run_route(const char *src, int frames, bool simplify, int route, ch
      * are many tasks, taken in any order, and several windows */
     setenv("FLITTER_KERNEL_CHUNK", "7", 1);
     setenv("FLITTER_KERNEL_WINDOW", kernel_window, 1);
-    char *log = NULL;
-    size_t loglen;
-    FILE *lf = open_memstream(&log, &loglen);
-    fl_options o = fl_default_options();
-    RtStreams streams = {lf, lf};
-    rt_log_to_files(&o, &streams);
-    o.no_simplify = !simplify;
-    fl_runtime *rt = fl_new(&o);
-    Buf err = BUF_INIT;
-    assert_int_equal(rt_load_text(rt, "kernel.fl", src, strlen(src), &err), 0);
-    buf_free(&err);
-    for (int i = 0; i < frames; i++) fl_step(rt);
-    Buf t = BUF_INIT;
-    fmt_tree(&t, rt_root(rt), rt_symbols(rt));
-    char *tree = strdup(buf_cstr(&t));
-    buf_free(&t);
-    *kiters = rt_kernel_iterations(rt);
-    fl_free(rt);
-    fclose(lf);
+    char *tree = run_script("kernel.fl", src, frames, simplify, log_out, kiters);
     unsetenv("FLITTER_NOFAST");
     unsetenv("FLITTER_NOKERNEL");
     unsetenv("FLITTER_THREADS");
     unsetenv("FLITTER_KERNEL_CHUNK");
     unsetenv("FLITTER_KERNEL_WINDOW");
-    *log_out = log;
     return tree;
 }
 

@@ -1,0 +1,51 @@
+/* runscript.h: what the evaluation-route tests (test_fastroute.c,
+ * test_kernel.c) share: a script run through a fresh runtime for a few
+ * frames, with its last frame's node tree and its log as text. The
+ * caller sets the environment that picks the route first (FLITTER_NOFAST,
+ * FLITTER_NOKERNEL, FLITTER_THREADS: read when the runtime is made and
+ * the script compiled). Header-only, a static function; the test files
+ * include cmocka.h before it. */
+#ifndef FL_TEST_RUNSCRIPT_H
+#define FL_TEST_RUNSCRIPT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "format.h"
+#include "runtime.h"
+
+/* The tree dump of the last of [frames] frames of [src] (named [name]),
+ * with or without the simplifier; the log in *[log_out] and, when
+ * [kiters] is not NULL, the loop iterations run with kernels
+ * (rt_kernel_iterations) in *[kiters]. Both strings are the caller's to
+ * free. */
+static char *run_script(const char *name, const char *src, int frames, bool simplify, char **log_out,
+                        uint64_t *kiters)
+{
+    char *log = NULL;
+    size_t loglen;
+    FILE *lf = open_memstream(&log, &loglen);
+    fl_options o = fl_default_options();
+    RtStreams streams = {lf, lf};
+    rt_log_to_files(&o, &streams);
+    o.no_simplify = !simplify;
+    fl_runtime *rt = fl_new(&o);
+    Buf err = BUF_INIT;
+    assert_int_equal(rt_load_text(rt, name, src, strlen(src), &err), 0);
+    buf_free(&err);
+    for (int i = 0; i < frames; i++) fl_step(rt);
+    Buf t = BUF_INIT;
+    fmt_tree(&t, rt_root(rt), rt_symbols(rt));
+    char *tree = strdup(buf_cstr(&t));
+    buf_free(&t);
+    if (kiters) *kiters = rt_kernel_iterations(rt);
+    fl_free(rt);
+    fclose(lf);
+    *log_out = log;
+    return tree;
+}
+
+#endif
