@@ -57,7 +57,7 @@ static double hue_to_rgb(double m1, double m2, double t)
 
 /* RGB of hue [h], saturation [s], lightness [l] (already clamped) into
  * out[0..3). */
-static void hsl_rgb(double h, double s, double l, double *out)
+static inline __attribute__((always_inline)) void hsl_rgb(double h, double s, double l, double *out)
 {
     double m2 = (l <= 0.5) ? l * (s + 1) : l + s - l * s;
     double m1 = l * 2 - m2;
@@ -97,7 +97,7 @@ static bool hsv_nums(const double *x, uint32_t n, double *out)
 }
 
 /* A builtin of one numeric argument whose result is three numbers. */
-static Vec *rgb_of(const Vec *c, bool (*f)(const double *, uint32_t, double *))
+static inline __attribute__((always_inline)) Vec *rgb_of(const Vec *c, bool (*f)(const double *, uint32_t, double *))
 {
     double rgb[3];
     if (!vec_is_num(c) || !f(vec_cnums(c), c->len, rgb))

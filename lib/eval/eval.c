@@ -611,20 +611,6 @@ __attribute__((noinline)) static Vec *eval_let(Eval *ev, const AstNode *n)
     return eval(ev, n->a);
 }
 
-void bind_loop_name(Eval *ev, const AstNode *n, const Vec *src, uint32_t p, uint32_t j)
-{
-    uint32_t len = vec_len(src);
-    Vec *cur = ev->frame[n->slots[j]];
-    if (p + j < len && src->kind == VEC_NUM && cur && cur->refs == 1 &&
-        cur->kind == VEC_NUM && cur->len == 1) {
-        /* the previous item is held by nothing else: reuse it */
-        cur->hashed = 0;
-        vec_nums(cur)[0] = vec_cnums(src)[p + j];
-    } else {
-        set_slot(ev, n->slots[j], p + j < len ? vec_item(src, p + j) : NULL);
-    }
-}
-
 void bind_loop_names(Eval *ev, const AstNode *n, const Vec *src, uint32_t p)
 {
     for (uint32_t j = 0; j < n->nnames; j++) bind_loop_name(ev, n, src, p, j);

@@ -41,11 +41,28 @@ static inline bool stop_requested(Eval *ev)
     return ev->interrupted;
 }
 
-/* Bind the names of the AST_FOR [n] to the items of [src] (borrowed) from
- * [p] on, as each of its iterations does (null past the end). */
+/* Bind slot [slot] of the current frame to [v_take] (consumed). */
+void set_slot(Eval *ev, int32_t slot, Vec *v_take);
+
+/* Bind the [j]-th name of the AST_FOR [n] to item p + j of [src]
+ * (borrowed; null past its end), as the loop's iteration from item [p]
+ * does. */
+static inline void bind_loop_name(Eval *ev, const AstNode *n, const Vec *src, uint32_t p, uint32_t j)
+{
+    uint32_t len = vec_len(src);
+    Vec *cur = ev->frame[n->slots[j]];
+    if (p + j < len && src->kind == VEC_NUM && cur && cur->refs == 1 &&
+        cur->kind == VEC_NUM && cur->len == 1) {
+        /* the previous item is held by nothing else: reuse it */
+        cur->hashed = 0;
+        vec_nums(cur)[0] = vec_cnums(src)[p + j];
+    } else {
+        set_slot(ev, n->slots[j], p + j < len ? vec_item(src, p + j) : NULL);
+    }
+}
+
+/* Bind every name of the AST_FOR [n] so. */
 void bind_loop_names(Eval *ev, const AstNode *n, const Vec *src, uint32_t p);
-/* The same for its [j]-th name alone. */
-void bind_loop_name(Eval *ev, const AstNode *n, const Vec *src, uint32_t p, uint32_t j);
 
 /* Parts composed at a time into one (parts_collapse). */
 #define PARTS_CHUNK 64
@@ -92,8 +109,6 @@ static inline void parts_push(Parts *p, Vec *x)
  * they were too long. */
 Vec *parts_finish(Eval *ev, Parts *p);
 
-/* Bind slot [slot] of the current frame to [v_take] (consumed). */
-void set_slot(Eval *ev, int32_t slot, Vec *v_take);
 /* An unshared copy of [v] (consumes [v]); object vectors only. */
 Vec *vec_unshare(Vec *v);
 /* True when [v] holds a node. */

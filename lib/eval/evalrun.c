@@ -63,7 +63,7 @@ __attribute__((noinline)) static Vec *run_memo(Eval *ev, const unsigned char *ba
 
 /* C_KNUM: the number its loop kernel computed for this iteration
  * (kernel.h), or, when there is none, C_NUM. */
-static inline Vec *run_knum(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_knum(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const NumExpr *x = (const NumExpr *)(const void *)(r + 1);
     if (ev->kbase == base && ev->kok[r->n] && ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH) {
@@ -130,7 +130,7 @@ __attribute__((noinline)) static Vec *run_seq(Eval *ev, const unsigned char *bas
  * released now is reused while it is still in the cache, and an unrolled
  * program (a slot per copy of a loop body) does not keep every copy's
  * values alive, and cold, until the end of the frame. */
-static Vec *run_let(Eval *ev, const unsigned char *base, const CRec *r)
+static inline __attribute__((always_inline)) Vec *run_let(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
     for (uint32_t i = 0; i < r->n; i++) set_slot(ev, t->binds[i].slot, run_val(ev, base, t->binds[i].off));
@@ -142,7 +142,7 @@ static Vec *run_let(Eval *ev, const unsigned char *base, const CRec *r)
 /* C_KLET: run_let without the bindings that only the loop kernel's
  * records read, while the kernel holds every number of this iteration
  * (kernel.h); its values are pure numbers, so nothing else changes */
-static Vec *run_klet(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_klet(Eval *ev, const unsigned char *base, const CRec *r)
 {
     if (ev->kbase != base || !ev->kclean || ev->depth + r->aux > MAX_EVAL_DEPTH) return run_let(ev, base, r);
     const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
@@ -184,7 +184,8 @@ __attribute__((noinline)) static Vec *run_attrs(Eval *ev, const unsigned char *b
  * directly, with its attribute slots in its own block. The values are
  * evaluated in order, as there; the names are distinct (evalcode.c
  * checks), so each one is set without a search. */
-static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
+static inline __attribute__((always_inline)) Vec *run_newnode(Eval *ev, const unsigned char *base,
+                                                              const CRec *r)
 {
     const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
     Node *nn = node_new_sized(r->p.kind, r->n);
@@ -195,8 +196,9 @@ static Vec *run_newnode(Eval *ev, const unsigned char *base, const CRec *r)
 /* C_KNODE (inside run_rec's depth guard, the kernel's clean iteration
  * and depth checked): run_newnode with each attribute's record done here,
  * the numbers copied from the kernel's registers */
-static Vec *run_knode(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_knode(Eval *ev, const unsigned char *base, const CRec *r)
 {
+    if (ev->kbase != base || !ev->kclean || ev->depth + r->aux > MAX_EVAL_DEPTH) return run_newnode(ev, base, r);
     const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
     Node *nn = node_new_sized(r->p.kind, r->n);
     for (uint32_t k = 0; k < r->n; k++) {
@@ -274,10 +276,7 @@ __attribute__((noinline)) static Vec *run_rec(Eval *ev, const unsigned char *bas
     case C_CALLBI: v = run_callbi(ev, base, r); break;
     case C_APPEND: v = run_append(ev, base, r); break;
     case C_NEWNODE: v = run_newnode(ev, base, r); break;
-    case C_KNODE:
-        v = ev->kbase == base && ev->kclean && ev->depth + r->aux <= MAX_EVAL_DEPTH ? run_knode(ev, base, r)
-                                                                                  : run_newnode(ev, base, r);
-        break;
+    case C_KNODE: v = run_knode(ev, base, r); break;
     case C_KCALL: v = run_kcall(ev, base, r); break;
     default: v = NULL; break;
     }

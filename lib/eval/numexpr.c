@@ -299,8 +299,8 @@ static double compare(uint8_t op, double x, double y)
 
 /* numexpr_run and numexpr_run_regs: names read from [ev]'s frame and
  * globals, registers from [regs] (a NumExpr has one kind or the other).
- * Not inline: the table of label addresses must exist once. */
-__attribute__((noinline)) static bool exec(const NumExpr *x, Eval *ev, const double *regs, double *out)
+ * One function, so that its table of label addresses exists once. */
+bool numexpr_exec(const NumExpr *x, Eval *ev, const double *regs, double *out)
 {
     /* threaded dispatch (GNU C labels as values): each instruction jumps
      * straight to the next one's code */
@@ -375,14 +375,9 @@ l_end:
     return true;
 }
 
-bool numexpr_run(const NumExpr *x, Eval *ev, double *out)
-{
-    return exec(x, ev, NULL, out);
-}
-
 bool numexpr_run_regs(const NumExpr *x, const double *regs, double *out)
 {
-    return exec(x, NULL, regs, out);
+    return numexpr_exec(x, NULL, regs, out);
 }
 
 NumExpr *numexpr_to_regs(const NumExpr *x, NumExprRegMap map, void *ctx)

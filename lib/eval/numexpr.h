@@ -102,7 +102,16 @@ int numexpr_globals(const NumExpr *x, int32_t *idx);
  * [out]. Returns false (with [out] undefined) when an operand is not a
  * single number or a comparison meets a NaN: evaluate the subtree
  * generically instead. */
-bool numexpr_run(const NumExpr *x, Eval *ev, double *out);
+static inline bool numexpr_run(const NumExpr *x, Eval *ev, double *out);
+
+/* numexpr_run's machine, which numexpr_run_regs runs too: names from
+ * [ev], registers from [regs] (NULL for a NumExpr with names). */
+bool numexpr_exec(const NumExpr *x, Eval *ev, const double *regs, double *out);
+
+static inline bool numexpr_run(const NumExpr *x, Eval *ev, double *out)
+{
+    return numexpr_exec(x, ev, NULL, out);
+}
 
 /* Registers (loop kernels, kernel.h): a copy of a compiled expression
  * whose names are read from an array of doubles instead of a frame.
