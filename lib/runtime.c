@@ -23,6 +23,7 @@
 #include "fileio.h"
 #include "format.h"
 #include "input.h"
+#include "kernel.h"
 #include "lexer.h"
 #include "mem.h"
 #include "module.h"
@@ -69,6 +70,7 @@ struct fl_runtime {
     Program *run_prog;      /* prog simplified again with stable values (stable.h), or NULL */
     StableCache *stables;   /* `let stable` values */
     NoisePerms *noise_perms; /* noise()'s permutation tables of late (builtins.h) */
+    KernelScratch *kscratch; /* the loop kernels' registers (kernel.h) */
     bool pragmas_pending;   /* apply pragmas at the next step */
     Node *root;             /* last frame's tree */
     MsgSet errors[2];       /* this and the previous frame's errors */
@@ -221,6 +223,7 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->modules = module_cache_new();
     rt->stables = stable_new();
     rt->noise_perms = noise_perms_new();
+    rt->kscratch = kernel_scratch_new();
     rt->counter_key = vec_str("_counter", 8);
     /* symbols the physics engine writes into state keys (PHYSICS.md) */
     static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity",
@@ -265,6 +268,7 @@ void fl_free(fl_runtime *rt)
     program_release(rt->run_prog);
     stable_free(rt->stables);
     noise_perms_free(rt->noise_perms);
+    kernel_scratch_free(rt->kscratch);
     node_release(rt->root);
     phys_free(rt->physics);
     module_cache_free(rt->modules);
@@ -657,7 +661,7 @@ static int step(fl_runtime *rt)
         .debug = &rt->debug[rt->cur], .modules = rt->modules, .exports = &rt->scope,
         .stables = rt->globals.simplify ? rt->stables : NULL,
         .interrupt = rt->opts.interrupt, .files = &rt->files, .noise_perms = rt->noise_perms,
-        .workers = phys_workers(rt->physics),
+        .workers = phys_workers(rt->physics), .kscratch = rt->kscratch,
     };
     exports_empty(&rt->scope);
     double t1 = monotonic();

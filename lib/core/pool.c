@@ -100,6 +100,13 @@ void *pool_alloc_slow(size_t size)
     return r;
 }
 
+size_t pool_block_size(size_t size)
+{
+    size_t block;
+    size_class(size, &block);
+    return block;
+}
+
 void *pool_calloc(size_t size)
 {
     void *r = pool_alloc(size);

@@ -117,6 +117,10 @@ static inline void pool_release(void *ptr, size_t size)
     pool_release_slow(ptr, size);
 }
 
+/* The bytes of the block pool_alloc([size]) gives (its class's size),
+ * which the memory budget is charged while the block lives. */
+size_t pool_block_size(size_t size);
+
 /* A zero-filled block of [size] bytes. */
 void *pool_calloc(size_t size);
 

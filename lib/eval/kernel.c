@@ -77,10 +77,48 @@ static void kernel_free(void *p)
  * Compiling
  * ==================================================================== */
 
-typedef struct KScope {
-    int32_t slot;
-    int32_t reg;        /* its output register (output numbering), or -1 */
-} KScope;
+/* What a name read by the body's expressions is, as a register
+ * (compilation numbering): a map from the name's key (a slot, or -1 - an
+ * engine name's index) to its register, or -1 for a `let` the kernel
+ * does not hold. Every binding has a slot of its own (program.c) and a
+ * record reads a let's slot only inside its scope, so one map serves the
+ * whole walk: a slot in none of the loop's names and lets is bound
+ * outside the loop. */
+typedef struct KMapEnt {
+    int32_t key;
+    int32_t reg;
+    bool used;
+} KMapEnt;
+
+typedef struct KMap {
+    KMapEnt *t;
+    uint32_t cap, n;    /* cap a power of two */
+} KMap;
+
+static KMapEnt *kmap_find(KMap *m, int32_t key, bool add)
+{
+    if (add && 2 * (m->n + 1) > m->cap) {
+        uint32_t cap = m->cap ? 2 * m->cap : 64;
+        KMapEnt *t = mem_calloc(cap, sizeof *t);
+        for (uint32_t i = 0; i < m->cap; i++) {
+            if (!m->t[i].used) continue;
+            uint32_t h = (uint32_t)m->t[i].key * 2654435761u & (cap - 1);
+            while (t[h].used) h = (h + 1) & (cap - 1);
+            t[h] = m->t[i];
+        }
+        free(m->t);
+        m->t = t;
+        m->cap = cap;
+    }
+    if (!m->cap) return NULL;
+    uint32_t h = (uint32_t)key * 2654435761u & (m->cap - 1);
+    while (m->t[h].used && m->t[h].key != key) h = (h + 1) & (m->cap - 1);
+    if (m->t[h].used) return &m->t[h];
+    if (!add) return NULL;
+    m->t[h] = (KMapEnt){key, -1, true};
+    m->n++;
+    return &m->t[h];
+}
 
 typedef struct KNum {
     uint32_t off;       /* the record */
@@ -90,8 +128,9 @@ typedef struct KNum {
 typedef struct KB {
     const AstNode *loop;
     CBlock *b;
-    KScope *scope;      /* the `let`s around the record being walked */
-    uint32_t nscope, capscope;
+    KMap names;         /* the names read, as registers */
+    bool dry;           /* map_name only looks: whether an expression can
+                           be taken, before it is */
     int32_t *outer;     /* names from outside, as LoopKernel.outer */
     uint32_t nouter, capouter;
     KExpr *ex;
@@ -118,25 +157,21 @@ typedef struct KB {
 
 static CRec *krec(KB *kb, uint32_t off) { return (CRec *)(void *)(kb->b->code + off); }
 
-/* The register of name [arg] for numexpr_to_regs (compilation numbering). */
+/* The register of name [arg] for numexpr_to_regs (compilation
+ * numbering), or -1; a name from outside is given a register (unless
+ * kb->dry: then 0). */
 static int32_t map_name(void *ctx, bool global, int32_t arg)
 {
     KB *kb = ctx;
-    int32_t key = global ? -1 - arg : arg;
-    if (!global) {
-        for (uint32_t j = 0; j < kb->loop->nnames; j++)
-            if (kb->loop->slots[j] == arg) return K_NAME_TAG + (int32_t)j;
-        /* the innermost `let` of the slot (every binding has a slot of
-         * its own, program.c, so a slot bound by none of the body's lets
-         * around this record is bound outside the loop) */
-        for (uint32_t i = kb->nscope; i-- > 0;)
-            if (kb->scope[i].slot == arg) return kb->scope[i].reg;
-    }
-    for (uint32_t i = 0; i < kb->nouter; i++)
-        if (kb->outer[i] == key) return K_OUTER_TAG + (int32_t)i;
+    const int32_t key = global ? -1 - arg : arg;
+    KMapEnt *e = kmap_find(&kb->names, key, false);
+    if (e) return e->reg;
+    if (kb->dry) return 0;
     GROW(kb->outer, kb->nouter, kb->capouter);
     kb->outer[kb->nouter] = key;
-    return K_OUTER_TAG + (int32_t)kb->nouter++;
+    e = kmap_find(&kb->names, key, true);
+    e->reg = K_OUTER_TAG + (int32_t)kb->nouter++;
+    return e->reg;
 }
 
 /* Take the compiled expression [x] into the kernel; its expression index,
@@ -144,8 +179,14 @@ static int32_t map_name(void *ctx, bool global, int32_t arg)
 static int32_t take_expr(KB *kb, const NumExpr *x)
 {
     if (kb->full) return -1;
+    /* first whether it can be taken, so that a name from outside is not
+     * given a register by an expression left out */
+    kb->dry = true;
     NumExpr *y = numexpr_to_regs(x, map_name, kb);
+    kb->dry = false;
     if (!y) return -1;
+    free(y);
+    y = numexpr_to_regs(x, map_name, kb);
     int32_t in[K_MAX_IN];
     uint32_t nin = numexpr_reg_reads(y, in, K_MAX_IN);
     uint32_t nout = numexpr_outputs(y);
@@ -234,15 +275,12 @@ static void walk(KB *kb, uint32_t off)
         break;
     case C_LET: {
         const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
-        uint32_t mark = kb->nscope;
         for (uint32_t i = 0; i < r->n; i++) {
             walk(kb, t->binds[i].off);
             int32_t reg = let_reg(kb, t->binds[i].off);
-            GROW(kb->scope, kb->nscope, kb->capscope);
-            kb->scope[kb->nscope++] = (KScope){t->binds[i].slot, reg};
+            kmap_find(&kb->names, t->binds[i].slot, true)->reg = reg;
         }
         walk(kb, t->body);
-        kb->nscope = mark;
         break;
     }
     case C_ATTRS:
@@ -448,9 +486,12 @@ static void mark_lets(KB *kb, const Uses *u, const LetAt *lets, uint32_t nlets)
             SlotUse e = use_find(u, t->binds[i].slot);
             if (e.other) continue;
             uint32_t need = e.need;
-            /* the value itself runs at the let's parts' depth */
+            /* the value itself runs at the let's parts' depth (a memo's
+             * record falls back past aux, as run_memo does) */
             if (v->op == C_KNUM && d + numexpr_depth((const NumExpr *)(const void *)(v + 1)) > need)
                 need = d + numexpr_depth((const NumExpr *)(const void *)(v + 1));
+            if (v->op == C_MEMO && d + v->aux > need)
+                need = d + v->aux;
             uint32_t g = need > d ? need - d : 0;
             if (g > UINT16_MAX) continue;
             mask |= UINT32_C(1) << i;
@@ -482,13 +523,15 @@ void kernel_compile_for(AstNode *n)
     const char *off = getenv("FLITTER_NOKERNEL");
     if ((off && *off) || n->fast || n->aux || !n->b || n->b->fast != 2) return;
     KB kb = {.loop = n, .b = n->b->aux};
+    for (uint32_t j = 0; j < n->nnames; j++)
+        kmap_find(&kb.names, n->slots[j], true)->reg = K_NAME_TAG + (int32_t)j;
     walk(&kb, 0);
+    free(kb.names.t);
     if (!kb.nknum) {
         for (uint32_t i = 0; i < kb.nex; i++) free(kb.ex[i].x);
         free(kb.ex);
         free(kb.in);
         free(kb.outer);
-        free(kb.scope);
         free(kb.knum);
         free(kb.kcall);
         free(kb.nodes);
@@ -547,7 +590,6 @@ void kernel_compile_for(AstNode *n)
     }
     free(u.t);
     free(lets);
-    free(kb.scope);
     free(kb.knum);
     free(kb.kcall);
     const char *e = getenv("FLITTER_KERNEL_CHUNK");
@@ -562,6 +604,21 @@ void kernel_compile_for(AstNode *n)
 /* ====================================================================
  * Running
  * ==================================================================== */
+
+struct KernelScratch {
+    unsigned char *buf;     /* malloc'd, outside the memory budget */
+    size_t cap;
+    bool busy;              /* a kernel's run is using it */
+};
+
+KernelScratch *kernel_scratch_new(void) { return mem_calloc(1, sizeof(KernelScratch)); }
+
+void kernel_scratch_free(KernelScratch *k)
+{
+    if (!k) return;
+    free(k->buf);
+    free(k);
+}
 
 /* A window of iterations being computed (the context of the tasks). */
 typedef struct KRun {
@@ -686,7 +743,10 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     /* no more than a window's bytes a chunk, whatever the lanes want */
     if (!lk->chunk && per_chunk * iter_bytes > K_WINDOW_BYTES) per_chunk = K_WINDOW_BYTES / iter_bytes;
     uint32_t chunk = per_chunk < 1 ? 1 : per_chunk > iters ? iters : (uint32_t)per_chunk;
-    uint64_t per_window = lk->window ? lk->window : K_WINDOW_BYTES / iter_bytes;
+    /* whole chunks, all of the window's bytes (flags and task ends too)
+     * within K_WINDOW_BYTES (one pool block of that size, not the next) */
+    uint64_t per_window = lk->window ? lk->window
+                                     : (K_WINDOW_BYTES - 4096 - nregs) / (iter_bytes + 2) / chunk * chunk;
     uint32_t window = per_window < chunk ? chunk : per_window > iters ? iters : (uint32_t)per_window;
     window = (window + chunk - 1) / chunk * chunk;
     const uint32_t maxtasks = (window + chunk - 1) / chunk;
@@ -695,9 +755,11 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     const size_t nr = (size_t)window * nregs;
     size_t bytes = nr * (sizeof(double) + 1) + nregs + window + maxtasks;
     const size_t outer_bytes = lk->nouter * (sizeof(double) + 1);
-    /* past the memory budget, the loop runs as eval_for does (and its
-     * own allocations meet the budget there, as they would without a
-     * kernel) */
+    /* The window's registers go to the runtime's scratch (kernel.h),
+     * left out of the memory budget, so that the body's own allocations
+     * meet the budget where they would without a kernel; a kernel run
+     * inside another's body takes a pool block. When they do not fit in
+     * what is left of the budget at all, the loop runs as eval_for does. */
     if (!mem_room(bytes + (lk->nouter > 16 ? outer_bytes : 0))) {
         *done = false;
         return NULL;
@@ -715,7 +777,19 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
         outer_ok[i] = vec_is_scalar(v);
         outer[i] = outer_ok[i] ? vec_scalar(v) : 0.0;
     }
-    unsigned char *buf = pool_alloc(bytes);
+    KernelScratch *ks = ev->kscratch && !ev->kscratch->busy ? ev->kscratch : NULL;
+    unsigned char *buf;
+    if (ks) {
+        if (ks->cap < bytes) {
+            free(ks->buf);
+            ks->buf = mem_alloc(bytes);
+            ks->cap = bytes;
+        }
+        ks->busy = true;
+        buf = ks->buf;
+    } else {
+        buf = pool_alloc(bytes);
+    }
     KRun kr = {
         .lk = lk, .src = vec_cnums(src), .len = len, .chunk = chunk,
         .regs = (double *)(void *)buf, .ok = buf + nr * sizeof(double),
@@ -797,7 +871,8 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     ev->kmemo = kmemo;
     for (uint32_t i = 0; i < blk->nmemos; i++) vec_release(km[i]);
     if (km != kmemo_small) pool_release(km, kmemo_bytes);
-    pool_release(buf, bytes);
+    if (ks) ks->busy = false;
+    else pool_release(buf, bytes);
     if (outer_big) pool_release(outer_big, outer_bytes);
     return parts_finish(ev, &parts);
 }

@@ -66,4 +66,16 @@ void kernel_compile_for(AstNode *n);
  * usual. */
 Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done);
 
+/* A runtime's scratch for the registers of its kernels' windows (a few
+ * MB at most), kept from frame to frame and left out of the memory
+ * budget: a loop with a kernel then meets the budget where it would
+ * without one. The outermost running kernel uses it; one run inside
+ * another's body takes a block from the pool. One per runtime, used by
+ * one thread. */
+typedef struct KernelScratch KernelScratch;
+/* A new, empty scratch. Aborts when out of memory. */
+KernelScratch *kernel_scratch_new(void);
+/* Free [k] (NULL is a no-op). */
+void kernel_scratch_free(KernelScratch *k);
+
 #endif

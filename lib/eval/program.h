@@ -184,6 +184,8 @@ struct Eval {
                                        NULL: none kept) */
     struct Workers *workers; /* threads the runtime lends to loop kernels
                                 (kernel.h; NULL: the caller alone) */
+    struct KernelScratch *kscratch; /* the runtime's scratch for their
+                                       registers (kernel.h; NULL: the pool) */
     const unsigned char *kbase; /* the code of the loop body whose kernel is
                                    running (kernel.h: its C_KNUM records take
                                    their numbers from kregs), or NULL */

@@ -17,6 +17,9 @@
 #include "format.h"
 #include "runtime.h"
 
+/* The memory budget of the runs (fl_options.max_memory; 0: the default). */
+static size_t run_script_budget;
+
 /* The tree dump of the last of [frames] frames of [src] (named [name]),
  * with or without the simplifier; the log in *[log_out] and, when
  * [kiters] is not NULL, the loop iterations run with kernels
@@ -32,6 +35,7 @@ static char *run_script(const char *name, const char *src, int frames, bool simp
     RtStreams streams = {lf, lf};
     rt_log_to_files(&o, &streams);
     o.no_simplify = !simplify;
+    o.max_memory = run_script_budget;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT;
     assert_int_equal(rt_load_text(rt, name, src, strlen(src), &err), 0);

@@ -27,7 +27,9 @@
 #include "program.h"
 #include "runscript.h"
 
-/* FLITTER_KERNEL_WINDOW for the runs ("0": K_WINDOW_BYTES). */
+/* FLITTER_KERNEL_CHUNK and FLITTER_KERNEL_WINDOW for the runs ("0": the
+ * kernel's own sizes). */
+static const char *kernel_chunk = "7";
 static const char *kernel_window = "63";
 
 enum { R_GENERIC, R_NOKERNEL, R_THREADS1, R_THREADS2, R_THREADS3, R_COUNT };
@@ -47,7 +49,7 @@ static char *run_route(const char *src, int frames, bool simplify, int route, ch
     setenv("FLITTER_THREADS", route == R_THREADS3 ? "3" : route == R_THREADS2 ? "2" : "1", 1);
     /* small chunks and windows, so that small loops (quick under valgrind)
      * are many tasks, taken in any order, and several windows */
-    setenv("FLITTER_KERNEL_CHUNK", "7", 1);
+    setenv("FLITTER_KERNEL_CHUNK", kernel_chunk, 1);
     setenv("FLITTER_KERNEL_WINDOW", kernel_window, 1);
     char *tree = run_script("kernel.fl", src, frames, simplify, log_out, kiters);
     unsetenv("FLITTER_NOFAST");
@@ -275,6 +277,99 @@ static void test_recursion(void **s)
                        1, 300));
 }
 
+/* The depth limit (MAX_EVAL_DEPTH) reached around a kernel loop's body:
+ * a `let` of a memoized expression (the same expression twice, so a
+ * C_MEMO) is left unmade only where its record would not overflow, so
+ * the routes agree on whether the frame overflows. Recursion of [d]
+ * levels of 30 nested if-elses, then [p] more calls, then the loop: a
+ * sweep of [p] whose depths straddle the limit inside the loop. */
+static void test_depth_limit(void **s)
+{
+    (void)s;
+    int overflowed = 0, whole = 0;
+    for (int p = 0; p <= 12; p++) {
+        Buf src = BUF_INIT;
+        const char *e = "time*1.5+0.25";
+        Buf memo = BUF_INIT;
+        buf_puts(&memo, e);
+        for (int k = 0; k < 13; k++) {
+            Buf t = BUF_INIT;
+            buf_printf(&t, "(%s)*2+1", buf_cstr(&memo));
+            buf_free(&memo);
+            memo = t;
+        }
+        buf_printf(&src, "func g()\n    for i in ..(5+floor(time))\n        let m=%s\n            q=%s\n"
+                         "        !d x=m+i y=q+i\n",
+                   buf_cstr(&memo), buf_cstr(&memo));
+        buf_free(&memo);
+        buf_puts(&src, "func h(p)\n    h(p-1) if p > 0 else g()\nfunc f(d)\n    ");
+        Buf call = BUF_INIT;
+        buf_puts(&call, "f(d-1)");
+        for (int k = 0; k < 30; k++) {
+            Buf t = BUF_INIT;
+            buf_printf(&t, "(%s if d >= %d else null)", buf_cstr(&call), -k - 1);
+            buf_free(&call);
+            call = t;
+        }
+        buf_printf(&src, "%s if d > 0 else h(%d)\n!g << f(362)\n", buf_cstr(&call), p);
+        buf_free(&call);
+        char *log0, *log1;
+        uint64_t k0, k1;
+        char *t0 = run_route(buf_cstr(&src), 1, false, R_GENERIC, &log0, &k0);
+        char *t1 = run_route(buf_cstr(&src), 1, false, R_THREADS2, &log1, &k1);
+        if (strcmp(t0, t1) != 0 || strcmp(log0, log1) != 0) fprintf(stderr, "p = %d differs\n", p);
+        assert_string_equal(t1, t0);
+        assert_string_equal(log1, log0);
+        if (strstr(log0, "Stack overflow")) overflowed++;
+        else whole++;
+        free(t0);
+        free(t1);
+        free(log0);
+        free(log1);
+        buf_free(&src);
+    }
+    /* the sweep crosses the limit */
+    assert_true(overflowed > 0 && whole > 0);
+}
+
+/* A memory budget (--max-memory) that runs out in a kernel loop's body
+ * runs out where it does without kernels: the registers are left out of
+ * the budget (kernel.h KernelScratch). A sweep of budgets across the
+ * frame's need; the runs must agree with FLITTER_NOKERNEL's, and some
+ * must run out. */
+static void test_budget(void **s)
+{
+    (void)s;
+    const char *src = "let n=20000+floor(time)\n"
+                      "!g\n"
+                      "    for i in ..n\n"
+                      "        let p=i*0.5+time\n"
+                      "        !d x=p y=sin(p) z=cos(p)*2\n";
+    int out = 0, fits = 0;
+    /* the kernel's own window: a block of about 1 MB of registers */
+    kernel_chunk = kernel_window = "0";
+    for (size_t kb = 5800; kb <= 7400; kb += 200) {
+        run_script_budget = kb << 10;
+        char *log0, *log1;
+        uint64_t k0, k1;
+        char *t0 = run_route(src, 1, true, R_NOKERNEL, &log0, &k0);
+        char *t1 = run_route(src, 1, true, R_THREADS2, &log1, &k1);
+        if (strcmp(t0, t1) != 0 || strcmp(log0, log1) != 0) fprintf(stderr, "budget %zu KiB differs\n", kb);
+        assert_string_equal(t1, t0);
+        assert_string_equal(log1, log0);
+        if (strstr(log0, "Out of memory")) out++;
+        else fits++, assert_true(k1 >= 20000);
+        free(t0);
+        free(t1);
+        free(log0);
+        free(log1);
+    }
+    run_script_budget = 0;
+    kernel_chunk = "7";
+    kernel_window = "63";
+    assert_true(out > 0 && fits > 0);
+}
+
 /* The simplifier's loop forms (literal ranges, template passes): nested
  * literal loops as canvas10k has them. */
 static void test_loop_forms(void **s)
@@ -357,6 +452,8 @@ int main(void)
         cmocka_unit_test(test_several_names),
         cmocka_unit_test(test_nested),
         cmocka_unit_test(test_recursion),
+        cmocka_unit_test(test_depth_limit),
+        cmocka_unit_test(test_budget),
         cmocka_unit_test(test_loop_forms),
         cmocka_unit_test(test_windows),
         cmocka_unit_test(test_compiled),
