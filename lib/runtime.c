@@ -56,6 +56,7 @@ struct fl_runtime {
     fl_stats stats;         /* counters and timers for fl_get_stats */
     uint64_t kernel_iterations; /* loop iterations run with their kernel
                                    (kernel.h), all frames */
+    uint64_t kernel_reused; /* nodes refilled in place (kernel.h), all frames */
     SymTab *symtab;         /* symbol names for value text */
     StateDict *state;       /* the state dictionary */
     PhysicsWorld *physics;  /* persistent physics systems */
@@ -379,6 +380,7 @@ static int install(fl_runtime *rt, Program *p)
     program_release(rt->prog);
     program_release(rt->run_prog);
     rt->run_prog = NULL;
+    kernel_scratch_clear(rt->kscratch);   /* nodes of the old program's loops */
     stable_clear(rt->stables);
     rt->prog = p;
     rt->pragmas_pending = true;
@@ -690,6 +692,7 @@ static int step(fl_runtime *rt)
     node_release(rt->root);
     rt->root = root;
     rt->kernel_iterations += ev.kiters;
+    rt->kernel_reused += ev.kreused;
     double t2 = monotonic();
     report(rt, FL_LOG_ERROR, "Execution error: ", &rt->errors[rt->cur], &rt->errors[prev]);
     report(rt, FL_LOG_DEBUG, "", &rt->debug[rt->cur], &rt->debug[prev]);
@@ -710,6 +713,7 @@ static int step(fl_runtime *rt)
         Program *p = program_resimplify(rt->prog, &rt->globals, rt->symtab, rt->stables);
         if (p) {
             program_release(rt->run_prog);
+            kernel_scratch_clear(rt->kscratch);
             rt->run_prog = p;
             pathlist_add_all(&rt->files, &p->files);
         }
@@ -739,6 +743,8 @@ static int step(fl_runtime *rt)
 }
 
 uint64_t rt_kernel_iterations(const fl_runtime *rt) { return rt->kernel_iterations; }
+
+uint64_t rt_kernel_reused(const fl_runtime *rt) { return rt->kernel_reused; }
 
 void fl_get_stats(const fl_runtime *rt, fl_stats *out)
 {

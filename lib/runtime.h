@@ -57,6 +57,9 @@ const SymTab *rt_symbols(const fl_runtime *rt);
 /* How many loop iterations the frames so far ran with their loop's
  * kernel (kernel.h): the tests' evidence that the kernel route ran. */
 uint64_t rt_kernel_iterations(const fl_runtime *rt);
+/* How many nodes the frames so far refilled in place instead of building
+ * them (kernel.h KNodeCache): the tests' evidence that nodes were reused. */
+uint64_t rt_kernel_reused(const fl_runtime *rt);
 /* The options [rt] was made with (fl_new's copy, log defaulted). */
 const fl_options *rt_options(const fl_runtime *rt);
 

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "evalcode.h"
+#include "kernel.h"
 #include "mem.h"
 #include "node.h"
 #include "pool.h"
@@ -193,12 +194,82 @@ static inline __attribute__((always_inline)) Vec *run_newnode(Eval *ev, const un
     return vec_node_take(nn);
 }
 
+/* The numbers attribute record [a] of a C_KNODE takes from the kernel's
+ * registers (a C_KCALL or C_KNUM). */
+static inline uint32_t knode_outputs(const CRec *a)
+{
+    return a->op == C_KCALL ? a->aux : numexpr_outputs((const NumExpr *)(const void *)(a + 1));
+}
+
+/* Most attributes of a C_KNODE whose nodes are kept (kernel.h
+ * KNodeCache); a node with more is built anew every time. */
+#define KNODE_REUSE_ATTRS 16
+
+/* run_knode with the loop's cache of nodes [c]: the node of this slot
+ * from the run before the last, refilled in place when nothing but the
+ * cache holds it and it has the record's kind and attributes (names in
+ * order, none dropped, each register attribute a number vector of the
+ * record's length held by the node alone); else a new node, kept in the
+ * slot. Either way the node is the one run_knode builds, value for
+ * value. The memo attributes (the only ones whose evaluation can do
+ * anything) are evaluated first, in order, as run_knode evaluates them. */
+__attribute__((noinline)) static Vec *run_knode_cached(Eval *ev, const unsigned char *base, const CRec *r,
+                                                       KNodeCache *c)
+{
+    const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+    const uint32_t s = c->next++;
+    Node *o = s < c->n ? c->slot[s] : NULL;
+    Vec *memo[KNODE_REUSE_ATTRS];
+    bool same = o && o->refs == 1 && o->kind == r->p.kind && !o->ntags && !o->nchildren && o->nattrs == r->n;
+    for (uint32_t k = 0; k < r->n; k++) {
+        const CRec *a = crec(base, t->attrs[k].off);
+        if (a->op == C_MEMO) {
+            memo[k] = run_memo(ev, base, a);
+            same = same && vec_len(memo[k]) > 0 && o->attrs[k].name == t->attrs[k].name;
+        } else {
+            memo[k] = NULL;
+            const Vec *v = same ? o->attrs[k].value : NULL;
+            same = same && o->attrs[k].name == t->attrs[k].name && v->refs == 1 && v->kind == VEC_NUM &&
+                   v->len == knode_outputs(a) && v->len > 0;
+        }
+    }
+    if (same) {
+        for (uint32_t k = 0; k < r->n; k++) {
+            if (memo[k]) {
+                vec_release(o->attrs[k].value);
+                o->attrs[k].value = memo[k];
+                continue;
+            }
+            const CRec *a = crec(base, t->attrs[k].off);
+            Vec *v = o->attrs[k].value;
+            memcpy(vec_nums(v), ev->kregs + a->n, v->len * sizeof(double));
+            v->hashed = 0;
+        }
+        ev->kreused++;
+        return vec_node_take(node_retain(o));
+    }
+    Node *nn = node_new_sized(r->p.kind, r->n);
+    for (uint32_t k = 0; k < r->n; k++) {
+        Vec *v = memo[k];
+        if (!v) {
+            const CRec *a = crec(base, t->attrs[k].off);
+            const uint32_t n = knode_outputs(a);
+            v = vec_new_num(n);
+            memcpy(vec_nums(v), ev->kregs + a->n, n * sizeof(double));
+        }
+        node_add_new_attr(nn, t->attrs[k].name, v);
+    }
+    if (!knode_cache_put(c, s, nn)) ev->kcache = NULL;
+    return vec_node_take(nn);
+}
+
 /* C_KNODE (inside run_rec's depth guard, the kernel's clean iteration
  * and depth checked): run_newnode with each attribute's record done here,
  * the numbers copied from the kernel's registers */
 __attribute__((noinline)) static Vec *run_knode(Eval *ev, const unsigned char *base, const CRec *r)
 {
     if (ev->kbase != base || !ev->kclean || ev->depth + r->aux > MAX_EVAL_DEPTH) return run_newnode(ev, base, r);
+    if (ev->kcache && r->n <= KNODE_REUSE_ATTRS) return run_knode_cached(ev, base, r, ev->kcache);
     const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
     Node *nn = node_new_sized(r->p.kind, r->n);
     for (uint32_t k = 0; k < r->n; k++) {

@@ -605,19 +605,103 @@ void kernel_compile_for(AstNode *n)
  * Running
  * ==================================================================== */
 
+/* Loops whose nodes a scratch keeps (the least recently run one makes
+ * way for a new one). */
+#define K_NODE_LOOPS 16
+
+/* One loop's caches of nodes (kernel.h KNodeCache), used in turn. */
+typedef struct KNodeLoop {
+    const AstNode *key;     /* the loop (NULL: a free entry) */
+    KNodeCache run[2];
+    uint8_t turn;           /* the one its last run used */
+    uint64_t used;          /* KernelScratch.clock at that run */
+} KNodeLoop;
+
 struct KernelScratch {
     unsigned char *buf;     /* malloc'd, outside the memory budget */
     size_t cap;
     bool busy;              /* a kernel's run is using it */
+    bool reuse;             /* keep nodes (not FLITTER_KERNEL_REUSE=0) */
+    uint64_t clock;         /* loop runs that used the caches */
+    KNodeLoop loops[K_NODE_LOOPS];
 };
 
-KernelScratch *kernel_scratch_new(void) { return mem_calloc(1, sizeof(KernelScratch)); }
+KernelScratch *kernel_scratch_new(void)
+{
+    KernelScratch *k = mem_calloc(1, sizeof(KernelScratch));
+    const char *e = getenv("FLITTER_KERNEL_REUSE");
+    k->reuse = !(e && !strcmp(e, "0"));
+    return k;
+}
+
+/* Release the nodes of [c] from slot [from] on. */
+static void knode_trim(KNodeCache *c, uint32_t from)
+{
+    for (uint32_t i = from; i < c->n; i++) node_release(c->slot[i]);
+    if (from < c->n) c->n = from;
+}
+
+static void knode_loop_clear(KNodeLoop *l)
+{
+    for (int r = 0; r < 2; r++) {
+        knode_trim(&l->run[r], 0);
+        free(l->run[r].slot);
+    }
+    *l = (KNodeLoop){0};
+}
+
+void kernel_scratch_clear(KernelScratch *k)
+{
+    if (!k) return;
+    for (int i = 0; i < K_NODE_LOOPS; i++) knode_loop_clear(&k->loops[i]);
+}
 
 void kernel_scratch_free(KernelScratch *k)
 {
     if (!k) return;
+    kernel_scratch_clear(k);
     free(k->buf);
     free(k);
+}
+
+/* The cache this run of loop [n] fills, holding the nodes of its run
+ * before the last. */
+static KNodeCache *knode_cache(KernelScratch *k, const AstNode *n)
+{
+    KNodeLoop *l = NULL, *oldest = &k->loops[0];
+    for (int i = 0; i < K_NODE_LOOPS && !l; i++) {
+        if (k->loops[i].key == n) l = &k->loops[i];
+        else if (k->loops[i].used < oldest->used) oldest = &k->loops[i];
+    }
+    if (!l) {
+        l = oldest;
+        knode_loop_clear(l);
+        l->key = n;
+    }
+    l->used = ++k->clock;
+    l->turn ^= 1;
+    KNodeCache *c = &l->run[l->turn];
+    c->next = 0;
+    return c;
+}
+
+bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node)
+{
+    if (s < c->n) {
+        node_release(c->slot[s]);
+        c->slot[s] = node_retain(node);
+        return true;
+    }
+    if (s != c->n) return false;
+    if (c->n == c->cap) {
+        uint32_t cap = c->cap ? 2 * c->cap : 256;
+        Node **slot = realloc(c->slot, cap * sizeof *slot);
+        if (!slot) return false;
+        c->slot = slot;
+        c->cap = cap;
+    }
+    c->slot[c->n++] = node_retain(node);
+    return true;
 }
 
 /* A window of iterations being computed (the context of the tasks). */
@@ -790,6 +874,10 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     } else {
         buf = pool_alloc(bytes);
     }
+    /* the nodes of its run before the last (kernel.h KNodeCache); a
+     * kernel run inside this one's body keeps none */
+    KNodeCache *kcache = ev->kcache;
+    ev->kcache = ks && ks->reuse ? knode_cache(ks, n) : NULL;
     KRun kr = {
         .lk = lk, .src = vec_cnums(src), .len = len, .chunk = chunk,
         .regs = (double *)(void *)buf, .ok = buf + nr * sizeof(double),
@@ -869,6 +957,9 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     ev->kok = kok;
     ev->kclean = kclean;
     ev->kmemo = kmemo;
+    /* nodes past this run's last are not built again */
+    if (ev->kcache) knode_trim(ev->kcache, ev->kcache->next);
+    ev->kcache = kcache;
     for (uint32_t i = 0; i < blk->nmemos; i++) vec_release(km[i]);
     if (km != kmemo_small) pool_release(km, kmemo_bytes);
     if (ks) ks->busy = false;

@@ -75,7 +75,30 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done);
 typedef struct KernelScratch KernelScratch;
 /* A new, empty scratch. Aborts when out of memory. */
 KernelScratch *kernel_scratch_new(void);
-/* Free [k] (NULL is a no-op). */
+/* Free [k] (NULL is a no-op), releasing the nodes its caches hold. */
 void kernel_scratch_free(KernelScratch *k);
+/* Release the nodes [k]'s caches hold (NULL is a no-op): a program load,
+ * after which the loops they were built by are gone. */
+void kernel_scratch_clear(KernelScratch *k);
+
+/* The nodes one run of a loop's body built with its C_KNODE records, in
+ * the order they were built, each held by the cache (one reference).
+ * The outermost running kernel keeps two per loop in the runtime's
+ * scratch and uses them in turn, so a run finds the nodes of the run
+ * before the last: in a frame loop, those of the frame before the last,
+ * whose tree has been released. A node nothing else holds any more
+ * (refs 1) that has the record's kind and attributes is then refilled in
+ * place instead of built and freed (evalrun.c, run_knode): the same node
+ * as a new one, value for value. FLITTER_KERNEL_REUSE=0 turns it off (the
+ * route the tests compare against). */
+typedef struct KNodeCache {
+    struct Node **slot;
+    uint32_t n, cap;    /* slots holding a node; allocated */
+    uint32_t next;      /* the slot this run's next C_KNODE takes */
+} KNodeCache;
+/* Hold [node] (a new reference) in slot [s] of [c], releasing the node
+ * there; [s] may be one past the last slot (the cache grows). False, with
+ * nothing held, when [s] is further on or the slots cannot grow. */
+bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node);
 
 #endif

@@ -196,6 +196,10 @@ struct Eval {
                                C_MEMO records gave in this run of the loop
                                (NULL: none yet) */
     uint64_t kiters;        /* iterations run with their loop's kernel */
+    struct KNodeCache *kcache; /* that run's nodes of an earlier run, for
+                                  its C_KNODE records to refill (kernel.h;
+                                  NULL: none) */
+    uint64_t kreused;       /* nodes refilled from it */
 };
 
 /* Evaluate the whole program: compose the top-level sequence and append

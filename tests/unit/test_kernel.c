@@ -441,6 +441,128 @@ static void test_compiled(void **s)
     symtab_free(st);
 }
 
+/* {===== nodes refilled in place (kernel.h KNodeCache) */
+
+#define REUSE_FRAMES 9
+
+/* Each of [REUSE_FRAMES] frames' tree and state of [src] in trees[], its log in
+ * *[log_out], with nodes refilled (FLITTER_KERNEL_REUSE) or not, on two
+ * threads, and how many were refilled in *[reused]. With [hold], the
+ * trees of frames 0 and 3 are held (as an embedder holding fl_tree's
+ * root would) until the last frame and must then read as they did. */
+static void reuse_run(const char *src, bool simplify, bool reuse, bool hold, char **trees, char **log_out,
+                      uint64_t *reused)
+{
+    setenv("FLITTER_KERNEL_REUSE", reuse ? "1" : "0", 1);
+    setenv("FLITTER_THREADS", "2", 1);
+    setenv("FLITTER_KERNEL_CHUNK", "7", 1);
+    setenv("FLITTER_KERNEL_WINDOW", "63", 1);
+    char *log = NULL;
+    size_t loglen;
+    FILE *lf = open_memstream(&log, &loglen);
+    fl_options o = fl_default_options();
+    RtStreams streams = {lf, lf};
+    rt_log_to_files(&o, &streams);
+    o.no_simplify = !simplify;
+    fl_runtime *rt = fl_new(&o);
+    Buf err = BUF_INIT;
+    assert_int_equal(rt_load_text(rt, "reuse.fl", src, strlen(src), &err), 0);
+    buf_free(&err);
+    Node *held[REUSE_FRAMES] = {0};
+    size_t tree_len[REUSE_FRAMES];
+    for (int f = 0; f < REUSE_FRAMES; f++) {
+        fl_step(rt);
+        Buf t = BUF_INIT;
+        fmt_tree(&t, rt_root(rt), rt_symbols(rt));
+        tree_len[f] = t.len;
+        fmt_state_dump(&t, rt_state(rt), f, 0.0, rt_symbols(rt));
+        trees[f] = strdup(buf_cstr(&t));
+        buf_free(&t);
+        if (hold && (f == 0 || f == 3)) held[f] = node_retain((Node *)rt_root(rt));
+    }
+    for (int f = 0; f < REUSE_FRAMES; f++) {
+        if (!held[f]) continue;
+        Buf t = BUF_INIT;
+        fmt_tree(&t, held[f], rt_symbols(rt));
+        assert_true(t.len == tree_len[f] && memcmp(buf_cstr(&t), trees[f], t.len) == 0);
+        buf_free(&t);
+        node_release(held[f]);
+    }
+    *reused = rt_kernel_reused(rt);
+    fl_free(rt);
+    fclose(lf);
+    *log_out = log;
+    unsetenv("FLITTER_KERNEL_REUSE");
+    unsetenv("FLITTER_THREADS");
+    unsetenv("FLITTER_KERNEL_CHUNK");
+    unsetenv("FLITTER_KERNEL_WINDOW");
+}
+
+/* Every frame's tree and the log with nodes refilled, with and without
+ * earlier trees held, equal to those of nodes built anew, in both modes;
+ * nodes were refilled (at least [min_reused]) unless trees were held
+ * throughout. */
+static void expect_reuse(const char *src, uint64_t min_reused)
+{
+    for (int simplify = 0; simplify < 2; simplify++) {
+        char *want[REUSE_FRAMES], *got[REUSE_FRAMES], *log0, *log;
+        uint64_t reused;
+        reuse_run(src, simplify, false, false, want, &log0, &reused);
+        assert_int_equal(reused, 0);
+        for (int hold = 0; hold < 2; hold++) {
+            reuse_run(src, simplify, true, hold, got, &log, &reused);
+            if (reused < min_reused)
+                fail_msg("simplify %d, hold %d: %llu nodes refilled, want %llu", simplify, hold,
+                         (unsigned long long)reused, (unsigned long long)min_reused);
+            for (int f = 0; f < REUSE_FRAMES; f++) {
+                if (strcmp(got[f], want[f]) != 0)
+                    fprintf(stderr, "simplify %d, hold %d: frame %d differs\n", simplify, hold, f);
+                assert_string_equal(got[f], want[f]);
+                free(got[f]);
+            }
+            assert_string_equal(log, log0);
+            free(log);
+        }
+        for (int f = 0; f < REUSE_FRAMES; f++) free(want[f]);
+        free(log0);
+    }
+}
+
+/* A loop whose length changes from frame to frame, whose iterations
+ * build nodes of one kind with different attributes by turns (so a slot
+ * meets a node of other names), one attribute a memo value that is null
+ * in some frames (the node then lacks it), an hsv call the kernel
+ * computes, and a memo value shared by every node. */
+static void test_reuse(void **s)
+{
+    (void)s;
+    expect_reuse("let n=40+(frame%3)*5\n"
+                 "!g\n"
+                 "    for i in ..n\n"
+                 "        let p=i*0.5+time\n"
+                 "            q=(i+frame)%5\n"
+                 "        !d x=p;p+1 y=sin(p*0.5) t=time>0.02 e=(q*0)/q > 1\n"
+                 "        !e c=hsv(p/100;0.5;0.5) z=(1 if frame%4 == 0 else null)\n"
+                 "        !d w=(i*2+frame)*0.25\n",
+                 200);
+    /* particle ids the physics system hashes (vec_key_hash keeps the
+     * hash in the vector, which a refill must forget) */
+    expect_reuse("let n=60+(frame%3)*5\n"
+                 "!physics state=:s dimensions=2\n"
+                 "    for i in ..n\n"
+                 "        !particle id=(i*7+frame)%97 position=i;i*0.5+time radius=i%3+1\n"
+                 "    !collision\n",
+                 200);
+    /* counters' state keys (the dictionary keeps a key's hash in the key
+     * vector) and a memo value (time>0.02, false in frames 0 and 1) */
+    expect_reuse("let n=20+(frame%3)*3\n"
+                 "for i in ..n\n"
+                 "    !counter state=(i*3+frame)%11 rate=i+1 initial=time>0.02\n",
+                 50);
+}
+
+/* }===== */
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -457,6 +579,7 @@ int main(void)
         cmocka_unit_test(test_loop_forms),
         cmocka_unit_test(test_windows),
         cmocka_unit_test(test_compiled),
+        cmocka_unit_test(test_reuse),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
