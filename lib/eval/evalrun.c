@@ -242,7 +242,10 @@ __attribute__((noinline)) static Vec *run_knode_cached(Eval *ev, const unsigned 
             }
             const CRec *a = crec(base, t->attrs[k].off);
             Vec *v = o->attrs[k].value;
-            memcpy(vec_nums(v), ev->kregs + a->n, v->len * sizeof(double));
+            double *d = vec_nums(v);
+            const double *src = ev->kregs + a->n;
+            /* a few numbers each: a call to memcpy costs more */
+            for (uint32_t i = 0; i < v->len; i++) d[i] = src[i];
             v->hashed = 0;
         }
         ev->kreused++;
