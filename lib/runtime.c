@@ -225,6 +225,7 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->stables = stable_new();
     rt->noise_perms = noise_perms_new();
     rt->kscratch = kernel_scratch_new();
+    pool_set_reclaim(rt->pool, kernel_scratch_reclaim, rt->kscratch);
     rt->counter_key = vec_str("_counter", 8);
     /* symbols the physics engine writes into state keys (PHYSICS.md) */
     static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity",
@@ -678,10 +679,12 @@ static int step(fl_runtime *rt)
         stable_frame_done(rt->stables);
         program_release(rt->run_prog);
         rt->run_prog = NULL;
+        kernel_scratch_clear(rt->kscratch);
         ev.prog = rt->prog;
         ev.stable_changed = false;
         root = eval_program(&ev);
     }
+    kernel_scratch_frame_done(rt->kscratch);
     if (ev.interrupted) {
         /* discard the incomplete frame: the last tree, state and clock stay */
         node_release(root);

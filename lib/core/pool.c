@@ -85,11 +85,22 @@ void pool_leave(Pool *prev) { pool_active_ = prev; }
 
 PoolStats pool_stats(const Pool *p) { return p->stats; }
 
+void pool_set_reclaim(Pool *p, void (*fn)(void *ctx), void *ctx)
+{
+    p->reclaim = fn;
+    p->reclaim_ctx = ctx;
+}
+
 void *pool_alloc_slow(size_t size)
 {
     size_t block;
     int c = size_class(size, &block);
     Pool *p = pool_active_;
+    if (p && c != NO_CLASS && !p->free[c].n && p->reclaim && !p->reclaiming && !p->off) {
+        p->reclaiming = 1;
+        p->reclaim(p->reclaim_ctx);
+        p->reclaiming = 0;
+    }
     if (p && c != NO_CLASS && p->free[c].n) return p->free[c].items[--p->free[c].n];
     void *r = malloc(block);
     if (!r) {

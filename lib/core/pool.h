@@ -58,6 +58,12 @@ Pool *pool_enter(Pool *p);
 void pool_leave(Pool *prev);
 /* The counters of [p] (since pool_new). */
 PoolStats pool_stats(const Pool *p);
+/* Have [p] call [fn]([ctx]) when a class it is asked for has no released
+ * block, before it calls malloc: [fn] may release blocks that something
+ * keeps only for reuse (the runtime's kept nodes, kernel.h) into the pool,
+ * so that they serve the request as released blocks would. [fn] must not
+ * allocate from the pool; NULL removes it. */
+void pool_set_reclaim(Pool *p, void (*fn)(void *ctx), void *ctx);
 
 /* The slow paths of pool_alloc and pool_release (big blocks, empty lists,
  * no active pool). */
@@ -78,6 +84,9 @@ struct Pool {
     PoolStack free[POOL_NCLASS];     /* released blocks per class */
     PoolStats stats;
     int off;                         /* FLITTER_NOPOOL: no free lists */
+    void (*reclaim)(void *ctx);      /* pool_set_reclaim, or NULL */
+    void *reclaim_ctx;
+    int reclaiming;                  /* reclaim is running */
 };
 
 /* Internal: the pool active on this thread (pool_enter). */

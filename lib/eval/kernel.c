@@ -615,6 +615,7 @@ typedef struct KNodeLoop {
     KNodeCache run[2];
     uint8_t turn;           /* the one its last run used */
     uint64_t used;          /* KernelScratch.clock at that run */
+    uint64_t frame;         /* KernelScratch.frame at that run */
 } KNodeLoop;
 
 struct KernelScratch {
@@ -623,6 +624,12 @@ struct KernelScratch {
     bool busy;              /* a kernel's run is using it */
     bool reuse;             /* keep nodes (not FLITTER_KERNEL_REUSE=0) */
     uint64_t clock;         /* loop runs that used the caches */
+    uint64_t frame;         /* kernel_scratch_frame_done calls */
+    bool stale;             /* kept nodes may have lost their trees since the
+                               last kernel_scratch_reclaim */
+    size_t held;            /* about how many bytes of blocks the kept nodes
+                               hold (knode_bytes) */
+    const KNodeCache *running; /* the cache the running loop fills */
     KNodeLoop loops[K_NODE_LOOPS];
 };
 
@@ -634,10 +641,32 @@ KernelScratch *kernel_scratch_new(void)
     return k;
 }
 
+/* About the bytes of pool blocks [n] and its number attributes hold. */
+static size_t knode_bytes(const Node *n)
+{
+    size_t b = pool_block_size(sizeof *n + (size_t)n->inline_attrs * sizeof(Attr));
+    for (uint32_t k = 0; k < n->nattrs; k++) {
+        const Vec *v = n->attrs[k].value;
+        if (v && v->kind == VEC_NUM) b += pool_block_size(sizeof(Vec) + (size_t)v->len * sizeof(double));
+    }
+    return b;
+}
+
+/* Release the node of slot [s] of [c] (if any). */
+static void knode_drop(KNodeCache *c, uint32_t s)
+{
+    Node *n = c->slot[s];
+    if (!n) return;
+    size_t b = knode_bytes(n);
+    c->bytes = c->bytes > b ? c->bytes - b : 0;
+    c->slot[s] = NULL;
+    node_release(n);
+}
+
 /* Release the nodes of [c] from slot [from] on. */
 static void knode_trim(KNodeCache *c, uint32_t from)
 {
-    for (uint32_t i = from; i < c->n; i++) node_release(c->slot[i]);
+    for (uint32_t i = from; i < c->n; i++) knode_drop(c, i);
     if (from < c->n) c->n = from;
 }
 
@@ -654,6 +683,36 @@ void kernel_scratch_clear(KernelScratch *k)
 {
     if (!k) return;
     for (int i = 0; i < K_NODE_LOOPS; i++) knode_loop_clear(&k->loops[i]);
+}
+
+void kernel_scratch_reclaim(void *ctx)
+{
+    KernelScratch *k = ctx;
+    if (!k || !k->stale) return;
+    size_t held = 0;
+    for (int i = 0; i < K_NODE_LOOPS; i++) held += k->loops[i].run[0].bytes + k->loops[i].run[1].bytes;
+    /* with room in the budget for all of them, nothing the kept nodes
+     * hold can make a request fail that would succeed without them */
+    if (mem_room(held)) return;
+    k->stale = false;
+    for (int i = 0; i < K_NODE_LOOPS; i++) {
+        for (int r = 0; r < 2; r++) {
+            KNodeCache *c = &k->loops[i].run[r];
+            /* the running loop's nodes still to come are refilled, not
+             * built: they need no memory */
+            for (uint32_t s = c == k->running ? c->next : 0; s < c->n; s++)
+                if (c->slot[s] && c->slot[s]->refs == 1) knode_drop(c, s);
+        }
+    }
+}
+
+void kernel_scratch_frame_done(KernelScratch *k)
+{
+    if (!k) return;
+    k->stale = true;
+    for (int i = 0; i < K_NODE_LOOPS; i++)
+        if (k->loops[i].key && k->loops[i].frame != k->frame) knode_loop_clear(&k->loops[i]);
+    k->frame++;
 }
 
 void kernel_scratch_free(KernelScratch *k)
@@ -679,17 +738,20 @@ static KNodeCache *knode_cache(KernelScratch *k, const AstNode *n)
         l->key = n;
     }
     l->used = ++k->clock;
+    l->frame = k->frame;
     l->turn ^= 1;
     KNodeCache *c = &l->run[l->turn];
     c->next = 0;
+    k->running = c;
     return c;
 }
 
 bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node)
 {
     if (s < c->n) {
-        node_release(c->slot[s]);
+        knode_drop(c, s);
         c->slot[s] = node_retain(node);
+        c->bytes += knode_bytes(node);
         return true;
     }
     if (s != c->n) return false;
@@ -701,6 +763,7 @@ bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node)
         c->cap = cap;
     }
     c->slot[c->n++] = node_retain(node);
+    c->bytes += knode_bytes(node);
     return true;
 }
 
@@ -959,6 +1022,7 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     ev->kmemo = kmemo;
     /* nodes past this run's last are not built again */
     if (ev->kcache) knode_trim(ev->kcache, ev->kcache->next);
+    if (ks) ks->running = NULL;
     ev->kcache = kcache;
     for (uint32_t i = 0; i < blk->nmemos; i++) vec_release(km[i]);
     if (km != kmemo_small) pool_release(km, kmemo_bytes);

@@ -80,6 +80,19 @@ void kernel_scratch_free(KernelScratch *k);
 /* Release the nodes [k]'s caches hold (NULL is a no-op): a program load,
  * after which the loops they were built by are gone. */
 void kernel_scratch_clear(KernelScratch *k);
+/* The end of a frame: release the nodes kept for the loops that did not
+ * run in it (NULL is a no-op). Kept, they would hold memory that other
+ * nodes of their sizes could use (a branch that stopped running, say). */
+void kernel_scratch_frame_done(KernelScratch *k);
+/* The runtime's pool's reclaim hook (pool_set_reclaim; [ctx] the
+ * scratch): at a block the pool lacks, when the memory budget has no
+ * room for all the bytes the kept nodes hold, release (once a frame) the
+ * kept nodes nothing else holds any more, but those the running loop has
+ * still to refill. Without refills their blocks would be the pool's by
+ * then (the tree they were built for released), free for any node or
+ * vector of their sizes; so the memory budget bites where it would
+ * without them. */
+void kernel_scratch_reclaim(void *ctx);
 
 /* The nodes one run of a loop's body built with its C_KNODE records, in
  * the order they were built, each held by the cache (one reference).
@@ -89,12 +102,16 @@ void kernel_scratch_clear(KernelScratch *k);
  * whose tree has been released. A node nothing else holds any more
  * (refs 1) that has the record's kind and attributes is then refilled in
  * place instead of built and freed (evalrun.c, run_knode): the same node
- * as a new one, value for value. FLITTER_KERNEL_REUSE=0 turns it off (the
+ * as a new one, value for value. The nodes of a loop that did not run in
+ * a frame are released at its end (kernel_scratch_frame_done), and kept
+ * nodes give their blocks back when the memory budget needs them
+ * (kernel_scratch_reclaim). FLITTER_KERNEL_REUSE=0 turns it off (the
  * route the tests compare against). */
 typedef struct KNodeCache {
     struct Node **slot;
     uint32_t n, cap;    /* slots holding a node; allocated */
     uint32_t next;      /* the slot this run's next C_KNODE takes */
+    size_t bytes;       /* about the bytes of blocks its nodes hold */
 } KNodeCache;
 /* Hold [node] (a new reference) in slot [s] of [c], releasing the node
  * there; [s] may be one past the last slot (the cache grows). False, with

@@ -561,6 +561,40 @@ static void test_reuse(void **s)
                  50);
 }
 
+/* Under a memory budget, the nodes kept for a loop that stopped running
+ * give their blocks back when the frame needs them (kernel.h,
+ * kernel_scratch_reclaim): every frame then runs out of memory, or not,
+ * as it does without refills. Budgets across the edge (the first frames
+ * fit in all of them, the third fits only from about 2,000 KiB). */
+static void test_reuse_budget(void **s)
+{
+    (void)s;
+    const char *src = "let n=5000+floor(time)\n"
+                      "if frame < 2\n"
+                      "    for i in ..n\n"
+                      "        !a x=i*time\n"
+                      "else\n"
+                      "    for i in ..n\n"
+                      "        !b x=i*time\n";
+    for (size_t kib = 1800; kib <= 2600; kib += 200) {
+        run_script_budget = kib << 10;
+        char *log0, *log1;
+        setenv("FLITTER_KERNEL_REUSE", "0", 1);
+        char *tree0 = run_script("reuse.fl", src, 5, true, &log0, NULL);
+        setenv("FLITTER_KERNEL_REUSE", "1", 1);
+        char *tree1 = run_script("reuse.fl", src, 5, true, &log1, NULL);
+        unsetenv("FLITTER_KERNEL_REUSE");
+        if (strcmp(tree0, tree1) != 0 || strcmp(log0, log1) != 0) fprintf(stderr, "budget %zu KiB differs\n", kib);
+        assert_string_equal(tree1, tree0);
+        assert_string_equal(log1, log0);
+        free(tree0);
+        free(tree1);
+        free(log0);
+        free(log1);
+    }
+    run_script_budget = 0;
+}
+
 /* }===== */
 
 int main(void)
@@ -580,6 +614,7 @@ int main(void)
         cmocka_unit_test(test_windows),
         cmocka_unit_test(test_compiled),
         cmocka_unit_test(test_reuse),
+        cmocka_unit_test(test_reuse_budget),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
