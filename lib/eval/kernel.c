@@ -641,13 +641,20 @@ KernelScratch *kernel_scratch_new(void)
     return k;
 }
 
+/* The pool block of a [size]-byte request (pool_block_size, whose
+ * classes step by 16 bytes up to POOL_SMALL_MAX). */
+static inline size_t knode_block(size_t size)
+{
+    return size <= POOL_SMALL_MAX ? (size + 15) & ~(size_t)15 : pool_block_size(size);
+}
+
 /* About the bytes of pool blocks [n] and its number attributes hold. */
 static size_t knode_bytes(const Node *n)
 {
-    size_t b = pool_block_size(sizeof *n + (size_t)n->inline_attrs * sizeof(Attr));
+    size_t b = knode_block(sizeof *n + (size_t)n->inline_attrs * sizeof(Attr));
     for (uint32_t k = 0; k < n->nattrs; k++) {
         const Vec *v = n->attrs[k].value;
-        if (v && v->kind == VEC_NUM) b += pool_block_size(sizeof(Vec) + (size_t)v->len * sizeof(double));
+        if (v && v->kind == VEC_NUM) b += knode_block(sizeof(Vec) + (size_t)v->len * sizeof(double));
     }
     return b;
 }
@@ -658,7 +665,9 @@ static void knode_drop(KNodeCache *c, uint32_t s)
     Node *n = c->slot[s];
     if (!n) return;
     size_t b = knode_bytes(n);
-    c->bytes = c->bytes > b ? c->bytes - b : 0;
+    b = c->bytes < b ? c->bytes : b;
+    c->bytes -= b;
+    *c->held -= b;
     c->slot[s] = NULL;
     node_release(n);
 }
@@ -688,12 +697,9 @@ void kernel_scratch_clear(KernelScratch *k)
 void kernel_scratch_reclaim(void *ctx)
 {
     KernelScratch *k = ctx;
-    if (!k || !k->stale) return;
-    size_t held = 0;
-    for (int i = 0; i < K_NODE_LOOPS; i++) held += k->loops[i].run[0].bytes + k->loops[i].run[1].bytes;
     /* with room in the budget for all of them, nothing the kept nodes
      * hold can make a request fail that would succeed without them */
-    if (mem_room(held)) return;
+    if (!k || !k->stale || mem_room(k->held)) return;
     k->stale = false;
     for (int i = 0; i < K_NODE_LOOPS; i++) {
         for (int r = 0; r < 2; r++) {
@@ -742,6 +748,7 @@ static KNodeCache *knode_cache(KernelScratch *k, const AstNode *n)
     l->turn ^= 1;
     KNodeCache *c = &l->run[l->turn];
     c->next = 0;
+    c->held = &k->held;
     k->running = c;
     return c;
 }
@@ -751,7 +758,9 @@ bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node)
     if (s < c->n) {
         knode_drop(c, s);
         c->slot[s] = node_retain(node);
-        c->bytes += knode_bytes(node);
+        size_t b = knode_bytes(node);
+        c->bytes += b;
+        *c->held += b;
         return true;
     }
     if (s != c->n) return false;
@@ -763,7 +772,9 @@ bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node)
         c->cap = cap;
     }
     c->slot[c->n++] = node_retain(node);
-    c->bytes += knode_bytes(node);
+    size_t b = knode_bytes(node);
+    c->bytes += b;
+    *c->held += b;
     return true;
 }
 
