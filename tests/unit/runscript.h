@@ -20,6 +20,22 @@
 /* The memory budget of the runs (fl_options.max_memory; 0: the default). */
 static size_t run_script_budget;
 
+/* A new runtime with [src] (named [name]) loaded, with or without the
+ * simplifier, under run_script_budget, logging to [streams] (which must
+ * outlive it). */
+static fl_runtime *script_runtime(const char *name, const char *src, bool simplify, RtStreams *streams)
+{
+    fl_options o = fl_default_options();
+    rt_log_to_files(&o, streams);
+    o.no_simplify = !simplify;
+    o.max_memory = run_script_budget;
+    fl_runtime *rt = fl_new(&o);
+    Buf err = BUF_INIT;
+    assert_int_equal(rt_load_text(rt, name, src, strlen(src), &err), 0);
+    buf_free(&err);
+    return rt;
+}
+
 /* The tree dump of the last of [frames] frames of [src] (named [name]),
  * with or without the simplifier; the log in *[log_out] and, when
  * [kiters] is not NULL, the loop iterations run with kernels
@@ -31,15 +47,8 @@ static char *run_script(const char *name, const char *src, int frames, bool simp
     char *log = NULL;
     size_t loglen;
     FILE *lf = open_memstream(&log, &loglen);
-    fl_options o = fl_default_options();
     RtStreams streams = {lf, lf};
-    rt_log_to_files(&o, &streams);
-    o.no_simplify = !simplify;
-    o.max_memory = run_script_budget;
-    fl_runtime *rt = fl_new(&o);
-    Buf err = BUF_INIT;
-    assert_int_equal(rt_load_text(rt, name, src, strlen(src), &err), 0);
-    buf_free(&err);
+    fl_runtime *rt = script_runtime(name, src, simplify, &streams);
     for (int i = 0; i < frames; i++) fl_step(rt);
     Buf t = BUF_INIT;
     fmt_tree(&t, rt_root(rt), rt_symbols(rt));

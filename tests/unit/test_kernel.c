@@ -460,14 +460,8 @@ static void reuse_run(const char *src, bool simplify, bool reuse, bool hold, cha
     char *log = NULL;
     size_t loglen;
     FILE *lf = open_memstream(&log, &loglen);
-    fl_options o = fl_default_options();
     RtStreams streams = {lf, lf};
-    rt_log_to_files(&o, &streams);
-    o.no_simplify = !simplify;
-    fl_runtime *rt = fl_new(&o);
-    Buf err = BUF_INIT;
-    assert_int_equal(rt_load_text(rt, "reuse.fl", src, strlen(src), &err), 0);
-    buf_free(&err);
+    fl_runtime *rt = script_runtime("reuse.fl", src, simplify, &streams);
     Node *held[REUSE_FRAMES] = {0};
     size_t tree_len[REUSE_FRAMES];
     for (int f = 0; f < REUSE_FRAMES; f++) {
