@@ -605,15 +605,17 @@ void kernel_compile_for(AstNode *n)
  * Running
  * ==================================================================== */
 
-/* Loops whose nodes a scratch keeps (the least recently run one makes
- * way for a new one). */
-#define K_NODE_LOOPS 16
+/* Runs of loops whose nodes a scratch keeps (the least recently used
+ * makes way for a new one). */
+#define K_NODE_LOOPS 64
 
-/* One loop's caches of nodes (kernel.h KNodeCache), used in turn. */
+/* The caches of nodes (kernel.h KNodeCache) of one loop's [idx]-th run in
+ * a frame (a loop in a function called three times a frame has three),
+ * the one of even frames and the one of odd frames. */
 typedef struct KNodeLoop {
     const AstNode *key;     /* the loop (NULL: a free entry) */
+    uint32_t idx;
     KNodeCache run[2];
-    uint8_t turn;           /* the one its last run used */
     uint64_t used;          /* KernelScratch.clock at that run */
     uint64_t frame;         /* KernelScratch.frame at that run */
 } KNodeLoop;
@@ -733,20 +735,23 @@ void kernel_scratch_free(KernelScratch *k)
  * before the last. */
 static KNodeCache *knode_cache(KernelScratch *k, const AstNode *n)
 {
+    /* the loop's runs so far in this frame, each of which took an entry */
+    uint32_t idx = 0;
+    for (int i = 0; i < K_NODE_LOOPS; i++) idx += k->loops[i].key == n && k->loops[i].frame == k->frame;
     KNodeLoop *l = NULL, *oldest = &k->loops[0];
     for (int i = 0; i < K_NODE_LOOPS && !l; i++) {
-        if (k->loops[i].key == n) l = &k->loops[i];
+        if (k->loops[i].key == n && k->loops[i].idx == idx) l = &k->loops[i];
         else if (k->loops[i].used < oldest->used) oldest = &k->loops[i];
     }
     if (!l) {
         l = oldest;
         knode_loop_clear(l);
         l->key = n;
+        l->idx = idx;
     }
     l->used = ++k->clock;
     l->frame = k->frame;
-    l->turn ^= 1;
-    KNodeCache *c = &l->run[l->turn];
+    KNodeCache *c = &l->run[k->frame & 1];
     c->next = 0;
     c->held = &k->held;
     k->running = c;

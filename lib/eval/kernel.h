@@ -96,10 +96,10 @@ void kernel_scratch_reclaim(void *ctx);
 
 /* The nodes one run of a loop's body built with its C_KNODE records, in
  * the order they were built, each held by the cache (one reference).
- * The outermost running kernel keeps two per loop in the runtime's
- * scratch and uses them in turn, so a run finds the nodes of the run
- * before the last: in a frame loop, those of the frame before the last,
- * whose tree has been released. A node nothing else holds any more
+ * The outermost running kernel keeps two for each run of a loop in a
+ * frame (its first, its second, ...) in the runtime's scratch, one for
+ * even frames and one for odd, so a run finds the nodes of the same run
+ * of the frame before the last, whose tree has been released. A node nothing else holds any more
  * (refs 1) that has the record's kind and attributes is then refilled in
  * place instead of built and freed (evalrun.c, run_knode): the same node
  * as a new one, value for value. The nodes of a loop that did not run in

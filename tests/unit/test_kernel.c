@@ -553,6 +553,16 @@ static void test_reuse(void **s)
                  "for i in ..n\n"
                  "    !counter state=(i*3+frame)%11 rate=i+1 initial=time>0.02\n",
                  50);
+    /* a loop in a function called three times a frame (a cache for each
+     * run of the loop in a frame), of three lengths */
+    expect_reuse("func ring(k)\n"
+                 "    for i in ..40+k*3+frame%2\n"
+                 "        !p x=i*k+time y=sin(i*0.1+k)\n"
+                 "!g\n"
+                 "    ring(1)\n"
+                 "    ring(2)\n"
+                 "    ring(3)\n",
+                 500);
 }
 
 /* Under a memory budget, the nodes kept for a loop that stopped running
