@@ -201,6 +201,30 @@ static inline uint32_t knode_outputs(const CRec *a)
     return a->op == C_KCALL ? a->aux : numexpr_outputs((const NumExpr *)(const void *)(a + 1));
 }
 
+/* C_KNODE's new node, its attributes in order: a C_MEMO record's value
+ * (memo[k] when [memo] is given: evaluated already), or the numbers
+ * copied from the kernel's registers. */
+static inline __attribute__((always_inline)) Node *knode_new(Eval *ev, const unsigned char *base, const CRec *r, Vec *const *memo)
+{
+    const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+    Node *nn = node_new_sized(r->p.kind, r->n);
+    for (uint32_t k = 0; k < r->n; k++) {
+        const CRec *a = crec(base, t->attrs[k].off);
+        Vec *v;
+        if (a->op == C_MEMO) {
+            v = memo ? memo[k] : run_memo(ev, base, a);
+        } else {
+            uint32_t n = knode_outputs(a);
+            v = vec_new_num(n);
+            double *d = vec_nums(v);
+            const double *s = ev->kregs + a->n;
+            for (uint32_t i = 0; i < n; i++) d[i] = s[i];
+        }
+        node_add_new_attr(nn, t->attrs[k].name, v);
+    }
+    return nn;
+}
+
 /* Most attributes of a C_KNODE whose nodes are kept (kernel.h
  * KNodeCache); a node with more is built anew every time. */
 #define KNODE_REUSE_ATTRS 16
@@ -233,37 +257,27 @@ __attribute__((noinline)) static Vec *run_knode_cached(Eval *ev, const unsigned 
                    v->len == knode_outputs(a) && v->len > 0;
         }
     }
-    if (same) {
-        for (uint32_t k = 0; k < r->n; k++) {
-            if (memo[k]) {
-                vec_release(o->attrs[k].value);
-                o->attrs[k].value = memo[k];
-                continue;
-            }
-            const CRec *a = crec(base, t->attrs[k].off);
-            Vec *v = o->attrs[k].value;
-            double *d = vec_nums(v);
-            const double *src = ev->kregs + a->n;
-            /* a few numbers each: a call to memcpy costs more */
-            for (uint32_t i = 0; i < v->len; i++) d[i] = src[i];
-            v->hashed = 0;
-        }
-        ev->kreused++;
-        return vec_node_take(node_retain(o));
+    if (!same) {
+        Node *nn = knode_new(ev, base, r, memo);
+        if (!knode_cache_put(c, s, nn)) ev->kcache = NULL;
+        return vec_node_take(nn);
     }
-    Node *nn = node_new_sized(r->p.kind, r->n);
     for (uint32_t k = 0; k < r->n; k++) {
-        Vec *v = memo[k];
-        if (!v) {
-            const CRec *a = crec(base, t->attrs[k].off);
-            const uint32_t n = knode_outputs(a);
-            v = vec_new_num(n);
-            memcpy(vec_nums(v), ev->kregs + a->n, n * sizeof(double));
+        if (memo[k]) {
+            vec_release(o->attrs[k].value);
+            o->attrs[k].value = memo[k];
+            continue;
         }
-        node_add_new_attr(nn, t->attrs[k].name, v);
+        const CRec *a = crec(base, t->attrs[k].off);
+        Vec *v = o->attrs[k].value;
+        double *d = vec_nums(v);
+        const double *src = ev->kregs + a->n;
+        /* a few numbers each: a call to memcpy costs more */
+        for (uint32_t i = 0; i < v->len; i++) d[i] = src[i];
+        v->hashed = 0;
     }
-    if (!knode_cache_put(c, s, nn)) ev->kcache = NULL;
-    return vec_node_take(nn);
+    ev->kreused++;
+    return vec_node_take(node_retain(o));
 }
 
 /* C_KNODE (inside run_rec's depth guard, the kernel's clean iteration
@@ -273,23 +287,7 @@ __attribute__((noinline)) static Vec *run_knode(Eval *ev, const unsigned char *b
 {
     if (ev->kbase != base || !ev->kclean || ev->depth + r->aux > MAX_EVAL_DEPTH) return run_newnode(ev, base, r);
     if (ev->kcache && r->n <= KNODE_REUSE_ATTRS) return run_knode_cached(ev, base, r, ev->kcache);
-    const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
-    Node *nn = node_new_sized(r->p.kind, r->n);
-    for (uint32_t k = 0; k < r->n; k++) {
-        const CRec *a = crec(base, t->attrs[k].off);
-        Vec *v;
-        if (a->op == C_MEMO) {
-            v = run_memo(ev, base, a);
-        } else {
-            uint32_t n = a->op == C_KCALL ? a->aux : numexpr_outputs((const NumExpr *)(const void *)(a + 1));
-            v = vec_new_num(n);
-            double *d = vec_nums(v);
-            const double *s = ev->kregs + a->n;
-            for (uint32_t i = 0; i < n; i++) d[i] = s[i];
-        }
-        node_add_new_attr(nn, t->attrs[k].name, v);
-    }
-    return vec_node_take(nn);
+    return vec_node_take(knode_new(ev, base, r, NULL));
 }
 
 /* C_CALLBI: eval_call's direct route for a builtin callee */

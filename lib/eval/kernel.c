@@ -666,10 +666,10 @@ static void knode_drop(KNodeCache *c, uint32_t s)
 {
     Node *n = c->slot[s];
     if (!n) return;
+    /* a refill may have swapped a memo value of another length: an
+     * estimate, kept from going below zero */
     size_t b = knode_bytes(n);
-    b = c->bytes < b ? c->bytes : b;
-    c->bytes -= b;
-    *c->held -= b;
+    *c->held -= *c->held < b ? *c->held : b;
     c->slot[s] = NULL;
     node_release(n);
 }
@@ -701,7 +701,7 @@ void kernel_scratch_reclaim(void *ctx)
     KernelScratch *k = ctx;
     /* with room in the budget for all of them, nothing the kept nodes
      * hold can make a request fail that would succeed without them */
-    if (!k || !k->stale || mem_room(k->held)) return;
+    if (!k || !k->stale || !k->held || mem_room(k->held)) return;
     k->stale = false;
     for (int i = 0; i < K_NODE_LOOPS; i++) {
         for (int r = 0; r < 2; r++) {
@@ -760,26 +760,20 @@ static KNodeCache *knode_cache(KernelScratch *k, const AstNode *n)
 
 bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node)
 {
-    if (s < c->n) {
-        knode_drop(c, s);
-        c->slot[s] = node_retain(node);
-        size_t b = knode_bytes(node);
-        c->bytes += b;
-        *c->held += b;
-        return true;
+    if (s > c->n) return false;
+    if (s == c->n) {
+        if (c->n == c->cap) {
+            uint32_t cap = c->cap ? 2 * c->cap : 256;
+            Node **slot = realloc(c->slot, cap * sizeof *slot);
+            if (!slot) return false;
+            c->slot = slot;
+            c->cap = cap;
+        }
+        c->slot[c->n++] = NULL;
     }
-    if (s != c->n) return false;
-    if (c->n == c->cap) {
-        uint32_t cap = c->cap ? 2 * c->cap : 256;
-        Node **slot = realloc(c->slot, cap * sizeof *slot);
-        if (!slot) return false;
-        c->slot = slot;
-        c->cap = cap;
-    }
-    c->slot[c->n++] = node_retain(node);
-    size_t b = knode_bytes(node);
-    c->bytes += b;
-    *c->held += b;
+    knode_drop(c, s);
+    c->slot[s] = node_retain(node);
+    *c->held += knode_bytes(node);
     return true;
 }
 

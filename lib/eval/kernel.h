@@ -111,8 +111,8 @@ typedef struct KNodeCache {
     struct Node **slot;
     uint32_t n, cap;    /* slots holding a node; allocated */
     uint32_t next;      /* the slot this run's next C_KNODE takes */
-    size_t bytes;       /* about the bytes of blocks its nodes hold */
-    size_t *held;       /* the sum of all the scratch's caches' bytes */
+    size_t *held;       /* about the bytes of blocks the nodes of all the
+                           scratch's caches hold */
 } KNodeCache;
 /* Hold [node] (a new reference) in slot [s] of [c], releasing the node
  * there; [s] may be one past the last slot (the cache grows). False, with
