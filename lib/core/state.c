@@ -16,6 +16,7 @@
 #include "state.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 #include "mem.h"
 
@@ -118,13 +119,20 @@ static void rebuild(StateDict *sd, size_t cap)
     free(old);
 }
 
-bool state_set(StateDict *sd, const Vec *key, const Vec *value)
+/* The table size that holds [n] entries without a rebuild (more than
+ * half the slots used triggers one). */
+static size_t cap_for(size_t cap, size_t n)
 {
-    sd->counts.sets++;
-    if (!key || !key->len) return false;
-    if (key->len > 1) sd->counts.compound++;
-    uint64_t h = key_hash(key);
-    Slot *s = find(sd, key, h);
+    while ((n + 1) * 2 > cap) cap *= 2;
+    return cap;
+}
+
+/* state_set of key [key] (hash [h]), whose slot find() gave as [s] (NULL:
+ * absent), to [value]; *[stored] receives the value stored under the key
+ * afterwards (NULL when none). */
+static bool set_found(StateDict *sd, const Vec *key, uint64_t h, Slot *s, const Vec *value, Vec **stored)
+{
+    *stored = NULL;
     if (!value || !value->len) {
         if (!s) return false;
         vec_release(s->key);
@@ -134,9 +142,10 @@ bool state_set(StateDict *sd, const Vec *key, const Vec *value)
         return true;
     }
     if (s) {
+        *stored = s->value;
         if (s->value == value || vec_key_equal(s->value, value)) return false;
         Vec *old = s->value;
-        s->value = vec_retain((Vec *)value);
+        s->value = *stored = vec_retain((Vec *)value);
         vec_release(old);
         return true;
     }
@@ -144,9 +153,45 @@ bool state_set(StateDict *sd, const Vec *key, const Vec *value)
     size_t mask = sd->cap - 1, i = (size_t)h & mask;
     while (sd->slots[i].key) i = (i + 1) & mask;
     if (sd->slots[i].hash != TOMB) sd->used++;
-    sd->slots[i] = (Slot){vec_retain((Vec *)key), vec_retain((Vec *)value), h};
+    sd->slots[i] = (Slot){vec_retain((Vec *)key), *stored = vec_retain((Vec *)value), h};
     sd->live++;
     return true;
+}
+
+bool state_set(StateDict *sd, const Vec *key, const Vec *value)
+{
+    sd->counts.sets++;
+    if (!key || !key->len) return false;
+    if (key->len > 1) sd->counts.compound++;
+    uint64_t h = key_hash(key);
+    Vec *stored;
+    return set_found(sd, key, h, find(sd, key, h), value, &stored);
+}
+
+Vec *state_set_nums(StateDict *sd, const Vec *key, const double *x, uint32_t n)
+{
+    sd->counts.gets++;
+    if (!key || !key->len || !n) return NULL;
+    uint64_t h = key_hash(key);
+    Slot *s = find(sd, key, h);
+    Vec *cur = s ? s->value : NULL;
+    if (cur && cur->refs == 1 && cur->kind == VEC_NUM && cur->len == n) {
+        memcpy(vec_nums(cur), x, n * sizeof *x);
+        return cur;
+    }
+    sd->counts.sets++;
+    if (key->len > 1) sd->counts.compound++;
+    Vec *v = vec_from_nums(x, n), *stored;
+    set_found(sd, key, h, s, v, &stored);
+    vec_release(v);
+    return stored;
+}
+
+void state_reserve(StateDict *sd, size_t extra)
+{
+    size_t want = sd->live + extra;
+    if (want < sd->live || (sd->used + extra + 1) * 2 <= sd->cap) return;
+    rebuild(sd, cap_for(sd->cap, want));
 }
 
 size_t state_count(const StateDict *sd) { return sd->live; }

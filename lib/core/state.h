@@ -35,6 +35,20 @@ Vec *state_get_mutable(StateDict *sd, const Vec *key);
  * stored value changed (a set to an equal value, or a delete of a missing
  * key, is not a change). */
 bool state_set(StateDict *sd, const Vec *key, const Vec *value);
+/* state[key] = the [n] numbers [x], for the dictionary's owner writing
+ * numbers every frame (the physics engine): when the value stored under
+ * [key] is a numeric vector of [n] numbers that nothing else holds
+ * (refs == 1), they are overwritten in place (the copy-on-write rule of
+ * state_get_mutable); else it is state_set with a new vector of them (an
+ * equal value already stored is kept; past the memory budget, mem.h, the
+ * new vector is null and the key is deleted). One lookup in all; counts
+ * one read, and a write when it did not go in place. Returns the value
+ * stored under [key] afterwards (borrowed, under the same rule), or NULL
+ * when none ([key] or [n] 0 included). */
+Vec *state_set_nums(StateDict *sd, const Vec *key, const double *x, uint32_t n);
+/* Make room for [extra] more entries, so that inserting up to that many
+ * rebuilds the table at most once, now (a writer about to add many). */
+void state_reserve(StateDict *sd, size_t extra);
 /* How often the dictionary was read (state_get) and written (state_set);
  * [compound] counts the writes to keys of two or more elements and the
  * clears: a reader that keeps values of compound keys across calls (the

@@ -54,6 +54,41 @@ static void reindex(PhysSystem *s)
     }
 }
 
+/* The keys P;id and P;id;:velocity of entry [e]: what vec_compose makes
+ * of them, built directly when P and the id are numbers (the usual case:
+ * a symbol prefix, a numeric id), and their hashes, kept in the key
+ * vectors too (vec_key_hash), so the state dictionary does not hash them
+ * again. */
+static void make_keys(PhysSystem *s, const Vec *id, PhysKeyEnt *e)
+{
+    const Vec *P = s->prefix;
+    const size_t n = (size_t)vec_len(P) + vec_len(id);
+    if (vec_is_num(P) && vec_is_num(id) && n < UINT32_MAX &&
+        mem_fits(2 * sizeof(Vec) + (2 * n + 1) * sizeof(double))) {
+        Vec *p = vec_new_num((uint32_t)n), *v = vec_new_num((uint32_t)n + 1);
+        double *dp = vec_nums(p), *dv = vec_nums(v);
+        for (uint32_t j = 0; j < P->len; j++)
+            dp[j] = vec_cnums(P)[j];
+        for (uint32_t j = 0; j < id->len; j++)
+            dp[P->len + j] = vec_cnums(id)[j];
+        for (size_t j = 0; j < n; j++)
+            dv[j] = dp[j];
+        dv[n] = s->sym_velocity;
+        e->pkey = p;
+        e->vkey = v;
+    } else {
+        Vec *parts[2] = {s->prefix, (Vec *)id};
+        e->pkey = vec_compose(parts, 2);
+        Vec *vel = vec_num1(s->sym_velocity);
+        parts[0] = e->pkey;
+        parts[1] = vel;
+        e->vkey = vec_compose(parts, 2);
+        vec_release(vel);
+    }
+    e->phash = e->pkey ? vec_key_hash(e->pkey) : vec_hash(NULL, false);
+    e->vhash = e->vkey ? vec_key_hash(e->vkey) : vec_hash(NULL, false);
+}
+
 const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash,
                                 bool *dup)
 {
@@ -80,17 +115,9 @@ const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash,
         s->capkent = cap;
     }
     PhysKeyEnt *e = &s->kent[s->nkent++];
-    Vec *parts[2] = {s->prefix, (Vec *)id};
     e->id = vec_retain((Vec *)id);
-    e->pkey = vec_compose(parts, 2);
-    Vec *vel = vec_num1(symbol_value("velocity", 8));
-    parts[0] = e->pkey;
-    parts[1] = vel;
-    e->vkey = vec_compose(parts, 2);
-    vec_release(vel);
+    make_keys(s, id, e);
     e->idhash = idhash;
-    e->phash = vec_hash(e->pkey, false);
-    e->vhash = vec_hash(e->vkey, false);
     e->seen = s->kframe;
     if (2 * (s->nkent + 1) > s->capkidx) {
         reindex(s);

@@ -333,6 +333,7 @@ typedef struct PhysSystem {
 
     /* state keys */
     Vec *prefix;                  /* P the cached keys were built from */
+    double sym_velocity;          /* the symbol :velocity (keys.c) */
     Vec *kclock, *klast, *krun, *kiter;
     PhysKeySlot *slots; size_t capslots;
     PhysKeyEnt *kent; size_t nkent, capkent;  /* key table (keys.c) */

@@ -137,8 +137,11 @@ void phys_null_stale_keys(PhysSystem *s, StateDict *sd)
         s->next[2 * i + 1] = s->slots[i].vkey;
         s->nexthash[2 * i + 1] = s->slots[i].vhash;
     }
-    phys_hash_reset(&s->newkeys, nk);
-    for (size_t i = 0; i < nk; i++)
+    /* with no keys of last frame's (a system's first frame), nothing is
+     * looked up: no index of this frame's */
+    if (s->nprev)
+        phys_hash_reset(&s->newkeys, nk);
+    for (size_t i = 0; s->nprev && i < nk; i++)
         phys_hash_put(&s->newkeys, s->next[i], s->nexthash[i], i);
     for (size_t i = 0; i < s->nprev; i++) {
         Vec *k = s->prev[i];
@@ -150,23 +153,6 @@ void phys_null_stale_keys(PhysSystem *s, StateDict *sd)
     for (size_t i = 0; i < nk; i++)
         s->prev[i] = vec_retain(s->next[i]);
     s->nprev = nk;
-}
-
-/* state[key] = the [D] numbers [x]. When the stored value is already a
- * numeric vector of length D referenced by the state alone (refs == 1, so
- * nothing else can see it change; the copy-on-write rule eval.c also
- * uses), its numbers are overwritten in place: the same effect as storing a
- * new vector, without allocating one per particle per frame. */
-static void store_nums(StateDict *sd, const Vec *key, const double *x, size_t D)
-{
-    Vec *cur = state_get_mutable(sd, key);
-    if (cur && cur->refs == 1 && cur->kind == VEC_NUM && cur->len == D) {
-        memcpy(vec_nums(cur), x, D * sizeof *x);
-        return;
-    }
-    Vec *v = vec_from_nums(x, (uint32_t)D);
-    state_set(sd, key, v);
-    vec_release(v);
 }
 
 /* Whether slot [k]'s value [cur] (read at collection; [cached] is the
@@ -227,10 +213,9 @@ static void write_slot(PhysSystem *s, StateDict *sd, size_t i)
     for (int j = 0; j < 2; j++) {
         if (put_in_place(s, j ? k->vval : k->pval, j ? k->cv : k->cp, vecs[j]))
             continue;
-        store_nums(sd, keys[j], vecs[j], D);
-        /* what the state holds now (store_nums may have kept an equal
-         * vector) */
-        *(j ? &k->vval : &k->pval) = state_get_mutable(sd, keys[j]);
+        /* in place when only the state holds the value; the slot takes
+         * what the state holds now (an equal vector may have been kept) */
+        *(j ? &k->vval : &k->pval) = state_set_nums(sd, keys[j], vecs[j], (uint32_t)D);
     }
 }
 
@@ -263,6 +248,16 @@ static void write_task(void *ctx, size_t t, unsigned thread)
 void phys_write_particles(PhysSystem *s, StateDict *sd)
 {
     const size_t n = s->n;
+    /* the keys that have no value of the particle's (a system's first
+     * step, when the dictionary cannot hold them all yet): it grows to
+     * hold them at once */
+    if (state_count(sd) < 2 * n) {
+        size_t fresh = 0;
+        for (size_t i = 0; i < n; i++)
+            fresh += !s->slots[i].pval + !s->slots[i].vval;
+        if (fresh > 64)
+            state_reserve(sd, fresh);
+    }
     if (!s->workers || n < 2 * WRITE_CHUNK) {
         for (size_t i = 0; i < n; i++)
             write_slot(s, sd, i);

@@ -85,6 +85,7 @@ static PhysSystem *system_new(void)
     PhysSystem *s = calloc(1, sizeof *s);
     if (!s)
         phys_oom();
+    s->sym_velocity = symbol_value("velocity", 8);
     return s;
 }
 

@@ -86,12 +86,102 @@ static void test_growth_and_churn(void **s)
     state_free(sd);
 }
 
+/* state_set_nums: in place only when the state alone holds a numeric
+ * value of the length; else a new vector, as state_set stores it (an equal
+ * value kept); one read counted, a write when not in place */
+static void test_set_nums(void **s)
+{
+    (void)s;
+    StateDict *sd = state_new();
+    Vec *k = key2(symbol_value("p", 1), 7);
+    const double a[2] = {1.5, -2}, b[2] = {3, 4}, c[3] = {5, 6, 7};
+    StateCounts n0 = state_counts(sd);
+    Vec *v = state_set_nums(sd, k, a, 2);                 /* absent: inserted */
+    StateCounts n1 = state_counts(sd);
+    assert_int_equal(n1.sets - n0.sets, 1);
+    assert_int_equal(n1.compound - n0.compound, 1);
+    assert_int_equal(n1.gets - n0.gets, 1);
+    assert_ptr_equal(v, state_get(sd, k));
+    assert_true(vec_cnums(v)[0] == 1.5 && vec_cnums(v)[1] == -2 && v->len == 2 && v->refs == 1);
+    n1 = state_counts(sd);
+    Vec *w = state_set_nums(sd, k, b, 2);                 /* only the state holds it: in place */
+    assert_ptr_equal(w, v);
+    assert_true(vec_cnums(v)[0] == 3 && vec_cnums(v)[1] == 4);
+    StateCounts n2 = state_counts(sd);
+    assert_int_equal(n2.sets, n1.sets);
+    assert_int_equal(n2.compound, n1.compound);
+    assert_int_equal(n2.gets - n1.gets, 1);
+    Vec *held = vec_retain(v);                            /* held elsewhere: a new vector */
+    w = state_set_nums(sd, k, a, 2);
+    assert_ptr_not_equal(w, held);
+    assert_true(vec_cnums(held)[0] == 3 && vec_cnums(held)[1] == 4);
+    assert_true(vec_cnums(w)[0] == 1.5 && vec_cnums(w)[1] == -2);
+    assert_int_equal(held->refs, 1);
+    vec_release(held);
+    held = vec_retain(w);                                 /* held, equal numbers: kept */
+    assert_ptr_equal(state_set_nums(sd, k, a, 2), held);
+    assert_int_equal(state_counts(sd).compound - n2.compound, 2);
+    vec_release(held);
+    w = state_set_nums(sd, k, c, 3);                      /* another length: a new vector */
+    assert_int_equal(w->len, 3);
+    assert_ptr_equal(state_get(sd, k), w);
+    assert_null(state_set_nums(sd, NULL, a, 2));
+    assert_null(state_set_nums(sd, k, a, 0));
+    assert_int_equal(state_count(sd), 1);
+    vec_release(k);
+    state_free(sd);
+}
+
+/* state_reserve, then inserts, deletes and finds: the same contents as
+ * without it, tombstones included */
+static void test_reserve(void **s)
+{
+    (void)s;
+    StateDict *sd = state_new();
+    for (int i = 0; i < 40; i++) {
+        Vec *k = key2(-1, i), *v = vec_num1(i);
+        state_set(sd, k, v);
+        vec_release(k);
+        vec_release(v);
+    }
+    for (int i = 0; i < 40; i += 3) {
+        Vec *k = key2(-1, i);
+        state_set(sd, k, NULL);
+        vec_release(k);
+    }
+    state_reserve(sd, 3000);
+    state_reserve(sd, 10);                                /* room already: nothing */
+    for (int i = 0; i < 3000; i++) {
+        Vec *k = key2(1, i);
+        double x = i;
+        state_set_nums(sd, k, &x, 1);
+        vec_release(k);
+    }
+    assert_int_equal(state_count(sd), 3000 + 40 - 14);
+    for (int i = 0; i < 40; i++) {
+        Vec *k = key2(-1, i);
+        const Vec *v = state_get(sd, k);
+        if (i % 3 == 0) assert_null(v);
+        else assert_true(v && vec_cnums(v)[0] == i);
+        vec_release(k);
+    }
+    for (int i = 0; i < 3000; i++) {
+        Vec *k = key2(1, i);
+        const Vec *v = state_get(sd, k);
+        assert_true(v && v->len == 1 && vec_cnums(v)[0] == i);
+        vec_release(k);
+    }
+    state_free(sd);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_set_get_delete),
         cmocka_unit_test(test_key_kinds),
         cmocka_unit_test(test_growth_and_churn),
+        cmocka_unit_test(test_set_nums),
+        cmocka_unit_test(test_reserve),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
