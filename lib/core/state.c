@@ -106,8 +106,13 @@ static void rebuild(StateDict *sd, size_t cap)
 {
     Slot *old = sd->slots;
     size_t oldcap = sd->cap;
-    sd->slots = calloc(cap, sizeof(Slot));
+    /* zeroed by writing: a large calloc'd table comes as pages of the
+     * kernel's zero page, and each would fault twice, at the first probe
+     * that reads it and again at the first insert that writes it
+     * (explicit_bzero, as the compiler makes malloc and memset a calloc) */
+    sd->slots = malloc(cap * sizeof(Slot));
     if (!sd->slots) mem_oom();
+    explicit_bzero(sd->slots, cap * sizeof(Slot));
     sd->cap = cap;
     sd->used = sd->live;
     for (size_t i = 0; i < oldcap; i++) {
