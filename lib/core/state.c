@@ -199,6 +199,12 @@ void state_reserve(StateDict *sd, size_t extra)
     rebuild(sd, cap_for(sd->cap, want));
 }
 
+void state_prefetch(const StateDict *sd, uint64_t hash)
+{
+    uint64_t h = hash <= TOMB ? hash + 2 : hash;
+    __builtin_prefetch(&sd->slots[(size_t)h & (sd->cap - 1)], 1);
+}
+
 size_t state_count(const StateDict *sd) { return sd->live; }
 
 StateCounts state_counts(const StateDict *sd) { return sd->counts; }

@@ -49,6 +49,10 @@ Vec *state_set_nums(StateDict *sd, const Vec *key, const double *x, uint32_t n);
 /* Make room for [extra] more entries, so that inserting up to that many
  * rebuilds the table at most once, now (a writer about to add many). */
 void state_reserve(StateDict *sd, size_t extra);
+/* Fetch into the cache the slot where a lookup of a key whose
+ * vec_key_hash is [hash] starts (a writer of many keys, some ahead of the
+ * one it writes); changes nothing. */
+void state_prefetch(const StateDict *sd, uint64_t hash);
 /* How often the dictionary was read (state_get) and written (state_set);
  * [compound] counts the writes to keys of two or more elements and the
  * clears: a reader that keeps values of compound keys across calls (the

@@ -219,6 +219,27 @@ static void write_slot(PhysSystem *s, StateDict *sd, size_t i)
     }
 }
 
+/* How many slots ahead write_slots() fetches the dictionary's slots of
+ * their keys: a system's first writes are as many lookups into a table
+ * larger than the cache */
+#define WRITE_AHEAD 8
+
+/* write_slot() of slots [i0, i1) in order. */
+static void write_slots(PhysSystem *s, StateDict *sd, size_t i0, size_t i1)
+{
+    for (size_t i = i0; i < i1; i++) {
+        if (i + WRITE_AHEAD < i1) {
+            /* the keys with no value yet, which will be looked up */
+            const PhysKeySlot *a = &s->slots[i + WRITE_AHEAD];
+            if (!a->pval)
+                state_prefetch(sd, a->phash);
+            if (!a->vval)
+                state_prefetch(sd, a->vhash);
+        }
+        write_slot(s, sd, i);
+    }
+}
+
 /* Particles per task of the in-place writes, and half the fewest that are
  * split over threads. */
 #define WRITE_CHUNK 512
@@ -259,8 +280,7 @@ void phys_write_particles(PhysSystem *s, StateDict *sd)
             state_reserve(sd, fresh);
     }
     if (!s->workers || n < 2 * WRITE_CHUNK) {
-        for (size_t i = 0; i < n; i++)
-            write_slot(s, sd, i);
+        write_slots(s, sd, 0, n);
         return;
     }
     WriteRun r = {.s = s};
@@ -269,8 +289,7 @@ void phys_write_particles(PhysSystem *s, StateDict *sd)
     for (size_t t = 0; t < ntasks; t++) {
         if (!r.left[t])
             continue;
-        for (size_t i = t * r.chunk, i1 = workers_task_end(t, r.chunk, n); i < i1; i++)
-            write_slot(s, sd, i);
+        write_slots(s, sd, t * r.chunk, workers_task_end(t, r.chunk, n));
     }
 }
 
