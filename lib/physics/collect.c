@@ -842,6 +842,9 @@ bool phys_collect(PhysSystem *s, PhysCollect *c, const Node *root,
         by_id = s->ap[a].kind == AP_DISTANCE;
     if (by_id)
         phys_hash_reset(&s->ids, s->npn);
+    /* a system's first particles: their key entries all new */
+    if (!s->nkent)
+        phys_keys_reserve(s, s->npn);
     s->dupids = false;
     for (size_t i = 0; i < s->npn; i++) {
         PhysPNode *pn = &s->pn[i];

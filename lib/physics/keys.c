@@ -32,10 +32,14 @@ static void release_ent(PhysKeyEnt *e)
     vec_release(e->vkey);
 }
 
-static void reindex(PhysSystem *s)
+/* Rebuild the index for room for [n] entries (at least the ones there
+ * are). */
+static void reindex_for(PhysSystem *s, size_t n)
 {
     size_t need = 16;
-    while (need < 2 * (s->nkent + 1))
+    if (n < s->nkent)
+        n = s->nkent;
+    while (need < 2 * (n + 1))
         need *= 2;
     if (need > s->capkidx) {
         free(s->kidx);
@@ -52,6 +56,26 @@ static void reindex(PhysSystem *s)
             j = (j + 1) & mask;
         s->kidx[j] = (uint32_t)(i + 1);
     }
+}
+
+static void reindex(PhysSystem *s)
+{
+    reindex_for(s, s->nkent);
+}
+
+void phys_keys_reserve(PhysSystem *s, size_t n)
+{
+    if (n >= UINT32_MAX)
+        return;
+    if (n > s->capkent) {
+        PhysKeyEnt *k = realloc(s->kent, n * sizeof *k);
+        if (!k)
+            oom();
+        s->kent = k;
+        s->capkent = n;
+    }
+    if (2 * (n + 1) > s->capkidx)
+        reindex_for(s, n);
 }
 
 /* The keys P;id and P;id;:velocity of entry [e]: what vec_compose makes

@@ -523,6 +523,10 @@ void phys_pair_force_one(const PhysSystem *s, const PhysApplier *ap, size_t a,
  * phys_keys_get or sweep. */
 const PhysKeyEnt *phys_keys_get(PhysSystem *s, const Vec *id, uint64_t idhash,
                                 bool *dup);
+/* Make room for [n] entries in all (a system's first collection, whose
+ * particle count is known): the table and its index are sized once
+ * instead of doubling as the entries come. */
+void phys_keys_reserve(PhysSystem *s, size_t n);
 /* End of collection: drop the entries not seen this frame. */
 void phys_keys_sweep(PhysSystem *s);
 /* Drop every entry (the prefix changed). */
