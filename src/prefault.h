@@ -1,0 +1,31 @@
+/* prefault.h: the heap's new pages faulted in on another core while a
+ * headless run loads its script and steps its first frames.
+ *
+ * A large script's load and first two frames build megabytes of values in
+ * fresh memory: discs20k (20,000 particles) faults in about 8,000 pages, a
+ * microsecond and more each in a virtual machine, all on the thread that
+ * loads. A prefaulter makes glibc's malloc grow the heap (brk) 8 MiB ahead
+ * of what it needs and blocks of up to 32 MiB come from it (mallopt
+ * M_TOP_PAD, M_MMAP_THRESHOLD: process-wide, so only the `flitter run`
+ * whose end ends the process starts one), and a thread of its own faults
+ * in each new stretch of the heap (madvise MADV_POPULATE_WRITE, Linux 5.14;
+ * it never changes what the memory holds) before the loading thread gets
+ * there, on a core that is idle while a script loads.
+ *
+ * Nothing but time changes: on another allocator (a memory checker's, a
+ * preloaded one) or an older kernel the thread finds nothing to do or
+ * stops at its first refusal. */
+#ifndef FLITTER_PREFAULT_H
+#define FLITTER_PREFAULT_H
+
+typedef struct Prefault Prefault;
+
+/* Set malloc's policy and start the thread; NULL (nothing started) when
+ * it cannot start, or when the environment variable FLITTER_PREFAULT is
+ * 0. */
+Prefault *prefault_start(void);
+/* Stop and join the thread, and free [p] (NULL is a no-op). Malloc's
+ * policy stays. */
+void prefault_stop(Prefault *p);
+
+#endif

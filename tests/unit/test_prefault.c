@@ -1,0 +1,138 @@
+/* test_prefault.c: src/prefault.c, the heap's new pages faulted in on
+ * another thread: a heap block nobody touches becomes resident (mincore),
+ * what the program writes meanwhile stays written, and FLITTER_PREFAULT=0
+ * starts nothing. Skipped (77) under a memory checker, whose allocator is
+ * not the heap's, and on a kernel without MADV_POPULATE_WRITE. */
+#include <errno.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "prefault.h"
+
+#if defined(__has_include)
+#if __has_include(<valgrind/valgrind.h>)
+#include <valgrind/valgrind.h>
+#define HAVE_VALGRIND_H 1
+#endif
+#endif
+
+#ifndef MADV_POPULATE_WRITE
+#define MADV_POPULATE_WRITE 23
+#endif
+
+static int failures;
+
+#define CHECK(cond, ...)                                   \
+    do {                                                   \
+        if (!(cond)) {                                     \
+            fprintf(stderr, "test_prefault: " __VA_ARGS__); \
+            fputc('\n', stderr);                           \
+            failures++;                                    \
+        }                                                  \
+    } while (0)
+
+static bool memory_checked(void)
+{
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+    return true;
+#else
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+    return true;
+#endif
+#endif
+#ifdef HAVE_VALGRIND_H
+    if (RUNNING_ON_VALGRIND) return true;
+#endif
+    const char *pre = getenv("LD_PRELOAD");
+    return pre && strstr(pre, "vgpreload");
+#endif
+}
+
+/* Whether this kernel knows MADV_POPULATE_WRITE. */
+static bool kernel_populates(void)
+{
+    long page = sysconf(_SC_PAGESIZE);
+    void *m = mmap(NULL, (size_t)page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (m == MAP_FAILED) return false;
+    bool ok = madvise(m, (size_t)page, MADV_POPULATE_WRITE) == 0;
+    munmap(m, (size_t)page);
+    return ok;
+}
+
+/* How many of the whole pages inside [p, p + n) are resident. */
+static size_t resident(const void *p, size_t n, size_t *pages)
+{
+    const uintptr_t page = (uintptr_t)sysconf(_SC_PAGESIZE);
+    uintptr_t a = ((uintptr_t)p + page - 1) & ~(page - 1), b = ((uintptr_t)p + n) & ~(page - 1);
+    *pages = b > a ? (b - a) / page : 0;
+    if (!*pages) return 0;
+    unsigned char *v = malloc(*pages);
+    if (!v || mincore((void *)a, b - a, v) != 0) {
+        free(v);
+        return 0;
+    }
+    size_t r = 0;
+    for (size_t i = 0; i < *pages; i++) r += v[i] & 1;
+    free(v);
+    return r;
+}
+
+int main(void)
+{
+    if (memory_checked()) {
+        puts("SKIP: a memory checker's allocator is not the heap's");
+        return 77;
+    }
+    if (!kernel_populates()) {
+        puts("SKIP: this kernel has no MADV_POPULATE_WRITE (Linux 5.14)");
+        return 77;
+    }
+    setenv("FLITTER_PREFAULT", "0", 1);
+    CHECK(prefault_start() == NULL, "FLITTER_PREFAULT=0 started a prefaulter");
+    unsetenv("FLITTER_PREFAULT");
+
+    /* the heap's end now: the thread faults in what lies beyond */
+    unsigned char *from = sbrk(0);
+    Prefault *p = prefault_start();
+    CHECK(p != NULL, "no prefaulter started");
+    /* 4 MiB: under the 32 MiB threshold, so from the heap, which grows for
+     * it (and 8 MiB more); nothing here touches it */
+    const size_t n = (size_t)4 << 20;
+    unsigned char *block = malloc(n);
+    CHECK(block != NULL, "malloc failed");
+    /* written meanwhile, page by page, while the thread faults pages in */
+    const size_t m = (size_t)2 << 20;
+    unsigned char *mine = malloc(m);
+    for (size_t i = 0; mine && i < m; i++) mine[i] = (unsigned char)(i * 131 + 7);
+    size_t pages = 0, r = 0;
+    /* its part past the heap's old end (malloc may have placed its start
+     * in the free end of the heap as it was) */
+    const uintptr_t b0 = (uintptr_t)block, f = (uintptr_t)from;
+    const uintptr_t start = block && b0 < f && f < b0 + n ? f : b0;
+    const size_t npast = block ? (size_t)(b0 + n - start) : 0;
+    const void *past = (const void *)start;
+    for (int tries = 0; tries < 500; tries++) {   /* up to 5 s */
+        r = resident(past, npast, &pages);
+        if (pages && r == pages) break;
+        struct timespec ts = {0, 10 * 1000 * 1000};
+        nanosleep(&ts, NULL);
+    }
+    CHECK(pages >= 512 && r == pages, "%zu of the untouched block's %zu pages resident", r, pages);
+    bool same = mine != NULL;
+    for (size_t i = 0; mine && i < m; i++) same = same && mine[i] == (unsigned char)(i * 131 + 7);
+    CHECK(same, "a block written meanwhile changed");
+    prefault_stop(p);
+    prefault_stop(NULL);
+    free(block);
+    free(mine);
+    if (failures) return 1;
+    puts("test_prefault: ok");
+    return 0;
+}
