@@ -449,6 +449,19 @@ __attribute__((noinline)) static Vec *eval_attributes(Eval *ev, const AstNode *n
     Vec **vals = n->nkids > 16 ? malloc(n->nkids * sizeof(Vec *)) : small;
     if (!vals) mem_oom();
     for (uint32_t k = 0; k < n->nkids; k++) vals[k] = eval(ev, n->kids[k]->a);
+    const Node *o = v && v->kind == VEC_OBJ && v->len == 1 && vec_celems(v)[0].kind == EL_NODE
+                        ? vec_celems(v)[0].node : NULL;
+    if (o && (v->refs > 1 || o->refs > 1) && !o->ntags && !o->nattrs && !o->nchildren) {
+        /* one shared bare node (a literal `!kind`): the copy it would get,
+         * built with room for the attributes in its own block, instead of
+         * a copy of the vector, of the node and then of its attribute
+         * array as it grows */
+        Node *nn = node_new_sized(o->kind, n->nkids);
+        for (uint32_t k = 0; k < n->nkids; k++) node_set_attr(nn, n->kids[k]->names[0], vals[k]);
+        if (vals != small) free(vals);
+        vec_release(v);
+        return vec_node_take(nn);
+    }
     if (has_nodes(v)) {
         v = vec_unshare(v);
         Elem *e = vec_elems(v);
