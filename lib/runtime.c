@@ -225,7 +225,7 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->stables = stable_new();
     rt->noise_perms = noise_perms_new();
     rt->kscratch = kernel_scratch_new();
-    pool_set_reclaim(rt->pool, kernel_scratch_reclaim, rt->kscratch);
+    pool_set_reclaim(rt->pool, kernel_scratch_reclaim, rt->kscratch, kernel_scratch_held(rt->kscratch));
     rt->counter_key = vec_str("_counter", 8);
     /* symbols the physics engine writes into state keys (PHYSICS.md) */
     static const char *const engine_symbols[] = {"clock", "last", "run", "iteration", "velocity",

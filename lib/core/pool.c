@@ -85,10 +85,11 @@ void pool_leave(Pool *prev) { pool_active_ = prev; }
 
 PoolStats pool_stats(const Pool *p) { return p->stats; }
 
-void pool_set_reclaim(Pool *p, void (*fn)(void *ctx), void *ctx)
+void pool_set_reclaim(Pool *p, void (*fn)(void *ctx), void *ctx, const size_t *kept)
 {
     p->reclaim = fn;
     p->reclaim_ctx = ctx;
+    p->reclaim_kept = kept;
 }
 
 void *pool_alloc_slow(size_t size)
@@ -96,7 +97,8 @@ void *pool_alloc_slow(size_t size)
     size_t block;
     int c = size_class(size, &block);
     Pool *p = pool_active_;
-    if (p && c != NO_CLASS && !p->free[c].n && p->reclaim && !p->reclaiming && !p->off) {
+    if (p && c != NO_CLASS && !p->free[c].n && p->reclaim && (!p->reclaim_kept || *p->reclaim_kept) &&
+        !p->reclaiming && !p->off) {
         p->reclaiming = 1;
         p->reclaim(p->reclaim_ctx);
         p->reclaiming = 0;

@@ -59,11 +59,12 @@ void pool_leave(Pool *prev);
 /* The counters of [p] (since pool_new). */
 PoolStats pool_stats(const Pool *p);
 /* Have [p] call [fn]([ctx]) when a class it is asked for has no released
- * block, before it calls malloc: [fn] may release blocks that something
+ * block, before it calls malloc, while *[kept] (the bytes [fn] might give
+ * back; NULL: always) is not 0: [fn] may release blocks that something
  * keeps only for reuse (the runtime's kept nodes, kernel.h) into the pool,
  * so that they serve the request as released blocks would. [fn] must not
  * allocate from the pool; NULL removes it. */
-void pool_set_reclaim(Pool *p, void (*fn)(void *ctx), void *ctx);
+void pool_set_reclaim(Pool *p, void (*fn)(void *ctx), void *ctx, const size_t *kept);
 
 /* The slow paths of pool_alloc and pool_release (big blocks, empty lists,
  * no active pool). */
@@ -86,6 +87,7 @@ struct Pool {
     int off;                         /* FLITTER_NOPOOL: no free lists */
     void (*reclaim)(void *ctx);      /* pool_set_reclaim, or NULL */
     void *reclaim_ctx;
+    const size_t *reclaim_kept;      /* ... called while this is not 0 */
     int reclaiming;                  /* reclaim is running */
 };
 

@@ -696,6 +696,8 @@ void kernel_scratch_clear(KernelScratch *k)
     for (int i = 0; i < K_NODE_LOOPS; i++) knode_loop_clear(&k->loops[i]);
 }
 
+const size_t *kernel_scratch_held(const KernelScratch *k) { return &k->held; }
+
 void kernel_scratch_reclaim(void *ctx)
 {
     KernelScratch *k = ctx;

@@ -93,6 +93,9 @@ void kernel_scratch_frame_done(KernelScratch *k);
  * vector of their sizes; so the memory budget bites where it would
  * without them. */
 void kernel_scratch_reclaim(void *ctx);
+/* About the bytes of blocks [k]'s kept nodes hold (0: nothing that
+ * kernel_scratch_reclaim could give back), for pool_set_reclaim. */
+const size_t *kernel_scratch_held(const KernelScratch *k);
 
 /* The nodes one run of a loop's body built with its C_KNODE records, in
  * the order they were built, each held by the cache (one reference).
