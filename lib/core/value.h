@@ -265,6 +265,13 @@ uint64_t hash_update(uint64_t h, uint64_t y);
  * vectors and vectors of numbers and strings only, which nothing mutates
  * once built); the state dictionary's key hash. [v] must be non-null. */
 uint64_t vec_key_hash(const Vec *v);
+/* Keep [h], which must be vec_hash(v, false), in the new numeric vector
+ * [v] for vec_key_hash (a maker of keys that computed it on the way). */
+static inline void vec_keep_key_hash(Vec *v, uint64_t h)
+{
+    v->key = h;
+    v->hashed = 1;
+}
 /* Vector hash of §3.16; [floor_floats] floors numbers first (seed hash).
  * Nodes hash structurally, functions by address. null → HASH_START. */
 uint64_t vec_hash(const Vec *v, bool floor_floats);

@@ -80,9 +80,9 @@ void phys_keys_reserve(PhysSystem *s, size_t n)
 
 /* The keys P;id and P;id;:velocity of entry [e]: what vec_compose makes
  * of them, built directly when P and the id are numbers (the usual case:
- * a symbol prefix, a numeric id), and their hashes, kept in the key
- * vectors too (vec_key_hash), so the state dictionary does not hash them
- * again. */
+ * a symbol prefix, a numeric id), and their hashes (vec_hash, folded on
+ * from P's), kept in the key vectors too (vec_key_hash), so the state
+ * dictionary does not hash them again. */
 static void make_keys(PhysSystem *s, const Vec *id, PhysKeyEnt *e)
 {
     const Vec *P = s->prefix;
@@ -91,24 +91,36 @@ static void make_keys(PhysSystem *s, const Vec *id, PhysKeyEnt *e)
         mem_fits(2 * sizeof(Vec) + (2 * n + 1) * sizeof(double))) {
         Vec *p = vec_new_num((uint32_t)n), *v = vec_new_num((uint32_t)n + 1);
         double *dp = vec_nums(p), *dv = vec_nums(v);
+        /* vec_hash folds the numbers in order: P's part once per prefix */
+        if (!s->prefix_hashed) {
+            s->prefix_hash = vec_hash(P, false);
+            s->prefix_hashed = true;
+        }
+        uint64_t h = s->prefix_hash;
         for (uint32_t j = 0; j < P->len; j++)
             dp[j] = vec_cnums(P)[j];
-        for (uint32_t j = 0; j < id->len; j++)
+        for (uint32_t j = 0; j < id->len; j++) {
             dp[P->len + j] = vec_cnums(id)[j];
+            h = hash_update(h, num_bits(vec_cnums(id)[j]));
+        }
         for (size_t j = 0; j < n; j++)
             dv[j] = dp[j];
         dv[n] = s->sym_velocity;
         e->pkey = p;
         e->vkey = v;
-    } else {
-        Vec *parts[2] = {s->prefix, (Vec *)id};
-        e->pkey = vec_compose(parts, 2);
-        Vec *vel = vec_num1(s->sym_velocity);
-        parts[0] = e->pkey;
-        parts[1] = vel;
-        e->vkey = vec_compose(parts, 2);
-        vec_release(vel);
+        e->phash = h;
+        e->vhash = hash_update(h, num_bits(s->sym_velocity));
+        vec_keep_key_hash(p, e->phash);
+        vec_keep_key_hash(v, e->vhash);
+        return;
     }
+    Vec *parts[2] = {s->prefix, (Vec *)id};
+    e->pkey = vec_compose(parts, 2);
+    Vec *vel = vec_num1(s->sym_velocity);
+    parts[0] = e->pkey;
+    parts[1] = vel;
+    e->vkey = vec_compose(parts, 2);
+    vec_release(vel);
     e->phash = e->pkey ? vec_key_hash(e->pkey) : vec_hash(NULL, false);
     e->vhash = e->vkey ? vec_key_hash(e->vkey) : vec_hash(NULL, false);
 }
