@@ -4,12 +4,14 @@
 #include <errno.h>
 #include <malloc.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -71,10 +73,20 @@ static void *prefault_main(void *arg)
     return NULL;
 }
 
+/* Whether the process's address space or data segment is limited
+ * (`ulimit -v`, `ulimit -d`): the heap's padding and the larger blocks it
+ * serves would then reach the limit sooner. */
+static bool space_limited(void)
+{
+    struct rlimit r;
+    return (getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY) ||
+           (getrlimit(RLIMIT_DATA, &r) == 0 && r.rlim_cur != RLIM_INFINITY);
+}
+
 Prefault *prefault_start(void)
 {
     const char *e = getenv("FLITTER_PREFAULT");
-    if (e && !strcmp(e, "0")) return NULL;
+    if ((e && !strcmp(e, "0")) || space_limited()) return NULL;
     Prefault *p = malloc(sizeof *p);
     if (!p) return NULL;
     atomic_init(&p->stop, false);
@@ -86,7 +98,14 @@ Prefault *prefault_start(void)
     p->from = (uintptr_t)end;
     mallopt(M_MMAP_THRESHOLD, (int)PREFAULT_MMAP_THRESHOLD);
     mallopt(M_TOP_PAD, (int)PREFAULT_PAD);
-    if (pthread_create(&p->thread, NULL, prefault_main, p) != 0) {
+    /* every signal blocked in the thread (it inherits the mask), so that
+     * one meant for the process (Ctrl-C) is taken by the others */
+    sigset_t all, old;
+    sigfillset(&all);
+    pthread_sigmask(SIG_SETMASK, &all, &old);
+    int rc = pthread_create(&p->thread, NULL, prefault_main, p);
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
+    if (rc != 0) {
         free(p);
         return NULL;
     }

@@ -14,15 +14,17 @@
  *
  * Nothing but time changes: on another allocator (a memory checker's, a
  * preloaded one) or an older kernel the thread finds nothing to do or
- * stops at its first refusal. */
+ * stops at its first refusal. Under a limit on the address space or the
+ * data segment (`ulimit -v`, `ulimit -d`) none starts: the padding and the
+ * larger heap blocks would reach the limit sooner. */
 #ifndef FLITTER_PREFAULT_H
 #define FLITTER_PREFAULT_H
 
 typedef struct Prefault Prefault;
 
 /* Set malloc's policy and start the thread; NULL (nothing started) when
- * it cannot start, or when the environment variable FLITTER_PREFAULT is
- * 0. */
+ * it cannot start, under an address-space or data limit, or when the
+ * environment variable FLITTER_PREFAULT is 0. */
 Prefault *prefault_start(void);
 /* Stop and join the thread, and free [p] (NULL is a no-op). Malloc's
  * policy stays. */

@@ -1,8 +1,9 @@
 /* test_prefault.c: src/prefault.c, the heap's new pages faulted in on
  * another thread: a heap block nobody touches becomes resident (mincore),
  * what the program writes meanwhile stays written, and FLITTER_PREFAULT=0
- * starts nothing. Skipped (77) under a memory checker, whose allocator is
- * not the heap's, and on a kernel without MADV_POPULATE_WRITE. */
+ * or a data limit starts nothing. Skipped (77) under a memory checker,
+ * whose allocator is not the heap's, under an address-space or data limit,
+ * and on a kernel without MADV_POPULATE_WRITE. */
 #include <errno.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -10,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -94,9 +96,23 @@ int main(void)
         puts("SKIP: this kernel has no MADV_POPULATE_WRITE (Linux 5.14)");
         return 77;
     }
+    struct rlimit as, data;
+    if (getrlimit(RLIMIT_AS, &as) != 0 || getrlimit(RLIMIT_DATA, &data) != 0 ||
+        as.rlim_cur != RLIM_INFINITY || data.rlim_cur != RLIM_INFINITY) {
+        puts("SKIP: run under an address-space or data limit");
+        return 77;
+    }
     setenv("FLITTER_PREFAULT", "0", 1);
     CHECK(prefault_start() == NULL, "FLITTER_PREFAULT=0 started a prefaulter");
     unsetenv("FLITTER_PREFAULT");
+    /* under a data limit (ulimit -d), however large, none starts */
+    struct rlimit lim = {(rlim_t)1 << 40, data.rlim_max};
+    if (setrlimit(RLIMIT_DATA, &lim) == 0) {
+        Prefault *q = prefault_start();
+        CHECK(q == NULL, "a prefaulter started under a data limit");
+        prefault_stop(q);
+        CHECK(setrlimit(RLIMIT_DATA, &data) == 0, "the data limit could not be lifted again");
+    }
 
     /* the heap's end now: the thread faults in what lies beyond */
     unsigned char *from = sbrk(0);
