@@ -22,8 +22,12 @@
 /* How far malloc grows the heap past what it needs, and the largest
  * block it takes from the heap (glibc's own ceiling for the threshold it
  * otherwise adjusts as blocks are freed). */
-#define PREFAULT_PAD ((size_t)8 << 20)
+#define PREFAULT_PAD ((size_t)2 << 20)
 #define PREFAULT_MMAP_THRESHOLD ((size_t)32 << 20)
+/* How much the heap grows before the thread starts: a script that needs
+ * less (most) pays no fault on the other core, which its physics and
+ * loop kernels may be using. */
+#define PREFAULT_AFTER ((size_t)6 << 20)
 /* Faulted in a call, so that a stop is seen soon. */
 #define PREFAULT_STEP ((size_t)256 << 10)
 /* At most this much in all. */
@@ -53,8 +57,8 @@ static void *prefault_main(void *arg)
         void *e = sbrk(0);
         if (e == (void *)-1) break;
         uintptr_t end = page_down((uintptr_t)e + page - 1, page);
-        if (end <= done) {
-            done = end;   /* the same, or trimmed */
+        if (end <= done || end - p->from < PREFAULT_AFTER) {
+            if (end < done) done = end;   /* trimmed */
             struct timespec nap = {0, PREFAULT_NAP};
             nanosleep(&nap, NULL);
             continue;

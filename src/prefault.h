@@ -4,13 +4,15 @@
  * A large script's load and first two frames build megabytes of values in
  * fresh memory: discs20k (20,000 particles) faults in about 8,000 pages, a
  * microsecond and more each in a virtual machine, all on the thread that
- * loads. A prefaulter makes glibc's malloc grow the heap (brk) 8 MiB ahead
+ * loads. A prefaulter makes glibc's malloc grow the heap (brk) 2 MiB ahead
  * of what it needs and blocks of up to 32 MiB come from it (mallopt
  * M_TOP_PAD, M_MMAP_THRESHOLD: process-wide, so only the `flitter run`
  * whose end ends the process starts one), and a thread of its own faults
  * in each new stretch of the heap (madvise MADV_POPULATE_WRITE, Linux 5.14;
  * it never changes what the memory holds) before the loading thread gets
- * there, on a core that is idle while a script loads.
+ * there, on a core that is mostly idle while a script loads. It starts
+ * once the heap has grown 6 MiB: a smaller script (most) pays for no
+ * faulting on the core its physics and loop kernels share.
  *
  * Nothing but time changes: on another allocator (a memory checker's, a
  * preloaded one) or an older kernel the thread finds nothing to do or

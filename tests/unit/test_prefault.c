@@ -68,6 +68,16 @@ static bool kernel_populates(void)
     return ok;
 }
 
+/* The part of the block [p, p + n) past [from] (the heap's end before), as
+ * its start and length in *[len]. */
+static const void *past_from(const void *p, size_t n, const void *from, size_t *len)
+{
+    const uintptr_t b0 = (uintptr_t)p, f = (uintptr_t)from;
+    const uintptr_t start = p && b0 < f && f < b0 + n ? f : b0;
+    *len = p ? (size_t)(b0 + n - start) : 0;
+    return (const void *)start;
+}
+
 /* How many of the whole pages inside [p, p + n) are resident. */
 static size_t resident(const void *p, size_t n, size_t *pages)
 {
@@ -118,9 +128,19 @@ int main(void)
     unsigned char *from = sbrk(0);
     Prefault *p = prefault_start();
     CHECK(p != NULL, "no prefaulter started");
-    /* 4 MiB: under the 32 MiB threshold, so from the heap, which grows for
-     * it (and 8 MiB more); nothing here touches it */
-    const size_t n = (size_t)4 << 20;
+    /* 1 MiB: the heap grows less than the 6 MiB the thread waits for, so
+     * this block stays as malloc leaves it, untouched */
+    unsigned char *small_block = malloc((size_t)1 << 20);
+    struct timespec wait = {0, 30 * 1000 * 1000};
+    nanosleep(&wait, NULL);
+    size_t slen, spages = 0;
+    const void *spast = past_from(small_block, (size_t)1 << 20, from, &slen);
+    size_t sr = resident(spast, slen, &spages);
+    CHECK(spages >= 128 && sr < spages, "a 1 MiB block: %zu of %zu pages resident", sr, spages);
+    /* 16 MiB: under the 32 MiB threshold, so from the heap, which grows
+     * for it (past the 6 MiB the thread waits for); nothing here touches
+     * it */
+    const size_t n = (size_t)16 << 20;
     unsigned char *block = malloc(n);
     CHECK(block != NULL, "malloc failed");
     /* written meanwhile, page by page, while the thread faults pages in */
@@ -130,10 +150,8 @@ int main(void)
     size_t pages = 0, r = 0;
     /* its part past the heap's old end (malloc may have placed its start
      * in the free end of the heap as it was) */
-    const uintptr_t b0 = (uintptr_t)block, f = (uintptr_t)from;
-    const uintptr_t start = block && b0 < f && f < b0 + n ? f : b0;
-    const size_t npast = block ? (size_t)(b0 + n - start) : 0;
-    const void *past = (const void *)start;
+    size_t npast;
+    const void *past = past_from(block, n, from, &npast);
     for (int tries = 0; tries < 500; tries++) {   /* up to 5 s */
         r = resident(past, npast, &pages);
         if (pages && r == pages) break;
@@ -148,6 +166,7 @@ int main(void)
     prefault_stop(NULL);
     free(block);
     free(mine);
+    free(small_block);
     if (failures) return 1;
     puts("test_prefault: ok");
     return 0;
