@@ -13,36 +13,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#if defined(__has_include)
-#if __has_include(<valgrind/valgrind.h>)
-#include <valgrind/valgrind.h>
-#define HAVE_VALGRIND_H 1
-#endif
-#endif
-
 #include "exitcodes.h"
 #include "flitter.h"
-
-/* Whether a memory checker watches this process: valgrind (its client
- * request, or its preloaded library when the header was missing at build
- * time) or a sanitizer compiled in. */
-static bool memory_checked(void)
-{
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-    return true;
-#else
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-    return true;
-#endif
-#endif
-#ifdef HAVE_VALGRIND_H
-    if (RUNNING_ON_VALGRIND) return true;
-#endif
-    const char *pre = getenv("LD_PRELOAD");
-    return pre && strstr(pre, "vgpreload");
-#endif
-}
+#include "memcheck.h"
 
 /* Whether a run's runtime may be left to the process's exit instead of
  * freed: [spec] says the process ends with the run, and no memory checker

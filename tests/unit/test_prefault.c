@@ -16,14 +16,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "memcheck.h"
 #include "prefault.h"
-
-#if defined(__has_include)
-#if __has_include(<valgrind/valgrind.h>)
-#include <valgrind/valgrind.h>
-#define HAVE_VALGRIND_H 1
-#endif
-#endif
 
 #ifndef MADV_POPULATE_WRITE
 #define MADV_POPULATE_WRITE 23
@@ -39,24 +33,6 @@ static int failures;
             failures++;                                    \
         }                                                  \
     } while (0)
-
-static bool memory_checked(void)
-{
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-    return true;
-#else
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-    return true;
-#endif
-#endif
-#ifdef HAVE_VALGRIND_H
-    if (RUNNING_ON_VALGRIND) return true;
-#endif
-    const char *pre = getenv("LD_PRELOAD");
-    return pre && strstr(pre, "vgpreload");
-#endif
-}
 
 /* Whether this kernel knows MADV_POPULATE_WRITE. */
 static bool kernel_populates(void)
