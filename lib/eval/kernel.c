@@ -703,7 +703,7 @@ void kernel_scratch_reclaim(void *ctx)
     KernelScratch *k = ctx;
     /* with room in the budget for all of them, nothing the kept nodes
      * hold can make a request fail that would succeed without them */
-    if (!k || !k->stale || !k->held || mem_room(k->held)) return;
+    if (!k || !k->stale || mem_room(k->held)) return;
     k->stale = false;
     for (int i = 0; i < K_NODE_LOOPS; i++) {
         for (int r = 0; r < 2; r++) {

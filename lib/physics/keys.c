@@ -92,10 +92,6 @@ static void make_keys(PhysSystem *s, const Vec *id, PhysKeyEnt *e)
         Vec *p = vec_new_num((uint32_t)n), *v = vec_new_num((uint32_t)n + 1);
         double *dp = vec_nums(p), *dv = vec_nums(v);
         /* vec_hash folds the numbers in order: P's part once per prefix */
-        if (!s->prefix_hashed) {
-            s->prefix_hash = vec_hash(P, false);
-            s->prefix_hashed = true;
-        }
         uint64_t h = s->prefix_hash;
         for (uint32_t j = 0; j < P->len; j++)
             dp[j] = vec_cnums(P)[j];

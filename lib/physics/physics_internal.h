@@ -334,8 +334,7 @@ typedef struct PhysSystem {
     /* state keys */
     Vec *prefix;                  /* P the cached keys were built from */
     double sym_velocity;          /* the symbol :velocity (keys.c) */
-    uint64_t prefix_hash;         /* vec_hash(prefix, false), when */
-    bool prefix_hashed;           /* ... this is set (keys.c) */
+    uint64_t prefix_hash;         /* vec_hash(prefix, false) (keys.c) */
     Vec *kclock, *klast, *krun, *kiter;
     PhysKeySlot *slots; size_t capslots;
     PhysKeyEnt *kent; size_t nkent, capkent;  /* key table (keys.c) */

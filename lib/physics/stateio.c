@@ -78,7 +78,7 @@ void phys_set_prefix(PhysSystem *s, const Vec *P)
     vec_release(s->krun);
     vec_release(s->kiter);
     s->prefix = vec_retain((Vec *)P);
-    s->prefix_hashed = false;
+    s->prefix_hash = vec_hash(P, false);
     s->kclock = compose_sym(P, "clock");
     s->klast = compose_sym(P, "last");
     s->krun = compose_sym(P, "run");
