@@ -12,8 +12,8 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-static _Thread_local MemHandler handler;     /* this thread's failure handler */
-static _Thread_local long test_fail = -1;    /* mem_test_fail_after countdown */
+static FL_THREAD_LOCAL MemHandler handler;     /* this thread's failure handler */
+static FL_THREAD_LOCAL long test_fail = -1;    /* mem_test_fail_after countdown */
 
 MemHandler mem_enter(MemFailFn fn, void *ctx) { return mem_enter_budget(fn, ctx, NULL); }
 

@@ -15,7 +15,7 @@
 
 _Static_assert(POOL_NCLASS == NSMALL + BIG_MAX_LOG - BIG_MIN_LOG + 1, "pool classes");
 
-_Thread_local Pool *pool_active_;
+FL_THREAD_LOCAL Pool *pool_active_;
 
 /* The class of a [size]-byte request and the class's block size. */
 static int size_class(size_t size, size_t *block)

@@ -24,6 +24,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "mem.h"
+
 typedef struct Pool Pool;
 
 #define POOL_SMALL_MAX 256   /* largest request of the 16-byte-step classes */
@@ -92,7 +94,7 @@ struct Pool {
 };
 
 /* Internal: the pool active on this thread (pool_enter). */
-extern _Thread_local Pool *pool_active_;
+extern FL_THREAD_LOCAL Pool *pool_active_;
 
 /* A block of at least [size] bytes (uninitialised). Aborts when out of
  * memory. Release it with pool_release(ptr, size) with the same [size]. */
