@@ -285,9 +285,10 @@ typedef void (*TK(RowBlockFn))(const TileLevel *T, size_t i0, size_t jbeg,
 
 /* The level (TilePart, tiles.c): every row block in order, or (P->wave)
  * the tasks of P's list taken in order until none is left, each once its
- * row block's previous task and the previous row block's task over the
- * same partners are done, its row sums handed on through P->buf. [rows]
- * runs one row block over a range of partners. */
+ * group's previous task and the previous group's task over the same
+ * chunk are done: the group's row blocks in order over the chunk, their
+ * row sums handed on through P->buf. [rows] runs one row block over a
+ * range of partners. */
 static inline __attribute__((always_inline)) TK_TARGET void
 TK(level_run)(const TileLevel *T, TilePart *P, const size_t D,
               const TK(RowBlockFn) rows)
@@ -303,12 +304,23 @@ TK(level_run)(const TileLevel *T, TilePart *P, const size_t D,
             break;
         const TileTask *k = &P->tasks[t];
         if (k->seq)
-            tile_wait(&P->prog[k->blk].done, k->seq);
+            tile_wait(&P->prog[k->grp].done, k->seq);
         if (k->above)
-            tile_wait(&P->prog[k->blk - 1].done, k->above);
-        double *buf = P->buf + k->blk * D * TK_W;
-        rows(T, k->blk * TK_W, k->jbeg, k->jend, buf, k->last ? NULL : buf);
-        atomic_store_explicit(&P->prog[k->blk].done, k->seq + 1, memory_order_release);
+            tile_wait(&P->prog[k->grp - 1].done, k->above);
+        /* the group's row blocks in order, each from its diagonal on */
+        const size_t nb = (T->npart + TK_W - 1) / TK_W, K = (T->npool + TILE_CHUNK - 1) / TILE_CHUNK;
+        const size_t R = TILE_GROUP_ROWS / TK_W;
+        const size_t b1 = (k->grp + 1) * R < nb ? (k->grp + 1) * R : nb;
+        const size_t jend = (k->k + 1) * TILE_CHUNK < T->npool ? (k->k + 1) * TILE_CHUNK : T->npool;
+        for (size_t b = k->grp * R; b < b1; b++) {
+            const size_t kb = b * TK_W / TILE_CHUNK;
+            if (k->k < kb)
+                break;   /* this block and the next start at a later chunk */
+            double *buf = P->buf + b * D * TK_W;
+            rows(T, b * TK_W, k->k == kb ? b * TK_W : k->k * TILE_CHUNK, jend, buf,
+                 k->k + 1 == K ? NULL : buf);
+        }
+        atomic_store_explicit(&P->prog[k->grp].done, k->seq + 1, memory_order_release);
     }
 }
 
