@@ -359,8 +359,14 @@ void phys_tiles_reserve(PhysSystem *s, size_t npool)
 }
 
 /* Levels with fewer pairs run on one thread: the hand-offs of the
- * threaded route (a wake-up and one per task) cost more there. */
-#define TILES_PIPE_PAIRS 65536.0
+ * threaded route (a wake-up and one per task) cost more there, or, with a
+ * !random applier, the step's draws made on the second thread meanwhile
+ * (step.c) save more. Whole runs on two threads, this level threaded
+ * against not: petri-like 2-D systems with !random, 250 particles (31,000
+ * pairs) 26.6 against 24.7 ms, 280 (39,000) 30.7 against 32.8, 320
+ * (51,000) 36.5 against 44.4; 3-D charges without, 200 particles 11.2
+ * against 11.6, 300 particles 13.1 against 15.6. */
+#define TILES_PIPE_PAIRS 32768.0
 
 /* One level in flight. */
 typedef struct TileRun {
