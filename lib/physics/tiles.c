@@ -161,6 +161,11 @@ static int tile_spec_of(const TileLevel *T)
 /* Rows per task of the threaded route (a multiple of every W): a task
  * runs TILE_GROUP_ROWS / W row blocks, in order, against one chunk. */
 #define TILE_GROUP_ROWS 32
+/* A group is whole row blocks of every width and never straddles two
+ * chunks, so all its blocks' diagonals lie in its first chunk
+ * (TK(level_run) would also take groups that did) */
+_Static_assert(TILE_CHUNK % TILE_GROUP_ROWS == 0 && TILE_GROUP_ROWS % TILE_W == 0,
+               "tile groups: whole blocks, whole groups a chunk");
 
 /* One task of a threaded level (see "Several threads" above): the row
  * blocks of group [grp] (blocks grp*TILE_GROUP_ROWS/W ..) against chunk
