@@ -162,8 +162,8 @@ static int tile_spec_of(const TileLevel *T)
  * runs TILE_GROUP_ROWS / W row blocks, in order, against one chunk. */
 #define TILE_GROUP_ROWS 32
 /* A group is whole row blocks of every width and never straddles two
- * chunks, so all its blocks' diagonals lie in its first chunk
- * (TK(level_run) would also take groups that did) */
+ * chunks, so all its blocks' diagonals lie in its first chunk, the chunk
+ * of its first task (list_tasks, TK(level_run)) */
 _Static_assert(TILE_CHUNK % TILE_GROUP_ROWS == 0 && TILE_GROUP_ROWS % TILE_W == 0,
                "tile groups: whole blocks, whole groups a chunk");
 
@@ -410,18 +410,17 @@ static void tiles_task(void *ctx, size_t t, unsigned thread)
     tiles_part(ctx, true);
 }
 
-/* List the tasks of a level of [npart] rows and [n] partners in W-row
- * blocks, TILE_GROUP_ROWS rows a group (see "Several threads" above), into
- * s->ttasks, reset the groups' progress counters, and return how many
- * tasks there are. A group's first task is over the chunk of its first
- * block's diagonal. */
-static size_t list_tasks(PhysSystem *s, size_t npart, size_t n, size_t W)
+/* List the tasks of a level of [npart] rows and [n] partners in groups of
+ * TILE_GROUP_ROWS rows (see "Several threads" above), into s->ttasks,
+ * reset the groups' progress counters, and return how many tasks there
+ * are. A group's first task is over the chunk of its diagonal. */
+static size_t list_tasks(PhysSystem *s, size_t npart, size_t n)
 {
-    const size_t C = TILE_CHUNK, R = TILE_GROUP_ROWS / W;
-    const size_t nb = (npart + W - 1) / W, K = (n + C - 1) / C, ng = (nb + R - 1) / R;
+    const size_t C = TILE_CHUNK, G = TILE_GROUP_ROWS;
+    const size_t K = (n + C - 1) / C, ng = (npart + G - 1) / G;
     size_t count = 0;
     for (size_t g = 0; g < ng; g++)
-        count += K - g * R * W / C;
+        count += K - g * G / C;
     if (count > s->capttasks) {
         free(s->ttasks);
         s->ttasks = malloc(count * sizeof *s->ttasks);
@@ -441,13 +440,13 @@ static size_t list_tasks(PhysSystem *s, size_t npart, size_t n, size_t W)
     size_t m = 0;
     for (size_t w = 0; w + 1 < ng + K; w++) {
         for (size_t g = w >= K ? w - K + 1 : 0; g < ng && g <= w; g++) {
-            const size_t k = w - g, kg = g * R * W / C;
+            const size_t k = w - g, kg = g * G / C;
             if (k < kg)
                 continue;
             TileTask *t = &s->ttasks[m++];
             t->grp = g;
             t->seq = k - kg;
-            t->above = g ? k - (g - 1) * R * W / C + 1 : 0;
+            t->above = g ? k - (g - 1) * G / C + 1 : 0;
             t->k = k;
         }
     }
@@ -591,8 +590,7 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     if (!threaded) {
         tiles_part(&run, false);
     } else {
-        const size_t W = run.simd == PHYS_SIMD_AVX512 ? 8 : run.simd == PHYS_SIMD_AVX2 ? 4 : 2;
-        run.ntasks = list_tasks(s, T.npart, n, W);
+        run.ntasks = list_tasks(s, T.npart, n);
         run.tasks = s->ttasks;
         run.prog = s->tprog;
         unsigned nw = workers_count(s->workers);

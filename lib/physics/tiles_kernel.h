@@ -298,6 +298,8 @@ TK(level_run)(const TileLevel *T, TilePart *P, const size_t D,
             rows(T, i0, i0, T->npool, NULL, NULL);
         return;
     }
+    const size_t R = TILE_GROUP_ROWS / TK_W, nb = (T->npart + TK_W - 1) / TK_W;
+    const size_t K = (T->npool + TILE_CHUNK - 1) / TILE_CHUNK;
     for (;;) {
         const size_t t = atomic_fetch_add_explicit(P->next, 1, memory_order_relaxed);
         if (t >= P->ntasks)
@@ -307,18 +309,14 @@ TK(level_run)(const TileLevel *T, TilePart *P, const size_t D,
             tile_wait(&P->prog[k->grp].done, k->seq);
         if (k->above)
             tile_wait(&P->prog[k->grp - 1].done, k->above);
-        /* the group's row blocks in order, each from its diagonal on */
-        const size_t nb = (T->npart + TK_W - 1) / TK_W, K = (T->npool + TILE_CHUNK - 1) / TILE_CHUNK;
-        const size_t R = TILE_GROUP_ROWS / TK_W;
+        /* the group's row blocks in order; in the group's first chunk,
+         * which holds all their diagonals (tiles.c), each from its own */
         const size_t b1 = (k->grp + 1) * R < nb ? (k->grp + 1) * R : nb;
         const size_t jend = (k->k + 1) * TILE_CHUNK < T->npool ? (k->k + 1) * TILE_CHUNK : T->npool;
+        const bool first = k->seq == 0;
         for (size_t b = k->grp * R; b < b1; b++) {
-            const size_t kb = b * TK_W / TILE_CHUNK;
-            if (k->k < kb)
-                break;   /* this block and the next start at a later chunk */
             double *buf = P->buf + b * D * TK_W;
-            rows(T, b * TK_W, k->k == kb ? b * TK_W : k->k * TILE_CHUNK, jend, buf,
-                 k->k + 1 == K ? NULL : buf);
+            rows(T, b * TK_W, first ? b * TK_W : k->k * TILE_CHUNK, jend, buf, k->k + 1 == K ? NULL : buf);
         }
         atomic_store_explicit(&P->prog[k->grp].done, k->seq + 1, memory_order_release);
     }
