@@ -1037,6 +1037,8 @@ void phys_pairs_free(PhysSystem *s)
     free(s->tiles);
     free(s->ttasks);
     free(s->tprog);
+    free(s->trec);
+    free(s->tsplit);
     free(s->tune);
     free(s->rnd);
 }

@@ -11,6 +11,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "node.h"
 #include "state.h"
@@ -81,6 +82,19 @@ void phys_set_particles(PhysicsWorld *w, bool literal);
  * against it on the first runs of each kind of pair level and keeps the
  * faster (tiles.c). */
 int phys_set_simd(PhysicsWorld *w, int level);
+/* The split route of the pair kernels (lib/physics/tiles.c, "Two threads
+ * for a middle-sized level"): PHYS_SPLIT_AUTO (the default) lets
+ * middle-sized all-pairs levels take it when the world has two threads or
+ * more; PHYS_SPLIT_OFF never; PHYS_SPLIT_ALONE takes it where AUTO would
+ * but has the pair pass's thread run all three of its parts (the helper
+ * thread only draws). Every mode gives the same bits; the last two are for
+ * tests. */
+enum { PHYS_SPLIT_AUTO, PHYS_SPLIT_OFF, PHYS_SPLIT_ALONE };
+void phys_set_split(PhysicsWorld *w, int mode);
+/* How many levels the systems of [w] have run on the split route: [0]
+ * those whose near part the helper thread ran, [1] those whose near part
+ * the pair pass's own thread ran (tests check that the route was taken). */
+void phys_split_counts(const PhysicsWorld *w, uint64_t out[2]);
 /* Free [w] and all its systems (NULL is a no-op). */
 void phys_free(PhysicsWorld *w);
 /* Simulate one frame.

@@ -292,6 +292,13 @@ typedef struct PhysSystem {
                                                   * level on two threads */
     struct TileProgress *tprog; size_t captprog; /* tiles.c: their progress,
                                                   * per row block */
+    double *trec; size_t captrec; /* tiles.c: the split route's record */
+    struct TileSplit *tsplit;     /* tiles.c: its hand-off to the first
+                                   * pass's second thread (NULL until the
+                                   * first) */
+    int split_mode;               /* PHYS_SPLIT_* (physics.h) */
+    uint64_t split_near[2];       /* split levels whose near part the
+                                   * helper / the pass's thread ran */
     double *rnd; size_t caprnd;   /* step.c: !random draws made ahead, two
                                    * doubles a pair */
 
@@ -577,6 +584,21 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
 bool phys_tiles_threaded(const PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
 /* Grow s->tiles for a level of [npool] pool entries now (at planning). */
 void phys_tiles_reserve(PhysSystem *s, size_t npool);
+/* The split route (tiles.c, "Two threads for a middle-sized level"): a
+ * level of the pair pass run by two threads, this one and a helper that
+ * first does [other] pairs of normal draws. phys_tiles_split_wanted():
+ * whether some level of [s] would take it. phys_tiles_split_begin(): before
+ * a pair pass whose levels may take it (false, with nothing changed, when
+ * out of memory: then none does); phys_tiles_split_end() after that pass,
+ * on the same thread; phys_tiles_help(), on the helper thread, runs the
+ * parts of split levels it can claim until the pass ends. Whichever thread
+ * runs a part, the forces are the same bits. */
+bool phys_tiles_split_wanted(const PhysSystem *s, double other);
+bool phys_tiles_split_begin(PhysSystem *s, double other);
+void phys_tiles_split_end(PhysSystem *s);
+void phys_tiles_help(PhysSystem *s);
+/* The helper's part of a split level posted now, if any (does not wait). */
+void phys_tiles_help_posted(PhysSystem *s);
 
 /* ---- literal.c: the literal route of the particle pass ---- */
 

@@ -413,6 +413,7 @@ static void particle_pass(PhysSystem *s, const PhysGroup *g, double clock,
 
 typedef struct FirstPass {
     PhysSystem *s;
+    bool split;         /* the pair pass's levels may take the split route */
 } FirstPass;
 
 /* Whether the pair pass of [s] runs on one thread: no level on the
@@ -482,37 +483,71 @@ none:
     return false;
 }
 
-/* Task 0: the pair pass of every group; task 1: the planned draws. */
+static void draw_ahead(PhysSystem *s, bool help);
+
+/* Task 0: the pair pass of every group; task 1: the planned draws and
+ * the parts of split levels the pair pass leaves it (tiles.c, "Two
+ * threads for a middle-sized level"), until the pass ends. A thread that
+ * takes both runs task 0 first: the pass has ended before its helper
+ * starts. */
 static void first_pass_task(void *ctx, size_t t, unsigned thread)
 {
     (void)thread;
-    PhysSystem *s = ((FirstPass *)ctx)->s;
+    const FirstPass *fp = ctx;
+    PhysSystem *s = fp->s;
     if (t == 0) {
         for (size_t g = 0; g < s->ngroups; g++)
             pair_pass(s, &s->groups[g]);
+        if (fp->split)
+            phys_tiles_split_end(s);
         return;
     }
+    draw_ahead(s, fp->split);
+    if (fp->split)
+        phys_tiles_help(s);
+}
+
+/* Pairs of draws between two looks for a split level to help with. */
+#define DRAW_CHUNK 16
+
+/* The draws plan_ahead() planned, into s->rnd; with [help], the parts of
+ * split levels posted meanwhile first (phys_tiles_help_posted): the pair
+ * pass waits for them, not for the draws. */
+static void draw_ahead(PhysSystem *s, bool help)
+{
     for (size_t a = 0; a < s->nap; a++) {
         const PhysApplier *ap = &s->ap[a];
         if (ap->kind != AP_RANDOM)
             continue;
         double *out = s->rnd + ap->pre_off;
-        for (uint64_t k = 0; k < ap->pre_n; k++)
+        for (uint64_t k = 0; k < ap->pre_n; k++) {
+            if (help && k % DRAW_CHUNK == 0)
+                phys_tiles_help_posted(s);
             rng_normal_pair(ap->key, ap->pre_at + 2 * k, out + 2 * k);
+        }
     }
 }
 
 /* The first pass of one step (§4: the pair pass of every group), with the
- * draws of the step made alongside when that pays. */
+ * draws of the step made alongside when that pays, and levels split
+ * between the two threads when that pays. */
 static void first_pass(PhysSystem *s, bool random)
 {
     Workers *w = s->workers;
-    if (!random || s->literal || workers_count(w) < 2 || !pairs_one_thread(s) || !plan_ahead(s)) {
+    bool ahead = false, split = false;
+    if (!s->literal && workers_count(w) >= 2 && pairs_one_thread(s)) {
+        ahead = random && plan_ahead(s);
+        double draws = 0;
+        for (size_t a = 0; ahead && a < s->nap; a++)
+            draws += (double)s->ap[a].pre_n;
+        split = phys_tiles_split_wanted(s, draws) && phys_tiles_split_begin(s, draws);
+    }
+    if (!ahead && !split) {
         for (size_t g = 0; g < s->ngroups; g++)
             pair_pass(s, &s->groups[g]);
         return;
     }
-    FirstPass fp = {s};
+    FirstPass fp = {s, split};
     /* the pair pass inside the job keeps to its thread */
     s->workers = NULL;
     workers_run(w, 2, first_pass_task, &fp);

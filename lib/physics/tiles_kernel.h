@@ -113,6 +113,13 @@ TK(pair_values)(const TileLevel *T, size_t i, TK_VI valid, const TK_VD *Xl,
     return acts;
 }
 
+/* Doubles one tile's record takes (TK(tile) with rec): a vector for its
+ * appliers' bits (the first double), then TK_W partners x nf x D vectors. */
+static inline size_t TK(tile_rec)(size_t nf, size_t D)
+{
+    return (1 + TK_W * nf * D) * TK_W;
+}
+
 /* Transpose the TK_W x TK_W matrix whose rows are a[0 .. TK_W-1]: at each
  * stage s (a bit of the row and lane index), rows i and i+s swap their
  * off-diagonal s x s blocks. */
@@ -159,7 +166,8 @@ TK(transpose)(TK_VD *a)
  * rows' sums FA (see tiles.c for the order). [full]: TK(pair_values). */
 static inline __attribute__((always_inline)) TK_TARGET void
 TK(tile)(const TileLevel *T, size_t i0, size_t j0, TK_VI lane, TK_VD *FA,
-         const size_t D, const size_t nf, const unsigned spec, const bool full)
+         double *rec, const size_t D, const size_t nf, const unsigned spec,
+         const bool full)
 {
     const size_t ns = T->stride;
     const TK_VD pz = {0}, nz = -pz;
@@ -220,6 +228,20 @@ TK(tile)(const TileLevel *T, size_t i0, size_t j0, TK_VI lane, TK_VD *FA,
         if (tacts >> f & 1)
             for (size_t k = 0; k < D; k++)
                 TK(transpose)(G[f][k]);
+    if (rec) {
+        /* the rows' contributions kept for TK(replay), in the order it
+         * adds them: partner, applier, element; only the appliers that
+         * act somewhere in the tile (the others would add idle zeros),
+         * which the tile's first double says */
+        rec[0] = (double)tacts;
+        rec += TK_W;
+        for (size_t l = 0; l < TK_W; l++)
+            for (size_t f = 0; f < nf; f++)
+                if (tacts >> f & 1)
+                    for (size_t k = 0; k < D; k++)
+                        memcpy(rec + ((l * nf + f) * D + k) * TK_W, &G[f][k][l], sizeof(TK_VD));
+        return;
+    }
     /* the rows' own forces: partner after partner (j ascending),
      * applier after applier (one that acts nowhere in the tile would only
      * add idle zeros) */
@@ -241,12 +263,12 @@ TK(tile)(const TileLevel *T, size_t i0, size_t j0, TK_VI lane, TK_VD *FA,
  * sums so far), and end in F, or in FAout when not NULL. */
 static inline __attribute__((always_inline)) TK_TARGET void
 TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
-              const double *FAin, double *FAout, const size_t D,
+              const double *FAin, double *FAout, double *rec, const size_t D,
               const size_t nf, const unsigned spec)
 {
     const size_t ns = T->stride;
     TK_VD FA[TILE_MAX_D] = {{0}};
-    if (jbeg != i0)
+    if (jbeg != i0 && !rec)
         for (size_t k = 0; k < D; k++)
             memcpy(&FA[k], FAin + k * TK_W, sizeof(TK_VD));
     TK_VI lane;
@@ -265,11 +287,14 @@ TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
             memcpy(&v, T->val[f] + j0, sizeof v);
             full = TK_ALL(v != 0);
         }
+        double *trec = rec ? rec + (j0 - jbeg) / TK_W * TK(tile_rec)(nf, D) : NULL;
         if (full)
-            TK(tile)(T, i0, j0, lane, FA, D, nf, spec, true);
+            TK(tile)(T, i0, j0, lane, FA, trec, D, nf, spec, true);
         else
-            TK(tile)(T, i0, j0, lane, FA, D, nf, spec, false);
+            TK(tile)(T, i0, j0, lane, FA, trec, D, nf, spec, false);
     }
+    if (rec)
+        return;
     for (size_t k = 0; k < D; k++) {
         if (FAout)
             memcpy(FAout + k * TK_W, &FA[k], sizeof(TK_VD));
@@ -278,10 +303,47 @@ TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
     }
 }
 
+/* The rest of row block [i0]'s own forces in the split route (tiles.c):
+ * from the sums so far FAin (D x TK_W, the block's rows against the
+ * partners below the cut), the contributions the other thread kept in
+ * [rec] for the [n] partners from the cut on (TK(tile) with rec), added
+ * partner after partner and applier after applier as TK(tile) adds them;
+ * the sums end in F. */
+static inline __attribute__((always_inline)) TK_TARGET void
+TK(replay)(const TileLevel *T, size_t i0, const double *FAin, const double *rec,
+           size_t n, const size_t D, const size_t nf, const unsigned spec)
+{
+    TK_VD FA[TILE_MAX_D];
+    for (size_t k = 0; k < D; k++)
+        memcpy(&FA[k], FAin + k * TK_W, sizeof(TK_VD));
+    for (size_t j = 0; j < n; j += TK_W, rec += TK(tile_rec)(nf, D)) {
+        const unsigned tacts = (unsigned)rec[0];
+        const double *g0 = rec + TK_W;
+        const size_t nl = n - j < TK_W ? n - j : TK_W;
+        for (size_t l = 0; l < nl; l++)
+            for (size_t f = 0; f < nf; f++) {
+                if (!(tacts >> f & 1))
+                    continue;
+                const bool pull = TILE_KIND(spec, &T->ap[f], f) == TILE_PULL;
+                for (size_t k = 0; k < D; k++) {
+                    TK_VD g;
+                    memcpy(&g, g0 + ((l * nf + f) * D + k) * TK_W, sizeof g);
+                    FA[k] = pull ? FA[k] + g : FA[k] - g;
+                }
+            }
+    }
+    for (size_t k = 0; k < D; k++)
+        memcpy(T->F + k * T->stride + i0, &FA[k], sizeof(TK_VD));
+}
+
 /* One row block of one copy (D, nf and spec fixed): what TK(row_block)
  * does, out of line, so the level loop below calls one copy of it. */
 typedef void (*TK(RowBlockFn))(const TileLevel *T, size_t i0, size_t jbeg,
-                               size_t jend, const double *FAin, double *FAout);
+                               size_t jend, const double *FAin, double *FAout,
+                               double *rec);
+/* Its TK(replay), likewise. */
+typedef void (*TK(ReplayFn))(const TileLevel *T, size_t i0, const double *FAin,
+                             const double *rec, size_t n);
 
 /* The level (TilePart, tiles.c): every row block in order, or (P->wave)
  * the tasks of P's list taken in order until none is left, each once its
@@ -291,11 +353,35 @@ typedef void (*TK(RowBlockFn))(const TileLevel *T, size_t i0, size_t jbeg,
  * range of partners. */
 static inline __attribute__((always_inline)) TK_TARGET void
 TK(level_run)(const TileLevel *T, TilePart *P, const size_t D,
-              const TK(RowBlockFn) rows)
+              const size_t nf, const TK(RowBlockFn) rows,
+              const TK(ReplayFn) replay)
 {
+    if (P->split) {
+        /* tiles.c, "Two threads for a middle-sized level": one of its
+         * three parts */
+        const size_t m = P->cut, n = T->npool - m;
+        const size_t per = (n + TK_W - 1) / TK_W * TK(tile_rec)(nf, D);
+        switch (P->split) {
+        case TILE_SPLIT_FAR:
+            for (size_t i0 = 0; i0 < m; i0 += TK_W)
+                rows(T, i0, m, T->npool, NULL, NULL, P->rec + i0 / TK_W * per);
+            for (size_t i0 = m; i0 < T->npart; i0 += TK_W)
+                rows(T, i0, i0, T->npool, NULL, NULL, NULL);
+            break;
+        case TILE_SPLIT_NEAR:
+            for (size_t i0 = 0; i0 < m; i0 += TK_W)
+                rows(T, i0, i0, m, NULL, P->buf + i0 * D, NULL);
+            break;
+        default:
+            for (size_t i0 = 0; i0 < m; i0 += TK_W)
+                replay(T, i0, P->buf + i0 * D, P->rec + i0 / TK_W * per, n);
+            break;
+        }
+        return;
+    }
     if (!P->wave) {
         for (size_t i0 = 0; i0 < T->npart; i0 += TK_W)
-            rows(T, i0, i0, T->npool, NULL, NULL);
+            rows(T, i0, i0, T->npool, NULL, NULL, NULL);
         return;
     }
     const size_t R = TILE_GROUP_ROWS / TK_W, nb = (T->npart + TK_W - 1) / TK_W;
@@ -316,7 +402,8 @@ TK(level_run)(const TileLevel *T, TilePart *P, const size_t D,
         const bool first = k->seq == 0;
         for (size_t b = k->grp * R; b < b1; b++) {
             double *buf = P->buf + b * D * TK_W;
-            rows(T, b * TK_W, first ? b * TK_W : k->k * TILE_CHUNK, jend, buf, k->k + 1 == K ? NULL : buf);
+            rows(T, b * TK_W, first ? b * TK_W : k->k * TILE_CHUNK, jend, buf, k->k + 1 == K ? NULL : buf,
+                 NULL);
         }
         atomic_store_explicit(&P->prog[k->grp].done, k->seq + 1, memory_order_release);
     }
@@ -327,13 +414,19 @@ TK(level_run)(const TileLevel *T, TilePart *P, const size_t D,
 #define TK_COPY(name, d, f, spec)                                             \
     static TK_TARGET __attribute__((noinline)) void TK(name##_rows)(         \
         const TileLevel *T, size_t i0, size_t jbeg, size_t jend,              \
-        const double *FAin, double *FAout)                                    \
+        const double *FAin, double *FAout, double *rec)                       \
     {                                                                         \
-        TK(row_block)(T, i0, jbeg, jend, FAin, FAout, d, f, spec);            \
+        TK(row_block)(T, i0, jbeg, jend, FAin, FAout, rec, d, f, spec);       \
+    }                                                                         \
+    static TK_TARGET __attribute__((noinline)) void TK(name##_replay)(       \
+        const TileLevel *T, size_t i0, const double *FAin, const double *rec, \
+        size_t n)                                                             \
+    {                                                                         \
+        TK(replay)(T, i0, FAin, rec, n, d, f, spec);                          \
     }                                                                         \
     static TK_TARGET void TK(name)(const TileLevel *T, TilePart *P)          \
     {                                                                         \
-        TK(level_run)(T, P, d, TK(name##_rows));                              \
+        TK(level_run)(T, P, d, f, TK(name##_rows), TK(name##_replay));        \
     }
 
 #define TK_LEVEL(d, f) TK_COPY(level_##d##_##f, d, f, 0)

@@ -35,6 +35,7 @@ struct PhysicsWorld {
     unsigned threads;       /* wanted threads; the pool is made on first use */
     Workers *workers;   /* NULL until needed or when threads == 1 */
     int simd;               /* PHYS_SIMD_* level of the tile kernel */
+    int split;              /* PHYS_SPLIT_* */
     bool simd_auto;         /* no level asked for (FLITTER_SIMD unset,
                                phys_set_simd not called): the systems time
                                AVX2 against AVX-512 (tiles.c) */
@@ -273,6 +274,20 @@ void phys_set_particles(PhysicsWorld *w, bool literal)
     w->literal = literal;
 }
 
+void phys_set_split(PhysicsWorld *w, int mode)
+{
+    w->split = mode == PHYS_SPLIT_OFF || mode == PHYS_SPLIT_ALONE ? mode : PHYS_SPLIT_AUTO;
+}
+
+void phys_split_counts(const PhysicsWorld *w, uint64_t out[2])
+{
+    out[0] = out[1] = 0;
+    for (size_t i = 0; i < w->n; i++) {
+        out[0] += w->sys[i]->split_near[0];
+        out[1] += w->sys[i]->split_near[1];
+    }
+}
+
 int phys_set_simd(PhysicsWorld *w, int level)
 {
     int best = phys_simd_best();
@@ -310,6 +325,7 @@ void phys_run_frame(PhysicsWorld *w, Node *const *nodes, size_t n,
         s->naive = w->naive;
         s->literal = w->literal;
         s->simd = w->simd;
+        s->split_mode = w->split;
         s->simd_auto = w->simd_auto && w->simd == PHYS_SIMD_AVX512;
         s->workers = w->naive ? NULL : w->workers;
         system_frame(s, nodes[i], state, frame);

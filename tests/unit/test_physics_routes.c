@@ -638,6 +638,107 @@ static void test_full_tiles(void **st)
     }
 }
 
+/* simulate_simd() with the split route in [mode] (PHYS_SPLIT_*), adding
+ * the levels it ran to [counts] (phys_split_counts). */
+static StateDict *simulate_split(Node *ph, unsigned threads, int simd, int mode,
+                                 uint64_t counts[2])
+{
+    unsetenv("FLITTER_SIMD");
+    PhysicsWorld *w = phys_new();
+    phys_set_threads(w, threads);
+    phys_set_simd(w, simd);
+    phys_set_split(w, mode);
+    StateDict *sd = state_new();
+    for (int f = 0; f < 3; f++) {
+        PhysicsFrame fr = {.time = 0.25 * f, .fps = 4, .realtime = false,
+                           .performance = 2};
+        phys_run_frame(w, &ph, 1, sd, &fr);
+    }
+    uint64_t c[2];
+    phys_split_counts(w, c);
+    counts[0] += c[0];
+    counts[1] += c[1];
+    phys_free(w);
+    return sd;
+}
+
+/* The split route of tiles.c ("Two threads for a middle-sized level"):
+ * all-pairs levels of 4,096 to 98,303 pairs (from 32,768 only with
+ * !random, whose draws the helper makes and which move the cut), D =
+ * 1..3, specialised levels and general ones (a max_distance beside an
+ * unlimited applier, a collision power, three appliers), rows in part-filled blocks, a nested group whose
+ * level has more partners than rows (its pool reaches the parent's
+ * particles), zero charges and masses, coincident particles, NaN and
+ * infinite elements in every third. On two and four threads, in each
+ * vector width, with the helper thread free to take the near part (AUTO)
+ * and with the pass's thread taking all three parts (ALONE), against the
+ * reference loop, bit for bit; every scene must have taken the route. */
+static void test_split_levels(void **st)
+{
+    (void)st;
+    static const size_t sizes[] = {93, 130, 181, 250, 300};
+    for (size_t D = 1; D <= 3; D++) {
+        for (size_t si = 0; si < sizeof sizes / sizeof *sizes; si++) {
+            uint64_t seed = 11000 + 20 * D + si;
+            Rng r = {seed};
+            const bool random = si % 2 == 1 || sizes[si] >= 256;
+            Scene sc = {.D = D, .box = 6, .no_random = true,
+                        .special = si % 3 == 2 ? 0.05 : 0};
+            Node *ph = physics_node(D);
+            add_particles(&r, &sc, ph, sizes[si]);
+            switch ((D + si) % 4) {
+            case 0:
+                set(add(ph, "electrostatic"), "strength", num(5));
+                set(add(ph, "collision"), "strength", num(3));
+                break;
+            case 1:
+                set(add(ph, "collision"), "strength", num(3));
+                Node *gv = add(ph, "gravity");
+                set(gv, "strength", num(2));
+                set(gv, "max_distance", num(2.5));
+                set(add(ph, "electrostatic"), "strength", num(5));   /* the unlimited reach */
+                break;
+            case 2:
+                set(add(ph, "gravity"), "strength", num(4));
+                break;
+            default:
+                set(add(ph, "electrostatic"), "strength", num(5));
+                Node *c = add(ph, "collision");
+                set(c, "strength", num(3));
+                set(c, "power", num(1.5));
+                set(add(ph, "electrostatic"), "strength", num(-1));
+                break;
+            }
+            if (random)
+                set(add(ph, "random"), "strength", num(0.5));
+            Node *g = add(ph, "group");
+            add_particles(&r, &sc, g, 3 + sizes[si] / 4);
+            set(add(g, "electrostatic"), "strength", num(1));
+            vec_release(sc.lastpos);
+            StateDict *ref = simulate(ph, true, 1, 3);
+            static const unsigned threads[] = {2, 4};
+            for (size_t ti = 0; ti < 2; ti++) {
+                for (int simd = 0; simd <= 2; simd++) {
+                    for (int mode = PHYS_SPLIT_AUTO; mode <= PHYS_SPLIT_ALONE; mode += 2) {
+                        uint64_t counts[2] = {0, 0};
+                        StateDict *sd = simulate_split(ph, threads[ti], simd, mode, counts);
+                        assert_same_state(ref, sd, seed, threads[ti]);
+                        state_free(sd);
+                        if (counts[0] + counts[1] == 0)
+                            fail_msg("seed %llu threads %u: no level took the split route",
+                                     (unsigned long long)seed, threads[ti]);
+                        if (mode == PHYS_SPLIT_ALONE && counts[0] != 0)
+                            fail_msg("seed %llu: the helper ran a near part when told not to",
+                                     (unsigned long long)seed);
+                    }
+                }
+            }
+            state_free(ref);
+            node_release(ph);
+        }
+    }
+}
+
 /* A copy of [n] sharing nothing but attribute values and names. */
 static Node *deep_copy(const Node *n)
 {
@@ -766,6 +867,7 @@ int main(void)
         cmocka_unit_test(test_unlimited_levels),
         cmocka_unit_test(test_tile_specs),
         cmocka_unit_test(test_full_tiles),
+        cmocka_unit_test(test_split_levels),
         cmocka_unit_test(test_static_tree),
         cmocka_unit_test(test_small_scenes),
         cmocka_unit_test(test_large_scenes),
