@@ -406,7 +406,11 @@ static void particle_pass(PhysSystem *s, const PhysGroup *g, double clock,
  * pass of every group, and the draws, from each applier's next index for as
  * many draws as the particles of the groups whose chains hold it take (an
  * anchor takes none: a few draws to spare). The particle pass copies a pair
- * drawn ahead instead of drawing it; the values are the same bits. */
+ * drawn ahead instead of drawing it; the values are the same bits. The
+ * same job, with or without draws, lets middle-sized all-pairs levels take
+ * the split route of tiles.c: the second task helps with their near parts
+ * (phys_tiles_help_posted between its draws, then phys_tiles_help until
+ * the pair pass ends). */
 
 /* Fewest pairs of draws worth a job of their own. */
 #define AHEAD_MIN_PAIRS 32

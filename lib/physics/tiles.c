@@ -2,7 +2,8 @@
  *
  * The route for levels of unlimited reach (!gravity or !electrostatic
  * without max_distance) whose appliers are all !collision, !gravity or
- * !electrostatic, D = 1..3, on one thread. It performs the reference loop of
+ * !electrostatic, D = 1..3, on one thread (two threads: "Several threads"
+ * and "Two threads for a middle-sized level" below). It performs the reference loop of
  * phys_apply_pair_level (PHYSICS-ENGINE.md §4): rows i < len(G.particles),
  * partners j = i+1 .. npool-1, every pair measured once, with exactly the
  * additions of the reference into every force and, for each force, in the
