@@ -204,19 +204,25 @@ typedef struct TilePart {
     double *rec;
 } TilePart;
 
+/* One pause of a polling wait ([spins] counts them): a yield every 64th,
+ * else a spin-loop hint. */
+static inline void tile_pause(unsigned *spins)
+{
+    if (++*spins % 64 == 0)
+        sched_yield();
+#if defined(__x86_64__) || defined(__i386__)
+    else
+        __builtin_ia32_pause();
+#endif
+}
+
 /* Wait until [done] reaches [until] (a task taken earlier, by another
  * thread, finishing). */
 static void tile_wait(atomic_size_t *done, size_t until)
 {
     unsigned spins = 0;
-    while (atomic_load_explicit(done, memory_order_acquire) < until) {
-        if (++spins % 64 == 0)
-            sched_yield();
-#if defined(__x86_64__) || defined(__i386__)
-        else
-            __builtin_ia32_pause();
-#endif
-    }
+    while (atomic_load_explicit(done, memory_order_acquire) < until)
+        tile_pause(&spins);
 }
 
 /* The portable copy: 2 x 2 tiles (SSE2 on x86-64, plain code elsewhere). */
@@ -604,14 +610,8 @@ static double *split_reserve(PhysSystem *s, size_t m, size_t n, size_t nf, size_
 static void split_wait(atomic_uint_fast64_t *st, uint64_t want)
 {
     unsigned spins = 0;
-    while (atomic_load_explicit(st, memory_order_acquire) != want) {
-        if (++spins % 64 == 0)
-            sched_yield();
-#if defined(__x86_64__) || defined(__i386__)
-        else
-            __builtin_ia32_pause();
-#endif
-    }
+    while (atomic_load_explicit(st, memory_order_acquire) != want)
+        tile_pause(&spins);
 }
 
 /* The pair pass's side of a split level: post it, run FAR, then NEAR
@@ -714,12 +714,7 @@ void phys_tiles_help(PhysSystem *s)
             split_claim(h, st);
             continue;
         }
-        if (++spins % 64 == 0)
-            sched_yield();
-#if defined(__x86_64__) || defined(__i386__)
-        else
-            __builtin_ia32_pause();
-#endif
+        tile_pause(&spins);
     }
 }
 
