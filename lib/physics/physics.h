@@ -87,9 +87,11 @@ int phys_set_simd(PhysicsWorld *w, int level);
  * middle-sized all-pairs levels take it when the world has two threads or
  * more; PHYS_SPLIT_OFF never; PHYS_SPLIT_ALONE takes it where AUTO would
  * but has the pair pass's thread run all three of its parts (the helper
- * thread only draws). Every mode gives the same bits; the last two are for
- * tests. */
-enum { PHYS_SPLIT_AUTO, PHYS_SPLIT_OFF, PHYS_SPLIT_ALONE };
+ * thread only draws); PHYS_SPLIT_HELPER takes it where AUTO would and has
+ * the pair pass's thread always wait for the helper to run the near part
+ * (with two threads or more the helper is another thread, so it comes).
+ * Every mode gives the same bits; all but AUTO are for tests. */
+enum { PHYS_SPLIT_AUTO, PHYS_SPLIT_OFF, PHYS_SPLIT_ALONE, PHYS_SPLIT_HELPER };
 void phys_set_split(PhysicsWorld *w, int mode);
 /* How many levels the systems of [w] have run on the split route: [0]
  * those whose near part the helper thread ran, [1] those whose near part

@@ -541,10 +541,10 @@ static void first_pass(PhysSystem *s, bool random)
     bool ahead = false, split = false;
     if (!s->literal && workers_count(w) >= 2 && pairs_one_thread(s)) {
         ahead = random && plan_ahead(s);
-        double draws = 0;
+        double draw_pairs = 0;
         for (size_t a = 0; ahead && a < s->nap; a++)
-            draws += (double)s->ap[a].pre_n;
-        split = phys_tiles_split_wanted(s, draws) && phys_tiles_split_begin(s, draws);
+            draw_pairs += (double)s->ap[a].pre_n;
+        split = phys_tiles_split_wanted(s, draw_pairs) && phys_tiles_split_begin(s, draw_pairs);
     }
     if (!ahead && !split) {
         for (size_t g = 0; g < s->ngroups; g++)

@@ -57,7 +57,9 @@
  * threads take them in list order: a thread waits only for tasks already
  * taken, never for one after its own, so the run cannot deadlock and ends
  * on one thread too. Only levels with enough pairs to pay for the
- * hand-offs take more than one thread. (The earlier split, one cut into
+ * hand-offs take this route (TILES_PIPE_PAIRS; middle-sized levels have a
+ * route of their own, "Two threads for a middle-sized level"). (The
+ * earlier split, one cut into
  * two column ranges handed on row block by row block, left the second
  * thread idle for a third of the level: 1.25x on two threads for 1,000
  * particles.)
@@ -184,11 +186,11 @@ typedef struct TileProgress {
     _Alignas(64) atomic_size_t done;
 } TileProgress;
 
-/* What one call runs: the whole level (wave false: one thread), or tasks
- * of the list, taken in order from *next, until none is left. */
 /* The split route's parts (tiles_kernel.h TK(level_run)). */
 enum { TILE_SPLIT_FAR = 1, TILE_SPLIT_NEAR, TILE_SPLIT_REPLAY };
 
+/* What one call runs: the whole level (wave false: one thread), or tasks
+ * of the list, taken in order from *next, until none is left. */
 typedef struct TilePart {
     bool wave;
     const TileTask *tasks;
@@ -379,11 +381,11 @@ void phys_tiles_reserve(PhysSystem *s, size_t npool)
     s->captiles = cap;
 }
 
-/* Levels with fewer pairs run on one thread: the hand-offs of the
- * threaded route (a wake-up and one per task) cost more there, or, with a
- * !random applier, the step's draws made on the second thread meanwhile
- * (step.c) save more. Whole runs on two threads, this level threaded
- * against not: petri-like 2-D systems with !random, 250 particles (31,000
+/* Levels with fewer pairs do not take the threaded route: the hand-offs
+ * of its tasks (a wake-up and one per task) cost more there. They run on
+ * one thread, beside the step's draws on the second (step.c), or on the
+ * split route below. Whole runs on two threads, this level threaded
+ * against on one thread (before the split route): petri-like 2-D systems with !random, 250 particles (31,000
  * pairs) 26.6 against 24.7 ms, 280 (39,000) 30.7 against 32.8, 320
  * (51,000) 36.5 against 44.4; 3-D charges without, 200 particles 11.2
  * against 11.6, 300 particles 13.1 against 15.6. */
@@ -479,14 +481,17 @@ static double level_pairs(size_t rows, size_t n)
     return (double)rows * (double)(n - 1) - (double)rows * (double)(rows - 1) / 2;
 }
 
-/* Up to this many pairs, a level of a system with !random takes the split
- * route rather than the threaded one (see "Two threads for a middle-sized
- * level" below): petri-like 2-D systems of 280, 320 and 400 particles
- * (39,000 to 80,000 pairs) 33.1 -> 27.0, 40.6 -> 35.9 and 37.5 -> 33.9 ms
- * for 300, 300 and 200 frames; of 500 (125,000 pairs) 26.3 against 27.1
- * ms for 100 frames. Without !random the threaded route is as fast from
- * 45,000 pairs (3-D charges, 300 particles: 13.9 against 13.8 ms) and
- * faster from 80,000 (19.3 against 21.1 ms). */
+/* Up to this many pairs, a level of a system with !random may take the
+ * split route rather than the threaded one (see "Two threads for a
+ * middle-sized level" below), its draws on the helper: petri-like 2-D
+ * systems of 280, 320 and 400 particles (39,000 to 80,000 pairs), the
+ * threaded route against the split one, 34.3 -> 28.6, 38.4 -> 34.4 and
+ * 36.1 -> 33.9 ms for 300, 300 and 200 frames; of 500 (125,000 pairs) the
+ * threaded route 26.3 ms against the split one's 27.1 for 100 frames.
+ * Without !random the two are even at 45,000 pairs (3-D charges, 300
+ * particles: threaded 13.9 against split 13.8 ms) and the threaded route
+ * is faster at 80,000 (400 particles: 19.3 against 21.1 ms), so the split
+ * route stops at TILES_PIPE_PAIRS there. */
 #define SPLIT_RANDOM_PAIRS 98304.0
 
 /* Whether [s] has a !random applier (whose draws the split route's helper
@@ -538,16 +543,21 @@ bool phys_tiles_threaded(const PhysSystem *s, const PhysGroup *g, const PhysLeve
  * NEAR itself unless the helper (phys_tiles_help, the first pass's second
  * task, after its draws) claimed it, and REPLAY: the record stays in the
  * cache of the thread that wrote it. Whichever thread runs NEAR, the
- * result is the same bits; a helper that comes late only costs the time
- * it would have saved.
+ * result is the same bits; a helper that comes late, before its claim,
+ * only costs the time it would have saved (one that is descheduled after
+ * its claim holds the pass's thread up until it is done). The helper
+ * polls (with a yield every 64 pauses) from its draws to the end of the
+ * pair pass, including levels of other routes.
  *
  * The cut balances the two threads: the helper's draws and NEAR (about
  * m * m / 2 pairs) against FAR and REPLAY (the rest of the pairs and a
  * few adds per recorded pair). */
 
-/* Fewest pairs of a level on the split route, and the cost of a pair of
- * normal draws in pairs of NEAR (rng_normal_pair: a log, a square root, a
- * sine and a cosine, about 48 ns here, against about 1.5 ns a pair). */
+/* Fewest pairs of a level on the split route, and what a pair of normal
+ * draws (rng_normal_pair: a log, a square root, a sine and a cosine, about
+ * 48 ns here) counts for in pairs of NEAR: 32, the value whose cut
+ * balanced petri200's two threads best (m = 144; at the one-thread
+ * kernel's 2 ns a pair it would be 24, and NEAR's full tiles run faster). */
 #define SPLIT_PAIRS 4096.0
 #define SPLIT_DRAW_PAIRS 32.0
 
@@ -631,7 +641,8 @@ static void split_run(PhysSystem *s, TileRun *run)
     atomic_store_explicit(&h->state, seq | SPLIT_POSTED, memory_order_release);
     tiles_part(run, false, TILE_SPLIT_FAR);
     uint_fast64_t want = seq | SPLIT_POSTED;
-    if (atomic_compare_exchange_strong_explicit(&h->state, &want, seq | SPLIT_SELF,
+    if (s->split_mode != PHYS_SPLIT_HELPER &&
+        atomic_compare_exchange_strong_explicit(&h->state, &want, seq | SPLIT_SELF,
                                                 memory_order_acq_rel, memory_order_acquire)) {
         tiles_part(run, false, TILE_SPLIT_NEAR);
         s->split_near[1]++;
@@ -836,9 +847,14 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     TileRun run = {.T = &T, .simd = s->simd, .spec = tile_spec_of(&T), .D = D,
                    .buf = F + D * ns};
     atomic_init(&run.next, 0);
-    const bool threaded = phys_tiles_threaded(s, g, lv);
-    /* the split route only inside a first pass with a helper */
+    /* the split route only inside a first pass with a helper; the threaded
+     * route for every level of TILES_PIPE_PAIRS or more outside one (a
+     * level that phys_tiles_threaded() left to the first pass, when the
+     * step made no job of it: no draws planned, another level threaded,
+     * or the literal particle pass), never inside (s->workers is NULL) */
     const size_t cut = s->tsplit && s->tsplit->active ? split_cut(g->npart, n, s->tsplit->other) : 0;
+    const bool threaded = !cut && workers_count(s->workers) >= 2 &&
+                          level_pairs(g->npart, n) >= TILES_PIPE_PAIRS;
     const size_t route = cut ? 2 : threaded;
     const size_t kind = (route * TILE_MAX_D + (D - 1)) * (TILE_NSPECS + 1) + (size_t)(run.spec + 1);
     double t0 = 0;

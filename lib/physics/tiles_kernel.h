@@ -163,7 +163,12 @@ TK(transpose)(TK_VD *a)
 /* One tile of row block [i0]: rows i0 .. i0+TK_W-1 against the partners
  * j0 .. j0+TK_W-1 (the diagonal tile when j0 == i0), adding the rows'
  * contributions to the partners' forces in T->F and the partners' to the
- * rows' sums FA (see tiles.c for the order). [full]: TK(pair_values). */
+ * rows' sums FA (see tiles.c for the order). With [rec] (never a diagonal
+ * tile: the split route's FAR part, tiles.c) the partners' contributions
+ * to the rows are written to rec instead, TK(tile_rec) doubles: the bits
+ * of the appliers that act in the tile, then per partner, applier and
+ * element the vector of the rows' values, as TK(replay) adds them.
+ * [full]: TK(pair_values). */
 static inline __attribute__((always_inline)) TK_TARGET void
 TK(tile)(const TileLevel *T, size_t i0, size_t j0, TK_VI lane, TK_VD *FA,
          double *rec, const size_t D, const size_t nf, const unsigned spec,
@@ -260,7 +265,10 @@ TK(tile)(const TileLevel *T, size_t i0, size_t j0, TK_VI lane, TK_VD *FA,
  * at or past npart take no part (all their lanes idle). The rows' own
  * forces are summed as one vector per element, lanes = rows: they start
  * from the diagonal tile when jbeg == i0, else from FAin (D x TK_W, the
- * sums so far), and end in F, or in FAout when not NULL. */
+ * sums so far), and end in F, or in FAout when not NULL. With [rec] (a
+ * block's record on the split route, jbeg past the block's diagonal) each
+ * tile goes to its place in rec (TK(tile) with rec) and the rows' sums are
+ * neither read nor written. */
 static inline __attribute__((always_inline)) TK_TARGET void
 TK(row_block)(const TileLevel *T, size_t i0, size_t jbeg, size_t jend,
               const double *FAin, double *FAout, double *rec, const size_t D,
@@ -349,8 +357,14 @@ typedef void (*TK(ReplayFn))(const TileLevel *T, size_t i0, const double *FAin,
  * the tasks of P's list taken in order until none is left, each once its
  * group's previous task and the previous group's task over the same
  * chunk are done: the group's row blocks in order over the chunk, their
- * row sums handed on through P->buf. [rows] runs one row block over a
- * range of partners. */
+ * row sums handed on through P->buf; or (P->split) one part of the split
+ * route with the cut P->cut (a multiple of every width): FAR, the rows
+ * below the cut against the partners from it into the record P->rec and
+ * then the rows from the cut as on one thread; NEAR, the rows below the
+ * cut against the partners below it, their sums into P->buf; REPLAY, the
+ * record added onto those sums into F. [rows] runs one row block over a
+ * range of partners, [replay] replays one block's record; [nf] is the
+ * number of appliers (the record's layout). */
 static inline __attribute__((always_inline)) TK_TARGET void
 TK(level_run)(const TileLevel *T, TilePart *P, const size_t D,
               const size_t nf, const TK(RowBlockFn) rows,

@@ -276,7 +276,8 @@ void phys_set_particles(PhysicsWorld *w, bool literal)
 
 void phys_set_split(PhysicsWorld *w, int mode)
 {
-    w->split = mode == PHYS_SPLIT_OFF || mode == PHYS_SPLIT_ALONE ? mode : PHYS_SPLIT_AUTO;
+    w->split = mode == PHYS_SPLIT_OFF || mode == PHYS_SPLIT_ALONE || mode == PHYS_SPLIT_HELPER
+                   ? mode : PHYS_SPLIT_AUTO;
 }
 
 void phys_split_counts(const PhysicsWorld *w, uint64_t out[2])

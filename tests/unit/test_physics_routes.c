@@ -666,13 +666,15 @@ static StateDict *simulate_split(Node *ph, unsigned threads, int simd, int mode,
  * all-pairs levels of 4,096 to 98,303 pairs (from 32,768 only with
  * !random, whose draws the helper makes and which move the cut), D =
  * 1..3, specialised levels and general ones (a max_distance beside an
- * unlimited applier, a collision power, three appliers), rows in part-filled blocks, a nested group whose
+ * unlimited applier, a collision power, four appliers), rows in part-filled blocks, a nested group whose
  * level has more partners than rows (its pool reaches the parent's
  * particles), zero charges and masses, coincident particles, NaN and
  * infinite elements in every third. On two and four threads, in each
- * vector width, with the helper thread free to take the near part (AUTO)
- * and with the pass's thread taking all three parts (ALONE), against the
- * reference loop, bit for bit; every scene must have taken the route. */
+ * vector width, with the helper thread free to take the near part (AUTO),
+ * with the pass's thread taking all three parts (ALONE) and with the
+ * helper always taking the near part (HELPER), against the reference
+ * loop, bit for bit; every scene must have taken the route, in the part
+ * each mode says. */
 static void test_split_levels(void **st)
 {
     (void)st;
@@ -701,12 +703,13 @@ static void test_split_levels(void **st)
             case 2:
                 set(add(ph, "gravity"), "strength", num(4));
                 break;
-            default:
+            default:   /* four appliers, the most a tile level takes */
                 set(add(ph, "electrostatic"), "strength", num(5));
                 Node *c = add(ph, "collision");
                 set(c, "strength", num(3));
                 set(c, "power", num(1.5));
                 set(add(ph, "electrostatic"), "strength", num(-1));
+                set(add(ph, "gravity"), "strength", num(2));
                 break;
             }
             if (random)
@@ -719,16 +722,20 @@ static void test_split_levels(void **st)
             static const unsigned threads[] = {2, 4};
             for (size_t ti = 0; ti < 2; ti++) {
                 for (int simd = 0; simd <= 2; simd++) {
-                    for (int mode = PHYS_SPLIT_AUTO; mode <= PHYS_SPLIT_ALONE; mode += 2) {
+                    static const int modes[] = {PHYS_SPLIT_AUTO, PHYS_SPLIT_ALONE, PHYS_SPLIT_HELPER};
+                    for (size_t mi = 0; mi < 3; mi++) {
                         uint64_t counts[2] = {0, 0};
-                        StateDict *sd = simulate_split(ph, threads[ti], simd, mode, counts);
+                        StateDict *sd = simulate_split(ph, threads[ti], simd, modes[mi], counts);
                         assert_same_state(ref, sd, seed, threads[ti]);
                         state_free(sd);
                         if (counts[0] + counts[1] == 0)
                             fail_msg("seed %llu threads %u: no level took the split route",
                                      (unsigned long long)seed, threads[ti]);
-                        if (mode == PHYS_SPLIT_ALONE && counts[0] != 0)
+                        if (modes[mi] == PHYS_SPLIT_ALONE && counts[0] != 0)
                             fail_msg("seed %llu: the helper ran a near part when told not to",
+                                     (unsigned long long)seed);
+                        if (modes[mi] == PHYS_SPLIT_HELPER && counts[1] != 0)
+                            fail_msg("seed %llu: the pass's thread ran a near part when told not to",
                                      (unsigned long long)seed);
                     }
                 }
