@@ -579,11 +579,13 @@ bool phys_tiles_suits(const PhysSystem *s, const PhysLevel *lv);
  * at a time in vector instructions of level s->simd. Reuses s->tiles;
  * aborts with a message if memory runs out. */
 void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
-/* Whether phys_run_tiles() runs level [lv] of group [g] on the threaded
- * route of tiles.c ("Several threads": enough pairs to pay for the
- * hand-offs, a pool of two threads or more, and not a level the split
- * route takes in a system with !random). Levels it does not take may
- * still run on two threads by the split route, inside the first pass. */
+/* Whether level [lv] of group [g] must take the threaded route of tiles.c
+ * ("Several threads"), so that the first pass cannot hold it (step.c,
+ * pairs_one_thread): TILES_PIPE_PAIRS pairs or more and a pool of two
+ * threads or more, except below SPLIT_RANDOM_PAIRS in a system with
+ * !random, which the first pass may split ("Two threads for a
+ * middle-sized level"). Such a level that the first pass does not take
+ * after all still runs threaded (phys_run_tiles). */
 bool phys_tiles_threaded(const PhysSystem *s, const PhysGroup *g, const PhysLevel *lv);
 /* Grow s->tiles for a level of [npool] pool entries now (at planning). */
 void phys_tiles_reserve(PhysSystem *s, size_t npool);
