@@ -448,9 +448,10 @@ static bool pairs_one_thread(const PhysSystem *s)
 }
 
 /* Plan this step's draws ahead: each !random applier's range (pre_at,
- * pre_n, pre_off) and room for them in s->rnd. False (nothing planned)
- * when there are too few to be worth it or no memory. */
-static bool plan_ahead(PhysSystem *s)
+ * pre_n, pre_off) and room for them in s->rnd. Returns the pairs of draws
+ * planned: 0 (nothing planned) when there are too few to be worth it or
+ * no memory. */
+static size_t plan_ahead(PhysSystem *s)
 {
     size_t total = 0;
     for (size_t a = 0; a < s->nap; a++) {
@@ -480,35 +481,11 @@ static bool plan_ahead(PhysSystem *s)
         s->rnd = r;
         s->caprnd = 2 * total;
     }
-    return true;
+    return total;
 none:
     for (size_t a = 0; a < s->nap; a++)
         s->ap[a].pre_n = 0;
-    return false;
-}
-
-static void draw_ahead(PhysSystem *s, bool help);
-
-/* Task 0: the pair pass of every group; task 1: the planned draws and
- * the parts of split levels the pair pass leaves it (tiles.c, "Two
- * threads for a middle-sized level"), until the pass ends. A thread that
- * takes both runs task 0 first: the pass has ended before its helper
- * starts. */
-static void first_pass_task(void *ctx, size_t t, unsigned thread)
-{
-    (void)thread;
-    const FirstPass *fp = ctx;
-    PhysSystem *s = fp->s;
-    if (t == 0) {
-        for (size_t g = 0; g < s->ngroups; g++)
-            pair_pass(s, &s->groups[g]);
-        if (fp->split)
-            phys_tiles_split_end(s);
-        return;
-    }
-    draw_ahead(s, fp->split);
-    if (fp->split)
-        phys_tiles_help(s);
+    return 0;
 }
 
 /* Pairs of draws between two looks for a split level to help with. */
@@ -532,6 +509,28 @@ static void draw_ahead(PhysSystem *s, bool help)
     }
 }
 
+/* Task 0: the pair pass of every group; task 1: the planned draws and
+ * the parts of split levels the pair pass leaves it (tiles.c, "Two
+ * threads for a middle-sized level"), until the pass ends. A thread that
+ * takes both runs task 0 first: the pass has ended before its helper
+ * starts. */
+static void first_pass_task(void *ctx, size_t t, unsigned thread)
+{
+    (void)thread;
+    const FirstPass *fp = ctx;
+    PhysSystem *s = fp->s;
+    if (t == 0) {
+        for (size_t g = 0; g < s->ngroups; g++)
+            pair_pass(s, &s->groups[g]);
+        if (fp->split)
+            phys_tiles_split_end(s);
+        return;
+    }
+    draw_ahead(s, fp->split);
+    if (fp->split)
+        phys_tiles_help(s);
+}
+
 /* The first pass of one step (§4: the pair pass of every group), with the
  * draws of the step made alongside when that pays, and levels split
  * between the two threads when that pays. */
@@ -540,10 +539,8 @@ static void first_pass(PhysSystem *s, bool random)
     Workers *w = s->workers;
     bool ahead = false, split = false;
     if (!s->literal && workers_count(w) >= 2 && pairs_one_thread(s)) {
-        ahead = random && plan_ahead(s);
-        double draw_pairs = 0;
-        for (size_t a = 0; ahead && a < s->nap; a++)
-            draw_pairs += (double)s->ap[a].pre_n;
+        const double draw_pairs = random ? (double)plan_ahead(s) : 0;
+        ahead = draw_pairs > 0;
         split = phys_tiles_split_wanted(s, draw_pairs) && phys_tiles_split_begin(s, draw_pairs);
     }
     if (!ahead && !split) {

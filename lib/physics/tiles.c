@@ -629,21 +629,17 @@ static void split_wait(atomic_uint_fast64_t *st, uint64_t want)
 static void split_run(PhysSystem *s, TileRun *run)
 {
     struct TileSplit *h = s->tsplit;
-    if (s->split_mode == PHYS_SPLIT_ALONE) {
-        tiles_part(run, false, TILE_SPLIT_FAR);
-        tiles_part(run, false, TILE_SPLIT_NEAR);
-        tiles_part(run, false, TILE_SPLIT_REPLAY);
-        s->split_near[1]++;
-        return;
-    }
+    const bool alone = s->split_mode == PHYS_SPLIT_ALONE;   /* never posted */
     const uint64_t seq = (atomic_load_explicit(&h->state, memory_order_relaxed) / SPLIT_SEQ + 1) * SPLIT_SEQ;
-    h->run = run;
-    atomic_store_explicit(&h->state, seq | SPLIT_POSTED, memory_order_release);
+    if (!alone) {
+        h->run = run;
+        atomic_store_explicit(&h->state, seq | SPLIT_POSTED, memory_order_release);
+    }
     tiles_part(run, false, TILE_SPLIT_FAR);
     uint_fast64_t want = seq | SPLIT_POSTED;
-    if (s->split_mode != PHYS_SPLIT_HELPER &&
-        atomic_compare_exchange_strong_explicit(&h->state, &want, seq | SPLIT_SELF,
-                                                memory_order_acq_rel, memory_order_acquire)) {
+    if (alone || (s->split_mode != PHYS_SPLIT_HELPER &&
+                  atomic_compare_exchange_strong_explicit(&h->state, &want, seq | SPLIT_SELF,
+                                                          memory_order_acq_rel, memory_order_acquire))) {
         tiles_part(run, false, TILE_SPLIT_NEAR);
         s->split_near[1]++;
     } else {
