@@ -16,6 +16,7 @@
  * in the order written there.
  */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -417,8 +418,11 @@ static void particle_pass(PhysSystem *s, const PhysGroup *g, double clock,
 
 typedef struct FirstPass {
     PhysSystem *s;
+    atomic_uint roles;  /* FIRST_PASS_PAIRS, FIRST_PASS_HELPER: taken */
     bool split;         /* the pair pass's levels may take the split route */
 } FirstPass;
+
+enum { FIRST_PASS_PAIRS = 1, FIRST_PASS_HELPER = 2 };
 
 /* Whether the pair pass of [s] runs on one thread: no level on the
  * gather routes (split over the threads) or on two-thread tiles. */
@@ -509,17 +513,26 @@ static void draw_ahead(PhysSystem *s, bool help)
     }
 }
 
-/* Task 0: the pair pass of every group; task 1: the planned draws and
- * the parts of split levels the pair pass leaves it (tiles.c, "Two
- * threads for a middle-sized level"), until the pass ends. A thread that
- * takes both runs task 0 first: the pass has ended before its helper
- * starts. */
+/* A task of the first pass's job takes one of its two roles: the pair
+ * pass of every group, or the planned draws and the parts of split levels
+ * the pair pass leaves it (tiles.c, "Two threads for a middle-sized
+ * level") until the pass ends. The calling thread (thread 0) takes the
+ * pair pass unless a task it ran before took it, a worker the helper's
+ * role unless another worker took it: so the pair pass stays on the
+ * thread whose particle pass wrote the positions and forces it reads, and
+ * reads them from its own cache (a worker that claimed the first task took
+ * the pair pass on 40% of petri200's steps: bench/PROFILE.md). The two
+ * tasks always take the two roles, and a thread that runs both takes the
+ * pair pass first, as the helper's waits end with it. */
 static void first_pass_task(void *ctx, size_t t, unsigned thread)
 {
-    (void)thread;
-    const FirstPass *fp = ctx;
+    (void)t;
+    FirstPass *fp = ctx;
     PhysSystem *s = fp->s;
-    if (t == 0) {
+    const unsigned mine = thread == 0 ? FIRST_PASS_PAIRS : FIRST_PASS_HELPER;
+    const unsigned had = atomic_fetch_or(&fp->roles, mine);
+    const bool pairs = thread == 0 ? !(had & FIRST_PASS_PAIRS) : (had & FIRST_PASS_HELPER) != 0;
+    if (pairs) {
         for (size_t g = 0; g < s->ngroups; g++)
             pair_pass(s, &s->groups[g]);
         if (fp->split)
@@ -548,7 +561,7 @@ static void first_pass(PhysSystem *s, bool random)
             pair_pass(s, &s->groups[g]);
         return;
     }
-    FirstPass fp = {s, split};
+    FirstPass fp = {s, 0, split};
     /* the pair pass inside the job keeps to its thread */
     s->workers = NULL;
     workers_run(w, 2, first_pass_task, &fp);
