@@ -73,12 +73,20 @@ void phys_set_pairs(PhysicsWorld *w, bool naive);
  * step.c is checked against; the same bits. Default: true when
  * FLITTER_PARTICLES is "literal". */
 void phys_set_particles(PhysicsWorld *w, bool literal);
-/* The vector instructions the pair kernels may use: [level] 0 = portable
- * code only, 1 = up to AVX2, 2 = up to AVX-512; capped at what the
- * processor runs. Returns the level in force. Every level gives the same
- * bits (lib/physics/tiles.c). Default: FLITTER_SIMD ("portable", "avx2",
- * anything else: the best available); with FLITTER_SIMD unset and no
- * call of this, where the processor has AVX-512 each system times AVX2
+/* Vector instruction sets of the pair kernels, in order: the portable
+ * copy (the tile kernel's 2 x 2 tiles), AVX2 (4 x 4 tiles, 16 vector
+ * registers), the same 4 x 4 tiles with AVX-512VL (its 32 registers: the
+ * 3-D kernel keeps its values in them instead of on the stack) and
+ * AVX-512 (8 x 8 tiles). */
+enum { PHYS_SIMD_PORTABLE, PHYS_SIMD_AVX2, PHYS_SIMD_AVX2_VL, PHYS_SIMD_AVX512 };
+
+/* The vector instructions the pair kernels may use: [level] a
+ * PHYS_SIMD_* (PHYS_SIMD_AVX2: up to AVX2, and so on), capped at what the
+ * processor runs. Returns the level in force. Every
+ * level gives the same bits (lib/physics/tiles.c). Default: FLITTER_SIMD
+ * ("portable", "avx2", "avx2-avx512vl", anything else: the best
+ * available); with FLITTER_SIMD unset and no call of this, where the
+ * processor has AVX-512 each system times the 4 x 4 tiles (with AVX-512VL)
  * against it on the first runs of each kind of pair level and keeps the
  * faster (tiles.c). */
 int phys_set_simd(PhysicsWorld *w, int level);

@@ -142,9 +142,6 @@ enum {
     PHYS_ROUTE_TILES     /* the reference loop, W x W tiles (tiles.c) */
 };
 
-/* Vector instruction sets of the tile kernel (tiles.c), in order. */
-enum { PHYS_SIMD_PORTABLE, PHYS_SIMD_AVX2, PHYS_SIMD_AVX512 };
-
 /* Per-thread scratch of the gather routes: the pair direction and a
  * candidate list (capacity `capcand`). */
 typedef struct PhysScratch {
@@ -282,8 +279,8 @@ typedef struct PhysSystem {
     PhysScratch *scratch; size_t capscratch;  /* one per thread */
     double *rows; size_t caprows; /* rows.c: the level in pool order */
     int simd;                     /* PHYS_SIMD_* the tile kernel may use */
-    bool simd_auto;               /* tiles.c may take AVX2 where it runs a
-                                   * kind of level faster than AVX-512 */
+    bool simd_auto;               /* tiles.c may take 4 x 4 tiles where they
+                                   * run a kind of level faster than AVX-512 */
     struct TileTune *tune;        /* tiles.c: those timings, per kind of
                                    * level (NULL until the first) */
     double *tiles; size_t captiles;   /* tiles.c: the level in pool order,
@@ -571,6 +568,9 @@ void phys_rows_reserve(PhysSystem *s, size_t npool);
 
 /* The best PHYS_SIMD_* level this processor runs. */
 int phys_simd_best(void);
+/* The highest PHYS_SIMD_* level up to [level] this processor runs (0 for
+ * a negative one). */
+int phys_simd_cap(int level);
 /* Can phys_run_tiles() take level [lv] (D = 1..3, at most 4 appliers,
  * each !collision, !gravity or !electrostatic)? */
 bool phys_tiles_suits(const PhysSystem *s, const PhysLevel *lv);

@@ -14,7 +14,8 @@
  *     (as a of (q, j), j ascending: its own row); within a pair, appliers
  *     in their order.
  * The loop is cut into row blocks of W rows (i0 .. i0+W-1; W = 8 with
- * AVX-512, 4 with AVX2, 2 in the portable copy) and, within a block, column
+ * AVX-512, 4 with AVX2 (with or without AVX-512VL), 2 in the portable
+ * copy) and, within a block, column
  * tiles of W partners (j0 = i0, i0+W, ...: the first one is the block's own
  * "diagonal" tile, where only j > i counts). A tile measures its W x W
  * pairs row by row, each row as one vector of W lanes
@@ -66,10 +67,11 @@
  *
  * The level's positions, radii, masses/charges and forces are copied into
  * pool order (struct of arrays, padded to whole tiles) before and the
- * forces copied back after. The kernel is compiled for AVX-512, AVX2 and
- * the portable baseline (tiles_kernel.h) and chosen at run time by the
- * system's SIMD level (phys_simd_best(), FLITTER_SIMD) or, by default on
- * a processor with AVX-512, by timing AVX2 against it (tune_route below).
+ * forces copied back after. The kernel is compiled for AVX-512, for AVX2
+ * with and without AVX-512VL and for the portable baseline
+ * (tiles_kernel.h) and chosen at run time by the system's SIMD level
+ * (phys_simd_best(), FLITTER_SIMD) or, by default on a processor with
+ * AVX-512, by timing the 4 x 4 tiles against it (tune_route below).
  */
 #include <math.h>
 #include <sched.h>
@@ -302,6 +304,40 @@ __attribute__((target("avx2"))) static inline void sqrt_avx2(v4d *x)
 #undef TK_ALL
 #undef TK_MAX
 
+/* AVX2's 4 x 4 tiles with AVX-512VL: the same operations, encoded so as
+ * to use 32 vector registers instead of 16. The 3-D kernel keeps a row
+ * block's sums and its lanes' values in registers where the AVX2 copy
+ * spills them to the stack, and 4 lanes a division or square root cost
+ * less than half of 8 on some processors: charges1k's level (500,500
+ * pairs) took 1.07 ms a frame on one thread against 1.75 with AVX2 and
+ * 1.18-1.24 with AVX-512 (bench/PROFILE.md). */
+__attribute__((target("avx2,avx512f,avx512vl"))) static inline void sqrt_avx2vl(v4d *x)
+{
+    *x = (v4d)_mm256_sqrt_pd((__m256d)*x);
+}
+
+#define TK(name) name##_avx2vl
+#define TK_SPECIALISE 1
+#define TK_ANY(m) (_mm256_movemask_pd((__m256d)(m)) != 0)
+#define TK_MAX(a, b) ((v4d)_mm256_max_pd((__m256d)(a), (__m256d)(b)))
+#define TK_ALL(m) (_mm256_movemask_pd((__m256d)(m)) == 0xf)
+#define TK_TARGET __attribute__((target("avx2,avx512f,avx512vl")))
+#define TK_W 4
+#define TK_VD v4d
+#define TK_VI v4i
+#define TK_SQRT(p) sqrt_avx2vl(p)
+#include "tiles_kernel.h"
+#undef TK
+#undef TK_TARGET
+#undef TK_W
+#undef TK_VD
+#undef TK_VI
+#undef TK_SQRT
+#undef TK_SPECIALISE
+#undef TK_ANY
+#undef TK_ALL
+#undef TK_MAX
+
 /* AVX-512: 8 x 8 tiles. */
 __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
 {
@@ -338,10 +374,28 @@ int phys_simd_best(void)
     __builtin_cpu_init();
     if (__builtin_cpu_supports("avx2"))
         best = PHYS_SIMD_AVX2;
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f") &&
+        __builtin_cpu_supports("avx512vl"))
+        best = PHYS_SIMD_AVX2_VL;
     if (__builtin_cpu_supports("avx512f"))
         best = PHYS_SIMD_AVX512;
 #endif
     return best;
+}
+
+int phys_simd_cap(int level)
+{
+    const int best = phys_simd_best();
+    if (level < 0)
+        return PHYS_SIMD_PORTABLE;
+    if (level > best)
+        level = best;
+#ifdef HAVE_X86_TILES
+    /* AVX-512 without VL (Xeon Phi): the VL copy does not run */
+    if (level == PHYS_SIMD_AVX2_VL && !__builtin_cpu_supports("avx512vl"))
+        level = PHYS_SIMD_AVX2;
+#endif
+    return level;
 }
 
 static size_t tiles_stride(size_t npool)
@@ -416,6 +470,8 @@ static void tiles_part(TileRun *run, bool wave, int split)
 #ifdef HAVE_X86_TILES
     if (run->simd == PHYS_SIMD_AVX512)
         level_avx512(run->T, &P, run->D, run->spec);
+    else if (run->simd == PHYS_SIMD_AVX2_VL)
+        level_avx2vl(run->T, &P, run->D, run->spec);
     else if (run->simd == PHYS_SIMD_AVX2)
         level_avx2(run->T, &P, run->D, run->spec);
     else
@@ -727,17 +783,18 @@ void phys_tiles_help(PhysSystem *s)
 
 /* }===== */
 
-/* AVX-512 against AVX2 (PhysSystem.simd_auto): every route gives the same
- * bits, but which is faster depends on the processor and the level. On
- * one Xeon, petri200's 2-D level of 200 charged discs runs 15% faster
- * with AVX2 (its divisions and square roots no faster a lane in 512 bits,
- * the clock lower), and charges1k's 3-D level of 1,000 on two threads
- * 40% faster with AVX-512. So each kind of level (threaded or not, D, the
- * specialised copy) is timed on its first runs: TUNE_WARM runs with
- * AVX-512 untimed, then the two routes in turn, up to TUNE_RUNS each; the
- * one with the lower best time a pair is kept for it from then on, as
- * soon as one is TUNE_CLEAR times the other (a slow route is not run
- * more than it must be). */
+/* AVX-512 against 4 x 4 tiles (PhysSystem.simd_auto): every route gives
+ * the same bits, but which is faster depends on the processor and the
+ * level. On one Xeon, petri200's 2-D level of 200 charged discs ran 15%
+ * faster with AVX2 than with AVX-512 (its divisions and square roots no
+ * faster a lane in 512 bits, the clock lower), and charges1k's 3-D level
+ * of 1,000 on two threads 40% faster with AVX-512, until the AVX2 copy
+ * took AVX-512VL's registers (tune_four). So each kind of level
+ * (threaded or not, D, the specialised copy) is timed on its first runs:
+ * TUNE_WARM runs with AVX-512 untimed, then the two routes in turn, up to
+ * TUNE_RUNS each; the one with the lower best time a pair is kept for it
+ * from then on, as soon as one is TUNE_CLEAR times the other (a slow
+ * route is not run more than it must be). */
 #define TUNE_WARM 2
 #define TUNE_RUNS 4
 #define TUNE_CLEAR 1.25
@@ -747,8 +804,15 @@ typedef struct TileTune {
     uint16_t runs;              /* runs of this kind so far */
     int8_t choice;              /* PHYS_SIMD_*, or -1 while timing */
     double best[2];             /* least nanoseconds a pair so far: [0]
-                                   AVX2, [1] AVX-512 */
+                                   4 x 4 tiles, [1] AVX-512 */
 } TileTune;
+
+/* The tuner's 4 x 4 route: AVX2 with AVX-512VL where the processor has
+ * it (every processor with AVX-512 but the Xeon Phi), else AVX2. */
+static int tune_four(void)
+{
+    return phys_simd_cap(PHYS_SIMD_AVX2_VL);
+}
 
 static double now_ns(void)
 {
@@ -773,7 +837,7 @@ static int tune_route(PhysSystem *s, size_t kind)
         return t->choice;
     if (t->runs < TUNE_WARM)
         return PHYS_SIMD_AVX512;
-    return (t->runs - TUNE_WARM) % 2 ? PHYS_SIMD_AVX512 : PHYS_SIMD_AVX2;
+    return (t->runs - TUNE_WARM) % 2 ? PHYS_SIMD_AVX512 : tune_four();
 }
 
 /* Record a run of kind [kind] with [route]: [ns] for [pairs]. */
@@ -788,7 +852,7 @@ static void tune_record(PhysSystem *s, size_t kind, int route, double ns, double
         const unsigned k = (unsigned)(t->runs - TUNE_WARM) / 2 + 1;   /* runs of each so far */
         if (route == PHYS_SIMD_AVX512 &&
             (k == TUNE_RUNS || t->best[0] > TUNE_CLEAR * t->best[1] || t->best[1] > TUNE_CLEAR * t->best[0]))
-            t->choice = t->best[0] < t->best[1] ? PHYS_SIMD_AVX2 : PHYS_SIMD_AVX512;
+            t->choice = (int8_t)(t->best[0] < t->best[1] ? tune_four() : PHYS_SIMD_AVX512);
     }
     t->runs++;
 }

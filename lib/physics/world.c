@@ -241,7 +241,11 @@ PhysicsWorld *phys_new(void)
     e = getenv("FLITTER_PARTICLES");
     phys_set_particles(w, e && !strcmp(e, "literal"));
     e = getenv("FLITTER_SIMD");
-    phys_set_simd(w, !e ? 2 : !strcmp(e, "portable") ? 0 : !strcmp(e, "avx2") ? 1 : 2);
+    phys_set_simd(w, !e                           ? PHYS_SIMD_AVX512
+                     : !strcmp(e, "portable")      ? PHYS_SIMD_PORTABLE
+                     : !strcmp(e, "avx2")          ? PHYS_SIMD_AVX2
+                     : !strcmp(e, "avx2-avx512vl") ? PHYS_SIMD_AVX2_VL
+                                                   : PHYS_SIMD_AVX512);
     w->simd_auto = !e;
     return w;
 }
@@ -291,8 +295,7 @@ void phys_split_counts(const PhysicsWorld *w, uint64_t out[2])
 
 int phys_set_simd(PhysicsWorld *w, int level)
 {
-    int best = phys_simd_best();
-    w->simd = level < 0 ? 0 : level < best ? level : best;
+    w->simd = phys_simd_cap(level);
     w->simd_auto = false;
     return w->simd;
 }

@@ -253,13 +253,13 @@ static void assert_same_state(const StateDict *a, const StateDict *b,
 
 /* Three frames of [ph] give the reference loop's bits (one thread) with
  * each thread count of threads[0 .. n-1], in each vector width (portable,
- * AVX2, AVX-512, as far as the processor has them). */
+ * AVX2, AVX2 with AVX-512VL, AVX-512, as far as the processor has them). */
 static void assert_widths_match(Node *ph, uint64_t seed, const unsigned *threads,
                                 size_t n)
 {
     StateDict *ref = simulate(ph, true, 1, 3);
     for (size_t ti = 0; ti < n; ti++) {
-        for (int simd = 0; simd <= 2; simd++) {
+        for (int simd = PHYS_SIMD_PORTABLE; simd <= PHYS_SIMD_AVX512; simd++) {
             StateDict *sd = simulate_simd(ph, false, threads[ti], 3, simd);
             assert_same_state(ref, sd, seed, threads[ti]);
             state_free(sd);
@@ -280,7 +280,7 @@ static void check_scene(uint64_t seed, size_t big, int frames, bool no_random)
         state_free(sd);
     }
     /* each vector width on its own (tiles.c), one thread */
-    for (int simd = 0; simd <= 2; simd++) {
+    for (int simd = PHYS_SIMD_PORTABLE; simd <= PHYS_SIMD_AVX512; simd++) {
         StateDict *sd = simulate_simd(ph, false, 1, frames, simd);
         assert_same_state(ref, sd, seed, 1);
         state_free(sd);
@@ -505,8 +505,8 @@ static void test_shared_values(void **st)
  * with !gravity with and without it, !collision with and without power,
  * up to four appliers): these take the tiled reference loop of tiles.c
  * with one or two threads (the gather with four), in each of its vector
- * widths (2, 4 and 8 lanes: portable, AVX2, AVX-512, as far as the
- * processor has them), whose row blocks and tiles end part-filled unless
+ * widths (2, 4 and 8 lanes: portable, AVX2 with and without AVX-512VL,
+ * AVX-512, as far as the processor has them), whose row blocks and tiles end part-filled unless
  * the sizes are multiples of the width; the two largest have enough pairs
  * for the threaded route of tiles.c (tasks over chunks of partners, the
  * last chunk part-filled). Sizes around the widths, D = 1..3,
@@ -721,7 +721,7 @@ static void test_split_levels(void **st)
             StateDict *ref = simulate(ph, true, 1, 3);
             static const unsigned threads[] = {2, 4};
             for (size_t ti = 0; ti < 2; ti++) {
-                for (int simd = 0; simd <= 2; simd++) {
+                for (int simd = PHYS_SIMD_PORTABLE; simd <= PHYS_SIMD_AVX512; simd++) {
                     static const int modes[] = {PHYS_SPLIT_AUTO, PHYS_SPLIT_ALONE, PHYS_SPLIT_HELPER};
                     for (size_t mi = 0; mi < 3; mi++) {
                         uint64_t counts[2] = {0, 0};
