@@ -789,12 +789,15 @@ void phys_tiles_help(PhysSystem *s)
  * faster with AVX2 than with AVX-512 (its divisions and square roots no
  * faster a lane in 512 bits, the clock lower), and charges1k's 3-D level
  * of 1,000 on two threads 40% faster with AVX-512, until the AVX2 copy
- * took AVX-512VL's registers (tune_four). So each kind of level
- * (threaded or not, D, the specialised copy) is timed on its first runs:
- * TUNE_WARM runs with AVX-512 untimed, then the two routes in turn, up to
- * TUNE_RUNS each; the one with the lower best time a pair is kept for it
- * from then on, as soon as one is TUNE_CLEAR times the other (a slow
- * route is not run more than it must be). */
+ * took AVX-512VL's registers (tune_four); with them, the 4 x 4 tiles were
+ * as fast or faster for every kind of level timed on that Xeon (bench/
+ * PROFILE.md). So each kind of level (threaded or not, D, the specialised
+ * copy) is timed on its first runs: TUNE_WARM runs with the 4 x 4 tiles
+ * untimed, then the two routes in turn, up to TUNE_RUNS each; the one
+ * with the lower best time a pair is kept for it from then on, or as soon
+ * as each has run twice and one's best is TUNE_CLEAR times the other's (a
+ * slow route is not run more than it must be; two runs each, so that one
+ * run slowed by something else does not decide). */
 #define TUNE_WARM 2
 #define TUNE_RUNS 4
 #define TUNE_CLEAR 1.25
@@ -836,7 +839,7 @@ static int tune_route(PhysSystem *s, size_t kind)
     if (t->choice >= 0)
         return t->choice;
     if (t->runs < TUNE_WARM)
-        return PHYS_SIMD_AVX512;
+        return tune_four();
     return (t->runs - TUNE_WARM) % 2 ? PHYS_SIMD_AVX512 : tune_four();
 }
 
@@ -851,7 +854,8 @@ static void tune_record(PhysSystem *s, size_t kind, int route, double ns, double
             *b = a;
         const unsigned k = (unsigned)(t->runs - TUNE_WARM) / 2 + 1;   /* runs of each so far */
         if (route == PHYS_SIMD_AVX512 &&
-            (k == TUNE_RUNS || t->best[0] > TUNE_CLEAR * t->best[1] || t->best[1] > TUNE_CLEAR * t->best[0]))
+            (k == TUNE_RUNS ||
+             (k >= 2 && (t->best[0] > TUNE_CLEAR * t->best[1] || t->best[1] > TUNE_CLEAR * t->best[0]))))
             t->choice = (int8_t)(t->best[0] < t->best[1] ? tune_four() : PHYS_SIMD_AVX512);
     }
     t->runs++;
