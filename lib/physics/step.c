@@ -520,10 +520,13 @@ static void draw_ahead(PhysSystem *s, bool help)
  * pair pass unless a task it ran before took it, a worker the helper's
  * role unless another worker took it: so the pair pass stays on the
  * thread whose particle pass wrote the positions and forces it reads, and
- * reads them from its own cache (a worker that claimed the first task took
- * the pair pass on 40% of petri200's steps: bench/PROFILE.md). The two
- * tasks always take the two roles, and a thread that runs both takes the
- * pair pass first, as the helper's waits end with it. */
+ * reads them from its own cache (when a task's index decided, a worker
+ * that claimed the first task took the pair pass on 216-268 of petri200's
+ * 599 steps: bench/PROFILE.md). The two tasks always take the two roles.
+ * The caller, running both, takes the pair pass first, as the helper's
+ * waits end with it; a worker runs both only when the helper's role
+ * returned without waiting (draws alone, no level split), so in either
+ * order. */
 static void first_pass_task(void *ctx, size_t t, unsigned thread)
 {
     (void)t;

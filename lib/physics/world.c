@@ -38,7 +38,8 @@ struct PhysicsWorld {
     int split;              /* PHYS_SPLIT_* */
     bool simd_auto;         /* no level asked for (FLITTER_SIMD unset,
                                phys_set_simd not called): the systems time
-                               AVX2 against AVX-512 (tiles.c) */
+                               the 4 x 4 tiles (with AVX-512VL where the
+                               processor has it) against AVX-512 (tiles.c) */
 };
 
 /* ------------------------------------------------------------------ */

@@ -195,9 +195,9 @@ static Node *random_scene(uint64_t seed, size_t big, bool no_random)
 }
 
 /* Run [frames] frames (times 0, 0.25, ...: 5 steps each after the first)
- * of [ph] in a fresh world, with vector instructions [simd] (-1: the
- * world's own choice, AVX2 or AVX-512 timed on the first steps of each
- * kind of level, tiles.c). */
+ * of [ph] in a fresh world, with vector instructions [simd] (a
+ * PHYS_SIMD_* level; -1: the world's own choice, the 4 x 4 tiles or
+ * AVX-512 timed on the first steps of each kind of level, tiles.c). */
 static StateDict *simulate_simd(Node *ph, bool naive, unsigned threads,
                                 int frames, int simd)
 {
