@@ -25,6 +25,7 @@
 #define FL_PHYSICS_INTERNAL_H
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -101,6 +102,8 @@ typedef struct PhysApplier {
                             * from offset pre_off, pre_n of them (step.c) */
     uint64_t pre_n;
     size_t pre_off;
+    size_t pre_chunk;      /* random: the step's first draw chunk of these
+                            * pairs (step.c, phys_draw_chunk) */
     size_t vec;            /* offset of this applier's 2*D doubles in avec:
                             * drag flow | buoyancy gravity | constant force,
                             * acceleration | field direction | barrier
@@ -298,6 +301,9 @@ typedef struct PhysSystem {
                                    * helper / the pass's thread ran */
     double *rnd; size_t caprnd;   /* step.c: !random draws made ahead, two
                                    * doubles a pair */
+    size_t draw_chunks;           /* step.c: the chunks of those draws this
+                                   * step (0: none planned) */
+    atomic_size_t draw_next;      /* the next chunk a thread may claim */
 
     /* names seen in the tree, classified once while the string lives
      * (collect.c): direct-mapped by address, strings retained */
@@ -604,6 +610,12 @@ void phys_tiles_split_end(PhysSystem *s);
 void phys_tiles_help(PhysSystem *s);
 /* The helper's part of a split level posted now, if any (does not wait). */
 void phys_tiles_help_posted(PhysSystem *s);
+/* Make one chunk of this step's planned !random draws (step.c, "!random
+ * draws made on a second thread"), the next one no thread has claimed;
+ * false when every chunk is claimed. Any thread of the first pass's job
+ * may call it, in any order: a draw is a function of its key and index
+ * alone, so the draws are the same bits whoever makes them. */
+bool phys_draw_chunk(PhysSystem *s);
 
 /* ---- literal.c: the literal route of the particle pass ---- */
 

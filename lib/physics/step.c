@@ -411,7 +411,10 @@ static void particle_pass(PhysSystem *s, const PhysGroup *g, double clock,
  * same job, with or without draws, lets middle-sized all-pairs levels take
  * the split route of tiles.c: the second task helps with their near parts
  * (phys_tiles_help_posted between its draws, then phys_tiles_help until
- * the pair pass ends). */
+ * the pair pass ends). The draws come in chunks that either thread may
+ * claim (phys_draw_chunk): the pair pass's thread makes the ones left when
+ * its pass ends, and those it can while it waits for a near part, instead
+ * of waiting idle. */
 
 /* Fewest pairs of draws worth a job of their own. */
 #define AHEAD_MIN_PAIRS 32
@@ -451,13 +454,18 @@ static bool pairs_one_thread(const PhysSystem *s)
     return true;
 }
 
+/* Pairs of draws a chunk (phys_draw_chunk): between two looks for a split
+ * level to help with, about 0.8 us here. */
+#define DRAW_CHUNK 16
+
 /* Plan this step's draws ahead: each !random applier's range (pre_at,
  * pre_n, pre_off) and room for them in s->rnd. Returns the pairs of draws
  * planned: 0 (nothing planned) when there are too few to be worth it or
  * no memory. */
 static size_t plan_ahead(PhysSystem *s)
 {
-    size_t total = 0;
+    size_t total = 0, chunks = 0;
+    s->draw_chunks = 0;
     for (size_t a = 0; a < s->nap; a++) {
         PhysApplier *ap = &s->ap[a];
         if (ap->kind != AP_RANDOM)
@@ -474,7 +482,9 @@ static size_t plan_ahead(PhysSystem *s)
         ap->pre_at = ap->index & ~(uint64_t)1;
         ap->pre_n = (draws + (ap->index & 1) + 1) / 2;
         ap->pre_off = 2 * total;
+        ap->pre_chunk = chunks;
         total += ap->pre_n;
+        chunks += (ap->pre_n + DRAW_CHUNK - 1) / DRAW_CHUNK;
     }
     if (total < AHEAD_MIN_PAIRS || total > SIZE_MAX / 4 / sizeof(double))
         goto none;
@@ -485,6 +495,8 @@ static size_t plan_ahead(PhysSystem *s)
         s->rnd = r;
         s->caprnd = 2 * total;
     }
+    s->draw_chunks = chunks;
+    atomic_store_explicit(&s->draw_next, 0, memory_order_relaxed);
     return total;
 none:
     for (size_t a = 0; a < s->nap; a++)
@@ -492,24 +504,39 @@ none:
     return 0;
 }
 
-/* Pairs of draws between two looks for a split level to help with. */
-#define DRAW_CHUNK 16
-
-/* The draws plan_ahead() planned, into s->rnd; with [help], the parts of
- * split levels posted meanwhile first (phys_tiles_help_posted): the pair
- * pass waits for them, not for the draws. */
-static void draw_ahead(PhysSystem *s, bool help)
+bool phys_draw_chunk(PhysSystem *s)
 {
+    if (s->draw_chunks == 0)
+        return false;
+    const size_t c = atomic_fetch_add_explicit(&s->draw_next, 1, memory_order_relaxed);
+    if (c >= s->draw_chunks)
+        return false;
     for (size_t a = 0; a < s->nap; a++) {
         const PhysApplier *ap = &s->ap[a];
-        if (ap->kind != AP_RANDOM)
+        if (ap->kind != AP_RANDOM || ap->pre_n == 0 || c < ap->pre_chunk ||
+            c - ap->pre_chunk >= (ap->pre_n + DRAW_CHUNK - 1) / DRAW_CHUNK)
             continue;
+        const uint64_t k0 = (uint64_t)(c - ap->pre_chunk) * DRAW_CHUNK;
+        const uint64_t k1 = ap->pre_n - k0 < DRAW_CHUNK ? ap->pre_n : k0 + DRAW_CHUNK;
         double *out = s->rnd + ap->pre_off;
-        for (uint64_t k = 0; k < ap->pre_n; k++) {
-            if (help && k % DRAW_CHUNK == 0)
-                phys_tiles_help_posted(s);
+        for (uint64_t k = k0; k < k1; k++)
             rng_normal_pair(ap->key, ap->pre_at + 2 * k, out + 2 * k);
-        }
+        break;
+    }
+    return true;
+}
+
+/* The helper's draws: chunks of the planned draws until none is left to
+ * claim; with [help], before each, the part of a split level posted
+ * meanwhile (phys_tiles_help_posted): the pair pass waits for that, not
+ * for the draws. */
+static void draw_ahead(PhysSystem *s, bool help)
+{
+    for (;;) {
+        if (help)
+            phys_tiles_help_posted(s);
+        if (!phys_draw_chunk(s))
+            return;
     }
 }
 
@@ -540,6 +567,9 @@ static void first_pass_task(void *ctx, size_t t, unsigned thread)
             pair_pass(s, &s->groups[g]);
         if (fp->split)
             phys_tiles_split_end(s);
+        /* the draws no thread has claimed yet */
+        while (phys_draw_chunk(s)) {
+        }
         return;
     }
     draw_ahead(s, fp->split);
@@ -554,6 +584,7 @@ static void first_pass(PhysSystem *s, bool random)
 {
     Workers *w = s->workers;
     bool ahead = false, split = false;
+    s->draw_chunks = 0;
     if (!s->literal && workers_count(w) >= 2 && pairs_one_thread(s)) {
         const double draw_pairs = random ? (double)plan_ahead(s) : 0;
         ahead = draw_pairs > 0;

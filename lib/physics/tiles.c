@@ -597,8 +597,9 @@ bool phys_tiles_threaded(const PhysSystem *s, const PhysGroup *g, const PhysLeve
  * even a cache line is shared) and read what the level does not change.
  * The thread running the pair pass posts the level, runs FAR, then runs
  * NEAR itself unless the helper (phys_tiles_help, the first pass's second
- * task, after its draws) claimed it, and REPLAY: the record stays in the
- * cache of the thread that wrote it. Whichever thread runs NEAR, the
+ * task, after its draws) claimed it (else it makes the step's draws that
+ * are left while it waits: split_wait), and REPLAY: the record stays in
+ * the cache of the thread that wrote it. Whichever thread runs NEAR, the
  * result is the same bits; a helper that comes late, before its claim,
  * only costs the time it would have saved (one that is descheduled after
  * its claim holds the pass's thread up until it is done). The helper
@@ -672,12 +673,15 @@ static double *split_reserve(PhysSystem *s, size_t m, size_t n, size_t nf, size_
     return s->trec;
 }
 
-/* Spin (and yield now and then) until [st] holds [want]. */
-static void split_wait(atomic_uint_fast64_t *st, uint64_t want)
+/* Wait until [st] holds [want], making chunks of the step's draws
+ * meanwhile while some are left (phys_draw_chunk), else spinning (and
+ * yielding now and then). */
+static void split_wait(PhysSystem *s, atomic_uint_fast64_t *st, uint64_t want)
 {
     unsigned spins = 0;
     while (atomic_load_explicit(st, memory_order_acquire) != want)
-        tile_pause(&spins);
+        if (!phys_draw_chunk(s))
+            tile_pause(&spins);
 }
 
 /* The pair pass's side of a split level: post it, run FAR, then NEAR
@@ -699,7 +703,7 @@ static void split_run(PhysSystem *s, TileRun *run)
         tiles_part(run, false, TILE_SPLIT_NEAR);
         s->split_near[1]++;
     } else {
-        split_wait(&h->state, seq | SPLIT_DONE);
+        split_wait(s, &h->state, seq | SPLIT_DONE);
         s->split_near[0]++;
     }
     tiles_part(run, false, TILE_SPLIT_REPLAY);

@@ -358,6 +358,43 @@ static void check_threads_124(Node *ph, uint64_t seed)
     state_free(ref);
 }
 
+/* The step's !random draws made ahead in chunks that either thread of the
+ * first pass may claim (step.c, phys_draw_chunk): systems of !random
+ * alone, or with a small pair level beside it, whose planned pairs are no
+ * multiple of a chunk (16 pairs), with no anchor, so the last pair of the
+ * last chunk is drawn for a particle (D = 2: both its values; D = 1 and 3
+ * with an odd count: its first); a second !random in a nested group (its
+ * chunks follow the first's); against the reference loop on 1, 2 and 4
+ * threads, bit for bit. */
+static void test_draw_chunks(void **st)
+{
+    (void)st;
+    static const size_t counts[] = {33, 41, 47, 65, 203, 1001};
+    for (size_t D = 1; D <= 3; D++) {
+        for (size_t ci = 0; ci < sizeof counts / sizeof *counts; ci++) {
+            const uint64_t seed = 12000 + 10 * D + ci;
+            Rng r = {seed};
+            Node *ph = physics_node(D);
+            Node *g = ci % 2 ? add(ph, "group") : ph;
+            for (size_t i = 0; i < counts[ci]; i++) {
+                Node *p = add(i < counts[ci] / 2 ? ph : g, "particle");
+                set(p, "id", num((double)i));
+                set(p, "position", rvec(&r, D, 8, 0));
+                set(p, "radius", num(0.3));
+                set(p, "charge", num(uni(&r) - 0.5));
+            }
+            set(add(ph, "random"), "strength", num(2));
+            if (g != ph)
+                set(add(g, "random"), "strength", num(0.5));
+            set(add(ph, "drag"), "strength", num(0.1));
+            if (ci % 3 == 2)
+                set(add(ph, "electrostatic"), "strength", num(1));
+            check_threads_124(ph, seed);
+            node_release(ph);
+        }
+    }
+}
+
 /* Clusters of discs far apart: the box of grid cells around them is too
  * large for the dense grid (more than 4 cells per entry + 4096), so the
  * level takes the grid hashed by cell (pairs.c); one cluster alone (the
@@ -879,6 +916,7 @@ int main(void)
         cmocka_unit_test(test_small_scenes),
         cmocka_unit_test(test_large_scenes),
         cmocka_unit_test(test_split_particle_pass),
+        cmocka_unit_test(test_draw_chunks),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
