@@ -264,45 +264,12 @@ static inline v2d max_portable(v2d a, v2d b)
 #define TK_VI v2i
 #define TK_SQRT(p) sqrt_portable(p)
 #include "tiles_kernel.h"
-#undef TK
-#undef TK_TARGET
-#undef TK_W
-#undef TK_VD
-#undef TK_VI
-#undef TK_SQRT
-#undef TK_SPECIALISE
-#undef TK_ANY
-#undef TK_ALL
-#undef TK_MAX
 
 #ifdef HAVE_X86_TILES
-/* AVX2: 4 x 4 tiles. */
-__attribute__((target("avx2"))) static inline void sqrt_avx2(v4d *x)
-{
-    *x = (v4d)_mm256_sqrt_pd((__m256d)*x);
-}
-
+/* AVX2: 4 x 4 tiles (tiles_kernel_4.h). */
 #define TK(name) name##_avx2
-#define TK_SPECIALISE 1
-#define TK_ANY(m) (_mm256_movemask_pd((__m256d)(m)) != 0)
-#define TK_MAX(a, b) ((v4d)_mm256_max_pd((__m256d)(a), (__m256d)(b)))
-#define TK_ALL(m) (_mm256_movemask_pd((__m256d)(m)) == 0xf)
 #define TK_TARGET __attribute__((target("avx2")))
-#define TK_W 4
-#define TK_VD v4d
-#define TK_VI v4i
-#define TK_SQRT(p) sqrt_avx2(p)
-#include "tiles_kernel.h"
-#undef TK
-#undef TK_TARGET
-#undef TK_W
-#undef TK_VD
-#undef TK_VI
-#undef TK_SQRT
-#undef TK_SPECIALISE
-#undef TK_ANY
-#undef TK_ALL
-#undef TK_MAX
+#include "tiles_kernel_4.h"
 
 /* AVX2's 4 x 4 tiles with AVX-512VL: the same operations, encoded so as
  * to use 32 vector registers instead of 16. The 3-D kernel keeps a row
@@ -311,32 +278,9 @@ __attribute__((target("avx2"))) static inline void sqrt_avx2(v4d *x)
  * less than half of 8 on some processors: charges1k's level (500,500
  * pairs) took 1.07 ms a frame on one thread against 1.75 with AVX2 and
  * 1.18-1.24 with AVX-512 (bench/PROFILE.md). */
-__attribute__((target("avx2,avx512f,avx512vl"))) static inline void sqrt_avx2vl(v4d *x)
-{
-    *x = (v4d)_mm256_sqrt_pd((__m256d)*x);
-}
-
 #define TK(name) name##_avx2vl
-#define TK_SPECIALISE 1
-#define TK_ANY(m) (_mm256_movemask_pd((__m256d)(m)) != 0)
-#define TK_MAX(a, b) ((v4d)_mm256_max_pd((__m256d)(a), (__m256d)(b)))
-#define TK_ALL(m) (_mm256_movemask_pd((__m256d)(m)) == 0xf)
 #define TK_TARGET __attribute__((target("avx2,avx512f,avx512vl")))
-#define TK_W 4
-#define TK_VD v4d
-#define TK_VI v4i
-#define TK_SQRT(p) sqrt_avx2vl(p)
-#include "tiles_kernel.h"
-#undef TK
-#undef TK_TARGET
-#undef TK_W
-#undef TK_VD
-#undef TK_VI
-#undef TK_SQRT
-#undef TK_SPECIALISE
-#undef TK_ANY
-#undef TK_ALL
-#undef TK_MAX
+#include "tiles_kernel_4.h"
 
 /* AVX-512: 8 x 8 tiles. */
 __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
@@ -355,16 +299,6 @@ __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
 #define TK_VI v8i
 #define TK_SQRT(p) sqrt_avx512(p)
 #include "tiles_kernel.h"
-#undef TK
-#undef TK_TARGET
-#undef TK_W
-#undef TK_VD
-#undef TK_VI
-#undef TK_SQRT
-#undef TK_SPECIALISE
-#undef TK_ANY
-#undef TK_ALL
-#undef TK_MAX
 #endif
 
 int phys_simd_best(void)

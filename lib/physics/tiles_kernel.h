@@ -12,7 +12,8 @@
  *              (lanes all ones or all zeros) is set
  *   TK_SPECIALISE  1 to also compile the copies of TILE_SPEC_* (the
  *              common levels, their applier kinds known at compile time)
- * The kernel itself and the reasoning for its order are in tiles.c. */
+ * The kernel itself and the reasoning for its order are in tiles.c. The
+ * file undefines these parameters at its end, ready for the next copy. */
 
 /* The pair values of row [i] against the lanes j0 .. j0+TK_W-1 (the lane
  * data Xl, Rl, Vl loaded by the caller, with Rnz = Rl != 0, Vnz = Vl != 0),
@@ -488,3 +489,14 @@ static TK_TARGET void TK(level)(const TileLevel *T, TilePart *P, size_t D, int s
     };
     fn[D - 1][T->nf - 1](T, P);
 }
+
+#undef TK
+#undef TK_TARGET
+#undef TK_W
+#undef TK_VD
+#undef TK_VI
+#undef TK_SQRT
+#undef TK_SPECIALISE
+#undef TK_ANY
+#undef TK_ALL
+#undef TK_MAX
