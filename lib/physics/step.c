@@ -459,13 +459,13 @@ static bool pairs_one_thread(const PhysSystem *s)
 #define DRAW_CHUNK 16
 
 /* Plan this step's draws ahead: each !random applier's range (pre_at,
- * pre_n, pre_off) and room for them in s->rnd. Returns the pairs of draws
- * planned: 0 (nothing planned) when there are too few to be worth it or
- * no memory. */
+ * pre_n, pre_off, pre_chunk), room for them in s->rnd and their chunks
+ * (s->draw_chunks, which first_pass clears before). Returns the pairs of
+ * draws planned: 0 (nothing planned) when there are too few to be worth
+ * it or no memory. */
 static size_t plan_ahead(PhysSystem *s)
 {
     size_t total = 0, chunks = 0;
-    s->draw_chunks = 0;
     for (size_t a = 0; a < s->nap; a++) {
         PhysApplier *ap = &s->ap[a];
         if (ap->kind != AP_RANDOM)
@@ -526,8 +526,8 @@ bool phys_draw_chunk(PhysSystem *s)
     return true;
 }
 
-/* The helper's draws: chunks of the planned draws until none is left to
- * claim; with [help], before each, the part of a split level posted
+/* Chunks of the planned draws until none is left to claim (the helper's
+ * draws, and the pair pass's thread's once its pass ends); with [help], before each, the part of a split level posted
  * meanwhile (phys_tiles_help_posted): the pair pass waits for that, not
  * for the draws. */
 static void draw_ahead(PhysSystem *s, bool help)
@@ -567,9 +567,7 @@ static void first_pass_task(void *ctx, size_t t, unsigned thread)
             pair_pass(s, &s->groups[g]);
         if (fp->split)
             phys_tiles_split_end(s);
-        /* the draws no thread has claimed yet */
-        while (phys_draw_chunk(s)) {
-        }
+        draw_ahead(s, false);      /* the draws no thread has claimed yet */
         return;
     }
     draw_ahead(s, fp->split);

@@ -15,9 +15,9 @@
  *     in their order.
  * The loop is cut into row blocks of W rows (i0 .. i0+W-1; W = 8 with
  * AVX-512, 4 with AVX2 (with or without AVX-512VL), 2 in the portable
- * copy) and, within a block, column
- * tiles of W partners (j0 = i0, i0+W, ...: the first one is the block's own
- * "diagonal" tile, where only j > i counts). A tile measures its W x W
+ * copy) and, within a block, column tiles of W partners (j0 = i0, i0+W,
+ * ...: the first one is the block's own "diagonal" tile, where only j > i
+ * counts). A tile measures its W x W
  * pairs row by row, each row as one vector of W lanes
  * (lanes = partners j), each lane with the operations and operand order of
  * pair() and pair_force() in forces.c (sqrt and division are correctly
@@ -60,10 +60,9 @@
  * on one thread too. Only levels with enough pairs to pay for the
  * hand-offs take this route (TILES_PIPE_PAIRS; middle-sized levels have a
  * route of their own, "Two threads for a middle-sized level"). (The
- * earlier split, one cut into
- * two column ranges handed on row block by row block, left the second
- * thread idle for a third of the level: 1.25x on two threads for 1,000
- * particles.)
+ * earlier split, one cut into two column ranges handed on row block by
+ * row block, left the second thread idle for a third of the level: 1.25x
+ * on two threads for 1,000 particles.)
  *
  * The level's positions, radii, masses/charges and forces are copied into
  * pool order (struct of arrays, padded to whole tiles) before and the
@@ -301,35 +300,41 @@ __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
 #include "tiles_kernel.h"
 #endif
 
-int phys_simd_best(void)
+/* Whether this processor runs the kernels of PHYS_SIMD_* level [level]. */
+static bool simd_runs(int level)
 {
-    int best = PHYS_SIMD_PORTABLE;
 #ifdef HAVE_X86_TILES
     __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx2"))
-        best = PHYS_SIMD_AVX2;
-    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f") &&
-        __builtin_cpu_supports("avx512vl"))
-        best = PHYS_SIMD_AVX2_VL;
-    if (__builtin_cpu_supports("avx512f"))
-        best = PHYS_SIMD_AVX512;
+    switch (level) {
+    case PHYS_SIMD_AVX2:
+        return __builtin_cpu_supports("avx2");
+    case PHYS_SIMD_AVX2_VL:
+        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f") &&
+               __builtin_cpu_supports("avx512vl");
+    case PHYS_SIMD_AVX512:
+        return __builtin_cpu_supports("avx512f");
+    default:
+        return level == PHYS_SIMD_PORTABLE;
+    }
+#else
+    return level == PHYS_SIMD_PORTABLE;
 #endif
-    return best;
+}
+
+int phys_simd_best(void)
+{
+    return phys_simd_cap(PHYS_SIMD_AVX512);
 }
 
 int phys_simd_cap(int level)
 {
-    const int best = phys_simd_best();
-    if (level < 0)
-        return PHYS_SIMD_PORTABLE;
-    if (level > best)
-        level = best;
-#ifdef HAVE_X86_TILES
-    /* AVX-512 without VL (Xeon Phi): the VL copy does not run */
-    if (level == PHYS_SIMD_AVX2_VL && !__builtin_cpu_supports("avx512vl"))
-        level = PHYS_SIMD_AVX2;
-#endif
-    return level;
+    if (level > PHYS_SIMD_AVX512)
+        level = PHYS_SIMD_AVX512;
+    /* a level the processor lacks (AVX-512 without VL, on the Xeon Phi,
+     * lacks only the one below it) gives the next one down it has */
+    while (level > PHYS_SIMD_PORTABLE && !simd_runs(level))
+        level--;
+    return level < PHYS_SIMD_PORTABLE ? PHYS_SIMD_PORTABLE : level;
 }
 
 static size_t tiles_stride(size_t npool)
@@ -373,8 +378,8 @@ void phys_tiles_reserve(PhysSystem *s, size_t npool)
  * of its tasks (a wake-up and one per task) cost more there. They run on
  * one thread, beside the step's draws on the second (step.c), or on the
  * split route below. Whole runs on two threads, this level threaded
- * against on one thread (before the split route): petri-like 2-D systems with !random, 250 particles (31,000
- * pairs) 26.6 against 24.7 ms, 280 (39,000) 30.7 against 32.8, 320
+ * against on one thread (before the split route): petri-like 2-D systems
+ * with !random, 250 particles (31,000 pairs) 26.6 against 24.7 ms, 280 (39,000) 30.7 against 32.8, 320
  * (51,000) 36.5 against 44.4; 3-D charges without, 200 particles 11.2
  * against 11.6, 300 particles 13.1 against 15.6. */
 #define TILES_PIPE_PAIRS 32768.0
