@@ -57,6 +57,7 @@ struct fl_runtime {
     uint64_t kernel_iterations; /* loop iterations run with their kernel
                                    (kernel.h), all frames */
     uint64_t kernel_reused; /* nodes refilled in place (kernel.h), all frames */
+    uint64_t kernel_straight; /* iterations run as straight bodies (kernel.c), all frames */
     SymTab *symtab;         /* symbol names for value text */
     StateDict *state;       /* the state dictionary */
     PhysicsWorld *physics;  /* persistent physics systems */
@@ -696,6 +697,7 @@ static int step(fl_runtime *rt)
     rt->root = root;
     rt->kernel_iterations += ev.kiters;
     rt->kernel_reused += ev.kreused;
+    rt->kernel_straight += ev.kstraight;
     double t2 = monotonic();
     report(rt, FL_LOG_ERROR, "Execution error: ", &rt->errors[rt->cur], &rt->errors[prev]);
     report(rt, FL_LOG_DEBUG, "", &rt->debug[rt->cur], &rt->debug[prev]);
@@ -748,6 +750,8 @@ static int step(fl_runtime *rt)
 uint64_t rt_kernel_iterations(const fl_runtime *rt) { return rt->kernel_iterations; }
 
 uint64_t rt_kernel_reused(const fl_runtime *rt) { return rt->kernel_reused; }
+
+uint64_t rt_kernel_straight(const fl_runtime *rt) { return rt->kernel_straight; }
 
 void fl_get_stats(const fl_runtime *rt, fl_stats *out)
 {

@@ -60,6 +60,10 @@ uint64_t rt_kernel_iterations(const fl_runtime *rt);
 /* How many nodes the frames so far refilled in place instead of building
  * them (kernel.h KNodeCache): the tests' evidence that nodes were reused. */
 uint64_t rt_kernel_reused(const fl_runtime *rt);
+/* How many loop iterations the frames so far ran as a straight body's
+ * nodes (kernel.c, straight_iteration) instead of its records one by one:
+ * the tests' evidence that that route ran. */
+uint64_t rt_kernel_straight(const fl_runtime *rt);
 /* The options [rt] was made with (fl_new's copy, log defaulted). */
 const fl_options *rt_options(const fl_runtime *rt);
 

@@ -225,10 +225,6 @@ static inline __attribute__((always_inline)) Node *knode_new(Eval *ev, const uns
     return nn;
 }
 
-/* Most attributes of a C_KNODE whose nodes are kept (kernel.h
- * KNodeCache); a node with more is built anew every time. */
-#define KNODE_REUSE_ATTRS 16
-
 /* run_knode with the loop's cache of nodes [c]: the node of this slot
  * from the run before the last, refilled in place when nothing but the
  * cache holds it and it has the record's kind and attributes (names in
@@ -237,8 +233,8 @@ static inline __attribute__((always_inline)) Node *knode_new(Eval *ev, const uns
  * slot. Either way the node is the one run_knode builds, value for
  * value. The memo attributes (the only ones whose evaluation can do
  * anything) are evaluated first, in order, as run_knode evaluates them. */
-__attribute__((noinline)) static Vec *run_knode_cached(Eval *ev, const unsigned char *base, const CRec *r,
-                                                       KNodeCache *c)
+__attribute__((noinline)) static Node *run_knode_cached(Eval *ev, const unsigned char *base, const CRec *r,
+                                                        KNodeCache *c)
 {
     const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
     const uint32_t s = c->next++;
@@ -260,7 +256,7 @@ __attribute__((noinline)) static Vec *run_knode_cached(Eval *ev, const unsigned 
     if (!same) {
         Node *nn = knode_new(ev, base, r, memo);
         if (!knode_cache_put(c, s, nn)) ev->kcache = NULL;
-        return vec_node_take(nn);
+        return nn;
     }
     for (uint32_t k = 0; k < r->n; k++) {
         if (memo[k]) {
@@ -277,7 +273,13 @@ __attribute__((noinline)) static Vec *run_knode_cached(Eval *ev, const unsigned 
         v->hashed = 0;
     }
     ev->kreused++;
-    return vec_node_take(node_retain(o));
+    return node_retain(o);
+}
+
+Node *knode_take(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    if (ev->kcache && r->n <= KNODE_REUSE_ATTRS) return run_knode_cached(ev, base, r, ev->kcache);
+    return knode_new(ev, base, r, NULL);
 }
 
 /* C_KNODE (inside run_rec's depth guard, the kernel's clean iteration
@@ -286,8 +288,7 @@ __attribute__((noinline)) static Vec *run_knode_cached(Eval *ev, const unsigned 
 __attribute__((noinline)) static Vec *run_knode(Eval *ev, const unsigned char *base, const CRec *r)
 {
     if (ev->kbase != base || !ev->kclean || ev->depth + r->aux > MAX_EVAL_DEPTH) return run_newnode(ev, base, r);
-    if (ev->kcache && r->n <= KNODE_REUSE_ATTRS) return run_knode_cached(ev, base, r, ev->kcache);
-    return vec_node_take(knode_new(ev, base, r, NULL));
+    return vec_node_take(knode_take(ev, base, r));
 }
 
 /* C_CALLBI: eval_call's direct route for a builtin callee */

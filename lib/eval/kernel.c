@@ -60,6 +60,12 @@ struct LoopKernel {
                             record would read a name itself */
     uint32_t chunk;     /* FLITTER_KERNEL_CHUNK, or 0 */
     uint32_t window;    /* FLITTER_KERNEL_WINDOW, or 0 */
+    /* A straight body (see straight()): its C_KNODE records in order, the
+     * depth of each above the body's (run_rec's levels to it), and the
+     * depth above the body's within which every level's guard passes */
+    uint32_t *knode;    /* NULL: the body is not straight */
+    uint32_t *knode_level;
+    uint32_t nknode, knode_need;
 };
 
 static void kernel_free(void *p)
@@ -70,6 +76,8 @@ static void kernel_free(void *p)
     free(k->in);
     free(k->outer);
     free(k->name_read);
+    free(k->knode);
+    free(k->knode_level);
     free(k);
 }
 
@@ -505,6 +513,55 @@ static void mark_lets(KB *kb, const Uses *u, const LetAt *lets, uint32_t nlets)
     }
 }
 
+/* A straight body's records (LoopKernel.knode), as straight() finds
+ * them. */
+typedef struct Straight {
+    uint32_t *off, *level;
+    uint32_t n, cap, need;
+} Straight;
+
+/* Whether the record at [off], run by run_rec at [level] levels above
+ * the body's depth, builds the same C_KNODE records, in the same order, in
+ * every clean iteration, and does nothing else: a C_KNODE that the loop's
+ * cache may keep, or a sequence or a C_KLET that makes no binding (each
+ * one read by the kernel's records only) of such records. Then a clean
+ * iteration's value is those nodes composed (run_seq's composition of
+ * one-node vectors), and only their memo attributes evaluate anything.
+ * Adds the records to [st] with their levels, and to st->need each
+ * level's depth guard (run_rec's level itself, run_klet's and run_knode's
+ * aux above it). */
+static bool straight(KB *kb, uint32_t off, uint32_t level, Straight *st)
+{
+    const CRec *r = krec(kb, off);
+    switch (r->op) {
+    case C_KNODE:
+        if (r->n > KNODE_REUSE_ATTRS) return false;
+        if (st->n == st->cap) {
+            st->cap = st->cap ? 2 * st->cap : 16;
+            st->off = mem_realloc_array(st->off, st->cap, sizeof *st->off);
+            st->level = mem_realloc_array(st->level, st->cap, sizeof *st->level);
+        }
+        st->off[st->n] = off;
+        st->level[st->n++] = level;
+        if (level + r->aux > st->need) st->need = level + r->aux;
+        return true;
+    case C_SEQ:
+        /* run_seq of one record returns its value as it is, of more the
+         * composition of their values */
+        for (uint32_t i = 0; i < r->n; i++)
+            if (!straight(kb, ((const uint32_t *)(const void *)(r + 1))[i], level + 1, st)) return false;
+        return r->n > 0;
+    case C_KLET: {
+        const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
+        if (r->n > 32 || t->pad != (r->n == 32 ? UINT32_MAX : (UINT32_C(1) << r->n) - 1)) return false;
+        if (level + r->aux > st->need) st->need = level + r->aux;
+        return straight(kb, t->body, level + 1, st);
+    }
+    default:
+        return false;
+    }
+}
+
 /* Final register of compilation-numbered register [reg]. */
 static int32_t final_reg(const KB *kb, int32_t reg)
 {
@@ -581,6 +638,16 @@ void kernel_compile_for(AstNode *n)
     mark_lets(&kb, &u, lets, nlets);
     mark_nodes(&kb);
     free(kb.nodes);
+    Straight st = {0};
+    if (straight(&kb, 0, 1, &st) && st.n) {
+        lk->knode = st.off;
+        lk->knode_level = st.level;
+        lk->nknode = st.n;
+        lk->knode_need = st.need;
+    } else {
+        free(st.off);
+        free(st.level);
+    }
     lk->name_read = mem_alloc(n->nnames ? n->nnames : 1);
     for (uint32_t j = 0; j < n->nnames; j++) {
         SlotUse e = use_find(&u, n->slots[j]);
@@ -865,6 +932,33 @@ static void compute_lanes(KRun *kr, uint32_t i0, uint32_t n)
     }
 }
 
+/* A clean iteration of a straight body (LoopKernel.knode), within its
+ * depth guards: what eval_code gives for it, without running its records
+ * one by one (nothing to bind, no one-node vectors to compose): the nodes
+ * of its C_KNODE records in order (knode_take, at the depth where run_rec
+ * would run each: its memo attributes evaluate in the same order and at
+ * the same depth). NULL, with nothing evaluated, when their vector does
+ * not fit in the memory budget (eval_code then reports it). */
+static Vec *straight_iteration(Eval *ev, const LoopKernel *lk, const CBlock *blk)
+{
+    const uint32_t nk = lk->nknode;
+    if (!mem_fits(sizeof(Vec) + (size_t)nk * sizeof(Elem))) return NULL;
+    Vec *v = vec_new_obj(nk);
+    Elem *e = vec_elems(v);
+    CMemo *saved = ev->memos;
+    const uint32_t depth = ev->depth;
+    ev->memos = blk->memos;
+    for (uint32_t j = 0; j < nk; j++) {
+        ev->depth = depth + lk->knode_level[j];
+        e[j].node = knode_take(ev, blk->code, crec(blk->code, lk->knode[j]));
+        e[j].kind = EL_NODE;
+    }
+    ev->depth = depth;
+    ev->memos = saved;
+    ev->kstraight++;
+    return v;
+}
+
 /* The first iteration (of the window) of task [t]; the window's end for
  * t = the task count. */
 static uint32_t task_start(const KRun *kr, uint32_t t)
@@ -1020,7 +1114,10 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
                 ev->kok = kr.clean[i] ? ones : kr.ok + (size_t)i * nregs;
                 ev->kclean = kr.clean[i];
                 ev->kiters++;
-                parts_push(&parts, eval_code(ev, n->b));
+                Vec *v = kr.clean[i] && lk->nknode && ev->depth + lk->knode_need <= MAX_EVAL_DEPTH
+                             ? straight_iteration(ev, lk, blk)
+                             : NULL;
+                parts_push(&parts, v ? v : eval_code(ev, n->b));
             }
         }
         if (stop) atomic_store_explicit(&kr.cancel, true, memory_order_relaxed);

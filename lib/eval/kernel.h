@@ -50,6 +50,7 @@
 
 typedef struct Eval Eval;
 typedef struct LoopKernel LoopKernel;
+struct CRec;
 
 /* Give the resolved AST_FOR [n], whose body n->b is a compiled region
  * (n->b->fast == 2), a kernel when the region has numeric records it can
@@ -121,5 +122,15 @@ typedef struct KNodeCache {
  * there; [s] may be one past the last slot (the cache grows). False, with
  * nothing held, when [s] is further on or the slots cannot grow. */
 bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node);
+
+/* Most attributes of a C_KNODE whose nodes are kept (a node with more is
+ * built anew every time). */
+#define KNODE_REUSE_ATTRS 16
+
+/* The node of C_KNODE record [r] of the code at [base] in a clean
+ * iteration of the running kernel (ev->kbase == base, ev->kclean, ev->depth
+ * at most MAX_EVAL_DEPTH - r->aux), a new reference: refilled from the
+ * loop's cache (Eval.kcache) or built (evalrun.c). */
+struct Node *knode_take(Eval *ev, const unsigned char *base, const struct CRec *r);
 
 #endif

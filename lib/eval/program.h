@@ -200,6 +200,7 @@ struct Eval {
                                   its C_KNODE records to refill (kernel.h;
                                   NULL: none) */
     uint64_t kreused;       /* nodes refilled from it */
+    uint64_t kstraight;     /* iterations run as a straight body (kernel.c) */
 };
 
 /* Evaluate the whole program: compose the top-level sequence and append

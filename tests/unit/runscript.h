@@ -19,6 +19,9 @@
 
 /* The memory budget of the runs (fl_options.max_memory; 0: the default). */
 static size_t run_script_budget;
+/* The last run_script's iterations run as straight bodies
+ * (rt_kernel_straight). */
+static uint64_t run_script_straight;
 
 /* A new runtime with [src] (named [name]) loaded, with or without the
  * simplifier, under run_script_budget, logging to [streams] (which must
@@ -55,6 +58,7 @@ static char *run_script(const char *name, const char *src, int frames, bool simp
     char *tree = strdup(buf_cstr(&t));
     buf_free(&t);
     if (kiters) *kiters = rt_kernel_iterations(rt);
+    run_script_straight = rt_kernel_straight(rt);
     fl_free(rt);
     fclose(lf);
     *log_out = log;

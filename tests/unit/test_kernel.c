@@ -232,6 +232,80 @@ static void test_several_names(void **s)
                        2, 2 * 100));
 }
 
+/* [src]'s routes agree (expect_routes, [frames] frames, at least
+ * [min_kiters] kernel iterations), and the kernel's runs on two threads
+ * ran iterations as a straight body (kernel.c, straight_iteration): at
+ * least min_straight[simplify] in each mode, none where it is 0, any
+ * number where it is -1. */
+static void expect_straight(const char *src, int frames, uint64_t min_kiters, const int64_t min_straight[2])
+{
+    free(expect_routes(src, frames, min_kiters));
+    for (int simplify = 0; simplify < 2; simplify++) {
+        char *log;
+        uint64_t k;
+        free(run_route(src, frames, simplify, R_THREADS2, &log, &k));
+        free(log);
+        const int64_t want = min_straight[simplify];
+        if (want > 0 ? run_script_straight < (uint64_t)want : want == 0 && run_script_straight != 0)
+            fail_msg("simplify %d: %llu straight iterations, want %s %lld", simplify,
+                     (unsigned long long)run_script_straight, want ? "at least" : "exactly", (long long)want);
+    }
+}
+
+/* Bodies of nodes of kernel numbers and memo values alone, under `let`s
+ * the kernel's records alone read, run as their nodes without their
+ * records (kernel.c, straight_iteration): several nodes and memo values,
+ * an iteration a NaN comparison sends back to the records (i = 7, each
+ * frame), the copies of an unrolled inner loop, and bodies that are not
+ * straight: a `let` another record reads, a conditional node, a node
+ * with a child. */
+static void test_straight(void **s)
+{
+    (void)s;
+    expect_straight("let n=60+floor(time)\n"
+                    "!g\n"
+                    "    for i in ..n\n"
+                    "        let p=i*0.5+time\n"
+                    "        !a x=p+1 y=sin(p) t=time>0 u=time*2\n"
+                    "        let q=p*2\n"
+                    "            r=cos(q)\n"
+                    "        !b x=q-1;r*2 c=hsv(p*0.1;0.5;p)\n"
+                    "        !c w=q+p v=(i-7)/(i-7)>0\n",
+                    3, 3 * 60, (const int64_t[]){3 * 60 - 3, 3 * 60 - 3});
+    expect_straight("!g\n"
+                    "    for i in ..50\n"
+                    "        !a x=i*time\n",
+                    3, 2 * 50, (const int64_t[]){2 * 50, 2 * 50});
+    /* the simplifier unrolls the literal inner range: the outer loop's
+     * body is the three copies (without it, the inner loops are too
+     * short for their kernels) */
+    expect_straight("let n=40+floor(time)\n"
+                    "!g\n"
+                    "    for i in ..n\n"
+                    "        for j in ..3\n"
+                    "            !p x=i*j+time y=sin(i*0.1+j*time)\n",
+                    3, 0, (const int64_t[]){-1, 3 * 40});
+    expect_straight("let n=40+floor(time)\n"
+                    "!g\n"
+                    "    for i in ..n\n"
+                    "        let p=i*0.5+time\n"
+                    "        !a x=p\n"
+                    "        !b y=p n=\"a\" if time>0 else 1\n",
+                    3, 3 * 40, (const int64_t[]){0, 0});
+    expect_straight("let n=40+floor(time)\n"
+                    "!g\n"
+                    "    for i in ..n\n"
+                    "        !a x=i+time\n"
+                    "        !b y=i*time if i%2 else null\n",
+                    3, 3 * 40, (const int64_t[]){0, 0});
+    expect_straight("let n=40+floor(time)\n"
+                    "!g\n"
+                    "    for i in ..n\n"
+                    "        !a x=i+time\n"
+                    "            !b y=i*time\n",
+                    3, 3 * 40, (const int64_t[]){0, 0});
+}
+
 /* A kernel inside a kernel's body: the inner loop reads the outer one's
  * `let` as a name from outside, afresh each time it starts. */
 static void test_nested(void **s)
@@ -286,7 +360,7 @@ static void test_recursion(void **s)
 static void test_depth_limit(void **s)
 {
     (void)s;
-    int overflowed = 0, whole = 0;
+    int overflowed = 0, whole = 0, straight = 0;
     for (int p = 0; p <= 12; p++) {
         Buf src = BUF_INIT;
         const char *e = "time*1.5+0.25";
@@ -317,6 +391,7 @@ static void test_depth_limit(void **s)
         uint64_t k0, k1;
         char *t0 = run_route(buf_cstr(&src), 1, false, R_GENERIC, &log0, &k0);
         char *t1 = run_route(buf_cstr(&src), 1, false, R_THREADS2, &log1, &k1);
+        straight += run_script_straight > 0;
         if (strcmp(t0, t1) != 0 || strcmp(log0, log1) != 0) fprintf(stderr, "p = %d differs\n", p);
         assert_string_equal(t1, t0);
         assert_string_equal(log1, log0);
@@ -328,8 +403,10 @@ static void test_depth_limit(void **s)
         free(log1);
         buf_free(&src);
     }
-    /* the sweep crosses the limit */
+    /* the sweep crosses the limit, and the loop's body is straight
+     * (kernel.c, straight_iteration) in some of the runs */
     assert_true(overflowed > 0 && whole > 0);
+    assert_true(straight > 0);
 }
 
 /* A memory budget (--max-memory) that runs out in a kernel loop's body
@@ -617,6 +694,7 @@ int main(void)
         cmocka_unit_test(test_loop_forms),
         cmocka_unit_test(test_windows),
         cmocka_unit_test(test_compiled),
+        cmocka_unit_test(test_straight),
         cmocka_unit_test(test_reuse),
         cmocka_unit_test(test_reuse_budget),
     };
