@@ -66,6 +66,7 @@ struct LoopKernel {
     uint32_t *knode;    /* NULL: the body is not straight */
     uint32_t *knode_level;
     uint32_t nknode, knode_need;
+    uint32_t nshared;   /* calls computed once for several (share_calls) */
 };
 
 static void kernel_free(void *p)
@@ -562,6 +563,126 @@ static bool straight(KB *kb, uint32_t off, uint32_t level, Straight *st)
     }
 }
 
+/* One call of an element function on a register that the kernel's
+ * expressions make (share_calls): how many times, the first expression
+ * making it, and the register it gets. */
+typedef struct CallUse {
+    NumExprCall c;
+    uint32_t count;
+    uint32_t first;
+    int32_t reg;    /* -1: made once, not shared */
+} CallUse;
+
+static uint64_t call_hash(NumExprCall c)
+{
+    uint64_t h = (uint64_t)(uint32_t)c.reg * 0x9e3779b97f4a7c15u;
+    return h ^ ((uint64_t)(uintptr_t)c.fn * 0xc2b2ae3d27d4eb4fu);
+}
+
+/* The entry of call [c] in the open-addressing table [t] of [cap] (a power
+ * of two) entries, an empty one (count 0) when it has none. */
+static CallUse *call_find(CallUse *t, uint32_t cap, NumExprCall c)
+{
+    for (uint32_t i = (uint32_t)(call_hash(c) >> 32) & (cap - 1);; i = (i + 1) & (cap - 1))
+        if (!t[i].count || (t[i].c.reg == c.reg && t[i].c.fn == c.fn)) return &t[i];
+}
+
+/* Common calls of the kernel [lk] (compiled, its registers final): an
+ * element function called on the same register by two expressions of an
+ * iteration, or twice by one (canvas10k's sin(phase) in a node's point and
+ * in its colour), is computed once, by an expression of its own just
+ * before the first that calls it, into a new register, which those
+ * expressions read instead. The same numbers: the function's, of the same
+ * argument, computed once instead of twice. The expressions' inputs (for
+ * careful_iteration) are found again, and the cost. */
+static void share_calls(LoopKernel *lk)
+{
+    uint32_t ncalls = 0;
+    for (uint32_t e = 0; e < lk->nex; e++)
+        if (lk->ex[e].x) ncalls += numexpr_reg_calls(lk->ex[e].x, NULL, 0);
+    if (ncalls < 2) return;
+    uint32_t cap = 16;
+    while (cap < 2 * ncalls) cap *= 2;
+    CallUse *t = mem_calloc(cap, sizeof *t);
+    NumExprCall *calls = NULL;
+    uint32_t capcalls = 0, nshared = 0;
+    for (uint32_t e = 0; e < lk->nex; e++) {
+        if (!lk->ex[e].x) continue;
+        uint32_t n = numexpr_reg_calls(lk->ex[e].x, NULL, 0);
+        if (n > capcalls) calls = mem_realloc_array(calls, capcalls = n, sizeof *calls);
+        numexpr_reg_calls(lk->ex[e].x, calls, n);
+        for (uint32_t i = 0; i < n; i++) {
+            CallUse *u = call_find(t, cap, calls[i]);
+            if (!u->count) *u = (CallUse){calls[i], 0, e, -1};
+            if (++u->count == 2) nshared++;
+        }
+    }
+    if (!nshared || lk->nregs + nshared > K_MAX_REGS) {
+        free(t);
+        free(calls);
+        return;
+    }
+    /* the new expressions, each before the first expression that makes its
+     * call, their registers after the others */
+    KExpr *ex = mem_calloc(lk->nex + nshared, sizeof *ex);
+    uint32_t *moved = mem_alloc(lk->nex * sizeof *moved);
+    uint32_t nex = 0;
+    for (uint32_t e = 0; e < lk->nex; e++) {
+        if (lk->ex[e].x) {
+            uint32_t n = numexpr_reg_calls(lk->ex[e].x, calls, capcalls);
+            for (uint32_t i = 0; i < n; i++) {
+                CallUse *u = call_find(t, cap, calls[i]);
+                if (u->count < 2 || u->first != e || u->reg >= 0) continue;
+                u->reg = (int32_t)lk->nregs++;
+                NumExpr *x = numexpr_new_call(u->c);
+                numexpr_set_out(x, (uint32_t)u->reg);
+                ex[nex++] = (KExpr){.x = x, .out = (uint32_t)u->reg, .nout = 1};
+            }
+            for (uint32_t i = 0; i < n; i++) {
+                const CallUse *u = call_find(t, cap, calls[i]);
+                if (u->reg >= 0) numexpr_share_call(lk->ex[e].x, u->c, u->reg);
+            }
+        }
+        moved[e] = nex;
+        ex[nex++] = lk->ex[e];
+    }
+    /* a builtin's kernel names its argument's expression by index */
+    for (uint32_t e = 0; e < nex; e++)
+        if (!ex[e].x) ex[e].arg = moved[ex[e].arg];
+    /* every expression's inputs again, and the cost */
+    int32_t *in = NULL, *reads = NULL;
+    uint32_t nin = 0, capin = 0, capreads = 0;
+    lk->cost = 0;
+    for (uint32_t e = 0; e < nex; e++) {
+        KExpr *x = &ex[e];
+        if (x->x) {
+            const uint32_t most = ((const NumExprHead *)(const void *)x->x)->nins;
+            if (most > capreads) reads = mem_realloc_array(reads, capreads = most, sizeof *reads);
+            uint32_t n = numexpr_reg_reads(x->x, reads, most);
+            x->in = nin;
+            x->nin = n;
+            for (uint32_t i = 0; i < n; i++) {
+                GROW(in, nin, capin);
+                in[nin++] = reads[i];
+            }
+            lk->cost += numexpr_cost(x->x) + x->nout;
+        } else {
+            lk->cost += 24 + x->nout;
+        }
+    }
+    lk->cost += lk->nregs / 4 + 1;
+    free(lk->ex);
+    free(lk->in);
+    lk->ex = ex;
+    lk->nex = nex;
+    lk->in = in;
+    lk->nshared = nshared;
+    free(reads);
+    free(moved);
+    free(calls);
+    free(t);
+}
+
 /* Final register of compilation-numbered register [reg]. */
 static int32_t final_reg(const KB *kb, int32_t reg)
 {
@@ -659,6 +780,7 @@ void kernel_compile_for(AstNode *n)
     free(lets);
     free(kb.knum);
     free(kb.kcall);
+    share_calls(lk);
     const char *e = getenv("FLITTER_KERNEL_CHUNK");
     lk->chunk = e ? (uint32_t)strtoul(e, NULL, 10) : 0;
     e = getenv("FLITTER_KERNEL_WINDOW");
@@ -666,6 +788,11 @@ void kernel_compile_for(AstNode *n)
     n->aux = lk;
     n->aux_free = kernel_free;
     n->fast = 3;
+}
+
+uint32_t kernel_shared_calls(const AstNode *n)
+{
+    return n->kind == AST_FOR && n->fast == 3 && n->aux ? ((const LoopKernel *)n->aux)->nshared : 0;
 }
 
 /* ====================================================================

@@ -59,6 +59,11 @@ struct CRec;
  * FLITTER_NOKERNEL is set. Never fails. */
 void kernel_compile_for(AstNode *n);
 
+/* How many calls of an element function on a register the kernel of loop
+ * [n] computes once for the several expressions that make them (kernel.c,
+ * share_calls); 0 for a loop without a kernel. For tests. */
+uint32_t kernel_shared_calls(const AstNode *n);
+
 /* eval_for's route for an AST_FOR [n] with a kernel (n->fast == 3) over
  * the numeric source [src] (borrowed): the composed values of the body's
  * iterations, the same as eval_for's loop gives, errors and all, with

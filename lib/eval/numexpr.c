@@ -507,3 +507,43 @@ uint32_t numexpr_cost(const NumExpr *x)
     for (uint32_t i = 0; i < x->h.nins; i++) c += x->ins[i].op == NX_CALL1 || x->ins[i].op == NX_POW ? 16 : 1;
     return c;
 }
+
+uint32_t numexpr_reg_calls(const NumExpr *x, NumExprCall *out, uint32_t max)
+{
+    uint32_t n = 0;
+    /* a stack machine: a call right after a register's push takes that
+     * register alone as its argument */
+    for (uint32_t i = 0; i + 1 < x->h.nins; i++) {
+        if (x->ins[i].op != NX_REG || x->ins[i + 1].op != NX_CALL1) continue;
+        if (n < max) out[n] = (NumExprCall){x->ins[i].arg, x->ins[i + 1].fn};
+        n++;
+    }
+    return n;
+}
+
+uint32_t numexpr_share_call(NumExpr *x, NumExprCall c, int32_t reg)
+{
+    uint32_t n = 0, j = 0;
+    for (uint32_t i = 0; i < x->h.nins; i++) {
+        x->ins[j] = x->ins[i];
+        if (i + 1 < x->h.nins && x->ins[i].op == NX_REG && x->ins[i].arg == c.reg && x->ins[i + 1].op == NX_CALL1 &&
+            x->ins[i + 1].fn == c.fn) {
+            x->ins[j].arg = reg;
+            i++;   /* the call's instruction goes */
+            n++;
+        }
+        j++;
+    }
+    x->h.nins = j;
+    return n;
+}
+
+NumExpr *numexpr_new_call(NumExprCall c)
+{
+    NumExpr *x = mem_alloc(sizeof(NumExpr) + 3 * sizeof(NxIns));
+    x->h = (NumExprHead){.nins = 3, .nout = 1, .depth = 0};
+    x->ins[0] = (NxIns){.op = NX_REG, .arg = c.reg};
+    x->ins[1] = (NxIns){.op = NX_CALL1, .fn = c.fn};
+    x->ins[2] = (NxIns){.op = NX_END};
+    return x;
+}

@@ -160,4 +160,26 @@ uint32_t numexpr_reg_reads(const NumExpr *x, int32_t *regs, uint32_t max);
  * element function or power (for sizing batches of work). */
 uint32_t numexpr_cost(const NumExpr *x);
 
+/* A call of a one-argument element function on a register alone (sin(p)
+ * where p is a register), in a numexpr_to_regs() copy. */
+typedef struct NumExprCall {
+    int32_t reg;
+    double (*fn)(double);
+} NumExprCall;
+
+/* The calls of element functions on a register alone in the register copy
+ * [x], in instruction order, written to out[0 .. max); returns how many
+ * there are (more than [max] when some were left out). */
+uint32_t numexpr_reg_calls(const NumExpr *x, NumExprCall *out, uint32_t max);
+
+/* In the register copy [x], read register [reg] instead of each call [c]
+ * (the number [c] gives, computed once elsewhere: the same bits, as an
+ * element function is a function of its argument alone). Returns how many
+ * calls were replaced. */
+uint32_t numexpr_share_call(NumExpr *x, NumExprCall c, int32_t reg);
+
+/* A new register expression (free it with free()) that computes [c]'s one
+ * number. */
+NumExpr *numexpr_new_call(NumExprCall c);
+
 #endif

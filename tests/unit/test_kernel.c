@@ -24,6 +24,7 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "kernel.h"
 #include "program.h"
 #include "runscript.h"
 
@@ -497,6 +498,57 @@ static int count_kernels(const AstNode *n)
     return c;
 }
 
+/* The calls the kernels of [n]'s loops share (kernel_shared_calls). */
+static uint32_t count_shared(const AstNode *n)
+{
+    if (!n) return 0;
+    uint32_t c = kernel_shared_calls(n);
+    c += count_shared(n->a) + count_shared(n->b) + count_shared(n->c);
+    for (uint32_t i = 0; i < n->nkids; i++) c += count_shared(n->kids[i]);
+    return c;
+}
+
+/* The calls shared by the kernels of [src] as a program loaded alone
+ * (no runtime: the engine names such as `time` are not known, so the
+ * loop must not read them). */
+static uint32_t shared_calls(const char *src)
+{
+    SymTab *st = symtab_new();
+    Buf err = BUF_INIT;
+    unsetenv("FLITTER_NOKERNEL");
+    Program *p = program_load_text("t.fl", src, strlen(src), NULL, st, &err);
+    assert_non_null(p);
+    uint32_t n = count_shared(p->top);
+    program_release(p);
+    buf_free(&err);
+    symtab_free(st);
+    return n;
+}
+
+/* An element function called on the same register by several of an
+ * iteration's expressions, or twice by one, is computed once (kernel.c,
+ * share_calls): how many are, and that every route still gives the
+ * generic route's nodes. The calls: sin(p) in three attributes, one of
+ * them an hsv argument (a builtin's kernel that names its argument's
+ * expression by index, which the new expressions move), sin(p)*sin(p) in
+ * one, cos(q) in two; sin(q) and cos(p) once each (not shared); an
+ * iteration whose comparison meets a NaN (i = 5), whose registers are
+ * computed again one expression at a time. */
+static void test_shared_calls(void **s)
+{
+    (void)s;
+    const char *src = "let n=80+floor(time)\n"
+                      "!g\n"
+                      "    for i in ..n\n"
+                      "        let p=i*0.25+n*0.01\n"
+                      "            q=i*0.5\n"
+                      "        !a x=sin(p)+1 y=cos(q)*2 z=sin(q)\n"
+                      "        !b c=hsv(sin(p);0.5;cos(q)) w=sin(p)*sin(p) v=cos(p) u=(i-5)/(i-5)>0\n";
+    assert_int_equal(shared_calls(src), 2);
+    free(expect_routes(src, 3, 3 * 80));
+    assert_int_equal(shared_calls("let n=9+time\nfor i in ..n\n    !a x=sin(i) y=cos(i) z=sin(i*2)\n"), 0);
+}
+
 static void test_compiled(void **s)
 {
     (void)s;
@@ -695,6 +747,7 @@ int main(void)
         cmocka_unit_test(test_windows),
         cmocka_unit_test(test_compiled),
         cmocka_unit_test(test_straight),
+        cmocka_unit_test(test_shared_calls),
         cmocka_unit_test(test_reuse),
         cmocka_unit_test(test_reuse_budget),
     };
