@@ -110,6 +110,10 @@ static Vec *vec_alloc(uint8_t kind, uint32_t n, size_t elem_size)
     return v;
 }
 
+Vec *vec_new_obj_raw(uint32_t n) { return vec_alloc(VEC_OBJ, n, sizeof(Elem)); }
+
+void vec_free_taken(Vec *v) { pool_release(v, sizeof(Vec) + (size_t)v->len * sizeof(Elem)); }
+
 Vec *vec_new_obj(uint32_t n)
 {
     Vec *v = vec_alloc(VEC_OBJ, n, sizeof(Elem));
@@ -313,7 +317,8 @@ Vec *vec_compose_take(Vec **parts, size_t n)
         for (size_t i = 0; i < n; i++) vec_release(parts[i]);
         return NULL;
     }
-    Vec *r = vec_new_obj((uint32_t)total);
+    /* every element is set below */
+    Vec *r = vec_new_obj_raw((uint32_t)total);
     Elem *d = vec_elems(r);
     for (size_t i = 0; i < n; i++) {
         Vec *p = parts[i];

@@ -174,6 +174,13 @@ static inline Vec *vec_new_num(uint32_t n)
 /* A new object vector of [n] > 0 elements, all initialised to the number 0;
  * fill via vec_elems() (each pointer element must hold its own reference). */
 Vec *vec_new_obj(uint32_t n);
+/* An object vector of [n] elements left unset: the caller sets every one
+ * before the vector is read, released or handed on. */
+Vec *vec_new_obj_raw(uint32_t n);
+/* Free the object vector [v], held by the caller alone (refs 1), whose
+ * elements the caller has taken (moved elsewhere with their references):
+ * nothing of them is released. */
+void vec_free_taken(Vec *v);
 /* A one-element numeric vector. */
 static inline Vec *vec_num1(double x)
 {

@@ -495,10 +495,19 @@ Vec *append_nodes(Vec *p, Vec *c)
                 /* the last parent, and [c] is going: its nodes move to
                  * the parent with their references (the same tree as
                  * appending and releasing [c], without touching each
-                 * child twice) */
-                for (uint32_t j = 0; j < c->len; j++) {
+                 * child twice), into the room reserved above */
+                Node **kids = n->children + n->nchildren;
+                n->nchildren += count;
+                if (count == c->len) {
+                    /* nodes alone: nothing is left in [c] to release */
+                    for (uint32_t j = 0; j < count; j++) kids[j] = ce[j].node;
+                    vec_free_taken(c);
+                    c = NULL;
+                    continue;
+                }
+                for (uint32_t j = 0, k = 0; j < c->len; j++) {
                     if (ce[j].kind != EL_NODE) continue;
-                    node_append_take(n, ce[j].node);
+                    kids[k++] = ce[j].node;
                     ce[j].kind = EL_NUM;
                     ce[j].num = 0.0;
                 }

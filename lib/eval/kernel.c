@@ -1070,7 +1070,7 @@ static Vec *straight_iteration(Eval *ev, const LoopKernel *lk, const CBlock *blk
 {
     const uint32_t nk = lk->nknode;
     if (!mem_fits(sizeof(Vec) + (size_t)nk * sizeof(Elem))) return NULL;
-    Vec *v = vec_new_obj(nk);
+    Vec *v = vec_new_obj_raw(nk);
     Elem *e = vec_elems(v);
     CMemo *saved = ev->memos;
     const uint32_t depth = ev->depth;
