@@ -399,19 +399,15 @@ NumExpr *numexpr_to_regs(const NumExpr *x, NumExprRegMap map, void *ctx)
     return y;
 }
 
-/* GCC at -O2 vectorizes no loop with an epilogue; the lanes' loops are
- * such loops (IEEE operations lane by lane, the same with SIMD) */
-#if defined(__GNUC__) && !defined(__clang__)
-__attribute__((optimize("tree-vectorize")))
-#endif
-void numexpr_run_lanes(const NumExpr *x, double *regs, size_t stride, uint32_t lanes, uint8_t *fail)
+/* numexpr_run_lanes for [n] lanes (below) */
+static inline __attribute__((always_inline)) void run_lanes(const NumExpr *x, double *regs, size_t stride,
+                                                           const uint32_t n, uint8_t *fail)
 {
     /* the stack of columns: each operand is a column of [lanes] numbers;
      * the top is t, st[1..] the rest (as in exec) */
     double st[NX_STACK + 1][NUMEXPR_LANES];
     double t[NUMEXPR_LANES], *a;
     uint32_t sp = 0;
-    const uint32_t n = lanes;
     for (const NxIns *i = x->ins;; i++) {
         switch (i->op) {
         case NX_REG:
@@ -462,6 +458,19 @@ void numexpr_run_lanes(const NumExpr *x, double *regs, size_t stride, uint32_t l
             return;
         }
     }
+}
+
+/* GCC at -O2 vectorizes no loop with an epilogue; the lanes' loops are
+ * such loops (IEEE operations lane by lane, the same with SIMD). A full
+ * set of lanes (the usual case) runs a copy whose loops have a constant
+ * count, which needs no epilogue. */
+#if defined(__GNUC__) && !defined(__clang__)
+__attribute__((optimize("tree-vectorize")))
+#endif
+void numexpr_run_lanes(const NumExpr *x, double *regs, size_t stride, uint32_t lanes, uint8_t *fail)
+{
+    if (lanes == NUMEXPR_LANES) run_lanes(x, regs, stride, NUMEXPR_LANES, fail);
+    else run_lanes(x, regs, stride, lanes, fail);
 }
 
 void numexpr_set_out(NumExpr *x, uint32_t out)
