@@ -141,6 +141,15 @@ typedef struct fl_options {
                             !canvas3d renderer (issue 25; flat on x/y when no
                             OpenGL context can be made, said once), other
                             systems on x/y */
+    bool transient_tree; /* the last frame's node tree is only read between
+                            fl_step calls: fl_step releases it before it
+                            evaluates the next frame, so that the nodes its
+                            loops built are refilled in place in the very
+                            next frame (otherwise in the one after), and an
+                            interrupted fl_step leaves no tree (as before
+                            the first frame) instead of the last one.
+                            Default false; `flitter run` sets it when
+                            nothing reads a tree after the last frame. */
 } fl_options;
 
 /* fl_options.pairs: the physics pair loop. Every route gives the same bits. */

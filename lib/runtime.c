@@ -226,6 +226,7 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->stables = stable_new();
     rt->noise_perms = noise_perms_new();
     rt->kscratch = kernel_scratch_new();
+    kernel_scratch_set_transient(rt->kscratch, rt->opts.transient_tree);
     pool_set_reclaim(rt->pool, kernel_scratch_reclaim, rt->kscratch, kernel_scratch_held(rt->kscratch));
     rt->counter_key = vec_str("_counter", 8);
     /* symbols the physics engine writes into state keys (PHYSICS.md) */
@@ -668,6 +669,12 @@ static int step(fl_runtime *rt)
         .workers = phys_workers(rt->physics), .kscratch = rt->kscratch,
     };
     exports_empty(&rt->scope);
+    if (rt->opts.transient_tree) {
+        /* nothing reads the last tree any more (flitter.h): its nodes are
+         * the kernels' to refill */
+        node_release(rt->root);
+        rt->root = NULL;
+    }
     double t1 = monotonic();
     Node *root = eval_program(&ev);
     if (ev.stable_changed && !ev.interrupted) {

@@ -591,6 +591,12 @@ fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *in
     opts.ctx = files;
     opts.max_physics_steps = spec->max_steps;
     opts.interrupt = interrupt;
+    /* a headless run that writes no tree dump, view or trace at its end
+     * reads each frame's tree only before the next (its physics, counters
+     * and !window pictures), so the tree may go when the next frame starts
+     * (flitter.h); a window keeps its last tree to draw */
+    opts.transient_tree = !spec->dump_tree && !spec->view && !spec->trace && !spec->record && !spec->window &&
+                          !spec->offscreen && spec->nscripts <= 1;
     fl_runtime *rt = fl_new(&opts);
     for (int i = 0; i < spec->ndefines; i++) {
         char *eq = strchr(spec->defines[i], '=');

@@ -239,6 +239,9 @@ __attribute__((noinline)) static Node *run_knode_cached(Eval *ev, const unsigned
     const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
     const uint32_t s = c->next++;
     Node *o = s < c->n ? c->slot[s] : NULL;
+    /* the last frame's node, still held elsewhere (or none): the one of
+     * the frame before, from the second cache (kernel.h KNodeCache.alt) */
+    if (c->alt && !(o && o->refs == 1) && knode_cache_swap_alt(c, s)) o = c->slot[s];
     Vec *memo[KNODE_REUSE_ATTRS];
     bool same = o && o->refs == 1 && o->kind == r->p.kind && !o->ntags && !o->nchildren && o->nattrs == r->n;
     for (uint32_t k = 0; k < r->n; k++) {

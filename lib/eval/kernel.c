@@ -819,6 +819,7 @@ struct KernelScratch {
     size_t cap;
     bool busy;              /* a kernel's run is using it */
     bool reuse;             /* keep nodes (not FLITTER_KERNEL_REUSE=0) */
+    bool transient;         /* kernel_scratch_set_transient */
     uint64_t clock;         /* loop runs that used the caches */
     uint64_t frame;         /* kernel_scratch_frame_done calls */
     bool stale;             /* kept nodes may have lost their trees since the
@@ -919,6 +920,8 @@ void kernel_scratch_frame_done(KernelScratch *k)
     k->frame++;
 }
 
+void kernel_scratch_set_transient(KernelScratch *k, bool transient) { k->transient = transient; }
+
 void kernel_scratch_free(KernelScratch *k)
 {
     if (!k) return;
@@ -947,11 +950,41 @@ static KNodeCache *knode_cache(KernelScratch *k, const AstNode *n)
     }
     l->used = ++k->clock;
     l->frame = k->frame;
-    KNodeCache *c = &l->run[k->frame & 1];
+    KNodeCache *c = &l->run[k->transient ? 0 : k->frame & 1];
+    c->alt = k->transient ? &l->run[1] : NULL;
     c->next = 0;
     c->held = &k->held;
+    l->run[1].held = &k->held;
     k->running = c;
     return c;
+}
+
+/* Room in [c] for slots up to [s] (new ones empty); false when it cannot
+ * grow. */
+static bool knode_cache_reach(KNodeCache *c, uint32_t s)
+{
+    if (s < c->n) return true;
+    if (s >= c->cap) {
+        uint32_t cap = c->cap ? c->cap : 256;
+        while (cap <= s && cap < UINT32_MAX / 2) cap *= 2;
+        if (cap <= s) return false;
+        Node **slot = realloc(c->slot, cap * sizeof *slot);
+        if (!slot) return false;
+        c->slot = slot;
+        c->cap = cap;
+    }
+    while (c->n <= s) c->slot[c->n++] = NULL;
+    return true;
+}
+
+bool knode_cache_swap_alt(KNodeCache *c, uint32_t s)
+{
+    KNodeCache *a = c->alt;
+    if (!a || s > c->n || !knode_cache_reach(c, s) || !knode_cache_reach(a, s)) return false;
+    Node *n = c->slot[s];
+    c->slot[s] = a->slot[s];
+    a->slot[s] = n;
+    return true;
 }
 
 bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node)

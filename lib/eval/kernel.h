@@ -83,6 +83,11 @@ typedef struct KernelScratch KernelScratch;
 KernelScratch *kernel_scratch_new(void);
 /* Free [k] (NULL is a no-op), releasing the nodes its caches hold. */
 void kernel_scratch_free(KernelScratch *k);
+/* Whether the runtime releases a frame's tree before it evaluates the
+ * next (fl_options.transient_tree): the last frame's nodes are then free
+ * to refill, and a run keeps one cache of them, with a second for the
+ * nodes something else still holds (KNodeCache.alt). */
+void kernel_scratch_set_transient(KernelScratch *k, bool transient);
 /* Release the nodes [k]'s caches hold (NULL is a no-op): a program load,
  * after which the loops they were built by are gone. */
 void kernel_scratch_clear(KernelScratch *k);
@@ -108,7 +113,14 @@ const size_t *kernel_scratch_held(const KernelScratch *k);
  * The outermost running kernel keeps two for each run of a loop in a
  * frame (its first, its second, ...) in the runtime's scratch, one for
  * even frames and one for odd, so a run finds the nodes of the same run
- * of the frame before the last, whose tree has been released. A node nothing else holds any more
+ * of the frame before the last, whose tree has been released. When the
+ * runtime releases each tree before the next frame (kernel_scratch_set_
+ * transient), a run keeps one cache, of the last frame's nodes, which it
+ * refills (the second frame builds none); where something else still
+ * holds a slot's node (a physics system keeps the particles it read), it
+ * swaps the slot with that of the second cache (alt, knode_cache_swap_alt)
+ * and so takes the node held the frame before, as with two caches by
+ * frame parity. A node nothing else holds any more
  * (refs 1) that has the record's kind and attributes is then refilled in
  * place instead of built and freed (evalrun.c, run_knode): the same node
  * as a new one, value for value. The nodes of a loop that did not run in
@@ -122,11 +134,18 @@ typedef struct KNodeCache {
     uint32_t next;      /* the slot this run's next C_KNODE takes */
     size_t *held;       /* about the bytes of blocks the nodes of all the
                            scratch's caches hold */
+    struct KNodeCache *alt; /* the same run's second cache, for the nodes
+                               still held elsewhere, or NULL (see above) */
 } KNodeCache;
 /* Hold [node] (a new reference) in slot [s] of [c], releasing the node
  * there; [s] may be one past the last slot (the cache grows). False, with
  * nothing held, when [s] is further on or the slots cannot grow. */
 bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node);
+/* Swap slot [s] of [c] with that of its alt cache, growing either (with
+ * empty slots) to hold it. False, with nothing changed, when [c] has no
+ * alt, [s] is more than one past [c]'s last slot, or the slots cannot
+ * grow. */
+bool knode_cache_swap_alt(KNodeCache *c, uint32_t s);
 
 /* Most attributes of a C_KNODE whose nodes are kept (a node with more is
  * built anew every time). */

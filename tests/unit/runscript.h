@@ -19,6 +19,8 @@
 
 /* The memory budget of the runs (fl_options.max_memory; 0: the default). */
 static size_t run_script_budget;
+/* fl_options.transient_tree of the runs. */
+static bool run_script_transient;
 /* The last run_script's iterations run as straight bodies
  * (rt_kernel_straight). */
 static uint64_t run_script_straight;
@@ -32,6 +34,7 @@ static fl_runtime *script_runtime(const char *name, const char *src, bool simpli
     rt_log_to_files(&o, streams);
     o.no_simplify = !simplify;
     o.max_memory = run_script_budget;
+    o.transient_tree = run_script_transient;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT;
     assert_int_equal(rt_load_text(rt, name, src, strlen(src), &err), 0);

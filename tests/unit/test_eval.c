@@ -321,6 +321,40 @@ static void test_interrupt(void **s)
     fl_free(rt);
 }
 
+/* fl_options.transient_tree: the last frame's tree is read as usual
+ * between steps; an interrupted step leaves no tree (rt_root NULL, as
+ * before the first frame) and the frame count as it was; the next step
+ * carries on. */
+static void test_interrupt_transient(void **s)
+{
+    (void)s;
+    static volatile int stop;
+    fl_options o = fl_default_options();
+    RtStreams streams = {NULL, NULL};
+    rt_log_to_files(&o, &streams);
+    o.interrupt = &stop;
+    o.transient_tree = true;
+    fl_runtime *rt = fl_new(&o);
+    Buf err = BUF_INIT, t = BUF_INIT;
+    static const char src[] = "!a n=frame;len((i for i in 0..frame+10))\n";
+    assert_int_equal(rt_load_text(rt, "test.fl", src, sizeof src - 1, &err), 0);
+    assert_int_equal(fl_step(rt), 0);
+    fmt_tree(&t, rt_root(rt), rt_symbols(rt));
+    assert_string_equal(buf_cstr(&t), "!root\n !a n=0;10\n");
+    stop = 1;
+    assert_int_equal(fl_step(rt), 1);
+    assert_int_equal(fl_frame_count(rt), 1);
+    assert_null(rt_root(rt));
+    stop = 0;
+    assert_int_equal(fl_step(rt), 0);
+    buf_reset(&t);
+    fmt_tree(&t, rt_root(rt), rt_symbols(rt));
+    assert_string_equal(buf_cstr(&t), "!root\n !a n=1;11\n");
+    buf_free(&err);
+    buf_free(&t);
+    fl_free(rt);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -340,6 +374,7 @@ int main(void)
         cmocka_unit_test(test_imports),
         cmocka_unit_test(test_runaway_scripts_end),
         cmocka_unit_test(test_interrupt),
+        cmocka_unit_test(test_interrupt_transient),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

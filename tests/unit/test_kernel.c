@@ -578,10 +578,13 @@ static void test_compiled(void **s)
  * *[log_out], with nodes refilled (FLITTER_KERNEL_REUSE) or not, on two
  * threads, and how many were refilled in *[reused]. With [hold], the
  * trees of frames 0 and 3 are held (as an embedder holding fl_tree's
- * root would) until the last frame and must then read as they did. */
-static void reuse_run(const char *src, bool simplify, bool reuse, bool hold, char **trees, char **log_out,
-                      uint64_t *reused)
+ * root would) until the last frame and must then read as they did. With
+ * [transient], the runtime releases each tree when the next frame starts
+ * (fl_options.transient_tree), and the last frame's nodes are refilled. */
+static void reuse_run(const char *src, bool simplify, bool reuse, bool hold, bool transient, char **trees,
+                      char **log_out, uint64_t *reused)
 {
+    run_script_transient = transient;
     setenv("FLITTER_KERNEL_REUSE", reuse ? "1" : "0", 1);
     setenv("FLITTER_THREADS", "2", 1);
     setenv("FLITTER_KERNEL_CHUNK", "7", 1);
@@ -615,6 +618,7 @@ static void reuse_run(const char *src, bool simplify, bool reuse, bool hold, cha
     fl_free(rt);
     fclose(lf);
     *log_out = log;
+    run_script_transient = false;
     unsetenv("FLITTER_KERNEL_REUSE");
     unsetenv("FLITTER_THREADS");
     unsetenv("FLITTER_KERNEL_CHUNK");
@@ -622,24 +626,32 @@ static void reuse_run(const char *src, bool simplify, bool reuse, bool hold, cha
 }
 
 /* Every frame's tree and the log with nodes refilled, with and without
- * earlier trees held, equal to those of nodes built anew, in both modes;
- * nodes were refilled (at least [min_reused]) unless trees were held
- * throughout. */
-static void expect_reuse(const char *src, uint64_t min_reused)
+ * earlier trees held, with and without transient trees, equal to those of
+ * nodes built anew, in both modes; nodes were refilled (at least
+ * [min_reused]), and with transient trees as many as without, or more
+ * when [more] (the last frame's nodes are refilled, so the second frame
+ * builds none; not where a physics system holds them). */
+static void expect_reuse(const char *src, uint64_t min_reused, bool more)
 {
     for (int simplify = 0; simplify < 2; simplify++) {
         char *want[REUSE_FRAMES], *got[REUSE_FRAMES], *log0, *log;
-        uint64_t reused;
-        reuse_run(src, simplify, false, false, want, &log0, &reused);
+        uint64_t reused, reused_kept = 0;
+        reuse_run(src, simplify, false, false, false, want, &log0, &reused);
         assert_int_equal(reused, 0);
-        for (int hold = 0; hold < 2; hold++) {
-            reuse_run(src, simplify, true, hold, got, &log, &reused);
+        for (int run = 0; run < 4; run++) {
+            const bool hold = run & 1, transient = run >= 2;
+            reuse_run(src, simplify, true, hold, transient, got, &log, &reused);
             if (reused < min_reused)
-                fail_msg("simplify %d, hold %d: %llu nodes refilled, want %llu", simplify, hold,
-                         (unsigned long long)reused, (unsigned long long)min_reused);
+                fail_msg("simplify %d, hold %d, transient %d: %llu nodes refilled, want %llu", simplify, hold,
+                         transient, (unsigned long long)reused, (unsigned long long)min_reused);
+            if (run == 0) reused_kept = reused;
+            if (run == 2 && (more ? reused <= reused_kept : reused < reused_kept))
+                fail_msg("simplify %d: %llu nodes refilled with transient trees, %llu without", simplify,
+                         (unsigned long long)reused, (unsigned long long)reused_kept);
             for (int f = 0; f < REUSE_FRAMES; f++) {
                 if (strcmp(got[f], want[f]) != 0)
-                    fprintf(stderr, "simplify %d, hold %d: frame %d differs\n", simplify, hold, f);
+                    fprintf(stderr, "simplify %d, hold %d, transient %d: frame %d differs\n", simplify, hold,
+                            transient, f);
                 assert_string_equal(got[f], want[f]);
                 free(got[f]);
             }
@@ -667,7 +679,7 @@ static void test_reuse(void **s)
                  "        !d x=p;p+1 y=sin(p*0.5) t=time>0.02 e=(q*0)/q > 1\n"
                  "        !e c=hsv(p/100;0.5;0.5) z=(1 if frame%4 == 0 else null)\n"
                  "        !d w=(i*2+frame)*0.25\n",
-                 200);
+                 200, true);
     /* particle ids the physics system hashes (vec_key_hash keeps the
      * hash in the vector, which a refill must forget) */
     expect_reuse("let n=60+(frame%3)*5\n"
@@ -675,13 +687,13 @@ static void test_reuse(void **s)
                  "    for i in ..n\n"
                  "        !particle id=(i*7+frame)%97 position=i;i*0.5+time radius=i%3+1\n"
                  "    !collision\n",
-                 200);
+                 200, false);
     /* counters' state keys (the dictionary keeps a key's hash in the key
      * vector) and a memo value (time>0.02, false in frames 0 and 1) */
     expect_reuse("let n=20+(frame%3)*3\n"
                  "for i in ..n\n"
                  "    !counter state=(i*3+frame)%11 rate=i+1 initial=time>0.02\n",
-                 50);
+                 50, true);
     /* a loop in a function called three times a frame (a cache for each
      * run of the loop in a frame), of three lengths */
     expect_reuse("func ring(k)\n"
@@ -691,7 +703,7 @@ static void test_reuse(void **s)
                  "    ring(1)\n"
                  "    ring(2)\n"
                  "    ring(3)\n",
-                 500);
+                 500, true);
 }
 
 /* Under a memory budget, the nodes kept for a loop that stopped running
