@@ -143,11 +143,13 @@ typedef struct fl_options {
                             systems on x/y */
     bool transient_tree; /* the last frame's node tree is only read between
                             fl_step calls: fl_step releases it before it
-                            evaluates the next frame, so that the nodes its
+                            evaluates the next frame (while its first loop
+                            kernel's threads compute), so that the nodes its
                             loops built are refilled in place in the very
-                            next frame (otherwise in the one after), and an
-                            interrupted fl_step leaves no tree (as before
-                            the first frame) instead of the last one.
+                            next frame (otherwise in the one after); an
+                            interrupted fl_step then leaves no tree (as
+                            before the first frame) instead of the last one
+                            once a loop kernel has started.
                             Default false; `flitter run` sets it when
                             nothing reads a tree after the last frame. */
 } fl_options;

@@ -671,8 +671,9 @@ static int step(fl_runtime *rt)
     exports_empty(&rt->scope);
     if (rt->opts.transient_tree) {
         /* nothing reads the last tree any more (flitter.h): its nodes are
-         * the kernels' to refill */
-        node_release(rt->root);
+         * the kernels' to refill, and the first loop kernel releases it
+         * while its threads compute (Eval.old_tree) */
+        ev.old_tree = rt->root;
         rt->root = NULL;
     }
     double t1 = monotonic();
@@ -694,12 +695,15 @@ static int step(fl_runtime *rt)
     }
     kernel_scratch_frame_done(rt->kscratch);
     if (ev.interrupted) {
-        /* discard the incomplete frame: the last tree, state and clock stay */
+        /* discard the incomplete frame: the last tree (unless a loop
+         * kernel released it), state and clock stay */
+        if (ev.old_tree) rt->root = ev.old_tree;
         node_release(root);
         rt->last_beat = prev_beat;
         rt->cur = prev;
         return 1;
     }
+    node_release(ev.old_tree);
     node_release(rt->root);
     rt->root = root;
     rt->kernel_iterations += ev.kiters;

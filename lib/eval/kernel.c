@@ -1241,6 +1241,12 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
         atomic_init(&kr.cancel, false);
         WorkersJob job;
         workers_start(pool, &job, ntasks, chunk_task, &kr);
+        if (ev->old_tree) {
+            /* the last frame's tree, while the threads compute the first
+             * chunks: its nodes are this loop's to refill */
+            node_release(ev->old_tree);
+            ev->old_tree = NULL;
+        }
         /* the pool runs one job at a time: a kernel run by this one's
          * body (a nested loop, a recursive call) runs on this thread */
         ev->workers = NULL;
