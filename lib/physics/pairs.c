@@ -56,6 +56,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cpu.h"
 #include "mem.h"
 #include "physics_internal.h"
 #include "workers.h"
@@ -644,8 +645,7 @@ GATHER_COPY(gather_all_3_avx2, 3, __attribute__((target("avx2"))))
 static bool use_avx2(void)
 {
 #ifdef HAVE_AVX2_COPIES
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
+    return cpu_has(CPU_AVX2);
 #else
     return false;
 #endif

@@ -29,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cpu.h"
 #include "mem.h"
 #include "physics_internal.h"
 
@@ -280,8 +281,7 @@ void phys_run_rows(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
     L.mass = x + (D + 1) * ns;
     L.charge = x + (D + 2) * ns;
 #ifdef HAVE_AVX2_ROWS
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx2")) {
+    if (cpu_has(CPU_AVX2)) {
         switch (D) {
         case 1: rows_1_avx2(&L, s->force); return;
         case 2: rows_2_avx2(&L, s->force); return;

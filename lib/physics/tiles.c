@@ -86,6 +86,7 @@
 #define HAVE_X86_TILES 1
 #endif
 
+#include "cpu.h"
 #include "physics_internal.h"
 #include "workers.h"
 
@@ -304,15 +305,13 @@ __attribute__((target("avx512f"))) static inline void sqrt_avx512(v8d *x)
 static bool simd_runs(int level)
 {
 #ifdef HAVE_X86_TILES
-    __builtin_cpu_init();
     switch (level) {
     case PHYS_SIMD_AVX2:
-        return __builtin_cpu_supports("avx2");
+        return cpu_has(CPU_AVX2);
     case PHYS_SIMD_AVX2_VL:
-        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f") &&
-               __builtin_cpu_supports("avx512vl");
+        return cpu_has(CPU_AVX2) && cpu_has(CPU_AVX512F) && cpu_has(CPU_AVX512VL);
     case PHYS_SIMD_AVX512:
-        return __builtin_cpu_supports("avx512f");
+        return cpu_has(CPU_AVX512F);
     default:
         return level == PHYS_SIMD_PORTABLE;
     }

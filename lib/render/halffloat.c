@@ -25,17 +25,13 @@ float half_to_float(uint16_t h)
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-#include <cpuid.h>
 #include <immintrin.h>
 
-/* Whether the processor has F16C (CPUID leaf 1, ECX bit 29) and the
- * system keeps the AVX registers (__builtin_cpu_supports("avx") checks
- * XGETBV too); not every compiler's __builtin_cpu_supports knows "f16c". */
-static int has_f16c(void)
-{
-    unsigned a, b, c, d;
-    return __builtin_cpu_supports("avx") && __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C);
-}
+#include "cpu.h"
+
+/* Whether the processor has F16C and the system keeps the AVX registers
+ * (cpu.h). */
+static int has_f16c(void) { return cpu_has(CPU_AVX) && cpu_has(CPU_F16C); }
 
 __attribute__((target("avx,f16c"))) static void halves_f16c(const uint16_t *src, float *dst, size_t n)
 {

@@ -1,0 +1,45 @@
+/* cpu.c: cpu_has (cpu.h). */
+#include "cpu.h"
+
+#if defined(__x86_64__) && defined(__has_include)
+#if __has_include(<sys/platform/x86.h>)
+#include <sys/platform/x86.h>
+#define HAVE_PLATFORM_X86 1
+#endif
+#endif
+
+#if !defined(HAVE_PLATFORM_X86) && defined(__x86_64__) && defined(__GNUC__)
+#include <cpuid.h>
+#endif
+
+bool cpu_has(CpuFeature f)
+{
+#if defined(HAVE_PLATFORM_X86)
+    switch (f) {
+    case CPU_AVX: return CPU_FEATURE_ACTIVE(AVX);
+    case CPU_AVX2: return CPU_FEATURE_ACTIVE(AVX2);
+    case CPU_AVX512F: return CPU_FEATURE_ACTIVE(AVX512F);
+    case CPU_AVX512VL: return CPU_FEATURE_ACTIVE(AVX512VL);
+    case CPU_F16C: return CPU_FEATURE_ACTIVE(F16C);
+    }
+    return false;
+#elif defined(__x86_64__) && defined(__GNUC__)
+    __builtin_cpu_init();
+    switch (f) {
+    case CPU_AVX: return __builtin_cpu_supports("avx");
+    case CPU_AVX2: return __builtin_cpu_supports("avx2");
+    case CPU_AVX512F: return __builtin_cpu_supports("avx512f");
+    case CPU_AVX512VL: return __builtin_cpu_supports("avx512vl");
+    case CPU_F16C: {
+        /* not every compiler's __builtin_cpu_supports knows "f16c":
+         * CPUID leaf 1, ECX bit 29, with AVX's registers kept */
+        unsigned a, b, c, d;
+        return __builtin_cpu_supports("avx") && __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C);
+    }
+    }
+    return false;
+#else
+    (void)f;
+    return false;
+#endif
+}
