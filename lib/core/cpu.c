@@ -12,15 +12,27 @@
 #include <cpuid.h>
 #endif
 
+#if defined(HAVE_PLATFORM_X86)
+/* CPU_FEATURE_ACTIVE's reading of glibc's table, with an unsigned shift:
+ * the header's inline x86_cpu_active shifts a signed 1 left by the bit,
+ * which for bit 31 (AVX-512VL, leaf 7 EBX) is undefined behaviour that
+ * UBSan reports. */
+static bool active(unsigned index)
+{
+    const struct cpuid_feature *p = __x86_get_cpuid_feature_leaf(index / 128);
+    return p->active_array[(index % 128) / 32] >> (index % 32) & 1u;
+}
+#endif
+
 bool cpu_has(CpuFeature f)
 {
 #if defined(HAVE_PLATFORM_X86)
     switch (f) {
-    case CPU_AVX: return CPU_FEATURE_ACTIVE(AVX);
-    case CPU_AVX2: return CPU_FEATURE_ACTIVE(AVX2);
-    case CPU_AVX512F: return CPU_FEATURE_ACTIVE(AVX512F);
-    case CPU_AVX512VL: return CPU_FEATURE_ACTIVE(AVX512VL);
-    case CPU_F16C: return CPU_FEATURE_ACTIVE(F16C);
+    case CPU_AVX: return active(x86_cpu_AVX);
+    case CPU_AVX2: return active(x86_cpu_AVX2);
+    case CPU_AVX512F: return active(x86_cpu_AVX512F);
+    case CPU_AVX512VL: return active(x86_cpu_AVX512VL);
+    case CPU_F16C: return active(x86_cpu_F16C);
     }
     return false;
 #elif defined(__x86_64__) && defined(__GNUC__)

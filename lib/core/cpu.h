@@ -3,7 +3,8 @@
  * (physics pair kernels, the read-back's half floats).
  *
  * With glibc (2.33 on) the answer is the one its dynamic loader worked
- * out at start-up (<sys/platform/x86.h>, CPU_FEATURE_ACTIVE): no CPUID of
+ * out at start-up (<sys/platform/x86.h>'s table, as CPU_FEATURE_ACTIVE
+ * reads it): no CPUID of
  * our own, which a hypervisor traps (about 9 us a call here), and no
  * constructor of libgcc's __builtin_cpu_supports, which asks about a
  * dozen leaves when every process starts. Elsewhere on x86-64,
