@@ -143,15 +143,16 @@ typedef struct fl_options {
                             systems on x/y */
     bool transient_tree; /* the last frame's node tree is only read between
                             fl_step calls: fl_step releases it before it
-                            evaluates the next frame (while its first loop
-                            kernel's threads compute), so that the nodes its
+                            evaluates the next frame, so that the nodes its
                             loops built are refilled in place in the very
                             next frame (otherwise in the one after); an
                             interrupted fl_step then leaves no tree (as
-                            before the first frame) instead of the last one
-                            once a loop kernel has started.
-                            Default false; `flitter run` sets it when
-                            nothing reads a tree after the last frame. */
+                            before the first frame) instead of the last
+                            one. The next frame may then reuse the last
+                            tree's memory: under max_memory a frame can fit
+                            that would not with the last tree kept. Default
+                            false; `flitter run` sets it when nothing reads
+                            a tree after the last frame. */
 } fl_options;
 
 /* fl_options.pairs: the physics pair loop. Every route gives the same bits. */

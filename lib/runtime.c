@@ -671,9 +671,10 @@ static int step(fl_runtime *rt)
     exports_empty(&rt->scope);
     if (rt->opts.transient_tree) {
         /* nothing reads the last tree any more (flitter.h): its nodes are
-         * the kernels' to refill, and the first loop kernel releases it
-         * while its threads compute (Eval.old_tree) */
-        ev.old_tree = rt->root;
+         * the kernels' to refill. Released before the evaluation, on every
+         * route: where the memory budget runs out must not depend on
+         * whether, or when, a loop kernel runs. */
+        node_release(rt->root);
         rt->root = NULL;
     }
     double t1 = monotonic();
@@ -695,15 +696,13 @@ static int step(fl_runtime *rt)
     }
     kernel_scratch_frame_done(rt->kscratch);
     if (ev.interrupted) {
-        /* discard the incomplete frame: the last tree (unless a loop
-         * kernel released it), state and clock stay */
-        if (ev.old_tree) rt->root = ev.old_tree;
+        /* discard the incomplete frame: the last tree (unless transient),
+         * state and clock stay */
         node_release(root);
         rt->last_beat = prev_beat;
         rt->cur = prev;
         return 1;
     }
-    node_release(ev.old_tree);
     node_release(rt->root);
     rt->root = root;
     rt->kernel_iterations += ev.kiters;

@@ -1,10 +1,17 @@
 /* cpu.c: cpu_has (cpu.h). */
 #include "cpu.h"
 
+/* glibc 2.33 on: its table of the features its loader found (2.32 had the
+ * header without the active features) */
 #if defined(__x86_64__) && defined(__has_include)
 #if __has_include(<sys/platform/x86.h>)
+#include <features.h>
+#if defined(__GLIBC_PREREQ)
+#if __GLIBC_PREREQ(2, 33)
 #include <sys/platform/x86.h>
 #define HAVE_PLATFORM_X86 1
+#endif
+#endif
 #endif
 #endif
 

@@ -804,8 +804,9 @@ uint32_t kernel_shared_calls(const AstNode *n)
 #define K_NODE_LOOPS 64
 
 /* The caches of nodes (kernel.h KNodeCache) of one loop's [idx]-th run in
- * a frame (a loop in a function called three times a frame has three),
- * the one of even frames and the one of odd frames. */
+ * a frame (a loop in a function called three times a frame has three):
+ * the one of even frames and the one of odd frames, or, with transient
+ * trees, the one of every frame and its second (KNodeCache.alt). */
 typedef struct KNodeLoop {
     const AstNode *key;     /* the loop (NULL: a free entry) */
     uint32_t idx;
@@ -904,7 +905,8 @@ void kernel_scratch_reclaim(void *ctx)
         for (int r = 0; r < 2; r++) {
             KNodeCache *c = &k->loops[i].run[r];
             /* the running loop's nodes still to come are refilled, not
-             * built: they need no memory */
+             * built: they need no memory (a second cache's, with transient
+             * trees, are spares, released like any other cache's) */
             for (uint32_t s = c == k->running ? c->next : 0; s < c->n; s++)
                 if (c->slot[s] && c->slot[s]->refs == 1) knode_drop(c, s);
         }
@@ -931,7 +933,8 @@ void kernel_scratch_free(KernelScratch *k)
 }
 
 /* The cache this run of loop [n] fills, holding the nodes of its run
- * before the last. */
+ * before the last (with transient trees, of its last run, and run[1] as
+ * its second cache). */
 static KNodeCache *knode_cache(KernelScratch *k, const AstNode *n)
 {
     /* the loop's runs so far in this frame, each of which took an entry */
@@ -985,6 +988,21 @@ bool knode_cache_swap_alt(KNodeCache *c, uint32_t s)
     c->slot[s] = a->slot[s];
     a->slot[s] = n;
     return true;
+}
+
+/* The end of a run that filled [c] up to slot [next]: the nodes past it
+ * are not built again this run. Released, or with a second cache (alt),
+ * moved to its slots that are empty, so that a frame whose iterations
+ * were not clean (which take no slot) leaves the next frame the nodes to
+ * refill, as the cache of the other frame parity does. */
+static void knode_trim_run(KNodeCache *c, uint32_t next)
+{
+    for (uint32_t s = next; c->alt && s < c->n; s++) {
+        if (!c->slot[s] || !knode_cache_reach(c->alt, s) || c->alt->slot[s]) continue;
+        c->alt->slot[s] = c->slot[s];
+        c->slot[s] = NULL;
+    }
+    knode_trim(c, next);
 }
 
 bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node)
@@ -1241,12 +1259,6 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
         atomic_init(&kr.cancel, false);
         WorkersJob job;
         workers_start(pool, &job, ntasks, chunk_task, &kr);
-        if (ev->old_tree) {
-            /* the last frame's tree, while the threads compute the first
-             * chunks: its nodes are this loop's to refill */
-            node_release(ev->old_tree);
-            ev->old_tree = NULL;
-        }
         /* the pool runs one job at a time: a kernel run by this one's
          * body (a nested loop, a recursive call) runs on this thread */
         ev->workers = NULL;
@@ -1296,7 +1308,7 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done)
     ev->kclean = kclean;
     ev->kmemo = kmemo;
     /* nodes past this run's last are not built again */
-    if (ev->kcache) knode_trim(ev->kcache, ev->kcache->next);
+    if (ev->kcache) knode_trim_run(ev->kcache, ev->kcache->next);
     if (ks) ks->running = NULL;
     ev->kcache = kcache;
     for (uint32_t i = 0; i < blk->nmemos; i++) vec_release(km[i]);

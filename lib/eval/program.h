@@ -201,11 +201,6 @@ struct Eval {
                                   NULL: none) */
     uint64_t kreused;       /* nodes refilled from it */
     uint64_t kstraight;     /* iterations run as a straight body (kernel.c) */
-    struct Node *old_tree;  /* the last frame's tree, which nothing else
-                               reads any more (fl_options.transient_tree),
-                               to release (and clear) before a loop kernel
-                               refills nodes: kernel_eval_for does once its
-                               threads have started; NULL: none */
 };
 
 /* Evaluate the whole program: compose the top-level sequence and append

@@ -7,11 +7,9 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "runtime.h"
@@ -323,23 +321,17 @@ static void test_interrupt(void **s)
     fl_free(rt);
 }
 
-/* Sets *arg (an interrupt flag) 200 ms after it starts. */
-static void *interrupt_later(void *arg)
+/* fl_options.transient_tree: the last frame's tree is read as usual
+ * between steps; an interrupted step leaves the frame count as it was and
+ * no tree (rt_root NULL, as before the first frame), with or without a
+ * loop kernel; the next step carries on. */
+static void interrupt_transient(const char *src, const char *tree0, const char *tree1)
 {
-    struct timespec ts = {0, 200 * 1000 * 1000};
-    nanosleep(&ts, NULL);
-    *(volatile int *)arg = 1;
-    return NULL;
-}
-
-/* A runtime with fl_options.transient_tree and the interrupt flag [stop],
- * [src] loaded and one frame stepped, whose tree must read [tree0]. */
-static fl_runtime *transient_runtime(const char *src, volatile int *stop, const char *tree0)
-{
+    static volatile int stop;
     fl_options o = fl_default_options();
-    static RtStreams streams = {NULL, NULL};
+    RtStreams streams = {NULL, NULL};
     rt_log_to_files(&o, &streams);
-    o.interrupt = stop;
+    o.interrupt = &stop;
     o.transient_tree = true;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT, t = BUF_INIT;
@@ -347,49 +339,27 @@ static fl_runtime *transient_runtime(const char *src, volatile int *stop, const 
     assert_int_equal(fl_step(rt), 0);
     fmt_tree(&t, rt_root(rt), rt_symbols(rt));
     assert_string_equal(buf_cstr(&t), tree0);
-    buf_free(&err);
-    buf_free(&t);
-    return rt;
-}
-
-/* fl_options.transient_tree: the last frame's tree is read as usual
- * between steps. An interrupted step leaves the frame count as it was,
- * and the last tree when no loop kernel had started (the first of them
- * releases it), else no tree (rt_root NULL, as before the first frame: an
- * interrupt 200 ms into a frame of a second or more of loop kernels); the
- * next step carries on. */
-static void test_interrupt_transient(void **s)
-{
-    (void)s;
-    static volatile int stop;
-    /* a loop too short for a kernel, interrupted */
-    fl_runtime *rt = transient_runtime("!a n=frame;len((i for i in 0..frame+10))\n", &stop, "!root\n !a n=0;10\n");
     stop = 1;
     assert_int_equal(fl_step(rt), 1);
     assert_int_equal(fl_frame_count(rt), 1);
-    Buf t = BUF_INIT;
-    fmt_tree(&t, rt_root(rt), rt_symbols(rt));
-    assert_string_equal(buf_cstr(&t), "!root\n !a n=0;10\n");
+    assert_null(rt_root(rt));
     stop = 0;
     assert_int_equal(fl_step(rt), 0);
     buf_reset(&t);
     fmt_tree(&t, rt_root(rt), rt_symbols(rt));
-    assert_string_equal(buf_cstr(&t), "!root\n !a n=1;11\n");
-    fl_free(rt);
-    /* frame 1: 20,000 runs of a 3,000-iteration loop with a kernel,
-     * interrupted 200 ms in */
-    rt = transient_runtime("let k=1 if frame == 1 else 0\n"
-                           "!a n=frame;sum((sum((sin(i*0.001+time+j) for i in ..3000)) for j in ..20000*k))>-1e9\n",
-                           &stop, "!root\n !a n=0;1\n");
-    pthread_t th;
-    assert_int_equal(pthread_create(&th, NULL, interrupt_later, (void *)&stop), 0);
-    assert_int_equal(fl_step(rt), 1);
-    pthread_join(th, NULL);
-    assert_int_equal(fl_frame_count(rt), 1);
-    assert_null(rt_root(rt));
-    fl_free(rt);
-    stop = 0;
+    assert_string_equal(buf_cstr(&t), tree1);
+    buf_free(&err);
     buf_free(&t);
+    fl_free(rt);
+}
+
+static void test_interrupt_transient(void **s)
+{
+    (void)s;
+    interrupt_transient("!a n=frame;len((i for i in 0..frame+10))\n", "!root\n !a n=0;10\n",
+                        "!root\n !a n=1;11\n");
+    interrupt_transient("!a n=frame;sum((sin(i*0.001+time)*0+1 for i in ..3000+frame))>0\n", "!root\n !a n=0;1\n",
+                        "!root\n !a n=1;1\n");
 }
 
 int main(void)

@@ -442,6 +442,28 @@ static void test_budget(void **s)
         free(log0);
         free(log1);
     }
+    assert_true(out > 0 && fits > 0);
+    /* with transient trees (fl_options.transient_tree), over three frames:
+     * the last tree's blocks serve the next frame on every route alike */
+    run_script_transient = true;
+    out = fits = 0;
+    for (size_t kb = 5800; kb <= 7400; kb += 200) {
+        run_script_budget = kb << 10;
+        char *log0, *log1;
+        uint64_t k0, k1;
+        char *t0 = run_route(src, 3, true, R_NOKERNEL, &log0, &k0);
+        char *t1 = run_route(src, 3, true, R_THREADS2, &log1, &k1);
+        if (strcmp(t0, t1) != 0 || strcmp(log0, log1) != 0) fprintf(stderr, "transient, budget %zu KiB differs\n", kb);
+        assert_string_equal(t1, t0);
+        assert_string_equal(log1, log0);
+        if (strstr(log0, "Out of memory")) out++;
+        else fits++;
+        free(t0);
+        free(t1);
+        free(log0);
+        free(log1);
+    }
+    run_script_transient = false;
     run_script_budget = 0;
     kernel_chunk = "7";
     kernel_window = "63";
@@ -533,7 +555,8 @@ static uint32_t shared_calls(const char *src)
  * expression by index, which the new expressions move), sin(p)*sin(p) in
  * one, cos(q) in two; sin(q) and cos(p) once each (not shared); an
  * iteration whose comparison meets a NaN (i = 5), whose registers are
- * computed again one expression at a time. */
+ * computed again one expression at a time; and shared calls of registers
+ * that do not hold their numbers. */
 static void test_shared_calls(void **s)
 {
     (void)s;
@@ -546,6 +569,18 @@ static void test_shared_calls(void **s)
                       "        !b c=hsv(sin(p);0.5;cos(q)) w=sin(p)*sin(p) v=cos(p) u=(i-5)/(i-5)>0\n";
     assert_int_equal(shared_calls(src), 2);
     free(expect_routes(src, 3, 3 * 80));
+    /* shared calls whose register does not hold its number: a name from
+     * outside that is null in odd frames, and the last iteration of a loop
+     * of two names over an odd count (b missing), each computed again one
+     * expression at a time, the shared register's inputs checked */
+    static const char partial[] = "let k=(frame*0.5 if frame%2==0 else null)\n"
+                                  "    n=301+frame%2\n"
+                                  "!g\n"
+                                  "    for a;b in ..n\n"
+                                  "        !a x=sin(b)+a y=sin(b)*a\n"
+                                  "        !c x=sin(k)+a y=sin(k)*a z=cos(k)\n";
+    assert_int_equal(shared_calls(partial), 2);
+    free(expect_routes(partial, 4, 4 * 150));
     assert_int_equal(shared_calls("let n=9+time\nfor i in ..n\n    !a x=sin(i) y=cos(i) z=sin(i*2)\n"), 0);
 }
 
@@ -694,6 +729,15 @@ static void test_reuse(void **s)
                  "for i in ..n\n"
                  "    !counter state=(i*3+frame)%11 rate=i+1 initial=time>0.02\n",
                  50, true);
+    /* a name from outside that is null in odd frames: no iteration is
+     * clean there, none takes a kept node, and the next frame refills
+     * those of the frame before (with transient trees, kept meanwhile in
+     * the second cache) */
+    expect_reuse("let k=(1 if frame%2 == 0 else null)\n"
+                 "!g\n"
+                 "    for i in ..60\n"
+                 "        !a x=sin(i*0.1+time)+k\n",
+                 100, false);
     /* a loop in a function called three times a frame (a cache for each
      * run of the loop in a frame), of three lengths */
     expect_reuse("func ring(k)\n"
