@@ -410,6 +410,36 @@ static void test_depth_limit(void **s)
     assert_true(straight > 0);
 }
 
+/* Budgets from 5,800 to 7,400 KiB for [frames] frames of [src], with or
+ * without transient trees: the kernel route on two threads gives
+ * FLITTER_NOKERNEL's tree and log at each; some budgets run out and some
+ * fit (when fitting, at least [min_kiters] iterations ran with kernels). */
+static void budget_sweep(const char *src, int frames, bool transient, uint64_t min_kiters)
+{
+    int out = 0, fits = 0;
+    run_script_transient = transient;
+    for (size_t kb = 5800; kb <= 7400; kb += 200) {
+        run_script_budget = kb << 10;
+        char *log0, *log1;
+        uint64_t k0, k1;
+        char *t0 = run_route(src, frames, true, R_NOKERNEL, &log0, &k0);
+        char *t1 = run_route(src, frames, true, R_THREADS2, &log1, &k1);
+        if (strcmp(t0, t1) != 0 || strcmp(log0, log1) != 0)
+            fprintf(stderr, "transient %d, budget %zu KiB differs\n", transient, kb);
+        assert_string_equal(t1, t0);
+        assert_string_equal(log1, log0);
+        if (strstr(log0, "Out of memory")) out++;
+        else fits++, assert_true(k1 >= min_kiters);
+        free(t0);
+        free(t1);
+        free(log0);
+        free(log1);
+    }
+    run_script_transient = false;
+    run_script_budget = 0;
+    assert_true(out > 0 && fits > 0);
+}
+
 /* A memory budget (--max-memory) that runs out in a kernel loop's body
  * runs out where it does without kernels: the registers are left out of
  * the budget (kernel.h KernelScratch). A sweep of budgets across the
@@ -423,51 +453,14 @@ static void test_budget(void **s)
                       "    for i in ..n\n"
                       "        let p=i*0.5+time\n"
                       "        !d x=p y=sin(p) z=cos(p)*2\n";
-    int out = 0, fits = 0;
     /* the kernel's own window: a block of about 1 MB of registers */
     kernel_chunk = kernel_window = "0";
-    for (size_t kb = 5800; kb <= 7400; kb += 200) {
-        run_script_budget = kb << 10;
-        char *log0, *log1;
-        uint64_t k0, k1;
-        char *t0 = run_route(src, 1, true, R_NOKERNEL, &log0, &k0);
-        char *t1 = run_route(src, 1, true, R_THREADS2, &log1, &k1);
-        if (strcmp(t0, t1) != 0 || strcmp(log0, log1) != 0) fprintf(stderr, "budget %zu KiB differs\n", kb);
-        assert_string_equal(t1, t0);
-        assert_string_equal(log1, log0);
-        if (strstr(log0, "Out of memory")) out++;
-        else fits++, assert_true(k1 >= 20000);
-        free(t0);
-        free(t1);
-        free(log0);
-        free(log1);
-    }
-    assert_true(out > 0 && fits > 0);
+    budget_sweep(src, 1, false, 20000);
     /* with transient trees (fl_options.transient_tree), over three frames:
      * the last tree's blocks serve the next frame on every route alike */
-    run_script_transient = true;
-    out = fits = 0;
-    for (size_t kb = 5800; kb <= 7400; kb += 200) {
-        run_script_budget = kb << 10;
-        char *log0, *log1;
-        uint64_t k0, k1;
-        char *t0 = run_route(src, 3, true, R_NOKERNEL, &log0, &k0);
-        char *t1 = run_route(src, 3, true, R_THREADS2, &log1, &k1);
-        if (strcmp(t0, t1) != 0 || strcmp(log0, log1) != 0) fprintf(stderr, "transient, budget %zu KiB differs\n", kb);
-        assert_string_equal(t1, t0);
-        assert_string_equal(log1, log0);
-        if (strstr(log0, "Out of memory")) out++;
-        else fits++;
-        free(t0);
-        free(t1);
-        free(log0);
-        free(log1);
-    }
-    run_script_transient = false;
-    run_script_budget = 0;
+    budget_sweep(src, 3, true, 0);
     kernel_chunk = "7";
     kernel_window = "63";
-    assert_true(out > 0 && fits > 0);
 }
 
 /* The simplifier's loop forms (literal ranges, template passes): nested
@@ -560,27 +553,37 @@ static uint32_t shared_calls(const char *src)
 static void test_shared_calls(void **s)
 {
     (void)s;
-    const char *src = "let n=80+floor(time)\n"
-                      "!g\n"
-                      "    for i in ..n\n"
-                      "        let p=i*0.25+n*0.01\n"
-                      "            q=i*0.5\n"
-                      "        !a x=sin(p)+1 y=cos(q)*2 z=sin(q)\n"
-                      "        !b c=hsv(sin(p);0.5;cos(q)) w=sin(p)*sin(p) v=cos(p) u=(i-5)/(i-5)>0\n";
-    assert_int_equal(shared_calls(src), 2);
-    free(expect_routes(src, 3, 3 * 80));
-    /* shared calls whose register does not hold its number: a name from
-     * outside that is null in odd frames, and the last iteration of a loop
-     * of two names over an odd count (b missing), each computed again one
-     * expression at a time, the shared register's inputs checked */
-    static const char partial[] = "let k=(frame*0.5 if frame%2==0 else null)\n"
-                                  "    n=301+frame%2\n"
-                                  "!g\n"
-                                  "    for a;b in ..n\n"
-                                  "        !a x=sin(b)+a y=sin(b)*a\n"
-                                  "        !c x=sin(k)+a y=sin(k)*a z=cos(k)\n";
-    assert_int_equal(shared_calls(partial), 2);
-    free(expect_routes(partial, 4, 4 * 150));
+    static const struct {
+        const char *src;
+        uint32_t shared;
+        int frames;
+        uint64_t kiters;
+    } cases[] = {
+        {"let n=80+floor(time)\n"
+         "!g\n"
+         "    for i in ..n\n"
+         "        let p=i*0.25+n*0.01\n"
+         "            q=i*0.5\n"
+         "        !a x=sin(p)+1 y=cos(q)*2 z=sin(q)\n"
+         "        !b c=hsv(sin(p);0.5;cos(q)) w=sin(p)*sin(p) v=cos(p) u=(i-5)/(i-5)>0\n",
+         2, 3, 3 * 80},
+        /* shared calls whose register does not hold its number: a name
+         * from outside that is null in odd frames, and the last iteration
+         * of a loop of two names over an odd count (b missing), each
+         * computed again one expression at a time, the shared register's
+         * inputs checked */
+        {"let k=(frame*0.5 if frame%2==0 else null)\n"
+         "    n=301+frame%2\n"
+         "!g\n"
+         "    for a;b in ..n\n"
+         "        !a x=sin(b)+a y=sin(b)*a\n"
+         "        !c x=sin(k)+a y=sin(k)*a z=cos(k)\n",
+         2, 4, 4 * 150},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        assert_int_equal(shared_calls(cases[i].src), cases[i].shared);
+        free(expect_routes(cases[i].src, cases[i].frames, cases[i].kiters));
+    }
     assert_int_equal(shared_calls("let n=9+time\nfor i in ..n\n    !a x=sin(i) y=cos(i) z=sin(i*2)\n"), 0);
 }
 
