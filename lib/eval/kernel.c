@@ -956,8 +956,7 @@ static KNodeCache *knode_cache(KernelScratch *k, const AstNode *n)
     KNodeCache *c = &l->run[k->transient ? 0 : k->frame & 1];
     c->alt = k->transient ? &l->run[1] : NULL;
     c->next = 0;
-    c->held = &k->held;
-    l->run[1].held = &k->held;
+    l->run[0].held = l->run[1].held = &k->held;
     k->running = c;
     return c;
 }
@@ -1007,17 +1006,7 @@ static void knode_trim_run(KNodeCache *c, uint32_t next)
 
 bool knode_cache_put(KNodeCache *c, uint32_t s, struct Node *node)
 {
-    if (s > c->n) return false;
-    if (s == c->n) {
-        if (c->n == c->cap) {
-            uint32_t cap = c->cap ? 2 * c->cap : 256;
-            Node **slot = realloc(c->slot, cap * sizeof *slot);
-            if (!slot) return false;
-            c->slot = slot;
-            c->cap = cap;
-        }
-        c->slot[c->n++] = NULL;
-    }
+    if (s > c->n || !knode_cache_reach(c, s)) return false;
     knode_drop(c, s);
     c->slot[s] = node_retain(node);
     *c->held += knode_bytes(node);
