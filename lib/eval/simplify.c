@@ -81,7 +81,7 @@ static void warn_put(WarnTable *t, uint64_t h, size_t start, size_t len)
 
 void simp_warn(Simp *s, const char *msg)
 {
-    if (s->tg) {   /* a template pass writes nothing: its loop is unrolled one copy at a time */
+    if (s->tg || s->talone) {   /* a template pass writes nothing: its loop is unrolled one copy at a time */
         s->tabort = true;
         return;
     }

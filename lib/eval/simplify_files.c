@@ -44,7 +44,7 @@ static char *dir_of(const char *path)
 
 AstNode *simp_include(Simp *s, const AstNode *n)
 {
-    if (s->tg) {   /* files read once per copy: not shared by a template pass */
+    if (s->tg || s->talone) {   /* files read once per copy: not shared by a template pass */
         s->tabort = true;
         return mk_lit(NULL, n->loc);
     }
@@ -148,7 +148,7 @@ static bool module_exports(Simp *s, const char *path, Simp *sub)
  * rest; the others stay imported when the program runs. */
 AstNode *simp_import(Simp *s, const AstNode *n)
 {
-    if (s->tg) {   /* files read once per copy: not shared by a template pass */
+    if (s->tg || s->talone) {   /* files read once per copy: not shared by a template pass */
         s->tabort = true;
         return mk_lit(NULL, n->loc);
     }
@@ -221,7 +221,7 @@ AstNode *simp_import(Simp *s, const AstNode *n)
  * and exports only what is left, for the REPL's scope. */
 AstNode *simp_export(Simp *s, const AstNode *n)
 {
-    if (s->tg) {   /* files read once per copy: not shared by a template pass */
+    if (s->tg || s->talone) {   /* files read once per copy: not shared by a template pass */
         s->tabort = true;
         return mk_lit(NULL, n->loc);
     }

@@ -118,6 +118,9 @@ struct Simp {
                                at a time */
     int64_t *tkey;          /* the first test whose outcome differs between
                                members: each member's outcome, or NULL */
+    bool talone;            /* a group of one member simplified with its
+                               plain values (simp_unroll_templates): what
+                               a column pass must not share aborts it too */
     bool no_templates;      /* FLITTER_NOTEMPLATES: one copy at a time */
     bool check_templates;   /* FLITTER_TEMPLATE_CHECK: compare every
                                templated copy with its one-at-a-time twin */

@@ -556,10 +556,10 @@ AstNode *simp_let(Simp *s, const AstNode *n)
         free(rem.v);
         return sbody;
     }
-    /* drop bindings nothing uses */
+    /* drop bindings nothing uses (none left: no names to gather) */
     NameSet used = {0};
-    free_names(sbody, &used);
-    if (!used.all) {
+    if (rem.n) free_names(sbody, &used);
+    if (rem.n && !used.all) {
         uint32_t keep = rem.n;
         for (uint32_t i = rem.n; i-- > 0;) {
             AstNode *b = rem.v[i];
@@ -628,7 +628,10 @@ AstNode *simp_for(Simp *s, const AstNode *n)
         /* in a template pass each member unrolls its own copies */
         uint64_t members = s->tg ? s->tg : 1;
         if (s->unrolled + copies * members > SIMP_MAX_UNROLL) {
-            if (s->tg) s->tabort = true;   /* members would differ in where the limit falls */
+            /* members would differ in where the limit falls; a member
+             * simplified alone may meet it in another order than one
+             * copy at a time would */
+            if (s->tg || s->talone) s->tabort = true;
             simp_warn(s, "Loop too long to unroll at load time; it is run as a loop");
             unroll = false;
         } else {

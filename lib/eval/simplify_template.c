@@ -22,6 +22,12 @@
  * alone makes. Copies come out in iteration order, so what follows
  * (sequence packing, the evaluator, the dumps) sees exactly what it saw.
  *
+ * A group of one member (canvas10k's i=0, where `time + 0` folds) takes
+ * no column pass: it is simplified with the member's own values, as one
+ * copy at a time would simplify it (so a loop inside it may make templates
+ * of its own), what a column pass must not share aborting it alike
+ * (Simp.talone).
+ *
  * Better still, a run of consecutive members of one group need not be
  * copied at all: loop_form() makes it one loop over the members' column
  * values, bound to hidden names where the template had its column
@@ -60,6 +66,7 @@
 #include <string.h>
 
 #include "mem.h"
+#include "pool.h"
 
 /* {===== columns */
 
@@ -76,9 +83,17 @@ Vec *tval(const AstNode *n, uint32_t m)
     return n ? n->value : NULL;
 }
 
+/* A column's block size: its vectors, and its numbers when [num]. Columns
+ * come from the active pool (the runtime's while it loads): a pass makes
+ * and drops one for every fold of a column. */
+static size_t col_size(uint32_t n, bool num)
+{
+    return sizeof(Column) + (size_t)n * (sizeof(Vec *) + (num ? sizeof(double) : 0));
+}
+
 Column *col_new(uint32_t n)
 {
-    Column *c = mem_calloc(1, sizeof *c + (size_t)n * sizeof c->v[0]);
+    Column *c = pool_calloc(col_size(n, false));
     c->refs = 1;
     c->n = n;
     return c;
@@ -87,7 +102,7 @@ Column *col_new(uint32_t n)
 Column *col_new_num(uint32_t n)
 {
     /* the numbers follow the (initially empty) vectors in one block */
-    Column *c = mem_calloc(1, sizeof *c + (size_t)n * (sizeof c->v[0] + sizeof(double)));
+    Column *c = pool_calloc(col_size(n, true));
     c->refs = 1;
     c->n = n;
     c->num = (double *)(void *)(c->v + n);
@@ -110,7 +125,7 @@ void col_release(Column *c)
 {
     if (!c || --c->refs) return;
     for (uint32_t m = 0; m < c->n; m++) vec_release(c->v[m]);
-    free(c);
+    pool_release(c, col_size(c->n, c->num != NULL));
 }
 
 void col_attach(AstNode *n, Column *c)
@@ -165,6 +180,15 @@ int64_t tdecide(Simp *s, const AstNode *n, int kind, double x)
     const Column *c = n->aux;
     /* a numeric column's members agree on every test but these two */
     if (c->num && kind != TD_EQUALS && kind != TD_TRUTHY) return r;
+    if (c->num) {   /* the two on plain numbers, in one pass (num_outcome's) */
+        const double *y = c->num;
+        uint32_t m = 0;
+        if (kind == TD_EQUALS)
+            while (m < c->n && (int64_t)(y[m] == x) == r) m++;
+        else
+            while (m < c->n && (int64_t)(y[m] != 0.0 || isnan(y[m])) == r) m++;
+        if (m == c->n) return r;
+    }
     for (uint32_t m = 0; m < c->n; m++) {
         if (col_outcome(c, m, kind, x) == r) continue;
         s->tkey = mem_realloc(NULL, (size_t)c->n * sizeof *s->tkey);
@@ -252,6 +276,24 @@ static AstNode *copy_with(const AstNode *t, LeafFn leaf, const void *ctx)
     return c;
 }
 
+/* [t] itself made what copy_with(t, leaf, ctx) would make, when nothing
+ * needs [t] after: each column literal replaced by leaf() and freed, every
+ * other node kept (consumes [t]). */
+static AstNode *move_with(AstNode *t, LeafFn leaf, const void *ctx)
+{
+    if (!t) return NULL;
+    if (has_col(t)) {
+        AstNode *r = leaf(t, ctx);
+        ast_free(t);
+        return r;
+    }
+    t->a = move_with(t->a, leaf, ctx);
+    t->b = move_with(t->b, leaf, ctx);
+    t->c = move_with(t->c, leaf, ctx);
+    for (uint32_t i = 0; i < t->nkids; i++) t->kids[i] = move_with(t->kids[i], leaf, ctx);
+    return t;
+}
+
 /* A column literal holding member *[ctx]'s value. */
 static AstNode *member_leaf(const AstNode *lit, const void *ctx)
 {
@@ -296,7 +338,7 @@ typedef struct Range {
  * whose members hold equal values, bit for bit and without NaN, share
  * one). */
 typedef struct ColName {
-    Column *col;
+    Column *col;        /* one reference: the template may go first */
     uint64_t hash;      /* of its members' values */
     uint32_t name;
     bool dedup;         /* NaN-free: may share a name */
@@ -312,7 +354,7 @@ typedef struct ColName {
 #define SPLIT_MAX 16
 
 typedef struct SplitCol {
-    Column *col;            /* the column taken apart (the template's) */
+    Column *col;            /* the column taken apart (the template's; one reference) */
     uint32_t len;
     Column *pos[SPLIT_MAX]; /* a position's column (one reference), or NULL: constant */
 } SplitCol;
@@ -327,8 +369,11 @@ typedef struct ColSet {
 
 static void colset_free(ColSet *cs)
 {
-    for (uint32_t i = 0; i < cs->nsp; i++)
+    for (uint32_t i = 0; i < cs->n; i++) col_release(cs->e[i].col);
+    for (uint32_t i = 0; i < cs->nsp; i++) {
+        col_release(cs->sp[i].col);
         for (uint32_t p = 0; p < cs->sp[i].len; p++) col_release(cs->sp[i].pos[p]);
+    }
     free(cs->sp);
     free(cs->e);
 }
@@ -380,7 +425,7 @@ static void colset_add(ColSet *cs, Column *c)
         }
     }
     if (name == cs->names) cs->names++;
-    cs->e[cs->n++] = (ColName){c, h, name, dedup};
+    cs->e[cs->n++] = (ColName){col_retain(c), h, name, dedup};
 }
 
 /* The entry of column [c] in [cs], or NULL. */
@@ -414,7 +459,7 @@ static bool split_col(ColSet *cs, Column *c)
         cs->sp = mem_realloc(cs->sp, cs->capsp * sizeof *cs->sp);
     }
     SplitCol *sc = &cs->sp[cs->nsp++];
-    *sc = (SplitCol){.col = c, .len = len};
+    *sc = (SplitCol){.col = col_retain(c), .len = len};
     for (uint32_t p = 0; p < len; p++) {
         uint64_t b0 = num_bits(vec_cnums(v0)[p]);
         bool same = true;
@@ -504,12 +549,14 @@ static AstNode *name_leaf(const AstNode *lit, const void *ctx)
  * consecutive iterations as one loop over the run's column values, bound
  * to hidden names (`for ⟨t0⟩;⟨t1⟩ in v00;v10;v01;v11...`), which the
  * evaluator runs as it ran the copies; the run's other items are null
- * (dropped by the sequence packing). False (nothing made) when the group
- * is better copied: few members, short runs, a literal template (its
- * copies pack into one literal vector), or columns the loop cannot bind
- * (collect_cols). */
-static bool loop_form(const AstNode *t, const uint32_t *order, uint32_t g, AstNode **items)
+ * (dropped by the sequence packing). The last run's body is *[tp] itself
+ * (set to NULL: consumed). False (nothing made, *[tp] untouched) when the
+ * group is better copied: few members, short runs, a literal template
+ * (its copies pack into one literal vector), or columns the loop cannot
+ * bind (collect_cols). */
+static bool loop_form(AstNode **tp, const uint32_t *order, uint32_t g, AstNode **items)
 {
+    const AstNode *t = *tp;
     uint32_t runs = 1;
     for (uint32_t m = 1; m < g; m++) runs += order[m] != order[m - 1] + 1;
     /* a literal template's copies pack into one literal: nothing to run */
@@ -545,9 +592,14 @@ static bool loop_form(const AstNode *t, const uint32_t *order, uint32_t g, AstNo
         AstNode *f = ast_new(AST_FOR, t->loc);
         for (uint32_t h = 0; h < k; h++) ast_push_name(f, hidden_name(h));
         f->a = mk_lit(src, t->loc);
-        f->b = copy_with(t, name_leaf, &cs);
-        items[order[m]] = f;
         for (uint32_t j = m + 1; j < e; j++) items[order[j]] = mk_lit(NULL, t->loc);
+        items[order[m]] = f;
+        if (e < g) {
+            f->b = copy_with(t, name_leaf, &cs);
+        } else {
+            f->b = move_with(*tp, name_leaf, &cs);
+            *tp = NULL;
+        }
         m = e;
     }
     free(byname);
@@ -633,6 +685,30 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
     bool ok = true;
     while (nstack && ok) {
         Range g = stack[--nstack];
+        if (g.n == 1) {
+            /* a group of one is simplified with its member's own values, as
+             * one copy at a time would: no columns, no copy of a template,
+             * and a loop inside it may make templates of its own */
+            uint32_t it = order[g.start], len = vec_len(values), mark = s->nnames;
+            for (uint32_t j = 0; j < n->nnames; j++) {
+                uint32_t idx = it * k + j;
+                Vec *item = idx < len ? vec_item(values, idx) : NULL;
+                scope_push(s, n->names[j], NB_LITERAL, item, NULL, NULL);
+                vec_release(item);
+            }
+            bool alone0 = s->talone;
+            s->talone = true;
+            AstNode *t = simp(s, n->b);
+            s->talone = alone0;
+            scope_restore(s, mark);
+            if (s->tabort || s->too_deep != deep0 || s->unwinding != unwinding0 || s->ev.interrupted) {
+                ast_free(t);
+                ok = false;
+                break;
+            }
+            items[it] = t;
+            continue;
+        }
         s->tg = g.n;
         s->tabort = false;
         s->tkey = NULL;
@@ -683,10 +759,15 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
             }
             continue;
         }
-        if (s->check_templates || !loop_form(t, order + g.start, g.n, items)) {
+        if (s->check_templates || !loop_form(&t, order + g.start, g.n, items)) {
             for (uint32_t m = 0; m < g.n && !s->ev.interrupted; m++) {
                 if (s->ev.interrupt && *s->ev.interrupt) s->ev.interrupted = true;   /* SIGINT: the load gives up */
-                items[order[g.start + m]] = tinst(t, m);
+                if (m + 1 < g.n) {
+                    items[order[g.start + m]] = tinst(t, m);
+                } else {   /* the last member takes the template itself */
+                    items[order[g.start + m]] = move_with(t, member_leaf, &m);
+                    t = NULL;
+                }
             }
         }
         ast_free(t);

@@ -10,7 +10,8 @@
 #   its loops templated, and the benches' unrolled loops too;
 # - by default (runs of alike copies become loops over hidden names) the
 #   state dumps and node trees they evaluate to, and their messages, must
-#   be byte for byte the same; canvas10k must have become such a loop.
+#   be byte for byte the same; canvas10k must have become such a loop, and
+#   a group of one member must have been simplified with its own values.
 set -u
 flitter=$1 tests=$2 bench=$3
 dir=$(mktemp -d) || exit 2
@@ -70,5 +71,11 @@ run petri200 --frames 30 --dump-state "$bench/petri200.fl"
 env -u FLITTER_NOTEMPLATES -u FLITTER_TEMPLATE_CHECK "$flitter" run --frames 0 --dump-simplified \
     "$bench/canvas10k.fl" >"$dir/loop" 2>&1
 grep -q "for ⟨t0⟩" "$dir/loop" || { echo "bench/canvas10k.fl: its loop was copied, not run as a loop" >&2; fail=1; }
+# templates.fl's loop of !nest: its member i=0 is a group of one, simplified
+# with its own values, so its loop over j is a loop form of its own
+env -u FLITTER_NOTEMPLATES -u FLITTER_TEMPLATE_CHECK "$flitter" run --frames 0 --dump-simplified \
+    "$tests/cli/templates.fl" >"$dir/loop" 2>/dev/null
+grep -q "for ⟨t0⟩;⟨t1⟩ in 0.25;0;0.5;0;0.75;0;" "$dir/loop" ||
+    { echo "cli/templates.fl: the member alone of the !nest loop was not simplified with its own values" >&2; fail=1; }
 [ $count -ge 60 ] || { echo "only $count scripts compared" >&2; exit 1; }
 exit $fail
