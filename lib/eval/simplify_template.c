@@ -365,10 +365,20 @@ typedef struct ColSet {
     uint32_t n, cap, names;
     SplitCol *sp;           /* the columns taken apart */
     uint32_t nsp, capsp;
+    /* two open-addressed indexes of e (entry + 1, 0 empty; nindex slots, a
+     * power of two, at most half full): by the column's address, and by
+     * the hash of its members' values (NaN-free entries only) */
+    uint32_t *by_col, *by_hash;
+    uint32_t nindex;
+    Str **hidden;           /* each name's hidden name, made once (NULL: not yet) */
 } ColSet;
 
 static void colset_free(ColSet *cs)
 {
+    for (uint32_t i = 0; i < cs->names && cs->hidden; i++) str_release(cs->hidden[i]);
+    free(cs->hidden);
+    free(cs->by_col);
+    free(cs->by_hash);
     for (uint32_t i = 0; i < cs->n; i++) col_release(cs->e[i].col);
     for (uint32_t i = 0; i < cs->nsp; i++) {
         col_release(cs->sp[i].col);
@@ -393,6 +403,24 @@ static bool col_key_equal(Column *a, Column *b, uint32_t m)
     return vec_key_equal(col_get(a, m), col_get(b, m));
 }
 
+static uint32_t ptr_slot(const void *p, uint32_t mask)
+{
+    uint64_t x = (uint64_t)(uintptr_t)p;
+    return (uint32_t)((x * 0x9e3779b97f4a7c15u) >> 32) & mask;
+}
+
+/* Entry [k] of [cs] into both indexes (which have room). */
+static void colset_index(ColSet *cs, uint32_t k)
+{
+    uint32_t mask = cs->nindex - 1, i = ptr_slot(cs->e[k].col, mask);
+    while (cs->by_col[i]) i = (i + 1) & mask;
+    cs->by_col[i] = k + 1;
+    if (!cs->e[k].dedup) return;
+    i = (uint32_t)(cs->e[k].hash >> 32) & mask;
+    while (cs->by_hash[i]) i = (i + 1) & mask;
+    cs->by_hash[i] = k + 1;
+}
+
 static void colset_add(ColSet *cs, Column *c)
 {
     uint64_t h = 1469598103934665603u;
@@ -413,10 +441,20 @@ static void colset_add(ColSet *cs, Column *c)
         cs->cap = cs->cap ? 2 * cs->cap : 16;
         cs->e = mem_realloc(cs->e, cs->cap * sizeof *cs->e);
     }
-    uint32_t name = cs->names;
-    for (uint32_t i = 0; dedup && i < cs->n; i++) {
-        const ColName *o = &cs->e[i];
-        if (!o->dedup || o->hash != h) continue;
+    if (2 * (cs->n + 1) > cs->nindex) {   /* grow both indexes */
+        cs->nindex = cs->nindex ? 2 * cs->nindex : 64;
+        free(cs->by_col);
+        free(cs->by_hash);
+        cs->by_col = mem_calloc(cs->nindex, sizeof *cs->by_col);
+        cs->by_hash = mem_calloc(cs->nindex, sizeof *cs->by_hash);
+        for (uint32_t k = 0; k < cs->n; k++) colset_index(cs, k);
+    }
+    /* a NaN-free column equal to an earlier one, member for member, takes
+     * its name (equal entries all have that one name, so any will do) */
+    uint32_t name = cs->names, mask = cs->nindex - 1;
+    for (uint32_t i = (uint32_t)(h >> 32) & mask; dedup && cs->by_hash[i]; i = (i + 1) & mask) {
+        const ColName *o = &cs->e[cs->by_hash[i] - 1];
+        if (o->hash != h) continue;
         bool same = true;
         for (uint32_t m = 0; m < c->n && same; m++) same = col_key_equal(c, o->col, m);
         if (same) {
@@ -425,14 +463,18 @@ static void colset_add(ColSet *cs, Column *c)
         }
     }
     if (name == cs->names) cs->names++;
-    cs->e[cs->n++] = (ColName){col_retain(c), h, name, dedup};
+    cs->e[cs->n] = (ColName){col_retain(c), h, name, dedup};
+    colset_index(cs, cs->n++);
 }
+
 
 /* The entry of column [c] in [cs], or NULL. */
 static const ColName *colset_find(const ColSet *cs, const Column *c)
 {
-    for (uint32_t i = 0; i < cs->n; i++)
-        if (cs->e[i].col == c) return &cs->e[i];
+    if (!cs->nindex) return NULL;
+    uint32_t mask = cs->nindex - 1;
+    for (uint32_t i = ptr_slot(c, mask); cs->by_col[i]; i = (i + 1) & mask)
+        if (cs->e[cs->by_col[i] - 1].col == c) return &cs->e[cs->by_col[i] - 1];
     return NULL;
 }
 
@@ -528,16 +570,25 @@ static Str *hidden_name(uint32_t h)
     return str_from(b);
 }
 
+/* Name [h]'s hidden name (a new reference). */
+static Str *colset_hidden(ColSet *cs, uint32_t h)
+{
+    if (!cs->hidden) cs->hidden = mem_calloc(cs->names, sizeof *cs->hidden);
+    if (!cs->hidden[h]) cs->hidden[h] = hidden_name(h);
+    return str_retain(cs->hidden[h]);
+}
+
 /* A column literal as the hidden name of its column in ColSet *[ctx], or,
  * for a column taken apart, the sequence of its positions. */
 static AstNode *name_leaf(const AstNode *lit, const void *ctx)
 {
     const SplitCol *sc = split_find(ctx, lit->aux);
-    if (!sc) return ast_name(hidden_name(colset_find(ctx, lit->aux)->name), lit->loc);
+    ColSet *cs = (ColSet *)(uintptr_t)ctx;   /* loop_form's own set: names are cached in it */
+    if (!sc) return ast_name(colset_hidden(cs, colset_find(cs, lit->aux)->name), lit->loc);
     AstNode *seq = ast_new(AST_SEQUENCE, lit->loc);
     for (uint32_t p = 0; p < sc->len; p++) {
         if (sc->pos[p])
-            ast_push(seq, ast_name(hidden_name(colset_find(ctx, sc->pos[p])->name), lit->loc));
+            ast_push(seq, ast_name(colset_hidden(cs, colset_find(cs, sc->pos[p])->name), lit->loc));
         else
             ast_push(seq, mk_lit(vec_num1(vec_cnums(sc->col->v[0])[p]), lit->loc));
     }
@@ -590,7 +641,7 @@ static bool loop_form(AstNode **tp, const uint32_t *order, uint32_t g, AstNode *
             free(parts);
         }
         AstNode *f = ast_new(AST_FOR, t->loc);
-        for (uint32_t h = 0; h < k; h++) ast_push_name(f, hidden_name(h));
+        for (uint32_t h = 0; h < k; h++) ast_push_name(f, colset_hidden(&cs, h));
         f->a = mk_lit(src, t->loc);
         for (uint32_t j = m + 1; j < e; j++) items[order[j]] = mk_lit(NULL, t->loc);
         items[order[m]] = f;
