@@ -66,7 +66,6 @@
 #include <string.h>
 
 #include "mem.h"
-#include "pool.h"
 
 /* {===== columns */
 
@@ -83,17 +82,9 @@ Vec *tval(const AstNode *n, uint32_t m)
     return n ? n->value : NULL;
 }
 
-/* A column's block size: its vectors, and its numbers when [num]. Columns
- * come from the active pool (the runtime's while it loads): a pass makes
- * and drops one for every fold of a column. */
-static size_t col_size(uint32_t n, bool num)
-{
-    return sizeof(Column) + (size_t)n * (sizeof(Vec *) + (num ? sizeof(double) : 0));
-}
-
 Column *col_new(uint32_t n)
 {
-    Column *c = pool_calloc(col_size(n, false));
+    Column *c = mem_calloc(1, sizeof *c + (size_t)n * sizeof c->v[0]);
     c->refs = 1;
     c->n = n;
     return c;
@@ -102,7 +93,7 @@ Column *col_new(uint32_t n)
 Column *col_new_num(uint32_t n)
 {
     /* the numbers follow the (initially empty) vectors in one block */
-    Column *c = pool_calloc(col_size(n, true));
+    Column *c = mem_calloc(1, sizeof *c + (size_t)n * (sizeof c->v[0] + sizeof(double)));
     c->refs = 1;
     c->n = n;
     c->num = (double *)(void *)(c->v + n);
@@ -125,7 +116,7 @@ void col_release(Column *c)
 {
     if (!c || --c->refs) return;
     for (uint32_t m = 0; m < c->n; m++) vec_release(c->v[m]);
-    pool_release(c, col_size(c->n, c->num != NULL));
+    free(c);
 }
 
 void col_attach(AstNode *n, Column *c)
