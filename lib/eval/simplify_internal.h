@@ -163,9 +163,12 @@ Column *tcol_eval(Simp *s, AstNode *e, TEvalFn f);
 /* Unroll the body of for-loop [n] for the [count] bindings of literal
  * [values] ([k] names each) into items[0..count) by template passes: the
  * body is simplified once for each group of iterations that every test
- * treats alike, and copied for its members. False (items untouched, no
+ * treats alike, and copied for its members. *[nout] is how many of the
+ * items to pack: [count], or 1 when every copy was a literal and items[0]
+ * is already what sequence_pack makes of them. False (items untouched, no
  * warning written) when the loop must be unrolled one copy at a time. */
-bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items);
+bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items,
+                           uint32_t *nout);
 
 /* Set up [s] for a file in [dir] ([path]: the module's path, or NULL). */
 void simp_init(Simp *s, SymTab *st, Buf *warnings, const char *dir, const char *path,

@@ -654,7 +654,7 @@ AstNode *simp_for(Simp *s, const AstNode *n)
     AstNode **items = malloc(cap * sizeof *items);
     if (!items) mem_oom();
     uint32_t nitems = (len + k - 1) / k;
-    if (!s->tg && nitems > 1 && simp_unroll_templates(s, n, values, nitems, items)) {
+    if (!s->tg && nitems > 1 && simp_unroll_templates(s, n, values, nitems, items, &nitems)) {
         ast_free(src);
         return simp_sequence_of(s, items, nitems, cap, n->loc);
     }

@@ -711,7 +711,83 @@ static Column *loop_col(const Vec *values, uint32_t k, uint32_t j, const uint32_
     return c;
 }
 
-bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items)
+/* The members whose copies are literals, kept as values until every group
+ * is done (LitMembers): when every copy is a literal, the loop's sequence
+ * packs them into one literal composed of their values in iteration order
+ * (sequence_pack), which is made directly, without a literal node per
+ * copy to make, pack and free (a loop of 20,000 particles); otherwise each
+ * becomes the literal node tinst() makes. */
+typedef struct LitMembers {
+    Vec **v;            /* a member's value (one reference; NULL: null) */
+    Loc *loc;           /* its literal's place and flags (mk_lit) */
+    uint8_t *op;
+    uint8_t *set;       /* 1: kept here, its item not made yet */
+    bool all;           /* every member so far */
+} LitMembers;
+
+/* Whether [t] is a literal node and nothing else (its copies are
+ * ast_literal of a value, its place and its flags), with or without a
+ * column. */
+static bool lit_plain(const AstNode *t)
+{
+    return t->kind == AST_LITERAL && !t->a && !t->b && !t->c && !t->nkids && !t->nnames && !t->count &&
+           (!t->aux || has_col(t));
+}
+
+static void lit_keep(LitMembers *lm, uint32_t count, uint32_t it, Vec *v_take, const AstNode *lit)
+{
+    if (!lm->v) {
+        lm->v = mem_calloc(count, sizeof *lm->v);
+        lm->loc = mem_calloc(count, sizeof *lm->loc);
+        lm->op = mem_calloc(count, sizeof *lm->op);
+        lm->set = mem_calloc(count, sizeof *lm->set);
+    }
+    lm->v[it] = v_take;
+    lm->loc[it] = lit->loc;
+    lm->op[it] = lit->op;
+    lm->set[it] = 1;
+}
+
+/* The kept members into [items]: one literal of their composition (in
+ * items[0], *[nout] 1) when every member was kept and their lengths fit
+ * sequence_pack's limit, as it would pack their copies; else each its own
+ * literal node, as tinst makes it. */
+static void lit_items(LitMembers *lm, uint32_t count, AstNode **items, uint32_t *nout)
+{
+    if (!lm->v) return;
+    uint64_t total = 0;
+    for (uint32_t it = 0; it < count && lm->all; it++) total += vec_len(lm->v[it]);
+    if (lm->all && total <= SIMP_MAX_RANGE) {
+        Vec *v = vec_compose(lm->v, count);
+        for (uint32_t it = 0; it < count; it++) vec_release(lm->v[it]);
+        items[0] = mk_lit(v, lm->loc[0]);
+        *nout = 1;
+    } else {
+        for (uint32_t it = 0; it < count; it++) {
+            if (!lm->set[it]) continue;
+            items[it] = ast_literal(lm->v[it], lm->loc[it]);
+            items[it]->op = lm->op[it];
+        }
+    }
+    free(lm->v);
+    free(lm->loc);
+    free(lm->op);
+    free(lm->set);
+    *lm = (LitMembers){0};
+}
+
+static void lit_free(LitMembers *lm, uint32_t count)
+{
+    for (uint32_t it = 0; lm->v && it < count; it++) vec_release(lm->v[it]);
+    free(lm->v);
+    free(lm->loc);
+    free(lm->op);
+    free(lm->set);
+    *lm = (LitMembers){0};
+}
+
+bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items,
+                           uint32_t *nout)
 {
     if (s->no_templates || s->tg || count < 2 || !shareable(n->b)) return false;
     uint32_t k = n->nnames ? n->nnames : 1;
@@ -725,6 +801,9 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
     stack[0] = (Range){0, count};
     KeyPos *kp = NULL;
     bool ok = true;
+    /* the check compares every copy as made: none kept as a value */
+    LitMembers lm = {.all = !s->check_templates};
+    *nout = count;
     while (nstack && ok) {
         Range g = stack[--nstack];
         if (g.n == 1) {
@@ -748,7 +827,13 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
                 ok = false;
                 break;
             }
-            items[it] = t;
+            if (lm.all && lit_plain(t) && !has_col(t)) {
+                lit_keep(&lm, count, it, vec_retain(t->value), t);
+                ast_free(t);
+            } else {
+                lm.all = false;
+                items[it] = t;
+            }
             continue;
         }
         s->tg = g.n;
@@ -801,6 +886,17 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
             }
             continue;
         }
+        if (lm.all && lit_plain(t)) {
+            for (uint32_t m = 0; m < g.n && !s->ev.interrupted; m++) {
+                if (s->ev.interrupt && *s->ev.interrupt) s->ev.interrupted = true;   /* SIGINT: the load gives up */
+                Vec *v = has_col(t) ? col_get(t->aux, m) : t->value;
+                lit_keep(&lm, count, order[g.start + m], vec_retain(v), t);
+            }
+            ast_free(t);
+            if (s->ev.interrupted) ok = false;
+            continue;
+        }
+        lm.all = false;
         if (s->check_templates || !loop_form(&t, order + g.start, g.n, items)) {
             for (uint32_t m = 0; m < g.n && !s->ev.interrupted; m++) {
                 if (s->ev.interrupt && *s->ev.interrupt) s->ev.interrupted = true;   /* SIGINT: the load gives up */
@@ -823,12 +919,14 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
     free(stack);
     free(order);
     if (!ok) {
+        lit_free(&lm, count);
         for (uint32_t i = 0; i < count; i++) ast_free(items[i]);
         s->unrolled = u0;
         s->too_deep = deep0;
         s->unwinding = unwinding0;
         return false;
     }
+    lit_items(&lm, count, items, nout);
     if (s->check_templates) {
         check_copies(s, n, values, count, items);
         if (!s->ev.interrupted)
