@@ -165,8 +165,10 @@ Column *tcol_eval(Simp *s, AstNode *e, TEvalFn f);
  * body is simplified once for each group of iterations that every test
  * treats alike, and copied for its members. *[nout] is how many of the
  * items to pack: [count], or 1 when every copy was a literal and items[0]
- * is already what sequence_pack makes of them. False (items untouched, no
- * warning written) when the loop must be unrolled one copy at a time. */
+ * is already what sequence_pack makes of them. False, with no warning
+ * written and nothing in items[0..count) for the caller to free, when the
+ * loop must be unrolled one copy at a time (at once when a pass it is in
+ * was abandoned already). */
 bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items,
                            uint32_t *nout);
 

@@ -628,10 +628,7 @@ AstNode *simp_for(Simp *s, const AstNode *n)
         /* in a template pass each member unrolls its own copies */
         uint64_t members = s->tg ? s->tg : 1;
         if (s->unrolled + copies * members > SIMP_MAX_UNROLL) {
-            /* members would differ in where the limit falls; a member
-             * simplified alone may meet it in another order than one
-             * copy at a time would */
-            if (s->tg || s->talone) s->tabort = true;
+            if (s->tg) s->tabort = true;   /* members would differ in where the limit falls */
             simp_warn(s, "Loop too long to unroll at load time; it is run as a loop");
             unroll = false;
         } else {

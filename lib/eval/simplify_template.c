@@ -40,7 +40,9 @@
  * before, with nothing of the pass left behind: a warning (written once
  * per message, in iteration order), a nested loop whose unrolling limit
  * would fall between members, a range or composition limit reached by
- * some members only, includes, imports and exports, or too many groups.
+ * some members only, a file read (an import left in an inlined function:
+ * shareable() turns away bodies that hold includes, imports or exports),
+ * or too many groups.
  * FLITTER_NOTEMPLATES=1 unrolls every loop one copy at a time (the
  * reference route); FLITTER_TEMPLATE_CHECK=1 also simplifies every copy
  * alone and aborts when the two differ (tests/cli/templates.sh runs the
@@ -789,7 +791,9 @@ static void lit_free(LitMembers *lm, uint32_t count)
 bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items,
                            uint32_t *nout)
 {
-    if (s->no_templates || s->tg || count < 2 || !shareable(n->b)) return false;
+    /* a pass already abandoned (a warning in the loop's source, in a
+     * member simplified alone) stays abandoned: this call would clear it */
+    if (s->no_templates || s->tg || s->tabort || count < 2 || !shareable(n->b)) return false;
     uint32_t k = n->nnames ? n->nnames : 1;
     uint64_t u0 = s->unrolled;
     bool deep0 = s->too_deep, unwinding0 = s->unwinding;
