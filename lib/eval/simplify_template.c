@@ -271,7 +271,9 @@ static AstNode *copy_with(const AstNode *t, LeafFn leaf, const void *ctx)
 
 /* [t] itself made what copy_with(t, leaf, ctx) would make, when nothing
  * needs [t] after: each column literal replaced by leaf() and freed, every
- * other node kept (consumes [t]). */
+ * other node kept (consumes [t]). The fields copy_with leaves out (the
+ * resolver's scope, fast, slot and slots, an aux other than a column) are
+ * never set while the simplifier runs, so keeping them is the same. */
 static AstNode *move_with(AstNode *t, LeafFn leaf, const void *ctx)
 {
     if (!t) return NULL;
