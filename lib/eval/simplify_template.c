@@ -659,10 +659,14 @@ static bool loop_form(AstNode **tp, const uint32_t *order, uint32_t g, AstNode *
  * iteration alone; a difference is a bug in a column helper or a missing
  * tdecide, reported with both trees. An interrupt (Ctrl-C, the fuzz
  * targets' time budget) ends the check: the load is abandoned. */
-static void check_copies(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items)
+static void check_copies(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items,
+                         uint64_t u0)
 {
     uint32_t k = n->nnames ? n->nnames : 1, len = vec_len(values);
+    /* each copy alone counts its nested copies from where one copy at a
+     * time would (u0: before the loop), not on top of the templates' */
     uint64_t u = s->unrolled;
+    s->unrolled = u0;
     for (uint32_t it = 0; it < count; it++) {
         uint32_t mark = s->nnames;
         for (uint32_t j = 0; j < n->nnames; j++) {
@@ -934,7 +938,7 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
     }
     lit_items(&lm, count, items, nout);
     if (s->check_templates) {
-        check_copies(s, n, values, count, items);
+        check_copies(s, n, values, count, items, u0);
         if (!s->ev.interrupted)
             fprintf(stderr, "flitter: template check: loop at byte %u of source %u: %u copies from %u groups, each as alone\n",
                     n->loc.start, n->loc.file, count, groups);
