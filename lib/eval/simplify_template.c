@@ -462,7 +462,6 @@ static void colset_add(ColSet *cs, Column *c)
     colset_index(cs, cs->n++);
 }
 
-
 /* The entry of column [c] in [cs], or NULL. */
 static const ColName *colset_find(const ColSet *cs, const Column *c)
 {
@@ -655,6 +654,19 @@ static bool loop_form(AstNode **tp, const uint32_t *order, uint32_t g, AstNode *
 
 /* }===== */
 
+/* Bind loop [n]'s names to iteration [it]'s items of [values] (null past
+ * its end), as one copy at a time binds them. */
+static void push_member(Simp *s, const AstNode *n, const Vec *values, uint32_t it)
+{
+    uint32_t k = n->nnames ? n->nnames : 1, len = vec_len(values);
+    for (uint32_t j = 0; j < n->nnames; j++) {
+        uint32_t idx = it * k + j;
+        Vec *item = idx < len ? vec_item(values, idx) : NULL;
+        scope_push(s, n->names[j], NB_LITERAL, item, NULL, NULL);
+        vec_release(item);
+    }
+}
+
 /* FLITTER_TEMPLATE_CHECK: every copy against the body simplified for its
  * iteration alone; a difference is a bug in a column helper or a missing
  * tdecide, reported with both trees. An interrupt (Ctrl-C, the fuzz
@@ -662,19 +674,13 @@ static bool loop_form(AstNode **tp, const uint32_t *order, uint32_t g, AstNode *
 static void check_copies(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items,
                          uint64_t u0)
 {
-    uint32_t k = n->nnames ? n->nnames : 1, len = vec_len(values);
     /* each copy alone counts its nested copies from where one copy at a
      * time would (u0: before the loop), not on top of the templates' */
     uint64_t u = s->unrolled;
     s->unrolled = u0;
     for (uint32_t it = 0; it < count; it++) {
         uint32_t mark = s->nnames;
-        for (uint32_t j = 0; j < n->nnames; j++) {
-            uint32_t idx = it * k + j;
-            Vec *item = idx < len ? vec_item(values, idx) : NULL;
-            scope_push(s, n->names[j], NB_LITERAL, item, NULL, NULL);
-            vec_release(item);
-        }
+        push_member(s, n, values, it);
         AstNode *alone = simp(s, n->b);
         scope_restore(s, mark);
         if (s->ev.interrupt && *s->ev.interrupt) s->ev.interrupted = true;
@@ -756,6 +762,16 @@ static void lit_keep(LitMembers *lm, uint32_t count, uint32_t it, Vec *v_take, c
     lm->set[it] = 1;
 }
 
+static void lit_free(LitMembers *lm, uint32_t count)
+{
+    for (uint32_t it = 0; lm->v && it < count; it++) vec_release(lm->v[it]);
+    free(lm->v);
+    free(lm->loc);
+    free(lm->op);
+    free(lm->set);
+    *lm = (LitMembers){0};
+}
+
 /* The kept members into [items]: one literal of their composition (in
  * items[0], *[nout] 1) when every member was kept and their lengths fit
  * sequence_pack's limit, as it would pack their copies; else each its own
@@ -766,32 +782,17 @@ static void lit_items(LitMembers *lm, uint32_t count, AstNode **items, uint32_t 
     uint64_t total = 0;
     for (uint32_t it = 0; it < count && lm->all; it++) total += vec_len(lm->v[it]);
     if (lm->all && total <= SIMP_MAX_RANGE) {
-        Vec *v = vec_compose(lm->v, count);
-        for (uint32_t it = 0; it < count; it++) vec_release(lm->v[it]);
-        items[0] = mk_lit(v, lm->loc[0]);
+        items[0] = mk_lit(vec_compose(lm->v, count), lm->loc[0]);
         *nout = 1;
     } else {
         for (uint32_t it = 0; it < count; it++) {
             if (!lm->set[it]) continue;
-            items[it] = ast_literal(lm->v[it], lm->loc[it]);
+            items[it] = ast_literal(lm->v[it], lm->loc[it]);   /* takes the value */
             items[it]->op = lm->op[it];
+            lm->v[it] = NULL;
         }
     }
-    free(lm->v);
-    free(lm->loc);
-    free(lm->op);
-    free(lm->set);
-    *lm = (LitMembers){0};
-}
-
-static void lit_free(LitMembers *lm, uint32_t count)
-{
-    for (uint32_t it = 0; lm->v && it < count; it++) vec_release(lm->v[it]);
-    free(lm->v);
-    free(lm->loc);
-    free(lm->op);
-    free(lm->set);
-    *lm = (LitMembers){0};
+    lit_free(lm, count);
 }
 
 bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_t count, AstNode **items,
@@ -820,13 +821,8 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
             /* a group of one is simplified with its member's own values, as
              * one copy at a time would: no columns, no copy of a template,
              * and a loop inside it may make templates of its own */
-            uint32_t it = order[g.start], len = vec_len(values), mark = s->nnames;
-            for (uint32_t j = 0; j < n->nnames; j++) {
-                uint32_t idx = it * k + j;
-                Vec *item = idx < len ? vec_item(values, idx) : NULL;
-                scope_push(s, n->names[j], NB_LITERAL, item, NULL, NULL);
-                vec_release(item);
-            }
+            uint32_t it = order[g.start], mark = s->nnames;
+            push_member(s, n, values, it);
             bool alone0 = s->talone;
             s->talone = true;
             AstNode *t = simp(s, n->b);
@@ -837,7 +833,7 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
                 ok = false;
                 break;
             }
-            if (lm.all && lit_plain(t) && !has_col(t)) {
+            if (lm.all && lit_plain(t)) {   /* no columns outside a column pass */
                 lit_keep(&lm, count, it, vec_retain(t->value), t);
                 ast_free(t);
             } else {
