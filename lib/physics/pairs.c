@@ -487,8 +487,11 @@ static void gather_all(const LevelRun *L, size_t q, PhysScratch *sc)
 static inline __attribute__((always_inline)) void
 simple_block(const LevelRun *L, size_t q, size_t e0, size_t n, double *F,
              double d[][BLOCK], const double *ss, const double *dist,
-             const double *inv, const size_t D)
+             const double *inv, const size_t D, const uint32_t *es)
 {
+    /* partner j is es[j] when the block is a list (the grid's candidates),
+     * e0 + j when it is a run */
+#define PARTNER(j) (es ? (size_t)es[j] : e0 + (j))
     const PhysSystem *s = L->s;
     const uint32_t *pool = L->pool;
     const size_t p = pool[q];
@@ -498,8 +501,8 @@ simple_block(const LevelRun *L, size_t q, size_t e0, size_t n, double *F,
     double ro[BLOCK], xo[BLOCK];
     unsigned char tob[BLOCK];
     for (size_t j = 0; j < n; j++) {
-        ro[j] = s->radius[pool[e0 + j]];
-        tob[j] = q > e0 + j;
+        ro[j] = s->radius[pool[PARTNER(j)]];
+        tob[j] = q > PARTNER(j);
     }
     for (size_t f = 0; f < L->nf; f++) {
         const PhysApplier *ap = &s->ap[L->forces[f]];
@@ -528,7 +531,7 @@ simple_block(const LevelRun *L, size_t q, size_t e0, size_t n, double *F,
         const double *val = ap->kind == AP_GRAVITY ? s->mass : s->charge;
         const double xp = ap->kind == AP_GRAVITY ? mp : cp;
         for (size_t j = 0; j < n; j++)
-            xo[j] = val[pool[e0 + j]];
+            xo[j] = val[pool[PARTNER(j)]];
         for (size_t j = 0; j < n; j++) {
             double r = rp + ro[j];
             double m = dist[j] > r ? dist[j] : r;
@@ -538,7 +541,7 @@ simple_block(const LevelRun *L, size_t q, size_t e0, size_t n, double *F,
         }
     }
     for (size_t j = 0; j < n; j++) {
-        size_t e = e0 + j;
+        size_t e = PARTNER(j);
         if (e == q || ss[j] > L->r2)
             continue;
         bool to_b = q > e;
@@ -555,6 +558,7 @@ simple_block(const LevelRun *L, size_t q, size_t e0, size_t n, double *F,
         }
     }
 }
+#undef PARTNER
 
 static inline __attribute__((always_inline)) void
 gather_all_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
@@ -601,7 +605,7 @@ gather_all_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
             }
         }
         if (L->simple) {
-            simple_block(L, q, e0, n, F, d, ss, dist, inv, D);
+            simple_block(L, q, e0, n, F, d, ss, dist, inv, D, NULL);
             continue;
         }
         for (size_t j = 0; j < n; j++) {
@@ -684,12 +688,38 @@ static inline void sort_u32(uint32_t *v, size_t n)
     }
 }
 
+#ifdef HAVE_AVX2_COPIES
+/* sort_u32() for at most 16 distinct entries below INT32_MAX, without
+ * branches on the data: each entry's rank is the count of entries below
+ * it, and it is stored at its rank. */
+__attribute__((target("avx2"))) static inline void sort_rank16_avx2(uint32_t *v, size_t n)
+{
+    uint32_t in[16], rank[16], out[16];
+    for (size_t i = 0; i < 16; i++)
+        in[i] = i < n ? v[i] : (uint32_t)INT32_MAX;
+    const __m256i a = _mm256_loadu_si256((const __m256i *)(const void *)in);
+    const __m256i b = _mm256_loadu_si256((const __m256i *)(const void *)(in + 8));
+    __m256i ra = _mm256_setzero_si256(), rb = _mm256_setzero_si256();
+    for (size_t i = 0; i < n; i++) {
+        const __m256i x = _mm256_set1_epi32((int32_t)in[i]);
+        /* lanes above entry i count it: their rank goes up by one */
+        ra = _mm256_sub_epi32(ra, _mm256_cmpgt_epi32(a, x));
+        rb = _mm256_sub_epi32(rb, _mm256_cmpgt_epi32(b, x));
+    }
+    _mm256_storeu_si256((__m256i *)(void *)rank, ra);
+    _mm256_storeu_si256((__m256i *)(void *)(rank + 8), rb);
+    for (size_t i = 0; i < n; i++)
+        out[rank[i]] = in[i];
+    memcpy(v, out, n * sizeof *v);
+}
+#endif
+
 /* The end of a grid gather for entry [q] at [x] with [nc] candidates in
  * sc->cand: the odd entries within reach join them, then the pairs are
  * taken in pool order into [F]. */
 static inline __attribute__((always_inline)) void
 grid_finish(const LevelRun *L, size_t q, const double *x, double *F,
-            PhysScratch *sc, size_t nc, const size_t D)
+            PhysScratch *sc, size_t nc, const size_t D, const bool avx2)
 {
     const PhysSystem *s = L->s;
     const PhysGrid *gr = &s->grid;
@@ -700,7 +730,40 @@ grid_finish(const LevelRun *L, size_t q, const double *x, double *F,
             !(dist2(x, s->pos + (size_t)L->pool[e] * D, D) > L->r2))
             cand[nc++] = e;
     }
+#ifdef HAVE_AVX2_COPIES
+    if (avx2 && nc <= 16 && L->npool < INT32_MAX)
+        sort_rank16_avx2(cand, nc);
+    else
+        sort_u32(cand, nc);
+#else
+    (void)avx2;
     sort_u32(cand, nc);
+#endif
+    if (L->simple) {
+        /* as gather_all_fixed's blocks, over the sorted candidates: a
+         * block's lanes past [nc] measure q from itself and are not used */
+        double d[3][BLOCK], ss[BLOCK], dist[BLOCK], inv[BLOCK];
+        for (size_t i0 = 0; i0 < nc; i0 += BLOCK) {
+            const size_t n = nc - i0 < BLOCK ? nc - i0 : BLOCK;
+            for (size_t j = 0; j < BLOCK; j++) {
+                const double *y = j < n ? s->pos + (size_t)L->pool[cand[i0 + j]] * D : x;
+                for (size_t k = 0; k < D; k++)
+                    d[k][j] = y[k] - x[k];
+            }
+            for (size_t j = 0; j < BLOCK; j++) {
+                double sum = 0;
+                for (size_t k = 0; k < D; k++)
+                    sum += d[k][j] * d[k][j];
+                ss[j] = sum;
+            }
+            for (size_t j = 0; j < BLOCK; j++) {
+                dist[j] = sqrt(ss[j]);
+                inv[j] = 1 / dist[j];
+            }
+            simple_block(L, q, 0, n, F, d, ss, dist, inv, D, cand + i0);
+        }
+        return;
+    }
     for (size_t i = 0; i < nc; i++)
         take_pair(L, q, cand[i], F, sc->dir, D);
 }
@@ -708,7 +771,8 @@ grid_finish(const LevelRun *L, size_t q, const double *x, double *F,
 /* Gather over the grid neighbours (and the odd entries), in pool order;
  * one copy per D (1, 2, 3: the only ones the grid takes). */
 static inline __attribute__((always_inline)) void
-gather_grid_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
+gather_grid_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D,
+                  const bool avx2)
 {
     PhysSystem *s = L->s;
     const PhysGrid *gr = &s->grid;
@@ -751,7 +815,7 @@ gather_grid_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
                 cand[nc++] = e;
         }
     }
-    grid_finish(L, q, x, F, sc, nc, D);
+    grid_finish(L, q, x, F, sc, nc, D, avx2);
 }
 
 #ifdef HAVE_AVX2_COPIES
@@ -877,13 +941,13 @@ gather_dense_fixed(const LevelRun *L, size_t i, PhysScratch *sc, const size_t D,
             }
         }
     }
-    grid_finish(L, q, x, F, sc, nc, D);
+    grid_finish(L, q, x, F, sc, nc, D, avx2);
 }
 
 #define GRID_COPY(name, dim, attr, avx)                                       \
     attr static void name(const LevelRun *L, size_t q, PhysScratch *sc)      \
     {                                                                         \
-        gather_grid_fixed(L, q, sc, dim);                                     \
+        gather_grid_fixed(L, q, sc, dim, avx);                                     \
     }                                                                         \
     attr static void name##_dense(const LevelRun *L, size_t i, PhysScratch *sc) \
     {                                                                         \
