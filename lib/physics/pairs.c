@@ -694,25 +694,36 @@ static inline void sort_u32(uint32_t *v, size_t n)
  * it, and it is stored at its rank. */
 __attribute__((target("avx2"))) static inline void sort_rank16_avx2(uint32_t *v, size_t n)
 {
-    uint32_t in[16], rank[16], out[16];
+    uint32_t in[16], rank[16];
     for (size_t i = 0; i < 16; i++)
         in[i] = i < n ? v[i] : (uint32_t)INT32_MAX;
     const __m256i a = _mm256_loadu_si256((const __m256i *)(const void *)in);
-    const __m256i b = _mm256_loadu_si256((const __m256i *)(const void *)(in + 8));
-    __m256i ra = _mm256_setzero_si256(), rb = _mm256_setzero_si256();
-    for (size_t i = 0; i < n; i++) {
-        const __m256i x = _mm256_set1_epi32((int32_t)in[i]);
-        /* lanes above entry i count it: their rank goes up by one */
-        ra = _mm256_sub_epi32(ra, _mm256_cmpgt_epi32(a, x));
-        rb = _mm256_sub_epi32(rb, _mm256_cmpgt_epi32(b, x));
+    __m256i ra = _mm256_setzero_si256();
+    if (n <= 8) {
+        for (size_t i = 0; i < n; i++)
+            /* lanes above entry i count it: their rank goes up by one */
+            ra = _mm256_sub_epi32(ra, _mm256_cmpgt_epi32(a, _mm256_set1_epi32((int32_t)in[i])));
+        _mm256_storeu_si256((__m256i *)(void *)rank, ra);
+    } else {
+        const __m256i b = _mm256_loadu_si256((const __m256i *)(const void *)(in + 8));
+        __m256i rb = _mm256_setzero_si256();
+        for (size_t i = 0; i < n; i++) {
+            const __m256i x = _mm256_set1_epi32((int32_t)in[i]);
+            ra = _mm256_sub_epi32(ra, _mm256_cmpgt_epi32(a, x));
+            rb = _mm256_sub_epi32(rb, _mm256_cmpgt_epi32(b, x));
+        }
+        _mm256_storeu_si256((__m256i *)(void *)rank, ra);
+        _mm256_storeu_si256((__m256i *)(void *)(rank + 8), rb);
     }
-    _mm256_storeu_si256((__m256i *)(void *)rank, ra);
-    _mm256_storeu_si256((__m256i *)(void *)(rank + 8), rb);
     for (size_t i = 0; i < n; i++)
-        out[rank[i]] = in[i];
-    memcpy(v, out, n * sizeof *v);
+        v[rank[i]] = in[i];
 }
 #endif
+
+/* The fewest candidates that take the rank sort and the blocks: below,
+ * the insertion sort and take_pair() one by one cost less (discs2k's first
+ * frames, with one or two candidates an entry, ran slower in blocks) */
+#define GRID_BLOCK_MIN 4
 
 /* The end of a grid gather for entry [q] at [x] with [nc] candidates in
  * sc->cand: the odd entries within reach join them, then the pairs are
@@ -730,8 +741,10 @@ grid_finish(const LevelRun *L, size_t q, const double *x, double *F,
             !(dist2(x, s->pos + (size_t)L->pool[e] * D, D) > L->r2))
             cand[nc++] = e;
     }
+    if (nc == 0)
+        return;
 #ifdef HAVE_AVX2_COPIES
-    if (avx2 && nc <= 16 && L->npool < INT32_MAX)
+    if (avx2 && nc >= GRID_BLOCK_MIN && nc <= 16 && L->npool < INT32_MAX)
         sort_rank16_avx2(cand, nc);
     else
         sort_u32(cand, nc);
@@ -739,7 +752,7 @@ grid_finish(const LevelRun *L, size_t q, const double *x, double *F,
     (void)avx2;
     sort_u32(cand, nc);
 #endif
-    if (L->simple) {
+    if (L->simple && nc >= GRID_BLOCK_MIN) {
         /* as gather_all_fixed's blocks, over the sorted candidates: a
          * block's lanes past [nc] measure q from itself and are not used */
         double d[3][BLOCK], ss[BLOCK], dist[BLOCK], inv[BLOCK];

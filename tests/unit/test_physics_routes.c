@@ -472,6 +472,17 @@ static void test_large_grids(void **st)
         }
         set(add(ph, "collision"), "strength", num(50));
         check_threads_124(ph, seed);
+        /* a collision level is simple: an entry's candidates (from none
+         * to past 16 here), from 4 on, go through simple_block in blocks,
+         * put in pool order by rank (AVX2, up to 16) or by insertion (the
+         * portable copies, and past 16) */
+        StateDict *ref = simulate(ph, true, 1, 3);
+        for (unsigned t = 1; t <= 2; t++) {
+            StateDict *sd = simulate_simd(ph, false, t, 3, PHYS_SIMD_PORTABLE);
+            assert_same_state(ref, sd, seed, t);
+            state_free(sd);
+        }
+        state_free(ref);
         node_release(ph);
     }
 }
