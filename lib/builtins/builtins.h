@@ -74,6 +74,14 @@ Vec *bi_error(Eval *ev, const Builtin *bi, const char *fmt, ...)
 typedef double (*BiKernel)(double);
 BiKernel bi_kernel(const Builtin *bi);
 
+/* Two element kernels of one argument computed at once: for the kernel
+ * [a] of bi_kernel(), a function f with f(x, &ya, &yb) writing a(x) and
+ * b(x), bit for bit, for less than the two calls cost, and that kernel b
+ * into [b]; NULL (b untouched) when [a] has no such partner. sin's partner
+ * is cos (sincos_t of turns.h). */
+typedef void (*BiKernelPair)(double x, double *ya, double *yb);
+BiKernelPair bi_kernel_pair(BiKernel a, BiKernel *b);
+
 /* The numeric kernel of a builtin of one argument whose result, for a
  * numeric argument, is a numeric vector of a length set by the argument's
  * (hsv, hsl: three numbers), for callers holding the argument as [n]

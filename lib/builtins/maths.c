@@ -711,6 +711,13 @@ BiKernel bi_kernel(const Builtin *bi)
     return NULL;
 }
 
+BiKernelPair bi_kernel_pair(BiKernel a, BiKernel *b)
+{
+    if (a != f_sinv) return NULL;
+    *b = f_cosv;
+    return sincos_t;
+}
+
 /* The maths family, grouped as §5.4-§5.7 list them. Keyword names are
  * the reference's parameter names. */
 const Builtin bi_maths_table[] = {

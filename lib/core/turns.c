@@ -4,6 +4,7 @@
  */
 #include <math.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "turns.h"
 
@@ -36,4 +37,54 @@ double sin_t(double t)
 double cos_t(double t)
 {
     return sin_t(t + 0.25);
+}
+
+/* sin_t's reduction of [t] (0 <= t, or -0, with 4t < 2^52): the quadrant
+ * into [q], the remainder (before the scaling by pi/2) returned. */
+static inline double reduce_turns(double t, int *q)
+{
+    double x = t * 4.0;
+    double n = (x + 0x1p52) - 0x1p52;
+    double r = x - n;
+    if (r == 0) r = copysign(0.0, x);
+    *q = (int)((int64_t)n & 3);
+    return r;
+}
+
+/* sin_t's choice by quadrant among s = sin(r), c = cos(r). */
+static inline double by_quadrant(int q, double s, double c)
+{
+    switch (q & 3) {
+    case 0: return s;
+    case 1: return c;
+    case 2: return -s;
+    default: return -c;
+    }
+}
+
+void sincos_t(double t, double *s, double *c)
+{
+#if defined(__GLIBC__)
+    /* cos_t(t) is sin_t(u), u = t + 0.25: when both reduce to the same
+     * remainder (u exactly t + 1/4, not a tie: nearly always), sin and
+     * cos of that one angle give both, by one call. glibc's sincos(x) is
+     * its sin(x) and cos(x) (the same code for |x| <= pi/4;
+     * tests/unit/test_turns.c compares them); elsewhere two calls. */
+    const double u = t + 0.25;
+    const double at = t < 0 ? -t : t, au = u < 0 ? -u : u;
+    if (at * 4.0 < 0x1p52 && au * 4.0 < 0x1p52) {   /* not NaN, infinite or huge */
+        int qt, qu;
+        const double rt = reduce_turns(at, &qt), ru = reduce_turns(au, &qu);
+        if (memcmp(&rt, &ru, sizeof rt) == 0) {
+            double sr, cr;
+            sincos(rt * HALF_PI, &sr, &cr);
+            const double vs = by_quadrant(qt, sr, cr), vc = by_quadrant(qu, sr, cr);
+            *s = t < 0 ? -vs : vs;
+            *c = u < 0 ? -vc : vc;
+            return;
+        }
+    }
+#endif
+    *s = sin_t(t);
+    *c = cos_t(t);
 }

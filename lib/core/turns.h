@@ -9,6 +9,10 @@
 double sin_t(double t);
 /* cos_t(t) = sin_t(t + 0.25). */
 double cos_t(double t);
+/* sin_t(t) into [s] and cos_t(t) into [c], bit for bit, with one call of
+ * the C library's sincos where the two reduce to the same angle (glibc),
+ * else two calls. */
+void sincos_t(double t, double *s, double *c);
 
 #define HALF_PI 1.5707963267948966
 #define TAU 6.283185307179586

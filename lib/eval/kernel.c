@@ -564,14 +564,16 @@ static bool straight(KB *kb, uint32_t off, uint32_t level, Straight *st)
 }
 
 /* One call of an element function on a register that the kernel's
- * expressions make (share_calls): how many times, the first expression
- * making it, and the register it gets. */
-typedef struct CallUse {
+ * expressions make (share_calls): how many times, whether it is computed
+ * with a partner (bi_kernel_pair), and the register it gets. */
+typedef struct CallUse CallUse;
+struct CallUse {
     NumExprCall c;
     uint32_t count;
-    uint32_t first;
-    int32_t reg;    /* -1: made once, not shared */
-} CallUse;
+    int32_t reg;          /* -1: not made by an expression of its own (yet) */
+    CallUse *partner;     /* the other call of a pair, or NULL */
+    BiKernelPair fn2;     /* on the pair's first call (a): f(x) = a(x), b(x) */
+};
 
 static uint64_t call_hash(NumExprCall c)
 {
@@ -592,9 +594,12 @@ static CallUse *call_find(CallUse *t, uint32_t cap, NumExprCall c)
  * iteration, or twice by one (canvas10k's sin(phase) in a node's point and
  * in its colour), is computed once, by an expression of its own just
  * before the first that calls it, into a new register, which those
- * expressions read instead. The same numbers: the function's, of the same
- * argument, computed once instead of twice. The expressions' inputs (for
- * careful_iteration) are found again, and the cost. */
+ * expressions read instead. Two functions of one register that have a
+ * pair function (bi_kernel_pair: sin and cos of canvas10k's phase) are
+ * computed together by one expression into two registers. The same
+ * numbers: the functions', of the same argument, computed once instead of
+ * twice. The expressions' inputs (for careful_iteration) are found again,
+ * and the cost. */
 static void share_calls(LoopKernel *lk)
 {
     uint32_t ncalls = 0;
@@ -605,7 +610,7 @@ static void share_calls(LoopKernel *lk)
     while (cap < 2 * ncalls) cap *= 2;
     CallUse *t = mem_calloc(cap, sizeof *t);
     NumExprCall *calls = NULL;
-    uint32_t capcalls = 0, nshared = 0;
+    uint32_t capcalls = 0;
     for (uint32_t e = 0; e < lk->nex; e++) {
         if (!lk->ex[e].x) continue;
         uint32_t n = numexpr_reg_calls(lk->ex[e].x, NULL, 0);
@@ -613,11 +618,30 @@ static void share_calls(LoopKernel *lk)
         numexpr_reg_calls(lk->ex[e].x, calls, n);
         for (uint32_t i = 0; i < n; i++) {
             CallUse *u = call_find(t, cap, calls[i]);
-            if (!u->count) *u = (CallUse){calls[i], 0, e, -1};
-            if (++u->count == 2) nshared++;
+            if (!u->count) *u = (CallUse){.c = calls[i], .reg = -1};
+            u->count++;
         }
     }
-    if (!nshared || lk->nregs + nshared > K_MAX_REGS) {
+    /* the pairs, then the registers the shared calls need */
+    uint32_t nshared = 0, nnew = 0;
+    for (uint32_t i = 0; i < cap; i++) {
+        CallUse *u = &t[i];
+        BiKernel b;
+        BiKernelPair f;
+        if (!u->count || u->partner || !(f = bi_kernel_pair(u->c.fn, &b))) continue;
+        CallUse *v = call_find(t, cap, (NumExprCall){u->c.reg, b});
+        if (!v->count || v->partner) continue;
+        u->partner = v;
+        v->partner = u;
+        u->fn2 = f;
+    }
+    for (uint32_t i = 0; i < cap; i++) {
+        const CallUse *u = &t[i];
+        if (!u->count || (u->count < 2 && !u->partner)) continue;
+        nshared++;
+        nnew++;   /* a pair: one register each, one expression for both */
+    }
+    if (!nshared || lk->nregs + nnew > K_MAX_REGS) {
         free(t);
         free(calls);
         return;
@@ -632,11 +656,24 @@ static void share_calls(LoopKernel *lk)
             uint32_t n = numexpr_reg_calls(lk->ex[e].x, calls, capcalls);
             for (uint32_t i = 0; i < n; i++) {
                 CallUse *u = call_find(t, cap, calls[i]);
-                if (u->count < 2 || u->first != e || u->reg >= 0) continue;
-                u->reg = (int32_t)lk->nregs++;
-                NumExpr *x = numexpr_new_call(u->c);
-                numexpr_set_out(x, (uint32_t)u->reg);
-                ex[nex++] = (KExpr){.x = x, .out = (uint32_t)u->reg, .nout = 1};
+                if ((u->count < 2 && !u->partner) || u->reg >= 0) continue;
+                NumExpr *x;
+                uint32_t nout = 1;
+                int32_t out = (int32_t)lk->nregs;
+                if (u->partner) {
+                    /* a(x) into out, b(x) into out + 1 */
+                    CallUse *a = u->fn2 ? u : u->partner;
+                    a->reg = out;
+                    a->partner->reg = out + 1;
+                    x = numexpr_new_call2(a->c.reg, a->fn2);
+                    nout = 2;
+                } else {
+                    u->reg = out;
+                    x = numexpr_new_call(u->c);
+                }
+                lk->nregs += nout;
+                numexpr_set_out(x, (uint32_t)out);
+                ex[nex++] = (KExpr){.x = x, .out = (uint32_t)out, .nout = nout};
             }
             for (uint32_t i = 0; i < n; i++) {
                 const CallUse *u = call_find(t, cap, calls[i]);

@@ -60,8 +60,9 @@ struct CRec;
 void kernel_compile_for(AstNode *n);
 
 /* How many calls of an element function on a register the kernel of loop
- * [n] computes once for the several expressions that make them (kernel.c,
- * share_calls); 0 for a loop without a kernel. For tests. */
+ * [n] computes by expressions of their own (kernel.c, share_calls): once
+ * for the several expressions that make them, or with their partner (sin
+ * and cos of one register); 0 for a loop without a kernel. For tests. */
 uint32_t kernel_shared_calls(const AstNode *n);
 
 /* eval_for's route for an AST_FOR [n] with a kernel (n->fast == 3) over

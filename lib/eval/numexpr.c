@@ -29,6 +29,8 @@ enum {
     /* an arithmetic operator whose right operand is the constant k */
     NX_ADDK, NX_SUBK, NX_MULK, NX_DIVK,
     NX_REG,     /* a register of numexpr_run_regs (numexpr_to_regs copies) */
+    NX_CALL2,   /* two element functions of the top: fn2(t, &a, &b) pushes
+                 * a and leaves b on top (numexpr_new_call2 only) */
     NX_END,     /* the last instruction */
 };
 
@@ -39,6 +41,7 @@ typedef struct NxIns {
     union {
         double k;                  /* NX_CONST */
         double (*fn)(double);      /* NX_CALL1 */
+        BiKernelPair fn2;          /* NX_CALL2 */
     };
 } NxIns;
 
@@ -310,7 +313,8 @@ bool numexpr_exec(const NumExpr *x, Eval *ev, const double *regs, double *out)
         [NX_FLOORDIV] = &&l_floordiv, [NX_MOD] = &&l_mod, [NX_POW] = &&l_pow,
         [NX_SQUARE] = &&l_square, [NX_NEG] = &&l_neg, [NX_NOT] = &&l_not, [NX_CMP] = &&l_cmp,
         [NX_CALL1] = &&l_call1, [NX_ADDK] = &&l_addk, [NX_SUBK] = &&l_subk,
-        [NX_MULK] = &&l_mulk, [NX_DIVK] = &&l_divk, [NX_REG] = &&l_reg, [NX_END] = &&l_end,
+        [NX_MULK] = &&l_mulk, [NX_DIVK] = &&l_divk, [NX_REG] = &&l_reg, [NX_CALL2] = &&l_call2,
+        [NX_END] = &&l_end,
     };
     _Static_assert(sizeof code / sizeof code[0] == NX_END + 1, "every instruction has code");
     /* the top of the stack lives in t; st[1..] holds the rest (the first
@@ -355,6 +359,13 @@ l_cmp:
     t = compare(i->sub, a, t);
     NEXT;
 l_call1: t = i->fn(t); NEXT;
+l_call2: {
+    double p, q;
+    i->fn2(t, &p, &q);
+    *sp++ = p;
+    t = q;
+    NEXT;
+}
 l_addk: t = t + i->k; NEXT;
 l_subk: t = t - i->k; NEXT;
 l_mulk: t = t * i->k; NEXT;
@@ -441,6 +452,10 @@ static inline __attribute__((always_inline)) void run_lanes(const NumExpr *x, do
             }
             break;
         case NX_CALL1: for (uint32_t l = 0; l < n; l++) t[l] = i->fn(t[l]); break;
+        case NX_CALL2:
+            for (uint32_t l = 0; l < n; l++) i->fn2(t[l], &st[sp][l], &t[l]);
+            sp++;
+            break;
         case NX_ADDK: for (uint32_t l = 0; l < n; l++) t[l] = t[l] + i->k; break;
         case NX_SUBK: for (uint32_t l = 0; l < n; l++) t[l] = t[l] - i->k; break;
         case NX_MULK: for (uint32_t l = 0; l < n; l++) t[l] = t[l] * i->k; break;
@@ -513,7 +528,8 @@ uint32_t numexpr_reg_reads(const NumExpr *x, int32_t *regs, uint32_t max)
 uint32_t numexpr_cost(const NumExpr *x)
 {
     uint32_t c = 0;
-    for (uint32_t i = 0; i < x->h.nins; i++) c += x->ins[i].op == NX_CALL1 || x->ins[i].op == NX_POW ? 16 : 1;
+    for (uint32_t i = 0; i < x->h.nins; i++)
+        c += x->ins[i].op == NX_CALL2 ? 24 : x->ins[i].op == NX_CALL1 || x->ins[i].op == NX_POW ? 16 : 1;
     return c;
 }
 
@@ -553,6 +569,16 @@ NumExpr *numexpr_new_call(NumExprCall c)
     x->h = (NumExprHead){.nins = 3, .nout = 1, .depth = 0};
     x->ins[0] = (NxIns){.op = NX_REG, .arg = c.reg};
     x->ins[1] = (NxIns){.op = NX_CALL1, .fn = c.fn};
+    x->ins[2] = (NxIns){.op = NX_END};
+    return x;
+}
+
+NumExpr *numexpr_new_call2(int32_t reg, BiKernelPair fn2)
+{
+    NumExpr *x = mem_alloc(sizeof(NumExpr) + 3 * sizeof(NxIns));
+    x->h = (NumExprHead){.nins = 3, .nout = 2, .depth = 0};
+    x->ins[0] = (NxIns){.op = NX_REG, .arg = reg};
+    x->ins[1] = (NxIns){.op = NX_CALL2, .fn2 = fn2};
     x->ins[2] = (NxIns){.op = NX_END};
     return x;
 }

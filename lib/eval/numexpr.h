@@ -33,6 +33,7 @@
 #include <stdint.h>
 
 #include "ast.h"
+#include "builtins.h"
 #include "context.h"
 
 typedef struct NumExpr NumExpr;
@@ -181,5 +182,9 @@ uint32_t numexpr_share_call(NumExpr *x, NumExprCall c, int32_t reg);
 /* A new register expression (free it with free()) that computes [c]'s one
  * number. */
 NumExpr *numexpr_new_call(NumExprCall c);
+
+/* A new register expression (free it with free()) that computes the two
+ * numbers of [fn2] (bi_kernel_pair) of register [reg], in that order. */
+NumExpr *numexpr_new_call2(int32_t reg, BiKernelPair fn2);
 
 #endif

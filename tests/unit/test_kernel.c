@@ -541,15 +541,18 @@ static uint32_t shared_calls(const char *src)
 }
 
 /* An element function called on the same register by several of an
- * iteration's expressions, or twice by one, is computed once (kernel.c,
- * share_calls): how many are, and that every route still gives the
- * generic route's nodes. The calls: sin(p) in three attributes, one of
- * them an hsv argument (a builtin's kernel that names its argument's
- * expression by index, which the new expressions move), sin(p)*sin(p) in
- * one, cos(q) in two; sin(q) and cos(p) once each (not shared); an
- * iteration whose comparison meets a NaN (i = 5), whose registers are
- * computed again one expression at a time; and shared calls of registers
- * that do not hold their numbers. */
+ * iteration's expressions, or twice by one, is computed once, and sin and
+ * cos of one register together (kernel.c, share_calls): how many calls
+ * are, and that every route still gives the generic route's nodes. The
+ * calls: sin(p) in three attributes, one of them an hsv argument (a
+ * builtin's kernel that names its argument's expression by index, which
+ * the new expressions move), sin(p)*sin(p) in one, cos(q) in two; sin(q)
+ * and cos(p) once each (each made with its partner); an iteration whose
+ * comparison meets a NaN (i = 5), whose registers are computed again one
+ * expression at a time; shared calls of registers that do not hold their
+ * numbers; sin and cos of angles of both signs, on the ties of their
+ * quadrants (eighths of a turn) and where t + 0.25 rounds (sincos_t then
+ * calls both). */
 static void test_shared_calls(void **s)
 {
     (void)s;
@@ -566,7 +569,7 @@ static void test_shared_calls(void **s)
          "            q=i*0.5\n"
          "        !a x=sin(p)+1 y=cos(q)*2 z=sin(q)\n"
          "        !b c=hsv(sin(p);0.5;cos(q)) w=sin(p)*sin(p) v=cos(p) u=(i-5)/(i-5)>0\n",
-         2, 3, 3 * 80},
+         4, 3, 3 * 80},
         /* shared calls whose register does not hold its number: a name
          * from outside that is null in odd frames, and the last iteration
          * of a loop of two names over an odd count (b missing), each
@@ -578,13 +581,21 @@ static void test_shared_calls(void **s)
          "    for a;b in ..n\n"
          "        !a x=sin(b)+a y=sin(b)*a\n"
          "        !c x=sin(k)+a y=sin(k)*a z=cos(k)\n",
-         2, 4, 4 * 150},
+         3, 4, 4 * 150},
+        {"let n=200+floor(time)\n"
+         "!g\n"
+         "    for i in ..n\n"
+         "        let p=(i-100)*0.125+(n-200)*0.01\n"
+         "            q=0.75-2*(i%2)+(i-100)/9007199254740992\n"
+         "        !a x=sin(p) y=cos(p) z=cos(q)*sin(q)\n",
+         4, 3, 3 * 200},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         assert_int_equal(shared_calls(cases[i].src), cases[i].shared);
         free(expect_routes(cases[i].src, cases[i].frames, cases[i].kiters));
     }
-    assert_int_equal(shared_calls("let n=9+time\nfor i in ..n\n    !a x=sin(i) y=cos(i) z=sin(i*2)\n"), 0);
+    assert_int_equal(shared_calls("let n=9+time\nfor i in ..n\n    !a x=sin(i) y=cos(i) z=sin(i*2)\n"), 2);
+    assert_int_equal(shared_calls("let n=9+time\nfor i in ..n\n    !a x=sin(i) y=cos(i*2) z=sin(i*3)\n"), 0);
 }
 
 static void test_compiled(void **s)
