@@ -133,10 +133,8 @@ static Vec *bi_polar(BI_PARAMS)
     Vec *r = vec_new_num(2 * th->len);
     const double *t = vec_cnums(th);
     double *y = vec_nums(r);
-    for (uint32_t i = 0; i < th->len; i++) {
-        y[2 * i] = cos_t(t[i]);
-        y[2 * i + 1] = sin_t(t[i]);
-    }
+    for (uint32_t i = 0; i < th->len; i++)
+        sincos_t(t[i], &y[2 * i + 1], &y[2 * i]);   /* cos_t, sin_t */
     return r;
 }
 

@@ -71,9 +71,10 @@ double rng_normal(uint64_t key, uint64_t i)
 
 void rng_normal_pair(uint64_t key, uint64_t e, double out[2])
 {
-    double t, r = normal_polar(key, e, &t);
-    out[0] = r * cos_t(t);
-    out[1] = r * sin_t(t);
+    double t, r = normal_polar(key, e, &t), s, c;
+    sincos_t(t, &s, &c);   /* sin_t(t) and cos_t(t), bit for bit */
+    out[0] = r * c;
+    out[1] = r * s;
 }
 
 /* C `min(a, b)` as the reference's Cython emits it: (b < a) ? b : a. */
