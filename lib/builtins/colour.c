@@ -30,7 +30,7 @@ static double cmin(double a, double b) { return (b < a) ? b : a; }
  * |t| < 6, t - 6 or t + 6 beyond (Sterbenz: 6 <= |t| <= 12, the difference
  * is representable), each with fmod's sign; fmod for the rest (larger,
  * infinite or NaN t, and t == -6, whose fmod is -0). */
-static double mod6(double t)
+static inline __attribute__((always_inline)) double mod6(double t)
 {
     if (t > -6 && t < 6)
         return t;
@@ -41,18 +41,16 @@ static double mod6(double t)
     return fmod(t, 6);
 }
 
-static double hue_to_rgb(double m1, double m2, double t)
+/* One channel of hsl_rgb: each case's formula as the reference computes
+ * it, both slopes computed and the case's value chosen (no branch on the
+ * hue to mispredict: a loop kernel's lanes have many hues) */
+static inline __attribute__((always_inline)) double hue_to_rgb(double m1, double m2, double t)
 {
     t = mod6(t);
     if (t < 0)
         t += 6;
-    if (t < 1)
-        return m1 + (m2 - m1) * t;
-    if (t < 3)
-        return m2;
-    if (t < 4)
-        return m1 + (m2 - m1) * (4 - t);
-    return m1;
+    const double up = m1 + (m2 - m1) * t, down = m1 + (m2 - m1) * (4 - t);
+    return t < 1 ? up : t < 3 ? m2 : t < 4 ? down : m1;
 }
 
 /* RGB of hue [h], saturation [s], lightness [l] (already clamped) into
