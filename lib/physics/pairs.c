@@ -560,6 +560,29 @@ simple_block(const LevelRun *L, size_t q, size_t e0, size_t n, double *F,
 }
 #undef PARTNER
 
+/* The measures of a full block of partners at [y] (BLOCK pointers to
+ * their positions) from [x]: the differences y - x, the squared distances
+ * summed over k ascending, sqrt and 1/dist (independent lanes: vector
+ * instructions, the scalar pair()'s bits). */
+static inline __attribute__((always_inline)) void
+measure_block(const double *const *y, const double *x, double d[][BLOCK], double *ss,
+              double *dist, double *inv, const size_t D)
+{
+    for (size_t j = 0; j < BLOCK; j++)
+        for (size_t k = 0; k < D; k++)
+            d[k][j] = y[j][k] - x[k];
+    for (size_t j = 0; j < BLOCK; j++) {
+        double sum = 0;
+        for (size_t k = 0; k < D; k++)
+            sum += d[k][j] * d[k][j];
+        ss[j] = sum;
+    }
+    for (size_t j = 0; j < BLOCK; j++) {
+        dist[j] = sqrt(ss[j]);
+        inv[j] = 1 / dist[j];
+    }
+}
+
 static inline __attribute__((always_inline)) void
 gather_all_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
 {
@@ -576,21 +599,10 @@ gather_all_fixed(const LevelRun *L, size_t q, PhysScratch *sc, const size_t D)
     for (size_t e0 = 0; e0 < lim; e0 += BLOCK) {
         size_t n = lim - e0 < BLOCK ? lim - e0 : BLOCK;
         if (n == BLOCK) {
-            for (size_t j = 0; j < BLOCK; j++) {
-                const double *y = pos + (size_t)pool[e0 + j] * D;
-                for (size_t k = 0; k < D; k++)
-                    d[k][j] = y[k] - x[k];
-            }
-            for (size_t j = 0; j < BLOCK; j++) {
-                double sum = 0;
-                for (size_t k = 0; k < D; k++)
-                    sum += d[k][j] * d[k][j];
-                ss[j] = sum;
-            }
-            for (size_t j = 0; j < BLOCK; j++) {
-                dist[j] = sqrt(ss[j]);
-                inv[j] = 1 / dist[j];
-            }
+            const double *y[BLOCK];
+            for (size_t j = 0; j < BLOCK; j++)
+                y[j] = pos + (size_t)pool[e0 + j] * D;
+            measure_block(y, x, d, ss, dist, inv, D);
         } else {
             for (size_t j = 0; j < n; j++) {
                 const double *y = pos + (size_t)pool[e0 + j] * D;
@@ -758,21 +770,10 @@ grid_finish(const LevelRun *L, size_t q, const double *x, double *F,
         double d[3][BLOCK], ss[BLOCK], dist[BLOCK], inv[BLOCK];
         for (size_t i0 = 0; i0 < nc; i0 += BLOCK) {
             const size_t n = nc - i0 < BLOCK ? nc - i0 : BLOCK;
-            for (size_t j = 0; j < BLOCK; j++) {
-                const double *y = j < n ? s->pos + (size_t)L->pool[cand[i0 + j]] * D : x;
-                for (size_t k = 0; k < D; k++)
-                    d[k][j] = y[k] - x[k];
-            }
-            for (size_t j = 0; j < BLOCK; j++) {
-                double sum = 0;
-                for (size_t k = 0; k < D; k++)
-                    sum += d[k][j] * d[k][j];
-                ss[j] = sum;
-            }
-            for (size_t j = 0; j < BLOCK; j++) {
-                dist[j] = sqrt(ss[j]);
-                inv[j] = 1 / dist[j];
-            }
+            const double *y[BLOCK];
+            for (size_t j = 0; j < BLOCK; j++)
+                y[j] = j < n ? s->pos + (size_t)L->pool[cand[i0 + j]] * D : x;
+            measure_block(y, x, d, ss, dist, inv, D);
             simple_block(L, q, 0, n, F, d, ss, dist, inv, D, cand + i0);
         }
         return;
