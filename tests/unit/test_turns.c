@@ -13,35 +13,38 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "scene.h"
 #include "turns.h"
 
-static uint64_t rng_state = 0x9e3779b97f4a7c15u;
-
-static uint64_t next_u64(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return rng_state;
-}
+static Rng rng = {0x5eed};
 
 static double uniform01(void)
 {
-    return (double)(next_u64() >> 11) / 9007199254740992.0;
+    return uni(&rng);
+}
+
+static uint64_t next_bits(void)
+{
+    return next_u64(&rng);
 }
 
 static int mismatches;
 
-/* sincos_t(t) against sin_t(t) and cos_t(t), bit for bit. */
+/* [s], [c] against [s1], [c1], bit for bit, at argument [t]. */
+static void same_bits(const char *what, double t, double s, double c, double s1, double c1)
+{
+    if (memcmp(&s, &s1, sizeof s) != 0 || memcmp(&c, &c1, sizeof c) != 0) {
+        if (mismatches++ < 10)
+            print_error("%s at %a: %a %a against %a %a\n", what, t, s, c, s1, c1);
+    }
+}
+
+/* sincos_t(t) against sin_t(t) and cos_t(t). */
 static void check(double t)
 {
     double s, c;
     sincos_t(t, &s, &c);
-    const double s1 = sin_t(t), c1 = cos_t(t);
-    if (memcmp(&s, &s1, sizeof s) != 0 || memcmp(&c, &c1, sizeof c) != 0) {
-        if (mismatches++ < 10)
-            print_error("t = %a: sincos_t %a %a, sin_t %a, cos_t %a\n", t, s, c, s1, c1);
-    }
+    same_bits("sincos_t", t, s, c, sin_t(t), cos_t(t));
 }
 
 /* [t] and the [n] doubles on each side of it, both signs. */
@@ -65,12 +68,12 @@ static void same_as_sin_t_and_cos_t(void **st)
     for (int i = 0; i < 1000000; i++) {
         check((uniform01() - 0.5) * 40);           /* canvas phases */
         check((uniform01() - 0.5) * 2);
-        uint64_t b = next_u64();                    /* any double */
+        uint64_t b = next_bits();                    /* any double */
         double x;
         memcpy(&x, &b, sizeof x);
         check(x);
-        check(ldexp(uniform01(), -(int)(next_u64() % 1100)));   /* tiny */
-        check(ldexp(uniform01(), (int)(next_u64() % 60)));      /* large */
+        check(ldexp(uniform01(), -(int)(next_bits() % 1100)));   /* tiny */
+        check(ldexp(uniform01(), (int)(next_bits() % 60)));      /* large */
     }
     static const double special[] = {0.0, 0.25, 0.5, 0.75, 1.0, 0x1p50, 0x1p51, 0x1p52,
                                      INFINITY, 0x1p-1074, 0x1p-1022, 1e300};
@@ -94,11 +97,7 @@ static void check_sincos(double x)
 {
     double s, c;
     sincos(x, &s, &c);
-    const double s1 = sin(x), c1 = cos(x);
-    if (memcmp(&s, &s1, sizeof s) != 0 || memcmp(&c, &c1, sizeof c) != 0) {
-        if (mismatches++ < 10)
-            print_error("x = %a: sincos %a %a, sin %a, cos %a\n", x, s, c, s1, c1);
-    }
+    same_bits("sincos", x, s, c, sin(x), cos(x));
 }
 
 static void glibc_sincos_is_sin_and_cos(void **st)
@@ -108,7 +107,7 @@ static void glibc_sincos_is_sin_and_cos(void **st)
     const double quarter_pi = 0.78539816339744831;
     for (int i = 0; i < 2000000; i++) {
         check_sincos((uniform01() * 2 - 1) * quarter_pi);
-        check_sincos(ldexp(uniform01(), -(int)(next_u64() % 1080)) * (i % 2 ? 1 : -1));
+        check_sincos(ldexp(uniform01(), -(int)(next_bits() % 1080)) * (i % 2 ? 1 : -1));
     }
     /* the ends of glibc's ranges inside |x| <= pi/4 */
     static const double edge[] = {0.126, 0x1p-26, 0x1p-27, 0.78539816339744831, 0x1p-1022};
