@@ -66,10 +66,12 @@ void sincos_t(double t, double *s, double *c)
 {
 #if defined(__GLIBC__)
     /* cos_t(t) is sin_t(u), u = t + 0.25: when both reduce to the same
-     * remainder (u exactly t + 1/4, not a tie: nearly always), sin and
-     * cos of that one angle give both, by one call. glibc's sincos(x) is
-     * its sin(x) and cos(x) (the same code for |x| <= pi/4;
-     * tests/unit/test_turns.c compares them); elsewhere two calls. */
+     * remainder (u exactly t + 1/4, not a tie of the quadrant rounding,
+     * and not -1/4 < t <= 0, where the two remainders have opposite
+     * signs), sin and cos of that one angle give both, by one call.
+     * glibc's sincos(x) is its sin(x) and cos(x) (the same code for
+     * |x| <= pi/4; tests/unit/test_turns.c compares them); elsewhere two
+     * calls. */
     const double u = t + 0.25;
     const double at = t < 0 ? -t : t, au = u < 0 ? -u : u;
     if (at * 4.0 < 0x1p52 && au * 4.0 < 0x1p52) {   /* not NaN, infinite or huge */

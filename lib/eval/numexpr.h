@@ -33,10 +33,12 @@
 #include <stdint.h>
 
 #include "ast.h"
-#include "builtins.h"
 #include "context.h"
 
 typedef struct NumExpr NumExpr;
+
+/* builtins.h's pair of element kernels (bi_kernel_pair) */
+typedef void (*BiKernelPair)(double x, double *ya, double *yb);
 
 /* Compile the resolved subtree [n] in place (see above) when it qualifies
  * as a whole; true when it did. Nodes that already carry resolver data

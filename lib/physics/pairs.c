@@ -464,7 +464,8 @@ static void gather_all(const LevelRun *L, size_t q, PhysScratch *sc)
     }
 }
 
-/* The all-pairs gather for a fixed small D, in blocks of partners: first
+/* The all-pairs gather for a fixed small D (and the grid gathers' lists of
+ * candidates, grid_finish), in blocks of partners: first
  * the differences, squared distances, sqrt and 1/dist of a whole block
  * (independent lanes, so the compiler may use vector instructions; sqrt and
  * division are correctly rounded either way and nothing is contracted into
@@ -703,7 +704,11 @@ static inline void sort_u32(uint32_t *v, size_t n)
 #ifdef HAVE_AVX2_COPIES
 /* sort_u32() for at most 16 distinct entries below INT32_MAX, without
  * branches on the data: each entry's rank is the count of entries below
- * it, and it is stored at its rank. */
+ * it, and it is stored at its rank (two equal entries would take one
+ * place and leave another unwritten: a grid gather's candidates are
+ * distinct, as every entry is in one cell or in the odd list, the cells'
+ * buckets are taken once each and the dense grid's runs do not
+ * overlap). */
 __attribute__((target("avx2"))) static inline void sort_rank16_avx2(uint32_t *v, size_t n)
 {
     uint32_t in[16], rank[16];
@@ -961,7 +966,7 @@ gather_dense_fixed(const LevelRun *L, size_t i, PhysScratch *sc, const size_t D,
 #define GRID_COPY(name, dim, attr, avx)                                       \
     attr static void name(const LevelRun *L, size_t q, PhysScratch *sc)      \
     {                                                                         \
-        gather_grid_fixed(L, q, sc, dim, avx);                                     \
+        gather_grid_fixed(L, q, sc, dim, avx);                                \
     }                                                                         \
     attr static void name##_dense(const LevelRun *L, size_t i, PhysScratch *sc) \
     {                                                                         \
