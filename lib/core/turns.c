@@ -8,23 +8,31 @@
 
 #include "turns.h"
 
+/* sin_t's reduction of [t] (0 <= t, or -0, with 4t < 2^52): remquo(4t,
+ * 1) without the libm call: n = 4t rounded to nearest, ties to even
+ * (adding and removing 2^52 does exactly that for 0 <= x < 2^52), and
+ * x - n is exact; a zero keeps x's sign. The quadrant into [q], the
+ * remainder (before the scaling by pi/2) returned. */
+static inline double reduce_turns(double t, int *q)
+{
+    double x = t * 4.0;
+    double n = (x + 0x1p52) - 0x1p52;
+    double r = x - n;
+    if (r == 0) r = copysign(0.0, x);
+    *q = (int)((int64_t)n & 3);
+    return r;
+}
+
 double sin_t(double t)
 {
     if (t < 0)
         return -sin_t(-t);
     int q = 0;
     double x = t * 4.0, r;
-    if (x < 0x1p52) {
-        /* remquo(x, 1) without the libm call: n = x rounded to nearest,
-         * ties to even (adding and removing 2^52 does exactly that for
-         * 0 <= x < 2^52), and x - n is exact; a zero keeps x's sign */
-        double n = (x + 0x1p52) - 0x1p52;
-        r = x - n;
-        if (r == 0) r = copysign(0.0, x);
-        q = (int)((int64_t)n & 3);
-    } else {
+    if (x < 0x1p52)
+        r = reduce_turns(t, &q);
+    else
         r = remquo(x, 1.0, &q);   /* huge, infinite or NaN */
-    }
     r *= HALF_PI;
     switch (q & 3) {
     case 0: return sin(r);
@@ -37,18 +45,6 @@ double sin_t(double t)
 double cos_t(double t)
 {
     return sin_t(t + 0.25);
-}
-
-/* sin_t's reduction of [t] (0 <= t, or -0, with 4t < 2^52): the quadrant
- * into [q], the remainder (before the scaling by pi/2) returned. */
-static inline double reduce_turns(double t, int *q)
-{
-    double x = t * 4.0;
-    double n = (x + 0x1p52) - 0x1p52;
-    double r = x - n;
-    if (r == 0) r = copysign(0.0, x);
-    *q = (int)((int64_t)n & 3);
-    return r;
 }
 
 /* sin_t's choice by quadrant among s = sin(r), c = cos(r). */

@@ -623,7 +623,7 @@ static void share_calls(LoopKernel *lk)
         }
     }
     /* the pairs, then the registers the shared calls need */
-    uint32_t nshared = 0, nnew = 0;
+    uint32_t nshared = 0;   /* calls made by expressions of their own: a register each */
     for (uint32_t i = 0; i < cap; i++) {
         CallUse *u = &t[i];
         BiKernel b;
@@ -639,9 +639,8 @@ static void share_calls(LoopKernel *lk)
         const CallUse *u = &t[i];
         if (!u->count || (u->count < 2 && !u->partner)) continue;
         nshared++;
-        nnew++;   /* a pair: one register each, one expression for both */
     }
-    if (!nshared || lk->nregs + nnew > K_MAX_REGS) {
+    if (!nshared || lk->nregs + nshared > K_MAX_REGS) {
         free(t);
         free(calls);
         return;
