@@ -71,6 +71,8 @@ struct Workers {
     atomic_uint sleepers;       /* workers asleep (or about to be) on go */
     atomic_bool waiting;        /* the caller asleep (or about to be) on done */
     atomic_bool quit;
+    WorkersJob *bg;             /* the background job, until it ends */
+    atomic_bool *bg_stop;       /* its stop flag */
     WorkersTaskFn fn;              /* the job (its task count is in the ticket):
                                    written before the ticket moves */
     void *ctx;
@@ -232,10 +234,22 @@ Workers *workers_new(unsigned n)
     return w;
 }
 
+/* End [w]'s background job, if one runs: its stop flag, then its tasks. */
+static void end_background(Workers *w)
+{
+    WorkersJob *j = w->bg;
+    if (!j)
+        return;
+    w->bg = NULL;
+    atomic_store_explicit(w->bg_stop, true, memory_order_relaxed);
+    workers_finish(j);
+}
+
 void workers_free(Workers *w)
 {
     if (!w)
         return;
+    end_background(w);
     if (w->th) {
         pthread_mutex_lock(&w->mu);
         atomic_store(&w->quit, true);
@@ -265,6 +279,7 @@ void workers_start(Workers *w, WorkersJob *j, size_t ntasks, WorkersTaskFn fn, v
         j->w = NULL;
         return;
     }
+    end_background(w);
     /* every task of the job before is finished, so no thread reads these
      * now: a claim needs the new ticket, stored after them */
     w->fn = fn;
@@ -280,6 +295,23 @@ void workers_start(Workers *w, WorkersJob *j, size_t ntasks, WorkersTaskFn fn, v
         pthread_cond_broadcast(&w->go);
         pthread_mutex_unlock(&w->mu);
     }
+}
+
+bool workers_background(Workers *w, WorkersJob *j, size_t ntasks, WorkersTaskFn fn, void *ctx,
+                        atomic_bool *stop)
+{
+    if (!w || w->n == 1 || ntasks <= 1 || ntasks > T_MASK)
+        return false;
+    workers_start(w, j, ntasks, fn, ctx);
+    w->bg = j;
+    w->bg_stop = stop;
+    return true;
+}
+
+void workers_end_background(Workers *w, WorkersJob *j)
+{
+    if (w && w->bg == j)
+        end_background(w);
 }
 
 bool workers_help(WorkersJob *j)

@@ -10,6 +10,7 @@
 #ifndef FL_WORKERS_H
 #define FL_WORKERS_H
 
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -55,6 +56,25 @@ bool workers_help(WorkersJob *j);
 /* Run the tasks of [j] not yet handed out on the caller and wait until
  * every task of [j] is finished. */
 void workers_finish(WorkersJob *j);
+/* Start [j] as the pool's background job: fn(ctx, t, thread) for every
+ * t < ntasks runs on the pool's other threads while the caller goes on
+ * with other work, across returns to its own caller. The job ends, its
+ * tasks finished, before any later job of [w] starts (workers_start,
+ * workers_run), before another background job, in
+ * workers_end_background() and in workers_free(): *[stop] is then set
+ * first, and a task should return soon after it sees it (tasks not yet
+ * handed out then run on the ending thread, and should return at once).
+ * [j], [ctx] and [stop] must stay until the job has ended. Only the thread
+ * that starts jobs on [w] may call it.
+ *   returns: false, having run nothing, with NULL or one thread or when
+ *            [ntasks] is not in 2 .. 2^20 - 1 (the work is then the
+ *            caller's to do or skip) */
+bool workers_background(Workers *w, WorkersJob *j, size_t ntasks, WorkersTaskFn fn, void *ctx,
+                        atomic_bool *stop);
+/* End [j] if it is still [w]'s background job (set its stop flag, then
+ * wait for its tasks); nothing when a later job already ended it. After
+ * it returns, every write of j's tasks is visible to the caller. */
+void workers_end_background(Workers *w, WorkersJob *j);
 /* A pause for a thread polling a flag another thread will set (a spin
  * loop's hint to the processor). */
 static inline void workers_pause(void)

@@ -105,6 +105,11 @@ void phys_set_split(PhysicsWorld *w, int mode);
  * those whose near part the helper thread ran, [1] those whose near part
  * the pair pass's own thread ran (tests check that the route was taken). */
 void phys_split_counts(const PhysicsWorld *w, uint64_t out[2]);
+/* Pairs of !random draws that [w]'s systems planned to make alongside a
+ * step's pair pass, over all steps so far: [0] those that the pool's other
+ * thread had made during the frame before (step.c, "the next frame's
+ * draws"), [1] all (tests check that the route was taken). */
+void phys_ahead_counts(const PhysicsWorld *w, uint64_t out[2]);
 /* Free [w] and all its systems (NULL is a no-op). */
 void phys_free(PhysicsWorld *w);
 /* Simulate one frame.

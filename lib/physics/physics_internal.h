@@ -32,6 +32,7 @@
 
 #include "config.h"
 #include "physics.h"
+#include "workers.h"
 
 /* Python's min(a, b) / max(a, b): the first argument unless the second is
  * strictly smaller / larger (so a NaN first argument is kept). */
@@ -104,6 +105,11 @@ typedef struct PhysApplier {
     size_t pre_off;
     size_t pre_chunk;      /* random: the step's first draw chunk of these
                             * pairs (step.c, phys_draw_chunk) */
+    uint64_t pre_done;     /* random: the first pre_done of them were made
+                            * during the frame before (DrawsAhead) */
+    uint64_t pre_draws;    /* random: the draws a step takes (the
+                            * particles of the groups whose chains hold it,
+                            * times D) */
     size_t vec;            /* offset of this applier's 2*D doubles in avec:
                             * drag flow | buoyancy gravity | constant force,
                             * acceleration | field direction | barrier
@@ -237,6 +243,30 @@ typedef struct PhysPNode {
     bool anchor;
 } PhysPNode;
 
+/* One !random applier's draws of the next frame (step.c, DrawsAhead):
+ * pairs 0 .. n-1 of normal(key), from buf + off, in chunks chunk, ... */
+typedef struct AheadSeg {
+    uint64_t key, n;
+    size_t off, chunk;
+} AheadSeg;
+
+/* The next frame's !random draws, made on the pool's other thread while
+ * the calling thread finishes this frame and starts the next (step.c, "the
+ * next frame's draws"). The task reads seg, nseg, nchunks and buf, and
+ * claims chunks through next; the calling thread touches none of them
+ * while `running` and the job has not been ended (ahead_settle). */
+typedef struct DrawsAhead {
+    AheadSeg *seg; size_t nseg, capseg;
+    double *buf; size_t capbuf;   /* doubles */
+    size_t nchunks;
+    atomic_size_t next;           /* the next chunk to claim */
+    atomic_bool stop;             /* set when the job is ended early */
+    WorkersJob job;
+    Workers *pool;                /* the pool running it */
+    bool running;                 /* started, not yet settled */
+    size_t done;                  /* once settled: chunks 0 .. done-1 made */
+} DrawsAhead;
+
 typedef struct PhysSystem {
     size_t D;                     /* dimensions of the current frame */
     double c;                     /* speed of light, 0 = none */
@@ -304,6 +334,15 @@ typedef struct PhysSystem {
     size_t draw_chunks;           /* step.c: the chunks of those draws this
                                    * step (0: none planned) */
     atomic_size_t draw_next;      /* the next chunk a thread may claim */
+    DrawsAhead ahead;             /* step.c: the next frame's draws */
+    uint64_t seed_now, seed_next; /* world.c: the hash of the seed P;run;
+                                   * iteration of this frame's first
+                                   * !random and of the next frame's
+                                   * (vec_hash, floored) */
+    bool seed_ok;                 /* they are computed */
+    uint64_t ahead_pairs[2];      /* pairs of draws planned ahead in a step:
+                                   * [0] those the frame before made, [1] all
+                                   * (phys_ahead_counts) */
 
     /* names seen in the tree, classified once while the string lives
      * (collect.c): direct-mapped by address, strings retained */
@@ -616,6 +655,9 @@ void phys_tiles_help_posted(PhysSystem *s);
  * may call it, in any order: a draw is a function of its key and index
  * alone, so the draws are the same bits whoever makes them. */
 bool phys_draw_chunk(PhysSystem *s);
+/* End the background job of the next frame's draws of [s], if one runs,
+ * keeping the draws it made (step.c); before [s] or its pool is freed. */
+void phys_draws_ahead_settle(PhysSystem *s);
 
 /* ---- literal.c: the literal route of the particle pass ---- */
 

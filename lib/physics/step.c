@@ -458,19 +458,45 @@ static bool pairs_one_thread(const PhysSystem *s)
  * level to help with, about 0.8 us here. */
 #define DRAW_CHUNK 16
 
+/* Pairs of draws of applier [ap] (pre_at, pre_n) that the frame before
+ * made into s->ahead: copied to the applier's place in s->rnd (sized);
+ * returns how many, the first of its pairs. */
+static uint64_t take_ahead(PhysSystem *s, const PhysApplier *ap)
+{
+    const DrawsAhead *a = &s->ahead;
+    for (size_t i = 0; i < a->nseg; i++) {
+        const AheadSeg *g = &a->seg[i];
+        if (g->key != ap->key)
+            continue;
+        /* the segment's pairs 0 .. made-1 are made (its chunks below done) */
+        const uint64_t made = a->done <= g->chunk ? 0
+                              : a->done - g->chunk >= (g->n + DRAW_CHUNK - 1) / DRAW_CHUNK
+                                  ? g->n
+                                  : (uint64_t)(a->done - g->chunk) * DRAW_CHUNK;
+        const uint64_t first = ap->pre_at / 2;
+        if (first >= made)
+            return 0;
+        const uint64_t m = made - first < ap->pre_n ? made - first : ap->pre_n;
+        memcpy(s->rnd + ap->pre_off, a->buf + g->off + 2 * first, 2 * m * sizeof(double));
+        return m;
+    }
+    return 0;
+}
+
 /* Plan this step's draws ahead: each !random applier's range (pre_at,
- * pre_n, pre_off, pre_chunk), room for them in s->rnd and their chunks
+ * pre_n, pre_off, pre_chunk, pre_done), room for them in s->rnd, the ones
+ * the frame before made (take_ahead) and the chunks of the rest
  * (s->draw_chunks, which first_pass clears before). Returns the pairs of
- * draws planned: 0 (nothing planned) when there are too few to be worth
- * it or no memory. */
+ * draws left to make: 0 with nothing planned (too few to be worth it, or
+ * no memory) or all made. */
 static size_t plan_ahead(PhysSystem *s)
 {
-    size_t total = 0, chunks = 0;
+    size_t total = 0;
     for (size_t a = 0; a < s->nap; a++) {
         PhysApplier *ap = &s->ap[a];
         if (ap->kind != AP_RANDOM)
             continue;
-        ap->pre_n = 0;
+        ap->pre_n = ap->pre_done = 0;
         uint64_t draws = 0;
         for (size_t gi = 0; gi < s->ngroups; gi++) {
             const PhysGroup *g = &s->groups[gi];
@@ -479,12 +505,11 @@ static size_t plan_ahead(PhysSystem *s)
                 if (pf[j] == a)
                     draws += (uint64_t)g->npart * s->D;
         }
+        ap->pre_draws = draws;
         ap->pre_at = ap->index & ~(uint64_t)1;
         ap->pre_n = (draws + (ap->index & 1) + 1) / 2;
         ap->pre_off = 2 * total;
-        ap->pre_chunk = chunks;
         total += ap->pre_n;
-        chunks += (ap->pre_n + DRAW_CHUNK - 1) / DRAW_CHUNK;
     }
     if (total < AHEAD_MIN_PAIRS || total > SIZE_MAX / 4 / sizeof(double))
         goto none;
@@ -495,9 +520,22 @@ static size_t plan_ahead(PhysSystem *s)
         s->rnd = r;
         s->caprnd = 2 * total;
     }
+    phys_draws_ahead_settle(s);
+    size_t chunks = 0, left = 0;
+    for (size_t a = 0; a < s->nap; a++) {
+        PhysApplier *ap = &s->ap[a];
+        if (ap->kind != AP_RANDOM)
+            continue;
+        ap->pre_done = take_ahead(s, ap);
+        ap->pre_chunk = chunks;
+        chunks += (ap->pre_n - ap->pre_done + DRAW_CHUNK - 1) / DRAW_CHUNK;
+        left += ap->pre_n - ap->pre_done;
+    }
     s->draw_chunks = chunks;
     atomic_store_explicit(&s->draw_next, 0, memory_order_relaxed);
-    return total;
+    s->ahead_pairs[0] += total - left;
+    s->ahead_pairs[1] += total;
+    return left;
 none:
     for (size_t a = 0; a < s->nap; a++)
         s->ap[a].pre_n = 0;
@@ -514,9 +552,9 @@ bool phys_draw_chunk(PhysSystem *s)
     for (size_t a = 0; a < s->nap; a++) {
         const PhysApplier *ap = &s->ap[a];
         if (ap->kind != AP_RANDOM || ap->pre_n == 0 || c < ap->pre_chunk ||
-            c - ap->pre_chunk >= (ap->pre_n + DRAW_CHUNK - 1) / DRAW_CHUNK)
+            c - ap->pre_chunk >= (ap->pre_n - ap->pre_done + DRAW_CHUNK - 1) / DRAW_CHUNK)
             continue;
-        const uint64_t k0 = (uint64_t)(c - ap->pre_chunk) * DRAW_CHUNK;
+        const uint64_t k0 = ap->pre_done + (uint64_t)(c - ap->pre_chunk) * DRAW_CHUNK;
         const uint64_t k1 = ap->pre_n - k0 < DRAW_CHUNK ? ap->pre_n : k0 + DRAW_CHUNK;
         double *out = s->rnd + ap->pre_off;
         for (uint64_t k = k0; k < k1; k++)
@@ -602,6 +640,120 @@ static void first_pass(PhysSystem *s, bool random)
 
 /* }===== */
 
+/* {===== The next frame's draws
+ *
+ * A step's !random draws depend on nothing but each applier's key and
+ * draw index, and next frame's keys are known: the seed is P;run;iteration
+ * (world.c keeps the hashes of this frame's and the next frame's,
+ * seed_now and seed_next), each further !random's seed;0, and draws start
+ * at index 0 each frame. So when the last step of a frame has planned its
+ * draws, the pool's other thread, idle while this thread runs the
+ * particle pass, writes the state and evaluates and collects the next
+ * frame, makes the next frame's first step's draws into s->ahead as a
+ * background job (workers_background). The next plan_ahead ends the job
+ * (the chunks not yet begun are left) and copies the pairs made of each
+ * applier whose key came true (take_ahead); a value is the same function
+ * of key and index whoever makes it, so a guess that fails (another run,
+ * a new tree, the state's :iteration changed) costs only the work. Any
+ * other job on the pool ends it first. */
+
+static void ahead_task(void *ctx, size_t t, unsigned thread)
+{
+    (void)t;
+    (void)thread;
+    DrawsAhead *a = ctx;
+    while (!atomic_load_explicit(&a->stop, memory_order_relaxed)) {
+        const size_t c = atomic_fetch_add_explicit(&a->next, 1, memory_order_relaxed);
+        if (c >= a->nchunks)
+            return;
+        for (size_t i = 0; i < a->nseg; i++) {
+            const AheadSeg *g = &a->seg[i];
+            if (c < g->chunk || c - g->chunk >= (g->n + DRAW_CHUNK - 1) / DRAW_CHUNK)
+                continue;
+            const uint64_t k0 = (uint64_t)(c - g->chunk) * DRAW_CHUNK;
+            const uint64_t k1 = g->n - k0 < DRAW_CHUNK ? g->n : k0 + DRAW_CHUNK;
+            for (uint64_t k = k0; k < k1; k++)
+                rng_normal_pair(g->key, 2 * k, a->buf + g->off + 2 * k);
+            break;
+        }
+    }
+}
+
+void phys_draws_ahead_settle(PhysSystem *s)
+{
+    DrawsAhead *a = &s->ahead;
+    if (!a->running)
+        return;
+    workers_end_background(a->pool, &a->job);
+    /* every chunk claimed below nchunks was made before its task ended */
+    const size_t n = atomic_load_explicit(&a->next, memory_order_relaxed);
+    a->done = n < a->nchunks ? n : a->nchunks;
+    a->running = false;
+}
+
+/* After the last step of a frame whose draws were planned: start the next
+ * frame's (the section's comment). Nothing when this frame's keys are not
+ * the ones seed_now foretells (the guess would then be wrong too). */
+static void ahead_start(PhysSystem *s)
+{
+    phys_draws_ahead_settle(s);
+    DrawsAhead *a = &s->ahead;
+    a->nseg = 0;
+    a->done = 0;
+    if (!s->seed_ok || workers_count(s->workers) < 2)
+        return;
+    uint64_t now = s->seed_now, next = s->seed_next;
+    size_t total = 0, chunks = 0, n = 0;
+    for (size_t i = 0; i < s->nap; i++) {
+        const PhysApplier *ap = &s->ap[i];
+        if (ap->kind != AP_RANDOM)
+            continue;
+        if (ap->key != now || ap->pre_n == 0)
+            return;
+        now = hash_update(now, num_bits(0.0));
+        next = hash_update(next, num_bits(0.0));
+        n++;
+    }
+    if (n > a->capseg) {
+        AheadSeg *g = realloc(a->seg, n * sizeof *g);
+        if (!g)
+            return;
+        a->seg = g;
+        a->capseg = n;
+    }
+    next = s->seed_next;
+    for (size_t i = 0; i < s->nap; i++) {
+        const PhysApplier *ap = &s->ap[i];
+        if (ap->kind != AP_RANDOM)
+            continue;
+        const uint64_t pairs = (ap->pre_draws + 1) / 2;
+        if (pairs > SIZE_MAX / 4 / sizeof(double) - total)
+            return;
+        a->seg[a->nseg++] = (AheadSeg){next, pairs, 2 * total, chunks};
+        total += pairs;
+        chunks += (pairs + DRAW_CHUNK - 1) / DRAW_CHUNK;
+        next = hash_update(next, num_bits(0.0));
+    }
+    if (2 * total > a->capbuf) {
+        double *b = realloc(a->buf, 2 * total * sizeof(double));
+        if (!b) {
+            a->nseg = 0;
+            return;
+        }
+        a->buf = b;
+        a->capbuf = 2 * total;
+    }
+    a->nchunks = chunks;
+    atomic_store_explicit(&a->next, 0, memory_order_relaxed);
+    atomic_store_explicit(&a->stop, false, memory_order_relaxed);
+    a->pool = s->workers;
+    a->running = workers_background(s->workers, &a->job, 2, ahead_task, a, &a->stop);
+    if (!a->running)
+        a->nseg = 0;
+}
+
+/* }===== */
+
 /* §4 loop:
  *   delta = min(resolution, time - last); last = last + delta
  *   more  = last < time  (realtime: and spare performance, once per frame)
@@ -636,6 +788,8 @@ double phys_run_steps(PhysSystem *s, double time, double last, double clock,
             more = false;
         last = next;
         first_pass(s, random);
+        if (random && !more)
+            ahead_start(s);
         for (size_t g = 0; g < s->ngroups; g++) {
             if (s->groups[g].npart)
                 particle_pass(s, &s->groups[g], clock, delta, more);

@@ -96,6 +96,9 @@ static void system_free(PhysSystem *s)
 {
     if (!s)
         return;
+    phys_draws_ahead_settle(s);
+    free(s->ahead.seg);
+    free(s->ahead.buf);
     phys_cache_drop(s);
     phys_slot_nodes_drop(s);
     phys_kids_drop(s);
@@ -201,9 +204,19 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
     /* §2.6: collect (the !random seed is P;run;iteration) */
     PhysCollect c = {P, run, iteration, clock, NULL, fr->upstream, same_tree};
     bool ok = phys_collect(s, &c, node, sd);
+    const bool random = c.seed != NULL;
     vec_release(c.seed);
     if (!ok)
         return;
+    /* the hashes of this frame's seed and of the next frame's, should
+     * nothing change (step.c, "the next frame's draws"): vec_hash of
+     * P;run;iteration without making the vector */
+    s->seed_ok = random && P->kind != VEC_STREAM && iteration < INT64_MAX;
+    if (s->seed_ok) {
+        const uint64_t h = hash_update(vec_hash(P, true), num_bits(floor((double)run)));
+        s->seed_now = hash_update(h, num_bits(floor((double)iteration)));
+        s->seed_next = hash_update(h, num_bits(floor((double)(iteration + 1))));
+    }
     /* §2.7: null last frame's keys not collected now; ensure state[P] */
     phys_null_stale_keys(s, sd);
     if (!vec_is_scalar(state_get(sd, P)))
@@ -256,6 +269,8 @@ void phys_set_threads(PhysicsWorld *w, unsigned n)
     if (n == 0)
         n = workers_available_cores();
     if (n != w->threads) {
+        for (size_t i = 0; i < w->n; i++)
+            phys_draws_ahead_settle(w->sys[i]);
         workers_free(w->workers);
         w->workers = NULL;
     }
@@ -291,6 +306,15 @@ void phys_split_counts(const PhysicsWorld *w, uint64_t out[2])
     for (size_t i = 0; i < w->n; i++) {
         out[0] += w->sys[i]->split_near[0];
         out[1] += w->sys[i]->split_near[1];
+    }
+}
+
+void phys_ahead_counts(const PhysicsWorld *w, uint64_t out[2])
+{
+    out[0] = out[1] = 0;
+    for (size_t i = 0; i < w->n; i++) {
+        out[0] += w->sys[i]->ahead_pairs[0];
+        out[1] += w->sys[i]->ahead_pairs[1];
     }
 }
 

@@ -395,6 +395,102 @@ static void test_draw_chunks(void **st)
     }
 }
 
+/* A system of [n] discs in 2D on prefix [P], with !random for all of them
+ * and a second !random in a group of a third of them (test_draws_ahead). */
+static Node *ahead_system(size_t n, double P, double run, double resolution, uint64_t seed)
+{
+    Rng r = {seed};
+    Node *ph = physics_node(2);
+    set(ph, "state", num(P));
+    set(ph, "run", num(run));
+    set(ph, "resolution", num(resolution));
+    Node *g = add(ph, "group");
+    for (size_t i = 0; i < n; i++) {
+        Node *p = add(i % 3 ? ph : g, "particle");
+        set(p, "id", num((double)i));
+        set(p, "position", rvec(&r, 2, 20, 0));
+        set(p, "radius", num(0.5));
+    }
+    set(add(ph, "random"), "strength", num(3));
+    set(add(g, "random"), "strength", num(1));
+    set(add(ph, "drag"), "strength", num(0.1));
+    return ph;
+}
+
+/* Twelve frames of the systems of test_draws_ahead on [threads] (the
+ * reference loop if [naive]), each frame changing what the frame before
+ * guessed; counts the pairs of draws made ahead (phys_ahead_counts). */
+static StateDict *ahead_frames(bool naive, unsigned threads, double resolution,
+                               uint64_t counts[2])
+{
+    unsetenv("FLITTER_SIMD");
+    PhysicsWorld *w = phys_new();
+    phys_set_pairs(w, naive);
+    phys_set_threads(w, threads);
+    StateDict *sd = state_new();
+    Node *a = ahead_system(200, 7, 0, resolution, 1);
+    Node *run1 = ahead_system(200, 7, 1, resolution, 1);
+    Node *more = ahead_system(260, 7, 1, resolution, 1);
+    Node *fewer = ahead_system(150, 7, 1, resolution, 1);
+    Node *other = ahead_system(100, 8, 0, resolution, 2);
+    for (int f = 0; f < 12; f++) {
+        Node *nodes[2] = {f < 5 ? a : f == 5 ? run1 : f < 8 ? more : fewer, other};
+        size_t n = f == 9 || f == 10 ? 2 : 1;
+        if (f == 3) {
+            /* the next frame's iteration is not this frame's + 1 */
+            Vec *parts[2] = {num(7), num(symbol_value("iteration", 9))};
+            Vec *key = vec_compose(parts, 2);
+            state_set(sd, key, num(40));
+            vec_release(key);
+            vec_release(parts[0]);
+            vec_release(parts[1]);
+        }
+        if (f == 10 && !naive)
+            phys_set_threads(w, threads == 2 ? 4 : 2);   /* while a job runs */
+        PhysicsFrame fr = {.time = 0.25 * f, .fps = 4, .realtime = false,
+                           .performance = 2};
+        phys_run_frame(w, nodes, n, sd, &fr);
+    }
+    phys_ahead_counts(w, counts);
+    phys_free(w);
+    node_release(a);
+    node_release(run1);
+    node_release(more);
+    node_release(fewer);
+    node_release(other);
+    return sd;
+}
+
+/* The next frame's !random draws, made on the pool's other thread while a
+ * frame ends (step.c, "the next frame's draws"), with one step a frame and
+ * with five; between frames, what makes the guess wrong: the state's
+ * :iteration set, the run changed, particles added (more draws than were
+ * made) and removed, a second system (whose pair pass's job ends the
+ * first's background job early; the system is freed later while its own
+ * job may run), the pool's thread count changed. On 2 and 4 threads
+ * against the reference loop, bit for bit; some draws made ahead must
+ * have been taken, and not all. */
+static void test_draws_ahead(void **st)
+{
+    (void)st;
+    static const double resolutions[] = {0.25, 0.05};
+    for (size_t ri = 0; ri < 2; ri++) {
+        uint64_t none[2];
+        StateDict *ref = ahead_frames(true, 1, resolutions[ri], none);
+        assert_int_equal(none[1], 0);
+        static const unsigned threads[] = {2, 4};
+        for (size_t ti = 0; ti < 2; ti++) {
+            uint64_t counts[2];
+            StateDict *sd = ahead_frames(false, threads[ti], resolutions[ri], counts);
+            assert_same_state(ref, sd, 100 + ri, threads[ti]);
+            assert_true(counts[0] > 0);
+            assert_true(counts[0] < counts[1]);
+            state_free(sd);
+        }
+        state_free(ref);
+    }
+}
+
 /* Clusters of discs far apart: the box of grid cells around them is too
  * large for the dense grid (more than 4 cells per entry + 4096), so the
  * level takes the grid hashed by cell (pairs.c); one cluster alone (the
@@ -928,6 +1024,7 @@ int main(void)
         cmocka_unit_test(test_large_scenes),
         cmocka_unit_test(test_split_particle_pass),
         cmocka_unit_test(test_draw_chunks),
+        cmocka_unit_test(test_draws_ahead),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
