@@ -274,12 +274,15 @@ unsigned workers_count(const Workers *w)
 
 void workers_start(Workers *w, WorkersJob *j, size_t ntasks, WorkersTaskFn fn, void *ctx)
 {
+    const bool threads = w && w->n > 1 && ntasks > 1 && ntasks <= T_MASK;
+    /* before *j is written: [j] may be the background job itself */
+    if (threads)
+        end_background(w);
     *j = (WorkersJob){w, ntasks, 0, fn, ctx};
-    if (!w || w->n == 1 || ntasks <= 1 || ntasks > T_MASK) {
+    if (!threads) {
         j->w = NULL;
         return;
     }
-    end_background(w);
     /* every task of the job before is finished, so no thread reads these
      * now: a claim needs the new ticket, stored after them */
     w->fn = fn;
@@ -302,16 +305,22 @@ bool workers_background(Workers *w, WorkersJob *j, size_t ntasks, WorkersTaskFn 
 {
     if (!w || w->n == 1 || ntasks <= 1 || ntasks > T_MASK)
         return false;
-    workers_start(w, j, ntasks, fn, ctx);
+    workers_start(w, j, ntasks, fn, ctx);   /* ends the one before */
     w->bg = j;
     w->bg_stop = stop;
     return true;
 }
 
-void workers_end_background(Workers *w, WorkersJob *j)
+void workers_end_background(Workers *w, WorkersJob *j, bool stop)
 {
-    if (w && w->bg == j)
-        end_background(w);
+    if (!w || w->bg != j)
+        return;
+    if (!stop) {
+        w->bg = NULL;
+        workers_finish(j);
+        return;
+    }
+    end_background(w);
 }
 
 bool workers_help(WorkersJob *j)

@@ -59,8 +59,9 @@ void workers_finish(WorkersJob *j);
 /* Start [j] as the pool's background job: fn(ctx, t, thread) for every
  * t < ntasks runs on the pool's other threads while the caller goes on
  * with other work, across returns to its own caller. The job ends, its
- * tasks finished, before any later job of [w] starts (workers_start,
- * workers_run), before another background job, in
+ * tasks finished, before any later job that runs on [w]'s threads starts
+ * (workers_start, workers_run; a job of one task, or on one thread, runs
+ * on the caller alone and leaves it), before another background job, in
  * workers_end_background() and in workers_free(): *[stop] is then set
  * first, and a task should return soon after it sees it (tasks not yet
  * handed out then run on the ending thread, and should return at once).
@@ -71,10 +72,12 @@ void workers_finish(WorkersJob *j);
  *            caller's to do or skip) */
 bool workers_background(Workers *w, WorkersJob *j, size_t ntasks, WorkersTaskFn fn, void *ctx,
                         atomic_bool *stop);
-/* End [j] if it is still [w]'s background job (set its stop flag, then
- * wait for its tasks); nothing when a later job already ended it. After
- * it returns, every write of j's tasks is visible to the caller. */
-void workers_end_background(Workers *w, WorkersJob *j);
+/* End [j] if it is still [w]'s background job: with [stop], set its stop
+ * flag, then wait for its tasks; without, wait for them to end on their
+ * own (tasks not yet handed out run on the caller). Nothing when a later
+ * job already ended it. After it returns, every write of j's tasks is
+ * visible to the caller. */
+void workers_end_background(Workers *w, WorkersJob *j, bool stop);
 /* A pause for a thread polling a flag another thread will set (a spin
  * loop's hint to the processor). */
 static inline void workers_pause(void)

@@ -110,6 +110,12 @@ void phys_split_counts(const PhysicsWorld *w, uint64_t out[2]);
  * thread had made during the frame before (step.c, "the next frame's
  * draws"), [1] all (tests check that the route was taken). */
 void phys_ahead_counts(const PhysicsWorld *w, uint64_t out[2]);
+/* For tests: [limit] < 0 (the default) has the next step end the
+ * background job of the next frame's draws, keeping the chunks made by
+ * then (how many depends on the threads' timing); [limit] >= 0 lets the
+ * job make at most [limit] chunks (16 pairs each) and has the next step
+ * wait for them, so that the count is known. The bits are the same. */
+void phys_set_ahead(PhysicsWorld *w, int limit);
 /* Free [w] and all its systems (NULL is a no-op). */
 void phys_free(PhysicsWorld *w);
 /* Simulate one frame.

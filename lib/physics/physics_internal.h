@@ -252,13 +252,16 @@ typedef struct AheadSeg {
 
 /* The next frame's !random draws, made on the pool's other thread while
  * the calling thread finishes this frame and starts the next (step.c, "the
- * next frame's draws"). The task reads seg, nseg, nchunks and buf, and
+ * next frame's draws"). The task reads seg, nseg, limit and buf, and
  * claims chunks through next; the calling thread touches none of them
- * while `running` and the job has not been ended (ahead_settle). */
+ * while `running` and the job has not been ended
+ * (phys_draws_ahead_settle). */
 typedef struct DrawsAhead {
     AheadSeg *seg; size_t nseg, capseg;
     double *buf; size_t capbuf;   /* doubles */
-    size_t nchunks;
+    size_t limit;                 /* chunks the job may make: all the
+                                   * segments' or fewer (phys_set_ahead) */
+    bool wait;                    /* settling waits for them (no stop) */
     atomic_size_t next;           /* the next chunk to claim */
     atomic_bool stop;             /* set when the job is ended early */
     WorkersJob job;
@@ -340,6 +343,7 @@ typedef struct PhysSystem {
                                    * !random and of the next frame's
                                    * (vec_hash, floored) */
     bool seed_ok;                 /* they are computed */
+    int ahead_limit;              /* phys_set_ahead's limit */
     uint64_t ahead_pairs[2];      /* pairs of draws planned ahead in a step:
                                    * [0] those the frame before made, [1] all
                                    * (phys_ahead_counts) */

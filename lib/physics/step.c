@@ -646,16 +646,20 @@ static void first_pass(PhysSystem *s, bool random)
  * draw index, and next frame's keys are known: the seed is P;run;iteration
  * (world.c keeps the hashes of this frame's and the next frame's,
  * seed_now and seed_next), each further !random's seed;0, and draws start
- * at index 0 each frame. So when the last step of a frame has planned its
- * draws, the pool's other thread, idle while this thread runs the
- * particle pass, writes the state and evaluates and collects the next
- * frame, makes the next frame's first step's draws into s->ahead as a
- * background job (workers_background). The next plan_ahead ends the job
- * (the chunks not yet begun are left) and copies the pairs made of each
- * applier whose key came true (take_ahead); a value is the same function
- * of key and index whoever makes it, so a guess that fails (another run,
- * a new tree, the state's :iteration changed) costs only the work. Any
- * other job on the pool ends it first. */
+ * at index 0 each frame. So once the last step of a frame has planned its
+ * draws and run its pair pass, the pool's other thread makes the next
+ * frame's first step's draws into s->ahead as a background job
+ * (workers_background) while this thread runs the particle pass, writes
+ * the state and evaluates and collects the next frame. The next
+ * plan_ahead ends the job (the chunks not yet begun are left) and copies
+ * the pairs made of each applier whose key came true (take_ahead); a value
+ * is the same function of key and index whoever makes it, so a guess
+ * that fails (another run, a new tree, the state's :iteration changed)
+ * costs only the work. Any other job on the pool's threads ends it first:
+ * a split particle pass of a group without !random, the parallel writes
+ * and fills of systems of 1,024 particles or more, an evaluator's loop
+ * kernel, another system's pair pass; for such frames the window is
+ * shorter or none. */
 
 static void ahead_task(void *ctx, size_t t, unsigned thread)
 {
@@ -664,7 +668,7 @@ static void ahead_task(void *ctx, size_t t, unsigned thread)
     DrawsAhead *a = ctx;
     while (!atomic_load_explicit(&a->stop, memory_order_relaxed)) {
         const size_t c = atomic_fetch_add_explicit(&a->next, 1, memory_order_relaxed);
-        if (c >= a->nchunks)
+        if (c >= a->limit)
             return;
         for (size_t i = 0; i < a->nseg; i++) {
             const AheadSeg *g = &a->seg[i];
@@ -684,16 +688,18 @@ void phys_draws_ahead_settle(PhysSystem *s)
     DrawsAhead *a = &s->ahead;
     if (!a->running)
         return;
-    workers_end_background(a->pool, &a->job);
-    /* every chunk claimed below nchunks was made before its task ended */
+    workers_end_background(a->pool, &a->job, !a->wait);
+    /* every chunk claimed below the limit was made before its task ended */
     const size_t n = atomic_load_explicit(&a->next, memory_order_relaxed);
-    a->done = n < a->nchunks ? n : a->nchunks;
+    a->done = n < a->limit ? n : a->limit;
     a->running = false;
 }
 
-/* After the last step of a frame whose draws were planned: start the next
- * frame's (the section's comment). Nothing when this frame's keys are not
- * the ones seed_now foretells (the guess would then be wrong too). */
+/* After the pair pass of the last step of a frame whose draws were
+ * planned: start the next frame's (the section's comment). Nothing when
+ * this frame's keys are not the ones seed_now foretells (the guess would
+ * then be wrong too), or when an applier planned none (one in an empty
+ * group, say). */
 static void ahead_start(PhysSystem *s)
 {
     phys_draws_ahead_settle(s);
@@ -702,7 +708,7 @@ static void ahead_start(PhysSystem *s)
     a->done = 0;
     if (!s->seed_ok || workers_count(s->workers) < 2)
         return;
-    uint64_t now = s->seed_now, next = s->seed_next;
+    uint64_t now = s->seed_now;
     size_t total = 0, chunks = 0, n = 0;
     for (size_t i = 0; i < s->nap; i++) {
         const PhysApplier *ap = &s->ap[i];
@@ -711,7 +717,6 @@ static void ahead_start(PhysSystem *s)
         if (ap->key != now || ap->pre_n == 0)
             return;
         now = hash_update(now, num_bits(0.0));
-        next = hash_update(next, num_bits(0.0));
         n++;
     }
     if (n > a->capseg) {
@@ -721,14 +726,16 @@ static void ahead_start(PhysSystem *s)
         a->seg = g;
         a->capseg = n;
     }
-    next = s->seed_next;
+    uint64_t next = s->seed_next;
     for (size_t i = 0; i < s->nap; i++) {
         const PhysApplier *ap = &s->ap[i];
         if (ap->kind != AP_RANDOM)
             continue;
         const uint64_t pairs = (ap->pre_draws + 1) / 2;
-        if (pairs > SIZE_MAX / 4 / sizeof(double) - total)
+        if (pairs > SIZE_MAX / 4 / sizeof(double) - total) {
+            a->nseg = 0;
             return;
+        }
         a->seg[a->nseg++] = (AheadSeg){next, pairs, 2 * total, chunks};
         total += pairs;
         chunks += (pairs + DRAW_CHUNK - 1) / DRAW_CHUNK;
@@ -743,7 +750,9 @@ static void ahead_start(PhysSystem *s)
         a->buf = b;
         a->capbuf = 2 * total;
     }
-    a->nchunks = chunks;
+    a->limit = s->ahead_limit < 0 || (size_t)s->ahead_limit > chunks ? chunks
+                                                                     : (size_t)s->ahead_limit;
+    a->wait = s->ahead_limit >= 0;
     atomic_store_explicit(&a->next, 0, memory_order_relaxed);
     atomic_store_explicit(&a->stop, false, memory_order_relaxed);
     a->pool = s->workers;

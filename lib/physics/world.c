@@ -36,6 +36,7 @@ struct PhysicsWorld {
     Workers *workers;   /* NULL until needed or when threads == 1 */
     int simd;               /* PHYS_SIMD_* level of the tile kernel */
     int split;              /* PHYS_SPLIT_* */
+    int ahead;              /* phys_set_ahead's limit */
     bool simd_auto;         /* no level asked for (FLITTER_SIMD unset,
                                phys_set_simd not called): the systems time
                                the 4 x 4 tiles (with AVX-512VL where the
@@ -246,6 +247,7 @@ PhysicsWorld *phys_new(void)
     PhysicsWorld *w = calloc(1, sizeof *w);
     if (!w)
         phys_oom();
+    w->ahead = -1;
     const char *e = getenv("FLITTER_THREADS");
     char *end;
     long n = e ? strtol(e, &end, 10) : 0;
@@ -309,6 +311,11 @@ void phys_split_counts(const PhysicsWorld *w, uint64_t out[2])
     }
 }
 
+void phys_set_ahead(PhysicsWorld *w, int limit)
+{
+    w->ahead = limit < 0 ? -1 : limit;
+}
+
 void phys_ahead_counts(const PhysicsWorld *w, uint64_t out[2])
 {
     out[0] = out[1] = 0;
@@ -355,6 +362,7 @@ void phys_run_frame(PhysicsWorld *w, Node *const *nodes, size_t n,
         s->literal = w->literal;
         s->simd = w->simd;
         s->split_mode = w->split;
+        s->ahead_limit = w->ahead;
         s->simd_auto = w->simd_auto && w->simd == PHYS_SIMD_AVX512;
         s->workers = w->naive ? NULL : w->workers;
         system_frame(s, nodes[i], state, frame);

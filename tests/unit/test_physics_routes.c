@@ -418,15 +418,17 @@ static Node *ahead_system(size_t n, double P, double run, double resolution, uin
 }
 
 /* Twelve frames of the systems of test_draws_ahead on [threads] (the
- * reference loop if [naive]), each frame changing what the frame before
- * guessed; counts the pairs of draws made ahead (phys_ahead_counts). */
-static StateDict *ahead_frames(bool naive, unsigned threads, double resolution,
+ * reference loop if [naive]), most of them changing what the frame before
+ * guessed, with phys_set_ahead([limit]); counts the pairs of draws made
+ * ahead (phys_ahead_counts). */
+static StateDict *ahead_frames(bool naive, unsigned threads, double resolution, int limit,
                                uint64_t counts[2])
 {
     unsetenv("FLITTER_SIMD");
     PhysicsWorld *w = phys_new();
     phys_set_pairs(w, naive);
     phys_set_threads(w, threads);
+    phys_set_ahead(w, limit);
     StateDict *sd = state_new();
     Node *a = ahead_system(200, 7, 0, resolution, 1);
     Node *run1 = ahead_system(200, 7, 1, resolution, 1);
@@ -439,8 +441,9 @@ static StateDict *ahead_frames(bool naive, unsigned threads, double resolution,
         if (f == 3) {
             /* the next frame's iteration is not this frame's + 1 */
             Vec *parts[2] = {num(7), num(symbol_value("iteration", 9))};
-            Vec *key = vec_compose(parts, 2);
-            state_set(sd, key, num(40));
+            Vec *key = vec_compose(parts, 2), *v = num(40);
+            state_set(sd, key, v);
+            vec_release(v);
             vec_release(key);
             vec_release(parts[0]);
             vec_release(parts[1]);
@@ -468,24 +471,34 @@ static StateDict *ahead_frames(bool naive, unsigned threads, double resolution,
  * made) and removed, a second system (whose pair pass's job ends the
  * first's background job early; the system is freed later while its own
  * job may run), the pool's thread count changed. On 2 and 4 threads
- * against the reference loop, bit for bit; some draws made ahead must
- * have been taken, and not all. */
+ * against the reference loop, bit for bit: with the job ended when the
+ * next step needs its draws (how many it made depends on timing), and
+ * with the job making all its chunks, the first only, or part of each
+ * applier's (its first applier has 13 chunks, the second 5), and the next
+ * step waiting for them; with a known count some draws made ahead must
+ * have been taken, and not all (the guesses that failed). */
 static void test_draws_ahead(void **st)
 {
     (void)st;
     static const double resolutions[] = {0.25, 0.05};
+    static const int limits[] = {-1, 1000, 1, 5, 15};
     for (size_t ri = 0; ri < 2; ri++) {
         uint64_t none[2];
-        StateDict *ref = ahead_frames(true, 1, resolutions[ri], none);
+        StateDict *ref = ahead_frames(true, 1, resolutions[ri], -1, none);
         assert_int_equal(none[1], 0);
         static const unsigned threads[] = {2, 4};
         for (size_t ti = 0; ti < 2; ti++) {
-            uint64_t counts[2];
-            StateDict *sd = ahead_frames(false, threads[ti], resolutions[ri], counts);
-            assert_same_state(ref, sd, 100 + ri, threads[ti]);
-            assert_true(counts[0] > 0);
-            assert_true(counts[0] < counts[1]);
-            state_free(sd);
+            for (size_t li = 0; li < sizeof limits / sizeof *limits; li++) {
+                uint64_t counts[2];
+                StateDict *sd = ahead_frames(false, threads[ti], resolutions[ri], limits[li],
+                                             counts);
+                assert_same_state(ref, sd, 100 + 10 * ri + li, threads[ti]);
+                if (limits[li] >= 0) {
+                    assert_true(counts[0] > 0);
+                    assert_true(counts[0] < counts[1]);
+                }
+                state_free(sd);
+            }
         }
         state_free(ref);
     }
