@@ -754,8 +754,20 @@ Vec *vec_index(const Vec *src, const Vec *index, bool literal)
     const double *k = vec_cnums(index);
     if (vec_is_stream(src)) {
         Vec *r = vec_new_num(ni);
-        for (uint32_t i = 0; i < ni; i++)
-            vec_nums(r)[i] = rng_value((StreamKind)src->stream, src->key, (uint64_t)index64(k[i]));
+        double *out = vec_nums(r);
+        for (uint32_t i = 0; i < ni; i++) {
+            const uint64_t e = (uint64_t)index64(k[i]);
+            /* both values of a normal pair (e even, then e + 1, as [..2]
+             * asks) from one Box–Muller step: rng_normal_pair's are
+             * rng_normal's bits */
+            if (src->stream == STREAM_NORMAL && !(e & 1) && i + 1 < ni &&
+                (uint64_t)index64(k[i + 1]) == e + 1) {
+                rng_normal_pair(src->key, e, out + i);
+                i++;
+                continue;
+            }
+            out[i] = rng_value((StreamKind)src->stream, src->key, e);
+        }
         return r;
     }
     uint32_t n = vec_len(src);

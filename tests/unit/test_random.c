@@ -210,6 +210,28 @@ static void test_normal(void **st)
             assert_memory_equal(one, two, sizeof one);
         }
     }
+    /* indexing a normal stream takes a pair's two values at once where an
+     * even index is followed by the next (vec_index): the values are
+     * rng_normal's, whatever the order and parity of the indices */
+    static const double idx[][6] = {{0, 1, 2, 3, 4, 5}, {1, 2, 3, 4, 5, 6}, {4, 5, 3, 2, 7, 6},
+                                    {6, 7, 7, 6, 8, 10}, {-2, -1, 0, 1, 1e6, 1e6 + 1},
+                                    {2.5, 3.5, 8, 9.9, 9, 10}};
+    Vec *nv = vec_stream(STREAM_NORMAL, 1234);
+    for (size_t t = 0; t < sizeof idx / sizeof *idx; t++) {
+        for (uint32_t len = 1; len <= 6; len++) {
+            Vec *ix = vec_from_nums(idx[t], len);
+            Vec *got = vec_index(nv, ix, false);
+            assert_non_null(got);
+            assert_int_equal(got->len, len);
+            for (uint32_t i = 0; i < len; i++) {
+                const double want = at(nv, idx[t][i]);
+                assert_memory_equal(&vec_cnums(got)[i], &want, sizeof want);
+            }
+            vec_release(got);
+            vec_release(ix);
+        }
+    }
+    vec_release(nv);
 }
 
 /* ------------------------------------------------------------------ */
