@@ -250,11 +250,13 @@ typedef struct AheadSeg {
     size_t off, chunk;
 } AheadSeg;
 
-/* The next frame's !random draws, made on the pool's other thread while
- * the calling thread finishes this frame and starts the next (step.c, "the
- * next frame's draws"). The task reads seg, nseg, limit and buf, and
- * claims chunks through next; the calling thread touches none of them
- * while `running` and the job has not been ended
+/* The next frame's !random draws, made by the threads of the last step's
+ * pair pass while they wait, then on the pool's other thread while the
+ * calling thread finishes this frame and starts the next (step.c, "the
+ * next frame's draws"). The threads making them read seg, nseg, limit,
+ * ready and buf, and claim chunks through next; the calling thread
+ * changes none of them while the first pass's job or the background job
+ * (`running`) runs, and reads next only once both have ended
  * (phys_draws_ahead_settle). */
 typedef struct DrawsAhead {
     AheadSeg *seg; size_t nseg, capseg;
@@ -266,7 +268,10 @@ typedef struct DrawsAhead {
     atomic_bool stop;             /* set when the job is ended early */
     WorkersJob job;
     Workers *pool;                /* the pool running it */
-    bool running;                 /* started, not yet settled */
+    bool ready;                   /* segments made ready, chunks claimable
+                                   * (phys_ahead_chunk), not yet settled */
+    bool running;                 /* the background job started, not yet
+                                   * ended */
     size_t done;                  /* once settled: chunks 0 .. done-1 made */
 } DrawsAhead;
 
@@ -662,6 +667,11 @@ bool phys_draw_chunk(PhysSystem *s);
 /* End the background job of the next frame's draws of [s], if one runs,
  * keeping the draws it made (step.c); before [s] or its pool is freed. */
 void phys_draws_ahead_settle(PhysSystem *s);
+/* Make one chunk of the next frame's draws of [s] made ready in this
+ * step, if one is left (step.c); false otherwise. For a thread of the
+ * first pass's job while it waits (tiles.c): a chunk is a function of its
+ * index alone, so the draws are the same bits whoever makes them. */
+bool phys_ahead_chunk(PhysSystem *s);
 
 /* ---- literal.c: the literal route of the particle pass ---- */
 

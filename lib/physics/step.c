@@ -457,6 +457,10 @@ static bool pairs_one_thread(const PhysSystem *s)
 /* Pairs of draws a chunk (phys_draw_chunk): between two looks for a split
  * level to help with, about 0.8 us here. */
 #define DRAW_CHUNK 16
+/* Pairs of draws a chunk of the next frame's (DrawsAhead): smaller, as a
+ * thread waiting in a pair pass makes them between two looks at what it
+ * waits for (about 0.4 us). */
+#define AHEAD_CHUNK 8
 
 /* Pairs of draws of applier [ap] (pre_at, pre_n) that the frame before
  * made into s->ahead: copied to the applier's place in s->rnd (sized);
@@ -470,9 +474,9 @@ static uint64_t take_ahead(PhysSystem *s, const PhysApplier *ap)
             continue;
         /* the segment's pairs 0 .. made-1 are made (its chunks below done) */
         const uint64_t made = a->done <= g->chunk ? 0
-                              : a->done - g->chunk >= (g->n + DRAW_CHUNK - 1) / DRAW_CHUNK
+                              : a->done - g->chunk >= (g->n + AHEAD_CHUNK - 1) / AHEAD_CHUNK
                                   ? g->n
-                                  : (uint64_t)(a->done - g->chunk) * DRAW_CHUNK;
+                                  : (uint64_t)(a->done - g->chunk) * AHEAD_CHUNK;
         const uint64_t first = ap->pre_at / 2;
         if (first >= made)
             return 0;
@@ -615,14 +619,21 @@ static void first_pass_task(void *ctx, size_t t, unsigned thread)
 
 /* The first pass of one step (§4: the pair pass of every group), with the
  * draws of the step made alongside when that pays, and levels split
- * between the two threads when that pays. */
-static void first_pass(PhysSystem *s, bool random)
+ * between the two threads when that pays; in the [last] step of a frame,
+ * the next frame's draws made ready, for the threads of a split level to
+ * make while they wait (phys_ahead_chunk) and for the background job
+ * after. */
+static void ahead_prepare(PhysSystem *s);
+
+static void first_pass(PhysSystem *s, bool random, bool last)
 {
     Workers *w = s->workers;
     bool ahead = false, split = false;
     s->draw_chunks = 0;
     if (!s->literal && workers_count(w) >= 2 && pairs_one_thread(s)) {
         const double draw_pairs = random ? (double)plan_ahead(s) : 0;
+        if (random && last)
+            ahead_prepare(s);
         ahead = draw_pairs > 0;
         split = phys_tiles_split_wanted(s, draw_pairs) && phys_tiles_split_begin(s, draw_pairs);
     }
@@ -646,20 +657,52 @@ static void first_pass(PhysSystem *s, bool random)
  * draw index, and next frame's keys are known: the seed is P;run;iteration
  * (world.c keeps the hashes of this frame's and the next frame's,
  * seed_now and seed_next), each further !random's seed;0, and draws start
- * at index 0 each frame. So once the last step of a frame has planned its
- * draws and run its pair pass, the pool's other thread makes the next
- * frame's first step's draws into s->ahead as a background job
- * (workers_background) while this thread runs the particle pass, writes
- * the state and evaluates and collects the next frame. The next
- * plan_ahead ends the job (the chunks not yet begun are left) and copies
- * the pairs made of each applier whose key came true (take_ahead); a value
- * is the same function of key and index whoever makes it, so a guess
- * that fails (another run, a new tree, the state's :iteration changed)
- * costs only the work. Any other job on the pool's threads ends it first:
+ * at index 0 each frame. So when the last step of a frame has planned its
+ * draws, the next frame's first step's draws are made ready in s->ahead
+ * (ahead_prepare), in chunks that any thread may claim: the threads of
+ * the step's split level make them while they wait (phys_ahead_chunk,
+ * tiles.c), and after the pair pass the pool's other thread makes those
+ * left as a background job (workers_background) while this thread runs
+ * the particle pass, writes the state and evaluates and collects the next
+ * frame. The next plan_ahead ends the job (the chunks not yet begun are
+ * left) and copies the pairs made of each applier whose key came true
+ * (take_ahead); a value is the same function of key and index whoever
+ * makes it, so a guess that fails (another run, a new tree, the state's
+ * :iteration changed) costs only the work. Any other job on the pool's
+ * threads ends the background job first:
  * a split particle pass of a group without !random, the parallel writes
  * and fills of systems of 1,024 particles or more, an evaluator's loop
  * kernel, another system's pair pass; for such frames the window is
  * shorter or none. */
+
+/* Make chunk [c] of the next frame's draws of [a]. */
+static void ahead_make(DrawsAhead *a, size_t c)
+{
+    for (size_t i = 0; i < a->nseg; i++) {
+        const AheadSeg *g = &a->seg[i];
+        if (c < g->chunk || c - g->chunk >= (g->n + AHEAD_CHUNK - 1) / AHEAD_CHUNK)
+            continue;
+        const uint64_t k0 = (uint64_t)(c - g->chunk) * AHEAD_CHUNK;
+        const uint64_t k1 = g->n - k0 < AHEAD_CHUNK ? g->n : k0 + AHEAD_CHUNK;
+        for (uint64_t k = k0; k < k1; k++)
+            rng_normal_pair(g->key, 2 * k, a->buf + g->off + 2 * k);
+        return;
+    }
+}
+
+bool phys_ahead_chunk(PhysSystem *s)
+{
+    DrawsAhead *a = &s->ahead;
+    /* a look first: once every chunk is claimed, a waiting thread calls
+     * this at each pause, and should not write the counter's line */
+    if (!a->ready || atomic_load_explicit(&a->next, memory_order_relaxed) >= a->limit)
+        return false;
+    const size_t c = atomic_fetch_add_explicit(&a->next, 1, memory_order_relaxed);
+    if (c >= a->limit)
+        return false;
+    ahead_make(a, c);
+    return true;
+}
 
 static void ahead_task(void *ctx, size_t t, unsigned thread)
 {
@@ -670,37 +713,32 @@ static void ahead_task(void *ctx, size_t t, unsigned thread)
         const size_t c = atomic_fetch_add_explicit(&a->next, 1, memory_order_relaxed);
         if (c >= a->limit)
             return;
-        for (size_t i = 0; i < a->nseg; i++) {
-            const AheadSeg *g = &a->seg[i];
-            if (c < g->chunk || c - g->chunk >= (g->n + DRAW_CHUNK - 1) / DRAW_CHUNK)
-                continue;
-            const uint64_t k0 = (uint64_t)(c - g->chunk) * DRAW_CHUNK;
-            const uint64_t k1 = g->n - k0 < DRAW_CHUNK ? g->n : k0 + DRAW_CHUNK;
-            for (uint64_t k = k0; k < k1; k++)
-                rng_normal_pair(g->key, 2 * k, a->buf + g->off + 2 * k);
-            break;
-        }
+        ahead_make(a, c);
     }
 }
 
 void phys_draws_ahead_settle(PhysSystem *s)
 {
     DrawsAhead *a = &s->ahead;
-    if (!a->running)
+    if (a->running) {
+        workers_end_background(a->pool, &a->job, !a->wait);
+        a->running = false;
+    }
+    if (!a->ready)
         return;
-    workers_end_background(a->pool, &a->job, !a->wait);
-    /* every chunk claimed below the limit was made before its task ended */
+    /* every chunk claimed below the limit was made before its thread went
+     * on: the first pass's job and the background job have ended */
     const size_t n = atomic_load_explicit(&a->next, memory_order_relaxed);
     a->done = n < a->limit ? n : a->limit;
-    a->running = false;
+    a->ready = false;
 }
 
-/* After the pair pass of the last step of a frame whose draws were
- * planned: start the next frame's (the section's comment). Nothing when
- * this frame's keys are not the ones seed_now foretells (the guess would
- * then be wrong too), or when an applier planned none (one in an empty
- * group, say). */
-static void ahead_start(PhysSystem *s)
+/* In the last step of a frame whose draws were planned, before its first
+ * pass's job: make the next frame's draws ready (the section's comment).
+ * Nothing when this frame's keys are not the ones seed_now foretells (the
+ * guess would then be wrong too), or when an applier planned none (one in
+ * an empty group, say). */
+static void ahead_prepare(PhysSystem *s)
 {
     phys_draws_ahead_settle(s);
     DrawsAhead *a = &s->ahead;
@@ -738,7 +776,7 @@ static void ahead_start(PhysSystem *s)
         }
         a->seg[a->nseg++] = (AheadSeg){next, pairs, 2 * total, chunks};
         total += pairs;
-        chunks += (pairs + DRAW_CHUNK - 1) / DRAW_CHUNK;
+        chunks += (pairs + AHEAD_CHUNK - 1) / AHEAD_CHUNK;
         next = hash_update(next, num_bits(0.0));
     }
     if (2 * total > a->capbuf) {
@@ -755,10 +793,19 @@ static void ahead_start(PhysSystem *s)
     a->wait = s->ahead_limit >= 0;
     atomic_store_explicit(&a->next, 0, memory_order_relaxed);
     atomic_store_explicit(&a->stop, false, memory_order_relaxed);
+    a->ready = true;
+}
+
+/* After the last step's first pass: the next frame's draws that its job
+ * left, as a background job. */
+static void ahead_start(PhysSystem *s)
+{
+    DrawsAhead *a = &s->ahead;
+    if (!a->ready || a->running ||
+        atomic_load_explicit(&a->next, memory_order_relaxed) >= a->limit)
+        return;
     a->pool = s->workers;
     a->running = workers_background(s->workers, &a->job, 2, ahead_task, a, &a->stop);
-    if (!a->running)
-        a->nseg = 0;
 }
 
 /* }===== */
@@ -796,7 +843,7 @@ double phys_run_steps(PhysSystem *s, double time, double last, double clock,
         if (more && fr && fr->interrupt && *fr->interrupt)
             more = false;
         last = next;
-        first_pass(s, random);
+        first_pass(s, random, !more);
         if (random && !more)
             ahead_start(s);
         for (size_t g = 0; g < s->ngroups; g++) {

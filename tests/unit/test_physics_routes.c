@@ -396,7 +396,9 @@ static void test_draw_chunks(void **st)
 }
 
 /* A system of [n] discs in 2D on prefix [P], with !random for all of them
- * and a second !random in a group of a third of them (test_draws_ahead). */
+ * and a second !random in a group of a third of them, and an all-pairs
+ * level of electrostatics that takes the split route (tiles.c) on two
+ * threads or more (test_draws_ahead). */
 static Node *ahead_system(size_t n, double P, double run, double resolution, uint64_t seed)
 {
     Rng r = {seed};
@@ -410,10 +412,12 @@ static Node *ahead_system(size_t n, double P, double run, double resolution, uin
         set(p, "id", num((double)i));
         set(p, "position", rvec(&r, 2, 20, 0));
         set(p, "radius", num(0.5));
+        set(p, "charge", num(uni(&r) - 0.5));
     }
     set(add(ph, "random"), "strength", num(3));
     set(add(g, "random"), "strength", num(1));
     set(add(ph, "drag"), "strength", num(0.1));
+    set(add(ph, "electrostatic"), "strength", num(0.5));
     return ph;
 }
 
@@ -422,13 +426,14 @@ static Node *ahead_system(size_t n, double P, double run, double resolution, uin
  * guessed, with phys_set_ahead([limit]); counts the pairs of draws made
  * ahead (phys_ahead_counts). */
 static StateDict *ahead_frames(bool naive, unsigned threads, double resolution, int limit,
-                               uint64_t counts[2])
+                               int split, uint64_t counts[2], uint64_t splits[2])
 {
     unsetenv("FLITTER_SIMD");
     PhysicsWorld *w = phys_new();
     phys_set_pairs(w, naive);
     phys_set_threads(w, threads);
     phys_set_ahead(w, limit);
+    phys_set_split(w, split);
     StateDict *sd = state_new();
     Node *a = ahead_system(200, 7, 0, resolution, 1);
     Node *run1 = ahead_system(200, 7, 1, resolution, 1);
@@ -455,6 +460,7 @@ static StateDict *ahead_frames(bool naive, unsigned threads, double resolution, 
         phys_run_frame(w, nodes, n, sd, &fr);
     }
     phys_ahead_counts(w, counts);
+    phys_split_counts(w, splits);
     phys_free(w);
     node_release(a);
     node_release(run1);
@@ -470,33 +476,41 @@ static StateDict *ahead_frames(bool naive, unsigned threads, double resolution, 
  * :iteration set, the run changed, particles added (more draws than were
  * made) and removed, a second system (whose pair pass's job ends the
  * first's background job early; the system is freed later while its own
- * job may run), the pool's thread count changed. On 2 and 4 threads
- * against the reference loop, bit for bit: with the job ended when the
- * next step needs its draws (how many it made depends on timing), and
- * with the job making all its chunks, the first only, or part of each
- * applier's (its first applier has 13 chunks, the second 5), and the next
- * step waiting for them; with a known count some draws made ahead must
- * have been taken, and not all (the guesses that failed). */
+ * job may run), the pool's thread count changed. The draws are made by
+ * the split level's two threads while they wait (in AUTO mode and with
+ * the pass's thread always waiting for the helper's part, HELPER) and by
+ * the background job. On 2 and 4 threads against the reference loop, bit
+ * for bit: with the background job ended when the next step needs its
+ * draws (how many were made depends on timing), and with at most all the
+ * chunks, the first only, or part of each applier's (one applier
+ * has 25 chunks of 8 pairs, the other 9) made and the next step waiting
+ * for them; with a known count some draws made ahead must have been
+ * taken, and not all (the guesses that failed). The split route must have
+ * run. */
 static void test_draws_ahead(void **st)
 {
     (void)st;
     static const double resolutions[] = {0.25, 0.05};
-    static const int limits[] = {-1, 1000, 1, 5, 15};
+    static const int limits[] = {-1, 1000, 1, 5, 30};
     for (size_t ri = 0; ri < 2; ri++) {
-        uint64_t none[2];
-        StateDict *ref = ahead_frames(true, 1, resolutions[ri], -1, none);
+        uint64_t none[2], nosplit[2];
+        StateDict *ref = ahead_frames(true, 1, resolutions[ri], -1, PHYS_SPLIT_AUTO, none,
+                                      nosplit);
         assert_int_equal(none[1], 0);
         static const unsigned threads[] = {2, 4};
         for (size_t ti = 0; ti < 2; ti++) {
-            for (size_t li = 0; li < sizeof limits / sizeof *limits; li++) {
-                uint64_t counts[2];
-                StateDict *sd = ahead_frames(false, threads[ti], resolutions[ri], limits[li],
-                                             counts);
-                assert_same_state(ref, sd, 100 + 10 * ri + li, threads[ti]);
-                if (limits[li] >= 0) {
+            for (size_t li = 0; li < 2 * sizeof limits / sizeof *limits; li++) {
+                const int limit = limits[li / 2];
+                uint64_t counts[2], splits[2];
+                StateDict *sd = ahead_frames(false, threads[ti], resolutions[ri], limit,
+                                             li % 2 ? PHYS_SPLIT_HELPER : PHYS_SPLIT_AUTO,
+                                             counts, splits);
+                assert_same_state(ref, sd, 100 + 20 * ri + li, threads[ti]);
+                if (limit >= 0) {
                     assert_true(counts[0] > 0);
                     assert_true(counts[0] < counts[1]);
                 }
+                assert_true(splits[0] + splits[1] > 0);
                 state_free(sd);
             }
         }
