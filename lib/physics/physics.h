@@ -106,15 +106,21 @@ void phys_set_split(PhysicsWorld *w, int mode);
  * the pair pass's own thread ran (tests check that the route was taken). */
 void phys_split_counts(const PhysicsWorld *w, uint64_t out[2]);
 /* Pairs of !random draws that [w]'s systems planned to make alongside a
- * step's pair pass, over all steps so far: [0] those that the pool's other
- * thread had made during the frame before (step.c, "the next frame's
- * draws"), [1] all (tests check that the route was taken). */
-void phys_ahead_counts(const PhysicsWorld *w, uint64_t out[2]);
+ * step's pair pass, over all steps so far: [0] those made ahead, during
+ * the frame before (step.c, "the next frame's draws": by the threads of
+ * its last step's pair pass while they waited, or by the pool's
+ * background job after), [1] all; and [2] the chunks of next frames'
+ * draws made by the pair passes' threads (tests check that the routes
+ * were taken). */
+void phys_ahead_counts(const PhysicsWorld *w, uint64_t out[3]);
 /* For tests: [limit] < 0 (the default) has the next step end the
  * background job of the next frame's draws, keeping the chunks made by
- * then (how many depends on the threads' timing); [limit] >= 0 lets the
- * job make at most [limit] chunks (16 pairs each) and has the next step
- * wait for them, so that the count is known. The bits are the same. */
+ * then (how many depends on the threads' timing); [limit] >= 0 lets at
+ * most [limit] chunks (8 pairs each) be made, by the pair pass's threads
+ * and the background job together, and has the next step wait for them,
+ * so that the count is known; then, with PHYS_SPLIT_HELPER, the helper of
+ * a split level makes all of them before the pair pass ends. The bits are
+ * the same. */
 void phys_set_ahead(PhysicsWorld *w, int limit);
 /* Free [w] and all its systems (NULL is a no-op). */
 void phys_free(PhysicsWorld *w);

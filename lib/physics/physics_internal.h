@@ -349,8 +349,10 @@ typedef struct PhysSystem {
                                    * (vec_hash, floored) */
     bool seed_ok;                 /* they are computed */
     int ahead_limit;              /* phys_set_ahead's limit */
-    uint64_t ahead_pairs[2];      /* pairs of draws planned ahead in a step:
-                                   * [0] those the frame before made, [1] all
+    uint64_t ahead_pairs[3];      /* pairs of draws planned ahead in a step:
+                                   * [0] those the frame before made, [1] all;
+                                   * [2] chunks of the next frame's made by
+                                   * the pair pass's threads
                                    * (phys_ahead_counts) */
 
     /* names seen in the tree, classified once while the string lives
@@ -665,7 +667,10 @@ void phys_tiles_help_posted(PhysSystem *s);
  * alone, so the draws are the same bits whoever makes them. */
 bool phys_draw_chunk(PhysSystem *s);
 /* End the background job of the next frame's draws of [s], if one runs,
- * keeping the draws it made (step.c); before [s] or its pool is freed. */
+ * and close the draws made ready: `done` counts the chunks made, by the
+ * pair pass's threads and the job (step.c). Before [s] or its pool is
+ * freed, and before the draws are taken; never while the first pass's
+ * job runs. */
 void phys_draws_ahead_settle(PhysSystem *s);
 /* Make one chunk of the next frame's draws of [s] made ready in this
  * step, if one is left (step.c); false otherwise. For a thread of the

@@ -495,6 +495,7 @@ static uint64_t take_ahead(PhysSystem *s, const PhysApplier *ap)
  * no memory) or all made. */
 static size_t plan_ahead(PhysSystem *s)
 {
+    phys_draws_ahead_settle(s);
     size_t total = 0;
     for (size_t a = 0; a < s->nap; a++) {
         PhysApplier *ap = &s->ap[a];
@@ -524,7 +525,6 @@ static size_t plan_ahead(PhysSystem *s)
         s->rnd = r;
         s->caprnd = 2 * total;
     }
-    phys_draws_ahead_settle(s);
     size_t chunks = 0, left = 0;
     for (size_t a = 0; a < s->nap; a++) {
         PhysApplier *ap = &s->ap[a];
@@ -548,7 +548,9 @@ none:
 
 bool phys_draw_chunk(PhysSystem *s)
 {
-    if (s->draw_chunks == 0)
+    /* a look first: a waiting thread calls this at each pause */
+    if (s->draw_chunks == 0 ||
+        atomic_load_explicit(&s->draw_next, memory_order_relaxed) >= s->draw_chunks)
         return false;
     const size_t c = atomic_fetch_add_explicit(&s->draw_next, 1, memory_order_relaxed);
     if (c >= s->draw_chunks)
@@ -801,8 +803,11 @@ static void ahead_prepare(PhysSystem *s)
 static void ahead_start(PhysSystem *s)
 {
     DrawsAhead *a = &s->ahead;
-    if (!a->ready || a->running ||
-        atomic_load_explicit(&a->next, memory_order_relaxed) >= a->limit)
+    if (!a->ready || a->running)
+        return;
+    const size_t made = atomic_load_explicit(&a->next, memory_order_relaxed);
+    s->ahead_pairs[2] += made < a->limit ? made : a->limit;
+    if (made >= a->limit)
         return;
     a->pool = s->workers;
     a->running = workers_background(s->workers, &a->job, 2, ahead_task, a, &a->stop);

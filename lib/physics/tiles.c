@@ -715,8 +715,14 @@ void phys_tiles_help(PhysSystem *s)
     unsigned spins = 0;
     for (;;) {
         uint_fast64_t st = atomic_load_explicit(&h->state, memory_order_acquire);
-        if ((st & SPLIT_STATUS) == SPLIT_OVER)
+        if ((st & SPLIT_STATUS) == SPLIT_OVER) {
+            /* tests (phys_set_ahead): every chunk made here, so that the
+             * count made by the pair pass's threads is known */
+            if (s->ahead.wait && s->split_mode == PHYS_SPLIT_HELPER)
+                while (phys_ahead_chunk(s)) {
+                }
             return;
+        }
         if ((st & SPLIT_STATUS) == SPLIT_POSTED) {
             split_claim(h, st);
             continue;

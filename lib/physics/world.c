@@ -316,13 +316,12 @@ void phys_set_ahead(PhysicsWorld *w, int limit)
     w->ahead = limit < 0 ? -1 : limit;
 }
 
-void phys_ahead_counts(const PhysicsWorld *w, uint64_t out[2])
+void phys_ahead_counts(const PhysicsWorld *w, uint64_t out[3])
 {
-    out[0] = out[1] = 0;
-    for (size_t i = 0; i < w->n; i++) {
-        out[0] += w->sys[i]->ahead_pairs[0];
-        out[1] += w->sys[i]->ahead_pairs[1];
-    }
+    out[0] = out[1] = out[2] = 0;
+    for (size_t i = 0; i < w->n; i++)
+        for (int k = 0; k < 3; k++)
+            out[k] += w->sys[i]->ahead_pairs[k];
 }
 
 int phys_set_simd(PhysicsWorld *w, int level)
