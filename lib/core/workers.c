@@ -234,14 +234,16 @@ Workers *workers_new(unsigned n)
     return w;
 }
 
-/* End [w]'s background job, if one runs: its stop flag, then its tasks. */
-static void end_background(Workers *w)
+/* End [w]'s background job, if one runs: its stop flag (with [stop]),
+ * then its tasks. */
+static void end_background(Workers *w, bool stop)
 {
     WorkersJob *j = w->bg;
     if (!j)
         return;
     w->bg = NULL;
-    atomic_store_explicit(w->bg_stop, true, memory_order_relaxed);
+    if (stop)
+        atomic_store_explicit(w->bg_stop, true, memory_order_relaxed);
     workers_finish(j);
 }
 
@@ -249,7 +251,7 @@ void workers_free(Workers *w)
 {
     if (!w)
         return;
-    end_background(w);
+    end_background(w, true);
     if (w->th) {
         pthread_mutex_lock(&w->mu);
         atomic_store(&w->quit, true);
@@ -277,7 +279,7 @@ void workers_start(Workers *w, WorkersJob *j, size_t ntasks, WorkersTaskFn fn, v
     const bool threads = w && w->n > 1 && ntasks > 1 && ntasks <= T_MASK;
     /* before *j is written: [j] may be the background job itself */
     if (threads)
-        end_background(w);
+        end_background(w, true);
     *j = (WorkersJob){w, ntasks, 0, fn, ctx};
     if (!threads) {
         j->w = NULL;
@@ -313,14 +315,8 @@ bool workers_background(Workers *w, WorkersJob *j, size_t ntasks, WorkersTaskFn 
 
 void workers_end_background(Workers *w, WorkersJob *j, bool stop)
 {
-    if (!w || w->bg != j)
-        return;
-    if (!stop) {
-        w->bg = NULL;
-        workers_finish(j);
-        return;
-    }
-    end_background(w);
+    if (w && w->bg == j)
+        end_background(w, stop);
 }
 
 bool workers_help(WorkersJob *j)

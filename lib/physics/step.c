@@ -706,16 +706,14 @@ bool phys_ahead_chunk(PhysSystem *s)
     return true;
 }
 
+/* The background job's task: chunks until none is left or it is ended
+ * early (the stop flag, looked at between chunks). */
 static void ahead_task(void *ctx, size_t t, unsigned thread)
 {
     (void)t;
     (void)thread;
-    DrawsAhead *a = ctx;
-    while (!atomic_load_explicit(&a->stop, memory_order_relaxed)) {
-        const size_t c = atomic_fetch_add_explicit(&a->next, 1, memory_order_relaxed);
-        if (c >= a->limit)
-            return;
-        ahead_make(a, c);
+    PhysSystem *s = ctx;
+    while (!atomic_load_explicit(&s->ahead.stop, memory_order_relaxed) && phys_ahead_chunk(s)) {
     }
 }
 
@@ -742,7 +740,7 @@ void phys_draws_ahead_settle(PhysSystem *s)
  * an empty group, say). */
 static void ahead_prepare(PhysSystem *s)
 {
-    phys_draws_ahead_settle(s);
+    /* plan_ahead, just before, settled the frame before's draws */
     DrawsAhead *a = &s->ahead;
     a->nseg = 0;
     a->done = 0;
@@ -810,7 +808,7 @@ static void ahead_start(PhysSystem *s)
     if (made >= a->limit)
         return;
     a->pool = s->workers;
-    a->running = workers_background(s->workers, &a->job, 2, ahead_task, a, &a->stop);
+    a->running = workers_background(s->workers, &a->job, 2, ahead_task, s, &a->stop);
 }
 
 /* }===== */
