@@ -1,0 +1,140 @@
+#!/bin/sh
+# bench/canvas3d-floors.sh [BUILD_DIR] [FRAMES]: where the drawing time of
+# Flitter's examples/physics.fl and examples/bounce.fl goes on this
+# machine's OpenGL (Mesa's llvmpipe without a GPU), measured by drawing
+# variants of each with parts of the scene taken out. Issue 25 asks for 30
+# frames a second (33 ms a frame) at 1080x1080 with samples=4; a variant
+# that draws strictly less than the example and still takes more than
+# 33 ms is a floor no change of ours to the rest can go under.
+#
+# The examples are read at run time as bench/canvas3d.sh reads them
+# (FLITTER_EXAMPLES=DIR, or FLITTER_REPO=GIT_DIR at FLITTER_REV); the
+# variants are made here by rules on the language, not by editing copies:
+#
+#   samples=1       every `samples=4` made `samples=1` (no multisampling)
+#   no models       every block headed by a model node (`!sphere`, `!box`,
+#                   `!cylinder`, `!cone`) removed, and every `for` left
+#                   without a body
+#   no bloom        every `!bloom ...` node removed, its children put in its place
+#   no outer sphere the models with a `transparency=` removed (physics.fl's
+#                   enclosing sphere)
+#   no radius lights every `for` block whose body makes a `!light` with a
+#                   `radius=` removed (bounce.fl's 150 lights of the balls)
+#   no glass        every `!material` block with a `transparency=` that
+#                   holds a `!box` removed (bounce.fl's two glass boxes)
+#
+# Each line is bench_canvas3d's: mean drawing time a frame (the 3D scene,
+# the bloom, the compositing: fl_draw_window), the fastest frame, the mean
+# CPU time of drawing on all threads, and the stepping time; FRAMES
+# (default 10) frames after a warm-up, 10 frames a second, the particles
+# Flitter's own (--physics=upstream). LP_NUM_THREADS and the other Mesa
+# variables pass through. FLOORS_KEEP=DIR copies the variants there, to be
+# read or drawn. Not part of the test suite.
+set -u
+build=${1:-build}
+frames=${2:-10}
+case $build in /*) ;; *) build=$PWD/$build ;; esac
+bench="$build/tests/bench_canvas3d"
+[ -x "$bench" ] || { echo "build first: meson setup $build && ninja -C $build" >&2; exit 2; }
+command -v python3 >/dev/null || { echo "needs python3" >&2; exit 2; }
+tmp=$(mktemp -d) || exit 2
+trap 'rm -rf "$tmp"' EXIT
+repo=${FLITTER_REPO:-/work/.mirror/jonathanhogg+flitter/repo}
+rev=${FLITTER_REV:-v1.0.0b28}
+for ex in physics bounce; do
+    if [ -n "${FLITTER_EXAMPLES:-}" ]; then
+        cp "$FLITTER_EXAMPLES/$ex.fl" "$tmp/$ex.fl" || exit 2
+    elif ! git -C "$repo" show "$rev:examples/$ex.fl" >"$tmp/$ex.fl" 2>/dev/null; then
+        echo "no Flitter examples: set FLITTER_EXAMPLES=DIR or FLITTER_REPO=GIT_DIR (see $0)" >&2
+        exit 2
+    fi
+done
+
+# variant NAME SOURCE RULE...: writes $tmp/NAME.fl, SOURCE with the rules
+# applied in order (each rule must change something, or the variant would
+# silently measure the example itself)
+variant() {
+    python3 - "$tmp" "$@" <<'EOF' || exit 2
+import re, sys
+
+tmp, name, source, rules = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
+lines = open(f"{tmp}/{source}.fl").read().split("\n")
+
+def indent(line):
+    return len(line) - len(line.lstrip(" "))
+
+def blocks(lines):
+    """(start, end) of every line's block: the line and the lines indented
+    deeper below it (blank and comment lines inside go with it)."""
+    out = []
+    for i, line in enumerate(lines):
+        if not line.strip() or line.lstrip().startswith("--"):
+            continue
+        j = i + 1
+        while j < len(lines) and (not lines[j].strip() or indent(lines[j]) > indent(line)):
+            j += 1
+        while j > i + 1 and not lines[j - 1].strip():
+            j -= 1
+        out.append((i, j))
+    return out
+
+def drop(lines, pred):
+    """lines without the blocks whose header and body satisfy pred"""
+    gone = set()
+    for i, j in blocks(lines):
+        if i not in gone and pred(lines[i].strip(), [l.strip() for l in lines[i + 1:j]]):
+            gone.update(range(i, j))
+    return [l for k, l in enumerate(lines) if k not in gone]
+
+MODEL = re.compile(r"^!(sphere|box|cylinder|cone)\b")
+def empty_for(h, body):
+    return h.startswith("for ") and not any(b and not b.startswith("--") for b in body)
+
+def apply(lines, rule):
+    text = "\n".join(lines)
+    if rule == "samples1":
+        return text.replace("samples=4", "samples=1").split("\n")
+    if rule == "nobloom":
+        # the first !bloom removed and its block moved up to its place, then
+        # the next, until none is left
+        for i, j in blocks(lines):
+            if lines[i].strip().startswith("!bloom"):
+                body = lines[i + 1:j]
+                step = min((indent(l) for l in body if l.strip()), default=indent(lines[i])) - indent(lines[i])
+                return apply(lines[:i] + [l[step:] for l in body] + lines[j:], rule)
+        return lines
+    if rule == "nomodels":
+        return drop(drop(lines, lambda h, b: bool(MODEL.match(h))), empty_for)
+    if rule == "notransparent":
+        return drop(lines, lambda h, b: bool(MODEL.match(h)) and "transparency=" in h)
+    if rule == "noradiuslights":
+        return drop(lines, lambda h, b: h.startswith("for ") and
+                    any(x.startswith("!light") and "radius=" in x for x in b))
+    if rule == "noglass":
+        return drop(lines, lambda h, b: h.startswith("!material") and "transparency=" in h and
+                    any(x.startswith("!box") for x in b))
+    sys.exit(f"unknown rule {rule}")
+
+for rule in rules:
+    changed = apply(lines, rule)
+    if changed == lines:
+        sys.exit(f"{name}: rule {rule} changed nothing in {source}.fl")
+    lines = changed
+open(f"{tmp}/{name}.fl", "w").write("\n".join(lines))
+EOF
+}
+
+variant physics-samples1 physics samples1
+variant physics-nomodels physics nomodels
+variant physics-nobloom physics nobloom
+variant physics-noouter physics notransparent
+variant bounce-noradiuslights bounce noradiuslights
+variant bounce-noglass bounce noglass
+variant bounce-noglass-samples1 bounce noglass samples1
+
+if [ -n "${FLOORS_KEEP:-}" ]; then cp "$tmp"/*.fl "$FLOORS_KEEP"/ || exit 2; fi
+echo "canvas3d floors: $(nproc) CPUs, load $(cut -d' ' -f1-3 /proc/loadavg)${LP_NUM_THREADS:+, LP_NUM_THREADS=$LP_NUM_THREADS}"
+for s in physics physics-samples1 physics-noouter physics-nobloom physics-nomodels \
+         bounce bounce-noradiuslights bounce-noglass bounce-noglass-samples1; do
+    (cd "$tmp" && "$bench" --script "$s.fl" --fps 10 --frames "$frames" --physics upstream -D OUTPUT=) || exit 1
+done
