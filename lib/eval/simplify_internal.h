@@ -17,11 +17,12 @@ typedef struct Column {
     uint32_t n;            /* members */
     double *num;           /* a numeric column (col_new_num): every member
                               is one number, num[m], and v[m] is that
-                              number's vector once col_get has made it
-                              (NULL before); NULL: a column of v[] */
-    Vec *v[];              /* one reference each (NULL: null); read them
+                              number's vector once col_get has made it;
+                              NULL: a column of v[] */
+    Vec **v;               /* one reference each (NULL: null); read them
                               with col_get, which makes a numeric
-                              column's on demand */
+                              column's on demand (its v itself NULL until
+                              then) */
 } Column;
 
 /* What a name stands for while simplifying (tree.pyx Context.names). */

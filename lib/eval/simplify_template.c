@@ -86,25 +86,29 @@ Vec *tval(const AstNode *n, uint32_t m)
 
 Column *col_new(uint32_t n)
 {
-    Column *c = mem_calloc(1, sizeof *c + (size_t)n * sizeof c->v[0]);
+    /* the vectors follow the column in one block */
+    Column *c = mem_calloc(1, sizeof *c + (size_t)n * sizeof *c->v);
     c->refs = 1;
     c->n = n;
+    c->v = (Vec **)(void *)(c + 1);
     return c;
 }
 
 Column *col_new_num(uint32_t n)
 {
-    /* the numbers follow the (initially empty) vectors in one block */
-    Column *c = mem_calloc(1, sizeof *c + (size_t)n * (sizeof c->v[0] + sizeof(double)));
-    c->refs = 1;
-    c->n = n;
-    c->num = (double *)(void *)(c->v + n);
+    /* the numbers follow the column in one block, left for the caller to
+     * fill; the vectors come with the first col_get */
+    Column *c = mem_realloc(NULL, sizeof *c + (size_t)n * sizeof *c->num);
+    *c = (Column){.refs = 1, .n = n, .num = (double *)(void *)(c + 1)};
     return c;
 }
 
 Vec *col_get(Column *c, uint32_t m)
 {
-    if (c->num && !c->v[m]) c->v[m] = vec_num1(c->num[m]);
+    if (c->num) {
+        if (!c->v) c->v = mem_calloc(c->n, sizeof *c->v);
+        if (!c->v[m]) c->v[m] = vec_num1(c->num[m]);
+    }
     return c->v[m];
 }
 
@@ -117,7 +121,8 @@ Column *col_retain(Column *c)
 void col_release(Column *c)
 {
     if (!c || --c->refs) return;
-    for (uint32_t m = 0; m < c->n; m++) vec_release(c->v[m]);
+    for (uint32_t m = 0; c->v && m < c->n; m++) vec_release(c->v[m]);
+    if (c->num) free(c->v);
     free(c);
 }
 
