@@ -39,16 +39,24 @@
 #   noglass         every `!material` block with a `transparency=` that
 #                   holds a `!box` removed (bounce.fl's two glass boxes)
 #
-# FLOORS_KEEP=DIR copies the variants there, to be read or drawn.
+# FLOORS_KEEP=DIR copies the examples and their variants there, to be
+# read or drawn.
 # Not part of the test suite: timings vary with the machine and its load.
 set -u
 floors=false
-if [ "${1:-}" = --floors ]; then
-    floors=true
-    shift
-fi
-build=${1:-build}
-frames=${2:-10}
+build=
+frames=
+for arg in "$@"; do
+    case $arg in
+    --floors) floors=true ;;
+    -*) echo "usage: $0 [--floors] [BUILD_DIR] [FRAMES]" >&2; exit 2 ;;
+    *) if [ -z "$build" ]; then build=$arg; elif [ -z "$frames" ]; then frames=$arg; else
+           echo "usage: $0 [--floors] [BUILD_DIR] [FRAMES]" >&2; exit 2
+       fi ;;
+    esac
+done
+build=${build:-build}
+frames=${frames:-10}
 case $build in /*) ;; *) build=$PWD/$build ;; esac
 bench="$build/tests/bench_canvas3d"
 [ -x "$bench" ] || { echo "build first: meson setup $build && ninja -C $build" >&2; exit 2; }
@@ -77,19 +85,24 @@ lines = open(f"{tmp}/{source}.fl").read().split("\n")
 def indent(line):
     return len(line) - len(line.lstrip(" "))
 
+def code(line):
+    """whether [line] holds code (not blank, not a comment)"""
+    return bool(line.strip()) and not line.lstrip().startswith("--")
+
 def blocks(lines):
-    """(start, end) of every line's block: the line and the lines indented
-    deeper below it (blank and comment lines inside go with it)."""
+    """(start, end) of every line's block: the line and the lines below it
+    up to the next line of code indented no deeper (blank and comment lines
+    before that one go with the block only if code of it follows them)."""
     out = []
     for i, line in enumerate(lines):
-        if not line.strip() or line.lstrip().startswith("--"):
+        if not code(line):
             continue
-        j = i + 1
-        while j < len(lines) and (not lines[j].strip() or indent(lines[j]) > indent(line)):
+        j = end = i + 1
+        while j < len(lines) and (not code(lines[j]) or indent(lines[j]) > indent(line)):
             j += 1
-        while j > i + 1 and not lines[j - 1].strip():
-            j -= 1
-        out.append((i, j))
+            if code(lines[j - 1]):
+                end = j
+        out.append((i, end))
     return out
 
 def drop(lines, pred):
@@ -114,8 +127,8 @@ def apply(lines, rule):
         for i, j in blocks(lines):
             if lines[i].strip().startswith("!bloom"):
                 body = lines[i + 1:j]
-                step = min((indent(l) for l in body if l.strip()), default=indent(lines[i])) - indent(lines[i])
-                return apply(lines[:i] + [l[step:] for l in body] + lines[j:], rule)
+                step = min((indent(l) for l in body if code(l)), default=indent(lines[i])) - indent(lines[i])
+                return apply(lines[:i] + [l[min(step, indent(l)):] for l in body] + lines[j:], rule)
         return lines
     if rule == "nomodels":
         return drop(drop(lines, lambda h, b: bool(MODEL.match(h))), empty_for)
