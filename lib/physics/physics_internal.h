@@ -692,4 +692,11 @@ void phys_literal_particle_pass(PhysSystem *s, const PhysGroup *g,
 double phys_run_steps(PhysSystem *s, double time, double last, double clock,
                       double resolution, bool realtime, bool extra);
 
+/* The pairs of the reference loop over [rows] rows and [n] pool entries
+ * (a level: its group's particles against its pool). */
+static inline double phys_level_pairs(size_t rows, size_t n)
+{
+    return (double)rows * (double)(n - 1) - (double)rows * (double)(rows - 1) / 2;
+}
+
 #endif

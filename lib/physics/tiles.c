@@ -469,12 +469,6 @@ static size_t list_tasks(PhysSystem *s, size_t npart, size_t n)
     return m;
 }
 
-/* The pairs of the reference loop over [rows] rows and [n] pool entries. */
-static double level_pairs(size_t rows, size_t n)
-{
-    return (double)rows * (double)(n - 1) - (double)rows * (double)(rows - 1) / 2;
-}
-
 /* Up to this many pairs, a level of a system with !random may take the
  * split route rather than the threaded one (see "Two threads for a
  * middle-sized level" below), its draws on the helper: petri-like 2-D
@@ -500,7 +494,7 @@ static bool has_random(const PhysSystem *s)
 
 bool phys_tiles_threaded(const PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
 {
-    const double pairs = level_pairs(g->npart, lv->npool);
+    const double pairs = phys_level_pairs(g->npart, lv->npool);
     return workers_count(s->workers) >= 2 && pairs >= TILES_PIPE_PAIRS &&
            !(pairs < SPLIT_RANDOM_PAIRS && has_random(s));
 }
@@ -575,7 +569,7 @@ struct TileSplit {
  * has [other] pairs' worth of other work, or 0 when it does not split. */
 static size_t split_cut(size_t npart, size_t n, double other)
 {
-    const double pairs = level_pairs(npart, n);
+    const double pairs = phys_level_pairs(npart, n);
     if (pairs < SPLIT_PAIRS || pairs >= (other > 0 ? SPLIT_RANDOM_PAIRS : TILES_PIPE_PAIRS))
         return 0;
     /* the helper's NEAR (m * m / 2 pairs) and other work against FAR (the
@@ -869,7 +863,7 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
      * or the literal particle pass), never inside (s->workers is NULL) */
     const size_t cut = s->tsplit && s->tsplit->active ? split_cut(g->npart, n, s->tsplit->other) : 0;
     const bool threaded = !cut && workers_count(s->workers) >= 2 &&
-                          level_pairs(g->npart, n) >= TILES_PIPE_PAIRS;
+                          phys_level_pairs(g->npart, n) >= TILES_PIPE_PAIRS;
     const size_t route = cut ? 2 : threaded;
     const size_t kind = (route * TILE_MAX_D + (D - 1)) * (TILE_NSPECS + 1) + (size_t)(run.spec + 1);
     double t0 = 0;
@@ -891,7 +885,7 @@ void phys_run_tiles(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
         workers_run(s->workers, nw < WORKERS_MAX_TASKS ? nw : WORKERS_MAX_TASKS, tiles_task, &run);
     }
     if (s->simd_auto && s->tune && s->tune[kind].choice < 0)
-        tune_record(s, kind, run.simd, now_ns() - t0, level_pairs(g->npart, n));
+        tune_record(s, kind, run.simd, now_ns() - t0, phys_level_pairs(g->npart, n));
     for (size_t q = 0; q < n; q++) {
         size_t p = pool[q];
         for (size_t k = 0; k < D; k++)
