@@ -180,6 +180,8 @@ void phys_apply_pair_level(PhysSystem *s, const PhysGroup *g,
     const uint32_t *pool = s->pool + g->pool_off;
     const size_t n = lv->npool;
     for (size_t i = 0; i < g->npart; i++) {
+        if (phys_interrupted(s))
+            return;
         size_t a = pool[i];
         for (size_t j = i + 1; j < n; j++) {
             size_t b = pool[j];

@@ -1024,6 +1024,8 @@ static void level_task(void *ctx, size_t t, unsigned thread)
             size_t q = i < m ? gr->slotq[i] : gr->odd[i - m];
             if (s->anchor[L->pool[q]])
                 continue;
+            if (phys_interrupted(s))
+                return;
             if (i < m)
                 dense(L, i, sc);
             else
@@ -1037,6 +1039,8 @@ static void level_task(void *ctx, size_t t, unsigned thread)
     for (size_t q = t * TARGETS_PER_TASK; q < end; q++) {
         if (s->anchor[L->pool[q]])
             continue;
+        if (phys_interrupted(s))
+            return;
         if (hashed)
             hashed(L, q, sc);
         else
@@ -1060,6 +1064,37 @@ static void ensure_scratch(PhysSystem *s, unsigned nth, size_t npool)
     }
 }
 
+/* The tiles and rows routes run a level whole. A level of more pairs
+ * than a slice (s->slice_pairs) runs as consecutive slices of its rows,
+ * asking for the interrupt between them (phys_interrupted): rows r0..r1
+ * against pool entries r0..n is a level of its own (the same shape, its
+ * pool r0 entries on), and its pairs are those the reference loop takes
+ * next, in its order, after the slices before it, so every force adds the
+ * same contributions in the same order. */
+static void run_slices(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv,
+                       void (*route)(PhysSystem *, const PhysGroup *, const PhysLevel *))
+{
+    const size_t rows = g->npart, n = lv->npool;
+    const double most = s->slice_pairs;
+    if (phys_level_pairs(rows, n) <= most || phys_tiles_split_active(s)) {
+        route(s, g, lv);
+        return;
+    }
+    for (size_t r0 = 0, r1; r0 < rows; r0 = r1) {
+        if (phys_interrupted(s))
+            return;
+        double pairs = (double)(n - 1 - r0);
+        for (r1 = r0 + 1; r1 < rows && pairs + (double)(n - 1 - r1) <= most; r1++)
+            pairs += (double)(n - 1 - r1);
+        PhysGroup gs = *g;
+        gs.pool_off += r0;
+        gs.npart = r1 - r0;
+        PhysLevel ls = *lv;
+        ls.npool = n - r0;
+        route(s, &gs, &ls);
+    }
+}
+
 void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
 {
     switch (lv->route) {
@@ -1069,10 +1104,10 @@ void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
         phys_apply_pair_level(s, g, lv);
         return;
     case PHYS_ROUTE_ROWS:
-        phys_run_rows(s, g, lv);
+        run_slices(s, g, lv, phys_run_rows);
         return;
     case PHYS_ROUTE_TILES:
-        phys_run_tiles(s, g, lv);
+        run_slices(s, g, lv, phys_run_tiles);
         return;
     default:
         break;

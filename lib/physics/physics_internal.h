@@ -279,6 +279,11 @@ typedef struct PhysSystem {
     size_t D;                     /* dimensions of the current frame */
     double c;                     /* speed of light, 0 = none */
     const PhysicsFrame *frame;    /* this frame's step limit and interrupt flag */
+    atomic_bool cut;              /* the interrupt flag stopped this step's
+                                   * pair pass part way (phys_interrupted):
+                                   * the step is abandoned (step.c) */
+    long cut_after;               /* phys_set_cut_after's polls, or 0 */
+    atomic_long polls;            /* this frame's polls, while cut_after */
 
     /* particles (storage order) */
     size_t n, cap;
@@ -349,6 +354,10 @@ typedef struct PhysSystem {
                                    * (vec_hash, floored) */
     bool seed_ok;                 /* they are computed */
     int ahead_limit;              /* phys_set_ahead's limit */
+    double slice_pairs;           /* the most pairs the tiles and rows
+                                   * routes take at once (pairs.c,
+                                   * run_slices): PHYS_SLICE_PAIRS, or
+                                   * phys_set_slice's */
     uint64_t ahead_pairs[3];      /* pairs of draws planned ahead in a step:
                                    * [0] those the frame before made, [1] all;
                                    * [2] chunks of the next frame's made by
@@ -657,6 +666,9 @@ void phys_tiles_reserve(PhysSystem *s, size_t npool);
 bool phys_tiles_split_wanted(const PhysSystem *s, double other);
 bool phys_tiles_split_begin(PhysSystem *s, double other);
 void phys_tiles_split_end(PhysSystem *s);
+/* Whether a split first pass is under way (between phys_tiles_split_begin
+ * and phys_tiles_split_end). */
+bool phys_tiles_split_active(const PhysSystem *s);
 void phys_tiles_help(PhysSystem *s);
 /* The helper's part of a split level posted now, if any (does not wait). */
 void phys_tiles_help_posted(PhysSystem *s);
@@ -697,6 +709,27 @@ double phys_run_steps(PhysSystem *s, double time, double last, double clock,
 static inline double phys_level_pairs(size_t rows, size_t n)
 {
     return (double)rows * (double)(n - 1) - (double)rows * (double)(rows - 1) / 2;
+}
+
+/* The most pairs the tiles and rows routes take at once: about 0.1 s of
+ * a step on two threads here; a larger level runs as slices of its rows
+ * (pairs.c, run_slices). */
+#define PHYS_SLICE_PAIRS 0x1p27
+
+/* Whether the frame's interrupt flag (physics.h) is set; the pair routes
+ * ask between targets (the all-pairs and grid gathers), rows (the
+ * reference loop) or slices (the tiles and rows routes), and on a yes set
+ * s->cut and stop, so that a step of a huge system ends soon after an
+ * interrupt instead of after all its pairs. */
+static inline bool phys_interrupted(PhysSystem *s)
+{
+    const PhysicsFrame *fr = s->frame;
+    bool set = fr && fr->interrupt && *fr->interrupt;
+    if (!set && s->cut_after)   /* tests (phys_set_cut_after) */
+        set = atomic_fetch_add_explicit(&s->polls, 1, memory_order_relaxed) + 1 >= s->cut_after;
+    if (set)
+        atomic_store_explicit(&s->cut, true, memory_order_relaxed);
+    return set;
 }
 
 #endif

@@ -820,7 +820,10 @@ static void ahead_start(PhysSystem *s)
  * Guards beyond the spec: if `last + delta` no longer moves `last`
  * (rounding at huge times) the loop stops instead of spinning forever; it
  * also stops at s->frame->max_steps steps or when s->frame->interrupt is
- * set (physics.h). */
+ * set (physics.h), and a step whose pair pass the interrupt cut short
+ * (phys_interrupted) is abandoned: the particles keep the last whole
+ * step's positions and velocities and the clock its time, as when the
+ * step limit stops a frame. */
 double phys_run_steps(PhysSystem *s, double time, double last, double clock,
                       double resolution, bool realtime, bool extra)
 {
@@ -845,8 +848,16 @@ double phys_run_steps(PhysSystem *s, double time, double last, double clock,
         }
         if (more && fr && fr->interrupt && *fr->interrupt)
             more = false;
-        last = next;
+        atomic_store_explicit(&s->cut, false, memory_order_relaxed);
         first_pass(s, random, !more);
+        if (atomic_load_explicit(&s->cut, memory_order_relaxed)) {
+            /* interrupted part way (phys_interrupted): the step is not
+             * taken and the clock stays where it was; the partial sums
+             * in the forces go with the next frame's collection, which
+             * starts every force from the particle's own */
+            break;
+        }
+        last = next;
         if (random && !more)
             ahead_start(s);
         for (size_t g = 0; g < s->ngroups; g++) {

@@ -675,6 +675,11 @@ bool phys_tiles_split_begin(PhysSystem *s, double other)
     return true;
 }
 
+bool phys_tiles_split_active(const PhysSystem *s)
+{
+    return s->tsplit && s->tsplit->active;
+}
+
 void phys_tiles_split_end(PhysSystem *s)
 {
     struct TileSplit *h = s->tsplit;

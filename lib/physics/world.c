@@ -37,6 +37,8 @@ struct PhysicsWorld {
     int simd;               /* PHYS_SIMD_* level of the tile kernel */
     int split;              /* PHYS_SPLIT_* */
     int ahead;              /* phys_set_ahead's limit */
+    double slice;           /* phys_set_slice's pairs, or 0 */
+    long cut_after;         /* phys_set_cut_after's polls, or 0 */
     bool simd_auto;         /* no level asked for (FLITTER_SIMD unset,
                                phys_set_simd not called): the systems time
                                the 4 x 4 tiles (with AVX-512VL where the
@@ -316,6 +318,16 @@ void phys_set_ahead(PhysicsWorld *w, int limit)
     w->ahead = limit < 0 ? -1 : limit;
 }
 
+void phys_set_slice(PhysicsWorld *w, double pairs)
+{
+    w->slice = pairs > 0 ? pairs : 0;
+}
+
+void phys_set_cut_after(PhysicsWorld *w, long polls)
+{
+    w->cut_after = polls > 0 ? polls : 0;
+}
+
 void phys_ahead_counts(const PhysicsWorld *w, uint64_t out[3])
 {
     out[0] = out[1] = out[2] = 0;
@@ -362,6 +374,9 @@ void phys_run_frame(PhysicsWorld *w, Node *const *nodes, size_t n,
         s->simd = w->simd;
         s->split_mode = w->split;
         s->ahead_limit = w->ahead;
+        s->slice_pairs = w->slice > 0 ? w->slice : PHYS_SLICE_PAIRS;
+        s->cut_after = w->cut_after;
+        atomic_store_explicit(&s->polls, 0, memory_order_relaxed);
         s->simd_auto = w->simd_auto && w->simd == PHYS_SIMD_AVX512;
         s->workers = w->naive ? NULL : w->workers;
         system_frame(s, nodes[i], state, frame);

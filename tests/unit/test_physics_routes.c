@@ -243,6 +243,18 @@ static void assert_same_state(const StateDict *a, const StateDict *b,
                     memcmp(vec_cnums(va), vec_cnums(vb),
                            va->len * sizeof(double)) == 0;
         if (!same) {
+            /* the entry, for whoever reads the failure: its key's numbers
+             * and the first values of both sides */
+            fprintf(stderr, "key:");
+            for (uint32_t k = 0; ea[i].key->kind == VEC_NUM && k < ea[i].key->len; k++)
+                fprintf(stderr, " %g", vec_cnums(ea[i].key)[k]);
+            fprintf(stderr, "\nfirst:");
+            for (uint32_t k = 0; va->kind == VEC_NUM && k < va->len && k < 4; k++)
+                fprintf(stderr, " %.17g", vec_cnums(va)[k]);
+            fprintf(stderr, "\nsecond:");
+            for (uint32_t k = 0; vb && vb->kind == VEC_NUM && k < vb->len && k < 4; k++)
+                fprintf(stderr, " %.17g", vec_cnums(vb)[k]);
+            fprintf(stderr, "\n");
             free(ea);
             fail_msg("seed %llu threads %u: state entry %zu differs",
                      (unsigned long long)seed, threads, i);
@@ -813,6 +825,163 @@ static void test_full_tiles(void **st)
     }
 }
 
+/* simulate() with the tiles and rows routes taking at most [slice] pairs
+ * at once (phys_set_slice). */
+static StateDict *simulate_sliced(Node *ph, unsigned threads, int simd, double slice)
+{
+    unsetenv("FLITTER_SIMD");
+    PhysicsWorld *w = phys_new();
+    phys_set_threads(w, threads);
+    if (simd >= 0) phys_set_simd(w, simd);
+    phys_set_slice(w, slice);
+    StateDict *sd = state_new();
+    for (int f = 0; f < 3; f++) {
+        PhysicsFrame fr = {.time = 0.25 * f, .fps = 4, .realtime = false,
+                           .performance = 2};
+        phys_run_frame(w, &ph, 1, sd, &fr);
+    }
+    phys_free(w);
+    return sd;
+}
+
+/* A level of more pairs than a slice runs as consecutive slices of its
+ * rows (pairs.c, run_slices), each a level of its own: D = 1..3, the tiles
+ * route (collision, gravity, electrostatic) and the rows route (with
+ * adhesion, which the tiles do not take), slices of one row, of a few
+ * rows and of rows that do not divide the level, a nested group whose
+ * pool reaches the parent's particles, zero masses and charges, NaN and
+ * infinite elements; on one and two threads, in each vector width,
+ * against the reference loop, bit for bit. */
+static void test_sliced_levels(void **st)
+{
+    (void)st;
+    static const double slices[] = {1, 37, 500, 4000};
+    for (size_t D = 1; D <= 3; D++) {
+        for (size_t k = 0; k < 4; k++) {
+            uint64_t seed = 9100 + 10 * D + k;
+            Rng r = {seed};
+            Scene sc = {.D = D, .box = 2.0 * (double)D * pow(120.0, 1.0 / (double)D),
+                        .no_random = true, .special = k == 3 ? 0.02 : 0};
+            Node *ph = physics_node(D);
+            add_particles(&r, &sc, ph, 120);
+            set(add(ph, "electrostatic"), "strength", num(1 + 4 * uni(&r)));
+            set(add(ph, k % 2 ? "adhesion" : "gravity"), "strength", num(1 + uni(&r)));
+            Node *g = add(ph, "group");
+            add_particles(&r, &sc, g, 30);
+            set(add(g, "collision"), "strength", num(2));
+            vec_release(sc.lastpos);
+            StateDict *ref = simulate(ph, true, 1, 3);
+            static const unsigned threads[] = {1, 2};
+            for (size_t t = 0; t < 2; t++)
+                for (int simd = PHYS_SIMD_PORTABLE; simd <= PHYS_SIMD_AVX512; simd++) {
+                    StateDict *sd = simulate_sliced(ph, threads[t], simd, slices[k]);
+                    assert_same_state(ref, sd, seed, threads[t]);
+                    state_free(sd);
+                }
+            state_free(ref);
+            node_release(ph);
+        }
+    }
+}
+
+/* Set state entry P;:[name] (P = 7, physics_node's prefix) to [x]. */
+static void set_sym_entry(StateDict *sd, const char *name, double x)
+{
+    Vec *parts[2] = {num(7), num(symbol_value(name, strlen(name)))};
+    Vec *key = vec_compose(parts, 2), *v = num(x);
+    state_set(sd, key, v);
+    vec_release(v);
+    vec_release(key);
+    vec_release(parts[0]);
+    vec_release(parts[1]);
+}
+
+/* A copy of [sd]'s entries. */
+static StateDict *state_snapshot(const StateDict *sd)
+{
+    size_t n;
+    StateEntry *e = state_entries(sd, &n);
+    StateDict *c = state_new();
+    for (size_t i = 0; i < n; i++)
+        state_set(c, e[i].key, e[i].value);
+    free(e);
+    return c;
+}
+
+/* A step whose pair pass the interrupt flag cuts short is abandoned
+ * (step.c) on every route that asks for the flag: the all-pairs gather
+ * (four threads), the grid, the reference loop, and a tiles level run in
+ * slices (one thread). Run A has the flag set for its third frame (at
+ * 0.5 s), before the frame or (phys_set_cut_after) part way through its
+ * pair pass: that frame must leave every entry as the frame before left
+ * it but P;:last (the frame's time) and P;:iteration (one more). Run B
+ * has no such frame: its state is given those two entries by hand
+ * instead. From then on both must step alike, bit for bit: nothing of
+ * the cut pass's partial sums is left for the next step. */
+static void test_interrupted_step(void **st)
+{
+    (void)st;
+    for (int t = 0; t < 8; t++) {
+        /* t = 4..7: routes 0..3 cut after 50 polls (after two slices of
+         * 100 pairs for route 3) */
+        const int route = t % 4;
+        const long after = t >= 4 ? (route == 3 ? 3 : 50) : 0;
+        uint64_t seed = 9300 + (uint64_t)t;
+        Rng r = {seed};
+        const size_t D = route == 1 ? 2 : 3;
+        Scene sc = {.D = D, .box = 6, .no_random = true, .nonzero = true};
+        Node *ph = physics_node(D);
+        /* the all-pairs gather takes an unlimited level of 512 entries or
+         * more on three threads or more (pairs.c, phys_plan_levels) */
+        add_particles(&r, &sc, ph, route == 0 ? 600 : 200);
+        set(add(ph, route == 1 ? "collision" : "electrostatic"), "strength", num(3));
+        vec_release(sc.lastpos);
+        volatile int flag = 0;
+        StateDict *sd[2];
+        for (int run = 0; run < 2; run++) {
+            unsetenv("FLITTER_SIMD");
+            PhysicsWorld *w = phys_new();
+            phys_set_pairs(w, route == 2);
+            /* route 3 on one thread: on two, the first pass splits a
+             * level of this size between them, and a split level is not
+             * sliced */
+            phys_set_threads(w, route == 0 ? 4 : route == 3 ? 1 : 2);
+            if (route == 3) phys_set_slice(w, 100);
+            sd[run] = state_new();
+            for (int f = 0; f < 5; f++) {
+                PhysicsFrame fr = {.time = 0.25 * f, .fps = 4, .realtime = false,
+                                   .performance = 2, .interrupt = &flag};
+                if (f == 2) {
+                    StateDict *before = state_snapshot(sd[run]);
+                    set_sym_entry(before, "last", 0.5);
+                    set_sym_entry(before, "iteration", 2);
+                    if (run == 0) {
+                        flag = !after;
+                        phys_set_cut_after(w, after);
+                        phys_run_frame(w, &ph, 1, sd[run], &fr);
+                        phys_set_cut_after(w, 0);
+                        flag = 0;
+                        assert_same_state(before, sd[run], seed, 2);
+                    } else {
+                        set_sym_entry(sd[run], "last", 0.5);
+                        set_sym_entry(sd[run], "iteration", 2);
+                        assert_same_state(before, sd[run], seed, 2);
+                    }
+                    state_free(before);
+                    continue;
+                }
+                phys_run_frame(w, &ph, 1, sd[run], &fr);
+            }
+            phys_free(w);
+        }
+        assert_same_state(sd[0], sd[1], seed, 2);
+        assert_true(state_count(sd[0]) > 400);
+        node_release(ph);
+        state_free(sd[0]);
+        state_free(sd[1]);
+    }
+}
+
 /* simulate_simd() with the split route in [mode] (PHYS_SPLIT_*), adding
  * the levels it ran to [counts] (phys_split_counts). */
 static StateDict *simulate_split(Node *ph, unsigned threads, int simd, int mode,
@@ -1050,6 +1219,8 @@ int main(void)
         cmocka_unit_test(test_tile_specs),
         cmocka_unit_test(test_full_tiles),
         cmocka_unit_test(test_split_levels),
+        cmocka_unit_test(test_sliced_levels),
+        cmocka_unit_test(test_interrupted_step),
         cmocka_unit_test(test_static_tree),
         cmocka_unit_test(test_small_scenes),
         cmocka_unit_test(test_large_scenes),
