@@ -198,14 +198,10 @@ static Node *random_scene(uint64_t seed, size_t big, bool no_random)
  * of [ph] in a fresh world, with vector instructions [simd] (a
  * PHYS_SIMD_* level; -1: the world's own choice, the 4 x 4 tiles or
  * AVX-512 timed on the first steps of each kind of level, tiles.c). */
-static StateDict *simulate_simd(Node *ph, bool naive, unsigned threads,
-                                int frames, int simd)
+/* [frames] frames of [ph] in world [w] (freed), 0.25 s apart in lockstep:
+ * the state they leave. */
+static StateDict *run_frames(PhysicsWorld *w, Node *ph, int frames)
 {
-    unsetenv("FLITTER_SIMD");
-    PhysicsWorld *w = phys_new();
-    phys_set_pairs(w, naive);
-    phys_set_threads(w, threads);
-    if (simd >= 0) phys_set_simd(w, simd);
     StateDict *sd = state_new();
     for (int f = 0; f < frames; f++) {
         PhysicsFrame fr = {.time = 0.25 * f, .fps = 4, .realtime = false,
@@ -214,6 +210,17 @@ static StateDict *simulate_simd(Node *ph, bool naive, unsigned threads,
     }
     phys_free(w);
     return sd;
+}
+
+static StateDict *simulate_simd(Node *ph, bool naive, unsigned threads,
+                                int frames, int simd)
+{
+    unsetenv("FLITTER_SIMD");
+    PhysicsWorld *w = phys_new();
+    phys_set_pairs(w, naive);
+    phys_set_threads(w, threads);
+    if (simd >= 0) phys_set_simd(w, simd);
+    return run_frames(w, ph, frames);
 }
 
 /* The same with the world's own choice of vector instructions. */
@@ -834,14 +841,7 @@ static StateDict *simulate_sliced(Node *ph, unsigned threads, int simd, double s
     phys_set_threads(w, threads);
     if (simd >= 0) phys_set_simd(w, simd);
     phys_set_slice(w, slice);
-    StateDict *sd = state_new();
-    for (int f = 0; f < 3; f++) {
-        PhysicsFrame fr = {.time = 0.25 * f, .fps = 4, .realtime = false,
-                           .performance = 2};
-        phys_run_frame(w, &ph, 1, sd, &fr);
-    }
-    phys_free(w);
-    return sd;
+    return run_frames(w, ph, 3);
 }
 
 /* A level of more pairs than a slice runs as consecutive slices of its
