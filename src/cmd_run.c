@@ -16,7 +16,9 @@ static volatile int interrupted;
 /* The flag holds the signal's number: a run cut short exits 128 + it. */
 static void on_signal(int sig)
 {
-    interrupted = sig;
+    /* an atomic store: the physics engine's worker threads read the flag
+     * (lock-free, so safe in a signal handler) */
+    __atomic_store_n(&interrupted, sig, __ATOMIC_RELAXED);
 }
 
 /* SIGINT, SIGTERM and SIGHUP end a run the same way: the interrupt flag,

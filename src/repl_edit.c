@@ -38,7 +38,7 @@ _Static_assert(sizeof(sig_atomic_t) == sizeof(int), "sig_atomic_t is an int");
 static void on_interrupt(int sig)
 {
     (void)sig;
-    interrupted = 1;
+    __atomic_store_n(&interrupted, 1, __ATOMIC_RELAXED);   /* read by worker threads too */
 }
 
 /* Forget the names collected for completion. */

@@ -1076,7 +1076,9 @@ static void run_slices(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv,
 {
     const size_t rows = g->npart, n = lv->npool;
     const double most = s->slice_pairs;
-    if (phys_level_pairs(rows, n) <= most || phys_tiles_split_active(s)) {
+    /* a split first pass runs its tiles levels whole (they are small:
+     * tiles.c, split_cut); a rows level is the pass's thread's own work */
+    if (phys_level_pairs(rows, n) <= most || (route == phys_run_tiles && phys_tiles_split_active(s))) {
         route(s, g, lv);
         return;
     }
@@ -1097,6 +1099,8 @@ static void run_slices(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv,
 
 void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
 {
+    if (phys_interrupted(s))   /* a level of a step cut short is not begun */
+        return;
     switch (lv->route) {
     case PHYS_ROUTE_SKIP:
         return;

@@ -28,8 +28,13 @@ typedef struct PhysicsFrame {
      * system per frame (0: no limit); past it the system stops stepping and
      * its clock falls behind `time`, as when the reference cannot keep up
      * (PHYSICS.md "The Simulation Clock"). [interrupt] (NULL: none) is
-     * polled after every step: once *interrupt is non-zero the remaining
-     * steps of the frame are skipped, leaving a consistent state. */
+     * polled after every step and, inside a step, by the pair routes
+     * between targets, rows or slices of rows: once *interrupt is
+     * non-zero the remaining steps of the frame are skipped, and a step
+     * cut short is abandoned (the last whole step's positions,
+     * velocities and clock stay), leaving a consistent state. Read
+     * atomically from any thread: write it with an atomic store (as a
+     * signal handler may). */
     long max_steps;
     volatile int *interrupt;
     /* Set to true (when non-NULL) if a system skipped this frame because

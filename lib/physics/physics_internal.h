@@ -724,7 +724,9 @@ static inline double phys_level_pairs(size_t rows, size_t n)
 static inline bool phys_interrupted(PhysSystem *s)
 {
     const PhysicsFrame *fr = s->frame;
-    bool set = fr && fr->interrupt && *fr->interrupt;
+    /* read as an atomic: worker threads ask, while a signal handler on
+     * any thread may write it (the writers store it atomically too) */
+    bool set = fr && fr->interrupt && __atomic_load_n(fr->interrupt, __ATOMIC_RELAXED);
     if (!set && s->cut_after)   /* tests (phys_set_cut_after) */
         set = atomic_fetch_add_explicit(&s->polls, 1, memory_order_relaxed) + 1 >= s->cut_after;
     if (set)

@@ -256,6 +256,9 @@ barrier_distance(PhysSystem *s, const PhysApplier *b, size_t p,
  * pool. */
 static void pair_pass(PhysSystem *s, const PhysGroup *g)
 {
+    /* a step cut short (phys_interrupted) goes no further */
+    if (atomic_load_explicit(&s->cut, memory_order_relaxed))
+        return;
     phys_apply_distances(s, s->gidx + g->dist_off, g->dist_n);
     if (g->npart == 0)
         return;

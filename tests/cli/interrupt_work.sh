@@ -11,14 +11,14 @@
 #   4. glob() through a directory with three symbolic links to itself and
 #      a 19-level wildcard pattern (3^19 routes: it never ended) finishes
 #      at once without a signal, each directory searched once per level;
-#   5. one physics step whose pairs take seconds (8 to 10 s here): 2,000
-#      particles in 2,500 dimensions under !collision (the all-pairs
-#      gather) and under !electrostatic (the reference loop), and 300,000
-#      particles in two dimensions under !electrostatic (more pairs than
-#      the tiles take: the all-pairs gather). The step used to run to its
-#      end (a fuzz input with a million dimensions ran 25 s under the
-#      sanitizers); the pair routes now ask between targets and abandon
-#      the step.
+#   5. one physics step whose pairs take seconds (8 to 10 s here), on two
+#      threads: 2,000 particles in 2,500 dimensions under !collision (the
+#      all-pairs gather) and under !electrostatic (the reference loop),
+#      and 300,000 particles in two dimensions under !electrostatic (the
+#      tiles, in slices), and a rows level beside a split one. The step
+#      used to run to its end (a fuzz input with a million dimensions ran
+#      25 s under the sanitizers); the pair routes now ask between
+#      targets, rows and slices, and abandon the step.
 set -u
 flitter=$1
 dir=$(mktemp -d) || exit 2
@@ -72,9 +72,16 @@ grep -qx " !n n=3 m=$a;$a;$a k=1" "$dir/glob.out" || bad "glob: $(cat "$dir/glob
 for force in collision electrostatic; do
     printf '!physics dimensions=2500 state=:p\n    for i in ..2000\n        !particle id=i position=i radius=1M charge=1\n    !%s strength=1\n' \
         "$force" >"$dir/dims_$force.fl"
-    stop "dims_$force" run --frames 3 "$dir/dims_$force.fl"
+    stop "dims_$force" run --threads 2 --frames 3 "$dir/dims_$force.fl"
 done
 printf '!physics dimensions=2 state=:p\n    for i in ..300000\n        !particle id=i position=i;i*i charge=1\n    !electrostatic strength=1\n' \
     >"$dir/pairs.fl"
-stop pairs run --frames 3 "$dir/pairs.fl"
+stop pairs run --threads 2 --frames 3 "$dir/pairs.fl"
+# 40,000 particles under !electrostatic and !adhesion (the rows route:
+# the tiles take no adhesion) beside a nested group whose small level has
+# the first pass split between the two threads: the rows level is sliced
+# all the same (it ran on 10 s after SIGINT when a split kept it whole)
+printf '!physics dimensions=2 state=:p\n    for i in ..40000\n        !particle id=i position=i;i*i%%7 charge=1\n    !electrostatic strength=1\n    !adhesion strength=1\n    !group\n        for j in ..150\n            !particle id=(:g;j) position=j;-j charge=1\n        !electrostatic strength=1\n' \
+    >"$dir/rows.fl"
+stop rows run --threads 2 --frames 3 "$dir/rows.fl"
 exit $fail
