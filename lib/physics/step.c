@@ -849,7 +849,7 @@ double phys_run_steps(PhysSystem *s, double time, double last, double clock,
             if (fr->capped)
                 *fr->capped = true;
         }
-        if (more && fr && fr->interrupt && *fr->interrupt)
+        if (more && fr && fr->interrupt && __atomic_load_n(fr->interrupt, __ATOMIC_RELAXED))
             more = false;
         atomic_store_explicit(&s->cut, false, memory_order_relaxed);
         first_pass(s, random, !more);
