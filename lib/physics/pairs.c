@@ -1075,7 +1075,9 @@ static void run_slices(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv,
                        void (*route)(PhysSystem *, const PhysGroup *, const PhysLevel *))
 {
     const size_t rows = g->npart, n = lv->npool;
-    const double most = s->slice_pairs;
+    /* the rows route, on one thread and with any applier, takes about
+     * four times as long a pair */
+    const double most = route == phys_run_rows ? s->slice_pairs / 4 : s->slice_pairs;
     /* a split first pass runs its tiles levels whole (they are small:
      * tiles.c, split_cut); a rows level is the pass's thread's own work */
     if (phys_level_pairs(rows, n) <= most || (route == phys_run_tiles && phys_tiles_split_active(s))) {

@@ -127,9 +127,10 @@ void phys_ahead_counts(const PhysicsWorld *w, uint64_t out[3]);
  * a split level makes all of them before the pair pass ends. The bits are
  * the same. */
 void phys_set_ahead(PhysicsWorld *w, int limit);
-/* For tests: the tiles and rows routes run a level of more than [pairs]
- * pairs (<= 0: the default, 2^27) as consecutive slices of its rows,
- * asking for the interrupt between them. The bits are the same. */
+/* For tests: the tiles route runs a level of more than [pairs] pairs
+ * (<= 0: the default, 2^25), the rows route one of more than a quarter of
+ * that, as consecutive slices of its rows, asking for the interrupt
+ * between them. The bits are the same. */
 void phys_set_slice(PhysicsWorld *w, double pairs);
 /* For tests: in each frame after this call, the pair routes' polls of the
  * interrupt flag find it set from the [polls]-th on (<= 0: never), as if

@@ -711,10 +711,11 @@ static inline double phys_level_pairs(size_t rows, size_t n)
     return (double)rows * (double)(n - 1) - (double)rows * (double)(rows - 1) / 2;
 }
 
-/* The most pairs the tiles and rows routes take at once: about 0.1 s of
- * a step on two threads here; a larger level runs as slices of its rows
- * (pairs.c, run_slices). */
-#define PHYS_SLICE_PAIRS 0x1p27
+/* The most pairs the tiles route takes at once (the rows route a quarter
+ * of it): about 0.03 s of a step on two threads here (the rows route 0.1 s
+ * on its one), a second or so under the sanitizers; a larger level runs as
+ * slices of its rows (pairs.c, run_slices). */
+#define PHYS_SLICE_PAIRS 0x1p25
 
 /* Whether the frame's interrupt flag (physics.h) is set; the pair routes
  * ask between targets (the all-pairs and grid gathers), rows (the
