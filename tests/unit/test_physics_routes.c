@@ -194,10 +194,6 @@ static Node *random_scene(uint64_t seed, size_t big, bool no_random)
     return ph;
 }
 
-/* Run [frames] frames (times 0, 0.25, ...: 5 steps each after the first)
- * of [ph] in a fresh world, with vector instructions [simd] (a
- * PHYS_SIMD_* level; -1: the world's own choice, the 4 x 4 tiles or
- * AVX-512 timed on the first steps of each kind of level, tiles.c). */
 /* [frames] frames of [ph] in world [w] (freed), 0.25 s apart in lockstep:
  * the state they leave. */
 static StateDict *run_frames(PhysicsWorld *w, Node *ph, int frames)
@@ -212,6 +208,10 @@ static StateDict *run_frames(PhysicsWorld *w, Node *ph, int frames)
     return sd;
 }
 
+/* Run [frames] frames (times 0, 0.25, ...: 5 steps each after the first)
+ * of [ph] in a fresh world, with vector instructions [simd] (a
+ * PHYS_SIMD_* level; -1: the world's own choice, the 4 x 4 tiles or
+ * AVX-512 timed on the first steps of each kind of level, tiles.c). */
 static StateDict *simulate_simd(Node *ph, bool naive, unsigned threads,
                                 int frames, int simd)
 {
@@ -414,6 +414,18 @@ static void test_draw_chunks(void **st)
     }
 }
 
+/* Set state entry P;:[name] (P = 7, physics_node's prefix) to [x]. */
+static void set_sym_entry(StateDict *sd, const char *name, double x)
+{
+    Vec *parts[2] = {num(7), num(symbol_value(name, strlen(name)))};
+    Vec *key = vec_compose(parts, 2), *v = num(x);
+    state_set(sd, key, v);
+    vec_release(v);
+    vec_release(key);
+    vec_release(parts[0]);
+    vec_release(parts[1]);
+}
+
 /* A system of [n] discs in 2D on prefix [P], with !random for all of them
  * and a second !random in a group of a third of them, and an all-pairs
  * level of electrostatics that takes the split route (tiles.c) on two
@@ -464,13 +476,7 @@ static StateDict *ahead_frames(bool naive, unsigned threads, double resolution, 
         size_t n = f == 9 || f == 10 ? 2 : 1;
         if (f == 3) {
             /* the next frame's iteration is not this frame's + 1 */
-            Vec *parts[2] = {num(7), num(symbol_value("iteration", 9))};
-            Vec *key = vec_compose(parts, 2), *v = num(40);
-            state_set(sd, key, v);
-            vec_release(v);
-            vec_release(key);
-            vec_release(parts[0]);
-            vec_release(parts[1]);
+            set_sym_entry(sd, "iteration", 40);
         }
         if (f == 10 && !naive)
             phys_set_threads(w, threads == 2 ? 4 : 2);   /* while a job runs */
@@ -882,18 +888,6 @@ static void test_sliced_levels(void **st)
             node_release(ph);
         }
     }
-}
-
-/* Set state entry P;:[name] (P = 7, physics_node's prefix) to [x]. */
-static void set_sym_entry(StateDict *sd, const char *name, double x)
-{
-    Vec *parts[2] = {num(7), num(symbol_value(name, strlen(name)))};
-    Vec *key = vec_compose(parts, 2), *v = num(x);
-    state_set(sd, key, v);
-    vec_release(v);
-    vec_release(key);
-    vec_release(parts[0]);
-    vec_release(parts[1]);
 }
 
 /* A copy of [sd]'s entries. */
