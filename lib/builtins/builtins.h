@@ -59,6 +59,11 @@ struct Builtin {
 
 /* The builtin called [name] (UTF-8, [len] bytes), or NULL. */
 const Builtin *bi_lookup(const char *name, size_t len);
+/* The StreamKind of the stream [bi] returns when called with one
+ * argument, keyed by that argument's seed hash (vec_hash(value, true)):
+ * uniform, normal and beta (LANGUAGE.md §5.8); -1 for every other
+ * builtin. The simplifier makes a template pass's stream columns so. */
+int bi_stream_kind(const Builtin *bi);
 
 /* Record `Error calling INTERNAL: DETAIL` for [bi] in [ev] and return NULL
  * (so a builtin can `return bi_error(...)`). */

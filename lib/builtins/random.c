@@ -26,6 +26,15 @@ static Vec *bi_uniform(BI_PARAMS) { return stream(nargs, args, STREAM_UNIFORM); 
 static Vec *bi_normal(BI_PARAMS) { return stream(nargs, args, STREAM_NORMAL); }
 static Vec *bi_beta(BI_PARAMS) { return stream(nargs, args, STREAM_BETA); }
 
+int bi_stream_kind(const Builtin *bi)
+{
+    if (!bi) return -1;
+    if (bi->fn == bi_uniform) return STREAM_UNIFORM;
+    if (bi->fn == bi_normal) return STREAM_NORMAL;
+    if (bi->fn == bi_beta) return STREAM_BETA;
+    return -1;
+}
+
 /* The swap partner of position [i] in the forward Fisher–Yates shuffle of
  * [len] elements, [u] being source value i and [n] the remaining count:
  * (int)floor(u * n) + i. The reference reads out of bounds when that falls

@@ -646,17 +646,19 @@ uint64_t hash_update(uint64_t h, uint64_t y)
     return h;
 }
 
+uint64_t vec_hash_nums(const double *x, uint32_t n, bool floor_floats)
+{
+    uint64_t h = HASH_START;
+    for (uint32_t i = 0; i < n; i++) h = hash_update(h, dbits(floor_floats ? floor(x[i]) : x[i]));
+    return h;
+}
+
 uint64_t vec_hash(const Vec *v, bool floor_floats)
 {
     uint64_t h = HASH_START;
     if (!v) return h;
     if (v->kind == VEC_STREAM) return hash_update(hash_update(h, v->stream), v->key);
-    if (v->kind == VEC_NUM) {
-        const double *x = vec_cnums(v);
-        for (uint32_t i = 0; i < v->len; i++)
-            h = hash_update(h, dbits(floor_floats ? floor(x[i]) : x[i]));
-        return h;
-    }
+    if (v->kind == VEC_NUM) return vec_hash_nums(vec_cnums(v), v->len, floor_floats);
     const Elem *e = vec_celems(v);
     for (uint32_t i = 0; i < v->len; i++) {
         uint64_t y;
@@ -747,6 +749,22 @@ static uint32_t wrap(int64_t j, uint32_t n)
     return (uint32_t)m;
 }
 
+void stream_index_into(StreamKind kind, uint64_t key, const double *k, uint32_t ni, double *out)
+{
+    for (uint32_t i = 0; i < ni; i++) {
+        const uint64_t e = (uint64_t)index64(k[i]);
+        /* both values of a normal pair (e even, then e + 1, as [..2]
+         * asks) from one Box–Muller step: rng_normal_pair's are
+         * rng_normal's bits */
+        if (kind == STREAM_NORMAL && !(e & 1) && i + 1 < ni && (uint64_t)index64(k[i + 1]) == e + 1) {
+            rng_normal_pair(key, e, out + i);
+            i++;
+            continue;
+        }
+        out[i] = rng_value(kind, key, e);
+    }
+}
+
 Vec *vec_index(const Vec *src, const Vec *index, bool literal)
 {
     if (!vec_is_num(index) || !index->len) return NULL;
@@ -754,20 +772,7 @@ Vec *vec_index(const Vec *src, const Vec *index, bool literal)
     const double *k = vec_cnums(index);
     if (vec_is_stream(src)) {
         Vec *r = vec_new_num(ni);
-        double *out = vec_nums(r);
-        for (uint32_t i = 0; i < ni; i++) {
-            const uint64_t e = (uint64_t)index64(k[i]);
-            /* both values of a normal pair (e even, then e + 1, as [..2]
-             * asks) from one Box–Muller step: rng_normal_pair's are
-             * rng_normal's bits */
-            if (src->stream == STREAM_NORMAL && !(e & 1) && i + 1 < ni &&
-                (uint64_t)index64(k[i + 1]) == e + 1) {
-                rng_normal_pair(src->key, e, out + i);
-                i++;
-                continue;
-            }
-            out[i] = rng_value((StreamKind)src->stream, src->key, e);
-        }
+        stream_index_into((StreamKind)src->stream, src->key, k, ni, vec_nums(r));
         return r;
     }
     uint32_t n = vec_len(src);

@@ -291,6 +291,9 @@ static inline uint64_t num_bits(double x)
 }
 /* vec_hash(v, false) of the one-number vector of [x], without making it. */
 static inline uint64_t vec_hash_num1(double x) { return hash_update(HASH_START, num_bits(x)); }
+/* vec_hash(v, floor_floats) of the numeric vector of the [n] numbers
+ * [x], without making it (vec_hash's own loop for numeric vectors). */
+uint64_t vec_hash_nums(const double *x, uint32_t n, bool floor_floats);
 
 /* ------------------------------------------------------------------ */
 /* Ranges and indexing (§3.10, §3.11)                                  */
@@ -309,6 +312,10 @@ Vec *vec_index(const Vec *src, const Vec *index, bool literal);
  * for bit; false (nothing written) for other sources, whose result takes
  * vec_index itself. */
 bool vec_index_num1(const Vec *src, double k, bool literal, double *out);
+/* The [ni] numbers of stream [kind] with seed [key] at the indexes [k]
+ * into [out]: vec_index of that stream by the numeric vector of [k]
+ * (which computes its numbers so), without making either vector. */
+void stream_index_into(StreamKind kind, uint64_t key, const double *k, uint32_t ni, double *out);
 /* item(v, i) (§3.11): element i mod n as a one-element vector; null if empty;
  * streams give their value at index i. */
 Vec *vec_item(const Vec *v, int64_t i);

@@ -374,6 +374,51 @@ static AstNode *additional_rules(int op, AstNode *l, AstNode *r, Loc loc)
     return NULL;
 }
 
+/* The numbers of literal [n] in member [m], when they are numbers of a
+ * length every member shares: a numeric or flat column's, or its own
+ * numeric value's; false for other columns and values. */
+static bool nums_of(const AstNode *n, uint32_t m, const double **x, uint32_t *len)
+{
+    if (has_col(n)) {
+        const Column *c = n->aux;
+        if (c->num) {
+            *x = &c->num[m];
+            *len = 1;
+        } else if (c->flat) {
+            *x = c->flat + (size_t)m * c->w;
+            *len = c->w;
+        } else {
+            return false;
+        }
+        return true;
+    }
+    if (!vec_is_num(n->value) || !n->value->len) return false;
+    *x = vec_cnums(n->value);
+    *len = n->value->len;
+    return true;
+}
+
+/* In a template pass, the flat column of literals [l] OP [r] when one
+ * of them is a flat column and the other numbers (nums_of): vec_arith's
+ * numbers, broadcast as it broadcasts, each from num_arith, its
+ * operation on two numbers; NULL otherwise. */
+static Column *col_arith_flat(Simp *s, int op, const AstNode *l, const AstNode *r)
+{
+    const double *xa, *xb;
+    uint32_t na, nb;
+    bool flat = (has_col(l) && ((const Column *)l->aux)->flat) || (has_col(r) && ((const Column *)r->aux)->flat);
+    if (!flat || !nums_of(l, 0, &xa, &na) || !nums_of(r, 0, &xb, &nb)) return NULL;
+    uint32_t w = na > nb ? na : nb;
+    Column *c = col_new_flat(s->tg, w);
+    for (uint32_t m = 0; m < s->tg; m++) {
+        nums_of(l, m, &xa, &na);
+        nums_of(r, m, &xb, &nb);
+        double *d = c->flat + (size_t)m * w;
+        for (uint32_t i = 0; i < w; i++) d[i] = num_arith((ArithOp)op, xa[i % na], xb[i % nb]);
+    }
+    return c;
+}
+
 /* AST_BINOP with simplified operands [l] and [r] (consumed). */
 static AstNode *binop_rules(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
 {
@@ -388,6 +433,7 @@ static AstNode *binop_rules(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
                 c = col_new_num(s->tg);
                 for (uint32_t m = 0; m < s->tg; m++)
                     c->num[m] = num_arith((ArithOp)op, cl ? cl->num[m] : xl, cr ? cr->num[m] : xr);
+            } else if ((c = col_arith_flat(s, op, l, r))) {
             } else {
                 c = col_new(s->tg);
                 for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_arith((ArithOp)op, tval(l, m), tval(r, m));
@@ -561,10 +607,19 @@ static AstNode *simp_generic(Simp *s, const AstNode *n)
         Column *c = NULL;
         const Column *ci = has_col(e->b) ? e->b->aux : NULL;
         double x;
+        const Column *ca = has_col(e->a) ? e->a->aux : NULL;
         if (cols && !has_col(e->a) && ci && ci->num && vec_index_num1(e->a->value, ci->num[0], false, &x)) {
             /* a stream or numbers indexed by one number per member */
             c = col_new_num(s->tg);
             for (uint32_t m = 0; m < s->tg; m++) vec_index_num1(e->a->value, ci->num[m], false, &c->num[m]);
+        } else if (cols && ca && ca->key && !ci && vec_is_num(e->b->value) && e->b->value->len) {
+            /* a stream a member (`normal(:v;i)[..2]`) indexed by the same
+             * numbers: vec_index's numbers of each */
+            uint32_t ni = e->b->value->len;
+            c = ni == 1 ? col_new_num(s->tg) : col_new_flat(s->tg, ni);
+            double *out = ni == 1 ? c->num : c->flat;
+            for (uint32_t m = 0; m < s->tg; m++)
+                stream_index_into((StreamKind)ca->stream, ca->key[m], vec_cnums(e->b->value), ni, out + (size_t)m * ni);
         } else if (cols) {
             c = col_new(s->tg);
             for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_index(tval(e->a, m), tval(e->b, m), false);
@@ -580,6 +635,55 @@ static AstNode *simp_generic(Simp *s, const AstNode *n)
 /* ====================================================================
  * Node expressions
  * ==================================================================== */
+
+/* Member [m]'s value of literal [n], a new reference: made from its
+ * column's numbers or key when nothing has asked for it yet (the same
+ * vector col_get would make, without keeping it in the column). */
+static Vec *member_value(const AstNode *n, uint32_t m)
+{
+    if (!has_col(n)) return vec_retain(n->value);
+    Column *c = n->aux;
+    if (c->v && c->v[m]) return vec_retain(c->v[m]);
+    if (c->num) return vec_num1(c->num[m]);
+    if (c->flat) return vec_from_nums(c->flat + (size_t)m * c->w, c->w);
+    if (c->key) return vec_stream((StreamKind)c->stream, c->key[m]);
+    return vec_retain(c->v[m]);
+}
+
+/* In a template pass, the column of attributes [e] (AST_ATTRIBUTES of
+ * literal bindings) set on a literal bare node (`!particle`, no tags,
+ * attributes or children) with no column: each member's node built as
+ * eval_attributes builds it from such a node (a new node with room for
+ * the attributes, each set in turn), from the members' values without
+ * a call of the evaluator; NULL for other attribute folds. */
+static Column *col_node_attrs(Simp *s, const AstNode *e)
+{
+    const Vec *v = e->a->value;
+    if (!s->tg || has_col(e->a) || !v || v->kind != VEC_OBJ || v->len != 1 ||
+        vec_celems(v)[0].kind != EL_NODE)
+        return NULL;
+    const Node *o = vec_celems(v)[0].node;
+    if (o->ntags || o->nattrs || o->nchildren) return NULL;
+    bool cols = false;
+    for (uint32_t k = 0; k < e->nkids; k++) cols = cols || has_col(e->kids[k]->a);
+    if (!cols) return NULL;
+    Column *c = col_new(s->tg);
+    for (uint32_t m = 0; m < s->tg && !s->ev.interrupted; m++) {
+        if (s->ev.interrupt && *s->ev.interrupt) s->ev.interrupted = true;   /* SIGINT: the load gives up */
+        Node *nn = node_new_sized(o->kind, e->nkids);
+        for (uint32_t k = 0; k < e->nkids; k++) node_set_attr(nn, e->kids[k]->names[0], member_value(e->kids[k]->a, m));
+        c->v[m] = vec_node_take(nn);
+    }
+    return c;
+}
+
+/* fold_lit of attributes [e] (AST_ATTRIBUTES, every operand literal). */
+static AstNode *fold_attrs(Simp *s, AstNode *e, Loc loc)
+{
+    Column *c = col_node_attrs(s, e);
+    if (!c) c = tcol_eval(s, e, fold_fn);
+    return tlit(s, fold(s, e), c, loc);
+}
 
 /* AST_ATTRIBUTES: nested attribute groups are flattened; literal values are
  * set on a literal node from the innermost binding outwards. */
@@ -615,7 +719,7 @@ static AstNode *simp_attributes(Simp *s, const AstNode *n)
         AstNode *e = ast_new(AST_ATTRIBUTES, n->loc);
         e->a = base;
         while (k && is_lit(rev[k - 1]->a)) ast_push(e, rev[--k]);
-        base = fold_lit(s, e, n->loc);
+        base = fold_attrs(s, e, n->loc);
         ast_free(e);
     }
     out->a = base;
@@ -731,27 +835,26 @@ static uint32_t sequence_pack(Simp *s, AstNode ***itemsp, uint32_t n, uint32_t *
                 for (uint32_t k = i; k < j; k++) parts[k - i] = items[k]->value;
                 Vec *v = vec_compose(parts, j - i);
                 Column *c = NULL;
-                if (cols) {
-                    c = col_new(s->tg);
-                    /* a run of numbers is [total] numbers in every member
-                     * (one per numeric column): vec_compose's vector of
-                     * them, made from the numbers */
+                if (cols && nums && mem_fits(sizeof(Vec) + total * sizeof(double))) {   /* as vec_compose asks */
+                    /* a run of numbers is [total] >= 2 numbers in every
+                     * member (one per numeric column): vec_compose's
+                     * vector of them, kept as the numbers (a flat column) */
+                    c = col_new_flat(s->tg, (uint32_t)total);
+                    double *d = c->flat;
                     for (uint32_t m = 0; m < s->tg; m++) {
-                        if (nums && mem_fits(sizeof(Vec) + total * sizeof(double))) {   /* as vec_compose asks */
-                            Vec *r = vec_new_num((uint32_t)total);
-                            double *d = vec_nums(r);
-                            for (uint32_t k = i; k < j; k++) {
-                                const AstNode *it = items[k];
-                                if (has_col(it)) {
-                                    *d++ = ((const Column *)it->aux)->num[m];
-                                } else {
-                                    memcpy(d, vec_cnums(it->value), it->value->len * sizeof *d);
-                                    d += it->value->len;
-                                }
+                        for (uint32_t k = i; k < j; k++) {
+                            const AstNode *it = items[k];
+                            if (has_col(it)) {
+                                *d++ = ((const Column *)it->aux)->num[m];
+                            } else {
+                                memcpy(d, vec_cnums(it->value), it->value->len * sizeof *d);
+                                d += it->value->len;
                             }
-                            c->v[m] = r;
-                            continue;
                         }
+                    }
+                } else if (cols) {
+                    c = col_new(s->tg);
+                    for (uint32_t m = 0; m < s->tg; m++) {
                         for (uint32_t k = i; k < j; k++) parts[k - i] = tval(items[k], m);
                         c->v[m] = vec_compose(parts, j - i);
                     }

@@ -20,9 +20,17 @@ typedef struct Column {
                               number's vector once col_get has made it;
                               NULL: a column of v[] */
     Vec **v;               /* one reference each (NULL: null); read them
-                              with col_get, which makes a numeric
-                              column's on demand (its v itself NULL until
-                              then) */
+                              with col_get, which makes a numeric, flat or
+                              stream column's on demand (its v itself NULL
+                              until then); col_all makes them all */
+    double *flat;          /* a flat column (col_new_flat): every member
+                              is a vector of w >= 2 numbers,
+                              flat[m*w .. m*w+w) */
+    uint32_t w;            /* flat: numbers a member */
+    uint8_t stream;        /* keys: the members' StreamKind */
+    uint64_t *key;         /* a stream column (col_new_keys): every member
+                              is the stream of kind [stream] and seed key
+                              key[m], as vec_stream makes it */
 } Column;
 
 /* What a name stands for while simplifying (tree.pyx Context.names). */
@@ -142,9 +150,25 @@ Column *col_new(uint32_t n);
  * compute them with the operations the vector route performs on
  * one-element vectors, so every member's value has the same bits. */
 Column *col_new_num(uint32_t n);
-/* Member [m]'s value (borrowed; NULL: null), made now for a numeric
- * column's member whose vector was not asked for before. */
+/* A new flat column of [n] members of [w] >= 2 numbers each (flat[],
+ * to be filled by the caller), one reference. Like numeric columns, flat
+ * ones spare a template pass a vector a member until something asks for
+ * it: composing numbers (`(:v;i)`, a position `x;y`), indexing a stream
+ * column by a literal (`[..2]`) and arithmetic on them make flat columns
+ * with the operations the vector route performs, number for number. */
+Column *col_new_flat(uint32_t n, uint32_t w);
+/* A new stream column of [n] members of stream kind [kind] (key[], to be
+ * filled by the caller), one reference: `normal(:v;i)` in a pass. */
+Column *col_new_keys(uint32_t n, uint8_t kind);
+/* True when [c] keeps its members' vectors in c->v only (col_new), not
+ * as numbers, flat numbers or keys made into vectors on demand. */
+static inline bool col_plain(const Column *c) { return !c->num && !c->flat && !c->key; }
+/* Member [m]'s value (borrowed; NULL: null), made now for a numeric,
+ * flat or stream column's member whose vector was not asked for before. */
 Vec *col_get(Column *c, uint32_t m);
+/* Every member's value, made now where col_get has not made it (the
+ * array is the column's: borrowed, as its vectors are). */
+Vec **col_all(Column *c);
 Column *col_retain(Column *c);
 void col_release(Column *c);
 /* Attach [c] (consumed; NULL: none) to literal [n]. */

@@ -346,6 +346,11 @@ AstNode *simp_name(Simp *s, const AstNode *n)
                 /* numbers: nothing shared to copy */
                 c = col_new_num(s->tg);
                 memcpy(c->num, nb->col->num, (size_t)s->tg * sizeof *c->num);
+            } else if (s->tg && nb->col && nb->col->flat) {
+                c = col_new_flat(s->tg, nb->col->w);   /* fresh numbers, as vec_fresh makes */
+                memcpy(c->flat, nb->col->flat, (size_t)s->tg * nb->col->w * sizeof *c->flat);
+            } else if (s->tg && nb->col && nb->col->key) {
+                c = col_retain(nb->col);   /* streams: vec_fresh shares them */
             } else if (s->tg && nb->col) {
                 c = col_new(s->tg);
                 for (uint32_t m = 0; m < s->tg; m++) c->v[m] = nb->col->v[m] ? vec_fresh(nb->col->v[m]) : NULL;
@@ -779,9 +784,30 @@ static Vec *call_value(Simp *s, AstNode *call)
     return v;
 }
 
+/* In a template pass, the stream column of `uniform(x)`, `normal(x)` or
+ * `beta(x)` called at load time with one argument [x] whose members are
+ * numbers (a numeric or flat column): each member's stream keyed by the
+ * seed hash of its numbers, as the builtin keys it (random.c), without a
+ * call or a vector a member; NULL for any other call. */
+static Column *stream_col(Simp *s, const AstNode *call)
+{
+    if (!s->tg || call->nkids != 1 || call->count != 1 || has_col(call->a) || !has_col(call->kids[0]))
+        return NULL;
+    const Vec *fn = call->a->value;
+    if (!vec_is_obj(fn) || fn->len != 1 || vec_celems(fn)[0].kind != EL_FUNC) return NULL;
+    int kind = bi_stream_kind(vec_celems(fn)[0].func->bi);
+    const Column *a = call->kids[0]->aux;
+    if (kind < 0 || (!a->num && !a->flat)) return NULL;
+    Column *c = col_new_keys(s->tg, (uint8_t)kind);
+    for (uint32_t m = 0; m < s->tg; m++)
+        c->key[m] = a->num ? vec_hash_nums(&a->num[m], 1, true) : vec_hash_nums(a->flat + (size_t)m * a->w, a->w, true);
+    return c;
+}
+
 static AstNode *call_now(Simp *s, AstNode *call)
 {
-    Column *c = tcol_eval(s, call, call_value);
+    Column *c = stream_col(s, call);
+    if (!c) c = tcol_eval(s, call, call_value);
     return tlit(s, call_value(s, call), c, call->loc);
 }
 

@@ -103,13 +103,37 @@ Column *col_new_num(uint32_t n)
     return c;
 }
 
+Column *col_new_flat(uint32_t n, uint32_t w)
+{
+    /* as col_new_num: the numbers follow the column, left to the caller */
+    Column *c = mem_realloc(NULL, sizeof *c + (size_t)n * w * sizeof *c->flat);
+    *c = (Column){.refs = 1, .n = n, .flat = (double *)(void *)(c + 1), .w = w};
+    return c;
+}
+
+Column *col_new_keys(uint32_t n, uint8_t kind)
+{
+    Column *c = mem_realloc(NULL, sizeof *c + (size_t)n * sizeof *c->key);
+    *c = (Column){.refs = 1, .n = n, .key = (uint64_t *)(void *)(c + 1), .stream = kind};
+    return c;
+}
+
 Vec *col_get(Column *c, uint32_t m)
 {
-    if (c->num) {
-        if (!c->v) c->v = mem_calloc(c->n, sizeof *c->v);
-        if (!c->v[m]) c->v[m] = vec_num1(c->num[m]);
+    if (col_plain(c)) return c->v[m];
+    if (!c->v) c->v = mem_calloc(c->n, sizeof *c->v);
+    if (!c->v[m]) {
+        if (c->num) c->v[m] = vec_num1(c->num[m]);
+        else if (c->flat) c->v[m] = vec_from_nums(c->flat + (size_t)m * c->w, c->w);
+        else c->v[m] = vec_stream((StreamKind)c->stream, c->key[m]);
     }
     return c->v[m];
+}
+
+Vec **col_all(Column *c)
+{
+    for (uint32_t m = 0; m < c->n && !col_plain(c); m++) col_get(c, m);
+    return c->v;
 }
 
 Column *col_retain(Column *c)
@@ -122,7 +146,7 @@ void col_release(Column *c)
 {
     if (!c || --c->refs) return;
     for (uint32_t m = 0; c->v && m < c->n; m++) vec_release(c->v[m]);
-    if (c->num) free(c->v);
+    if (!col_plain(c)) free(c->v);
     free(c);
 }
 
@@ -165,19 +189,38 @@ static int64_t num_outcome(double y, int kind, double x)
     }
 }
 
-/* Member [m]'s outcome of test [kind] on column [c]. */
-static int64_t col_outcome(const Column *c, uint32_t m, int kind, double x)
+/* outcome() of the numeric vector of the [w] >= 2 numbers [y]. */
+static int64_t flat_outcome(const double *y, uint32_t w, int kind)
 {
-    return c->num ? num_outcome(c->num[m], kind, x) : outcome(c->v[m], kind, x);
+    switch (kind) {
+    case TD_NUMERIC: return 1;
+    case TD_TRUTHY:   /* vec_truthy */
+        for (uint32_t j = 0; j < w; j++)
+            if (y[j] != 0.0 || isnan(y[j])) return 1;
+        return 0;
+    case TD_LEN: return w;
+    default: return 0;   /* TD_EQUALS and TD_SCALAR (not one number), TD_OBJ, TD_NULL */
+    }
+}
+
+/* Member [m]'s outcome of test [kind] on column [c]. */
+static int64_t col_outcome(Column *c, uint32_t m, int kind, double x)
+{
+    if (c->num) return num_outcome(c->num[m], kind, x);
+    if (c->flat) return flat_outcome(c->flat + (size_t)m * c->w, c->w, kind);
+    return outcome(col_get(c, m), kind, x);
 }
 
 int64_t tdecide(Simp *s, const AstNode *n, int kind, double x)
 {
     int64_t r = outcome(n->value, kind, x);
     if (!s->tg || s->tkey || !has_col(n)) return r;
-    const Column *c = n->aux;
-    /* a numeric column's members agree on every test but these two */
+    Column *c = n->aux;
+    /* a numeric column's members agree on every test but these two, a
+     * flat column's on every test but truthiness, and a stream column's
+     * (one kind of stream) on every test */
     if (c->num && kind != TD_EQUALS && kind != TD_TRUTHY) return r;
+    if ((c->flat && kind != TD_TRUTHY) || c->key) return r;
     if (c->num) {   /* the two on plain numbers, in one pass (num_outcome's) */
         const double *y = c->num;
         uint32_t m = 0;
@@ -432,6 +475,7 @@ static void colset_add(ColSet *cs, Column *c)
             dedup = dedup && c->num[m] == c->num[m];
         }
     } else {
+        col_all(c);
         for (uint32_t m = 0; m < c->n; m++) {
             h = (h ^ vec_hash(c->v[m], false)) * 1099511628211u;
             dedup = dedup && nan_free(c->v[m]);
@@ -485,11 +529,37 @@ static const SplitCol *split_find(const ColSet *cs, const Column *c)
     return NULL;
 }
 
+/* split_col of flat column [c]: its positions' numbers are at hand. */
+static bool split_flat(ColSet *cs, Column *c)
+{
+    uint32_t len = c->w;
+    if (len > SPLIT_MAX) return false;
+    if (cs->nsp == cs->capsp) {
+        cs->capsp = cs->capsp ? 2 * cs->capsp : 4;
+        cs->sp = mem_realloc(cs->sp, cs->capsp * sizeof *cs->sp);
+    }
+    SplitCol *sc = &cs->sp[cs->nsp++];
+    *sc = (SplitCol){.col = col_retain(c), .len = len};
+    for (uint32_t p = 0; p < len; p++) {
+        uint64_t b0 = num_bits(c->flat[p]);
+        bool same = true;
+        for (uint32_t m = 1; m < c->n && same; m++) same = num_bits(c->flat[(size_t)m * len + p]) == b0;
+        if (same) continue;
+        Column *pc = col_new_num(c->n);
+        for (uint32_t m = 0; m < c->n; m++) pc->num[m] = c->flat[(size_t)m * len + p];
+        sc->pos[p] = pc;
+        colset_add(cs, pc);
+    }
+    return true;
+}
+
 /* Take column [c] apart by position into [cs] (see SplitCol); false when
  * its members are not numeric vectors of one length from 2 to SPLIT_MAX. */
 static bool split_col(ColSet *cs, Column *c)
 {
     if (split_find(cs, c)) return true;
+    if (c->flat) return split_flat(cs, c);
+    col_all(c);
     const Vec *v0 = c->v[0];
     if (!v0 || v0->kind != VEC_NUM || v0->len < 2 || v0->len > SPLIT_MAX) return false;
     uint32_t len = v0->len;
@@ -546,6 +616,8 @@ static bool collect_cols(const AstNode *t, bool in_fn, ColSet *cs)
     if (has_col(t)) {
         Column *c = t->aux;
         if (in_fn) return false;
+        if (c->flat) return split_col(cs, c);
+        if (!c->num) col_all(c);
         for (uint32_t m = 0; m < c->n && !c->num; m++)
             if (vec_len(c->v[m]) != 1) return split_col(cs, c);
         if (!colset_find(cs, c)) colset_add(cs, c);
@@ -589,7 +661,7 @@ static AstNode *name_leaf(const AstNode *lit, const void *ctx)
         if (sc->pos[p])
             ast_push(seq, ast_name(colset_hidden(cs, colset_find(cs, sc->pos[p])->name), lit->loc));
         else
-            ast_push(seq, mk_lit(vec_num1(vec_cnums(sc->col->v[0])[p]), lit->loc));
+            ast_push(seq, mk_lit(vec_num1(vec_cnums(col_get(sc->col, 0))[p]), lit->loc));
     }
     return seq;
 }
