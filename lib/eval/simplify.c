@@ -647,6 +647,7 @@ static Vec *member_value(const AstNode *n, uint32_t m)
     if (c->num) return vec_num1(c->num[m]);
     if (c->flat) return vec_from_nums(c->flat + (size_t)m * c->w, c->w);
     if (c->key) return vec_stream((StreamKind)c->stream, c->key[m]);
+    if (c->node) return c->node[m] ? vec_node_take(node_retain(c->node[m])) : NULL;
     return vec_retain(c->v[m]);
 }
 
@@ -664,15 +665,22 @@ static Column *col_node_attrs(Simp *s, const AstNode *e)
         return NULL;
     const Node *o = vec_celems(v)[0].node;
     if (o->ntags || o->nattrs || o->nchildren) return NULL;
-    bool cols = false;
-    for (uint32_t k = 0; k < e->nkids; k++) cols = cols || has_col(e->kids[k]->a);
+    bool cols = false, distinct = true;
+    for (uint32_t k = 0; k < e->nkids; k++) {
+        cols = cols || has_col(e->kids[k]->a);
+        for (uint32_t j = 0; j < k; j++) distinct = distinct && !str_eq(e->kids[j]->names[0], e->kids[k]->names[0]);
+    }
     if (!cols) return NULL;
-    Column *c = col_new(s->tg);
+    Column *c = col_new_nodes(s->tg);
     for (uint32_t m = 0; m < s->tg && !s->ev.interrupted; m++) {
         if (s->ev.interrupt && *s->ev.interrupt) s->ev.interrupted = true;   /* SIGINT: the load gives up */
         Node *nn = node_new_sized(o->kind, e->nkids);
-        for (uint32_t k = 0; k < e->nkids; k++) node_set_attr(nn, e->kids[k]->names[0], member_value(e->kids[k]->a, m));
-        c->v[m] = vec_node_take(nn);
+        for (uint32_t k = 0; k < e->nkids; k++) {
+            /* names bound once each: node_set_attr's search would find none */
+            if (distinct) node_add_new_attr(nn, e->kids[k]->names[0], member_value(e->kids[k]->a, m));
+            else node_set_attr(nn, e->kids[k]->names[0], member_value(e->kids[k]->a, m));
+        }
+        c->node[m] = nn;
     }
     return c;
 }

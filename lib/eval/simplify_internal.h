@@ -31,6 +31,9 @@ typedef struct Column {
     uint64_t *key;         /* a stream column (col_new_keys): every member
                               is the stream of kind [stream] and seed key
                               key[m], as vec_stream makes it */
+    Node **node;           /* a node column (col_new_nodes): every member
+                              is the vector of the one node node[m] (one
+                              reference each) */
 } Column;
 
 /* What a name stands for while simplifying (tree.pyx Context.names). */
@@ -160,9 +163,13 @@ Column *col_new_flat(uint32_t n, uint32_t w);
 /* A new stream column of [n] members of stream kind [kind] (key[], to be
  * filled by the caller), one reference: `normal(:v;i)` in a pass. */
 Column *col_new_keys(uint32_t n, uint8_t kind);
+/* A new node column of [n] members (node[], to be filled by the caller
+ * with a reference each), one reference: `!particle id=i ...` in a pass,
+ * whose nodes go into the loop's literal without a vector each. */
+Column *col_new_nodes(uint32_t n);
 /* True when [c] keeps its members' vectors in c->v only (col_new), not
- * as numbers, flat numbers or keys made into vectors on demand. */
-static inline bool col_plain(const Column *c) { return !c->num && !c->flat && !c->key; }
+ * as numbers, flat numbers, keys or nodes made into vectors on demand. */
+static inline bool col_plain(const Column *c) { return !c->num && !c->flat && !c->key && !c->node; }
 /* Member [m]'s value (borrowed; NULL: null), made now for a numeric,
  * flat or stream column's member whose vector was not asked for before. */
 Vec *col_get(Column *c, uint32_t m);

@@ -349,8 +349,8 @@ AstNode *simp_name(Simp *s, const AstNode *n)
             } else if (s->tg && nb->col && nb->col->flat) {
                 c = col_new_flat(s->tg, nb->col->w);   /* fresh numbers, as vec_fresh makes */
                 memcpy(c->flat, nb->col->flat, (size_t)s->tg * nb->col->w * sizeof *c->flat);
-            } else if (s->tg && nb->col && nb->col->key) {
-                c = col_retain(nb->col);   /* streams: vec_fresh shares them */
+            } else if (s->tg && nb->col && (nb->col->key || nb->col->node)) {
+                c = col_retain(nb->col);   /* streams and nodes: vec_fresh shares them */
             } else if (s->tg && nb->col) {
                 c = col_new(s->tg);
                 for (uint32_t m = 0; m < s->tg; m++) c->v[m] = nb->col->v[m] ? vec_fresh(nb->col->v[m]) : NULL;

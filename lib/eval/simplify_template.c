@@ -68,6 +68,7 @@
 #include <string.h>
 
 #include "mem.h"
+#include "node.h"
 
 /* {===== columns */
 
@@ -118,6 +119,14 @@ Column *col_new_keys(uint32_t n, uint8_t kind)
     return c;
 }
 
+Column *col_new_nodes(uint32_t n)
+{
+    Column *c = mem_realloc(NULL, sizeof *c + (size_t)n * sizeof *c->node);
+    *c = (Column){.refs = 1, .n = n, .node = (Node **)(void *)(c + 1)};
+    memset(c->node, 0, (size_t)n * sizeof *c->node);   /* a member left NULL is null */
+    return c;
+}
+
 Vec *col_get(Column *c, uint32_t m)
 {
     if (col_plain(c)) return c->v[m];
@@ -125,7 +134,8 @@ Vec *col_get(Column *c, uint32_t m)
     if (!c->v[m]) {
         if (c->num) c->v[m] = vec_num1(c->num[m]);
         else if (c->flat) c->v[m] = vec_from_nums(c->flat + (size_t)m * c->w, c->w);
-        else c->v[m] = vec_stream((StreamKind)c->stream, c->key[m]);
+        else if (c->key) c->v[m] = vec_stream((StreamKind)c->stream, c->key[m]);
+        else if (c->node[m]) c->v[m] = vec_node_take(node_retain(c->node[m]));
     }
     return c->v[m];
 }
@@ -146,6 +156,7 @@ void col_release(Column *c)
 {
     if (!c || --c->refs) return;
     for (uint32_t m = 0; c->v && m < c->n; m++) vec_release(c->v[m]);
+    for (uint32_t m = 0; c->node && m < c->n; m++) node_release(c->node[m]);
     if (!col_plain(c)) free(c->v);
     free(c);
 }
@@ -218,9 +229,9 @@ int64_t tdecide(Simp *s, const AstNode *n, int kind, double x)
     Column *c = n->aux;
     /* a numeric column's members agree on every test but these two, a
      * flat column's on every test but truthiness, and a stream column's
-     * (one kind of stream) on every test */
+     * (one kind of stream) and a node column's (one node) on every test */
     if (c->num && kind != TD_EQUALS && kind != TD_TRUTHY) return r;
-    if ((c->flat && kind != TD_TRUTHY) || c->key) return r;
+    if ((c->flat && kind != TD_TRUTHY) || c->key || c->node) return r;
     if (c->num) {   /* the two on plain numbers, in one pass (num_outcome's) */
         const double *y = c->num;
         uint32_t m = 0;
@@ -810,6 +821,9 @@ static Column *loop_col(const Vec *values, uint32_t k, uint32_t j, const uint32_
  * becomes the literal node tinst() makes. */
 typedef struct LitMembers {
     Vec **v;            /* a member's value (one reference; NULL: null) */
+    Node **node;        /* or, when v[it] is NULL, the one node of its
+                           value (one reference) from a node column; NULL
+                           until one is kept so */
     Loc *loc;           /* its literal's place and flags (mk_lit) */
     uint8_t *op;
     uint8_t *set;       /* 1: kept here, its item not made yet */
@@ -839,9 +853,31 @@ static void lit_keep(LitMembers *lm, uint32_t count, uint32_t it, Vec *v_take, c
     lm->set[it] = 1;
 }
 
+/* lit_keep of member [it]'s value, the vector of the one node [n_take]. */
+static void lit_keep_node(LitMembers *lm, uint32_t count, uint32_t it, Node *n_take, const AstNode *lit)
+{
+    lit_keep(lm, count, it, NULL, lit);
+    if (!lm->node) lm->node = mem_calloc(count, sizeof *lm->node);
+    lm->node[it] = n_take;
+}
+
+/* Member [it]'s kept value (one reference, taken from [lm]). */
+static Vec *lit_take(LitMembers *lm, uint32_t it)
+{
+    Vec *v = lm->v[it];
+    lm->v[it] = NULL;
+    if (!v && lm->node && lm->node[it]) {
+        v = vec_node_take(lm->node[it]);
+        lm->node[it] = NULL;
+    }
+    return v;
+}
+
 static void lit_free(LitMembers *lm, uint32_t count)
 {
     for (uint32_t it = 0; lm->v && it < count; it++) vec_release(lm->v[it]);
+    for (uint32_t it = 0; lm->node && it < count; it++) node_release(lm->node[it]);
+    free(lm->node);
     free(lm->v);
     free(lm->loc);
     free(lm->op);
@@ -857,16 +893,33 @@ static void lit_items(LitMembers *lm, uint32_t count, AstNode **items, uint32_t 
 {
     if (!lm->v) return;
     uint64_t total = 0;
-    for (uint32_t it = 0; it < count && lm->all; it++) total += vec_len(lm->v[it]);
-    if (lm->all && total <= SIMP_MAX_RANGE) {
+    uint32_t nodes = 0;
+    for (uint32_t it = 0; it < count && lm->all; it++) {
+        bool node = !lm->v[it] && lm->node && lm->node[it];
+        total += node ? 1 : vec_len(lm->v[it]);
+        nodes += node;
+    }
+    if (lm->all && total <= SIMP_MAX_RANGE && nodes == count && count > 1 && mem_fits(sizeof(Vec) + total * sizeof(Elem))) {
+        /* every member one node: vec_compose's vector of them (as it
+         * checks the budget), the nodes moved in */
+        Vec *r = vec_new_obj(count);
+        for (uint32_t it = 0; it < count; it++) {
+            vec_elems(r)[it].kind = EL_NODE;
+            vec_elems(r)[it].node = lm->node[it];
+            lm->node[it] = NULL;
+        }
+        items[0] = mk_lit(r, lm->loc[0]);
+        *nout = 1;
+    } else if (lm->all && total <= SIMP_MAX_RANGE) {
+        for (uint32_t it = 0; it < count && nodes; it++)
+            if (!lm->v[it]) lm->v[it] = lit_take(lm, it);
         items[0] = mk_lit(vec_compose(lm->v, count), lm->loc[0]);
         *nout = 1;
     } else {
         for (uint32_t it = 0; it < count; it++) {
             if (!lm->set[it]) continue;
-            items[it] = ast_literal(lm->v[it], lm->loc[it]);   /* takes the value */
+            items[it] = ast_literal(lit_take(lm, it), lm->loc[it]);   /* takes the value */
             items[it]->op = lm->op[it];
-            lm->v[it] = NULL;
         }
     }
     lit_free(lm, count);
@@ -970,9 +1023,14 @@ bool simp_unroll_templates(Simp *s, const AstNode *n, const Vec *values, uint32_
             continue;
         }
         if (lm.all && lit_plain(t)) {
+            Column *tc = has_col(t) ? t->aux : NULL;
             for (uint32_t m = 0; m < g.n && !s->ev.interrupted; m++) {
                 if (s->ev.interrupt && *s->ev.interrupt) s->ev.interrupted = true;   /* SIGINT: the load gives up */
-                Vec *v = has_col(t) ? col_get(t->aux, m) : t->value;
+                if (tc && tc->node && !(tc->v && tc->v[m]) && tc->node[m]) {
+                    lit_keep_node(&lm, count, order[g.start + m], node_retain(tc->node[m]), t);
+                    continue;
+                }
+                Vec *v = tc ? col_get(tc, m) : t->value;
                 lit_keep(&lm, count, order[g.start + m], vec_retain(v), t);
             }
             ast_free(t);
