@@ -131,7 +131,12 @@ Vec *vec_from_nums(const double *x, uint32_t n)
     /* the budget (mem.h): null, with the refusal marked for the caller */
     if (!mem_fits(sizeof(Vec) + (size_t)n * sizeof(double))) return NULL;
     Vec *v = vec_new_num(n);
-    memcpy(vec_nums(v), x, n * sizeof(double));
+    double *d = vec_nums(v);
+    if (n <= 4) {   /* a position or a colour: no call */
+        for (uint32_t i = 0; i < n; i++) d[i] = x[i];
+    } else {
+        memcpy(d, x, n * sizeof(double));
+    }
     return v;
 }
 
@@ -763,6 +768,15 @@ void stream_index_into(StreamKind kind, uint64_t key, const double *k, uint32_t 
         }
         out[i] = rng_value(kind, key, e);
     }
+}
+
+void stream_index_each(StreamKind kind, uint64_t key, const double *k, uint32_t n, double *out)
+{
+    if (kind == STREAM_UNIFORM) {   /* rng_value's, without its switch a number */
+        for (uint32_t i = 0; i < n; i++) out[i] = rng_uniform(key, (uint64_t)index64(k[i]));
+        return;
+    }
+    for (uint32_t i = 0; i < n; i++) out[i] = rng_value(kind, key, (uint64_t)index64(k[i]));
 }
 
 Vec *vec_index(const Vec *src, const Vec *index, bool literal)

@@ -316,6 +316,9 @@ bool vec_index_num1(const Vec *src, double k, bool literal, double *out);
  * into [out]: vec_index of that stream by the numeric vector of [k]
  * (which computes its numbers so), without making either vector. */
 void stream_index_into(StreamKind kind, uint64_t key, const double *k, uint32_t ni, double *out);
+/* vec_index_num1 of stream [kind] with seed [key] at each of the [n]
+ * one-number indexes [k] into [out] (one value each, not pairs). */
+void stream_index_each(StreamKind kind, uint64_t key, const double *k, uint32_t n, double *out);
 /* item(v, i) (§3.11): element i mod n as a one-element vector; null if empty;
  * streams give their value at index i. */
 Vec *vec_item(const Vec *v, int64_t i);

@@ -374,19 +374,20 @@ static AstNode *additional_rules(int op, AstNode *l, AstNode *r, Loc loc)
     return NULL;
 }
 
-/* The numbers of literal [n] in member [m], when they are numbers of a
- * length every member shares: a numeric or flat column's, or its own
- * numeric value's; false for other columns and values. */
-static bool nums_of(const AstNode *n, uint32_t m, const double **x, uint32_t *len)
+/* Where literal [n]'s numbers are, when they are numbers of a length
+ * every member shares: member m's [len] numbers start at x + m*stride (a
+ * numeric column's: stride 1, a flat column's: its width, the literal's
+ * own numeric value: 0); false for other columns and values. */
+static bool nums_of(const AstNode *n, const double **x, size_t *stride, uint32_t *len)
 {
     if (has_col(n)) {
         const Column *c = n->aux;
         if (c->num) {
-            *x = &c->num[m];
-            *len = 1;
+            *x = c->num;
+            *stride = *len = 1;
         } else if (c->flat) {
-            *x = c->flat + (size_t)m * c->w;
-            *len = c->w;
+            *x = c->flat;
+            *stride = *len = c->w;
         } else {
             return false;
         }
@@ -394,27 +395,34 @@ static bool nums_of(const AstNode *n, uint32_t m, const double **x, uint32_t *le
     }
     if (!vec_is_num(n->value) || !n->value->len) return false;
     *x = vec_cnums(n->value);
+    *stride = 0;
     *len = n->value->len;
     return true;
 }
 
 /* In a template pass, the flat column of literals [l] OP [r] when one
  * of them is a flat column and the other numbers (nums_of): vec_arith's
- * numbers, broadcast as it broadcasts, each from num_arith, its
- * operation on two numbers; NULL otherwise. */
+ * numbers, broadcast as it broadcasts, each the operation arith_into
+ * performs on two numbers (num_arith's); NULL otherwise. */
 static Column *col_arith_flat(Simp *s, int op, const AstNode *l, const AstNode *r)
 {
     const double *xa, *xb;
+    size_t sa, sb;
     uint32_t na, nb;
     bool flat = (has_col(l) && ((const Column *)l->aux)->flat) || (has_col(r) && ((const Column *)r->aux)->flat);
-    if (!flat || !nums_of(l, 0, &xa, &na) || !nums_of(r, 0, &xb, &nb)) return NULL;
+    if (!flat || !nums_of(l, &xa, &sa, &na) || !nums_of(r, &xb, &sb, &nb)) return NULL;
     uint32_t w = na > nb ? na : nb;
     Column *c = col_new_flat(s->tg, w);
-    for (uint32_t m = 0; m < s->tg; m++) {
-        nums_of(l, m, &xa, &na);
-        nums_of(r, m, &xb, &nb);
-        double *d = c->flat + (size_t)m * w;
-        for (uint32_t i = 0; i < w; i++) d[i] = num_arith((ArithOp)op, xa[i % na], xb[i % nb]);
+    double *d = c->flat;
+    for (uint32_t m = 0; m < s->tg; m++, xa += sa, xb += sb, d += w) {
+        switch (op) {   /* arith_into's four, then num_arith */
+        case OP_ADD: for (uint32_t i = 0; i < w; i++) d[i] = xa[i % na] + xb[i % nb]; break;
+        case OP_SUB: for (uint32_t i = 0; i < w; i++) d[i] = xa[i % na] - xb[i % nb]; break;
+        case OP_MUL: for (uint32_t i = 0; i < w; i++) d[i] = xa[i % na] * xb[i % nb]; break;
+        case OP_DIV: for (uint32_t i = 0; i < w; i++) d[i] = xa[i % na] / xb[i % nb]; break;
+        default:
+            for (uint32_t i = 0; i < w; i++) d[i] = num_arith((ArithOp)op, xa[i % na], xb[i % nb]);
+        }
     }
     return c;
 }
@@ -611,7 +619,10 @@ static AstNode *simp_generic(Simp *s, const AstNode *n)
         if (cols && !has_col(e->a) && ci && ci->num && vec_index_num1(e->a->value, ci->num[0], false, &x)) {
             /* a stream or numbers indexed by one number per member */
             c = col_new_num(s->tg);
-            for (uint32_t m = 0; m < s->tg; m++) vec_index_num1(e->a->value, ci->num[m], false, &c->num[m]);
+            if (vec_is_stream(e->a->value))
+                stream_index_each((StreamKind)e->a->value->stream, e->a->value->key, ci->num, s->tg, c->num);
+            else
+                for (uint32_t m = 0; m < s->tg; m++) vec_index_num1(e->a->value, ci->num[m], false, &c->num[m]);
         } else if (cols && ca && ca->key && !ci && vec_is_num(e->b->value) && e->b->value->len) {
             /* a stream a member (`normal(:v;i)[..2]`) indexed by the same
              * numbers: vec_index's numbers of each */

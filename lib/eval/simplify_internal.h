@@ -141,8 +141,13 @@ struct Simp {
 /* ---- simplify_template.c ---- */
 /* Tests a template pass must agree on across its members (tdecide). */
 enum { TD_NUMERIC, TD_EQUALS, TD_TRUTHY, TD_LEN, TD_SCALAR, TD_OBJ, TD_NULL };
+/* The aux_free of a literal's Column (col_attach). */
+void col_aux_free(void *p);
 /* True when [n] is a literal carrying a Column (in a template pass). */
-bool has_col(const AstNode *n);
+static inline bool has_col(const AstNode *n)
+{
+    return n && n->kind == AST_LITERAL && n->aux && n->aux_free == col_aux_free;
+}
 /* Member [m]'s value of literal [n] (borrowed): its column's, or its own. */
 Vec *tval(const AstNode *n, uint32_t m);
 /* A new column of [n] members, all NULL, one reference. */

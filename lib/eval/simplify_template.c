@@ -72,12 +72,7 @@
 
 /* {===== columns */
 
-static void col_aux_free(void *p) { col_release(p); }
-
-bool has_col(const AstNode *n)
-{
-    return n && n->kind == AST_LITERAL && n->aux && n->aux_free == col_aux_free;
-}
+void col_aux_free(void *p) { col_release(p); }
 
 Vec *tval(const AstNode *n, uint32_t m)
 {
