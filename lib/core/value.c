@@ -639,17 +639,6 @@ bool vec_contains(const Vec *x, const Vec *y)
  * Hashing (§3.16)
  * ==================================================================== */
 
-uint64_t hash_update(uint64_t h, uint64_t y)
-{
-    h ^= y;
-    h += UINT64_C(0x9e3779b97f4a7c15);
-    h ^= h >> 30;
-    h *= UINT64_C(0xbf58476d1ce4e5b9);
-    h ^= h >> 27;
-    h *= UINT64_C(0x94d049bb133111eb);
-    h ^= h >> 31;
-    return h;
-}
 
 uint64_t vec_hash_nums(const double *x, uint32_t n, bool floor_floats)
 {

@@ -265,8 +265,19 @@ int vec_cmp(const Vec *a, const Vec *b);
 /* Containment `x in y` (§3.8). */
 bool vec_contains(const Vec *x, const Vec *y);
 
-/* HASH_UPDATE of §3.16 (SplitMix64 finaliser with [y] xored in). */
-uint64_t hash_update(uint64_t h, uint64_t y);
+/* HASH_UPDATE of §3.16 (SplitMix64 finaliser with [y] xored in). Inline:
+ * the template passes hash a column a member at a time. */
+static inline uint64_t hash_update(uint64_t h, uint64_t y)
+{
+    h ^= y;
+    h += UINT64_C(0x9e3779b97f4a7c15);
+    h ^= h >> 30;
+    h *= UINT64_C(0xbf58476d1ce4e5b9);
+    h ^= h >> 27;
+    h *= UINT64_C(0x94d049bb133111eb);
+    h ^= h >> 31;
+    return h;
+}
 #define HASH_START UINT64_C(0xe220a8397b1dcdaf)
 /* vec_hash(v, false), computed once per vector and kept in it (numeric
  * vectors and vectors of numbers and strings only, which nothing mutates

@@ -374,6 +374,24 @@ static AstNode *additional_rules(int op, AstNode *l, AstNode *r, Loc loc)
     return NULL;
 }
 
+/* [n] members' numbers of [cl] OP [cr] into [out], each operand a
+ * numeric column or, when NULL, the number [xl] or [xr] of every member:
+ * arith_into's operation on two numbers for the four it writes out, then
+ * num_arith's (value.c), with the loop inside the switch. */
+static void col_num_arith(int op, const Column *cl, double xl, const Column *cr, double xr, uint32_t n,
+                          double *out)
+{
+    const double *a = cl ? cl->num : &xl, *b = cr ? cr->num : &xr;
+    size_t sa = cl != NULL, sb = cr != NULL;
+    switch (op) {
+    case OP_ADD: for (uint32_t m = 0; m < n; m++) out[m] = a[m * sa] + b[m * sb]; break;
+    case OP_SUB: for (uint32_t m = 0; m < n; m++) out[m] = a[m * sa] - b[m * sb]; break;
+    case OP_MUL: for (uint32_t m = 0; m < n; m++) out[m] = a[m * sa] * b[m * sb]; break;
+    case OP_DIV: for (uint32_t m = 0; m < n; m++) out[m] = a[m * sa] / b[m * sb]; break;
+    default: for (uint32_t m = 0; m < n; m++) out[m] = num_arith((ArithOp)op, a[m * sa], b[m * sb]);
+    }
+}
+
 /* Where literal [n]'s numbers are, when they are numbers of a length
  * every member shares: member m's [len] numbers start at x + m*stride (a
  * numeric column's: stride 1, a flat column's: its width, the literal's
@@ -439,8 +457,7 @@ static AstNode *binop_rules(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
             if (num_operand(l, &cl, &xl) && num_operand(r, &cr, &xr)) {
                 /* one number each in every member: vec_arith's number */
                 c = col_new_num(s->tg);
-                for (uint32_t m = 0; m < s->tg; m++)
-                    c->num[m] = num_arith((ArithOp)op, cl ? cl->num[m] : xl, cr ? cr->num[m] : xr);
+                col_num_arith(op, cl, xl, cr, xr, s->tg, c->num);
             } else if ((c = col_arith_flat(s, op, l, r))) {
             } else {
                 c = col_new(s->tg);
