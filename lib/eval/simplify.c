@@ -421,7 +421,8 @@ static bool nums_of(const AstNode *n, const double **x, size_t *stride, uint32_t
 /* In a template pass, the flat column of literals [l] OP [r] when one
  * of them is a flat column and the other numbers (nums_of): vec_arith's
  * numbers, broadcast as it broadcasts, each the operation arith_into
- * performs on two numbers (num_arith's); NULL otherwise. */
+ * performs on two numbers (num_arith's); NULL otherwise, or when the
+ * budget refuses the column. */
 static Column *col_arith_flat(Simp *s, int op, const AstNode *l, const AstNode *r)
 {
     const double *xa, *xb;
@@ -431,6 +432,7 @@ static Column *col_arith_flat(Simp *s, int op, const AstNode *l, const AstNode *
     if (!flat || !nums_of(l, &xa, &sa, &na) || !nums_of(r, &xb, &sb, &nb)) return NULL;
     uint32_t w = na > nb ? na : nb;
     Column *c = col_new_flat(s->tg, w);
+    if (!c) return NULL;
     double *d = c->flat;
     for (uint32_t m = 0; m < s->tg; m++, xa += sa, xb += sb, d += w) {
         switch (op) {   /* arith_into's four, then num_arith */
@@ -458,8 +460,7 @@ static AstNode *binop_rules(Simp *s, int op, AstNode *l, AstNode *r, Loc loc)
                 /* one number each in every member: vec_arith's number */
                 c = col_new_num(s->tg);
                 col_num_arith(op, cl, xl, cr, xr, s->tg, c->num);
-            } else if ((c = col_arith_flat(s, op, l, r))) {
-            } else {
+            } else if (!(c = col_arith_flat(s, op, l, r))) {
                 c = col_new(s->tg);
                 for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_arith((ArithOp)op, tval(l, m), tval(r, m));
             }
@@ -591,6 +592,23 @@ static AstNode *simp_xor(Simp *s, const AstNode *n)
     return mk_bin(AST_XOR, 0, l, r, n->loc);
 }
 
+/* In a template pass, the column of stream column [ca] (a stream a
+ * member: `normal(:v;i)`) indexed by the literal [index] (`[..2]`):
+ * vec_index's numbers of each member's stream, one (a numeric column) or
+ * more (a flat column); NULL when [index] is no numbers or the budget
+ * refuses the column (the caller indexes member by member). */
+static Column *col_stream_index(Simp *s, const Column *ca, const Vec *index)
+{
+    if (!vec_is_num(index) || !index->len) return NULL;
+    uint32_t ni = index->len;
+    Column *c = ni == 1 ? col_new_num(s->tg) : col_new_flat(s->tg, ni);
+    if (!c) return NULL;
+    double *out = ni == 1 ? c->num : c->flat;
+    for (uint32_t m = 0; m < s->tg; m++)
+        stream_index_into((StreamKind)ca->stream, ca->key[m], vec_cnums(index), ni, out + (size_t)m * ni);
+    return c;
+}
+
 /* Any node whose listed children all become literal is folded with the
  * evaluator: AST_NOT, AST_RANGE, AST_INDEX, AST_TAG. */
 static AstNode *simp_generic(Simp *s, const AstNode *n)
@@ -640,14 +658,7 @@ static AstNode *simp_generic(Simp *s, const AstNode *n)
                 stream_index_each((StreamKind)e->a->value->stream, e->a->value->key, ci->num, s->tg, c->num);
             else
                 for (uint32_t m = 0; m < s->tg; m++) vec_index_num1(e->a->value, ci->num[m], false, &c->num[m]);
-        } else if (cols && ca && ca->key && !ci && vec_is_num(e->b->value) && e->b->value->len) {
-            /* a stream a member (`normal(:v;i)[..2]`) indexed by the same
-             * numbers: vec_index's numbers of each */
-            uint32_t ni = e->b->value->len;
-            c = ni == 1 ? col_new_num(s->tg) : col_new_flat(s->tg, ni);
-            double *out = ni == 1 ? c->num : c->flat;
-            for (uint32_t m = 0; m < s->tg; m++)
-                stream_index_into((StreamKind)ca->stream, ca->key[m], vec_cnums(e->b->value), ni, out + (size_t)m * ni);
+        } else if (cols && ca && ca->key && !ci && (c = col_stream_index(s, ca, e->b->value))) {
         } else if (cols) {
             c = col_new(s->tg);
             for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_index(tval(e->a, m), tval(e->b, m), false);
@@ -665,8 +676,10 @@ static AstNode *simp_generic(Simp *s, const AstNode *n)
  * ==================================================================== */
 
 /* Member [m]'s value of literal [n], a new reference: made from its
- * column's numbers or key when nothing has asked for it yet (the same
- * vector col_get would make, without keeping it in the column). */
+ * column's numbers, key or node when nothing has asked for it yet (the
+ * vector col_get would make, without keeping it in the column: the
+ * node's attribute is its only holder, and the column spares the array
+ * of a vector a member that col_get allocates). */
 static Vec *member_value(const AstNode *n, uint32_t m)
 {
     if (!has_col(n)) return vec_retain(n->value);
@@ -871,11 +884,12 @@ static uint32_t sequence_pack(Simp *s, AstNode ***itemsp, uint32_t n, uint32_t *
                 for (uint32_t k = i; k < j; k++) parts[k - i] = items[k]->value;
                 Vec *v = vec_compose(parts, j - i);
                 Column *c = NULL;
-                if (cols && nums && mem_fits(sizeof(Vec) + total * sizeof(double))) {   /* as vec_compose asks */
-                    /* a run of numbers is [total] >= 2 numbers in every
-                     * member (one per numeric column): vec_compose's
-                     * vector of them, kept as the numbers (a flat column) */
-                    c = col_new_flat(s->tg, (uint32_t)total);
+                /* a run of numbers is [total] >= 2 numbers in every
+                 * member (one per numeric column): vec_compose's vector
+                 * of them (asking the budget as it asks), kept as the
+                 * numbers (a flat column) while the budget has room */
+                if (cols && nums && mem_fits(sizeof(Vec) + total * sizeof(double)) &&
+                    (c = col_new_flat(s->tg, (uint32_t)total))) {
                     double *d = c->flat;
                     for (uint32_t m = 0; m < s->tg; m++) {
                         for (uint32_t k = i; k < j; k++) {

@@ -18,14 +18,18 @@ typedef struct Column {
     double *num;           /* a numeric column (col_new_num): every member
                               is one number, num[m], and v[m] is that
                               number's vector once col_get has made it;
-                              NULL: a column of v[] */
+                              NULL: another kind (col_plain: a column of
+                              v[]) */
     Vec **v;               /* one reference each (NULL: null); read them
-                              with col_get, which makes a numeric, flat or
-                              stream column's on demand (its v itself NULL
-                              until then); col_all makes them all */
+                              with col_get, which makes a numeric, flat,
+                              stream or node column's on demand (its v
+                              itself NULL until then); col_all makes them
+                              all */
     double *flat;          /* a flat column (col_new_flat): every member
                               is a vector of w >= 2 numbers,
                               flat[m*w .. m*w+w) */
+    size_t charged;        /* bytes of flat[] charged to the memory
+                              budget (mem.h), given back on release */
     uint32_t w;            /* flat: numbers a member */
     uint8_t stream;        /* keys: the members' StreamKind */
     uint64_t *key;         /* a stream column (col_new_keys): every member
@@ -158,12 +162,20 @@ Column *col_new(uint32_t n);
  * compute them with the operations the vector route performs on
  * one-element vectors, so every member's value has the same bits. */
 Column *col_new_num(uint32_t n);
+/* The most numbers a member of a flat column: positions, colours,
+ * state keys (`(:cell;i)`); a longer vector a member takes the route of
+ * a vector a member, whose memory its own numbers dwarf. */
+#define FLAT_MAX 16
 /* A new flat column of [n] members of [w] >= 2 numbers each (flat[],
- * to be filled by the caller), one reference. Like numeric columns, flat
- * ones spare a template pass a vector a member until something asks for
- * it: composing numbers (`(:v;i)`, a position `x;y`), indexing a stream
- * column by a literal (`[..2]`) and arithmetic on them make flat columns
- * with the operations the vector route performs, number for number. */
+ * to be filled by the caller), one reference; NULL, with nothing marked
+ * refused, when [w] is past FLAT_MAX or its numbers do not fit in the
+ * memory budget (mem.h, which they are charged to while the column
+ * lives): the caller then takes the route of a vector a member, which
+ * meets the budget as it always did. Like numeric columns, flat ones spare a template pass a
+ * vector a member until something asks for it: composing numbers
+ * (`(:v;i)`, a position `x;y`), indexing a stream column by a literal
+ * (`[..2]`) and arithmetic on them make flat columns with the operations
+ * the vector route performs, number for number. */
 Column *col_new_flat(uint32_t n, uint32_t w);
 /* A new stream column of [n] members of stream kind [kind] (key[], to be
  * filled by the caller), one reference: `normal(:v;i)` in a pass. */
@@ -176,7 +188,8 @@ Column *col_new_nodes(uint32_t n);
  * as numbers, flat numbers, keys or nodes made into vectors on demand. */
 static inline bool col_plain(const Column *c) { return !c->num && !c->flat && !c->key && !c->node; }
 /* Member [m]'s value (borrowed; NULL: null), made now for a numeric,
- * flat or stream column's member whose vector was not asked for before. */
+ * flat, stream or node column's member whose vector was not asked for
+ * before (NULL too when the memory budget refuses it). */
 Vec *col_get(Column *c, uint32_t m);
 /* Every member's value, made now where col_get has not made it (the
  * array is the column's: borrowed, as its vectors are). */

@@ -346,14 +346,17 @@ AstNode *simp_name(Simp *s, const AstNode *n)
                 /* numbers: nothing shared to copy */
                 c = col_new_num(s->tg);
                 memcpy(c->num, nb->col->num, (size_t)s->tg * sizeof *c->num);
-            } else if (s->tg && nb->col && nb->col->flat) {
-                c = col_new_flat(s->tg, nb->col->w);   /* fresh numbers, as vec_fresh makes */
+            } else if (s->tg && nb->col && nb->col->flat && (c = col_new_flat(s->tg, nb->col->w))) {
+                /* fresh numbers, as vec_fresh makes */
                 memcpy(c->flat, nb->col->flat, (size_t)s->tg * nb->col->w * sizeof *c->flat);
             } else if (s->tg && nb->col && (nb->col->key || nb->col->node)) {
                 c = col_retain(nb->col);   /* streams and nodes: vec_fresh shares them */
-            } else if (s->tg && nb->col) {
+            } else if (s->tg && nb->col) {   /* a plain column, or a flat one past the budget */
                 c = col_new(s->tg);
-                for (uint32_t m = 0; m < s->tg; m++) c->v[m] = nb->col->v[m] ? vec_fresh(nb->col->v[m]) : NULL;
+                for (uint32_t m = 0; m < s->tg; m++) {
+                    const Vec *x = col_get(nb->col, m);
+                    c->v[m] = x ? vec_fresh(x) : NULL;
+                }
             }
             return tlit(s, nb->value ? vec_fresh(nb->value) : NULL, c, n->loc);
         }

@@ -101,9 +101,14 @@ Column *col_new_num(uint32_t n)
 
 Column *col_new_flat(uint32_t n, uint32_t w)
 {
-    /* as col_new_num: the numbers follow the column, left to the caller */
-    Column *c = mem_realloc(NULL, sizeof *c + (size_t)n * w * sizeof *c->flat);
-    *c = (Column){.refs = 1, .n = n, .flat = (double *)(void *)(c + 1), .w = w};
+    /* as col_new_num: the numbers follow the column, left to the caller;
+     * charged, as the members' vectors they stand for would be (mem_room:
+     * a refusal here is no failure, the caller has another route) */
+    size_t bytes = (size_t)n * w * sizeof(double);
+    if (w > FLAT_MAX || !mem_room(bytes)) return NULL;
+    mem_charge(bytes);
+    Column *c = mem_realloc(NULL, sizeof *c + bytes);
+    *c = (Column){.refs = 1, .n = n, .flat = (double *)(void *)(c + 1), .w = w, .charged = bytes};
     return c;
 }
 
@@ -137,7 +142,8 @@ Vec *col_get(Column *c, uint32_t m)
 
 Vec **col_all(Column *c)
 {
-    for (uint32_t m = 0; m < c->n && !col_plain(c); m++) col_get(c, m);
+    if (!col_plain(c))
+        for (uint32_t m = 0; m < c->n; m++) col_get(c, m);
     return c->v;
 }
 
@@ -153,6 +159,7 @@ void col_release(Column *c)
     for (uint32_t m = 0; c->v && m < c->n; m++) vec_release(c->v[m]);
     for (uint32_t m = 0; c->node && m < c->n; m++) node_release(c->node[m]);
     if (!col_plain(c)) free(c->v);
+    if (c->charged) mem_unreserve(c->charged);
     free(c);
 }
 
@@ -195,25 +202,21 @@ static int64_t num_outcome(double y, int kind, double x)
     }
 }
 
-/* outcome() of the numeric vector of the [w] >= 2 numbers [y]. */
-static int64_t flat_outcome(const double *y, uint32_t w, int kind)
+/* outcome(TD_TRUTHY) of the numeric vector of the [w] numbers [y]
+ * (vec_truthy's test). */
+static int64_t flat_truthy(const double *y, uint32_t w)
 {
-    switch (kind) {
-    case TD_NUMERIC: return 1;
-    case TD_TRUTHY:   /* vec_truthy */
-        for (uint32_t j = 0; j < w; j++)
-            if (y[j] != 0.0 || isnan(y[j])) return 1;
-        return 0;
-    case TD_LEN: return w;
-    default: return 0;   /* TD_EQUALS and TD_SCALAR (not one number), TD_OBJ, TD_NULL */
-    }
+    for (uint32_t j = 0; j < w; j++)
+        if (y[j] != 0.0 || isnan(y[j])) return 1;
+    return 0;
 }
 
-/* Member [m]'s outcome of test [kind] on column [c]. */
+/* Member [m]'s outcome of test [kind] on column [c] (a flat column's
+ * members differ on truthiness only: tdecide asks it nothing else). */
 static int64_t col_outcome(Column *c, uint32_t m, int kind, double x)
 {
     if (c->num) return num_outcome(c->num[m], kind, x);
-    if (c->flat) return flat_outcome(c->flat + (size_t)m * c->w, c->w, kind);
+    if (c->flat && kind == TD_TRUTHY) return flat_truthy(c->flat + (size_t)m * c->w, c->w);
     return outcome(col_get(c, m), kind, x);
 }
 
@@ -667,7 +670,9 @@ static AstNode *name_leaf(const AstNode *lit, const void *ctx)
         if (sc->pos[p])
             ast_push(seq, ast_name(colset_hidden(cs, colset_find(cs, sc->pos[p])->name), lit->loc));
         else
-            ast_push(seq, mk_lit(vec_num1(vec_cnums(col_get(sc->col, 0))[p]), lit->loc));
+            /* the position's number, alike in every member */
+            ast_push(seq, mk_lit(vec_num1(sc->col->flat ? sc->col->flat[p] : vec_cnums(sc->col->v[0])[p]),
+                                 lit->loc));
     }
     return seq;
 }

@@ -22,6 +22,12 @@
 #   8. a 50 MB budget under ulimit -v 70000 runs a script whose range holds
 #      3 million numbers (24 MB): the heap prefaulting of `flitter run`
 #      stays off under the limit.
+#   9. template passes (lib/eval/simplify_template.c) at budgets too small
+#      for their columns: a loop whose members' vectors of two numbers are
+#      taken apart by position (`(i;5)+time`) runs or says out of memory at
+#      8K to 64K, never crashes; members' compositions of a long range,
+#      20,000 of them under ulimit -v 4000000 and 200 under a 400M budget
+#      within ulimit -v 800000: exit 1, the load's out of memory.
 set -u
 flitter=$1 petri=$2
 case $flitter in /*) ;; *) flitter=$PWD/$flitter ;; esac
@@ -142,4 +148,21 @@ printf 'let big=..3000000\n!foo x=big[..5] n=len(big)\n' >"$dir/hog.fl"
 run 70000 run --frames 2 --dump-tree --max-memory 50M "$dir/hog.fl"
 [ $rc -eq 0 ] || bad "50M budget under ulimit -v 70000: exit $rc: $(head -c 300 "$dir/err")"
 grep -q 'n=3000000' "$dir/out" || bad "50M budget under ulimit -v 70000: tree: $(head -c 300 "$dir/out")"
+# 9. template passes past the budget
+printf '!window size=100;100\n    !canvas\n        for i in ..200\n            !ellipse point=(i;5)+time\n' >"$dir/split.fl"
+for k in 8K 16K 24K 32K 64K; do
+    run - run --max-memory $k --frames 1 --dump-tree "$dir/split.fl"
+    [ $rc -eq 0 ] || [ $rc -eq 1 ] || bad "template pass at --max-memory $k: exit $rc: $(head -c 300 "$dir/err")"
+done
+printf 'let N=20000\n!window size=100;100\n    !canvas\n        for i in ..N\n            !p a=len((i;..100000))\n' >"$dir/cols.fl"
+run 4000000 run --frames 0 "$dir/cols.fl"
+[ $rc -eq 1 ] || bad "long compositions under ulimit -v: exit $rc, not 1: $(head -c 300 "$dir/err")"
+grep -q "^$dir/cols.fl:1:1: error: out of memory" "$dir/err" ||
+    bad "long compositions under ulimit -v: message: $(head -c 300 "$dir/err")"
+# (within ulimit -v 800000: a budget overrun to twice the budget aborts)
+sed 's/N=20000/N=200/; s/100000/1000000/' "$dir/cols.fl" >"$dir/cols2.fl"
+run 800000 run --frames 0 --max-memory 400M "$dir/cols2.fl"
+[ $rc -eq 1 ] || bad "long compositions past 400M: exit $rc, not 1: $(head -c 300 "$dir/err")"
+grep -q "^$dir/cols2.fl:1:1: error: out of memory" "$dir/err" ||
+    bad "long compositions past 400M: message: $(head -c 300 "$dir/err")"
 exit $fail
