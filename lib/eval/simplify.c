@@ -658,10 +658,12 @@ static AstNode *simp_generic(Simp *s, const AstNode *n)
                 stream_index_each((StreamKind)e->a->value->stream, e->a->value->key, ci->num, s->tg, c->num);
             else
                 for (uint32_t m = 0; m < s->tg; m++) vec_index_num1(e->a->value, ci->num[m], false, &c->num[m]);
-        } else if (cols && ca && ca->key && !ci && (c = col_stream_index(s, ca, e->b->value))) {
         } else if (cols) {
-            c = col_new(s->tg);
-            for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_index(tval(e->a, m), tval(e->b, m), false);
+            if (ca && ca->key && !ci) c = col_stream_index(s, ca, e->b->value);
+            if (!c) {
+                c = col_new(s->tg);
+                for (uint32_t m = 0; m < s->tg; m++) c->v[m] = vec_index(tval(e->a, m), tval(e->b, m), false);
+            }
         }
         ast_free(e);
         return tlit(s, v, c, n->loc);
@@ -819,6 +821,22 @@ static AstNode *simp_append(Simp *s, const AstNode *n)
  * Sequences and conditionals
  * ==================================================================== */
 
+/* Member [m]'s numbers of the [n] literals [items], each a numeric
+ * column or numbers, one after another into [d]: vec_compose's numbers
+ * of their values. */
+static void run_numbers(AstNode *const *items, uint32_t n, uint32_t m, double *d)
+{
+    for (uint32_t k = 0; k < n; k++) {
+        const AstNode *it = items[k];
+        if (has_col(it)) {
+            *d++ = ((const Column *)it->aux)->num[m];
+        } else {
+            memcpy(d, vec_cnums(it->value), it->value->len * sizeof *d);
+            d += it->value->len;
+        }
+    }
+}
+
 /* tree.pyx sequence_pack: flatten nested sequences, compose runs of
  * literals, drop null literals. Consumes the [n] items of [items]; returns
  * the packed count (items reused in place). */
@@ -890,21 +908,18 @@ static uint32_t sequence_pack(Simp *s, AstNode ***itemsp, uint32_t n, uint32_t *
                  * numbers (a flat column) while the budget has room */
                 if (cols && nums && mem_fits(sizeof(Vec) + total * sizeof(double)) &&
                     (c = col_new_flat(s->tg, (uint32_t)total))) {
-                    double *d = c->flat;
-                    for (uint32_t m = 0; m < s->tg; m++) {
-                        for (uint32_t k = i; k < j; k++) {
-                            const AstNode *it = items[k];
-                            if (has_col(it)) {
-                                *d++ = ((const Column *)it->aux)->num[m];
-                            } else {
-                                memcpy(d, vec_cnums(it->value), it->value->len * sizeof *d);
-                                d += it->value->len;
-                            }
-                        }
-                    }
+                    for (uint32_t m = 0; m < s->tg; m++) run_numbers(items + i, j - i, m, c->flat + (size_t)m * total);
                 } else if (cols) {
                     c = col_new(s->tg);
                     for (uint32_t m = 0; m < s->tg; m++) {
+                        /* too long a member for a flat column, or past the
+                         * budget's room for one: a vector each, the budget
+                         * asked for each as vec_compose asks */
+                        if (nums && mem_fits(sizeof(Vec) + total * sizeof(double))) {
+                            c->v[m] = vec_new_num((uint32_t)total);
+                            run_numbers(items + i, j - i, m, vec_nums(c->v[m]));
+                            continue;
+                        }
                         for (uint32_t k = i; k < j; k++) parts[k - i] = tval(items[k], m);
                         c->v[m] = vec_compose(parts, j - i);
                     }
