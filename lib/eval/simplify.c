@@ -677,21 +677,12 @@ static AstNode *simp_generic(Simp *s, const AstNode *n)
  * Node expressions
  * ==================================================================== */
 
-/* Member [m]'s value of literal [n], a new reference: made from its
- * column's numbers, key or node when nothing has asked for it yet (the
- * vector col_get would make, without keeping it in the column: the
- * node's attribute is its only holder, and the column spares the array
- * of a vector a member that col_get allocates). */
+/* Member [m]'s value of literal [n], a new reference (col_make: the
+ * node's attribute is its only holder, so the column keeps no vector a
+ * member for it). */
 static Vec *member_value(const AstNode *n, uint32_t m)
 {
-    if (!has_col(n)) return vec_retain(n->value);
-    Column *c = n->aux;
-    if (c->v && c->v[m]) return vec_retain(c->v[m]);
-    if (c->num) return vec_num1(c->num[m]);
-    if (c->flat) return vec_from_nums(c->flat + (size_t)m * c->w, c->w);
-    if (c->key) return vec_stream((StreamKind)c->stream, c->key[m]);
-    if (c->node) return c->node[m] ? vec_node_take(node_retain(c->node[m])) : NULL;
-    return vec_retain(c->v[m]);
+    return has_col(n) ? col_make(n->aux, m) : vec_retain(n->value);
 }
 
 /* In a template pass, the column of attributes [e] (AST_ATTRIBUTES of

@@ -191,6 +191,11 @@ static inline bool col_plain(const Column *c) { return !c->num && !c->flat && !c
  * flat, stream or node column's member whose vector was not asked for
  * before (NULL too when the memory budget refuses it). */
 Vec *col_get(Column *c, uint32_t m);
+/* Member [m]'s value as a new reference (NULL: null): the vector col_get
+ * keeps, or, when it has made none, the one it would make, not kept in
+ * the column (for a holder that is the value's only one: a node's
+ * attribute). */
+Vec *col_make(const Column *c, uint32_t m);
 /* Every member's value, made now where col_get has not made it (the
  * array is the column's: borrowed, as its vectors are). */
 Vec **col_all(Column *c);

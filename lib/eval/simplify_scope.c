@@ -801,9 +801,10 @@ static Column *stream_col(Simp *s, const AstNode *call)
     int kind = bi_stream_kind(vec_celems(fn)[0].func->bi);
     const Column *a = call->kids[0]->aux;
     if (kind < 0 || (!a->num && !a->flat)) return NULL;
+    const double *x = a->num ? a->num : a->flat;
+    uint32_t w = a->num ? 1 : a->w;
     Column *c = col_new_keys(s->tg, (uint8_t)kind);
-    for (uint32_t m = 0; m < s->tg; m++)
-        c->key[m] = a->num ? vec_hash_nums(&a->num[m], 1, true) : vec_hash_nums(a->flat + (size_t)m * a->w, a->w, true);
+    for (uint32_t m = 0; m < s->tg; m++) c->key[m] = vec_hash_nums(x + (size_t)m * w, w, true);
     return c;
 }
 

@@ -139,16 +139,21 @@ Column *col_new_nodes(uint32_t n)
     return c;
 }
 
+Vec *col_make(const Column *c, uint32_t m)
+{
+    if (c->v && c->v[m]) return vec_retain(c->v[m]);
+    if (c->num) return vec_num1(c->num[m]);
+    if (c->flat) return vec_from_nums(c->flat + (size_t)m * c->w, c->w);
+    if (c->key) return vec_stream((StreamKind)c->stream, c->key[m]);
+    if (c->node) return c->node[m] ? vec_node_take(node_retain(c->node[m])) : NULL;
+    return NULL;
+}
+
 Vec *col_get(Column *c, uint32_t m)
 {
     if (col_plain(c)) return c->v[m];
     if (!c->v) c->v = mem_calloc(c->n, sizeof *c->v);
-    if (!c->v[m]) {
-        if (c->num) c->v[m] = vec_num1(c->num[m]);
-        else if (c->flat) c->v[m] = vec_from_nums(c->flat + (size_t)m * c->w, c->w);
-        else if (c->key) c->v[m] = vec_stream((StreamKind)c->stream, c->key[m]);
-        else if (c->node[m]) c->v[m] = vec_node_take(node_retain(c->node[m]));
-    }
+    if (!c->v[m]) c->v[m] = col_make(c, m);
     return c->v[m];
 }
 
@@ -550,10 +555,28 @@ static const SplitCol *split_find(const ColSet *cs, const Column *c)
     return NULL;
 }
 
-/* split_col of flat column [c]: its positions' numbers are at hand. */
-static bool split_flat(ColSet *cs, Column *c)
+/* Member [m]'s numbers of column [c], which split_col has found to be
+ * numeric vectors of one length: a flat column's own, or its vector's. */
+static const double *member_nums(const Column *c, uint32_t m)
 {
+    return c->flat ? c->flat + (size_t)m * c->w : vec_cnums(c->v[m]);
+}
+
+/* Take column [c] apart by position into [cs] (see SplitCol); false when
+ * its members are not numeric vectors of one length from 2 to SPLIT_MAX
+ * (a flat column's are, its numbers at hand). */
+static bool split_col(ColSet *cs, Column *c)
+{
+    if (split_find(cs, c)) return true;
     uint32_t len = c->w;
+    if (!c->flat) {
+        col_all(c);
+        const Vec *v0 = c->v[0];
+        if (!v0 || v0->kind != VEC_NUM || v0->len < 2) return false;
+        len = v0->len;
+        for (uint32_t m = 1; m < c->n; m++)
+            if (!c->v[m] || c->v[m]->kind != VEC_NUM || c->v[m]->len != len) return false;
+    }
     if (len > SPLIT_MAX) return false;
     if (cs->nsp == cs->capsp) {
         cs->capsp = cs->capsp ? 2 * cs->capsp : 4;
@@ -562,43 +585,12 @@ static bool split_flat(ColSet *cs, Column *c)
     SplitCol *sc = &cs->sp[cs->nsp++];
     *sc = (SplitCol){.col = col_retain(c), .len = len};
     for (uint32_t p = 0; p < len; p++) {
-        uint64_t b0 = num_bits(c->flat[p]);
+        uint64_t b0 = num_bits(member_nums(c, 0)[p]);
         bool same = true;
-        for (uint32_t m = 1; m < c->n && same; m++) same = num_bits(c->flat[(size_t)m * len + p]) == b0;
+        for (uint32_t m = 1; m < c->n && same; m++) same = num_bits(member_nums(c, m)[p]) == b0;
         if (same) continue;
         Column *pc = col_new_num(c->n);
-        for (uint32_t m = 0; m < c->n; m++) pc->num[m] = c->flat[(size_t)m * len + p];
-        sc->pos[p] = pc;
-        colset_add(cs, pc);
-    }
-    return true;
-}
-
-/* Take column [c] apart by position into [cs] (see SplitCol); false when
- * its members are not numeric vectors of one length from 2 to SPLIT_MAX. */
-static bool split_col(ColSet *cs, Column *c)
-{
-    if (split_find(cs, c)) return true;
-    if (c->flat) return split_flat(cs, c);
-    col_all(c);
-    const Vec *v0 = c->v[0];
-    if (!v0 || v0->kind != VEC_NUM || v0->len < 2 || v0->len > SPLIT_MAX) return false;
-    uint32_t len = v0->len;
-    for (uint32_t m = 1; m < c->n; m++)
-        if (!c->v[m] || c->v[m]->kind != VEC_NUM || c->v[m]->len != len) return false;
-    if (cs->nsp == cs->capsp) {
-        cs->capsp = cs->capsp ? 2 * cs->capsp : 4;
-        cs->sp = mem_realloc(cs->sp, cs->capsp * sizeof *cs->sp);
-    }
-    SplitCol *sc = &cs->sp[cs->nsp++];
-    *sc = (SplitCol){.col = col_retain(c), .len = len};
-    for (uint32_t p = 0; p < len; p++) {
-        uint64_t b0 = num_bits(vec_cnums(v0)[p]);
-        bool same = true;
-        for (uint32_t m = 1; m < c->n && same; m++) same = num_bits(vec_cnums(c->v[m])[p]) == b0;
-        if (same) continue;
-        Column *pc = col_new_num(c->n);
-        for (uint32_t m = 0; m < c->n; m++) pc->num[m] = vec_cnums(c->v[m])[p];
+        for (uint32_t m = 0; m < c->n; m++) pc->num[m] = member_nums(c, m)[p];
         sc->pos[p] = pc;
         colset_add(cs, pc);
     }
@@ -683,8 +675,7 @@ static AstNode *name_leaf(const AstNode *lit, const void *ctx)
             ast_push(seq, ast_name(colset_hidden(cs, colset_find(cs, sc->pos[p])->name), lit->loc));
         else
             /* the position's number, alike in every member */
-            ast_push(seq, mk_lit(vec_num1(sc->col->flat ? sc->col->flat[p] : vec_cnums(sc->col->v[0])[p]),
-                                 lit->loc));
+            ast_push(seq, mk_lit(vec_num1(member_nums(sc->col, 0)[p]), lit->loc));
     }
     return seq;
 }
