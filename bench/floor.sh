@@ -23,6 +23,7 @@ build=${1:-build}
 runs=${2:-9}
 flitter="$build/src/flitter"
 [ -x "$flitter" ] || { echo "build first: meson setup $build && ninja -C $build" >&2; exit 2; }
+flitter=$(cd "$(dirname "$flitter")" && pwd)/flitter   # the same binary after the cd below
 cd "$(dirname "$0")/.." || exit 2
 tmp=$(mktemp -d) || exit 2
 trap 'rm -rf "$tmp"' EXIT
