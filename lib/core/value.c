@@ -639,7 +639,6 @@ bool vec_contains(const Vec *x, const Vec *y)
  * Hashing (§3.16)
  * ==================================================================== */
 
-
 uint64_t vec_hash_nums(const double *x, uint32_t n, bool floor_floats)
 {
     uint64_t h = HASH_START;
