@@ -1,6 +1,6 @@
 #!/bin/sh
 # record_atomic.sh FLITTER: a reader never sees a half-written !record file
-# (lib/render/outfile.c: a temporary in the same directory renamed over the
+# (lib/io/outfile.c: a temporary in the same directory renamed over the
 # target).
 #   1. a script rewrites a 320x320 PNG of 1,024 random squares (several
 #      kilobytes; libpng writes each chunk's length, data and CRC in

@@ -1,6 +1,6 @@
 #!/bin/sh
 # record_video.sh FLITTER: `!record filename=NAME.mp4|.webm` writes videos
-# (lib/render/video.c), checked with ffprobe and ffmpeg:
+# (lib/render/output/video.c), checked with ffprobe and ffmpeg:
 #   1. a 2-second run (--frames 120 --fps 60) of a script drawing an orange
 #      rectangle whose x is (7 * frame) % 200 over blue writes an H.264 .mp4
 #      and a VP9 .webm of 120 frames, 256x128, 60/1 frames/s; frame 59
@@ -39,7 +39,7 @@ grep -qx 'nodir/b.png: cannot create a file in nodir: No such file or directory'
 [ "$(wc -l <"$dir/err")" -eq 3 ] || fail "each file's error once, and the closing line, got: $(cat "$dir/err")"
 # Under valgrind (the suite's memcheck phase) FFmpeg cannot be loaded:
 # its libhwy runs RDTSCP at load time, which valgrind 3.19 does not
-# emulate (SIGILL; lib/render/avlib.h), and ffprobe/ffmpeg would be traced
+# emulate (SIGILL; lib/render/output/avlib.h), and ffprobe/ffmpeg would be traced
 # too. Only the part above, which fails before FFmpeg is loaded, runs.
 case "${LD_PRELOAD:-}" in
 *vgpreload*) echo "record_video: under valgrind FFmpeg cannot load (RDTSCP in libhwy); videos skipped" >&2; exit 77 ;;
