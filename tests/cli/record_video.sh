@@ -39,7 +39,7 @@ grep -qx 'nodir/b.png: cannot create a file in nodir: No such file or directory'
 [ "$(wc -l <"$dir/err")" -eq 3 ] || fail "each file's error once, and the closing line, got: $(cat "$dir/err")"
 # Under valgrind (the suite's memcheck phase) FFmpeg cannot be loaded:
 # its libhwy runs RDTSCP at load time, which valgrind 3.19 does not
-# emulate (SIGILL; lib/render/output/avlib.h), and ffprobe/ffmpeg would be traced
+# emulate (SIGILL; lib/render/media/avlib.h), and ffprobe/ffmpeg would be traced
 # too. Only the part above, which fails before FFmpeg is loaded, runs.
 case "${LD_PRELOAD:-}" in
 *vgpreload*) echo "record_video: under valgrind FFmpeg cannot load (RDTSCP in libhwy); videos skipped" >&2; exit 77 ;;
