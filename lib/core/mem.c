@@ -66,6 +66,19 @@ void mem_unreserve(size_t bytes)
     if (b) b->used = bytes < b->used ? b->used - bytes : 0;
 }
 
+bool mem_budget_reserve(MemBudget *b, size_t bytes)
+{
+    if (!b) return true;
+    if (b->limit && !(b->used <= b->limit && bytes <= b->limit - b->used)) return false;
+    b->used = bytes > SIZE_MAX - b->used ? SIZE_MAX : b->used + bytes;
+    return true;
+}
+
+void mem_budget_release(MemBudget *b, size_t bytes)
+{
+    if (b) b->used = bytes < b->used ? b->used - bytes : 0;
+}
+
 bool mem_take_refusal(void)
 {
     MemBudget *b = handler.budget;

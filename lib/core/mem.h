@@ -95,6 +95,13 @@ bool mem_room(size_t bytes);
 /* mem_fits([bytes]) and, when it fits, charge them (give them back with
  * mem_unreserve): for big arrays that do not come from the pool. */
 bool mem_reserve(size_t bytes);
+/* mem_reserve against budget [b] itself rather than this thread's (NULL:
+ * no budget): for memory a runtime holds across calls and may release in
+ * any of them (the render graph's framebuffers, textures and decoded
+ * pictures). Nothing is charged when it does not fit. */
+bool mem_budget_reserve(MemBudget *b, size_t bytes);
+/* Give back [bytes] that mem_budget_reserve charged to [b]. */
+void mem_budget_release(MemBudget *b, size_t bytes);
 /* Give back [bytes] charged by mem_reserve (or by the pool). */
 void mem_unreserve(size_t bytes);
 /* Charge [bytes] without asking (the pool, for a block it has malloc'd). */
