@@ -547,12 +547,17 @@ typedef struct fl_window_info {
  * NULL [rt]. */
 FL_API size_t fl_windows(fl_runtime *rt, fl_window_info *out, size_t cap);
 
-/* Draw window [index] of [rt]'s last frame into [pixels]: [width] x
- * [height] pixels (the window's own size, fl_window_info), rows [stride]
- * bytes apart, each pixel a native-endian uint32_t 0xAARRGGBB with
- * premultiplied alpha (cairo's ARGB32). It is the very picture that a
- * `!record` of that window writes for the frame (the same drawing code).
- * No !record file is written: that stays fl_outputs_frame's job.
+/* The picture of window [index] of [rt]'s last frame, read back into
+ * [pixels]: [width] x [height] pixels (the window's own size,
+ * fl_window_info), rows [stride] bytes apart, each pixel a native-endian
+ * uint32_t 0xAARRGGBB: the sRGB encoding of the premultiplied light of
+ * the window's picture and its alpha, as Flitter's !record stores them
+ * (a !record of the window's children writes these values; copied over
+ * black without blending they are what Flitter's window shows). The
+ * picture is drawn by the runtime's render graph, once a frame, with
+ * its !record files written then if fl_outputs_frame did not draw the
+ * frame yet. A front end that has an OpenGL context of its own uses
+ * fl_gl_window_texture instead: no read-back.
  *   errors: -1 with fl_error() text for an index past the last window, a
  *           size other than the window's, a NULL [pixels], or a stride
  *           below width*4 or not a multiple of 4; else 0 (node kinds that
@@ -560,6 +565,28 @@ FL_API size_t fl_windows(fl_runtime *rt, fl_window_info *out, size_t cap);
  *           warning); -1 for a NULL [rt]. */
 FL_API int fl_draw_window(fl_runtime *rt, size_t index, uint32_t *pixels, int width, int height,
                           size_t stride);
+
+/* Draw [rt]'s windows with the OpenGL context that is current on the
+ * calling thread (a front end's window context, OpenGL 3.3 core or later)
+ * from now on, instead of a context of the library's own, and composite
+ * each window's picture every frame: fl_gl_window_texture then hands the
+ * picture over with no read-back. Every later call on [rt] that draws
+ * (fl_outputs_frame, fl_draw_window, fl_gl_window_texture, fl_free) must
+ * come with that context current on its thread; GL objects of the
+ * library's own context, if any, are dropped.
+ *   errors: -1 with fl_error() text when no context is current, it is
+ *           below OpenGL 3.3 or libepoxy cannot be loaded (the runtime
+ *           keeps drawing as before); -1 for a NULL [rt]; else 0. */
+FL_API int fl_gl_attach(fl_runtime *rt);
+/* The OpenGL texture (a GL_TEXTURE_2D name of the context fl_gl_attach
+ * was given) holding window [index]'s picture of the last frame (drawn
+ * now if it was not yet): [*width] x [*height] pixels of premultiplied
+ * RGBA linear light (values above 1 kept: 16-bit float by default, as the
+ * window's colorbits= says). Flitter's window shows it sRGB-encoded,
+ * clamped, over black. The name stays valid until the next fl_step.
+ * Returns 0 (and 0 sizes) when the window has no picture (nothing drawn,
+ * no such window, no OpenGL, or a NULL [rt]). */
+FL_API unsigned fl_gl_window_texture(fl_runtime *rt, size_t index, int *width, int *height);
 
 /* Draw [rt]'s !physics systems as they are now into [pixels] (same layout
  * as fl_draw_window), as `--view` draws them (fl_view), scaled to fit

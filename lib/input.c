@@ -17,7 +17,7 @@
 
 #include "input.h"
 #include "mem.h"
-#include "window.h"
+#include "graph.h"
 
 typedef struct Held {
     size_t window;   /* index of the window in tree order */
@@ -115,7 +115,7 @@ static const Vec *state_of(const Node *n)
 static const Node *window_at(const Node *root, size_t index)
 {
     for (uint32_t i = 0; root && i < root->nchildren; i++)
-        if (window_is_top(root->children[i]) && index-- == 0) return root->children[i];
+        if (graph_is_window(root->children[i]) && index-- == 0) return root->children[i];
     return NULL;
 }
 
@@ -193,7 +193,7 @@ void input_frame(Input *in, const Node *root, StateDict *state, const SymTab *st
     size_t index = 0;
     for (uint32_t i = 0; root && i < root->nchildren; i++) {
         const Node *win = root->children[i];
-        if (!window_is_top(win)) continue;
+        if (!graph_is_window(win)) continue;
         for (uint32_t j = 0; j < win->nchildren; j++) {
             const Node *k = win->children[j];
             const Vec *s;

@@ -1,7 +1,8 @@
 /* outputs.c: the pictures and trajectories a run writes after its frames
  * (flitter.h, "Pictures and trajectories"): the windows' !record files
- * (render/window.h), the --view picture or animation of the !physics
- * systems (render/view.h) and the --trace rows (render/trace.h).
+ * (the runtime's render graph, pictures.h), the --view picture or
+ * animation of the !physics systems (render/view/view.h) and the --trace
+ * rows (render/view/trace.h).
  */
 #include "runtime.h"
 
@@ -14,7 +15,8 @@
 #include "systems.h"
 #include "trace.h"
 #include "view.h"
-#include "window.h"
+#include "canvas.h"
+#include "pictures.h"
 
 _Static_assert((int)RLOG_ERROR == (int)FL_LOG_ERROR && (int)RLOG_WARNING == (int)FL_LOG_WARNING,
                "the renderer's log kinds are flitter.h's");
@@ -23,7 +25,6 @@ struct fl_outputs {
     char *view_path, *trace_path;
     long view_every, trace_every;
     long frames;           /* fl_outputs_frame calls so far */
-    Renderer *ren;
     View *view;
     Trace *trace;
     bool failed;
@@ -77,8 +78,7 @@ fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *opts)
         out->trace = trace_open(o->trace, rt_symbols(rt), err, sizeof err);
         if (!out->trace) goto fail;
     }
-    out->ren = renderer_new(rt_symbols(rt), &log);
-    renderer_set_record(out->ren, o->record);
+    pictures_record_first(rt, o->record);
     mem_leave(prev);
     return out;
 fail:
@@ -102,7 +102,7 @@ int fl_outputs_frame(fl_outputs *out, fl_runtime *rt)
     long frame = fl_frame_count(rt) - 1;
     out->frames++;
     int rc = 0;
-    if (renderer_frame(out->ren, rt_root(rt), fl_target_fps(rt)) > 0) out->record_failed = true;
+    if (pictures_render(rt) > 0) out->record_failed = true;
     bool gif = out->view && view_animated(out->view) && due(frame, out->view_every);
     bool trace = out->trace && due(frame, out->trace_every);
     if (gif || trace) {
@@ -150,7 +150,6 @@ int fl_outputs_close(fl_outputs *out, fl_runtime *rt)
         /* no runtime: no final picture, no message; close and free the rest */
         view_close(out->view);
         trace_close(out->trace);
-        renderer_free(out->ren);
         free(out->view_path);
         free(out->trace_path);
         free(out);
@@ -173,7 +172,8 @@ int fl_outputs_close(fl_outputs *out, fl_runtime *rt)
         fail(rt, "%s: cannot write the trace", out->trace_path);
         rc = -1;
     }
-    if (renderer_free(out->ren) != 0) rc = -1;
+    pictures_record_first(rt, NULL);
+    if (pictures_finish_records(rt) != 0) rc = -1;
     if (out->record_failed && rc == 0) {
         /* each file's first error was logged as it happened */
         fail(rt, "a !record file could not be written (the error is above)");

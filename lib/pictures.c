@@ -1,9 +1,10 @@
-/* pictures.c: the last frame's windows as a front end sees them (see
- * pictures.h): the list of top-level `!window`/`!offscreen` nodes in tree
- * order, each window's picture drawn into the caller's pixels through a
- * cairo image surface over them (the compositing of render/window.c that
- * `!record` uses, so both give the same pixels), and the view of the
- * `!physics` systems (render/view.c).
+/* pictures.c: the runtime's render graph (render/gl/graph.h) and the
+ * last frame's windows as a front end sees them (see pictures.h): the list
+ * of top-level `!window`/`!offscreen` nodes in tree order, each window's
+ * picture drawn once a frame by the graph, either read back into the
+ * caller's pixels (fl_draw_window) or handed over as a texture of the
+ * caller's own OpenGL context (fl_gl_attach, fl_gl_window_texture), and
+ * the view of the `!physics` systems (render/view/view.c).
  */
 #include "runtime.h"
 
@@ -14,37 +15,110 @@
 #include <cairo.h>
 
 #include "canvas.h"
+#include "graph.h"
 #include "mem.h"
 #include "pictures.h"
 #include "systems.h"
 #include "view.h"
-#include "window.h"
 
 /* last: it turns the library's names into calls through its table */
 #include "cairo_lib.h"
 
 struct Pictures {
-    Renderer *ren;   /* draws windows; never writes !record files */
+    fl_runtime *rt;
+    Graph *graph;    /* the windows' passes, made by the first frame that draws */
     View *view;      /* draws the physics view (its 3D renderer kept across frames) */
     RenderLog log;
+    bool show;       /* windows are shown: each is composited every frame */
+    char *record;    /* --record FILE, until the graph is made */
+    char folder[4096];
 };
 
-Pictures *pictures_new(const SymTab *symbols, fl_log_fn log, void *ctx)
+Pictures *pictures_new(fl_runtime *rt)
 {
     Pictures *p = mem_calloc(1, sizeof *p);
+    p->rt = rt;
     /* skipped kinds are worth a warning here: a shown window lacks them */
-    p->log = (RenderLog){log, ctx, true};
-    p->ren = renderer_new(symbols, &p->log);
-    p->view = view_new_fit(symbols);
+    p->log = (RenderLog){NULL, NULL, true};
+    rt_log_target(rt, &p->log.fn, &p->log.ctx);
+    p->view = view_new_fit(rt_symbols(rt));
     return p;
+}
+
+/* The graph, made the first time. */
+static Graph *graph_of(Pictures *p)
+{
+    if (!p->graph) {
+        GraphEnv env = {.symbols = rt_symbols(p->rt), .log = p->log, .budget = rt_budget(p->rt),
+                        .interrupt = rt_options(p->rt)->interrupt};
+        p->graph = graph_new(&env);
+        graph_show_windows(p->graph, p->show);
+        graph_record_first(p->graph, p->record);
+    }
+    return p->graph;
 }
 
 void pictures_free(Pictures *p)
 {
     if (!p) return;
-    renderer_free(p->ren);   /* writes nothing: no GIF to finish */
+    graph_free(p->graph);
     view_close(p->view);
+    free(p->record);
     free(p);
+}
+
+static const Vec *frame_name(void *ctx, const char *name, size_t len)
+{
+    return rt_global(ctx, name, len);
+}
+
+static double global_num(const fl_runtime *rt, const char *name, double dflt)
+{
+    const Vec *v = rt_global(rt, name, strlen(name));
+    return vec_is_scalar(v) ? vec_scalar(v) : dflt;
+}
+
+int pictures_render(fl_runtime *rt)
+{
+    Pictures *p = rt_pictures(rt);
+    if (!rt_root(rt)) return 0;
+    const char *script = rt_script_path(rt);
+    p->folder[0] = '\0';
+    if (script) {
+        const char *slash = strrchr(script, '/');
+        if (slash && (size_t)(slash - script) < sizeof p->folder)
+            snprintf(p->folder, sizeof p->folder, "%.*s", (int)(slash - script), script);
+        if (slash == script) snprintf(p->folder, sizeof p->folder, "/");
+    }
+    GraphFrame f = {.frame = fl_frame_count(rt) - 1, .beat = global_num(rt, "beat", 0),
+                    .quantum = global_num(rt, "quantum", 4), .tempo = global_num(rt, "tempo", 120),
+                    .delta = global_num(rt, "delta", 0), .time = global_num(rt, "time", 0),
+                    .fps = fl_target_fps(rt), .performance = global_num(rt, "performance", 1),
+                    .realtime = rt_realtime(rt), .script = script, .folder = p->folder, .name = frame_name,
+                    .ctx = rt};
+    return graph_frame(graph_of(p), rt_root(rt), &f);
+}
+
+void pictures_record_first(fl_runtime *rt, const char *path)
+{
+    Pictures *p = rt_pictures(rt);
+    free(p->record);
+    p->record = path && *path ? mem_strdup(path) : NULL;
+    if (p->graph) graph_record_first(p->graph, p->record);
+}
+
+int pictures_finish_records(fl_runtime *rt)
+{
+    Pictures *p = rt_pictures(rt);
+    return p->graph ? graph_finish_records(p->graph) : 0;
+}
+
+/* Windows are shown from now on: each is composited every frame. */
+static void show_windows(Pictures *p)
+{
+    if (p->show) return;
+    p->show = true;
+    if (p->graph) graph_show_windows(p->graph, true);
 }
 
 /* Replace [rt]'s fl_error() text with one formatted line. */
@@ -69,7 +143,7 @@ static const Node *window_at(const fl_runtime *rt, size_t index, size_t *count)
     size_t k = 0;
     for (uint32_t i = 0; root && i < root->nchildren; i++) {
         const Node *c = root->children[i];
-        if (!window_is_top(c)) continue;
+        if (!graph_is_window(c)) continue;
         if (k++ == index) found = c;
     }
     if (count) *count = k;
@@ -108,10 +182,10 @@ size_t fl_windows(fl_runtime *rt, fl_window_info *out, size_t cap)
     size_t k = 0;
     for (uint32_t i = 0; root && i < root->nchildren; i++) {
         const Node *c = root->children[i];
-        if (!window_is_top(c)) continue;
+        if (!graph_is_window(c)) continue;
         if (out && k < cap) {
             fl_window_info *w = &out[k];
-            window_size(c, &w->width, &w->height);
+            graph_window_size(c, &w->width, &w->height);
             copy_title(c, rt_symbols(rt), w->title, sizeof w->title);
             w->offscreen = node_is(c, "offscreen");
             w->fullscreen = flag_of(c, "fullscreen");
@@ -170,20 +244,51 @@ int fl_draw_window(fl_runtime *rt, size_t index, uint32_t *pixels, int width, in
     int w, h;
     if (!win) {
         fail(rt, "fl_draw_window: no window %zu (the last frame has %zu)", index, count);
-    } else if (window_size(win, &w, &h), w != width || h != height) {
+    } else if (graph_window_size(win, &w, &h), w != width || h != height) {
         fail(rt, "fl_draw_window: window %zu is %dx%d, not %dx%d", index, w, h, width, height);
     } else if (check_buffer(rt, "fl_draw_window", pixels, width, height, stride) == 0) {
-        cairo_surface_t *s = wrap(pixels, width, height, stride);
-        if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS) {
-            fail(rt, "fl_draw_window: %s", cairo_status_to_string(cairo_surface_status(s)));
-        } else {
-            rc = renderer_draw_window(rt_pictures(rt)->ren, win, s);
-            if (rc != 0) fail(rt, "fl_draw_window: cannot draw into the buffer");
+        Pictures *p = rt_pictures(rt);
+        show_windows(p);
+        pictures_render(rt);
+        rc = 0;
+        if (graph_read_window(p->graph, index, pixels, width, height, stride) != 0) {
+            /* nothing drawn (no OpenGL, or nothing in the window): transparent */
+            for (int y = 0; y < height; y++) memset((char *)pixels + (size_t)y * stride, 0, (size_t)width * 4);
         }
-        cairo_surface_destroy(s);
     }
     mem_leave(prev);
     return rc;
+}
+
+int fl_gl_attach(fl_runtime *rt)
+{
+    if (!rt) return -1;
+    MemHandler prev = rt_enter(rt);
+    buf_reset(rt_error_buf(rt));
+    Pictures *p = rt_pictures(rt);
+    char err[600];
+    int rc = graph_attach(graph_of(p), err, sizeof err);
+    if (rc != 0) fail(rt, "fl_gl_attach: %s", err);
+    else show_windows(p);
+    mem_leave(prev);
+    return rc;
+}
+
+unsigned fl_gl_window_texture(fl_runtime *rt, size_t index, int *width, int *height)
+{
+    int w = 0, h = 0;
+    unsigned tex = 0;
+    if (rt) {
+        MemHandler prev = rt_enter(rt);
+        Pictures *p = rt_pictures(rt);
+        show_windows(p);
+        pictures_render(rt);
+        tex = graph_window_texture(graph_of(p), index, &w, &h);
+        mem_leave(prev);
+    }
+    if (width) *width = w;
+    if (height) *height = h;
+    return tex;
 }
 
 int fl_draw_view(fl_runtime *rt, uint32_t *pixels, int width, int height, size_t stride,

@@ -1,8 +1,10 @@
-/* pictures.h: the last frame's windows for a front end that shows them
- * (flitter.h, "Windows: a frame's pictures and input"): their list
- * (fl_windows) and their pictures drawn into the caller's pixels
- * (fl_draw_window, with the !record compositing of render/window.h) and
- * the --view picture of the !physics systems (fl_draw_view, render/view.h).
+/* pictures.h: the runtime's render graph and the last frame's windows for
+ * a front end that shows them (flitter.h, "Windows: a frame's pictures
+ * and input"): their list (fl_windows), their pictures read back into the
+ * caller's pixels (fl_draw_window) or as textures of the caller's OpenGL
+ * context (fl_gl_attach, fl_gl_window_texture), and the --view picture of
+ * the !physics systems (fl_draw_view, render/view/view.h). The !record
+ * files of fl_outputs are written by the same graph (pictures_render).
  */
 #ifndef FL_PICTURES_H
 #define FL_PICTURES_H
@@ -10,14 +12,26 @@
 #include "flitter.h"
 #include "value.h"
 
-/* What a runtime keeps for drawing pictures: the renderer, so that each
- * node kind that cannot be drawn is reported once per runtime. */
+/* What a runtime keeps for drawing pictures: its render graph (made by
+ * the first frame that draws), so that passes, framebuffers and decoded
+ * media live from frame to frame and each node kind that cannot be drawn
+ * is reported once per runtime. */
 typedef struct Pictures Pictures;
 
-/* A drawer naming symbols with [symbols] (borrowed, must outlive it) and
- * reporting skipped node kinds as warnings to [log] / [ctx]. */
-Pictures *pictures_new(const SymTab *symbols, fl_log_fn log, void *ctx);
-/* Free [p] (NULL is a no-op). */
+/* The pictures of [rt] (its symbols, log, memory budget and interrupt). */
+Pictures *pictures_new(fl_runtime *rt);
+/* Free [p] (NULL is a no-op): animated GIFs and videos still open are
+ * finished. */
 void pictures_free(Pictures *p);
+/* Draw [rt]'s last frame through the graph, once per frame (a second call
+ * in the same frame does nothing), writing its !record files; returns the
+ * number of record files that could not be written this frame. */
+int pictures_render(fl_runtime *rt);
+/* Record the first window of every later frame to [path] (--record; NULL
+ * or "" stops). */
+void pictures_record_first(fl_runtime *rt, const char *path);
+/* Finish the animated GIFs and videos the records opened (each renamed
+ * into place); -1 when one could not be (logged), else 0. */
+int pictures_finish_records(fl_runtime *rt);
 
 #endif

@@ -259,7 +259,7 @@ fl_runtime *fl_new(const fl_options *opts)
     v = vec_num1(0.0);
     for (int g = G_SCREEN; g <= G_OPENGL_ES; g++) globals_set(&rt->globals, g, v);
     vec_release(v);
-    rt->pictures = pictures_new(rt->symtab, rt->opts.log, rt->opts.ctx);
+    rt->pictures = pictures_new(rt);
     rt->input = input_new();
     mem_leave(prev);
     return rt;
@@ -1044,6 +1044,18 @@ Pictures *rt_pictures(fl_runtime *rt) { return rt->pictures; }
 const fl_options *rt_options(const fl_runtime *rt) { return &rt->opts; }
 Input *rt_input(fl_runtime *rt) { return rt->input; }
 double rt_beat(const fl_runtime *rt) { return rt->last_beat; }
+
+const Vec *rt_global(const fl_runtime *rt, const char *name, size_t len)
+{
+    int i = globals_find(&rt->globals, name, len);
+    return i >= 0 ? rt->globals.values[i] : NULL;
+}
+
+MemBudget *rt_budget(fl_runtime *rt) { return &rt->budget; }
+
+const char *rt_script_path(const fl_runtime *rt) { return rt->prog ? rt->prog->path : NULL; }
+
+bool rt_realtime(const fl_runtime *rt) { return rt->opts.realtime; }
 
 size_t fl_program_files(fl_runtime *rt, const char **out, size_t cap)
 {

@@ -50,6 +50,17 @@ struct Pictures *rt_pictures(fl_runtime *rt);
 struct Input *rt_input(fl_runtime *rt);
 /* The beat of the last evaluated frame (0 before the first). */
 double rt_beat(const fl_runtime *rt);
+/* The value of engine name or define [name] ([len] bytes: `beat`,
+ * `delta`, `time`, ... of the last frame, LANGUAGE.md §6.2; borrowed), or
+ * NULL when there is none. */
+const Vec *rt_global(const fl_runtime *rt, const char *name, size_t len);
+/* The runtime's memory budget (fl_options.max_memory), for what it holds
+ * across calls (the render graph's framebuffers). */
+MemBudget *rt_budget(fl_runtime *rt);
+/* The loaded script's path, or NULL. */
+const char *rt_script_path(const fl_runtime *rt);
+/* Whether the runtime runs on the wall clock (fl_options.realtime). */
+bool rt_realtime(const fl_runtime *rt);
 /* The state dictionary (mutable: controller values may be written). */
 StateDict *rt_state(fl_runtime *rt);
 /* The symbol table used for value text. */

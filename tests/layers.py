@@ -17,7 +17,7 @@ import os
 import re
 import sys
 
-GENERATED = {"parser.h": "syntax"}
+GENERATED = {"parser.h": "syntax", "gl_names.h": "gl"}
 
 
 def read_table(path):

@@ -1,9 +1,8 @@
 #!/bin/sh
-# flitter_cli.sh FLITTER WIRE: Flitter's own command line (`flitter
-# [options] SCRIPT` as in Flitter's documentation Makefiles), --version,
-# help, a skipped drawing node named once (with or without --debug); `run --view/--trace-file`
-# (and --view-axes) wiring on the wire sample WIRE (pictures and rows are checked in
-# tests/unit/test_view.c).
+# flitter_cli.sh FLITTER WIRE: --version, help, `flitter test` without
+# tests, `run --view/--trace-file` (and --view-axes) wiring on the wire
+# sample WIRE (pictures and rows are checked in tests/unit/test_view.c).
+# (Flitter's own command line drawing a figure: flitter_figures.sh.)
 set -u
 flitter=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 wire=$2
@@ -19,43 +18,6 @@ grep -q -- '--runtime T' "$dir/out" || fail "help run lacks --runtime"
 [ $? -eq 2 ] && grep -q 'runtime 1e+300 is too long' "$dir/err" || fail "--runtime 1e300: $(cat "$dir/err")"
 "$flitter" help bogus 2>/dev/null
 [ $? -eq 2 ] || fail "help bogus should exit 2"
-
-# --runtime=1 at --fps=4 runs round(1*4) = 4 frames: the last is frame 3,
-# the one the script records (run_time is the planned run time).
-cat >"$dir/fig.fl" <<'FL'
-!window size=20;10
-    !record filename=OUTPUT if frame == run_time*fps - 1
-        !canvas
-            !rect size=20;10 fill=true color=1
-    !shader
-    !shader
-FL
-(cd "$dir" && "$flitter" --offscreen --lockstep --fps=4 --runtime=1 --nosimplify \
-    --define "OUTPUT=fig.png" --debug --dump-state fig.fl) >"$dir/out" 2>"$dir/err" \
-    || fail "flitter fig.fl failed: $(cat "$dir/err")"
-grep -qx '# frame 3 time 0.75' "$dir/out" || fail "expected 4 frames, got: $(cat "$dir/out")"
-[ -f "$dir/fig.png" ] || fail "fig.png not written"
-# PNG signature, then the IHDR width 20 and height 10 (big-endian)
-[ "$(od -An -tx1 -j12 -N12 "$dir/fig.png" | tr -d ' \n')" = "49484452000000140000000a" ] ||
-    fail "fig.png header: $(od -An -tx1 -N24 "$dir/fig.png")"
-[ "$(grep -c 'skipping unsupported !shader' "$dir/err")" -eq 1 ] || fail "debug messages: $(cat "$dir/err")"
-# without --debug it is said all the same, once: a picture missing a part
-# never comes silently (issue 25)
-(cd "$dir" && "$flitter" --lockstep --fps=4 --runtime=1 -D OUTPUT=fig2.png fig.fl) 2>"$dir/err" >/dev/null
-[ "$(cat "$dir/err")" = "window: skipping unsupported !shader" ] || fail "stderr without --debug: $(cat "$dir/err")"
-[ -f "$dir/fig2.png" ] || fail "fig2.png not written (-D)"
-
-# a !record name that is neither .png nor .gif is reported once, not
-# written, and the run exits 1 (it exited 0 with the picture missing)
-printf '!window size=8;8\n    !record filename="fig.jpg"\n        !canvas\n' >"$dir/jpg.fl"
-(cd "$dir" && "$flitter" run --frames 3 jpg.fl) 2>"$dir/err"
-rc=$?
-[ $rc -eq 1 ] || fail "jpg.fl: exit status $rc (1 expected)"
-grep -qx 'flitter run: a !record file could not be written (the error is above)' "$dir/err" \
-    || fail "jpg.fl: no closing message: $(cat "$dir/err")"
-[ "$(grep -c 'fig.jpg: only .png pictures and .gif animations are written' "$dir/err")" -eq 1 ] \
-    || fail "fig.jpg: $(cat "$dir/err")"
-[ -e "$dir/fig.jpg" ] && fail "fig.jpg was written"
 
 # `flitter test` in a directory without tests says so (and exits 2)
 mkdir "$dir/empty" && (cd "$dir/empty" && "$flitter" test) >"$dir/out" 2>"$dir/err"

@@ -15,7 +15,11 @@
 #      like a PNG are refused with a message, and left as they were;
 #   4. a file that is not a picture of the kind written (a text file named
 #      by `codec=:gif`, text in a .png, a script named as a video) is left
-#      byte for byte as it was, with a message; a PNG over a PNG is fine.
+#      byte for byte as it was, with a message; a PNG over a PNG is fine;
+#   5. a !record into a folder that cannot be made (a file of that name is
+#      in the way): the run goes on to its last frame (--dump-state
+#      printed), then exits 1 saying so; a missing folder is made, as
+#      Flitter makes it.
 set -u
 flitter=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 command -v python3 >/dev/null 2>&1 || { echo "record_atomic: python3 not installed, skipped" >&2; exit 77; }
@@ -65,7 +69,7 @@ let r = uniform(frame)
         !canvas
             for i in ..1024
                 !rect point=(i % 32) * 10;(i // 32) * 10 size=10;10 fill=true color=r[i*3];r[i*3+1];r[i*3+2]
-    !record filename="anim.gif"
+    !record filename="anim.gif" codec=:gif
         !canvas
             !rect point=frame % 300;0 size=20;20 fill=true color=1
 FL
@@ -145,9 +149,24 @@ done
 for f in notes.txt text.png clip.mp4; do
     cmp -s "$dir/$f" "$dir/$f.orig" || fail "$f was replaced"
 done
-grep -q '^notes.txt: exists and is not a GIF animation; not replaced' "$dir/err" || fail "notes.txt: $(cat "$dir/err")"
+grep -q '^notes.txt: exists and is not a GIF picture or animation; not replaced' "$dir/err" || fail "notes.txt: $(cat "$dir/err")"
 grep -q '^text.png: exists and is not a PNG picture; not replaced' "$dir/err" || fail "text.png: $(cat "$dir/err")"
 grep -q '^clip.mp4: exists and is not a video; not replaced' "$dir/err" || fail "clip.mp4: $(cat "$dir/err")"
 grep -q 'good.png' "$dir/err" && fail "good.png (a PNG over our own PNG) was refused: $(cat "$dir/err")"
 [ "$(od -An -tx1 -N4 "$dir/good.png" | tr -d ' \n')" = "89504e47" ] || fail "good.png is not a PNG"
+
+printf 'not a folder\n' >"$dir/none"
+printf '!window size=8;8\n    !record filename="none/a.png"\n        !canvas\n' >"$dir/rec.fl"
+(cd "$dir" && "$flitter" run --frames 3 --dump-state rec.fl) >"$dir/rec.out" 2>"$dir/err"
+rc=$?
+[ $rc -eq 1 ] || fail "!record into a folder that is a file: exit $rc, not 1"
+grep -q '^# frame 2 ' "$dir/rec.out" || fail "!record: the run did not reach frame 2"
+grep -qx 'none/a.png: cannot create a file in none: Not a directory' "$dir/err" ||
+    fail "!record: no message for the file: $(cat "$dir/err")"
+tail -n 1 "$dir/err" | grep -qx 'flitter run: a !record file could not be written (the error is above)' ||
+    fail "!record: no closing message: $(cat "$dir/err")"
+[ "$(cat "$dir/none")" = "not a folder" ] || fail "!record: the file in the way was changed"
+printf '!window size=8;8\n    !record filename="made/deeper/a.png"\n        !canvas\n' >"$dir/mk.fl"
+(cd "$dir" && "$flitter" run --frames 1 mk.fl) 2>"$dir/err" || fail "!record into missing folders: $(cat "$dir/err")"
+[ -f "$dir/made/deeper/a.png" ] || fail "!record: missing folders not made"
 exit 0

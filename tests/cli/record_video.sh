@@ -24,7 +24,9 @@ dir=$(mktemp -d) || exit 2
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "record_video: $*" >&2; exit 1; }
 
-# a directory that does not exist: reported, run carries on, status 1
+# a folder that cannot be made (a file is in the way): reported, run
+# carries on, status 1
+printf 'x\n' >"$dir/nodir"
 printf '!window size=8;8\n    !record filename="nodir/a.mp4"\n        !canvas\n    !record filename="nodir/b.png"\n        !canvas\n' \
     >"$dir/nodir.fl"
 (cd "$dir" && "$flitter" run --frames 3 nodir.fl) 2>"$dir/err"
@@ -32,9 +34,9 @@ rc=$?
 [ $rc -eq 1 ] || fail "nodir.fl: exit status $rc, not 1"
 grep -qx 'flitter run: a !record file could not be written (the error is above)' "$dir/err" \
     || fail "nodir.fl: no closing message: $(cat "$dir/err")"
-grep -qx 'nodir/a.mp4: cannot create a file in nodir: No such file or directory' "$dir/err" \
+grep -qx 'nodir/a.mp4: cannot create a file in nodir: Not a directory' "$dir/err" \
     || fail "nodir/a.mp4 message: $(cat "$dir/err")"
-grep -qx 'nodir/b.png: cannot create a file in nodir: No such file or directory' "$dir/err" \
+grep -qx 'nodir/b.png: cannot create a file in nodir: Not a directory' "$dir/err" \
     || fail "nodir/b.png message: $(cat "$dir/err")"
 [ "$(wc -l <"$dir/err")" -eq 3 ] || fail "each file's error once, and the closing line, got: $(cat "$dir/err")"
 # Under valgrind (the suite's memcheck phase) FFmpeg cannot be loaded:

@@ -745,6 +745,29 @@ NULL_TEST(fl_draw_window)
     fl_free(rt);
 }
 
+NULL_TEST(fl_gl_attach)
+{
+    (void)unused;
+    assert_int_equal(fl_gl_attach(NULL), -1);
+    fl_runtime *rt = loaded();
+    /* no OpenGL context is current on this thread */
+    assert_int_equal(fl_gl_attach(rt), -1);
+    expect_error(rt, "fl_gl_attach", "fl_gl_attach");
+    fl_free(rt);
+}
+
+NULL_TEST(fl_gl_window_texture)
+{
+    (void)unused;
+    int w = 7, h = 9;
+    assert_int_equal(fl_gl_window_texture(NULL, 0, &w, &h), 0);
+    assert_int_equal(w, 0);
+    assert_int_equal(h, 0);
+    fl_runtime *rt = loaded();
+    assert_int_equal(fl_gl_window_texture(rt, SIZE_MAX, NULL, NULL), 0);   /* no such window, NULL sizes */
+    fl_free(rt);
+}
+
 NULL_TEST(fl_draw_view)
 {
     (void)unused;
@@ -922,7 +945,7 @@ static const struct CMUnitTest tests[] = {
     T(fl_state_set_expr), T(fl_eval_reset), T(fl_scope_names), T(fl_builtin_name),
     T(fl_number_text), T(fl_particles), T(fl_outputs_open), T(fl_outputs_frame),
     T(fl_outputs_close), T(fl_view), T(fl_check_output), T(fl_windows), T(fl_draw_window),
-    T(fl_draw_view), T(fl_view_snapshot_take), T(fl_view_snapshot_free),
+    T(fl_gl_attach), T(fl_gl_window_texture), T(fl_draw_view), T(fl_view_snapshot_take), T(fl_view_snapshot_free),
     T(fl_view_painter_new), T(fl_view_painter_free), T(fl_view_painter_draw), T(fl_key), T(fl_pointer), T(fl_pointer_button), T(fl_program_files),
     T(fl_get_stats),
     cmocka_unit_test(every_function_is_covered),

@@ -38,19 +38,19 @@
     X(cairo_image_surface_get_format) X(cairo_image_surface_get_height)                                 \
     X(cairo_image_surface_get_stride) X(cairo_image_surface_get_width) X(cairo_line_to)                 \
     X(cairo_matrix_init) X(cairo_matrix_init_scale) X(cairo_matrix_init_translate)                      \
-    X(cairo_matrix_invert) X(cairo_matrix_multiply) X(cairo_matrix_rotate) X(cairo_matrix_scale)        \
+    X(cairo_matrix_init_identity) X(cairo_matrix_init_rotate) X(cairo_matrix_invert) X(cairo_matrix_multiply) X(cairo_matrix_rotate) X(cairo_matrix_scale)        \
     X(cairo_matrix_translate) X(cairo_move_to) X(cairo_new_path) X(cairo_new_sub_path) X(cairo_paint)   \
-    X(cairo_paint_with_alpha) X(cairo_pattern_add_color_stop_rgba) X(cairo_pattern_create_linear)       \
+    X(cairo_paint_with_alpha) X(cairo_pattern_add_color_stop_rgba) X(cairo_pattern_create_for_surface) X(cairo_pattern_create_linear)       \
     X(cairo_pattern_create_radial) X(cairo_pattern_create_rgba) X(cairo_pattern_destroy)                \
     X(cairo_pattern_reference) X(cairo_pattern_set_extend) X(cairo_pattern_set_filter)                  \
-    X(cairo_pattern_set_matrix) X(cairo_pop_group_to_source) X(cairo_push_group) X(cairo_rectangle)     \
+    X(cairo_pattern_set_matrix) X(cairo_pop_group) X(cairo_pop_group_to_source) X(cairo_push_group) X(cairo_rectangle)     \
     X(cairo_restore) X(cairo_rotate) X(cairo_save) X(cairo_scale) X(cairo_select_font_face)             \
     X(cairo_set_antialias) X(cairo_set_dash) X(cairo_set_fill_rule) X(cairo_set_font_size)              \
     X(cairo_set_line_cap) X(cairo_set_line_join) X(cairo_set_line_width) X(cairo_set_matrix)            \
     X(cairo_set_miter_limit) X(cairo_set_operator) X(cairo_set_source) X(cairo_set_source_rgb)          \
     X(cairo_set_source_rgba) X(cairo_set_source_surface) X(cairo_show_text) X(cairo_status_to_string)   \
     X(cairo_stroke) X(cairo_stroke_preserve) X(cairo_surface_destroy) X(cairo_surface_finish)           \
-    X(cairo_surface_flush) X(cairo_surface_get_reference_count) X(cairo_surface_get_type) X(cairo_surface_mark_dirty) X(cairo_surface_status) \
+    X(cairo_surface_flush) X(cairo_surface_get_reference_count) X(cairo_surface_get_type) X(cairo_surface_mark_dirty) X(cairo_surface_reference) X(cairo_surface_status) \
     X(cairo_surface_write_to_png) X(cairo_surface_write_to_png_stream) X(cairo_svg_surface_create)      \
     X(cairo_text_extents) X(cairo_text_path) X(cairo_transform) X(cairo_translate)                      \
     X(cairo_user_to_device_distance)
@@ -97,6 +97,8 @@ bool cairo_lib_ready(char *why, size_t cap);
 #define cairo_image_surface_get_width (FL_CAIRO->f_cairo_image_surface_get_width)
 #define cairo_line_to (FL_CAIRO->f_cairo_line_to)
 #define cairo_matrix_init (FL_CAIRO->f_cairo_matrix_init)
+#define cairo_matrix_init_identity (FL_CAIRO->f_cairo_matrix_init_identity)
+#define cairo_matrix_init_rotate (FL_CAIRO->f_cairo_matrix_init_rotate)
 #define cairo_matrix_init_scale (FL_CAIRO->f_cairo_matrix_init_scale)
 #define cairo_matrix_init_translate (FL_CAIRO->f_cairo_matrix_init_translate)
 #define cairo_matrix_invert (FL_CAIRO->f_cairo_matrix_invert)
@@ -110,6 +112,7 @@ bool cairo_lib_ready(char *why, size_t cap);
 #define cairo_paint (FL_CAIRO->f_cairo_paint)
 #define cairo_paint_with_alpha (FL_CAIRO->f_cairo_paint_with_alpha)
 #define cairo_pattern_add_color_stop_rgba (FL_CAIRO->f_cairo_pattern_add_color_stop_rgba)
+#define cairo_pattern_create_for_surface (FL_CAIRO->f_cairo_pattern_create_for_surface)
 #define cairo_pattern_create_linear (FL_CAIRO->f_cairo_pattern_create_linear)
 #define cairo_pattern_create_radial (FL_CAIRO->f_cairo_pattern_create_radial)
 #define cairo_pattern_create_rgba (FL_CAIRO->f_cairo_pattern_create_rgba)
@@ -118,6 +121,7 @@ bool cairo_lib_ready(char *why, size_t cap);
 #define cairo_pattern_set_extend (FL_CAIRO->f_cairo_pattern_set_extend)
 #define cairo_pattern_set_filter (FL_CAIRO->f_cairo_pattern_set_filter)
 #define cairo_pattern_set_matrix (FL_CAIRO->f_cairo_pattern_set_matrix)
+#define cairo_pop_group (FL_CAIRO->f_cairo_pop_group)
 #define cairo_pop_group_to_source (FL_CAIRO->f_cairo_pop_group_to_source)
 #define cairo_push_group (FL_CAIRO->f_cairo_push_group)
 #define cairo_rectangle (FL_CAIRO->f_cairo_rectangle)
@@ -150,6 +154,7 @@ bool cairo_lib_ready(char *why, size_t cap);
 #define cairo_surface_get_reference_count (FL_CAIRO->f_cairo_surface_get_reference_count)
 #define cairo_surface_get_type (FL_CAIRO->f_cairo_surface_get_type)
 #define cairo_surface_mark_dirty (FL_CAIRO->f_cairo_surface_mark_dirty)
+#define cairo_surface_reference (FL_CAIRO->f_cairo_surface_reference)
 #define cairo_surface_status (FL_CAIRO->f_cairo_surface_status)
 #define cairo_surface_write_to_png (FL_CAIRO->f_cairo_surface_write_to_png)
 #define cairo_surface_write_to_png_stream (FL_CAIRO->f_cairo_surface_write_to_png_stream)

@@ -591,6 +591,151 @@ static bool make_gradient(const Ctx *c, const Node *n, Paint *p)
 }
 
 static void draw_node(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path);
+/* ---- pictures: !image, !pattern, !blend ---- */
+
+/* The picture [n] names (filename=, else image_id= or texture_id=), a new
+ * reference, or NULL. */
+static cairo_surface_t *node_image(Ctx *c, const Node *n)
+{
+    const CanvasImages *im = c->env->images;
+    if (!im || !im->get) return NULL;
+    if (canvas_attr_str(n, "filename", c->env->symbols, &c->text) && c->text.len)
+        return im->get(im->ctx, NULL, buf_cstr(&c->text), c->env->linear);
+    if ((canvas_attr_str(n, "image_id", c->env->symbols, &c->text) ||
+         canvas_attr_str(n, "texture_id", c->env->symbols, &c->text)) && c->text.len)
+        return im->get(im->ctx, buf_cstr(&c->text), NULL, c->env->linear);
+    return NULL;
+}
+
+/* !image: the picture from its rectangle [src] onto [dst] (x, y, w, h),
+ * with the paint's alpha and blend (Flitter canvas.pyx, _draw "image":
+ * fill= crops the picture to the aspect of the rectangle it fills, fit=
+ * fits it inside with its aspect kept, else size=, default its own). */
+static void draw_image(Ctx *c, const Node *n, const Paint *paint)
+{
+    cairo_surface_t *img = node_image(c, n);
+    if (!img) return;
+    double w = cairo_image_surface_get_width(img), h = cairo_image_surface_get_height(img);
+    double pt[2] = {0, 0}, v[2], src[4] = {0, 0, w, h}, dst[4];
+    canvas_attr_nums(n, "point", 2, pt);
+    if (canvas_attr_nums(n, "fill", 2, v) && v[0] > 0 && v[1] > 0) {
+        double aspect = v[0] / v[1];
+        if (w / h > aspect) src[2] = h * aspect, src[0] = (w - src[2]) / 2;
+        else src[3] = w / aspect, src[1] = (h - src[3]) / 2;
+        dst[0] = pt[0], dst[1] = pt[1], dst[2] = v[0], dst[3] = v[1];
+    } else if (canvas_attr_nums(n, "fit", 2, v) && v[0] > 0 && v[1] > 0) {
+        double aspect = w / h;
+        if (v[0] / v[1] > aspect) dst[2] = v[1] * aspect, dst[3] = v[1], dst[0] = pt[0] + (v[0] - dst[2]) / 2, dst[1] = pt[1];
+        else dst[2] = v[0], dst[3] = v[0] / aspect, dst[0] = pt[0], dst[1] = pt[1] + (v[1] - dst[3]) / 2;
+    } else {
+        if (!canvas_attr_nums(n, "size", 2, v)) v[0] = w, v[1] = h;
+        dst[0] = pt[0], dst[1] = pt[1], dst[2] = v[0], dst[3] = v[1];
+    }
+    if (dst[2] != 0 && dst[3] != 0 && src[2] > 0 && src[3] > 0 && isfinite(dst[0] + dst[1] + dst[2] + dst[3])) {
+        cairo_t *cr = c->cr;
+        cairo_save(cr);
+        cairo_rectangle(cr, dst[0], dst[1], dst[2], dst[3]);
+        cairo_clip(cr);
+        cairo_translate(cr, dst[0], dst[1]);
+        cairo_scale(cr, dst[2] / src[2], dst[3] / src[3]);
+        cairo_set_source_surface(cr, img, -src[0], -src[1]);
+        /* Skia's default sampling, as Flitter draws it: nearest */
+        cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+        cairo_set_operator(cr, paint->op);
+        cairo_paint_with_alpha(cr, clamp01(paint->rgba[3]));
+        cairo_restore(cr);
+    }
+    cairo_surface_destroy(img);
+}
+
+/* !pattern: the picture tiled, its local matrix made of translate,
+ * rotate (turns) and scale in attribute order, each after the ones
+ * before (Skia's postTranslate/postRotate/postScale). */
+static cairo_pattern_t *make_pattern(Ctx *c, const Node *n)
+{
+    cairo_surface_t *img = node_image(c, n);
+    if (!img) return NULL;
+    cairo_matrix_t local, step;
+    cairo_matrix_init_identity(&local);
+    double v[2];
+    for (size_t i = 0; i < rnode_nattrs(n); i++) {
+        const char *key = rnode_attr_name(n, i);
+        if (strcmp(key, "translate") == 0 && canvas_attr_nums(n, key, 2, v)) cairo_matrix_init_translate(&step, v[0], v[1]);
+        else if (strcmp(key, "rotate") == 0 && canvas_attr_nums(n, key, 1, v)) cairo_matrix_init_rotate(&step, v[0] * TAU);
+        else if (strcmp(key, "scale") == 0 && canvas_attr_nums(n, key, 2, v)) cairo_matrix_init_scale(&step, v[0], v[1]);
+        else continue;
+        cairo_matrix_multiply(&local, &local, &step);   /* [local] first, then [step] */
+    }
+    cairo_pattern_t *pat = cairo_pattern_create_for_surface(img);
+    cairo_surface_destroy(img);
+    if (cairo_matrix_invert(&local) == CAIRO_STATUS_SUCCESS) cairo_pattern_set_matrix(pat, &local);
+    cairo_pattern_set_extend(pat, CAIRO_EXTEND_REPEAT);
+    cairo_pattern_set_filter(pat, CAIRO_FILTER_NEAREST);   /* makeShader's default sampling */
+    return pat;
+}
+
+/* The paint that shader node [n] (!color, !gradient, !pattern, !blend)
+ * makes of [paint], or NULL (a new reference). */
+static cairo_pattern_t *child_shader(Ctx *c, const Node *n, const Paint *paint, const Font *font, Path *path)
+{
+    Paint p;
+    paint_copy(&p, paint);
+    paint_done(&p);
+    draw_node(c, n, &p, font, path);
+    cairo_pattern_t *r = p.shader;
+    p.shader = NULL;
+    paint_done(&p);
+    return r;
+}
+
+/* !blend: its two children's paints mixed by ratio= (0: the first, 1: the
+ * second; Skia's Lerp), or the second laid on the first with mode=; one
+ * child's paint alone. The mix is made once over the clip's extent. */
+static void make_blend(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    cairo_pattern_t *sh[2] = {NULL, NULL};
+    int k = 0;
+    for (size_t i = 0; i < rnode_nchildren(n) && k < 2; i++) {
+        cairo_pattern_t *s = child_shader(c, rnode_child(n, i), paint, font, path);
+        if (s) sh[k++] = s;
+    }
+    if (k == 1) {
+        paint_done(paint);
+        paint->shader = sh[0];
+        return;
+    }
+    if (k < 2) return;
+    double ratio;
+    bool lerp = canvas_attr_nums(n, "ratio", 1, &ratio);
+    cairo_operator_t op = CAIRO_OPERATOR_OVER;
+    if (!lerp && canvas_attr_str(n, "mode", c->env->symbols, &c->text))
+        for (size_t m = 0; m < sizeof composites / sizeof composites[0]; m++)
+            if (strcmp(buf_cstr(&c->text), composites[m].name) == 0) op = composites[m].op;
+    cairo_t *cr = c->cr;
+    cairo_save(cr);
+    cairo_push_group(cr);
+    cairo_set_source(cr, sh[0]);
+    cairo_set_operator(cr, CAIRO_OPERATOR_SOURCE);
+    if (lerp) {
+        ratio = clamp01(ratio);
+        cairo_paint_with_alpha(cr, 1 - ratio);
+        cairo_set_source(cr, sh[1]);
+        cairo_set_operator(cr, CAIRO_OPERATOR_ADD);
+        cairo_paint_with_alpha(cr, ratio);
+    } else {
+        cairo_paint(cr);
+        cairo_set_source(cr, sh[1]);
+        cairo_set_operator(cr, op);
+        cairo_paint(cr);
+    }
+    cairo_pattern_t *mixed = cairo_pop_group(cr);
+    cairo_restore(cr);
+    cairo_pattern_destroy(sh[0]);
+    cairo_pattern_destroy(sh[1]);
+    paint_done(paint);
+    paint->shader = mixed;
+}
+
 
 static void draw_children(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
 {
@@ -761,6 +906,16 @@ static void draw_node(Ctx *c, const Node *n, Paint *paint, const Font *font, Pat
         cairo_paint_with_alpha(cr, alpha);
     } else if (strcmp(kind, "gradient") == 0) {
         make_gradient(c, n, paint);
+    } else if (strcmp(kind, "image") == 0) {
+        draw_image(c, n, paint);
+    } else if (strcmp(kind, "pattern") == 0) {
+        cairo_pattern_t *pat = make_pattern(c, n);
+        if (pat) {
+            paint_done(paint);
+            paint->shader = pat;
+        }
+    } else if (strcmp(kind, "blend") == 0) {
+        make_blend(c, n, paint, font, path);
     } else if (strcmp(kind, "color") == 0) {
         double rgba[4];
         memcpy(rgba, paint->rgba, sizeof rgba);

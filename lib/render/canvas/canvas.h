@@ -13,7 +13,12 @@
  * metric-compatible face, e.g. Liberation Sans). Besides the issue's set,
  * `!mask` (clip to the outside of the path, for paths that do not overlap
  * themselves) and `!dash intervals=... [offset=]` (dashed strokes for the
- * siblings after it, as a path effect) are drawn.
+ * siblings after it, as a path effect) are drawn. `!image` draws a
+ * picture (a file's, or a window node's by id: CanvasEnv.images) at
+ * point= with size=, fill= or fit=; `!pattern` makes one the paint,
+ * tiled, placed by translate=, rotate= and scale=; `!blend` mixes the
+ * paints of its two children by ratio= or lays the second on the first
+ * with mode= (Flitter canvas.pyx, make_image and make_shader).
  */
 #ifndef FL_RENDER_CANVAS_H
 #define FL_RENDER_CANVAS_H
@@ -57,6 +62,21 @@ void skiplog_note(SkipLog *log, const char *where, const char *kind);
  * effect` unless [kind] was reported before. */
 void skiplog_effect(SkipLog *log, const char *kind);
 
+/* Where a canvas's `!image` and `!pattern` find their pictures (Flitter
+ * docs/canvas.md "Images", "Pattern"): [get] returns a new reference to a
+ * premultiplied ARGB32 image surface holding the picture of the window
+ * node registered as [id] (texture_id=/image_id=; [file] NULL) or of the
+ * picture file [file] (filename=; [id] NULL), as the canvas's pixels hold
+ * light: sRGB-encoded, or linear light when [linear]; NULL when there is
+ * none (it says why on its own log, once). */
+typedef struct CanvasImages {
+    cairo_surface_t *(*get)(void *ctx, const char *id, const char *file, bool linear);
+    /* for a 3D canvas's material textures: the OpenGL texture name of the
+     * picture registered as [id] (linear light, premultiplied), or 0 */
+    unsigned (*texture)(void *ctx, const char *id);
+    void *ctx;
+} CanvasImages;
+
 /* What a drawing needs besides the cairo context. */
 typedef struct CanvasEnv {
     const SymTab *symbols;   /* names symbol values such as :italic (may be NULL) */
@@ -66,6 +86,7 @@ typedef struct CanvasEnv {
                                 linear values, rounded to 8 bits as Flitter's
                                 8-bit target stores them, and gradient stops
                                 are sRGB colours decoded to linear light */
+    const CanvasImages *images; /* pictures for !image and !pattern (NULL: none) */
 } CanvasEnv;
 
 /* Whether `!canvas` node [canvas] is drawn in linear light: its `linear`

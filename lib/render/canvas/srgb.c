@@ -24,7 +24,6 @@ void srgb_table_init(SrgbTable *t)
         double s = x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1 / 2.4) - 0.055;
         t->enc[i] = (uint8_t)lround(s * 255);
     }
-    for (int v = 0; v < 256; v++) t->enc8[v] = t->enc[encode_index((float)v / 255.0f)];
 }
 
 double srgb_decode(double s)
@@ -82,31 +81,5 @@ void srgb_encode_surface(const SrgbTable *t, const float *rgba, int w, int h, ca
     cairo_surface_flush(pic);
     Encoding e = {t, rgba, w, cairo_image_surface_get_stride(pic), cairo_image_surface_get_data(pic)};
     rows_in_halves(h, 64, encode_rows, &e);
-    cairo_surface_mark_dirty(pic);
-}
-
-void srgb_encode_linear8(const SrgbTable *t, cairo_surface_t *lin, cairo_surface_t *pic)
-{
-    int w = cairo_image_surface_get_width(lin), h = cairo_image_surface_get_height(lin);
-    if (cairo_image_surface_get_width(pic) != w || cairo_image_surface_get_height(pic) != h) return;
-    cairo_surface_flush(lin);
-    if (pic != lin) cairo_surface_flush(pic);
-    const unsigned char *in = cairo_image_surface_get_data(lin);
-    unsigned char *out = cairo_image_surface_get_data(pic);
-    int istride = cairo_image_surface_get_stride(lin), ostride = cairo_image_surface_get_stride(pic);
-    for (int y = 0; y < h; y++) {
-        const uint32_t *src = (const uint32_t *)(const void *)(in + (size_t)y * istride);
-        uint32_t *dst = (uint32_t *)(void *)(out + (size_t)y * ostride);
-        for (int x = 0; x < w; x++) {
-            /* encode_pixel of the values over 255, through enc8 */
-            uint32_t p = src[x];
-            unsigned r = t->enc8[(p >> 16) & 0xff], g = t->enc8[(p >> 8) & 0xff], b = t->enc8[p & 0xff];
-            unsigned a = p >> 24;
-            if (r > a) a = r;
-            if (g > a) a = g;
-            if (b > a) a = b;
-            dst[x] = (a << 24) | (r << 16) | (g << 8) | b;
-        }
-    }
     cairo_surface_mark_dirty(pic);
 }

@@ -1,6 +1,7 @@
-/* srgb.h: linear light to the window's 8-bit sRGB output and back, shared
- * by !canvas3d (canvas3d.c), !bloom (bloom.c) and linear canvases
- * (window.c, canvas.c). */
+/* srgb.h: linear light to 8-bit sRGB and back on the CPU: the physics
+ * view's 3D pictures (scene_picture.c), canvas colours as light
+ * (canvas.c, view.c) and textures read back for the canvas (graph.c).
+ * The render graph itself encodes on the GPU (sRGB framebuffers). */
 #ifndef FL_SRGB_H
 #define FL_SRGB_H
 
@@ -14,7 +15,6 @@
  * linear i / SRGB_STEPS (IEC 61966-2-1). Made once per renderer. */
 typedef struct SrgbTable {
     uint8_t enc[SRGB_STEPS + 1];
-    uint8_t enc8[256];   /* the code of linear v/255, as enc gives it */
 } SrgbTable;
 
 /* Fill [t]. */
@@ -32,14 +32,5 @@ double srgb_decode(double s);
  * rows or more are encoded by two threads, half the rows each
  * (halves.h). */
 void srgb_encode_surface(const SrgbTable *t, const float *rgba, int w, int h, cairo_surface_t *pic);
-
-/* Encode the ARGB32 surface [lin], whose premultiplied 8-bit values are
- * linear light (a `!canvas linear=true` drawn by cairo; Flitter
- * render/window/canvas.pyx, Canvas.create: an 8-bit linear-sRGB surface),
- * into the ARGB32 surface [pic] of the same size (which may be [lin]
- * itself), as srgb_encode_surface encodes each pixel: channel v to
- * enc(v/255), alpha at least each encoded channel.
- *   errors: none; nothing is done when the sizes differ. */
-void srgb_encode_linear8(const SrgbTable *t, cairo_surface_t *lin, cairo_surface_t *pic);
 
 #endif

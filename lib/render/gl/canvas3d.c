@@ -6,11 +6,10 @@
  * (pre-order, so a parent group is drawn before the groups inside it),
  * each holding its lights and its instances (model matrix, material, mesh)
  * in reused arrays that only grow (canvas3d_scene.h); cameras with an id
- * are derived from the canvas's default camera. Then the target is
- * cleared, each group is drawn by canvas3d_draw.c (opaque instances front
- * to back, translucent ones' back faces, then transparent and translucent
- * ones back to front), and the framebuffer is read back and encoded to
- * sRGB. */
+ * are derived from the canvas's default camera. Then a camera's target
+ * is cleared and each group is drawn by canvas3d_draw.c (opaque instances
+ * front to back, translucent ones' back faces, then transparent and
+ * translucent ones back to front). */
 #include "canvas3d.h"
 
 #include <math.h>
@@ -25,8 +24,7 @@
 #include "mem.h"
 #include "rnode.h"
 
-/* last: they turn the libraries' names into calls through their tables */
-#include "cairo_lib.h"
+/* last: it turns the library's names into calls through its table */
 #include "gl_lib.h"
 
 #define DEFAULT_MAX_LIGHTS 50
@@ -35,17 +33,14 @@
 Canvas3D *canvas3d_new(void)
 {
     Canvas3D *c = mem_calloc(1, sizeof *c);
-    srgb_table_init(&c->srgb);
     const char *imp = getenv("FLITTER_CANVAS3D_IMPOSTORS");
     c->impostors = !(imp && strcmp(imp, "0") == 0);
     c->octagons = !(imp && strcmp(imp, "box") == 0);
-    const char *rd = getenv("FLITTER_CANVAS3D_READ");
-    c->read_whole = rd && strcmp(rd, "whole") == 0;
     const char *occ = getenv("FLITTER_CANVAS3D_OCCLUSION");
     c->occlusion_mode = !occ ? C3D_OCCLUSION_AUTO
                    : strcmp(occ, "0") == 0 ? C3D_OCCLUSION_NEVER
                    : strcmp(occ, "1") == 0 ? C3D_OCCLUSION_ALWAYS : C3D_OCCLUSION_AUTO;
-    for (int i = 0; i < 8; i++) c->cam_id[i] = (Buf)BUF_INIT;
+    for (int i = 0; i < C3D_CAMERAS; i++) c->cam_id[i] = (Buf)BUF_INIT;
     c->name = (Buf)BUF_INIT;
     return c;
 }
@@ -113,43 +108,68 @@ static M4 update_transform(const Node *n, M4 t)
 static bool is_material_attr(const char *a)
 {
     static const char *const names[] = {"color", "metal", "roughness", "ao", "emissive", "transparency",
-                                        "ior", "translucency"};
+                                        "ior", "translucency", "color_id", "metal_id", "roughness_id", "ao_id",
+                                        "emissive_id", "transparency_id", "texture_id", "metal_texture_id",
+                                        "roughness_texture_id", "ao_texture_id", "emissive_texture_id",
+                                        "transparency_texture_id"};
     for (size_t i = 0; i < sizeof names / sizeof *names; i++)
         if (strcmp(a, names[i]) == 0) return true;
     return false;
 }
 
-/* Texture attributes (Flitter docs/canvas3d.md, Texture Mapping; canvas3d.pyx,
- * Material.update): each material property's texture by id, under its
- * name and its older alias, one warning per property for the whole run
- * (env->skips), as textures are not drawn: the property's own value is
- * used alone. */
-static void note_textures(Canvas3D *c, const Node *n)
+static void *grow(void *p, int *cap, int need, size_t size);
+
+/* The index of texture set [t] in c->texsets, added when new. */
+static int intern_texset(Canvas3D *c, const TexSet *t)
 {
-    static const char *const names[][3] = {
-        {"color_id", "texture_id", "color_id=/texture_id= (a texture)"},
-        {"metal_id", "metal_texture_id", "metal_id=/metal_texture_id= (a texture)"},
-        {"roughness_id", "roughness_texture_id", "roughness_id=/roughness_texture_id= (a texture)"},
-        {"ao_id", "ao_texture_id", "ao_id=/ao_texture_id= (a texture)"},
-        {"emissive_id", "emissive_texture_id", "emissive_id=/emissive_texture_id= (a texture)"},
-        {"transparency_id", "transparency_texture_id", "transparency_id=/transparency_texture_id= (a texture)"},
-    };
-    for (size_t i = 0; i < rnode_nattrs(n); i++) {
-        const char *a = rnode_attr_name(n, i);
-        size_t len = strlen(a);
-        if (len < 5 || strcmp(a + len - 3, "_id") != 0) continue;   /* the common case, quickly */
-        for (size_t k = 0; k < sizeof names / sizeof *names; k++)
-            if (strcmp(a, names[k][0]) == 0 || strcmp(a, names[k][1]) == 0)
-                skiplog_note(c->env->skips, "canvas3d", names[k][2]);
+    for (int i = 1; i < c->ntexsets; i++)
+        if (memcmp(&c->texsets[i], t, sizeof *t) == 0) return i;
+    c->texsets = grow(c->texsets, &c->cap_texsets, c->ntexsets + 1, sizeof *c->texsets);
+    c->texsets[c->ntexsets] = *t;
+    return c->ntexsets++;
+}
+
+/* Flitter canvas3d.pyx, Material.update, the textures: each property's
+ * id (its name, else its older *_texture_id spelling), border= (3 numbers
+ * and an alpha of 1, or 4) and repeat=, over the inherited ones. */
+static int update_textures(Canvas3D *c, const Node *n, int inherited)
+{
+    static const char *const names[C3D_TEXTURES][2] = {
+        {"color_id", "texture_id"}, {"metal_id", "metal_texture_id"}, {"roughness_id", "roughness_texture_id"},
+        {"ao_id", "ao_texture_id"}, {"emissive_id", "emissive_texture_id"},
+        {"transparency_id", "transparency_texture_id"}};
+    TexSet t;
+    memset(&t, 0, sizeof t);
+    if (inherited) t = c->texsets[inherited];
+    bool any = false;
+    for (int k = 0; k < C3D_TEXTURES; k++) {
+        const char *id = text(c, n, names[k][0]);
+        if (!id) id = text(c, n, names[k][1]);
+        if (!id || !id[0]) continue;
+        snprintf(t.id[k], sizeof t.id[k], "%s", id);
+        any = true;
     }
+    double v[4] = {0, 0, 0, 1};
+    if (nums(n, "border", 3, v) || nums(n, "border", 4, v)) {
+        if (vec_len(rnode_attr(n, "border")) != 4) v[3] = 1;
+        for (int k = 0; k < 4; k++) t.border[k] = (float)v[k];
+        any = t.has_border = true;
+    }
+    if (nums(n, "repeat", 2, v)) {
+        t.repeat_x = v[0] != 0;
+        t.repeat_y = v[1] != 0;
+        any = true;
+    }
+    return any ? intern_texset(c, &t) : inherited;
 }
 
 /* Flitter canvas3d.pyx, Material.update (roughness: the smaller of the
  * node's, default 1, and the inherited one, as Flitter does). */
-static Material update_material(const Node *n, const Material *m)
+static Material update_material(Canvas3D *c, const Node *n, const Material *m)
 {
     Material r = *m;
     if (rnode_nattrs(n) == 0) return r;
+    r.tex = update_textures(c, n, m->tex);
     nums(n, "color", 3, r.albedo);
     r.ior = fmax(1, num(n, "ior", m->ior));
     r.roughness = fmin(fmax(1e-6, num(n, "roughness", 1)), m->roughness);
@@ -257,7 +277,16 @@ static void derive_camera(Canvas3D *c, const Node *n, const M4 *t, const Camera 
     cam->fog_curve = fmax(0, num(n, "fog_curve", base->fog_curve));
     double s = num(n, "samples", base->samples);
     cam->samples = s >= 2 && s < 1e6 ? (int)s : 0;
-    camera_matrices(cam, w, h);
+    double size[2];
+    if (nums(n, "size", 2, size) && size[0] < 1e6 && size[1] < 1e6) {
+        cam->width = size[0] >= 1 ? (int)size[0] : 1;
+        cam->height = size[1] >= 1 ? (int)size[1] : 1;
+    }
+    double bits;
+    if (nums(n, "colorbits", 1, &bits) && (bits == 8 || bits == 16 || bits == 32)) cam->colorbits = (int)bits;
+    cam->secondary = flag(n, "secondary", false);
+    (void)w, (void)h;
+    camera_matrices(cam, cam->width, cam->height);
 }
 
 /* [cam]'s view and projection matrices for a w x h picture, from its
@@ -318,6 +347,8 @@ static bool start_end(const double s[3], const double e[3], double radius, M4 *o
 static void add_instance(Canvas3D *c, const Node *n, int kind, const M4 *t, const Material *mat, int group)
 {
     MeshKey key = {.kind = kind, .flat = flag(n, "flat", false), .invert = flag(n, "invert", false)};
+    const char *uv = kind == MESH_BOX ? text(c, n, "uv_map") : NULL;
+    key.uv_repeat = uv && strcmp(uv, "repeat") == 0;
     key.segments = mesh_segments(kind, (int)clampd(num(n, "segments", DEFAULT_SEGMENTS), 0, 1e6));
     c->inst = grow(c->inst, &c->cap_inst, c->ninst + 1, sizeof *c->inst);
     Instance *in = &c->inst[c->ninst++];
@@ -337,7 +368,7 @@ static void add_instance(Canvas3D *c, const Node *n, int kind, const M4 *t, cons
     in->mat = *mat;
     for (size_t i = 0; i < rnode_nattrs(n); i++)
         if (is_material_attr(rnode_attr_name(n, i))) {
-            in->mat = update_material(n, mat);
+            in->mat = update_material(c, n, mat);
             break;
         }
     c->groups[group].ninstances++;
@@ -376,28 +407,31 @@ static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int g
     if (rnode_is(n, "transform")) {
         t = update_transform(n, t);
     } else if (rnode_is(n, "material")) {
-        m = update_material(n, mat);
-        note_textures(c, n);
+        m = update_material(c, n, mat);
     } else if (rnode_is(n, "light")) {
         add_light(c, n, &t, group);
         return;
     } else if (rnode_is(n, "camera")) {
         const char *id = text(c, n, "id");
-        if (id && c->ncams < 8) {
-            buf_reset(&c->cam_id[c->ncams]);
-            buf_printf(&c->cam_id[c->ncams], "%s", id);
-            derive_camera(c, n, &t, base, c->width, c->height, &c->cams[c->ncams]);
-            c->ncams++;
+        if (id && c->ncams < C3D_CAMERAS) {
+            /* a later camera of the same id replaces the earlier (Flitter: a dict) */
+            int k = c->ncams;
+            for (int i = 1; i < c->ncams; i++)
+                if (strcmp(buf_cstr(&c->cam_id[i]), id) == 0) k = i;
+            buf_reset(&c->cam_id[k]);
+            buf_puts(&c->cam_id[k], id);
+            derive_camera(c, n, &t, base, c->width, c->height, &c->cams[k]);
+            if (k == c->ncams) c->ncams++;
+        } else if (id) {
+            skiplog_note(c->env->skips, "canvas3d", "camera (more than 15 with an id)");
         }
         return;
     } else if (rnode_is(n, "group") || rnode_is(n, "canvas3d")) {
         t = update_transform(n, t);
-        m = update_material(n, mat);
-        note_textures(c, n);
+        m = update_material(c, n, mat);
         group = new_group(c, n, group);
     } else if ((kind = mesh_kind(n)) >= 0) {
         add_instance(c, n, kind, &t, mat, group);
-        note_textures(c, n);
         return;
     } else {
         skiplog_note(c->env->skips, "canvas3d", rnode_kind(n));
@@ -408,104 +442,31 @@ static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int g
 
 /* }===== */
 
-/* Make the GL context current, creating it the first time.
- *   errors: -1 with a message in [err] ("" when it was reported before:
- *           no context could be made earlier). */
-static int begin(Canvas3D *c, char *err, size_t errlen)
+/* The meshes and the instance buffer, made the first time (with the
+ * caller's context current). */
+static void begin(Canvas3D *c)
 {
-    err[0] = '\0';
-    if (c->failed) return -1;
-    if (!c->gl) {
-        char why[500];
-        c->gl = gl_context_new(why, sizeof why);
-        if (!c->gl) {
-            c->failed = true;
-            snprintf(err, errlen, "canvas3d: no OpenGL (%s)", why);
-            return -1;
-        }
-        c->meshes = mesh_cache_new();
-        glGenBuffers(1, &c->instance_vbo);
-    } else if (!gl_context_use(c->gl)) {
-        snprintf(err, errlen, "canvas3d: the OpenGL context cannot be made current");
-        return -1;
-    }
-    return 0;
-}
-
-/* The pixels the frame's instances can touch, through [cam] on a [w] x
- * [h] framebuffer: the rectangle (x0, y0, x1, y1 in rect: GL window
- * pixels, bottom-up, x1 and y1 exclusive; empty when nothing is drawn)
- * around the projections of the corners of every instance's bounding box
- * (a mesh lies within its box; an impostor's fragments within the
- * sphere's silhouette, which lies within the projection of its box),
- * widened by two pixels for the float matrices of the shaders and for
- * samples off the pixel centres. False when it is the whole framebuffer,
- * or cannot be bounded: a corner at or behind the eye's plane (w <= 0,
- * or not finite), or c->read_whole (FLITTER_CANVAS3D_READ=whole). */
-static bool drawn_rect(const Canvas3D *c, const Camera *cam, int w, int h, int rect[4])
-{
-    if (c->read_whole) return false;
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    for (int i = 0; i < c->ninst; i++) {
-        double xy[16];
-        if (!c3d_project_box(&cam->pv, &c->inst[i], w, h, xy)) return false;
-        for (int k = 0; k < 16; k++) {
-            if (xy[k] < lo[k & 1]) lo[k & 1] = xy[k];
-            if (xy[k] > hi[k & 1]) hi[k & 1] = xy[k];
-        }
-    }
-    if (c->ninst == 0 || hi[0] < -2 || hi[1] < -2 || lo[0] > w + 2 || lo[1] > h + 2) {
-        rect[0] = rect[1] = rect[2] = rect[3] = 0;
-        return true;
-    }
-    int size[2] = {w, h};
-    for (int a = 0; a < 2; a++) {
-        double a0 = floor(lo[a]) - 2, a1 = ceil(hi[a]) + 2;
-        rect[a] = a0 < 0 ? 0 : (int)a0;
-        rect[2 + a] = a1 > size[a] ? size[a] : (int)a1;
-    }
-    return rect[0] > 0 || rect[1] > 0 || rect[2] < w || rect[3] < h;
+    if (c->meshes) return;
+    c->meshes = mesh_cache_new();
+    glGenBuffers(1, &c->instance_vbo);
 }
 
 /* Draw the collected groups, lights and instances through [cam] into
- * [pic] (c->width x c->height; NULL: the linear light only), then
- * release the context.
- *   errors: -1 with a message in [err] ("" when reported before) when the
- *           framebuffer cannot be made (nothing drawn) or a program does
- *           not compile (the groups before it are drawn); else 0. */
-static int render(Canvas3D *c, const Camera *cam, cairo_surface_t *pic, char *err, size_t errlen)
+ * target [t].
+ *   errors: -1 with a message in [err] when a program does not compile
+ *           (the groups before it are drawn); else 0. */
+static int render(Canvas3D *c, const Camera *cam, GlTarget *t, const float clear[4], char *err, size_t errlen)
 {
-    int w = c->width, h = c->height, used;
     err[0] = '\0';
-    if (!gl_target_bind(c->gl, w, h, cam->samples, &used, err, errlen)) {
-        char why[600];
-        snprintf(why, sizeof why, "%s", err);
-        if (c->target_warned)
-            err[0] = '\0';
-        else
-            snprintf(err, errlen, "canvas3d: %s", why);
-        c->target_warned = true;
-        gl_context_done(c->gl);
-        return -1;
-    }
-    int rc = 0;
-    err[0] = '\0';
-    bool fog = cam->fog_max > cam->fog_min;
-    double fc[3] = {cam->fog_color[0], cam->fog_color[1], cam->fog_color[2]};
-    if (fog && cam->monochrome) fc[0] = fc[1] = fc[2] = 0.299 * fc[0] + 0.587 * fc[1] + 0.114 * fc[2];
-    glDepthMask(GL_TRUE);
-    glClearColor(fog ? (float)(fc[0] * cam->tint[0]) : 0, fog ? (float)(fc[1] * cam->tint[1]) : 0,
-                 fog ? (float)(fc[2] * cam->tint[2]) : 0, fog ? 1 : 0);
-    glClearDepth(1);
-    /* the whole framebuffer is cleared (a scissored clear may store the
-     * colour rounded otherwise); only the pixels the instances can touch
-     * are resolved and read back */
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    int rect[4];
-    bool part = drawn_rect(c, cam, w, h, rect);
-    c->samples_used = used;
+    c->width = t->w;
+    c->height = t->h;
+    c->samples_used = t->given;
     c->frames++;
-    if (used > 0) glEnable(GL_MULTISAMPLE);
+    target_bind(t);
+    glDisable(GL_FRAMEBUFFER_SRGB);
+    target_clear(t, clear);
+    if (t->given > 0) glEnable(GL_MULTISAMPLE);
+    int rc = 0;
     /* instances by group */
     if (c->cap_order < 2 * c->ninst) {
         c->cap_order = 2 * c->ninst;
@@ -517,7 +478,6 @@ static int render(Canvas3D *c, const Camera *cam, cairo_surface_t *pic, char *er
             if (c->inst[i].group == g) c->order[n++] = &c->inst[i];
         if (n) c3d_draw_group(c, g, c->order, n, cam, err, errlen);
         if (err[0]) {
-            c->failed = true;
             rc = -1;
             break;
         }
@@ -526,19 +486,8 @@ static int render(Canvas3D *c, const Camera *cam, cairo_surface_t *pic, char *er
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    size_t npix = (size_t)w * h * 4;
-    if (npix > c->cap_pixels) {
-        c->cap_pixels = npix;
-        free(c->pixels);
-        c->pixels = mem_alloc(npix * sizeof(float));
-    }
-    if (part)
-        gl_target_read_rect(c->gl, c->pixels, rect);
-    else
-        gl_target_read(c->gl, c->pixels);
-    gl_context_done(c->gl);
-    c->have_pixels = true;
-    if (pic) srgb_encode_surface(&c->srgb, c->pixels, w, h, pic);
+    glUseProgram(0);
+    target_finish(t);
     return rc;
 }
 
@@ -550,69 +499,79 @@ static void add_time(Canvas3D *c, const struct timespec *t0)
     c->calls++;
 }
 
-/* canvas3d_draw into [pic] when not NULL, else canvas3d_draw_linear; w x h
- * the picture's size. */
-static int draw_node(Canvas3D *c, const Node *node, cairo_surface_t *pic, int w, int h, const CanvasEnv *env,
-                     const RenderLog *log)
+int canvas3d_scene(Canvas3D *c, const Node *node, int w, int h, int colorbits, const CanvasEnv *env, int *primary)
 {
-    c->have_pixels = false;
-    struct timespec t0;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
-    char err[600];
-    if (begin(c, err, sizeof err) != 0) {
-        if (err[0] && c->failed)
-            render_log(log, RLOG_WARNING, "%s: 3D canvases are not drawn", err);
-        else if (err[0])
-            render_log(log, RLOG_WARNING, "%s", err);
-        return -1;
-    }
+    begin(c);
     c->env = env;
     c->width = w;
     c->height = h;
-    /* Flitter canvas3d.pyx, Canvas3D.render: the default camera */
-    Camera base = {.position = {0, 0, w / 2.0}, .up = {0, 1, 0}, .fov = 0.25, .tint = {1, 1, 1},
-                   .ortho_width = w, .near = 1, .far = w, .fog_curve = 1, .fov_ref = "horizontal"};
-    Camera dflt;
+    /* Flitter canvas3d.pyx, Canvas3D.render: the default camera, then the
+     * canvas's own attributes over it */
+    Camera base = {.width = w, .height = h, .colorbits = colorbits, .position = {0, 0, w / 2.0}, .up = {0, 1, 0},
+                   .fov = 0.25, .tint = {1, 1, 1}, .ortho_width = w, .near = 1, .far = w, .fog_curve = 1,
+                   .fov_ref = "horizontal"};
     M4 id = m4_identity();
-    derive_camera(c, node, &id, &base, w, h, &dflt);
+    buf_reset(&c->cam_id[0]);
+    const char *own = text(c, node, "id");
+    if (own) buf_puts(&c->cam_id[0], own);
+    derive_camera(c, node, &id, &base, w, h, &c->cams[0]);
+    c->cams[0].secondary = false;
+    c->ncams = 1;
     Material mat = {.ior = 1.5, .roughness = 1, .ao = 1};
-    c->ngroups = c->nlights = c->ninst = c->ncams = 0;
-    collect(c, node, id, &mat, -1, &dflt);
-    const Camera *cam = &dflt;
+    c->ngroups = c->nlights = c->ninst = 0;
+    c->texsets = grow(c->texsets, &c->cap_texsets, 1, sizeof *c->texsets);
+    memset(&c->texsets[0], 0, sizeof c->texsets[0]);
+    c->ntexsets = 1;
+    collect(c, node, id, &mat, -1, &c->cams[0]);
+    c->primary = 0;
     const char *want = text(c, node, "camera_id");
     for (int i = 0; want && i < c->ncams; i++)
-        if (strcmp(buf_cstr(&c->cam_id[i]), want) == 0) cam = &c->cams[i];
-    int rc = render(c, cam, pic, err, sizeof err);
-    if (err[0]) render_log(log, RLOG_WARNING, "%s", err);
+        if (c->cam_id[i].len && strcmp(buf_cstr(&c->cam_id[i]), want) == 0) c->primary = i;
+    *primary = c->primary;
+    return c->ncams;
+}
+
+void canvas3d_camera(const Canvas3D *c, int i, C3dCameraInfo *out)
+{
+    const Camera *cam = &c->cams[i];
+    out->id = c->cam_id[i].len ? c->cam_id[i].data : NULL;
+    out->width = cam->width;
+    out->height = cam->height;
+    out->colorbits = cam->colorbits;
+    out->samples = cam->samples;
+    out->secondary = cam->secondary;
+    /* Flitter Camera.get_clear_color: the fog colour (grey when
+     * monochrome) tinted, opaque, when there is fog */
+    bool fog = cam->fog_max > cam->fog_min;
+    double fc[3] = {cam->fog_color[0], cam->fog_color[1], cam->fog_color[2]};
+    if (fog && cam->monochrome) fc[0] = fc[1] = fc[2] = 0.299 * fc[0] + 0.587 * fc[1] + 0.114 * fc[2];
+    for (int k = 0; k < 3; k++) out->clear[k] = fog ? (float)(fc[k] * cam->tint[k]) : 0;
+    out->clear[3] = fog ? 1 : 0;
+}
+
+int canvas3d_draw(Canvas3D *c, int i, GlTarget *t, const RenderLog *log, char *err, size_t errlen)
+{
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    C3dCameraInfo info;
+    canvas3d_camera(c, i, &info);
+    int rc = render(c, &c->cams[i], t, info.clear, err, errlen);
     if (c->program_note[0] && !c->program_noted) {
         render_log(log, RLOG_WARNING, "%s", c->program_note);
         c->program_noted = true;
     }
-    if (c->have_pixels) add_time(c, &t0);
+    add_time(c, &t0);
     return rc;
 }
 
-int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env, const RenderLog *log)
+int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, char *err, size_t errlen)
 {
-    return draw_node(c, node, pic, cairo_image_surface_get_width(pic), cairo_image_surface_get_height(pic), env,
-                     log);
-}
-
-int canvas3d_draw_linear(Canvas3D *c, const Node *node, int w, int h, const CanvasEnv *env, const RenderLog *log)
-{
-    if (w < 1 || h < 1) return -1;
-    return draw_node(c, node, NULL, w, h, env, log);
-}
-
-int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, cairo_surface_t *pic, char *err, size_t errlen)
-{
-    c->have_pixels = false;
     struct timespec t0;
     clock_gettime(CLOCK_MONOTONIC, &t0);
-    if (begin(c, err, errlen) != 0) return -1;
+    begin(c);
     c->env = NULL;
-    c->width = cairo_image_surface_get_width(pic);
-    c->height = cairo_image_surface_get_height(pic);
+    c->width = t->w;
+    c->height = t->h;
     c->ngroups = c->nlights = c->ninst = c->ncams = 0;
     c->groups = grow(c->groups, &c->cap_groups, 1, sizeof *c->groups);
     c->groups[0] = (Group){.parent = -1, .max_lights = 2, .depth_sort = true, .depth_test = true,
@@ -648,34 +607,16 @@ int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, cairo_surface_t *pic, ch
         in->mat.transparency = clampd(it->transparency, 0, 1);
         in->group = 0;
     }
-    Camera cam = {.fov = s->fov, .near = s->near, .far = s->far, .tint = {1, 1, 1}, .fog_curve = 1,
-                  .fov_ref = "horizontal", .samples = s->samples};
+    Camera cam = {.width = t->w, .height = t->h, .fov = s->fov, .near = s->near, .far = s->far, .tint = {1, 1, 1},
+                  .fog_curve = 1, .fov_ref = "horizontal", .samples = s->samples};
     memcpy(cam.position, s->position, sizeof cam.position);
     memcpy(cam.focus, s->focus, sizeof cam.focus);
     memcpy(cam.up, s->up, sizeof cam.up);
     camera_matrices(&cam, c->width, c->height);
-    int rc = render(c, &cam, pic, err, errlen);
-    if (c->have_pixels) add_time(c, &t0);
+    static const float clear[4] = {0, 0, 0, 0};
+    int rc = render(c, &cam, t, clear, err, errlen);
+    add_time(c, &t0);
     return rc;
-}
-
-const float *canvas3d_linear(const Canvas3D *c, int *w, int *h)
-{
-    if (!c || !c->have_pixels) return NULL;
-    *w = c->width;
-    *h = c->height;
-    return c->pixels;
-}
-
-float *canvas3d_take_linear(Canvas3D *c, float *buf, size_t cap, size_t *taken_cap)
-{
-    if (!c || !c->have_pixels) return NULL;
-    float *taken = c->pixels;
-    *taken_cap = c->cap_pixels;
-    c->pixels = buf;
-    c->cap_pixels = buf ? cap : 0;
-    c->have_pixels = false;
-    return taken;
 }
 
 double canvas3d_time_ms(const Canvas3D *c, long *calls)
@@ -687,16 +628,13 @@ double canvas3d_time_ms(const Canvas3D *c, long *calls)
 void canvas3d_free(Canvas3D *c)
 {
     if (!c) return;
-    if (c->gl && gl_context_use(c->gl)) {
+    if (c->meshes) {
         mesh_cache_free(c->meshes);
-        for (int i = 0; i < c->nprog; i++) {
-            c3d_program_free(&c->prog[i]);
-        }
+        for (int i = 0; i < c->nprog; i++) c3d_program_free(&c->prog[i]);
         glDeleteBuffers(1, &c->instance_vbo);
         c3d_backface_free(&c->backface);
         c3d_occlusion_free(&c->occlusion);
     }
-    gl_context_free(c->gl);
     free(c->groups);
     free(c->lights);
     free(c->inst);
@@ -708,8 +646,8 @@ void canvas3d_free(Canvas3D *c)
     free(c->idata);
     free(c->lightbuf);
     free(c->lightsort);
-    free(c->pixels);
-    for (int i = 0; i < 8; i++) buf_free(&c->cam_id[i]);
+    free(c->texsets);
+    for (int i = 0; i < C3D_CAMERAS; i++) buf_free(&c->cam_id[i]);
     buf_free(&c->name);
     free(c);
 }

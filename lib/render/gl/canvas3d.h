@@ -22,47 +22,61 @@
  * depth writes, letting through the back faces' light by thickness
  * (canvas3d_shaders.h). `samples` gives
  * MSAA, fog_color/fog_min/fog_max/fog_curve fog (the picture then starts
- * filled with the fog colour).
+ * filled with the fog colour). A `!camera` with an id and secondary=true
+ * is drawn into a picture of its own besides the canvas's (the render
+ * graph makes its framebuffers and registers its id).
  *
- * Lighting is computed in linear light into a half-float framebuffer; the
- * picture handed back is the sRGB encoding of that light (clamped to
- * 0..1, as Flitter's window does last), premultiplied, with an alpha of at
- * least each encoded channel so that composited over black it gives
- * exactly Flitter's window output. Textures,
- * custom shaders, secondary cameras and model kinds other than the four
- * primitives are not drawn: each kind is reported once (textures once per
- * material property: color_id/texture_id, metal_id, roughness_id, ao_id,
- * emissive_id, transparency_id and their *_texture_id aliases).
+ * Lighting is computed in linear light into the framebuffer the caller
+ * gives (half floats by default, values above 1 kept, as Flitter's
+ * 16-bit `colorbits`). Custom shaders and model kinds other than the four
+ * primitives are not drawn: each kind is reported once.
+ *
+ * Every call needs an OpenGL context current on the calling thread (the
+ * render graph's, or the physics view's): the renderer keeps its meshes
+ * and programs on it, and canvas3d_free must be called with it current.
  */
 #ifndef FL_RENDER_CANVAS3D_H
 #define FL_RENDER_CANVAS3D_H
 
-#include <cairo.h>
+#include <stdbool.h>
 
 #include "canvas.h"
+#include "gl_target.h"
 #include "node.h"
 #include "value.h"
 
 typedef struct Canvas3D Canvas3D;
 
-/* A 3D renderer with no GL context yet: the context is created by the
- * first canvas3d_draw (so a run without `!canvas3d` never opens EGL). */
+/* A 3D renderer (its GL objects are made by the first drawing). */
 Canvas3D *canvas3d_new(void);
-/* Draw the `!canvas3d` node [node] into [pic], an ARGB32 cairo image
- * surface (its size is the camera's), replacing its pixels. [env]'s
- * symbols name symbol attributes (camera_id, fov_ref, composite,
- * cull_face); skipped kinds go to env->skips; [log] receives one warning
- * if no GL context can be made (then, and on every later call, nothing is
- * drawn and -1 is returned).
- *   errors: -1 when nothing could be drawn ([pic] left transparent), else 0. */
-int canvas3d_draw(Canvas3D *c, const Node *node, cairo_surface_t *pic, const CanvasEnv *env,
-                  const RenderLog *log);
-/* canvas3d_draw for a w x h picture of which only the linear light is
- * wanted (canvas3d_linear; a !bloom's input): the same drawing without the
- * 8-bit sRGB picture.
- *   errors: -1 when nothing could be drawn (no linear light then), else 0. */
-int canvas3d_draw_linear(Canvas3D *c, const Node *node, int w, int h, const CanvasEnv *env,
-                         const RenderLog *log);
+
+/* One camera of the scene canvas3d_scene collected. */
+typedef struct C3dCameraInfo {
+    const char *id;        /* its id (borrowed until the next canvas3d_scene), or NULL */
+    int width, height;     /* its picture's size */
+    int colorbits;         /* its framebuffer's colour depth (8, 16 or 32) */
+    int samples;           /* MSAA samples (0: none), as the node asks */
+    bool secondary;        /* drawn besides the canvas's picture */
+    float clear[4];        /* the colour its picture starts as (the fog's, or transparent) */
+} C3dCameraInfo;
+
+/* Walk `!canvas3d` node [node] ([w] x [h], the window's [colorbits] the
+ * default) into a scene: render groups, lights, instances and cameras.
+ * [env]'s symbols name symbol attributes (camera_id, fov_ref, composite,
+ * cull_face), skipped kinds go to env->skips. Returns the number of
+ * cameras (at least 1: the canvas's own is camera 0) and sets *[primary]
+ * to the one whose picture is the canvas's (camera_id=). */
+int canvas3d_scene(Canvas3D *c, const Node *node, int w, int h, int colorbits, const CanvasEnv *env, int *primary);
+/* Camera [i] of the last scene. */
+void canvas3d_camera(const Canvas3D *c, int i, C3dCameraInfo *out);
+/* Draw the last scene through camera [i] into target [t] (its size and
+ * samples the camera's; it must have a depth buffer): cleared to the
+ * camera's clear colour, drawn, resolved. A program that failed without
+ * failing the frame is noted once on [log].
+ *   errors: -1 with one line in [err] when a program does not compile
+ *           (the groups before it are drawn); else 0. */
+int canvas3d_draw(Canvas3D *c, int i, GlTarget *t, const RenderLog *log, char *err, size_t errlen);
+
 /* A scene given as shapes rather than as a node tree: the physics view's
  * (view.c). One render group (depth sorted and tested, back faces culled,
  * `over`) lit by an ambient and a directional light, with every item's
@@ -96,30 +110,15 @@ typedef struct C3dScene {
     size_t nitems;
 } C3dScene;
 
-/* Draw [s] into [pic], an ARGB32 cairo image surface whose size is the
- * camera's, replacing its pixels as canvas3d_draw does (transparent where
- * nothing is drawn). The GL context is made by the first call of either.
- *   errors: -1 with one line in [err] (no OpenGL; "" when that was said
- *           by an earlier call, then nothing is drawn again) when nothing
- *           could be drawn, else 0. */
-int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, cairo_surface_t *pic, char *err, size_t errlen);
-/* The linear light of the last canvas3d_draw, before its sRGB encoding:
- * *w x *h pixels of four floats (premultiplied RGBA, top row first, values
- * above 1 kept), as a window effect such as !bloom takes it (Flitter's
- * canvas texture is a half-float framebuffer). Borrowed: valid until the
- * next canvas3d_draw or canvas3d_free.
- *   errors: NULL when the last draw drew nothing (no GL context, or none yet). */
-const float *canvas3d_linear(const Canvas3D *c, int *w, int *h);
-/* The buffer of canvas3d_linear's light, taken over by the caller (its
- * capacity in floats through [taken_cap]), instead of copied; [buf] (a
- * malloc'd buffer of [cap] floats, or NULL) becomes the canvas's buffer
- * for its next drawing. The canvas then has no picture (canvas3d_linear
- * is NULL) until it draws again.
- *   errors: NULL when there is no picture ([buf] is not taken). */
-float *canvas3d_take_linear(Canvas3D *c, float *buf, size_t cap, size_t *taken_cap);
-/* Milliseconds spent in canvas3d_draw calls so far and their count. */
+/* Draw [s] into target [t] (the camera's picture, with a depth buffer and
+ * [s]->samples), as canvas3d_draw does.
+ *   errors: -1 with one line in [err] when a program does not compile;
+ *           else 0. */
+int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, char *err, size_t errlen);
+/* Milliseconds spent drawing so far and the number of drawings. */
 double canvas3d_time_ms(const Canvas3D *c, long *calls);
-/* Release the GL context and everything on it (NULL is a no-op). */
+/* Release the GL objects (the context they were made on current) and
+ * the renderer (NULL is a no-op). */
 void canvas3d_free(Canvas3D *c);
 
 #endif

@@ -527,6 +527,101 @@ static bool occluders(Canvas3D *c, const Group *g, C3dProgram *p, Instance **lis
     return true;
 }
 
+/* The textures of set [ts] found (the canvas's env gives them by id),
+ * bound from texture unit C3D_TEXTURE_UNIT with [sampler]; returns the
+ * C3dFragSpec.textures bits of those found. */
+static unsigned bind_textures(Canvas3D *c, const TexSet *ts, GLuint sampler)
+{
+    unsigned mask = 0;
+    const CanvasImages *im = c->env ? c->env->images : NULL;
+    for (int k = 0; k < C3D_TEXTURES; k++) {
+        GLuint tex = ts->id[k][0] && im && im->texture ? im->texture(im->ctx, ts->id[k]) : 0;
+        glActiveTexture(GL_TEXTURE0 + C3D_TEXTURE_UNIT + (GLenum)k);
+        glBindTexture(GL_TEXTURE_2D, tex);
+        glBindSampler(C3D_TEXTURE_UNIT + (GLuint)k, tex ? sampler : 0);
+        if (tex) mask |= 1u << k;
+    }
+    glActiveTexture(GL_TEXTURE0);
+    return mask;
+}
+
+static void unbind_textures(void)
+{
+    for (int k = 0; k < C3D_TEXTURES; k++) {
+        glActiveTexture(GL_TEXTURE0 + C3D_TEXTURE_UNIT + (GLenum)k);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        glBindSampler(C3D_TEXTURE_UNIT + (GLuint)k, 0);
+    }
+    glActiveTexture(GL_TEXTURE0);
+}
+
+/* Whether [in] is drawn among the transparent ones: a transparency, or a
+ * transparency texture (Flitter canvas3d.pyx, render). */
+static bool textured_transparent(const Canvas3D *c, const Instance *in)
+{
+    return in->mat.transparency > 0 || in->mat.translucency > 0 || c->texsets[in->mat.tex].id[C3D_TEXTURES - 1][0];
+}
+
+static int tex_then_z(const void *a, const void *b)
+{
+    const Instance *x = *(Instance *const *)a, *y = *(Instance *const *)b;
+    if (x->mat.tex != y->mat.tex) return x->mat.tex < y->mat.tex ? -1 : 1;
+    if (x->rank != y->rank) return x->rank < y->rank ? -1 : 1;
+    return x->z < y->z ? -1 : x->z > y->z;
+}
+
+/* Draw the [n] textured instances of [list] (their z set) of group [g]:
+ * the opaque ones ([transparent] false: front to back, each run of one
+ * texture set and mesh at a time), or the transparent ones (back to
+ * front, without writing depth). Each texture set draws with a mesh
+ * program sampling the textures it has (canvas3d_shaders.h); lights as
+ * c->lightbuf holds them ([nl]). Translucency is not drawn for textured
+ * instances (they are lit as transparent ones). */
+static void draw_textured(Canvas3D *c, const Group *g, Instance **list, int n, const Camera *cam,
+                          const C3dFragSpec *base, int nl, bool transparent, char *err, size_t errlen)
+{
+    int m = 0;
+    bool sorted = g->depth_sort && g->depth_test;
+    for (int i = 0; i < n; i++)
+        if ((sorted && textured_transparent(c, list[i])) == transparent) c->tl[m++] = list[i];
+    if (!m) return;
+    if (transparent) {
+        qsort(c->tl, (size_t)m, sizeof *c->tl, far_first);
+        glDepthMask(GL_FALSE);
+    } else {
+        qsort(c->tl, (size_t)m, sizeof *c->tl, tex_then_z);
+    }
+    GLuint sampler;
+    glGenSamplers(1, &sampler);
+    for (int a = 0; a < m;) {
+        int b = a;
+        while (b < m && c->tl[b]->mat.tex == c->tl[a]->mat.tex && c->tl[b]->mesh == c->tl[a]->mesh) b++;
+        const TexSet *ts = &c->texsets[c->tl[a]->mat.tex];
+        if (ts->has_border) {
+            glSamplerParameteri(sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+            glSamplerParameteri(sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+            glSamplerParameterfv(sampler, GL_TEXTURE_BORDER_COLOR, ts->border);
+        } else {
+            glSamplerParameteri(sampler, GL_TEXTURE_WRAP_S, ts->repeat_x ? GL_REPEAT : GL_CLAMP_TO_EDGE);
+            glSamplerParameteri(sampler, GL_TEXTURE_WRAP_T, ts->repeat_y ? GL_REPEAT : GL_CLAMP_TO_EDGE);
+        }
+        glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        C3dFragSpec key = *base;
+        key.textures = bind_textures(c, ts, sampler);
+        C3dProgram *p = program_for(c, &key, cam, nl, err, errlen);
+        if (!p) break;
+        glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
+        if (nl) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)nl * 64, c->lightbuf);
+        set_uniforms(c, &p->mesh, p, cam);
+        draw_instances(c, c->tl + a, b - a, c->tl[a]->mesh, &p->mesh);
+        a = b;
+    }
+    unbind_textures();
+    glDeleteSamplers(1, &sampler);
+    glDepthMask(GL_TRUE);
+}
+
 void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen)
 {
     const Group *g = &c->groups[gi];
@@ -549,8 +644,40 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     memset(&key, 0, sizeof key);
     key.max_lights = g->max_lights;
     key.kinds = kinds;
-    C3dProgram *p = program_for(c, &key, cam, nl, err, errlen);
-    if (!p) return;
+    /* textured instances apart (to the end of the list): drawn with
+     * programs of their own, the opaque ones first, the transparent ones
+     * last */
+    int ntex = 0;
+    for (int i = 0, j = n; i < j;) {
+        if (list[i]->mat.tex) {
+            Instance *t = list[i];
+            list[i] = list[--j];
+            list[j] = t;
+            ntex++;
+        } else {
+            i++;
+        }
+    }
+    n -= ntex;
+    Instance **textured = list + n;
+    if (ntex) {
+        if (c->cap_tl < ntex + n) {
+            c->cap_tl = 2 * (ntex + n);
+            c->tl = mem_realloc_array(c->tl, (size_t)c->cap_tl, sizeof *c->tl);
+        }
+        for (int i = 0; i < ntex; i++) {
+            M4 vm = m4_mul(&cam->view, &textured[i]->model);
+            textured[i]->z = nearest_corner(textured[i]->mesh->bounds, &vm);
+        }
+        group_state(g);
+        draw_textured(c, g, textured, ntex, cam, &key, nl, false, err, errlen);
+        if (err[0]) return;
+    }
+    C3dProgram *p = n ? program_for(c, &key, cam, nl, err, errlen) : NULL;
+    if (!p) {
+        if (ntex && !err[0]) draw_textured(c, g, textured, ntex, cam, &key, nl, true, err, errlen);
+        return;
+    }
     glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
     if (nl) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)nl * 64, c->lightbuf);
     set_uniforms(c, &p->mesh, p, cam);
@@ -601,7 +728,10 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
         i = j;
     }
     if (occluded) c3d_occlusion_unbind();
-    if (nt == 0) return;
+    if (nt == 0) {
+        if (ntex) draw_textured(c, g, textured, ntex, cam, &key, nl, true, err, errlen);
+        return;
+    }
     if (see_through) {
         /* Flitter: the translucent instances' back faces first, nearest first */
         int m = 0;
@@ -624,4 +754,5 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
         a = b;
     }
     glDepthMask(GL_TRUE);
+    if (ntex) draw_textured(c, g, textured, ntex, cam, &key, nl, true, err, errlen);
 }

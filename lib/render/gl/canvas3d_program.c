@@ -76,6 +76,15 @@ static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int va
         glUseProgram(p);
         glUniform1i(backfaces, 0);
     }
+    static const char *const tex_names[C3D_TEXTURES] = {"albedo_texture", "metal_texture", "roughness_texture",
+                                                       "ao_texture", "emissive_texture", "transparency_texture"};
+    for (int k = 0; k < C3D_TEXTURES; k++) {
+        GLint t = glGetUniformLocation(p, tex_names[k]);
+        if (t >= 0) {
+            glUseProgram(p);
+            glUniform1i(t, C3D_TEXTURE_UNIT + k);
+        }
+    }
     GLint occluders = glGetUniformLocation(p, "occluders");
     if (occluders >= 0) {
         glUseProgram(p);
@@ -97,7 +106,8 @@ bool c3d_program_make(C3dProgram *p, const C3dFragSpec *key, char *err, size_t e
     p->key = *key;
     p->key.variant = 0;
     if (!link(&p->mesh, canvas3d_vertex_source, &p->key, C3D_FRAG_MESH, err, errlen)) return false;
-    if (epoxy_has_gl_extension("GL_ARB_sample_shading")) {
+    /* a textured program draws meshes only (impostors have no texture coordinates) */
+    if (!key->textures && epoxy_has_gl_extension("GL_ARB_sample_shading")) {
         char ignored[600];
         /* without the extension (or with a driver that cannot) the
          * impostor program may fail: spheres are meshes then, quietly;

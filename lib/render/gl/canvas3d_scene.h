@@ -18,15 +18,25 @@
 #include "canvas3d_backface.h"
 #include "canvas3d_occlusion.h"
 #include "canvas3d_program.h"
-#include "gl_context.h"
+#include "gl_target.h"
 #include "mat4.h"
 #include "models_mesh.h"
-#include "srgb.h"
 
 typedef struct Material {
     double albedo[3], emissive[3];
     double ior, metal, roughness, ao, transparency, translucency;
+    int tex;           /* its textures: an index into Canvas3D.texsets, 0 for none */
 } Material;
+
+/* The textures of a material (Flitter canvas3d.pyx, Textures): one id per
+ * property (C3D_TEXTURES order; "" for none) and how they are sampled
+ * beyond 0..1 (a border colour, else repeat or clamp per axis). */
+typedef struct TexSet {
+    char id[C3D_TEXTURES][64];
+    bool has_border;
+    float border[4];
+    bool repeat_x, repeat_y;
+} TexSet;
 
 typedef struct Instance {
     M4 model;
@@ -41,6 +51,9 @@ typedef struct Instance {
  * when it is likely to pay (the default), whenever it can (for the
  * tests), never. */
 enum { C3D_OCCLUSION_AUTO, C3D_OCCLUSION_ALWAYS, C3D_OCCLUSION_NEVER };
+
+/* Cameras of one canvas (its own and those with an id). */
+#define C3D_CAMERAS 16
 
 /* Programs kept by a canvas (one per max_lights and set of light kinds its
  * render groups use). */
@@ -69,6 +82,9 @@ typedef struct Group {
 } Group;
 
 typedef struct Camera {
+    int width, height;          /* its picture's size (size=, else the canvas's) */
+    int colorbits;              /* its framebuffer's (colorbits=, else the window's) */
+    bool secondary;             /* secondary=true: drawn besides the canvas's own picture */
     double position[3], focus[3], up[3];
     double fov, ortho_width, near, far;
     double fog_min, fog_max, fog_color[3], fog_curve, tint[3];
@@ -80,10 +96,7 @@ typedef struct Camera {
 
 
 struct Canvas3D {
-    GlContext *gl;
-    bool failed;               /* no context could be made: draw nothing */
-    bool target_warned;        /* a framebuffer failure was reported (once) */
-    MeshCache *meshes;
+    MeshCache *meshes;         /* made by the first drawing (with a context current) */
     C3dProgram prog[C3D_PROGRAMS];   /* by C3dFragSpec; when full, */
     int nprog, prog_turn;            /* each new one replaces the next in turn */
     int listed_made;                 /* listed programs made, less one per C3D_LISTED_FRAMES frames */
@@ -103,7 +116,6 @@ struct Canvas3D {
     const GlMesh **seen; int cap_seen;    /* one group's meshes, in order of first appearance */
     bool impostors;                       /* spheres may be drawn as impostors (FLITTER_CANVAS3D_IMPOSTORS=0: never) */
     bool octagons;                        /* impostors may be drawn on octagons (=box: always on their box) */
-    bool read_whole;                      /* clear, resolve and read every pixel (FLITTER_CANVAS3D_READ=whole) */
     char program_note[600];               /* a program that failed without failing the frame (reported once) */
     bool program_noted;
     int samples_used;                     /* MSAA samples of this frame's target (0: none) */
@@ -111,11 +123,10 @@ struct Canvas3D {
     float *lightbuf; int cap_lightbuf;    /* mat4s of one group, sorted by slot (C3D_LIGHT_SLOTS) */
     float *lightsort;                     /* scratch of cap_lightbuf floats for the sort */
     int light_ends[C3D_LIGHT_SLOTS];      /* where each slot's lights end in lightbuf */
-    float *pixels; size_t cap_pixels;     /* read-back framebuffer */
-    bool have_pixels;                     /* [pixels] hold the last canvas3d_draw's picture */
-    SrgbTable srgb;                       /* linear 0..1 to sRGB 0..255 */
-    /* the cameras with an id of this frame */
-    Camera cams[8]; Buf cam_id[8]; int ncams;
+    TexSet *texsets; int ntexsets, cap_texsets;   /* the frame's distinct textures; [0] none */
+    /* the frame's cameras: the canvas's own first, then each !camera with an id */
+    Camera cams[C3D_CAMERAS]; Buf cam_id[C3D_CAMERAS]; int ncams;
+    int primary;                          /* the camera whose picture is the canvas's */
     Buf name;
     const CanvasEnv *env;
     int width, height;

@@ -42,6 +42,7 @@ const char canvas3d_vertex_source[] =
     "layout(location = 12) in vec4 material_properties;\n"
     "out vec3 world_position;\n"
     "out vec3 world_normal;\n"
+    "out vec2 texture_uv;\n"
     "flat out vec4 albedo;\n"
     "flat out vec4 emissive;\n"
     "flat out vec4 properties;\n"
@@ -51,6 +52,7 @@ const char canvas3d_vertex_source[] =
     "    world_position = p.xyz;\n"
     "    gl_Position = pv_matrix * p;\n"
     "    world_normal = normal_matrix * model_normal;\n"
+    "    texture_uv = model_uv;\n"
     "    albedo = material_albedo;\n"
     "    emissive = material_emissive;\n"
     "    properties = material_properties;\n"
@@ -118,6 +120,26 @@ static const char fragment_head[] =
     "flat in vec4 emissive;\n"
     "flat in vec4 properties;\n"
     "out vec4 fragment_color;\n"
+    "vec2 surface_uv = vec2(0.0);\n"   /* the point's texture coordinate (meshes set it) */
+    "#if TEXTURES\n"
+    "uniform sampler2D albedo_texture;\n"
+    "uniform sampler2D metal_texture;\n"
+    "uniform sampler2D roughness_texture;\n"
+    "uniform sampler2D ao_texture;\n"
+    "uniform sampler2D emissive_texture;\n"
+    "uniform sampler2D transparency_texture;\n"
+    /* Flitter docs/canvas3d.md, Texture Mapping: a colour texture laid over
+     * the property's value by its alpha; another property's texture gives
+     * its luminance, clamped to 0..1, laid over the same way */
+    "void overlay_color(sampler2D t, inout vec3 c) {\n"
+    "    vec4 s = texture(t, surface_uv);\n"
+    "    c = c * (1.0 - clamp(s.a, 0.0, 1.0)) + s.rgb;\n"
+    "}\n"
+    "void overlay_value(sampler2D t, inout float v) {\n"
+    "    vec4 s = texture(t, surface_uv);\n"
+    "    v = v * (1.0 - clamp(s.a, 0.0, 1.0)) + clamp(dot(s.rgb, vec3(0.2126, 0.7152, 0.0722)), 0.0, 1.0);\n"
+    "}\n"
+    "#endif\n"
     "uniform vec3 view_position;\n"
     "uniform vec3 view_focus;\n"
     "uniform bool orthographic;\n"
@@ -134,6 +156,25 @@ static const char fragment_head[] =
     "float largest(vec3 v) { return max(v.x, max(v.y, v.z)); }\n"
     "\n"
     "void shade(vec3 P, vec3 Nw) {\n"
+    "    vec4 albedo = albedo, emissive = emissive, properties = properties;\n"
+    "#if TEXTURES & 32\n"
+    "    overlay_value(transparency_texture, albedo.a);\n"
+    "#endif\n"
+    "#if TEXTURES & 1\n"
+    "    overlay_color(albedo_texture, albedo.rgb);\n"
+    "#endif\n"
+    "#if TEXTURES & 16\n"
+    "    overlay_color(emissive_texture, emissive.rgb);\n"
+    "#endif\n"
+    "#if TEXTURES & 2\n"
+    "    overlay_value(metal_texture, properties.y);\n"
+    "#endif\n"
+    "#if TEXTURES & 4\n"
+    "    overlay_value(roughness_texture, properties.z);\n"
+    "#endif\n"
+    "#if TEXTURES & 8\n"
+    "    overlay_value(ao_texture, properties.w);\n"
+    "#endif\n"
     "    vec3 V;\n"
     "    float distance_to_eye;\n"
     "#if ORTHOGRAPHIC\n"
@@ -391,6 +432,7 @@ static const char translucency_functions[] =
 static const char mesh_main[] =
     "in vec3 world_position;\n"
     "in vec3 world_normal;\n"
+    "in vec2 texture_uv;\n"
     "#ifdef OCCLUDED\n"
     "uniform sampler2DMS occluders;\n"
     "#endif\n"
@@ -409,6 +451,7 @@ static const char mesh_main[] =
     "    float nearest = z - 0.5 * (abs(dFdx(z)) + abs(dFdy(z)));\n"
     "    if (nearest > occluder + 4.0 / 16777216.0) discard;\n"
     "#endif\n"
+    "    surface_uv = texture_uv;\n"
     "    shade(world_position, world_normal);\n"
     "}\n";
 
@@ -545,10 +588,12 @@ size_t canvas3d_fragment_source(char *out, size_t cap, const C3dFragSpec *spec)
         "#version 330 core\n%s#define MAX_LIGHTS %d\n"
         "#define LIGHTS_DIRECTIONAL %u\n#define LIGHTS_POINT %u\n"
         "#define LIGHTS_SPOT %u\n#define LIGHTS_LINE %u\n"
-        "#define ORTHOGRAPHIC %d\n#define FOG %d\n#define MONOCHROME %d\n#define LIGHT_SLOTS %d\n",
+        "#define ORTHOGRAPHIC %d\n#define FOG %d\n#define MONOCHROME %d\n#define LIGHT_SLOTS %d\n"
+        "#define TEXTURES %u\n",
         impostor ? "#extension GL_ARB_sample_shading : require\n" : "", spec->max_lights, KIND(LIGHT_DIRECTIONAL),
         KIND(LIGHT_POINT), KIND(LIGHT_SPOT), KIND(LIGHT_LINE), (camera & C3D_ORTHOGRAPHIC) != 0,
-        (camera & C3D_FOG) != 0, (camera & C3D_MONOCHROME) != 0, C3D_LIGHT_SLOTS);
+        (camera & C3D_FOG) != 0, (camera & C3D_MONOCHROME) != 0, C3D_LIGHT_SLOTS,
+        impostor ? 0u : spec->textures & ((1u << C3D_TEXTURES) - 1));
 #undef KIND
     if (variant == C3D_FRAG_BACKFACE) put(out, cap, &n, "#define BACKFACE\n");
     if (variant == C3D_FRAG_TRANSLUCENT) put(out, cap, &n, "#define TRANSLUCENT\n%s", translucency_functions);

@@ -77,6 +77,8 @@ extern const unsigned char c3d_slot_codes[C3D_LIGHT_SLOTS];
  *               ambient light is always there): a light of another kind
  *               contributes nothing;
  *   variant     C3D_FRAG_*;
+ *   textures    the material textures it samples (bits above; meshes
+ *               only: an impostor has no texture coordinates);
  *   nsamples    the samples the BILLBOARD variant tests: the first
  *               [nsamples] (clamped to 1..8; 1: no sample mask) of
  *               sample_offsets; the samples of the occluders the
@@ -90,8 +92,16 @@ extern const unsigned char c3d_slot_codes[C3D_LIGHT_SLOTS];
  *               block and a dispatch on a type much slower.
  * On a CPU rasteriser (llvmpipe) every branch of a shader runs for every
  * fragment, masked: hence the kinds, the camera bits and the list. */
+/* Material textures (Flitter docs/canvas3d.md, Texture Mapping), their
+ * bits in C3dFragSpec.textures, in this order: albedo (color_id=), metal,
+ * roughness, ao, emissive, transparency; a mesh program with a texture
+ * samples it at its texture unit C3D_TEXTURE_UNIT + the bit's index. */
+#define C3D_TEXTURES 6
+#define C3D_TEXTURE_UNIT 2
+
 typedef struct C3dFragSpec {
     int max_lights;
+    unsigned textures;
     unsigned kinds;
     int variant;
     int nsamples;

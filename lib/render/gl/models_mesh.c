@@ -16,6 +16,7 @@
 #include <epoxy/gl.h>
 
 #include "mem.h"
+#include "turns.h"
 
 /* last: it turns the library's names into calls through its table */
 #include "gl_lib.h"
@@ -88,56 +89,86 @@ int mesh_segments(int kind, int segments)
     return segments < 2 ? 2 : segments;
 }
 
-static void build_box(Builder *b)
+/* The unit cube as Flitter's docs/canvas3d.md "Primitive model texture
+ * mapping" lays it on the texture: faces +X, -X, +Y, -Y, +Z, -Z from left
+ * to right, each a sixth of the width (the whole of it with [repeat]),
+ * seen from outside with y up (+Y: -z up, -Y: +z up). Each face's corner
+ * is given by its coordinate along the face's u and v directions. */
+static void build_box(Builder *b, bool repeat)
 {
-    /* each face: its axis, its sign */
-    for (int axis = 0; axis < 3; axis++)
-        for (int sign = 1; sign >= -1; sign -= 2) {
-            int u = (axis + 1) % 3, v = (axis + 2) % 3;
-            uint32_t k[4];
-            for (int c = 0; c < 4; c++) {
-                double p[3], n[3] = {0, 0, 0};
-                p[axis] = 0.5 * sign;
-                p[u] = (c == 1 || c == 2) ? 0.5 : -0.5;
-                p[v] = (c >= 2) ? 0.5 : -0.5;
-                n[axis] = sign;
-                double tu = (p[u] + 0.5), tv = (p[v] + 0.5);
-                double face = axis * 2 + (sign < 0);
-                k[c] = add_vertex(b, p[0], p[1], p[2], n[0], n[1], n[2], (face + tu) / 6, tv);
-            }
-            add_quad(b, k[0], k[1], k[2], k[3]);
+    /* per face: its normal axis and sign, then the axis and sign along u and along v */
+    static const int faces[6][6] = {
+        {0, +1, 2, -1, 1, +1}, {0, -1, 2, +1, 1, +1}, {1, +1, 0, +1, 2, -1},
+        {1, -1, 0, +1, 2, +1}, {2, +1, 0, +1, 1, +1}, {2, -1, 0, -1, 1, +1},
+    };
+    for (int f = 0; f < 6; f++) {
+        const int *d = faces[f];
+        uint32_t k[4];
+        for (int c = 0; c < 4; c++) {
+            double tu = (c == 1 || c == 2) ? 1 : 0, tv = c >= 2 ? 1 : 0, p[3], n[3] = {0, 0, 0};
+            p[d[0]] = 0.5 * d[1];
+            p[d[2]] = (tu - 0.5) * d[3];
+            p[d[4]] = (tv - 0.5) * d[5];
+            n[d[0]] = d[1];
+            k[c] = add_vertex(b, p[0], p[1], p[2], n[0], n[1], n[2], repeat ? tu : (f + tu) / 6, tv);
         }
+        add_quad(b, k[0], k[1], k[2], k[3]);
+    }
 }
 
-/* Eight octants of [n]/4 rows each: row i (0 at the pole) has i+1
- * vertices from the octant's x edge to its y edge. */
+/* Eight octants of [n]/4 rows each, as Flitter's Sphere.build_arrays lays
+ * them: quarter [side] of the longitude (turns side/4 .. (side+1)/4 from
+ * +x towards +y) in each hemisphere; row 0 is the pole, row r has r+1
+ * vertices at longitude (side + col/r)/4 and latitude (1 - r/rows)/4
+ * turns; texture u is the longitude, v = 0.5 + 2 latitude (the
+ * equirectangular projection, the pole's vertex at its octant's middle
+ * longitude). Each octant has its own vertices, so the map's seam at u = 1
+ * is exact. */
 static void build_sphere(Builder *b, int n)
 {
     int rows = n / 4;
     uint32_t *prev = mem_alloc(sizeof(uint32_t) * (size_t)(rows + 1));
     uint32_t *cur = mem_alloc(sizeof(uint32_t) * (size_t)(rows + 1));
-    for (int oct = 0; oct < 8; oct++) {
-        double sx = (oct & 1) ? -1 : 1, sy = (oct & 2) ? -1 : 1, sz = (oct & 4) ? -1 : 1;
-        for (int i = 0; i <= rows; i++) {
-            double th = PI / 2 * i / rows;
-            for (int j = 0; j <= i; j++) {
-                double ph = i ? PI / 2 * j / i : 0;
-                double x = sin(th) * cos(ph) * sx, y = sin(th) * sin(ph) * sy, z = cos(th) * sz;
-                double lon = atan2(y, x) / (2 * PI);
-                if (lon < 0) lon += 1;
-                cur[j] = add_vertex(b, x, y, z, x, y, z, lon, 0.5 + asin(z) / PI);
-            }
-            if (i > 0) {
-                for (int j = 0; j < i; j++) {
-                    add_tri(b, prev[j], cur[j], cur[j + 1]);
-                    if (j + 1 < i) add_tri(b, prev[j], cur[j + 1], prev[j + 1]);
+    for (int side = 0; side < 4; side++)
+        for (int hemi = -1; hemi <= 1; hemi += 2) {
+            for (int row = 0; row <= rows; row++) {
+                double r, z, v;
+                if (row == 0) {
+                    r = 0, z = hemi, v = hemi * 0.5 + 0.5;
+                } else if (row == rows) {
+                    r = 1, z = 0, v = 0.5;
+                } else {
+                    double th = hemi * (1 - (double)row / rows) / 4;
+                    v = 2 * th + 0.5;
+                    r = cos_t(th), z = sin_t(th);
                 }
+                for (int col = 0; col <= row; col++) {
+                    double u, x, y;
+                    if (row == 0) {
+                        u = (side + 0.5) / 4, x = y = 0;
+                    } else if (col == 0) {
+                        u = side / 4.0;
+                        x = side == 0 ? r : side == 2 ? -r : 0;
+                        y = side == 1 ? r : side == 3 ? -r : 0;
+                    } else if (col == row) {
+                        u = (side + 1.0) / 4;
+                        x = side == 3 ? r : side == 1 ? -r : 0;
+                        y = side == 0 ? r : side == 2 ? -r : 0;
+                    } else {
+                        u = (side + (double)col / row) / 4;
+                        x = r * cos_t(u), y = r * sin_t(u);
+                    }
+                    cur[col] = add_vertex(b, x, y, z, x, y, z, u, v);
+                    if (col) {
+                        add_tri(b, cur[col], cur[col - 1], prev[col - 1]);
+                        if (col < row) add_tri(b, cur[col], prev[col - 1], prev[col]);
+                    }
+                }
+                uint32_t *t = prev;
+                prev = cur;
+                cur = t;
             }
-            uint32_t *t = prev;
-            prev = cur;
-            cur = t;
         }
-    }
     free(prev);
     free(cur);
 }
@@ -223,7 +254,7 @@ void mesh_build(const MeshKey *key, MeshData *out)
     case MESH_CYLINDER: build_round(&b, key->segments, false); break;
     case MESH_CONE: build_round(&b, key->segments, true); break;
     case MESH_OCTAGON: build_octagon(&b); break;
-    default: build_box(&b); break;
+    default: build_box(&b, key->uv_repeat); break;
     }
     if (key->flat) flatten(&b);
     if (key->invert) invert(&b);
@@ -250,7 +281,8 @@ const GlMesh *mesh_cache_get(MeshCache *c, const MeshKey *key)
 {
     for (int i = 0; i < c->n; i++) {
         const MeshKey *k = &c->mesh[i]->key;
-        if (k->kind == key->kind && k->segments == key->segments && k->flat == key->flat && k->invert == key->invert)
+        if (k->kind == key->kind && k->segments == key->segments && k->flat == key->flat && k->invert == key->invert &&
+            k->uv_repeat == key->uv_repeat)
             return c->mesh[i];
     }
     MeshData d;

@@ -12,7 +12,10 @@
  * from outside. `flat` gives every triangle its own face normal; `invert`
  * turns the model inside out (winding and normals reversed).
  *
- * A vertex is 8 floats: position x,y,z, normal x,y,z, texture u,v.
+ * A vertex is 8 floats: position x,y,z, normal x,y,z, texture u,v, laid
+ * out on the texture as docs/canvas3d.md "Primitive model texture
+ * mapping" says (a box's uv_map=:standard, each face a sixth of the width,
+ * or :repeat; the sphere equirectangular; the cylinder and cone wrapped).
  */
 #ifndef FL_RENDER_MODELS_MESH_H
 #define FL_RENDER_MODELS_MESH_H
@@ -30,6 +33,7 @@ typedef struct MeshKey {
     int kind;       /* enum MeshKind */
     int segments;   /* as normalised by mesh_segments (0 for boxes) */
     bool flat, invert;
+    bool uv_repeat; /* a box's uv_map=:repeat (each face the whole texture) */
 } MeshKey;
 
 typedef struct MeshData {

@@ -109,6 +109,46 @@ static int write_png(const RecordSpec *s, cairo_surface_t *pic, char *err, size_
     return outfile_commit(&f, false, err, errlen) ? 0 : -1;
 }
 
+/* A still JPEG of [pic] (over black), through FFmpeg's MJPEG encoder and
+ * its raw muxer (one frame is a whole JPEG file), quality= mapped from
+ * Pillow's 1..100 (default 75) onto MJPEG's quantiser 31..2. */
+static int write_jpeg(const RecordSpec *s, cairo_surface_t *pic, char *err, size_t errlen)
+{
+    int quality = s->quality >= 1 && s->quality <= 100 ? s->quality : 75;
+    char q[16];
+    snprintf(q, sizeof q, "%d", 2 + (100 - quality) * 29 / 99);
+    VideoOption opts[2] = {{"qmin", q}, {"qmax", q}};
+    VideoSpec vs = {.format = "mjpeg", .codec = "mjpeg", .pixfmt = "yuvj420p", .options = opts, .noptions = 2};
+    char unused[128];
+    int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
+    VideoOut *v = video_open(s->path, w, h, 25, &vs, err, errlen, unused, sizeof unused);
+    if (!v) return -1;
+    char why[600];
+    int rc = video_frame(v, cairo_image_surface_get_data(pic), w, h, cairo_image_surface_get_stride(pic), why,
+                         sizeof why);
+    if (rc != 0) snprintf(err, errlen, "%s", why);
+    if (video_close(v, why, sizeof why) != 0) {
+        if (rc == 0) snprintf(err, errlen, "%s", why);
+        rc = -1;
+    }
+    return rc;
+}
+
+/* A still GIF of [pic]: an animation of one frame, replaced every frame
+ * (Flitter writes a .gif without codec=:gif as a picture). */
+static int write_still_gif(const RecordSpec *s, cairo_surface_t *pic, char *err, size_t errlen)
+{
+    GifOut *g = gifout_open(s->path, cairo_image_surface_get_width(pic), cairo_image_surface_get_height(pic), 10,
+                            err, errlen);
+    if (!g) return -1;
+    int rc = gifout_frame(g, cairo_image_surface_get_data(pic), cairo_image_surface_get_stride(pic));
+    if (gifout_close(g) != 0 || rc != 0) {
+        snprintf(err, errlen, "%s: cannot write the GIF", s->path);
+        return -1;
+    }
+    return 0;
+}
+
 /* Remember that the file at [path] could not be started ([err]): its
  * later frames report the same error without trying again. */
 static void fail_slot(Recorder *rec, const char *path, const char *err)
@@ -199,7 +239,7 @@ static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic,
 }
 
 /* What a file about to be replaced must already be (by its first bytes). */
-typedef enum { KIND_PNG, KIND_GIF, KIND_VIDEO } FileKind;
+typedef enum { KIND_PNG, KIND_GIF, KIND_VIDEO, KIND_JPEG } FileKind;
 
 /* False, with a message, when [path] exists, is a non-empty regular file
  * and does not start as a file of [kind] does: !record replaces pictures
@@ -216,10 +256,11 @@ static bool replaceable(const char *path, FileKind kind, char *err, size_t errle
     ssize_t n = check ? read(fd, b, sizeof b) : 0;
     close(fd);
     if (!check) return true;
-    static const char *const what[] = {"a PNG picture", "a GIF animation", "a video"};
+    static const char *const what[] = {"a PNG picture", "a GIF picture or animation", "a video", "a JPEG picture"};
     bool ok;
     switch (kind) {
     case KIND_PNG: ok = n >= 8 && memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0; break;
+    case KIND_JPEG: ok = n >= 3 && memcmp(b, "\xff\xd8\xff", 3) == 0; break;
     case KIND_GIF: ok = n >= 6 && (memcmp(b, "GIF87a", 6) == 0 || memcmp(b, "GIF89a", 6) == 0); break;
     default:       /* ISO media (MP4, MOV: a box type at byte 4) or Matroska/WebM (EBML) */
         ok = (n >= 8 && (memcmp(b + 4, "ftyp", 4) == 0 || memcmp(b + 4, "moov", 4) == 0 ||
@@ -236,22 +277,28 @@ static bool replaceable(const char *path, FileKind kind, char *err, size_t errle
 int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err, size_t errlen)
 {
     cairo_surface_flush(pic);
-    /* a .png name stays a still picture whatever the codec (as in Flitter) */
-    bool gif = ends_with(s->path, ".gif") ||
-               (!ends_with(s->path, ".png") && s->codec && strcmp(s->codec, "gif") == 0);
+    /* Flitter record.py: a .gif with codec=:gif is an animation, without
+     * it a picture; a .png or .jpg name stays a still picture whatever the
+     * codec; another name with codec=:gif is an animation too (as
+     * before: `filename=NAME codec=:gif`) */
+    bool codec_gif = s->codec && strcmp(s->codec, "gif") == 0;
+    bool png = ends_with(s->path, ".png"), jpeg = ends_with(s->path, ".jpg") || ends_with(s->path, ".jpeg");
+    bool anim = codec_gif && !png && !jpeg, still_gif = ends_with(s->path, ".gif") && !codec_gif;
     /* files kept open across frames are checked when they are started */
     bool started = find_slot(rec, s->path) != NULL;
-    FileKind kind = gif ? KIND_GIF : ends_with(s->path, ".png") ? KIND_PNG : KIND_VIDEO;
-    if (!started && (gif || kind == KIND_PNG || video_is_video_name(s->path)) &&
+    FileKind kind = anim || still_gif ? KIND_GIF : png ? KIND_PNG : jpeg ? KIND_JPEG : KIND_VIDEO;
+    if (!started && (anim || still_gif || png || jpeg || video_is_video_name(s->path)) &&
         !replaceable(s->path, kind, err, errlen)) {
-        if (kind != KIND_PNG) fail_slot(rec, s->path, err);   /* not retried every frame */
+        if (anim || kind == KIND_VIDEO) fail_slot(rec, s->path, err);   /* not retried every frame */
         return -1;
     }
-    if (gif) return write_gif(rec, s, pic, fps, err, errlen);
-    if (ends_with(s->path, ".png")) return write_png(s, pic, err, errlen);
+    if (anim) return write_gif(rec, s, pic, fps, err, errlen);
+    if (still_gif) return write_still_gif(s, pic, err, errlen);
+    if (png) return write_png(s, pic, err, errlen);
+    if (jpeg) return write_jpeg(s, pic, err, errlen);
     if (video_is_video_name(s->path)) return write_video(rec, s, pic, fps, err, errlen);
-    snprintf(err, errlen, "%s: only .png pictures and .gif animations are written, and .mp4, .mov, .m4v, "
-             ".mkv and .webm videos; !record skipped", s->path);
+    snprintf(err, errlen, "%s: only .png, .jpg and .gif pictures and .gif animations are written, and .mp4, .mov, "
+             ".m4v, .mkv and .webm videos; !record skipped", s->path);
     return -1;
 }
 

@@ -1,11 +1,14 @@
 /* record.h: the files a `!record` node writes (Flitter docs/windows.md,
  * "!record"; Flitter render/window/record.py and cache.py): the picture
  * of one frame goes to
- *   - NAME.gif (or codec=:gif with a name not ending in .png): one frame
- *     appended to an animated GIF (gifout.h), which appears at the end of
- *     the run;
+ *   - NAME.gif with codec=:gif (or codec=:gif with a name that is not a
+ *     .png or .jpg): one frame appended to an animated GIF (gifout.h),
+ *     which appears at the end of the run;
+ *   - NAME.gif without codec=:gif: a one-frame GIF replaced every frame;
  *   - NAME.png: a PNG replaced every frame (RGBA with keep_alpha=true,
  *     else RGB over black);
+ *   - NAME.jpg or NAME.jpeg: a JPEG replaced every frame (FFmpeg's
+ *     encoder, quality= 1..100 as Flitter's, default 75 as PIL's);
  *   - NAME.mp4, .mov, .m4v, .mkv, .webm: one frame appended to a video
  *     (video.h), which appears at the end of the run, or once limit=
  *     seconds of it are written;
@@ -35,6 +38,7 @@ typedef struct RecordSpec {
     const char *codec;          /* codec= as text, or NULL */
     const char *pixfmt;         /* pixfmt= as text, or NULL */
     bool keep_alpha;            /* keep_alpha= */
+    int quality;                /* quality= of a JPEG, 1..100, or 0: the encoder's default */
     double limit;               /* limit= in seconds of video, or < 0: none */
     const VideoOption *options; /* the encoder options (video only) */
     size_t noptions;

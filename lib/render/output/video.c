@@ -175,6 +175,12 @@ static bool open_encoder(VideoOut *v, const AVCodec *c, const VideoSpec *spec, i
     cc->color_trc = AVCOL_TRC_BT709;
     cc->colorspace = AVCOL_SPC_BT709;
     cc->color_range = AVCOL_RANGE_MPEG;
+    if (c->id == AV_CODEC_ID_MJPEG) {   /* a JPEG picture: JFIF's full-range BT.601 */
+        cc->color_primaries = AVCOL_PRI_UNSPECIFIED;
+        cc->color_trc = AVCOL_TRC_UNSPECIFIED;
+        cc->colorspace = AVCOL_SPC_BT470BG;
+        cc->color_range = AVCOL_RANGE_JPEG;
+    }
     if (v->oc->oformat->flags & AVFMT_GLOBALHEADER) cc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     if (c->id == AV_CODEC_ID_HEVC && (ends_with(path, ".mp4") || ends_with(path, ".mov") || ends_with(path, ".m4v")))
         cc->codec_tag = MKTAG('h', 'v', 'c', '1');   /* what Apple's players expect (Flitter) */
@@ -222,7 +228,7 @@ VideoOut *video_open(const char *path, int width, int height, double fps, const 
     }
     if (L->av_log_get_level() == AV_LOG_INFO) L->av_log_set_level(AV_LOG_ERROR);
     int ifps = fps >= 1 && fps <= 1000 ? (int)fps : fps > 1000 ? 1000 : 1;   /* Flitter: int(fps) */
-    if (L->avformat_alloc_output_context2(&v->oc, NULL, NULL, path) < 0 || !v->oc) {
+    if (L->avformat_alloc_output_context2(&v->oc, NULL, spec->format, path) < 0 || !v->oc) {
         snprintf(err, errlen, "%s: no video container for this file name", path);
         free_video(v);
         return NULL;
@@ -349,9 +355,11 @@ int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, i
             v->failed = true;
             return -1;
         }
-        /* full-range RGB in, BT.709 limited-range YUV out (the stream's tags) */
-        L->sws_setColorspaceDetails(v->sws, L->sws_getCoefficients(SWS_CS_ITU709), 1, L->sws_getCoefficients(SWS_CS_ITU709),
-                                 0, 0, 1 << 16, 1 << 16);
+        /* full-range RGB in; YUV out as the stream's tags say: BT.709
+         * limited range, or a JPEG's full-range BT.601 */
+        bool jfif = v->cc->color_range == AVCOL_RANGE_JPEG;
+        const int *cs = L->sws_getCoefficients(jfif ? SWS_CS_ITU601 : SWS_CS_ITU709);
+        L->sws_setColorspaceDetails(v->sws, cs, 1, cs, jfif ? 1 : 0, 0, 1 << 16, 1 << 16);
         v->sws_w = width;
         v->sws_h = height;
     }

@@ -40,6 +40,7 @@ typedef struct VideoOption {
 } VideoOption;
 
 typedef struct VideoSpec {
+    const char *format;         /* FFmpeg's muxer, or NULL: by the file name */
     const char *codec;          /* codec= or NULL: by container (see above) */
     const char *pixfmt;         /* pixfmt= or NULL: yuv420p / yuva420p */
     bool keep_alpha;            /* keep_alpha=: encode the alpha plane */

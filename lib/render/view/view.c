@@ -12,6 +12,7 @@
 
 #include "buf.h"
 #include "canvas3d.h"
+#include "scene_picture.h"
 #include "format.h"
 #include "gifout.h"
 #include "mat4.h"
@@ -48,7 +49,7 @@ struct View {
     int axes[2];               /* the flat projection asked for ({0, 0}: none) */
     RenderLog log;             /* where "3D systems drawn flat" goes */
     bool flat_said;            /* ... said once */
-    Canvas3D *gl;              /* the 3D panels' renderer (made when first needed) */
+    ScenePicture *gl;          /* the 3D panels' renderer (made when first needed) */
     cairo_surface_t *pic3d;    /* a 3D panel's picture, reused */
     C3dItem *items;            /* a 3D panel's shapes, reused */
     size_t cap_items;
@@ -100,7 +101,7 @@ int view_close(View *v)
 {
     if (!v) return 0;
     int rc = gifout_close(v->gif);
-    canvas3d_free(v->gl);
+    scene_picture_free(v->gl);
     if (v->pic3d) cairo_surface_destroy(v->pic3d);
     free(v->items);
     free(v->path);
@@ -366,9 +367,9 @@ static bool draw_panel_3d(View *v, cairo_t *cr, int index, const PsSystem *s)
         v->pic3d = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, pw, ph);
         if (cairo_surface_status(v->pic3d) == CAIRO_STATUS_NO_MEMORY) mem_oom();
     }
-    if (!v->gl) v->gl = canvas3d_new();
+    if (!v->gl) v->gl = scene_picture_new();
     char err[600];
-    if (canvas3d_draw_scene(v->gl, &sc, v->pic3d, err, sizeof err) != 0) {
+    if (scene_picture_draw(v->gl, &sc, v->pic3d, err, sizeof err) != 0) {
         if (!v->flat_said)
             render_log(&v->log, RLOG_WARNING, "view: 3D systems are drawn flat on x;y%s%s", err[0] ? ": " : "", err);
         v->flat_said = true;

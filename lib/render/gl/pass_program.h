@@ -1,0 +1,83 @@
+/* pass_program.h: the shader-program passes (Flitter docs/windows.md,
+ * "program nodes", and docs/shaders.md): `!window`, `!offscreen`,
+ * `!record`, `!shader`, `!video` and the built-in filters all draw a
+ * screen-space quad through a program made from templates
+ * (glsl_template.h), one or more passes a frame, into framebuffers of
+ * their size. This is what they share: the programs compiled by source,
+ * the uniforms set from attributes and defaults, the samplers, and the
+ * multi-pass loop of Flitter's ProgramNode.render. */
+#ifndef FL_RENDER_PASS_PROGRAM_H
+#define FL_RENDER_PASS_PROGRAM_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "buf.h"
+#include "glsl_template.h"
+#include "graph_internal.h"
+
+typedef struct Program Program;
+
+/* A default a program kind gives one of its names (a uniform and a
+ * template name; Flitter's keyword arguments to ProgramNode.render). */
+typedef struct Kw {
+    const char *name;
+    TplValue value;          /* one reference */
+} Kw;
+
+/* A texture a program samples under a name (texture0, frame0 ...). */
+typedef struct ChildTex {
+    char name[24];
+    GLuint tex;
+} ChildTex;
+
+/* How a program pass draws this frame (its kind's defaults; a node's own
+ * attributes override those Flitter lets it: composite=, passes=,
+ * downsample=, downsample_passes=, colorbits=, border=, repeat=,
+ * nearest=, fragment=, vertex=). */
+typedef struct ProgramParams {
+    bool srgb;                   /* an 8-bit sRGB framebuffer (!record) */
+    int colorbits;               /* 0: the window's */
+    int passes;                  /* default 1 */
+    int downsample;              /* default 2 */
+    const int *downsample_passes;
+    size_t ndownsample;
+    bool clamp;                  /* default sampling: the edge colour (else transparent) */
+    const char *fragment;        /* the default fragment template (glsl_library name) */
+    const char *vertex;          /* the default vertex template */
+    const Kw *kwargs;
+    size_t nkwargs;
+    const ChildTex *children;    /* the textures to sample; NULL: the pass's children */
+    size_t nchildren;
+} ProgramParams;
+
+/* A program pass: a Pass, the program it drew with last, and its
+ * sources of this frame. */
+typedef struct ProgramPass {
+    Pass base;
+    Program *program;            /* last frame's, or NULL */
+    Buf vsrc, fsrc;              /* this frame's rendered sources */
+    Buf good_vsrc, good_fsrc;    /* those of the last program that compiled (empty: none yet) */
+    const struct FilterKind *filter;
+} ProgramPass;
+
+/* Draw program pass [pp] for node [n] as [pr] says: its output ends in
+ * pp->base.target (NULL when nothing could be drawn: a template or
+ * program error, logged once each). */
+void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx, const ProgramParams *pr);
+/* The textures of [p]'s children a program samples (those with a
+ * picture, hidden ones left out), as texture0, texture1, ... into [out]
+ * (at most [cap]); returns how many. */
+size_t program_children(Graph *g, Pass *p, ChildTex *out, size_t cap);
+/* Free [pp]'s sources (the program stays in the graph's cache). */
+void program_pass_release(Graph *g, Pass *p);
+/* Draw texture [tex] ([w] x [h]) alone into [t] through the compositing
+ * program, [t] bound and cleared by the caller: a copy, sRGB-encoded when
+ * [t] is. */
+bool program_copy(Graph *g, GLuint tex, GlTarget *t);
+
+/* Python's hash of Flitter's Vector [v] (the seed of !noise, Flitter
+ * shaders.py Noise.render: hash(seed) / 2^48). */
+double program_seed_hash(const Vec *v);
+
+#endif
