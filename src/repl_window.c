@@ -60,7 +60,7 @@ ReplWindow *repl_window_open(fl_runtime *rt, const char *name, char *why, size_t
     int width = index != SIZE_MAX ? info.width : 512, height = index != SIZE_MAX ? info.height : 512;
     WinOptions o = {0, false, false};
     bool full = index != SIZE_MAX && info.fullscreen > 0, vsync = index != SIZE_MAX && info.vsync > 0;
-    if (winview_open(&w->view, title, width, height, &o, full, vsync) != 0) {
+    if (winview_open(&w->view, title, width, height, &o, full, vsync, NULL) != 0) {
         snprintf(why, cap, "cannot open a window: %s", SDL_GetError());
         free(w);
         SDL_Quit();

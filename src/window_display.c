@@ -146,7 +146,7 @@ static int sync_windows(Display *D, const PictureSet *set)
             }
             *s = (Slot){0};
             if (winview_open(&s->view, w->title, w->width, w->height, D->wopt, w->fullscreen,
-                             w->vsync) != 0) {
+                             w->vsync, D->h->gl) != 0) {
                 fprintf(D->log, "flitter: cannot open a window: %s\n", SDL_GetError());
                 return -1;
             }
@@ -213,17 +213,26 @@ static int show_set(Display *D, int i)
     int rc = sync_windows(D, set);
     if (rc == 0)
         for (size_t k = 0; k < set->n; k++) {
-            const ShownWindow *w = &set->win[k];
-            if (w->pw > 0 && winview_upload(&D->slots[k].view, w->px, w->pw, w->ph) != 0)
+            ShownWindow *w = &set->win[k];
+            if (w->gl) winview_show_texture(&D->slots[k].view, &w->glpic);
+            else if (w->pw > 0 && winview_upload(&D->slots[k].view, w->px, w->pw, w->ph) != 0)
                 fprintf(D->log, "flitter: cannot show a %dx%d picture: %s\n", w->pw, w->ph,
                         SDL_GetError());
+        }
+    /* OpenGL windows are drawn before the set goes back: drawing fences
+     * each texture for the frame loop */
+    bool drawn = rc == 0 && h->gl;
+    if (drawn)
+        for (size_t k = 0; k < D->nslots; k++) {
+            paint_overlay(D, &D->slots[k]);
+            winview_present(&D->slots[k].view);
         }
     pthread_mutex_lock(&h->mu);
     h->state[i] = SET_FREE;
     pthread_cond_signal(&h->cond);
     pthread_mutex_unlock(&h->mu);
     if (rc != 0) return -1;
-    for (size_t k = 0; k < D->nslots; k++) {
+    for (size_t k = 0; k < D->nslots && !drawn; k++) {
         paint_overlay(D, &D->slots[k]);
         winview_present(&D->slots[k].view);
     }

@@ -41,6 +41,8 @@ typedef struct ShownWindow {
     size_t cap;              /* words allocated at px */
     fl_view_snapshot *snap;  /* the physics view to paint into px (kept for reuse) */
     bool paint;              /* px is still to be painted from snap, by the display */
+    WinGlPicture glpic;      /* with OpenGL windows: the window's picture as a texture */
+    bool gl;                 /* the picture is glpic (else px) */
 } ShownWindow;
 
 /* The pictures of one frame, one per window to show. */
@@ -73,6 +75,7 @@ typedef struct Input {
 enum { SET_FREE, SET_DRAWING, SET_PENDING, SET_SHOWING };
 
 typedef struct Handover {
+    WinGl *gl;               /* the windows' OpenGL (window_gl.h), or NULL: SDL's renderer */
     pthread_mutex_t mu;
     pthread_cond_t cond;     /* the frame loop waits on it: inputs came, a set was taken */
     pthread_cond_t display_cond; /* the display waits on it: a set or overlay text came,
@@ -128,6 +131,7 @@ typedef struct Page {
     long ran;                /* frames stepped on this page in this run */
     fl_stats first, second;  /* its statistics after its first and second frames (--stats) */
     LoadTimes load;          /* its load and live reloads (--stats) */
+    bool gl;                 /* its windows draw with the frame loop's OpenGL context (fl_gl_attach) */
 } Page;
 
 typedef struct Loop {
@@ -144,6 +148,7 @@ typedef struct Loop {
     fl_window_info *info;    /* fl_windows of the last frame */
     size_t cap_info;
     bool warned;             /* a drawing failure was logged */
+    bool gl;                 /* pictures go to the display as textures (window_gl.h) */
     bool realtime;           /* the clock: realtime, or lockstep */
     bool quit;               /* Escape or a window closed */
     int rc;                  /* exit status so far */

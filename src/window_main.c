@@ -248,8 +248,24 @@ static void draw_window(Loop *L, ShownWindow *s, int view_w, int view_h)
             return;
         }
     }
+    if (!view && L->pages[L->cur].gl) {
+        /* the window's own picture, a texture of the frame loop's context:
+         * copied for the display, never read back */
+        int tw, th;
+        unsigned tex = fl_gl_window_texture(rt, s->index, &tw, &th);
+        s->gl = true;
+        if (!tex || !wingl_frame_copy(L->hand->gl, &s->glpic, tex, tw, th)) s->glpic.w = s->glpic.h = 0;
+        s->pw = s->glpic.w;
+        s->ph = s->glpic.h;
+        return;
+    }
+    s->gl = false;
+    /* a thread cannot have the library's own EGL context current beside
+     * the frame loop's (a 3D view, a window drawn without it) */
+    if (L->gl) wingl_frame_leave(L->hand->gl);
     int rc = view ? fl_draw_view(rt, s->px, w, h, (size_t)w * 4, NULL)
                   : fl_draw_window(rt, s->index, s->px, w, h, (size_t)w * 4);
+    if (L->gl) wingl_frame_enter(L->hand->gl);
     if (rc != 0 && !L->warned) {
         fputs(fl_error(rt), L->log);
         L->warned = true;
@@ -282,7 +298,9 @@ static bool draw_frame(Loop *L)
     double t0 = now_seconds();
     PictureSet *set = &h->sets[i];
     describe_windows(L, set);
+    wingl_lock(h->gl);
     for (size_t k = 0; k < set->n; k++) draw_window(L, &set->win[k], view_w, view_h);
+    wingl_unlock(h->gl);
     double t1 = now_seconds();
     L->draw_seconds += t1 - t0;
     L->last_drawn = t1;
@@ -448,12 +466,14 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
         return false;
     }
     if (L->quit || *L->interrupt) return false;
+    wingl_lock(L->hand->gl);   /* (a runtime freed or made draws) */
     if (L->switch_to >= 0) {
         switch_page(L, L->switch_to);
         L->switch_to = -1;
         L->redraw = true;
     }
     check_reload(L);
+    wingl_unlock(L->hand->gl);
     Page *p = &L->pages[L->cur];
     bool stepped = false;
     if (!L->paused || L->steps > 0) {
@@ -465,7 +485,10 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
         if (p->ran == 1) fl_get_stats(p->rt, &p->first);
         if (p->ran == 2) fl_get_stats(p->rt, &p->second);
         L->dumped_last = false;
-        if (fl_outputs_frame(p->outs, p->rt) != 0) fprintf(L->log, "flitter run: %s", fl_error(p->rt));
+        wingl_lock(L->hand->gl);
+        int orc = fl_outputs_frame(p->outs, p->rt);
+        wingl_unlock(L->hand->gl);
+        if (orc != 0) fprintf(L->log, "flitter run: %s", fl_error(p->rt));
         long n = fl_frame_count(p->rt);
         if (spec->dump_state && spec->dump_every > 0 && n % spec->dump_every == 0) {
             fl_dump_state(p->rt, write_file, L->out);
@@ -527,8 +550,21 @@ static void *frame_thread(void *arg)
     Loop *L = arg;
     Input *buf = NULL;
     size_t cap = 0;
+    /* the runtimes draw their windows with the frame loop's OpenGL context */
+    wingl_lock(L->hand->gl);
+    if (L->hand->gl && wingl_frame_enter(L->hand->gl)) {
+        L->gl = true;
+        for (int i = 0; i < L->npages; i++) {
+            Page *p = &L->pages[i];
+            p->gl = fl_gl_attach(p->rt) == 0;
+            if (!p->gl && L->spec->verbosity >= 1)
+                fprintf(L->log, "flitter: page %d draws without the window's OpenGL: %s", i + 1, fl_error(p->rt));
+        }
+    }
+    wingl_unlock(L->hand->gl);
     while (loop_once(L, &buf, &cap)) {}
     free(buf);
+    if (L->gl) wingl_frame_leave(L->hand->gl);
     pthread_mutex_lock(&L->hand->mu);
     L->hand->done = true;
     pthread_mutex_unlock(&L->hand->mu);
@@ -542,6 +578,19 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
     if (winview_start(why, cap) != 0) return WINDOW_NO_DISPLAY;
     Handover hand;
     handover_init(&hand);
+    char glwhy[300];
+    /* FLITTER_WINDOW_READBACK=1: the pictures read back and shown
+     * through SDL's renderer, as a machine without OpenGL windows shows
+     * them (for comparison: bench/window.sh) */
+    const char *rb = getenv("FLITTER_WINDOW_READBACK");
+    if (rb && strcmp(rb, "1") == 0) {
+        hand.gl = NULL;
+        snprintf(glwhy, sizeof glwhy, "FLITTER_WINDOW_READBACK=1");
+    } else {
+        hand.gl = wingl_start(glwhy, sizeof glwhy);
+    }
+    if (!hand.gl && spec->verbosity >= 1)
+        fprintf(log, "flitter: windows shown through SDL's renderer (pictures read back): %s\n", glwhy);
     Loop L = {.spec = spec, .out = out, .log = log, .interrupt = interrupt, .hand = &hand,
               .switch_to = -1, .runspec = *spec};
     WinOptions wopt = {spec->screen, spec->fullscreen, spec->vsync};
@@ -574,7 +623,14 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
         fflush(out);
     }
     free(L.info);
+    /* the runtimes' graphs were drawn with the frame loop's context: freed with it current */
+    bool gl_current = hand.gl && wingl_frame_enter(hand.gl);
+    if (gl_current)   /* the sets' textures, now that the display is done with them */
+        for (int i = 0; i < 2; i++)
+            for (size_t k = 0; k < hand.sets[i].cap; k++) wingl_picture_free(&hand.sets[i].win[k].glpic);
     rc = close_pages(&L, rc);
+    if (gl_current) wingl_frame_leave(hand.gl);
+    wingl_stop(hand.gl);
     handover_free(&hand);
     SDL_Quit();
     return rc;

@@ -33,8 +33,9 @@ static WindowModule module;
  * learn it. */
 static bool no_display(char *why, size_t cap)
 {
-    if (getenv("DISPLAY") || getenv("WAYLAND_DISPLAY")) return false;
-    snprintf(why, cap, "no display (DISPLAY and WAYLAND_DISPLAY are not set)");
+    const char *x = getenv("DISPLAY"), *w = getenv("WAYLAND_DISPLAY");
+    if ((x && *x) || (w && *w)) return false;   /* (set but empty: none) */
+    snprintf(why, cap, "no display (DISPLAY and WAYLAND_DISPLAY are not set or empty)");
     return true;
 }
 

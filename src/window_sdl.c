@@ -57,8 +57,9 @@ static bool software_gl(SDL_Renderer *r)
 
 int winview_start(char *why, size_t cap)
 {
-    if (!getenv("DISPLAY") && !getenv("WAYLAND_DISPLAY")) {
-        snprintf(why, cap, "no display (DISPLAY and WAYLAND_DISPLAY are not set)");
+    const char *x = getenv("DISPLAY"), *w = getenv("WAYLAND_DISPLAY");
+    if (!(x && *x) && !(w && *w)) {   /* (set but empty: none) */
+        snprintf(why, cap, "no display (DISPLAY and WAYLAND_DISPLAY are not set or empty)");
         return -1;
     }
     SDL_SetHint(SDL_HINT_NO_SIGNAL_HANDLERS, "1");   /* Ctrl-C and SIGTERM are the caller's */
@@ -71,18 +72,49 @@ int winview_start(char *why, size_t cap)
     return 0;
 }
 
+/* An OpenGL window: drawn by the display's context of [gl]. */
+static int open_gl(WinView *v, bool vsync)
+{
+    wingl_lock(v->gl);
+    bool ok = wingl_use(v->gl, v->window);
+    if (ok) {
+        SDL_GL_SetSwapInterval(vsync ? 1 : 0);
+        int W, H;
+        wingl_output_size(v->window, &W, &H);
+        wingl_clear(W, H);
+        SDL_GL_SwapWindow(v->window);
+    }
+    wingl_unlock(v->gl);
+    return ok ? 0 : -1;
+}
+
 int winview_open(WinView *v, const char *title, int w, int h, const WinOptions *o,
-                 bool fullscreen, bool vsync)
+                 bool fullscreen, bool vsync, WinGl *gl)
 {
     *v = (WinView){0};
     int screen = o->screen >= 0 && o->screen < SDL_GetNumVideoDisplays() ? o->screen : 0;
     int ww = w, wh = h;
     fit_display(screen, &ww, &wh);
-    Uint32 flags = SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI;
+    Uint32 flags = SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI | (gl ? SDL_WINDOW_OPENGL : 0);
     if (fullscreen) flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;
     v->window = SDL_CreateWindow(title, SDL_WINDOWPOS_CENTERED_DISPLAY(screen),
                                  SDL_WINDOWPOS_CENTERED_DISPLAY(screen), ww, wh, flags);
     if (!v->window) return -1;
+    v->id = SDL_GetWindowID(v->window);
+    v->want_w = w;
+    v->want_h = h;
+    v->fullscreen = fullscreen;
+    v->vsync = vsync;
+    snprintf(v->title, sizeof v->title, "%s", title);
+    if (gl) {
+        v->gl = gl;
+        if (open_gl(v, vsync) != 0) {
+            SDL_DestroyWindow(v->window);
+            *v = (WinView){0};
+            return -1;
+        }
+        return 0;
+    }
     Uint32 rflags = vsync ? SDL_RENDERER_PRESENTVSYNC : 0;
     v->renderer = SDL_CreateRenderer(v->window, -1, SDL_RENDERER_ACCELERATED | rflags);
     if (v->renderer && software_gl(v->renderer)) {
@@ -118,10 +150,14 @@ int winview_open(WinView *v, const char *title, int w, int h, const WinOptions *
 
 void winview_close(WinView *v)
 {
+    free(v->px);
+    free(v->ov);
     if (v->picture) SDL_DestroyTexture(v->picture);
     if (v->overlay) SDL_DestroyTexture(v->overlay);
     if (v->renderer) SDL_DestroyRenderer(v->renderer);
+    wingl_lock(v->gl);   /* (the display's context may be current with it) */
     if (v->window) SDL_DestroyWindow(v->window);
+    wingl_unlock(v->gl);
     *v = (WinView){0};
 }
 
@@ -143,14 +179,41 @@ void winview_update(WinView *v, const char *title, int w, int h, bool fullscreen
         v->want_h = h;
     }
     if ((int)vsync != v->vsync) {
-        SDL_RenderSetVSync(v->renderer, vsync);
+        if (v->gl) {
+            wingl_lock(v->gl);
+            if (wingl_use(v->gl, v->window)) SDL_GL_SetSwapInterval(vsync ? 1 : 0);
+            wingl_unlock(v->gl);
+        } else {
+            SDL_RenderSetVSync(v->renderer, vsync);
+        }
         v->vsync = vsync;
     }
 }
 
 void winview_output_size(const WinView *v, int *w, int *h)
 {
-    if (SDL_GetRendererOutputSize(v->renderer, w, h) != 0) SDL_GetWindowSize(v->window, w, h);
+    if (v->gl) wingl_output_size(v->window, w, h);
+    else if (SDL_GetRendererOutputSize(v->renderer, w, h) != 0) SDL_GetWindowSize(v->window, w, h);
+}
+
+/* Room for [n] words at *[buf] (of *[cap]); false when there is none. */
+static bool room(uint32_t **buf, size_t *cap, size_t n)
+{
+    if (n <= *cap) return true;
+    uint32_t *more = realloc(*buf, n * sizeof *more);
+    if (!more) return false;
+    *buf = more;
+    *cap = n;
+    return true;
+}
+
+void winview_show_texture(WinView *v, WinGlPicture *p)
+{
+    v->shown = p;
+    v->glpic = (WinGlPicture){.tex = p->tex, .w = p->w, .h = p->h};
+    v->gl_texture = true;
+    v->pic_w = p->w;
+    v->pic_h = p->h;
 }
 
 /* (Re)make the picture texture at [w] x [h] pixels; -1 on failure. */
@@ -170,6 +233,14 @@ static int picture_texture(WinView *v, int w, int h)
 
 int winview_upload(WinView *v, const uint32_t *px, int w, int h)
 {
+    if (v->gl) {
+        if (!room(&v->px, &v->pxcap, (size_t)w * (size_t)h)) return -1;
+        memcpy(v->px, px, (size_t)w * (size_t)h * 4);
+        v->gl_texture = false;
+        v->pic_w = w;
+        v->pic_h = h;
+        return 0;
+    }
     if (picture_texture(v, w, h) != 0) return -1;
     return SDL_UpdateTexture(v->picture, NULL, px, w * 4) == 0 ? 0 : -1;
 }
@@ -192,6 +263,13 @@ void winview_unlock(WinView *v) { SDL_UnlockTexture(v->picture); }
 uint32_t *winview_overlay_lock(WinView *v, int *w, int *h, int *pitch)
 {
     winview_output_size(v, w, h);
+    if (v->gl) {
+        if (*w < 1 || *h < 1 || !room(&v->ov, &v->ovcap, (size_t)*w * (size_t)*h)) return NULL;
+        v->ov_w = *w;
+        v->ov_h = *h;
+        *pitch = *w * 4;
+        return v->ov;
+    }
     if (!v->overlay || *w != v->ov_w || *h != v->ov_h) {
         if (v->overlay) SDL_DestroyTexture(v->overlay);
         v->overlay = SDL_CreateTexture(v->renderer, SDL_PIXELFORMAT_ARGB8888,
@@ -208,12 +286,42 @@ uint32_t *winview_overlay_lock(WinView *v, int *w, int *h, int *pitch)
 
 void winview_overlay_done(WinView *v, bool shown)
 {
-    SDL_UnlockTexture(v->overlay);
+    if (!v->gl) SDL_UnlockTexture(v->overlay);
     v->has_overlay = shown;
+}
+
+/* winview_present for an OpenGL window. */
+static void present_gl(WinView *v)
+{
+    int W, H;
+    winview_output_size(v, &W, &H);
+    wingl_lock(v->gl);
+    if (!wingl_use(v->gl, v->window)) {
+        wingl_unlock(v->gl);
+        return;
+    }
+    wingl_clear(W, H);
+    SDL_Rect r = fit(v->pic_w, v->pic_h, W, H);
+    if (v->gl_texture) {
+        /* the set's own picture, fenced for the frame loop; later presents
+         * (exposed, resized) draw the texture as it is then */
+        wingl_draw_picture(v->gl, v->shown ? v->shown : &v->glpic, v->shown != NULL, r.x, r.y, r.w, r.h, W, H);
+        v->shown = NULL;
+    } else if (v->pic_w > 0 && v->px) {
+        wingl_draw_pixels(v->gl, v->px, v->pic_w, v->pic_h, r.x, r.y, r.w, r.h, W, H, false);
+    }
+    if (v->has_overlay && v->ov && v->ov_w == W && v->ov_h == H)
+        wingl_draw_pixels(v->gl, v->ov, W, H, 0, 0, W, H, W, H, true);
+    SDL_GL_SwapWindow(v->window);
+    wingl_unlock(v->gl);
 }
 
 void winview_present(WinView *v)
 {
+    if (v->gl) {
+        present_gl(v);
+        return;
+    }
     int W, H;
     winview_output_size(v, &W, &H);
     SDL_SetRenderDrawColor(v->renderer, 0, 0, 0, 255);

@@ -8,6 +8,8 @@
 
 #include <SDL.h>
 
+#include "window_gl.h"
+
 /* How windows open (the command line's defaults; a !window's own
  * fullscreen= and vsync= override them). */
 typedef struct WinOptions {
@@ -18,6 +20,7 @@ typedef struct WinOptions {
 
 typedef struct WinView {
     SDL_Window *window;
+    WinGl *gl;               /* shown through OpenGL (window_gl.h), or NULL: through [renderer] */
     SDL_Renderer *renderer;
     Uint32 id;               /* SDL_GetWindowID, to route events */
     SDL_Texture *picture;    /* streaming ARGB8888, pic_w x pic_h pixels */
@@ -26,6 +29,14 @@ typedef struct WinView {
     SDL_Texture *overlay;    /* ARGB8888, straight alpha, ov_w x ov_h (output pixels) */
     int ov_w, ov_h;
     bool has_overlay;        /* the overlay texture holds something to show */
+    /* with [gl]: the picture to present, a texture of the picture sets
+     * (glpic, a copy of its name and size) or CPU pixels (px, pic_w x
+     * pic_h), and the overlay's pixels */
+    WinGlPicture glpic;
+    WinGlPicture *shown;     /* the set's picture to fence at the next present, or NULL */
+    bool gl_texture;         /* the picture is glpic (else px, when pic_w > 0) */
+    uint32_t *px, *ov;
+    size_t pxcap, ovcap;
     int fullscreen;          /* 1 fullscreen now, 0 not */
     int vsync;               /* 1 presenting with vsync, 0 not */
     char title[256];         /* the title shown */
@@ -42,14 +53,15 @@ int winview_start(char *why, size_t cap);
 /* Open a resizable, HiDPI-aware window [title] for a picture of [w] x [h]
  * pixels on display o->screen (centred; shrunk by 2/3 steps until it fits
  * 95% of the display, as Flitter does), fullscreen (desktop mode) when
- * [fullscreen], with an accelerated renderer (else SDL's software one),
- * presenting with vsync when [vsync].
+ * [fullscreen], presenting with vsync when [vsync]: an OpenGL window
+ * drawn with the display's context of [gl] when not NULL, else with an
+ * accelerated SDL renderer (else SDL's software one).
  *   errors: -1 with SDL_GetError() text left in SDL, nothing left open;
  *           else 0.
  *   source: Flitter render/window/__init__.py Window.create (sizing,
  *           centring, aspect ratio). */
 int winview_open(WinView *v, const char *title, int w, int h, const WinOptions *o,
-                 bool fullscreen, bool vsync);
+                 bool fullscreen, bool vsync, WinGl *gl);
 /* Close [v]'s window and free its textures (a closed WinView is a no-op). */
 void winview_close(WinView *v);
 
@@ -75,6 +87,9 @@ void winview_unlock(WinView *v);
  * apart) into the picture texture, (re)made at that size.
  *   errors: -1 (SDL error) when the texture cannot be made; else 0. */
 int winview_upload(WinView *v, const uint32_t *px, int w, int h);
+/* Show picture [p] of the picture sets (an OpenGL window): drawn by the
+ * next winview_present, which fences it for the frame loop. */
+void winview_show_texture(WinView *v, WinGlPicture *p);
 
 /* The overlay texture at the output size, locked for overlay_paint (NULL
  * on failure), and its pitch; then winview_overlay_done(). */

@@ -1,0 +1,316 @@
+/* window_gl.c: the live window's OpenGL contexts, the frame loop's copy of
+ * each picture and the display's drawing of it (see window_gl.h). GL
+ * entry points come from libepoxy, which the window module links (the
+ * library opens the same libepoxy with dlopen). */
+#include "window_gl.h"
+
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <epoxy/gl.h>
+
+struct WinGl {
+    SDL_Window *display_window, *frame_window;   /* hidden: each context's own drawable */
+    SDL_GLContext display, frame;
+    /* the display's objects */
+    GLuint program, program_pixels;   /* linear texture -> sRGB; sRGB pixels as they are */
+    GLint u_tex, u_tex_pixels;
+    GLuint vao, vbo;
+    GLuint pixels_tex;                /* the CPU pictures' texture */
+    int pixels_w, pixels_h;
+    /* the frame loop's objects */
+    GLuint fbo_src, fbo_dst;
+    /* a renderer on the CPU: the two contexts take turns (wingl_lock) */
+    bool serial;
+    pthread_mutex_t turn;
+};
+
+static const char vertex_source[] =
+    "#version 330 core\n"
+    "in vec2 position;\n"
+    "out vec2 coord;\n"
+    "void main() {\n"
+    "    coord = 0.5 * position + 0.5;\n"
+    "    gl_Position = vec4(position, 0.0, 1.0);\n"
+    "}\n";
+
+/* Flitter's window: the sRGB encoding of the light, clamped, opaque. */
+static const char fragment_linear[] =
+    "#version 330 core\n"
+    "in vec2 coord;\n"
+    "out vec4 color;\n"
+    "uniform sampler2D picture;\n"
+    "void main() {\n"
+    "    vec3 c = clamp(texture(picture, coord).rgb, 0.0, 1.0);\n"
+    "    vec3 curve = 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055;\n"
+    "    color = vec4(mix(12.92 * c, curve, vec3(greaterThan(c, vec3(0.0031308)))), 1.0);\n"
+    "}\n";
+
+/* A CPU picture (rows top first, so read upside down), as it is. */
+static const char fragment_pixels[] =
+    "#version 330 core\n"
+    "in vec2 coord;\n"
+    "out vec4 color;\n"
+    "uniform sampler2D picture;\n"
+    "void main() {\n"
+    "    color = texture(picture, vec2(coord.x, 1.0 - coord.y));\n"
+    "}\n";
+
+static GLuint link_program(const char *fsrc, char *why, size_t cap)
+{
+    const char *srcs[2] = {vertex_source, fsrc};
+    GLenum types[2] = {GL_VERTEX_SHADER, GL_FRAGMENT_SHADER};
+    GLuint prog = glCreateProgram(), sh[2];
+    for (int i = 0; i < 2; i++) {
+        sh[i] = glCreateShader(types[i]);
+        glShaderSource(sh[i], 1, &srcs[i], NULL);
+        glCompileShader(sh[i]);
+        GLint ok = 0;
+        glGetShaderiv(sh[i], GL_COMPILE_STATUS, &ok);
+        if (!ok) {
+            char log[512] = "";
+            glGetShaderInfoLog(sh[i], sizeof log, NULL, log);
+            snprintf(why, cap, "the window's shader does not compile: %s", log);
+        }
+        glAttachShader(prog, sh[i]);
+    }
+    glBindAttribLocation(prog, 0, "position");
+    glLinkProgram(prog);
+    glDeleteShader(sh[0]);
+    glDeleteShader(sh[1]);
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        if (!why[0]) snprintf(why, cap, "the window's shader does not link");
+        glDeleteProgram(prog);
+        return 0;
+    }
+    return prog;
+}
+
+WinGl *wingl_start(char *why, size_t cap)
+{
+    why[0] = '\0';
+    SDL_GL_SetAttribute(SDL_GL_CONTEXT_MAJOR_VERSION, 3);
+    SDL_GL_SetAttribute(SDL_GL_CONTEXT_MINOR_VERSION, 3);
+    SDL_GL_SetAttribute(SDL_GL_CONTEXT_PROFILE_MASK, SDL_GL_CONTEXT_PROFILE_CORE);
+    SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
+    SDL_GL_SetAttribute(SDL_GL_FRAMEBUFFER_SRGB_CAPABLE, 0);
+    SDL_GL_SetAttribute(SDL_GL_SHARE_WITH_CURRENT_CONTEXT, 0);
+    WinGl *g = calloc(1, sizeof *g);
+    if (!g) {
+        snprintf(why, cap, "out of memory");
+        return NULL;
+    }
+    pthread_mutex_init(&g->turn, NULL);
+    Uint32 hidden = SDL_WINDOW_OPENGL | SDL_WINDOW_HIDDEN;
+    g->display_window = SDL_CreateWindow("flitter", 0, 0, 1, 1, hidden);
+    g->frame_window = g->display_window ? SDL_CreateWindow("flitter", 0, 0, 1, 1, hidden) : NULL;
+    if (!g->frame_window) goto fail;
+    g->display = SDL_GL_CreateContext(g->display_window);
+    if (!g->display) goto fail;
+    SDL_GL_SetAttribute(SDL_GL_SHARE_WITH_CURRENT_CONTEXT, 1);
+    g->frame = SDL_GL_CreateContext(g->frame_window);
+    SDL_GL_SetAttribute(SDL_GL_SHARE_WITH_CURRENT_CONTEXT, 0);
+    if (!g->frame) goto fail;
+    /* the frame loop's context stays free for its thread; the display's
+     * is current here from now on */
+    if (SDL_GL_MakeCurrent(g->display_window, g->display) != 0) goto fail;
+    if (epoxy_gl_version() < 33) {
+        snprintf(why, cap, "OpenGL %d.%d is below 3.3", epoxy_gl_version() / 10, epoxy_gl_version() % 10);
+        goto fail_quiet;
+    }
+    /* Mesa's CPU renderers (llvmpipe 22.3 seen crashing inside a draw
+     * while the other context of the share group drew on its thread) */
+    const char *renderer = (const char *)glGetString(GL_RENDERER);
+    g->serial = renderer && (strstr(renderer, "llvmpipe") || strstr(renderer, "softpipe"));
+    g->program = link_program(fragment_linear, why, cap);
+    g->program_pixels = g->program ? link_program(fragment_pixels, why, cap) : 0;
+    if (!g->program_pixels) goto fail_quiet;
+    g->u_tex = glGetUniformLocation(g->program, "picture");
+    g->u_tex_pixels = glGetUniformLocation(g->program_pixels, "picture");
+    static const float quad[8] = {-1, -1, 1, -1, -1, 1, 1, 1};
+    glGenVertexArrays(1, &g->vao);
+    glBindVertexArray(g->vao);
+    glGenBuffers(1, &g->vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
+    glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
+    glBindVertexArray(0);
+    glGenTextures(1, &g->pixels_tex);
+    return g;
+fail:
+    snprintf(why, cap, "no OpenGL 3.3 core windows: %s", SDL_GetError());
+fail_quiet:
+    wingl_stop(g);
+    return NULL;
+}
+
+void wingl_stop(WinGl *g)
+{
+    if (!g) return;
+    if (g->display && SDL_GL_MakeCurrent(g->display_window, g->display) == 0) {
+        if (g->program) glDeleteProgram(g->program);
+        if (g->program_pixels) glDeleteProgram(g->program_pixels);
+        if (g->vao) glDeleteVertexArrays(1, &g->vao);
+        if (g->vbo) glDeleteBuffers(1, &g->vbo);
+        if (g->pixels_tex) glDeleteTextures(1, &g->pixels_tex);
+        SDL_GL_MakeCurrent(g->display_window, NULL);
+    }
+    if (g->frame) SDL_GL_DeleteContext(g->frame);
+    if (g->display) SDL_GL_DeleteContext(g->display);
+    if (g->frame_window) SDL_DestroyWindow(g->frame_window);
+    if (g->display_window) SDL_DestroyWindow(g->display_window);
+    pthread_mutex_destroy(&g->turn);
+    free(g);
+}
+
+void wingl_lock(WinGl *g)
+{
+    if (g && g->serial) pthread_mutex_lock(&g->turn);
+}
+
+void wingl_unlock(WinGl *g)
+{
+    if (g && g->serial) pthread_mutex_unlock(&g->turn);
+}
+
+/* {===== the frame loop's side */
+
+bool wingl_frame_enter(WinGl *g)
+{
+    if (SDL_GL_MakeCurrent(g->frame_window, g->frame) != 0) return false;
+    if (!g->fbo_src) {
+        glGenFramebuffers(1, &g->fbo_src);
+        glGenFramebuffers(1, &g->fbo_dst);
+    }
+    return true;
+}
+
+void wingl_frame_leave(WinGl *g) { SDL_GL_MakeCurrent(g->frame_window, NULL); }
+
+bool wingl_frame_copy(WinGl *g, WinGlPicture *p, unsigned src, int w, int h)
+{
+    if (p->done) {
+        /* the display may still be reading this texture */
+        glWaitSync(p->done, 0, GL_TIMEOUT_IGNORED);
+        glDeleteSync(p->done);
+        p->done = NULL;
+    }
+    if (p->ready) {
+        glDeleteSync(p->ready);
+        p->ready = NULL;
+    }
+    if (!p->tex || p->w != w || p->h != h) {
+        if (!p->tex) glGenTextures(1, &p->tex);
+        glBindTexture(GL_TEXTURE_2D, p->tex);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA16F, w, h, 0, GL_RGBA, GL_HALF_FLOAT, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        p->w = w;
+        p->h = h;
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, g->fbo_src);
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, src, 0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g->fbo_dst);
+    glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, p->tex, 0);
+    bool ok = glCheckFramebufferStatus(GL_READ_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE &&
+              glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    if (ok) glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    p->ready = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    glFlush();
+    return ok;
+}
+
+void wingl_picture_free(WinGlPicture *p)
+{
+    if (p->ready) glDeleteSync(p->ready);
+    if (p->done) glDeleteSync(p->done);
+    if (p->tex) glDeleteTextures(1, &p->tex);
+    memset(p, 0, sizeof *p);
+}
+
+/* }===== */
+
+/* {===== the display's side */
+
+bool wingl_use(WinGl *g, SDL_Window *w) { return SDL_GL_MakeCurrent(w, g->display) == 0; }
+
+void wingl_output_size(SDL_Window *w, int *width, int *height) { SDL_GL_GetDrawableSize(w, width, height); }
+
+void wingl_clear(int W, int H)
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, W, H);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+}
+
+/* Draw the quad over the window rectangle x, y, w, h (top-left origin). */
+static void quad(WinGl *g, int x, int y, int w, int h, int H)
+{
+    glViewport(x, H - y - h, w, h);
+    glBindVertexArray(g->vao);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glBindVertexArray(0);
+}
+
+void wingl_draw_picture(WinGl *g, WinGlPicture *p, bool fenced, int x, int y, int w, int h, int W, int H)
+{
+    (void)W;
+    if (!p->tex) return;
+    if (fenced && p->ready) glWaitSync(p->ready, 0, GL_TIMEOUT_IGNORED);
+    glDisable(GL_BLEND);
+    glUseProgram(g->program);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, p->tex);
+    glUniform1i(g->u_tex, 0);
+    quad(g, x, y, w, h, H);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glUseProgram(0);
+    if (!fenced) return;
+    if (p->done) glDeleteSync(p->done);
+    p->done = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    glFlush();
+}
+
+void wingl_draw_pixels(WinGl *g, const uint32_t *pixels, int pw, int ph, int x, int y, int w, int h, int W, int H,
+                       bool straight)
+{
+    (void)W;
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, g->pixels_tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    if (pw != g->pixels_w || ph != g->pixels_h) {
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, pw, ph, 0, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, pixels);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        g->pixels_w = pw;
+        g->pixels_h = ph;
+    } else {
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, pw, ph, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, pixels);
+    }
+    if (straight) {
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    } else {
+        glDisable(GL_BLEND);
+    }
+    glUseProgram(g->program_pixels);
+    glUniform1i(g->u_tex_pixels, 0);
+    quad(g, x, y, w, h, H);
+    glDisable(GL_BLEND);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glUseProgram(0);
+}
+
+/* }===== */
