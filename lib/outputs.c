@@ -102,7 +102,7 @@ int fl_outputs_frame(fl_outputs *out, fl_runtime *rt)
     long frame = fl_frame_count(rt) - 1;
     out->frames++;
     int rc = 0;
-    if (pictures_render(rt) > 0) out->record_failed = true;
+    if (pictures_render(rt, false) > 0) out->record_failed = true;
     bool gif = out->view && view_animated(out->view) && due(frame, out->view_every);
     bool trace = out->trace && due(frame, out->trace_every);
     if (gif || trace) {

@@ -78,7 +78,7 @@ static double global_num(const fl_runtime *rt, const char *name, double dflt)
     return vec_is_scalar(v) ? vec_scalar(v) : dflt;
 }
 
-int pictures_render(fl_runtime *rt)
+int pictures_render(fl_runtime *rt, bool windows)
 {
     Pictures *p = rt_pictures(rt);
     if (!rt_root(rt)) return 0;
@@ -96,7 +96,7 @@ int pictures_render(fl_runtime *rt)
                     .fps = fl_target_fps(rt), .performance = global_num(rt, "performance", 1),
                     .realtime = rt_realtime(rt), .script = script, .folder = p->folder, .name = frame_name,
                     .ctx = rt};
-    return graph_frame(graph_of(p), rt_root(rt), &f);
+    return graph_frame(graph_of(p), rt_root(rt), &f, windows);
 }
 
 void pictures_record_first(fl_runtime *rt, const char *path)
@@ -249,7 +249,7 @@ int fl_draw_window(fl_runtime *rt, size_t index, uint32_t *pixels, int width, in
     } else if (check_buffer(rt, "fl_draw_window", pixels, width, height, stride) == 0) {
         Pictures *p = rt_pictures(rt);
         show_windows(p);
-        pictures_render(rt);
+        pictures_render(rt, true);
         rc = 0;
         if (graph_read_window(p->graph, index, pixels, width, height, stride) != 0) {
             /* nothing drawn (no OpenGL, or nothing in the window): transparent */
@@ -282,7 +282,7 @@ unsigned fl_gl_window_texture(fl_runtime *rt, size_t index, int *width, int *hei
         MemHandler prev = rt_enter(rt);
         Pictures *p = rt_pictures(rt);
         show_windows(p);
-        pictures_render(rt);
+        pictures_render(rt, true);
         tex = graph_window_texture(graph_of(p), index, &w, &h);
         mem_leave(prev);
     }

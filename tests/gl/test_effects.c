@@ -1036,6 +1036,34 @@ static void filter_feedback(void **st)
     fl_free(rt);
 }
 
+/* Frames a front end does not draw (a live window dropping pictures it
+ * cannot show) are not drawn at all, and the next frame drawn counts the
+ * beats since the last drawn one as its delta: at 2 frames a second frame
+ * 0 is drawn (transparent), frames 1 and 2 only stepped, frame 3 drawn
+ * with delta 3 beats: the last picture keeps 0.5^3 = 0.125, white
+ * 0.875 (sRGB 240, alpha 223); a delta of one frame's beat would give
+ * 0.5. */
+static void filter_feedback_skipped_frames(void **st)
+{
+    (void)st;
+    uint32_t pix[1][W * H];
+    fl_runtime *rt = load_script(SOLID
+                                 "!window size=16;16\n"
+                                 "    !feedback mixer=0.5\n"
+                                 "        !shader fragment=solid rgba=1\n",
+                                 2);
+    frame(rt, 1, pix);
+    expect_exact(pix[0], 8, 8, 0x00000000u);
+    assert_int_equal(fl_step(rt), 0);
+    assert_int_equal(fl_step(rt), 0);
+    frame(rt, 1, pix);
+    expect(pix[0], 8, 8, 0.875, 0.875, 0.875, 0.875, 1);
+    assert_int_equal(srgb(0.875), 240);
+    assert_string_equal(logged, "");
+    fl_free(rt);
+}
+
+
 /* !feedback translate=2;1 (pixels per beat, y down as on a canvas) with
  * mixer=0.5 of the white pixel at column 8, row 7, 1 beat a frame: frame
  * 1 is half the pixel; frame 2 half the pixel again plus half of frame
@@ -1405,6 +1433,7 @@ int main(void)
         cmocka_unit_test(filter_vignette),
         cmocka_unit_test(filter_transform),
         cmocka_unit_test(filter_feedback),
+        cmocka_unit_test(filter_feedback_skipped_frames),
         cmocka_unit_test(filter_feedback_moves),
         cmocka_unit_test(filter_chromakey),
         cmocka_unit_test(filter_edges),

@@ -224,11 +224,12 @@ void target_finish(GlTarget *t)
 
 /* Rows of [px] (h rows of [row] bytes) in the opposite order: GL's first
  * row is the bottom one. */
-static void flip(void *px, size_t row, int h)
+/* Turn [h] rows of [row] bytes, [stride] apart, upside down. */
+static void flip(void *px, size_t stride, size_t row, int h)
 {
     unsigned char *p = px, *tmp = mem_alloc(row);
     for (int y = 0; y < h / 2; y++) {
-        unsigned char *a = p + (size_t)y * row, *b = p + (size_t)(h - 1 - y) * row;
+        unsigned char *a = p + (size_t)y * stride, *b = p + (size_t)(h - 1 - y) * stride;
         memcpy(tmp, a, row);
         memcpy(a, b, row);
         memcpy(b, tmp, row);
@@ -236,13 +237,15 @@ static void flip(void *px, size_t row, int h)
     free(tmp);
 }
 
-void target_read8(GlTarget *t, uint8_t *out)
+void target_read_argb(GlTarget *t, uint32_t *px, size_t stride)
 {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, t->tex_fbo);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, t->w, t->h, GL_RGBA, GL_UNSIGNED_BYTE, out);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glPixelStorei(GL_PACK_ROW_LENGTH, (GLint)(stride / 4));
+    glReadPixels(0, 0, t->w, t->h, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, px);
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-    flip(out, (size_t)t->w * 4, t->h);
+    flip(px, stride, (size_t)t->w * 4, t->h);
 }
 
 void target_readf(GlTarget *t, float *out)
@@ -251,5 +254,5 @@ void target_readf(GlTarget *t, float *out)
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glReadPixels(0, 0, t->w, t->h, GL_RGBA, GL_FLOAT, out);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-    flip(out, (size_t)t->w * 16, t->h);
+    flip(out, (size_t)t->w * 16, (size_t)t->w * 16, t->h);
 }

@@ -79,10 +79,11 @@ void target_clear(GlTarget *t, const float rgba[4]);
 /* After drawing: resolve the samples into the texture and turn the sRGB
  * encoding off again. */
 void target_finish(GlTarget *t);
-/* Read [t]'s texture back as 8-bit RGBA, top row first, [out] holding
- * w*h*4 bytes (an sRGB target gives its sRGB bytes; another is clamped to
- * 0..1 and scaled to 0..255 by GL). */
-void target_read8(GlTarget *t, uint8_t *out);
+/* Read [t]'s texture back as 8-bit words 0xAARRGGBB (native-endian
+ * uint32_t), top row first, rows [stride] bytes apart (a multiple of 4,
+ * at least w*4) in [px] (an sRGB target gives its sRGB bytes; another is
+ * clamped to 0..1 and scaled to 0..255 by GL). */
+void target_read_argb(GlTarget *t, uint32_t *px, size_t stride);
 /* Read [t]'s texture back as float RGBA, top row first, w*h*4 floats. */
 void target_readf(GlTarget *t, float *out);
 

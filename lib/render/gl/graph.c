@@ -122,6 +122,11 @@ static bool begin(Graph *g)
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         glBindTexture(GL_TEXTURE_2D, 0);
+        glGenSamplers(1, &g->nearest);
+        glSamplerParameteri(g->nearest, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glSamplerParameteri(g->nearest, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glSamplerParameteri(g->nearest, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glSamplerParameteri(g->nearest, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     }
     return true;
 }
@@ -502,12 +507,15 @@ static void drop_pictures(Graph *g)
 
 /* {===== the frame */
 
-/* Whether [n]'s tree holds a !record (with a file name or not). */
+/* Whether [n]'s tree holds a !record that names a file. */
 static bool has_record(const Node *n)
 {
     for (size_t i = 0; i < rnode_nchildren(n); i++) {
         const Node *c = rnode_child(n, i);
-        if (rnode_is(c, "record")) return true;
+        /* a !record writes only when it names a file (Flitter's examples
+         * give filename=OUTPUT, null when run without --define) */
+        const Vec *name = rnode_is(c, "record") ? rnode_attr(c, "filename") : NULL;
+        if (name && vec_len(name) > 0) return true;
         if (!rnode_is(c, "canvas") && !rnode_is(c, "canvas3d") && has_record(c)) return true;
     }
     return false;
@@ -582,17 +590,14 @@ static void composite_late(Graph *g, const Node *root, const GraphFrame *f)
     g->f = NULL;
 }
 
-int graph_frame(Graph *g, const Node *root, const GraphFrame *f)
+int graph_frame(Graph *g, const Node *root, const GraphFrame *frame, bool windows)
 {
     if (!root) return 0;
-    if (f->frame == g->frame) {
-        if (g->show && !g->composited && g->nwindows) composite_late(g, root, f);
-        g->composited = g->show;
+    if (frame->frame == g->frame) {
+        if (windows && g->show && !g->composited && g->nwindows) composite_late(g, root, frame);
+        if (windows) g->composited = g->show;
         return 0;
     }
-    g->frame = f->frame;
-    g->composited = g->show;
-    g->write_failures = 0;
     bool any = false, records = g->record_first != NULL;
     for (size_t i = 0; i < rnode_nchildren(root); i++) {
         const Node *w = rnode_child(root, i);
@@ -600,9 +605,19 @@ int graph_frame(Graph *g, const Node *root, const GraphFrame *f)
         any = true;
         if (has_record(w)) records = true;
     }
-    bool need = g->show || records;
     if (any) g->saw_window = true;
-    if ((!any || !need) && !g->nwindows) return 0;
+    /* nothing asks for this frame's pictures: not drawn (and not counted
+     * as drawn, so that a later call for it does draw) */
+    if (!records && !windows) return 0;
+    /* the frames not drawn since the last one are in this one's delta */
+    GraphFrame fd = *frame;
+    if (g->frame >= 0 && frame->frame > g->frame + 1 && frame->beat >= g->beat) fd.delta = frame->beat - g->beat;
+    const GraphFrame *f = &fd;
+    g->frame = frame->frame;
+    g->beat = frame->beat;
+    g->composited = g->show;   /* (a shown window's picture is composited: pass_window.c) */
+    g->write_failures = 0;
+    if (!any && !g->nwindows) return 0;
     /* the files asked for cannot be written: a failure of the frame's */
     if (!cairo_lib_ready(NULL, 0)) {
         graph_note(g, RLOG_ERROR, "window: cairo cannot be loaded: windows are not drawn");
@@ -670,17 +685,9 @@ int graph_read_window(Graph *g, size_t index, uint32_t *px, int w, int h, size_t
         static const float clear[4] = {0, 0, 0, 0};
         target_clear(t, clear);
         if (program_copy(g, src->tex, t)) {
-            uint8_t *rgba = mem_alloc((size_t)w * (size_t)h * 4);
-            target_read8(t, rgba);
             /* the encoded premultiplied light and its alpha, as a !record
              * stores them: over black, what Flitter's window shows */
-            for (int y = 0; y < h; y++) {
-                uint32_t *row = (uint32_t *)(void *)((char *)px + (size_t)y * stride);
-                const uint8_t *s = rgba + (size_t)y * (size_t)w * 4;
-                for (int x = 0; x < w; x++, s += 4)
-                    row[x] = (uint32_t)s[3] << 24 | (uint32_t)s[0] << 16 | (uint32_t)s[1] << 8 | s[2];
-            }
-            free(rgba);
+            target_read_argb(t, px, stride);
             rc = 0;
         }
         target_release(g->pool, t);
@@ -706,7 +713,8 @@ static void drop_all(Graph *g)
     if (g->quad_vao) glDeleteVertexArrays(1, &g->quad_vao);
     if (g->quad_vbo) glDeleteBuffers(1, &g->quad_vbo);
     if (g->zero_tex) glDeleteTextures(1, &g->zero_tex);
-    g->quad_vao = g->quad_vbo = g->zero_tex = 0;
+    if (g->nearest) glDeleteSamplers(1, &g->nearest);
+    g->quad_vao = g->quad_vbo = g->zero_tex = g->nearest = 0;
 }
 
 int graph_attach(Graph *g, char *err, size_t errlen)

@@ -80,13 +80,18 @@ int graph_attach(Graph *g, char *err, size_t errlen);
 void graph_show_windows(Graph *g, bool show);
 /* Draw the window rendering trees of [root] (a !root node) for frame [f]:
  * each top-level `!window`/`!offscreen` whose tree holds a `!record` (or
- * any, when windows are shown or graph_record_first is set), once per
- * frame number (a second call for the same frame does nothing), writing
- * the records' files.
+ * any, when graph_record_first is set, or when [windows]: the caller
+ * wants the windows' pictures), once per frame number (a second call for
+ * the same frame only composites the windows if [windows] asks for them
+ * now), writing the records' files. A frame that nothing asks to draw is
+ * not drawn at all (a live window dropping pictures it cannot show); the
+ * next frame drawn then gives its passes (!feedback, `delta`) the beats
+ * since the last frame drawn as its delta.
  *   errors: returns the number of record files that could not be written
- *           this frame (each file's first failure logged), else 0; when no
- *           GL context can be made, logs that once and draws nothing. */
-int graph_frame(Graph *g, const Node *root, const GraphFrame *f);
+ *           this frame (each file's first failure logged; a frame with
+ *           records and no OpenGL counts one), else 0; when no GL context
+ *           can be made, logs that once and draws nothing. */
+int graph_frame(Graph *g, const Node *root, const GraphFrame *f, bool windows);
 /* Record the first top-level window of every later frame to [path] as if
  * it had a `!record filename=PATH` holding all its children (`flitter run
  * --record FILE`); NULL or "" stops. [path] is copied. */

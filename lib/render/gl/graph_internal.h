@@ -109,6 +109,7 @@ struct Graph {
     Programs *programs;      /* compiled programs by source (pass_program.c) */
     GLuint quad_vao, quad_vbo;     /* the screen-space quad of every program pass */
     GLuint zero_tex;         /* a 1x1 transparent texture for unbound samplers */
+    GLuint nearest;          /* a sampler of nearest texels (copies, program_copy) */
     Pass **windows;          /* the top-level passes */
     size_t nwindows, capwindows;
     Ref *refs;
@@ -117,6 +118,7 @@ struct Graph {
     char *record_first;      /* graph_record_first's file, or NULL */
     bool saw_window;
     long frame;              /* the frame number last drawn (-1: none) */
+    double beat;             /* its beat */
     const GraphFrame *f;     /* the frame being drawn */
     Canvas3D *c3d;           /* the !canvas3d renderer (pass_canvas3d.c) */
     MediaCache *media;       /* decoded images and videos (pass_image.c, pass_video.c) */

@@ -51,7 +51,9 @@ static void render_canvas(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
         p->target = NULL;
     }
     if (!p->target) p->target = graph_target(g, w, h, 8, !linear, false, 0);
-    p->retain = true;
+    /* (kept from frame to frame by its `finished`; a parent that only
+     * copies it may take it over unless an id names it) */
+    p->retain = p->has_id;
     if (!p->target) return;
     if (cp->pic && (cairo_image_surface_get_width(cp->pic) != w || cairo_image_surface_get_height(cp->pic) != h)) {
         cairo_surface_destroy(cp->pic);

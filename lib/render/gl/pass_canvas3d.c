@@ -48,9 +48,11 @@ static void render_canvas3d(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
     target_release(g->pool, p->target);
     drop(g, cp);
     p->target = draw_camera(g, primary);
-    p->retain = true;
     C3dCameraInfo info;
     canvas3d_camera(g->c3d, primary, &info);
+    /* kept for the frame while an id names it (its own, or its camera's);
+     * else a parent that only copies it may take it over */
+    p->retain = p->has_id || info.id;
     if (info.id) graph_register(g, info.id, p, -1);
     for (int i = 0; i < ncams && i < 16; i++) {
         canvas3d_camera(g->c3d, i, &info);

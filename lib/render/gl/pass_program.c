@@ -21,7 +21,7 @@
 
 #define HEADER "#version 330\n"
 #define MAX_CHILDREN 32      /* textures one program samples */
-#define MAX_PROGRAMS 64      /* programs a graph keeps (the least recently used go) */
+#define MAX_PROGRAMS 64      /* programs a graph keeps (the least recently used go; more while one frame uses them) */
 
 /* {===== programs, compiled once per source */
 
@@ -43,8 +43,8 @@ struct Program {
 };
 
 struct Programs {
-    Program *items[MAX_PROGRAMS];
-    int n;
+    Program **items;
+    int n, cap;
 };
 
 Programs *programs_new(void) { return mem_calloc(1, sizeof(Programs)); }
@@ -63,6 +63,7 @@ void programs_free(Programs *ps)
 {
     if (!ps) return;
     for (int i = 0; i < ps->n; i++) program_free(ps->items[i]);
+    free(ps->items);
     free(ps);
 }
 
@@ -140,12 +141,20 @@ static Program *program_for(Programs *ps, const char *vsrc, const char *fsrc, lo
             return p;
         }
     }
-    if (ps->n == MAX_PROGRAMS) {
+    if (ps->n >= MAX_PROGRAMS) {
+        /* the least recently used goes, never one of this frame's (a pass
+         * may hold it while it asks for another) */
         int old = 0;
         for (int i = 1; i < ps->n; i++)
             if (ps->items[i]->used < ps->items[old]->used) old = i;
-        program_free(ps->items[old]);
-        ps->items[old] = ps->items[--ps->n];
+        if (ps->items[old]->used < frame) {
+            program_free(ps->items[old]);
+            ps->items[old] = ps->items[--ps->n];
+        }
+    }
+    if (ps->n == ps->cap) {
+        ps->cap = ps->cap ? ps->cap * 2 : MAX_PROGRAMS;
+        ps->items = mem_realloc(ps->items, (size_t)ps->cap * sizeof *ps->items);
     }
     Program *p = mem_calloc(1, sizeof *p);
     p->vsrc = mem_strdup(vsrc);
@@ -558,6 +567,137 @@ static void bind_unit(int unit, GLuint tex, GLuint sampler)
     glBindSampler((GLuint)unit, sampler);
 }
 
+/* The uniform [name] of [pg], or NULL when it has none (active). */
+static const Uniform *find_uniform(const Program *pg, const char *name)
+{
+    for (int i = 0; i < pg->nuniforms; i++)
+        if (strcmp(pg->uniforms[i].name, name) == 0) return &pg->uniforms[i];
+    return NULL;
+}
+
+/* What setting a program's uniforms needs: the pass's node, its kind's
+ * defaults, the textures it samples (on units 1.. in order) and its pass
+ * count. */
+typedef struct ProgramUse {
+    Graph *g;
+    const Node *n;
+    const ProgramParams *pr;
+    const ChildTex *children;
+    size_t nchildren;
+    int passes;
+} ProgramUse;
+
+/* The uniforms set again for each pass. */
+typedef struct Uniforms {
+    const Uniform *last, *first, *pass, *size, *down;
+} Uniforms;
+
+/* Set every uniform of [pg] (current) but those of each pass, which go
+ * into [un]: from the node's attributes, then the kind's defaults, then
+ * the engine's names, else Flitter's rule (a name within 'alpha' is 1,
+ * anything else 0); samplers to their textures' units. */
+static void set_uniforms(const ProgramUse *pu, const Program *pg, Uniforms *un)
+{
+    const SymTab *st = pu->g->env.symbols;
+    *un = (Uniforms){0};
+    for (int i = 0; i < pg->nuniforms; i++) {
+        const Uniform *u = &pg->uniforms[i];
+        const char *name = u->name;
+        int m;
+        UKind k = ukind(u->type, &m);
+        if (strcmp(name, "last") == 0) {
+            un->last = u;
+        } else if (strcmp(name, "first") == 0) {
+            un->first = u;
+        } else if (strcmp(name, "pass") == 0) {
+            un->pass = u;
+        } else if (strcmp(name, "size") == 0) {
+            un->size = u;
+        } else if (strcmp(name, "downsample") == 0) {
+            un->down = u;
+        } else if (strcmp(name, "passes") == 0 && !rnode_attr(pu->n, "passes")) {
+            set_number(u, pu->passes);
+        } else if (k == U_SAMPLER) {
+            int unit = 0;
+            for (size_t c = 0; c < pu->nchildren && c + 1 < 30; c++)
+                if (strcmp(pu->children[c].name, name) == 0) unit = (int)c + 1;
+            glUniform1i(u->loc, unit);
+        } else {
+            const Vec *attr = is_reserved(name, strlen(name)) ? NULL : rnode_attr(pu->n, name);
+            const Kw *kw = kw_find(pu->pr, name, strlen(name));
+            const GraphFrame *f = pu->g->f;
+            const Vec *eng = !kw && f && f->name ? f->name(f->ctx, name, strlen(name)) : NULL;
+            if (attr && set_from_vector(u, attr, st)) continue;
+            if (kw && set_from_vector(u, kw->value.v, st)) continue;
+            if (eng && set_from_vector(u, eng, st)) continue;
+            /* Flitter: `name in 'alpha'` (a substring of it) is 1, anything else 0 */
+            set_number(u, strstr("alpha", name) ? 1 : 0);
+        }
+    }
+}
+
+/* [prog] with its fragment's `uniform int pass;` made the constant
+ * [pass] (one program per pass of a multi-pass program); [prog] itself
+ * when its fragment does not declare it so or the variant fails. */
+static Program *pass_program(Graph *g, Program *prog, int pass)
+{
+    static const char decl[] = "uniform int pass;";
+    const char *at = strstr(prog->fsrc, decl);
+    if (!at) return prog;
+    Buf src = BUF_INIT;
+    buf_add(&src, prog->fsrc, (size_t)(at - prog->fsrc));
+    buf_printf(&src, "const int pass = %d;", pass);
+    buf_puts(&src, at + sizeof decl - 1);
+    Program *v = program_for(g->programs, prog->vsrc, buf_cstr(&src), g->frame);
+    buf_free(&src);
+    return v->prog ? v : prog;
+}
+
+/* The one child of [p] whose picture it would draw (not hidden, with a
+ * texture), or NULL when there are none or several. */
+static Pass *sole_child(Graph *g, Pass *p)
+{
+    Pass *one = NULL;
+    for (size_t i = 0; i < p->nchildren; i++) {
+        Pass *c = p->children[i];
+        int w, h;
+        if (c->hidden || !graph_pass_texture(g, c, &w, &h)) continue;
+        if (one) return NULL;
+        one = c;
+    }
+    return one;
+}
+
+/* A program pass that would only copy its one child's picture: the
+ * default programs of a !window, !offscreen or !record ([pr]->pass_through)
+ * with no attribute that changes the picture (fragment=, vertex=, alpha=,
+ * passes=), one child of the same size whose framebuffer nothing else
+ * keeps (no id, no `last`), and of the pass's own format when
+ * [pr]->keep_format (a !record writing its file, a window given
+ * colorbits=; otherwise the picture's light passes up at its child's
+ * precision, not quantised again).
+ * Over nothing, the default program's output is its input texel for
+ * texel, so the child's framebuffer is taken over as the pass's picture
+ * instead of drawing it again (on a CPU rasteriser each full-size pass of
+ * a 1080x1080 picture costs 5 to 10 ms). Returns whether it did. */
+static bool pass_through(Graph *g, Pass *p, const Node *n, const ProgramParams *pr, int colorbits)
+{
+    if (!pr->pass_through || rnode_attr(n, "fragment") || rnode_attr(n, "vertex") || rnode_attr(n, "passes") ||
+        rnode_attr(n, "downsample_passes"))
+        return false;
+    const Vec *a = rnode_attr(n, "alpha");
+    if (a && !(vec_is_scalar(a) && vec_scalar(a) == 1)) return false;
+    Pass *c = sole_child(g, p);
+    if (!c || c->kind->texture || !c->target || c->retain || c->has_id || c->busy) return false;
+    GlTarget *t = c->target;
+    if (t->w != p->w || t->h != p->h || t->samples) return false;
+    if (pr->keep_format && (t->colorbits != colorbits || t->srgb != (pr->srgb && colorbits == 8))) return false;
+    if (p->target) target_release(g->pool, p->target);
+    p->target = t;
+    c->target = NULL;
+    return true;
+}
+
 void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx, const ProgramParams *pr)
 {
     Pass *p = &pp->base;
@@ -589,6 +729,11 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
     }
     int colorbits = pr->colorbits ? pr->colorbits : attr_int(n, "colorbits", cx->colorbits, st);
     if (colorbits != 8 && colorbits != 16 && colorbits != 32) colorbits = cx->colorbits;
+    if (pass_through(g, p, n, pr, colorbits)) {
+        buf_free(&composite);
+        p->retain = p->has_id;
+        return;
+    }
     /* the sources of this frame, and their program */
     Names N = {g, n, pr, children, nchildren, passes, buf_cstr(&composite)};
     Program *prog = NULL;
@@ -621,91 +766,70 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
     buf_free(&composite);
     pp->program = prog;
     if (!prog) return;   /* no output (a pass that keeps its target keeps its last picture) */
-    glUseProgram(prog->prog);
-    /* the samplers: children from unit 1, then last, then first; unit 0 the zero texture */
+    /* the samplers: the children on units 1.. in order, then last and
+     * first; unit 0 the zero texture (a sampler with nothing bound) */
     Sampling smp;
     sampling_of(g, n, pr, &smp);
     GLuint sampler = make_sampler(&smp);
     bind_unit(0, g->zero_tex, 0);
-    int unit = 1;
-    const Uniform *u_last = NULL, *u_first = NULL, *u_pass = NULL, *u_size = NULL, *u_down = NULL;
-    bool retain = p->has_id;
-    for (int i = 0; i < prog->nuniforms; i++) {
-        const Uniform *u = &prog->uniforms[i];
-        const char *name = u->name;
-        int m;
-        UKind k = ukind(u->type, &m);
-        if (strcmp(name, "last") == 0) {
-            retain = true;
-            u_last = u;
-            glUniform1i(u->loc, 0);
-        } else if (strcmp(name, "first") == 0) {
-            u_first = u;
-            glUniform1i(u->loc, 0);
-        } else if (strcmp(name, "pass") == 0) {
-            u_pass = u;
-        } else if (strcmp(name, "size") == 0) {
-            u_size = u;
-        } else if (strcmp(name, "downsample") == 0) {
-            u_down = u;
-        } else if (strcmp(name, "passes") == 0 && !rnode_attr(n, "passes")) {
-            set_number(u, passes);
-        } else if (k == U_SAMPLER) {
-            GLuint tex = 0;
-            for (size_t c = 0; c < nchildren; c++)
-                if (strcmp(children[c].name, name) == 0) tex = children[c].tex;
-            if (tex && unit < 30) {
-                bind_unit(unit, tex, sampler);
-                glUniform1i(u->loc, unit++);
-            } else {
-                glUniform1i(u->loc, 0);
-            }
-        } else {
-            const Vec *attr = is_reserved(name, strlen(name)) ? NULL : rnode_attr(n, name);
-            const Kw *kw = kw_find(pr, name, strlen(name));
-            const GraphFrame *f = g->f;
-            const Vec *eng = !kw && f && f->name ? f->name(f->ctx, name, strlen(name)) : NULL;
-            if (attr && set_from_vector(u, attr, st)) continue;
-            if (kw && set_from_vector(u, kw->value.v, st)) continue;
-            if (eng && set_from_vector(u, eng, st)) continue;
-            /* Flitter: `name in 'alpha'` (a substring of it) is 1, anything else 0 */
-            set_number(u, strstr("alpha", name) ? 1 : 0);
-        }
-    }
+    int nunits = 1;
+    for (size_t c = 0; c < nchildren && nunits < 30; c++) bind_unit(nunits++, children[c].tex, sampler);
+    int last_unit = nunits, first_unit = nunits + 1;
+    ProgramUse use = {g, n, pr, children, nchildren, passes};
+    /* with several passes and `uniform int pass;` in the fragment
+     * template, each pass draws with a program of its own where `pass` is
+     * that pass's constant: the same picture, and a CPU rasteriser, which
+     * runs every branch of a shader, then runs only that pass's */
+    bool specialise = passes > 1 && find_uniform(prog, "pass") && !strstr(prog->vsrc, "pass");
+    /* the framebuffer is kept for the next frame when its first pass
+     * reads `last` (the frame before's picture: Flitter keeps it whenever
+     * the program has `last`, which a multi-pass filter such as !bloom
+     * reads only within the frame), or an id names it */
+    bool retain = p->has_id || find_uniform(specialise ? pass_program(g, prog, 0) : prog, "last");
+    Program *current = NULL;
+    Uniforms un = {0};
     p->retain = retain;
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    /* Flitter blends each pass's quad `over` (ONE, ONE_MINUS_SRC_ALPHA)
+     * into its target, cleared to transparent just before: over nothing
+     * that is the quad's colour itself, so blending is left off (on a CPU
+     * rasteriser it would read the target back for nothing) */
+    glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     GlTarget *last = p->target, *first = NULL;
     p->target = NULL;
-    int last_unit = unit, first_unit = unit + 1;
     bool failed = false;
     for (int pass = 0; pass < passes; pass++) {
-        if (u_pass) set_number(u_pass, pass);
-        if (u_last && last) {
-            bind_unit(last_unit, last->tex, sampler);
-            glUniform1i(u_last->loc, last_unit);
+        Program *pg = specialise ? pass_program(g, prog, pass) : prog;
+        if (pg != current) {
+            glUseProgram(pg->prog);
+            set_uniforms(&use, pg, &un);
+            current = pg;
         }
-        if (u_first && pass == 1 && first) {
-            bind_unit(first_unit, first->tex, sampler);
-            glUniform1i(u_first->loc, first_unit);
+        if (un.pass) set_number(un.pass, pass);
+        if (un.last) {
+            if (last) bind_unit(last_unit, last->tex, sampler);
+            glUniform1i(un.last->loc, last ? last_unit : 0);
+        }
+        if (un.first) {
+            if (pass >= 1 && first) bind_unit(first_unit, first->tex, sampler);
+            glUniform1i(un.first->loc, pass >= 1 && first ? first_unit : 0);
         }
         bool down = is_downsampled(pr, dp, ndp, pass);
         int w = down ? p->w / downsample : p->w, h = down ? p->h / downsample : p->h;
-        if (u_down) set_number(u_down, down ? downsample : 1);
+        if (un.down) set_number(un.down, down ? downsample : 1);
         GlTarget *t = graph_target(g, w < 1 ? 1 : w, h < 1 ? 1 : h, colorbits, pr->srgb, false, 0);
         if (!t) {
             failed = true;
             break;
         }
-        if (u_size) set_pair(u_size, t->w, t->h);
+        if (un.size) set_pair(un.size, t->w, t->h);
         target_bind(t);
         static const float clear[4] = {0, 0, 0, 0};
         target_clear(t, clear);
         graph_draw_quad(g);
         target_finish(t);
-        if (u_first && pass == 0) first = t;
+        if (pass == 0 && find_uniform(prog, "first")) first = t;
         if (last && last != first) target_release(g->pool, last);
         last = t;
     }
@@ -735,15 +859,18 @@ bool program_copy(Graph *g, GLuint tex, GlTarget *t)
     glUseProgram(prog->prog);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, tex);
-    glBindSampler(0, 0);
+    /* texel for texel: nearest (the same values as bilinear filtering at
+     * the texels' centres, in about 70% of its time on a CPU rasteriser) */
+    glBindSampler(0, g->nearest);
     GLint loc = glGetUniformLocation(prog->prog, "texture0");
     glUniform1i(loc, 0);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    /* into a cleared target: no blending (the same values: over nothing
+     * is the picture itself), which on a CPU rasteriser also spares
+     * reading, decoding and encoding the target again */
+    glDisable(GL_BLEND);
     target_bind(t);
     graph_draw_quad(g);
     target_finish(t);
-    glDisable(GL_BLEND);
     glBindTexture(GL_TEXTURE_2D, 0);
     glUseProgram(0);
     return true;

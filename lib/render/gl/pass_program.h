@@ -49,6 +49,10 @@ typedef struct ProgramParams {
     size_t nkwargs;
     const ChildTex *children;    /* the textures to sample; NULL: the pass's children */
     size_t nchildren;
+    /* a pass of the default programs that may take over its one child's
+     * framebuffer instead of copying it (pass_program.c, pass_through):
+     * with [keep_format], only a framebuffer of the pass's own format */
+    bool pass_through, keep_format;
 } ProgramParams;
 
 /* A program pass: a Pass, the program it drew with last, and its
@@ -71,9 +75,9 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
 size_t program_children(Graph *g, Pass *p, ChildTex *out, size_t cap);
 /* Free [pp]'s sources (the program stays in the graph's cache). */
 void program_pass_release(Graph *g, Pass *p);
-/* Draw texture [tex] ([w] x [h]) alone into [t] through the compositing
- * program, [t] bound and cleared by the caller: a copy, sRGB-encoded when
- * [t] is. */
+/* Draw texture [tex], of [t]'s size, alone into [t] through the
+ * compositing program, [t] bound and cleared by the caller: a copy, texel
+ * for texel, sRGB-encoded when [t] is. */
 bool program_copy(Graph *g, GLuint tex, GlTarget *t);
 
 /* Python's hash of Flitter's Vector [v] (the seed of !noise, Flitter

@@ -44,7 +44,8 @@ static void render_window(Graph *g, Pass *p, const Node *n, const PassCtx *cx, b
      * one too), referred to by id, or the first window's picture for
      * --record (graph_frame asks through [retain]) */
     if (g->show || p->has_id || p->retain) {
-        ProgramParams pr = {.colorbits = window_colorbits(n)};
+        ProgramParams pr = {.colorbits = window_colorbits(n), .pass_through = true,
+                            .keep_format = rnode_attr(n, "colorbits") != NULL};
         program_render(g, pp, n, cx, &pr);
     } else if (p->target) {
         target_release(g->pool, p->target);
@@ -102,9 +103,6 @@ static void make_folders(const char *path)
 
 int record_target(Graph *g, GlTarget *t, const RecordSpec *s, char *err, size_t errlen)
 {
-    size_t npix = (size_t)t->w * (size_t)t->h;
-    uint8_t *rgba = mem_alloc(npix * 4);
-    target_read8(t, rgba);
     cairo_surface_t *pic = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, t->w, t->h);
     int rc = -1;
     if (cairo_surface_status(pic) != CAIRO_STATUS_SUCCESS) {
@@ -112,16 +110,22 @@ int record_target(Graph *g, GlTarget *t, const RecordSpec *s, char *err, size_t 
     } else {
         cairo_surface_flush(pic);
         unsigned char *data = cairo_image_surface_get_data(pic);
-        int stride = cairo_image_surface_get_stride(pic);
+        size_t stride = (size_t)cairo_image_surface_get_stride(pic);
+        target_read_argb(t, (uint32_t *)(void *)data, stride);
         /* Flitter writes the encoded (premultiplied) light: opaque, or with
          * keep_alpha as straight colour beside its alpha, which cairo
          * takes premultiplied */
         for (int y = 0; y < t->h; y++) {
-            uint32_t *row = (uint32_t *)(void *)(data + (size_t)y * (size_t)stride);
-            const uint8_t *q = rgba + (size_t)y * (size_t)t->w * 4;
-            for (int x = 0; x < t->w; x++, q += 4) {
-                uint32_t a = s->keep_alpha ? q[3] : 255;
-                uint32_t r = (q[0] * a + 127) / 255, gg = (q[1] * a + 127) / 255, b = (q[2] * a + 127) / 255;
+            uint32_t *row = (uint32_t *)(void *)(data + (size_t)y * stride);
+            for (int x = 0; x < t->w; x++) {
+                uint32_t q = row[x];
+                if (!s->keep_alpha) {
+                    row[x] = q | 0xff000000u;
+                    continue;
+                }
+                uint32_t a = q >> 24;
+                uint32_t r = (((q >> 16) & 0xff) * a + 127) / 255, gg = (((q >> 8) & 0xff) * a + 127) / 255,
+                         b = ((q & 0xff) * a + 127) / 255;
                 row[x] = a << 24 | r << 16 | gg << 8 | b;
             }
         }
@@ -130,7 +134,6 @@ int record_target(Graph *g, GlTarget *t, const RecordSpec *s, char *err, size_t 
         rc = recorder_write(g->rec, s, pic, g->f ? g->f->fps : 60, err, errlen);
     }
     cairo_surface_destroy(pic);
-    free(rgba);
     return rc;
 }
 
@@ -178,7 +181,12 @@ done:
 
 static void update_record(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
 {
-    ProgramParams pr = {.srgb = true, .colorbits = 8};
+    /* a record that writes no file this frame may pass its child's
+     * picture through unchanged (its 8-bit sRGB framebuffer matters only
+     * to the file) */
+    const Vec *fv = rnode_attr(n, "filename");
+    bool writes = cx->write && fv && vec_truthy(fv);
+    ProgramParams pr = {.srgb = true, .colorbits = 8, .pass_through = true, .keep_format = writes};
     program_render(g, (ProgramPass *)p, n, cx, &pr);
     if (p->target && cx->write) write_record(g, p, n);
 }

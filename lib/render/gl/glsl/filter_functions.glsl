@@ -4,15 +4,20 @@
 
 // One direction of a normalised Gaussian blur: the samples [step] apart
 // out to [radius] on both sides of [coord], weighted exp(-i^2 / 2 sigma^2)
-// (sigma in samples).
+// (sigma in samples). The weights come from one exp by recurrence, as
+// Flitter's do: with q = exp(-1 / 2 sigma^2), w(i) = w(i-1) q^(2i-1),
+// the factor itself growing by q^2 a step.
 vec4 filter_blur(sampler2D tex, vec2 coord, int radius, float sigma, vec2 step) {
     vec4 total = texture(tex, coord);
     float weights = 1.0;
-    float k = -0.5 / (sigma * sigma);
+    float q = exp(-0.5 / (sigma * sigma));
+    float w = q, factor = q * q * q;
+    float q2 = q * q;
     for (int i = 1; i <= radius; i++) {
-        float w = exp(k * float(i * i));
         total += w * (texture(tex, coord + float(i) * step) + texture(tex, coord - float(i) * step));
         weights += 2.0 * w;
+        w *= factor;
+        factor *= q2;
     }
     return total / weights;
 }
