@@ -136,6 +136,16 @@ static int sync_windows(Display *D, const PictureSet *set)
     for (size_t k = 0; k < set->n; k++) {
         const ShownWindow *w = &set->win[k];
         Slot *s = &D->slots[k];
+        /* a physics view is a picture of the CPU's: with a renderer on the
+         * CPU too (llvmpipe), SDL's renderer shows it for less than an
+         * upload into OpenGL and a draw would cost; a window that changes
+         * kind is opened again */
+        WinGl *gl = w->index == NO_WINDOW && wingl_software(D->h->gl) ? NULL : D->h->gl;
+        if (k < D->nslots && s->view.gl != gl) {
+            winview_close(&s->view);
+            for (size_t j = k + 1; j < D->nslots; j++) winview_close(&D->slots[j].view);
+            D->nslots = k;
+        }
         if (k == D->nslots) {
             int screens = SDL_GetNumVideoDisplays();
             if (!D->screen_told && (D->wopt->screen < 0 || D->wopt->screen >= screens)) {
@@ -146,7 +156,7 @@ static int sync_windows(Display *D, const PictureSet *set)
             }
             *s = (Slot){0};
             if (winview_open(&s->view, w->title, w->width, w->height, D->wopt, w->fullscreen,
-                             w->vsync, D->h->gl) != 0) {
+                             w->vsync, gl) != 0) {
                 fprintf(D->log, "flitter: cannot open a window: %s\n", SDL_GetError());
                 return -1;
             }

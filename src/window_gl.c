@@ -15,13 +15,15 @@ struct WinGl {
     SDL_Window *display_window, *frame_window;   /* hidden: each context's own drawable */
     SDL_GLContext display, frame;
     /* the display's objects */
-    GLuint program, program_pixels;   /* linear texture -> sRGB; sRGB pixels as they are */
+    GLuint program, program_pixels;   /* light, clamped over black (shared); sRGB pixels as they are */
     GLint u_tex, u_tex_pixels;
     GLuint vao, vbo;
     GLuint pixels_tex;                /* the CPU pictures' texture */
     int pixels_w, pixels_h;
+    GLuint fbo_read;                  /* the display's framebuffer of a picture's texture */
+    GLuint nearest;                   /* a sampler of nearest texels (shared: the frame loop's copy) */
     /* the frame loop's objects */
-    GLuint fbo_src, fbo_dst;
+    GLuint fbo_dst, frame_vao, frame_vbo;
     /* a renderer on the CPU: the two contexts take turns (wingl_lock) */
     bool serial;
     pthread_mutex_t turn;
@@ -36,16 +38,15 @@ static const char vertex_source[] =
     "    gl_Position = vec4(position, 0.0, 1.0);\n"
     "}\n";
 
-/* Flitter's window: the sRGB encoding of the light, clamped, opaque. */
+/* Flitter's window: the light clamped, over black, opaque (written into
+ * an sRGB texture with GL_FRAMEBUFFER_SRGB on: the GL encodes it). */
 static const char fragment_linear[] =
     "#version 330 core\n"
     "in vec2 coord;\n"
     "out vec4 color;\n"
     "uniform sampler2D picture;\n"
     "void main() {\n"
-    "    vec3 c = clamp(texture(picture, coord).rgb, 0.0, 1.0);\n"
-    "    vec3 curve = 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055;\n"
-    "    color = vec4(mix(12.92 * c, curve, vec3(greaterThan(c, vec3(0.0031308)))), 1.0);\n"
+    "    color = vec4(clamp(texture(picture, coord).rgb, 0.0, 1.0), 1.0);\n"
     "}\n";
 
 /* A CPU picture (rows top first, so read upside down), as it is. */
@@ -141,6 +142,12 @@ WinGl *wingl_start(char *why, size_t cap)
     glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
     glBindVertexArray(0);
     glGenTextures(1, &g->pixels_tex);
+    glGenFramebuffers(1, &g->fbo_read);
+    glGenSamplers(1, &g->nearest);
+    glSamplerParameteri(g->nearest, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glSamplerParameteri(g->nearest, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glSamplerParameteri(g->nearest, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(g->nearest, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     return g;
 fail:
     snprintf(why, cap, "no OpenGL 3.3 core windows: %s", SDL_GetError());
@@ -158,6 +165,8 @@ void wingl_stop(WinGl *g)
         if (g->vao) glDeleteVertexArrays(1, &g->vao);
         if (g->vbo) glDeleteBuffers(1, &g->vbo);
         if (g->pixels_tex) glDeleteTextures(1, &g->pixels_tex);
+        if (g->fbo_read) glDeleteFramebuffers(1, &g->fbo_read);
+        if (g->nearest) glDeleteSamplers(1, &g->nearest);
         SDL_GL_MakeCurrent(g->display_window, NULL);
     }
     if (g->frame) SDL_GL_DeleteContext(g->frame);
@@ -167,6 +176,8 @@ void wingl_stop(WinGl *g)
     pthread_mutex_destroy(&g->turn);
     free(g);
 }
+
+bool wingl_software(const WinGl *g) { return g && g->serial; }
 
 void wingl_lock(WinGl *g)
 {
@@ -183,9 +194,18 @@ void wingl_unlock(WinGl *g)
 bool wingl_frame_enter(WinGl *g)
 {
     if (SDL_GL_MakeCurrent(g->frame_window, g->frame) != 0) return false;
-    if (!g->fbo_src) {
-        glGenFramebuffers(1, &g->fbo_src);
+    if (!g->fbo_dst) {   /* (framebuffers and vertex arrays are not shared) */
+        static const float quad[8] = {-1, -1, 1, -1, -1, 1, 1, 1};
         glGenFramebuffers(1, &g->fbo_dst);
+        glGenVertexArrays(1, &g->frame_vao);
+        glBindVertexArray(g->frame_vao);
+        glGenBuffers(1, &g->frame_vbo);
+        glBindBuffer(GL_ARRAY_BUFFER, g->frame_vbo);
+        glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
+        glBindVertexArray(0);
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
     }
     return true;
 }
@@ -207,7 +227,7 @@ bool wingl_frame_copy(WinGl *g, WinGlPicture *p, unsigned src, int w, int h)
     if (!p->tex || p->w != w || p->h != h) {
         if (!p->tex) glGenTextures(1, &p->tex);
         glBindTexture(GL_TEXTURE_2D, p->tex);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA16F, w, h, 0, GL_RGBA, GL_HALF_FLOAT, NULL);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -216,13 +236,30 @@ bool wingl_frame_copy(WinGl *g, WinGlPicture *p, unsigned src, int w, int h)
         p->w = w;
         p->h = h;
     }
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, g->fbo_src);
-    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, src, 0);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g->fbo_dst);
-    glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, p->tex, 0);
-    bool ok = glCheckFramebufferStatus(GL_READ_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE &&
-              glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-    if (ok) glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    /* the picture as the window shows it: clamped, over black, encoded
+     * to sRGB by the GL as it is written (the display then only copies
+     * it: a blit, no shader) */
+    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo_dst);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, p->tex, 0);
+    bool ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    if (ok) {
+        glViewport(0, 0, w, h);
+        glDisable(GL_BLEND);
+        glDisable(GL_DEPTH_TEST);
+        glEnable(GL_FRAMEBUFFER_SRGB);
+        glUseProgram(g->program);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, src);
+        glBindSampler(0, g->nearest);   /* texel for texel */
+        glUniform1i(g->u_tex, 0);
+        glBindVertexArray(g->frame_vao);
+        glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+        glBindVertexArray(0);
+        glBindSampler(0, 0);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        glUseProgram(0);
+        glDisable(GL_FRAMEBUFFER_SRGB);
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     p->ready = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
     glFlush();
@@ -267,14 +304,17 @@ void wingl_draw_picture(WinGl *g, WinGlPicture *p, bool fenced, int x, int y, in
     (void)W;
     if (!p->tex) return;
     if (fenced && p->ready) glWaitSync(p->ready, 0, GL_TIMEOUT_IGNORED);
-    glDisable(GL_BLEND);
-    glUseProgram(g->program);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, p->tex);
-    glUniform1i(g->u_tex, 0);
-    quad(g, x, y, w, h, H);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    glUseProgram(0);
+    /* a copy of the sRGB bytes as they are (GL_FRAMEBUFFER_SRGB off: no
+     * decoding or encoding), scaled into the letterbox */
+    glDisable(GL_FRAMEBUFFER_SRGB);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, g->fbo_read);
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, p->tex, 0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    if (glCheckFramebufferStatus(GL_READ_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE)
+        glBlitFramebuffer(0, 0, p->w, p->h, x, H - y - h, x + w, H - y, GL_COLOR_BUFFER_BIT,
+                          w == p->w && h == p->h ? GL_NEAREST : GL_LINEAR);
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (!fenced) return;
     if (p->done) glDeleteSync(p->done);
     p->done = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
@@ -299,12 +339,23 @@ void wingl_draw_pixels(WinGl *g, const uint32_t *pixels, int pw, int ph, int x, 
     } else {
         glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, pw, ph, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, pixels);
     }
-    if (straight) {
-        glEnable(GL_BLEND);
-        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    } else {
-        glDisable(GL_BLEND);
+    if (!straight) {
+        /* replacing what is there: a copy, rows turned over (the CPU's
+         * top row first), scaled into the rectangle (no shader) */
+        glBindTexture(GL_TEXTURE_2D, 0);
+        glDisable(GL_FRAMEBUFFER_SRGB);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, g->fbo_read);
+        glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->pixels_tex, 0);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+        if (glCheckFramebufferStatus(GL_READ_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE)
+            glBlitFramebuffer(0, 0, pw, ph, x, H - y, x + w, H - y - h, GL_COLOR_BUFFER_BIT,
+                              w == pw && h == ph ? GL_NEAREST : GL_LINEAR);
+        glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        return;
     }
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glUseProgram(g->program_pixels);
     glUniform1i(g->u_tex_pixels, 0);
     quad(g, x, y, w, h, H);

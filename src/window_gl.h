@@ -6,14 +6,15 @@
  * the display's thread: the display's, which draws into the windows and
  * presents, and the frame loop's, current on the frame loop's thread, with
  * which the runtimes draw their windows (fl_gl_attach). Each frame the
- * frame loop copies each shown window's picture (fl_gl_window_texture)
- * into a texture of its picture set and puts a fence after the copy; the
- * display waits on that fence in its own context, draws the texture
- * letterboxed into the window (encoding its light to sRGB, clamped, over
- * black, as Flitter's window does), the overlay over it, swaps, and puts a
- * fence of its own, which the frame loop waits on before it writes that
- * texture again. Each side owns its own objects (framebuffers are not
- * shared); textures and fences are shared.
+ * frame loop draws each shown window's picture (fl_gl_window_texture:
+ * linear light) into a texture of its picture set as the window shows it
+ * (clamped, over black, sRGB-encoded by the GL as it is written) and puts
+ * a fence after it; the display waits on that fence in its own context,
+ * copies the texture letterboxed into the window (a blit, no shader), the
+ * overlay over it, swaps, and puts a fence of its own, which the frame
+ * loop waits on before it writes that texture again. Each side owns its
+ * own framebuffers and vertex arrays; textures, programs, samplers and
+ * fences are shared.
  *
  * Pictures drawn on the CPU (the physics view's) are uploaded by the
  * display into a texture of its own and drawn the same way.
@@ -40,6 +41,11 @@ WinGl *wingl_start(char *why, size_t cap);
  * frame loop has left its context; NULL is a no-op). */
 void wingl_stop(WinGl *g);
 
+/* Whether [g]'s OpenGL is a renderer on the CPU (Mesa's llvmpipe or
+ * softpipe): then pictures painted on the CPU are shown through SDL's
+ * renderer instead. False for NULL. */
+bool wingl_software(const WinGl *g);
+
 /* Take and give back the turn to draw with OpenGL (every call of either
  * side's that draws, copies, swaps or frees GL objects, on either
  * thread). A no-op with a GPU's driver; with Mesa's renderers on the CPU
@@ -61,15 +67,17 @@ void wingl_frame_leave(WinGl *g);
 /* A picture handed from the frame loop to the display: a texture of the
  * shared objects and its fences. Zero it before the first use. */
 typedef struct WinGlPicture {
-    unsigned tex;            /* RGBA16F linear light, premultiplied; 0: none */
+    unsigned tex;            /* SRGB8_ALPHA8: the picture as the window shows it; 0: none */
     int w, h;                /* its size */
     void *ready;             /* the frame loop's fence after its copy (a GLsync), or NULL */
     void *done;              /* the display's fence after drawing it, or NULL */
 } WinGlPicture;
 
-/* Copy texture [src] ([w] x [h], the runtime's window picture) into [p]'s
- * texture (made or resized as needed, after the display's fence on it)
- * and fence the copy. Frame loop's thread, its context current.
+/* Draw texture [src] ([w] x [h], the runtime's window picture: linear
+ * light, premultiplied) into [p]'s texture as the window shows it
+ * (clamped, over black, sRGB-encoded; made or resized as needed, after the
+ * display's fence on it) and fence the copy. Frame loop's thread, its
+ * context current.
  *   errors: false when the copy cannot be made (an incomplete
  *           framebuffer); [p] then shows nothing. */
 bool wingl_frame_copy(WinGl *g, WinGlPicture *p, unsigned src, int w, int h);
@@ -85,8 +93,9 @@ void wingl_picture_free(WinGlPicture *p);
 bool wingl_use(WinGl *g, SDL_Window *w);
 /* The window's drawable size in pixels. */
 void wingl_output_size(SDL_Window *w, int *width, int *height);
-/* Draw picture [p] into the rectangle x, y, w, h of the window's [W] x
- * [H] pixels (top-left origin), sRGB-encoded over black; with [fenced],
+/* Copy picture [p] into the rectangle x, y, w, h of the window's [W] x
+ * [H] pixels (top-left origin; scaled bilinearly when the sizes differ);
+ * with [fenced],
  * after waiting on its ready fence, and fencing it for the frame loop
  * after (a picture of a set being shown; a later present of the same
  * texture draws it as it is then, unfenced). */
