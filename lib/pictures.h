@@ -26,9 +26,9 @@ void pictures_free(Pictures *p);
 /* Draw [rt]'s last frame through the graph, once per frame (a second call
  * in the same frame only composites the windows when [windows] asks for
  * them), writing its !record files: when the frame has records (or
- * --record), or [windows] (a front end wants the windows' pictures); a
- * frame with neither is not drawn. Returns the number of record files
- * that could not be written this frame (graph_frame). */
+ * --record), or [windows] (a front end wants the windows' pictures); see
+ * graph_frame for which frames are drawn. Returns the number of record
+ * files that could not be written this frame. */
 int pictures_render(fl_runtime *rt, bool windows);
 /* Record the first window of every later frame to [path] (--record; NULL
  * or "" stops). */

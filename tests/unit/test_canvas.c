@@ -12,6 +12,7 @@
  * encoding of the premultiplied light as the straight colour beside its
  * alpha: cairo, reading the file back, premultiplies it again, so a
  * half-transparent white comes back as 128 * 128 / 255 = 64. */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -304,6 +305,40 @@ static void test_effect_drawn(void **st)
     cairo_surface_destroy(p.s);
 }
 
+/* Headless, every frame of a tree with a !record is drawn, also those
+ * whose record writes nothing (filename null until the last frame, as
+ * Flitter's examples record), as Flitter draws every frame: a !feedback
+ * of mixer=0.5 at 10 frames a second (delta 0.2 beats: the last picture
+ * keeps 0.5^0.2 = 0.87055) over a white shader that is white only at
+ * frame 1: frame 0 nothing, frame 1 0.12945 white, frame 2 0.87055 of
+ * that = 0.11269 (sRGB 95), the picture written. Frames 0 and 1 not
+ * drawn would leave frame 2 nothing (its input is black then). */
+static void test_headless_every_frame(void **st)
+{
+    (void)st;
+    char path[256];
+    char *log = render(
+        "let solid = '''${HEADER}\n"
+        "out vec4 color;\n"
+        "uniform vec4 rgba;\n"
+        "void main() {\n"
+        "    color = rgba;\n"
+        "}\n"
+        "'''\n"
+        "!window size=8;8\n"
+        "    !record filename=(OUT if frame == 2 else null)\n"
+        "        !feedback mixer=0.5\n"
+        "            !shader fragment=solid rgba=(1 if frame == 1 else 0)\n",
+        "fb.png", 3, path, sizeof path);
+    free(log);
+    double keep = pow(0.5, 0.2), light = (1 - keep) * keep;
+    assert_true(fabs(light - 0.11269) < 1e-5);
+    Pic p = load_png(path);
+    assert_near(chan(px(&p, 4, 4), 16), 95, 1);
+    assert_near(chan(px(&p, 4, 4), 0), 95, 1);
+    cairo_surface_destroy(p.s);
+}
+
 /* !dash makes the strokes after it dashed; !mask clips to the outside of
  * the path. */
 static void test_dash_mask(void **st)
@@ -536,6 +571,7 @@ int main(void)
         cmocka_unit_test(test_line_curve),
         cmocka_unit_test(test_canvas_stretched),
         cmocka_unit_test(test_effect_drawn),
+        cmocka_unit_test(test_headless_every_frame),
         cmocka_unit_test(test_dash_mask),
         cmocka_unit_test(test_gif_frames),
         cmocka_unit_test(test_linear_canvas),

@@ -507,18 +507,25 @@ static void drop_pictures(Graph *g)
 
 /* {===== the frame */
 
-/* Whether [n]'s tree holds a !record that names a file. */
-static bool has_record(const Node *n)
+/* What !record nodes [n]'s tree holds: 2 when one names a file this
+ * frame, 1 when there are only records that write nothing (Flitter's
+ * examples give filename=OUTPUT, null without --define), 0 none. */
+static int has_record(const Node *n)
 {
-    for (size_t i = 0; i < rnode_nchildren(n); i++) {
+    int found = 0;
+    for (size_t i = 0; i < rnode_nchildren(n) && found < 2; i++) {
         const Node *c = rnode_child(n, i);
-        /* a !record writes only when it names a file (Flitter's examples
-         * give filename=OUTPUT, null when run without --define) */
-        const Vec *name = rnode_is(c, "record") ? rnode_attr(c, "filename") : NULL;
-        if (name && vec_len(name) > 0) return true;
-        if (!rnode_is(c, "canvas") && !rnode_is(c, "canvas3d") && has_record(c)) return true;
+        if (rnode_is(c, "record")) {
+            const Vec *name = rnode_attr(c, "filename");
+            int here = name && vec_len(name) > 0 ? 2 : 1;
+            if (here > found) found = here;
+        }
+        if (!rnode_is(c, "canvas") && !rnode_is(c, "canvas3d")) {
+            int below = has_record(c);
+            if (below > found) found = below;
+        }
     }
-    return false;
+    return found;
 }
 
 bool graph_is_window(const Node *n) { return rnode_is(n, "window") || rnode_is(n, "offscreen"); }
@@ -598,17 +605,24 @@ int graph_frame(Graph *g, const Node *root, const GraphFrame *frame, bool window
         if (windows) g->composited = g->show;
         return 0;
     }
-    bool any = false, records = g->record_first != NULL;
+    bool any = false;
+    int recs = g->record_first ? 2 : 0;
     for (size_t i = 0; i < rnode_nchildren(root); i++) {
         const Node *w = rnode_child(root, i);
         if (!graph_is_window(w)) continue;
         any = true;
-        if (has_record(w)) records = true;
+        int r = has_record(w);
+        if (r > recs) recs = r;
     }
     if (any) g->saw_window = true;
-    /* nothing asks for this frame's pictures: not drawn (and not counted
-     * as drawn, so that a later call for it does draw) */
-    if (!records && !windows) return 0;
+    bool records = recs == 2;
+    /* Headless, every frame of a tree with a !record is drawn, as
+     * Flitter draws every frame (a !feedback or a `last` evolves frame by
+     * frame towards the one recorded); with windows shown, a frame is
+     * drawn when a file needs it or the front end takes its pictures,
+     * not when it drops them. A frame nothing asks for is not drawn (nor
+     * counted as drawn, so that a later call for it does draw). */
+    if (!windows && !records && !(recs == 1 && !g->show)) return 0;
     /* the frames not drawn since the last one are in this one's delta */
     GraphFrame fd = *frame;
     if (g->frame >= 0 && frame->frame > g->frame + 1 && frame->beat >= g->beat) fd.delta = frame->beat - g->beat;

@@ -78,15 +78,16 @@ int graph_attach(Graph *g, char *err, size_t errlen);
  * (Flitter composites `!offscreen` and hidden windows only when they have
  * an id). */
 void graph_show_windows(Graph *g, bool show);
-/* Draw the window rendering trees of [root] (a !root node) for frame [f]:
- * each top-level `!window`/`!offscreen` whose tree holds a `!record` (or
- * any, when graph_record_first is set, or when [windows]: the caller
- * wants the windows' pictures), once per frame number (a second call for
- * the same frame only composites the windows if [windows] asks for them
- * now), writing the records' files. A frame that nothing asks to draw is
- * not drawn at all (a live window dropping pictures it cannot show); the
- * next frame drawn then gives its passes (!feedback, `delta`) the beats
- * since the last frame drawn as its delta.
+/* Draw the window rendering trees of [root] (a !root node) for frame [f],
+ * once per frame number (a second call for the same frame only
+ * composites the windows if [windows] asks for them now), writing the
+ * records' files: when a `!record` names a file (or graph_record_first
+ * is set), when [windows] (the caller wants the windows' pictures), and,
+ * while windows are not shown (headless), whenever a tree holds a
+ * `!record` at all, as Flitter draws every frame. A frame that nothing
+ * asks to draw is not drawn at all (a live window dropping pictures it
+ * cannot show); the next frame drawn then gives its passes (!feedback,
+ * `delta`) the beats since the last frame drawn as its delta.
  *   errors: returns the number of record files that could not be written
  *           this frame (each file's first failure logged; a frame with
  *           records and no OpenGL counts one), else 0; when no GL context
