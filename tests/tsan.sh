@@ -7,8 +7,13 @@
 # sample of 2,000 systems, 8 of them big enough to be split over threads),
 # every physics golden, the loop kernels' route tests (1 to 3 threads),
 # the window's two-thread row split (halves.h), the
-# benchmark scenes for a few frames on 2 threads, and the live window's
-# two threads under Xvfb, each as one test that fails on any report. Ends with `N passed, M failed`.
+# benchmark scenes for a few frames on 2 threads, the decoding threads of
+# pictures and videos (test_media), and the live window's two threads
+# under Xvfb (a physics view, and a !window drawn by the render graph with
+# the two OpenGL contexts), each as one test that fails on any report.
+# tests/tsan.supp leaves out the reports inside Mesa, LLVM and FFmpeg,
+# whose threads synchronise by means TSan cannot see. Ends with `N passed,
+# M failed`.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 build=$1
@@ -16,9 +21,9 @@ build=$1
     CC=${TSAN_CC:-clang-14} meson setup "$build" -Db_sanitize=thread -Db_lundef=false >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
 ninja -C "$build" src/flitter src/flitter-window.so tests/test_physics_routes tests/test_particle_pass \
-    tests/test_halves tests/test_kernel >/dev/null ||
+    tests/test_halves tests/test_kernel tests/test_media >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
-export TSAN_OPTIONS="halt_on_error=1 exitcode=66"
+export TSAN_OPTIONS="halt_on_error=1 exitcode=66 suppressions=$PWD/tests/tsan.supp"
 passed=0 failed=0
 check() {   # check NAME CMD...
     local name=$1 log
@@ -38,6 +43,7 @@ check physics_routes "$build/tests/test_physics_routes"
 check particle_pass env FLITTER_PROPTEST_SYSTEMS=2000 "$build/tests/test_particle_pass"
 check halves "$build/tests/test_halves"
 check kernel "$build/tests/test_kernel"
+check media "$build/tests/test_media"
 # a !bloom of a 2D canvas, drawn offscreen: its passes and the sRGB
 # encoding split over two threads (halves.h)
 tmpd=$(mktemp -d)
@@ -65,6 +71,12 @@ done
 if command -v xvfb-run >/dev/null 2>&1; then
     check window/lockstep xvfb-run -a "$build/src/flitter" run --window --lockstep --frames 60 samples/petri.fl
     check window/realtime xvfb-run -a "$build/src/flitter" run --window --realtime --runtime 2 samples/petri.fl
+    tmpd=$(mktemp -d)
+    printf '%s\n' '!window size=320;240' '    !bloom radius=8' '        !canvas' \
+        '            !rect point=40;40 size=(frame%100)*2;80 fill=true color=1;0.5;0.25' >"$tmpd/gl.fl"
+    check window/gl-lockstep xvfb-run -a "$build/src/flitter" run --window --lockstep --frames 60 "$tmpd/gl.fl"
+    check window/gl-realtime xvfb-run -a "$build/src/flitter" run --window --realtime --runtime 2 "$tmpd/gl.fl"
+    rm -rf "$tmpd"
 fi
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
