@@ -219,12 +219,23 @@ FL_API void fl_free(fl_runtime *rt);
  * fixed text (static storage) saying that the runtime is NULL. */
 FL_API const char *fl_error(const fl_runtime *rt);
 
-/* Bind [name] to the value text [value_text] for every frame (`-D
- * NAME=VALUE`, FORMATS.md §4). Call it before fl_load: the loaded program
- * sees the names that were defined when it was loaded.
+/* Bind [name] to the value of the text [value_text] for every frame (`-D
+ * NAME=VALUE`), read as Flitter reads it (FORMATS.md §4 and Flitter's
+ * engine/__main__.py `keyvalue`): the text split at every `;`, each part a
+ * symbol if it starts with `:`, else a number as Python's float() reads it
+ * (`-3`, `+2.5`, `1e3`, `inf`, `nan`, `1_000`) with an optional SI or angle
+ * suffix (`10k`, `5m`, `90deg`), else a time code (`1:30` is 90), else the
+ * part's text itself; so "" is the empty string and "-1;2" the vector
+ * -1;2. Call it before fl_load: the loaded program sees the names that
+ * were defined when it was loaded.
  *   errors: returns -1 with fl_error() text for an empty or invalid name
  *           or a NULL [name] or [value_text] (-1 for a NULL [rt]), else 0. */
 FL_API int fl_define(fl_runtime *rt, const char *name, const char *value_text);
+/* Bind [name] to the vector of the [n] numbers at [values] (exactly; n = 0
+ * binds null), as fl_define does, without going through text.
+ *   errors: as fl_define's, and -1 with fl_error() text for a NULL
+ *           [values] with [n] > 0 or [n] over the longest vector. */
+FL_API int fl_define_numbers(fl_runtime *rt, const char *name, const double *values, size_t n);
 
 /* Load (or reload, keeping the state) the script at [path]. Pragmas take
  * effect at the next fl_step (LANGUAGE.md §6.4).

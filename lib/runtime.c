@@ -20,6 +20,7 @@
 
 #include "builtins.h"
 #include "counter.h"
+#include "define_value.h"
 #include "fileio.h"
 #include "format.h"
 #include "input.h"
@@ -314,7 +315,7 @@ static bool valid_name(const char *name)
  * is `-` and a number is that number negated (as the state dump prints
  * negative numbers); without it (-D, FORMATS.md §4) such a part is a
  * string. */
-static Vec *parse_value(fl_runtime *rt, const char *text, bool sign)
+Vec *rt_parse_value(fl_runtime *rt, const char *text)
 {
     size_t n = strlen(text), i = 0;
     Vec **parts = calloc(n + 1, sizeof(Vec *));
@@ -330,7 +331,7 @@ static Vec *parse_value(fl_runtime *rt, const char *text, bool sign)
             parts[np++] = vec_num1(symtab_add(rt->symtab, p + 1, len - 1));
         } else if (lex_number_text(p, len, &x)) {
             parts[np++] = vec_num1(x);
-        } else if (sign && len > 1 && p[0] == '-' && lex_number_text(p + 1, len - 1, &x)) {
+        } else if (len > 1 && p[0] == '-' && lex_number_text(p + 1, len - 1, &x)) {
             parts[np++] = vec_num1(-x);
         } else {
             parts[np++] = vec_str(p, len);
@@ -343,8 +344,6 @@ static Vec *parse_value(fl_runtime *rt, const char *text, bool sign)
     return v;
 }
 
-Vec *rt_parse_value(fl_runtime *rt, const char *text) { return parse_value(rt, text, true); }
-
 int fl_define(fl_runtime *rt, const char *name, const char *text)
 {
     if (!rt) return -1;
@@ -353,7 +352,30 @@ int fl_define(fl_runtime *rt, const char *name, const char *text)
     if (!valid_name(name)) return rt_fail(rt, "fl_define: '%.200s' is not a name", name);
     MemHandler prev = rt_enter(rt);
     int g = globals_add(&rt->globals, name);
-    Vec *v = parse_value(rt, text, false);
+    Vec *v = define_value(rt->symtab, text, strlen(text));
+    globals_set(&rt->globals, g, v);
+    vec_release(v);
+    mem_leave(prev);
+    return 0;
+}
+
+int fl_define_numbers(fl_runtime *rt, const char *name, const double *values, size_t n)
+{
+    if (!rt) return -1;
+    if (!name) return rt_fail(rt, "fl_define_numbers: [name] is NULL");
+    if (!values && n) return rt_fail(rt, "fl_define_numbers: [values] is NULL for %zu numbers", n);
+    if (n > MAX_COMPOSE_LEN)
+        return rt_fail(rt, "fl_define_numbers: %zu numbers: more than the longest vector (%llu)", n,
+                       (unsigned long long)MAX_COMPOSE_LEN);
+    if (!valid_name(name)) return rt_fail(rt, "fl_define_numbers: '%.200s' is not a name", name);
+    MemHandler prev = rt_enter(rt);
+    if (!mem_fits(sizeof(Vec) + n * sizeof(double))) {
+        mem_leave(prev);
+        return rt_fail(rt, "fl_define_numbers: %zu numbers: out of memory (the budget, "
+                       "fl_options.max_memory)", n);
+    }
+    int g = globals_add(&rt->globals, name);
+    Vec *v = n ? vec_from_nums(values, (uint32_t)n) : NULL;
     globals_set(&rt->globals, g, v);
     vec_release(v);
     mem_leave(prev);

@@ -31,6 +31,7 @@ fl_runtime *fl_new(const fl_options *opts);
 void fl_free(fl_runtime *rt);
 const char *fl_error(const fl_runtime *rt);
 int fl_define(fl_runtime *rt, const char *name, const char *value_text);
+int fl_define_numbers(fl_runtime *rt, const char *name, const double *values, size_t n);
 int fl_load(fl_runtime *rt, const char *path);
 int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len);
 int fl_step(fl_runtime *rt);

@@ -14,7 +14,9 @@
  *       --state DIR/job-K/run.state --trace-file DIR/job-K/trace.csv
  *       --dump-state SCRIPT`, stdout into DIR/job-K/final.state and stderr
  *       into DIR/job-K/log, then writes DIR/job-K/manifest (`NAME VALUE`
- *       lines: job, script, frames, param NAME VALUE..., run, seed, exit,
+ *       lines: job, script, frames, param NAME TEXT and value NAME VALUE (the
+ *       text as typed, the value the script receives) for each parameter,
+ *       run, seed, exit,
  *       wall_seconds). A job whose manifest says exit 0 returns at once; an
  *       unfinished one starts over (its saved state is removed first).
  *   flitter sweep --collect DIR
@@ -42,6 +44,7 @@
 
 #include "commands.h"
 #include "exitcodes.h"
+#include "flitter.h"
 
 extern char **environ;
 
@@ -366,12 +369,32 @@ static char *read_text(const char *path)
     return s;
 }
 
-/* The manifest's parameter lines, for comparing a re-run with the job. */
+static void write_to_file(void *ctx, const char *text, size_t len)
+{
+    fwrite(text, 1, len, ctx);
+}
+
+/* `value NAME VALUE`: the value that `-D NAME=TEXT` gives the job's script
+ * (fl_define's reading of the text), as value text on one line. */
+static void put_received(FILE *f, const char *name, const char *text)
+{
+    fl_runtime *rt = fl_new(NULL);
+    fprintf(f, "value %s ", name);
+    if (fl_define(rt, name, text) != 0 || fl_eval(rt, name, strlen(name), write_to_file, f) != 0)
+        fputc('\n', f);   /* a name flitter run refuses too: no value */
+    fl_free(rt);
+}
+
+/* The manifest's parameter lines, for comparing a re-run with the job:
+ * each parameter as typed (`param`) and as the script receives it
+ * (`value`). */
 static void put_params(FILE *f, const Sweep *sw, const char *script, long run)
 {
     fprintf(f, "job %ld\nscript %s\nframes %ld\n", sw->job, script, sw->frames);
-    for (size_t i = 0; i < sw->nparams; i++)
+    for (size_t i = 0; i < sw->nparams; i++) {
         fprintf(f, "param %s %s\n", sw->params[i].name, sw->params[i].values[0]);
+        put_received(f, sw->params[i].name, sw->params[i].values[0]);
+    }
     fprintf(f, "run %ld\nseed %ld\n", run, run);
 }
 
@@ -520,13 +543,20 @@ static int by_name(const void *a, const void *b)
     return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
-/* The value of `param NAME VALUE` for [name] in [m], or NULL. */
+/* The CSV cell of parameter [name] in manifest [m]: the value the script
+ * received (`value NAME VALUE`) when it has no string in it (numbers and
+ * symbols: `10k` is 10000), else the text as typed (`param NAME TEXT`,
+ * which is what a string receives); NULL when the job has neither. */
 static const char *param_value(const char *m, const char *name, char *buf, size_t cap)
 {
     size_t n = strlen(name) + 7;
     char *key = xmalloc(n);
-    snprintf(key, n, "param %s", name);
+    snprintf(key, n, "value %s", name);
     const char *v = manifest_get(m, key, buf, cap);
+    if (!v || !*v || strchr(v, '"')) {
+        memcpy(key, "param", 5);
+        v = manifest_get(m, key, buf, cap);
+    }
     free(key);
     return v;
 }

@@ -103,7 +103,25 @@ def _py_particle(ctx, id_text, position, velocity, dims):
 
 
 def _c(text: str) -> bytes:
-    return os.fsencode(text) if isinstance(text, os.PathLike) else text.encode("utf-8", "surrogateescape")
+    """Text for the C interface, NUL-terminated there: a NUL inside would cut
+    it short, so it is refused as Python's own os functions refuse it."""
+    b = os.fsencode(text) if isinstance(text, os.PathLike) else text.encode("utf-8", "surrogateescape")
+    if b"\0" in b:
+        raise ValueError("embedded null byte")
+    return b
+
+
+def _define_numbers(value: Any) -> Optional[np.ndarray]:
+    """``value`` as float64 numbers when it is a number, a bool or a
+    (nested) sequence or array of them; None when any part is text (str,
+    Symbol), which goes through Flitter's reading of define text."""
+    if isinstance(value, str):
+        return None
+    if isinstance(value, (list, tuple)) and any(_define_numbers(v) is None for v in value):
+        return None
+    if isinstance(value, np.ndarray) and value.dtype.kind not in "biuf":
+        return None
+    return np.ascontiguousarray(np.atleast_1d(np.asarray(value, dtype=np.float64)).ravel())
 
 
 def _tree_tokens(line: str) -> List[str]:
@@ -198,7 +216,8 @@ class State(MutableMapping):
             yield k if '"' not in k else key_text(tuple(_split(k)))
 
     def __len__(self) -> int:
-        return int(lib.fl_state_count(self._sim._rt))
+        with self._sim._lock:
+            return int(lib.fl_state_count(self._sim._rt))
 
 
 def _split(text: str):
@@ -235,9 +254,27 @@ class Simulation:
 
     def define(self, name: str, value: Any) -> None:
         """Bind ``name`` to ``value`` for every frame (as ``-D``); takes
-        effect at the next ``load``."""
-        if lib.fl_define(self._rt, _c(name), _c(define_text(value))) != 0:
-            raise FlitterError(f"bad define name {name!r}")
+        effect at the next ``load``. Numbers, bools and sequences or arrays
+        of them are bound exactly as numbers (-3 is -3), None as null, a
+        Symbol as that symbol; a str is read as ``-D NAME=VALUE`` reads its
+        text (Flitter's rule: "-3" is a number, "" the empty string, "a;b"
+        two strings), and so is a sequence that holds text, its parts
+        joined with ";". Raises FlitterError for a name that is not one,
+        ValueError for a Symbol holding ";" or a NUL."""
+        parts = value if isinstance(value, (list, tuple)) else [value]
+        if any(isinstance(v, Symbol) and ";" in v for v in parts):
+            raise ValueError(f"a defined symbol cannot hold ';': {value!r}")
+        arr = None if value is None else _define_numbers(value)
+        k = _c(name)
+        with self._lock:
+            if value is None:
+                rc = lib.fl_define_numbers(self._rt, k, ffi.NULL, 0)
+            elif arr is not None:
+                rc = lib.fl_define_numbers(self._rt, k, ffi.cast("const double *", arr.ctypes.data), arr.size)
+            else:
+                rc = lib.fl_define(self._rt, k, _c(define_text(value)))
+            if rc != 0:
+                raise self._error()
 
     def load(self, path: str) -> None:
         """Load (or reload, keeping the state) the script at ``path``.
@@ -271,19 +308,22 @@ class Simulation:
     @property
     def frames(self) -> int:
         """Frames evaluated so far."""
-        return int(lib.fl_frame_count(self._rt))
+        with self._lock:
+            return int(lib.fl_frame_count(self._rt))
 
     @property
     def frame(self) -> int:
         """The number of the last evaluated frame, as the state dump's
         ``frame N`` line (-1 before the first)."""
-        return int(lib.fl_frame_count(self._rt)) - 1
+        with self._lock:
+            return int(lib.fl_frame_count(self._rt)) - 1
 
     @property
     def time(self) -> float:
         """The ``time`` of the last evaluated frame, seconds (0 before the
         first)."""
-        return float(lib.fl_frame_time(self._rt))
+        with self._lock:
+            return float(lib.fl_frame_time(self._rt))
 
     def _particles(self, system: Any):
         out: Tuple[list, list, list] = ([], [], [])

@@ -71,6 +71,21 @@ SLURM_ARRAY_TASK_ID=3 sh "$dir/slurm/sweep.sbatch" 2>/dev/null || fail "task 3"
 cmp -s "$dir/want3" "$dir/slurm/job-0003/final.state" || fail "slurm task 3's final.state"
 [ ! -e "$dir/pwned" ] && [ ! -e "$dir/pwned2" ] || fail "a value was run by the shell (slurm)"
 
+# signed, suffixed and empty values reach the script as Flitter reads them
+# (issue 59: -200 and 1 once ran as the same string), the manifest records
+# what the script received and the CSV shows the numbers
+"$flitter" sweep "$script" -D strength=-200,1,2k -D tag= --frames 5 --out "$dir/v" >"$dir/vjobs" ||
+    fail "signed sweep listing exited $?"
+bash "$dir/vjobs" 2>/dev/null || fail "signed sweep jobs"
+grep -qx 'value strength -200' "$dir/v/job-0000/manifest" || fail "manifest value -200"
+grep -qx 'value strength 2000' "$dir/v/job-0002/manifest" || fail "manifest value 2k"
+grep -qx 'value tag ""' "$dir/v/job-0000/manifest" || fail "manifest value of an empty text"
+cmp -s "$dir/v/job-0000/final.state" "$dir/v/job-0001/final.state" && fail "strength -200 ran as 1"
+"$flitter" run --frames 5 -D strength=-200 -D tag= -D run=0 --dump-state "$script" 2>/dev/null |
+    cmp -s - "$dir/v/job-0000/final.state" || fail "job 0 differs from flitter run -D strength=-200"
+"$flitter" sweep --collect "$dir/v" | cut -d, -f1-3 | tr '\n' ' ' |
+    grep -qx 'job,strength,tag 0,-200, 1,1, 2,2000, ' || fail "CSV of received values"
+
 # bad usage: exit 2 with a message
 "$flitter" sweep "$script" -D 'bad name=1' --frames 1 --out "$dir/x" 2>"$dir/err"
 [ $? -eq 2 ] && grep -q "bad define" "$dir/err" || fail "bad define accepted"

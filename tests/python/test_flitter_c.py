@@ -223,3 +223,72 @@ def test_gil_released_inside_one_frame():
     if spent[0] < 0.1:
         pytest.skip(f"the frame took only {spent[0]:.3f} s: too short to tell")
     assert longest < spent[0] / 2, (longest, spent[0])
+
+
+def tree_attr(sim, name):
+    line = sim.tree_text().splitlines()[1]
+    return dict(w.split("=", 1) for w in line.split()[1:])[name]
+
+
+@pytest.mark.parametrize("value,want", [
+    (-3, "-3"), (-0.5, "-0.5"), (2.5e-300, "2.5e-300"), (True, "1"), ([1, -2], "1;-2"),
+    (np.array([0.1, -7.0]), "0.1;-7"), (None, "null"), (Symbol("sym"), ":sym"),
+    ("-3", "-3"), ("", '""'), ("1:30", "90"), ("10k", "10000"), ("abc", '"abc"'),
+    ([Symbol("a"), 1.5], ":a;1.5"), (["x", -1], '"x";-1'),
+])
+def test_defines_reach_the_script_as_values(value, want, tmp_path):
+    # numbers bound exactly, text read as `flitter run -D` reads it (issue 59)
+    sim = flitter_c.Simulation()
+    sim.define("X", value)
+    sim.load_text("!foo x=X\n", name="d.fl")
+    sim.step()
+    got = tree_attr(sim, "x") if want != "null" else ("null" if "x=" not in sim.tree_text() else "?")
+    assert got == want
+    if isinstance(value, str) and not isinstance(value, Symbol):
+        # the same text through the command line gives the same value
+        script = tmp_path / "d.fl"
+        script.write_text("!foo x=X\n")
+        cli = subprocess.run([FLITTER, "run", "--quiet", "--frames", "1", "--dump-tree", "-D", f"X={value}",
+                              str(script)], check=True, capture_output=True, text=True)
+        assert cli.stdout.splitlines()[1].split()[1] == f"x={want}"
+
+
+def test_define_refuses_bad_names_and_nul():
+    sim = flitter_c.Simulation()
+    with pytest.raises(FlitterError, match="not a name"):
+        sim.define("9x", 1)
+    with pytest.raises(ValueError):
+        sim.define("X\0Y", 1)
+    with pytest.raises(ValueError):
+        sim.define("X", "a\0b")
+    with pytest.raises(ValueError):
+        sim.define("X", Symbol("a;b"))
+    with pytest.raises(ValueError):
+        sim.load("dish\0.fl")
+
+
+def test_define_and_load_race_under_the_lock():
+    # define and load from two threads: both take the simulation's lock, so
+    # neither frees what the other uses (issue 60; ASan in the sanitizer
+    # phase, a malloc abort before)
+    sim = flitter_c.Simulation()
+    stop = threading.Event()
+
+    def defining():
+        i = 0
+        while not stop.is_set():
+            sim.define("X", [i, -i])
+            sim.define("Y", "a;b")
+            i += 1
+
+    t = threading.Thread(target=defining)
+    t.start()
+    try:
+        for _ in range(200):
+            sim.load(PETRI)
+            sim.step()
+            _ = sim.frames, sim.time, len(sim.state)
+    finally:
+        stop.set()
+        t.join()
+    assert sim.frames == 200

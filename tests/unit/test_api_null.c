@@ -253,6 +253,34 @@ NULL_TEST(fl_define)
     fl_free(rt);
 }
 
+NULL_TEST(fl_define_numbers)
+{
+    (void)unused;
+    const double x[2] = {-3, 0.5};
+    assert_int_equal(fl_define_numbers(NULL, "a", x, 2), -1);
+    fl_runtime *rt = fresh();
+    assert_int_equal(fl_define_numbers(rt, NULL, x, 2), -1);
+    expect_error(rt, "fl_define_numbers", "[name]");
+    assert_int_equal(fl_define_numbers(rt, "a", NULL, 2), -1);
+    expect_error(rt, "fl_define_numbers", "[values]");
+    assert_int_equal(fl_define_numbers(rt, "1a", x, 2), -1);
+    expect_error(rt, "fl_define_numbers", "'1a' is not a name");
+    const size_t huge[] = {((size_t)1 << 26) + 1, (size_t)UINT32_MAX + 1, SIZE_MAX};
+    for (size_t i = 0; i < sizeof huge / sizeof huge[0]; i++) {
+        assert_int_equal(fl_define_numbers(rt, "a", x, huge[i]), -1);
+        expect_error(rt, "fl_define_numbers", "longest vector");
+    }
+    assert_int_equal(fl_define_numbers(rt, "b", NULL, 0), 0);   /* null */
+    assert_int_equal(fl_define_numbers(rt, "a", x, 2), 0);
+    char text[32] = "";
+    assert_int_equal(fl_eval(rt, "a", 1, text_write, text), 0);
+    assert_string_equal(text, "-3;0.5\n");
+    text[0] = '\0';
+    assert_int_equal(fl_eval(rt, "b", 1, text_write, text), 0);
+    assert_string_equal(text, "null\n");
+    fl_free(rt);
+}
+
 /* {=====================================================================
  * Loading and stepping
  * ===================================================================== */
@@ -936,7 +964,8 @@ static void every_function_is_covered(void **unused);
 #define T(fn) cmocka_unit_test(null_##fn)
 static const struct CMUnitTest tests[] = {
     T(fl_version), T(fl_default_options), T(fl_parse_memory), T(fl_parse_pairs),
-    T(fl_parse_particles), T(fl_parse_physics), T(fl_parse_view_axes), T(fl_new), T(fl_free), T(fl_error), T(fl_define), T(fl_load),
+    T(fl_parse_particles), T(fl_parse_physics), T(fl_parse_view_axes), T(fl_new), T(fl_free), T(fl_error), T(fl_define), T(fl_define_numbers),
+    T(fl_load),
     T(fl_load_text), T(fl_step), T(fl_frame_count), T(fl_frame_time), T(fl_target_fps),
     T(fl_frame_wait), T(fl_clock_pause), T(fl_state_get), T(fl_state_get_numbers),
     T(fl_state_set), T(fl_state_set_numbers), T(fl_state_count), T(fl_state_iterate),
