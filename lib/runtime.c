@@ -96,6 +96,8 @@ struct fl_runtime {
     double paused_at;       /* fl_clock_pause: when the clock stopped, or -1 */
     bool warned_nonfinite;  /* physics: non-finite time logged already */
     bool warned_capped;     /* physics: step limit logged already */
+    unsigned warned_kinds;  /* top-level kinds not supported, named already
+                               (a bit per entry of renderers[]) */
     Buf error;              /* fl_error(): the last failed call's message */
     Pictures *pictures;     /* fl_draw_window's renderer */
     Input *input;           /* keys held in the shown windows */
@@ -579,6 +581,7 @@ static void report(const fl_runtime *rt, int kind, const char *prefix, const Msg
 typedef struct Renderer {
     const char *kind;
     void (*run)(fl_runtime *rt, Node *const *nodes, size_t n, double t);
+    const char *what;   /* for a kind not supported: what it would drive */
 } Renderer;
 
 static void run_physics(fl_runtime *rt, Node *const *nodes, size_t n, double t)
@@ -607,10 +610,18 @@ static void run_counters(fl_runtime *rt, Node *const *nodes, size_t n, double t)
 }
 
 /* The renderers, in the order they run. Physics systems and counters keep
- * disjoint state keys, so running each kind in turn equals tree order. */
+ * disjoint state keys, so running each kind in turn equals tree order.
+ * Flitter's other top-level renderers (its pyproject's "flitter.render"
+ * plugins) that flitter-c does not have: named once (NULL run). Windows
+ * are drawn by the render graph (lib/pictures.c); any other kind is the
+ * script's own data and is left alone, as Flitter leaves it. */
 static const Renderer renderers[] = {
-    {"physics", run_physics},
-    {"counter", run_counters},
+    {"physics", run_physics, NULL},
+    {"counter", run_counters, NULL},
+    {"controller", NULL, "MIDI and USB controllers"},
+    {"dmx", NULL, "DMX lighting"},
+    {"laser", NULL, "lasers"},
+    {"osc", NULL, "OSC messages"},
 };
 
 /* Hand each renderer its top-level nodes of [root]. */
@@ -623,7 +634,13 @@ static void run_renderers(fl_runtime *rt, const Node *root, double t)
         size_t n = 0;
         for (uint32_t i = 0; i < root->nchildren; i++)
             if (node_is(root->children[i], renderers[r].kind)) nodes[n++] = root->children[i];
-        renderers[r].run(rt, nodes, n, t);
+        if (renderers[r].run) {
+            renderers[r].run(rt, nodes, n, t);
+        } else if (n && !(rt->warned_kinds & (1u << r))) {
+            emit(rt, FL_LOG_WARNING, "skipping unsupported !%s (%s: not in flitter-c)",
+                 renderers[r].kind, renderers[r].what);
+            rt->warned_kinds |= 1u << r;
+        }
     }
     if (nodes != small) free(nodes);
 }
