@@ -94,6 +94,28 @@ void line_cursor_at(LineCursor *c, size_t offset, unsigned *line, unsigned *col)
     *col = c->col;
 }
 
+/* The length of the control character at [s] ([n] bytes left) that an
+ * echoed source line escapes: 1 for C0 (but tab) and DEL, 2 for a C1
+ * character in UTF-8 (U+0080-U+009F); 0 for anything else. */
+static size_t control_len(const char *s, size_t n)
+{
+    unsigned char c = (unsigned char)s[0];
+    if ((c < 0x20 && c != '\t') || c == 0x7f) return 1;
+    if (c == 0xc2 && n >= 2 && (unsigned char)s[1] >= 0x80 && (unsigned char)s[1] <= 0x9f) return 2;
+    return 0;
+}
+
+/* The columns the byte at [s] takes in the echoed line: 4 for `\xHH`, 6
+ * for `\u00HH` (on its first byte), 0 for the rest of a UTF-8 sequence,
+ * else 1. */
+static size_t shown_width(const char *s, size_t n)
+{
+    size_t k = control_len(s, n);
+    if (k == 1) return 4;
+    if (k == 2) return 6;
+    return is_continuation((unsigned char)s[0]) ? 0 : 1;
+}
+
 /* Write the error [msg] at bytes [start, end) of the lexer's text. */
 static void report(ParseCtx *pc, uint32_t start, uint32_t end, const char *msg)
 {
@@ -118,19 +140,26 @@ void source_error(Buf *err, const char *path, const char *text, size_t len,
     while (le < len && text[le] != '\n')
         le++;
     size_t shown = le > ls && text[le - 1] == '\r' ? le - 1 : le;
-    buf_add(err, text + ls, shown - ls);
+    /* the line as written, but for its control characters (C0, DEL and
+     * C1, which a terminal would obey): `\xHH` and `\u00HH` instead */
+    for (size_t i = ls; i < shown;) {
+        size_t k = control_len(text + i, shown - i);
+        if (k == 1) buf_printf(err, "\\x%02x", (unsigned char)text[i]);
+        else if (k == 2) buf_printf(err, "\\u00%02x", (unsigned char)text[i + 1]);
+        else buf_putc(err, text[i]);
+        i += k ? k : 1;
+    }
     buf_putc(err, '\n');
-    for (size_t i = ls; i < start; i++) {
+    for (size_t i = ls; i < start && i < shown; i++) {
         if (text[i] == '\t')
             buf_putc(err, '\t');
-        else if (!is_continuation((unsigned char)text[i]))
-            buf_putc(err, ' ');
+        else
+            for (size_t k = shown_width(text + i, shown - i); k > 0; k--) buf_putc(err, ' ');
     }
     size_t stop = end < shown ? end : shown;
     size_t carets = 0;
     for (size_t i = start; i < stop; i++)
-        if (!is_continuation((unsigned char)text[i]))
-            carets++;
+        carets += shown_width(text + i, stop - i);
     if (carets == 0)
         carets = 1;
     for (size_t i = 0; i < carets; i++)
