@@ -10,9 +10,20 @@ import sys
 import time
 
 
+def grab(window):
+    """`xwd -id WINDOW`'s output; tried three times, 0.1 s apart (an X
+    server under load may refuse one grab), then xwd's own message."""
+    for attempt in range(3):
+        run = subprocess.run(['xwd', '-id', window, '-silent'], capture_output=True)
+        if run.returncode == 0 and len(run.stdout) >= 100:
+            return run.stdout
+        time.sleep(0.1)
+    raise SystemExit(f'xpixel: xwd -id {window} failed (exit {run.returncode}): '
+                     f'{run.stderr.decode(errors="replace").strip()}')
+
+
 def pixel(window, x, y):
-    data = subprocess.run(['xwd', '-id', window, '-silent'], check=True,
-                          capture_output=True).stdout
+    data = grab(window)
     h = struct.unpack('>25I', data[:100])   # the header is always big-endian
     header_size, width, height = h[0], h[4], h[5]
     byte_order, bpp, bpl = h[7], h[11], h[12]
