@@ -34,8 +34,13 @@ int main(int argc, char **argv)
         return EXIT_USAGE;
     }
     if (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
+        /* Flitter's -h lists its options: those of `flitter run`, which
+         * Flitter's command line `flitter [options] SCRIPT...` takes */
         usage(stdout);
-        return EXIT_OK;
+        fputs("\n", stdout);
+        fflush(stdout);
+        char *args[] = {"run", "--help", NULL};
+        return cmd_run(2, args);
     }
     if (strcmp(argv[1], "--version") == 0) {
         printf("flitter-c %s\n", FLITTER_VERSION);

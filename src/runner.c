@@ -32,7 +32,9 @@ static void run_usage(FILE *f)
           "  --fps F             target frame rate (default 60; %pragma fps overrides it)\n"
           "  --lockstep          non-realtime clock (the default)\n"
           "  --realtime          pace frames on the wall clock\n"
-          "  -D, --define NAME=VALUE  bind NAME before evaluation\n"
+          "  -D, --define NAME=VALUE  bind NAME before evaluation; VALUE as Flitter reads\n"
+          "                      it: ;-separated :symbols, numbers (-3, 1e3, 10k, 90deg),\n"
+          "                      time codes (1:30) or else text (empty: the empty string)\n"
           "  --dump-state        write the state of the last frame to stdout\n"
           "  --dump-every K      also dump the state after every K-th frame\n"
           "  --dump-tree         write the last frame's node tree to stdout\n"
@@ -70,7 +72,8 @@ static void run_usage(FILE *f)
           "  --quiet             warnings and errors only: no progress bar or status\n"
           "                      line, no notes\n"
           "  --verbose           also informational lines (the version at start)\n"
-          "  --debug             also name each skipped (unsupported) drawing node kind\n"
+          "  --debug             also the debug lines (drawing details; the skipped,\n"
+          "                      unsupported node kinds are named at every level)\n"
           "  --trace             everything --debug says, and a line per frame\n"
           "                      (frame, clock, eval and physics ms)\n"
           "  --stats             at exit, print frames/s, allocations per frame, the\n"
@@ -195,7 +198,8 @@ static bool parse_timecode(const char *s, double *out)
 /* The one-line notes of Flitter's options that do nothing here. */
 static const char *const no_effect_note[] = {
     "--profile has no effect in flitter-c (use --stats for the time per frame)",
-    "--opengles has no effect in flitter-c (pictures are drawn with cairo, not OpenGL)",
+    "--opengles has no effect in flitter-c (pictures are drawn with desktop OpenGL 3.3 "
+    "through EGL or the window's context, not OpenGL ES)",
     "--modelcache has no effect in flitter-c (no model cache to keep)",
 };
 

@@ -12,7 +12,9 @@
 #      0:00:00.6 is 3, 0.4 is 2; 1::2, 1:2:3:4 and -1 are refused;
 #   4. --profile, --opengles and --modelcache T are accepted with one note
 #      each on stderr (none under --quiet); --vmstats prints --stats' lines;
-#      the run's output is the same as without them.
+#      the run's output is the same as without them;
+#   5. -h and --help list the commands and then the options (Flitter's -h
+#      lists its options), exit 0.
 set -u
 flitter=$1 script=$2
 case $flitter in /*) ;; *) flitter=$PWD/$flitter ;; esac
@@ -77,4 +79,11 @@ cmp -s "$dir/plain" "$dir/out" || bad "--profile --opengles --modelcache changed
 [ $? -eq 2 ] || bad "--modelcache soon accepted"
 "$flitter" run --vmstats --frames 2 "$dir/a.fl" >/dev/null 2>"$dir/err" || bad "--vmstats failed"
 grep -q '^stats: 2 frames in ' "$dir/err" || bad "--vmstats: $(cat "$dir/err")"
+# 5. -h lists the options as Flitter's does
+for h in -h --help; do
+    "$flitter" $h >"$dir/help" 2>"$dir/err" || bad "flitter $h: exit $?"
+    grep -q '^  run    ' "$dir/help" && grep -q '^  --runtime T ' "$dir/help" &&
+        grep -q '^  --offscreen ' "$dir/help" && grep -q '^  -D, --define NAME=VALUE' "$dir/help" ||
+        bad "flitter $h does not list the commands and the options: $(head -3 "$dir/help")"
+done
 exit $fail
