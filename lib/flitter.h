@@ -259,8 +259,10 @@ FL_API int fl_load_text(fl_runtime *rt, const char *name, const char *text, size
  *           `Execution error: MESSAGE`; a !physics system with a non-finite
  *           `time`/`resolution` skips the frame and one needing more than
  *           max_physics_steps steps is cut short (each logged once per
- *           runtime). Returns -1 when no program is loaded (with
- *           fl_error() text) or [rt] is NULL, 1 when
+ *           runtime). Returns -1 when no program is loaded, or when
+ *           the clock is at its limit (frame 2^53, or a next time or beat
+ *           that would not be finite: the frame is not run, so the clock
+ *           can still be saved), with fl_error() text, or [rt] is NULL; 1 when
  *           *interrupt stopped the evaluation (the frame is discarded:
  *           tree, state, clock and frame count stay as they were; an
  *           interrupt during physics steps keeps the frame, with fewer
@@ -338,6 +340,8 @@ FL_API void fl_reset_state(fl_runtime *rt);
 
 /* Save the state dictionary and the clock to [path] atomically (the file
  * is replaced only when complete; FORMATS.md, `flitter run --state`).
+ * Writes only what fl_restore_state reads back: a clock it would refuse
+ * is not written.
  *   errors: returns -1 with a message for fl_error() (a NULL [path]
  *           included; -1 for a NULL [rt]); 0 on success. */
 FL_API int fl_save_state(fl_runtime *rt, const char *path);

@@ -694,6 +694,14 @@ static int step(fl_runtime *rt)
         apply_pragmas(rt);
         rt->pragmas_pending = false;
     }
+    if (rt->frame >= MAX_FRAME || !isfinite(beat) || !isfinite(t + 1.0 / rt->target_fps)) {
+        /* one more frame would leave a clock that a state file cannot
+         * hold (statefile_clock_refused): the clock stops here, where it
+         * can still be saved */
+        rt->last_beat = prev_beat;
+        return rt_fail(rt, "frame %ld: the clock is at its limit (frame 2^53, or a time or beat "
+                       "past the largest finite number); no further frame", rt->frame);
+    }
 
     int prev = rt->cur;
     rt->cur ^= 1;

@@ -340,9 +340,11 @@ static int cmd_step(Repl *r, const char *arg)
             fprintf(stderr, "interrupted after %ld of %ld frames\n", i, n);
             break;
         }
-        if (rc != 0) {
+        if (rc != 0) {   /* no program, or the clock at its limit */
             progress_end(&progress);
-            repl_error(r, "no program to step");
+            const char *why = fl_error(r->rt);
+            if (strncmp(why, "fl_step: ", 9) == 0) why += 9;
+            repl_error(r, "%.*s", (int)strcspn(why, "\n"), why);
             return 0;
         }
         if (r->window) window_frame(r, false);

@@ -284,7 +284,15 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
             break;
         case O_FPS:
             spec->fps = strtod(optarg, &end);
+            /* a positive rate whose clock reaches frame 2^53 (the last a
+             * state file holds) at a finite time */
             if (end == optarg || *end || !(spec->fps > 0) || isinf(spec->fps)) goto bad_value;
+            if (isinf((double)(INT64_C(1) << 53) / spec->fps)) {
+                fprintf(err, "flitter run: --fps %s is too small: the clock's time would pass the "
+                        "largest finite number before frame 2^53, and a state file could not hold "
+                        "it\n", optarg);
+                return EXIT_USAGE;
+            }
             break;
         case O_LOCKSTEP: spec->realtime = false; spec->clock_given = true; break;
         case O_REALTIME: spec->realtime = true; spec->clock_given = true; break;
@@ -688,6 +696,7 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
     bool dumped_last = false;
     double start = now_seconds(), last_save = start, last_progress = 0;
     long ran = 0;
+    bool clock_ended = false;
     fl_stats first = {0}, second = {0}, traced = {0};
     struct timespec mtime = file_mtime(spec->script), bad_mtime = {0, 0};
     while (!(interrupt && *interrupt) && (spec->frames < 0 || ran < spec->frames)) {
@@ -708,8 +717,14 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
                 }
             }
         }
-        if (fl_step(rt) == 1)
+        int step = fl_step(rt);
+        if (step == 1)
             break;   /* interrupted: the frame was discarded */
+        if (step < 0) {   /* the clock at its limit: the run ends there */
+            fprintf(log, "%s: error: %s", spec->script, fl_error(rt));
+            clock_ended = true;
+            break;
+        }
         ran++;
         if (ran == 1) fl_get_stats(rt, &first);
         if (ran == 2) {
@@ -758,7 +773,7 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
     *finished = spec->frames >= 0 && ran >= spec->frames;
     if (spec->progress && ran > 0) fputs("\n", stderr);
     if (spec->stats) runspec_print_stats(rt, &first, &second, now_seconds() - start, &load, log);
-    int rc = EXIT_OK;
+    int rc = clock_ended ? EXIT_LOAD : EXIT_OK;
     if (ran > 0) {
         if (spec->dump_state && !dumped_last) fl_dump_state(rt, write_file, out);
         if (spec->dump_tree) fl_dump_tree(rt, write_file, out);

@@ -478,7 +478,9 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
     bool stepped = false;
     if (!L->paused || L->steps > 0) {
         if (L->steps > 0) L->steps--;
-        if (fl_step(p->rt) != 0) return false;   /* interrupted inside the frame */
+        int rc = fl_step(p->rt);
+        if (rc < 0) fprintf(L->log, "%s: error: %s", p->script, fl_error(p->rt));   /* the clock's limit */
+        if (rc != 0) return false;   /* interrupted inside the frame, or no further frame */
         stepped = true;
         L->ran++;
         p->ran++;

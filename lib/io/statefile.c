@@ -97,9 +97,25 @@ static int line_cmp(const void *x, const void *y)
     return strcmp(*(char *const *)x, *(char *const *)y);
 }
 
+const char *statefile_clock_refused(const StateClock *c)
+{
+    if (c->frame < 0 || c->frame > MAX_FRAME) return "frame number out of range (0 to 2^53)";
+    if (!(isfinite(c->time) && isfinite(c->last_time) && isfinite(c->last_beat) && isfinite(c->start)))
+        return "clock time out of range (not finite)";
+    if (!(isfinite(c->period) && c->period > 0 && isfinite(c->quantum) && c->quantum > 0))
+        return "clock period or quantum out of range (not positive and finite)";
+    return NULL;
+}
+
 int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *clock,
                    const StateOrigin *origin, const char *path, size_t *skipped, Buf *err)
 {
+    const char *refused = statefile_clock_refused(clock);
+    if (refused) {
+        /* a file its own loader would refuse is never written */
+        buf_printf(err, "%s: error: cannot save the state: %s\n", path, refused);
+        return -1;
+    }
     Buf b = BUF_INIT, line = BUF_INIT;
     buf_puts(&b, MAGIC "\n");
     if (origin && origin->script) {
@@ -431,11 +447,7 @@ int statefile_load(StateDict *sd, SymTab *st, StateClock *clock, StateOrigin *or
                 }
             }
             if (!why && r.p != nl) why = "malformed clock line";
-            if (!why && !(isfinite(c.time) && isfinite(c.last_time) && isfinite(c.last_beat)
-                          && isfinite(c.start)))
-                why = "clock time out of range (not finite)";
-            if (!why && !(isfinite(c.period) && c.period > 0 && isfinite(c.quantum) && c.quantum > 0))
-                why = "clock period or quantum out of range (not positive and finite)";
+            if (!why) why = statefile_clock_refused(&c);
             have_clock = true;
         } else if (strncmp(s, "end ", 4) == 0) {
             char *e = (char *)s + 4;

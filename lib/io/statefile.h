@@ -58,9 +58,16 @@ typedef struct StateOrigin {
 /* FNV-1a 64 of [len] bytes of [data] (the checksum and script hash). */
 uint64_t statefile_hash(const char *data, size_t len);
 
+/* Why the loader refuses a state file whose clock is [c] (a static text:
+ * frame beyond 0..2^53, a time or beat that is not finite, a period or
+ * quantum that is not positive and finite), or NULL when it reads it. */
+const char *statefile_clock_refused(const StateClock *c);
+
 /* Write [sd] and [clock] to [path] atomically (temporary file in the same
  * directory, fsync, rename), so a crash mid-write leaves the old file;
  * [origin] (may be NULL) names the script in the file's `script` line.
+ * A clock the loader would refuse (statefile_clock_refused) is not
+ * written: the file is left as it was.
  *   errors: returns -1 with `PATH: error: REASON` in [err]; 0 on success;
  *           [*skipped] (if non-NULL) counts entries that could not be
  *           stored (nodes, functions). */

@@ -393,6 +393,70 @@ static void test_round_trip_property(void **s)
     unlink(path);
 }
 
+/* The saver writes only what its loader reads (issue 59): clocks drawn
+ * from the extremes of every field (frames around 0 and 2^53 and past
+ * them; times, beats, periods and quanta at 0, -0, the smallest and
+ * largest doubles, infinities, NaN) are either saved and read back bit
+ * for bit, or refused by the saver with the loader's reason, leaving the
+ * file that was there as it was. */
+static void test_clock_extremes_property(void **s)
+{
+    (void)s;
+    char path[64];
+    scratch_file(path, sizeof path);
+    static const long frames[] = {0, 1, (long)(INT64_C(1) << 53) - 1, (long)(INT64_C(1) << 53),
+                                  (long)(INT64_C(1) << 53) + 1, -1, (long)INT64_MAX, (long)INT64_MIN};
+    static const double xs[] = {0.0, -0.0, 5e-324, -5e-324, 1.7976931348623157e308,
+                                -1.7976931348623157e308, INFINITY, -INFINITY, NAN, 0.5, 60.0};
+    const size_t nx = sizeof xs / sizeof xs[0];
+    uint64_t r = 59;
+    int saved = 0, refused = 0;
+    for (int round = 0; round < 3000; round++) {
+        SymTab *st = symtab_new();
+        StateDict *sd = state_new();
+        Vec *k = vec_num1(1), *v = vec_num1((double)round);
+        state_set(sd, k, v);
+        vec_release(k);
+        vec_release(v);
+        /* each field an extreme one time in four, else an ordinary value */
+#define PICK(ordinary) (next_u64(&r) % 4 ? (ordinary) : xs[next_u64(&r) % nx])
+        StateClock c = {next_u64(&r) % 2 ? frames[next_u64(&r) % (sizeof frames / sizeof frames[0])] : 42,
+                        PICK(2.5), PICK(2.25), PICK(5.0), PICK(0.5), PICK(4.0), PICK(0.0)};
+#undef PICK
+        /* a file saved before, which a refused save must leave alone */
+        StateClock good = {7, 1, 0.5, 1, 0.5, 4, 0};
+        Buf err = BUF_INIT;
+        assert_int_equal(statefile_save(sd, st, &good, NULL, path, NULL, &err), 0);
+        const char *why = statefile_clock_refused(&c);
+        int rc = statefile_save(sd, st, &c, NULL, path, NULL, &err);
+        SymTab *st2 = symtab_new();
+        StateDict *back = state_new();
+        StateClock c2;
+        Buf lerr = BUF_INIT;
+        int lrc = statefile_load(back, st2, &c2, NULL, path, &lerr);
+        if (lrc != 0) fail_msg("round %d: the saved file does not load: %s", round, buf_cstr(&lerr));
+        if (rc == 0) {
+            if (why) fail_msg("round %d: saved a clock the loader refuses (%s)", round, why);
+            assert_memory_equal(&c2, &c, sizeof c);
+            saved++;
+        } else {
+            assert_non_null(why);
+            assert_non_null(strstr(buf_cstr(&err), why));
+            assert_memory_equal(&c2, &good, sizeof good);   /* the old file */
+            refused++;
+        }
+        buf_free(&err);
+        buf_free(&lerr);
+        state_free(sd);
+        state_free(back);
+        symtab_free(st);
+        symtab_free(st2);
+    }
+    /* both outcomes are exercised */
+    assert_true(saved > 100 && refused > 100);
+    unlink(path);
+}
+
 /* Every single-bit flip of a saved file is refused, and leaves the
  * dictionary as it was. */
 static void test_bit_flips(void **s)
@@ -460,6 +524,7 @@ int main(void)
         cmocka_unit_test(test_range_checks),
         cmocka_unit_test(test_round_trip_property),
         cmocka_unit_test(test_bit_flips),
+        cmocka_unit_test(test_clock_extremes_property),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
