@@ -274,6 +274,11 @@ FL_API long fl_frame_count(const fl_runtime *rt);
 /* The `time` of the last evaluated frame, in seconds (0 before the first;
  * NaN for a NULL [rt], as in the next two). */
 FL_API double fl_frame_time(const fl_runtime *rt);
+/* The `time` the next frame will have, in seconds: 0 (or a restored
+ * state's clock) before the first, then the last frame's plus 1/fps, or
+ * the wall clock's after a slow realtime frame (Flitter's frame_time, by
+ * which its --runtime counts). NaN for a NULL [rt]. */
+FL_API double fl_next_frame_time(const fl_runtime *rt);
 /* The frame rate the runtime steps at, in frames per second: the `fps`
  * option, or the loaded program's `%pragma fps` once a frame has applied
  * it. A realtime embedder paces fl_step with fl_frame_wait(). */

@@ -1117,6 +1117,8 @@ long fl_frame_count(const fl_runtime *rt) { return rt ? rt->frame : -1; }
 double fl_frame_time(const fl_runtime *rt) { return rt ? rt->last_time : NAN; }
 double fl_target_fps(const fl_runtime *rt) { return rt ? rt->target_fps : NAN; }
 
+double fl_next_frame_time(const fl_runtime *rt) { return rt ? rt->frame_time : NAN; }
+
 double fl_frame_wait(const fl_runtime *rt)
 {
     if (!rt) return NAN;

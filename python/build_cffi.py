@@ -37,6 +37,7 @@ int fl_load_text(fl_runtime *rt, const char *name, const char *text, size_t len)
 int fl_step(fl_runtime *rt);
 long fl_frame_count(const fl_runtime *rt);
 double fl_frame_time(const fl_runtime *rt);
+double fl_next_frame_time(const fl_runtime *rt);
 long fl_state_get(fl_runtime *rt, const char *key_text, char *buf, size_t cap);
 int fl_state_set(fl_runtime *rt, const char *key_text, const char *value_text);
 int fl_state_set_numbers(fl_runtime *rt, const char *key_text, const double *values, size_t n);

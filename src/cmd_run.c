@@ -61,6 +61,9 @@ int cmd_run(int argc, char **argv)
                            stderr);
     if (rc == 0 && spec.verbosity >= 1)   /* --verbose: Flitter logs its version */
         fprintf(stderr, "flitter: flitter-c %s\n", FLITTER_VERSION);
+    /* Flitter's command line runs on the wall clock unless --lockstep,
+     * in a window, --offscreen or headless */
+    if (rc == 0 && flitter_line && !spec.clock_given) spec.realtime = true;
     if (rc == 0) rc = runspec_check_outputs(&spec, stderr);
     if (rc == 0) {
         catch_signals();

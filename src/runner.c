@@ -65,7 +65,8 @@ static void run_usage(FILE *f)
           "                      filter) to stdout and stop\n"
           "  --dump-ast          print the script's syntax tree as parsed (before the\n"
           "                      simplifier) to stdout and stop\n"
-          "  --runtime T         run round(T*fps) frames (T seconds of frame clock); T\n"
+          "  --runtime T         run T seconds of the clock: round(T*fps) frames in\n"
+          "                      lockstep, T seconds of wall clock when realtime; T\n"
           "                      is seconds (2.5) or Flitter's time code M:S or H:M:S\n"
           "                      (0:05, 1:02:03.5)\n"
           "  Log levels (Flitter's; give at most one):\n"
@@ -417,6 +418,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
     }
     for (int i = 0; i < 3; i++)
         if (notes[i] && spec->verbosity >= 0) fprintf(err, "flitter: %s\n", no_effect_note[i]);
+    spec->runtime_clock = spec->runtime >= 0 && !frames_given;
     if (spec->runtime >= 0 && !frames_given) {   /* as Flitter: round(T*fps) frames */
         double frames = spec->runtime * spec->fps;
         if (!(frames < 1e15)) {
@@ -507,6 +509,12 @@ static void show_progress(long done, long total, double elapsed)
     bar[width] = '\0';
     fprintf(stderr, "\r[%s] %ld/%ld frames  %.0f frames/s  ETA %.1fs ", bar, done, total, rate, eta);
     fflush(stderr);
+}
+
+bool runspec_runtime_over(const RunSpec *spec, const fl_runtime *rt, double start)
+{
+    double fps = fl_target_fps(rt);
+    return round((fl_next_frame_time(rt) - start) * fps) >= round(spec->runtime * fps);
 }
 
 void runspec_print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *second,
@@ -699,7 +707,11 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
     bool clock_ended = false;
     fl_stats first = {0}, second = {0}, traced = {0};
     struct timespec mtime = file_mtime(spec->script), bad_mtime = {0, 0};
-    while (!(interrupt && *interrupt) && (spec->frames < 0 || ran < spec->frames)) {
+    /* --runtime on a realtime clock counts the clock's seconds, not frames */
+    bool by_clock = spec->realtime && spec->runtime_clock;
+    double clock_start = fl_next_frame_time(rt);
+    while (!(interrupt && *interrupt) &&
+           (by_clock ? !runspec_runtime_over(spec, rt, clock_start) : spec->frames < 0 || ran < spec->frames)) {
         if (spec->realtime) {
             /* live reload: re-read the script when it changes; a broken
              * version is reported once and the last good one keeps running */
@@ -770,7 +782,7 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
         }
     }
     prefault_stop(pf);
-    *finished = spec->frames >= 0 && ran >= spec->frames;
+    *finished = by_clock ? runspec_runtime_over(spec, rt, clock_start) : spec->frames >= 0 && ran >= spec->frames;
     if (spec->progress && ran > 0) fputs("\n", stderr);
     if (spec->stats) runspec_print_stats(rt, &first, &second, now_seconds() - start, &load, log);
     int rc = clock_ended ? EXIT_LOAD : EXIT_OK;

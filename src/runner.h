@@ -35,6 +35,10 @@ typedef struct RunSpec {
     int particles;        /* --particles literal|fast: FL_PARTICLES_*, default FL_PARTICLES_DEFAULT */
     int physics;          /* --physics documented|upstream: FL_PHYSICS_* */
     double runtime;       /* --runtime T seconds (sets frames), or -1 */
+    bool runtime_clock;   /* --runtime without --frames: on a realtime clock the
+                             run ends when the clock has run T seconds
+                             (runspec_runtime_over), in lockstep after
+                             round(T*fps) frames */
     int verbosity;        /* Flitter's log levels: --quiet -1, default 0,
                              --verbose 1, --debug 2, --trace 3 */
     const char *view;     /* --view FILE (.png/.svg/.gif), or NULL */
@@ -136,6 +140,12 @@ typedef struct LoadTimes {
  * lists: the first frame's tree is still alive while the second is built,
  * and physics builds its tables), [loop] the wall time of the frame loop
  * in seconds, [load] the times of its loads (NULL: no load line). */
+/* A realtime run's --runtime: true once the clock's next frame is T
+ * seconds or more past [start] (its next frame time when the run began),
+ * in frames of the current rate, as Flitter's EngineController.run counts:
+ * round((next - start) * fps) >= round(T * fps). */
+bool runspec_runtime_over(const RunSpec *spec, const fl_runtime *rt, double start);
+
 void runspec_print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *second,
                          double loop, const LoadTimes *load, FILE *log);
 

@@ -129,6 +129,7 @@ typedef struct Page {
     char *state_path;        /* --state file of this page, or NULL */
     fl_outputs *outs;        /* its !record pictures (and --view/--trace: page 1) */
     long ran;                /* frames stepped on this page in this run */
+    double clock_start;      /* its next frame's time when the run began (--runtime) */
     fl_stats first, second;  /* its statistics after its first and second frames (--stats) */
     LoadTimes load;          /* its load and live reloads (--stats) */
     bool gl;                 /* its windows draw with the frame loop's OpenGL context (fl_gl_attach) */

@@ -119,6 +119,7 @@ static int open_pages(Loop *L)
                 return EXIT_LOAD;
             }
         }
+        p->clock_start = fl_next_frame_time(p->rt);
         fl_output_options oo = {0};
         if (i == 0)
             oo = (fl_output_options){.view = spec->view, .view_every = spec->view_every,
@@ -530,7 +531,11 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
         update_status(L, true);
     }
     publish_overlay(L);
-    if (spec->frames >= 0 && L->ran >= spec->frames) return false;
+    if (L->realtime && spec->runtime_clock) {   /* --runtime: seconds of the clock */
+        if (runspec_runtime_over(spec, p->rt, p->clock_start)) return false;
+    } else if (spec->frames >= 0 && L->ran >= spec->frames) {
+        return false;
+    }
     /* pacing (EngineController.run, through fl_frame_wait): realtime
      * frames 1/fps apart, a slow frame restarts the schedule from now;
      * lockstep (which also waits for the display in draw_frame) 1 ms,

@@ -346,6 +346,19 @@ NULL_TEST(fl_frame_time)
     fl_free(rt);
 }
 
+NULL_TEST(fl_next_frame_time)
+{
+    (void)unused;
+    assert_true(isnan(fl_next_frame_time(NULL)));
+    fl_runtime *rt = loaded();   /* frames 0 and 1 run: the next is at 2/60 */
+    double next = fl_next_frame_time(rt);
+    assert_true(next == 1.0 / 60 + 1.0 / 60);
+    assert_int_equal(fl_step(rt), 0);
+    assert_true(fl_frame_time(rt) == next);
+    assert_true(fl_next_frame_time(rt) == next + 1.0 / 60);
+    fl_free(rt);
+}
+
 NULL_TEST(fl_target_fps)
 {
     (void)unused;
@@ -966,7 +979,7 @@ static const struct CMUnitTest tests[] = {
     T(fl_version), T(fl_default_options), T(fl_parse_memory), T(fl_parse_pairs),
     T(fl_parse_particles), T(fl_parse_physics), T(fl_parse_view_axes), T(fl_new), T(fl_free), T(fl_error), T(fl_define), T(fl_define_numbers),
     T(fl_load),
-    T(fl_load_text), T(fl_step), T(fl_frame_count), T(fl_frame_time), T(fl_target_fps),
+    T(fl_load_text), T(fl_step), T(fl_frame_count), T(fl_frame_time), T(fl_next_frame_time), T(fl_target_fps),
     T(fl_frame_wait), T(fl_clock_pause), T(fl_state_get), T(fl_state_get_numbers),
     T(fl_state_set), T(fl_state_set_numbers), T(fl_state_count), T(fl_state_iterate),
     T(fl_reset_state), T(fl_save_state), T(fl_restore_state), T(fl_dump_state),

@@ -131,7 +131,8 @@ int record_target(Graph *g, GlTarget *t, const RecordSpec *s, char *err, size_t 
         }
         cairo_surface_mark_dirty(pic);
         make_folders(s->path);
-        rc = recorder_write(g->rec, s, pic, g->f ? g->f->fps : 60, err, errlen);
+        RecordClock clock = {g->f ? g->f->fps : 60, g->f ? g->f->time : 0, g->f && g->f->realtime};
+        rc = recorder_write(g->rec, s, pic, &clock, err, errlen);
     }
     cairo_surface_destroy(pic);
     return rc;

@@ -30,6 +30,8 @@ typedef struct Slot {
     GifOut *gif;      /* an animation, or NULL */
     VideoOut *video;  /* a video, or NULL */
     long max_frames;  /* video frames to write (limit=), or -1: no limit */
+    double start;     /* the frame clock's time at the video's first frame */
+    long last_pts;    /* the last frame's presentation time, in frames */
     bool done;        /* finished by its limit: later frames are ignored */
     char *error;      /* the video could not be started: this message */
 } Slot;
@@ -124,8 +126,8 @@ static int write_jpeg(const RecordSpec *s, cairo_surface_t *pic, char *err, size
     VideoOut *v = video_open(s->path, w, h, 25, &vs, err, errlen, unused, sizeof unused);
     if (!v) return -1;
     char why[600];
-    int rc = video_frame(v, cairo_image_surface_get_data(pic), w, h, cairo_image_surface_get_stride(pic), why,
-                         sizeof why);
+    int rc = video_frame(v, cairo_image_surface_get_data(pic), w, h, cairo_image_surface_get_stride(pic), 0,
+                         false, why, sizeof why);
     if (rc != 0) snprintf(err, errlen, "%s", why);
     if (video_close(v, why, sizeof why) != 0) {
         if (rc == 0) snprintf(err, errlen, "%s", why);
@@ -184,8 +186,22 @@ static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, d
     return 0;
 }
 
-static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err,
-                       size_t errlen)
+/* Finish [slot]'s video now (its limit), as Flitter does. */
+static int finish_video(Slot *slot, char *err, size_t errlen)
+{
+    slot->done = true;
+    char why[600];
+    int closed = video_close(slot->video, why, sizeof why);
+    slot->video = NULL;
+    if (closed != 0) {
+        snprintf(err, errlen, "%s", why);
+        return -1;
+    }
+    return 0;
+}
+
+static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, const RecordClock *clock,
+                       char *err, size_t errlen)
 {
     Slot *slot = find_slot(rec, s->path);
     if (slot && slot->error) {
@@ -194,6 +210,7 @@ static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic,
     }
     if (slot && slot->done) return 0;
     int rc = 0;
+    double fps = clock->fps, ifps = fps >= 1 && fps <= 1000 ? floor(fps) : fps > 1000 ? 1000 : 1;
     if (!slot) {
         char unused[256];
         VideoSpec vs = {.codec = s->codec, .pixfmt = s->pixfmt, .keep_alpha = s->keep_alpha,
@@ -206,8 +223,9 @@ static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic,
         }
         slot = add_slot(rec, s->path);
         slot->video = v;
+        slot->start = clock->time;
+        slot->last_pts = -1;
         if (s->limit >= 0) {   /* Flitter: frames up to round(limit * fps) */
-            double ifps = fps >= 1 && fps <= 1000 ? floor(fps) : fps > 1000 ? 1000 : 1;
             double m = round(s->limit * ifps);
             slot->max_frames = m < 1e15 ? (long)m : -1;
         }
@@ -216,24 +234,33 @@ static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic,
             rc = 1;
         }
     }
-    if (slot->max_frames < 0 || video_frames(slot->video) < slot->max_frames) {
-        char why[600];
-        if (video_frame(slot->video, cairo_image_surface_get_data(pic), cairo_image_surface_get_width(pic),
-                        cairo_image_surface_get_height(pic), cairo_image_surface_get_stride(pic), why,
-                        sizeof why) != 0) {
-            snprintf(err, errlen, "%s", why);
-            return -1;
+    /* the frame's presentation time: one frame a frame in lockstep; on
+     * the wall clock its time since the first frame (Flitter cache.py),
+     * so the video lasts as long as the run; a frame in the same slot of
+     * time as the last is dropped */
+    long pts = slot->last_pts + 1;
+    if (clock->realtime) {
+        double t = round((clock->time - slot->start) * ifps);
+        if (!(t > (double)slot->last_pts)) return rc;
+        pts = t < 1e15 ? (long)t : slot->last_pts + 1;
+        if (slot->max_frames >= 0 && pts >= slot->max_frames) {   /* past the limit */
+            int closed = finish_video(slot, err, errlen);
+            return closed != 0 ? closed : rc;
         }
     }
-    if (slot->max_frames >= 0 && video_frames(slot->video) >= slot->max_frames) {
-        slot->done = true;   /* the limit: finish the file now, as Flitter does */
+    if (slot->max_frames < 0 || pts < slot->max_frames) {
         char why[600];
-        int closed = video_close(slot->video, why, sizeof why);
-        slot->video = NULL;
-        if (closed != 0) {
+        if (video_frame(slot->video, cairo_image_surface_get_data(pic), cairo_image_surface_get_width(pic),
+                        cairo_image_surface_get_height(pic), cairo_image_surface_get_stride(pic), pts,
+                        clock->realtime, why, sizeof why) != 0) {
             snprintf(err, errlen, "%s", why);
             return -1;
         }
+        slot->last_pts = pts;
+    }
+    if (!clock->realtime && slot->max_frames >= 0 && slot->last_pts + 1 >= slot->max_frames) {
+        int closed = finish_video(slot, err, errlen);
+        if (closed != 0) return closed;
     }
     return rc;
 }
@@ -274,8 +301,10 @@ static bool replaceable(const char *path, FileKind kind, char *err, size_t errle
     return ok;
 }
 
-int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err, size_t errlen)
+int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, const RecordClock *clock, char *err,
+                   size_t errlen)
 {
+    double fps = clock->fps;
     cairo_surface_flush(pic);
     /* Flitter record.py: a .gif with codec=:gif is an animation, without
      * it a picture; a .png or .jpg name stays a still picture whatever the
@@ -296,7 +325,7 @@ int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, dou
     if (still_gif) return write_still_gif(s, pic, err, errlen);
     if (png) return write_png(s, pic, err, errlen);
     if (jpeg) return write_jpeg(s, pic, err, errlen);
-    if (video_is_video_name(s->path)) return write_video(rec, s, pic, fps, err, errlen);
+    if (video_is_video_name(s->path)) return write_video(rec, s, pic, clock, err, errlen);
     snprintf(err, errlen, "%s: only .png, .jpg and .gif pictures and .gif animations are written, and .mp4, .mov, "
              ".m4v, .mkv and .webm videos; !record skipped", s->path);
     return -1;

@@ -44,11 +44,22 @@ typedef struct RecordSpec {
     size_t noptions;
 } RecordSpec;
 
+/* The clock of the frame a picture belongs to. */
+typedef struct RecordClock {
+    double fps;                 /* the frame rate (GIF delays, the video's time base) */
+    double time;                /* the frame's `time`, seconds */
+    bool realtime;              /* the clock follows the wall clock (a live run) */
+} RecordClock;
+
 /* A recorder with nothing open. */
 Recorder *recorder_new(void);
 /* Write picture [pic] (an ARGB32 image surface, premultiplied) of one
- * frame as [s] asks; [fps] is the frame rate (GIF delays, video time
- * base).
+ * frame as [s] asks, on [clock]. A video's frames are one a frame in
+ * lockstep; on a realtime clock each is stamped with its time since the
+ * video's first frame (in frames of 1/fps, as Flitter's cache.py stamps
+ * them), a frame in the same slot as the last is dropped, and one the
+ * encoder is too far behind to take is dropped too, so the video lasts as
+ * long as the run and recording never holds the frame loop.
  *   errors: -1 with one line "PATH: REASON" in [err] ([errlen] bytes)
  *           when the file cannot be written this frame (a video that could
  *           not be started fails each later frame too, without retrying);
@@ -56,8 +67,8 @@ Recorder *recorder_new(void);
  *           K1,K2" in [err] in the frame a video starts with options the
  *           encoder does not know (it is still written); else 0. Never
  *           aborts. */
-int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err,
-                   size_t errlen);
+int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, const RecordClock *clock,
+                   char *err, size_t errlen);
 /* Finish the animations and videos still open (each renamed into place),
  * and free [rec] (NULL is a no-op).
  *   errors: -1 when any could not be finished, with the last such message

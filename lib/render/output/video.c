@@ -4,9 +4,19 @@
  * guessed from the target's name) writing to a temporary (outfile.h), one
  * video stream, its encoder context, a scaler converting cairo's ARGB32
  * pictures to the encoder's pixel format and size, and one reusable frame
- * and packet. The encoder's time base is 1/fps and frame i carries pts i;
- * packets are rescaled to the stream's time base, which the muxer may
- * change at avformat_write_header (MP4 does).
+ * and packet. The encoder's time base is 1/fps and each frame carries the
+ * pts its caller gives (its time in frames); packets are rescaled to the
+ * stream's time base, which the muxer may change at avformat_write_header
+ * (MP4 does).
+ *
+ * The converting, encoding and writing run on a writer thread of the
+ * VideoOut's own, as Flitter's video writer does: video_frame copies the
+ * picture into a queue of VIDEO_QUEUE frames and returns. A full queue
+ * makes the caller wait (every frame encoded: lockstep) or, when asked,
+ * drops the frame (the live window's clock never waits for the encoder).
+ * The writer alone touches the scaler, encoder and container between
+ * video_open and video_close; the queue, the failure flag and its message
+ * are under the VideoOut's lock.
  *
  * FFmpeg logs through its own process-wide callback to stderr; libx264
  * alone prints a dozen information lines per file. When the level is still
@@ -16,6 +26,7 @@
  */
 #include "video.h"
 
+#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,6 +36,17 @@
 #include "avlib.h"
 #include "mem.h"
 #include "outfile.h"
+
+/* Frames waiting for the writer (Flitter's writer queue holds fps frames;
+ * these are whole ARGB pictures, so fewer). */
+#define VIDEO_QUEUE 8
+
+/* One picture waiting for the writer: a copy of the caller's ARGB32. */
+typedef struct QueuedFrame {
+    uint8_t *argb;              /* width*4 bytes a row, malloc'd */
+    int width, height;
+    long pts;
+} QueuedFrame;
 
 struct VideoOut {
     AvLib *L;                   /* FFmpeg's functions (avlib.h) */
@@ -39,8 +61,18 @@ struct VideoOut {
     bool alpha;                 /* the output keeps alpha: sources are unpremultiplied first */
     uint8_t *straight;          /* unpremultiplied copy of a source (alpha only) */
     size_t straight_cap;        /* its size in bytes */
-    long frames;                /* frames sent to the encoder */
-    bool failed;                /* a frame failed: discard the file at close */
+    long frames;                /* frames queued for the encoder */
+    long dropped;               /* frames dropped on a full queue */
+    /* the writer thread and its queue */
+    pthread_t writer;
+    bool writer_started;
+    pthread_mutex_t lock;
+    pthread_cond_t changed;     /* a frame queued or taken, or closing */
+    QueuedFrame queue[VIDEO_QUEUE];
+    int qhead, qcount;
+    bool closing;               /* no more frames: the writer ends */
+    bool failed;                /* a frame failed: discard the file at close (locked) */
+    char why[600];              /* the first failure's message (locked) */
 };
 
 static const char *const containers[] = {".mp4", ".mov", ".m4v", ".mkv", ".webm"};
@@ -147,6 +179,11 @@ static void free_video(VideoOut *v)
     L->av_frame_free(&v->frame);
     L->av_packet_free(&v->pkt);
     free(v->straight);
+    for (int i = 0; i < v->qcount; i++) free(v->queue[(v->qhead + i) % VIDEO_QUEUE].argb);
+    if (v->writer_started) {
+        pthread_mutex_destroy(&v->lock);
+        pthread_cond_destroy(&v->changed);
+    }
     free(v->L);
     free(v);
 }
@@ -206,6 +243,8 @@ static bool open_encoder(VideoOut *v, const AVCodec *c, const VideoSpec *spec, i
     v->alpha = (desc->flags & AV_PIX_FMT_FLAG_ALPHA) != 0;
     return true;
 }
+
+static void *writer_main(void *arg);
 
 VideoOut *video_open(const char *path, int width, int height, double fps, const VideoSpec *spec, char *err,
                      size_t errlen, char *unused, size_t unusedlen)
@@ -299,6 +338,16 @@ VideoOut *video_open(const char *path, int width, int height, double fps, const 
         free_video(v);
         return NULL;
     }
+    pthread_mutex_init(&v->lock, NULL);
+    pthread_cond_init(&v->changed, NULL);
+    if (pthread_create(&v->writer, NULL, writer_main, v) != 0) {
+        pthread_mutex_destroy(&v->lock);
+        pthread_cond_destroy(&v->changed);
+        snprintf(err, errlen, "%s: cannot start the video's writer thread", path);
+        free_video(v);
+        return NULL;
+    }
+    v->writer_started = true;
     return v;
 }
 
@@ -337,14 +386,12 @@ static void unpremultiply(uint32_t *dst, const uint32_t *src, int n)
     }
 }
 
-int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, int stride, char *err,
-                size_t errlen)
+/* Convert and encode queued picture [q] (on the writer thread); -1 with
+ * [err] set on failure. */
+static int encode_picture(VideoOut *v, const QueuedFrame *q, char *err, size_t errlen)
 {
     const AvLib *L = v->L;
-    if (v->failed) {
-        snprintf(err, errlen, "%s: an earlier video frame failed", v->out.target);
-        return -1;
-    }
+    int width = q->width, height = q->height, stride = width * 4;
     if (!v->sws || v->sws_w != width || v->sws_h != height) {
         L->sws_freeContext(v->sws);
         v->sws = L->sws_getContext(width, height, AV_PIX_FMT_RGB32, v->cc->width, v->cc->height, v->cc->pix_fmt,
@@ -352,7 +399,6 @@ int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, i
         if (!v->sws) {
             snprintf(err, errlen, "%s: cannot convert %dx%d frames to %s", v->out.target, width, height,
                      L->av_get_pix_fmt_name(v->cc->pix_fmt));
-            v->failed = true;
             return -1;
         }
         /* full-range RGB in; YUV out as the stream's tags say: BT.709
@@ -363,8 +409,7 @@ int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, i
         v->sws_w = width;
         v->sws_h = height;
     }
-    const uint8_t *src = argb;
-    int src_stride = stride;
+    const uint8_t *src = q->argb;
     if (v->alpha) {
         size_t need = (size_t)width * 4 * (size_t)height;
         if (need > v->straight_cap) {
@@ -373,18 +418,67 @@ int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, i
             v->straight_cap = need;
         }
         for (int y = 0; y < height; y++)
-            unpremultiply((uint32_t *)(void *)(v->straight + (size_t)y * (size_t)width * 4),
-                          (const uint32_t *)(const void *)(argb + (size_t)y * (size_t)stride), width);
+            unpremultiply((uint32_t *)(void *)(v->straight + (size_t)y * (size_t)stride),
+                          (const uint32_t *)(const void *)(q->argb + (size_t)y * (size_t)stride), width);
         src = v->straight;
-        src_stride = width * 4;
     }
     if (L->av_frame_make_writable(v->frame) < 0) mem_oom();
-    L->sws_scale(v->sws, &src, &src_stride, 0, height, v->frame->data, v->frame->linesize);
-    v->frame->pts = v->frames;
-    if (encode(v, v->frame, err, errlen) != 0) {
-        v->failed = true;
-        return -1;
+    L->sws_scale(v->sws, &src, &stride, 0, height, v->frame->data, v->frame->linesize);
+    v->frame->pts = q->pts;
+    return encode(v, v->frame, err, errlen);
+}
+
+/* The writer thread: encode the queued pictures in order until closing
+ * and the queue is empty; after a failure, the rest are taken and freed
+ * unencoded. */
+static void *writer_main(void *arg)
+{
+    VideoOut *v = arg;
+    pthread_mutex_lock(&v->lock);
+    for (;;) {
+        while (v->qcount == 0 && !v->closing) pthread_cond_wait(&v->changed, &v->lock);
+        if (v->qcount == 0) break;
+        QueuedFrame q = v->queue[v->qhead];
+        v->qhead = (v->qhead + 1) % VIDEO_QUEUE;
+        v->qcount--;
+        bool failed = v->failed;
+        pthread_cond_broadcast(&v->changed);
+        pthread_mutex_unlock(&v->lock);
+        char why[600];
+        int rc = failed ? 0 : encode_picture(v, &q, why, sizeof why);
+        free(q.argb);
+        pthread_mutex_lock(&v->lock);
+        if (rc != 0 && !v->failed) {
+            v->failed = true;
+            snprintf(v->why, sizeof v->why, "%s", why);
+        }
     }
+    pthread_mutex_unlock(&v->lock);
+    return NULL;
+}
+
+int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, int stride, long pts,
+                bool drop_when_busy, char *err, size_t errlen)
+{
+    pthread_mutex_lock(&v->lock);
+    bool failed = v->failed, full = v->qcount == VIDEO_QUEUE;
+    if (failed) snprintf(err, errlen, "%s", v->why);
+    pthread_mutex_unlock(&v->lock);
+    if (failed) return -1;
+    if (full && drop_when_busy) {
+        v->dropped++;
+        return 0;
+    }
+    QueuedFrame q = {malloc((size_t)width * 4 * (size_t)height), width, height, pts};
+    if (!q.argb) mem_oom();
+    for (int y = 0; y < height; y++)
+        memcpy(q.argb + (size_t)y * (size_t)width * 4, argb + (size_t)y * (size_t)stride, (size_t)width * 4);
+    pthread_mutex_lock(&v->lock);
+    while (v->qcount == VIDEO_QUEUE) pthread_cond_wait(&v->changed, &v->lock);
+    v->queue[(v->qhead + v->qcount) % VIDEO_QUEUE] = q;
+    v->qcount++;
+    pthread_cond_broadcast(&v->changed);
+    pthread_mutex_unlock(&v->lock);
     v->frames++;
     return 0;
 }
@@ -397,8 +491,18 @@ int video_close(VideoOut *v, char *err, size_t errlen)
 {
     if (!v) return 0;
     const AvLib *L = v->L;
+    pthread_mutex_lock(&v->lock);
+    v->closing = true;
+    pthread_cond_broadcast(&v->changed);
+    pthread_mutex_unlock(&v->lock);
+    pthread_join(v->writer, NULL);   /* every queued frame encoded */
     int rc = v->failed ? -1 : 0;
-    if (rc != 0) snprintf(err, errlen, "%s: a video frame failed; the video is not written", v->out.target);
+    if (rc != 0)
+        snprintf(err, errlen, "%s; the video is not written", v->why);
+    if (rc == 0 && v->frames == 0) {   /* (limit=0): an empty container is no video */
+        snprintf(err, errlen, "%s: no frame was recorded; the video is not written", v->out.target);
+        rc = -1;
+    }
     if (rc == 0) rc = encode(v, NULL, err, errlen);
     if (rc == 0 && L->av_write_trailer(v->oc) < 0) {
         snprintf(err, errlen, "%s: cannot finish the video", v->out.target);

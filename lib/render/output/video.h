@@ -13,9 +13,10 @@
  * keep_alpha=true where the encoder takes it, e.g. VP9, else yuv420p),
  * BT.709 limited range and tagged so (as Flitter does); a frame whose size
  * differs from the first is scaled to the first's size; 4:2:0 formats need
- * even sides, so an odd side is encoded one pixel larger (scaled). Frame i
- * has presentation time i in a time base of 1/fps (fps truncated to an
- * integer in 1..1000, as Flitter's int(fps)). The other attributes are the encoder's
+ * even sides, so an odd side is encoded one pixel larger (scaled). A frame
+ * has the presentation time its caller gives, in a time base of 1/fps (fps
+ * truncated to an integer in 1..1000, as Flitter's int(fps)); frames are
+ * encoded on a thread of the video's own. The other attributes are the encoder's
  * FFmpeg options (crf=, preset=, profile=, b= in bit/s, g=, ...; `__` in a
  * name stands for `-`), as in Flitter; bitrate= is taken as FFmpeg's `b`
  * (bits per second). Flitter sets no preset or crf of its own: the
@@ -62,15 +63,20 @@ bool video_is_video_name(const char *path);
  *           ([unusedlen] bytes, comma separated, "" when none). */
 VideoOut *video_open(const char *path, int width, int height, double fps, const VideoSpec *spec,
                      char *err, size_t errlen, char *unused, size_t unusedlen);
-/* Encode one frame: [argb] is cairo's ARGB32 layout (native-endian
- * 0xAARRGGBB words, premultiplied alpha, [stride] bytes per row) of
- * [width] x [height] pixels; without alpha in the output it is taken as
- * composited over black (the colour bytes as they are).
- *   errors: -1 with [err] set when encoding or writing fails (the video
- *           is then discarded at video_close), else 0. */
-int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, int stride, char *err,
-                size_t errlen);
-/* Frames encoded so far. */
+/* Queue one frame for [v]'s writer thread, which converts and encodes
+ * it: [argb] is cairo's ARGB32 layout (native-endian 0xAARRGGBB words,
+ * premultiplied alpha, [stride] bytes per row) of [width] x [height]
+ * pixels, copied before the call returns; without alpha in the output it
+ * is taken as composited over black (the colour bytes as they are). [pts]
+ * is the frame's presentation time in frames (1/fps), greater than the
+ * last frame's. When the writer is VIDEO_QUEUE frames behind, the call
+ * waits for it, or with [drop_when_busy] drops the frame (returns 0).
+ *   errors: -1 with [err] set once an earlier frame failed to encode or
+ *           be written (the video is then discarded at video_close),
+ *           else 0. */
+int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, int stride, long pts,
+                bool drop_when_busy, char *err, size_t errlen);
+/* Frames queued so far (dropped ones not counted). */
 long video_frames(const VideoOut *v);
 /* The FFmpeg name of [v]'s encoder (e.g. "libx264"; borrowed, lives as
  * long as the process). */
