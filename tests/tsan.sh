@@ -8,7 +8,8 @@
 # every physics golden, the loop kernels' route tests (1 to 3 threads),
 # the window's two-thread row split (halves.h), the
 # benchmark scenes for a few frames on 2 threads, the decoding threads of
-# pictures and videos (test_media), and the live window's two threads
+# pictures and videos (test_media), a video's writer thread, and the live
+# window's two threads
 # under Xvfb (a physics view, and a !window drawn by the render graph with
 # the two OpenGL contexts), each as one test that fails on any report.
 # tests/tsan.supp leaves out the reports inside Mesa, LLVM and FFmpeg,
@@ -55,6 +56,16 @@ bloom_picture() {
         "$tmpd/bloom.fl" && [ -s "$tmpd/bloom.png" ]
 }
 check window/bloom bloom_picture
+# a video's writer thread (lib/render/output/video.c): every frame queued
+# and waited for in lockstep; stamped on the wall clock and dropped on a
+# full queue when realtime
+video() {   # video MODE
+    rm -f "$tmpd/v.mp4"
+    "$build/src/flitter" --offscreen "--$1" --fps=30 --runtime=1 --define "OUTPUT=$tmpd/v.mp4" \
+        "$tmpd/bloom.fl" && [ -s "$tmpd/v.mp4" ]
+}
+check video/lockstep video lockstep
+check video/realtime video realtime
 rm -rf "$tmpd"
 while read -r script opts; do
     case "$script" in ''|'#'*) continue ;; esac
