@@ -25,7 +25,8 @@
  *
  * The run number is bound as the name `run` (`-D run=R`): a script that
  * gives its !physics `run=run` gets the random seed vector P;run;iteration
- * (PHYSICS-ENGINE.md §2 step 5), so the manifest's seed is R. Nothing here
+ * (PHYSICS-ENGINE.md §2 step 5), so the manifest's seed is R; a script
+ * that does not read `run` has an empty seed. Nothing here
  * goes through a shell: the job is spawned with an argument vector; the
  * printed lines are for the user's shell, quoted for it.
  */
@@ -385,6 +386,28 @@ static void put_received(FILE *f, const char *name, const char *text)
     fl_free(rt);
 }
 
+static void note_unbound_run(void *ctx, int kind, const char *line)
+{
+    (void)kind;
+    if (strstr(line, "Unbound name 'run'")) *(bool *)ctx = true;
+}
+
+/* Whether [script] reads the name `run` (the run number the job binds):
+ * loaded without it, its loader names `run` unbound. A script that does
+ * not read it has no seed from the run number. */
+static bool script_reads_run(const char *script, const Sweep *sw)
+{
+    bool reads = false;
+    fl_options o = fl_default_options();
+    o.log = note_unbound_run;
+    o.ctx = &reads;
+    fl_runtime *rt = fl_new(&o);
+    for (size_t i = 0; i < sw->nparams; i++) fl_define(rt, sw->params[i].name, sw->params[i].values[0]);
+    fl_load(rt, script);
+    fl_free(rt);
+    return reads;
+}
+
 /* The manifest's parameter lines, for comparing a re-run with the job:
  * each parameter as typed (`param`) and as the script receives it
  * (`value`). */
@@ -395,7 +418,10 @@ static void put_params(FILE *f, const Sweep *sw, const char *script, long run)
         fprintf(f, "param %s %s\n", sw->params[i].name, sw->params[i].values[0]);
         put_received(f, sw->params[i].name, sw->params[i].values[0]);
     }
-    fprintf(f, "run %ld\nseed %ld\n", run, run);
+    /* the seed is the run number only where the script reads `run`
+     * (!physics run=run: PHYSICS-ENGINE.md §2 step 5) */
+    if (script_reads_run(script, sw)) fprintf(f, "run %ld\nseed %ld\n", run, run);
+    else fprintf(f, "run %ld\nseed \n", run);
 }
 
 static int run_job(const Sweep *sw)

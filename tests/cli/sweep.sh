@@ -86,6 +86,13 @@ cmp -s "$dir/v/job-0000/final.state" "$dir/v/job-0001/final.state" && fail "stre
 "$flitter" sweep --collect "$dir/v" | cut -d, -f1-3 | tr '\n' ' ' |
     grep -qx 'job,strength,tag 0,-200, 1,1, 2,2000, ' || fail "CSV of received values"
 
+# a script that does not read `run` gets no seed from the run number
+printf '!physics state=:p dimensions=1\n    !particle id=1 position=0 velocity=v\n' >"$dir/norun.fl"
+"$flitter" sweep "$dir/norun.fl" -D v=1 --runs 2 --frames 2 --out "$dir/n" >"$dir/njobs" || fail "norun listing"
+bash "$dir/njobs" 2>/dev/null || fail "norun jobs"
+"$flitter" sweep --collect "$dir/n" | cut -d, -f1-4 | tr '\n' ' ' | grep -qx 'job,v,run,seed 0,1,0, 1,1,1, ' ||
+    fail "seed of a script without run: $("$flitter" sweep --collect "$dir/n")"
+
 # bad usage: exit 2 with a message
 "$flitter" sweep "$script" -D 'bad name=1' --frames 1 --out "$dir/x" 2>"$dir/err"
 [ $? -eq 2 ] && grep -q "bad define" "$dir/err" || fail "bad define accepted"
