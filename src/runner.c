@@ -511,10 +511,9 @@ static void show_progress(long done, long total, double elapsed)
     fflush(stderr);
 }
 
-bool runspec_runtime_over(const RunSpec *spec, const fl_runtime *rt, double start)
+bool runspec_runtime_over(const RunSpec *spec, double elapsed, double fps)
 {
-    double fps = fl_target_fps(rt);
-    return round((fl_next_frame_time(rt) - start) * fps) >= round(spec->runtime * fps);
+    return round(elapsed * fps) >= round(spec->runtime * fps);
 }
 
 void runspec_print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *second,
@@ -711,7 +710,8 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
     bool by_clock = spec->realtime && spec->runtime_clock;
     double clock_start = fl_next_frame_time(rt);
     while (!(interrupt && *interrupt) &&
-           (by_clock ? !runspec_runtime_over(spec, rt, clock_start) : spec->frames < 0 || ran < spec->frames)) {
+           (by_clock ? !runspec_runtime_over(spec, fl_next_frame_time(rt) - clock_start, fl_target_fps(rt))
+                     : spec->frames < 0 || ran < spec->frames)) {
         if (spec->realtime) {
             /* live reload: re-read the script when it changes; a broken
              * version is reported once and the last good one keeps running */
@@ -782,7 +782,8 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
         }
     }
     prefault_stop(pf);
-    *finished = by_clock ? runspec_runtime_over(spec, rt, clock_start) : spec->frames >= 0 && ran >= spec->frames;
+    *finished = by_clock ? runspec_runtime_over(spec, fl_next_frame_time(rt) - clock_start, fl_target_fps(rt))
+                         : spec->frames >= 0 && ran >= spec->frames;
     if (spec->progress && ran > 0) fputs("\n", stderr);
     if (spec->stats) runspec_print_stats(rt, &first, &second, now_seconds() - start, &load, log);
     int rc = clock_ended ? EXIT_LOAD : EXIT_OK;

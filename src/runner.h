@@ -140,11 +140,10 @@ typedef struct LoadTimes {
  * lists: the first frame's tree is still alive while the second is built,
  * and physics builds its tables), [loop] the wall time of the frame loop
  * in seconds, [load] the times of its loads (NULL: no load line). */
-/* A realtime run's --runtime: true once the clock's next frame is T
- * seconds or more past [start] (its next frame time when the run began),
- * in frames of the current rate, as Flitter's EngineController.run counts:
- * round((next - start) * fps) >= round(T * fps). */
-bool runspec_runtime_over(const RunSpec *spec, const fl_runtime *rt, double start);
+/* A realtime run's --runtime: true once the clock has run [elapsed]
+ * seconds, T or more in frames of [fps], as Flitter's EngineController.run
+ * counts: round(elapsed * fps) >= round(T * fps). */
+bool runspec_runtime_over(const RunSpec *spec, double elapsed, double fps);
 
 void runspec_print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *second,
                          double loop, const LoadTimes *load, FILE *log);

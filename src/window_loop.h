@@ -129,7 +129,6 @@ typedef struct Page {
     char *state_path;        /* --state file of this page, or NULL */
     fl_outputs *outs;        /* its !record pictures (and --view/--trace: page 1) */
     long ran;                /* frames stepped on this page in this run */
-    double clock_start;      /* its next frame's time when the run began (--runtime) */
     fl_stats first, second;  /* its statistics after its first and second frames (--stats) */
     LoadTimes load;          /* its load and live reloads (--stats) */
     bool gl;                 /* its windows draw with the frame loop's OpenGL context (fl_gl_attach) */
@@ -161,6 +160,7 @@ typedef struct Loop {
     bool overlay_changed;    /* the status or error text changed */
     bool dumped_last;        /* --dump-every dumped the last frame */
     long ran;                /* frames stepped, every page */
+    double clock_run;        /* seconds the clock ran over those frames, every page (--runtime) */
     long drawn, dropped;     /* frames whose pictures were drawn / dropped */
     double draw_seconds;     /* spent drawing pictures (fl_draw_window, fl_draw_view), in total */
     double wait_seconds;     /* the frame loop spent waiting (pacing, lockstep handover) */

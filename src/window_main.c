@@ -119,7 +119,6 @@ static int open_pages(Loop *L)
                 return EXIT_LOAD;
             }
         }
-        p->clock_start = fl_next_frame_time(p->rt);
         fl_output_options oo = {0};
         if (i == 0)
             oo = (fl_output_options){.view = spec->view, .view_every = spec->view_every,
@@ -479,10 +478,12 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
     bool stepped = false;
     if (!L->paused || L->steps > 0) {
         if (L->steps > 0) L->steps--;
+        double before = fl_next_frame_time(p->rt);
         int rc = fl_step(p->rt);
         if (rc < 0) fprintf(L->log, "%s: error: %s", p->script, fl_error(p->rt));   /* the clock's limit */
         if (rc != 0) return false;   /* interrupted inside the frame, or no further frame */
         stepped = true;
+        L->clock_run += fl_next_frame_time(p->rt) - before;
         L->ran++;
         p->ran++;
         if (p->ran == 1) fl_get_stats(p->rt, &p->first);
@@ -532,7 +533,7 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
     }
     publish_overlay(L);
     if (L->realtime && spec->runtime_clock) {   /* --runtime: seconds of the clock */
-        if (runspec_runtime_over(spec, p->rt, p->clock_start)) return false;
+        if (runspec_runtime_over(spec, L->clock_run, fl_target_fps(p->rt))) return false;
     } else if (spec->frames >= 0 && L->ran >= spec->frames) {
         return false;
     }
