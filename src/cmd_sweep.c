@@ -260,8 +260,50 @@ static char *self_path(void)
     return xstrdup(buf);
 }
 
+/* The byte of [path] a `#SBATCH` directive cannot carry (a control
+ * character, a blank, a quote or a backslash: sbatch reads the line's
+ * words itself, with no quoting a path could rely on), or 0 when none. */
+static int slurm_unsafe(const char *path)
+{
+    for (const unsigned char *p = (const unsigned char *)path; *p; p++)
+        if (*p < 0x20 || *p == 0x7f || *p == ' ' || *p == '"' || *p == '\'' || *p == '\\') return *p;
+    return 0;
+}
+
+/* [s] for a Slurm file name pattern: every `%` doubled (sbatch would read
+ * `%A`, `%j` ... in a folder's name as its own). */
+static void put_slurm_name(FILE *f, const char *s)
+{
+    for (; *s; s++) {
+        if (*s == '%') fputc('%', f);
+        fputc(*s, f);
+    }
+}
+
 static int list_jobs(const Sweep *sw)
 {
+    /* the folder's whole path goes into a #SBATCH line: checked before
+     * anything is made */
+    char cwd[PATH_MAX] = "";
+    if (sw->slurm && sw->out[0] != '/' && !getcwd(cwd, sizeof cwd)) cwd[0] = '\0';
+    int bad = sw->slurm ? (slurm_unsafe(cwd) ? slurm_unsafe(cwd) : slurm_unsafe(sw->out)) : 0;
+    if (bad) {
+        fprintf(stderr, "flitter sweep: --slurm: the folder's path holds a byte (0x%02x) that a #SBATCH "
+                "line cannot carry (a control character, a blank, a quote or a backslash); give "
+                "--out a plainer folder\n", bad);
+        return EXIT_USAGE;
+    }
+    /* each job is one line (GNU parallel reads a line a job; a line of
+     * the batch script): a line break inside a word would split it */
+    const char *broken = strpbrk(sw->out, "\n\r") ? sw->out : strpbrk(sw->script, "\n\r") ? sw->script : NULL;
+    for (size_t i = 0; i < sw->nparams && !broken; i++)
+        for (size_t j = 0; j < sw->params[i].n && !broken; j++)
+            if (strpbrk(sw->params[i].values[j], "\n\r")) broken = sw->params[i].values[j];
+    if (broken) {
+        fprintf(stderr, "flitter sweep: a line break in %s would split a job's command line; refused\n",
+                broken == sw->out ? "--out" : broken == sw->script ? "the script's name" : "a value");
+        return EXIT_USAGE;
+    }
     if (mkdir(sw->out, 0777) != 0 && errno != EEXIST) {
         fprintf(stderr, "flitter sweep: cannot create %s: %s\n", sw->out, strerror(errno));
         return 1;
@@ -296,7 +338,8 @@ static int list_jobs(const Sweep *sw)
             fprintf(f, "#!/bin/sh\n# flitter sweep: %ld jobs; submit with sbatch\n"
                        "#SBATCH --job-name=flitter-sweep\n#SBATCH --array=0-%ld\n"
                        "#SBATCH --ntasks=1\n#SBATCH --output=", njobs, njobs - 1);
-            fprintf(f, "%s/slurm-%%A_%%a.out\n", out);
+            put_slurm_name(f, out);
+            fputs("/slurm-%A_%a.out\n", f);
             fputs("case \"$SLURM_ARRAY_TASK_ID\" in\n", f);
             for (long k = 0; k < njobs; k++) {
                 fprintf(f, "%ld) exec ", k);

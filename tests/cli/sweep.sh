@@ -93,6 +93,20 @@ bash "$dir/njobs" 2>/dev/null || fail "norun jobs"
 "$flitter" sweep --collect "$dir/n" | cut -d, -f1-4 | tr '\n' ' ' | grep -qx 'job,v,run,seed 0,1,0, 1,1,1, ' ||
     fail "seed of a script without run: $("$flitter" sweep --collect "$dir/n")"
 
+# hostile folder names (issue 60): a line break never reaches a job line or
+# the batch script, and a #SBATCH line gets no blank, quote or newline (all
+# refused before anything is made); a % is doubled for Slurm's patterns
+nl=$(printf 'x\ny')
+for out in "$dir/$nl" "$dir/a b" "$dir/q'x"; do
+    "$flitter" sweep "$script" -D strength=1 --frames 1 --out "$out" --slurm >/dev/null 2>"$dir/err"
+    [ $? -eq 2 ] && grep -q "cannot carry\|line break" "$dir/err" || fail "--slurm --out '$out' accepted"
+    [ ! -e "$out" ] || fail "--slurm --out '$out' made the folder"
+done
+"$flitter" sweep "$script" -D strength=1 --frames 1 --out "$dir/$nl" >/dev/null 2>"$dir/err"
+[ $? -eq 2 ] && grep -q "line break in --out" "$dir/err" || fail "a job line with a line break"
+"$flitter" sweep "$script" -D strength=1 --frames 1 --out "$dir/p%j" --slurm >/dev/null || fail "--out p%j"
+grep -qxF "#SBATCH --output=$dir/p%%j/slurm-%A_%a.out" "$dir/p%j/sweep.sbatch" || fail "% not doubled"
+
 # bad usage: exit 2 with a message
 "$flitter" sweep "$script" -D 'bad name=1' --frames 1 --out "$dir/x" 2>"$dir/err"
 [ $? -eq 2 ] && grep -q "bad define" "$dir/err" || fail "bad define accepted"
