@@ -148,4 +148,21 @@ n=$(ffprobe -v error -count_frames -show_entries stream=nb_read_frames -of csv=p
 leftover=$(ls -A "$dir" | grep '^\.')
 [ -z "$leftover" ] || fail "temporary files left: $leftover"
 
+# 5. an option the encoder refuses is an error, never a quiet change of
+#    encoder (issue 60: crf=-5 once gave an MPEG-4 video and exit 0), and
+#    a video with no frame (limit=0) is not written
+printf '!window size=64;64\n    !record filename=%s crf=-5\n    !canvas\n        !rect point=0;0 size=64;64 color=1\n' \
+    '"crf.mp4"' >"$dir/crf.fl"
+(cd "$dir" && "$flitter" --offscreen --lockstep --frames 3 crf.fl >/dev/null 2>"$dir/err")
+rc=$?
+[ $rc -eq 1 ] && grep -q 'crf.mp4: .*refused the options given' "$dir/err" ||
+    fail "crf=-5: exit $rc: $(cat "$dir/err")"
+[ ! -e "$dir/crf.mp4" ] || fail "crf=-5 wrote $(ffprobe -v error -show_entries stream=codec_name -of csv=p=0 "$dir/crf.mp4")"
+printf '!window size=64;64\n    !record filename="zero.mp4" limit=0\n    !canvas\n        !rect point=0;0 size=64;64 color=1\n' \
+    >"$dir/zero.fl"
+(cd "$dir" && "$flitter" --offscreen --lockstep --frames 3 zero.fl >/dev/null 2>"$dir/err")
+rc=$?
+[ $rc -eq 1 ] && grep -q 'zero.mp4: no frame was recorded' "$dir/err" || fail "limit=0: exit $rc: $(cat "$dir/err")"
+[ ! -e "$dir/zero.mp4" ] || fail "limit=0 wrote a video"
+
 exit 0

@@ -305,6 +305,20 @@ VideoOut *video_open(const char *path, int width, int height, double fps, const 
         if (unusedlen) unused[0] = '\0';
         opened = open_encoder(v, cands[i], spec, width, height, ifps, path, err, errlen, unused, unusedlen);
         if (!opened && i == 0) snprintf(first, sizeof first, "%s", err);
+        if (!opened && spec->noptions > 0) {
+            /* an encoder that opens without the options refused them: an
+             * error, never a quiet change of encoder */
+            VideoSpec plain = *spec;
+            plain.noptions = 0;
+            char ignored[8], why[600];
+            if (open_encoder(v, cands[i], &plain, width, height, ifps, path, why, sizeof why, ignored, 0)) {
+                L->avcodec_free_context(&v->cc);
+                snprintf(err, errlen, "%.300s (the %s encoder refused the options given)", first[0] ? first : err,
+                         cands[i]->name);
+                free_video(v);
+                return NULL;
+            }
+        }
     }
     if (!opened) snprintf(err, errlen, "%s", first);
     if (!opened) {

@@ -58,7 +58,9 @@ bool video_is_video_name(const char *path);
  *   errors: NULL with "PATH: REASON" in [err] ([errlen] bytes) when no
  *           encoder fits, the container cannot hold the codec, an option
  *           or the pixel format is refused, or the file cannot be created
- *           (nothing is left behind). Unknown options are not an error
+ *           (nothing is left behind); an encoder that opens without the
+ *           options but not with them refused them: an error, never a
+ *           change to the next encoder. Unknown options are not an error
  *           (FFmpeg ignores them); their names are listed in [unused]
  *           ([unusedlen] bytes, comma separated, "" when none). */
 VideoOut *video_open(const char *path, int width, int height, double fps, const VideoSpec *spec,
