@@ -50,6 +50,9 @@
 extern char **environ;
 
 #define MAX_PARAMS 32
+/* The most jobs one sweep lists (a line each, or a case of the batch
+ * script): counts beyond are refused, never wrapped around. */
+#define MAX_JOBS 1000000L
 
 typedef struct Param {
     char *name;       /* the define's name */
@@ -202,9 +205,16 @@ static int parse_args(Sweep *sw, int argc, char **argv)
     if (!sw->script) return fail("%s", "no SCRIPT given");
     if (sw->frames < 0) return fail("%s", "--frames N is required");
     if (!sw->out) return fail("%s", "--out DIR is required");
-    if (sw->job >= 0)
+    if (sw->job >= 0) {
         for (size_t i = 0; i < sw->nparams; i++)
             if (sw->params[i].n != 1) return fail("--job takes one value per define (%s)", sw->params[i].name);
+        return 0;
+    }
+    /* runs x values of each define, checked at each product */
+    long njobs = sw->runs;
+    for (size_t i = 0; i < sw->nparams && njobs <= MAX_JOBS; i++)
+        njobs = (long)sw->params[i].n > MAX_JOBS ? MAX_JOBS + 1 : njobs * (long)sw->params[i].n;
+    if (njobs > MAX_JOBS) return fail("more than %s jobs (--runs times the values of each -D)", "1000000");
     return 0;
 }
 
@@ -394,21 +404,39 @@ static const char *manifest_get(const char *m, const char *key, char *buf, size_
     return NULL;
 }
 
-static char *read_text(const char *path)
+/* The longest manifest read (a few hundred bytes are usual). */
+#define MAX_MANIFEST (1L << 20)
+
+/* The text of the manifest [path]: a regular file (opened without
+ * following a link or waiting on a FIFO) of at most MAX_MANIFEST bytes;
+ * NULL with *[why] set (static text) otherwise. */
+static char *read_text(const char *path, const char **why)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    size_t cap = 4096, n = 0;
-    char *s = xmalloc(cap);
-    for (size_t r; (r = fread(s + n, 1, cap - n - 1, f)) > 0;) {
-        n += r;
-        if (n + 1 == cap) {
-            char *t = realloc(s, cap *= 2);
-            if (!t) { free(s); fclose(f); return NULL; }
-            s = t;
-        }
+    int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    *why = "cannot be read";
+    if (fd < 0) {
+        *why = errno == ENOENT ? "missing (a job not run, or still running)"
+             : errno == ELOOP  ? "a symbolic link (not followed)" : "cannot be opened";
+        return NULL;
     }
-    fclose(f);
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size > MAX_MANIFEST) {
+        *why = fstat(fd, &st) == 0 && !S_ISREG(st.st_mode) ? "not a regular file" : "too big for a manifest";
+        close(fd);
+        return NULL;
+    }
+    char *s = xmalloc((size_t)MAX_MANIFEST + 1);
+    size_t n = 0;
+    for (ssize_t r; n < (size_t)MAX_MANIFEST && (r = read(fd, s + n, (size_t)MAX_MANIFEST - n)) != 0;) {
+        if (r < 0) {
+            if (errno == EINTR) continue;
+            close(fd);
+            free(s);
+            return NULL;
+        }
+        n += (size_t)r;
+    }
+    close(fd);
     s[n] = '\0';
     return s;
 }
@@ -496,7 +524,8 @@ static int run_job(const Sweep *sw)
     put_params(mf, sw, script, run);
     fclose(mf);
     int rc = 0;
-    char *old = read_text(manifest);
+    const char *ignored;
+    char *old = read_text(manifest, &ignored);
     char buf[64];
     if (old && strncmp(old, want, wantlen) == 0 && manifest_get(old, "exit", buf, sizeof buf) &&
         strcmp(buf, "0") == 0) {
@@ -637,15 +666,26 @@ static int collect(const char *out)
         fprintf(stderr, "flitter sweep: %s: %s\n", out, strerror(errno));
         return 1;
     }
-    size_t n = 0, cap = 64;
+    size_t n = 0, cap = 64, bad = 0;
     char **texts = xmalloc(cap * sizeof *texts), **names = xmalloc(cap * sizeof *names);
     for (struct dirent *e; (e = readdir(d));) {
         if (strncmp(e->d_name, "job-", 4) != 0) continue;
         char *dir = join(out, e->d_name), *mpath = join(dir, "manifest");
-        char *text = read_text(mpath);
+        const char *why;
+        char *text = read_text(mpath, &why);
         free(dir);
+        if (text && !strstr(text, "\nexit ")) {
+            why = "damaged (no exit line)";
+            free(text);
+            text = NULL;
+        }
+        if (!text) {   /* reported and counted: the CSV lacks this job */
+            fprintf(stderr, "flitter sweep: %s: %s\n", mpath, why);
+            bad++;
+            free(mpath);
+            continue;
+        }
         free(mpath);
-        if (!text) continue;
         if (n == cap) {
             cap *= 2;
             char **t = realloc(texts, cap * sizeof *texts);
@@ -702,7 +742,13 @@ static int collect(const char *out)
     }
     for (size_t j = 0; j < np; j++) free(pn[j]);
     free(texts);
-    return fflush(stdout) != 0;
+    if (fflush(stdout) != 0) return 1;
+    if (bad) {
+        fprintf(stderr, "flitter sweep: %zu of %zu jobs have no readable manifest; their rows are missing\n",
+                bad, bad + n);
+        return 1;
+    }
+    return 0;
 }
 
 int cmd_sweep(int argc, char **argv)

@@ -107,6 +107,27 @@ done
 "$flitter" sweep "$script" -D strength=1 --frames 1 --out "$dir/p%j" --slurm >/dev/null || fail "--out p%j"
 grep -qxF "#SBATCH --output=$dir/p%%j/slurm-%A_%a.out" "$dir/p%j/sweep.sbatch" || fail "% not doubled"
 
+# --collect reads manifests only as regular files of bounded size: a FIFO
+# (which would hang it), a link to /dev/zero (read without end), a missing
+# and a damaged one are each named, the CSV keeps the good rows, exit 1
+cp -r "$dir/n" "$dir/c"
+mkdir "$dir/c/job-0002" "$dir/c/job-0003" "$dir/c/job-0004"
+mkfifo "$dir/c/job-0002/manifest" && ln -s /dev/zero "$dir/c/job-0003/manifest" &&
+    printf 'job 4\n' >"$dir/c/job-0004/manifest" && mkdir "$dir/c/job-0005" || fail "setting up --collect"
+timeout 10 "$flitter" sweep --collect "$dir/c" >"$dir/ccsv" 2>"$dir/err"
+rc=$?
+[ $rc -eq 1 ] || fail "--collect of damaged manifests: exit $rc"
+[ "$(wc -l <"$dir/ccsv")" -eq 3 ] || fail "--collect: not the 2 good rows: $(cat "$dir/ccsv")"
+for w in "job-0002/manifest: not a regular file" "job-0003/manifest: a symbolic link" \
+         "job-0004/manifest: damaged" "job-0005/manifest: missing" "4 of 6 jobs have no readable manifest"; do
+    grep -q "$w" "$dir/err" || fail "--collect did not say '$w': $(cat "$dir/err")"
+done
+# job counts beyond the bound are refused, never wrapped around
+"$flitter" sweep "$script" -D strength=1,2 --runs 9223372036854775807 --frames 1 --out "$dir/huge" \
+    >/dev/null 2>"$dir/err"
+[ $? -eq 2 ] && grep -q "more than 1000000 jobs" "$dir/err" || fail "an overflowing job count: $(cat "$dir/err")"
+[ ! -e "$dir/huge" ] || fail "an overflowing job count made its folder"
+
 # bad usage: exit 2 with a message
 "$flitter" sweep "$script" -D 'bad name=1' --frames 1 --out "$dir/x" 2>"$dir/err"
 [ $? -eq 2 ] && grep -q "bad define" "$dir/err" || fail "bad define accepted"
