@@ -18,7 +18,11 @@
  *       text as typed, the value the script receives) for each parameter,
  *       run, seed, exit,
  *       wall_seconds). A job whose manifest says exit 0 returns at once; an
- *       unfinished one starts over (its saved state is removed first).
+ *       unfinished one starts over (its saved state is removed first). The
+ *       job holds DIR/job-K/lock (flock) while it runs: a second start of
+ *       the same job leaves it alone (exit 1); its `flitter run` child dies
+ *       with it (a parent-death SIGKILL) and gets its SIGINT, SIGTERM and
+ *       SIGHUP.
  *   flitter sweep --collect DIR
  *       prints the manifests as one CSV: job, the parameters, run, seed,
  *       exit, wall_seconds.
@@ -34,10 +38,12 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
-#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -495,6 +501,34 @@ static void put_params(FILE *f, const Sweep *sw, const char *script, long run)
     else fprintf(f, "run %ld\nseed \n", run);
 }
 
+/* The running job's child, for the signal handler: SIGINT, SIGTERM and
+ * SIGHUP sent to the job (Slurm's scancel, a terminal) are passed on, so
+ * the run ends as a signalled `flitter run` does (state saved). */
+static volatile pid_t job_child;
+
+static void pass_signal(int sig)
+{
+    if (job_child > 0) kill(job_child, sig);
+}
+
+/* Start `flitter run` [av] with stdout to [out], stderr to [log]: a child
+ * that dies with the job (a parent-death SIGKILL: a job killed with
+ * SIGKILL leaves nothing running to write over a later run's files). The
+ * child's pid, or -1 with errno set. */
+static pid_t start_child(const char *exe, char **av, const char *out, const char *log)
+{
+    pid_t parent = getpid();
+    pid_t pid = fork();
+    if (pid != 0) return pid;
+    /* the child: async-signal-safe calls only */
+    if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(127);
+    int o = open(out, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    int l = open(log, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (o < 0 || l < 0 || dup2(o, 1) < 0 || dup2(l, 2) < 0) _exit(127);
+    execve(exe, av, environ);
+    _exit(127);
+}
+
 static int run_job(const Sweep *sw)
 {
     char name[32];
@@ -506,6 +540,18 @@ static int run_job(const Sweep *sw)
     char *dir = join(sw->out, name);
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
         fprintf(stderr, "flitter sweep: cannot create %s: %s\n", dir, strerror(errno));
+        free(dir);
+        return 1;
+    }
+    /* the job's folder is this process's while it runs: a second start of
+     * the same job (GNU parallel retried, two array tasks) leaves it be */
+    char *lockp = join(dir, "lock");
+    int lock = open(lockp, O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0666);
+    free(lockp);
+    if (lock < 0 || flock(lock, LOCK_EX | LOCK_NB) != 0) {
+        fprintf(stderr, "flitter sweep: %s is %s; this start leaves it alone\n", dir,
+                lock < 0 ? "not writable" : "being run by another process");
+        if (lock >= 0) close(lock);
         free(dir);
         return 1;
     }
@@ -564,23 +610,29 @@ static int run_job(const Sweep *sw)
     av[na++] = script;
     av[na] = NULL;
 
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, ftmp, O_WRONLY | O_CREAT | O_TRUNC, 0666);
-    posix_spawn_file_actions_addopen(&fa, 2, logp, O_WRONLY | O_CREAT | O_TRUNC, 0666);
+    struct sigaction sa, old_int, old_term, old_hup;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = pass_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
+    sigaction(SIGHUP, &sa, &old_hup);
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
-    pid_t pid;
     int status = 0, code;
-    int err = posix_spawn(&pid, exe, &fa, NULL, av, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (err != 0) {
-        fprintf(stderr, "flitter sweep: cannot start %s: %s\n", exe, strerror(err));
+    pid_t pid = start_child(exe, av, ftmp, logp);
+    if (pid < 0) {
+        fprintf(stderr, "flitter sweep: cannot start %s: %s\n", exe, strerror(errno));
         code = 127;
     } else {
+        job_child = pid;
         while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+        job_child = 0;
         code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     }
+    sigaction(SIGINT, &old_int, NULL);
+    sigaction(SIGTERM, &old_term, NULL);
+    sigaction(SIGHUP, &old_hup, NULL);
     clock_gettime(CLOCK_MONOTONIC, &t1);
     double wall = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-9;
     if (code == 0 && rename(ftmp, final) != 0) code = 1;
@@ -603,6 +655,7 @@ static int run_job(const Sweep *sw)
     free(av);
     free(exe);
 done:
+    close(lock);   /* (after the manifest: the folder is left finished) */
     free(old);
     free(want);
     free(script);

@@ -128,6 +128,27 @@ done
 [ $? -eq 2 ] && grep -q "more than 1000000 jobs" "$dir/err" || fail "an overflowing job count: $(cat "$dir/err")"
 [ ! -e "$dir/huge" ] || fail "an overflowing job count made its folder"
 
+# a job runs alone in its folder and its child dies with it (issue 60):
+# a second start of a running job leaves it be (exit 1, its log and files
+# untouched); a job killed with SIGKILL takes its `flitter run` with it, and
+# the job run again afterwards finishes
+"$flitter" sweep --job 0 --run 0 --out "$dir/k" --frames 10000000 -D v=1 "$dir/norun.fl" 2>/dev/null &
+jp=$!
+i=0; while [ ! -s "$dir/k/job-0000/trace.csv" ] && [ $i -lt 100 ]; do sleep 0.1; i=$((i + 1)); done
+child=$(pgrep -P $jp)
+[ -n "$child" ] || fail "no child of the running job"
+"$flitter" sweep --job 0 --run 0 --out "$dir/k" --frames 3 -D v=1 "$dir/norun.fl" 2>"$dir/err"
+[ $? -eq 1 ] && grep -q "being run by another process" "$dir/err" || fail "a second start: $(cat "$dir/err")"
+kill -0 "$child" 2>/dev/null || fail "the second start ended the first's run"
+kill -9 $jp
+wait $jp 2>/dev/null
+i=0
+while ps -o stat= -p "$child" 2>/dev/null | grep -qv Z && [ $i -lt 50 ]; do sleep 0.1; i=$((i + 1)); done
+ps -o stat= -p "$child" 2>/dev/null | grep -qv Z && fail "the killed job's child runs on"
+"$flitter" sweep --job 0 --run 0 --out "$dir/k" --frames 3 -D v=1 "$dir/norun.fl" 2>"$dir/err" ||
+    fail "the job run again: $(cat "$dir/err")"
+grep -qx 'exit 0' "$dir/k/job-0000/manifest" || fail "the job run again is not recorded finished"
+
 # bad usage: exit 2 with a message
 "$flitter" sweep "$script" -D 'bad name=1' --frames 1 --out "$dir/x" 2>"$dir/err"
 [ $? -eq 2 ] && grep -q "bad define" "$dir/err" || fail "bad define accepted"
