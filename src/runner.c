@@ -784,6 +784,9 @@ static int execute(const RunSpec *spec, FILE *out, FILE *log, volatile int *inte
     prefault_stop(pf);
     *finished = by_clock ? runspec_runtime_over(spec, fl_next_frame_time(rt) - clock_start, fl_target_fps(rt))
                          : spec->frames >= 0 && ran >= spec->frames;
+    /* a signal during the last frame's drawing (polled between shapes)
+     * left its pictures unwritten: the run did not finish */
+    if (interrupt && *interrupt) *finished = false;
     if (spec->progress && ran > 0) fputs("\n", stderr);
     if (spec->stats) runspec_print_stats(rt, &first, &second, now_seconds() - start, &load, log);
     int rc = clock_ended ? EXIT_LOAD : EXIT_OK;

@@ -18,7 +18,12 @@
 #      tiles, in slices), and a rows level beside a split one. The step
 #      used to run to its end (a fuzz input with a million dimensions ran
 #      25 s under the sanitizers); the pair routes now ask between
-#      targets, rows and slices, and abandon the step.
+#      targets, rows and slices, and abandon the step;
+#   6. a canvas frame whose drawing takes minutes (a path stroked after
+#      each of its 20,000 segments: Flitter's path rules make it
+#      quadratic), drawn offscreen for a !record: the canvas asks between
+#      shapes (issue 60: it drew on to the end), and the picture cut short
+#      is not written.
 set -u
 flitter=$1
 dir=$(mktemp -d) || exit 2
@@ -84,4 +89,8 @@ stop pairs run --threads 2 --frames 3 "$dir/pairs.fl"
 printf '!physics dimensions=2 state=:p\n    for i in ..40000\n        !particle id=i position=i;i*i%%7 charge=1\n    !electrostatic strength=1\n    !adhesion strength=1\n    !group\n        for j in ..150\n            !particle id=(:g;j) position=j;-j charge=1\n        !electrostatic strength=1\n' \
     >"$dir/rows.fl"
 stop rows run --threads 2 --frames 3 "$dir/rows.fl"
+printf '!window size=400;400\n    !record filename=OUT\n        !canvas\n            !path\n                !move_to point=0;0\n                for i in ..20000\n                    !line_to point=uniform(:x)[i]*400;uniform(:y)[i]*400\n                    !stroke stroke_width=1 color=1\n' \
+    >"$dir/canvas.fl"
+stop canvas --offscreen --lockstep --frames 1 --define "OUT=$dir/canvas.png" "$dir/canvas.fl"
+[ ! -e "$dir/canvas.png" ] || bad "canvas: the picture cut short was written"
 exit $fail

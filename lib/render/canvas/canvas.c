@@ -739,7 +739,8 @@ static void make_blend(Ctx *c, const Node *n, Paint *paint, const Font *font, Pa
 
 static void draw_children(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
 {
-    for (size_t i = 0; i < rnode_nchildren(n); i++)
+    volatile int *stop = c->env->interrupt;
+    for (size_t i = 0; i < rnode_nchildren(n) && !(stop && *stop); i++)
         draw_node(c, rnode_child(n, i), paint, font, path);
 }
 

@@ -87,6 +87,8 @@ typedef struct CanvasEnv {
                                 8-bit target stores them, and gradient stops
                                 are sRGB colours decoded to linear light */
     const CanvasImages *images; /* pictures for !image and !pattern (NULL: none) */
+    volatile int *interrupt; /* polled before each node is drawn: once set, the
+                                rest of the canvas is left undrawn (NULL: never) */
 } CanvasEnv;
 
 /* Whether `!canvas` node [canvas] is drawn in linear light: its `linear`

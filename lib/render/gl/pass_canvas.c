@@ -73,7 +73,8 @@ static void render_canvas(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
     cairo_set_operator(cr, CAIRO_OPERATOR_CLEAR);
     cairo_paint(cr);
     cairo_set_operator(cr, CAIRO_OPERATOR_OVER);
-    CanvasEnv env = {.symbols = g->env.symbols, .skips = &g->skips, .linear = linear};
+    CanvasEnv env = {.symbols = g->env.symbols, .skips = &g->skips, .linear = linear,
+                     .interrupt = g->env.interrupt};
     graph_canvas_images(g, &env);
     canvas_draw(cr, n, &env);
     cairo_destroy(cr);

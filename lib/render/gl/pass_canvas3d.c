@@ -41,7 +41,7 @@ static void render_canvas3d(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
 {
     C3dPass *cp = (C3dPass *)p;
     if (!g->c3d) g->c3d = canvas3d_new();
-    CanvasEnv env = {.symbols = g->env.symbols, .skips = &g->skips};
+    CanvasEnv env = {.symbols = g->env.symbols, .skips = &g->skips, .interrupt = g->env.interrupt};
     graph_canvas_images(g, &env);
     int primary;
     int ncams = canvas3d_scene(g->c3d, n, p->w, p->h, cx->colorbits, &env, &primary);

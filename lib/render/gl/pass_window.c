@@ -189,7 +189,10 @@ static void update_record(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
     bool writes = cx->write && fv && vec_truthy(fv);
     ProgramParams pr = {.srgb = true, .colorbits = 8, .pass_through = true, .keep_format = writes};
     program_render(g, (ProgramPass *)p, n, cx, &pr);
-    if (p->target && cx->write) write_record(g, p, n);
+    /* a picture whose drawing an interrupt cut short is not written: a
+     * file never holds half a frame as if it were whole */
+    bool cut = g->env.interrupt && *g->env.interrupt;
+    if (p->target && cx->write && !cut) write_record(g, p, n);
 }
 
 const PassKind pass_record = {.kind = "record", .size = sizeof(ProgramPass), .render = update_record,
