@@ -91,6 +91,22 @@ static GLuint link_program(const char *fsrc, char *why, size_t cap)
     return prog;
 }
 
+/* A vertex array of the whole-viewport quad (attribute 0, a triangle
+ * strip of 4 corners) in the current context, into [vao] and [vbo]. */
+static void make_quad(GLuint *vao, GLuint *vbo)
+{
+    static const float quad[8] = {-1, -1, 1, -1, -1, 1, 1, 1};
+    glGenVertexArrays(1, vao);
+    glBindVertexArray(*vao);
+    glGenBuffers(1, vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, *vbo);
+    glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
+    glBindVertexArray(0);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
 WinGl *wingl_start(char *why, size_t cap)
 {
     why[0] = '\0';
@@ -132,15 +148,7 @@ WinGl *wingl_start(char *why, size_t cap)
     if (!g->program_pixels) goto fail_quiet;
     g->u_tex = glGetUniformLocation(g->program, "picture");
     g->u_tex_pixels = glGetUniformLocation(g->program_pixels, "picture");
-    static const float quad[8] = {-1, -1, 1, -1, -1, 1, 1, 1};
-    glGenVertexArrays(1, &g->vao);
-    glBindVertexArray(g->vao);
-    glGenBuffers(1, &g->vbo);
-    glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
-    glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
-    glBindVertexArray(0);
+    make_quad(&g->vao, &g->vbo);
     glGenTextures(1, &g->pixels_tex);
     glGenFramebuffers(1, &g->fbo_read);
     glGenSamplers(1, &g->nearest);
@@ -195,17 +203,8 @@ bool wingl_frame_enter(WinGl *g)
 {
     if (SDL_GL_MakeCurrent(g->frame_window, g->frame) != 0) return false;
     if (!g->fbo_dst) {   /* (framebuffers and vertex arrays are not shared) */
-        static const float quad[8] = {-1, -1, 1, -1, -1, 1, 1, 1};
         glGenFramebuffers(1, &g->fbo_dst);
-        glGenVertexArrays(1, &g->frame_vao);
-        glBindVertexArray(g->frame_vao);
-        glGenBuffers(1, &g->frame_vbo);
-        glBindBuffer(GL_ARRAY_BUFFER, g->frame_vbo);
-        glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
-        glEnableVertexAttribArray(0);
-        glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
-        glBindVertexArray(0);
-        glBindBuffer(GL_ARRAY_BUFFER, 0);
+        make_quad(&g->frame_vao, &g->frame_vbo);
     }
     return true;
 }

@@ -358,13 +358,21 @@ static void set_pair(const Uniform *u, double a, double b)
 
 static const char *const reserved[] = {"fragment", "vertex", "loop", "context", "UNDEFINED"};
 
-typedef struct Names {
+/* What setting a program's uniforms needs: the pass's node, its kind's
+ * defaults, the textures it samples (on units 1.. in order) and its pass
+ * count. */
+typedef struct ProgramUse {
     Graph *g;
     const Node *n;
     const ProgramParams *pr;
     const ChildTex *children;
     size_t nchildren;
     int passes;
+} ProgramUse;
+
+/* A template's names: the pass's, and its composite= as text. */
+typedef struct Names {
+    ProgramUse use;
     const char *composite;
 } Names;
 
@@ -388,7 +396,8 @@ static const Kw *kw_find(const ProgramParams *pr, const char *name, size_t len)
  * defines), as Flitter's get_fragment_source builds its names. */
 static bool lookup_name(void *ctx, const char *name, size_t len, TplValue *out)
 {
-    const Names *N = ctx;
+    const Names *names = ctx;
+    const ProgramUse *N = &names->use;
 #define IS(s) (len == sizeof s - 1 && memcmp(name, s, sizeof s - 1) == 0)
     if (IS("HEADER")) {
         *out = (TplValue){vec_str(HEADER, strlen(HEADER)), TPL_STR};
@@ -412,7 +421,7 @@ static bool lookup_name(void *ctx, const char *name, size_t len, TplValue *out)
         return true;
     }
     if (IS("composite")) {
-        *out = (TplValue){vec_str(N->composite, strlen(N->composite)), TPL_STR};
+        *out = (TplValue){vec_str(names->composite, strlen(names->composite)), TPL_STR};
         return true;
     }
 #undef IS
@@ -575,18 +584,6 @@ static const Uniform *find_uniform(const Program *pg, const char *name)
     return NULL;
 }
 
-/* What setting a program's uniforms needs: the pass's node, its kind's
- * defaults, the textures it samples (on units 1.. in order) and its pass
- * count. */
-typedef struct ProgramUse {
-    Graph *g;
-    const Node *n;
-    const ProgramParams *pr;
-    const ChildTex *children;
-    size_t nchildren;
-    int passes;
-} ProgramUse;
-
 /* The uniforms set again for each pass. */
 typedef struct Uniforms {
     const Uniform *last, *first, *pass, *size, *down;
@@ -735,7 +732,7 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
         return;
     }
     /* the sources of this frame, and their program */
-    Names N = {g, n, pr, children, nchildren, passes, buf_cstr(&composite)};
+    Names N = {{g, n, pr, children, nchildren, passes}, buf_cstr(&composite)};
     Program *prog = NULL;
     if (render_source(g, pp, n, "vertex", pr->vertex ? pr->vertex : "default.vert", &N, &pp->vsrc) &&
         render_source(g, pp, n, "fragment", pr->fragment ? pr->fragment : "default.frag", &N, &pp->fsrc)) {
@@ -775,7 +772,7 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
     int nunits = 1;
     for (size_t c = 0; c < nchildren && nunits < 30; c++) bind_unit(nunits++, children[c].tex, sampler);
     int last_unit = nunits, first_unit = nunits + 1;
-    ProgramUse use = {g, n, pr, children, nchildren, passes};
+    ProgramUse use = N.use;
     /* with several passes and `uniform int pass;` in the fragment
      * template, each pass draws with a program of its own where `pass` is
      * that pass's constant: the same picture, and a CPU rasteriser, which
