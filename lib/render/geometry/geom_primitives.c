@@ -7,7 +7,7 @@
  * counter-clockwise winding seen from outside for all four shapes. The
  * cache is a plain array searched linearly: a scene holds a handful of
  * distinct shapes, while a shape may have thousands of instances. */
-#include "models_mesh.h"
+#include "geom_primitives.h"
 
 #include <math.h>
 #include <stdlib.h>
