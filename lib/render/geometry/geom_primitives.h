@@ -1,5 +1,5 @@
-/* models_mesh.h: the primitive models of `!canvas3d` as triangle meshes,
- * and a cache of their OpenGL buffers.
+/* geom_primitives.h: the primitive models of `!canvas3d` as triangle
+ * meshes.
  *
  * Shapes, sizes and segment rules follow Flitter's documentation
  * (docs/canvas3d.md, "Primitive Models") and models.pyx: every model has
@@ -17,11 +17,13 @@
  * mapping" says (a box's uv_map=:standard, each face a sixth of the width,
  * or :repeat; the sphere equirectangular; the cylinder and cone wrapped).
  */
-#ifndef FL_RENDER_MODELS_MESH_H
-#define FL_RENDER_MODELS_MESH_H
+#ifndef FL_RENDER_GEOM_PRIMITIVES_H
+#define FL_RENDER_GEOM_PRIMITIVES_H
 
 #include <stdbool.h>
 #include <stdint.h>
+
+#include "geom_mesh.h"
 
 /* MESH_OCTAGON is not a model: the flat octagon in the xy plane (normal
  * +z, counter-clockwise seen from +z) whose inscribed circle is the unit
@@ -51,22 +53,9 @@ int mesh_segments(int kind, int segments);
 void mesh_build(const MeshKey *key, MeshData *out);
 void mesh_data_free(MeshData *m);
 
-/* A model's buffers on the GL context current when it was made. */
-typedef struct GlMesh {
-    MeshKey key;
-    unsigned vao, vbo, ebo;   /* GL names */
-    int nindex;
-    float bounds[6];          /* model-space min x,y,z and max x,y,z */
-} GlMesh;
-
-typedef struct MeshCache MeshCache;
-
-MeshCache *mesh_cache_new(void);
-/* The GL mesh of [key], built and uploaded the first time it is asked for
- * (the cache's context must be current); the pointer stays valid until
- * mesh_cache_free. */
-const GlMesh *mesh_cache_get(MeshCache *c, const MeshKey *key);
-/* Delete the buffers (the context must be current) and free [c] (NULL is a no-op). */
-void mesh_cache_free(MeshCache *c);
+/* [key]'s mesh as a GeomMesh with its normals and texture coordinates
+ * (free with geom_mesh_free), the form constructive solid geometry takes.
+ *   errors: none (allocation failure goes through mem.h). */
+void geom_primitive_mesh(const MeshKey *key, GeomMesh *out);
 
 #endif

@@ -20,7 +20,7 @@
 #include "canvas3d_program.h"
 #include "gl_target.h"
 #include "mat4.h"
-#include "geom_primitives.h"
+#include "models_mesh.h"
 
 typedef struct Material {
     double albedo[3], emissive[3];
