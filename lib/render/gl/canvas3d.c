@@ -23,6 +23,7 @@
 #include "canvas3d_shaders.h"
 #include "mem.h"
 #include "rnode.h"
+#include "transform3d.h"
 
 /* last: it turns the library's names into calls through its table */
 #include "gl_lib.h"
@@ -76,34 +77,6 @@ static double clampd(double x, double lo, double hi) { return x < lo ? lo : x > 
 /* }===== */
 
 /* {===== the scene walk */
-
-/* Flitter canvas3d.pyx, update_transform_matrix: transform attributes in
- * the node's attribute order. */
-static M4 update_transform(const Node *n, M4 t)
-{
-    for (size_t i = 0; i < rnode_nattrs(n); i++) {
-        const char *a = rnode_attr_name(n, i);
-        const Vec *v = rnode_attr_value(n, i);
-        if (!vec_is_num(v)) continue;
-        const double *x = vec_cnums(v);
-        uint32_t len = vec_len(v);
-        M4 m;
-        double three[3];
-        if (len == 1) three[0] = three[1] = three[2] = x[0];
-        else if (len == 3) three[0] = x[0], three[1] = x[1], three[2] = x[2];
-        if (strcmp(a, "translate") == 0 && (len == 1 || len == 3)) m = m4_translate(three);
-        else if (strcmp(a, "scale") == 0 && (len == 1 || len == 3)) m = m4_scale(three);
-        else if (strcmp(a, "rotate") == 0 && len == 4) m = m4_quaternion(x);
-        else if (strcmp(a, "rotate") == 0 && (len == 1 || len == 3)) m = m4_rotate(three);
-        else if (strcmp(a, "rotate_x") == 0 && len == 1) m = m4_rotate_axis(0, x[0]);
-        else if (strcmp(a, "rotate_y") == 0 && len == 1) m = m4_rotate_axis(1, x[0]);
-        else if (strcmp(a, "rotate_z") == 0 && len == 1) m = m4_rotate_axis(2, x[0]);
-        else if (strcmp(a, "matrix") == 0 && len == 16) memcpy(m.m, x, sizeof m.m);
-        else continue;
-        t = m4_mul(&t, &m);
-    }
-    return t;
-}
 
 static bool is_material_attr(const char *a)
 {
@@ -324,26 +297,6 @@ static int mesh_kind(const Node *n)
     return -1;
 }
 
-/* Flitter canvas3d.pyx, instance_start_end_matrix: the unit model along
- * z from [s] to [e] with x/y scaled by [radius]; false when degenerate. */
-static bool start_end(const double s[3], const double e[3], double radius, M4 *out)
-{
-    double d[3] = {e[0] - s[0], e[1] - s[1], e[2] - s[2]};
-    double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    if (len == 0 || radius <= 0) return false;
-    double mid[3] = {(s[0] + e[0]) / 2, (s[1] + e[1]) / 2, (s[2] + e[2]) / 2};
-    /* the quaternion turning z onto d */
-    double u[3] = {d[0] / len, d[1] / len, d[2] / len};
-    double q[4] = {1 + u[2], -u[1], u[0], 0};   /* w, x, y, z: z cross u, 1 + z.u */
-    if (q[0] < 1e-12) q[0] = 0, q[1] = 1, q[2] = 0, q[3] = 0;   /* opposite: half a turn about x */
-    M4 m = m4_translate(mid), r = m4_quaternion(q);
-    double sz[3] = {radius, radius, len};
-    M4 sc = m4_scale(sz);
-    m = m4_mul(&m, &r);
-    *out = m4_mul(&m, &sc);
-    return true;
-}
-
 static void add_instance(Canvas3D *c, const Node *n, int kind, const M4 *t, const Material *mat, int group)
 {
     MeshKey key = {.kind = kind, .flat = flag(n, "flat", false), .invert = flag(n, "invert", false)};
@@ -354,17 +307,7 @@ static void add_instance(Canvas3D *c, const Node *n, int kind, const M4 *t, cons
     Instance *in = &c->inst[c->ninst++];
     in->mesh = mesh_cache_get(c->meshes, &key);
     in->group = group;
-    M4 m = *t, x;
-    double s[3] = {0, 0, 0}, e[3], v[3];
-    if (nums(n, "end", 3, e)) {
-        nums(n, "start", 3, s);
-        if (start_end(s, e, num(n, "radius", 1), &x)) m = m4_mul(&m, &x);
-    } else {
-        if (nums(n, "position", 3, v)) x = m4_translate(v), m = m4_mul(&m, &x);
-        if (nums(n, "rotation", 3, v)) x = m4_rotate(v), m = m4_mul(&m, &x);
-        if (nums(n, "size", 3, v)) x = m4_scale(v), m = m4_mul(&m, &x);
-    }
-    in->model = m;
+    in->model = transform3d_model(n, *t, NULL);
     in->mat = *mat;
     for (size_t i = 0; i < rnode_nattrs(n); i++)
         if (is_material_attr(rnode_attr_name(n, i))) {
@@ -405,7 +348,7 @@ static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int g
     Material m = *mat;
     int kind;
     if (rnode_is(n, "transform")) {
-        t = update_transform(n, t);
+        t = transform3d_update(n, t);
     } else if (rnode_is(n, "material")) {
         m = update_material(c, n, mat);
     } else if (rnode_is(n, "light")) {
@@ -427,7 +370,7 @@ static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int g
         }
         return;
     } else if (rnode_is(n, "group") || rnode_is(n, "canvas3d")) {
-        t = update_transform(n, t);
+        t = transform3d_update(n, t);
         m = update_material(c, n, mat);
         group = new_group(c, n, group);
     } else if ((kind = mesh_kind(n)) >= 0) {
