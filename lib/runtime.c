@@ -78,6 +78,7 @@ struct fl_runtime {
     Node *root;             /* last frame's tree */
     MsgSet errors[2];       /* this and the previous frame's errors */
     MsgSet debug[2];        /* this and the previous frame's debug lines */
+    MsgSet sdf_errors;      /* errors of SDF functions called by the renderer, said once */
     int cur;                /* index of "this frame" in errors/debug */
     long frame;             /* frames evaluated so far */
     double frame_time;      /* `time` of the next frame, seconds */
@@ -287,6 +288,7 @@ void fl_free(fl_runtime *rt)
     globals_free(&rt->globals);
     for (int i = 0; i < 2; i++) {
         msgset_clear(&rt->errors[i]);
+        if (i == 0) msgset_clear(&rt->sdf_errors);
         msgset_clear(&rt->debug[i]);
     }
     pictures_free(rt->pictures);
@@ -1099,6 +1101,35 @@ const Vec *rt_global(const fl_runtime *rt, const char *name, size_t len)
 }
 
 MemBudget *rt_budget(fl_runtime *rt) { return &rt->budget; }
+
+bool rt_call_distances(fl_runtime *rt, const Vec *fn, const double *xyz, size_t n, double *out)
+{
+    MsgSet errs = {0}, debug = {0};
+    Eval ev = {
+        .prog = rt->prog, .globals = &rt->globals, .state = NULL, .symtab = rt->symtab,
+        .errors = &errs, .debug = &debug, .modules = rt->modules,
+        .interrupt = rt->opts.interrupt, .noise_perms = rt->noise_perms,
+    };
+    Pool *prev = pool_enter(rt->pool);
+    bool ok = true;
+    for (size_t i = 0; i < n; i++) {
+        Vec *p = vec_from_nums(xyz + i * 3, 3);
+        Vec *r = eval_call_value(&ev, fn, &p, 1);
+        out[i] = vec_is_num(r) && vec_len(r) == 1 ? vec_cnums(r)[0] : NAN;
+        vec_release(r);
+        vec_release(p);
+        if (ev.interrupted || (rt->opts.interrupt && *rt->opts.interrupt)) {
+            ok = false;
+            break;
+        }
+    }
+    pool_leave(prev);
+    report(rt, FL_LOG_ERROR, "Execution error: ", &errs, &rt->sdf_errors);
+    for (uint32_t i = 0; i < errs.count; i++) msgset_add(&rt->sdf_errors, errs.items[i]);
+    msgset_clear(&errs);
+    msgset_clear(&debug);
+    return ok;
+}
 
 const char *rt_script_path(const fl_runtime *rt) { return rt->prog ? rt->prog->path : NULL; }
 

@@ -54,6 +54,14 @@ double rt_beat(const fl_runtime *rt);
  * `delta`, `time`, ... of the last frame, LANGUAGE.md §6.2; borrowed), or
  * NULL when there is none. */
 const Vec *rt_global(const fl_runtime *rt, const char *name, size_t len);
+/* Distances of an SDF's `function=` [fn] (Flitter docs/canvas3d.md,
+ * "Signed Distance Fields") at [n] points (xyz: 3n doubles): each called
+ * with the point as one 3-vector, as Flitter's renderer calls it, with
+ * the engine names and defines of the last frame and an empty state; a
+ * result that is not one number gives NaN. Run-time errors are logged
+ * once each per runtime.
+ *   errors: false when interrupted (the rest of out unset). */
+bool rt_call_distances(fl_runtime *rt, const Vec *fn, const double *xyz, size_t n, double *out);
 /* The runtime's memory budget (fl_options.max_memory), for what it holds
  * across calls (the render graph's framebuffers). */
 MemBudget *rt_budget(fl_runtime *rt);

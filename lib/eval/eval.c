@@ -355,6 +355,31 @@ static Vec *call_value(Eval *ev, const Vec *callee, const Args *a)
     return parts_finish(ev, &parts);
 }
 
+Vec *eval_call_value(Eval *ev, const Vec *fn, Vec **args, uint32_t nargs)
+{
+    Args a = {.pos = args, .npos = nargs};
+    return call_value(ev, fn, &a);
+}
+
+uint64_t eval_function_key(const Vec *fn)
+{
+    if (!vec_is_obj(fn)) return vec_hash(fn, false);
+    uint64_t h = HASH_START;
+    for (uint32_t i = 0; i < fn->len; i++) {
+        const Elem *e = &vec_celems(fn)[i];
+        if (e->kind != EL_FUNC || e->func->bi) {
+            h = hash_update(h, e->kind == EL_FUNC ? (uint64_t)(uintptr_t)e->func->bi : (uint64_t)e->kind);
+            continue;
+        }
+        const Closure *c = e->func->impl;
+        h = hash_update(h, (uint64_t)(uintptr_t)c->def);
+        h = hash_update(h, (uint64_t)(uintptr_t)c->prog);
+        for (uint32_t k = 0; k < c->nparams; k++) h = hash_update(h, vec_hash(c->defaults[k], false));
+        for (uint32_t k = 0; k < c->ncaps; k++) h = hash_update(h, vec_hash(c->caps[k], false));
+    }
+    return h;
+}
+
 /* AST_CALL: a(kids[0..count), name=value ...) — args, then named values,
  * then the callee (§4.8). */
 __attribute__((noinline)) static Vec *eval_call(Eval *ev, const AstNode *n)

@@ -216,5 +216,17 @@ void exports_clear(Exports *x);
 void exports_empty(Exports *x);
 /* Evaluate one expression in the current frame (new reference). */
 Vec *eval_expr(Eval *ev, const AstNode *n);
+/* Call value [fn] with the [nargs] positional values [args] as a call
+ * expression does (LANGUAGE.md §4.8: every function of it called, the
+ * results composed; anything else null with an error), from outside any
+ * frame: an SDF's `function=` called by the renderer. A new reference.
+ *   errors: run-time errors go to ev->errors; never fails. */
+Vec *eval_call_value(Eval *ev, const Vec *fn, Vec **args, uint32_t nargs);
+/* A key of function value [fn] that is the same for two values exactly
+ * when they compute the same: a user function by its definition's place
+ * in its program, its defaults and its captured values; a builtin by
+ * itself; anything else by its hash (for caches of what a function made,
+ * frame after frame, when each frame makes the closure anew). */
+uint64_t eval_function_key(const Vec *fn);
 
 #endif
