@@ -153,6 +153,9 @@ typedef struct fl_options {
                             that would not with the last tree kept. Default
                             false; `flitter run` sets it when nothing reads
                             a tree after the last frame. */
+    double model_cache;  /* --modelcache: seconds a 3D model (a file, CSG, an
+                            SDF) no frame has used stays cached with its mesh
+                            (0: Flitter's default, 300) */
 } fl_options;
 
 /* fl_options.pairs: the physics pair loop. Every route gives the same bits. */

@@ -18,6 +18,7 @@
 #include "graph.h"
 #include "mem.h"
 #include "pictures.h"
+#include "program.h"
 #include "systems.h"
 #include "view.h"
 
@@ -45,12 +46,24 @@ Pictures *pictures_new(fl_runtime *rt)
     return p;
 }
 
+static bool sdf_distance(void *ctx, const Vec *fn, const double *xyz, size_t n, double *out)
+{
+    return rt_call_distances(ctx, fn, xyz, n, out);
+}
+
+static uint64_t sdf_function_key(void *ctx, const Vec *fn)
+{
+    (void)ctx;
+    return eval_function_key(fn);
+}
+
 /* The graph, made the first time. */
 static Graph *graph_of(Pictures *p)
 {
     if (!p->graph) {
         GraphEnv env = {.symbols = rt_symbols(p->rt), .log = p->log, .budget = rt_budget(p->rt),
-                        .interrupt = rt_options(p->rt)->interrupt};
+                        .interrupt = rt_options(p->rt)->interrupt, .model_cache = rt_options(p->rt)->model_cache,
+                        .distance = sdf_distance, .function_key = sdf_function_key, .ctx = p->rt};
         p->graph = graph_new(&env);
         graph_show_windows(p->graph, p->show);
         graph_record_first(p->graph, p->record);

@@ -105,8 +105,10 @@ static void run_usage(FILE *f)
           "                      vsync= wins)\n"
           "  --resetonswitch     empty a page's state when switching away from it\n"
           "  --vmstats           the same as --stats (Flitter's VM statistics)\n"
-          "  --profile, --opengles, --modelcache T   Flitter's options, accepted; they\n"
-          "                      have no effect here (a note says so, unless --quiet)\n"
+          "  --modelcache T      keep a 3D model no frame uses (a file, CSG, an SDF) and\n"
+          "                      its mesh cached for T (seconds or a timecode; default 300)\n"
+          "  --profile, --opengles   Flitter's options, accepted; they have no effect\n"
+          "                      here (a note says so, unless --quiet)\n"
           "  --window-size WxH   the physics view window's size in pixels when a frame\n"
           "                      has no !window (default 512x512; a !window's size= sets\n"
           "                      its own window's)\n"
@@ -201,7 +203,6 @@ static const char *const no_effect_note[] = {
     "--profile has no effect in flitter-c (use --stats for the time per frame)",
     "--opengles has no effect in flitter-c (pictures are drawn with desktop OpenGL 3.3 "
     "through EGL or the window's context, not OpenGL ES)",
-    "--modelcache has no effect in flitter-c (no model cache to keep)",
 };
 
 int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
@@ -266,7 +267,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
                       .window = scripts == RUNSPEC_PAGES,
                       .implicit_window = scripts == RUNSPEC_PAGES};
     bool frames_given = false;
-    bool notes[3] = {false, false, false};
+    bool notes[2] = {false, false};
     int level = 0;                /* the log level option given, 0: none */
     const char *level_name = NULL;
     spec->defines = calloc((size_t)argc + 1, sizeof(char *));
@@ -339,8 +340,8 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
             break;
         case O_MODELCACHE: {
             double t;
-            if (!parse_timecode(optarg, &t)) goto bad_value;
-            notes[2] = true;
+            if (!parse_timecode(optarg, &t) || !(t >= 0) || t > 1e9) goto bad_value;
+            spec->model_cache = t > 0 ? t : 1e-9;   /* 0: drop an unused model at once */
             break;
         }
         case O_PROFILE: notes[0] = true; break;
@@ -416,7 +417,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
         fprintf(err, "flitter run: bad value '%s' for option '--%s'\n", optarg, option_name(longopts, c));
         return EXIT_USAGE;
     }
-    for (int i = 0; i < 3; i++)
+    for (int i = 0; i < 2; i++)
         if (notes[i] && spec->verbosity >= 0) fprintf(err, "flitter: %s\n", no_effect_note[i]);
     spec->runtime_clock = spec->runtime >= 0 && !frames_given;
     if (spec->runtime >= 0 && !frames_given) {   /* as Flitter: round(T*fps) frames */
@@ -599,6 +600,7 @@ fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *in
     opts.realtime = spec->realtime;
     opts.threads = spec->threads;
     opts.max_memory = spec->max_memory;
+    opts.model_cache = spec->model_cache;
     opts.pairs = spec->pairs;
     opts.view_axes[0] = spec->view_axes[0];
     opts.view_axes[1] = spec->view_axes[1];

@@ -12,6 +12,7 @@
 typedef struct RunSpec {
     long frames;          /* --frames N, or -1 (until interrupted) */
     double fps;           /* --fps F (default 60) */
+    double model_cache;   /* --modelcache T seconds (0: the library's default) */
     bool realtime;        /* --realtime */
     bool dump_state;      /* --dump-state (implied by --dump-every) */
     long dump_every;      /* --dump-every K, or 0 */

@@ -951,16 +951,22 @@ static void unsupported_warned_once(void **st)
     fl_runtime *rt = draw("!window size=64;64\n"
                           "    !canvas3d\n"
                           "        !light color=1\n"
-                          "        !model filename=\"teapot.obj\"\n"
-                          "        !model filename=\"cup.obj\"\n"
+                          "        !teapot\n"
+                          "        !teapot size=2\n"
+                          "        !model filename=\"no-such-teapot.obj\"\n"
+                          "        !model filename=\"no-such-teapot.obj\" size=2\n"
                           "        !box size=20 color=1\n"
                           "    !canvas\n"
                           "        !wibble\n", pix);
     assert_int_equal(fl_step(rt), 0);
     assert_int_equal(fl_draw_window(rt, 0, pix, W, H, W * 4), 0);
-    const char *p = strstr(logged, "canvas3d: skipping unsupported !model");
+    const char *p = strstr(logged, "canvas3d: skipping unsupported !teapot");
     assert_non_null(p);
-    assert_null(strstr(p + 1, "canvas3d: skipping unsupported !model"));
+    assert_null(strstr(p + 1, "canvas3d: skipping unsupported !teapot"));
+    /* a model file that cannot be read: said once, the rest drawn */
+    p = strstr(logged, "no-such-teapot.obj: cannot load model: no such file");
+    assert_non_null(p);
+    assert_null(strstr(p + 1, "no-such-teapot.obj: cannot load model"));
     assert_non_null(strstr(logged, "canvas: skipping unsupported !wibble"));
     assert_int_equal(chan(at(pix, 32, 32), 24), 255);   /* the box is drawn all the same */
     fl_free(rt);

@@ -173,7 +173,10 @@ static void build_sphere(Builder *b, int n)
 static void build_round(Builder *b, int n, bool cone)
 {
     for (int i = 0; i < n; i++) {
-        double a0 = 2 * PI * i / n, a1 = 2 * PI * (i + 1) / n, am = (a0 + a1) / 2;
+        /* the last segment ends where the first begins, exactly (sin 2pi
+         * is not 0 in floating point): the mesh is closed once welded */
+        double a0 = 2 * PI * i / n, a1 = i + 1 == n ? 0 : 2 * PI * (i + 1) / n;
+        double am = (a0 + (i + 1 == n ? 2 * PI : a1)) / 2;
         double c0 = cos(a0), s0 = sin(a0), c1 = cos(a1), s1 = sin(a1);
         double u0 = (double)i / n, u1 = (double)(i + 1) / n;
         double nz = cone ? 1 : 0;
@@ -238,6 +241,26 @@ static void invert(Builder *b)
         b->m.index[t + 1] = b->m.index[t + 2];
         b->m.index[t + 2] = s;
     }
+}
+
+void mesh_counts(const MeshKey *key, uint64_t *nverts, uint64_t *nindex)
+{
+    uint64_t n = (uint64_t)key->segments, v, t;
+    switch (key->kind) {
+    case MESH_SPHERE: {
+        uint64_t rows = n / 4;
+        v = 8 * (rows + 1) * (rows + 2) / 2;
+        t = 8 * rows * rows;
+        break;
+    }
+    case MESH_CYLINDER: v = 10 * n, t = 4 * n; break;
+    case MESH_CONE: v = 6 * n, t = 2 * n; break;
+    case MESH_OCTAGON: v = 9, t = 8; break;
+    default: v = 24, t = 12; break;
+    }
+    if (key->flat) v = 3 * t;
+    *nverts = v;
+    *nindex = 3 * t;
 }
 
 void mesh_build(const MeshKey *key, MeshData *out)

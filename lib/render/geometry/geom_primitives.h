@@ -36,6 +36,8 @@ typedef struct MeshKey {
     int segments;   /* as normalised by mesh_segments (0 for boxes) */
     bool flat, invert;
     bool uv_repeat; /* a box's uv_map=:repeat (each face the whole texture) */
+    uint64_t model; /* not a primitive: the geometry room's model (geom_model_serial), else 0 */
+    double snap;    /* a model's snap_edges (geom_shading.h) */
 } MeshKey;
 
 typedef struct MeshData {
@@ -51,6 +53,9 @@ int mesh_segments(int kind, int segments);
 /* Build the mesh of [key] into [out] (free with mesh_data_free).
  *   errors: none (allocation failure goes through mem.h). */
 void mesh_build(const MeshKey *key, MeshData *out);
+/* The vertices and indices mesh_build makes for [key] (counted from the
+ * shapes' rules, without building it: a budget is asked first). */
+void mesh_counts(const MeshKey *key, uint64_t *nverts, uint64_t *nindex);
 void mesh_data_free(MeshData *m);
 
 /* [key]'s mesh as a GeomMesh with its normals and texture coordinates

@@ -13,6 +13,8 @@
 #include "canvas3d.h"
 
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -22,6 +24,7 @@
 #include "canvas3d_scene.h"
 #include "canvas3d_shaders.h"
 #include "mem.h"
+#include "geom_model.h"
 #include "rnode.h"
 #include "transform3d.h"
 
@@ -44,6 +47,26 @@ Canvas3D *canvas3d_new(void)
     for (int i = 0; i < C3D_CAMERAS; i++) c->cam_id[i] = (Buf)BUF_INIT;
     c->name = (Buf)BUF_INIT;
     return c;
+}
+
+void canvas3d_set_models(Canvas3D *c, struct GeomModels *models, MemBudget *budget,
+                         void (*note)(void *ctx, const char *line), void *ctx)
+{
+    c->models = models;
+    c->budget = budget;
+    c->note = note;
+    c->note_ctx = ctx;
+}
+
+void c3d_note(Canvas3D *c, const char *fmt, ...)
+{
+    if (!c->note) return;
+    char line[600];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    c->note(c->note_ctx, line);
 }
 
 /* {===== attributes */
@@ -297,15 +320,46 @@ static int mesh_kind(const Node *n)
     return -1;
 }
 
+/* Flitter canvas3d.pyx get_model (top): the GL mesh of model node [n]
+ * (a file, vectors, CSG, SDF; a primitive with snap_edges=) with its
+ * shading: flat, else its edges snapped at snap_edges (default
+ * geom_model_snap's), invert. NULL when it has none (the
+ * reason logged once by the models). */
+static const GlMesh *model_mesh(Canvas3D *c, const Node *n, MeshKey *key)
+{
+    if (!c->models) return NULL;
+    GeomModel *m = geom_model_of(c->models, n, true);
+    if (!m) return NULL;
+    const GeomMesh *g = geom_model_mesh(c->models, m);
+    if (!g) return NULL;
+    key->kind = -1;
+    key->model = geom_model_serial(m);
+    key->snap = key->flat ? 0 : clampd(num(n, "snap_edges", geom_model_snap(m)), 0, 0.5);
+    if (key->snap <= 0) key->flat = true, key->snap = 0;
+    if (rnode_attr(n, "uv_remap")) c3d_note(c, "!%s: uv_remap= is not supported yet", rnode_kind(n));
+    const GlMesh *gl = mesh_cache_get_model(c->meshes, key, g, c->frames);
+    if (!gl) c3d_note(c, "!%s: its mesh (%u triangles) does not fit in the memory budget", rnode_kind(n), g->ntri);
+    return gl;
+}
+
 static void add_instance(Canvas3D *c, const Node *n, int kind, const M4 *t, const Material *mat, int group)
 {
     MeshKey key = {.kind = kind, .flat = flag(n, "flat", false), .invert = flag(n, "invert", false)};
-    const char *uv = kind == MESH_BOX ? text(c, n, "uv_map") : NULL;
-    key.uv_repeat = uv && strcmp(uv, "repeat") == 0;
-    key.segments = mesh_segments(kind, (int)clampd(num(n, "segments", DEFAULT_SEGMENTS), 0, 1e6));
+    const GlMesh *mesh;
+    if (kind >= 0) {
+        const char *uv = kind == MESH_BOX ? text(c, n, "uv_map") : NULL;
+        key.uv_repeat = uv && strcmp(uv, "repeat") == 0;
+        key.segments = mesh_segments(kind, (int)clampd(num(n, "segments", DEFAULT_SEGMENTS), 0, 1e6));
+        mesh = mesh_cache_get(c->meshes, &key);
+        if (!mesh)
+            c3d_note(c, "!%s: its mesh (%d segments) does not fit in the memory budget", rnode_kind(n), key.segments);
+    } else {
+        mesh = model_mesh(c, n, &key);
+    }
+    if (!mesh) return;
     c->inst = grow(c->inst, &c->cap_inst, c->ninst + 1, sizeof *c->inst);
     Instance *in = &c->inst[c->ninst++];
-    in->mesh = mesh_cache_get(c->meshes, &key);
+    in->mesh = mesh;
     in->group = group;
     in->model = transform3d_model(n, *t, NULL);
     in->mat = *mat;
@@ -373,8 +427,11 @@ static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int g
         t = transform3d_update(n, t);
         m = update_material(c, n, mat);
         group = new_group(c, n, group);
-    } else if ((kind = mesh_kind(n)) >= 0) {
+    } else if ((kind = mesh_kind(n)) >= 0 && !rnode_attr(n, "snap_edges")) {
         add_instance(c, n, kind, &t, mat, group);
+        return;
+    } else if (geom_is_model_kind(n)) {
+        add_instance(c, n, -1, &t, mat, group);
         return;
     } else {
         skiplog_note(c->env->skips, "canvas3d", rnode_kind(n));
@@ -390,7 +447,7 @@ static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int g
 static void begin(Canvas3D *c)
 {
     if (c->meshes) return;
-    c->meshes = mesh_cache_new();
+    c->meshes = mesh_cache_new(c->budget);
     glGenBuffers(1, &c->instance_vbo);
 }
 
@@ -466,6 +523,8 @@ int canvas3d_scene(Canvas3D *c, const Node *node, int w, int h, int colorbits, c
     memset(&c->texsets[0], 0, sizeof c->texsets[0]);
     c->ntexsets = 1;
     collect(c, node, id, &mat, -1, &c->cams[0]);
+    /* models' buffers unused for a while go (their meshes stay with the models) */
+    mesh_cache_sweep(c->meshes, c->frames - 60);
     c->primary = 0;
     const char *want = text(c, node, "camera_id");
     for (int i = 0; want && i < c->ncams; i++)

@@ -13,8 +13,10 @@
  * nodes and `camera_id` pick the camera; the default camera sits at
  * 0;0;width/2 looking at the origin with up 0;1;0, a horizontal fov of
  * 0.25 turns, near 1 and far width. Models are `!box`, `!sphere`,
- * `!cylinder` and `!cone` (models_mesh.h) with position, size, rotation
- * or start/end/radius, flat and invert; identical models of a group are
+ * `!cylinder` and `!cone` (geom_primitives.h) with position, size, rotation
+ * or start/end/radius, flat and invert, and `!model` files and vectors,
+ * constructive solid geometry and `!sdf` (geom_model.h, set by
+ * canvas3d_set_models) with snap_edges as well; identical models of a group are
  * drawn as one instanced draw call, opaque ones front to back, transparent
  * ones afterwards back to front without depth writes; translucent ones
  * have their back faces drawn first into a framebuffer of their own
@@ -49,6 +51,14 @@ typedef struct Canvas3D Canvas3D;
 
 /* A 3D renderer (its GL objects are made by the first drawing). */
 Canvas3D *canvas3d_new(void);
+
+struct GeomModels;
+/* The models (geom_model.h) that the scene's model kinds are made from,
+ * the budget its meshes' buffers are charged to (may be NULL), and where
+ * its one-off notes go (each said once by [note]'s owner); all borrowed,
+ * set before each canvas3d_scene. */
+void canvas3d_set_models(Canvas3D *c, struct GeomModels *models, MemBudget *budget,
+                         void (*note)(void *ctx, const char *line), void *ctx);
 
 /* One camera of the scene canvas3d_scene collected. */
 typedef struct C3dCameraInfo {

@@ -105,7 +105,7 @@ static void set_blend(int composite)
 /* Draw [n] instances from [list] with the buffers of [mesh] and [sh]. */
 static void draw_instances(Canvas3D *c, Instance **list, int n, const GlMesh *mesh, const C3dShader *sh)
 {
-    if (n <= 0) return;
+    if (n <= 0 || !mesh) return;   /* (a mesh past the memory budget has no buffers) */
     size_t need = (size_t)n * C3D_INSTANCE_FLOATS;
     if (need > c->cap_idata) {
         c->cap_idata = need * 2;

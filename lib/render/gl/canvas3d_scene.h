@@ -97,6 +97,10 @@ typedef struct Camera {
 
 struct Canvas3D {
     MeshCache *meshes;         /* made by the first drawing (with a context current) */
+    struct GeomModels *models; /* the model kinds' models (canvas3d_set_models; may be NULL) */
+    MemBudget *budget;         /* charged for the meshes' buffers (may be NULL) */
+    void (*note)(void *ctx, const char *line);   /* one-off notes (may be NULL) */
+    void *note_ctx;
     C3dProgram prog[C3D_PROGRAMS];   /* by C3dFragSpec; when full, */
     int nprog, prog_turn;            /* each new one replaces the next in turn */
     int listed_made;                 /* listed programs made, less one per C3D_LISTED_FRAMES frames */
@@ -139,6 +143,9 @@ struct Canvas3D {
  * the group's lights and its ancestors' (at most its max_lights).
  *   errors: a message in [err] when its program does not compile (nothing
  *           drawn); [err] untouched otherwise. */
+/* A one-off note about the scene (the receiver says each line once). */
+void c3d_note(Canvas3D *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
 void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen);
 
 /* The 8 corners of [in]'s mesh's bounding box projected through [pv]

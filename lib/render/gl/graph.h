@@ -20,8 +20,8 @@
  * place pixels come back to the CPU, besides a canvas drawing another
  * pass's picture and the front end's graph_read_window.
  *
- * Kinds the graph does not draw (and `!model`, `!sdf` and other 3D kinds
- * inside a canvas) are named once each on the log, never dropped silently.
+ * Kinds the graph does not draw (and 3D kinds a canvas does not know)
+ * are named once each on the log, never dropped silently.
  * A pass that cannot be drawn (a shader that does not compile, a file that
  * does not decode, a framebuffer past the GL limit or the memory budget)
  * gives no output, with one message, and the frame goes on.
@@ -46,6 +46,15 @@ typedef struct GraphEnv {
     RenderLog log;               /* errors and once-only warnings */
     MemBudget *budget;           /* charged for framebuffers, textures and decoded media (may be NULL) */
     volatile int *interrupt;     /* polled by long drawing loops (may be NULL) */
+    double model_cache;          /* seconds a model unused is kept (--modelcache); 0: Flitter's 300 */
+    /* `!sdf function=`: distances (negative inside) of function value [fn]
+     * at [n] points (xyz: 3n doubles) into [out], a result that is not one
+     * number NaN; false once interrupted (geom_model.h). NULL: no model. */
+    bool (*distance)(void *ctx, const Vec *fn, const double *xyz, size_t n, double *out);
+    /* the same number for two function values exactly when they compute
+     * the same (definition and captured values), for the model cache */
+    uint64_t (*function_key)(void *ctx, const Vec *fn);
+    void *ctx;
 } GraphEnv;
 
 /* One frame as the passes see it: Flitter's engine names (the standard

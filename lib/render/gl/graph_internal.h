@@ -121,6 +121,7 @@ struct Graph {
     double beat;             /* its beat */
     const GraphFrame *f;     /* the frame being drawn */
     Canvas3D *c3d;           /* the !canvas3d renderer (pass_canvas3d.c) */
+    struct GeomModels *models;   /* its models: files, vectors, CSG, SDF (pass_canvas3d.c) */
     MediaCache *media;       /* decoded images and videos (pass_image.c, pass_video.c) */
     int write_failures;      /* files that could not be written this frame */
     char *reported[64];      /* files whose write error was logged */

@@ -10,6 +10,7 @@
 
 #include <epoxy/gl.h>
 
+#include "geom_shading.h"
 #include "mem.h"
 
 /* last: it turns the library's names into calls through its table */
@@ -20,27 +21,40 @@
 struct MeshCache {
     GlMesh **mesh;
     int n, cap;
+    MemBudget *budget;
 };
 
-MeshCache *mesh_cache_new(void) { return mem_calloc(1, sizeof(MeshCache)); }
-
-const GlMesh *mesh_cache_get(MeshCache *c, const MeshKey *key)
+MeshCache *mesh_cache_new(MemBudget *budget)
 {
-    for (int i = 0; i < c->n; i++) {
-        const MeshKey *k = &c->mesh[i]->key;
-        if (k->kind == key->kind && k->segments == key->segments && k->flat == key->flat && k->invert == key->invert &&
-            k->uv_repeat == key->uv_repeat)
-            return c->mesh[i];
-    }
-    MeshData d;
-    mesh_build(key, &d);
+    MeshCache *c = mem_calloc(1, sizeof(MeshCache));
+    c->budget = budget;
+    return c;
+}
+
+static bool same_key(const MeshKey *k, const MeshKey *key)
+{
+    return k->kind == key->kind && k->segments == key->segments && k->flat == key->flat && k->invert == key->invert &&
+           k->uv_repeat == key->uv_repeat && k->model == key->model && k->snap == key->snap;
+}
+
+static size_t mesh_bytes(uint64_t nverts, uint64_t nindex)
+{
+    return (size_t)(nverts * 8 * sizeof(float) + nindex * sizeof(uint32_t));
+}
+
+/* Upload [d] as a new cached mesh of [key] (the data is freed), its bytes
+ * already charged to the budget. */
+static GlMesh *upload(MeshCache *c, const MeshKey *key, MeshData *d)
+{
+    size_t bytes = mesh_bytes(d->nverts, d->nindex);
     GlMesh *g = mem_calloc(1, sizeof *g);
     g->key = *key;
-    g->nindex = (int)d.nindex;
+    g->bytes = bytes;
+    g->nindex = (int)d->nindex;
     for (int k = 0; k < 3; k++) g->bounds[k] = INFINITY, g->bounds[k + 3] = -INFINITY;
-    for (uint32_t i = 0; i < d.nverts; i++)
+    for (uint32_t i = 0; i < d->nverts; i++)
         for (int k = 0; k < 3; k++) {
-            float x = d.verts[(size_t)i * 8 + k];
+            float x = d->verts[(size_t)i * 8 + k];
             if (x < g->bounds[k]) g->bounds[k] = x;
             if (x > g->bounds[k + 3]) g->bounds[k + 3] = x;
         }
@@ -48,10 +62,10 @@ const GlMesh *mesh_cache_get(MeshCache *c, const MeshKey *key)
     glBindVertexArray(g->vao);
     glGenBuffers(1, &g->vbo);
     glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
-    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)d.nverts * 8 * sizeof(float), d.verts, GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)d->nverts * 8 * sizeof(float), d->verts, GL_STATIC_DRAW);
     glGenBuffers(1, &g->ebo);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ebo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)d.nindex * sizeof(uint32_t), d.index, GL_STATIC_DRAW);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)d->nindex * sizeof(uint32_t), d->index, GL_STATIC_DRAW);
     /* attributes 0..2: position, normal, uv (canvas3d_shaders.h) */
     for (int a = 0; a < 3; a++) {
         glEnableVertexAttribArray(a);
@@ -59,7 +73,7 @@ const GlMesh *mesh_cache_get(MeshCache *c, const MeshKey *key)
                               (const void *)(sizeof(float) * (size_t)(a * 3)));
     }
     glBindVertexArray(0);
-    mesh_data_free(&d);
+    mesh_data_free(d);
     if (c->n == c->cap) {
         c->cap = c->cap ? c->cap * 2 : 8;
         c->mesh = mem_realloc_array(c->mesh, (size_t)c->cap, sizeof *c->mesh);
@@ -68,15 +82,74 @@ const GlMesh *mesh_cache_get(MeshCache *c, const MeshKey *key)
     return g;
 }
 
+const GlMesh *mesh_cache_get(MeshCache *c, const MeshKey *key)
+{
+    for (int i = 0; i < c->n; i++)
+        if (same_key(&c->mesh[i]->key, key)) return c->mesh[i];
+    /* asked of the budget before anything is built: a sphere of 4096
+     * segments would be gigabytes */
+    uint64_t nv, ni;
+    mesh_counts(key, &nv, &ni);
+    if (nv > UINT32_MAX || ni > UINT32_MAX || !mem_budget_reserve(c->budget, mesh_bytes(nv, ni))) return NULL;
+    MeshData d;
+    mesh_build(key, &d);
+    if (mesh_bytes(d.nverts, d.nindex) != mesh_bytes(nv, ni)) {
+        /* (mesh_counts and mesh_build disagree: charge what was made) */
+        mem_budget_release(c->budget, mesh_bytes(nv, ni));
+        if (!mem_budget_reserve(c->budget, mesh_bytes(d.nverts, d.nindex))) {
+            mesh_data_free(&d);
+            return NULL;
+        }
+    }
+    return upload(c, key, &d);
+}
+
+const GlMesh *mesh_cache_get_model(MeshCache *c, const MeshKey *key, const GeomMesh *mesh, long frame)
+{
+    for (int i = 0; i < c->n; i++)
+        if (same_key(&c->mesh[i]->key, key)) {
+            c->mesh[i]->used = frame;
+            return c->mesh[i];
+        }
+    GeomShading s = {.flat = key->flat, .snap = key->snap, .invert = key->invert};
+    /* at most three vertices a triangle */
+    uint64_t ni = (uint64_t)mesh->ntri * 3, nv = key->flat || key->snap < 0.5 ? ni : mesh->npos;
+    if (!mem_budget_reserve(c->budget, mesh_bytes(nv, ni))) return NULL;
+    MeshData d;
+    geom_shade(mesh, &s, &d);
+    mem_budget_release(c->budget, mesh_bytes(nv, ni));
+    if (!mem_budget_reserve(c->budget, mesh_bytes(d.nverts, d.nindex))) {
+        mesh_data_free(&d);
+        return NULL;
+    }
+    GlMesh *g = upload(c, key, &d);
+    if (g) g->used = frame;
+    return g;
+}
+
+static void delete_mesh(MeshCache *c, GlMesh *g)
+{
+    glDeleteVertexArrays(1, &g->vao);
+    glDeleteBuffers(1, &g->vbo);
+    glDeleteBuffers(1, &g->ebo);
+    mem_budget_release(c->budget, g->bytes);
+    free(g);
+}
+
+void mesh_cache_sweep(MeshCache *c, long before)
+{
+    int k = 0;
+    for (int i = 0; i < c->n; i++) {
+        if (c->mesh[i]->key.model && c->mesh[i]->used < before) delete_mesh(c, c->mesh[i]);
+        else c->mesh[k++] = c->mesh[i];
+    }
+    c->n = k;
+}
+
 void mesh_cache_free(MeshCache *c)
 {
     if (!c) return;
-    for (int i = 0; i < c->n; i++) {
-        glDeleteVertexArrays(1, &c->mesh[i]->vao);
-        glDeleteBuffers(1, &c->mesh[i]->vbo);
-        glDeleteBuffers(1, &c->mesh[i]->ebo);
-        free(c->mesh[i]);
-    }
+    for (int i = 0; i < c->n; i++) delete_mesh(c, c->mesh[i]);
     free(c->mesh);
     free(c);
 }

@@ -6,9 +6,32 @@
  * id and secondary=true into one of its own, registered under its id for
  * references and textures. The pictures stay until the next frame's. */
 #include <string.h>
+#include <time.h>
 
 #include "canvas3d.h"
+#include "geom_model.h"
 #include "graph_internal.h"
+
+/* Flitter's --modelcache default, seconds */
+#define MODEL_CACHE_DEFAULT 300
+
+static void note_line(void *ctx, const char *line) { graph_note(ctx, RLOG_ERROR, "%s", line); }
+
+/* The models, made the first time, begun for this frame. */
+static GeomModels *models_of(Graph *g)
+{
+    if (!g->models) {
+        GeomEnv env = {.symbols = g->env.symbols, .budget = g->env.budget, .interrupt = g->env.interrupt,
+                       .error = note_line, .error_ctx = g, .distance = g->env.distance, .function_key = g->env.function_key,
+                       .ctx = g->env.ctx};
+        g->models = geom_models_new(&env);
+    }
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    double age = g->env.model_cache > 0 ? g->env.model_cache : MODEL_CACHE_DEFAULT;
+    geom_models_frame(g->models, g->f ? g->f->folder : NULL, (double)ts.tv_sec + ts.tv_nsec * 1e-9, age);
+    return g->models;
+}
 
 typedef struct C3dPass {
     Pass base;
@@ -41,6 +64,7 @@ static void render_canvas3d(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
 {
     C3dPass *cp = (C3dPass *)p;
     if (!g->c3d) g->c3d = canvas3d_new();
+    canvas3d_set_models(g->c3d, models_of(g), g->env.budget, note_line, g);
     CanvasEnv env = {.symbols = g->env.symbols, .skips = &g->skips, .interrupt = g->env.interrupt};
     graph_canvas_images(g, &env);
     int primary;
@@ -86,6 +110,8 @@ void pass_canvas3d_free(Graph *g)
 {
     canvas3d_free(g->c3d);
     g->c3d = NULL;
+    geom_models_free(g->models);
+    g->models = NULL;
 }
 
 const PassKind pass_canvas3d = {.kind = "canvas3d", .size = sizeof(C3dPass), .leaf = true,

@@ -1,0 +1,56 @@
+/* geom_csg.h: constructive solid geometry on triangle meshes (Flitter's
+ * !union, !intersect, !difference and !trim; docs/canvas3d.md,
+ * "Constructive Solid Geometry"), computed exactly by CGAL's Polygon Mesh
+ * Processing (geom_csg.cpp) behind this C interface.
+ *
+ * Meshes are GeomMesh (geom_mesh.h): positions in model units, triangles
+ * counter-clockwise seen from outside. A result has positions and
+ * triangles only (no uv or normal arrays), is triangulated, closed and
+ * wound outwards, and its arrays are allocated with malloc, to be freed
+ * with geom_mesh_free. The arithmetic is exact (rational numbers behind
+ * interval filters), so shared or coplanar faces (boxes side by side, a
+ * trim through a union) are handled; result positions are the exact ones
+ * rounded to the nearest double.
+ *
+ * Thread-safe: no global state; two calls may run at once on different
+ * threads. A call takes milliseconds for boxes and up to a few hundred
+ * for meshes of thousands of triangles.
+ */
+#ifndef FL_RENDER_GEOM_CSG_H
+#define FL_RENDER_GEOM_CSG_H
+
+#include <stddef.h>
+
+#include "geom_mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum GeomBoolOp { GEOM_UNION, GEOM_INTERSECT, GEOM_DIFFERENCE } GeomBoolOp;
+
+/* [out] = in[0] op in[1] op ... in[n-1]; for GEOM_DIFFERENCE in[0] less every other.
+ * Inputs need not be welded (exactly equal positions are merged first, as primitives and
+ * model files repeat a position at every seam); each must then be closed and bound a volume.
+ * An input without triangles is the empty solid. [interrupt] (may be NULL) is polled
+ * between the pairwise operations: once non-zero the call ends with -1 and "interrupted".
+ * n == 1 gives the welded copy of in[0] (checked like any input).
+ *   errors: -1 with a one-line message in err (errlen bytes), e.g. "mesh 2 of 3 is not a
+ *           volume", "boolean operation failed"; out is then zeroed. An empty result (two
+ *           disjoint solids intersected) is 0 with out->ntri == 0. Never throws, never aborts
+ *           (running out of memory is the error "out of memory"). */
+int geom_csg_boolean(GeomBoolOp op, const GeomMesh *const *in, size_t n, GeomMesh *out,
+                     volatile int *interrupt, char *err, size_t errlen);
+
+/* The part of [in] where (p - origin) . normal <= 0, closed with a flat cap where the plane cuts it
+ * (Flitter's !trim: the half-space the normal points into is removed). normal need not be unit length;
+ * a zero normal is an error. origin is in model units. A plane that misses [in] gives its welded copy
+ * or the empty mesh. Same errors as geom_csg_boolean (the input is "mesh 1 of 1"). */
+int geom_csg_trim(const GeomMesh *in, const double origin[3], const double normal[3], GeomMesh *out,
+                  char *err, size_t errlen);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
