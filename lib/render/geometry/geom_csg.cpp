@@ -259,8 +259,6 @@ void set_error(char *err, size_t errlen, const std::string &msg)
     if (err && errlen) std::snprintf(err, errlen, "%s", msg.c_str());
 }
 
-/* Run [body] (which fills [out]) with every exception turned into -1 and
- * the message, [out] zeroed. */
 /* The lock every call holds while CGAL runs (see CGAL_HAS_NO_THREADS above). */
 std::mutex &csg_lock()
 {
@@ -268,6 +266,8 @@ std::mutex &csg_lock()
     return lock;
 }
 
+/* Run [body] (which fills [out]) under the lock, with every exception
+ * turned into -1 and the message, [out] zeroed. */
 template <class F> int guarded(GeomMesh *out, char *err, size_t errlen, F body)
 {
     std::lock_guard<std::mutex> hold(csg_lock());

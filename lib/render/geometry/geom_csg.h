@@ -12,9 +12,9 @@
  * trim through a union) are handled; result positions are the exact ones
  * rounded to the nearest double.
  *
- * Thread-safe: no global state; two calls may run at once on different
- * threads. A call takes milliseconds for boxes and up to a few hundred
- * for meshes of thousands of triangles.
+ * Thread-safe: calls from different threads take turns on one lock
+ * (geom_csg.cpp says why). A call takes a few milliseconds for boxes, tens
+ * for meshes of a thousand triangles, a few hundred for 20,000.
  */
 #ifndef FL_RENDER_GEOM_CSG_H
 #define FL_RENDER_GEOM_CSG_H
