@@ -21,4 +21,18 @@ static inline const Vec *rnode_attr_value(const Node *n, size_t i) { return n->a
 /* The value of attribute [name] (borrowed) or NULL. */
 static inline const Vec *rnode_attr(const Node *n, const char *name) { return node_attr(n, name); }
 
+/* [count] numbers of attribute [name] of [n] into [out] (a single number
+ * is repeated, as Flitter's Vector.match); false when absent or of
+ * another length. */
+static inline bool rnode_nums(const Node *n, const char *name, int count, double *out)
+{
+    const Vec *v = rnode_attr(n, name);
+    if (!vec_is_num(v)) return false;
+    uint32_t len = vec_len(v);
+    if (len != (uint32_t)count && len != 1) return false;
+    const double *x = vec_cnums(v);
+    for (int i = 0; i < count; i++) out[i] = x[len == 1 ? 0 : i];
+    return true;
+}
+
 #endif

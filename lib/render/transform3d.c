@@ -53,13 +53,7 @@ bool transform3d_start_end(const double s[3], const double e[3], double radius, 
 /* [count] numbers of attribute [name] (one number repeated). */
 static bool nums(const Node *n, const char *name, int count, double *out)
 {
-    const Vec *v = rnode_attr(n, name);
-    if (!vec_is_num(v)) return false;
-    uint32_t len = vec_len(v);
-    if (len != (uint32_t)count && len != 1) return false;
-    const double *x = vec_cnums(v);
-    for (int i = 0; i < count; i++) out[i] = x[len == 1 ? 0 : i];
-    return true;
+    return rnode_nums(n, name, count, out);
 }
 
 M4 transform3d_model(const Node *n, M4 m, bool *moved)

@@ -68,13 +68,7 @@ void skiplog_effect(SkipLog *log, const char *kind)
 
 bool canvas_attr_nums(const Node *n, const char *name, int count, double *out)
 {
-    const Vec *v = rnode_attr(n, name);
-    if (!vec_is_num(v)) return false;
-    uint32_t len = vec_len(v);
-    if (len != (uint32_t)count && len != 1) return false;
-    const double *x = vec_cnums(v);
-    for (int i = 0; i < count; i++) out[i] = x[len == 1 ? 0 : i];
-    return true;
+    return rnode_nums(n, name, count, out);
 }
 
 bool canvas_attr_str(const Node *n, const char *name, const SymTab *st, Buf *b)

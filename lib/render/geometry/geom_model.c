@@ -173,13 +173,7 @@ static void report(GeomModels *c, const char *fmt, ...)
 
 static bool nums(const Node *n, const char *name, int count, double *out)
 {
-    const Vec *v = rnode_attr(n, name);
-    if (!vec_is_num(v)) return false;
-    uint32_t len = vec_len(v);
-    if (len != (uint32_t)count && len != 1) return false;
-    const double *x = vec_cnums(v);
-    for (int i = 0; i < count; i++) out[i] = x[len == 1 ? 0 : i];
-    return true;
+    return rnode_nums(n, name, count, out);
 }
 
 static double num(const Node *n, const char *name, double dflt)
