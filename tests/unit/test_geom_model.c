@@ -180,6 +180,46 @@ static void box_and_sphere(void **state)
     fixture_free(f);
 }
 
+/* A trim whose plane runs through a cylinder's rim at a quarter turn and
+ * the middle of its cap, then less a coaxial cylinder inside it (the grey
+ * part of Flitter's examples/solidgeometry.fl, which the rim's points at
+ * cos(pi/2) = 6e-17 instead of 0 made fail): closed, without errors, and,
+ * as the inner cylinder lies inside the outer, of the volume of the outer
+ * trimmed less the inner trimmed. */
+static void trim_through_rim(void **state)
+{
+    (void)state;
+    const char *outer = "!trim origin=0;1;0 normal=0.75;1;0\n"
+                        "    !cylinder size=0.75;0.75;2 rotation=0.25;0;0 segments=8\n";
+    const char *inner = "!trim origin=0;1;0 normal=0.75;1;0\n"
+                        "    !cylinder size=0.5;0.5;2 rotation=0.25;0;0 segments=8\n";
+    char src[1024];
+    snprintf(src, sizeof src,
+             "!trim origin=0;1;0 normal=0.75;1;0\n"
+             "    !difference\n"
+             "        !cylinder size=0.75;0.75;2 rotation=0.25;0;0 segments=8\n"
+             "        !cylinder size=0.5;0.5;2 rotation=0.25;0;0 segments=8\n"
+             "%s%s",
+             outer, inner);
+    Fixture *f = fixture(src, 0);
+    const GeomMesh *d = mesh_of(f, 0), *o = mesh_of(f, 1), *i = mesh_of(f, 2);
+    check_closed(d);
+    check_closed(o);
+    assert_int_equal(f->nerrors, 0);
+    assert_true(geom_mesh_volume(i) > 0.5);
+    assert_true(fabs(geom_mesh_volume(d) - (geom_mesh_volume(o) - geom_mesh_volume(i))) < 1e-9);
+    fixture_free(f);
+    /* the primitive's rim at a quarter turn is on the axis, exactly */
+    MeshKey k = {.kind = MESH_CYLINDER, .segments = mesh_segments(MESH_CYLINDER, 64)};
+    GeomMesh g;
+    geom_primitive_mesh(&k, &g);
+    bool found = false;
+    for (uint32_t v = 0; v < g.npos; v++)
+        found |= g.pos[v * 3] == 0 && g.pos[v * 3 + 1] == 1 && g.pos[v * 3 + 2] == 0.5;
+    assert_true(found);
+    geom_mesh_free(&g);
+}
+
 static void sdf_sphere(void **state)
 {
     (void)state;
@@ -352,6 +392,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(union_of_boxes),
         cmocka_unit_test(box_and_sphere),
+        cmocka_unit_test(trim_through_rim),
         cmocka_unit_test(sdf_sphere),
         cmocka_unit_test(cache_hit_and_rebuild),
         cmocka_unit_test(vectors_and_files),

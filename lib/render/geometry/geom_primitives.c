@@ -173,17 +173,21 @@ static void build_sphere(Builder *b, int n)
 static void build_round(Builder *b, int n, bool cone)
 {
     for (int i = 0; i < n; i++) {
-        /* the last segment ends where the first begins, exactly (sin 2pi
-         * is not 0 in floating point): the mesh is closed once welded */
-        double a0 = 2 * PI * i / n, a1 = i + 1 == n ? 0 : 2 * PI * (i + 1) / n;
-        double am = (a0 + (i + 1 == n ? 2 * PI : a1)) / 2;
-        double c0 = cos(a0), s0 = sin(a0), c1 = cos(a1), s1 = sin(a1);
+        /* angles in turns with exact quadrants (turns.h): the last
+         * segment ends where the first begins, so the mesh is closed once
+         * welded, and the rim's points at a quarter turn lie exactly on
+         * the axes (cos(pi/2) is 6e-17 in radians: a trim along an axis
+         * then left slivers of that width, which CGAL's corefinement
+         * failed on) */
+        double a0 = (double)i / n, a1 = i + 1 == n ? 0 : (double)(i + 1) / n;
+        double am = (a0 + (i + 1 == n ? 1 : a1)) / 2;
+        double c0 = cos_t(a0), s0 = sin_t(a0), c1 = cos_t(a1), s1 = sin_t(a1);
         double u0 = (double)i / n, u1 = (double)(i + 1) / n;
         double nz = cone ? 1 : 0;
         uint32_t b0 = add_vertex(b, c0, s0, -0.5, c0, s0, nz, u0, 0.25);
         uint32_t b1 = add_vertex(b, c1, s1, -0.5, c1, s1, nz, u1, 0.25);
         if (cone) {
-            uint32_t t = add_vertex(b, 0, 0, 0.5, cos(am), sin(am), 1, (u0 + u1) / 2, 1);
+            uint32_t t = add_vertex(b, 0, 0, 0.5, cos_t(am), sin_t(am), 1, (u0 + u1) / 2, 1);
             add_tri(b, b0, b1, t);
         } else {
             uint32_t t0 = add_vertex(b, c0, s0, 0.5, c0, s0, 0, u0, 0.75);
@@ -253,8 +257,9 @@ void mesh_counts(const MeshKey *key, uint64_t *nverts, uint64_t *nindex)
         t = 8 * rows * rows;
         break;
     }
-    case MESH_CYLINDER: v = 10 * n, t = 4 * n; break;
-    case MESH_CONE: v = 6 * n, t = 2 * n; break;
+    /* two segments make flat caps of no area, which add_tri drops */
+    case MESH_CYLINDER: v = 10 * n, t = n == 2 ? 2 * n : 4 * n; break;
+    case MESH_CONE: v = 6 * n, t = n == 2 ? n : 2 * n; break;
     case MESH_OCTAGON: v = 9, t = 8; break;
     default: v = 24, t = 12; break;
     }
