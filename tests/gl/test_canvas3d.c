@@ -1030,6 +1030,37 @@ static void textures_drawn(void **st)
     fl_free(rt);
 }
 
+/* uv_remap=:plane maps the texture across the box's x and y from its
+ * lower left corner: the front face of a box drawn right of the middle
+ * (pixels 32 to 54) shows the picture's left half (red) on its left,
+ * where the picture itself, drawn behind, is blue, and its right half
+ * (blue, darkened by the Fresnel term) on its right. The box's own uv_map
+ * puts a sixth of the picture on each face, one colour only. */
+static void uv_remap_plane(void **st)
+{
+    (void)st;
+    uint32_t pix[W * H];
+    const char *scene = "!window size=64;64\n"
+                        "    !canvas id=:pic\n"
+                        "        !group\n"
+                        "            !rect size=32;64\n"
+                        "            !fill color=1;0;0\n"
+                        "        !group\n"
+                        "            !rect point=32;0 size=32;64\n"
+                        "            !fill color=0;0;1\n"
+                        "    !canvas3d\n"
+                        "        !light color=1\n"
+                        "        !box size=16 position=8;0;0 color=0;1;0 texture_id=:pic uv_remap=:plane\n";
+    fl_runtime *rt = draw(scene, pix);
+    assert_int_equal(fl_step(rt), 0);
+    assert_int_equal(fl_draw_window(rt, 0, pix, W, H, W * 4), 0);
+    assert_null(strstr(logged, "uv_remap"));
+    assert_int_equal(at(pix, 60, 32), 0xff0000ffu);   /* the picture */
+    assert_rgb_near(at(pix, 37, 32), 1 - F0, 0, 0, 1);
+    assert_rgb_near(at(pix, 48, 32), 0, 0, 1 - F0, 1);
+    fl_free(rt);
+}
+
 /* With samples, a render group of opaque meshes lying two or more deep
  * under 12 lights or more is first drawn depth only (the occluders), and
  * its meshes discard the fragments hidden at every sample of their pixel
@@ -1181,6 +1212,7 @@ int main(void)
         cmocka_unit_test(unsupported_warned_once),
         cmocka_unit_test(textures_missing_named_once),
         cmocka_unit_test(textures_drawn),
+        cmocka_unit_test(uv_remap_plane),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

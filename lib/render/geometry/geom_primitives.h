@@ -38,6 +38,7 @@ typedef struct MeshKey {
     bool uv_repeat; /* a box's uv_map=:repeat (each face the whole texture) */
     uint64_t model; /* not a primitive: the geometry room's model (geom_model_serial), else 0 */
     double snap;    /* a model's snap_edges (geom_shading.h) */
+    int uv_remap;   /* a model's uv_remap= (geom_uv_remap.h), UV_REMAP_NONE for a primitive */
 } MeshKey;
 
 typedef struct MeshData {

@@ -25,6 +25,7 @@
 #include "canvas3d_shaders.h"
 #include "mem.h"
 #include "geom_model.h"
+#include "geom_uv_remap.h"
 #include "rnode.h"
 #include "transform3d.h"
 
@@ -321,9 +322,9 @@ static int mesh_kind(const Node *n)
 }
 
 /* Flitter canvas3d.pyx get_model (top): the GL mesh of model node [n]
- * (a file, vectors, CSG, SDF; a primitive with snap_edges=) with its
- * shading: flat, else its edges snapped at snap_edges (default
- * geom_model_snap's), invert. NULL when it has none (the
+ * (a file, vectors, CSG, SDF; a primitive with snap_edges= or
+ * uv_remap=) with its shading: flat, else its edges snapped at snap_edges
+ * (default geom_model_snap's), invert, then its uv_remap=. NULL when it has none (the
  * reason logged once by the models). */
 static const GlMesh *model_mesh(Canvas3D *c, const Node *n, MeshKey *key)
 {
@@ -336,7 +337,7 @@ static const GlMesh *model_mesh(Canvas3D *c, const Node *n, MeshKey *key)
     key->model = geom_model_serial(m);
     key->snap = key->flat ? 0 : clampd(num(n, "snap_edges", geom_model_snap(m)), 0, 0.5);
     if (key->snap <= 0) key->flat = true, key->snap = 0;
-    if (rnode_attr(n, "uv_remap")) c3d_note(c, "!%s: uv_remap= is not supported yet", rnode_kind(n));
+    key->uv_remap = geom_uv_remap_parse(text(c, n, "uv_remap"));
     const GlMesh *gl = mesh_cache_get_model(c->meshes, key, g, c->frames);
     if (!gl) c3d_note(c, "!%s: its mesh (%u triangles) does not fit in the memory budget", rnode_kind(n), g->ntri);
     return gl;
@@ -427,7 +428,7 @@ static void collect(Canvas3D *c, const Node *n, M4 t, const Material *mat, int g
         t = transform3d_update(n, t);
         m = update_material(c, n, mat);
         group = new_group(c, n, group);
-    } else if ((kind = mesh_kind(n)) >= 0 && !rnode_attr(n, "snap_edges")) {
+    } else if ((kind = mesh_kind(n)) >= 0 && !rnode_attr(n, "snap_edges") && !rnode_attr(n, "uv_remap")) {
         add_instance(c, n, kind, &t, mat, group);
         return;
     } else if (geom_is_model_kind(n)) {

@@ -11,6 +11,7 @@
 #include <epoxy/gl.h>
 
 #include "geom_shading.h"
+#include "geom_uv_remap.h"
 #include "mem.h"
 
 /* last: it turns the library's names into calls through its table */
@@ -34,7 +35,8 @@ MeshCache *mesh_cache_new(MemBudget *budget)
 static bool same_key(const MeshKey *k, const MeshKey *key)
 {
     return k->kind == key->kind && k->segments == key->segments && k->flat == key->flat && k->invert == key->invert &&
-           k->uv_repeat == key->uv_repeat && k->model == key->model && k->snap == key->snap;
+           k->uv_repeat == key->uv_repeat && k->model == key->model && k->snap == key->snap &&
+           k->uv_remap == key->uv_remap;
 }
 
 static size_t mesh_bytes(uint64_t nverts, uint64_t nindex)
@@ -112,11 +114,18 @@ const GlMesh *mesh_cache_get_model(MeshCache *c, const MeshKey *key, const GeomM
             return c->mesh[i];
         }
     GeomShading s = {.flat = key->flat, .snap = key->snap, .invert = key->invert};
-    /* at most three vertices a triangle */
+    /* at most three vertices a triangle, and a sphere's uv_remap= copies
+     * at most two corners of each */
     uint64_t ni = (uint64_t)mesh->ntri * 3, nv = key->flat || key->snap < 0.5 ? ni : mesh->npos;
+    if (key->uv_remap == UV_REMAP_SPHERE) nv += (uint64_t)mesh->ntri * 2;
     if (!mem_budget_reserve(c->budget, mesh_bytes(nv, ni))) return NULL;
     MeshData d;
     geom_shade(mesh, &s, &d);
+    if (key->uv_remap != UV_REMAP_NONE) {
+        double bounds[6];
+        geom_mesh_bounds(mesh, bounds);
+        geom_uv_remap(&d, key->uv_remap, bounds);
+    }
     mem_budget_release(c->budget, mesh_bytes(nv, ni));
     if (!mem_budget_reserve(c->budget, mesh_bytes(d.nverts, d.nindex))) {
         mesh_data_free(&d);
