@@ -220,6 +220,80 @@ static void trim_through_rim(void **state)
     geom_mesh_free(&g);
 }
 
+/* The unit cube's corners and its twelve triangles wound outwards. */
+static const double cube_pos[8][3] = {{-0.5, -0.5, -0.5}, {0.5, -0.5, -0.5}, {0.5, 0.5, -0.5}, {-0.5, 0.5, -0.5},
+                                      {-0.5, -0.5, 0.5},  {0.5, -0.5, 0.5},  {0.5, 0.5, 0.5},  {-0.5, 0.5, 0.5}};
+static const uint32_t cube_tri[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                                         {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+
+/* A cube made badly: every triangle its own three vertices (at the
+ * cube's corners), triangles 2, 5 and 9 wound inwards (all twelve when
+ * [inside_out]), then a repeat of triangle 0 the other way round, a
+ * triangle with two corners at one position and one of no area. */
+static void bad_cube(GeomMesh *g, bool inside_out)
+{
+    memset(g, 0, sizeof *g);
+    uint32_t pcap = 0, tcap = 0;
+    for (int f = 0; f < 12; f++) {
+        uint32_t v[3];
+        for (int k = 0; k < 3; k++) {
+            const double *p = cube_pos[cube_tri[f][k]];
+            v[k] = geom_mesh_add_pos(g, &pcap, p[0], p[1], p[2]);
+        }
+        bool turn = inside_out || f == 2 || f == 5 || f == 9;
+        geom_mesh_add_tri(g, &tcap, v[0], turn ? v[2] : v[1], turn ? v[1] : v[2]);
+    }
+    geom_mesh_add_tri(g, &tcap, 0, 2, 1);
+    geom_mesh_add_tri(g, &tcap, 3, 3, 4);
+    uint32_t mid = geom_mesh_add_pos(g, &pcap, 0, -0.5, -0.5);   /* on the side from corner 0 to 1 */
+    geom_mesh_add_tri(g, &tcap, 0, mid, 2);   /* vertex 2 is corner 1 */
+}
+
+static void repair_mesh(void **state)
+{
+    (void)state;
+    for (int inside_out = 0; inside_out < 2; inside_out++) {
+        GeomMesh g;
+        bad_cube(&g, inside_out);
+        assert_int_equal(g.ntri, 15);
+        assert_false(geom_mesh_is_closed(&g));
+        geom_mesh_repair(&g);
+        assert_int_equal(g.ntri, 12);
+        assert_int_equal(g.npos, 8);   /* merged, the point on a side unused */
+        assert_true(geom_mesh_is_closed(&g));
+        assert_true(geom_mesh_volume(&g) == 1);
+        geom_mesh_free(&g);
+    }
+}
+
+/* repair=true on a !model made of vectors: a cube wound inside out is no
+ * volume for a boolean operation, and is one once repaired. */
+static void repair_model(void **state)
+{
+    (void)state;
+    char vertices[400] = "", faces[400] = "", src[1200];
+    size_t at = 0;
+    for (int i = 0; i < 8; i++)
+        for (int k = 0; k < 3; k++)
+            at += (size_t)snprintf(vertices + at, sizeof vertices - at, "%s%g", at ? ";" : "", cube_pos[i][k]);
+    at = 0;
+    for (int f = 0; f < 12; f++)
+        for (int k = 0; k < 3; k++)   /* every triangle turned */
+            at += (size_t)snprintf(faces + at, sizeof faces - at, "%s%u", at ? ";" : "", cube_tri[f][k == 0 ? 0 : 3 - k]);
+    snprintf(src, sizeof src,
+             "!union\n    !model vertices=%s faces=%s repair=true\n    !box position=0.5;0;0\n"
+             "!union\n    !model vertices=%s faces=%s\n    !box position=0.5;0;0\n",
+             vertices, faces, vertices, faces);
+    Fixture *f = fixture(src, 0);
+    const GeomMesh *u = mesh_of(f, 0);
+    check_closed(u);
+    assert_true(fabs(geom_mesh_volume(u) - 1.5) < 1e-9);
+    assert_int_equal(f->nerrors, 0);
+    assert_null(mesh_of(f, 1));
+    assert_int_equal(f->nerrors, 1);
+    fixture_free(f);
+}
+
 static void sdf_sphere(void **state)
 {
     (void)state;
@@ -393,6 +467,8 @@ int main(void)
         cmocka_unit_test(union_of_boxes),
         cmocka_unit_test(box_and_sphere),
         cmocka_unit_test(trim_through_rim),
+        cmocka_unit_test(repair_mesh),
+        cmocka_unit_test(repair_model),
         cmocka_unit_test(sdf_sphere),
         cmocka_unit_test(cache_hit_and_rebuild),
         cmocka_unit_test(vectors_and_files),

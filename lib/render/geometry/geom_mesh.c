@@ -221,3 +221,203 @@ void geom_mesh_copy(const GeomMesh *src, GeomMesh *dst)
         if (src->npos) memcpy(dst->normal, src->normal, (size_t)src->npos * 3 * sizeof(float));
     }
 }
+
+/* {===== repair (Flitter's repair=) */
+
+/* [x] as a key word, -0 as +0. */
+static uint64_t word_of(double x)
+{
+    uint64_t w;
+    if (x == 0) x = 0;
+    memcpy(&w, &x, sizeof w);
+    return w;
+}
+
+/* Merge vertices equal in position, texture coordinate and normal;
+ * return each vertex's position number in [pid] (vertices at one position
+ * share it) and the count of positions. */
+static uint32_t merge_vertices(GeomMesh *m, uint32_t **pid_out)
+{
+    uint32_t n = m->npos, kept = 0;
+    uint32_t *remap = mem_alloc((n ? n : 1) * sizeof(uint32_t));
+    Table t;
+    table_init(&t, n, 8);
+    for (uint32_t i = 0; i < n; i++) {
+        uint64_t key[8] = {0};
+        for (int k = 0; k < 3; k++) key[k] = word_of(m->pos[(size_t)i * 3 + k]);
+        for (int k = 0; m->uv && k < 2; k++) key[3 + k] = word_of(m->uv[(size_t)i * 2 + k]);
+        for (int k = 0; m->normal && k < 3; k++) key[5 + k] = word_of(m->normal[(size_t)i * 3 + k]);
+        uint32_t j = table_get_or_put(&t, key, kept);
+        if (j == kept) {
+            memmove(m->pos + (size_t)kept * 3, m->pos + (size_t)i * 3, 3 * sizeof(double));
+            if (m->uv) memmove(m->uv + (size_t)kept * 2, m->uv + (size_t)i * 2, 2 * sizeof(float));
+            if (m->normal) memmove(m->normal + (size_t)kept * 3, m->normal + (size_t)i * 3, 3 * sizeof(float));
+            kept++;
+        }
+        remap[i] = j;
+    }
+    table_free(&t);
+    for (size_t e = 0; e < (size_t)m->ntri * 3; e++) m->tri[e] = remap[m->tri[e]];
+    m->npos = kept;
+    table_init(&t, kept, 3);
+    uint32_t npid = 0;
+    for (uint32_t i = 0; i < kept; i++) {
+        uint64_t key[3];
+        for (int k = 0; k < 3; k++) key[k] = word_of(m->pos[(size_t)i * 3 + k]);
+        remap[i] = table_get_or_put(&t, key, npid);
+        if (remap[i] == npid) npid++;
+    }
+    table_free(&t);
+    *pid_out = remap;
+    return npid;
+}
+
+/* Drop triangles with two corners at one position, of no area, or over
+ * the same three positions as an earlier one. */
+static void drop_bad_triangles(GeomMesh *m, const uint32_t *pid)
+{
+    Table t;
+    table_init(&t, m->ntri, 3);
+    uint32_t kept = 0;
+    for (uint32_t f = 0; f < m->ntri; f++) {
+        const uint32_t *c = m->tri + (size_t)f * 3;
+        uint32_t a = pid[c[0]], b = pid[c[1]], d = pid[c[2]];
+        if (a == b || b == d || a == d) continue;
+        const double *p[3];
+        corners(m, f, p);
+        double u[3], v[3];
+        for (int k = 0; k < 3; k++) u[k] = p[1][k] - p[0][k], v[k] = p[2][k] - p[0][k];
+        if (u[1] * v[2] - u[2] * v[1] == 0 && u[2] * v[0] - u[0] * v[2] == 0 && u[0] * v[1] - u[1] * v[0] == 0)
+            continue;
+        uint64_t key[3] = {a, b, d};
+        for (int i = 0; i < 2; i++)   /* sorted: the same three in any order */
+            for (int j = 0; j < 2 - i; j++)
+                if (key[j] > key[j + 1]) {
+                    uint64_t s = key[j];
+                    key[j] = key[j + 1];
+                    key[j + 1] = s;
+                }
+        if (table_get_or_put(&t, key, kept) != kept) continue;
+        memmove(m->tri + (size_t)kept * 3, c, 3 * sizeof *c);
+        kept++;
+    }
+    table_free(&t);
+    m->ntri = kept;
+}
+
+/* The corners of side [s] (0..2) of triangle [f] as positions. */
+static void side(const GeomMesh *m, const uint32_t *pid, uint32_t f, int s, uint32_t *a, uint32_t *b)
+{
+    *a = pid[m->tri[(size_t)f * 3 + (size_t)s]];
+    *b = pid[m->tri[(size_t)f * 3 + (size_t)(s + 1) % 3]];
+}
+
+/* Wind every triangle as the first of its connected part (triangles that
+ * share a side by position), turning those that run along a shared side
+ * in the same direction as their neighbour; true when every side is
+ * shared by exactly two triangles running along it in opposite directions
+ * afterwards (a closed surface). */
+static bool fix_winding(GeomMesh *m, const uint32_t *pid)
+{
+    size_t ne = (size_t)m->ntri * 3;
+    uint32_t *group = mem_alloc((ne ? ne : 1) * sizeof(uint32_t)), ngroups = 0;
+    Table t;
+    table_init(&t, ne, 2);
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t a, b;
+        side(m, pid, (uint32_t)(e / 3), (int)(e % 3), &a, &b);
+        uint64_t key[2] = {a < b ? a : b, a < b ? b : a};
+        group[e] = table_get_or_put(&t, key, ngroups);
+        if (group[e] == ngroups) ngroups++;
+    }
+    table_free(&t);
+    /* the sides of each group, contiguous */
+    uint32_t *start = mem_calloc((size_t)ngroups + 1, sizeof(uint32_t));
+    uint32_t *member = mem_alloc((ne ? ne : 1) * sizeof(uint32_t));
+    for (size_t e = 0; e < ne; e++) start[group[e] + 1]++;
+    for (uint32_t g = 0; g < ngroups; g++) start[g + 1] += start[g];
+    uint32_t *fill = mem_alloc(((size_t)ngroups + 1) * sizeof(uint32_t));
+    memcpy(fill, start, ((size_t)ngroups + 1) * sizeof(uint32_t));
+    for (size_t e = 0; e < ne; e++) member[fill[group[e]]++] = (uint32_t)e;
+    free(fill);
+    /* breadth first over the triangles */
+    bool *seen = mem_calloc(m->ntri ? m->ntri : 1, sizeof(bool));
+    uint32_t *queue = mem_alloc((m->ntri ? m->ntri : 1) * sizeof(uint32_t));
+    for (uint32_t s = 0; s < m->ntri; s++) {
+        if (seen[s]) continue;
+        size_t head = 0, tail = 0;
+        queue[tail++] = s;
+        seen[s] = true;
+        while (head < tail) {
+            uint32_t f = queue[head++];
+            for (int k = 0; k < 3; k++) {
+                uint32_t g = group[(size_t)f * 3 + (size_t)k], a, b;
+                side(m, pid, f, k, &a, &b);
+                for (uint32_t i = start[g]; i < start[g + 1]; i++) {
+                    uint32_t o = member[i] / 3, oa, ob;
+                    if (o == f || seen[o]) continue;
+                    side(m, pid, o, (int)(member[i] % 3), &oa, &ob);
+                    if (oa == a) {   /* the same direction: turned */
+                        uint32_t *c = m->tri + (size_t)o * 3, x = c[1];
+                        c[1] = c[2];
+                        c[2] = x;
+                    }
+                    seen[o] = true;
+                    queue[tail++] = o;
+                }
+            }
+        }
+    }
+    free(seen);
+    free(queue);
+    bool closed = m->ntri > 0;
+    for (uint32_t g = 0; g < ngroups && closed; g++) {
+        if (start[g + 1] - start[g] != 2) {
+            closed = false;
+            break;
+        }
+        uint32_t a0, b0, a1, b1, e0 = member[start[g]], e1 = member[start[g] + 1];
+        side(m, pid, e0 / 3, (int)(e0 % 3), &a0, &b0);
+        side(m, pid, e1 / 3, (int)(e1 % 3), &a1, &b1);
+        closed = a0 == b1 && b0 == a1;
+    }
+    free(group);
+    free(start);
+    free(member);
+    return closed;
+}
+
+void geom_mesh_repair(GeomMesh *m)
+{
+    uint32_t *pid;
+    merge_vertices(m, &pid);
+    drop_bad_triangles(m, pid);
+    bool closed = fix_winding(m, pid);
+    free(pid);
+    if (closed && geom_mesh_volume(m) < 0)
+        for (uint32_t f = 0; f < m->ntri; f++) {
+            uint32_t *c = m->tri + (size_t)f * 3, x = c[1];
+            c[1] = c[2];
+            c[2] = x;
+        }
+    /* the vertices no triangle uses dropped */
+    uint32_t *remap = mem_alloc((m->npos ? m->npos : 1) * sizeof(uint32_t));
+    memset(remap, 0xff, (m->npos ? m->npos : 1) * sizeof(uint32_t));
+    for (size_t e = 0; e < (size_t)m->ntri * 3; e++) remap[m->tri[e]] = 0;
+    uint32_t kept = 0;
+    for (uint32_t i = 0; i < m->npos; i++) {
+        if (remap[i] == UINT32_MAX) continue;
+        memmove(m->pos + (size_t)kept * 3, m->pos + (size_t)i * 3, 3 * sizeof(double));
+        if (m->uv) memmove(m->uv + (size_t)kept * 2, m->uv + (size_t)i * 2, 2 * sizeof(float));
+        if (m->normal) memmove(m->normal + (size_t)kept * 3, m->normal + (size_t)i * 3, 3 * sizeof(float));
+        remap[i] = kept++;
+    }
+    for (size_t e = 0; e < (size_t)m->ntri * 3; e++) m->tri[e] = remap[m->tri[e]];
+    free(remap);
+    m->npos = kept;
+    /* normals that no longer face out are recomputed by the renderer */
+    free(m->normal);
+    m->normal = NULL;
+}
+
+/* }===== */

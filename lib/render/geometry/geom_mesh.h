@@ -59,6 +59,18 @@ bool geom_mesh_is_closed(const GeomMesh *m);
  * repeat a position at every seam. */
 void geom_mesh_weld(GeomMesh *m);
 
+/* Flitter's repair= (docs/canvas3d.md, Models; trimesh's process with
+ * validation, as models.pyx asks for it): vertices equal in position,
+ * texture coordinate and normal merged into one; triangles with two
+ * corners at one position, of no area, or over the same three positions
+ * as an earlier one dropped; every connected part (triangles sharing a
+ * side by position) wound as its first triangle; the whole turned inside
+ * out when it is then closed and its volume negative; vertices no triangle
+ * uses dropped. Normals are dropped (the renderer makes them from the new
+ * winding); texture coordinates are kept.
+ *   errors: none (allocation failure goes through mem.h). */
+void geom_mesh_repair(GeomMesh *m);
+
 /* A deep copy of [src] into [dst]. */
 void geom_mesh_copy(const GeomMesh *src, GeomMesh *dst);
 

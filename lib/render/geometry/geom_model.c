@@ -26,10 +26,10 @@
 #include "transform3d.h"
 
 enum Kind {
-    K_PRIMITIVE, K_FILE, K_VECTOR, K_TRANSFORM, K_UNION, K_INTERSECT, K_DIFFERENCE, K_TRIM, K_SDF, K_MIX,
+    K_PRIMITIVE, K_FILE, K_VECTOR, K_TRANSFORM, K_UNION, K_INTERSECT, K_DIFFERENCE, K_TRIM, K_SDF, K_MIX, K_REPAIR,
 };
 static const char *const kind_names[] = {"primitive", "model", "model", "transform", "union", "intersect",
-                                         "difference", "trim", "sdf", "mix"};
+                                         "difference", "trim", "sdf", "mix", "model"};
 
 #define NPARAMS 16
 #define DEFAULT_SEGMENTS 64
@@ -427,19 +427,28 @@ static char *model_path(GeomModels *c, const char *name)
     return s;
 }
 
+/* `!model`: a file or vectors, repaired (geom_mesh_repair) with repair=true. */
 static GeomModel *model_node(GeomModels *c, const Node *n)
 {
     const char *name = text(c, n, "filename");
+    GeomModel *m;
     if (name && name[0]) {
         GeomModel proto = {.kind = K_FILE, .path = model_path(c, name)};
-        return intern(c, &proto);
+        m = intern(c, &proto);
+    } else {
+        const Vec *v = numvec(n, "vertices");
+        if (!v) return NULL;
+        const Vec *f = numvec(n, "faces"), *uv = numvec(n, "uv");
+        GeomModel proto = {.kind = K_VECTOR, .vertices = vec_retain((Vec *)v),
+                           .faces = f ? vec_retain((Vec *)f) : NULL, .uv = uv ? vec_retain((Vec *)uv) : NULL};
+        m = intern(c, &proto);
     }
-    const Vec *v = numvec(n, "vertices");
-    if (!v) return NULL;
-    const Vec *f = numvec(n, "faces"), *uv = numvec(n, "uv");
-    GeomModel proto = {.kind = K_VECTOR, .vertices = vec_retain((Vec *)v), .faces = f ? vec_retain((Vec *)f) : NULL,
-                       .uv = uv ? vec_retain((Vec *)uv) : NULL};
-    return intern(c, &proto);
+    const Vec *repair = rnode_attr(n, "repair");
+    if (!m || !repair || !vec_truthy(repair)) return m;
+    GeomModel proto = {.kind = K_REPAIR};
+    GeomModel **one = mem_alloc(sizeof *one);
+    one[0] = m;
+    return make(c, &proto, one, 1);
 }
 
 /* [m] trimmed (Flitter Model._trim): an intersection or difference
@@ -943,6 +952,18 @@ static bool build(GeomModels *c, GeomModel *m, GeomMesh *out, char *err, size_t 
         return true;
     }
     case K_VECTOR: return vector_mesh(m, out, err, errlen);
+    case K_REPAIR: {
+        const GeomMesh *in = mesh_of(c, m->kids[0]);
+        if (!in) return false;
+        geom_mesh_copy(in, out);
+        geom_mesh_repair(out);
+        if (out->ntri == 0) {
+            snprintf(err, errlen, "no triangle is left once repaired");
+            geom_mesh_free(out);
+            return false;
+        }
+        return true;
+    }
     case K_TRANSFORM: {
         const GeomMesh *in = mesh_of(c, m->kids[0]);
         if (!in) return false;
