@@ -294,6 +294,36 @@ static void repair_model(void **state)
     fixture_free(f);
 }
 
+/* !model vertices= without faces= is the vertices' convex hull: the
+ * cube's corners with a point inside it and one in the middle of a face
+ * make the cube (8 corners, 12 triangles, volume 1); four points in one
+ * plane make no solid, said once. */
+static void convex_hull(void **state)
+{
+    (void)state;
+    char vertices[400] = "", src[800];
+    size_t at = 0;
+    for (int i = 0; i < 8; i++)
+        for (int k = 0; k < 3; k++)
+            at += (size_t)snprintf(vertices + at, sizeof vertices - at, "%s%g", at ? ";" : "", cube_pos[i][k]);
+    snprintf(src, sizeof src,
+             "!model vertices=%s;0.1;0.2;0.3;0;0;0.5\n"
+             "!model vertices=0;0;0;1;0;0;0;1;0;1;1;0\n",
+             vertices);
+    Fixture *f = fixture(src, 0);
+    const GeomMesh *h = mesh_of(f, 0);
+    assert_non_null(h);
+    assert_int_equal(h->npos, 8);
+    assert_int_equal(h->ntri, 12);
+    assert_true(geom_mesh_is_closed(h));
+    assert_true(geom_mesh_volume(h) == 1);
+    assert_int_equal(f->nerrors, 0);
+    assert_null(mesh_of(f, 1));
+    assert_int_equal(f->nerrors, 1);
+    assert_non_null(strstr(f->errors, "one plane"));
+    fixture_free(f);
+}
+
 static void sdf_sphere(void **state)
 {
     (void)state;
@@ -469,6 +499,7 @@ int main(void)
         cmocka_unit_test(trim_through_rim),
         cmocka_unit_test(repair_mesh),
         cmocka_unit_test(repair_model),
+        cmocka_unit_test(convex_hull),
         cmocka_unit_test(sdf_sphere),
         cmocka_unit_test(cache_hit_and_rebuild),
         cmocka_unit_test(vectors_and_files),

@@ -50,6 +50,8 @@
 #include "geom_csg.h"
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/convex_hull_3.h>
 #include <CGAL/Polygon_mesh_processing/clip.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/manifoldness.h>
@@ -336,5 +338,48 @@ extern "C" int geom_csg_trim(const GeomMesh *in, const double origin[3], const d
                 throw CsgError("boolean operation failed");
         }
         *out = to_geom(sm);
+    });
+}
+
+extern "C" int geom_csg_hull(const double *xyz, size_t n, GeomMesh *out, char *err, size_t errlen)
+{
+    if (out) *out = GeomMesh{};
+    return guarded(out, err, errlen, [&] {
+        if (!out) throw CsgError("no output mesh");
+        if (n < 4 || !xyz) throw CsgError("fewer than 4 vertices have no hull with a volume");
+        /* the hull's corners are input points: exact predicates decide
+         * which, and nothing is constructed */
+        using HullPoint = CGAL::Exact_predicates_inexact_constructions_kernel::Point_3;
+        std::vector<HullPoint> points;
+        points.reserve(n);
+        for (size_t i = 0; i < n; i++) {
+            const double *p = xyz + i * 3;
+            if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+                throw CsgError("a vertex is not finite");
+            points.emplace_back(p[0], p[1], p[2]);
+        }
+        CGAL::Surface_mesh<HullPoint> hull;
+        CGAL::convex_hull_3(points.begin(), points.end(), hull);
+        if (hull.number_of_faces() < 4 || !CGAL::is_closed(hull) || !CGAL::is_triangle_mesh(hull))
+            throw CsgError("the vertices lie in one plane: their hull has no volume");
+        if (hull.has_garbage()) hull.collect_garbage();
+        size_t nv = hull.number_of_vertices(), nf = hull.number_of_faces();
+        OutMesh r;
+        r.m.pos = static_cast<double *>(std::malloc(nv * 3 * sizeof(double)));
+        r.m.tri = static_cast<uint32_t *>(std::malloc(nf * 3 * sizeof(uint32_t)));
+        if (!r.m.pos || !r.m.tri) throw std::bad_alloc();
+        for (auto v : hull.vertices()) {
+            const HullPoint &p = hull.point(v);
+            double *q = r.m.pos + (size_t)v * 3;
+            q[0] = p.x(), q[1] = p.y(), q[2] = p.z();
+        }
+        r.m.npos = (uint32_t)nv;
+        for (auto f : hull.faces()) {
+            uint32_t *t = r.m.tri + (size_t)r.m.ntri * 3;
+            int c = 0;
+            for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) t[c++] = (uint32_t)(size_t)v;
+            r.m.ntri++;
+        }
+        *out = r.release();
     });
 }

@@ -1,7 +1,8 @@
 /* geom_csg.h: constructive solid geometry on triangle meshes (Flitter's
  * !union, !intersect, !difference and !trim; docs/canvas3d.md,
  * "Constructive Solid Geometry"), computed exactly by CGAL's Polygon Mesh
- * Processing (geom_csg.cpp) behind this C interface.
+ * Processing (geom_csg.cpp) behind this C interface, and the convex hull
+ * of a cloud of points, the solid `!model vertices=` makes without faces.
  *
  * Meshes are GeomMesh (geom_mesh.h): positions in model units, triangles
  * counter-clockwise seen from outside. A result has positions and
@@ -48,6 +49,16 @@ int geom_csg_boolean(GeomBoolOp op, const GeomMesh *const *in, size_t n, GeomMes
  * or the empty mesh. Same errors as geom_csg_boolean (the input is "mesh 1 of 1"). */
 int geom_csg_trim(const GeomMesh *in, const double origin[3], const double normal[3], GeomMesh *out,
                   char *err, size_t errlen);
+
+/* The convex hull of the [n] points [xyz] (3n doubles, model units), for
+ * Flitter's `!model vertices=` without `faces=` (docs/canvas3d.md, Custom
+ * Models): the triangles of the smallest convex solid that holds them,
+ * wound outwards, its corners some of the points (exact predicates decide
+ * which; a point on a face or an edge of the hull is not a corner).
+ *   errors: -1 with the message in err: "fewer than 4 vertices have no
+ *           hull with a volume", "the vertices lie in one plane: their hull
+ *           has no volume", "a vertex is not finite"; out is then zeroed. */
+int geom_csg_hull(const double *xyz, size_t n, GeomMesh *out, char *err, size_t errlen);
 
 #ifdef __cplusplus
 }

@@ -802,8 +802,13 @@ static bool vector_mesh(GeomModel *m, GeomMesh *out, char *err, size_t errlen)
     }
     nv /= 3;
     if (!m->faces) {
-        snprintf(err, errlen, "vertices without faces (a convex hull) are not supported");
-        return false;
+        /* Flitter: the convex hull of the vertices (as floats) */
+        double *p = mem_alloc(sizeof(double) * 3 * (nv ? nv : 1));
+        const double *v = vec_cnums(m->vertices);
+        for (uint32_t i = 0; i < nv * 3; i++) p[i] = (float)v[i];
+        int rc = geom_csg_hull(p, nv, out, err, errlen);
+        free(p);
+        return rc == 0;
     }
     uint32_t nf = vec_len(m->faces);
     if (nf % 3 != 0) {
