@@ -18,8 +18,11 @@
 set -uo pipefail
 cd "$(dirname "$0")/.."
 build=$1
+# (CSG_OBJECT: a CGAL unit built by another build of this checkout, linked
+# instead of compiling it again; lib/meson.build, csg_object)
 [ -f "$build/build.ninja" ] ||
-    CC=${TSAN_CC:-clang-14} meson setup "$build" -Db_sanitize=thread -Db_lundef=false >/dev/null ||
+    CC=${TSAN_CC:-clang-14} meson setup "$build" -Db_sanitize=thread -Db_lundef=false \
+        ${CSG_OBJECT:+-Dcsg_object="$CSG_OBJECT"} >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
 ninja -C "$build" src/flitter src/flitter-window.so tests/test_physics_routes tests/test_particle_pass \
     tests/test_halves tests/test_kernel tests/test_media >/dev/null ||
