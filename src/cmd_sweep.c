@@ -19,8 +19,11 @@
  *       run, seed, exit,
  *       wall_seconds). A job whose manifest says exit 0 returns at once; an
  *       unfinished one starts over (its saved state is removed first). The
- *       job holds DIR/job-K/lock (flock) while it runs: a second start of
- *       the same job leaves it alone (exit 1); its `flitter run` child dies
+ *       job holds DIR/job-K/lock (flock) while it runs, and writes
+ *       final.state and manifest under names of its own (NAME.PID.tmp),
+ *       renamed when complete, those of killed runs removed first: a
+ *       second start of the same job leaves it alone (exit 1); its
+ *       `flitter run` child dies
  *       with it (a parent-death SIGKILL) and gets its SIGINT, SIGTERM and
  *       SIGHUP.
  *   flitter sweep --collect DIR
@@ -522,11 +525,32 @@ static pid_t start_child(const char *exe, char **av, const char *out, const char
     if (pid != 0) return pid;
     /* the child: async-signal-safe calls only */
     if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(127);
-    int o = open(out, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-    int l = open(log, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    int o = open(out, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0666);
+    int l = open(log, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0666);
     if (o < 0 || l < 0 || dup2(o, 1) < 0 || dup2(l, 2) < 0) _exit(127);
     execve(exe, av, environ);
     _exit(127);
+}
+
+/* Remove the temporary files of earlier runs of the job in [dir]
+ * (final.state.PID.tmp, manifest.PID.tmp), which only a run killed before
+ * its renames leaves; the caller holds the folder's lock, so no live run
+ * writes them (a dead run's child, still dying, keeps its own file open
+ * under a name no later run uses). */
+static void remove_stale_temps(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d) return;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        size_t n = strlen(e->d_name);
+        bool ours = strncmp(e->d_name, "final.state.", 12) == 0 || strncmp(e->d_name, "manifest.", 9) == 0;
+        if (!ours || n < 5 || strcmp(e->d_name + n - 4, ".tmp") != 0) continue;
+        char *p = join(dir, e->d_name);
+        unlink(p);
+        free(p);
+    }
+    closedir(d);
 }
 
 static int run_job(const Sweep *sw)
@@ -556,9 +580,15 @@ static int run_job(const Sweep *sw)
         return 1;
     }
     long run = sw->run;
-    char *manifest = join(dir, "manifest"), *mtmp = join(dir, "manifest.tmp");
+    /* results are written under names of this run's own and renamed by
+     * this process, which holds the lock */
+    remove_stale_temps(dir);
+    char mname[64], fname[64];
+    snprintf(mname, sizeof mname, "manifest.%ld.tmp", (long)getpid());
+    snprintf(fname, sizeof fname, "final.state.%ld.tmp", (long)getpid());
+    char *manifest = join(dir, "manifest"), *mtmp = join(dir, mname);
     char *state = join(dir, "run.state"), *trace = join(dir, "trace.csv");
-    char *final = join(dir, "final.state"), *ftmp = join(dir, "final.state.tmp");
+    char *final = join(dir, "final.state"), *ftmp = join(dir, fname);
     char *logp = join(dir, "log");
     char *script = realpath(sw->script, NULL);
     if (!script) script = xstrdup(sw->script);

@@ -131,12 +131,14 @@ done
 # a job runs alone in its folder and its child dies with it (issue 60):
 # a second start of a running job leaves it be (exit 1, its log and files
 # untouched); a job killed with SIGKILL takes its `flitter run` with it, and
-# the job run again afterwards finishes
+# the job run again afterwards finishes, its results written under names of
+# its own and the killed run's temporary files removed
 "$flitter" sweep --job 0 --run 0 --out "$dir/k" --frames 10000000 -D v=1 "$dir/norun.fl" 2>/dev/null &
 jp=$!
 i=0; while [ ! -s "$dir/k/job-0000/trace.csv" ] && [ $i -lt 100 ]; do sleep 0.1; i=$((i + 1)); done
 child=$(pgrep -P $jp)
 [ -n "$child" ] || fail "no child of the running job"
+[ -e "$dir/k/job-0000/final.state.$jp.tmp" ] || fail "the running job's output is not under a name of its own"
 "$flitter" sweep --job 0 --run 0 --out "$dir/k" --frames 3 -D v=1 "$dir/norun.fl" 2>"$dir/err"
 [ $? -eq 1 ] && grep -q "being run by another process" "$dir/err" || fail "a second start: $(cat "$dir/err")"
 kill -0 "$child" 2>/dev/null || fail "the second start ended the first's run"
@@ -148,6 +150,8 @@ ps -o stat= -p "$child" 2>/dev/null | grep -qv Z && fail "the killed job's child
 "$flitter" sweep --job 0 --run 0 --out "$dir/k" --frames 3 -D v=1 "$dir/norun.fl" 2>"$dir/err" ||
     fail "the job run again: $(cat "$dir/err")"
 grep -qx 'exit 0' "$dir/k/job-0000/manifest" || fail "the job run again is not recorded finished"
+[ -s "$dir/k/job-0000/final.state" ] || fail "the job run again has no final.state"
+ls "$dir/k/job-0000" | grep '\.tmp$' && fail "temporary files left in the job's folder"
 
 # bad usage: exit 2 with a message
 "$flitter" sweep "$script" -D 'bad name=1' --frames 1 --out "$dir/x" 2>"$dir/err"
