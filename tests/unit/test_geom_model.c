@@ -471,6 +471,33 @@ static void budget(void **state)
     fixture_free(f);
 }
 
+/* A cylinder's and a cone's solid form (their caps fans from the rim) is
+ * the drawn mesh's surface: closed once welded, the same volume, and no
+ * vertex left at a cap's centre. */
+static void primitive_solids(void **state)
+{
+    (void)state;
+    int kinds[] = {MESH_CYLINDER, MESH_CONE};
+    for (int k = 0; k < 2; k++)
+        for (int segments = 4; segments <= 64; segments *= 4) {
+            MeshKey key = {.kind = kinds[k], .segments = mesh_segments(kinds[k], segments)};
+            GeomMesh drawn, solid;
+            geom_primitive_mesh(&key, &drawn);
+            geom_primitive_solid(&key, &solid);
+            geom_mesh_weld(&drawn);
+            geom_mesh_weld(&solid);
+            assert_true(geom_mesh_is_closed(&solid));
+            assert_true(fabs(geom_mesh_volume(&solid) - geom_mesh_volume(&drawn)) < 1e-12);
+            assert_true(fabs(geom_mesh_area(&solid) - geom_mesh_area(&drawn)) < 1e-12);
+            for (uint32_t v = 0; v < solid.npos; v++)   /* (but a cone's point) */
+                assert_false(solid.pos[v * 3] == 0 && solid.pos[v * 3 + 1] == 0 &&
+                             !(kinds[k] == MESH_CONE && solid.pos[v * 3 + 2] == 0.5));
+            assert_int_equal(solid.npos, drawn.npos - (kinds[k] == MESH_CYLINDER ? 2 : 1));
+            geom_mesh_free(&drawn);
+            geom_mesh_free(&solid);
+        }
+}
+
 static void primitive_counts(void **state)
 {
     (void)state;
@@ -505,6 +532,7 @@ int main(void)
         cmocka_unit_test(vectors_and_files),
         cmocka_unit_test(budget),
         cmocka_unit_test(primitive_counts),
+        cmocka_unit_test(primitive_solids),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -42,6 +42,7 @@ struct GeomModel {
     uint64_t hash, serial;
     int kind;
     MeshKey prim;                 /* K_PRIMITIVE */
+    bool solid;                   /* K_PRIMITIVE: an operand inside a model tree (geom_primitive_solid) */
     double p[NPARAMS];            /* transform: matrix; trim: origin, normal, blends; sdf: min, max, resolution; booleans: blends */
     char *path;                   /* K_FILE: the file, as opened */
     Vec *vertices, *faces, *uv;   /* K_VECTOR (faces, uv may be NULL) */
@@ -215,6 +216,7 @@ static uint64_t model_hash(const GeomModel *m)
         h = hash_update(h, (uint64_t)m->prim.kind);
         h = hash_update(h, (uint64_t)m->prim.segments);
         h = hash_update(h, (uint64_t)m->prim.uv_repeat);
+        h = hash_update(h, (uint64_t)m->solid);
     }
     for (int i = 0; i < NPARAMS; i++) h = hash_update(h, num_bits(m->p[i]));
     for (const char *s = m->path; s && *s; s++) h = hash_update(h, (unsigned char)*s);
@@ -237,7 +239,7 @@ static bool same_model(const GeomModel *a, const GeomModel *b)
 {
     if (a->kind != b->kind || a->nkids != b->nkids || a->fn_key != b->fn_key) return false;
     if (a->kind == K_PRIMITIVE && (a->prim.kind != b->prim.kind || a->prim.segments != b->prim.segments ||
-                                   a->prim.uv_repeat != b->prim.uv_repeat))
+                                   a->prim.uv_repeat != b->prim.uv_repeat || a->solid != b->solid))
         return false;
     for (int i = 0; i < NPARAMS; i++)
         if (num_bits(a->p[i]) != num_bits(b->p[i])) return false;
@@ -399,9 +401,10 @@ static void blends(const Node *n, double out[3])
     out[2] = num(n, "chamfer", 0);
 }
 
-static GeomModel *primitive(GeomModels *c, const Node *n, int kind)
+/* A primitive; [solid]: an operand inside a model tree, not the model drawn. */
+static GeomModel *primitive(GeomModels *c, const Node *n, int kind, bool solid)
 {
-    GeomModel proto = {.kind = K_PRIMITIVE};
+    GeomModel proto = {.kind = K_PRIMITIVE, .solid = solid};
     proto.prim.kind = kind;
     double seg = num(n, "segments", DEFAULT_SEGMENTS);
     proto.prim.segments = mesh_segments(kind, seg > 1e6 ? 1000000 : seg < 0 ? 0 : (int)seg);
@@ -542,10 +545,10 @@ static GeomModel *model_of(GeomModels *c, const Node *n, bool top)
 {
     GeomModel *m = NULL;
     int k;
-    if (rnode_is(n, "box")) m = primitive(c, n, MESH_BOX);
-    else if (rnode_is(n, "sphere")) m = primitive(c, n, MESH_SPHERE);
-    else if (rnode_is(n, "cylinder")) m = primitive(c, n, MESH_CYLINDER);
-    else if (rnode_is(n, "cone")) m = primitive(c, n, MESH_CONE);
+    if (rnode_is(n, "box")) m = primitive(c, n, MESH_BOX, !top);
+    else if (rnode_is(n, "sphere")) m = primitive(c, n, MESH_SPHERE, !top);
+    else if (rnode_is(n, "cylinder")) m = primitive(c, n, MESH_CYLINDER, !top);
+    else if (rnode_is(n, "cone")) m = primitive(c, n, MESH_CONE, !top);
     else if (rnode_is(n, "model")) m = model_node(c, n);
     else if (!top && rnode_is(n, "transform")) {
         /* Flitter: each child through the transform, then their union */
@@ -951,7 +954,10 @@ static bool build(GeomModels *c, GeomModel *m, GeomMesh *out, char *err, size_t 
 {
     memset(out, 0, sizeof *out);
     switch (m->kind) {
-    case K_PRIMITIVE: geom_primitive_mesh(&m->prim, out); return true;
+    case K_PRIMITIVE:
+        if (m->solid) geom_primitive_solid(&m->prim, out);
+        else geom_primitive_mesh(&m->prim, out);
+        return true;
     case K_FILE: {
         if (geom_model_file_read(m->path, room_vertices(c), out, err, errlen) != 0) return false;
         return true;

@@ -170,8 +170,11 @@ static void build_sphere(Builder *b, int n)
 /* A cylinder, or a cone: the top ring shrunk to the point, with side
  * normals leaning up by 45 degrees (the unit cone falls 1 in radius over 1
  * in height). */
-static void build_round(Builder *b, int n, bool cone)
+static void build_round(Builder *b, int n, bool cone, bool rim_caps)
 {
+    /* rim_caps: each cap a fan from the rim's first point instead of its
+     * centre (the triangles at that point have no area and are dropped) */
+    double cx = rim_caps ? 1 : 0;
     for (int i = 0; i < n; i++) {
         /* angles in turns with exact quadrants (turns.h): the last
          * segment ends where the first begins, so the mesh is closed once
@@ -193,12 +196,12 @@ static void build_round(Builder *b, int n, bool cone)
             uint32_t t0 = add_vertex(b, c0, s0, 0.5, c0, s0, 0, u0, 0.75);
             uint32_t t1 = add_vertex(b, c1, s1, 0.5, c1, s1, 0, u1, 0.75);
             add_quad(b, b0, b1, t1, t0);
-            uint32_t tc = add_vertex(b, 0, 0, 0.5, 0, 0, 1, (u0 + u1) / 2, 1);
+            uint32_t tc = add_vertex(b, cx, 0, 0.5, 0, 0, 1, (u0 + u1) / 2, 1);
             uint32_t e0 = add_vertex(b, c0, s0, 0.5, 0, 0, 1, u0, 0.75);
             uint32_t e1 = add_vertex(b, c1, s1, 0.5, 0, 0, 1, u1, 0.75);
             add_tri(b, tc, e0, e1);
         }
-        uint32_t bc = add_vertex(b, 0, 0, -0.5, 0, 0, -1, (u0 + u1) / 2, 0);
+        uint32_t bc = add_vertex(b, cx, 0, -0.5, 0, 0, -1, (u0 + u1) / 2, 0);
         uint32_t f0 = add_vertex(b, c0, s0, -0.5, 0, 0, -1, u0, 0.25);
         uint32_t f1 = add_vertex(b, c1, s1, -0.5, 0, 0, -1, u1, 0.25);
         add_tri(b, bc, f0, f1);
@@ -268,13 +271,13 @@ void mesh_counts(const MeshKey *key, uint64_t *nverts, uint64_t *nindex)
     *nindex = 3 * t;
 }
 
-void mesh_build(const MeshKey *key, MeshData *out)
+static void build(const MeshKey *key, bool rim_caps, MeshData *out)
 {
     Builder b = {0};
     switch (key->kind) {
     case MESH_SPHERE: build_sphere(&b, key->segments); break;
-    case MESH_CYLINDER: build_round(&b, key->segments, false); break;
-    case MESH_CONE: build_round(&b, key->segments, true); break;
+    case MESH_CYLINDER: build_round(&b, key->segments, false, rim_caps); break;
+    case MESH_CONE: build_round(&b, key->segments, true, rim_caps); break;
     case MESH_OCTAGON: build_octagon(&b); break;
     default: build_box(&b, key->uv_repeat); break;
     }
@@ -283,6 +286,8 @@ void mesh_build(const MeshKey *key, MeshData *out)
     *out = b.m;
 }
 
+void mesh_build(const MeshKey *key, MeshData *out) { build(key, false, out); }
+
 void mesh_data_free(MeshData *m)
 {
     free(m->verts);
@@ -290,10 +295,10 @@ void mesh_data_free(MeshData *m)
     memset(m, 0, sizeof *m);
 }
 
-void geom_primitive_mesh(const MeshKey *key, GeomMesh *out)
+static void to_geom_mesh(const MeshKey *key, bool rim_caps, GeomMesh *out)
 {
     MeshData d;
-    mesh_build(key, &d);
+    build(key, rim_caps, &d);
     memset(out, 0, sizeof *out);
     size_t n = d.nverts ? d.nverts : 1;
     out->pos = mem_alloc(n * 3 * sizeof(double));
@@ -311,3 +316,7 @@ void geom_primitive_mesh(const MeshKey *key, GeomMesh *out)
     d.index = NULL;
     mesh_data_free(&d);
 }
+
+void geom_primitive_mesh(const MeshKey *key, GeomMesh *out) { to_geom_mesh(key, false, out); }
+
+void geom_primitive_solid(const MeshKey *key, GeomMesh *out) { to_geom_mesh(key, true, out); }
