@@ -355,6 +355,48 @@ static void sphere_inside_box(void **st)
     geom_mesh_free(&b);
 }
 
+/* Two unit spheres with centres 1 apart (x = 0 and x = 1), against the
+ * analytic values: the lens they share has volume pi (4r + d)(2r - d)^2 /
+ * 12 = 5 pi / 12 and the area of two caps of height 1/2, 2 pi; their union
+ * 8 pi / 3 - 5 pi / 12 = 9 pi / 4, area 6 pi; the first less the second
+ * 4 pi / 3 - 5 pi / 12 = 11 pi / 12, area 4 pi (a cap off, the other's
+ * cap in). The icospheres' corners lie on the spheres, each mesh short of
+ * its sphere by dv in volume and da in area: every result is within twice
+ * those; the lens and the union, inside the true ones, are smaller. */
+static void two_spheres(void **st)
+{
+    (void)st;
+    GeomMesh a = icosphere(1, 3), b = icosphere(1, 3), out;
+    for (uint32_t i = 0; i < b.npos; i++) b.pos[(size_t)i * 3] += 1;
+    double dv = 4 * M_PI / 3 - geom_mesh_volume(&a), da = 4 * M_PI - geom_mesh_area(&a);
+    assert_true(dv > 0 && dv < 0.1 && da > 0 && da < 0.3);
+    const struct {
+        GeomBoolOp op;
+        double v, a;
+        const char *what;
+    } cases[] = {
+        {GEOM_INTERSECT, 5 * M_PI / 12, 2 * M_PI, "two spheres: intersection"},
+        {GEOM_UNION, 9 * M_PI / 4, 6 * M_PI, "two spheres: union"},
+        {GEOM_DIFFERENCE, 11 * M_PI / 12, 4 * M_PI, "two spheres: difference"},
+    };
+    for (size_t k = 0; k < 3; k++) {
+        run(cases[k].op, &a, &b, &out, cases[k].what);
+        double v = geom_mesh_volume(&out), ar = geom_mesh_area(&out);
+        GeomMesh w;
+        geom_mesh_copy(&out, &w);
+        geom_mesh_weld(&w);
+        assert_true(geom_mesh_is_closed(&w));
+        geom_mesh_free(&w);
+        if (fabs(v - cases[k].v) > 2 * dv || fabs(ar - cases[k].a) > 2 * da)
+            fail_msg("%s: volume %.9g (analytic %.9g, within %.3g), area %.9g (analytic %.9g, within %.3g)",
+                     cases[k].what, v, cases[k].v, 2 * dv, ar, cases[k].a, 2 * da);
+        if (cases[k].op != GEOM_DIFFERENCE) assert_true(v < cases[k].v);
+        geom_mesh_free(&out);
+    }
+    geom_mesh_free(&a);
+    geom_mesh_free(&b);
+}
+
 /* The box [h,3]x[-3,3]^2 (h = 0.4) cuts a cap off the sphere: the mesh's
  * cap lies between the caps of the inscribed and circumscribed balls,
  * pi (R - h)^2 (2R + h) / 3 for R = r_in and R = 1 (0.6 % apart here).
@@ -758,6 +800,7 @@ int main(void)
         cmocka_unit_test(three_boxes),
         cmocka_unit_test(sphere_inside_box),
         cmocka_unit_test(sphere_cut_by_box),
+        cmocka_unit_test(two_spheres),
         cmocka_unit_test(trim_cube),
         cmocka_unit_test(trim_sphere),
         cmocka_unit_test(hollow),
