@@ -140,6 +140,29 @@ static void table_free(Table *t)
     free(t->vals);
 }
 
+/* [x] as a key word, -0 as +0. */
+static uint64_t word_of(double x)
+{
+    uint64_t w;
+    if (x == 0) x = 0;
+    memcpy(&w, &x, sizeof w);
+    return w;
+}
+
+uint32_t *geom_mesh_position_ids(const GeomMesh *m)
+{
+    uint32_t *id = mem_alloc((m->npos ? m->npos : 1) * sizeof(uint32_t));
+    Table t;
+    table_init(&t, m->npos, 3);
+    for (uint32_t v = 0; v < m->npos; v++) {
+        uint64_t key[3];
+        for (int k = 0; k < 3; k++) key[k] = word_of(m->pos[(size_t)v * 3 + k]);
+        id[v] = table_get_or_put(&t, key, v);
+    }
+    table_free(&t);
+    return id;
+}
+
 /* }===== */
 
 bool geom_mesh_is_closed(const GeomMesh *m)
@@ -171,11 +194,7 @@ void geom_mesh_weld(GeomMesh *m)
     uint32_t n = 0;
     for (uint32_t i = 0; i < m->npos; i++) {
         uint64_t key[3];
-        for (int k = 0; k < 3; k++) {
-            double x = m->pos[(size_t)i * 3 + k];
-            if (x == 0) x = 0;   /* -0 and +0 are one position */
-            memcpy(&key[k], &x, sizeof x);
-        }
+        for (int k = 0; k < 3; k++) key[k] = word_of(m->pos[(size_t)i * 3 + k]);
         uint32_t j = table_get_or_put(&t, key, n);
         if (j == n) {
             memmove(m->pos + (size_t)n * 3, m->pos + (size_t)i * 3, 3 * sizeof(double));
@@ -224,19 +243,8 @@ void geom_mesh_copy(const GeomMesh *src, GeomMesh *dst)
 
 /* {===== repair (Flitter's repair=) */
 
-/* [x] as a key word, -0 as +0. */
-static uint64_t word_of(double x)
-{
-    uint64_t w;
-    if (x == 0) x = 0;
-    memcpy(&w, &x, sizeof w);
-    return w;
-}
-
-/* Merge vertices equal in position, texture coordinate and normal;
- * return each vertex's position number in [pid] (vertices at one position
- * share it) and the count of positions. */
-static uint32_t merge_vertices(GeomMesh *m, uint32_t **pid_out)
+/* Merge vertices equal in position, texture coordinate and normal. */
+static void merge_vertices(GeomMesh *m)
 {
     uint32_t n = m->npos, kept = 0;
     uint32_t *remap = mem_alloc((n ? n : 1) * sizeof(uint32_t));
@@ -259,17 +267,7 @@ static uint32_t merge_vertices(GeomMesh *m, uint32_t **pid_out)
     table_free(&t);
     for (size_t e = 0; e < (size_t)m->ntri * 3; e++) m->tri[e] = remap[m->tri[e]];
     m->npos = kept;
-    table_init(&t, kept, 3);
-    uint32_t npid = 0;
-    for (uint32_t i = 0; i < kept; i++) {
-        uint64_t key[3];
-        for (int k = 0; k < 3; k++) key[k] = word_of(m->pos[(size_t)i * 3 + k]);
-        remap[i] = table_get_or_put(&t, key, npid);
-        if (remap[i] == npid) npid++;
-    }
-    table_free(&t);
-    *pid_out = remap;
-    return npid;
+    free(remap);
 }
 
 /* Drop triangles with two corners at one position, of no area, or over
@@ -389,8 +387,8 @@ static bool fix_winding(GeomMesh *m, const uint32_t *pid)
 
 void geom_mesh_repair(GeomMesh *m)
 {
-    uint32_t *pid;
-    merge_vertices(m, &pid);
+    merge_vertices(m);
+    uint32_t *pid = geom_mesh_position_ids(m);
     drop_bad_triangles(m, pid);
     bool closed = fix_winding(m, pid);
     free(pid);

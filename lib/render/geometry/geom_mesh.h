@@ -48,6 +48,9 @@ double geom_mesh_volume(const GeomMesh *m);
 double geom_mesh_area(const GeomMesh *m);
 /* [m]'s bounding box: min x, y, z then max x, y, z (all zero when empty). */
 void geom_mesh_bounds(const GeomMesh *m, double out[6]);
+/* For every vertex of [m], the first vertex at exactly its position (-0
+ * and +0 one position): an array of npos indices, to free. */
+uint32_t *geom_mesh_position_ids(const GeomMesh *m);
 /* Whether every edge of [m] is shared by exactly two triangles that run
  * along it in opposite directions (a closed, consistently wound surface). */
 bool geom_mesh_is_closed(const GeomMesh *m);

@@ -318,6 +318,14 @@ static GeomModel *make(GeomModels *c, GeomModel *proto, GeomModel **kids, int nk
     return intern(c, proto);
 }
 
+/* A model [proto] over the one child [kid], interned. */
+static GeomModel *make_one(GeomModels *c, GeomModel *proto, GeomModel *kid)
+{
+    GeomModel **one = mem_alloc(sizeof *one);
+    one[0] = kid;
+    return make(c, proto, one, 1);
+}
+
 /* Flitter BooleanOperation._get: children flattened where they are the
  * same operation with the same blends (not for difference), a repeated
  * child once, a difference whose later child is its first nothing, one
@@ -379,9 +387,7 @@ static GeomModel *transformed(GeomModels *c, GeomModel *m, const M4 *t)
     if (!m) return NULL;
     GeomModel proto = {.kind = K_TRANSFORM};
     memcpy(proto.p, t->m, sizeof t->m);
-    GeomModel **kids = mem_alloc(sizeof *kids);
-    kids[0] = m;
-    return make(c, &proto, kids, 1);
+    return make_one(c, &proto, m);
 }
 
 /* The models of [n]'s children (NULLs included), in a new array. */
@@ -449,9 +455,7 @@ static GeomModel *model_node(GeomModels *c, const Node *n)
     const Vec *repair = rnode_attr(n, "repair");
     if (!m || !repair || !vec_truthy(repair)) return m;
     GeomModel proto = {.kind = K_REPAIR};
-    GeomModel **one = mem_alloc(sizeof *one);
-    one[0] = m;
-    return make(c, &proto, one, 1);
+    return make_one(c, &proto, m);
 }
 
 /* [m] trimmed (Flitter Model._trim): an intersection or difference
@@ -472,9 +476,7 @@ static GeomModel *trimmed(GeomModels *c, GeomModel *m, const double origin[3], c
     GeomModel proto = {.kind = K_TRIM};
     for (int i = 0; i < 3; i++) proto.p[i] = origin[i], proto.p[3 + i] = normal[i];
     memcpy(proto.p + 6, b, 3 * sizeof *b);
-    GeomModel **one = mem_alloc(sizeof *one);
-    one[0] = m;
-    return make(c, &proto, one, 1);
+    return make_one(c, &proto, m);
 }
 
 static GeomModel *trim_node(GeomModels *c, const Node *n)
@@ -518,9 +520,7 @@ static GeomModel *sdf_node(GeomModels *c, const Node *n)
     GeomModel *u = boolean(c, K_UNION, kids, k, b);
     free(kids);
     if (!u) return NULL;
-    GeomModel **one = mem_alloc(sizeof *one);
-    one[0] = u;
-    return make(c, &proto, one, 1);
+    return make_one(c, &proto, u);
 }
 
 static GeomModel *mix_node(GeomModels *c, const Node *n)

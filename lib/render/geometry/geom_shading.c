@@ -99,46 +99,10 @@ static uint64_t mix64(uint64_t h)
     return h ^ (h >> 33);
 }
 
-/* For every vertex, the first vertex at exactly its position. */
-static uint32_t *position_ids(const GeomMesh *m)
-{
-    size_t cap = 16;
-    while (cap < (size_t)m->npos * 2 + 16) cap *= 2;
-    uint32_t *slot = mem_alloc(cap * sizeof *slot);
-    memset(slot, 0xff, cap * sizeof *slot);
-    uint32_t *id = mem_alloc(sizeof *id * (m->npos ? m->npos : 1));
-    for (uint32_t v = 0; v < m->npos; v++) {
-        const double *p = m->pos + (size_t)v * 3;
-        uint64_t h = 0;
-        for (int k = 0; k < 3; k++) {
-            double x = p[k] == 0 ? 0 : p[k];
-            uint64_t b;
-            memcpy(&b, &x, sizeof b);
-            h = mix64(h ^ b);
-        }
-        size_t i = h & (cap - 1);
-        for (;;) {
-            if (slot[i] == UINT32_MAX) {
-                slot[i] = v;
-                id[v] = v;
-                break;
-            }
-            const double *q = m->pos + (size_t)slot[i] * 3;
-            if (q[0] == p[0] && q[1] == p[1] && q[2] == p[2]) {
-                id[v] = slot[i];
-                break;
-            }
-            i = (i + 1) & (cap - 1);
-        }
-    }
-    free(slot);
-    return id;
-}
-
 static void snapped(const GeomMesh *m, double angle, Out *o)
 {
     MeshData *d = o->d;
-    uint32_t *pid = position_ids(m);
+    uint32_t *pid = geom_mesh_position_ids(m);
     /* the faces around each position (CSR) */
     uint32_t *start = mem_calloc((size_t)m->npos + 1, sizeof *start);
     for (size_t c = 0; c < (size_t)m->ntri * 3; c++) start[pid[m->tri[c]] + 1]++;
