@@ -180,14 +180,14 @@ class State(MutableMapping):
             return
         if isinstance(value, str):
             text = ":" + value if isinstance(value, Symbol) else value
-            with sim._lock:
+            with sim._lock:   # set, read back and undo as one step
                 rc = lib.fl_state_set(sim._rt, k, _c(text))
-            if rc != 0:
-                raise KeyError(key)
-            back = self[key]
-            if back != value or isinstance(back, Symbol) != isinstance(value, Symbol):
-                del self[key]
-                raise ValueError(f"{value!r} cannot be stored as one {'symbol' if isinstance(value, Symbol) else 'string'} (value text would read as {back!r})")
+                if rc != 0:
+                    raise KeyError(key)
+                back = self[key]
+                if back != value or isinstance(back, Symbol) != isinstance(value, Symbol):
+                    lib.fl_state_set(sim._rt, k, b"")
+                    raise ValueError(f"{value!r} cannot be stored as one {'symbol' if isinstance(value, Symbol) else 'string'} (value text would read as {back!r})")
             return
         arr = np.ascontiguousarray(np.atleast_1d(np.asarray(value, dtype=np.float64)).ravel())
         with sim._lock:
@@ -196,9 +196,34 @@ class State(MutableMapping):
             raise KeyError(key)
 
     def __delitem__(self, key: Any) -> None:
-        if self._get_text(key) is None:
-            raise KeyError(key)
-        self[key] = None
+        with self._sim._lock:   # the test and the delete as one step
+            if self._get_text(key) is None:
+                raise KeyError(key)
+            self[key] = None
+
+    # The mapping's compound methods read and then write; each holds the
+    # simulation's (reentrant) lock throughout, so that another thread's
+    # load_state or del cannot come between (pop with a default never
+    # raises KeyError).
+    def pop(self, key: Any, *default: Any) -> Any:
+        with self._sim._lock:
+            return super().pop(key, *default)
+
+    def popitem(self) -> Tuple[Any, Any]:
+        with self._sim._lock:
+            return super().popitem()
+
+    def setdefault(self, key: Any, default: Any = None) -> Any:
+        with self._sim._lock:
+            return super().setdefault(key, default)
+
+    def update(self, *args: Any, **kwargs: Any) -> None:
+        with self._sim._lock:
+            super().update(*args, **kwargs)
+
+    def clear(self) -> None:
+        with self._sim._lock:
+            super().clear()
 
     def items_text(self) -> List[Tuple[str, str]]:
         """Every entry as (key text, value text), in state-dump order; key

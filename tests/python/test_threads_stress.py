@@ -71,3 +71,39 @@ def test_every_method_from_four_threads(tmp_path):
     before = sim.frames
     sim.step(3)
     assert sim.frames == before + 3
+
+
+def test_pop_is_one_step():
+    """State.pop reads then deletes; another thread's delete may not come
+    between them. Thread A's read signals thread B to delete the key and
+    waits up to 0.3 s for it: with the lock held through pop, B waits until
+    A is done, A gets the value and B finds nothing to delete; without it,
+    B deletes first and A's own delete raises KeyError."""
+    sim = flitter_c.Simulation(threads=1)
+    sim.load_text("!window\n", "t.fl")
+    st = sim.state
+    st["k"] = 5.0
+    read, deleted = threading.Event(), threading.Event()
+    plain_getitem = type(st).__getitem__
+
+    class Probe(type(st)):
+        def __getitem__(self, key):
+            value = plain_getitem(self, key)
+            read.set()
+            deleted.wait(0.3)
+            return value
+
+    st.__class__ = Probe
+    b_result = []
+
+    def other():
+        read.wait(5)
+        b_result.append(st.pop("k", "gone"))
+        deleted.set()
+
+    b = threading.Thread(target=other)
+    b.start()
+    assert st.pop("k", None) == 5.0
+    b.join()
+    assert b_result == ["gone"]
+    assert "k" not in st
