@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "exitcodes.h"
 #include "overlay.h"
 #include "window_loop.h"
 
@@ -33,6 +34,7 @@ typedef struct Display {
     int view_w, view_h;      /* the view window's output size last told the frame loop */
     bool screen_told;        /* a missing --screen was reported */
     fl_view_painter *painter; /* paints the physics view's snapshots (made when first needed) */
+    bool gone;               /* a window was destroyed by another X client: nothing more drawn */
 } Display;
 
 /* The slot of the SDL window [id], or NULL (a window already closed). */
@@ -72,15 +74,44 @@ static void tell_view_size(Display *D)
     if (was_open && w > 0) handover_input(D->h, &(Input){.kind = INPUT_RESIZED, .index = NO_WINDOW});
 }
 
+/* Whether X window [xid] is one of the run's: a shown window or one that
+ * holds an OpenGL context (those SDL closed itself are no longer here). */
+static bool ours(Display *D, unsigned long xid)
+{
+    SDL_Window *a, *b;
+    wingl_windows(D->h->gl, &a, &b);
+    if (winlost_xid(a) == xid || winlost_xid(b) == xid) return true;
+    for (size_t i = 0; i < D->nslots; i++)
+        if (winlost_xid(D->slots[i].view.window) == xid) return true;
+    return false;
+}
+
+/* A window of the run was destroyed by another X client: the run ends
+ * (exit status 3, window_lost.h) and nothing more is drawn. */
+static void window_gone(Display *D)
+{
+    if (D->gone) return;
+    D->gone = true;
+    if (winlost_set_destroyed(&D->h->lost))
+        fprintf(D->log, "flitter: the window was destroyed by another X client: the run ends "
+                "(exit status %d)\n", EXIT_WINDOW_LOST);
+    handover_input(D->h, &(Input){.kind = INPUT_QUIT, .index = NO_WINDOW});
+}
+
 /* Turn SDL event [ev] into an Input for the frame loop, or act on it. */
 static void sdl_event(Display *D, const SDL_Event *ev)
 {
     Slot *s;
     Input in = {.index = NO_WINDOW};
+    unsigned long xid;
     switch (ev->type) {
     case SDL_QUIT:
         in.kind = INPUT_QUIT;
         break;
+    case SDL_SYSWMEVENT:
+        xid = winlost_destroyed(ev);
+        if (xid && ours(D, xid)) window_gone(D);
+        return;
     case SDL_KEYDOWN:
     case SDL_KEYUP:
         if (ev->key.repeat) return;
@@ -160,6 +191,8 @@ static int sync_windows(Display *D, const PictureSet *set)
                 fprintf(D->log, "flitter: cannot open a window: %s\n", SDL_GetError());
                 return -1;
             }
+            winlost_watch(&D->h->lost, s->view.window);
+            s->view.lost = &D->h->lost;
             D->nslots++;
         } else if (w->index == NO_WINDOW) {
             /* the view window keeps the size the user gave it */
@@ -195,6 +228,16 @@ static void paint_overlay(Display *D, Slot *s)
     winview_overlay_done(&s->view, true);
 }
 
+/* Present slot [s] unless the windows are gone (a present that finds its
+ * window destroyed ends the run as its DestroyNotify would). */
+static void present(Display *D, Slot *s)
+{
+    if (D->gone) return;
+    paint_overlay(D, s);
+    winview_present(&s->view);
+    if (s->view.gone) window_gone(D);
+}
+
 /* Show picture set [i] of the handover (taken: SET_SHOWING): physics
  * views painted from their snapshots, windows followed, pictures
  * uploaded, the set given back, overlays, present. Returns -1 when a
@@ -220,6 +263,13 @@ static int show_set(Display *D, int i)
         painted = t1 - t0;
         t0 = t1;
     }
+    if (D->gone) {   /* the set goes back unshown */
+        pthread_mutex_lock(&h->mu);
+        h->state[i] = SET_FREE;
+        pthread_cond_signal(&h->cond);
+        pthread_mutex_unlock(&h->mu);
+        return 0;
+    }
     int rc = sync_windows(D, set);
     if (rc == 0)
         for (size_t k = 0; k < set->n; k++) {
@@ -234,8 +284,7 @@ static int show_set(Display *D, int i)
     bool drawn = rc == 0 && h->gl;
     if (drawn)
         for (size_t k = 0; k < D->nslots; k++) {
-            paint_overlay(D, &D->slots[k]);
-            winview_present(&D->slots[k].view);
+            present(D, &D->slots[k]);
         }
     pthread_mutex_lock(&h->mu);
     h->state[i] = SET_FREE;
@@ -243,8 +292,7 @@ static int show_set(Display *D, int i)
     pthread_mutex_unlock(&h->mu);
     if (rc != 0) return -1;
     for (size_t k = 0; k < D->nslots && !drawn; k++) {
-        paint_overlay(D, &D->slots[k]);
-        winview_present(&D->slots[k].view);
+        present(D, &D->slots[k]);
     }
     double t1 = handover_now();
     pthread_mutex_lock(&h->mu);
@@ -260,6 +308,9 @@ void window_display(Handover *h, const WinOptions *wopt, FILE *log)
 {
     Display D = {.h = h, .wopt = wopt, .log = log};
     bool failed = false;
+    SDL_Window *gl_display, *gl_frame;
+    wingl_windows(h->gl, &gl_display, &gl_frame);
+    winlost_watch(&h->lost, gl_display);
     for (;;) {
         SDL_Event ev;
         while (SDL_PollEvent(&ev)) sdl_event(&D, &ev);
@@ -297,8 +348,7 @@ void window_display(Handover *h, const WinOptions *wopt, FILE *log)
             }
         } else if ((D.represent || overlay) && !failed) {
             for (size_t k = 0; k < D.nslots; k++) {
-                paint_overlay(&D, &D.slots[k]);
-                winview_present(&D.slots[k].view);
+                present(&D, &D.slots[k]);
             }
         }
         D.represent = false;

@@ -5,6 +5,7 @@
 #include "window_gl.h"
 
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,6 +28,7 @@ struct WinGl {
     /* a renderer on the CPU: the two contexts take turns (wingl_lock) */
     bool serial;
     pthread_mutex_t turn;
+    atomic_uintptr_t turn_owner;      /* the thread holding the turn (its pthread_t), or 0 */
 };
 
 static const char vertex_source[] =
@@ -187,14 +189,29 @@ void wingl_stop(WinGl *g)
 
 bool wingl_software(const WinGl *g) { return g && g->serial; }
 
+void wingl_windows(const WinGl *g, SDL_Window **display, SDL_Window **frame)
+{
+    *display = g ? g->display_window : NULL;
+    *frame = g ? g->frame_window : NULL;
+}
+
 void wingl_lock(WinGl *g)
 {
-    if (g && g->serial) pthread_mutex_lock(&g->turn);
+    if (!g || !g->serial) return;
+    pthread_mutex_lock(&g->turn);
+    atomic_store(&g->turn_owner, (uintptr_t)pthread_self());
 }
 
 void wingl_unlock(WinGl *g)
 {
-    if (g && g->serial) pthread_mutex_unlock(&g->turn);
+    if (!g || !g->serial) return;
+    atomic_store(&g->turn_owner, 0);
+    pthread_mutex_unlock(&g->turn);
+}
+
+void wingl_give_up_turn(WinGl *g)
+{
+    if (g && g->serial && atomic_load(&g->turn_owner) == (uintptr_t)pthread_self()) wingl_unlock(g);
 }
 
 /* {===== the frame loop's side */

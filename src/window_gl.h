@@ -54,6 +54,13 @@ bool wingl_software(const WinGl *g);
  * same cores anyway. Not recursive. A NULL [g] is a no-op. */
 void wingl_lock(WinGl *g);
 void wingl_unlock(WinGl *g);
+/* Give the turn back when the calling thread holds it, else nothing: for
+ * a thread that will never reach its own wingl_unlock (the display's
+ * handler of a lost X connection, window_lost.c). */
+void wingl_give_up_turn(WinGl *g);
+
+/* The hidden SDL windows that hold [g]'s two contexts (NULLs for NULL). */
+void wingl_windows(const WinGl *g, SDL_Window **display, SDL_Window **frame);
 
 /* {===== the frame loop's side */
 

@@ -18,6 +18,7 @@
 #include "flitter.h"
 #include "runner.h"
 #include "watch.h"
+#include "window_lost.h"
 #include "window_sdl.h"
 
 /* The fl_windows index of a window that shows the physics view of a frame
@@ -94,6 +95,7 @@ typedef struct Handover {
     double present_seconds;  /* spent presenting them, in total */
     long painted;            /* physics views painted by the display (ShownWindow.paint) */
     double paint_seconds;    /* spent painting them, in total (not in present_seconds) */
+    WinLost lost;            /* the window or the X display lost (window_lost.h) */
 } Handover;
 
 /* Make [h] (mutex, conditions on CLOCK_MONOTONIC, no sets drawn);
@@ -151,6 +153,8 @@ typedef struct Loop {
     bool gl;                 /* pictures go to the display as textures (window_gl.h) */
     bool realtime;           /* the clock: realtime, or lockstep */
     bool quit;               /* Escape or a window closed */
+    bool ended;              /* the final dumps are printed (window_run) */
+    bool closed;             /* the pages are closed and freed (window_run) */
     int rc;                  /* exit status so far */
     bool show_status;        /* F1: the status overlay */
     bool show_view;          /* F2: the physics view instead of the pictures */

@@ -150,6 +150,9 @@ static int close_pages(Loop *L, int rc)
         fl_free(p->rt);
     }
     free(L->pages);
+    L->pages = NULL;
+    L->npages = 0;
+    L->closed = true;
     return rc;
 }
 
@@ -551,6 +554,43 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
     return true;
 }
 
+/* Print the dumps that end a run (--dump-state unless the last frame
+ * was dumped, --dump-tree), as Escape leaves them. */
+static void final_dumps(Loop *L)
+{
+    Page *p = &L->pages[L->cur];
+    if (fl_frame_count(p->rt) > 0) {
+        if (L->spec->dump_state && !L->dumped_last) fl_dump_state(p->rt, write_file, L->out);
+        if (L->spec->dump_tree) fl_dump_tree(p->rt, write_file, L->out);
+    }
+    fflush(L->out);
+}
+
+/* End the run after the X display was lost (window_lost.h), on whichever
+ * thread window_lost.c chose, the frame loop being in no step: what
+ * Escape leaves (stats, dumps, outputs finished, states saved; no X or
+ * OpenGL call), then exit status 3. */
+static _Noreturn void end_lost(void *ctx)
+{
+    Loop *L = ctx;
+    fprintf(L->log, "flitter: the connection to the X display was lost: the run ends "
+            "(exit status %d)\n", EXIT_WINDOW_LOST);
+    if (!L->ended && L->npages > 0) {
+        if (L->spec->stats) print_stats(L, now_seconds() - L->start);
+        final_dumps(L);
+    }
+    for (int i = 0; i < L->npages; i++) {
+        Page *p = &L->pages[i];
+        if (p->outs && fl_outputs_close(p->outs, p->rt) != 0 && *fl_error(p->rt))
+            fprintf(L->log, "flitter run: %s", fl_error(p->rt));
+        p->outs = NULL;
+        save_page(L, p);
+    }
+    fflush(L->out);
+    fflush(L->log);
+    _exit(EXIT_WINDOW_LOST);
+}
+
 /* The frame loop's thread: frames until the run ends, then tell the
  * display. */
 static void *frame_thread(void *arg)
@@ -558,6 +598,7 @@ static void *frame_thread(void *arg)
     Loop *L = arg;
     Input *buf = NULL;
     size_t cap = 0;
+    winlost_frame_started(&L->hand->lost);
     /* the runtimes draw their windows with the frame loop's OpenGL context */
     wingl_lock(L->hand->gl);
     if (L->hand->gl && wingl_frame_enter(L->hand->gl)) {
@@ -572,6 +613,7 @@ static void *frame_thread(void *arg)
     wingl_unlock(L->hand->gl);
     while (loop_once(L, &buf, &cap)) {}
     free(buf);
+    winlost_frame_ending(&L->hand->lost);   /* (the X display lost: ends the run here) */
     if (L->gl) wingl_frame_leave(L->hand->gl);
     pthread_mutex_lock(&L->hand->mu);
     L->hand->done = true;
@@ -603,6 +645,7 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
               .switch_to = -1, .runspec = *spec};
     WinOptions wopt = {spec->screen, spec->fullscreen, spec->vsync};
     if (!L.interrupt) L.interrupt = &L.never;
+    winlost_init(&hand.lost, L.interrupt, hand.gl, end_lost, &L);
     /* Flitter's windows run on the realtime clock unless --lockstep */
     L.realtime = spec->clock_given ? spec->realtime : true;
     L.runspec.realtime = L.realtime;
@@ -622,13 +665,10 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
         }
         rc = L.rc;
         if (hand.failed) rc = EXIT_LOAD;
+        if (winlost_kind(&hand.lost) == LOST_DESTROYED && rc == EXIT_OK) rc = EXIT_WINDOW_LOST;
         if (spec->stats) print_stats(&L, now_seconds() - L.start);
-        Page *p = &L.pages[L.cur];
-        if (fl_frame_count(p->rt) > 0) {
-            if (spec->dump_state && !L.dumped_last) fl_dump_state(p->rt, write_file, out);
-            if (spec->dump_tree) fl_dump_tree(p->rt, write_file, out);
-        }
-        fflush(out);
+        final_dumps(&L);
+        L.ended = true;
     }
     free(L.info);
     /* the runtimes' graphs were drawn with the frame loop's context: freed with it current */
@@ -640,6 +680,8 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
     if (gl_current) wingl_frame_leave(hand.gl);
     wingl_stop(hand.gl);
     handover_free(&hand);
+    winlost_sync(&hand.lost);   /* (the errors of a destroyed window's requests, under our handler) */
     SDL_Quit();
+    winlost_free(&hand.lost);
     return rc;
 }

@@ -9,6 +9,8 @@
  * larger than the window's size in points (SDL mouse coordinates). */
 #include "window_sdl.h"
 
+#include "window_lost.h"
+
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -300,7 +302,21 @@ static void present_gl(WinView *v)
         wingl_unlock(v->gl);
         return;
     }
+    /* Mesa's software GLX reads the window's size back at the first draw
+     * after a swap (the clear), from a request that leaves it
+     * uninitialised when another client has destroyed the window (seen:
+     * a clear of 6.7 s): the window is asked for first, and with a renderer
+     * on the CPU the server is held (XGrabServer) from that question to
+     * the end of the clear, so that no destroy can come between */
+    bool held = v->lost && wingl_software(v->gl) && winlost_hold_server(v->lost, true);
+    if (v->lost && !winlost_window_exists(v->lost, v->window)) {
+        if (held) winlost_hold_server(v->lost, false);
+        v->gone = true;
+        wingl_unlock(v->gl);
+        return;
+    }
     wingl_clear(W, H);
+    if (held) winlost_hold_server(v->lost, false);
     SDL_Rect r = fit(v->pic_w, v->pic_h, W, H);
     if (v->gl_texture) {
         /* the set's own picture, fenced for the frame loop; later presents

@@ -18,8 +18,13 @@ typedef struct WinOptions {
     bool vsync;          /* --vsync */
 } WinOptions;
 
+struct WinLost;
+
 typedef struct WinView {
     SDL_Window *window;
+    struct WinLost *lost;    /* set by the caller after winview_open: asked whether the window
+                                still exists before OpenGL draws into it (window_lost.h), or NULL */
+    bool gone;               /* a present found the window destroyed (by another X client) */
     WinGl *gl;               /* shown through OpenGL (window_gl.h), or NULL: through [renderer] */
     SDL_Renderer *renderer;
     Uint32 id;               /* SDL_GetWindowID, to route events */
