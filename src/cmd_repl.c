@@ -208,6 +208,19 @@ static void window_events(Repl *r)
     puts("window closed");
 }
 
+static bool save_recovery(Repl *r);
+
+/* The window's X display lost (repl_window_open; Xlib lets no X call
+ * return): the session's state and clock go to the recovery file, as a
+ * confirmed quit leaves them (a session not at a terminal too); the
+ * process then exits with status 3. */
+static void window_lost(void *ctx)
+{
+    Repl *r = ctx;
+    if (!r->recovery) r->recovery = repl_recovery_path();   /* (a session not at a terminal) */
+    save_recovery(r);
+}
+
 /* After a frame: the window's events, then its picture ([force]: now,
  * else at most 60 times a second). */
 static void window_frame(Repl *r, bool force)
@@ -239,8 +252,8 @@ static int cmd_window(Repl *r, const char *arg)
         return 0;
     }
     char why[256];
-    r->window = repl_window_open(r->rt, r->script ? base_name(r->script) : "flitter repl", why,
-                                 sizeof why);
+    r->window = repl_window_open(r->rt, r->script ? base_name(r->script) : "flitter repl",
+                                 window_lost, r, why, sizeof why);
     if (!r->window) {
         repl_error(r, "no window: %s", why);
         return 0;

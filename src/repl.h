@@ -67,6 +67,10 @@ const char *repl_command_name(size_t i);
  * as one, its newlines encoded by libedit), and the recovery file
  * ($FLITTER_RECOVERY, else ~/.flitter_recovery.state). */
 void repl_edit_begin(Repl *r);
+/* The recovery file's path: $FLITTER_RECOVERY, else
+ * ~/.flitter_recovery.state; NULL when neither is set (or out of
+ * memory). Owned by the caller. */
+char *repl_recovery_path(void);
 /* Forget the in-memory history and [r] (the file stays). */
 void repl_edit_end(Repl *r);
 /* Add [entry] (one line, or the lines of a multi-line block joined by

@@ -249,14 +249,18 @@ static void setup_editing(Repl *r)
         if (r->history) snprintf(r->history, n, "%s/.flitter_history", home);
     }
     if (r->history) read_history(r->history);   /* a missing file is fine */
-    env = getenv("FLITTER_RECOVERY");
-    if (env && *env) {
-        r->recovery = strdup(env);
-    } else if (home && *home) {
-        size_t n = strlen(home) + sizeof "/.flitter_recovery.state";
-        r->recovery = malloc(n);
-        if (r->recovery) snprintf(r->recovery, n, "%s/.flitter_recovery.state", home);
-    }
+    r->recovery = repl_recovery_path();
+}
+
+char *repl_recovery_path(void)
+{
+    const char *env = getenv("FLITTER_RECOVERY"), *home = getenv("HOME");
+    if (env && *env) return strdup(env);
+    if (!home || !*home) return NULL;
+    size_t n = strlen(home) + sizeof "/.flitter_recovery.state";
+    char *path = malloc(n);
+    if (path) snprintf(path, n, "%s/.flitter_recovery.state", home);
+    return path;
 }
 
 char *repl_ask(const char *prompt)

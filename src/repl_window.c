@@ -11,11 +11,18 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
+#include "exitcodes.h"
+#include "window_lost.h"
 #include "window_sdl.h"
 
 struct ReplWindow {
     WinView view;
+    WinLost lost;       /* the window or the X display lost (window_lost.h) */
+    volatile int interrupt; /* (the loss handler's to set: the session has no frame loop) */
+    void (*on_lost)(void *);
+    void *ctx;
     char name[256];     /* the title when the !window has none */
     double last_shown;  /* monotonic seconds of the last picture, or -1 */
     bool warned;        /* a drawing failure was reported */
@@ -47,11 +54,30 @@ static size_t first_window(fl_runtime *rt, fl_window_info *info)
     return found;
 }
 
-ReplWindow *repl_window_open(fl_runtime *rt, const char *name, char *why, size_t cap)
+/* The X connection lost, in the window's own X call (the session's only
+ * thread, between frames): the session saves what it keeps, then the
+ * process exits with status 3. */
+static _Noreturn void end_lost(void *arg)
+{
+    ReplWindow *w = arg;
+    fflush(stdout);
+    fprintf(stderr, "window: the connection to the X display was lost: the session ends "
+            "(exit status %d)\n", EXIT_WINDOW_LOST);
+    if (w->on_lost) w->on_lost(w->ctx);
+    fflush(stdout);
+    fflush(stderr);
+    _exit(EXIT_WINDOW_LOST);
+}
+
+ReplWindow *repl_window_open(fl_runtime *rt, const char *name, void (*lost)(void *ctx), void *ctx,
+                             char *why, size_t cap)
 {
     if (winview_start(why, cap) != 0) return NULL;
     ReplWindow *w = calloc(1, sizeof *w);
     if (!w) abort();
+    w->on_lost = lost;
+    w->ctx = ctx;
+    winlost_init(&w->lost, &w->interrupt, NULL, end_lost, w);
     snprintf(w->name, sizeof w->name, "%s", name);
     w->last_shown = -1;
     fl_window_info info = {0};
@@ -66,6 +92,7 @@ ReplWindow *repl_window_open(fl_runtime *rt, const char *name, char *why, size_t
         SDL_Quit();
         return NULL;
     }
+    winlost_watch(&w->lost, w->view.window);
     repl_window_frame(w, rt, true);
     return w;
 }
@@ -86,6 +113,13 @@ bool repl_window_poll(ReplWindow *w)
             break;
         case SDL_KEYDOWN:
             if (ev.key.windowID == w->view.id && ev.key.keysym.sym == SDLK_ESCAPE) keep = false;
+            break;
+        case SDL_SYSWMEVENT:
+            if (keep && winlost_destroyed(&ev) == winlost_xid(w->view.window) &&
+                winlost_set_destroyed(&w->lost)) {
+                fprintf(stderr, "window: destroyed by another X client: closed (the session goes on)\n");
+                keep = false;
+            }
             break;
         default: break;
         }
@@ -134,6 +168,8 @@ void repl_window_close(ReplWindow *w)
 {
     if (!w) return;
     winview_close(&w->view);
-    free(w);
+    winlost_sync(&w->lost);   /* (a destroyed window's errors, under window_lost.c's handler) */
     SDL_Quit();
+    winlost_free(&w->lost);
+    free(w);
 }

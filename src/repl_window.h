@@ -14,13 +14,19 @@ typedef struct ReplWindow ReplWindow;
 /* Open a window titled as the first !window of [rt]'s last frame (its
  * title=, else [name]) at its size=, or the physics view at 512x512 when
  * the frame has none (or there is no frame yet), and show the frame.
+ * Should the connection to the X display be lost (xkill, the X server
+ * gone: Xlib lets no X call return then), [lost]([ctx]) is called, from
+ * inside the window's X call, to save what the session must keep; the
+ * process then exits with status 3 (window_lost.h).
  *   errors: NULL with the reason in [why] ([cap] bytes) when there is no
  *           display or the window cannot be opened; nothing is left
  *           started. */
-ReplWindow *repl_window_open(fl_runtime *rt, const char *name, char *why, size_t cap);
+ReplWindow *repl_window_open(fl_runtime *rt, const char *name, void (*lost)(void *ctx), void *ctx,
+                             char *why, size_t cap);
 
 /* Handle the window's pending events: closing it or Escape ask for it to
- * close; an exposed or resized window is presented again. Returns false
+ * close, and so does its destruction by another X client (said on
+ * stderr); an exposed or resized window is presented again. Returns false
  * when the window should close (the caller then calls repl_window_close).
  *   source: Flitter render/window/__init__.py (close and Escape end the
  *           window; here they end only the window, not the session). */

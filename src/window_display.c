@@ -354,7 +354,10 @@ void window_display(Handover *h, const WinOptions *wopt, FILE *log)
         D.represent = false;
         if (done) break;   /* (its last set was taken with done) */
     }
-    for (size_t k = 0; k < D.nslots; k++) winview_close(&D.slots[k].view);
+    /* (after a destroy the windows are left to the process's end: see
+     * window_run) */
+    for (size_t k = 0; k < D.nslots && winlost_kind(&h->lost) != LOST_DESTROYED; k++)
+        winview_close(&D.slots[k].view);
     fl_view_painter_free(D.painter);
     free(D.slots);
     free(D.status);

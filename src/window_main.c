@@ -573,8 +573,9 @@ static void final_dumps(Loop *L)
 static _Noreturn void end_lost(void *ctx)
 {
     Loop *L = ctx;
-    fprintf(L->log, "flitter: the connection to the X display was lost: the run ends "
-            "(exit status %d)\n", EXIT_WINDOW_LOST);
+    if (winlost_kind(&L->hand->lost) == LOST_CONNECTION)   /* (a destroy was said by the display) */
+        fprintf(L->log, "flitter: the connection to the X display was lost: the run ends "
+                "(exit status %d)\n", EXIT_WINDOW_LOST);
     if (!L->ended && L->npages > 0) {
         if (L->spec->stats) print_stats(L, now_seconds() - L->start);
         final_dumps(L);
@@ -665,10 +666,15 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
         }
         rc = L.rc;
         if (hand.failed) rc = EXIT_LOAD;
-        if (winlost_kind(&hand.lost) == LOST_DESTROYED && rc == EXIT_OK) rc = EXIT_WINDOW_LOST;
         if (spec->stats) print_stats(&L, now_seconds() - L.start);
         final_dumps(&L);
         L.ended = true;
+        /* a window destroyed by another client: the pages are saved and the
+         * process ends here, its OpenGL and SDL left to the exit (making a
+         * context current on a destroyed window, or SDL_Quit, which puts
+         * Xlib's exiting error handler back before it frees the windows'
+         * X objects, would end it with status 1) */
+        if (winlost_kind(&hand.lost) == LOST_DESTROYED) end_lost(&L);
     }
     free(L.info);
     /* the runtimes' graphs were drawn with the frame loop's context: freed with it current */

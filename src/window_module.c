@@ -20,7 +20,7 @@
 typedef struct WindowModule {
     void *handle;            /* module_open's, or NULL until loaded */
     int (*run)(const RunSpec *, FILE *, FILE *, volatile int *, char *, size_t);
-    ReplWindow *(*open)(fl_runtime *, const char *, char *, size_t);
+    ReplWindow *(*open)(fl_runtime *, const char *, void (*)(void *), void *, char *, size_t);
     bool (*poll)(ReplWindow *);
     void (*frame)(ReplWindow *, fl_runtime *, bool);
     void (*close)(ReplWindow *);
@@ -67,10 +67,11 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
     return module.run(spec, out, log, interrupt, why, cap);
 }
 
-ReplWindow *repl_window_open(fl_runtime *rt, const char *name, char *why, size_t cap)
+ReplWindow *repl_window_open(fl_runtime *rt, const char *name, void (*lost)(void *), void *ctx,
+                             char *why, size_t cap)
 {
     if (no_display(why, cap) || load(why, cap) != 0) return NULL;
-    return module.open(rt, name, why, cap);
+    return module.open(rt, name, lost, ctx, why, cap);
 }
 
 /* A ReplWindow exists only when the module was loaded to open it. */

@@ -5,7 +5,9 @@
 # within seconds. Three losses: the window destroyed by another X client
 # (xdotool windowclose: XDestroyWindow), the connection killed (xdotool
 # windowkill: XKillClient, as xkill does), the X server gone (its Xvfb
-# killed: one started for it). Before, Xlib's
+# killed: one started for it); and the REPL's :window destroyed (the
+# window closes, the session goes on) or its connection killed (the state
+# saved to the recovery file, status 3). Before, Xlib's
 # default handlers ended the process with status 1 and nothing saved.
 . "$(dirname "$0")/common.sh"
 cat >x.fl <<'FL'
@@ -30,6 +32,10 @@ lose() {
     sleep 0.5
     case $mode in
     destroy) xdotool windowclose "$WID"; why="destroyed by another X client" ;;
+    hidden)   # one of the hidden windows that hold the OpenGL contexts
+        other=$(xdotool search --pid "$pid" 2>/dev/null | grep -vx "$WID" | head -n 1)
+        [ -n "$other" ] || fail "hidden: no other window of the run"
+        xdotool windowclose "$other"; why="destroyed by another X client" ;;
     kill) xdotool windowkill "$WID"; why="connection to the X display was lost" ;;
     server) kill "$xserver"; why="connection to the X display was lost" ;;
     esac
@@ -56,8 +62,51 @@ lose() {
 
 lose destroy
 lose destroy --lockstep
+lose hidden
 lose kill
 lose kill --lockstep
+
+# the REPL's :window: destroyed, the window closes and the session goes
+# on; the connection killed, the session's state goes to the recovery file
+# and the process exits with status 3
+cp "$here/../golden/petri.fl" petri.fl
+repl_lose() {
+    mode=$1
+    rm -f in out err recovery.state
+    mkfifo in
+    FLITTER_RECOVERY=$dir/recovery.state "$flitter" repl petri.fl <in >out 2>err &
+    pid=$!; pids=$pid
+    exec 3>in
+    printf ':step 10\n:window\n' >&3
+    wait_window petri.fl
+    case $mode in
+    destroy) xdotool windowclose "$WID" ;;
+    kill) xdotool windowkill "$WID" ;;
+    esac
+    sleep 0.2
+    printf ':step 1\n' >&3   # (the window's events are read after a frame)
+    if [ "$mode" = destroy ]; then
+        i=0
+        until grep -q '^frame 10 ' out && grep -qx 'window closed' out; do
+            i=$((i + 1)); [ $i -gt 250 ] && fail "REPL destroy: no 'window closed': $(cat out)"
+            sleep 0.02
+        done
+        grep -q "destroyed by another X client" err || fail "REPL destroy: not said on stderr"
+        printf ':step 1\n:quit\n' >&3
+        wait_exit $pid 5
+        [ "$RC" = 0 ] || fail "REPL destroy: the session ended with status $RC"
+        grep -q '^frame 11 ' out || fail "REPL destroy: the session did not go on: $(cat out)"
+    else
+        wait_exit $pid 10
+        [ "$RC" = 3 ] || fail "REPL kill: exit status $RC, not 3"
+        [ -s recovery.state ] || fail "REPL kill: no recovery file"
+        grep -q "^state saved to $dir/recovery.state" out || fail "REPL kill: not said where: $(cat out)"
+    fi
+    exec 3>&-
+    echo "REPL $mode: ok (status $RC)"
+}
+repl_lose destroy
+repl_lose kill
 
 # the server: an Xvfb of this test's own (xvfb-run's would make xvfb-run
 # fail when it cannot kill it at the end)
