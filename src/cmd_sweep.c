@@ -37,6 +37,7 @@
  * goes through a shell: the job is spawned with an argument vector; the
  * printed lines are for the user's shell, quoted for it.
  */
+#include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -742,6 +743,97 @@ static const char *param_value(const char *m, const char *name, char *buf, size_
     return v;
 }
 
+/* Whether [text] is a whole decimal integer (an optional '-' when
+ * [negative]) in [lo, hi]. */
+static bool whole_number(const char *text, bool negative, long lo, long hi)
+{
+    if (!*text || (!negative && *text == '-') || isspace((unsigned char)*text)) return false;
+    errno = 0;
+    char *end;
+    long v = strtol(text, &end, 10);
+    return errno == 0 && *end == '\0' && v >= lo && v <= hi;
+}
+
+/* Why manifest text [m] of job folder [folder] is damaged, written into
+ * [why] ([cap] bytes), or NULL when it is whole: every line a known key
+ * (`job`, `script`, `frames`, `run`, `seed`, `exit`, `wall_seconds` once
+ * each; `param` and `value` once per name), the job number that of its
+ * folder, the run and frames whole numbers, the seed empty or the run,
+ * the exit status 0 to 255 and the wall time a finite number of seconds
+ * (what run_job writes). */
+static const char *manifest_damage(const char *folder, const char *m, char *why, size_t cap)
+{
+    static const char *const once[] = {"job", "script", "frames", "run", "seed", "exit", "wall_seconds"};
+    enum { NONCE = sizeof once / sizeof *once };
+    int seen[NONCE] = {0};
+    for (const char *l = m; *l; ) {
+        const char *e = strchr(l, '\n'), *sp = memchr(l, ' ', e ? (size_t)(e - l) : strlen(l));
+        size_t len = e ? (size_t)(e - l) : strlen(l);
+        if (!sp) {
+            snprintf(why, cap, "damaged (a line without a value: '%.*s')", (int)(len > 40 ? 40 : len), l);
+            return why;
+        }
+        size_t k = (size_t)(sp - l);
+        bool known = false;
+        for (int i = 0; i < NONCE; i++)
+            if (strlen(once[i]) == k && strncmp(l, once[i], k) == 0) {
+                if (seen[i]++) {
+                    snprintf(why, cap, "damaged (two '%s' lines)", once[i]);
+                    return why;
+                }
+                known = true;
+            }
+        if (!known && !((k == 5 && strncmp(l, "param", 5) == 0) || (k == 5 && strncmp(l, "value", 5) == 0))) {
+            snprintf(why, cap, "damaged (an unknown line '%.*s')", (int)(k > 40 ? 40 : k), l);
+            return why;
+        }
+        if (!e) break;
+        l = e + 1;
+    }
+    for (int i = 0; i < NONCE; i++)
+        if (!seen[i]) {
+            snprintf(why, cap, "damaged (no %s line)", once[i]);
+            return why;
+        }
+    char v[4096], run[64];
+    manifest_get(m, "job", v, sizeof v);
+    char want[80];
+    if (!whole_number(v, false, 0, LONG_MAX) ||
+        (snprintf(want, sizeof want, "job-%04ld", strtol(v, NULL, 10)), strcmp(want, folder) != 0)) {
+        snprintf(why, cap, "damaged (job '%.40s' is not that of its folder)", v);
+        return why;
+    }
+    manifest_get(m, "frames", v, sizeof v);
+    if (!whole_number(v, true, LONG_MIN, LONG_MAX)) {
+        snprintf(why, cap, "damaged (frames '%.40s')", v);
+        return why;
+    }
+    manifest_get(m, "run", run, sizeof run);
+    if (!whole_number(run, false, 0, LONG_MAX)) {
+        snprintf(why, cap, "damaged (run '%.40s')", run);
+        return why;
+    }
+    manifest_get(m, "seed", v, sizeof v);
+    if (*v && strcmp(v, run) != 0) {
+        snprintf(why, cap, "damaged (seed '%.40s' is neither empty nor the run)", v);
+        return why;
+    }
+    manifest_get(m, "exit", v, sizeof v);
+    if (!whole_number(v, false, 0, 255)) {
+        snprintf(why, cap, "damaged (exit status '%.40s')", v);
+        return why;
+    }
+    manifest_get(m, "wall_seconds", v, sizeof v);
+    char *end;
+    errno = 0;
+    double wall = strtod(v, &end);
+    if (!*v || *end || errno != 0 || !(wall >= 0 && wall <= 1e12)) {
+        snprintf(why, cap, "damaged (wall_seconds '%.40s')", v);
+        return why;
+    }
+    return NULL;
+}
+
 static int collect(const char *out)
 {
     DIR *d = opendir(out);
@@ -757,8 +849,8 @@ static int collect(const char *out)
         const char *why;
         char *text = read_text(mpath, &why);
         free(dir);
-        if (text && !strstr(text, "\nexit ")) {
-            why = "damaged (no exit line)";
+        char damage[160];
+        if (text && (why = manifest_damage(e->d_name, text, damage, sizeof damage)) != NULL) {
             free(text);
             text = NULL;
         }

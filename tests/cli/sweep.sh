@@ -122,6 +122,20 @@ for w in "job-0002/manifest: not a regular file" "job-0003/manifest: a symbolic 
          "job-0004/manifest: damaged" "job-0005/manifest: missing" "4 of 6 jobs have no readable manifest"; do
     grep -q "$w" "$dir/err" || fail "--collect did not say '$w': $(cat "$dir/err")"
 done
+# a manifest whose fields are not what a job writes is damaged too: each
+# named with its reason, exit 1 (they were once printed as CSV rows, exit 0)
+good=$(ls "$dir/n" | head -n 1)
+for edit in 's/^exit .*/exit banana/:exit status' 's/^exit .*/exit -3/:exit status' \
+            's/^exit .*/exit 99999999999999999999/:exit status' 's/^wall_seconds .*/wall_seconds nan/:wall_seconds' \
+            's/^seed .*/seed zz/:seed' 's/^run .*/run -x/:run' 's/^exit \(.*\)/exit \1\nexit 1/:two' \
+            's/^job .*/job 77/:not that of its folder' 's/^frames /bogus /:unknown line'; do
+    rm -rf "$dir/d" && mkdir "$dir/d" && cp -r "$dir/n/$good" "$dir/d/" || fail "setting up a damaged manifest"
+    sed -i "${edit%%:*}" "$dir/d/$good/manifest"
+    "$flitter" sweep --collect "$dir/d" >/dev/null 2>"$dir/err"
+    rc=$?
+    [ $rc -eq 1 ] && grep -q "manifest: damaged (.*${edit#*:}" "$dir/err" ||
+        fail "--collect of a manifest edited by '${edit%%:*}': exit $rc, $(cat "$dir/err")"
+done
 # job counts beyond the bound are refused, never wrapped around
 "$flitter" sweep "$script" -D strength=1,2 --runs 9223372036854775807 --frames 1 --out "$dir/huge" \
     >/dev/null 2>"$dir/err"
