@@ -165,4 +165,16 @@ rc=$?
 [ $rc -eq 1 ] && grep -q 'zero.mp4: no frame was recorded' "$dir/err" || fail "limit=0: exit $rc: $(cat "$dir/err")"
 [ ! -e "$dir/zero.mp4" ] || fail "limit=0 wrote a video"
 
+# 6. raw video in a QuickTime file is packed RGB, which QuickTime holds
+#    (yuv420p rawvideo was once written into a .mov that no player can
+#    read, exit 0): 5 frames decoded, the red square red
+printf '!window size=64;64\n    !record filename="raw.mov" codec=:rawvideo\n        !canvas\n            !rect point=0;0 size=32;32\n            !fill color=1;0;0\n' \
+    >"$dir/raw.fl"
+(cd "$dir" && "$flitter" run --frames 5 raw.fl >/dev/null 2>"$dir/err") || fail "rawvideo .mov: $(cat "$dir/err")"
+n=$(ffprobe -v error -count_frames -select_streams v -show_entries stream=nb_read_frames -of csv=p=0 "$dir/raw.mov" 2>&1)
+[ "$n" = 5 ] || fail "raw.mov: '$n' frames decoded, not 5"
+ffmpeg -v error -y -i "$dir/raw.mov" -frames:v 1 -f rawvideo -pix_fmt rgb24 "$dir/raw.rgb" || fail "raw.mov: no frame"
+px=$(od -An -tu1 -j $(( (5 * 64 + 5) * 3 )) -N3 "$dir/raw.rgb" | tr -s ' ' | sed 's/^ //')
+[ "$px" = "255 0 0" ] || fail "raw.mov: pixel 5,5 is '$px', not red"
+
 exit 0

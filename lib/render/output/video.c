@@ -111,10 +111,13 @@ static bool takes_format(const AVCodec *c, enum AVPixelFormat f)
     return false;
 }
 
-/* The pixel format for [c]: [asked] (pixfmt=) if given, else yuva420p
+/* The pixel format for [c]: [asked] (pixfmt=) if given, else packed RGB
+ * (ARGB with alpha) for an encoder that lists no formats when [raw_rgb]
+ * (the container's raw video is RGB), else yuva420p
  * with alpha where taken, else yuv420p, else the encoder's nearest to
  * ARGB; AV_PIX_FMT_NONE with [err] set if [asked] is unknown or refused. */
-static enum AVPixelFormat choose_format(const AvLib *L, const AVCodec *c, const char *asked, bool alpha, const char *path,
+static enum AVPixelFormat choose_format(const AvLib *L, const AVCodec *c, const char *asked, bool alpha, bool raw_rgb,
+                                        const char *path,
                                         char *err, size_t errlen)
 {
     if (asked) {
@@ -129,6 +132,11 @@ static enum AVPixelFormat choose_format(const AvLib *L, const AVCodec *c, const 
         }
         return f;
     }
+    /* an encoder that lists no formats (rawvideo) into a QuickTime file:
+     * the picture's own packed RGB, which QuickTime's raw video holds (a
+     * yuv420p rawvideo .mov was written unreadable, exit 0; Matroska
+     * holds raw YUV, not RGB) */
+    if (!c->pix_fmts && raw_rgb) return alpha ? AV_PIX_FMT_RGB32 : AV_PIX_FMT_RGB24;
     if (alpha && takes_format(c, AV_PIX_FMT_YUVA420P)) return AV_PIX_FMT_YUVA420P;
     if (takes_format(c, AV_PIX_FMT_YUV420P)) return AV_PIX_FMT_YUV420P;
     return L->avcodec_find_best_pix_fmt_of_list(c->pix_fmts, AV_PIX_FMT_RGB32, alpha, NULL);
@@ -198,7 +206,8 @@ static bool open_encoder(VideoOut *v, const AVCodec *c, const VideoSpec *spec, i
         snprintf(err, errlen, "%s: a %s file cannot hold %s video", path, v->oc->oformat->name, c->name);
         return false;
     }
-    enum AVPixelFormat fmt = choose_format(L, c, spec->pixfmt, spec->keep_alpha, path, err, errlen);
+    enum AVPixelFormat fmt = choose_format(L, c, spec->pixfmt, spec->keep_alpha,
+                                           strcmp(v->oc->oformat->name, "mov") == 0, path, err, errlen);
     if (fmt == AV_PIX_FMT_NONE) return false;
     const AVPixFmtDescriptor *desc = L->av_pix_fmt_desc_get(fmt);
     AVCodecContext *cc = L->avcodec_alloc_context3(c);
