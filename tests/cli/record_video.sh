@@ -177,4 +177,25 @@ ffmpeg -v error -y -i "$dir/raw.mov" -frames:v 1 -f rawvideo -pix_fmt rgb24 "$di
 px=$(od -An -tu1 -j $(( (5 * 64 + 5) * 3 )) -N3 "$dir/raw.rgb" | tr -s ' ' | sed 's/^ //')
 [ "$px" = "255 0 0" ] || fail "raw.mov: pixel 5,5 is '$px', not red"
 
+# 7. an animated GIF stops at limit= as a video does (it took every frame),
+#    limit=0 writes none (refused, exit 1); codec=:gif under a video's name
+#    is a GIF-codec video, which an MP4 cannot hold (it was a GIF file named
+#    .mp4, exit 0)
+for spec in 'a3.gif limit=0.05:0:3' 'a0.gif limit=0:1:' 'g.mp4:1:'; do
+    name=${spec%%:*}; want_rc=${spec#*:}; want_rc=${want_rc%%:*}; frames=${spec##*:}
+    file=${name%% *}
+    printf '!window size=16;16\n    !record filename="%s" codec=:gif %s\n        !canvas\n            !rect point=0;0 size=8;8\n            !fill color=1;0;0\n' \
+        "$file" "${name#"$file"}" >"$dir/gl.fl"
+    (cd "$dir" && "$flitter" run --frames 10 gl.fl >/dev/null 2>"$dir/err")
+    rc=$?
+    [ $rc -eq "$want_rc" ] || fail "$name codec=:gif: exit $rc, not $want_rc: $(cat "$dir/err")"
+    if [ -n "$frames" ]; then
+        n=$(ffprobe -v error -count_frames -show_entries stream=nb_read_frames -of csv=p=0 "$dir/$file" 2>&1)
+        [ "$n" = "$frames" ] || fail "$name: '$n' frames, not $frames"
+    else
+        [ ! -e "$dir/$file" ] || fail "$name: a file was written"
+    fi
+done
+grep -q 'g.mp4: a mp4 file cannot hold gif video' "$dir/err" || fail "g.mp4 codec=:gif: $(cat "$dir/err")"
+
 exit 0

@@ -159,6 +159,16 @@ static void fail_slot(Recorder *rec, const char *path, const char *err)
     if (!(slot->error = strdup(err))) mem_oom();
 }
 
+/* Frames that limit= [limit] seconds allows at [fps] (Flitter: up to
+ * round(limit * fps), fps taken whole), or -1: no limit. */
+static long limit_frames(double limit, double fps)
+{
+    if (!(limit >= 0)) return -1;
+    double ifps = fps >= 1 && fps <= 1000 ? floor(fps) : fps > 1000 ? 1000 : 1;
+    double m = round(limit * ifps);
+    return m < 1e15 ? (long)m : -1;
+}
+
 static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err,
                      size_t errlen)
 {
@@ -167,7 +177,16 @@ static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, d
         snprintf(err, errlen, "%s", slot->error);
         return -1;
     }
+    if (slot && slot->done) return 0;
     if (!slot) {
+        /* limit= as for a video (Flitter writes animated GIFs as videos) */
+        long max_frames = limit_frames(s->limit, fps);
+        if (max_frames == 0) {
+            snprintf(err, errlen, "%s: no frame was recorded (limit=%g); the animation is not written",
+                     s->path, s->limit);
+            fail_slot(rec, s->path, err);
+            return -1;
+        }
         double cs = 100.0 / fps;   /* GIF delays are 1..65535 hundredths of a second */
         int delay = cs >= 65535 ? 65535 : cs <= 1 ? 1 : (int)lround(cs);
         GifOut *g = gifout_open(s->path, cairo_image_surface_get_width(pic), cairo_image_surface_get_height(pic),
@@ -178,10 +197,20 @@ static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, d
         }
         slot = add_slot(rec, s->path);
         slot->gif = g;
+        slot->max_frames = max_frames;
     }
     if (gifout_frame(slot->gif, cairo_image_surface_get_data(pic), cairo_image_surface_get_stride(pic)) != 0) {
         snprintf(err, errlen, "%s: cannot write a GIF frame", s->path);
         return -1;
+    }
+    if (slot->max_frames >= 0 && gifout_frames(slot->gif) >= slot->max_frames) {   /* its limit: finished now */
+        slot->done = true;
+        int closed = gifout_close(slot->gif);
+        slot->gif = NULL;
+        if (closed != 0) {
+            snprintf(err, errlen, "%s: cannot finish the GIF", s->path);
+            return -1;
+        }
     }
     return 0;
 }
@@ -225,10 +254,7 @@ static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic,
         slot->video = v;
         slot->start = clock->time;
         slot->last_pts = -1;
-        if (s->limit >= 0) {   /* Flitter: frames up to round(limit * fps) */
-            double m = round(s->limit * ifps);
-            slot->max_frames = m < 1e15 ? (long)m : -1;
-        }
+        slot->max_frames = limit_frames(s->limit, fps);
         if (unused[0]) {
             snprintf(err, errlen, "%s: options not used by the %s encoder: %s", s->path, video_encoder(v), unused);
             rc = 1;
@@ -308,11 +334,13 @@ int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, con
     cairo_surface_flush(pic);
     /* Flitter record.py: a .gif with codec=:gif is an animation, without
      * it a picture; a .png or .jpg name stays a still picture whatever the
-     * codec; another name with codec=:gif is an animation too (as
-     * before: `filename=NAME codec=:gif`) */
+     * codec; a video's name with codec=:gif is a video of the GIF codec,
+     * which no container of ours holds (refused by name, never a GIF file
+     * under a video's name) */
     bool codec_gif = s->codec && strcmp(s->codec, "gif") == 0;
     bool png = ends_with(s->path, ".png"), jpeg = ends_with(s->path, ".jpg") || ends_with(s->path, ".jpeg");
-    bool anim = codec_gif && !png && !jpeg, still_gif = ends_with(s->path, ".gif") && !codec_gif;
+    bool gif = ends_with(s->path, ".gif");
+    bool anim = codec_gif && gif, still_gif = gif && !codec_gif;
     /* files kept open across frames are checked when they are started */
     bool started = find_slot(rec, s->path) != NULL;
     FileKind kind = anim || still_gif ? KIND_GIF : png ? KIND_PNG : jpeg ? KIND_JPEG : KIND_VIDEO;
