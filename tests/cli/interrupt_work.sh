@@ -23,7 +23,8 @@
 #      each of its 20,000 segments: Flitter's path rules make it
 #      quadratic), drawn offscreen for a !record: the canvas asks between
 #      shapes (issue 60: it drew on to the end), and the picture cut short
-#      is not written.
+#      is not written; and one stroke of 50,000 segments (one cairo call of
+#      about 13 s), made on a thread of its own and left to finish alone.
 set -u
 flitter=$1
 dir=$(mktemp -d) || exit 2
@@ -93,4 +94,12 @@ printf '!window size=400;400\n    !record filename=OUT\n        !canvas\n       
     >"$dir/canvas.fl"
 stop canvas --offscreen --lockstep --frames 1 --define "OUT=$dir/canvas.png" "$dir/canvas.fl"
 [ ! -e "$dir/canvas.png" ] || bad "canvas: the picture cut short was written"
+# one stroke of a path of 50,000 random segments: a single cairo call of
+# about 13 s here, which no poll between shapes can cut short; it is made
+# on a thread of its own and left to finish alone (issue 60's probe: it
+# ran on to its end)
+printf '!window size=400;400\n    !record filename=OUT\n        !canvas\n            !path\n                !move_to point=0;0\n                for i in ..50000\n                    !line_to point=uniform(:x)[i]*400;uniform(:y)[i]*400\n                !stroke stroke_width=3 color=1\n' \
+    >"$dir/stroke.fl"
+stop stroke --offscreen --lockstep --frames 1 --define "OUT=$dir/stroke.png" "$dir/stroke.fl"
+[ ! -e "$dir/stroke.png" ] || bad "stroke: the picture cut short was written"
 exit $fail

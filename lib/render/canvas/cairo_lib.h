@@ -44,7 +44,7 @@
     X(cairo_pattern_create_radial) X(cairo_pattern_create_rgba) X(cairo_pattern_destroy)                \
     X(cairo_pattern_reference) X(cairo_pattern_set_extend) X(cairo_pattern_set_filter)                  \
     X(cairo_pattern_set_matrix) X(cairo_pop_group) X(cairo_pop_group_to_source) X(cairo_push_group) X(cairo_rectangle)     \
-    X(cairo_restore) X(cairo_rotate) X(cairo_save) X(cairo_scale) X(cairo_select_font_face)             \
+    X(cairo_reference) X(cairo_restore) X(cairo_rotate) X(cairo_save) X(cairo_scale) X(cairo_select_font_face)             \
     X(cairo_set_antialias) X(cairo_set_dash) X(cairo_set_fill_rule) X(cairo_set_font_size)              \
     X(cairo_set_line_cap) X(cairo_set_line_join) X(cairo_set_line_width) X(cairo_set_matrix)            \
     X(cairo_set_miter_limit) X(cairo_set_operator) X(cairo_set_source) X(cairo_set_source_rgb)          \
@@ -125,6 +125,7 @@ bool cairo_lib_ready(char *why, size_t cap);
 #define cairo_pop_group_to_source (FL_CAIRO->f_cairo_pop_group_to_source)
 #define cairo_push_group (FL_CAIRO->f_cairo_push_group)
 #define cairo_rectangle (FL_CAIRO->f_cairo_rectangle)
+#define cairo_reference (FL_CAIRO->f_cairo_reference)
 #define cairo_restore (FL_CAIRO->f_cairo_restore)
 #define cairo_rotate (FL_CAIRO->f_cairo_rotate)
 #define cairo_save (FL_CAIRO->f_cairo_save)

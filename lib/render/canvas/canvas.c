@@ -8,10 +8,12 @@
 #include "canvas.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <time.h>
 
 #include "buf.h"
 #include "format.h"
@@ -122,9 +124,11 @@ typedef struct Font {
 } Font;
 
 typedef struct Ctx {
-    cairo_t *cr;
+    cairo_t *cr;               /* cairo's inert nil context once a long draw is abandoned */
     const CanvasEnv *env;
     Buf text;                  /* scratch for string attributes */
+    size_t nops;               /* operations of the path last replayed onto cr */
+    bool abandoned;            /* a long fill or stroke was left to finish alone */
 } Ctx;
 
 static void paint_copy(Paint *dst, const Paint *src)
@@ -325,6 +329,7 @@ static void path_free(Path *p) { free(p->ops); *p = (Path){0}; }
 static void path_replay(Ctx *c, const Path *p)
 {
     cairo_t *cr = c->cr;
+    c->nops = p->n;
     cairo_new_path(cr);
     for (size_t i = 0; i < p->n; i++) {
         const PathOp *o = &p->ops[i];
@@ -474,10 +479,106 @@ static void set_source(Ctx *c, const Paint *p)
     cairo_set_antialias(cr, p->antialias ? CAIRO_ANTIALIAS_DEFAULT : CAIRO_ANTIALIAS_NONE);
 }
 
+/* {===== a long path's fill or stroke, on a thread of its own
+ * cairo cannot stop a fill or a stroke once begun, and one of a path of
+ * millions of segments takes minutes. A path of more than LONG_PATH
+ * operations is filled or stroked on a thread of its own while this one
+ * polls the interrupt every 10 ms. Interrupted, this side leaves the call
+ * to finish alone: the thread holds its own reference to the context (and
+ * through it to the picture), dropped when it is done; this side draws
+ * nothing more (Ctx.cr becomes cairo's inert nil context) and canvas_draw
+ * says so, so that the picture is dropped, never shown or read while the
+ * thread may still write it. The pixels are those of the same call made
+ * here. */
+
+enum { LONG_PATH = 10000 };
+
+typedef struct LongDraw {
+    pthread_mutex_t mu;
+    pthread_cond_t cond;
+    cairo_t *cr;               /* the thread's reference */
+    bool fill;                 /* fill, else stroke */
+    bool done;
+    int refs;                  /* sides still holding it (2, then 1, then freed) */
+} LongDraw;
+
+static void long_draw_release(LongDraw *d)
+{
+    pthread_mutex_lock(&d->mu);
+    bool last = --d->refs == 0;
+    pthread_mutex_unlock(&d->mu);
+    if (!last) return;
+    cairo_destroy(d->cr);
+    pthread_cond_destroy(&d->cond);
+    pthread_mutex_destroy(&d->mu);
+    free(d);
+}
+
+static void *long_draw_main(void *arg)
+{
+    LongDraw *d = arg;
+    if (d->fill) cairo_fill_preserve(d->cr);
+    else cairo_stroke_preserve(d->cr);
+    pthread_mutex_lock(&d->mu);
+    d->done = true;
+    pthread_cond_signal(&d->cond);
+    pthread_mutex_unlock(&d->mu);
+    long_draw_release(d);
+    return NULL;
+}
+
+/* Fill ([fill]) or stroke c->cr's current path, a long one on a thread of
+ * its own (above). */
+static void fill_or_stroke(Ctx *c, bool fill)
+{
+    volatile int *stop = c->env->interrupt;
+    LongDraw *d = stop && c->nops > LONG_PATH ? calloc(1, sizeof *d) : NULL;
+    pthread_attr_t attr;
+    bool started = false;
+    if (d && pthread_mutex_init(&d->mu, NULL) == 0) {
+        if (pthread_cond_init(&d->cond, NULL) == 0) {
+            d->cr = cairo_reference(c->cr);
+            d->fill = fill;
+            d->refs = 2;
+            pthread_t t;
+            started = pthread_attr_init(&attr) == 0 &&
+                      pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED) == 0 &&
+                      pthread_create(&t, &attr, long_draw_main, d) == 0;
+            pthread_attr_destroy(&attr);
+            if (!started) {
+                cairo_destroy(d->cr);
+                pthread_cond_destroy(&d->cond);
+            }
+        }
+        if (!started) pthread_mutex_destroy(&d->mu);
+    }
+    if (!started) {   /* a short path, or no thread to be had: here */
+        free(d);
+        if (fill) cairo_fill_preserve(c->cr);
+        else cairo_stroke_preserve(c->cr);
+        return;
+    }
+    pthread_mutex_lock(&d->mu);
+    while (!d->done && !*stop) {
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_nsec += 10000000;
+        if (until.tv_nsec >= 1000000000) until.tv_sec++, until.tv_nsec -= 1000000000;
+        pthread_cond_timedwait(&d->cond, &d->mu, &until);
+    }
+    bool done = d->done;
+    pthread_mutex_unlock(&d->mu);
+    long_draw_release(d);
+    if (!done) {
+        c->abandoned = true;
+        c->cr = cairo_create(NULL);   /* (cairo's nil context: every call on it does nothing) */
+    }
+}
+
 static void do_fill(Ctx *c, const Paint *p)
 {
     set_source(c, p);
-    cairo_fill_preserve(c->cr);
+    fill_or_stroke(c, true);
 }
 
 static void do_stroke(Ctx *c, const Paint *p)
@@ -495,7 +596,7 @@ static void do_stroke(Ctx *c, const Paint *p)
         cairo_device_to_user_distance(cr, &dx, &dy);
         cairo_set_line_width(cr, hypot(dx, dy));
     }
-    cairo_stroke_preserve(cr);
+    fill_or_stroke(c, false);
 }
 
 /* Fill and/or stroke [path] with [n]'s own paint attributes on top of [p]
@@ -763,15 +864,16 @@ static void draw_node(Ctx *c, const Node *n, Paint *paint, const Font *font, Pat
     const char *kind = rnode_kind(n);
     double v[2], r[2];
     PathOp *o;
+    /* (c->cr after children: a long draw abandoned replaces it) */
     if (strcmp(kind, "group") == 0) {
         cairo_save(cr);
         draw_scope(c, n, paint, font);
-        cairo_restore(cr);
+        cairo_restore(c->cr);
     } else if (strcmp(kind, "transform") == 0) {
         cairo_save(cr);
         update_transform(c, n);
         draw_children(c, n, paint, font, path);
-        cairo_restore(cr);
+        cairo_restore(c->cr);
     } else if (strcmp(kind, "paint") == 0) {
         Paint p;
         paint_copy(&p, paint);
@@ -922,7 +1024,7 @@ static void draw_node(Ctx *c, const Node *n, Paint *paint, const Font *font, Pat
     }
 }
 
-void canvas_draw(cairo_t *cr, const Node *canvas, const CanvasEnv *env)
+bool canvas_draw(cairo_t *cr, const Node *canvas, const CanvasEnv *env)
 {
     Ctx c = {.cr = cr, .env = env, .text = BUF_INIT};
     Paint p = {.rgba = {0, 0, 0, 1}, .width = 0, .join = CAIRO_LINE_JOIN_MITER,
@@ -931,6 +1033,7 @@ void canvas_draw(cairo_t *cr, const Node *canvas, const CanvasEnv *env)
               .slant = CAIRO_FONT_SLANT_NORMAL};
     cairo_save(cr);
     draw_scope(&c, canvas, &p, &f);
-    cairo_restore(cr);
+    cairo_restore(c.cr);
     buf_free(&c.text);
+    return !c.abandoned;
 }

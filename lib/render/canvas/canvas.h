@@ -110,7 +110,13 @@ bool canvas_attr_nums(const Node *n, const char *name, int count, double *out);
  * descendants onto [cr]; the node's own translate/rotate/scale, paint and
  * font attributes apply to the whole tree, as in Flitter. Nodes outside the
  * canvas node set are skipped, each kind reported once through env->skips.
+ * env->interrupt (when not NULL) is polled between shapes and, for a path
+ * of more than 10,000 operations, every 10 ms of its fill or stroke.
+ * Returns false when that fill or stroke was interrupted and left to
+ * finish on a thread of its own: [cr]'s target is then still being
+ * written, and must be dropped (cairo_surface_destroy: the thread holds a
+ * reference of its own), never read or drawn again.
  *   errors: none; malformed attributes are ignored as Flitter does. */
-void canvas_draw(cairo_t *cr, const Node *canvas, const CanvasEnv *env);
+bool canvas_draw(cairo_t *cr, const Node *canvas, const CanvasEnv *env);
 
 #endif

@@ -76,8 +76,13 @@ static void render_canvas(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
     CanvasEnv env = {.symbols = g->env.symbols, .skips = &g->skips, .linear = linear,
                      .interrupt = g->env.interrupt};
     graph_canvas_images(g, &env);
-    canvas_draw(cr, n, &env);
+    bool whole = canvas_draw(cr, n, &env);
     cairo_destroy(cr);
+    if (!whole) {   /* interrupted in a long draw, still writing it: dropped, not shown */
+        cairo_surface_destroy(cp->pic);
+        cp->pic = NULL;
+        return;
+    }
     cairo_surface_flush(cp->pic);
     upload(cp, cp->pic, p->target);
 }
