@@ -102,10 +102,15 @@ def _py_particle(ctx, id_text, position, velocity, dims):
     return 0
 
 
-def _c(text: str) -> bytes:
+def _c(text: Any) -> bytes:
     """Text for the C interface, NUL-terminated there: a NUL inside would cut
     it short, so it is refused as Python's own os functions refuse it."""
-    b = os.fsencode(text) if isinstance(text, os.PathLike) else text.encode("utf-8", "surrogateescape")
+    if isinstance(text, bytes):   # a path as bytes, as os functions take it
+        b = text
+    elif isinstance(text, os.PathLike):
+        b = os.fsencode(text)
+    else:
+        b = text.encode("utf-8", "surrogateescape")
     if b"\0" in b:
         raise ValueError("embedded null byte")
     return b

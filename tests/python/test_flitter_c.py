@@ -265,6 +265,23 @@ def test_define_refuses_bad_names_and_nul():
         sim.define("X", Symbol("a;b"))
     with pytest.raises(ValueError):
         sim.load("dish\0.fl")
+    with pytest.raises(ValueError):
+        sim.load(b"dish\0.fl")
+
+
+def test_paths_as_bytes_and_pathlike(tmp_path):
+    # paths as os functions take them: str, bytes and os.PathLike (a bytes
+    # path once raised AttributeError)
+    script = tmp_path / "c.fl"
+    script.write_text("!counter state=:n rate=1\n")
+    for path in (str(script), os.fsencode(str(script)), script):
+        sim = flitter_c.Simulation()
+        sim.load(path)
+        sim.step(2)
+        state = tmp_path / "c.state"
+        sim.save_state(os.fsencode(str(state)))
+        sim.load_state(state)
+        assert sim.frames == 2
 
 
 def test_define_and_load_race_under_the_lock():
