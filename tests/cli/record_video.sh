@@ -176,6 +176,14 @@ n=$(ffprobe -v error -count_frames -select_streams v -show_entries stream=nb_rea
 ffmpeg -v error -y -i "$dir/raw.mov" -frames:v 1 -f rawvideo -pix_fmt rgb24 "$dir/raw.rgb" || fail "raw.mov: no frame"
 px=$(od -An -tu1 -j $(( (5 * 64 + 5) * 3 )) -N3 "$dir/raw.rgb" | tr -s ' ' | sed 's/^ //')
 [ "$px" = "255 0 0" ] || fail "raw.mov: pixel 5,5 is '$px', not red"
+# ... and a pixfmt= QuickTime's raw video cannot hold is refused, no file
+# (yuv420p was written unreadable with exit 0: the re-probe)
+sed 's/codec=:rawvideo/codec=:rawvideo pixfmt=:yuv420p/; s/raw.mov/rawyuv.mov/' "$dir/raw.fl" >"$dir/rawyuv.fl"
+(cd "$dir" && "$flitter" run --frames 5 rawyuv.fl >/dev/null 2>"$dir/err")
+rc=$?
+[ $rc -eq 1 ] && grep -q "rawyuv.mov: a QuickTime file holds raw video as" "$dir/err" ||
+    fail "rawvideo pixfmt=:yuv420p .mov: exit $rc: $(cat "$dir/err")"
+[ ! -e "$dir/rawyuv.mov" ] || fail "rawvideo pixfmt=:yuv420p wrote rawyuv.mov"
 
 # 7. an animated GIF stops at limit= as a video does (it took every frame),
 #    limit=0 writes none (refused, exit 1); codec=:gif under a video's name

@@ -130,6 +130,20 @@ static enum AVPixelFormat choose_format(const AvLib *L, const AVCodec *c, const 
             snprintf(err, errlen, "%s: encoder %s does not take pixel format '%s'", path, c->name, asked);
             return AV_PIX_FMT_NONE;
         }
+        /* QuickTime's raw video holds packed RGB and two packed YUV
+         * layouts; FFmpeg writes any other format unreadable (or read
+         * back as another) with only a warning */
+        static const enum AVPixelFormat quicktime_raw[] = {
+            AV_PIX_FMT_RGB24, AV_PIX_FMT_BGR24, AV_PIX_FMT_ARGB, AV_PIX_FMT_BGRA, AV_PIX_FMT_RGBA,
+            AV_PIX_FMT_ABGR, AV_PIX_FMT_UYVY422, AV_PIX_FMT_YUYV422};
+        bool held = !raw_rgb || c->pix_fmts;
+        for (size_t i = 0; !held && i < sizeof quicktime_raw / sizeof *quicktime_raw; i++)
+            held = quicktime_raw[i] == f;
+        if (!held) {
+            snprintf(err, errlen, "%s: a QuickTime file holds raw video as rgb24, bgr24, argb, bgra, rgba, abgr, "
+                     "uyvy422 or yuyv422, not '%s'", path, asked);
+            return AV_PIX_FMT_NONE;
+        }
         return f;
     }
     /* an encoder that lists no formats (rawvideo) into a QuickTime file:
