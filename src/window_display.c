@@ -238,6 +238,15 @@ static void present(Display *D, Slot *s)
     if (s->view.gone) window_gone(D);
 }
 
+/* Give picture set [i] back to the frame loop (SET_FREE) and wake it. */
+static void give_back(Handover *h, int i)
+{
+    pthread_mutex_lock(&h->mu);
+    h->state[i] = SET_FREE;
+    pthread_cond_signal(&h->cond);
+    pthread_mutex_unlock(&h->mu);
+}
+
 /* Show picture set [i] of the handover (taken: SET_SHOWING): physics
  * views painted from their snapshots, windows followed, pictures
  * uploaded, the set given back, overlays, present. Returns -1 when a
@@ -264,10 +273,7 @@ static int show_set(Display *D, int i)
         t0 = t1;
     }
     if (D->gone) {   /* the set goes back unshown */
-        pthread_mutex_lock(&h->mu);
-        h->state[i] = SET_FREE;
-        pthread_cond_signal(&h->cond);
-        pthread_mutex_unlock(&h->mu);
+        give_back(h, i);
         return 0;
     }
     int rc = sync_windows(D, set);
@@ -286,10 +292,7 @@ static int show_set(Display *D, int i)
         for (size_t k = 0; k < D->nslots; k++) {
             present(D, &D->slots[k]);
         }
-    pthread_mutex_lock(&h->mu);
-    h->state[i] = SET_FREE;
-    pthread_cond_signal(&h->cond);
-    pthread_mutex_unlock(&h->mu);
+    give_back(h, i);
     if (rc != 0) return -1;
     for (size_t k = 0; k < D->nslots && !drawn; k++) {
         present(D, &D->slots[k]);
@@ -356,8 +359,7 @@ void window_display(Handover *h, const WinOptions *wopt, FILE *log)
     }
     /* (after a destroy the windows are left to the process's end: see
      * window_run) */
-    for (size_t k = 0; k < D.nslots && winlost_kind(&h->lost) != LOST_DESTROYED; k++)
-        winview_close(&D.slots[k].view);
+    for (size_t k = 0; k < D.nslots && !D.gone; k++) winview_close(&D.slots[k].view);
     fl_view_painter_free(D.painter);
     free(D.slots);
     free(D.status);

@@ -527,33 +527,42 @@ static void *long_draw_main(void *arg)
     return NULL;
 }
 
+/* Start [fill] or stroke of [cr]'s current path on a detached thread: its
+ * LongDraw, or NULL (nothing started, nothing held) when no thread could
+ * be had. */
+static LongDraw *long_draw_start(cairo_t *cr, bool fill)
+{
+    LongDraw *d = calloc(1, sizeof *d);
+    if (!d) return NULL;
+    if (pthread_mutex_init(&d->mu, NULL) != 0) goto no_mutex;
+    if (pthread_cond_init(&d->cond, NULL) != 0) goto no_cond;
+    d->cr = cairo_reference(cr);
+    d->fill = fill;
+    d->refs = 2;
+    pthread_attr_t attr;
+    if (pthread_attr_init(&attr) != 0) goto no_thread;
+    pthread_t t;
+    bool started = pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED) == 0 &&
+                   pthread_create(&t, &attr, long_draw_main, d) == 0;
+    pthread_attr_destroy(&attr);
+    if (started) return d;
+no_thread:
+    cairo_destroy(d->cr);
+    pthread_cond_destroy(&d->cond);
+no_cond:
+    pthread_mutex_destroy(&d->mu);
+no_mutex:
+    free(d);
+    return NULL;
+}
+
 /* Fill ([fill]) or stroke c->cr's current path, a long one on a thread of
  * its own (above). */
 static void fill_or_stroke(Ctx *c, bool fill)
 {
     volatile int *stop = c->env->interrupt;
-    LongDraw *d = stop && c->nops > LONG_PATH ? calloc(1, sizeof *d) : NULL;
-    pthread_attr_t attr;
-    bool started = false;
-    if (d && pthread_mutex_init(&d->mu, NULL) == 0) {
-        if (pthread_cond_init(&d->cond, NULL) == 0) {
-            d->cr = cairo_reference(c->cr);
-            d->fill = fill;
-            d->refs = 2;
-            pthread_t t;
-            started = pthread_attr_init(&attr) == 0 &&
-                      pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED) == 0 &&
-                      pthread_create(&t, &attr, long_draw_main, d) == 0;
-            pthread_attr_destroy(&attr);
-            if (!started) {
-                cairo_destroy(d->cr);
-                pthread_cond_destroy(&d->cond);
-            }
-        }
-        if (!started) pthread_mutex_destroy(&d->mu);
-    }
-    if (!started) {   /* a short path, or no thread to be had: here */
-        free(d);
+    LongDraw *d = stop && c->nops > LONG_PATH ? long_draw_start(c->cr, fill) : NULL;
+    if (!d) {   /* a short path, or no thread to be had: here */
         if (fill) cairo_fill_preserve(c->cr);
         else cairo_stroke_preserve(c->cr);
         return;
