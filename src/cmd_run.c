@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "exitcodes.h"
+#include "prefault.h"
 #include "runner.h"
 #include "window.h"
 
@@ -43,6 +44,8 @@ static void catch_signals(void)
 static int run_window(RunSpec *spec)
 {
     char why[256];
+    /* the window draws every frame: its freed heap is kept for the next */
+    prefault_keep_freed();
     int rc = window_run(spec, stdout, stderr, &interrupted, why, sizeof why);
     if (rc != WINDOW_NO_DISPLAY) return rc;
     /* headless output stays byte for byte what it was for scripts and CI:

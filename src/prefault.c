@@ -24,6 +24,8 @@
  * otherwise adjusts as blocks are freed). */
 #define PREFAULT_PAD ((size_t)2 << 20)
 #define PREFAULT_MMAP_THRESHOLD ((size_t)32 << 20)
+/* the least freed bytes at the heap's top that go back to the kernel */
+#define PREFAULT_KEEP_FREED (512 << 20)
 /* How much the heap grows before the thread starts: a script that needs
  * less (most) pays no fault on the other core, which its physics and
  * loop kernels may be using. */
@@ -87,6 +89,11 @@ static bool space_limited(void)
            (getrlimit(RLIMIT_DATA, &r) == 0 && r.rlim_cur != RLIM_INFINITY);
 }
 
+void prefault_keep_freed(void)
+{
+    if (!space_limited()) mallopt(M_TRIM_THRESHOLD, PREFAULT_KEEP_FREED);
+}
+
 Prefault *prefault_start(void)
 {
     const char *e = getenv("FLITTER_PREFAULT");
@@ -102,6 +109,7 @@ Prefault *prefault_start(void)
     p->from = (uintptr_t)end;
     mallopt(M_MMAP_THRESHOLD, (int)PREFAULT_MMAP_THRESHOLD);
     mallopt(M_TOP_PAD, (int)PREFAULT_PAD);
+    prefault_keep_freed();
     /* every signal blocked in the thread (it inherits the mask), so that
      * one meant for the process (Ctrl-C) is taken by the others */
     sigset_t all, old;
