@@ -611,6 +611,26 @@ FL_API int fl_gl_attach(fl_runtime *rt);
  * no such window, no OpenGL, or a NULL [rt]). */
 FL_API unsigned fl_gl_window_texture(fl_runtime *rt, size_t index, int *width, int *height);
 
+/* A live window's dynamic resolution: from the next frame drawn on,
+ * the windows' pictures (fl_gl_window_texture, fl_draw_window) are drawn
+ * at [scale] (0.01 to 1) of every render pass's size in each dimension
+ * (scale * scale of the pixels) and each !canvas3d with at most
+ * [max_samples] samples (0: as many as it asks). The picture is the same
+ * one at fewer pixels: canvases draw in the window's pixels scaled, blur
+ * radii and the filters that work in pixel positions follow; a !shader's
+ * `size` is its framebuffer's. fl_gl_window_texture's sizes are then the
+ * scaled ones (a front end scales the texture up to show it);
+ * fl_draw_window scales it up to the window's size (nearest pixels). A
+ * frame in which a !record writes a file, or --record's, and every frame
+ * drawn for fl_outputs_frame alone, are drawn at full size and samples.
+ * A scale out of range (or NaN) means 1, a cap below 1 none. No effect
+ * for a NULL [rt]. */
+FL_API void fl_set_window_scale(fl_runtime *rt, double scale, int max_samples);
+/* The scale the last frame's pictures were drawn at (1 when at full
+ * size, or none was drawn), and in [*max_samples] (when not NULL) the cap
+ * on samples they were drawn with (0: none). */
+FL_API double fl_window_scale(fl_runtime *rt, int *max_samples);
+
 /* Draw [rt]'s !physics systems as they are now into [pixels] (same layout
  * as fl_draw_window), as `--view` draws them (fl_view), scaled to fit
  * [width] x [height]; [*nsystems] (may be NULL) gets the number drawn.

@@ -32,6 +32,8 @@ struct Pictures {
     RenderLog log;
     bool show;       /* windows are shown: each is composited every frame */
     char *record;    /* --record FILE, until the graph is made */
+    double scale;    /* fl_set_window_scale's, until the graph is made */
+    int max_samples;
     char folder[4096];
 };
 
@@ -43,6 +45,7 @@ Pictures *pictures_new(fl_runtime *rt)
     p->log = (RenderLog){NULL, NULL, true};
     rt_log_target(rt, &p->log.fn, &p->log.ctx);
     p->view = view_new_fit(rt_symbols(rt));
+    p->scale = 1;
     return p;
 }
 
@@ -67,6 +70,7 @@ static Graph *graph_of(Pictures *p)
         p->graph = graph_new(&env);
         graph_show_windows(p->graph, p->show);
         graph_record_first(p->graph, p->record);
+        graph_set_scale(p->graph, p->scale, p->max_samples);
     }
     return p->graph;
 }
@@ -302,6 +306,24 @@ unsigned fl_gl_window_texture(fl_runtime *rt, size_t index, int *width, int *hei
     if (width) *width = w;
     if (height) *height = h;
     return tex;
+}
+
+void fl_set_window_scale(fl_runtime *rt, double scale, int max_samples)
+{
+    if (!rt) return;
+    Pictures *p = rt_pictures(rt);
+    p->scale = scale >= 0.01 && scale <= 1 ? scale : 1;
+    p->max_samples = max_samples > 0 ? max_samples : 0;
+    if (p->graph) graph_set_scale(p->graph, p->scale, p->max_samples);
+}
+
+double fl_window_scale(fl_runtime *rt, int *max_samples)
+{
+    double scale = 1;
+    int samples = 0;
+    if (rt && rt_pictures(rt)->graph) graph_drawn_scale(rt_pictures(rt)->graph, &scale, &samples);
+    if (max_samples) *max_samples = samples;
+    return scale;
 }
 
 int fl_draw_view(fl_runtime *rt, uint32_t *pixels, int width, int height, size_t stride,

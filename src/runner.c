@@ -109,6 +109,11 @@ static void run_usage(FILE *f)
           "                      its mesh cached for T (seconds or a timecode; default 300)\n"
           "  --profile, --opengles   Flitter's options, accepted; they have no effect\n"
           "                      here (a note says so, unless --quiet)\n"
+          "  --min-scale F       the live window draws its pictures at fewer pixels when\n"
+          "                      they cannot keep its frame rate, never fewer than the\n"
+          "                      fraction F of them (0 < F <= 1; default 0.25; 1: always\n"
+          "                      the full size); files (!record, --record) are always\n"
+          "                      drawn whole. F1 shows the scale in use\n"
           "  --window-size WxH   the physics view window's size in pixels when a frame\n"
           "                      has no !window (default 512x512; a !window's size= sets\n"
           "                      its own window's)\n"
@@ -211,7 +216,7 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
            O_STATE, O_THREADS, O_PAIRS, O_RUNTIME, O_OFFSCREEN, O_QUIET, O_VERBOSE, O_DEBUG,
            O_NOSIMPLIFY, O_VIEW, O_VIEW_EVERY, O_VIEW_AXES, O_TRACE, O_TRACE_EVERY, O_DUMP_SIMPLIFIED, O_DUMP_TOKENS, O_DUMP_AST, O_STATS,
            O_MAX_STEPS, O_PARTICLES, O_PHYSICS, O_WINDOW, O_FULLSCREEN, O_SCREEN, O_VSYNC,
-           O_RESETONSWITCH, O_RECORD, O_WINDOW_SIZE, O_TRACE_FILE, O_PROFILE, O_OPENGLES,
+           O_RESETONSWITCH, O_RECORD, O_WINDOW_SIZE, O_MIN_SCALE, O_TRACE_FILE, O_PROFILE, O_OPENGLES,
            O_MODELCACHE, O_VMSTATS, O_MAX_MEMORY };
     static const struct option longopts[] = {
         {"frames", required_argument, NULL, O_FRAMES},
@@ -260,10 +265,11 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
         {"vsync", no_argument, NULL, O_VSYNC},
         {"resetonswitch", no_argument, NULL, O_RESETONSWITCH},
         {"window-size", required_argument, NULL, O_WINDOW_SIZE},
+        {"min-scale", required_argument, NULL, O_MIN_SCALE},
         {NULL, 0, NULL, 0},
     };
     *spec = (RunSpec){.frames = -1, .fps = 60.0, .runtime = -1, .max_steps = 10000,
-                      .view_width = 512, .view_height = 512,
+                      .view_width = 512, .view_height = 512, .min_scale = 0.25,
                       .window = scripts == RUNSPEC_PAGES,
                       .implicit_window = scripts == RUNSPEC_PAGES};
     bool frames_given = false;
@@ -363,6 +369,12 @@ int runspec_parse(RunSpec *spec, int argc, char **argv, int scripts, FILE *err)
                 goto bad_value;
             spec->view_width = (int)w;
             spec->view_height = (int)h;
+            break;
+        }
+        case O_MIN_SCALE: {
+            double f = strtod(optarg, &end);
+            if (end == optarg || *end || !(f > 0 && f <= 1)) goto bad_value;
+            spec->min_scale = f;
             break;
         }
         case O_SCREEN: {

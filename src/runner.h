@@ -62,6 +62,9 @@ typedef struct RunSpec {
     int view_width, view_height; /* --window-size WxH: the physics view window's
                                     size (default 512x512) */
     bool reset_on_switch; /* --resetonswitch: a page left loses its state */
+    double min_scale;     /* --min-scale F: the live window's least fraction of
+                             pixels when it scales its pictures down to keep its
+                             rate (window_scale.h; default 0.25, 1: never) */
     bool exiting;         /* the process ends after runspec_execute returns (`flitter
                              run`, not `flitter test`): the runtime is left to the
                              exit, not freed piece by piece (runner.c, left_to_exit) */

@@ -19,6 +19,7 @@
 #include "runner.h"
 #include "watch.h"
 #include "window_lost.h"
+#include "window_scale.h"
 #include "window_sdl.h"
 
 /* The fl_windows index of a window that shows the physics view of a frame
@@ -179,6 +180,12 @@ typedef struct Loop {
     long stat_painted;       /* the display's painting at the last status update */
     double stat_paint;
     long stat_drawn;
+    /* dynamic resolution (window_scale.h): realtime windows drawn
+     * through OpenGL scale their pictures down to keep the rate */
+    WinScale scale;
+    bool scaling;            /* the scale is chosen (realtime, --min-scale below 1) */
+    long scaled_pictures;    /* pictures drawn below full size */
+    double scale_sum;        /* the sum of their scales, for the mean */
 } Loop;
 
 /* Apply input [in] to the current page of [L] (window_input.c): keys go

@@ -12,8 +12,9 @@
  * EngineController.run: realtime frames are paced to fl_target_fps; a
  * frame's picture is skipped (counted as dropped) while the display has
  * not yet taken the last one, or when the frame finished after the next
- * one was due, unless nothing was drawn for 100 ms (or twice the last
- * picture's cost, when longer). In lockstep every frame is shown: the
+ * one was due, unless nothing was drawn for twice the last picture's
+ * cost, at least 100 ms (for the last picture's cost when the window
+ * scales its pictures down: window_scale.h). In lockstep every frame is shown: the
  * frame loop waits for the display to take a picture before it draws the
  * next. */
 #include "window.h"
@@ -275,6 +276,26 @@ static void draw_window(Loop *L, ShownWindow *s, int view_w, int view_h)
     }
 }
 
+/* Count a picture set drawn in [seconds] (its drawing, not its wait for
+ * the OpenGL turn) for the dynamic resolution, when it holds a window's
+ * picture drawn by the render graph (not the physics view), and note the
+ * scale it was drawn at. */
+static void scale_picture(Loop *L, fl_runtime *rt, const PictureSet *set, double seconds)
+{
+    bool graph = false;
+    for (size_t k = 0; k < set->n; k++)
+        if (set->win[k].index != NO_WINDOW && !L->show_view) graph = true;
+    if (!graph) return;
+    double drawn = fl_window_scale(rt, NULL);
+    if (drawn < 1) {
+        L->scaled_pictures++;
+        L->scale_sum += drawn;
+    }
+    /* a picture drawn whole for a file says nothing about the scale's cost */
+    if (drawn == winscale_scale(&L->scale) && winscale_picture(&L->scale, seconds, 1 / fl_target_fps(rt)))
+        L->overlay_changed |= L->show_status;
+}
+
 /* Draw the current frame's pictures into a free set and hand it to the
  * display. In lockstep, first wait until the display has taken the last
  * one; in realtime, return false (nothing drawn) when it has not. */
@@ -301,10 +322,14 @@ static bool draw_frame(Loop *L)
     double t0 = now_seconds();
     PictureSet *set = &h->sets[i];
     describe_windows(L, set);
+    fl_runtime *rt = L->pages[L->cur].rt;
+    if (L->scaling) fl_set_window_scale(rt, winscale_scale(&L->scale), winscale_samples(&L->scale));
     wingl_lock(h->gl);
+    double locked = now_seconds();
     for (size_t k = 0; k < set->n; k++) draw_window(L, &set->win[k], view_w, view_h);
     wingl_unlock(h->gl);
     double t1 = now_seconds();
+    if (L->scaling) scale_picture(L, rt, set, t1 - locked);
     L->draw_seconds += t1 - t0;
     L->last_drawn = t1;
     L->last_draw_cost = t1 - t0;
@@ -382,6 +407,18 @@ static void update_status(Loop *L, bool force)
     double present = shown > 0 ? (all_present - L->stat_present) * 1e3 / (double)shown : 0;
     long painted = all_painted - L->stat_painted;
     double paint = painted > 0 ? (all_paint - L->stat_paint) * 1e3 / (double)painted : 0;
+    /* the dynamic resolution of the last picture: its scale, the share of
+     * pixels and the cap on samples */
+    char scale_line[96] = "";
+    if (L->scaling) {
+        int samples;
+        double sc = fl_window_scale(rt, &samples);
+        if (samples > 0)
+            snprintf(scale_line, sizeof scale_line, "scale %.4g (%.0f%% of pixels), samples <= %d\n", sc,
+                     sc * sc * 100, samples);
+        else
+            snprintf(scale_line, sizeof scale_line, "scale %.4g (%.0f%% of pixels)\n", sc, sc * sc * 100);
+    }
     snprintf(L->status, sizeof L->status,
              "page %d/%d %s\n"
              "frame %ld  time %.2f s\n"
@@ -389,12 +426,13 @@ static void update_status(Loop *L, bool force)
              "dropped %ld frames\n"
              "eval %.2f ms  physics %.2f ms\n"
              "draw %.2f ms  paint %.2f ms  present %.2f ms\n"
+             "%s"
              "%s",
              L->cur + 1, L->npages, base_name(L->pages[L->cur].script), fl_frame_count(rt) - 1,
              fl_frame_time(rt), dt > 0 ? (double)frames / dt : 0.0, fl_target_fps(rt),
              dt > 0 ? (double)shown / dt : 0.0, L->dropped,
              (st.eval_seconds - L->stat.eval_seconds) * per,
-             (st.physics_seconds - L->stat.physics_seconds) * per, draw, paint, present,
+             (st.physics_seconds - L->stat.physics_seconds) * per, draw, paint, present, scale_line,
              L->paused ? "paused (F5 resume, F6 one frame)" : "");
     L->stat = st;
     L->stat_shown = all_shown;
@@ -432,6 +470,13 @@ static void print_stats(Loop *L, double loop)
         fprintf(L->log, "stats: window: physics view painted by the display: %.3f ms per picture, "
                 "%ld pictures\n", h->paint_seconds / (double)h->painted * 1e3, h->painted);
     fprintf(L->log, "stats: window: %ld frames shown, %ld dropped\n", h->shown, L->dropped);
+    if (L->scaling) {
+        double least = (double)L->scale.least_step / 16;
+        fprintf(L->log, "stats: window: scale: %ld pictures below full size (mean scale %.3f), least %.4g "
+                "(%.0f%% of pixels), now %.4g; %ld changes\n", L->scaled_pictures,
+                L->scaled_pictures > 0 ? L->scale_sum / (double)L->scaled_pictures : 1.0, least, least * least * 100,
+                winscale_scale(&L->scale), L->scale.changes);
+    }
     double ran = L->ran > 0 ? (double)L->ran : 1;
     fprintf(L->log, "stats: window: frame loop busy %.3f ms per frame, %ld pictures drawn\n",
             (loop - L->wait_seconds) / ran * 1e3, L->drawn);
@@ -482,6 +527,7 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
     if (!L->paused || L->steps > 0) {
         if (L->steps > 0) L->steps--;
         double before = fl_next_frame_time(p->rt);
+        double sim0 = now_seconds();
         int rc = fl_step(p->rt);
         if (rc < 0) fprintf(L->log, "%s: error: %s", p->script, fl_error(p->rt));   /* the clock's limit */
         if (rc != 0) return false;   /* interrupted inside the frame, or no further frame */
@@ -496,6 +542,7 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
         int orc = fl_outputs_frame(p->outs, p->rt);
         wingl_unlock(L->hand->gl);
         if (orc != 0) fprintf(L->log, "flitter run: %s", fl_error(p->rt));
+        winscale_frame(&L->scale, now_seconds() - sim0);
         long n = fl_frame_count(p->rt);
         if (spec->dump_state && spec->dump_every > 0 && n % spec->dump_every == 0) {
             fl_dump_state(p->rt, write_file, L->out);
@@ -512,17 +559,19 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
     if (stepped || L->redraw) {
         double now = now_seconds();
         /* realtime: no time left to draw before the next frame is due;
-         * a late frame is still drawn when nothing was for 100 ms, or for
-         * twice what the last picture cost to draw when that is longer
-         * (a picture that takes a second to draw, a large !canvas3d on a
-         * CPU, then holds the simulation up for at most a third of the
-         * time) */
+         * a late frame is still drawn when nothing was for twice what the
+         * last picture cost to draw, at least 100 ms (a picture that takes
+         * a second to draw, a large !canvas3d on a CPU, then holds the
+         * simulation up for at most a third of the time); in a window
+         * that scales its pictures down to keep its rate, which has made
+         * them as cheap as it may, for what the last one cost (drawing
+         * then takes at most half the time) */
         bool late = L->realtime && stepped && fl_frame_wait(p->rt) < 0.001;
         /* (a slow picture restarts the realtime schedule, so the frame
          * after it is not late: a picture slower than a frame counts as
          * late on its own) */
         bool slow = L->realtime && stepped && L->last_draw_cost * fl_target_fps(p->rt) > 1;
-        double gap = L->last_draw_cost * 2 > 0.1 ? L->last_draw_cost * 2 : 0.1;
+        double gap = L->scaling ? L->last_draw_cost : L->last_draw_cost * 2 > 0.1 ? L->last_draw_cost * 2 : 0.1;
         if ((late || slow) && now - L->last_drawn < gap && !L->redraw) {
             L->dropped++;
         } else if (draw_frame(L)) {
@@ -650,6 +699,10 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
     /* Flitter's windows run on the realtime clock unless --lockstep */
     L.realtime = spec->clock_given ? spec->realtime : true;
     L.runspec.realtime = L.realtime;
+    /* dynamic resolution: realtime only (in lockstep every frame is
+     * shown whole, whatever it costs) */
+    winscale_init(&L.scale, spec->min_scale);
+    L.scaling = L.realtime && L.scale.floor_step < 16;
     L.files = (RunLog){log, (spec->dump_state || spec->dump_tree) ? log : out};
     int rc = open_pages(&L);
     if (rc == EXIT_OK) {

@@ -809,6 +809,29 @@ NULL_TEST(fl_gl_window_texture)
     fl_free(rt);
 }
 
+NULL_TEST(fl_set_window_scale)
+{
+    (void)unused;
+    fl_set_window_scale(NULL, 0.5, 2);   /* a no-op */
+    fl_runtime *rt = loaded();
+    int samples = 7;
+    assert_true(fl_window_scale(rt, &samples) == 1);   /* nothing drawn yet */
+    assert_int_equal(samples, 0);
+    fl_set_window_scale(rt, NAN, -3);   /* out of range: full size, no cap */
+    fl_set_window_scale(rt, 0.5, 1);
+    assert_true(fl_window_scale(rt, NULL) == 1);   /* not drawn yet: the last drawn is still whole */
+    fl_free(rt);
+}
+
+NULL_TEST(fl_window_scale)
+{
+    (void)unused;
+    int samples = 7;
+    assert_true(fl_window_scale(NULL, &samples) == 1);
+    assert_int_equal(samples, 0);
+    assert_true(fl_window_scale(NULL, NULL) == 1);
+}
+
 NULL_TEST(fl_draw_view)
 {
     (void)unused;
@@ -987,7 +1010,7 @@ static const struct CMUnitTest tests[] = {
     T(fl_state_set_expr), T(fl_eval_reset), T(fl_scope_names), T(fl_builtin_name),
     T(fl_number_text), T(fl_particles), T(fl_outputs_open), T(fl_outputs_frame),
     T(fl_outputs_close), T(fl_view), T(fl_check_output), T(fl_windows), T(fl_draw_window),
-    T(fl_gl_attach), T(fl_gl_window_texture), T(fl_draw_view), T(fl_view_snapshot_take), T(fl_view_snapshot_free),
+    T(fl_gl_attach), T(fl_gl_window_texture), T(fl_set_window_scale), T(fl_window_scale), T(fl_draw_view), T(fl_view_snapshot_take), T(fl_view_snapshot_free),
     T(fl_view_painter_new), T(fl_view_painter_free), T(fl_view_painter_draw), T(fl_key), T(fl_pointer), T(fl_pointer_button), T(fl_program_files),
     T(fl_get_stats),
     cmocka_unit_test(every_function_is_covered),

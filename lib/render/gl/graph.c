@@ -44,6 +44,7 @@ Graph *graph_new(const GraphEnv *env)
     g->skips.log = &g->skiplog;
     g->rec = recorder_new();
     g->frame = -1;
+    g->scale = g->draw_scale = 1;
     return g;
 }
 
@@ -326,8 +327,10 @@ static void update(Graph *g, Pass *p, const Node *n, const PassCtx *parent)
     p->hidden = hidden && vec_truthy(hidden);
     int w = parent->w, h = parent->h;
     size_of(n, &w, &h);
-    p->w = w;
-    p->h = h;
+    p->lw = w;
+    p->lh = h;
+    p->w = graph_scaled(g, w);
+    p->h = graph_scaled(g, h);
     PassCtx cx = *parent;
     cx.w = w;
     cx.h = h;
@@ -552,6 +555,25 @@ int graph_finish_records(Graph *g)
 
 void graph_show_windows(Graph *g, bool show) { g->show = show; }
 
+void graph_set_scale(Graph *g, double scale, int max_samples)
+{
+    g->scale = scale >= 0.01 && scale <= 1 ? scale : 1;
+    g->max_samples = max_samples > 0 ? max_samples : 0;
+}
+
+void graph_drawn_scale(const Graph *g, double *scale, int *max_samples)
+{
+    *scale = g->draw_scale;
+    *max_samples = g->draw_samples;
+}
+
+int graph_scaled(const Graph *g, int n)
+{
+    if (g->draw_scale == 1) return n;
+    double s = round(n * g->draw_scale);
+    return s < 1 ? 1 : (int)s;
+}
+
 void graph_record_first(Graph *g, const char *path)
 {
     free(g->record_first);
@@ -589,7 +611,7 @@ static void composite_late(Graph *g, const Node *root, const GraphFrame *f)
         if (!graph_is_window(w)) continue;
         Pass *p = g->windows[k++];
         if (p->target) continue;
-        PassCtx cx = {.w = p->w, .h = p->h, .colorbits = 16, .write = false};
+        PassCtx cx = {.w = p->lw, .h = p->lh, .colorbits = 16, .write = false};
         p->kind->enter(g, p, w, &cx);
         p->kind->render(g, p, w, &cx);
     }
@@ -630,6 +652,10 @@ int graph_frame(Graph *g, const Node *root, const GraphFrame *frame, bool window
     g->frame = frame->frame;
     g->beat = frame->beat;
     g->composited = g->show;   /* (a shown window's picture is composited: pass_window.c) */
+    /* dynamic resolution only where no file is written */
+    bool scaled = windows && g->show && !records;
+    g->draw_scale = scaled ? g->scale : 1;
+    g->draw_samples = scaled ? g->max_samples : 0;
     g->write_failures = 0;
     if (!any && !g->nwindows) return 0;
     /* the files asked for cannot be written: a failure of the frame's */

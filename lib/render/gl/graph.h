@@ -87,6 +87,19 @@ int graph_attach(Graph *g, char *err, size_t errlen);
  * (Flitter composites `!offscreen` and hidden windows only when they have
  * an id). */
 void graph_show_windows(Graph *g, bool show);
+/* Draw the pictures of shown windows at [scale] (0.01..1) of every
+ * pass's size in each dimension, and a `!canvas3d` with at most
+ * [max_samples] samples (0: as it asks), from the next frame drawn on:
+ * a live window's dynamic resolution. The passes' pixel measures follow
+ * (a canvas's drawing is scaled, a blur's radius=, the size a filter
+ * works in: the picture is the full one at a lower resolution; a
+ * `!shader`'s `size` is its framebuffer's). A frame that writes a file
+ * (a `!record` with a filename, graph_record_first) or that is drawn
+ * while windows are not shown is drawn at full size and samples. Out of
+ * range or NaN: 1. */
+void graph_set_scale(Graph *g, double scale, int max_samples);
+/* The scale and samples cap the last frame was drawn with. */
+void graph_drawn_scale(const Graph *g, double *scale, int *max_samples);
 /* Draw the window rendering trees of [root] (a !root node) for frame [f],
  * once per frame number (a second call for the same frame only
  * composites the windows if [windows] asks for them now), writing the

@@ -70,7 +70,8 @@ struct Pass {
     Buf id;                  /* its id= as text ("" when it has none) */
     bool has_id;
     uint64_t tags;           /* a hash of its node's tags */
-    int w, h;                /* its size= */
+    int w, h;                /* its framebuffer's size: its size= at the frame's scale */
+    int lw, lh;              /* its size= (Flitter's pixels, before the scale) */
     bool hidden;             /* hidden=true: not one of its parent's textures */
     bool retain;             /* keep [target] after the parent drew */
     GlTarget *target;        /* its output, or NULL */
@@ -105,6 +106,10 @@ struct Graph {
     bool failed;             /* no context could be made: draw nothing again */
     bool show;               /* composite top-level windows (graph_show_windows) */
     bool composited;         /* this frame's windows were drawn with [show] */
+    double scale;            /* graph_set_scale's scale of shown windows (1: none) */
+    int max_samples;         /* and its cap on a !canvas3d's samples (0: none) */
+    double draw_scale;       /* the scale of the frame being drawn (1 when a file is written) */
+    int draw_samples;        /* its cap on samples (0: none) */
     TargetPool *pool;
     Programs *programs;      /* compiled programs by source (pass_program.c) */
     GLuint quad_vao, quad_vbo;     /* the screen-space quad of every program pass */
@@ -160,6 +165,9 @@ void graph_register(Graph *g, const char *id, Pass *p, int camera);
 void graph_path(Graph *g, const char *name, Buf *out);
 /* A target of [w] x [h] for [p] from the pool, or NULL (logged once). */
 GlTarget *graph_target(Graph *g, int w, int h, int colorbits, bool srgb, bool depth, int samples);
+/* [n] pixels of Flitter's at the frame's scale: round(n * scale), at
+ * least 1 (n itself at scale 1). */
+int graph_scaled(const Graph *g, int n);
 /* Draw the screen-space quad (the program and its uniforms already set). */
 void graph_draw_quad(Graph *g);
 /* Give [env] the graph's pictures for !image and !pattern: the output of

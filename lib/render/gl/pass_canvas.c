@@ -73,6 +73,8 @@ static void render_canvas(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
     cairo_set_operator(cr, CAIRO_OPERATOR_CLEAR);
     cairo_paint(cr);
     cairo_set_operator(cr, CAIRO_OPERATOR_OVER);
+    /* at the frame's scale: drawn in Flitter's pixels all the same */
+    if (w != p->lw || h != p->lh) cairo_scale(cr, (double)w / p->lw, (double)h / p->lh);
     CanvasEnv env = {.symbols = g->env.symbols, .skips = &g->skips, .linear = linear,
                      .interrupt = g->env.interrupt};
     graph_canvas_images(g, &env);

@@ -53,7 +53,12 @@ static GlTarget *draw_camera(Graph *g, int i)
 {
     C3dCameraInfo info;
     canvas3d_camera(g->c3d, i, &info);
-    GlTarget *t = graph_target(g, info.width, info.height, info.colorbits, false, true, info.samples);
+    /* at the frame's scale and cap on samples (the camera's matrices are
+     * those of its full size: the same picture at fewer pixels) */
+    int samples = g->draw_samples && info.samples > g->draw_samples ? g->draw_samples : info.samples;
+    if (samples < 2) samples = 0;
+    GlTarget *t = graph_target(g, graph_scaled(g, info.width), graph_scaled(g, info.height), info.colorbits, false, true,
+                               samples);
     if (!t) return NULL;
     char err[600];
     if (canvas3d_draw(g->c3d, i, t, &g->env.log, err, sizeof err) != 0) graph_note(g, RLOG_ERROR, "canvas3d: %s", err);
@@ -68,7 +73,7 @@ static void render_canvas3d(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
     CanvasEnv env = {.symbols = g->env.symbols, .skips = &g->skips, .interrupt = g->env.interrupt};
     graph_canvas_images(g, &env);
     int primary;
-    int ncams = canvas3d_scene(g->c3d, n, p->w, p->h, cx->colorbits, &env, &primary);
+    int ncams = canvas3d_scene(g->c3d, n, p->lw, p->lh, cx->colorbits, &env, &primary);
     target_release(g->pool, p->target);
     drop(g, cp);
     p->target = draw_camera(g, primary);

@@ -122,6 +122,7 @@ static void setup_bloom(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Set
     kw_num(s, "shadows", 0, TPL_INT);
     kw_num(s, "highlights", 0, TPL_INT);
     s->pr.clamp = true;
+    s->pr.pixel_uniform = "radius";
 }
 
 static void setup_blur(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Setup *s)
@@ -131,6 +132,7 @@ static void setup_blur(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Setu
     kw_num(s, "radius", 0, TPL_INT);
     kw_num(s, "sigma", 0.3, TPL_FLOAT);
     s->pr.clamp = true;
+    s->pr.pixel_uniform = "radius";
 }
 
 static void setup_chromakey(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Setup *s)
@@ -145,6 +147,7 @@ static void setup_chromakey(Graph *g, ProgramPass *pp, const Node *n, size_t nc,
     kw_num(s, "saturation", 0.75, TPL_FLOAT);
     kw_num(s, "brightness", 0.1, TPL_FLOAT);
     s->pr.clamp = true;
+    s->pr.pixel_uniform = "radius";
 }
 
 static void setup_edges(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Setup *s)
@@ -155,6 +158,7 @@ static void setup_edges(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Set
     kw_num(s, "sigma", 0.3, TPL_FLOAT);
     kw_num(s, "mixer", 0, TPL_FLOAT);
     s->pr.clamp = true;
+    s->pr.pixel_uniform = "radius";
 }
 
 static void setup_feedback(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Setup *s)
@@ -169,6 +173,7 @@ static void setup_feedback(Graph *g, ProgramPass *pp, const Node *n, size_t nc, 
     kw_num(s, "scale", 1, TPL_INT);
     kw_num(s, "rotate", 0, TPL_INT);
     s->pr.clamp = true;
+    s->pr.logical_size = true;
 }
 
 static void setup_flare(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Setup *s)
@@ -191,6 +196,7 @@ static void setup_kaleid(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Se
     kw_num(s, "segments", 6, TPL_INT);
     kw_num(s, "rotation", 0, TPL_INT);
     kw_num(s, "radius", 1, TPL_INT);
+    s->pr.logical_size = true;
 }
 
 static void setup_noise(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Setup *s)
@@ -212,6 +218,7 @@ static void setup_noise(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Set
     kw_num(s, "tscale", 1, TPL_INT);
     kw_num(s, "multiplier", 0.5, TPL_FLOAT);
     kw_num(s, "offset", 0.5, TPL_FLOAT);
+    s->pr.logical_size = true;
 }
 
 /* 3x3 matrices, column-major as GLSL's mat3 (Flitter's Matrix33). */
@@ -255,8 +262,8 @@ static void setup_transform(Graph *g, ProgramPass *pp, const Node *n, size_t nc,
             step[4] = c;
         } else if (strcmp(key, "keystone") == 0) {
             if (!canvas_attr_nums(n, key, 2, v)) v[0] = v[1] = 0;
-            step[2] = v[0] / pp->base.w;
-            step[5] = v[1] / pp->base.h;
+            step[2] = v[0] / pp->base.lw;
+            step[5] = v[1] / pp->base.lh;
         } else {
             continue;
         }
@@ -265,6 +272,7 @@ static void setup_transform(Graph *g, ProgramPass *pp, const Node *n, size_t nc,
     double inv[9];
     m3_inverse(m, inv);
     kw_nums(s, "transform_matrix", inv, 9);
+    s->pr.logical_size = true;
 }
 
 static void setup_vignette(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Setup *s)

@@ -300,8 +300,10 @@ static void upload(const Uniform *u, UKind k, const double *x, int need)
 /* Set uniform [u] from vector [v] as Flitter's set_uniform_vector does:
  * numbers only (an int uniform takes no symbol), array length times
  * components of them, or one number for all, or (an array of vectors) one
- * vector for each; ints floored. False, setting nothing, otherwise. */
-static bool set_from_vector(const Uniform *u, const Vec *v, const SymTab *st)
+ * vector for each, each number times [times] (a measure in pixels at the
+ * frame's scale; 1: as given); ints floored. False, setting nothing,
+ * otherwise. */
+static bool set_from_vector(const Uniform *u, const Vec *v, const SymTab *st, double times)
 {
     int m;
     UKind k = ukind(u->type, &m);
@@ -316,6 +318,7 @@ static bool set_from_vector(const Uniform *u, const Vec *v, const SymTab *st)
     bool ok = true;
     for (int i = 0; i < need && ok; i++) {
         double y = x[whole ? i : one ? 0 : i % m];
+        if (times != 1 && !(st && symtab_name(st, y))) y *= times;
         if (integral) {
             /* Vector.match(n, int) refuses symbols and floors */
             if (st && symtab_name(st, y)) ok = false;
@@ -624,9 +627,11 @@ static void set_uniforms(const ProgramUse *pu, const Program *pg, Uniforms *un)
             const Kw *kw = kw_find(pu->pr, name, strlen(name));
             const GraphFrame *f = pu->g->f;
             const Vec *eng = !kw && f && f->name ? f->name(f->ctx, name, strlen(name)) : NULL;
-            if (attr && set_from_vector(u, attr, st)) continue;
-            if (kw && set_from_vector(u, kw->value.v, st)) continue;
-            if (eng && set_from_vector(u, eng, st)) continue;
+            /* a measure in pixels at the frame's scale */
+            double k = pu->pr->pixel_uniform && strcmp(name, pu->pr->pixel_uniform) == 0 ? pu->g->draw_scale : 1;
+            if (attr && set_from_vector(u, attr, st, k)) continue;
+            if (kw && set_from_vector(u, kw->value.v, st, k)) continue;
+            if (eng && set_from_vector(u, eng, st, 1)) continue;
             /* Flitter: `name in 'alpha'` (a substring of it) is 1, anything else 0 */
             set_number(u, strstr("alpha", name) ? 1 : 0);
         }
@@ -820,7 +825,12 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
             failed = true;
             break;
         }
-        if (un.size) set_pair(un.size, t->w, t->h);
+        if (un.size) {
+            if (pr->logical_size && (p->w != p->lw || p->h != p->lh))
+                set_pair(un.size, t->w * ((double)p->lw / p->w), t->h * ((double)p->lh / p->h));
+            else
+                set_pair(un.size, t->w, t->h);
+        }
         target_bind(t);
         static const float clear[4] = {0, 0, 0, 0};
         target_clear(t, clear);

@@ -53,6 +53,13 @@ typedef struct ProgramParams {
      * framebuffer instead of copying it (pass_program.c, pass_through):
      * with [keep_format], only a framebuffer of the pass's own format */
     bool pass_through, keep_format;
+    /* at a scale below 1 (graph_set_scale): the `size` uniform in
+     * Flitter's pixels (a filter that works in pixel positions: noise,
+     * feedback, transform, kaleid), else the framebuffer's; and the name
+     * of a uniform in pixels that is scaled with the picture (a blur's
+     * radius, counted in texels), or NULL */
+    bool logical_size;
+    const char *pixel_uniform;
 } ProgramParams;
 
 /* A program pass: a Pass, the program it drew with last, and its

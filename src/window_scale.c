@@ -1,0 +1,69 @@
+/* window_scale.c: the live window's dynamic resolution (see
+ * window_scale.h for the rule). */
+#include "window_scale.h"
+
+#include <math.h>
+
+#define STEPS 16
+#define CALM_PICTURES 8
+
+void winscale_init(WinScale *s, double min_area)
+{
+    *s = (WinScale){.floor_step = STEPS, .step = STEPS, .least_step = STEPS};
+    if (!(min_area > 0 && min_area <= 1)) return;
+    /* the least step whose square is at least the floor */
+    int k = (int)ceil(sqrt(min_area) * STEPS - 1e-9);
+    if (k < 1) k = 1;
+    while (k < STEPS && ((double)k / STEPS) * ((double)k / STEPS) < min_area) k++;
+    s->floor_step = k;
+}
+
+void winscale_frame(WinScale *s, double sim)
+{
+    if (!(sim >= 0)) return;
+    s->sim = s->sim > 0 ? 0.75 * s->sim + 0.25 * sim : sim;
+}
+
+/* Change to step [k]; the smoothed cost is carried over in proportion to
+ * the pixels. */
+static bool go_to(WinScale *s, int k)
+{
+    if (k < s->floor_step) k = s->floor_step;
+    if (k > STEPS) k = STEPS;
+    if (k == s->step) return false;
+    s->draw *= ((double)k * k) / ((double)s->step * s->step);
+    s->step = k;
+    s->calm = 0;
+    s->changes++;
+    if (k < s->least_step) s->least_step = k;
+    return true;
+}
+
+bool winscale_picture(WinScale *s, double draw, double budget)
+{
+    if (!(draw >= 0) || !(budget > 0)) return false;
+    s->draw = s->draw > 0 ? 0.5 * s->draw + 0.5 * draw : draw;
+    double target = 0.85 * budget - s->sim;
+    if (target < 0.001) target = 0.001;
+    if (s->draw > target) {
+        /* the pixels in proportion to the time: the linear scale by the
+         * square root of it, at least one step down */
+        int k = (int)floor(s->step * sqrt(target / s->draw));
+        if (k >= s->step) k = s->step - 1;
+        return go_to(s, k);
+    }
+    if (s->draw < 0.6 * target && s->step < STEPS) {
+        if (++s->calm >= CALM_PICTURES) return go_to(s, s->step + 1);
+        return false;
+    }
+    s->calm = 0;
+    return false;
+}
+
+double winscale_scale(const WinScale *s) { return (double)s->step / STEPS; }
+
+int winscale_samples(const WinScale *s)
+{
+    if (s->step >= STEPS) return 0;
+    return s->step * 4 >= STEPS * 3 ? 2 : 1;
+}
