@@ -138,7 +138,7 @@ typedef struct fl_options {
                             system that has both. {0, 0} (the default, and
                             anything but two different numbers of 0..3): a 3D
                             system is drawn in perspective, lit, through the
-                            !canvas3d renderer (issue 25; flat on x/y when no
+                            !canvas3d renderer (flat on x/y when no
                             OpenGL context can be made, said once), other
                             systems on x/y */
     bool transient_tree; /* the last frame's node tree is only read between

@@ -1,5 +1,5 @@
 /* cmd_sweep.c: `flitter sweep`, parameter sweeps for GNU parallel and Slurm
- * job arrays (issue 26).
+ * job arrays.
  *
  *   flitter sweep SCRIPT -D NAME=V1,V2,... [-D ...] --frames N --out DIR
  *                 [--runs R] [--slurm]

@@ -566,7 +566,7 @@ static void show_status(long frame, double rate, double time)
 
 /* Flush [out] (the dumps' stream): a write that failed there (a full disk,
  * /dev/full, a closed pipe) is reported on [log] and gives EXIT_LOAD, so a
- * lost dump never exits 0 (issue 28, exit statuses). */
+ * lost dump never exits 0. */
 static int finish_out(FILE *out, FILE *log, int rc)
 {
     errno = 0;

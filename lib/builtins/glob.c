@@ -5,7 +5,7 @@
  * wildcards also match names starting with '.') and returns the sorted
  * absolute, symlink-resolved paths.
  *
- * Bounded work (issue 28): a directory is searched at most once for each
+ * Bounded work: a directory is searched at most once for each
  * pattern component, however many paths lead to it (two symbolic links to
  * "." made the walk exponential: each wildcard level followed both). The
  * one departure: a match reached again through another link to a directory

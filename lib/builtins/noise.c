@@ -1062,7 +1062,7 @@ static double noise4(const uint8_t *perm, double x, double y, double z, double w
 /* Noise of [perm] over the outer product of [n] coordinate vectors (x
  * outermost), written to [out]; 1 coordinate means (x, 0). The grid can
  * hold 2^26 points (minutes of work for many octaves), so the interrupt
- * flag is looked at every NOISE_POLL points (issue 28).
+ * flag is looked at every NOISE_POLL points.
  *   returns: false when [ev]'s interrupt stopped it ([out] incomplete). */
 enum { NOISE_POLL = 1 << 14 };
 #define NOISE_AT(expr)                                                          \

@@ -2,7 +2,7 @@
  *
  * Every allocation in libflitter either cannot fail (the helpers below) or
  * checks its result and calls mem_oom(). Out of memory is the only abort in
- * the library (issue 13 item 4); before aborting, mem_fail() hands its
+ * the library; before aborting, mem_fail() hands its
  * message to the error callback of the runtime that is active on the
  * calling thread, so an embedder can log it or save what it can.
  *
@@ -47,7 +47,7 @@
  * expecting it to continue (the library aborts when it returns). */
 typedef void (*MemFailFn)(void *ctx, const char *message);
 
-/* A memory budget (issue 23 item 5, issue 28 item 5): the bytes one
+/* A memory budget: the bytes one
  * runtime may hold in the memory that input can make huge. It lives in the
  * runtime (runtime.c) and is reached from the allocators through this
  * thread's handler (mem_enter_budget), which the runtime installs on entry

@@ -1,5 +1,5 @@
 /* evalcode.h: the compact, pre-resolved form of the program's hot structure
- * (issue 10 item 3), built once after name resolution and run by eval.c.
+ * built once after name resolution and run by eval.c.
  *
  * A tree walk over AstNodes (120 bytes each, allocated one by one) touches
  * scattered memory: on a simplified program of 10,000 unrolled loop bodies

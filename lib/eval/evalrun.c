@@ -1,4 +1,4 @@
-/* evalrun.c: running the compiled regions of evalcode.h (issue 10 item 3).
+/* evalrun.c: running the compiled regions of evalcode.h.
  *
  * Each record does what the eval_* function of its AST kind in eval.c does,
  * in the same order, with the same helpers (eval_internal.h) and the same

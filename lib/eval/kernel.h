@@ -1,5 +1,5 @@
 /* kernel.h: loop kernels, the numbers of a loop's iterations computed
- * ahead of its body, on every thread (issue 24).
+ * ahead of its body, on every thread.
  *
  * A `for` loop whose body is a compiled region (evalcode.h) evaluates, for
  * each iteration, the region's compiled numeric records (numexpr.h) one at

@@ -1,5 +1,5 @@
 /* numexpr.h: compiled numeric expressions, the evaluator's fast route for
- * arithmetic on single numbers (issue 10 item 3).
+ * arithmetic on single numbers.
  *
  * After a program's names are resolved (program.c), the compiler
  * (evalcode_compile_tree, numexpr_compile) finds every maximal subtree

@@ -121,7 +121,7 @@ typedef struct FnCtx {
     uint32_t *heads;        /* hash buckets of scope[]: the innermost entry
                                + 1 (0 empty; nheads, a power of two), chained
                                through Visible.prev, so that a name is found
-                               in O(1) among any number bound (issue 28) */
+                               in O(1) among any number bound */
     uint32_t nheads;
     uint32_t nslots;        /* frame size so far */
     const Str **cap_names;  /* names captured from outer frames */
@@ -292,7 +292,7 @@ static uint32_t name_hash(const char *s)
 
 /* Warn once per distinct unbound name, in the order first met. The names
  * met are hashed (a linear search made 50,000 distinct names take 10 s
- * with --nosimplify; issue 28). */
+ * with --nosimplify). */
 static void warn_unbound(Resolver *r, const Str *name)
 {
     uint32_t mask = r->capunbound * 2 - 1, h = name_hash(name->bytes);

@@ -72,7 +72,7 @@ typedef struct SimpExport {
 
 /* The lines simp_warn has written to a warnings buffer, hashed, so that
  * each message is written once in time linear in their number (a scan of
- * the buffer per message made 50,000 unbound names take 8 s; issue 28). */
+ * the buffer per message made 50,000 unbound names take 8 s). */
 typedef struct WarnTable {
     uint64_t *hash;     /* FNV-1a of the line, 0: empty slot */
     size_t *start;      /* the line's offset in the buffer */
@@ -88,7 +88,7 @@ struct Simp {
                                + 1 (0 empty; nheads slots, a power of two);
                                each entry links to the one it shadows
                                (NameBind.prev), so lookups are O(1) however
-                               many names are bound (issue 28) */
+                               many names are bound */
     uint32_t nheads;
     uint32_t *renames;      /* indexes of the NB_RENAME entries of names[],
                                ascending (a `let` looks only at these) */
@@ -282,7 +282,7 @@ typedef struct NameSet {
     uint32_t *index;     /* past a few names: open-addressed hash of v
                             (index + 1, 0 empty; nindex slots, a power of
                             two), so that a set of N names is built in
-                            O(N), not O(N^2) (issue 28) */
+                            O(N), not O(N^2) */
     uint32_t nindex;
 } NameSet;
 void free_names(const AstNode *n, NameSet *out);

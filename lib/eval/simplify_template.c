@@ -1,5 +1,5 @@
 /* simplify_template.c: unrolled loops simplified once per group of
- * iterations, not once per iteration (issue 24).
+ * iterations, not once per iteration.
  *
  * Flitter's simplifier unrolls a loop over a literal source into one
  * simplified copy of the body per iteration (LANGUAGE.md §4.17), and the

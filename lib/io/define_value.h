@@ -1,7 +1,7 @@
 /* define_value.h: the value a script receives for a defined name's text
  * (`-D NAME=VALUE`, `flitter sweep -D`, fl_define, the Python module's
- * text values), by Flitter's own rule (FORMATS.md §4, as corrected by
- * issue 59: Flitter 1.0.0b28's engine/__main__.py `keyvalue`, which reads
+ * text values), by Flitter's own rule (Flitter 1.0.0b28's
+ * engine/__main__.py `keyvalue`, which reads
  * numbers with Python's float(), so `-3`, `+2.5` and `inf` are numbers and
  * an empty VALUE is the empty string, not null).
  */

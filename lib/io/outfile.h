@@ -42,7 +42,7 @@ void outfile_discard(OutFile *f);
 /* Whether [path] could be written now: resolves it and creates and removes
  * its temporary, as outfile_open would, so an output that cannot be written
  * (no such directory, read-only, a device) is known before a run's first
- * frame instead of after its last (issue 28, exit statuses).
+ * frame instead of after its last.
  *   errors: false with outfile_open's "PATH: REASON" in [err]. */
 bool outfile_check(const char *path, char *err, size_t errlen);
 

@@ -286,7 +286,7 @@ static Vec *read_element(Reader *r)
 
 /* A value of numbers and symbols only (no string on the rest of the
  * line): parsed straight into one numeric vector, so that memory is the
- * vector itself, proportional to the file (issue 28 item 5), instead of
+ * vector itself, proportional to the file, instead of
  * one object per element; its size is asked of the memory budget first
  * (mem.h). false on a malformed element or a refusal (*[oom] set). */
 static bool read_numbers(Reader *r, Vec **out, bool *oom)

@@ -24,7 +24,7 @@ typedef struct PhysicsFrame {
     double fps;           /* target frame rate used for the default resolution */
     bool realtime;        /* false in lockstep: always insert extra steps */
     double performance;   /* engine performance figure (2 in lockstep) */
-    /* Bounded work (issue 13): at most [max_steps] simulation steps per
+    /* Bounded work: at most [max_steps] simulation steps per
      * system per frame (0: no limit); past it the system stops stepping and
      * its clock falls behind `time`, as when the reference cannot keep up
      * (PHYSICS.md "The Simulation Clock"). [interrupt] (NULL: none) is

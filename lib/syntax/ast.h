@@ -183,7 +183,7 @@ AstNode *ast_attributes(AstNode *node, AstNode *binding, Loc loc);
 /* Pragma `%pragma name literal`: AST_BINDING with names[0] = [name] and
  * `value` taken from the AST_LITERAL [literal] (which is freed). */
 AstNode *ast_pragma(Str *name, AstNode *literal, Loc loc);
-/* The flat form of a sequence (parser.y `sequence`, issue 28): a `let`,
+/* The flat form of a sequence (parser.y `sequence`): a `let`,
  * `func` or `import` statement is built as a "head" without the rest of
  * its sequence (the node's `scope` holds its head kind until then);
  * ast_sequence() gives each head the items after it as its body, so that

@@ -40,7 +40,7 @@ void source_line_col(const char *text, size_t len, size_t offset,
  * counting from the start: the dumps ask for every token's and node's line
  * and column, mostly in increasing order, so the whole dump is linear in the
  * text (counting from the start made one line of 200,000 tokens take
- * minutes; issue 28). Zero it, then set text and len. */
+ * minutes). Zero it, then set text and len. */
 typedef struct LineCursor {
     const char *text;
     size_t len;
