@@ -23,7 +23,7 @@ for job in "--dump-tokens tokens200k.fl" "--dump-ast attrs50k.fl"; do
     for _ in 1 2 3; do
         r=$(/usr/bin/time -f '%e %U %M' "$flitter" run "$1" "$gen/$2" 2>&1 >/dev/null | tail -1)
         w=${r%% *}
-        if [ -z "$best" ] || [ "$(echo "$w < ${best%% *}" | bc)" -eq 1 ]; then best=$r; fi
+        if [ -z "$best" ] || awk -v w="$w" -v b="${best%% *}" 'BEGIN { exit !(w < b) }'; then best=$r; fi
     done
     set -- $best "$1" "$2"
     printf '%7s s wall %6s s user %8s KB  %s %s\n' "$1" "$2" "$3" "$4" "$5"

@@ -23,7 +23,7 @@ for script in bench/canvas10k.fl bench/discs20k.fl "$gen/bindings40k.fl" "$gen/n
             # shellcheck disable=SC2086
             r=$(/usr/bin/time -f '%e %U %S %M' "$flitter" run --frames 0 $mode "$script" 2>&1 >/dev/null | tail -1)
             w=${r%% *}
-            if [ -z "$best" ] || [ "$(echo "$w < ${best%% *}" | bc)" -eq 1 ]; then best=$r; fi
+            if [ -z "$best" ] || awk -v w="$w" -v b="${best%% *}" 'BEGIN { exit !(w < b) }'; then best=$r; fi
         done
         set -- $best
         printf '%7s s wall %6s s user %6s s sys %8s KB  %s %s\n' "$1" "$2" "$3" "$4" "$(basename "$script")" "$mode"

@@ -52,7 +52,7 @@ echo "$scenes" | while read -r scene frames n; do
                 st=$($FLITTER_REF "bench/$scene.fl" "$frames" 2>&1)
                 e=$(now)
                 loop=$(echo "$st" | sed -n 's/.*loop=\([0-9.]*\).*/\1/p' | tail -1)
-                echo "$scene $frames $n $v ${loop:-nan} $(echo "$e - $s" | bc)" >>"$out"
+                echo "$scene $frames $n $v ${loop:-nan} $(awk -v e="$e" -v s="$s" 'BEGIN { printf "%.9f", e - s }')" >>"$out"
                 continue
             fi
             case $v in
@@ -64,7 +64,7 @@ echo "$scenes" | while read -r scene frames n; do
             s=$(now)
             st=$($cmd --stats --frames "$frames" "bench/$scene.fl" 2>&1 >/dev/null)
             e=$(now)
-            wall=$(echo "$e - $s" | bc)
+            wall=$(awk -v e="$e" -v s="$s" 'BEGIN { printf "%.9f", e - s }')
             loop=$(echo "$st" | sed -n 's/^stats: [0-9]* frames in \([0-9.]*\) s.*/\1/p')
             echo "$scene $frames $n $v ${loop:-$wall} $wall" >>"$out"
         done

@@ -13,8 +13,8 @@ best() {
         s=$(date +%s.%N)
         "$@" >/dev/null 2>&1
         e=$(date +%s.%N)
-        t=$(echo "$e - $s" | bc)
-        if [ -z "$b" ] || [ "$(echo "$t < $b" | bc)" -eq 1 ]; then b=$t; fi
+        t=$(awk -v e="$e" -v s="$s" 'BEGIN { printf "%.9f", e - s }')
+        if [ -z "$b" ] || awk -v t="$t" -v b="$b" 'BEGIN { exit !(t < b) }'; then b=$t; fi
     done
     printf '%8.3f s  %s\n' "$b" "$*"
 }
