@@ -6,10 +6,11 @@
 
 #define STEPS 16
 #define CALM_PICTURES 8
+#define CALM_MOST 128
 
 void winscale_init(WinScale *s, double min_area)
 {
-    *s = (WinScale){.floor_step = STEPS, .step = STEPS, .least_step = STEPS};
+    *s = (WinScale){.floor_step = STEPS, .step = STEPS, .least_step = STEPS, .need = CALM_PICTURES, .since_up = -1};
     if (!(min_area > 0 && min_area <= 1)) return;
     /* the least step whose square is at least the floor */
     int k = (int)ceil(sqrt(min_area) * STEPS - 1e-9);
@@ -45,15 +46,31 @@ bool winscale_picture(WinScale *s, double draw, double budget)
     s->draw = s->draw > 0 ? 0.5 * s->draw + 0.5 * draw : draw;
     double target = 0.85 * budget - s->sim;
     if (target < 0.001) target = 0.001;
+    if (s->since_up >= 0 && ++s->since_up >= 2 * s->need) {
+        /* the last step up held: the next may come sooner */
+        if (s->need > CALM_PICTURES) s->need /= 2;
+        s->since_up = -1;
+    }
     if (s->draw > target) {
         /* the pixels in proportion to the time: the linear scale by the
          * square root of it, at least one step down */
         int k = (int)floor(s->step * sqrt(target / s->draw));
         if (k >= s->step) k = s->step - 1;
-        return go_to(s, k);
+        bool changed = go_to(s, k);
+        if (changed && s->since_up >= 0 && s->since_up <= s->need && s->need < CALM_MOST) s->need *= 2;
+        if (changed) s->since_up = -1;
+        return changed;
     }
     if (s->draw < 0.6 * target && s->step < STEPS) {
-        if (++s->calm >= CALM_PICTURES) return go_to(s, s->step + 1);
+        /* the longer wait only where the next step would come near the
+         * target (its cost taken in proportion to the pixels): after the
+         * load has gone, the scale comes back at once */
+        double next = s->draw * ((double)(s->step + 1) * (s->step + 1)) / ((double)s->step * s->step);
+        int wait = next < 0.5 * target ? CALM_PICTURES : s->need;
+        if (++s->calm >= wait && go_to(s, s->step + 1)) {
+            s->since_up = 0;
+            return true;
+        }
         return false;
     }
     s->calm = 0;

@@ -18,7 +18,14 @@
  * scales down at once, by the square root of the ratio (the cost is taken
  * as proportional to the pixels, which the next pictures correct); a
  * picture drawn in under 60% of the target, eight times in a row, scales
- * up one step. Pure arithmetic: no clock, no GL, no global state. */
+ * up one step. A step up that has to be taken back within as many
+ * pictures as it waited for doubles the wait for the next (at most 128
+ * pictures), and a step up that holds for twice its wait halves it again
+ * (at least 8): under a steady load the scale settles instead of going up
+ * and down. The longer wait applies only where the next step's cost (in
+ * proportion to its pixels) would be over half the target: when the load
+ * ends, the scale comes back after 8 pictures a step. Pure arithmetic: no
+ * clock, no GL, no global state. */
 #ifndef FL_WINDOW_SCALE_H
 #define FL_WINDOW_SCALE_H
 
@@ -30,6 +37,8 @@ typedef struct WinScale {
     double draw;             /* smoothed seconds to draw a picture at this step (0: none yet) */
     double sim;              /* smoothed seconds of a frame's simulation */
     int calm;                /* pictures in a row drawn well within the target */
+    int need;                /* calm pictures that take a step up (8..128) */
+    int since_up;            /* pictures since the last step up (-1: none pending) */
     long changes;            /* times the scale changed */
     int least_step;          /* the least step used so far */
 } WinScale;

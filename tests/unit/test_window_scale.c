@@ -99,6 +99,80 @@ static void steps_up_after_calm(void **unused)
     assert_false(winscale_picture(&s, 0.002, budget));   /* no step past full size */
 }
 
+/* A step up taken back within its wait doubles the next wait; one that
+ * holds for twice its wait halves it again. */
+static void failed_steps_up_wait_longer(void **unused)
+{
+    (void)unused;
+    WinScale s;
+    winscale_init(&s, 0.25);
+    /* target 14.17 ms, calm below 8.5; pictures of 8 ms, whose next step
+     * (8 ms x 81/64 = 10.1) would come over half the target (7.08): the
+     * long wait applies */
+    double budget = 1 / 60.0;
+    assert_true(winscale_picture(&s, 0.05, budget));
+    assert_int_equal(s.step, 8);
+    assert_int_equal(s.need, 8);
+    int pictures = 0;
+    while (!winscale_picture(&s, 0.008, budget)) pictures++;
+    assert_int_equal(s.step, 9);
+    assert_int_equal(s.since_up, 0);
+    /* taken back at once: 16 calm pictures wanted now */
+    assert_true(winscale_picture(&s, 0.03, budget));
+    assert_int_equal(s.step, 8);
+    assert_int_equal(s.need, 16);
+    int calm_at_step = -1;
+    for (int i = 0; i < 100 && calm_at_step < 0; i++) {
+        int before = s.calm;
+        if (winscale_picture(&s, 0.008, budget)) calm_at_step = before + 1;
+    }
+    assert_int_equal(calm_at_step, 16);
+    assert_int_equal(s.step, 9);
+    /* taken back again within 16: 32 */
+    for (int i = 0; i < 10; i++) assert_false(winscale_picture(&s, 0.008, budget));
+    assert_true(winscale_picture(&s, 0.04, budget));
+    assert_int_equal(s.need, 32);
+    /* at most 128 */
+    for (int round = 0; round < 4; round++) {
+        while (!winscale_picture(&s, 0.008, budget)) {}
+        assert_true(winscale_picture(&s, 0.04, budget));
+    }
+    assert_int_equal(s.need, 128);
+    /* a step up that holds for 2 x 128 pictures halves the wait */
+    while (!winscale_picture(&s, 0.008, budget)) {}
+    int step = s.step;
+    for (int i = 0; i < 2 * 128; i++) winscale_picture(&s, 0.011, budget);   /* within the target, not calm */
+    assert_int_equal(s.step, step);
+    assert_int_equal(s.need, 64);
+    assert_int_equal(s.since_up, -1);
+}
+
+/* Far within the target the wait stays 8 pictures whatever failed
+ * before: when a load ends the scale comes back at 8 pictures a step. */
+static void back_at_once_when_load_ends(void **unused)
+{
+    (void)unused;
+    WinScale s;
+    winscale_init(&s, 0.25);
+    double budget = 1 / 60.0;
+    assert_true(winscale_picture(&s, 0.05, budget));
+    for (int round = 0; round < 5; round++) {
+        while (!winscale_picture(&s, 0.008, budget)) {}
+        assert_true(winscale_picture(&s, 0.04, budget));
+    }
+    assert_int_equal(s.need, 128);
+    assert_int_equal(s.step, 8);
+    /* 1 ms pictures: 8 steps of 8 pictures each, after the few that bring
+     * the smoothed cost down */
+    int pictures = 0;
+    while (s.step < 16 && pictures < 1000) {
+        winscale_picture(&s, 0.001, budget);
+        pictures++;
+    }
+    assert_int_equal(s.step, 16);
+    assert_true(pictures <= 8 * 8 + 4);
+}
+
 static void bad_input_changes_nothing(void **unused)
 {
     (void)unused;
@@ -125,6 +199,8 @@ int main(void)
         cmocka_unit_test(steps_down_in_proportion),
         cmocka_unit_test(at_least_one_step_down),
         cmocka_unit_test(steps_up_after_calm),
+        cmocka_unit_test(failed_steps_up_wait_longer),
+        cmocka_unit_test(back_at_once_when_load_ends),
         cmocka_unit_test(bad_input_changes_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,7 +1,7 @@
 #!/bin/sh
 # scale.sh FLITTER: the live window's dynamic resolution
 # (src/window_scale.c). A realtime window whose picture is heavy for its
-# first 2.5 s of clock (a shader of 400 sines a pixel at 800x800, tens of
+# first 2.5 s of clock (a shader of 1,600 sines a pixel at 400x400, tens of
 # milliseconds a picture on a CPU rasteriser) and trivial after: the
 # pictures are scaled down under the load, never below the floor
 # (--min-scale, default a quarter of the pixels: scale 0.5), and back to
@@ -19,8 +19,8 @@ void main() {
     color = vec4(fract(v), 0.5, 0.0, 1.0);
 }
 '''
-!window size=800;800
-    !shader fragment=heavy n=(400 if time < 2.5 else 0)
+!window size=400;400
+    !shader fragment=heavy n=(1600 if time < 2.5 else 0)
 FL
 "$flitter" run --window --stats --runtime 7 heavy.fl >out 2>err || fail "exit status $?"
 line=$(grep '^stats: window: scale: ' err) || fail "no scale line"
