@@ -186,6 +186,8 @@ typedef struct Loop {
     bool scaling;            /* the scale is chosen (realtime, --min-scale below 1) */
     long scaled_pictures;    /* pictures drawn below full size */
     double scale_sum;        /* the sum of their scales, for the mean */
+    double last_frame_end;   /* when the last frame's simulation ended (0: none) */
+    double frame_period;     /* seconds from one frame's end to the next's, smoothed */
 } Loop;
 
 /* Apply input [in] to the current page of [L] (window_input.c): keys go

@@ -13,8 +13,10 @@
  * frame's picture is skipped (counted as dropped) while the display has
  * not yet taken the last one, or when the frame finished after the next
  * one was due, unless nothing was drawn for twice the last picture's
- * cost, at least 100 ms (for the last picture's cost when the window
- * scales its pictures down: window_scale.h). In lockstep every frame is shown: the
+ * cost, at least 100 ms. A window that scales its pictures down
+ * (window_scale.h) waits only for the last picture's cost, and not at all
+ * while its frames still come at half the frame rate or more: then, as in
+ * Flitter, every frame is drawn. In lockstep every frame is shown: the
  * frame loop waits for the display to take a picture before it draws the
  * next. */
 #include "window.h"
@@ -542,7 +544,15 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
         int orc = fl_outputs_frame(p->outs, p->rt);
         wingl_unlock(L->hand->gl);
         if (orc != 0) fprintf(L->log, "flitter run: %s", fl_error(p->rt));
-        winscale_frame(&L->scale, now_seconds() - sim0);
+        double sim1 = now_seconds();
+        winscale_frame(&L->scale, sim1 - sim0);
+        /* the frames' period, smoothed (the time from one frame's end to
+         * the next's: its simulation, drawing and waits) */
+        if (L->last_frame_end > 0) {
+            double dt = sim1 - L->last_frame_end;
+            L->frame_period = L->frame_period > 0 ? 0.9 * L->frame_period + 0.1 * dt : dt;
+        }
+        L->last_frame_end = sim1;
         long n = fl_frame_count(p->rt);
         if (spec->dump_state && spec->dump_every > 0 && n % spec->dump_every == 0) {
             fl_dump_state(p->rt, write_file, L->out);
@@ -565,13 +575,17 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
          * simulation up for at most a third of the time); in a window
          * that scales its pictures down to keep its rate, which has made
          * them as cheap as it may, for what the last one cost (drawing
-         * then takes at most half the time) */
+         * then takes at most half the time), or not at all while the
+         * frames keep half the frame rate */
         bool late = L->realtime && stepped && fl_frame_wait(p->rt) < 0.001;
         /* (a slow picture restarts the realtime schedule, so the frame
          * after it is not late: a picture slower than a frame counts as
          * late on its own) */
         bool slow = L->realtime && stepped && L->last_draw_cost * fl_target_fps(p->rt) > 1;
         double gap = L->scaling ? L->last_draw_cost : L->last_draw_cost * 2 > 0.1 ? L->last_draw_cost * 2 : 0.1;
+        /* a scaling window whose frames still come at half the rate or
+         * more draws every frame, as Flitter does */
+        if (L->scaling && L->frame_period > 0 && L->frame_period * fl_target_fps(p->rt) <= 2) gap = 0;
         if ((late || slow) && now - L->last_drawn < gap && !L->redraw) {
             L->dropped++;
         } else if (draw_frame(L)) {
