@@ -10,8 +10,11 @@ generated at build time (parser.h, from grammar/parser.y) belong to syntax.
 Also fails when a header name is not unique across lib/ (includes are
 written without a folder), when a file lies outside every listed folder,
 when an include names no header of lib/, or when a file of src/ (the
-flitter command) includes any library header but the public flitter.h. Prints each violation and exits 1;
-prints a summary and exits 0 when the graph is clean.
+flitter command) includes any library header but the public flitter.h. And
+fails when a source file of lib/ or src/ is named nowhere in ARCHITECTURE.md
+(a .c or .cpp file, or a header without one of the same name beside it):
+the map must place every file. Prints each violation and exits 1; prints a
+summary and exits 0 when the graph is clean.
 """
 import os
 import re
@@ -106,12 +109,30 @@ def main():
                                   f"uses the library through flitter.h alone")
                 elif m:
                     edges += 1
+    # every source file has its place on the map
+    with open(os.path.join(root, "ARCHITECTURE.md"), encoding="utf-8") as f:
+        text = f.read()
+    placed = 0
+    for top in ("lib", "src"):
+        for dirpath, _, filenames in os.walk(os.path.join(root, top)):
+            names = set(filenames)
+            for fn in sorted(filenames):
+                stem, ext = os.path.splitext(fn)
+                if ext not in (".c", ".cpp", ".h"):
+                    continue
+                if ext == ".h" and (stem + ".c" in names or stem + ".cpp" in names):
+                    continue
+                if not re.search(r"(?<![\w.])" + re.escape(fn) + r"(?![\w])", text):
+                    errors.append(f"{os.path.relpath(os.path.join(dirpath, fn), root)}: named nowhere in "
+                                  f"ARCHITECTURE.md (say where it belongs and what it does)")
+                else:
+                    placed += 1
     for e in errors:
         print(e)
     if errors:
         print(f"layers.py: {len(errors)} violation(s)")
         return 1
-    print(f"layers.py: {len(files)} files, {edges} includes, {len(layers)} layers: ok")
+    print(f"layers.py: {len(files)} files, {edges} includes, {len(layers)} layers, {placed} files placed: ok")
     return 0
 
 
