@@ -547,8 +547,9 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
         double sim1 = now_seconds();
         winscale_frame(&L->scale, sim1 - sim0);
         /* the frames' period, smoothed (the time from one frame's end to
-         * the next's: its simulation, drawing and waits) */
-        if (L->last_frame_end > 0) {
+         * the next's: its simulation, drawing and waits; a gap of a second
+         * or more, a pause, is not a frame's) */
+        if (L->last_frame_end > 0 && sim1 - L->last_frame_end < 1) {
             double dt = sim1 - L->last_frame_end;
             L->frame_period = L->frame_period > 0 ? 0.9 * L->frame_period + 0.1 * dt : dt;
         }
