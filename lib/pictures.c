@@ -312,8 +312,8 @@ void fl_set_window_scale(fl_runtime *rt, double scale, int max_samples)
 {
     if (!rt) return;
     Pictures *p = rt_pictures(rt);
-    p->scale = scale >= 0.01 && scale <= 1 ? scale : 1;
-    p->max_samples = max_samples > 0 ? max_samples : 0;
+    p->scale = scale;   /* (graph_set_scale takes what is out of range as none) */
+    p->max_samples = max_samples;
     if (p->graph) graph_set_scale(p->graph, p->scale, p->max_samples);
 }
 

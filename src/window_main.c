@@ -284,9 +284,9 @@ static void draw_window(Loop *L, ShownWindow *s, int view_w, int view_h)
  * scale it was drawn at. */
 static void scale_picture(Loop *L, fl_runtime *rt, const PictureSet *set, double seconds)
 {
+    if (L->show_view) return;
     bool graph = false;
-    for (size_t k = 0; k < set->n; k++)
-        if (set->win[k].index != NO_WINDOW && !L->show_view) graph = true;
+    for (size_t k = 0; k < set->n && !graph; k++) graph = set->win[k].index != NO_WINDOW;
     if (!graph) return;
     double drawn = fl_window_scale(rt, NULL);
     if (drawn < 1) {

@@ -13,8 +13,7 @@ void winscale_init(WinScale *s, double min_area)
     *s = (WinScale){.floor_step = STEPS, .step = STEPS, .least_step = STEPS, .need = CALM_PICTURES, .since_up = -1};
     if (!(min_area > 0 && min_area <= 1)) return;
     /* the least step whose square is at least the floor */
-    int k = (int)ceil(sqrt(min_area) * STEPS - 1e-9);
-    if (k < 1) k = 1;
+    int k = 1;
     while (k < STEPS && ((double)k / STEPS) * ((double)k / STEPS) < min_area) k++;
     s->floor_step = k;
 }
