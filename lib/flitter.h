@@ -93,6 +93,62 @@ typedef void (*fl_error_fn)(void *ctx, const char *message);
  * arrive in one or more pieces). Valid only during the call. */
 typedef void (*fl_write_fn)(void *ctx, const char *text, size_t len);
 
+/* The library's routes, for tests and measurements: each switch selects
+ * another way to the same results (bit for bit), slower or with less
+ * memory reused, so that every fast route can be checked against a
+ * literal one. All zero (fl_default_options) is what a user runs. Read
+ * once, when the runtime is made (fl_new); the library reads no
+ * environment variables: the flitter command maps its FLITTER_*
+ * variables onto these (the name after each field; COMMAND-LINE.md). */
+typedef struct fl_debug_options {
+    bool no_pool;          /* FLITTER_NOPOOL: every block from malloc and back
+                              to free, none kept for reuse (for valgrind) */
+    bool no_fast;          /* FLITTER_NOFAST: programs run on the tree-walking
+                              evaluator alone, nothing compiled */
+    bool no_kernel;        /* FLITTER_NOKERNEL: loops are not compiled into
+                              loop kernels (the compiled routes still run) */
+    bool no_kernel_reuse;  /* FLITTER_KERNEL_REUSE=0: a loop kernel builds its
+                              nodes afresh instead of refilling last frame's */
+    unsigned kernel_chunk; /* FLITTER_KERNEL_CHUNK: iterations a loop kernel
+                              hands a thread at a time (0: its own choice) */
+    unsigned kernel_window;/* FLITTER_KERNEL_WINDOW: iterations a loop kernel
+                              keeps in flight (0: its own choice) */
+    bool no_templates;     /* FLITTER_NOTEMPLATES: the simplifier unrolls each
+                              loop iteration alone, no shared templates */
+    bool check_templates;  /* FLITTER_TEMPLATE_CHECK: each templated copy is
+                              also simplified alone and must match (slow) */
+    int simd;              /* FLITTER_SIMD: the physics pair tiles' vector
+                              width, FL_SIMD_* */
+    int impostors;         /* FLITTER_CANVAS3D_IMPOSTORS: how !canvas3d draws
+                              spheres, FL_IMPOSTORS_* */
+    int occlusion;         /* FLITTER_CANVAS3D_OCCLUSION: !canvas3d's occlusion
+                              culling, FL_OCCLUSION_* */
+} fl_debug_options;
+
+/* fl_debug_options.simd */
+enum {
+    FL_SIMD_AUTO = 0,      /* AVX-512 where the processor has it, each system
+                              timing the AVX-512VL tiles against it */
+    FL_SIMD_PORTABLE,      /* "portable": plain C */
+    FL_SIMD_AVX2,          /* "avx2" */
+    FL_SIMD_AVX2_VL,       /* "avx2-avx512vl" */
+    FL_SIMD_AVX512         /* "avx512" (anything else the variable says) */
+};
+
+/* fl_debug_options.impostors */
+enum {
+    FL_IMPOSTORS_OCTAGONS = 0, /* spheres as impostors on octagons */
+    FL_IMPOSTORS_BOX,          /* "box": impostors on boxes */
+    FL_IMPOSTORS_OFF           /* "0": spheres as meshes */
+};
+
+/* fl_debug_options.occlusion */
+enum {
+    FL_OCCLUSION_AUTO = 0, /* culled where the scene gains by it */
+    FL_OCCLUSION_ALWAYS,   /* "1" */
+    FL_OCCLUSION_NEVER     /* "0" */
+};
+
 typedef struct fl_options {
     double fps;          /* target frame rate (--fps), frames per second; default 60 */
     long frames;         /* planned frame count for `run_time`, or -1 (unknown) */
@@ -105,7 +161,7 @@ typedef struct fl_options {
                                 when *interrupt becomes non-zero fl_step ends
                                 the frame early and discards it (NULL: none) */
     int threads;         /* threads of the physics engine and the evaluator's loop
-                            kernels (--threads); 0: FLITTER_THREADS, else every core */
+                            kernels (--threads); 0: every core */
     int pairs;           /* physics pair route (--pairs): FL_PAIRS_* */
     int particles;       /* physics particle-pass route (--particles): FL_PARTICLES_* */
     int physics;         /* physics behaviour (--physics): FL_PHYSICS_*; the
@@ -156,11 +212,13 @@ typedef struct fl_options {
     double model_cache;  /* --modelcache: seconds a 3D model (a file, CSG, an
                             SDF) no frame has used stays cached with its mesh
                             (0: Flitter's default, 300) */
+    fl_debug_options debug; /* routes for tests and measurements (above);
+                               all zero: the defaults */
 } fl_options;
 
 /* fl_options.pairs: the physics pair loop. Every route gives the same bits. */
 enum {
-    FL_PAIRS_DEFAULT = 0,  /* FLITTER_PAIRS=naive selects naive, else fast */
+    FL_PAIRS_DEFAULT = 0,  /* fast */
     FL_PAIRS_FAST,         /* neighbour grid and threads where they apply */
     FL_PAIRS_NAIVE         /* the reference all-pairs loop, one thread */
 };
@@ -169,7 +227,7 @@ enum {
  * per-particle appliers, barriers and the step). Every route gives the
  * same bits. */
 enum {
-    FL_PARTICLES_DEFAULT = 0,  /* FLITTER_PARTICLES=literal selects literal, else fast */
+    FL_PARTICLES_DEFAULT = 0,  /* fast */
     FL_PARTICLES_FAST,         /* compiled per dimension count, threads where they apply */
     FL_PARTICLES_LITERAL       /* PHYSICS-ENGINE.md §4 as written, one particle at a time */
 };
@@ -184,7 +242,7 @@ enum {
 };
 
 /* The defaults: 60 fps, unknown frames, lockstep, 10000 physics steps per
- * frame, no interrupt flag, threads and pair route from the environment,
+ * frame, no interrupt flag, every core, the fast routes,
  * simplifier on, default log and error output. Start from these and change
  * fields, so that fields added later get their defaults. */
 FL_API fl_options fl_default_options(void);

@@ -64,8 +64,14 @@ static uint64_t sdf_function_key(void *ctx, const Vec *fn)
 static Graph *graph_of(Pictures *p)
 {
     if (!p->graph) {
+        const fl_options *o = rt_options(p->rt);
         GraphEnv env = {.symbols = rt_symbols(p->rt), .log = p->log, .budget = rt_budget(p->rt),
-                        .interrupt = rt_options(p->rt)->interrupt, .model_cache = rt_options(p->rt)->model_cache,
+                        .interrupt = o->interrupt, .model_cache = o->model_cache,
+                        .c3d = {.no_impostors = o->debug.impostors == FL_IMPOSTORS_OFF,
+                                .box_impostors = o->debug.impostors == FL_IMPOSTORS_BOX,
+                                .occlusion = o->debug.occlusion == FL_OCCLUSION_ALWAYS  ? C3D_OCCLUSION_ALWAYS
+                                             : o->debug.occlusion == FL_OCCLUSION_NEVER ? C3D_OCCLUSION_NEVER
+                                                                                         : C3D_OCCLUSION_AUTO},
                         .distance = sdf_distance, .function_key = sdf_function_key, .ctx = p->rt};
         p->graph = graph_new(&env);
         graph_show_windows(p->graph, p->show);

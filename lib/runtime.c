@@ -204,6 +204,17 @@ static double monotonic(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+/* The routes of fl_debug_options [o] that programs loaded against [g]
+ * take. */
+static void rt_debug_routes(const fl_options *o, Globals *g)
+{
+    g->no_fast = o->debug.no_fast;
+    g->no_templates = o->debug.no_templates;
+    g->check_templates = o->debug.check_templates;
+    g->kernel = (KernelOptions){.off = o->debug.no_kernel, .chunk = o->debug.kernel_chunk,
+                                .window = o->debug.kernel_window};
+}
+
 fl_runtime *fl_new(const fl_options *opts)
 {
     fl_options o = opts ? *opts : fl_default_options();
@@ -214,7 +225,8 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->budget.limit = o.max_memory ? o.max_memory : mem_default_limit();
     mem_leave(prev);
     prev = rt_enter(rt);
-    rt->pool = pool_new();
+    const fl_debug_options *dbg = &rt->opts.debug;
+    rt->pool = pool_new(dbg->no_pool);
     if (!(rt->opts.fps > 0)) rt->opts.fps = 60.0;
     rt->symtab = symtab_new();
     rt->state = state_new();
@@ -225,11 +237,16 @@ fl_runtime *fl_new(const fl_options *opts)
         phys_set_pairs(rt->physics, rt->opts.pairs == FL_PAIRS_NAIVE);
     if (rt->opts.particles != FL_PARTICLES_DEFAULT)
         phys_set_particles(rt->physics, rt->opts.particles == FL_PARTICLES_LITERAL);
+    if (dbg->simd != FL_SIMD_AUTO)
+        phys_set_simd(rt->physics, dbg->simd == FL_SIMD_PORTABLE ? PHYS_SIMD_PORTABLE
+                                   : dbg->simd == FL_SIMD_AVX2   ? PHYS_SIMD_AVX2
+                                   : dbg->simd == FL_SIMD_AVX2_VL ? PHYS_SIMD_AVX2_VL
+                                                                  : PHYS_SIMD_AVX512);
     rt->upstream = rt->opts.physics == FL_PHYSICS_UPSTREAM;
     rt->modules = module_cache_new();
     rt->stables = stable_new();
     rt->noise_perms = noise_perms_new();
-    rt->kscratch = kernel_scratch_new();
+    rt->kscratch = kernel_scratch_new(!dbg->no_kernel_reuse);
     kernel_scratch_set_transient(rt->kscratch, rt->opts.transient_tree);
     pool_set_reclaim(rt->pool, kernel_scratch_reclaim, rt->kscratch, kernel_scratch_held(rt->kscratch));
     rt->counter_key = vec_str("_counter", 8);
@@ -243,6 +260,7 @@ fl_runtime *fl_new(const fl_options *opts)
     for (int i = 0; i < G__COUNT; i++) globals_add(&rt->globals, engine_names[i]);
     rt->globals.simplify = !rt->opts.no_simplify;
     rt->globals.interrupt = rt->opts.interrupt;
+    rt_debug_routes(&rt->opts, &rt->globals);
     rt->globals.ndynamic = G_REALTIME;   /* frame .. clock change per frame */
     rt->target_fps = rt->opts.fps;
     rt->period = 0.5;
@@ -853,6 +871,7 @@ static void exports_put(Exports *x, Str *name, Vec *value)
 /* Engine names and defines, then the script's names, then fl_eval's. */
 static void build_scope(const fl_runtime *rt, Globals *g)
 {
+    rt_debug_routes(&rt->opts, g);
     for (uint32_t i = 0; i < rt->globals.count; i++)
         globals_set(g, globals_add(g, rt->globals.names[i]->bytes), rt->globals.values[i]);
     const Exports *layers[2] = {&rt->scope, &rt->repl};

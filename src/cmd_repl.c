@@ -61,6 +61,7 @@
 #include "exitcodes.h"
 #include "repl.h"
 #include "repl_window.h"
+#include "runner.h"
 
 #define PROMPT "flitter> "
 #define PROMPT_MORE "   ...> "
@@ -923,6 +924,7 @@ static int parse_args(int argc, char **argv, fl_options *opts, fl_runtime **rt,
     }
     *script = rc == 0 && optind < argc ? argv[optind] : NULL;
     if (rc == 0) {
+        runspec_options_from_env(opts);
         *rt = fl_new(opts);
         for (int i = 0; i < ndefines && rc == 0; i++) {
             char *eq = strchr(defines[i], '=');

@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -604,6 +605,65 @@ static int save_state(fl_runtime *rt, const char *path, FILE *log)
     return rc;
 }
 
+/* Whether environment variable [name] is set, not empty and not "0". */
+static bool env_on(const char *name)
+{
+    const char *e = getenv(name);
+    return e && *e && strcmp(e, "0") != 0;
+}
+
+/* Environment variable [name] as a whole number 0..UINT32_MAX, else 0. */
+static unsigned env_count(const char *name)
+{
+    const char *e = getenv(name);
+    if (!e || !isdigit((unsigned char)*e)) return 0;
+    errno = 0;
+    char *end;
+    unsigned long n = strtoul(e, &end, 10);
+    return *end || errno || n > UINT32_MAX ? 0 : (unsigned)n;
+}
+
+/* Whether environment variable [name] is exactly [value]. */
+static bool env_is(const char *name, const char *value)
+{
+    const char *e = getenv(name);
+    return e && strcmp(e, value) == 0;
+}
+
+void runspec_options_from_env(fl_options *o)
+{
+    if (!o) return;
+    unsigned threads = env_count("FLITTER_THREADS");
+    if (o->threads == 0 && threads >= 1 && threads <= 1024) o->threads = (int)threads;
+    if (o->pairs == FL_PAIRS_DEFAULT && env_is("FLITTER_PAIRS", "naive")) o->pairs = FL_PAIRS_NAIVE;
+    if (o->particles == FL_PARTICLES_DEFAULT && env_is("FLITTER_PARTICLES", "literal"))
+        o->particles = FL_PARTICLES_LITERAL;
+    fl_debug_options *d = &o->debug;
+    const char *e = getenv("FLITTER_NOPOOL");
+    d->no_pool = e && *e;
+    e = getenv("FLITTER_NOFAST");
+    d->no_fast = e && *e;
+    e = getenv("FLITTER_NOKERNEL");
+    d->no_kernel = e && *e;
+    d->no_kernel_reuse = env_is("FLITTER_KERNEL_REUSE", "0");
+    d->kernel_chunk = env_count("FLITTER_KERNEL_CHUNK");
+    d->kernel_window = env_count("FLITTER_KERNEL_WINDOW");
+    d->no_templates = env_on("FLITTER_NOTEMPLATES");
+    d->check_templates = env_on("FLITTER_TEMPLATE_CHECK");
+    e = getenv("FLITTER_SIMD");
+    d->simd = !e                           ? FL_SIMD_AUTO
+              : !strcmp(e, "portable")      ? FL_SIMD_PORTABLE
+              : !strcmp(e, "avx2")          ? FL_SIMD_AVX2
+              : !strcmp(e, "avx2-avx512vl") ? FL_SIMD_AVX2_VL
+                                            : FL_SIMD_AVX512;
+    d->impostors = env_is("FLITTER_CANVAS3D_IMPOSTORS", "0")     ? FL_IMPOSTORS_OFF
+                   : env_is("FLITTER_CANVAS3D_IMPOSTORS", "box") ? FL_IMPOSTORS_BOX
+                                                                 : FL_IMPOSTORS_OCTAGONS;
+    d->occlusion = env_is("FLITTER_CANVAS3D_OCCLUSION", "0")   ? FL_OCCLUSION_NEVER
+                   : env_is("FLITTER_CANVAS3D_OCCLUSION", "1") ? FL_OCCLUSION_ALWAYS
+                                                               : FL_OCCLUSION_AUTO;
+}
+
 fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *interrupt)
 {
     fl_options opts = fl_default_options();
@@ -630,6 +690,7 @@ fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *in
      * (flitter.h); a window keeps its last tree to draw */
     opts.transient_tree = !spec->dump_tree && !spec->view && !spec->trace && !spec->record && !spec->window &&
                           !spec->offscreen && spec->nscripts <= 1;
+    runspec_options_from_env(&opts);
     fl_runtime *rt = fl_new(&opts);
     for (int i = 0; i < spec->ndefines; i++) {
         char *eq = strchr(spec->defines[i], '=');

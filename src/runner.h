@@ -30,7 +30,8 @@ typedef struct RunSpec {
     char **defines;       /* NAME=VALUE strings (borrowed from argv) */
     int ndefines;
     const char *script;   /* SCRIPT */
-    int threads;          /* --threads N, or 0 (FLITTER_THREADS / every core) */
+    int threads;          /* --threads N, or 0 (FLITTER_THREADS, else every core:
+                             runspec_options_from_env) */
     size_t max_memory;    /* --max-memory SIZE in bytes, or 0 (the default budget) */
     int pairs;            /* --pairs naive|fast: FL_PAIRS_*, default FL_PAIRS_DEFAULT */
     int particles;        /* --particles literal|fast: FL_PARTICLES_*, default FL_PARTICLES_DEFAULT */
@@ -105,6 +106,13 @@ bool runspec_wants_window(const RunSpec *spec);
  *   errors: NULL after printing `flitter run: bad name in define ...` to
  *           files->log for a define with a bad name. */
 fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *interrupt);
+/* The environment's FLITTER_* route switches onto [o] (the library reads
+ * none itself; COMMAND-LINE.md, "Environment"): FLITTER_THREADS (a whole
+ * number 1..1024), FLITTER_PAIRS=naive and FLITTER_PARTICLES=literal where
+ * [o] has the defaults (an option given on the command line wins), and
+ * every field of fl_debug_options from the variable its comment names
+ * (flitter.h). A variable set to something else is ignored. */
+void runspec_options_from_env(fl_options *o);
 
 /* Refuse a run whose output files (--view, --trace-file, --record,
  * --state) could not be written, before anything runs (fl_check_output):

@@ -35,12 +35,11 @@ static int size_class(size_t size, size_t *block)
     return NSMALL + lg - BIG_MIN_LOG;
 }
 
-Pool *pool_new(void)
+Pool *pool_new(bool off)
 {
     Pool *p = calloc(1, sizeof *p);
     if (!p) mem_oom();
-    const char *e = getenv("FLITTER_NOPOOL");
-    p->off = e && *e;
+    p->off = off;
     return p;
 }
 

@@ -14,13 +14,14 @@
  * malloc/free. A pool must be active on at most one thread at a time.
  *
  * Classes: multiples of 16 bytes up to 256, then powers of two up to 4 MiB;
- * larger blocks always go straight to malloc/free. Setting the environment
- * variable FLITTER_NOPOOL (checked by pool_new) disables the free lists, for
- * memory checkers that should see every block's life.
+ * larger blocks always go straight to malloc/free. A pool made with [off]
+ * (fl_debug_options.no_pool) keeps no free lists, for memory checkers that
+ * should see every block's life.
  */
 #ifndef FL_POOL_H
 #define FL_POOL_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -40,8 +41,9 @@ typedef struct PoolStats {
                            released blocks (bookkeeping, not blocks) */
 } PoolStats;
 
-/* A new, empty pool. Aborts when out of memory. */
-Pool *pool_new(void);
+/* A new, empty pool; [off]: one that passes every call through to
+ * malloc/free. Aborts when out of memory. */
+Pool *pool_new(bool off);
 /* Free every cached block and the pool (NULL is a no-op). The pool must not
  * be active. */
 void pool_free(Pool *p);

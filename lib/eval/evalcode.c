@@ -264,7 +264,7 @@ static uint32_t emit(CC *c, const AstNode *n)
     }
 }
 
-static void compile_children(AstNode *n);
+static void compile_children(AstNode *n, const KernelOptions *ko);
 
 /* Keep memo cells only where several records share them (the same
  * expression of engine names at several places, e.g. in the bodies of an
@@ -414,12 +414,12 @@ static void cblock_free(void *p)
     free(b);
 }
 
-void evalcode_compile_tree(AstNode *n)
+void evalcode_compile_tree(AstNode *n, const KernelOptions *ko)
 {
     if (!n) return;
     if (numexpr_compile(n)) return;
     if (!compilable(n)) {
-        compile_children(n);
+        compile_children(n, ko);
         return;
     }
     CC c = {0}, d = {0};
@@ -446,17 +446,17 @@ void evalcode_compile_tree(AstNode *n)
     n->aux = b;
     n->aux_free = cblock_free;
     n->fast = 2;
-    for (uint32_t i = 0; i < c.nlater; i++) compile_children(c.later[i]);
+    for (uint32_t i = 0; i < c.nlater; i++) compile_children(c.later[i], ko);
     free(c.later);
 }
 
 /* Compile the regions below [n] (whose own kind has no record). */
-static void compile_children(AstNode *n)
+static void compile_children(AstNode *n, const KernelOptions *ko)
 {
     if (n->fast == 1) return;   /* a compiled numeric subtree: all done */
-    evalcode_compile_tree(n->a);
-    evalcode_compile_tree(n->b);
-    evalcode_compile_tree(n->c);
-    for (uint32_t i = 0; i < n->nkids; i++) evalcode_compile_tree(n->kids[i]);
-    if (n->kind == AST_FOR && n->b && n->b->fast == 2) kernel_compile_for(n);
+    evalcode_compile_tree(n->a, ko);
+    evalcode_compile_tree(n->b, ko);
+    evalcode_compile_tree(n->c, ko);
+    for (uint32_t i = 0; i < n->nkids; i++) evalcode_compile_tree(n->kids[i], ko);
+    if (n->kind == AST_FOR && n->b && n->b->fast == 2) kernel_compile_for(n, ko);
 }

@@ -17,7 +17,7 @@
  * compiled regions again). The records mirror eval.c's functions for those
  * kinds step for step - the same evaluation order, the same depth
  * accounting (§4.16 stack overflow), the same helpers - so results,
- * messages and errors are identical; FLITTER_NOFAST turns compilation off
+ * messages and errors are identical; Globals.no_fast turns compilation off
  * (numexpr.h) for comparing the two routes.
  */
 #ifndef FL_EVALCODE_H
@@ -26,6 +26,7 @@
 #include <stdint.h>
 
 #include "ast.h"
+#include "kernel.h"
 #include "numexpr.h"
 
 enum {
@@ -155,8 +156,9 @@ typedef struct CBlock {
 } CBlock;
 
 /* Compile the regions and the numeric subtrees (numexpr.h) of the
- * resolved tree [top] in place (see above). Never fails. */
-void evalcode_compile_tree(AstNode *top);
+ * resolved tree [top] in place (see above), and the loops' kernels as
+ * [ko] says (kernel.h). Never fails. */
+void evalcode_compile_tree(AstNode *top, const KernelOptions *ko);
 
 /* The record at byte offset [off] of block [base]. */
 static inline const CRec *crec(const unsigned char *base, uint32_t off)

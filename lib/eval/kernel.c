@@ -58,8 +58,8 @@ struct LoopKernel {
     uint32_t nread;     /* how many are */
     uint32_t name_guard; /* the depth above the loop's at which a C_KNUM
                             record would read a name itself */
-    uint32_t chunk;     /* FLITTER_KERNEL_CHUNK, or 0 */
-    uint32_t window;    /* FLITTER_KERNEL_WINDOW, or 0 */
+    uint32_t chunk;     /* KernelOptions.chunk, or 0 */
+    uint32_t window;    /* KernelOptions.window, or 0 */
     /* A straight body (see straight()): its C_KNODE records in order, the
      * depth of each above the body's (run_rec's levels to it), and the
      * depth above the body's within which every level's guard passes */
@@ -732,10 +732,9 @@ static int32_t renumber(void *ctx, int32_t reg)
     return final_reg(ctx, reg);
 }
 
-void kernel_compile_for(AstNode *n)
+void kernel_compile_for(AstNode *n, const KernelOptions *ko)
 {
-    const char *off = getenv("FLITTER_NOKERNEL");
-    if ((off && *off) || n->fast || n->aux || !n->b || n->b->fast != 2) return;
+    if (ko->off || n->fast || n->aux || !n->b || n->b->fast != 2) return;
     KB kb = {.loop = n, .b = n->b->aux};
     for (uint32_t j = 0; j < n->nnames; j++)
         kmap_find(&kb.names, n->slots[j], true)->reg = K_NAME_TAG + (int32_t)j;
@@ -817,10 +816,8 @@ void kernel_compile_for(AstNode *n)
     free(kb.knum);
     free(kb.kcall);
     share_calls(lk);
-    const char *e = getenv("FLITTER_KERNEL_CHUNK");
-    lk->chunk = e ? (uint32_t)strtoul(e, NULL, 10) : 0;
-    e = getenv("FLITTER_KERNEL_WINDOW");
-    lk->window = e ? (uint32_t)strtoul(e, NULL, 10) : 0;
+    lk->chunk = ko->chunk;
+    lk->window = ko->window;
     n->aux = lk;
     n->aux_free = kernel_free;
     n->fast = 3;
@@ -867,11 +864,10 @@ struct KernelScratch {
     KNodeLoop loops[K_NODE_LOOPS];
 };
 
-KernelScratch *kernel_scratch_new(void)
+KernelScratch *kernel_scratch_new(bool reuse)
 {
     KernelScratch *k = mem_calloc(1, sizeof(KernelScratch));
-    const char *e = getenv("FLITTER_KERNEL_REUSE");
-    k->reuse = !(e && !strcmp(e, "0"));
+    k->reuse = reuse;
     return k;
 }
 

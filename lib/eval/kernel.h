@@ -36,11 +36,11 @@
  * the record runs as C_NUM. The numbers are the same bits either way: the
  * same instructions on the same numbers (numexpr.h).
  *
- * FLITTER_NOKERNEL=1 (read when a program is compiled) leaves loops
- * without kernels: the reference for tests/cli/fast_route.sh. For tests,
- * FLITTER_KERNEL_CHUNK=N (also read then) makes chunks of N iterations
- * and lets every loop of two iterations or more take its kernel, and
- * FLITTER_KERNEL_WINDOW=N computes at most N iterations ahead.
+ * KernelOptions.off (fl_debug_options.no_kernel, read when a program is
+ * compiled) leaves loops without kernels: the reference for
+ * tests/cli/fast_route.sh. For tests, KernelOptions.chunk = N makes chunks
+ * of N iterations and lets every loop of two iterations or more take its
+ * kernel, and KernelOptions.window = N computes at most N iterations ahead.
  */
 #ifndef FL_KERNEL_H
 #define FL_KERNEL_H
@@ -50,14 +50,22 @@
 
 typedef struct Eval Eval;
 typedef struct LoopKernel LoopKernel;
+
+/* How loops are compiled into kernels (fl_debug_options; all zero: the
+ * default). */
+typedef struct KernelOptions {
+    bool off;           /* no kernels */
+    uint32_t chunk;     /* iterations per chunk (0: the kernel's choice) */
+    uint32_t window;    /* iterations computed ahead at most (0: the kernel's choice) */
+} KernelOptions;
 struct CRec;
 
 /* Give the resolved AST_FOR [n], whose body n->b is a compiled region
  * (n->b->fast == 2), a kernel when the region has numeric records it can
  * take (see above): rewrites those records to C_KNUM and sets n->fast = 3
- * and n->aux to the kernel. Leaves [n] alone otherwise, and when
- * FLITTER_NOKERNEL is set. Never fails. */
-void kernel_compile_for(AstNode *n);
+ * and n->aux to the kernel, with the chunk and window of [ko]. Leaves [n]
+ * alone otherwise, and when ko->off. Never fails. */
+void kernel_compile_for(AstNode *n, const KernelOptions *ko);
 
 /* How many calls of an element function on a register the kernel of loop
  * [n] computes by expressions of their own (kernel.c, share_calls): once
@@ -80,8 +88,10 @@ Vec *kernel_eval_for(Eval *ev, const AstNode *n, const Vec *src, bool *done);
  * another's body takes a block from the pool. One per runtime, used by
  * one thread. */
 typedef struct KernelScratch KernelScratch;
-/* A new, empty scratch. Aborts when out of memory. */
-KernelScratch *kernel_scratch_new(void);
+/* A new, empty scratch; [reuse] false: the kernels build their nodes
+ * afresh each frame instead of refilling the last frame's
+ * (fl_debug_options.no_kernel_reuse). Aborts when out of memory. */
+KernelScratch *kernel_scratch_new(bool reuse);
 /* Free [k] (NULL is a no-op), releasing the nodes its caches hold. */
 void kernel_scratch_free(KernelScratch *k);
 /* Whether the runtime releases a frame's tree before it evaluates the
@@ -127,7 +137,7 @@ const size_t *kernel_scratch_held(const KernelScratch *k);
  * as a new one, value for value. The nodes of a loop that did not run in
  * a frame are released at its end (kernel_scratch_frame_done), and kept
  * nodes give their blocks back when the memory budget needs them
- * (kernel_scratch_reclaim). FLITTER_KERNEL_REUSE=0 turns it off (the
+ * (kernel_scratch_reclaim). kernel_scratch_new(false) turns it off (the
  * route the tests compare against). */
 typedef struct KNodeCache {
     struct Node **slot;

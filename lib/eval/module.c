@@ -97,8 +97,15 @@ static void run_module(ModuleCache *mc, uint32_t mi, Eval *ev)
     m->failed = true;
     Buf err = BUF_INIT;
     /* simplified (as a module, with no engine names) when the importer is */
-    Globals mg = {.simplify = ev->globals && ev->globals->simplify, .module = true};
-    Program *p = program_load(m->path, mg.simplify ? &mg : NULL, (SymTab *)ev->symtab, &err);
+    const Globals *ig = ev->globals;
+    Globals mg = {.simplify = ig && ig->simplify, .module = true};
+    if (ig) {   /* the importer's routes */
+        mg.no_fast = ig->no_fast;
+        mg.no_templates = ig->no_templates;
+        mg.check_templates = ig->check_templates;
+        mg.kernel = ig->kernel;
+    }
+    Program *p = program_load(m->path, &mg, (SymTab *)ev->symtab, &err);
     buf_free(&err);
     if (!p) return;
     /* load-time warnings (unbound names) are reported like run-time errors */

@@ -21,8 +21,8 @@
  * on one-element vectors (value.c's arithmetic, vec_cmp, vec_truthy, the
  * builtin's own element function), so the results are bit-identical.
  *
- * The environment variable FLITTER_NOFAST (read by program.c when a program
- * is loaded) turns compilation off: every subtree then takes the generic
+ * Globals.no_fast (fl_debug_options.no_fast; read by program.c when a
+ * program is loaded) turns compilation off: every subtree then takes the generic
  * route, for comparing the two (tests/cli/fast_route.sh).
  */
 #ifndef FL_NUMEXPR_H

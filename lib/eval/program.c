@@ -588,7 +588,8 @@ static AstNode *simplify_top(Program *p, AstNode *top, const Globals *g, SymTab 
         names[i] = (SimplifyName){g->names[i], i < g->ndynamic, g->values[i]};
     SimplifyEnv env = {.names = names, .nnames = g->count, .symtab = st, .dir = p->dir,
                        .first_file = 1000, .stable_ids = &p->stable_ids, .stables = sc,
-                       .is_module = g->module, .files = &p->files, .interrupt = g->interrupt};
+                       .is_module = g->module, .files = &p->files, .interrupt = g->interrupt,
+                       .no_templates = g->no_templates, .check_templates = g->check_templates};
     top = simplify_program(top, &env, &p->warnings);
     free(names);
     return top;
@@ -621,8 +622,9 @@ static Program *resolve_program(Program *p, Globals *globals, SymTab *st, Buf *e
         program_release(p);
         return NULL;
     }
-    const char *nofast = getenv("FLITTER_NOFAST");
-    if (!nofast || !*nofast) evalcode_compile_tree(p->top);
+    static const KernelOptions default_kernels = {0};
+    if (!globals || !globals->no_fast)
+        evalcode_compile_tree(p->top, globals ? &globals->kernel : &default_kernels);
     return p;
 }
 

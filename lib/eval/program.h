@@ -17,6 +17,7 @@
 
 #include "ast.h"
 #include "buf.h"
+#include "kernel.h"
 #include "context.h"
 #include "node.h"
 #include "state.h"
@@ -40,6 +41,11 @@ typedef struct Globals {
     volatile int *interrupt; /* the embedder's flag (NULL: none): the load-time
                            simplifier stops once it is set, and the load
                            fails with `PATH: error: interrupted while loading` */
+    /* the routes programs loaded against these take (fl_debug_options;
+     * all zero, and a NULL Globals: the defaults) */
+    bool no_fast;       /* no compiled routes: the tree-walking evaluator alone */
+    bool no_templates, check_templates;  /* the simplifier's (SimplifyEnv) */
+    KernelOptions kernel;                /* the loop kernels' (kernel.h) */
 } Globals;
 
 /* Index of [name] in [g], or -1. */

@@ -1064,10 +1064,6 @@ void simp_init(Simp *s, SymTab *st, Buf *warnings, const char *dir, const char *
     s->warned = calloc(1, sizeof *s->warned);
     if (!s->warned) mem_oom();
     s->ev = (Eval){.symtab = st, .errors = &s->errors, .debug = NULL};
-    const char *e = getenv("FLITTER_NOTEMPLATES");
-    s->no_templates = e && *e && strcmp(e, "0") != 0;
-    e = getenv("FLITTER_TEMPLATE_CHECK");
-    s->check_templates = e && *e && strcmp(e, "0") != 0;
     s->dir = strdup(dir ? dir : ".");
     s->path = path ? strdup(path) : NULL;
     if (!s->dir || (path && !s->path)) mem_oom();
@@ -1128,6 +1124,8 @@ AstNode *simplify_program(AstNode *top, const SimplifyEnv *env, Buf *warnings)
     s.stable_ids = env->stable_ids;
     s.stables = env->stables;
     s.is_module = env->is_module;
+    s.no_templates = env->no_templates;
+    s.check_templates = env->check_templates;
     s.files = env->files;
     s.ev.interrupt = env->interrupt;
     simplify_number_stables(top, s.stable_ids);

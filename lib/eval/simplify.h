@@ -50,6 +50,8 @@ typedef struct SimplifyEnv {
                                    simplification stops and the program is
                                    returned as written (the caller fails the
                                    load) */
+    bool no_templates;          /* fl_debug_options.no_templates */
+    bool check_templates;       /* fl_debug_options.check_templates */
 } SimplifyEnv;
 
 /* Simplify the program [top] (an AST_TOP from parse_program; consumes it) and

@@ -124,6 +124,8 @@ static bool module_exports(Simp *s, const char *path, Simp *sub)
     simp_init(sub, s->symtab, s->warnings, dir, path, s->next_file);
     free(dir);
     sub->ev.interrupt = s->ev.interrupt;
+    sub->no_templates = s->no_templates;
+    sub->check_templates = s->check_templates;
     if (sub->warnings == s->warnings) simp_share_warnings(sub, s);
     sub->parent = s;
     sub->collect_exports = true;

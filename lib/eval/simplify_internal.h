@@ -137,8 +137,8 @@ struct Simp {
     bool talone;            /* a group of one member simplified with its
                                plain values (simp_unroll_templates): what
                                a column pass must not share aborts it too */
-    bool no_templates;      /* FLITTER_NOTEMPLATES: one copy at a time */
-    bool check_templates;   /* FLITTER_TEMPLATE_CHECK: compare every
+    bool no_templates;      /* fl_debug_options.no_templates: one copy at a time */
+    bool check_templates;   /* fl_debug_options.check_templates: compare every
                                templated copy with its one-at-a-time twin */
 };
 

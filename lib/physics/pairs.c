@@ -1123,8 +1123,8 @@ void phys_run_level(PhysSystem *s, const PhysGroup *g, const PhysLevel *lv)
         .s = s, .pool = s->pool + g->pool_off, .npart = g->npart,
         .npool = lv->npool, .forces = s->gidx + fg->pair_off, .nf = fg->pair_n,
         .r2 = INFINITY, .grid = lv->route == PHYS_ROUTE_GRID,
-        /* the portable copies at the portable level (FLITTER_SIMD,
-         * phys_set_simd), so the tests run both against the reference */
+        /* the portable copies at the portable level (phys_set_simd,
+         * fl_debug_options.simd), so the tests run both against the reference */
         .avx2 = s->simd >= PHYS_SIMD_AVX2 && use_avx2(),
     };
     L.simple = L.nf <= SIMPLE_MAX;

@@ -57,8 +57,7 @@ typedef struct PhysicsFrame {
 PhysicsWorld *phys_new(void);
 /* Threads for the pair loops of [w]: [n] in all (0 = every available
  * core). The results are the same bits for every n (pairs.c explains why);
- * small systems run on one thread whatever n is. Default: FLITTER_THREADS
- * if it is a positive integer, else 0. */
+ * small systems run on one thread whatever n is. Default: 0. */
 void phys_set_threads(PhysicsWorld *w, unsigned n);
 /* The world's thread pool (workers.h), made now if it has none yet, for
  * the runtime to lend to other work between physics frames (the
@@ -68,15 +67,13 @@ void phys_set_threads(PhysicsWorld *w, unsigned n);
 struct Workers *phys_workers(PhysicsWorld *w);
 /* [naive] true: always use the reference all-pairs loop of
  * PHYSICS-ENGINE.md §4 on one thread (the slow route that the neighbour
- * grid and the threaded gather are checked against). Default: true when
- * FLITTER_PAIRS is "naive". */
+ * grid and the threaded gather are checked against). Default: false. */
 void phys_set_pairs(PhysicsWorld *w, bool naive);
 /* [literal] true: run the particle pass (per-particle appliers, barrier
  * soft forces, the step and the rebounds of PHYSICS-ENGINE.md §4) through
  * the literal route of lib/physics/literal.c, one particle at a time on
  * one thread, written as the spec is, that the specialised route of
- * step.c is checked against; the same bits. Default: true when
- * FLITTER_PARTICLES is "literal". */
+ * step.c is checked against; the same bits. Default: false. */
 void phys_set_particles(PhysicsWorld *w, bool literal);
 /* Vector instruction sets of the pair kernels, in order: the portable
  * copy (the tile kernel's 2 x 2 tiles), AVX2 (4 x 4 tiles, 16 vector
@@ -88,12 +85,10 @@ enum { PHYS_SIMD_PORTABLE, PHYS_SIMD_AVX2, PHYS_SIMD_AVX2_VL, PHYS_SIMD_AVX512 }
 /* The vector instructions the pair kernels may use: [level] a
  * PHYS_SIMD_* (PHYS_SIMD_AVX2: up to AVX2, and so on), capped at what the
  * processor runs. Returns the level in force. Every
- * level gives the same bits (lib/physics/tiles.c). Default: FLITTER_SIMD
- * ("portable", "avx2", "avx2-avx512vl", anything else: the best
- * available); with FLITTER_SIMD unset and no call of this, where the
- * processor has AVX-512 each system times the 4 x 4 tiles (with AVX-512VL)
- * against it on the first runs of each kind of pair level and keeps the
- * faster (tiles.c). */
+ * level gives the same bits (lib/physics/tiles.c). Default, without a
+ * call of this: the best available, and where the processor has AVX-512
+ * each system times the 4 x 4 tiles (with AVX-512VL) against it on the
+ * first runs of each kind of pair level and keeps the faster (tiles.c). */
 int phys_set_simd(PhysicsWorld *w, int level);
 /* The split route of the pair kernels (lib/physics/tiles.c, "Two threads
  * for a middle-sized level"): PHYS_SPLIT_AUTO (the default) lets

@@ -69,7 +69,7 @@
  * forces copied back after. The kernel is compiled for AVX-512, for AVX2
  * with and without AVX-512VL and for the portable baseline
  * (tiles_kernel.h) and chosen at run time by the system's SIMD level
- * (phys_simd_best(), FLITTER_SIMD) or, by default on a processor with
+ * (phys_simd_best(), phys_set_simd) or, by default on a processor with
  * AVX-512, by timing the 4 x 4 tiles against it (tune_route below).
  */
 #include <math.h>

@@ -39,8 +39,8 @@ struct PhysicsWorld {
     int ahead;              /* phys_set_ahead's limit */
     double slice;           /* phys_set_slice's pairs, or 0 */
     long cut_after;         /* phys_set_cut_after's polls, or 0 */
-    bool simd_auto;         /* no level asked for (FLITTER_SIMD unset,
-                               phys_set_simd not called): the systems time
+    bool simd_auto;         /* no level asked for (phys_set_simd not
+                               called since phys_new): the systems time
                                the 4 x 4 tiles (with AVX-512VL where the
                                processor has it) against AVX-512 (tiles.c) */
 };
@@ -241,30 +241,19 @@ static void system_frame(PhysSystem *s, const Node *node, StateDict *sd,
 /* Public interface                                                    */
 /* ------------------------------------------------------------------ */
 
-/* A new world with no systems; FLITTER_THREADS, FLITTER_PAIRS and
- * FLITTER_PARTICLES give the defaults of phys_set_threads(),
- * phys_set_pairs() and phys_set_particles(). */
+/* A new world with no systems: every core, the fast routes, the best
+ * vector instructions, timed (phys_set_simd). */
 PhysicsWorld *phys_new(void)
 {
     PhysicsWorld *w = calloc(1, sizeof *w);
     if (!w)
         phys_oom();
     w->ahead = -1;
-    const char *e = getenv("FLITTER_THREADS");
-    char *end;
-    long n = e ? strtol(e, &end, 10) : 0;
-    phys_set_threads(w, e && *e && !*end && n > 0 && n <= 1024 ? (unsigned)n : 0);
-    e = getenv("FLITTER_PAIRS");
-    phys_set_pairs(w, e && !strcmp(e, "naive"));
-    e = getenv("FLITTER_PARTICLES");
-    phys_set_particles(w, e && !strcmp(e, "literal"));
-    e = getenv("FLITTER_SIMD");
-    phys_set_simd(w, !e                           ? PHYS_SIMD_AVX512
-                     : !strcmp(e, "portable")      ? PHYS_SIMD_PORTABLE
-                     : !strcmp(e, "avx2")          ? PHYS_SIMD_AVX2
-                     : !strcmp(e, "avx2-avx512vl") ? PHYS_SIMD_AVX2_VL
-                                                   : PHYS_SIMD_AVX512);
-    w->simd_auto = !e;
+    phys_set_threads(w, 0);
+    phys_set_pairs(w, false);
+    phys_set_particles(w, false);
+    phys_set_simd(w, PHYS_SIMD_AVX512);
+    w->simd_auto = true;
     return w;
 }
 

@@ -11,11 +11,13 @@
 #include "format.h"
 #include "fuzz_budget.h"
 
-/* One runtime for [data]: loaded, then (when [frames]) three frames and
- * the dumps; errors are the script's, not findings. */
-static void fuzz_run_script(const uint8_t *data, size_t size, bool frames)
+/* One runtime for [data], on the routes of [debug] (NULL: the defaults):
+ * loaded, then (when [frames]) three frames and the dumps; errors are the
+ * script's, not findings. */
+static void fuzz_run_script(const uint8_t *data, size_t size, bool frames, const fl_debug_options *debug)
 {
     fl_options o = fl_default_options();
+    if (debug) o.debug = *debug;
     o.frames = 3;
     RtStreams streams = {NULL, NULL};
     rt_log_to_files(&o, &streams);

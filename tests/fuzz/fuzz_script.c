@@ -7,6 +7,6 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fuzz_budget_start();
-    fuzz_run_script(data, size, true);
+    fuzz_run_script(data, size, true, NULL);
     return 0;
 }

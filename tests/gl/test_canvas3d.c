@@ -32,6 +32,8 @@
 
 static char scratch[64];
 static char logged[4096];   /* the log lines of the last runtime */
+/* The routes of the runtimes draw() makes (fl_options.debug). */
+static fl_debug_options routes;
 
 static int setup(void **st)
 {
@@ -73,6 +75,7 @@ static fl_runtime *load_script(const char *name, const char *script, const char 
     logged[0] = '\0';
     fl_options o = fl_default_options();
     o.log = keep_log;
+    o.debug = routes;
     fl_runtime *rt = fl_new(&o);
     if (f) assert_int_equal(fl_define(rt, "F", f), 0);
     assert_int_equal(fl_load(rt, path), 0);
@@ -303,7 +306,7 @@ static void msaa_edge(void **st)
 /* Smooth spheres are drawn as ray-cast impostors (one box per sphere, the
  * sphere's surface, normal and depth found per fragment, MSAA coverage per
  * sample): the picture must be the 64-segment mesh's, which
- * FLITTER_CANVAS3D_IMPOSTORS=0 draws, up to the facets: a sphere and a
+ * FL_IMPOSTORS_OFF draws, up to the facets: a sphere and a
  * rotated ellipsoid half sunk into a plane (depth), lit from the side
  * (the bright side faces +x), with samples=4 (partly covered edge pixels). */
 static void impostor_spheres(void **st)
@@ -318,11 +321,11 @@ static void impostor_spheres(void **st)
                          "        !sphere size=8 position=-8;6;0 color=1;0;0\n"
                          "        !sphere size=10;5;5 rotation=0;0;0.1 position=6;-6;2 color=1;1;1\n";
     for (int k = 0; k < 2; k++) {
-        setenv("FLITTER_CANVAS3D_IMPOSTORS", k ? "1" : "0", 1);
+        routes.impostors = k ? FL_IMPOSTORS_OCTAGONS : FL_IMPOSTORS_OFF;
         fl_runtime *rt = draw(script, pix[k]);
         fl_free(rt);
     }
-    unsetenv("FLITTER_CANVAS3D_IMPOSTORS");
+    routes = (fl_debug_options){0};
     int worst = 0, close = 0, partial = 0;
     for (int i = 0; i < W * H; i++) {
         int d = 0;
@@ -387,11 +390,11 @@ static void impostor_billboards(void **st)
     };
     for (int s = 0; s < 4; s++) {
         for (int k = 0; k < 2; k++) {
-            setenv("FLITTER_CANVAS3D_IMPOSTORS", k ? "1" : "0", 1);
+            routes.impostors = k ? FL_IMPOSTORS_OCTAGONS : FL_IMPOSTORS_OFF;
             fl_runtime *rt = draw(scripts[s], pix[k]);
             fl_free(rt);
         }
-        unsetenv("FLITTER_CANVAS3D_IMPOSTORS");
+        routes = (fl_debug_options){0};
         int mesh = 0, missed = 0, extra = 0;
         for (int i = 0; i < W * H; i++) {
             int m = chan(pix[0][i], 16), q = chan(pix[1][i], 16);
@@ -408,7 +411,7 @@ static void impostor_billboards(void **st)
 /* With samples, an octagon's coverage is decided per sample by whether
  * the sample's line passes within the sphere's radius, computed from the
  * pixel centre's line by updates linear in the sample's offset (Plücker
- * coordinates); FLITTER_CANVAS3D_IMPOSTORS=box draws the same spheres on
+ * coordinates); fl_debug_options.impostors FL_IMPOSTORS_BOX draws the same spheres on
  * their boxes, each sample's own ray intersected exactly. The two must
  * agree on every pixel but a few at the rims, and both must smooth the
  * rims (partly covered pixels): spheres of several sizes and distances,
@@ -441,12 +444,12 @@ static void impostor_octagon_samples(void **st)
     };
     for (int s = 0; s < 3; s++) {
         for (int k = 0; k < 2; k++) {
-            setenv("FLITTER_CANVAS3D_IMPOSTORS", k ? "box" : "1", 1);
+            routes.impostors = k ? FL_IMPOSTORS_BOX : FL_IMPOSTORS_OCTAGONS;
             fl_runtime *rt = draw(scripts[s], pix[k]);
             if (strstr(logged, "compile")) fail_msg("script %d: %s", s, logged);
             fl_free(rt);
         }
-        unsetenv("FLITTER_CANVAS3D_IMPOSTORS");
+        routes = (fl_debug_options){0};
         int drawn = 0, partial[2] = {0, 0}, differ = 0, full[2] = {0, 0};
         for (int k = 0; k < 2; k++)   /* a covered pixel's value (the spheres' colours are 0 or 1) */
             for (int i = 0; i < W * H; i++)
@@ -687,11 +690,11 @@ static void translucency_thin_edges(void **st)
                          "        !light color=1 direction=0;0;1\n"
                          "        !sphere size=10 color=1 translucency=2\n";
     for (int k = 0; k < 2; k++) {
-        setenv("FLITTER_CANVAS3D_IMPOSTORS", k ? "1" : "0", 1);
+        routes.impostors = k ? FL_IMPOSTORS_OCTAGONS : FL_IMPOSTORS_OFF;
         fl_runtime *rt = draw(script, pix[k]);
         fl_free(rt);
     }
-    unsetenv("FLITTER_CANVAS3D_IMPOSTORS");
+    routes = (fl_debug_options){0};
     assert_memory_equal(pix[0], pix[1], sizeof pix[0]);
     int middle = 0, edge = 0;
     for (int d = -1; d <= 1; d++) {
@@ -1065,7 +1068,7 @@ static void uv_remap_plane(void **st)
  * under 12 lights or more is first drawn depth only (the occluders), and
  * its meshes discard the fragments hidden at every sample of their pixel
  * (canvas3d_occlusion.h). Each scene is drawn with
- * FLITTER_CANVAS3D_OCCLUSION=1 (the pass wherever it can be) and =0
+ * FL_OCCLUSION_ALWAYS (the pass wherever it can be) and FL_OCCLUSION_NEVER
  * (never), and the two pictures must be equal pixel for pixel: boxes stacked front to back and back to front, meshes
  * crossing one another at angles (the depth varies across a pixel at
  * their edges), two boxes sharing a face, fog, with transparent boxes
@@ -1136,12 +1139,12 @@ static void occlusion_as_without(void **st)
             snprintf(script, sizeof script, "%s", deeper);
         }
         for (int k = 0; k < 2; k++) {
-            setenv("FLITTER_CANVAS3D_OCCLUSION", k ? "0" : "1", 1);
+            routes.occlusion = k ? FL_OCCLUSION_NEVER : FL_OCCLUSION_ALWAYS;
             fl_runtime *rt = draw(script, pix[k]);
             if (strstr(logged, "compile") || strstr(logged, "link")) fail_msg("script %d: %s", s, logged);
             fl_free(rt);
         }
-        unsetenv("FLITTER_CANVAS3D_OCCLUSION");
+        routes = (fl_debug_options){0};
         int lit = 0;
         for (int i = 0; i < W * H; i++) {
             if (pix[0][i] != pix[1][i])

@@ -21,6 +21,9 @@
 static size_t run_script_budget;
 /* fl_options.transient_tree of the runs. */
 static bool run_script_transient;
+/* fl_options.threads and fl_options.debug of the runs (the routes). */
+static int run_script_threads;
+static fl_debug_options run_script_debug;
 /* The last run_script's iterations run as straight bodies
  * (rt_kernel_straight). */
 static uint64_t run_script_straight;
@@ -35,6 +38,8 @@ static fl_runtime *script_runtime(const char *name, const char *src, bool simpli
     o.no_simplify = !simplify;
     o.max_memory = run_script_budget;
     o.transient_tree = run_script_transient;
+    o.threads = run_script_threads;
+    o.debug = run_script_debug;
     fl_runtime *rt = fl_new(&o);
     Buf err = BUF_INIT;
     assert_int_equal(rt_load_text(rt, name, src, strlen(src), &err), 0);

@@ -26,10 +26,9 @@
 /* The tree dump of the last of [frames] frames of [src], and the log. */
 static char *run_frames(const char *src, int frames, bool simplify, bool fast, char **log_out)
 {
-    if (fast) unsetenv("FLITTER_NOFAST");
-    else setenv("FLITTER_NOFAST", "1", 1);
+    run_script_debug.no_fast = !fast;
     char *tree = run_script("fast.fl", src, frames, simplify, log_out, NULL);
-    unsetenv("FLITTER_NOFAST");
+    run_script_debug.no_fast = false;
     return tree;
 }
 
@@ -312,14 +311,12 @@ static void test_route_taken(void **s)
     const char *src = "let x=3\n!a b=x*2+1 c=sin(x);x\n";
     SymTab *st = symtab_new();
     Buf err = BUF_INIT;
-    unsetenv("FLITTER_NOFAST");
     Program *p = program_load_text("t.fl", src, strlen(src), NULL, st, &err);
     assert_non_null(p);
     assert_true(count_fast(p->top) >= 1);
     program_release(p);
-    setenv("FLITTER_NOFAST", "1", 1);
-    p = program_load_text("t.fl", src, strlen(src), NULL, st, &err);
-    unsetenv("FLITTER_NOFAST");
+    Globals literal = {.no_fast = true};
+    p = program_load_text("t.fl", src, strlen(src), &literal, st, &err);
     assert_non_null(p);
     assert_int_equal(count_fast(p->top), 0);
     program_release(p);

@@ -87,11 +87,13 @@ static const char canvas[] =
     "            !ellipse point=i*10+wobble(p);cos(p) radius=2+$(:r;i) fill=hsv(p;1;1) #dot\n"
     "            !text text=\"label\" font_size=12+i stroke=time>0\n";
 
-/* Steps [warm] frames, then [n] counted ones; returns the allocator calls of
- * the counted frames, and checks that fl_get_stats saw the same. */
-static unsigned long steady_calls(const char *text, int warm, int n, unsigned long *stat_calls)
+/* Steps [warm] frames, then [n] counted ones, with the free lists off when
+ * [no_pool]; returns the allocator calls of the counted frames, and checks
+ * that fl_get_stats saw the same. */
+static unsigned long steady_calls(const char *text, int warm, int n, bool no_pool, unsigned long *stat_calls)
 {
     fl_options o = fl_default_options();
+    o.debug.no_pool = no_pool;
     RtStreams streams = {NULL, NULL};
     rt_log_to_files(&o, &streams);
     fl_runtime *rt = fl_new(&o);
@@ -117,7 +119,7 @@ static void test_petri_steady_frame_no_malloc(void **st)
 {
     (void)st;
     unsigned long stat;
-    assert_int_equal(steady_calls(petri, 10, 3, &stat), 0);
+    assert_int_equal(steady_calls(petri, 10, 3, false, &stat), 0);
     assert_int_equal(stat, 0);
 }
 
@@ -125,19 +127,17 @@ static void test_canvas_steady_frame_no_malloc(void **st)
 {
     (void)st;
     unsigned long stat;
-    assert_int_equal(steady_calls(canvas, 10, 3, &stat), 0);
+    assert_int_equal(steady_calls(canvas, 10, 3, false, &stat), 0);
     assert_int_equal(stat, 0);
 }
 
-/* With the free lists off (FLITTER_NOPOOL), the same frames must allocate,
+/* With the free lists off (fl_debug_options.no_pool), the same frames must allocate,
  * and the runtime's statistic must count them: the counters are real. */
 static void test_stats_count_allocations_without_pool(void **st)
 {
     (void)st;
-    setenv("FLITTER_NOPOOL", "1", 1);
     unsigned long stat;
-    unsigned long real = steady_calls(petri, 2, 1, &stat);
-    unsetenv("FLITTER_NOPOOL");
+    unsigned long real = steady_calls(petri, 2, 1, true, &stat);
     /* the physics engine overwrites its position/velocity state values in
      * place (issue 8), so the 400 state-value allocations this bound was
      * set for are gone; the frame still allocates (evaluation without free
@@ -146,13 +146,27 @@ static void test_stats_count_allocations_without_pool(void **st)
     assert_true(real >= stat);
 }
 
+/* The library reads no environment: FLITTER_NOPOOL (the flitter command's
+ * name for fl_debug_options.no_pool) set, a runtime made with the default
+ * options still keeps its free lists. */
+static void test_environment_not_read(void **st)
+{
+    (void)st;
+    setenv("FLITTER_NOPOOL", "1", 1);
+    unsigned long stat;
+    unsigned long real = steady_calls(petri, 10, 3, false, &stat);
+    unsetenv("FLITTER_NOPOOL");
+    assert_int_equal(real, 0);
+    assert_int_equal(stat, 0);
+}
+
 int main(void)
 {
-    unsetenv("FLITTER_NOPOOL");   /* these tests are about the pooled runtime */
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_petri_steady_frame_no_malloc),
         cmocka_unit_test(test_canvas_steady_frame_no_malloc),
         cmocka_unit_test(test_stats_count_allocations_without_pool),
+        cmocka_unit_test(test_environment_not_read),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -28,10 +28,10 @@
 #include "program.h"
 #include "runscript.h"
 
-/* FLITTER_KERNEL_CHUNK and FLITTER_KERNEL_WINDOW for the runs ("0": the
+/* fl_debug_options.kernel_chunk and kernel_window for the runs (0: the
  * kernel's own sizes). */
-static const char *kernel_chunk = "7";
-static const char *kernel_window = "63";
+static unsigned kernel_chunk = 7;
+static unsigned kernel_window = 63;
 
 enum { R_GENERIC, R_NOKERNEL, R_THREADS1, R_THREADS2, R_THREADS3, R_COUNT };
 
@@ -43,21 +43,15 @@ static const char *const route_names[R_COUNT] = {"generic", "no kernel", "kernel
 static char *run_route(const char *src, int frames, bool simplify, int route, char **log_out,
                        uint64_t *kiters)
 {
-    unsetenv("FLITTER_NOFAST");
-    unsetenv("FLITTER_NOKERNEL");
-    if (route == R_GENERIC) setenv("FLITTER_NOFAST", "1", 1);
-    if (route == R_NOKERNEL) setenv("FLITTER_NOKERNEL", "1", 1);
-    setenv("FLITTER_THREADS", route == R_THREADS3 ? "3" : route == R_THREADS2 ? "2" : "1", 1);
+    run_script_debug = (fl_debug_options){.no_fast = route == R_GENERIC, .no_kernel = route == R_NOKERNEL};
+    run_script_threads = route == R_THREADS3 ? 3 : route == R_THREADS2 ? 2 : 1;
     /* small chunks and windows, so that small loops (quick under valgrind)
      * are many tasks, taken in any order, and several windows */
-    setenv("FLITTER_KERNEL_CHUNK", kernel_chunk, 1);
-    setenv("FLITTER_KERNEL_WINDOW", kernel_window, 1);
+    run_script_debug.kernel_chunk = kernel_chunk;
+    run_script_debug.kernel_window = kernel_window;
     char *tree = run_script("kernel.fl", src, frames, simplify, log_out, kiters);
-    unsetenv("FLITTER_NOFAST");
-    unsetenv("FLITTER_NOKERNEL");
-    unsetenv("FLITTER_THREADS");
-    unsetenv("FLITTER_KERNEL_CHUNK");
-    unsetenv("FLITTER_KERNEL_WINDOW");
+    run_script_debug = (fl_debug_options){0};
+    run_script_threads = 0;
     return tree;
 }
 
@@ -454,13 +448,13 @@ static void test_budget(void **s)
                       "        let p=i*0.5+time\n"
                       "        !d x=p y=sin(p) z=cos(p)*2\n";
     /* the kernel's own window: a block of about 1 MB of registers */
-    kernel_chunk = kernel_window = "0";
+    kernel_chunk = kernel_window = 0;
     budget_sweep(src, 1, false, 20000);
     /* with transient trees (fl_options.transient_tree), over three frames:
      * the last tree's blocks serve the next frame on every route alike */
     budget_sweep(src, 3, true, 0);
-    kernel_chunk = "7";
-    kernel_window = "63";
+    kernel_chunk = 7;
+    kernel_window = 63;
 }
 
 /* The simplifier's loop forms (literal ranges, template passes): nested
@@ -497,9 +491,9 @@ static void test_windows(void **s)
     buf_puts(&src, "let n=8000+floor(time)\n!g\n    for i in ..n\n        !w");
     for (int a = 0; a < 60; a++) buf_printf(&src, " a%d=i*%d+time", a, a + 1);
     buf_puts(&src, "\n");
-    kernel_window = "0";
+    kernel_window = 0;
     free(expect_routes(buf_cstr(&src), 1, 8000));
-    kernel_window = "63";
+    kernel_window = 63;
     buf_free(&src);
 }
 
@@ -530,7 +524,6 @@ static uint32_t shared_calls(const char *src)
 {
     SymTab *st = symtab_new();
     Buf err = BUF_INIT;
-    unsetenv("FLITTER_NOKERNEL");
     Program *p = program_load_text("t.fl", src, strlen(src), NULL, st, &err);
     assert_non_null(p);
     uint32_t n = count_shared(p->top);
@@ -598,20 +591,53 @@ static void test_shared_calls(void **s)
     assert_int_equal(shared_calls("let n=9+time\nfor i in ..n\n    !a x=sin(i) y=cos(i*2) z=sin(i*3)\n"), 0);
 }
 
+/* The library reads no environment: with FLITTER_NOFAST and
+ * FLITTER_NOKERNEL set (the flitter command's names for the routes), a
+ * runtime with the default options still runs its loops through kernels;
+ * with fl_debug_options.no_kernel or no_fast it runs none, with the same
+ * tree. */
+static void test_routes_from_options_only(void **s)
+{
+    (void)s;
+    const char *src = "let n=40+floor(time)\nfor i in ..n\n    !a x=i*2+sin(i*time)\n";
+    setenv("FLITTER_NOFAST", "1", 1);
+    setenv("FLITTER_NOKERNEL", "1", 1);
+    char *log[3], *tree[3];
+    uint64_t k[3];
+    run_script_debug = (fl_debug_options){.kernel_chunk = 7};   /* small loops take kernels */
+    tree[0] = run_script("env.fl", src, 2, true, &log[0], &k[0]);
+    unsetenv("FLITTER_NOFAST");
+    unsetenv("FLITTER_NOKERNEL");
+    run_script_debug.no_kernel = true;
+    tree[1] = run_script("env.fl", src, 2, true, &log[1], &k[1]);
+    run_script_debug = (fl_debug_options){.no_fast = true, .kernel_chunk = 7};
+    tree[2] = run_script("env.fl", src, 2, true, &log[2], &k[2]);
+    run_script_debug = (fl_debug_options){0};
+    assert_int_equal(k[0], 80);
+    assert_int_equal(k[1], 0);
+    assert_int_equal(k[2], 0);
+    for (int i = 0; i < 3; i++) {
+        assert_string_equal(tree[i], tree[0]);
+        assert_string_equal(log[i], "");
+    }
+    for (int i = 0; i < 3; i++) {
+        free(tree[i]);
+        free(log[i]);
+    }
+}
+
 static void test_compiled(void **s)
 {
     (void)s;
     const char *src = "let n=9+time\nfor i in ..n\n    !a x=i*2+sin(i)\n";
     SymTab *st = symtab_new();
     Buf err = BUF_INIT;
-    unsetenv("FLITTER_NOKERNEL");
     Program *p = program_load_text("t.fl", src, strlen(src), NULL, st, &err);
     assert_non_null(p);
     assert_int_equal(count_kernels(p->top), 1);
     program_release(p);
-    setenv("FLITTER_NOKERNEL", "1", 1);
-    p = program_load_text("t.fl", src, strlen(src), NULL, st, &err);
-    unsetenv("FLITTER_NOKERNEL");
+    Globals no_kernels = {.kernel = {.off = true}};
+    p = program_load_text("t.fl", src, strlen(src), &no_kernels, st, &err);
     assert_non_null(p);
     assert_int_equal(count_kernels(p->top), 0);
     program_release(p);
@@ -624,7 +650,7 @@ static void test_compiled(void **s)
 #define REUSE_FRAMES 9
 
 /* Each of [REUSE_FRAMES] frames' tree and state of [src] in trees[], its log in
- * *[log_out], with nodes refilled (FLITTER_KERNEL_REUSE) or not, on two
+ * *[log_out], with nodes refilled (fl_debug_options.no_kernel_reuse false) or not, on two
  * threads, and how many were refilled in *[reused]. With [hold], the
  * trees of frames 0 and 3 are held (as an embedder holding fl_tree's
  * root would) until the last frame and must then read as they did. With
@@ -634,10 +660,8 @@ static void reuse_run(const char *src, bool simplify, bool reuse, bool hold, boo
                       char **log_out, uint64_t *reused)
 {
     run_script_transient = transient;
-    setenv("FLITTER_KERNEL_REUSE", reuse ? "1" : "0", 1);
-    setenv("FLITTER_THREADS", "2", 1);
-    setenv("FLITTER_KERNEL_CHUNK", "7", 1);
-    setenv("FLITTER_KERNEL_WINDOW", "63", 1);
+    run_script_debug = (fl_debug_options){.no_kernel_reuse = !reuse, .kernel_chunk = 7, .kernel_window = 63};
+    run_script_threads = 2;
     char *log = NULL;
     size_t loglen;
     FILE *lf = open_memstream(&log, &loglen);
@@ -668,10 +692,8 @@ static void reuse_run(const char *src, bool simplify, bool reuse, bool hold, boo
     fclose(lf);
     *log_out = log;
     run_script_transient = false;
-    unsetenv("FLITTER_KERNEL_REUSE");
-    unsetenv("FLITTER_THREADS");
-    unsetenv("FLITTER_KERNEL_CHUNK");
-    unsetenv("FLITTER_KERNEL_WINDOW");
+    run_script_debug = (fl_debug_options){0};
+    run_script_threads = 0;
 }
 
 /* Every frame's tree and the log with nodes refilled, with and without
@@ -782,11 +804,10 @@ static void test_reuse_budget(void **s)
     for (size_t kib = 1800; kib <= 2600; kib += 200) {
         run_script_budget = kib << 10;
         char *log0, *log1;
-        setenv("FLITTER_KERNEL_REUSE", "0", 1);
+        run_script_debug.no_kernel_reuse = true;
         char *tree0 = run_script("reuse.fl", src, 5, true, &log0, NULL);
-        setenv("FLITTER_KERNEL_REUSE", "1", 1);
+        run_script_debug.no_kernel_reuse = false;
         char *tree1 = run_script("reuse.fl", src, 5, true, &log1, NULL);
-        unsetenv("FLITTER_KERNEL_REUSE");
         if (strcmp(tree0, tree1) != 0 || strcmp(log0, log1) != 0) fprintf(stderr, "budget %zu KiB differs\n", kib);
         assert_string_equal(tree1, tree0);
         assert_string_equal(log1, log0);
@@ -816,6 +837,7 @@ int main(void)
         cmocka_unit_test(test_loop_forms),
         cmocka_unit_test(test_windows),
         cmocka_unit_test(test_compiled),
+        cmocka_unit_test(test_routes_from_options_only),
         cmocka_unit_test(test_straight),
         cmocka_unit_test(test_shared_calls),
         cmocka_unit_test(test_reuse),

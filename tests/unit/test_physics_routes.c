@@ -215,7 +215,6 @@ static StateDict *run_frames(PhysicsWorld *w, Node *ph, int frames)
 static StateDict *simulate_simd(Node *ph, bool naive, unsigned threads,
                                 int frames, int simd)
 {
-    unsetenv("FLITTER_SIMD");
     PhysicsWorld *w = phys_new();
     phys_set_pairs(w, naive);
     phys_set_threads(w, threads);
@@ -459,7 +458,6 @@ static Node *ahead_system(size_t n, double P, double run, double resolution, uin
 static StateDict *ahead_frames(bool naive, unsigned threads, double resolution, int limit,
                                int split, uint64_t counts[3], uint64_t splits[2])
 {
-    unsetenv("FLITTER_SIMD");
     PhysicsWorld *w = phys_new();
     phys_set_pairs(w, naive);
     phys_set_threads(w, threads);
@@ -842,7 +840,6 @@ static void test_full_tiles(void **st)
  * at once (phys_set_slice). */
 static StateDict *simulate_sliced(Node *ph, unsigned threads, int simd, double slice)
 {
-    unsetenv("FLITTER_SIMD");
     PhysicsWorld *w = phys_new();
     phys_set_threads(w, threads);
     if (simd >= 0) phys_set_simd(w, simd);
@@ -933,7 +930,6 @@ static void test_interrupted_step(void **st)
         volatile int flag = 0;
         StateDict *sd[2];
         for (int run = 0; run < 2; run++) {
-            unsetenv("FLITTER_SIMD");
             PhysicsWorld *w = phys_new();
             phys_set_pairs(w, route == 2);
             /* route 3 on one thread: on two, the first pass splits a
@@ -981,7 +977,6 @@ static void test_interrupted_step(void **st)
 static StateDict *simulate_split(Node *ph, unsigned threads, int simd, int mode,
                                  uint64_t counts[2])
 {
-    unsetenv("FLITTER_SIMD");
     PhysicsWorld *w = phys_new();
     phys_set_threads(w, threads);
     phys_set_simd(w, simd);

@@ -15,8 +15,7 @@
 static void test_classes_and_reuse(void **st)
 {
     (void)st;
-    unsetenv("FLITTER_NOPOOL");
-    Pool *p = pool_new();
+    Pool *p = pool_new(false);
     Pool *prev = pool_enter(p);
     void *a = pool_alloc(20);                 /* class 32 */
     memset(a, 0xab, 32);                      /* the whole class block is usable */
@@ -54,7 +53,7 @@ static void test_classes_and_reuse(void **st)
 static void test_inactive_and_nesting(void **st)
 {
     (void)st;
-    Pool *p = pool_new(), *q = pool_new();
+    Pool *p = pool_new(false), *q = pool_new(false);
     void *x = pool_alloc(40);                 /* no pool: malloc */
     pool_release(x, 40);                      /* no pool: free */
     Pool *outer = pool_enter(p);
@@ -74,13 +73,11 @@ static void test_inactive_and_nesting(void **st)
     pool_free(p);
 }
 
-/* FLITTER_NOPOOL: nothing is kept, every block is a real malloc/free. */
+/* pool_new(true) (fl_debug_options.no_pool): nothing is kept, every block is a real malloc/free. */
 static void test_nopool(void **st)
 {
     (void)st;
-    setenv("FLITTER_NOPOOL", "1", 1);
-    Pool *p = pool_new();
-    unsetenv("FLITTER_NOPOOL");
+    Pool *p = pool_new(true);
     Pool *prev = pool_enter(p);
     for (int i = 0; i < 3; i++) pool_release(pool_alloc(24), 24);
     assert_int_equal(pool_stats(p).mallocs, 3);
@@ -95,8 +92,7 @@ static void test_nopool(void **st)
 static void test_trim_keeps(void **st)
 {
     (void)st;
-    unsetenv("FLITTER_NOPOOL");
-    Pool *p = pool_new();
+    Pool *p = pool_new(false);
     Pool *prev = pool_enter(p);
     void *s16[4], *s64[3], *b1k[2];
     for (int i = 0; i < 4; i++) s16[i] = pool_alloc(16);

@@ -35,16 +35,15 @@
 #define DEFAULT_MAX_LIGHTS 50
 #define DEFAULT_SEGMENTS 64
 
-Canvas3D *canvas3d_new(void)
+Canvas3D *canvas3d_new(const C3dRoutes *routes)
 {
+    static const C3dRoutes defaults = {0};
+    if (!routes) routes = &defaults;
     Canvas3D *c = mem_calloc(1, sizeof *c);
-    const char *imp = getenv("FLITTER_CANVAS3D_IMPOSTORS");
-    c->impostors = !(imp && strcmp(imp, "0") == 0);
-    c->octagons = !(imp && strcmp(imp, "box") == 0);
-    const char *occ = getenv("FLITTER_CANVAS3D_OCCLUSION");
-    c->occlusion_mode = !occ ? C3D_OCCLUSION_AUTO
-                   : strcmp(occ, "0") == 0 ? C3D_OCCLUSION_NEVER
-                   : strcmp(occ, "1") == 0 ? C3D_OCCLUSION_ALWAYS : C3D_OCCLUSION_AUTO;
+    c->impostors = !routes->no_impostors;
+    c->octagons = !routes->box_impostors;
+    c->occlusion_mode = routes->occlusion == C3D_OCCLUSION_ALWAYS || routes->occlusion == C3D_OCCLUSION_NEVER
+                            ? routes->occlusion : C3D_OCCLUSION_AUTO;
     for (int i = 0; i < C3D_CAMERAS; i++) c->cam_id[i] = (Buf)BUF_INIT;
     c->name = (Buf)BUF_INIT;
     return c;

@@ -49,8 +49,22 @@
 
 typedef struct Canvas3D Canvas3D;
 
-/* A 3D renderer (its GL objects are made by the first drawing). */
-Canvas3D *canvas3d_new(void);
+/* When render groups have an occluders' pass (canvas3d_occlusion.h):
+ * when it is likely to pay (the default), whenever it can (for the
+ * tests), never. */
+enum { C3D_OCCLUSION_AUTO, C3D_OCCLUSION_ALWAYS, C3D_OCCLUSION_NEVER };
+
+/* How a renderer draws, for tests and measurements (fl_debug_options):
+ * every choice gives the same picture; all zero is the default. */
+typedef struct C3dRoutes {
+    bool no_impostors;   /* spheres always as meshes */
+    bool box_impostors;  /* impostors always on their boxes, never on octagons */
+    int occlusion;       /* C3D_OCCLUSION_* */
+} C3dRoutes;
+
+/* A 3D renderer (its GL objects are made by the first drawing), drawing as
+ * [routes] says (NULL: the defaults). */
+Canvas3D *canvas3d_new(const C3dRoutes *routes);
 
 struct GeomModels;
 /* The models (geom_model.h) that the scene's model kinds are made from,

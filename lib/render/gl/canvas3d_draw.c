@@ -493,7 +493,7 @@ static bool drawn_opaque(const Instance *in, bool sorted, bool see_through)
  * only into c->occlusion, when there are at least two, they lie
  * OCCLUSION_MIN_LAYERS deep or more and the group has
  * OCCLUSION_MIN_LIGHTS lights ([nl]) or more (with
- * FLITTER_CANVAS3D_OCCLUSION=1 whenever there is one). True when it was drawn:
+ * C3D_OCCLUSION_ALWAYS whenever there is one). True when it was drawn:
  * the group's opaque meshes are then drawn with p->occluded, whose
  * uniforms are set. */
 static bool occluders(Canvas3D *c, const Group *g, C3dProgram *p, Instance **list, int n, int nl, bool sorted,

@@ -47,11 +47,6 @@ typedef struct Instance {
     int rank;          /* its mesh's place among its group's meshes, by first appearance (c3d_draw_group) */
 } Instance;
 
-/* When render groups have an occluders' pass (canvas3d_occlusion.h):
- * when it is likely to pay (the default), whenever it can (for the
- * tests), never. */
-enum { C3D_OCCLUSION_AUTO, C3D_OCCLUSION_ALWAYS, C3D_OCCLUSION_NEVER };
-
 /* Cameras of one canvas (its own and those with an id). */
 #define C3D_CAMERAS 16
 
@@ -115,11 +110,11 @@ struct Canvas3D {
     Instance **tl; int cap_tl;            /* one group's translucent instances */
     C3dBackface backface;                 /* the back-face pass's framebuffer */
     C3dOcclusion occlusion;               /* the occluders' pass's framebuffer */
-    int occlusion_mode;                   /* C3D_OCCLUSION_*: FLITTER_CANVAS3D_OCCLUSION unset, =1, =0 */
+    int occlusion_mode;                   /* C3D_OCCLUSION_* (C3dRoutes.occlusion) */
     Instance **occ; int cap_occ;          /* one group's occluders */
     const GlMesh **seen; int cap_seen;    /* one group's meshes, in order of first appearance */
-    bool impostors;                       /* spheres may be drawn as impostors (FLITTER_CANVAS3D_IMPOSTORS=0: never) */
-    bool octagons;                        /* impostors may be drawn on octagons (=box: always on their box) */
+    bool impostors;                       /* spheres may be drawn as impostors (C3dRoutes.no_impostors: never) */
+    bool octagons;                        /* impostors may be drawn on octagons (C3dRoutes.box_impostors: never) */
     char program_note[600];               /* a program that failed without failing the frame (reported once) */
     bool program_noted;
     int samples_used;                     /* MSAA samples of this frame's target (0: none) */

@@ -34,6 +34,7 @@
 #include <stdint.h>
 
 #include "canvas.h"
+#include "canvas3d.h"
 #include "mem.h"
 #include "node.h"
 #include "value.h"
@@ -47,6 +48,7 @@ typedef struct GraphEnv {
     MemBudget *budget;           /* charged for framebuffers, textures and decoded media (may be NULL) */
     volatile int *interrupt;     /* polled by long drawing loops (may be NULL) */
     double model_cache;          /* seconds a model unused is kept (--modelcache); 0: Flitter's 300 */
+    C3dRoutes c3d;               /* how !canvas3d draws (fl_debug_options) */
     /* `!sdf function=`: distances (negative inside) of function value [fn]
      * at [n] points (xyz: 3n doubles) into [out], a result that is not one
      * number NaN; false once interrupted (geom_model.h). NULL: no model. */

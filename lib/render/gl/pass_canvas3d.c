@@ -68,7 +68,7 @@ static GlTarget *draw_camera(Graph *g, int i)
 static void render_canvas3d(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
 {
     C3dPass *cp = (C3dPass *)p;
-    if (!g->c3d) g->c3d = canvas3d_new();
+    if (!g->c3d) g->c3d = canvas3d_new(&g->env.c3d);
     canvas3d_set_models(g->c3d, models_of(g), g->env.budget, note_line, g);
     CanvasEnv env = {.symbols = g->env.symbols, .skips = &g->skips, .interrupt = g->env.interrupt};
     graph_canvas_images(g, &env);

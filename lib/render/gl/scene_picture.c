@@ -46,7 +46,7 @@ int scene_picture_draw(ScenePicture *sp, const C3dScene *s, cairo_surface_t *pic
             return -1;
         }
         sp->pool = target_pool_new(sp->gl, NULL);
-        sp->c3d = canvas3d_new();
+        sp->c3d = canvas3d_new(NULL);
     } else if (!gl_context_use(sp->gl)) {
         snprintf(err, errlen, "the OpenGL context cannot be made current");
         return -1;
