@@ -867,170 +867,320 @@ static void draw_scope(Ctx *c, const Node *n, const Paint *paint, const Font *fo
     path_free(&path);
 }
 
-static void draw_node(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+/* !group: its children in a scope of their own (paint, font, transform restored after). */
+static void kind_group(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)path;
+    cairo_t *cr = c->cr;
+    cairo_save(cr);
+    draw_scope(c, n, paint, font);
+    cairo_restore(c->cr);
+}
+
+/* !transform: its children under translate, rotate, scale (cairo state restored after). */
+static void kind_transform(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
 {
     cairo_t *cr = c->cr;
+    cairo_save(cr);
+    update_transform(c, n);
+    draw_children(c, n, paint, font, path);
+    cairo_restore(c->cr);
+}
+
+/* !paint: its children with the paint (colour, stroke width, composite...) changed. */
+static void kind_paint(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    Paint p;
+    paint_copy(&p, paint);
+    update_paint(c, n, &p);
+    draw_children(c, n, &p, font, path);
+    paint_done(&p);
+}
+
+/* !font: its children with the font (family, size, weight, slant) changed. */
+static void kind_font(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    Font f = *font;
+    update_font(c, n, &f);
+    draw_children(c, n, paint, &f, path);
+}
+
+/* !path: its children build a path of their own (fill_type=:even_odd or winding). */
+static void kind_path(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)path;
+    Path p = {.rule = CAIRO_FILL_RULE_WINDING};
+    if (canvas_attr_str(n, "fill_type", c->env->symbols, &c->text) &&
+        strcmp(buf_cstr(&c->text), "even_odd") == 0)
+        p.rule = CAIRO_FILL_RULE_EVEN_ODD;
+    draw_children(c, n, paint, font, &p);
+    path_free(&p);
+}
+
+/* !move_to and !line_to point=X;Y: a step of the current path. */
+static void kind_move_or_line_to(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)paint; (void)font;
+    const char *kind = rnode_kind(n);
+    double v[2];
+    PathOp *o;
+    if (canvas_attr_nums(n, "point", 2, v)) {
+        o = path_add(c, path, kind[0] == 'm' ? OP_MOVE : OP_LINE);
+        o->a[0] = v[0]; o->a[1] = v[1];
+    }
+}
+
+/* !curve_to point= c1= [c2=]: a quadratic or cubic segment of the current path. */
+static void kind_curve_to(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)paint; (void)font;
+    double v[2];
+    PathOp *o;
+    double c1[2], c2[2];
+    if (canvas_attr_nums(n, "point", 2, v) && canvas_attr_nums(n, "c1", 2, c1)) {
+        if (canvas_attr_nums(n, "c2", 2, c2)) {
+            o = path_add(c, path, OP_CUBIC);
+            o->a[0] = c1[0]; o->a[1] = c1[1]; o->a[2] = c2[0]; o->a[3] = c2[1];
+            o->a[4] = v[0]; o->a[5] = v[1];
+        } else {
+            o = path_add(c, path, OP_QUAD);
+            o->a[0] = c1[0]; o->a[1] = c1[1]; o->a[2] = v[0]; o->a[3] = v[1];
+        }
+    }
+}
+
+/* !arc point= radius= start= sweep=|end= [move_to=]: an elliptical arc of the current path (turns). */
+static void kind_arc(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)paint; (void)font;
+    double r[2];
+    PathOp *o;
+    double pt[2] = {0, 0}, sweep;
+    canvas_attr_nums(n, "point", 2, pt);
+    if (!canvas_attr_nums(n, "radius", 2, r)) return;
+    double start = attr_num(n, "start", 0);
+    if (!canvas_attr_nums(n, "sweep", 1, &sweep)) {
+        double end;
+        if (!canvas_attr_nums(n, "end", 1, &end)) return;
+        sweep = end - start;
+    }
+    if (attr_bool(n, "move_to", false)) {
+        /* start a new contour at the arc's first point */
+        o = path_add(c, path, OP_MOVE);
+        o->a[0] = pt[0] + r[0] * cos(start * TAU);
+        o->a[1] = pt[1] + r[1] * sin(start * TAU);
+    }
+    o = path_add(c, path, OP_ARC);
+    o->a[0] = pt[0]; o->a[1] = pt[1]; o->a[2] = r[0]; o->a[3] = r[1];
+    o->a[4] = start; o->a[5] = sweep;
+}
+
+/* !rect, !ellipse and !line: added to the current path, or drawn at once when fill= or stroke=. */
+static void kind_shape(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)font;
     const char *kind = rnode_kind(n);
     double v[2], r[2];
     PathOp *o;
-    /* (c->cr after children: a long draw abandoned replaces it) */
-    if (strcmp(kind, "group") == 0) {
-        cairo_save(cr);
-        draw_scope(c, n, paint, font);
-        cairo_restore(c->cr);
-    } else if (strcmp(kind, "transform") == 0) {
-        cairo_save(cr);
-        update_transform(c, n);
-        draw_children(c, n, paint, font, path);
-        cairo_restore(c->cr);
-    } else if (strcmp(kind, "paint") == 0) {
-        Paint p;
-        paint_copy(&p, paint);
-        update_paint(c, n, &p);
-        draw_children(c, n, &p, font, path);
-        paint_done(&p);
-    } else if (strcmp(kind, "font") == 0) {
-        Font f = *font;
-        update_font(c, n, &f);
-        draw_children(c, n, paint, &f, path);
-    } else if (strcmp(kind, "path") == 0) {
-        Path p = {.rule = CAIRO_FILL_RULE_WINDING};
-        if (canvas_attr_str(n, "fill_type", c->env->symbols, &c->text) &&
-            strcmp(buf_cstr(&c->text), "even_odd") == 0)
-            p.rule = CAIRO_FILL_RULE_EVEN_ODD;
-        draw_children(c, n, paint, font, &p);
-        path_free(&p);
-    } else if (strcmp(kind, "move_to") == 0 || strcmp(kind, "line_to") == 0) {
-        if (canvas_attr_nums(n, "point", 2, v)) {
-            o = path_add(c, path, kind[0] == 'm' ? OP_MOVE : OP_LINE);
-            o->a[0] = v[0]; o->a[1] = v[1];
-        }
-    } else if (strcmp(kind, "curve_to") == 0) {
-        double c1[2], c2[2];
-        if (canvas_attr_nums(n, "point", 2, v) && canvas_attr_nums(n, "c1", 2, c1)) {
-            if (canvas_attr_nums(n, "c2", 2, c2)) {
-                o = path_add(c, path, OP_CUBIC);
-                o->a[0] = c1[0]; o->a[1] = c1[1]; o->a[2] = c2[0]; o->a[3] = c2[1];
-                o->a[4] = v[0]; o->a[5] = v[1];
-            } else {
-                o = path_add(c, path, OP_QUAD);
-                o->a[0] = c1[0]; o->a[1] = c1[1]; o->a[2] = v[0]; o->a[3] = v[1];
-            }
-        }
-    } else if (strcmp(kind, "arc") == 0) {
-        double pt[2] = {0, 0}, sweep;
-        canvas_attr_nums(n, "point", 2, pt);
-        if (!canvas_attr_nums(n, "radius", 2, r)) return;
-        double start = attr_num(n, "start", 0);
-        if (!canvas_attr_nums(n, "sweep", 1, &sweep)) {
-            double end;
-            if (!canvas_attr_nums(n, "end", 1, &end)) return;
-            sweep = end - start;
-        }
-        if (attr_bool(n, "move_to", false)) {
-            /* start a new contour at the arc's first point */
-            o = path_add(c, path, OP_MOVE);
-            o->a[0] = pt[0] + r[0] * cos(start * TAU);
-            o->a[1] = pt[1] + r[1] * sin(start * TAU);
-        }
-        o = path_add(c, path, OP_ARC);
-        o->a[0] = pt[0]; o->a[1] = pt[1]; o->a[2] = r[0]; o->a[3] = r[1];
-        o->a[4] = start; o->a[5] = sweep;
-    } else if (strcmp(kind, "rect") == 0 || strcmp(kind, "ellipse") == 0 || strcmp(kind, "line") == 0) {
-        Path own = {.rule = path->rule};
-        bool fill = attr_bool(n, "fill", false), stroke = attr_bool(n, "stroke", false);
-        Path *target = (fill || stroke) ? &own : path;
-        double pt[2] = {0, 0};
-        canvas_attr_nums(n, "point", 2, pt);
-        if (kind[0] == 'r') {
-            if (!canvas_attr_nums(n, "size", 2, v)) return;
-            r[0] = r[1] = 0;
-            canvas_attr_nums(n, "radius", 2, r);
-            o = path_add(c, target, (r[0] != 0 || r[1] != 0) ? OP_RRECT : OP_RECT);
-            o->a[0] = pt[0]; o->a[1] = pt[1]; o->a[2] = v[0]; o->a[3] = v[1];
-            o->a[4] = r[0]; o->a[5] = r[1];
-        } else if (kind[0] == 'e') {
-            if (!canvas_attr_nums(n, "radius", 2, r)) return;
-            o = path_add(c, target, OP_OVAL);
-            o->a[0] = pt[0]; o->a[1] = pt[1]; o->a[2] = r[0]; o->a[3] = r[1];
-        } else {
-            const Vec *pts = rnode_attr(n, "points");
-            if (!vec_is_num(pts)) return;
-            line_path(c, target, vec_cnums(pts), vec_len(pts) / 2, attr_num(n, "curve", 0),
-                      attr_bool(n, "close", false));
-        }
-        if (fill || stroke) draw_shape(c, n, paint, &own, fill, stroke);
-        path_free(&own);
-    } else if (strcmp(kind, "close") == 0) {
-        path_add(c, path, OP_CLOSE);
-    } else if (strcmp(kind, "fill") == 0 || strcmp(kind, "stroke") == 0) {
-        draw_shape(c, n, paint, path, kind[0] == 'f', kind[0] == 's');
-    } else if (strcmp(kind, "clip") == 0 || strcmp(kind, "mask") == 0) {
-        path_replay(c, path);
-        if (kind[0] == 'm') {   /* clip to the outside of the path: the path XOR the whole picture */
-            cairo_matrix_t m;
-            cairo_get_matrix(cr, &m);
-            cairo_identity_matrix(cr);
-            double x0, y0, x1, y1;
-            cairo_clip_extents(cr, &x0, &y0, &x1, &y1);
-            cairo_rectangle(cr, x0 - 1, y0 - 1, x1 - x0 + 2, y1 - y0 + 2);
-            cairo_set_matrix(cr, &m);
-            cairo_set_fill_rule(cr, CAIRO_FILL_RULE_EVEN_ODD);
-        }
-        cairo_set_antialias(cr, paint->antialias ? CAIRO_ANTIALIAS_DEFAULT : CAIRO_ANTIALIAS_NONE);
-        cairo_clip(cr);
-    } else if (strcmp(kind, "dash") == 0) {
-        /* a path effect for the strokes after it: intervals=ON;OFF;... offset=D */
-        const Vec *iv = rnode_attr(n, "intervals");
-        bool ok = vec_is_num(iv) && vec_len(iv) > 0 && vec_len(iv) < 1024;
-        double sum = 0;
-        for (uint32_t k = 0; ok && k < vec_len(iv); k++) {
-            double d = vec_cnums(iv)[k];
-            ok = d >= 0 && isfinite(d);
-            sum += d;
-        }
-        if (ok && sum > 0) {
-            paint->dashes = vec_cnums(iv);
-            paint->ndashes = (int)vec_len(iv);
-            paint->dash_offset = attr_num(n, "offset", 0);
-            if (!isfinite(paint->dash_offset)) paint->dash_offset = 0;
-        }
-    } else if (strcmp(kind, "text") == 0) {
-        draw_text(c, n, paint, font);
-    } else if (strcmp(kind, "layer") == 0) {
+    Path own = {.rule = path->rule};
+    bool fill = attr_bool(n, "fill", false), stroke = attr_bool(n, "stroke", false);
+    Path *target = (fill || stroke) ? &own : path;
+    double pt[2] = {0, 0};
+    canvas_attr_nums(n, "point", 2, pt);
+    if (kind[0] == 'r') {
         if (!canvas_attr_nums(n, "size", 2, v)) return;
-        double origin[2] = {0, 0};
-        canvas_attr_nums(n, "origin", 2, origin);
-        double alpha = attr_num(n, "alpha", 1);
-        /* as in Flitter, the layer's clip outlives the layer */
-        cairo_rectangle(cr, origin[0], origin[1], v[0], v[1]);
-        cairo_clip(cr);
-        cairo_push_group(cr);
-        draw_scope(c, n, paint, font);
-        cairo_pop_group_to_source(cr);
-        cairo_set_operator(cr, CAIRO_OPERATOR_OVER);
-        cairo_paint_with_alpha(cr, alpha);
-    } else if (strcmp(kind, "gradient") == 0) {
-        make_gradient(c, n, paint);
-    } else if (strcmp(kind, "image") == 0) {
-        draw_image(c, n, paint);
-    } else if (strcmp(kind, "pattern") == 0) {
-        cairo_pattern_t *pat = make_pattern(c, n);
-        if (pat) {
-            paint_done(paint);
-            paint->shader = pat;
-        }
-    } else if (strcmp(kind, "blend") == 0) {
-        make_blend(c, n, paint, font, path);
-    } else if (strcmp(kind, "color") == 0) {
-        double rgba[4];
-        memcpy(rgba, paint->rgba, sizeof rgba);
-        node_color(n, rgba);
-        paint_done(paint);
-        paint->shader = color_pattern(c, rgba);
+        r[0] = r[1] = 0;
+        canvas_attr_nums(n, "radius", 2, r);
+        o = path_add(c, target, (r[0] != 0 || r[1] != 0) ? OP_RRECT : OP_RECT);
+        o->a[0] = pt[0]; o->a[1] = pt[1]; o->a[2] = v[0]; o->a[3] = v[1];
+        o->a[4] = r[0]; o->a[5] = r[1];
+    } else if (kind[0] == 'e') {
+        if (!canvas_attr_nums(n, "radius", 2, r)) return;
+        o = path_add(c, target, OP_OVAL);
+        o->a[0] = pt[0]; o->a[1] = pt[1]; o->a[2] = r[0]; o->a[3] = r[1];
     } else {
-        skiplog_note(c->env->skips, "canvas", kind);
+        const Vec *pts = rnode_attr(n, "points");
+        if (!vec_is_num(pts)) return;
+        line_path(c, target, vec_cnums(pts), vec_len(pts) / 2, attr_num(n, "curve", 0),
+                  attr_bool(n, "close", false));
     }
+    if (fill || stroke) draw_shape(c, n, paint, &own, fill, stroke);
+    path_free(&own);
+}
+
+/* !close: closes the current contour. */
+static void kind_close(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)n; (void)paint; (void)font;
+    path_add(c, path, OP_CLOSE);
+}
+
+/* !fill and !stroke: draw the current path. */
+static void kind_fill_or_stroke(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)font;
+    const char *kind = rnode_kind(n);
+    draw_shape(c, n, paint, path, kind[0] == 'f', kind[0] == 's');
+}
+
+/* !clip: clip to the current path; !mask: clip to its outside. */
+static void kind_clip_or_mask(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)n; (void)font;
+    cairo_t *cr = c->cr;
+    const char *kind = rnode_kind(n);
+    path_replay(c, path);
+    if (kind[0] == 'm') {   /* clip to the outside of the path: the path XOR the whole picture */
+        cairo_matrix_t m;
+        cairo_get_matrix(cr, &m);
+        cairo_identity_matrix(cr);
+        double x0, y0, x1, y1;
+        cairo_clip_extents(cr, &x0, &y0, &x1, &y1);
+        cairo_rectangle(cr, x0 - 1, y0 - 1, x1 - x0 + 2, y1 - y0 + 2);
+        cairo_set_matrix(cr, &m);
+        cairo_set_fill_rule(cr, CAIRO_FILL_RULE_EVEN_ODD);
+    }
+    cairo_set_antialias(cr, paint->antialias ? CAIRO_ANTIALIAS_DEFAULT : CAIRO_ANTIALIAS_NONE);
+    cairo_clip(cr);
+}
+
+/* !dash intervals= offset=: a dash pattern for the strokes after it. */
+static void kind_dash(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)c; (void)font; (void)path;
+    /* a path effect for the strokes after it: intervals=ON;OFF;... offset=D */
+    const Vec *iv = rnode_attr(n, "intervals");
+    bool ok = vec_is_num(iv) && vec_len(iv) > 0 && vec_len(iv) < 1024;
+    double sum = 0;
+    for (uint32_t k = 0; ok && k < vec_len(iv); k++) {
+        double d = vec_cnums(iv)[k];
+        ok = d >= 0 && isfinite(d);
+        sum += d;
+    }
+    if (ok && sum > 0) {
+        paint->dashes = vec_cnums(iv);
+        paint->ndashes = (int)vec_len(iv);
+        paint->dash_offset = attr_num(n, "offset", 0);
+        if (!isfinite(paint->dash_offset)) paint->dash_offset = 0;
+    }
+}
+
+/* !text: a line of text in the current font. */
+static void kind_text(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)path;
+    draw_text(c, n, paint, font);
+}
+
+/* !layer size= origin= alpha=: its children drawn into a group, composited with alpha. */
+static void kind_layer(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)path;
+    cairo_t *cr = c->cr;
+    double v[2];
+    if (!canvas_attr_nums(n, "size", 2, v)) return;
+    double origin[2] = {0, 0};
+    canvas_attr_nums(n, "origin", 2, origin);
+    double alpha = attr_num(n, "alpha", 1);
+    /* as in Flitter, the layer's clip outlives the layer */
+    cairo_rectangle(cr, origin[0], origin[1], v[0], v[1]);
+    cairo_clip(cr);
+    cairo_push_group(cr);
+    draw_scope(c, n, paint, font);
+    cairo_pop_group_to_source(cr);
+    cairo_set_operator(cr, CAIRO_OPERATOR_OVER);
+    cairo_paint_with_alpha(cr, alpha);
+}
+
+/* !gradient: a linear or radial gradient as the paint. */
+static void kind_gradient(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)font; (void)path;
+    make_gradient(c, n, paint);
+}
+
+/* !image: a picture file or a window's picture drawn into a rectangle. */
+static void kind_image(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)font; (void)path;
+    draw_image(c, n, paint);
+}
+
+/* !pattern: a repeated picture as the paint. */
+static void kind_pattern(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)font; (void)path;
+    cairo_pattern_t *pat = make_pattern(c, n);
+    if (pat) {
+        paint_done(paint);
+        paint->shader = pat;
+    }
+}
+
+/* !blend: its children blended by a cairo operator. */
+static void kind_blend(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    make_blend(c, n, paint, font, path);
+}
+
+/* !color color=: a flat colour as the paint. */
+static void kind_color(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    (void)font; (void)path;
+    double rgba[4];
+    memcpy(rgba, paint->rgba, sizeof rgba);
+    node_color(n, rgba);
+    paint_done(paint);
+    paint->shader = color_pattern(c, rgba);
+}
+
+/* The canvas node kinds and their drawers, sorted by kind for bsearch. */
+typedef void (*NodeDrawer)(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path);
+static const struct NodeKind {
+    const char *kind;
+    NodeDrawer draw;
+} node_kinds[] = {
+    {"arc", kind_arc},
+    {"blend", kind_blend},
+    {"clip", kind_clip_or_mask},
+    {"close", kind_close},
+    {"color", kind_color},
+    {"curve_to", kind_curve_to},
+    {"dash", kind_dash},
+    {"ellipse", kind_shape},
+    {"fill", kind_fill_or_stroke},
+    {"font", kind_font},
+    {"gradient", kind_gradient},
+    {"group", kind_group},
+    {"image", kind_image},
+    {"layer", kind_layer},
+    {"line", kind_shape},
+    {"line_to", kind_move_or_line_to},
+    {"mask", kind_clip_or_mask},
+    {"move_to", kind_move_or_line_to},
+    {"paint", kind_paint},
+    {"path", kind_path},
+    {"pattern", kind_pattern},
+    {"rect", kind_shape},
+    {"stroke", kind_fill_or_stroke},
+    {"text", kind_text},
+    {"transform", kind_transform},
+};
+
+static int node_kind_cmp(const void *key, const void *entry)
+{
+    return strcmp(key, ((const struct NodeKind *)entry)->kind);
+}
+
+/* Draw [n] by its kind (c->cr after children: a long draw abandoned
+ * replaces it); a kind that is not a canvas node's is noted as skipped. */
+static void draw_node(Ctx *c, const Node *n, Paint *paint, const Font *font, Path *path)
+{
+    const char *kind = rnode_kind(n);
+    const struct NodeKind *k =
+        bsearch(kind, node_kinds, sizeof node_kinds / sizeof node_kinds[0], sizeof node_kinds[0], node_kind_cmp);
+    if (k) k->draw(c, n, paint, font, path);
+    else skiplog_note(c->env->skips, "canvas", kind);
 }
 
 bool canvas_draw(cairo_t *cr, const Node *canvas, const CanvasEnv *env)
