@@ -696,6 +696,13 @@ static int step(fl_runtime *rt)
         rt->wall_start = monotonic() - rt->frame_time;
         rt->clock_started = true;
     }
+    /* the program's pragmas first: their fps, tempo and quantum are the
+     * names of the frame they are loaded in, frame 0 included
+     * (FORMATS.md §5; Flitter 1.0.0b28 applies them after, LANGUAGE.md §6.4) */
+    if (rt->pragmas_pending) {
+        apply_pragmas(rt);
+        rt->pragmas_pending = false;
+    }
     double t = rt->frame_time;
     double beat = beat_at(rt, t);
     double delta = beat - rt->last_beat, prev_beat = rt->last_beat;
@@ -710,10 +717,6 @@ static int step(fl_runtime *rt)
     set_num(rt, G_PERFORMANCE, rt->performance);
     set_num(rt, G_SLOW_FRAME, rt->slow_frame ? 1.0 : 0.0);
     set_num(rt, G_CLOCK, t);
-    if (rt->pragmas_pending) {
-        apply_pragmas(rt);
-        rt->pragmas_pending = false;
-    }
     if (rt->frame >= MAX_FRAME || !isfinite(beat) || !isfinite(t + 1.0 / rt->target_fps)) {
         /* one more frame would leave a clock that a state file cannot
          * hold (statefile_clock_refused): the clock stops here, where it

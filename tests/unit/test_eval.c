@@ -67,6 +67,23 @@ static void expect(const char *src, const char *tree, const char *log)
     free(r.log);
 }
 
+/* %pragma fps, tempo and quantum are the names of frame 0 already
+ * (FORMATS.md §5; Flitter 1.0.0b28 shows the defaults there): tempo is
+ * 60/period with period = 60/110, and frame 1 is 1/30 s later, at beat
+ * (1/30)/(60/110). */
+static void test_pragmas_from_frame_0(void **s)
+{
+    (void)s;
+    const char *src = "%pragma fps 30\n%pragma tempo 110\n%pragma quantum 3\n"
+                      "!a f=fps t=tempo q=quantum b=beat time=time\n";
+    expect(src, "!root\n !a f=30 t=110.00000000000001 q=3 b=0 time=0\n", "");
+    Run r = run_frames(src, 2);
+    assert_string_equal(r.tree, "!root\n !a f=30 t=110.00000000000001 q=3 b=0.061111111111111116 "
+                                "time=0.03333333333333333\n");
+    free(r.tree);
+    free(r.log);
+}
+
 static void test_shadowing(void **s)
 {
     (void)s;
@@ -365,6 +382,7 @@ static void test_interrupt_transient(void **s)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_pragmas_from_frame_0),
         cmocka_unit_test(test_shadowing),
         cmocka_unit_test(test_closures_capture_by_value),
         cmocka_unit_test(test_program_a),
