@@ -12,7 +12,7 @@
  *
  * Errors: the first lexical, indentation or syntax error stops the parse and
  * is written once as `PATH:LINE:COL: error: MESSAGE`, the source line and a
- * caret line under the offending span (STYLE.md §6). A syntax error whose
+ * caret line under the offending span (FORMATS.md §4). A syntax error whose
  * unexpected token is the end of the input, or a newline/dedent followed by
  * nothing but layout, reads "unexpected end of input" so that a REPL can ask
  * for more lines.
