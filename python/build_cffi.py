@@ -1,6 +1,6 @@
 """Emit the C source of flitter_c._flitter_cffi (cffi API mode) to argv[1].
 
-The declarations below are the subset of lib/flitter.h the Python module
+The declarations below are the subset of include/flitter.h the Python module
 uses; the C compiler checks them against the real header, so a mismatch
 fails the build rather than a call.
 """

@@ -4,7 +4,8 @@
 usage: layers.py REPO_ROOT
 
 Reads the "| layer | folder | may include |" table of ARCHITECTURE.md, then
-every `#include "..."` of every .c/.h file under lib/: the header must live in
+every `#include "..."` of every .c/.h file under lib/ and include/ (the
+folders the table lists; include/ holds the public flitter.h): the header must live in
 the including file's own folder or in a folder its layer may include. Headers
 generated at build time (parser.h, from grammar/parser.y) belong to syntax.
 Also fails when a header name is not unique across lib/ (includes are
@@ -57,7 +58,9 @@ def main():
 
     home = {}  # header basename -> layer
     files = []  # (path, layer)
-    for dirpath, _, filenames in os.walk(os.path.join(root, "lib")):
+    tops = sorted({folder.split("/")[0] for folder in layers})   # lib, include
+    walked = [w for top in tops for w in os.walk(os.path.join(root, top))]
+    for dirpath, _, filenames in walked:
         folder = os.path.relpath(dirpath, root)
         for fn in sorted(filenames):
             if not fn.endswith((".c", ".h")):
@@ -113,7 +116,7 @@ def main():
     with open(os.path.join(root, "ARCHITECTURE.md"), encoding="utf-8") as f:
         text = f.read()
     placed = 0
-    for top in ("lib", "src"):
+    for top in ("lib", "include", "src"):
         for dirpath, _, filenames in os.walk(os.path.join(root, top)):
             names = set(filenames)
             for fn in sorted(filenames):

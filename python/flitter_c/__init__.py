@@ -1,6 +1,6 @@
 """flitter_c: Flitter scripts and their !physics from Python, over libflitter.
 
-Only the public C interface (lib/flitter.h) is used, through cffi in API
+Only the public C interface (include/flitter.h) is used, through cffi in API
 mode. A ``Simulation`` owns one runtime; several may live side by side in
 one process (nothing is global), each used by one thread at a time (a lock
 per simulation enforces it). The GIL is released inside every library call,

@@ -1,4 +1,4 @@
-/* test_api.c: the public interface (lib/flitter.h) as an embedder sees it:
+/* test_api.c: the public interface (include/flitter.h) as an embedder sees it:
  * value text for state keys and values, dumps through writer callbacks,
  * the log callback's kinds, fl_error, fl_target_fps, and the error
  * callback receiving an out-of-memory failure before the abort. Only

@@ -1,4 +1,4 @@
-/* test_api_null.c: the C interface keeps its contract (lib/flitter.h, top:
+/* test_api_null.c: the C interface keeps its contract (include/flitter.h, top:
  * "Errors"; issue 28 item 8). Every public function is called with NULL in
  * each pointer position, on a fresh runtime and on one with a program
  * loaded and stepped where that matters, and with sizes past its limits

@@ -1,4 +1,4 @@
-/* test_api_particles.c: fl_particles (lib/api_particles.c) through the
+/* test_api_particles.c: fl_particles (lib/runtime/api_particles.c) through the
  * public interface only: the particles and the anchor of a !physics system
  * in state-dump order with their positions and velocities bit for bit as
  * the state holds them, keys that are not particles left out, a system

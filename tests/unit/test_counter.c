@@ -1,4 +1,4 @@
-/* test_counter.c: unit tests of the !counter renderer (lib/counter.c,
+/* test_counter.c: unit tests of the !counter renderer (lib/runtime/counter.c,
  * COUNTERS.md). Each test builds a !counter node, runs counter_update for a
  * few frame times and checks the state dictionary entries KEY and KEY;:time
  * exactly. The inputs are chosen so that every expected value is an exact

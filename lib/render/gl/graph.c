@@ -283,7 +283,7 @@ static void descend(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
         const Node *c = rnode_child(n, i);
         const PassKind *kind = kind_of(c);
         if (!kind) {
-            if (!rnode_is(c, "key") && !rnode_is(c, "pointer"))   /* input, read by lib/input.c */
+            if (!rnode_is(c, "key") && !rnode_is(c, "pointer"))   /* input, read by lib/runtime/input.c */
                 skiplog_note(&g->skips, "window", rnode_kind(c));
             continue;
         }

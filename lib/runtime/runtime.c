@@ -633,7 +633,7 @@ static void run_counters(fl_runtime *rt, Node *const *nodes, size_t n, double t)
  * disjoint state keys, so running each kind in turn equals tree order.
  * Flitter's other top-level renderers (its pyproject's "flitter.render"
  * plugins) that flitter-c does not have: named once (NULL run). Windows
- * are drawn by the render graph (lib/pictures.c); any other kind is the
+ * are drawn by the render graph (lib/runtime/pictures.c); any other kind is the
  * script's own data and is left alone, as Flitter leaves it. */
 static const Renderer renderers[] = {
     {"physics", run_physics, NULL},

@@ -511,7 +511,7 @@ FL_API const char *fl_builtin_name(size_t i);
 FL_API size_t fl_number_text(double x, char *buf, size_t cap);
 
 /* {=====================================================================
- * Particles (lib/api_particles.c)
+ * Particles (lib/runtime/api_particles.c)
  * ===================================================================== */
 
 /* Receives one particle: [id_text] is the value text of its id (e.g. `12`
