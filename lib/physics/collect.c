@@ -149,8 +149,9 @@ static void fvec0_of(const Vec *v, size_t D, double *out)
 /* The node kinds collection knows: the applier kinds, then these. */
 enum { KIND_PARTICLE = AP_BARRIER + 1, KIND_ANCHOR, KIND_GROUP, KIND_OTHER };
 
-/* The kind of a child of a !physics node or group, by one switch on the
- * length of its kind name and at most five comparisons. */
+/* The kind of a child of a !physics node or group: a scan of the kind
+ * names' table, comparing the length and first byte before the name (the
+ * result is cached per kind symbol: cached_class). */
 static int child_kind_of(const Str *k)
 {
     static const struct { const char *name; unsigned char len, kind; } t[] = {
