@@ -981,6 +981,10 @@ static StateDict *simulate_split(Node *ph, unsigned threads, int simd, int mode,
     phys_set_threads(w, threads);
     phys_set_simd(w, simd);
     phys_set_split(w, mode);
+    /* no draws made ahead between frames: how many the background job
+     * would make depends on the threads' timing, and they move the cut
+     * (a loaded machine once left a level unsplit) */
+    phys_set_ahead(w, 0);
     StateDict *sd = state_new();
     for (int f = 0; f < 3; f++) {
         PhysicsFrame fr = {.time = 0.25 * f, .fps = 4, .realtime = false,
