@@ -6,8 +6,10 @@
  * system's D-double scratch `dir`. Each applier is a PhysApplier whose vector
  * parameters are the 2*D doubles at avec[vec].
  *
- * Implements PHYSICS-ENGINE.md §4 "pair(a, b)" and the pair appliers
- * (distance, collision, gravity, electrostatic, adhesion), with the
+ * Implements PHYSICS-ENGINE.md §4 "pair(a, b)", !distance and the
+ * reference all-pairs loop of the pair appliers (collision, gravity,
+ * electrostatic, adhesion: each defined once, in physics_internal.h's
+ * phys_pair_force_side, for this loop and the fast routes alike), with the
  * floating-point operations in exactly the order written there (PHYSICS.md
  * gives the maths). The per-particle appliers (drag, buoyancy, constant,
  * random, field), the barriers and the step live in step.c.
@@ -105,67 +107,19 @@ void phys_apply_distances(PhysSystem *s, const uint32_t *list, size_t n)
     }
 }
 
-/* One pair applier on the pair (a, b) already measured by phys_pair(). */
+/* One pair applier on the pair (a, b) already measured by phys_pair(): its
+ * one definition, phys_pair_force_side() (physics_internal.h), which the
+ * fast routes call for one side of a pair, applied to a's side and then
+ * to b's. The same bits as computing k once and updating both sides per
+ * element: k is the same operations on the same numbers, and a's and b's
+ * elements are updated by the same subtraction or addition of dir_i*k
+ * (PHYSICS-ENGINE.md §4, pair appliers). */
 static inline void pair_force(PhysSystem *s, const PhysApplier *ap, size_t a,
                               size_t b, double dist)
 {
     const size_t D = s->D;
-    double *fa = s->force + a * D, *fb = s->force + b * D;
-    const double *dir = s->dir;
-    switch (ap->kind) {
-    case AP_COLLISION: {
-        /* §4 collision: both radii nonzero and dist < ra+rb:
-         * k = (ra+rb) - dist, power, strength; a.F -= f; b.F += f */
-        double ra = s->radius[a], rb = s->radius[b];
-        if (ra != 0 && rb != 0) {
-            double r = ra + rb;
-            if (dist < r)
-                push_apart(fa, fb, dir, phys_shape(r - dist, ap->power, ap->strength), D);
-        }
-        break;
-    }
-    case AP_GRAVITY: {
-        /* §4 gravity: m = max(ra+rb, dist); k = strength*ma*mb/(m*m);
-         * a.F += dir*k; b.F -= dir*k */
-        double ma = s->mass[a], mb = s->mass[b];
-        if (ma != 0 && mb != 0) {
-            double m = py_max(s->radius[a] + s->radius[b], dist);
-            double k = ap->strength * ma * mb / (m * m);
-            pull_together(fa, fb, dir, k, D);
-        }
-        break;
-    }
-    case AP_ELECTROSTATIC: {
-        /* §4 electrostatic: as gravity with charges; a.F -= dir*k;
-         * b.F += dir*k */
-        double qa = s->charge[a], qb = s->charge[b];
-        if (qa != 0 && qb != 0) {
-            double m = py_max(s->radius[a] + s->radius[b], dist);
-            double k = ap->strength * qa * qb / (m * m);
-            push_apart(fa, fb, dir, k, D);
-        }
-        break;
-    }
-    case AP_ADHESION: {
-        /* §4 adhesion: o = (ra+rb) - dist, lmin = |ra-rb|,
-         * l = lmin*overlap + (ra+rb)*(1-overlap), k = strength*o*(dist-l);
-         * a.F += dir*k; b.F -= dir*k */
-        double ra = s->radius[a], rb = s->radius[b];
-        if (ra != 0 && rb != 0) {
-            double r = ra + rb;
-            if (dist < r) {
-                double o = r - dist;
-                double lmin = fabs(ra - rb);
-                double l = lmin * ap->overlap + r * (1 - ap->overlap);
-                double k = ap->strength * o * (dist - l);
-                pull_together(fa, fb, dir, k, D);
-            }
-        }
-        break;
-    }
-    default:
-        break;
-    }
+    phys_pair_force_side(s, ap, a, b, dist, s->dir, s->force + a * D, false, D);
+    phys_pair_force_side(s, ap, a, b, dist, s->dir, s->force + b * D, true, D);
 }
 
 /* §4 group loop: for i in 0..len(G.particles)-1, j in i+1..len(pool)-1:
