@@ -94,14 +94,6 @@ const Vec *state_get(const StateDict *sd, const Vec *key)
     return s ? s->value : NULL;
 }
 
-Vec *state_get_mutable(StateDict *sd, const Vec *key)
-{
-    sd->counts.gets++;
-    if (!key || !key->len) return NULL;
-    Slot *s = find(sd, key, key_hash(key));
-    return s ? s->value : NULL;
-}
-
 static void rebuild(StateDict *sd, size_t cap)
 {
     Slot *old = sd->slots;

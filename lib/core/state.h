@@ -24,12 +24,6 @@ void state_free(StateDict *sd);
 /* The value stored under [key] (borrowed; valid until the next state_set
  * or state_clear), or NULL when absent or when [key] is null. */
 const Vec *state_get(const StateDict *sd, const Vec *key);
-/* state_get for the dictionary's owner updating a value in place under the
- * copy-on-write rule (value.h): the caller may change the numbers of the
- * result only while no one else holds a reference to it (refs == 1, or the
- * references the caller itself keeps), which has the same effect as
- * storing a new equal-length vector. */
-Vec *state_get_mutable(StateDict *sd, const Vec *key);
 /* Store [value] under [key] (both borrowed and retained). A null or empty
  * [value] deletes the entry. A null [key] is ignored. Returns true when the
  * stored value changed (a set to an equal value, or a delete of a missing
@@ -39,7 +33,7 @@ bool state_set(StateDict *sd, const Vec *key, const Vec *value);
  * numbers every frame (the physics engine): when the value stored under
  * [key] is a numeric vector of [n] numbers that nothing else holds
  * (refs == 1), they are overwritten in place (the copy-on-write rule of
- * state_get_mutable); else it is state_set with a new vector of them (an
+ * value.h); else it is state_set with a new vector of them (an
  * equal value already stored is kept; past the memory budget, mem.h, the
  * new vector is null and the key is deleted). One lookup in all; counts
  * one read, and a write when it did not go in place. Returns the value

@@ -337,12 +337,6 @@ AstNode *ast_func_let(Str *name, AstNode *params, AstNode *body,
     return ast_let(ast_list(AST_LET, binding, loc), rest, 0, loc);
 }
 
-AstNode *ast_anon_block(AstNode *params, AstNode *body, AstNode *rest, Loc loc)
-{
-    AstNode *seq = ast_list(AST_SEQUENCE, ast_function(NULL, params, body, loc), loc);
-    return ast_add(seq, rest, loc);
-}
-
 AstNode *ast_import(AstNode *names, AstNode *file, AstNode *rest, Loc loc)
 {
     names->kind = AST_IMPORT;

@@ -153,8 +153,6 @@ AstNode *ast_function(Str *name, AstNode *params, AstNode *body, Loc loc);
  * function, body [rest]. */
 AstNode *ast_func_let(Str *name, AstNode *params, AstNode *body,
                       AstNode *rest, Loc loc);
-/* `func (params)` + BLOCK + rest: AST_SEQUENCE [AST_FUNCTION "<anon>", rest]. */
-AstNode *ast_anon_block(AstNode *params, AstNode *body, AstNode *rest, Loc loc);
 /* `import names from file` + rest: AST_IMPORT. */
 AstNode *ast_import(AstNode *names, AstNode *file, AstNode *rest, Loc loc);
 /* AST_FOR over the names of holder [names]; [body] may be NULL while the

@@ -62,12 +62,6 @@ void skiplog_note(SkipLog *log, const char *where, const char *kind)
         render_log(log->log, RLOG_WARNING, "%s: skipping unsupported !%s", where, kind);
 }
 
-void skiplog_effect(SkipLog *log, const char *kind)
-{
-    if (skiplog_on(log) && skiplog_first(log, kind))
-        render_log(log->log, RLOG_WARNING, "window: unsupported !%s, its children drawn without the effect", kind);
-}
-
 bool canvas_attr_nums(const Node *n, const char *name, int count, double *out)
 {
     return rnode_nums(n, name, count, out);

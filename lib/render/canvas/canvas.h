@@ -58,9 +58,6 @@ typedef struct SkipLog {
 /* Report `[where]: skipping unsupported !KIND` as a warning unless [kind]
  * was reported before (at most 32 kinds are remembered). */
 void skiplog_note(SkipLog *log, const char *where, const char *kind);
-/* Report `window: unsupported !KIND, its children drawn without the
- * effect` unless [kind] was reported before. */
-void skiplog_effect(SkipLog *log, const char *kind);
 
 /* Where a canvas's `!image` and `!pattern` find their pictures (Flitter
  * docs/canvas.md "Images", "Pattern"): [get] returns a new reference to a

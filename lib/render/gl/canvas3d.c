@@ -17,7 +17,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <epoxy/gl.h>
 
@@ -491,14 +490,6 @@ static int render(Canvas3D *c, const Camera *cam, GlTarget *t, const float clear
     return rc;
 }
 
-static void add_time(Canvas3D *c, const struct timespec *t0)
-{
-    struct timespec t1;
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    c->ms_total += (double)(t1.tv_sec - t0->tv_sec) * 1e3 + (double)(t1.tv_nsec - t0->tv_nsec) / 1e6;
-    c->calls++;
-}
-
 int canvas3d_scene(Canvas3D *c, const Node *node, int w, int h, int colorbits, const CanvasEnv *env, int *primary)
 {
     begin(c);
@@ -553,8 +544,6 @@ void canvas3d_camera(const Canvas3D *c, int i, C3dCameraInfo *out)
 
 int canvas3d_draw(Canvas3D *c, int i, GlTarget *t, const RenderLog *log, char *err, size_t errlen)
 {
-    struct timespec t0;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
     C3dCameraInfo info;
     canvas3d_camera(c, i, &info);
     int rc = render(c, &c->cams[i], t, info.clear, err, errlen);
@@ -562,14 +551,11 @@ int canvas3d_draw(Canvas3D *c, int i, GlTarget *t, const RenderLog *log, char *e
         render_log(log, RLOG_WARNING, "%s", c->program_note);
         c->program_noted = true;
     }
-    add_time(c, &t0);
     return rc;
 }
 
 int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, char *err, size_t errlen)
 {
-    struct timespec t0;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
     begin(c);
     c->env = NULL;
     c->width = t->w;
@@ -617,14 +603,7 @@ int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, char *err, 
     camera_matrices(&cam, c->width, c->height);
     static const float clear[4] = {0, 0, 0, 0};
     int rc = render(c, &cam, t, clear, err, errlen);
-    add_time(c, &t0);
     return rc;
-}
-
-double canvas3d_time_ms(const Canvas3D *c, long *calls)
-{
-    if (calls) *calls = c->calls;
-    return c->ms_total;
 }
 
 void canvas3d_free(Canvas3D *c)

@@ -139,8 +139,6 @@ typedef struct C3dScene {
  *   errors: -1 with one line in [err] when a program does not compile;
  *           else 0. */
 int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, char *err, size_t errlen);
-/* Milliseconds spent drawing so far and the number of drawings. */
-double canvas3d_time_ms(const Canvas3D *c, long *calls);
 /* Release the GL objects (the context they were made on current) and
  * the renderer (NULL is a no-op). */
 void canvas3d_free(Canvas3D *c);

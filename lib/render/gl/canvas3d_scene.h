@@ -129,8 +129,6 @@ struct Canvas3D {
     Buf name;
     const CanvasEnv *env;
     int width, height;
-    double ms_total;
-    long calls;
 };
 
 /* Draw render group [gi] of [c]'s scene: its [n] instances [list] (in any

@@ -140,10 +140,6 @@ void gl_context_done(GlContext *gl)
     if (!gl->host) eglMakeCurrent(gl->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
 }
 
-bool gl_context_is_host(const GlContext *gl) { return gl->host; }
-
-const char *gl_context_renderer(const GlContext *gl) { return gl->renderer; }
-
 int gl_context_max_samples(const GlContext *gl) { return gl->max_samples; }
 
 int gl_context_max_size(const GlContext *gl) { return gl->max_size; }

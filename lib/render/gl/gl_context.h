@@ -37,10 +37,6 @@ bool gl_context_use(GlContext *gl);
 /* After drawing: release the library's own context from the calling
  * thread (a host's is left as it is). */
 void gl_context_done(GlContext *gl);
-/* Whether [gl] is a host's context. */
-bool gl_context_is_host(const GlContext *gl);
-/* The renderer string of the driver (e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"). */
-const char *gl_context_renderer(const GlContext *gl);
 /* GL_MAX_SAMPLES. */
 int gl_context_max_samples(const GlContext *gl);
 /* The largest side of a framebuffer the driver takes: the least of

@@ -580,8 +580,6 @@ void graph_record_first(Graph *g, const char *path)
     g->record_first = path && *path ? mem_strdup(path) : NULL;
 }
 
-bool graph_saw_window(const Graph *g) { return g->saw_window; }
-
 /* Write top-level window pass [p]'s picture to the graph_record_first
  * file. */
 static void record_window(Graph *g, Pass *p)
@@ -636,7 +634,6 @@ int graph_frame(Graph *g, const Node *root, const GraphFrame *frame, bool window
         int r = has_record(w);
         if (r > recs) recs = r;
     }
-    if (any) g->saw_window = true;
     bool records = recs == 2;
     /* Headless, every frame of a tree with a !record is drawn, as
      * Flitter draws every frame (a !feedback or a `last` evolves frame by

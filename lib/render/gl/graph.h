@@ -121,8 +121,6 @@ int graph_frame(Graph *g, const Node *root, const GraphFrame *f, bool windows);
  * it had a `!record filename=PATH` holding all its children (`flitter run
  * --record FILE`); NULL or "" stops. [path] is copied. */
 void graph_record_first(Graph *g, const char *path);
-/* Whether any top-level window was seen so far. */
-bool graph_saw_window(const Graph *g);
 /* The GL texture name of top-level window [index]'s picture (in the
  * order of the last frame's tree, counting `!window` and `!offscreen`):
  * linear, premultiplied RGBA of the window's size (*w, *h), in the

@@ -121,7 +121,6 @@ struct Graph {
     size_t nrefs, caprefs;
     Recorder *rec;           /* the !record files open across frames */
     char *record_first;      /* graph_record_first's file, or NULL */
-    bool saw_window;
     long frame;              /* the frame number last drawn (-1: none) */
     double beat;             /* its beat */
     const GraphFrame *f;     /* the frame being drawn */

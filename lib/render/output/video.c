@@ -520,8 +520,6 @@ int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, i
     return 0;
 }
 
-long video_frames(const VideoOut *v) { return v->frames; }
-
 const char *video_encoder(const VideoOut *v) { return v->cc->codec->name; }
 
 int video_close(VideoOut *v, char *err, size_t errlen)

@@ -78,8 +78,6 @@ VideoOut *video_open(const char *path, int width, int height, double fps, const 
  *           else 0. */
 int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, int stride, long pts,
                 bool drop_when_busy, char *err, size_t errlen);
-/* Frames queued so far (dropped ones not counted). */
-long video_frames(const VideoOut *v);
 /* The FFmpeg name of [v]'s encoder (e.g. "libx264"; borrowed, lives as
  * long as the process). */
 const char *video_encoder(const VideoOut *v);
