@@ -99,7 +99,15 @@ started=
 for _ in 1 2 3; do
     if start $((20000 + RANDOM % 39999)); then started=1; break; fi
 done
-[ -n "$started" ] || { show_logs; fail "Slurm did not start (node never idle)"; }
+if [ -z "$started" ]; then
+    # slurmd needs cgroups mounted even with proctrack/linuxproc: in a
+    # container or chroot without /sys/fs/cgroup there is no Slurm to test
+    if grep -qs 'Unable to initialize cgroup plugin' "$dir/log/slurmd.log" "$dir/log/slurmd.out"; then
+        echo "slurmd cannot start without cgroups (/sys/fs/cgroup not mounted): skipped"
+        exit 77
+    fi
+    show_logs; fail "Slurm did not start (node never idle)"
+fi
 
 # the sweep through Slurm
 "$flitter" sweep "$script" -D strength=50,200 --runs 2 --frames 20 --out "$dir/slurm" --slurm \

@@ -84,7 +84,10 @@ repl_lose() {
     kill) xdotool windowkill "$WID" ;;
     esac
     sleep 0.2
-    printf ':step 1\n' >&3   # (the window's events are read after a frame)
+    # (the window's events are read after a frame; a killed window may
+    # have ended the session already, its end of the pipe closed: that
+    # write's SIGPIPE must not end this script)
+    (trap '' PIPE; printf ':step 1\n' >&3) 2>/dev/null || true
     if [ "$mode" = destroy ]; then
         i=0
         until grep -q '^frame 10 ' out && grep -qx 'window closed' out; do
