@@ -176,6 +176,21 @@ void *mem_realloc_array(void *p, size_t n, size_t size)
     return mem_realloc(p, n * size);
 }
 
+void *mem_grow(void *p, size_t *cap, size_t need, size_t size)
+{
+    if (need <= *cap)
+        return p;
+    size_t n = *cap ? *cap : 16;
+    while (n < need) {
+        if (n > SIZE_MAX / 2)
+            mem_oom();
+        n *= 2;
+    }
+    p = mem_realloc_array(p, n, size);
+    *cap = n;
+    return p;
+}
+
 char *mem_strdup(const char *s)
 {
     return mem_strndup(s, strlen(s));

@@ -135,6 +135,12 @@ void *mem_calloc(size_t n, size_t size);
 void *mem_realloc(void *p, size_t size);
 /* realloc to [n] elements of [size] bytes each, checking n * size. */
 void *mem_realloc_array(void *p, size_t n, size_t size);
+/* The library's one growable-array helper: [p] (NULL, or *[cap] elements
+ * of [size] bytes from these functions) with room for at least [need]
+ * elements, its capacity in *[cap] doubled from 16 until it holds them
+ * (unchanged when it already does); the contents are kept. An overflowing
+ * size calls mem_oom(). (Arrays in a runtime's pool grow by pool_grow.) */
+void *mem_grow(void *p, size_t *cap, size_t need, size_t size);
 char *mem_strdup(const char *s);
 char *mem_strndup(const char *s, size_t n);
 char *mem_asprintf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));

@@ -14,21 +14,6 @@
 
 #include "pool.h"
 
-/* [p] (of *cap elements of [size] bytes, pooled) grown to hold [need]. */
-static void *grow(void *p, uint32_t *cap, uint32_t need, size_t size)
-{
-    if (need <= *cap) return p;
-    uint32_t c = *cap ? *cap * 2 : 4;
-    while (c < need) c *= 2;
-    void *q = pool_alloc((size_t)c * size);
-    if (p) {
-        memcpy(q, p, (size_t)*cap * size);
-        pool_release(p, (size_t)*cap * size);
-    }
-    *cap = c;
-    return q;
-}
-
 Node *node_new(Str *kind) { return node_new_sized(kind, 0); }
 
 Node *node_new_sized(Str *kind, uint32_t cap)
@@ -45,19 +30,19 @@ Node *node_new_sized(Str *kind, uint32_t cap)
     return n;
 }
 
-/* Room for [need] attributes in unshared [n]: grow() for the attribute
+/* Room for [need] attributes in unshared [n]: pool_grow() for the attribute
  * array, which may be the node's inline slots (not a block of its own). */
 static void attrs_reserve(Node *n, uint32_t need)
 {
     if (need <= n->cap_attrs) return;
     if (n->attrs && n->attrs == node_inline_attrs(n)) {
         uint32_t cap = n->cap_attrs;
-        Attr *q = grow(NULL, &cap, need, sizeof(Attr));
+        Attr *q = pool_grow(NULL, &cap, need, sizeof(Attr));
         memcpy(q, n->attrs, (size_t)n->nattrs * sizeof(Attr));
         n->attrs = q;
         n->cap_attrs = cap;
     } else {
-        n->attrs = grow(n->attrs, &n->cap_attrs, need, sizeof(Attr));
+        n->attrs = pool_grow(n->attrs, &n->cap_attrs, need, sizeof(Attr));
     }
 }
 
@@ -114,7 +99,7 @@ Node *node_mut(Node *n)
     if (n->refs == 1) return n;
     Node *c = node_new_sized(n->kind, n->nattrs);
     if (n->ntags) {
-        c->tags = grow(NULL, &c->cap_tags, n->ntags, sizeof(Str *));
+        c->tags = pool_grow(NULL, &c->cap_tags, n->ntags, sizeof(Str *));
         for (uint32_t i = 0; i < n->ntags; i++) c->tags[i] = str_retain(n->tags[i]);
         c->ntags = n->ntags;
     }
@@ -126,7 +111,7 @@ Node *node_mut(Node *n)
         c->nattrs = n->nattrs;
     }
     if (n->nchildren) {
-        c->children = grow(NULL, &c->cap_children, n->nchildren, sizeof(Node *));
+        c->children = pool_grow(NULL, &c->cap_children, n->nchildren, sizeof(Node *));
         for (uint32_t i = 0; i < n->nchildren; i++) c->children[i] = node_retain(n->children[i]);
         c->nchildren = n->nchildren;
     }
@@ -169,7 +154,7 @@ void node_add_tag(Node *n, Str *tag)
         if (c < 0) lo = mid + 1;
         else hi = mid;
     }
-    n->tags = grow(n->tags, &n->cap_tags, n->ntags + 1, sizeof(Str *));
+    n->tags = pool_grow(n->tags, &n->cap_tags, n->ntags + 1, sizeof(Str *));
     memmove(&n->tags[lo + 1], &n->tags[lo], (n->ntags - lo) * sizeof(Str *));
     n->tags[lo] = str_retain(tag);
     n->ntags++;
@@ -179,13 +164,13 @@ void node_append(Node *n, Node *child) { node_append_take(n, node_retain(child))
 
 void node_append_take(Node *n, Node *child)
 {
-    n->children = grow(n->children, &n->cap_children, n->nchildren + 1, sizeof(Node *));
+    n->children = pool_grow(n->children, &n->cap_children, n->nchildren + 1, sizeof(Node *));
     n->children[n->nchildren++] = child;
 }
 
 void node_reserve_children(Node *n, uint32_t need)
 {
-    n->children = grow(n->children, &n->cap_children, need, sizeof(Node *));
+    n->children = pool_grow(n->children, &n->cap_children, need, sizeof(Node *));
 }
 
 const Vec *node_attr_n(const Node *n, const char *name, size_t len)

@@ -43,6 +43,24 @@ Pool *pool_new(bool off)
     return p;
 }
 
+void *pool_grow(void *p, uint32_t *cap, uint32_t need, size_t size)
+{
+    if (need <= *cap) return p;
+    uint32_t c = *cap ? *cap : 4;
+    while (c < need) {
+        if (c > UINT32_MAX / 2) mem_oom();
+        c *= 2;
+    }
+    if ((size_t)c > SIZE_MAX / size) mem_oom();
+    void *q = pool_alloc((size_t)c * size);
+    if (p) {
+        memcpy(q, p, (size_t)*cap * size);
+        pool_release(p, (size_t)*cap * size);
+    }
+    *cap = c;
+    return q;
+}
+
 void pool_free(Pool *p)
 {
     if (!p) return;

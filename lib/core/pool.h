@@ -139,4 +139,11 @@ size_t pool_block_size(size_t size);
 /* A zero-filled block of [size] bytes. */
 void *pool_calloc(size_t size);
 
+/* [p] (NULL, or a pool block of *[cap] elements of [size] bytes) with
+ * room for at least [need] elements, in a pool block of a capacity
+ * doubled from 4 (stored in *[cap]); the contents are moved. Arrays that
+ * live in the runtime's pool (nodes' attributes and children, syntax
+ * trees' lists) grow by this; heap arrays by mem_grow (mem.h). */
+void *pool_grow(void *p, uint32_t *cap, uint32_t need, size_t size);
+
 #endif

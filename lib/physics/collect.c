@@ -18,7 +18,7 @@
 
 /* Grow array [ptr] (capacity variable [cap]) to at least [need] elements. */
 #define GROW(ptr, cap, need) \
-    ((ptr) = phys_grow((ptr), &(cap), (need), sizeof *(ptr)))
+    ((ptr) = mem_grow((ptr), &(cap), (need), sizeof *(ptr)))
 
 /* One level of the explicit tree-walk stack (§3 is recursive over groups). */
 struct PhysWalk {

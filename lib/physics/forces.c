@@ -86,7 +86,7 @@ void phys_apply_distances(PhysSystem *s, const uint32_t *list, size_t n)
         return;
     if (n > SIZE_MAX / (D + 1))
         phys_oom();
-    s->dgeo = phys_grow(s->dgeo, &s->capdgeo, n * (D + 1), sizeof *s->dgeo);
+    s->dgeo = mem_grow(s->dgeo, &s->capdgeo, n * (D + 1), sizeof *s->dgeo);
     /* pair i: dist at geo[i*(D+1)], dir after it */
     double *geo = s->dgeo;
     for (size_t i = 0; i < n; i++) {

@@ -65,22 +65,7 @@
 #define CELL_LIMIT 1073741824.0        /* 2^30: |x/h| beyond this is odd */
 #define TARGETS_PER_TASK 256
 
-static void *grow(void *p, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap)
-        return p;
-    size_t n = *cap ? *cap : 16;
-    while (n < need)
-        n *= 2;
-    void *q = n <= SIZE_MAX / size ? realloc(p, n * size) : NULL;
-    if (!q) {
-        mem_oom();
-    }
-    *cap = n;
-    return q;
-}
-
-#define GROW(ptr, cap, need) ((ptr) = grow((ptr), &(cap), (need), sizeof *(ptr)))
+#define GROW(ptr, cap, need) ((ptr) = mem_grow((ptr), &(cap), (need), sizeof *(ptr)))
 
 /* ------------------------------------------------------------------ */
 /* Planning                                                            */

@@ -417,10 +417,6 @@ typedef struct PhysSystem {
 
 /* Print "out of memory" and abort. */
 void phys_oom(void);
-/* [p] reallocated to hold at least [need] elements of [size] bytes (its
- * capacity in *[cap], grown geometrically; contents kept); aborts with a
- * message if memory runs out. */
-void *phys_grow(void *p, size_t *cap, size_t need, size_t size);
 
 /* ---- collect.c: reading the node tree (PHYSICS-ENGINE.md §1, §3) ---- */
 

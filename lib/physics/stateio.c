@@ -17,7 +17,7 @@
 
 /* Grow array [ptr] (capacity variable [cap]) to at least [need] elements. */
 #define GROW(ptr, cap, need) \
-    ((ptr) = phys_grow((ptr), &(cap), (need), sizeof *(ptr)))
+    ((ptr) = mem_grow((ptr), &(cap), (need), sizeof *(ptr)))
 
 bool phys_state_scalar(const StateDict *sd, const Vec *key, double *out)
 {

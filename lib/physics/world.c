@@ -54,31 +54,10 @@ void phys_oom(void)
     mem_oom();
 }
 
-/* [p] reallocated to hold at least [need] elements of [size] bytes (its
- * capacity in *[cap], grown geometrically; contents kept). */
-void *phys_grow(void *p, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap)
-        return p;
-    size_t n = *cap ? *cap : 8;
-    while (n < need) {
-        if (n > SIZE_MAX / 2)
-            phys_oom();
-        n *= 2;
-    }
-    if (n > SIZE_MAX / size)
-        phys_oom();
-    void *q = realloc(p, n * size);
-    if (!q)
-        phys_oom();
-    *cap = n;
-    return q;
-}
-
 /* Grow array [ptr] (capacity variable [cap]) to at least [need] elements. */
 /* Grow array [ptr] (capacity variable [cap]) to at least [need] elements. */
 #define GROW(ptr, cap, need) \
-    ((ptr) = phys_grow((ptr), &(cap), (need), sizeof *(ptr)))
+    ((ptr) = mem_grow((ptr), &(cap), (need), sizeof *(ptr)))
 
 
 /* ------------------------------------------------------------------ */

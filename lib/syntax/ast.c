@@ -39,35 +39,17 @@ AstNode *ast_new(AstKind kind, Loc loc)
     return n;
 }
 
-/* [old] (of [cap] pointers, NULL when 0) moved into a pool block of
- * [newcap] pointers. */
-static void *grow_ptrs(void *old, uint32_t cap, uint32_t newcap)
-{
-    void *q = pool_alloc((size_t)newcap * sizeof(void *));
-    if (cap) memcpy(q, old, (size_t)cap * sizeof(void *));
-    pool_release(old, (size_t)cap * sizeof(void *));
-    return q;
-}
-
 void ast_push(AstNode *n, AstNode *kid)
 {
-    if (n->nkids == n->cap_kids) {
-        uint32_t cap = n->cap_kids ? 2 * n->cap_kids : 4;
-        if (cap < n->cap_kids) mem_oom();
-        n->kids = grow_ptrs(n->kids, n->cap_kids, cap);
-        n->cap_kids = cap;
-    }
+    if (n->nkids == UINT32_MAX) mem_oom();
+    n->kids = pool_grow(n->kids, &n->cap_kids, n->nkids + 1, sizeof *n->kids);
     n->kids[n->nkids++] = kid;
 }
 
 void ast_push_name(AstNode *n, Str *s)
 {
-    if (n->nnames == n->cap_names) {
-        uint32_t cap = n->cap_names ? 2 * n->cap_names : 2;
-        if (cap < n->cap_names) mem_oom();
-        n->names = grow_ptrs(n->names, n->cap_names, cap);
-        n->cap_names = cap;
-    }
+    if (n->nnames == UINT32_MAX) mem_oom();
+    n->names = pool_grow(n->names, &n->cap_names, n->nnames + 1, sizeof *n->names);
     n->names[n->nnames++] = s;
 }
 

@@ -112,14 +112,13 @@ static bool is_material_attr(const char *a)
     return false;
 }
 
-static void *grow(void *p, int *cap, int need, size_t size);
 
 /* The index of texture set [t] in c->texsets, added when new. */
 static int intern_texset(Canvas3D *c, const TexSet *t)
 {
     for (int i = 1; i < c->ntexsets; i++)
         if (memcmp(&c->texsets[i], t, sizeof *t) == 0) return i;
-    c->texsets = grow(c->texsets, &c->cap_texsets, c->ntexsets + 1, sizeof *c->texsets);
+    c->texsets = mem_grow(c->texsets, &c->cap_texsets, (size_t)(c->ntexsets + 1), sizeof *c->texsets);
     c->texsets[c->ntexsets] = *t;
     return c->ntexsets++;
 }
@@ -176,15 +175,6 @@ static Material update_material(Canvas3D *c, const Node *n, const Material *m)
     return r;
 }
 
-static void *grow(void *p, int *cap, int need, size_t size)
-{
-    if (need <= *cap) return p;
-    int n = *cap ? *cap : 16;
-    while (n < need) n *= 2;
-    *cap = n;
-    return mem_realloc_array(p, (size_t)n, size);
-}
-
 static void add_light(Canvas3D *c, const Node *n, const M4 *t, int group)
 {
     double color[3];
@@ -198,7 +188,7 @@ static void add_light(Canvas3D *c, const Node *n, const M4 *t, int group)
     }
     if (has_dir && dir[0] == 0 && dir[1] == 0 && dir[2] == 0) has_dir = false;
     bool line = nums(n, "start", 3, start) && nums(n, "end", 3, end);
-    c->lights = grow(c->lights, &c->cap_lights, c->nlights + 1, sizeof *c->lights);
+    c->lights = mem_grow(c->lights, &c->cap_lights, (size_t)(c->nlights + 1), sizeof *c->lights);
     Light *l = &c->lights[c->nlights++];
     memset(l, 0, sizeof *l);
     float *d = l->data;
@@ -356,7 +346,7 @@ static void add_instance(Canvas3D *c, const Node *n, int kind, const M4 *t, cons
         mesh = model_mesh(c, n, &key);
     }
     if (!mesh) return;
-    c->inst = grow(c->inst, &c->cap_inst, c->ninst + 1, sizeof *c->inst);
+    c->inst = mem_grow(c->inst, &c->cap_inst, (size_t)(c->ninst + 1), sizeof *c->inst);
     Instance *in = &c->inst[c->ninst++];
     in->mesh = mesh;
     in->group = group;
@@ -372,7 +362,7 @@ static void add_instance(Canvas3D *c, const Node *n, int kind, const M4 *t, cons
 
 static int new_group(Canvas3D *c, const Node *n, int parent)
 {
-    c->groups = grow(c->groups, &c->cap_groups, c->ngroups + 1, sizeof *c->groups);
+    c->groups = mem_grow(c->groups, &c->cap_groups, (size_t)(c->ngroups + 1), sizeof *c->groups);
     Group *g = &c->groups[c->ngroups];
     const Group *p = parent >= 0 ? &c->groups[parent] : NULL;
     g->parent = parent;
@@ -510,7 +500,7 @@ int canvas3d_scene(Canvas3D *c, const Node *node, int w, int h, int colorbits, c
     c->ncams = 1;
     Material mat = {.ior = 1.5, .roughness = 1, .ao = 1};
     c->ngroups = c->nlights = c->ninst = 0;
-    c->texsets = grow(c->texsets, &c->cap_texsets, 1, sizeof *c->texsets);
+    c->texsets = mem_grow(c->texsets, &c->cap_texsets, 1, sizeof *c->texsets);
     memset(&c->texsets[0], 0, sizeof c->texsets[0]);
     c->ntexsets = 1;
     collect(c, node, id, &mat, -1, &c->cams[0]);
@@ -561,11 +551,11 @@ int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, char *err, 
     c->width = t->w;
     c->height = t->h;
     c->ngroups = c->nlights = c->ninst = c->ncams = 0;
-    c->groups = grow(c->groups, &c->cap_groups, 1, sizeof *c->groups);
+    c->groups = mem_grow(c->groups, &c->cap_groups, 1, sizeof *c->groups);
     c->groups[0] = (Group){.parent = -1, .max_lights = 2, .depth_sort = true, .depth_test = true,
                            .face_cull = true, .composite = COMP_OVER};
     c->ngroups = 1;
-    c->lights = grow(c->lights, &c->cap_lights, 2, sizeof *c->lights);
+    c->lights = mem_grow(c->lights, &c->cap_lights, 2, sizeof *c->lights);
     memset(c->lights, 0, 2 * sizeof *c->lights);
     float *d = c->lights[0].data;
     for (int k = 0; k < 3; k++) d[k] = (float)s->ambient[k];
@@ -577,7 +567,7 @@ int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, char *err, 
     d[3] = LIGHT_DIRECTIONAL;
     d[14] = 1;   /* falloff 0;0;1;0 (unused by a directional light, whose distance is 1) */
     c->nlights = len > 0 && isfinite(len) ? 2 : 1;
-    c->inst = grow(c->inst, &c->cap_inst, (int)s->nitems, sizeof *c->inst);
+    c->inst = mem_grow(c->inst, &c->cap_inst, s->nitems, sizeof *c->inst);
     for (size_t i = 0; i < s->nitems; i++) {
         const C3dItem *it = &s->items[i];
         MeshKey key = {.kind = it->shape == C3D_SHAPE_SPHERE     ? MESH_SPHERE

@@ -102,9 +102,9 @@ struct Canvas3D {
     long frames, listed_at;          /* frames drawn; the frame listed_made last went down */
     GLuint instance_vbo;
     /* the frame's scene, reused across frames */
-    Group *groups; int ngroups, cap_groups;
-    Light *lights; int nlights, cap_lights;
-    Instance *inst; int ninst, cap_inst;
+    Group *groups; int ngroups; size_t cap_groups;
+    Light *lights; int nlights; size_t cap_lights;
+    Instance *inst; int ninst; size_t cap_inst;
     Instance **order; int cap_order;
     Instance **split; int cap_split;      /* one dispatch's impostors: billboards, box ones from n (2n) */
     Instance **tl; int cap_tl;            /* one group's translucent instances */
@@ -122,7 +122,7 @@ struct Canvas3D {
     float *lightbuf; int cap_lightbuf;    /* mat4s of one group, sorted by slot (C3D_LIGHT_SLOTS) */
     float *lightsort;                     /* scratch of cap_lightbuf floats for the sort */
     int light_ends[C3D_LIGHT_SLOTS];      /* where each slot's lights end in lightbuf */
-    TexSet *texsets; int ntexsets, cap_texsets;   /* the frame's distinct textures; [0] none */
+    TexSet *texsets; int ntexsets; size_t cap_texsets;   /* the frame's distinct textures; [0] none */
     /* the frame's cameras: the canvas's own first, then each !camera with an id */
     Camera cams[C3D_CAMERAS]; Buf cam_id[C3D_CAMERAS]; int ncams;
     int primary;                          /* the camera whose picture is the canvas's */

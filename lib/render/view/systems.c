@@ -16,15 +16,6 @@ typedef struct Collect {
     Vec *vsym;            /* :velocity */
 } Collect;
 
-static void *grow(void *p, size_t *cap, size_t n, size_t size)
-{
-    if (n < *cap) return p;
-    *cap = *cap ? 2 * *cap : 16;
-    p = realloc(p, *cap * size);
-    if (!p) mem_oom();
-    return p;
-}
-
 /* The state value under prefix;id[;:velocity] (borrowed) or NULL. */
 static const Vec *lookup(const Collect *c, const Vec *id, bool velocity)
 {
@@ -66,7 +57,7 @@ static void walk(Collect *c, const Node *g)
         if (anchor || rnode_is(n, "particle")) {
             const Vec *id = rnode_attr(n, "id");
             if (!id) continue;
-            s->bodies = grow(s->bodies, &c->cap_bodies, s->nbodies, sizeof *s->bodies);
+            s->bodies = mem_grow(s->bodies, &c->cap_bodies, s->nbodies + 1, sizeof *s->bodies);
             PsBody *b = &s->bodies[s->nbodies++];
             b->anchor = anchor;
             b->id = id;
@@ -90,12 +81,12 @@ static void walk_links(Collect *c, const Node *g)
     for (size_t i = 0; i < rnode_nchildren(g); i++) {
         const Node *n = rnode_child(g, i);
         if (rnode_is(n, "distance")) {
-            s->links = grow(s->links, &c->cap_links, s->nlinks, sizeof *s->links);
+            s->links = mem_grow(s->links, &c->cap_links, s->nlinks + 1, sizeof *s->links);
             s->links[s->nlinks].from = position_of(c, rnode_attr(n, "from"));
             s->links[s->nlinks].to = position_of(c, rnode_attr(n, "to"));
             s->nlinks++;
         } else if (rnode_is(n, "barrier")) {
-            s->barriers = grow(s->barriers, &c->cap_barriers, s->nbarriers, sizeof *s->barriers);
+            s->barriers = mem_grow(s->barriers, &c->cap_barriers, s->nbarriers + 1, sizeof *s->barriers);
             s->barriers[s->nbarriers].pos = num_vec(n, "position");
             s->barriers[s->nbarriers].normal = num_vec(n, "normal");
             s->nbarriers++;
@@ -117,7 +108,7 @@ void ps_collect(const Node *root, const StateDict *sd, PsSystem **out, size_t *n
         const Vec *prefix = rnode_attr(p, "state");
         double dims = num_attr(p, "dimensions", 0);
         if (!prefix || !(dims >= 1) || dims > 1 << 20) continue;
-        *out = grow(*out, &cap, *n, sizeof **out);
+        *out = mem_grow(*out, &cap, *n + 1, sizeof **out);
         PsSystem *s = &(*out)[(*n)++];
         memset(s, 0, sizeof *s);
         s->prefix = prefix;
