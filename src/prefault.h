@@ -37,10 +37,10 @@ void prefault_stop(Prefault *p);
  * process-wide: for the `flitter` command's own runs, not the library's).
  * A frame that draws with Mesa's llvmpipe frees megabytes at the top of
  * the heap (its vertex and binning buffers) and takes them again in the
- * next frame: trimmed, each frame faulted them in afresh, 17 of the 25 ms
- * that physics.fl's 500 spheres took to submit at 270x270. Nothing but
- * time and the process's resident size change. None under an
- * address-space or data limit. */
+ * next frame: trimmed, each frame faulted them in afresh, most of the
+ * time a frame took to submit (bench/PROFILE.md, "src/prefault.h: freed
+ * memory kept at the heap's top"). Nothing but time and the process's
+ * resident size change. None under an address-space or data limit. */
 void prefault_keep_freed(void);
 
 #endif

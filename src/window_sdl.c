@@ -125,9 +125,10 @@ int winview_open(WinView *v, const char *title, int w, int h, const WinOptions *
          * which costs far less CPU and leaves the cores to the frame;
          * and its window surface is then plain X11 memory (XShm), not a
          * texture of that same GL, which SDL would otherwise use for it
-         * (SDL_HINT_FRAMEBUFFER_ACCELERATION; measured under Xvfb at
-         * 1920x1080: presenting a frame went from about 25 ms to a few;
-         * the user's SDL_FRAMEBUFFER_ACCELERATION still wins) */
+         * (SDL_HINT_FRAMEBUFFER_ACCELERATION; presenting a frame is then
+         * far cheaper: bench/PROFILE.md, "src/window_sdl.c: SDL's
+         * software renderer under a CPU GL"; the user's
+         * SDL_FRAMEBUFFER_ACCELERATION still wins) */
         SDL_DestroyRenderer(v->renderer);
         v->renderer = NULL;
         SDL_SetHintWithPriority(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0", SDL_HINT_DEFAULT);

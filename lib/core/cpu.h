@@ -4,8 +4,8 @@
  *
  * With glibc (2.33 on) the answer is the one its dynamic loader worked
  * out at start-up (<sys/platform/x86.h>'s table, as CPU_FEATURE_ACTIVE
- * reads it): no CPUID of
- * our own, which a hypervisor traps (about 9 us a call here), and no
+ * reads it): no CPUID of our own, which a hypervisor traps
+ * (bench/PROFILE.md, "lib/core/cpu.h: no CPUID of our own"), and no
  * constructor of libgcc's __builtin_cpu_supports, which asks about a
  * dozen leaves when every process starts. Elsewhere on x86-64,
  * __builtin_cpu_supports and CPUID; on other processors, none. */

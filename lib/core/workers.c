@@ -43,12 +43,13 @@
 /* How long a waiting thread polls before it sleeps, in nanoseconds: past
  * the gap between one frame's last job and the next frame's first where
  * the caller alone works. canvas10k's worker finishes the numbers of its
- * loop kernel while the caller still builds nodes; with 100 us it slept in
- * every frame (770 futex calls in 600 frames, the caller waking it and
- * computing the next frame's first chunks alone), with 300 us in none (12
- * calls): 0.470 -> 0.457 ms a frame. The price: an idle worker keeps its
- * core busy for 300 us after each job (at 60 frames a second, about 2% of
- * each worker's core). */
+ * loop kernel while the caller still builds nodes; with a shorter poll it
+ * slept in every frame, the caller waking it and computing the next
+ * frame's first chunks alone, and with this one it did not
+ * (bench/PROFILE.md, "lib/core/workers.c: how long a waiting thread
+ * polls"). The price: an idle worker keeps its core busy for 300 us
+ * after each job (at 60 frames a second, about 2% of each worker's
+ * core). */
 #define SPIN_NS 300000
 
 /* What a thread is started with; owned by the pool (the thread does not

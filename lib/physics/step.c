@@ -458,11 +458,12 @@ static bool pairs_one_thread(const PhysSystem *s)
 }
 
 /* Pairs of draws a chunk (phys_draw_chunk): between two looks for a split
- * level to help with, about 0.8 us here. */
+ * level to help with, a short while (bench/PROFILE.md, "lib/physics/step.c:
+ * the size of a chunk of draws"). */
 #define DRAW_CHUNK 16
 /* Pairs of draws a chunk of the next frame's (DrawsAhead): smaller, as a
  * thread waiting in a pair pass makes them between two looks at what it
- * waits for (about 0.4 us). */
+ * waits for (same subsection). */
 #define AHEAD_CHUNK 8
 
 /* Pairs of draws of applier [ap] (pre_at, pre_n) that the frame before
@@ -595,8 +596,9 @@ static void draw_ahead(PhysSystem *s, bool help)
  * role unless another worker took it: so the pair pass stays on the
  * thread whose particle pass wrote the positions and forces it reads, and
  * reads them from its own cache (when a task's index decided, a worker
- * that claimed the first task took the pair pass on 216-268 of petri200's
- * 599 steps: bench/PROFILE.md). The two tasks always take the two roles.
+ * that claimed the first task often took the pair pass: bench/PROFILE.md,
+ * "lib/physics/step.c: which thread takes the pair pass"). The two tasks
+ * always take the two roles.
  * The caller, running both, takes the pair pass first, as the helper's
  * waits end with it; a worker runs both only when the helper's role
  * returned without waiting (draws alone, no level split), so in either

@@ -50,19 +50,19 @@
  * So every force receives the additions of one thread, in its order,
  * whichever thread runs a task. (Tasks of one row block, 8 rows with
  * AVX-512 and 2 with the portable copy, handed the chunks' forces from
- * thread to thread four to sixteen times as often: charges1k's 1,000
- * particles took 0.84-0.96 ms a frame with AVX-512, 1.4-1.6 with AVX2 and
- * 1.7-1.9 portable, against 0.75-0.79, 1.1-1.2 and 1.05-1.2 in groups of
- * 32 rows.) The tasks are listed by wavefront (group + chunk, then group),
- * so every task's two predecessors come before it in the list, and the
+ * thread to thread four to sixteen times as often, and were slower with
+ * every copy of the kernel than groups of 32 rows: bench/PROFILE.md,
+ * "lib/physics/tiles.c: how the threaded route cuts a level into tasks".)
+ * The tasks are listed by wavefront (group + chunk, then group), so
+ * every task's two predecessors come before it in the list, and the
  * threads take them in list order: a thread waits only for tasks already
  * taken, never for one after its own, so the run cannot deadlock and ends
  * on one thread too. Only levels with enough pairs to pay for the
  * hand-offs take this route (TILES_PIPE_PAIRS; middle-sized levels have a
  * route of their own, "Two threads for a middle-sized level"). (The
  * earlier split, one cut into two column ranges handed on row block by
- * row block, left the second thread idle for a third of the level: 1.25x
- * on two threads for 1,000 particles.)
+ * row block, left the second thread idle for much of the level: same
+ * subsection of bench/PROFILE.md.)
  *
  * The level's positions, radii, masses/charges and forces are copied into
  * pool order (struct of arrays, padded to whole tiles) before and the
@@ -275,9 +275,9 @@ static inline v2d max_portable(v2d a, v2d b)
  * to use 32 vector registers instead of 16. The 3-D kernel keeps a row
  * block's sums and its lanes' values in registers where the AVX2 copy
  * spills them to the stack, and 4 lanes a division or square root cost
- * less than half of 8 on some processors: charges1k's level (500,500
- * pairs) took 1.07 ms a frame on one thread against 1.75 with AVX2 and
- * 1.18-1.24 with AVX-512 (bench/PROFILE.md). */
+ * less than half of 8 on some processors, so this copy can beat both the
+ * plain AVX2 one and AVX-512 (bench/PROFILE.md,
+ * "lib/physics/tiles.c: 4 x 4 tiles in AVX-512VL's registers"). */
 #define TK(name) name##_avx2vl
 #define TK_TARGET __attribute__((target("avx2,avx512f,avx512vl")))
 #include "tiles_kernel_4.h"
@@ -376,11 +376,10 @@ void phys_tiles_reserve(PhysSystem *s, size_t npool)
 /* Levels with fewer pairs do not take the threaded route: the hand-offs
  * of its tasks (a wake-up and one per task) cost more there. They run on
  * one thread, beside the step's draws on the second (step.c), or on the
- * split route below. Whole runs on two threads, this level threaded
- * against on one thread (before the split route): petri-like 2-D systems
- * with !random, 250 particles (31,000 pairs) 26.6 against 24.7 ms, 280 (39,000) 30.7 against 32.8, 320
- * (51,000) 36.5 against 44.4; 3-D charges without, 200 particles 11.2
- * against 11.6, 300 particles 13.1 against 15.6. */
+ * split route below. The threshold lies between the sizes where one
+ * thread won and those where the threaded route won, timed before the
+ * split route existed (bench/PROFILE.md, "lib/physics/tiles.c: the fewest
+ * pairs of a threaded level"). */
 #define TILES_PIPE_PAIRS 32768.0
 
 /* One level in flight. */
@@ -471,15 +470,13 @@ static size_t list_tasks(PhysSystem *s, size_t npart, size_t n)
 
 /* Up to this many pairs, a level of a system with !random may take the
  * split route rather than the threaded one (see "Two threads for a
- * middle-sized level" below), its draws on the helper: petri-like 2-D
- * systems of 280, 320 and 400 particles (39,000 to 80,000 pairs), the
- * threaded route against the split one, 34.3 -> 28.6, 38.4 -> 34.4 and
- * 36.1 -> 33.9 ms for 300, 300 and 200 frames; of 500 (125,000 pairs) the
- * threaded route 26.3 ms against the split one's 27.1 for 100 frames.
- * Without !random the two are even at 45,000 pairs (3-D charges, 300
- * particles: threaded 13.9 against split 13.8 ms) and the threaded route
- * is faster at 80,000 (400 particles: 19.3 against 21.1 ms), so the split
- * route stops at TILES_PIPE_PAIRS there. */
+ * middle-sized level" below), its draws on the helper: with !random the
+ * split route won at the middle sizes timed, and this limit lies between
+ * the largest level where it won and the smallest where the threaded
+ * route did. Without !random the two were even at middle sizes and the
+ * threaded route faster above them, so the split route stops at
+ * TILES_PIPE_PAIRS there (bench/PROFILE.md, "lib/physics/tiles.c: when a
+ * level is split between two threads"). */
 #define SPLIT_RANDOM_PAIRS 98304.0
 
 /* Whether [s] has a !random applier (whose draws the split route's helper
@@ -538,17 +535,20 @@ bool phys_tiles_threaded(const PhysSystem *s, const PhysGroup *g, const PhysLeve
  * polls (with a yield every 64 pauses) from its draws to the end of the
  * pair pass, including levels of other routes. In the last step of a
  * frame, both threads make chunks of the next frame's draws while they
- * wait (phys_ahead_chunk, 8 pairs, about 0.4 us, between two looks).
+ * wait (phys_ahead_chunk, 8 pairs between two looks; what that takes:
+ * bench/PROFILE.md, "lib/physics/step.c: the size of a chunk of draws").
  *
  * The cut balances the two threads: the helper's draws and NEAR (about
  * m * m / 2 pairs) against FAR and REPLAY (the rest of the pairs and a
  * few adds per recorded pair). */
 
 /* Fewest pairs of a level on the split route, and what a pair of normal
- * draws (rng_normal_pair: a log, a square root, a sine and a cosine, about
- * 48 ns here) counts for in pairs of NEAR: 32, the value whose cut
- * balanced petri200's two threads best (m = 144; at the one-thread
- * kernel's 2 ns a pair it would be 24, and NEAR's full tiles run faster). */
+ * draws (rng_normal_pair: a log, a square root, a sine and a cosine)
+ * counts for in pairs of NEAR: 32, the value whose cut balanced
+ * petri200's two threads best; the ratio of the timings alone would give
+ * less, but NEAR's full tiles run faster than the one-thread kernel
+ * (bench/PROFILE.md, "lib/physics/tiles.c: what a pair of draws counts
+ * for on the split route"). */
 #define SPLIT_PAIRS 4096.0
 #define SPLIT_DRAW_PAIRS 32.0
 
@@ -735,14 +735,15 @@ void phys_tiles_help(PhysSystem *s)
 
 /* AVX-512 against 4 x 4 tiles (PhysSystem.simd_auto): every route gives
  * the same bits, but which is faster depends on the processor and the
- * level. On one Xeon, petri200's 2-D level of 200 charged discs ran 15%
+ * level. On one Xeon, petri200's 2-D level of 200 charged discs ran
  * faster with AVX2 than with AVX-512 (its divisions and square roots no
  * faster a lane in 512 bits, the clock lower), and charges1k's 3-D level
- * of 1,000 on two threads 40% faster with AVX-512, until the AVX2 copy
- * took AVX-512VL's registers (tune_four); with them, the 4 x 4 tiles were
- * as fast or faster for every kind of level timed on that Xeon (bench/
- * PROFILE.md). So each kind of level (threaded or not, D, the specialised
- * copy) is timed on its first runs: TUNE_WARM runs with the 4 x 4 tiles
+ * of 1,000 on two threads faster with AVX-512, until the AVX2 copy took
+ * AVX-512VL's registers (tune_four); with them, the 4 x 4 tiles were as
+ * fast or faster for every kind of level timed on that Xeon
+ * (bench/PROFILE.md, "lib/physics/tiles.c: AVX-512 against 4 x 4 tiles,
+ * timed on each system"). So each kind of level (threaded or not, D, the
+ * specialised copy) is timed on its first runs: TUNE_WARM runs with the 4 x 4 tiles
  * untimed, then the two routes in turn, up to TUNE_RUNS each; the one
  * with the lower best time a pair is kept for it from then on, or as soon
  * as each has run twice and one's best is TUNE_CLEAR times the other's (a

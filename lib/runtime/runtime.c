@@ -438,12 +438,12 @@ static int install(fl_runtime *rt, Program *p)
 
 /* The bytes of blocks a load may leave cached in the runtime's pool for the
  * first frames (pool_trim): a sixteenth of the memory budget, at most
- * 8 MiB. canvas10k's load leaves 2.6 MB, a 20,000-particle script's
- * 5.9 MB, a 100,000-particle one's 28 MB; freeing them one by one cost
- * the 20,000-particle load 2 ms, and its first frames called malloc again
- * for them. Kept, they raise a run's peak a little (blocks of a frame's
- * classes where the frame wanted other sizes): 20,000 particles 35.5 ->
- * 38.1 MB; past 8 MiB that cost grows faster than the time saved. */
+ * 8 MiB. Freed one by one, they cost a large load time, and its first
+ * frames called malloc again for them. Kept, they raise a run's peak a
+ * little (blocks of a frame's classes where the frame wanted other
+ * sizes); past 8 MiB that cost grows faster than the time saved
+ * (bench/PROFILE.md, "lib/runtime/runtime.c: the blocks a load leaves
+ * cached"). */
 static size_t load_keep(const fl_runtime *rt)
 {
     const size_t most = (size_t)8 << 20, k = rt->budget.limit / 16;

@@ -3,8 +3,9 @@
  *
  * Why: libcairo.so.2 brings about twenty libraries with it on Debian 12
  * (pixman, fontconfig, freetype, libpng, X11 and xcb); mapping and
- * relocating them took about 1.7 ms of every process, more than a tenth of
- * a 120-frame physics run. Loaded on first use, only a run that draws a
+ * relocating them cost every process a noticeable share of a short
+ * physics run (bench/PROFILE.md, "lib/render/canvas/cairo_lib.h: cairo
+ * opened on first use"). Loaded on first use, only a run that draws a
  * picture pays for it. The headers (libcairo2-dev) are still needed to
  * build; at run time the library of the same major version is opened by
  * soname.

@@ -26,16 +26,15 @@
  * rounding to nearest and widens every bound by one ulp (nextafter)
  * instead: intervals that are right whatever runs the code, no change of
  * the FPU control word a host program could see, and an assertion, not a
- * wrong answer, should a host have set another rounding mode. The cost,
- * measured with this file's test on 2 cores: where every predicate is a
- * degenerate one (boxes with shared face planes, whose exactly-zero
- * determinants a point interval settled, a widened one sends to the exact
- * numbers) about 3 ms an operation instead of 0.5; 1,280-triangle spheres
- * 7-15 ms instead of 7-10; 20,480-triangle ones within the noise for the
- * boolean operations (250-400 ms), up to 2x for a trim. With it CGAL's start-up check that the compiler honours the rounding
- * mode (a throwing assertion in a static initializer of every program
- * linked with the library, which fails under valgrind) has nothing to
- * check, so it is left out as CGAL documents. */
+ * wrong answer, should a host have set another rounding mode. The cost
+ * falls where every predicate is a degenerate one (boxes with shared face
+ * planes, whose exactly-zero determinants a point interval settled, a
+ * widened one sends to the exact numbers) and shrinks as meshes grow
+ * (bench/PROFILE.md, "lib/render/geometry/geom_csg.cpp: CGAL kept rounding
+ * to nearest"). With it CGAL's start-up check that the compiler honours
+ * the rounding mode (a throwing assertion in a static initializer of
+ * every program linked with the library, which fails under valgrind) has
+ * nothing to check, so it is left out as CGAL documents. */
 #define CGAL_ALWAYS_ROUND_TO_NEAREST 1
 #define CGAL_DISABLE_ROUNDING_MATH_CHECK 1
 

@@ -4,9 +4,9 @@
  * fragment a triangle covers, also where the early depth test has
  * rejected all of its samples (only without multisampling does it branch
  * past the shader for such a block); a mesh scene with overdraw pays its
- * whole lighting once per layer (bench/PROFILE.md: 60 stacked boxes under
- * 120 lights, 230 ms with samples=1, 8,094 ms with samples=4). It does
- * branch past the rest of a shader whose fragments have all been
+ * whole lighting once per layer (bench/PROFILE.md,
+ * "lib/render/gl/canvas3d_occlusion.h: the occluders drawn first"). It
+ * does branch past the rest of a shader whose fragments have all been
  * discarded. So the opaque meshes of a render group are first drawn
  * depth only into this framebuffer (the same size and sample count as
  * the picture's), and the lighting program of those meshes (C3D_FRAG_

@@ -2,10 +2,11 @@
  * the first time a 3D canvas is drawn, not linked.
  *
  * Why: linking libepoxy maps and relocates its thousands of entry points
- * in every process, about 0.65 ms, whether it draws in 3D or not (most
- * runs do not draw at all). The headers (libepoxy-dev) are still needed
- * to build; at run time libepoxy.so.0 is opened by soname, and it opens
- * EGL and the GL driver itself, as it always does.
+ * in every process, whether it draws in 3D or not (most runs do not draw
+ * at all; bench/PROFILE.md, "lib/render/gl/gl_lib.h: libepoxy opened on
+ * first use"). The headers (libepoxy-dev) are still needed to build; at
+ * run time libepoxy.so.0 is opened by soname, and it opens EGL and the GL
+ * driver itself, as it always does.
  *
  * libepoxy's GL and EGL names are macros for its own function pointers
  * (glClear is epoxy_glClear, a pointer that epoxy rewrites when it first

@@ -680,8 +680,9 @@ static Pass *sole_child(Graph *g, Pass *p)
  * precision, not quantised again).
  * Over nothing, the default program's output is its input texel for
  * texel, so the child's framebuffer is taken over as the pass's picture
- * instead of drawing it again (on a CPU rasteriser each full-size pass of
- * a 1080x1080 picture costs 5 to 10 ms). Returns whether it did. */
+ * instead of drawing it again (on a CPU rasteriser a full-size pass is
+ * dear: bench/PROFILE.md, "lib/render/gl/pass_program.c: a pass that only
+ * copies its child"). Returns whether it did. */
 static bool pass_through(Graph *g, Pass *p, const Node *n, const ProgramParams *pr, int colorbits)
 {
     if (!pr->pass_through || rnode_attr(n, "fragment") || rnode_attr(n, "vertex") || rnode_attr(n, "passes") ||
@@ -867,7 +868,9 @@ bool program_copy(Graph *g, GLuint tex, GlTarget *t)
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, tex);
     /* texel for texel: nearest (the same values as bilinear filtering at
-     * the texels' centres, in about 70% of its time on a CPU rasteriser) */
+     * the texels' centres, in less time on a CPU rasteriser:
+     * bench/PROFILE.md, "lib/render/gl/pass_program.c: nearest sampling
+     * for a copy") */
     glBindSampler(0, g->nearest);
     GLint loc = glGetUniformLocation(prog->prog, "texture0");
     glUniform1i(loc, 0);
