@@ -17,7 +17,7 @@
  * compiled regions again). The records mirror eval.c's functions for those
  * kinds step for step - the same evaluation order, the same depth
  * accounting (§4.16 stack overflow), the same helpers - so results,
- * messages and errors are identical; Globals.no_fast turns compilation off
+ * messages and errors are identical; Globals.routes.no_fast turns compilation off
  * (numexpr.h) for comparing the two routes.
  */
 #ifndef FL_EVALCODE_H

@@ -99,12 +99,7 @@ static void run_module(ModuleCache *mc, uint32_t mi, Eval *ev)
     /* simplified (as a module, with no engine names) when the importer is */
     const Globals *ig = ev->globals;
     Globals mg = {.simplify = ig && ig->simplify, .module = true};
-    if (ig) {   /* the importer's routes */
-        mg.no_fast = ig->no_fast;
-        mg.no_templates = ig->no_templates;
-        mg.check_templates = ig->check_templates;
-        mg.kernel = ig->kernel;
-    }
+    if (ig) mg.routes = ig->routes;   /* the importer's routes */
     Program *p = program_load(m->path, &mg, (SymTab *)ev->symtab, &err);
     buf_free(&err);
     if (!p) return;

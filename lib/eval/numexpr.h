@@ -21,7 +21,7 @@
  * on one-element vectors (value.c's arithmetic, vec_cmp, vec_truthy, the
  * builtin's own element function), so the results are bit-identical.
  *
- * Globals.no_fast (fl_debug_options.no_fast; read by program.c when a
+ * Globals.routes.no_fast (fl_debug_options.no_fast; read by program.c when a
  * program is loaded) turns compilation off: every subtree then takes the generic
  * route, for comparing the two (tests/cli/fast_route.sh).
  */

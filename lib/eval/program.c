@@ -589,7 +589,7 @@ static AstNode *simplify_top(Program *p, AstNode *top, const Globals *g, SymTab 
     SimplifyEnv env = {.names = names, .nnames = g->count, .symtab = st, .dir = p->dir,
                        .first_file = 1000, .stable_ids = &p->stable_ids, .stables = sc,
                        .is_module = g->module, .files = &p->files, .interrupt = g->interrupt,
-                       .no_templates = g->no_templates, .check_templates = g->check_templates};
+                       .no_templates = g->routes.no_templates, .check_templates = g->routes.check_templates};
     top = simplify_program(top, &env, &p->warnings);
     free(names);
     return top;
@@ -623,8 +623,8 @@ static Program *resolve_program(Program *p, Globals *globals, SymTab *st, Buf *e
         return NULL;
     }
     static const KernelOptions default_kernels = {0};
-    if (!globals || !globals->no_fast)
-        evalcode_compile_tree(p->top, globals ? &globals->kernel : &default_kernels);
+    if (!globals || !globals->routes.no_fast)
+        evalcode_compile_tree(p->top, globals ? &globals->routes.kernel : &default_kernels);
     return p;
 }
 

@@ -26,6 +26,14 @@
 /* Where a name lives (AstNode.scope). */
 enum { SCOPE_NONE, SCOPE_LOCAL, SCOPE_GLOBAL, SCOPE_CONST, SCOPE_UNBOUND };
 
+/* The routes a program is loaded for (fl_debug_options; all zero, and a
+ * NULL Globals: the defaults), passed on to the modules it imports. */
+typedef struct LoadRoutes {
+    bool no_fast;       /* no compiled routes: the tree-walking evaluator alone */
+    bool no_templates, check_templates;  /* the simplifier's (SimplifyEnv) */
+    KernelOptions kernel;                /* the loop kernels' (kernel.h) */
+} LoadRoutes;
+
 /* The engine names and --define names a program may read (LANGUAGE.md §6.2).
  * The runtime owns the values; the evaluator reads values[index]. */
 typedef struct Globals {
@@ -41,11 +49,7 @@ typedef struct Globals {
     volatile int *interrupt; /* the embedder's flag (NULL: none): the load-time
                            simplifier stops once it is set, and the load
                            fails with `PATH: error: interrupted while loading` */
-    /* the routes programs loaded against these take (fl_debug_options;
-     * all zero, and a NULL Globals: the defaults) */
-    bool no_fast;       /* no compiled routes: the tree-walking evaluator alone */
-    bool no_templates, check_templates;  /* the simplifier's (SimplifyEnv) */
-    KernelOptions kernel;                /* the loop kernels' (kernel.h) */
+    LoadRoutes routes;  /* the routes programs loaded against these take */
 } Globals;
 
 /* Index of [name] in [g], or -1. */

@@ -204,17 +204,6 @@ static double monotonic(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-/* The routes of fl_debug_options [o] that programs loaded against [g]
- * take. */
-static void rt_debug_routes(const fl_options *o, Globals *g)
-{
-    g->no_fast = o->debug.no_fast;
-    g->no_templates = o->debug.no_templates;
-    g->check_templates = o->debug.check_templates;
-    g->kernel = (KernelOptions){.off = o->debug.no_kernel, .chunk = o->debug.kernel_chunk,
-                                .window = o->debug.kernel_window};
-}
-
 fl_runtime *fl_new(const fl_options *opts)
 {
     fl_options o = opts ? *opts : fl_default_options();
@@ -260,7 +249,9 @@ fl_runtime *fl_new(const fl_options *opts)
     for (int i = 0; i < G__COUNT; i++) globals_add(&rt->globals, engine_names[i]);
     rt->globals.simplify = !rt->opts.no_simplify;
     rt->globals.interrupt = rt->opts.interrupt;
-    rt_debug_routes(&rt->opts, &rt->globals);
+    rt->globals.routes = (LoadRoutes){
+        .no_fast = dbg->no_fast, .no_templates = dbg->no_templates, .check_templates = dbg->check_templates,
+        .kernel = {.off = dbg->no_kernel, .chunk = dbg->kernel_chunk, .window = dbg->kernel_window}};
     rt->globals.ndynamic = G_REALTIME;   /* frame .. clock change per frame */
     rt->target_fps = rt->opts.fps;
     rt->period = 0.5;
@@ -874,7 +865,7 @@ static void exports_put(Exports *x, Str *name, Vec *value)
 /* Engine names and defines, then the script's names, then fl_eval's. */
 static void build_scope(const fl_runtime *rt, Globals *g)
 {
-    rt_debug_routes(&rt->opts, g);
+    g->routes = rt->globals.routes;
     for (uint32_t i = 0; i < rt->globals.count; i++)
         globals_set(g, globals_add(g, rt->globals.names[i]->bytes), rt->globals.values[i]);
     const Exports *layers[2] = {&rt->scope, &rt->repl};

@@ -315,7 +315,7 @@ static void test_route_taken(void **s)
     assert_non_null(p);
     assert_true(count_fast(p->top) >= 1);
     program_release(p);
-    Globals literal = {.no_fast = true};
+    Globals literal = {.routes.no_fast = true};
     p = program_load_text("t.fl", src, strlen(src), &literal, st, &err);
     assert_non_null(p);
     assert_int_equal(count_fast(p->top), 0);

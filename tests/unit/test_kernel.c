@@ -636,7 +636,7 @@ static void test_compiled(void **s)
     assert_non_null(p);
     assert_int_equal(count_kernels(p->top), 1);
     program_release(p);
-    Globals no_kernels = {.kernel = {.off = true}};
+    Globals no_kernels = {.routes.kernel.off = true};
     p = program_load_text("t.fl", src, strlen(src), &no_kernels, st, &err);
     assert_non_null(p);
     assert_int_equal(count_kernels(p->top), 0);
