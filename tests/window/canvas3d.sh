@@ -1,8 +1,11 @@
 #!/bin/sh
 # canvas3d.sh FLITTER: a !window with a !canvas3d, shown live in a window
 # (issue 25: "the window of issue [2] shows !canvas3d live"): the
-# screenshot equals the picture !record writes of the same frame, pixel for
-# pixel; a box lit by an ambient light alone shows its colour times
+# screenshot equals the picture !record writes, pixel for pixel (the record
+# writes every frame, so that the window shows its 8-bit sRGB picture: on a
+# frame that writes no file, the record passes its child's picture up
+# unquantised, pass_program.c pass_through, and two GL paths may round a
+# colour at .5 of a step differently); a box lit by an ambient light alone shows its colour times
 # (1 - F0) at the centre (F0 = 0.04, a dielectric's reflectance at normal
 # incidence: Flitter docs/canvas3d.md, Materials), sRGB-encoded; the
 # corners are the window's black; when the script's colour changes, the
@@ -11,7 +14,7 @@
 write() {   # write RED: a box of colour RED;0.5;1 under white ambient light
     cat >main.fl.new <<FL
 !window size=120;90 title="canvas3d test"
-    !record filename=("rec.png" if frame == 3 else null)
+    !record filename="rec.png"
         !canvas3d
             !light color=1
             !box size=20 color=$1;0.5;1
