@@ -57,19 +57,6 @@ const char *fl_error(const fl_runtime *rt)
     return b->len ? b->data : "";
 }
 
-int rt_fail(fl_runtime *rt, const char *fmt, ...)
-{
-    char line[512];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(line, sizeof line, fmt, ap);
-    va_end(ap);
-    Buf *b = rt_error_buf(rt);
-    buf_reset(b);
-    buf_printf(b, "%s\n", line);
-    return -1;
-}
-
 /* Start a call that can fail: clear the error text, enter the handler. */
 static MemHandler begin(fl_runtime *rt)
 {

@@ -8,14 +8,14 @@
  * frame's tree when the event arrives. The held keys are a small list of
  * (window index, GLFW key code) pairs, as GLFW's glfw.get_key answers per
  * window. Key names are GLFW's (`'KEY_' + name.upper()` in Flitter), so a
- * name GLFW does not define claims nothing.
+ * name GLFW does not define claims nothing. The public functions that
+ * deliver the events are api_windows.c's.
  */
-#include "runtime.h"
+#include "input.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-#include "input.h"
 #include "mem.h"
 #include "graph.h"
 
@@ -207,58 +207,50 @@ void input_frame(Input *in, const Node *root, StateDict *state, const SymTab *st
 }
 
 /* {=====================================================================
- * The public functions (flitter.h)
+ * Events
  * ===================================================================== */
 
-int fl_key(fl_runtime *rt, size_t window, const char *name, bool pressed)
+bool input_key(Input *in, const Node *root, size_t window, int code, bool pressed,
+               StateDict *state, const SymTab *st, double beat)
 {
-    if (!rt) return -1;
-    if (!name) return rt_fail(rt, "fl_key: [name] is NULL");
-    int code = input_key_code(name, strlen(name));
-    if (code < 0) return 0;
-    MemHandler prev = rt_enter(rt);
-    set_held(rt_input(rt), window, code, pressed);
-    const Node *win = window_at(rt_root(rt), window);
-    const Vec *s = win ? key_claim(win, code, rt_symbols(rt)) : NULL;
+    set_held(in, window, code, pressed);
+    const Node *win = window_at(root, window);
+    const Vec *s = win ? key_claim(win, code, st) : NULL;
     if (s) {
-        StateDict *sd = rt_state(rt);
-        put_key(sd, s, pressed);
-        put(sd, s, pressed ? "pushed" : "released", "beat", rt_beat(rt));
+        put_key(state, s, pressed);
+        put(state, s, pressed ? "pushed" : "released", "beat", beat);
     }
-    mem_leave(prev);
     return s != NULL;
 }
 
-void fl_pointer(fl_runtime *rt, size_t window, bool inside, double x, double y)
+void input_pointer(const Node *root, size_t window, bool inside, double x, double y,
+                   StateDict *state)
 {
-    if (!rt) return;
-    MemHandler prev = rt_enter(rt);
-    const Node *win = window_at(rt_root(rt), window);
+    const Node *win = window_at(root, window);
     const Vec *p = win ? pointer_claim(win) : NULL;
     if (p) {
         double xy[2] = {x, y};
         Vec *val = inside ? vec_from_nums(xy, 2) : NULL;
-        state_set(rt_state(rt), p, val);   /* null: the entry goes */
+        state_set(state, p, val);   /* null: the entry goes */
         vec_release(val);
     }
-    mem_leave(prev);
 }
 
-void fl_pointer_button(fl_runtime *rt, size_t window, int button, bool pressed)
+void input_pointer_button(const Node *root, size_t window, int button, bool pressed,
+                          StateDict *state)
 {
-    if (!rt) return;
-    MemHandler prev = rt_enter(rt);
-    const Node *win = window_at(rt_root(rt), window);
+    const Node *win = window_at(root, window);
     const Vec *p = win ? pointer_claim(win) : NULL;
     if (p) {
         Vec *b = vec_num1(button);
         Vec *parts[2] = {(Vec *)p, b};
         Vec *key = vec_compose(parts, 2);
         Vec *val = vec_num1(pressed ? 1 : 0);
-        state_set(rt_state(rt), key, val);
+        state_set(state, key, val);
         vec_release(val);
         vec_release(key);
         vec_release(b);
     }
-    mem_leave(prev);
 }
+
+/* }===================================================================== */

@@ -31,4 +31,22 @@ void input_frame(Input *in, const Node *root, StateDict *state, const SymTab *st
  * case, e.g. "space", "left_shift", "kp_0"; "last" is "menu"), or -1. */
 int input_key_code(const char *name, size_t len);
 
+/* Key [code] (GLFW_KEY_*) pressed or released in window [window] (index
+ * in tree order) of the frame [root] (may be NULL): held in [in] from now
+ * on (or no longer); when a `!key` of that window claims the key, its
+ * state S gets S = 1 or 0 and S;:pushed;:beat or S;:released;:beat =
+ * [beat] (Flitter's Window.key_callback). Returns whether one claimed it. */
+bool input_key(Input *in, const Node *root, size_t window, int code, bool pressed,
+               StateDict *state, const SymTab *st, double beat);
+/* The pointer at ([x], [y]) in window [window] of [root] ([inside]), or
+ * gone from it: the state of a `!pointer` of that window gets x;y, or
+ * loses its entry (Flitter's pointer_movement_callback). */
+void input_pointer(const Node *root, size_t window, bool inside, double x, double y,
+                   StateDict *state);
+/* Pointer [button] pressed or released in window [window] of [root]: the
+ * state S of a `!pointer` of that window gets S;button = 1 or 0
+ * (Flitter's pointer_button_callback). */
+void input_pointer_button(const Node *root, size_t window, int button, bool pressed,
+                          StateDict *state);
+
 #endif

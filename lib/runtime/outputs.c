@@ -78,7 +78,7 @@ fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *opts)
         out->trace = trace_open(o->trace, rt_symbols(rt), err, sizeof err);
         if (!out->trace) goto fail;
     }
-    pictures_record_first(rt, o->record);
+    pictures_record_first(rt_pictures(rt), o->record);
     mem_leave(prev);
     return out;
 fail:
@@ -102,7 +102,7 @@ int fl_outputs_frame(fl_outputs *out, fl_runtime *rt)
     long frame = fl_frame_count(rt) - 1;
     out->frames++;
     int rc = 0;
-    if (pictures_render(rt, false) > 0) out->record_failed = true;
+    if (rt_render(rt, false) > 0) out->record_failed = true;
     bool gif = out->view && view_animated(out->view) && due(frame, out->view_every);
     bool trace = out->trace && due(frame, out->trace_every);
     if (gif || trace) {
@@ -172,8 +172,8 @@ int fl_outputs_close(fl_outputs *out, fl_runtime *rt)
         fail(rt, "%s: cannot write the trace", out->trace_path);
         rc = -1;
     }
-    pictures_record_first(rt, NULL);
-    if (pictures_finish_records(rt) != 0) rc = -1;
+    pictures_record_first(rt_pictures(rt), NULL);
+    if (pictures_finish_records(rt_pictures(rt)) != 0) rc = -1;
     if (out->record_failed && rc == 0) {
         /* each file's first error was logged as it happened */
         fail(rt, "a !record file could not be written (the error is above)");

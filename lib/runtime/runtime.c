@@ -156,6 +156,19 @@ static void emit(const fl_runtime *rt, int kind, const char *fmt, ...)
     if (line != small) free(line);
 }
 
+int rt_fail(fl_runtime *rt, const char *fmt, ...)
+{
+    char line[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    Buf *b = rt_error_buf(rt);
+    buf_reset(b);
+    buf_printf(b, "%s\n", line);
+    return -1;
+}
+
 void rt_log_target(const fl_runtime *rt, fl_log_fn *fn, void **ctx)
 {
     *fn = rt->opts.log;
@@ -202,6 +215,18 @@ static double monotonic(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* The render graph's `!sdf function=` callbacks (GraphEnv). */
+static bool sdf_distance(void *ctx, const Vec *fn, const double *xyz, size_t n, double *out)
+{
+    return rt_call_distances(ctx, fn, xyz, n, out);
+}
+
+static uint64_t sdf_function_key(void *ctx, const Vec *fn)
+{
+    (void)ctx;
+    return eval_function_key(fn);
 }
 
 fl_runtime *fl_new(const fl_options *opts)
@@ -272,7 +297,15 @@ fl_runtime *fl_new(const fl_options *opts)
     v = vec_num1(0.0);
     for (int g = G_SCREEN; g <= G_OPENGL_ES; g++) globals_set(&rt->globals, g, v);
     vec_release(v);
-    rt->pictures = pictures_new(rt);
+    rt->pictures = pictures_new(&(GraphEnv){
+        .symbols = rt->symtab, .log = {rt->opts.log, rt->opts.ctx, true}, .budget = &rt->budget,
+        .interrupt = rt->opts.interrupt, .model_cache = rt->opts.model_cache,
+        .c3d = {.no_impostors = rt->opts.debug.impostors == FL_IMPOSTORS_OFF,
+                .box_impostors = rt->opts.debug.impostors == FL_IMPOSTORS_BOX,
+                .occlusion = rt->opts.debug.occlusion == FL_OCCLUSION_ALWAYS  ? C3D_OCCLUSION_ALWAYS
+                             : rt->opts.debug.occlusion == FL_OCCLUSION_NEVER ? C3D_OCCLUSION_NEVER
+                                                                              : C3D_OCCLUSION_AUTO},
+        .distance = sdf_distance, .function_key = sdf_function_key, .ctx = rt});
     rt->input = input_new();
     mem_leave(prev);
     return rt;
@@ -1180,4 +1213,27 @@ void fl_clock_pause(fl_runtime *rt, bool paused)
         rt->wall_start += monotonic() - rt->paused_at;   /* `time` goes on from where it stopped */
         rt->paused_at = -1;
     }
+}
+
+static const Vec *frame_name(void *ctx, const char *name, size_t len)
+{
+    return rt_global(ctx, name, len);
+}
+
+/* Engine name [name] of the last frame when it is one number, else [dflt]. */
+static double global_num(const fl_runtime *rt, const char *name, double dflt)
+{
+    const Vec *v = rt_global(rt, name, strlen(name));
+    return vec_is_scalar(v) ? vec_scalar(v) : dflt;
+}
+
+int rt_render(fl_runtime *rt, bool windows)
+{
+    GraphFrame f = {.frame = fl_frame_count(rt) - 1, .beat = global_num(rt, "beat", 0),
+                    .quantum = global_num(rt, "quantum", 4), .tempo = global_num(rt, "tempo", 120),
+                    .delta = global_num(rt, "delta", 0), .time = global_num(rt, "time", 0),
+                    .fps = fl_target_fps(rt), .performance = global_num(rt, "performance", 1),
+                    .realtime = rt->opts.realtime, .script = rt_script_path(rt), .name = frame_name,
+                    .ctx = rt};
+    return pictures_render(rt->pictures, rt->root, &f, windows);
 }

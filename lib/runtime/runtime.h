@@ -1,10 +1,10 @@
-/* runtime.h: the runtime's internal interface, for the library itself, its
- * unit tests and (a stated, temporary exception, see README "Embedding")
- * the parts of the CLI that still reach inside: the REPL's value
- * formatting and the renderer outputs (--view, --trace, the window), which
- * read the node tree and the symbol table directly.
+/* runtime.h: the runtime's internal interface (runtime.c), for the
+ * library's public functions (api*.c, outputs.c) and its unit tests. The
+ * runtime owns its pictures (pictures.h), input (input.h) and counters
+ * (counter.h), which know nothing of it; nothing it calls calls back into
+ * the files that include this header.
  *
- * Embedders use flitter.h only. The functions here take and return the
+ * Embedders, src/ and python/ use flitter.h only. The functions here take and return the
  * library's internal types (Buf, Node, StateDict, SymTab, Vec, Str) and
  * follow the ownership rule of value.h; the fl_ functions of the same
  * names in flitter.h are thin wrappers over them (api.c).
@@ -44,8 +44,8 @@ const Str *const *rt_scope_names(const fl_runtime *rt, size_t *n);
 /* The node tree of the last evaluated frame (a !root node), or NULL;
  * borrowed until the next fl_step. */
 const Node *rt_root(const fl_runtime *rt);
-/* The renderer of fl_draw_window (pictures.h) and the held keys of fl_key
- * (input.h), owned by the runtime. */
+/* The render graph and view (pictures.h) and the held keys (input.h),
+ * owned by the runtime, for api_windows.c and outputs.c. */
 struct Pictures *rt_pictures(fl_runtime *rt);
 struct Input *rt_input(fl_runtime *rt);
 /* The beat of the last evaluated frame (0 before the first). */
@@ -62,6 +62,10 @@ const Vec *rt_global(const fl_runtime *rt, const char *name, size_t len);
  * once each per runtime.
  *   errors: false when interrupted (the rest of out unset). */
 bool rt_call_distances(fl_runtime *rt, const Vec *fn, const double *xyz, size_t n, double *out);
+/* Draw the last frame through the runtime's pictures (pictures_render,
+ * with the frame's engine names; nothing before the first frame); returns
+ * the number of record files that could not be written this frame. */
+int rt_render(fl_runtime *rt, bool windows);
 /* The runtime's memory budget (fl_options.max_memory), for what it holds
  * across calls (the render graph's framebuffers). */
 MemBudget *rt_budget(fl_runtime *rt);

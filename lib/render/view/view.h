@@ -78,7 +78,7 @@ size_t view_draw_fit(View *v, cairo_surface_t *target, const PsSystem *systems, 
  * would be drawn in 3D (through OpenGL)
  * by a view whose flat projection is [axes] (view_set_style; NULL or
  * {0, 0}: none): a drawing that needs the GL context of the thread it is
- * drawn on, not only its own data (pictures.c, fl_view_snapshot). */
+ * drawn on, not only its own data (api_windows.c, fl_view_snapshot). */
 bool view_draws_3d(const int axes[2], const PsSystem *systems, size_t n);
 /* Finish and free [v] (NULL is a no-op); -1 when a GIF cannot be finished. */
 int view_close(View *v);
