@@ -21,7 +21,7 @@ for name, ci_name in (("build", "build_deps"), ("tests", "test_deps"), ("dev", "
     if a != b:
         print(f"set {name}: only in README.md: {sorted(a - b)}; only in .ci/run: {sorted(b - a)}")
         fail = 1
-if not re.search(r"apt-get install -y \$build \$tests &&", readme):
+if not re.search(r"apt-get install -y --no-install-recommends \$build \$tests &&", readme):
     print("README.md: the Quick start command does not install $build $tests")
     fail = 1
 sys.exit(fail)
