@@ -85,6 +85,19 @@ void buf_reset(Buf *b)
         b->data[0] = '\0';
 }
 
+void buf_truncate(Buf *b, size_t len)
+{
+    if (len >= b->len) return;
+    b->len = len;
+    b->data[len] = '\0';
+}
+
+const char *buf_line(Buf *b)
+{
+    while (b->len && b->data[b->len - 1] == '\n') b->data[--b->len] = '\0';
+    return buf_cstr(b);
+}
+
 void buf_free(Buf *b)
 {
     free(b->data);

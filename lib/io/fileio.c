@@ -82,17 +82,17 @@ static bool write_all(int fd, const char *p, size_t n)
     return true;
 }
 
-bool file_write_atomic(const char *path, const char *data, size_t len, char *err, size_t errlen)
+bool file_write_atomic(const char *path, const char *data, size_t len, Buf *err)
 {
     OutFile f;
-    if (!outfile_open(&f, path, err, errlen)) return false;
+    if (!outfile_open(&f, path, err)) return false;
     if (!write_all(f.fd, data, len)) {
-        snprintf(err, errlen, "%s: %s", path, strerror(errno));
+        buf_printf(err, "%s: %s\n", path, strerror(errno));
         outfile_discard(&f);
         return false;
     }
     char *dirc = mem_strdup(f.target);
-    if (!outfile_commit(&f, true, err, errlen)) {
+    if (!outfile_commit(&f, true, err)) {
         free(dirc);
         return false;
     }

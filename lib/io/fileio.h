@@ -29,10 +29,10 @@ bool file_read_regular(const char *path, Buf *out);
  * replaced file's permission bits (else 0666 less the umask), written,
  * fsync'd and renamed over it, then the directory is fsync'd, so a crash
  * leaves either the old or the new contents.
- *   errors: returns false with `PATH: REASON` in [err] ([errlen] bytes):
+ *   errors: returns false with `PATH: REASON` appended to [err]:
  *           a target that is not a regular file (directory, FIFO, device)
  *           is refused; the temporary file is removed and [path] is
  *           untouched. */
-bool file_write_atomic(const char *path, const char *data, size_t len, char *err, size_t errlen);
+bool file_write_atomic(const char *path, const char *data, size_t len, Buf *err);
 
 #endif

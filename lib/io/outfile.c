@@ -44,7 +44,7 @@ static char *join_dir(const char *path, const char *rel)
 
 /* Follow symbolic links from [path]: the file to replace (malloc'd), or
  * NULL with [err] set. [*st_out] / [*exists] describe it. */
-static char *resolve(const char *path, struct stat *st_out, bool *exists, char *err, size_t errlen)
+static char *resolve(const char *path, struct stat *st_out, bool *exists, Buf *err)
 {
     char *cur = dup_or_die(path);
     for (int hops = 0;; hops++) {
@@ -55,7 +55,7 @@ static char *resolve(const char *path, struct stat *st_out, bool *exists, char *
         }
         if (!S_ISLNK(st.st_mode)) {
             if (!S_ISREG(st.st_mode)) {
-                snprintf(err, errlen, "%s: not a regular file (%s); not replaced", path,
+                buf_printf(err, "%s: not a regular file (%s); not replaced\n", path,
                          S_ISDIR(st.st_mode) ? "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO"
                          : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device" : "a special file");
                 free(cur);
@@ -66,14 +66,14 @@ static char *resolve(const char *path, struct stat *st_out, bool *exists, char *
             return cur;
         }
         if (hops == MAX_LINKS) {
-            snprintf(err, errlen, "%s: too many levels of symbolic links", path);
+            buf_printf(err, "%s: too many levels of symbolic links\n", path);
             free(cur);
             return NULL;
         }
         char link[4096];
         ssize_t n = readlink(cur, link, sizeof link - 1);
         if (n < 0 || (size_t)n >= sizeof link - 1) {
-            snprintf(err, errlen, "%s: cannot read the symbolic link %s", path, cur);
+            buf_printf(err, "%s: cannot read the symbolic link %s\n", path, cur);
             free(cur);
             return NULL;
         }
@@ -84,12 +84,12 @@ static char *resolve(const char *path, struct stat *st_out, bool *exists, char *
     }
 }
 
-bool outfile_open(OutFile *f, const char *path, char *err, size_t errlen)
+bool outfile_open(OutFile *f, const char *path, Buf *err)
 {
     *f = (OutFile){.fd = -1};
     struct stat st;
     bool exists = false;
-    char *target = resolve(path, &st, &exists, err, errlen);
+    char *target = resolve(path, &st, &exists, err);
     if (!target) return false;
     const char *slash = strrchr(target, '/');
     int dlen = slash ? (int)(slash - target) + 1 : 0;
@@ -116,7 +116,7 @@ bool outfile_open(OutFile *f, const char *path, char *err, size_t errlen)
         if (fd < 0 && saved != EEXIST) break;
     }
     if (fd < 0) {
-        snprintf(err, errlen, "%s: cannot create a file in %.*s: %s", path, dlen > 1 ? dlen - 1 : 1,
+        buf_printf(err, "%s: cannot create a file in %.*s: %s\n", path, dlen > 1 ? dlen - 1 : 1,
                  dlen ? target : ".", strerror(saved));
         free(tmp);
         free(target);
@@ -136,7 +136,7 @@ static void release(OutFile *f)
     *f = (OutFile){.fd = -1};
 }
 
-bool outfile_commit(OutFile *f, bool durable, char *err, size_t errlen)
+bool outfile_commit(OutFile *f, bool durable, Buf *err)
 {
     bool ok = true;
     int saved = 0;
@@ -153,7 +153,7 @@ bool outfile_commit(OutFile *f, bool durable, char *err, size_t errlen)
     }
     if (ok && rename(f->tmp, f->target) != 0) ok = false, saved = errno;
     if (!ok) {
-        snprintf(err, errlen, "%s: cannot finish the file: %s", f->target, strerror(saved));
+        buf_printf(err, "%s: cannot finish the file: %s\n", f->target, strerror(saved));
         unlink(f->tmp);
     }
     release(f);
@@ -167,10 +167,10 @@ void outfile_discard(OutFile *f)
     release(f);
 }
 
-bool outfile_check(const char *path, char *err, size_t errlen)
+bool outfile_check(const char *path, Buf *err)
 {
     OutFile f;
-    if (!outfile_open(&f, path, err, errlen)) return false;
+    if (!outfile_open(&f, path, err)) return false;
     outfile_discard(&f);
     return true;
 }

@@ -17,6 +17,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "buf.h"
+
 typedef struct OutFile {
     char *target;   /* the resolved file to replace (malloc'd) */
     char *tmp;      /* the temporary being written (malloc'd) */
@@ -24,18 +26,18 @@ typedef struct OutFile {
 } OutFile;
 
 /* Resolve [path] and create its temporary, open for writing in f->fd.
- *   errors: false, with "PATH: REASON" in [err] ([errlen] bytes), when
+ *   errors: false, with "PATH: REASON" appended to [err], when
  *           the target is not a regular file, a link cannot be followed
  *           or the temporary cannot be created (e.g. no such directory);
  *           nothing is left behind and [f] needs no outfile_discard. */
-bool outfile_open(OutFile *f, const char *path, char *err, size_t errlen);
+bool outfile_open(OutFile *f, const char *path, Buf *err);
 /* Close f->fd (unless already closed, -1), fsync the data first when
  * [durable] (once-per-run files: videos, animations; a PNG replaced every
  * frame is not synced, the rename alone keeps readers safe) and rename the
  * temporary over the target. [f] is released either way.
  *   errors: false with "PATH: REASON" in [err]; the temporary is removed
  *           and the target left as it was. */
-bool outfile_commit(OutFile *f, bool durable, char *err, size_t errlen);
+bool outfile_commit(OutFile *f, bool durable, Buf *err);
 /* Close and remove the temporary, leaving the target as it was, and
  * release [f] (a zeroed or already released OutFile is a no-op). */
 void outfile_discard(OutFile *f);
@@ -44,6 +46,6 @@ void outfile_discard(OutFile *f);
  * (no such directory, read-only, a device) is known before a run's first
  * frame instead of after its last.
  *   errors: false with outfile_open's "PATH: REASON" in [err]. */
-bool outfile_check(const char *path, char *err, size_t errlen);
+bool outfile_check(const char *path, Buf *err);
 
 #endif

@@ -161,14 +161,12 @@ int statefile_save(const StateDict *sd, const SymTab *st, const StateClock *cloc
     buf_free(&line);
     if (skipped) *skipped = skip;
 
-    char why[512];
-    bool ok = file_write_atomic(path, b.data, b.len, why, sizeof why);
+    Buf why = BUF_INIT;
+    bool ok = file_write_atomic(path, b.data, b.len, &why);
     buf_free(&b);
-    if (!ok) {
-        buf_printf(err, "%s: error: cannot save state: %s\n", path, why);
-        return -1;
-    }
-    return 0;
+    if (!ok) buf_printf(err, "%s: error: cannot save state: %s\n", path, buf_line(&why));
+    buf_free(&why);
+    return ok ? 0 : -1;
 }
 
 /* ====================================================================

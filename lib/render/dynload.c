@@ -6,18 +6,18 @@
 #include <string.h>
 
 bool dynload_fill(const char *soname, const char *what, const DynEntry *entries, size_t n,
-                  void *table, char *why, size_t cap)
+                  void *table, Buf *why)
 {
     void *h = dlopen(soname, RTLD_NOW | RTLD_LOCAL);
     if (!h) {
         const char *e = dlerror();
-        snprintf(why, cap, "cannot load %s: %s", what, e ? e : soname);
+        buf_printf(why, "cannot load %s: %s\n", what, e ? e : soname);
         return false;
     }
     for (size_t i = 0; i < n; i++) {
         void *p = dlsym(h, entries[i].name);
         if (!p) {
-            snprintf(why, cap, "cannot load %s: no %s in %s", what, entries[i].name, soname);
+            buf_printf(why, "cannot load %s: no %s in %s\n", what, entries[i].name, soname);
             return false;
         }
         /* a data pointer stored as a function pointer's bits: POSIX
@@ -28,18 +28,22 @@ bool dynload_fill(const char *soname, const char *what, const DynEntry *entries,
 }
 
 bool dynload_ready(DynLib *lib, const char *soname, const char *what, const DynEntry *entries,
-                   size_t n, void *table, const void **published, char *why, size_t cap)
+                   size_t n, void *table, const void **published, Buf *why)
 {
     pthread_mutex_lock(&lib->mu);
     if (!lib->tried) {
         lib->tried = true;
-        lib->ok = dynload_fill(soname, what, entries, n, table, lib->failure, sizeof lib->failure);
+        Buf failure = BUF_INIT;
+        lib->ok = dynload_fill(soname, what, entries, n, table, &failure);
         if (lib->ok)
             *published = table;
+        else
+            snprintf(lib->failure, sizeof lib->failure, "%s", buf_line(&failure));
+        buf_free(&failure);
     }
     bool ok = lib->ok;
-    if (!ok && why && cap)
-        snprintf(why, cap, "%s", lib->failure);
+    if (!ok && why)
+        buf_printf(why, "%s\n", lib->failure);
     pthread_mutex_unlock(&lib->mu);
     return ok;
 }

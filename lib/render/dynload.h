@@ -8,6 +8,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "buf.h"
+
 /* One symbol and where its address goes in the table. */
 typedef struct DynEntry {
     const char *name;
@@ -17,10 +19,10 @@ typedef struct DynEntry {
 /* Open [soname] (it stays loaded for the rest of the process, as a linked
  * library would) and store the address of each of the [n] entries' symbols
  * at [table] + its offset (a function's address, or a variable's).
- *   errors: false with "cannot load [what]: ..." in [why] ([cap] bytes):
+ *   errors: false with "cannot load [what]: ..." appended to [why]:
  *           the library or a symbol missing; [table] may be part filled. */
 bool dynload_fill(const char *soname, const char *what, const DynEntry *entries, size_t n,
-                  void *table, char *why, size_t cap);
+                  void *table, Buf *why);
 
 /* A library opened once per process: whether it was tried, and why it
  * failed. Static, initialised with DYNLIB_INIT. */
@@ -34,9 +36,9 @@ typedef struct DynLib {
 /* The first call fills [table] as dynload_fill does and, when that
  * succeeds, sets *[published] to [table]; every call (thread-safe) says
  * whether the library's entry points can be called.
- *   errors: false with the first call's reason in [why] ([cap] bytes,
- *           may be NULL), the same every time. */
+ *   errors: false with the first call's reason appended to [why]
+ *           (may be NULL), the same every time. */
 bool dynload_ready(DynLib *lib, const char *soname, const char *what, const DynEntry *entries,
-                   size_t n, void *table, const void **published, char *why, size_t cap);
+                   size_t n, void *table, const void **published, Buf *why);
 
 #endif

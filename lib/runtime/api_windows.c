@@ -105,12 +105,11 @@ static int check_buffer(fl_runtime *rt, const char *fn, const uint32_t *pixels, 
              fn, stride, (size_t)width * 4);
         return -1;
     }
-    char why[300];
-    if (!cairo_lib_ready(why, sizeof why)) {
-        rt_fail(rt, "%s: %s", fn, why);
-        return -1;
-    }
-    return 0;
+    Buf why = BUF_INIT;
+    bool ready = cairo_lib_ready(&why);
+    if (!ready) rt_fail(rt, "%s: %s", fn, buf_line(&why));
+    buf_free(&why);
+    return ready ? 0 : -1;
 }
 
 /* A cairo ARGB32 image surface over the caller's [pixels]. */
@@ -157,10 +156,11 @@ int fl_gl_attach(fl_runtime *rt)
     MemHandler prev = rt_enter(rt);
     buf_reset(rt_error_buf(rt));
     Pictures *p = rt_pictures(rt);
-    char err[600];
-    int rc = graph_attach(pictures_graph(p), err, sizeof err);
-    if (rc != 0) rt_fail(rt, "fl_gl_attach: %s", err);
+    Buf err = BUF_INIT;
+    int rc = graph_attach(pictures_graph(p), &err);
+    if (rc != 0) rt_fail(rt, "fl_gl_attach: %s", buf_line(&err));
     else pictures_show_windows(p);
+    buf_free(&err);
     mem_leave(prev);
     return rc;
 }
@@ -294,7 +294,7 @@ int fl_view_painter_draw(fl_view_painter *painter, const fl_view_snapshot *snap,
 {
     if (nsystems) *nsystems = 0;
     if (!painter || !snap || !pixels || width < 1 || height < 1 || width > 16384 || height > 16384 ||
-        stride < (size_t)width * 4 || stride % 4 != 0 || stride > (size_t)INT32_MAX || !cairo_lib_ready(NULL, 0))
+        stride < (size_t)width * 4 || stride % 4 != 0 || stride > (size_t)INT32_MAX || !cairo_lib_ready(NULL))
         return -1;
     cairo_surface_t *s = wrap(pixels, width, height, stride);
     int rc = -1;

@@ -7,7 +7,6 @@
 #include "runtime.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 
 #include "mem.h"
@@ -31,20 +30,6 @@ struct fl_outputs {
     bool record_failed;    /* a window's !record file could not be written */
 };
 
-/* Replace [rt]'s fl_error() text with one formatted line. */
-__attribute__((format(printf, 2, 3)))
-static void fail(fl_runtime *rt, const char *fmt, ...)
-{
-    Buf *b = rt_error_buf(rt);
-    buf_reset(b);
-    va_list ap;
-    va_start(ap, fmt);
-    char line[1024];
-    vsnprintf(line, sizeof line, fmt, ap);
-    va_end(ap);
-    buf_printf(b, "%s\n", line);
-}
-
 /* The GIF frame delay of a picture every [every] frames at [fps], in
  * hundredths of a second (GIF delays are 1..65535). */
 static int gif_delay(long every, double fps)
@@ -61,28 +46,30 @@ fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *opts)
     fl_output_options none = {0};
     const fl_output_options *o = opts ? opts : &none;
     fl_outputs *out = mem_calloc(1, sizeof *out);
-    char err[600];
+    Buf err = BUF_INIT;
     RenderLog log = {NULL, NULL, o->debug};
     rt_log_target(rt, &log.fn, &log.ctx);
     if (o->view) {
         out->view_path = mem_strdup(o->view);
         out->view_every = o->view_every;
         out->view = view_open(o->view, gif_delay(o->view_every, fl_target_fps(rt)),
-                              rt_symbols(rt), err, sizeof err);
+                              rt_symbols(rt), &err);
         if (!out->view) goto fail;
         view_set_style(out->view, rt_options(rt)->view_axes, &log);
     }
     if (o->trace) {
         out->trace_path = mem_strdup(o->trace);
         out->trace_every = o->trace_every;
-        out->trace = trace_open(o->trace, rt_symbols(rt), err, sizeof err);
+        out->trace = trace_open(o->trace, rt_symbols(rt), &err);
         if (!out->trace) goto fail;
     }
     pictures_record_first(rt_pictures(rt), o->record);
+    buf_free(&err);
     mem_leave(prev);
     return out;
 fail:
-    fail(rt, "%s", err);
+    rt_fail(rt, "%s", buf_line(&err));
+    buf_free(&err);
     view_close(out->view);
     trace_close(out->trace);
     free(out->view_path);
@@ -109,16 +96,17 @@ int fl_outputs_frame(fl_outputs *out, fl_runtime *rt)
         PsSystem *sys;
         size_t n;
         ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
-        char err[600];
-        if (gif && view_frame(out->view, frame, sys, n, err, sizeof err) != 0) {
-            fail(rt, "%s", err);
+        Buf err = BUF_INIT;
+        if (gif && view_frame(out->view, frame, sys, n, &err) != 0) {
+            rt_fail(rt, "%s", buf_line(&err));
             view_close(out->view);
             out->view = NULL;
             out->failed = true;
             rc = -1;
         }
+        buf_free(&err);
         if (trace && trace_frame(out->trace, frame, fl_frame_time(rt), sys, n) != 0) {
-            fail(rt, "%s: cannot write the trace", out->trace_path);
+            rt_fail(rt, "%s: cannot write the trace", out->trace_path);
             trace_close(out->trace);
             out->trace = NULL;
             out->failed = true;
@@ -132,12 +120,12 @@ int fl_outputs_frame(fl_outputs *out, fl_runtime *rt)
 
 /* Draw [rt]'s systems now into [v] as frame [frame]; -1 with [err] set on
  * failure. */
-static int view_now(fl_runtime *rt, View *v, long frame, size_t *nsystems, char *err, size_t cap)
+static int view_now(fl_runtime *rt, View *v, long frame, size_t *nsystems, Buf *err)
 {
     PsSystem *sys;
     size_t n;
     ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
-    int rc = view_frame(v, frame, sys, n, err, cap);
+    int rc = view_frame(v, frame, sys, n, err);
     ps_free(sys, n);
     if (nsystems) *nsystems = n;
     return rc;
@@ -158,25 +146,26 @@ int fl_outputs_close(fl_outputs *out, fl_runtime *rt)
     MemHandler prev = rt_enter(rt);
     buf_reset(rt_error_buf(rt));
     int rc = out->failed ? -1 : 0;
-    char err[600];
+    Buf err = BUF_INIT;
     if (out->view && !view_animated(out->view) && out->frames > 0 &&
-        view_now(rt, out->view, fl_frame_count(rt) - 1, NULL, err, sizeof err) != 0) {
-        fail(rt, "%s", err);
+        view_now(rt, out->view, fl_frame_count(rt) - 1, NULL, &err) != 0) {
+        rt_fail(rt, "%s", buf_line(&err));
         rc = -1;
     }
+    buf_free(&err);
     if (view_close(out->view) != 0) {
-        fail(rt, "%s: cannot finish the GIF", out->view_path);
+        rt_fail(rt, "%s: cannot finish the GIF", out->view_path);
         rc = -1;
     }
     if (out->trace && trace_close(out->trace) != 0) {
-        fail(rt, "%s: cannot write the trace", out->trace_path);
+        rt_fail(rt, "%s: cannot write the trace", out->trace_path);
         rc = -1;
     }
     pictures_record_first(rt_pictures(rt), NULL);
     if (pictures_finish_records(rt_pictures(rt)) != 0) rc = -1;
     if (out->record_failed && rc == 0) {
         /* each file's first error was logged as it happened */
-        fail(rt, "a !record file could not be written (the error is above)");
+        rt_fail(rt, "a !record file could not be written (the error is above)");
         rc = -1;
     }
     free(out->view_path);
@@ -192,32 +181,34 @@ int fl_view(fl_runtime *rt, const char *path, size_t *nsystems)
     if (!path) return rt_fail(rt, "fl_view: [path] is NULL");
     MemHandler prev = rt_enter(rt);
     buf_reset(rt_error_buf(rt));
-    char err[600];
+    Buf err = BUF_INIT;
     int rc = 0;
-    View *v = view_open(path, 10, rt_symbols(rt), err, sizeof err);
+    View *v = view_open(path, 10, rt_symbols(rt), &err);
     if (!v) {
-        fail(rt, "%s", err);
+        rt_fail(rt, "%s", buf_line(&err));
         rc = -1;
     } else {
         RenderLog log = {NULL, NULL, false};
         rt_log_target(rt, &log.fn, &log.ctx);
         view_set_style(v, rt_options(rt)->view_axes, &log);
-        rc = view_now(rt, v, fl_frame_count(rt) - 1, nsystems, err, sizeof err);
-        if (rc != 0) fail(rt, "%s", err);
+        rc = view_now(rt, v, fl_frame_count(rt) - 1, nsystems, &err);
+        if (rc != 0) rt_fail(rt, "%s", buf_line(&err));
         if (view_close(v) != 0 && rc == 0) {
-            fail(rt, "%s: cannot finish the file", path);
+            rt_fail(rt, "%s: cannot finish the file", path);
             rc = -1;
         }
     }
+    buf_free(&err);
     mem_leave(prev);
     return rc;
 }
 
 int fl_check_output(const char *path, char *err, size_t cap)
 {
-    char msg[600];
-    bool ok = path && outfile_check(path, msg, sizeof msg);
-    if (err && cap) snprintf(err, cap, "%s", ok ? "" : path ? msg : "no file name");
+    Buf msg = BUF_INIT;
+    bool ok = path && outfile_check(path, &msg);
+    if (err && cap) snprintf(err, cap, "%s", ok ? "" : path ? buf_line(&msg) : "no file name");
+    buf_free(&msg);
     return ok ? 0 : -1;
 }
 

@@ -158,7 +158,7 @@ static void emit(const fl_runtime *rt, int kind, const char *fmt, ...)
 
 int rt_fail(fl_runtime *rt, const char *fmt, ...)
 {
-    char line[512];
+    char line[1024];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);

@@ -98,7 +98,7 @@ Vec *rt_parse_value(fl_runtime *rt, const char *text);
 /* The runtime's fl_error() text, to be filled by a failing call. */
 Buf *rt_error_buf(fl_runtime *rt);
 /* Replace [rt]'s fl_error() text with one formatted line (the newline is
- * added; at most 511 bytes): a public call refusing an argument. Returns
+ * added; at most 1023 bytes): a public call refusing an argument. Returns
  * -1, the usual error value. */
 int rt_fail(fl_runtime *rt, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 

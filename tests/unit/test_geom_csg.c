@@ -29,10 +29,15 @@
 #include <time.h>
 #include <cmocka.h>
 
+#include "buf.h"
 #include "geom_csg.h"
 #include "geom_mesh.h"
 
 #define EPS 1e-9
+
+/* [err] holds exactly the line [msg] (a string literal) and its newline;
+ * it is emptied for the next call. */
+#define assert_error(err, msg) (assert_string_equal(buf_cstr(err), msg "\n"), buf_reset(err))
 
 static double now_ms(void)
 {
@@ -229,11 +234,12 @@ static void check_coords(const GeomMesh *m, int axis, const double *vals, int nv
 static int run(GeomBoolOp op, GeomMesh *a, GeomMesh *b, GeomMesh *out, const char *what)
 {
     const GeomMesh *in[2] = {a, b};
-    char err[200] = "";
+    Buf err = BUF_INIT;
     double t0 = now_ms();
-    int rc = geom_csg_boolean(op, in, 2, out, NULL, err, sizeof err);
+    int rc = geom_csg_boolean(op, in, 2, out, NULL, &err);
     report(what, t0);
-    if (rc != 0) fail_msg("%s: %s", what, err);
+    if (rc != 0) fail_msg("%s: %s", what, buf_line(&err));
+    buf_free(&err);
     return rc;
 }
 
@@ -284,11 +290,11 @@ static void two_boxes(void **st)
 static void three_boxes(void **st)
 {
     (void)st;
-    char err[200];
+    Buf err = BUF_INIT;
     GeomMesh b0 = box(0, 0, 0, 1, 1, 1, 1), b1 = box(1, 0, 0, 2, 1, 1, 1), b2 = box(2, 0, 0, 3, 1, 1, 1), out;
     const GeomMesh *row[3] = {&b0, &b1, &b2};
     double t0 = now_ms();
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, row, 3, &out, NULL, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, row, 3, &out, NULL, &err), 0);
     report("union of three touching boxes", t0);
     check_solid(&out, 3, 14, EPS);
     check_bounds(&out, 0, 0, 0, 3, 1, 1);
@@ -297,7 +303,7 @@ static void three_boxes(void **st)
     GeomMesh bar = box(0, 0, 0, 3, 1, 1, 0), slot1 = box(0.5, -1, -1, 1, 2, 2, 0), slot2 = box(2, -1, -1, 2.5, 2, 2, 0);
     const GeomMesh *cut[3] = {&bar, &slot1, &slot2};
     t0 = now_ms();
-    assert_int_equal(geom_csg_boolean(GEOM_DIFFERENCE, cut, 3, &out, NULL, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_DIFFERENCE, cut, 3, &out, NULL, &err), 0);
     report("bar less two slots", t0);
     check_solid(&out, 2, 14, EPS);
     check_bounds(&out, 0, 0, 0, 3, 1, 1);
@@ -308,13 +314,14 @@ static void three_boxes(void **st)
     GeomMesh corner = box(0.75, 0, 0, 5, 0.5, 1, 0);
     const GeomMesh *common[3] = {&bar, &slot1, &corner};
     t0 = now_ms();
-    assert_int_equal(geom_csg_boolean(GEOM_INTERSECT, common, 3, &out, NULL, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_INTERSECT, common, 3, &out, NULL, &err), 0);
     report("intersection of three boxes", t0);
     check_solid(&out, 0.125, 1.75, EPS);
     check_bounds(&out, 0.75, 0, 0, 1, 0.5, 1);
     geom_mesh_free(&out);
     GeomMesh *all[] = {&b0, &b1, &b2, &bar, &slot1, &slot2, &corner};
     for (size_t i = 0; i < sizeof all / sizeof *all; i++) geom_mesh_free(all[i]);
+    buf_free(&err);
 }
 
 /* }===== */
@@ -445,11 +452,12 @@ static int trim(const GeomMesh *m, double ox, double oy, double oz, double nx, d
                 const char *what)
 {
     const double o[3] = {ox, oy, oz}, n[3] = {nx, ny, nz};
-    char err[200] = "";
+    Buf err = BUF_INIT;
     double t0 = now_ms();
-    int rc = geom_csg_trim(m, o, n, out, err, sizeof err);
+    int rc = geom_csg_trim(m, o, n, out, &err);
     report(what, t0);
-    if (rc != 0) fail_msg("%s: %s", what, err);
+    if (rc != 0) fail_msg("%s: %s", what, buf_line(&err));
+    buf_free(&err);
     return rc;
 }
 
@@ -546,20 +554,20 @@ static void assert_zeroed(const GeomMesh *out)
 static void refused(void **st)
 {
     (void)st;
-    char err[200];
+    Buf err = BUF_INIT;
     GeomMesh a = box(0, 0, 0, 1, 1, 1, 0), b = box(0.5, 0.5, 0.5, 2, 2, 2, 1), out;
     /* an open box (one triangle left out) as the second of two */
     GeomMesh open = box(0.5, 0.5, 0.5, 2, 2, 2, 0);
     open.ntri--;
     const GeomMesh *in[3] = {&a, &open, &b};
     memset(&out, 0xab, sizeof out);
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, err, sizeof err), -1);
-    assert_string_equal(err, "mesh 2 of 2 is not closed");
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, &err), -1);
+    assert_error(&err, "mesh 2 of 2 is not closed");
     assert_zeroed(&out);
     /* inputs are checked before any operation: the third named */
     in[1] = &b, in[2] = &open;
-    assert_int_equal(geom_csg_boolean(GEOM_DIFFERENCE, in, 3, &out, NULL, err, sizeof err), -1);
-    assert_string_equal(err, "mesh 3 of 3 is not closed");
+    assert_int_equal(geom_csg_boolean(GEOM_DIFFERENCE, in, 3, &out, NULL, &err), -1);
+    assert_error(&err, "mesh 3 of 3 is not closed");
     /* turned inside out (CGAL would take it for the space outside a box) */
     GeomMesh inv = box(0, 0, 0, 1, 1, 1, 0);
     for (uint32_t t = 0; t < inv.ntri; t++) {
@@ -568,8 +576,8 @@ static void refused(void **st)
         inv.tri[t * 3 + 2] = x;
     }
     in[0] = &inv, in[1] = &b;
-    assert_int_equal(geom_csg_boolean(GEOM_INTERSECT, in, 2, &out, NULL, err, sizeof err), -1);
-    assert_string_equal(err, "mesh 1 of 2 is inside out");
+    assert_int_equal(geom_csg_boolean(GEOM_INTERSECT, in, 2, &out, NULL, &err), -1);
+    assert_error(&err, "mesh 1 of 2 is inside out");
     /* two overlapping boxes in one mesh: closed, but it cuts itself; it
      * is refined where it crosses into the solid it bounds (as a boolean's
      * result rounded to doubles must be), here the two boxes' union:
@@ -577,7 +585,7 @@ static void refused(void **st)
     GeomMesh two = box(0, 0, 0, 1, 1, 1, 0), other = box(0.5, 0.5, 0.5, 1.5, 1.5, 1.5, 0);
     append(&two, &other, 0);
     in[0] = &two;
-    assert_int_equal(geom_csg_trim(&two, (double[3]){0, 0, 10}, (double[3]){0, 0, 1}, &out, err, sizeof err), 0);
+    assert_int_equal(geom_csg_trim(&two, (double[3]){0, 0, 10}, (double[3]){0, 0, 1}, &out, &err), 0);
     assert_true(fabs(geom_mesh_volume(&out) - 1.875) < 1e-12);
     assert_true(geom_mesh_is_closed(&out));
     geom_mesh_free(&out);
@@ -585,83 +593,85 @@ static void refused(void **st)
     uint32_t corner = a.tri[5];
     a.tri[5] = a.npos;
     in[0] = &b, in[1] = &a;
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, err, sizeof err), -1);
-    assert_string_equal(err, "mesh 2 of 2 has a triangle index out of range");
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, &err), -1);
+    assert_error(&err, "mesh 2 of 2 has a triangle index out of range");
     a.tri[5] = corner;
     double keep = a.pos[4];
     a.pos[4] = NAN;
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, err, sizeof err), -1);
-    assert_string_equal(err, "mesh 2 of 2 has a position that is not finite");
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, &err), -1);
+    assert_error(&err, "mesh 2 of 2 has a position that is not finite");
     a.pos[4] = keep;
     /* no inputs; a missing one */
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 0, &out, NULL, err, sizeof err), -1);
-    assert_string_equal(err, "no meshes");
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 0, &out, NULL, &err), -1);
+    assert_error(&err, "no meshes");
     in[1] = NULL;
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, err, sizeof err), -1);
-    assert_string_equal(err, "mesh 2 of 2 is missing");
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, &err), -1);
+    assert_error(&err, "mesh 2 of 2 is missing");
     /* a zero normal, a normal not finite */
     const double o[3] = {0, 0, 0}, zero[3] = {0, 0, 0}, inf[3] = {0, INFINITY, 1};
     memset(&out, 0xab, sizeof out);
-    assert_int_equal(geom_csg_trim(&b, o, zero, &out, err, sizeof err), -1);
-    assert_string_equal(err, "the trim normal is zero");
+    assert_int_equal(geom_csg_trim(&b, o, zero, &out, &err), -1);
+    assert_error(&err, "the trim normal is zero");
     assert_zeroed(&out);
-    assert_int_equal(geom_csg_trim(&b, o, inf, &out, err, sizeof err), -1);
-    assert_string_equal(err, "the trim plane is not finite");
+    assert_int_equal(geom_csg_trim(&b, o, inf, &out, &err), -1);
+    assert_error(&err, "the trim plane is not finite");
     /* the trim's input is checked as any */
     const double up[3] = {0, 0, 1};
-    assert_int_equal(geom_csg_trim(&open, o, up, &out, err, sizeof err), -1);
-    assert_string_equal(err, "mesh 1 of 1 is not closed");
-    /* a short message buffer is cut, still terminated; none at all is fine */
-    char small[8];
-    assert_int_equal(geom_csg_trim(&b, o, zero, &out, small, sizeof small), -1);
-    assert_string_equal(small, "the tri");
-    assert_int_equal(geom_csg_trim(&b, o, zero, &out, NULL, 0), -1);
+    assert_int_equal(geom_csg_trim(&open, o, up, &out, &err), -1);
+    assert_error(&err, "mesh 1 of 1 is not closed");
+    /* the message is appended to what [err] holds; none at all is fine */
+    buf_puts(&err, "before\n");
+    assert_int_equal(geom_csg_trim(&b, o, zero, &out, &err), -1);
+    assert_error(&err, "before\nthe trim normal is zero");
+    assert_int_equal(geom_csg_trim(&b, o, zero, &out, NULL), -1);
     /* a box inside another, both wound outwards: no volume has that
      * boundary (a hollow box winds the inner one inwards) */
     GeomMesh nested = box(-1, -1, -1, 3, 3, 3, 0);
     append(&nested, &a, 0);
     in[0] = &nested;
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 1, &out, NULL, err, sizeof err), -1);
-    assert_string_equal(err, "mesh 1 of 1 is not a volume");
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 1, &out, NULL, &err), -1);
+    assert_error(&err, "mesh 1 of 1 is not a volume");
     /* two boxes in one mesh touching along an edge (four triangles on
      * it), and at a corner only (two fans of triangles about it) */
     GeomMesh edge = box(0, 0, 0, 1, 1, 1, 1), edge2 = box(1, 1, 0, 2, 2, 1, 1);
     append(&edge, &edge2, 0);
     in[0] = &edge;
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 1, &out, NULL, err, sizeof err), -1);
-    assert_string_equal(err, "mesh 1 of 1 is not a manifold surface");
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 1, &out, NULL, &err), -1);
+    assert_error(&err, "mesh 1 of 1 is not a manifold surface");
     GeomMesh touch = box(0, 0, 0, 1, 1, 1, 1), touch2 = box(1, 1, 1, 2, 2, 2, 1);
     append(&touch, &touch2, 0);
     in[0] = &touch;
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 1, &out, NULL, err, sizeof err), -1);
-    assert_string_equal(err, "mesh 1 of 1 is not a manifold surface");
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 1, &out, NULL, &err), -1);
+    assert_error(&err, "mesh 1 of 1 is not a manifold surface");
     /* the same two as separate inputs: their union would be that surface,
      * which CGAL's corefinement refuses to make */
     in[0] = &edge2, in[1] = &a;
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, err, sizeof err), -1);
-    assert_string_equal(err, "boolean operation failed");
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, &err), -1);
+    assert_error(&err, "boolean operation failed");
     assert_zeroed(&out);
     GeomMesh *all[] = {&a, &b, &open, &inv, &two, &other, &nested, &edge, &edge2, &touch, &touch2};
     for (size_t i = 0; i < sizeof all / sizeof *all; i++) geom_mesh_free(all[i]);
+    buf_free(&err);
 }
 
 /* interrupt set before the call: nothing done, -1 and "interrupted" */
 static void interrupted(void **st)
 {
     (void)st;
-    char err[200];
+    Buf err = BUF_INIT;
     GeomMesh a = box(0, 0, 0, 1, 1, 1, 0), b = box(0.5, 0, 0, 1.5, 1, 1, 0), out;
     const GeomMesh *in[2] = {&a, &b};
     volatile int stop = 1;
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, &stop, err, sizeof err), -1);
-    assert_string_equal(err, "interrupted");
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, &stop, &err), -1);
+    assert_error(&err, "interrupted");
     assert_zeroed(&out);
     stop = 0;
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, &stop, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, &stop, &err), 0);
     check_solid(&out, 1.5, 8, EPS);
     geom_mesh_free(&out);
     geom_mesh_free(&a);
     geom_mesh_free(&b);
+    buf_free(&err);
 }
 
 /* Disjoint solids intersected: no triangles, no error; united: both
@@ -670,24 +680,24 @@ static void interrupted(void **st)
 static void empty_and_single(void **st)
 {
     (void)st;
-    char err[200];
+    Buf err = BUF_INIT;
     GeomMesh a = box(0, 0, 0, 1, 1, 1, 1), b = box(3, 3, 3, 5, 5, 5, 0), empty = {0}, out;
     const GeomMesh *in[2] = {&a, &b};
-    assert_int_equal(geom_csg_boolean(GEOM_INTERSECT, in, 2, &out, NULL, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_INTERSECT, in, 2, &out, NULL, &err), 0);
     assert_int_equal(out.ntri, 0);
     geom_mesh_free(&out);
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, &err), 0);
     check_solid(&out, 9, 30, EPS);
     assert_int_equal(out.npos, 16);
     assert_int_equal(out.ntri, 24);
     geom_mesh_free(&out);
-    assert_int_equal(geom_csg_boolean(GEOM_DIFFERENCE, in, 2, &out, NULL, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_DIFFERENCE, in, 2, &out, NULL, &err), 0);
     check_solid(&out, 1, 6, EPS);
     geom_mesh_free(&out);
 
     /* n == 1: the 24 positions of the unwelded box welded to 8 */
     assert_int_equal(a.npos, 24);
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 1, &out, NULL, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 1, &out, NULL, &err), 0);
     check_solid(&out, 1, 6, EPS);
     assert_int_equal(out.npos, 8);
     assert_int_equal(out.ntri, 12);
@@ -699,18 +709,19 @@ static void empty_and_single(void **st)
     /* the empty solid: united, a copy of the other; intersected, empty;
      * subtracted, nothing taken away */
     in[0] = &empty, in[1] = &b;
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 2, &out, NULL, &err), 0);
     check_solid(&out, 8, 24, EPS);
     geom_mesh_free(&out);
-    assert_int_equal(geom_csg_boolean(GEOM_INTERSECT, in, 2, &out, NULL, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_INTERSECT, in, 2, &out, NULL, &err), 0);
     assert_int_equal(out.ntri, 0);
     geom_mesh_free(&out);
     in[0] = &b, in[1] = &empty;
-    assert_int_equal(geom_csg_boolean(GEOM_DIFFERENCE, in, 2, &out, NULL, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_DIFFERENCE, in, 2, &out, NULL, &err), 0);
     check_solid(&out, 8, 24, EPS);
     geom_mesh_free(&out);
     geom_mesh_free(&a);
     geom_mesh_free(&b);
+    buf_free(&err);
 }
 
 /* A hollow box: [0,4]^3 with the cavity [1,2]^3 (its faces wound inwards),
@@ -723,12 +734,12 @@ static void empty_and_single(void **st)
 static void hollow(void **st)
 {
     (void)st;
-    char err[200];
+    Buf err = BUF_INIT;
     GeomMesh h = box(0, 0, 0, 4, 4, 4, 0), cavity = box(1, 1, 1, 2, 2, 2, 0), cut = box(1.5, -1, -1, 5, 5, 5, 0),
              out;
     append(&h, &cavity, 1);
     const GeomMesh *in[2] = {&h, &cut};
-    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 1, &out, NULL, err, sizeof err), 0);
+    assert_int_equal(geom_csg_boolean(GEOM_UNION, in, 1, &out, NULL, &err), 0);
     check_solid(&out, 63, 102, EPS);
     geom_mesh_free(&out);
     trim(&h, 0, 0, 1.5, 0, 0, 1, &out, "trim hollow box through its cavity");
@@ -742,6 +753,7 @@ static void hollow(void **st)
     geom_mesh_free(&h);
     geom_mesh_free(&cavity);
     geom_mesh_free(&cut);
+    buf_free(&err);
 }
 
 /* Two threads at once (two renderers in one process): each makes the
@@ -759,17 +771,18 @@ static void *work(void *arg)
     Work *w = arg;
     const GeomMesh *in[2] = {w->sphere, w->box};
     const double o[3] = {0, 0, 0}, n[3] = {1, 2, 3};
-    char err[200];
+    Buf err = BUF_INIT;
     for (int i = 0; i < 2 && w->rc == 0; i++) {
         GeomMesh a, b;
-        w->rc |= geom_csg_boolean(GEOM_INTERSECT, in, 2, &a, NULL, err, sizeof err);
-        w->rc |= geom_csg_trim(w->sphere, o, n, &b, err, sizeof err);
+        w->rc |= geom_csg_boolean(GEOM_INTERSECT, in, 2, &a, NULL, &err);
+        w->rc |= geom_csg_trim(w->sphere, o, n, &b, &err);
         double va = geom_mesh_volume(&a), vb = geom_mesh_volume(&b);
         if (i > 0 && (va != w->vol[0] || vb != w->vol[1])) w->rc = 1;
         w->vol[0] = va, w->vol[1] = vb;
         geom_mesh_free(&a);
         geom_mesh_free(&b);
     }
+    buf_free(&err);
     return NULL;
 }
 

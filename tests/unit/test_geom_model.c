@@ -449,6 +449,8 @@ static void vectors_and_files(void **state)
     int said = f->nerrors;
     assert_null(mesh_of(f, 2));
     assert_int_equal(f->nerrors, said);
+    /* each said on one line, without a newline of its own */
+    assert_null(strstr(f->errors, "\n\n"));
     fixture_free(f);
     unlink(path);
     rmdir(dir);

@@ -61,11 +61,16 @@
 #include <time.h>
 #include <cmocka.h>
 
+#include "buf.h"
 #include "geom_mesh.h"
 #include "geom_sdf_mesh.h"
 
 static const double PI = 3.14159265358979323846;
 static const double LO[3] = {-1, -1, -1}, HI[3] = {1, 1, 1};
+
+/* [err] holds exactly the line [msg] (a string literal) and its newline;
+ * it is emptied for the next call. */
+#define assert_error(err, msg) (assert_string_equal(buf_cstr(err), msg "\n"), buf_reset(err))
 
 static double now_ms(void)
 {
@@ -137,9 +142,10 @@ static bool field_fn(void *ctx, const double *xyz, size_t n, double *out)
 
 static int mesh(Field *fd, const double lo[3], const double hi[3], double res, GeomMesh *m)
 {
-    char err[200] = "";
-    int rc = geom_sdf_mesh(field_fn, fd, lo, hi, res, 100000000, NULL, m, err, sizeof err);
-    if (rc != 0) print_message("geom_sdf_mesh: %s\n", err);
+    Buf err = BUF_INIT;
+    int rc = geom_sdf_mesh(field_fn, fd, lo, hi, res, 100000000, NULL, m, &err);
+    if (rc != 0) print_message("geom_sdf_mesh: %s\n", buf_line(&err));
+    buf_free(&err);
     return rc;
 }
 
@@ -514,63 +520,65 @@ static void test_errors(void **state)
     (void)state;
     Field fd = {.shape = SPHERE, .r = 0.8};
     GeomMesh m = {0};
-    char err[200];
-    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, HI, 2.0 / 64, 274624, NULL, &m, err, sizeof err), -1);
-    assert_string_equal(err, "resolution 0.03125 gives 274625 points, more than the budget of 274624");
+    Buf err = BUF_INIT;
+    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, HI, 2.0 / 64, 274624, NULL, &m, &err), -1);
+    assert_error(&err, "resolution 0.03125 gives 274625 points, more than the budget of 274624");
     assert_int_equal(fd.calls, 0);
     assert_null(m.pos);
-    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, HI, 0, 1000, NULL, &m, err, sizeof err), -1);
-    assert_string_equal(err, "bad resolution 0");
+    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, HI, 0, 1000, NULL, &m, &err), -1);
+    assert_error(&err, "bad resolution 0");
     const double back[3] = {1, -2, 1};
-    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, back, 0.1, 1000, NULL, &m, err, sizeof err), -1);
-    assert_string_equal(err, "bad bounds");
-    assert_int_equal(geom_sdf_mesh(NULL, &fd, LO, HI, 0.1, 100000, NULL, &m, err, sizeof err), -1);
-    assert_string_equal(err, "no distance function");
+    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, back, 0.1, 1000, NULL, &m, &err), -1);
+    assert_error(&err, "bad bounds");
+    assert_int_equal(geom_sdf_mesh(NULL, &fd, LO, HI, 0.1, 100000, NULL, &m, &err), -1);
+    assert_error(&err, "no distance function");
     /* 1e16 + 1 == 1e16: the grid's planes would coincide */
     const double far_lo[3] = {1e16, 0, 0}, far_hi[3] = {1e16 + 8, 4, 4};
-    assert_int_equal(geom_sdf_mesh(field_fn, &fd, far_lo, far_hi, 1, 100000, NULL, &m, err, sizeof err), -1);
-    assert_string_equal(err, "resolution 1 is below the precision of the bounds");
-    /* a short buffer gets the start of the message; none at all is fine */
-    char small[8];
-    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, back, 0.1, 1000, NULL, &m, small, sizeof small), -1);
-    assert_string_equal(small, "bad bou");
-    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, back, 0.1, 1000, NULL, &m, NULL, 0), -1);
+    assert_int_equal(geom_sdf_mesh(field_fn, &fd, far_lo, far_hi, 1, 100000, NULL, &m, &err), -1);
+    assert_error(&err, "resolution 1 is below the precision of the bounds");
+    /* the message is appended to what [err] holds; none at all is fine */
+    buf_puts(&err, "before\n");
+    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, back, 0.1, 1000, NULL, &m, &err), -1);
+    assert_error(&err, "before\nbad bounds");
+    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, back, 0.1, 1000, NULL, &m, NULL), -1);
     assert_int_equal(fd.calls, 0);
 
     /* the function stops on its 3rd plane */
     Field stop = {.shape = SPHERE, .r = 0.8, .fail_at = 3};
-    assert_int_equal(geom_sdf_mesh(field_fn, &stop, LO, HI, 2.0 / 64, 1000000, NULL, &m, err, sizeof err), -1);
-    assert_string_equal(err, "distance function failed");
+    assert_int_equal(geom_sdf_mesh(field_fn, &stop, LO, HI, 2.0 / 64, 1000000, NULL, &m, &err), -1);
+    assert_error(&err, "distance function failed");
     assert_int_equal(stop.calls, 3);
     assert_null(m.pos);
     assert_null(m.tri);
     assert_int_equal(m.ntri, 0);
+    buf_free(&err);
 }
 
 static void test_interrupt(void **state)
 {
     (void)state;
     GeomMesh m = {0};
-    char err[200];
+    Buf err = BUF_INIT;
     volatile int flag = 1;
     Field fd = {.shape = SPHERE, .r = 0.8};
-    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, HI, 2.0 / 64, 1000000, &flag, &m, err, sizeof err), -1);
-    assert_string_equal(err, "interrupted");
+    assert_int_equal(geom_sdf_mesh(field_fn, &fd, LO, HI, 2.0 / 64, 1000000, &flag, &m, &err), -1);
+    assert_error(&err, "interrupted");
     assert_int_equal(fd.calls, 0);
     /* set during the 40th plane (after meshing began): seen before the next */
     flag = 0;
     Field late = {.shape = SPHERE, .r = 0.8, .interrupt_at = 40, .interrupt = &flag};
-    assert_int_equal(geom_sdf_mesh(field_fn, &late, LO, HI, 2.0 / 64, 1000000, &flag, &m, err, sizeof err), -1);
-    assert_string_equal(err, "interrupted");
+    assert_int_equal(geom_sdf_mesh(field_fn, &late, LO, HI, 2.0 / 64, 1000000, &flag, &m, &err), -1);
+    assert_error(&err, "interrupted");
     assert_int_equal(late.calls, 40);
     assert_null(m.pos);
     /* the function stops on the plane where it sets the flag */
     flag = 0;
     Field both = {.shape = SPHERE, .r = 0.8, .interrupt_at = 5, .fail_at = 5, .interrupt = &flag};
-    assert_int_equal(geom_sdf_mesh(field_fn, &both, LO, HI, 2.0 / 64, 1000000, &flag, &m, err, sizeof err), -1);
-    assert_string_equal(err, "interrupted");
+    assert_int_equal(geom_sdf_mesh(field_fn, &both, LO, HI, 2.0 / 64, 1000000, &flag, &m, &err), -1);
+    assert_error(&err, "interrupted");
     assert_int_equal(both.calls, 5);
     assert_null(m.pos);
+    buf_free(&err);
 }
 
 /* Each call gets one whole plane, z increasing, x fastest; every grid
@@ -621,8 +629,8 @@ static void test_every_point_once(void **state)
     v.seen = calloc(total, 1);
     assert_non_null(v.seen);
     GeomMesh m = {0};
-    char err[200];
-    assert_int_equal(geom_sdf_mesh(visit_fn, &v, v.lo, hi, v.res, 1000000, NULL, &m, err, sizeof err), 0);
+    Buf err = BUF_INIT;
+    assert_int_equal(geom_sdf_mesh(visit_fn, &v, v.lo, hi, v.res, 1000000, NULL, &m, &err), 0);
     assert_true(v.ok);
     assert_int_equal(v.calls, v.n[2]);
     assert_int_equal(v.calls * ((size_t)v.n[0] * v.n[1]), total);
@@ -631,6 +639,7 @@ static void test_every_point_once(void **state)
     assert_true(geom_mesh_is_closed(&m));
     free(v.seen);
     geom_mesh_free(&m);
+    buf_free(&err);
 }
 
 int main(void)

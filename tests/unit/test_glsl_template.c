@@ -66,9 +66,12 @@ static int render(const char *src)
 {
     TplEnv env = {.lookup = lookup, .include = lib};
     Buf out = BUF_INIT;
-    int rc = tpl_render(src, strlen(src), &env, &out, err_text, sizeof err_text);
+    Buf err = BUF_INIT;
+    int rc = tpl_render(src, strlen(src), &env, &out, &err);
     snprintf(out_text, sizeof out_text, "%s", out.data ? out.data : "");
+    snprintf(err_text, sizeof err_text, "%s", buf_line(&err));
     buf_free(&out);
+    buf_free(&err);
     return rc;
 }
 
@@ -155,10 +158,12 @@ static void library(void **st)
         TplEnv env = {.lookup = lookup, .include = glsl_library};
         Buf out = BUF_INIT;
         /* templates that need names the test does not give fail with a message, never otherwise */
-        int rc = tpl_render(src, strlen(src), &env, &out, err_text, sizeof err_text);
-        if (rc != 0 && !strstr(err_text, "is not defined")) fail_msg("%s: %s", files[i], err_text);
+        Buf err = BUF_INIT;
+        int rc = tpl_render(src, strlen(src), &env, &out, &err);
+        if (rc != 0 && !strstr(buf_cstr(&err), "is not defined")) fail_msg("%s: %s", files[i], buf_cstr(&err));
         if (rc == 0) assert_non_null(strstr(out.data, "#version 330"));
         buf_free(&out);
+        buf_free(&err);
     }
     assert_null(glsl_library("no_such.frag"));
 }

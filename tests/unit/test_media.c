@@ -270,13 +270,13 @@ static void test_png_exact(void **st)
     write_png(path, 4, 3, 6, px);
     MemBudget b = {0};
     MediaCache *m = media_cache_new(&b, NULL);
-    char err[512];
+    Buf err = BUF_INIT;
     bool fresh = true;
-    const MediaImage *im = media_image(m, path, 0, 0, err, sizeof err, &fresh);
-    if (!im) fprintf(stderr, "%s\n", err);
+    const MediaImage *im = media_image(m, path, 0, 0, &err, &fresh);
+    if (!im) fprintf(stderr, "%s", buf_cstr(&err));
     assert_non_null(im);
     assert_false(fresh);
-    assert_string_equal(err, "");
+    assert_string_equal(buf_cstr(&err), "");
     assert_int_equal(im->w, 4);
     assert_int_equal(im->h, 3);
     assert_memory_equal(im->rgba, px, 48);   /* straight alpha, top row first, exact */
@@ -284,12 +284,13 @@ static void test_png_exact(void **st)
     assert_int_equal(b.used, 48);             /* the held pixels are charged */
     uint64_t version = im->version;
     /* asked again: the same picture, not decoded again */
-    const MediaImage *again = media_image(m, path, 4, 3, err, sizeof err, NULL);
+    const MediaImage *again = media_image(m, path, 4, 3, &err, NULL);
     assert_ptr_equal(again, im);
     assert_int_equal(again->version, version);
     assert_int_equal(b.used, 48);
     media_cache_free(m);
     assert_int_equal(b.used, 0);
+    buf_free(&err);
 }
 
 static void test_png_opaque(void **st)
@@ -301,16 +302,17 @@ static void test_png_opaque(void **st)
     write_png(in_scratch("rgb.png"), 2, 2, 2, rgb);
     write_png(in_scratch("grey.png"), 3, 1, 0, grey);
     MediaCache *m = media_cache_new(NULL, NULL);
-    char err[512];
-    const MediaImage *im = media_image(m, in_scratch("rgb.png"), 0, 0, err, sizeof err, NULL);
+    Buf err = BUF_INIT;
+    const MediaImage *im = media_image(m, in_scratch("rgb.png"), 0, 0, &err, NULL);
     assert_non_null(im);
     const uint8_t want_rgb[16] = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 17, 34, 51, 255};
     assert_memory_equal(im->rgba, want_rgb, 16);
-    im = media_image(m, in_scratch("grey.png"), 0, 0, err, sizeof err, NULL);
+    im = media_image(m, in_scratch("grey.png"), 0, 0, &err, NULL);
     assert_non_null(im);
     const uint8_t want_grey[12] = {0, 0, 0, 255, 100, 100, 100, 255, 255, 255, 255, 255};
     assert_memory_equal(im->rgba, want_grey, 12);
     media_cache_free(m);
+    buf_free(&err);
 }
 
 static void test_jpeg_full_range(void **st)
@@ -323,9 +325,9 @@ static void test_jpeg_full_range(void **st)
     const char *args[] = {"-f", "lavfi", "-i", "color=c=0x3080c0:s=16x16", "-frames:v", "1", "-q:v", "1", path, NULL};
     ffmpeg(args);
     MediaCache *m = media_cache_new(NULL, NULL);
-    char err[512];
-    const MediaImage *im = media_image(m, path, 0, 0, err, sizeof err, NULL);
-    if (!im) fprintf(stderr, "%s\n", err);
+    Buf err = BUF_INIT;
+    const MediaImage *im = media_image(m, path, 0, 0, &err, NULL);
+    if (!im) fprintf(stderr, "%s", buf_cstr(&err));
     assert_non_null(im);
     assert_int_equal(im->w, 16);
     assert_int_equal(im->h, 16);
@@ -337,6 +339,7 @@ static void test_jpeg_full_range(void **st)
         assert_int_equal(p[3], 255);
     }
     media_cache_free(m);
+    buf_free(&err);
 }
 
 static void test_bmp_gif(void **st)
@@ -351,9 +354,9 @@ static void test_bmp_gif(void **st)
                           "-pix_fmt", "bgr24", in_scratch("pic.bmp"), NULL};
     ffmpeg(args);
     MediaCache *m = media_cache_new(NULL, NULL);
-    char err[512];
-    const MediaImage *im = media_image(m, in_scratch("pic.bmp"), 0, 0, err, sizeof err, NULL);
-    if (!im) fprintf(stderr, "%s\n", err);
+    Buf err = BUF_INIT;
+    const MediaImage *im = media_image(m, in_scratch("pic.bmp"), 0, 0, &err, NULL);
+    if (!im) fprintf(stderr, "%s", buf_cstr(&err));
     assert_non_null(im);
     assert_int_equal(im->w, 3);
     assert_int_equal(im->h, 2);
@@ -370,12 +373,13 @@ static void test_bmp_gif(void **st)
                          "-filter_complex", "split[a][b];[a]palettegen=reserve_transparent=0[p];[b][p]paletteuse=dither=none",
                          in_scratch("two.gif"), NULL};
     ffmpeg(gif);
-    im = media_image(m, in_scratch("two.gif"), 0, 0, err, sizeof err, NULL);
-    if (!im) fprintf(stderr, "%s\n", err);
+    im = media_image(m, in_scratch("two.gif"), 0, 0, &err, NULL);
+    if (!im) fprintf(stderr, "%s", buf_cstr(&err));
     assert_non_null(im);
     assert_int_equal(im->w, 8);
     for (int i = 0; i < 64; i++) assert_memory_equal(im->rgba + i * 4, ((uint8_t[]){255, 0, 0, 255}), 4);
     media_cache_free(m);
+    buf_free(&err);
 }
 
 static void test_resize(void **st)
@@ -394,8 +398,8 @@ static void test_resize(void **st)
     write_png(in_scratch("half.png"), 8, 2, 6, half);
     MemBudget b = {0};
     MediaCache *m = media_cache_new(&b, NULL);
-    char err[512];
-    const MediaImage *im = media_image(m, in_scratch("flat.png"), 11, 7, err, sizeof err, NULL);
+    Buf err = BUF_INIT;
+    const MediaImage *im = media_image(m, in_scratch("flat.png"), 11, 7, &err, NULL);
     assert_non_null(im);
     assert_int_equal(im->w, 11);
     assert_int_equal(im->h, 7);
@@ -407,18 +411,18 @@ static void test_resize(void **st)
     }
     assert_int_equal(b.used, 5 * 4 * 4 + 11 * 7 * 4);   /* the file's size and the copy */
     uint64_t v_big = im->version;
-    const MediaImage *small = media_image(m, in_scratch("flat.png"), 2, 3, err, sizeof err, NULL);
+    const MediaImage *small = media_image(m, in_scratch("flat.png"), 2, 3, &err, NULL);
     assert_non_null(small);
     assert_int_equal(small->w, 2);
     assert_int_equal(small->h, 3);
     assert_true(small->version != v_big);
     /* only one of w, h given: the file's size */
-    const MediaImage *as_is = media_image(m, in_scratch("flat.png"), 9, 0, err, sizeof err, NULL);
+    const MediaImage *as_is = media_image(m, in_scratch("flat.png"), 9, 0, &err, NULL);
     assert_int_equal(as_is->w, 5);
     assert_int_equal(as_is->h, 4);
 
     /* premultiplied filtering: no green bleeds into the visible pixels */
-    im = media_image(m, in_scratch("half.png"), 3, 2, err, sizeof err, NULL);
+    im = media_image(m, in_scratch("half.png"), 3, 2, &err, NULL);
     assert_non_null(im);
     assert_int_equal(im->w, 3);
     bool blended = false;
@@ -437,11 +441,13 @@ static void test_resize(void **st)
 
     /* sizes past 16384 a side are refused */
     bool fresh = false;
-    assert_null(media_image(m, in_scratch("flat.png"), 16385, 2, err, sizeof err, &fresh));
-    assert_non_null(strstr(err, "16384"));
+    buf_reset(&err);
+    assert_null(media_image(m, in_scratch("flat.png"), 16385, 2, &err, &fresh));
+    assert_non_null(strstr(buf_cstr(&err), "16384"));
     assert_true(fresh);
     media_cache_free(m);
     assert_int_equal(b.used, 0);
+    buf_free(&err);
 }
 
 static void test_not_a_picture(void **st)
@@ -451,32 +457,35 @@ static void test_not_a_picture(void **st)
     const char *text = "This is not a picture.\nIt is two lines of text.\n";
     write_bytes(path, text, strlen(text));
     MediaCache *m = media_cache_new(NULL, NULL);
-    char err[512];
+    Buf err = BUF_INIT;
     bool fresh = false;
-    assert_null(media_image(m, path, 0, 0, err, sizeof err, &fresh));
+    assert_null(media_image(m, path, 0, 0, &err, &fresh));
     assert_true(fresh);
-    assert_true(strncmp(err, path, strlen(path)) == 0);   /* "PATH: REASON" */
-    assert_true(strncmp(err + strlen(path), ": not a picture (", 17) == 0);
+    assert_true(strncmp(buf_cstr(&err), path, strlen(path)) == 0);   /* "PATH: REASON" */
+    assert_true(strncmp(buf_cstr(&err) + strlen(path), ": not a picture (", 17) == 0);
     /* the same failure again: not news */
-    char err2[512];
-    assert_null(media_image(m, path, 0, 0, err2, sizeof err2, &fresh));
+    Buf err2 = BUF_INIT;
+    assert_null(media_image(m, path, 0, 0, &err2, &fresh));
     assert_false(fresh);
-    assert_string_equal(err2, err);
+    assert_string_equal(buf_cstr(&err2), buf_cstr(&err));
     /* a text file with a picture's name */
     const char *fake = in_scratch("fake.png");
     write_bytes(fake, text, strlen(text));
-    assert_null(media_image(m, fake, 0, 0, err, sizeof err, &fresh));
+    buf_reset(&err);
+    assert_null(media_image(m, fake, 0, 0, &err, &fresh));
     assert_true(fresh);
-    assert_true(strncmp(err, fake, strlen(fake)) == 0);
+    assert_true(strncmp(buf_cstr(&err), fake, strlen(fake)) == 0);
     /* the file becomes a picture: read again */
     uint8_t px[48];
     rgba_4x3(px);
     write_png(path, 4, 3, 6, px);
     set_mtime(path, 1000000);
-    const MediaImage *im = media_image(m, path, 0, 0, err, sizeof err, &fresh);
+    const MediaImage *im = media_image(m, path, 0, 0, &err, &fresh);
     assert_non_null(im);
     assert_memory_equal(im->rgba, px, 48);
     media_cache_free(m);
+    buf_free(&err);
+    buf_free(&err2);
 }
 
 static void test_missing_and_changed(void **st)
@@ -485,41 +494,44 @@ static void test_missing_and_changed(void **st)
     const char *path = in_scratch("later.png");
     MemBudget b = {0};
     MediaCache *m = media_cache_new(&b, NULL);
-    char err[512];
+    Buf err = BUF_INIT;
     bool fresh = false;
-    assert_null(media_image(m, path, 0, 0, err, sizeof err, &fresh));
+    assert_null(media_image(m, path, 0, 0, &err, &fresh));
     assert_true(fresh);
     char want[400];
-    snprintf(want, sizeof want, "%s: no such file", path);
-    assert_string_equal(err, want);
-    assert_null(media_image(m, path, 0, 0, err, sizeof err, &fresh));
+    snprintf(want, sizeof want, "%s: no such file\n", path);
+    assert_string_equal(buf_cstr(&err), want);
+    buf_reset(&err);
+    assert_null(media_image(m, path, 0, 0, &err, &fresh));
     assert_false(fresh);
-    assert_string_equal(err, want);
+    assert_string_equal(buf_cstr(&err), want);
     /* it appears */
     uint8_t a[4] = {1, 2, 3, 4}, c[4] = {5, 6, 7, 8};
     write_png(path, 1, 1, 6, a);
-    const MediaImage *im = media_image(m, path, 0, 0, err, sizeof err, &fresh);
+    const MediaImage *im = media_image(m, path, 0, 0, &err, &fresh);
     assert_non_null(im);
     assert_memory_equal(im->rgba, a, 4);
     uint64_t v1 = im->version;
-    const MediaImage *big = media_image(m, path, 3, 3, err, sizeof err, NULL);   /* and a copy */
+    const MediaImage *big = media_image(m, path, 3, 3, &err, NULL);   /* and a copy */
     assert_non_null(big);
     assert_int_equal(b.used, 4 + 36);
     /* it changes (same size: the modification time tells) */
     write_png(path, 1, 1, 6, c);
     set_mtime(path, 2000000);
-    im = media_image(m, path, 0, 0, err, sizeof err, &fresh);
+    im = media_image(m, path, 0, 0, &err, &fresh);
     assert_non_null(im);
     assert_memory_equal(im->rgba, c, 4);
     assert_true(im->version != v1);
     assert_int_equal(b.used, 4);   /* the old pixels and copy given back */
     /* it goes: reported afresh */
     assert_int_equal(unlink(path), 0);
-    assert_null(media_image(m, path, 0, 0, err, sizeof err, &fresh));
+    buf_reset(&err);
+    assert_null(media_image(m, path, 0, 0, &err, &fresh));
     assert_true(fresh);
-    assert_string_equal(err, want);
+    assert_string_equal(buf_cstr(&err), want);
     assert_int_equal(b.used, 0);
     media_cache_free(m);
+    buf_free(&err);
 }
 
 static void test_truncated_png(void **st)
@@ -531,18 +543,19 @@ static void test_truncated_png(void **st)
     truncated_copy(in_scratch("whole.png"), in_scratch("cut.png"), 0.5);
     MemBudget b = {0};
     MediaCache *m = media_cache_new(&b, NULL);
-    char err[512];
+    Buf err = BUF_INIT;
     bool fresh = false;
-    assert_null(media_image(m, in_scratch("cut.png"), 0, 0, err, sizeof err, &fresh));
+    assert_null(media_image(m, in_scratch("cut.png"), 0, 0, &err, &fresh));
     assert_true(fresh);
     const char *path = in_scratch("cut.png");
-    assert_true(strncmp(err, path, strlen(path)) == 0 && err[strlen(path)] == ':');
+    assert_true(strncmp(buf_cstr(&err), path, strlen(path)) == 0 && buf_cstr(&err)[strlen(path)] == ':');
     assert_int_equal(b.used, 0);   /* nothing held, nothing left charged */
     /* the whole one reads */
-    const MediaImage *im = media_image(m, in_scratch("whole.png"), 0, 0, err, sizeof err, NULL);
+    const MediaImage *im = media_image(m, in_scratch("whole.png"), 0, 0, &err, NULL);
     assert_non_null(im);
     assert_memory_equal(im->rgba, px, sizeof px);
     media_cache_free(m);
+    buf_free(&err);
 }
 
 static void test_picture_limits(void **st)
@@ -554,20 +567,21 @@ static void test_picture_limits(void **st)
     write_png(in_scratch("b.png"), 4, 3, 6, px);
     MemBudget b = {.limit = 47};
     MediaCache *m = media_cache_new(&b, NULL);
-    char err[512];
+    Buf err = BUF_INIT;
     bool fresh = false;
-    assert_null(media_image(m, in_scratch("b.png"), 0, 0, err, sizeof err, &fresh));
+    assert_null(media_image(m, in_scratch("b.png"), 0, 0, &err, &fresh));
     assert_true(fresh);
-    assert_non_null(strstr(err, "out of memory"));
+    assert_non_null(strstr(buf_cstr(&err), "out of memory"));
     assert_int_equal(b.used, 0);
-    assert_null(media_image(m, in_scratch("b.png"), 0, 0, err, sizeof err, &fresh));
+    assert_null(media_image(m, in_scratch("b.png"), 0, 0, &err, &fresh));
     assert_false(fresh);   /* said once */
     b.limit = 100;         /* room now: tried again */
-    const MediaImage *im = media_image(m, in_scratch("b.png"), 0, 0, err, sizeof err, &fresh);
+    const MediaImage *im = media_image(m, in_scratch("b.png"), 0, 0, &err, &fresh);
     assert_non_null(im);
     assert_int_equal(b.used, 48);
-    assert_null(media_image(m, in_scratch("b.png"), 8, 8, err, sizeof err, &fresh));   /* 256 bytes more */
-    assert_non_null(strstr(err, "out of memory"));
+    buf_reset(&err);
+    assert_null(media_image(m, in_scratch("b.png"), 8, 8, &err, &fresh));   /* 256 bytes more */
+    assert_non_null(strstr(buf_cstr(&err), "out of memory"));
     assert_int_equal(b.used, 48);
     /* expiry gives the memory back */
     media_cache_expire(m, 3600);
@@ -578,16 +592,18 @@ static void test_picture_limits(void **st)
     uint8_t *wide = calloc(16385, 1);
     write_png(in_scratch("wide.png"), 16385, 1, 0, wide);
     free(wide);
-    assert_null(media_image(m, in_scratch("wide.png"), 0, 0, err, sizeof err, &fresh));
-    assert_non_null(strstr(err, "past 16384"));
+    buf_reset(&err);
+    assert_null(media_image(m, in_scratch("wide.png"), 0, 0, &err, &fresh));
+    assert_non_null(strstr(buf_cstr(&err), "past 16384"));
     /* bad arguments */
-    assert_null(media_image(m, NULL, 0, 0, err, sizeof err, &fresh));
-    assert_null(media_image(NULL, in_scratch("b.png"), 0, 0, err, sizeof err, &fresh));
-    assert_null(media_image(m, "", 0, 0, NULL, 0, NULL));
-    assert_null(media_image(m, scratch, 0, 0, err, sizeof err, &fresh));   /* a folder */
+    assert_null(media_image(m, NULL, 0, 0, &err, &fresh));
+    assert_null(media_image(NULL, in_scratch("b.png"), 0, 0, &err, &fresh));
+    assert_null(media_image(m, "", 0, 0, NULL, NULL));
+    assert_null(media_image(m, scratch, 0, 0, &err, &fresh));   /* a folder */
     media_cache_free(m);
     media_cache_free(NULL);
     media_cache_expire(NULL, 1);
+    buf_free(&err);
 }
 
 /* }===== */
@@ -638,10 +654,11 @@ static Got frames_at(MediaVideo *v, double pos, bool loop, bool baf, double ts, 
 {
     const MediaFrame *f0, *f1;
     double ratio = -1;
-    char err[512];
+    Buf err = BUF_INIT;
     Got g = {false, -1, -1, 0};
-    g.ok = media_video_frames(v, pos, loop, baf, ts, te, true, &ratio, &f0, &f1, err, sizeof err);
-    if (!g.ok) fprintf(stderr, "frames_at %g: %s\n", pos, err);
+    g.ok = media_video_frames(v, pos, loop, baf, ts, te, true, &ratio, &f0, &f1, &err);
+    if (!g.ok) fprintf(stderr, "frames_at %g: %s\n", pos, buf_line(&err));
+    buf_free(&err);
     if (g.ok) {
         g.f0 = frame_no(f0);
         g.f1 = f1 ? frame_no(f1) : -1;
@@ -661,9 +678,10 @@ static Got frames_at(MediaVideo *v, double pos, bool loop, bool baf, double ts, 
 
 static MediaVideo *open_video(MediaCache *m, const char *name, bool threads)
 {
-    char err[512];
-    MediaVideo *v = media_video_open(m, in_scratch(name), threads, err, sizeof err);
-    if (!v) fprintf(stderr, "%s\n", err);
+    Buf err = BUF_INIT;
+    MediaVideo *v = media_video_open(m, in_scratch(name), threads, &err);
+    if (!v) fprintf(stderr, "%s", buf_cstr(&err));
+    buf_free(&err);
     assert_non_null(v);
     return v;
 }
@@ -691,8 +709,8 @@ static void test_video_positions(void **st)
     /* the same frame twice: the same serial; another frame: another */
     const MediaFrame *a0, *a1, *c0, *c1;
     double r;
-    char err[512];
-    assert_true(media_video_frames(v, 1.05, false, false, 0, 0, true, &r, &a0, &a1, err, sizeof err));
+    Buf err = BUF_INIT;
+    assert_true(media_video_frames(v, 1.05, false, false, 0, 0, true, &r, &a0, &a1, &err));
     uint64_t s10 = a0->serial, s11 = a1->serial;
     assert_true(s10 != s11);
     /* the frames given stay as they are while the thread decodes ahead */
@@ -704,11 +722,12 @@ static void test_video_positions(void **st)
     assert_int_equal(a0->serial, s10);
     assert_int_equal(frame_no(a0), 10);
     assert_int_equal(frame_no(a1), 11);
-    assert_true(media_video_frames(v, 1.15, false, false, 0, 0, true, &r, &c0, &c1, err, sizeof err));
+    assert_true(media_video_frames(v, 1.15, false, false, 0, 0, true, &r, &c0, &c1, &err));
     assert_int_equal(c0->serial, s11);
     media_video_close(v);
     assert_int_equal(b.used, 0);
     media_cache_free(m);
+    buf_free(&err);
 }
 
 static void test_video_loop_trim(void **st)
@@ -774,21 +793,21 @@ static void test_video_no_wait(void **st)
     MediaVideo *v = open_video(m, LONG_VIDEO, false);
     const MediaFrame *f0, *f1;
     double r;
-    char err[512];
+    Buf err = BUF_INIT;
     /* frame 240 needs all 240 frames before it decoded (one key frame):
      * without wait, the call returns at once with what there is */
     double t0 = now_s();
-    bool ok = media_video_frames(v, 9.62, false, false, 0, 0, false, &r, &f0, &f1, err, sizeof err);
+    bool ok = media_video_frames(v, 9.62, false, false, 0, 0, false, &r, &f0, &f1, &err);
     double took = now_s() - t0;
     assert_true(took < 0.05);
-    assert_string_equal(err, "");
+    assert_string_equal(buf_cstr(&err), "");
     assert_true(!ok || long_frame_no(f0) < 240);
     /* asked again and again, the thread gets there */
     double worst = took, deadline = now_s() + 30;
     int got = -1, calls = 0;
     while (now_s() < deadline) {
         t0 = now_s();
-        ok = media_video_frames(v, 9.62, false, false, 0, 0, false, &r, &f0, &f1, err, sizeof err);
+        ok = media_video_frames(v, 9.62, false, false, 0, 0, false, &r, &f0, &f1, &err);
         took = now_s() - t0;
         worst = took > worst ? took : worst;
         calls++;
@@ -806,13 +825,14 @@ static void test_video_no_wait(void **st)
     /* the same with wait: exact at once */
     v = open_video(m, LONG_VIDEO, false);
     t0 = now_s();
-    assert_true(media_video_frames(v, 9.62, false, false, 0, 0, true, &r, &f0, &f1, err, sizeof err));
+    assert_true(media_video_frames(v, 9.62, false, false, 0, 0, true, &r, &f0, &f1, &err));
     took = now_s() - t0;
     fprintf(stderr, "test_video_no_wait: %.3f s to frame 240 with wait; %d calls without, the longest %.6f s\n", took,
             calls, worst);
     assert_int_equal(long_frame_no(f0), 240);
     media_video_close(v);
     media_cache_free(m);
+    buf_free(&err);
 }
 
 static void test_video_truncated(void **st)
@@ -831,17 +851,19 @@ static void test_video_truncated(void **st)
          * file, once; then false without */
         const MediaFrame *f0, *f1;
         double r;
-        char err[512];
-        assert_false(media_video_frames(v, 2.95, false, false, 0, 0, true, &r, &f0, &f1, err, sizeof err));
-        fprintf(stderr, "%s\n", err);
-        assert_true(strncmp(err, in_scratch(names[i]), strlen(in_scratch(names[i]))) == 0);
+        Buf err = BUF_INIT;
+        assert_false(media_video_frames(v, 2.95, false, false, 0, 0, true, &r, &f0, &f1, &err));
+        fprintf(stderr, "%s", buf_cstr(&err));
+        assert_true(strncmp(buf_cstr(&err), in_scratch(names[i]), strlen(in_scratch(names[i]))) == 0);
         assert_null(f0);
-        assert_false(media_video_frames(v, 2.85, false, false, 0, 0, true, &r, &f0, &f1, err, sizeof err));
-        assert_string_equal(err, "");
+        buf_reset(&err);
+        assert_false(media_video_frames(v, 2.85, false, false, 0, 0, true, &r, &f0, &f1, &err));
+        assert_string_equal(buf_cstr(&err), "");
         /* and before it, frames again, with their next ones */
         assert_frames(frames_at(v, 0.65, false, false, 0, 0), 6, 7, 0.5);
         assert_frames(frames_at(v, 0.05, false, false, 0, 0), 0, 1, 0.5);
         media_video_close(v);
+        buf_free(&err);
     }
     media_cache_free(m);
 }
@@ -851,24 +873,26 @@ static void test_video_bad_files(void **st)
     (void)st;
     MemBudget b = {0};
     MediaCache *m = media_cache_new(&b, NULL);
-    char err[512];
+    Buf err = BUF_INIT;
     const char *text = in_scratch("notes.mp4");
     write_bytes(text, "not a video at all\n", 19);
-    assert_null(media_video_open(m, text, false, err, sizeof err));
-    assert_true(strncmp(err, text, strlen(text)) == 0 && strstr(err, "not a video"));
+    assert_null(media_video_open(m, text, false, &err));
+    assert_true(strncmp(buf_cstr(&err), text, strlen(text)) == 0 && strstr(buf_cstr(&err), "not a video"));
     const char *txt = in_scratch("words.txt");
     write_bytes(txt, "some words\n", 11);
-    assert_null(media_video_open(m, txt, false, err, sizeof err));
-    assert_true(strncmp(err, txt, strlen(txt)) == 0 && strstr(err, "not a video"));
+    buf_reset(&err);
+    assert_null(media_video_open(m, txt, false, &err));
+    assert_true(strncmp(buf_cstr(&err), txt, strlen(txt)) == 0 && strstr(buf_cstr(&err), "not a video"));
     const char *missing = in_scratch("missing.mp4");
-    assert_null(media_video_open(m, missing, false, err, sizeof err));
+    buf_reset(&err);
+    assert_null(media_video_open(m, missing, false, &err));
     char want[400];
-    snprintf(want, sizeof want, "%s: no such file", missing);
-    assert_string_equal(err, want);
-    assert_null(media_video_open(m, NULL, false, err, sizeof err));
-    assert_null(media_video_open(NULL, text, false, err, sizeof err));
-    assert_null(media_video_open(m, scratch, false, err, sizeof err));
-    assert_false(media_video_frames(NULL, 0, false, false, 0, 0, true, NULL, NULL, NULL, err, sizeof err));
+    snprintf(want, sizeof want, "%s: no such file\n", missing);
+    assert_string_equal(buf_cstr(&err), want);
+    assert_null(media_video_open(m, NULL, false, &err));
+    assert_null(media_video_open(NULL, text, false, &err));
+    assert_null(media_video_open(m, scratch, false, &err));
+    assert_false(media_video_frames(NULL, 0, false, false, 0, 0, true, NULL, NULL, NULL, &err));
     assert_false(media_video_current(NULL, text));
     media_video_close(NULL);
     assert_int_equal(b.used, 0);
@@ -878,20 +902,22 @@ static void test_video_bad_files(void **st)
         uint8_t *p = read_bytes(in_scratch(VIDEO), &n);
         write_bytes(in_scratch("head.mkv"), p, 400);
         free(p);
-        MediaVideo *v = media_video_open(m, in_scratch("head.mkv"), false, err, sizeof err);
+        buf_reset(&err);
+        MediaVideo *v = media_video_open(m, in_scratch("head.mkv"), false, &err);
         if (v) {   /* (the header may be whole: then no frame reads) */
             const MediaFrame *f0, *f1;
             double r;
-            assert_false(media_video_frames(v, 0, false, false, 0, 0, true, &r, &f0, &f1, err, sizeof err));
-            assert_true(strncmp(err, in_scratch("head.mkv"), strlen(in_scratch("head.mkv"))) == 0);
+            assert_false(media_video_frames(v, 0, false, false, 0, 0, true, &r, &f0, &f1, &err));
+            assert_true(strncmp(buf_cstr(&err), in_scratch("head.mkv"), strlen(in_scratch("head.mkv"))) == 0);
             media_video_close(v);
         } else {
-            assert_true(strncmp(err, in_scratch("head.mkv"), strlen(in_scratch("head.mkv"))) == 0);
+            assert_true(strncmp(buf_cstr(&err), in_scratch("head.mkv"), strlen(in_scratch("head.mkv"))) == 0);
         }
         /* a budget too small for 4 frames */
         b.limit = 3 * 64 * 48 * 4;
-        assert_null(media_video_open(m, in_scratch(VIDEO), false, err, sizeof err));
-        assert_non_null(strstr(err, "out of memory"));
+        buf_reset(&err);
+        assert_null(media_video_open(m, in_scratch(VIDEO), false, &err));
+        assert_non_null(strstr(buf_cstr(&err), "out of memory"));
         b.limit = 0;
         /* the file changes under an open video */
         const char *copy = in_scratch("copy.mkv");
@@ -907,6 +933,7 @@ static void test_video_bad_files(void **st)
     }
     media_cache_free(m);
     assert_int_equal(b.used, 0);
+    buf_free(&err);
 }
 
 static void test_video_interrupt(void **st)
@@ -918,14 +945,14 @@ static void test_video_interrupt(void **st)
     MediaVideo *v = open_video(m, LONG_VIDEO, false);
     const MediaFrame *f0, *f1;
     double r;
-    char err[512];
+    Buf err = BUF_INIT;
     __atomic_store_n(&flag, 1, __ATOMIC_RELAXED);
     double t0 = now_s();
-    bool ok = media_video_frames(v, 9.62, false, false, 0, 0, true, &r, &f0, &f1, err, sizeof err);
+    bool ok = media_video_frames(v, 9.62, false, false, 0, 0, true, &r, &f0, &f1, &err);
     assert_true(now_s() - t0 < 0.5);   /* gave up at once, with what there was */
     assert_true(!ok || long_frame_no(f0) < 240);
     __atomic_store_n(&flag, 0, __ATOMIC_RELAXED);
-    assert_true(media_video_frames(v, 9.62, false, false, 0, 0, true, &r, &f0, &f1, err, sizeof err));
+    assert_true(media_video_frames(v, 9.62, false, false, 0, 0, true, &r, &f0, &f1, &err));
     assert_int_equal(long_frame_no(f0), 240);
     /* pictures too: an interrupted read is not kept as a failure */
     uint8_t px[48];
@@ -933,12 +960,14 @@ static void test_video_interrupt(void **st)
     write_png(in_scratch("i.png"), 4, 3, 6, px);
     __atomic_store_n(&flag, 1, __ATOMIC_RELAXED);
     bool fresh;
-    assert_null(media_image(m, in_scratch("i.png"), 0, 0, err, sizeof err, &fresh));
-    assert_non_null(strstr(err, "interrupted"));
+    buf_reset(&err);
+    assert_null(media_image(m, in_scratch("i.png"), 0, 0, &err, &fresh));
+    assert_non_null(strstr(buf_cstr(&err), "interrupted"));
     __atomic_store_n(&flag, 0, __ATOMIC_RELAXED);
-    assert_non_null(media_image(m, in_scratch("i.png"), 0, 0, err, sizeof err, &fresh));
+    assert_non_null(media_image(m, in_scratch("i.png"), 0, 0, &err, &fresh));
     media_video_close(v);
     media_cache_free(m);
+    buf_free(&err);
 }
 
 /* Two runtimes' caches used at once from two threads (paths made here:
@@ -947,12 +976,14 @@ static void *play(void *arg)
 {
     int *bad = arg;
     MediaCache *m = media_cache_new(NULL, NULL);
-    char err[512], video[256], picture[256];
+    Buf err = BUF_INIT;
+    char video[256], picture[256];
     snprintf(video, sizeof video, "%s/%s", scratch, VIDEO);
     snprintf(picture, sizeof picture, "%s/rgba.png", scratch);
-    MediaVideo *v = media_video_open(m, video, false, err, sizeof err);
+    MediaVideo *v = media_video_open(m, video, false, &err);
     if (!v) {
         *bad = 1;
+        buf_free(&err);
         return NULL;
     }
     for (int pass = 0; pass < 2; pass++) {
@@ -960,16 +991,17 @@ static void *play(void *arg)
             const MediaFrame *f0, *f1;
             double r;
             int kk = pass ? 29 - k : k;
-            if (!media_video_frames(v, kk * 0.1 + 0.05, false, false, 0, 0, true, &r, &f0, &f1, err, sizeof err) ||
+            if (!media_video_frames(v, kk * 0.1 + 0.05, false, false, 0, 0, true, &r, &f0, &f1, &err) ||
                 abs(f0->rgba[(4 * 64) * 4] - kk * 8) > 3)
                 *bad = 1;
             /* and a frame without waiting, whatever it is */
-            media_video_frames(v, (29 - kk) * 0.1, true, false, 0, 0, false, &r, &f0, &f1, err, sizeof err);
+            media_video_frames(v, (29 - kk) * 0.1, true, false, 0, 0, false, &r, &f0, &f1, &err);
         }
     }
-    const MediaImage *im = media_image(m, picture, 2, 2, err, sizeof err, NULL);
+    const MediaImage *im = media_image(m, picture, 2, 2, &err, NULL);
     if (!im || im->w != 2) *bad = 1;
     media_cache_free(m);   /* the video still open */
+    buf_free(&err);
     return NULL;
 }
 

@@ -40,6 +40,27 @@ static void test_helpers(void **st)
 }
 
 /* handlers nest: mem_enter returns the one it replaced */
+/* buf_truncate takes a prefix back; buf_line drops trailing newlines only. */
+static void test_buf_error_lines(void **st)
+{
+    (void)st;
+    Buf b = BUF_INIT;
+    assert_string_equal(buf_line(&b), "");
+    buf_truncate(&b, 0);
+    buf_printf(&b, "a.png: ");
+    size_t mark = b.len;
+    buf_printf(&b, "no such file\n\n");
+    assert_string_equal(buf_line(&b), "a.png: no such file");
+    assert_int_equal(b.len, 19);
+    buf_truncate(&b, mark);
+    assert_string_equal(buf_cstr(&b), "a.png: ");
+    buf_truncate(&b, 100);
+    assert_int_equal(b.len, 7);
+    buf_printf(&b, "x\ny\n");
+    assert_string_equal(buf_line(&b), "a.png: x\ny");
+    buf_free(&b);
+}
+
 static void h1(void *ctx, const char *m) { (void)ctx; (void)m; }
 static void h2(void *ctx, const char *m) { (void)ctx; (void)m; }
 static void test_nesting(void **st)
@@ -162,6 +183,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_helpers),
+        cmocka_unit_test(test_buf_error_lines),
         cmocka_unit_test(test_nesting),
         cmocka_unit_test(test_failure_calls_handler_then_aborts),
     };

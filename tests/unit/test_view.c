@@ -111,12 +111,13 @@ static void test_view_png(void **st)
     PsSystem *sys;
     size_t n;
     ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
-    char path[128], err[256];
+    char path[128];
+    Buf err = BUF_INIT;
     snprintf(path, sizeof path, "%s/v.png", scratch);
-    View *v = view_open(path, 10, rt_symbols(rt), err, sizeof err);
+    View *v = view_open(path, 10, rt_symbols(rt), &err);
     assert_non_null(v);
     assert_false(view_animated(v));
-    assert_int_equal(view_frame(v, 1, sys, n, err, sizeof err), 0);
+    assert_int_equal(view_frame(v, 1, sys, n, &err), 0);
     assert_int_equal(view_close(v), 0);
     cairo_surface_t *s = cairo_image_surface_create_from_png(path);
     assert_int_equal(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
@@ -144,9 +145,10 @@ static void test_view_gif(void **st)
 {
     (void)st;
     fl_runtime *rt = run(SCRIPT, 0);
-    char path[128], err[256];
+    char path[128];
+    Buf err = BUF_INIT;
     snprintf(path, sizeof path, "%s/v.gif", scratch);
-    View *v = view_open(path, 5, rt_symbols(rt), err, sizeof err);
+    View *v = view_open(path, 5, rt_symbols(rt), &err);
     assert_non_null(v);
     assert_true(view_animated(v));
     for (int f = 0; f < 3; f++) {
@@ -154,7 +156,7 @@ static void test_view_gif(void **st)
         PsSystem *sys;
         size_t n;
         ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
-        assert_int_equal(view_frame(v, f, sys, n, err, sizeof err), 0);
+        assert_int_equal(view_frame(v, f, sys, n, &err), 0);
         ps_free(sys, n);
     }
     assert_int_equal(view_close(v), 0);
@@ -168,12 +170,12 @@ static void test_view_gif(void **st)
     /* SVG: one picture, written as an SVG document */
     char svg[128];
     snprintf(svg, sizeof svg, "%s/v.svg", scratch);
-    v = view_open(svg, 5, rt_symbols(rt), err, sizeof err);
+    v = view_open(svg, 5, rt_symbols(rt), &err);
     assert_non_null(v);
     PsSystem *sys;
     size_t n;
     ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
-    assert_int_equal(view_frame(v, 2, sys, n, err, sizeof err), 0);
+    assert_int_equal(view_frame(v, 2, sys, n, &err), 0);
     ps_free(sys, n);
     assert_int_equal(view_close(v), 0);
     FILE *f = fopen(svg, "r");
@@ -183,8 +185,9 @@ static void test_view_gif(void **st)
     fclose(f);
     assert_non_null(strstr(head, "<svg"));
     assert_non_null(strstr(head, "width=\"480"));   /* 480pt: cairo writes points */
-    assert_null(view_open("x.jpg", 5, NULL, err, sizeof err));
-    assert_non_null(strstr(err, ".png, .svg or .gif"));
+    assert_null(view_open("x.jpg", 5, NULL, &err));
+    assert_non_null(strstr(buf_cstr(&err), ".png, .svg or .gif"));
+    buf_free(&err);
     fl_free(rt);
 }
 
@@ -204,13 +207,14 @@ static cairo_surface_t *view_png(fl_runtime *rt, const int axes[2], const char *
     PsSystem *sys;
     size_t n;
     ps_collect(rt_root(rt), rt_state(rt), &sys, &n);
-    char path[128], err[256];
+    char path[128];
+    Buf err = BUF_INIT;
     snprintf(path, sizeof path, "%s/%s", scratch, name);
-    View *v = view_open(path, 10, rt_symbols(rt), err, sizeof err);
+    View *v = view_open(path, 10, rt_symbols(rt), &err);
     assert_non_null(v);
     view_set_style(v, axes, log);
-    assert_int_equal(view_frame(v, 1, sys, n, err, sizeof err), 0);
-    assert_int_equal(view_frame(v, 2, sys, n, err, sizeof err), 0);
+    assert_int_equal(view_frame(v, 1, sys, n, &err), 0);
+    assert_int_equal(view_frame(v, 2, sys, n, &err), 0);
     assert_int_equal(view_close(v), 0);
     ps_free(sys, n);
     cairo_surface_t *s = cairo_image_surface_create_from_png(path);
@@ -321,11 +325,12 @@ static void test_trace(void **st)
 {
     (void)st;
     fl_runtime *rt = run(SCRIPT, 0);
-    char csv[128], jsonl[128], err[256];
+    char csv[128], jsonl[128];
+    Buf err = BUF_INIT;
     snprintf(csv, sizeof csv, "%s/t.csv", scratch);
     snprintf(jsonl, sizeof jsonl, "%s/t.jsonl", scratch);
-    Trace *tc = trace_open(csv, rt_symbols(rt), err, sizeof err);
-    Trace *tj = trace_open(jsonl, rt_symbols(rt), err, sizeof err);
+    Trace *tc = trace_open(csv, rt_symbols(rt), &err);
+    Trace *tj = trace_open(jsonl, rt_symbols(rt), &err);
     assert_non_null(tc);
     assert_non_null(tj);
     for (int f = 0; f < 2; f++) {

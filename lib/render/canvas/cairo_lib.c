@@ -16,9 +16,9 @@ static const DynEntry entries[] = {
 const void *fl_cairo;
 static CairoLib table;
 
-bool cairo_lib_ready(char *why, size_t cap)
+bool cairo_lib_ready(Buf *why)
 {
     static DynLib lib = DYNLIB_INIT;
     return dynload_ready(&lib, CAIRO_SONAME, "cairo", entries, sizeof entries / sizeof *entries, &table,
-                         &fl_cairo, why, cap);
+                         &fl_cairo, why);
 }

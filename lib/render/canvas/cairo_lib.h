@@ -30,6 +30,8 @@
 #include <cairo-svg.h>
 #include <cairo.h>
 
+#include "buf.h"
+
 #define FL_CAIRO_FUNCTIONS(X)                                                                           \
     X(cairo_arc) X(cairo_arc_negative) X(cairo_clip) X(cairo_clip_extents) X(cairo_close_path)          \
     X(cairo_create) X(cairo_curve_to) X(cairo_destroy) X(cairo_device_to_user_distance)                 \
@@ -69,9 +71,9 @@ extern const void *fl_cairo;
 
 /* Load cairo if it is not loaded yet (thread-safe; only the first call
  * does any work) and say whether its entry points can be called.
- *   errors: false with one line in [why] ([cap] bytes): the library or
+ *   errors: false with one line appended to [why] (may be NULL): the library or
  *           one of its functions missing; the same answer every time. */
-bool cairo_lib_ready(char *why, size_t cap);
+bool cairo_lib_ready(Buf *why);
 
 /* The names the render files call (FL_CAIRO_FUNCTIONS). */
 #define cairo_arc (FL_CAIRO->f_cairo_arc)

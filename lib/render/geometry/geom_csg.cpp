@@ -7,7 +7,8 @@
  *
  * The C boundary: every C++ exception (this file's own errors, CGAL's
  * failed preconditions and assertions, std::bad_alloc) is caught in the two
- * public functions and turned into the one-line error message. Nothing here
+ * public functions and turned into a one-line error message appended to
+ * the caller's Buf. Nothing here
  * is global or static and mutable but one lock: each call builds its own
  * meshes, and calls from renderers on different threads take turns (CGAL
  * is built without threads, below).
@@ -62,7 +63,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
@@ -255,9 +255,10 @@ std::string one_line(const char *what)
     return s;
 }
 
-void set_error(char *err, size_t errlen, const std::string &msg)
+/* Append [msg] as one line to [err] (may be NULL). */
+void set_error(Buf *err, const std::string &msg)
 {
-    if (err && errlen) std::snprintf(err, errlen, "%s", msg.c_str());
+    if (err) buf_printf(err, "%s\n", msg.c_str());
 }
 
 /* The lock every call holds while CGAL runs (see CGAL_HAS_NO_THREADS above). */
@@ -268,23 +269,23 @@ std::mutex &csg_lock()
 }
 
 /* Run [body] (which fills [out]) under the lock, with every exception
- * turned into -1 and the message, [out] zeroed. */
-template <class F> int guarded(GeomMesh *out, char *err, size_t errlen, F body)
+ * turned into -1 and its message appended to [err], [out] zeroed. */
+template <class F> int guarded(GeomMesh *out, Buf *err, F body)
 {
     std::lock_guard<std::mutex> hold(csg_lock());
     try {
         body();
         return 0;
     } catch (const CsgError &e) {
-        set_error(err, errlen, e.what());
+        set_error(err, e.what());
     } catch (const std::bad_alloc &) {
-        set_error(err, errlen, "out of memory");
+        set_error(err, "out of memory");
     } catch (const std::exception &e) {
         /* CGAL's failed preconditions and assertions (CGAL::Failure_exception):
          * several lines naming the expression, file and line */
-        set_error(err, errlen, "boolean operation failed: " + one_line(e.what()));
+        set_error(err, "boolean operation failed: " + one_line(e.what()));
     } catch (...) {
-        set_error(err, errlen, "boolean operation failed");
+        set_error(err, "boolean operation failed");
     }
     if (out) *out = GeomMesh{};
     return -1;
@@ -293,10 +294,10 @@ template <class F> int guarded(GeomMesh *out, char *err, size_t errlen, F body)
 } // namespace
 
 extern "C" int geom_csg_boolean(GeomBoolOp op, const GeomMesh *const *in, size_t n, GeomMesh *out,
-                                volatile int *interrupt, char *err, size_t errlen)
+                                volatile int *interrupt, Buf *err)
 {
     if (out) *out = GeomMesh{};
-    return guarded(out, err, errlen, [&] {
+    return guarded(out, err, [&] {
         if (!out) throw CsgError("no output mesh");
         if (op != GEOM_UNION && op != GEOM_INTERSECT && op != GEOM_DIFFERENCE)
             throw CsgError("unknown boolean operation");
@@ -317,10 +318,10 @@ extern "C" int geom_csg_boolean(GeomBoolOp op, const GeomMesh *const *in, size_t
 }
 
 extern "C" int geom_csg_trim(const GeomMesh *in, const double origin[3], const double normal[3], GeomMesh *out,
-                             char *err, size_t errlen)
+                             Buf *err)
 {
     if (out) *out = GeomMesh{};
-    return guarded(out, err, errlen, [&] {
+    return guarded(out, err, [&] {
         if (!out) throw CsgError("no output mesh");
         if (!origin || !normal) throw CsgError("no trim plane");
         for (int k = 0; k < 3; k++)
@@ -340,10 +341,10 @@ extern "C" int geom_csg_trim(const GeomMesh *in, const double origin[3], const d
     });
 }
 
-extern "C" int geom_csg_hull(const double *xyz, size_t n, GeomMesh *out, char *err, size_t errlen)
+extern "C" int geom_csg_hull(const double *xyz, size_t n, GeomMesh *out, Buf *err)
 {
     if (out) *out = GeomMesh{};
-    return guarded(out, err, errlen, [&] {
+    return guarded(out, err, [&] {
         if (!out) throw CsgError("no output mesh");
         if (n < 4 || !xyz) throw CsgError("fewer than 4 vertices have no hull with a volume");
         /* the hull's corners are input points: exact predicates decide

@@ -28,6 +28,8 @@
 extern "C" {
 #endif
 
+#include "buf.h"
+
 typedef enum GeomBoolOp { GEOM_UNION, GEOM_INTERSECT, GEOM_DIFFERENCE } GeomBoolOp;
 
 /* [out] = in[0] op in[1] op ... in[n-1]; for GEOM_DIFFERENCE in[0] less every other.
@@ -36,29 +38,30 @@ typedef enum GeomBoolOp { GEOM_UNION, GEOM_INTERSECT, GEOM_DIFFERENCE } GeomBool
  * An input without triangles is the empty solid. [interrupt] (may be NULL) is polled
  * between the pairwise operations: once non-zero the call ends with -1 and "interrupted".
  * n == 1 gives the welded copy of in[0] (checked like any input).
- *   errors: -1 with a one-line message in err (errlen bytes), e.g. "mesh 2 of 3 is not a
+ *   errors: -1 with one line appended to [err] (may be NULL), e.g. "mesh 2 of 3 is not a
  *           volume", "boolean operation failed"; out is then zeroed. An empty result (two
  *           disjoint solids intersected) is 0 with out->ntri == 0. Never throws, never aborts
  *           (running out of memory is the error "out of memory"). */
 int geom_csg_boolean(GeomBoolOp op, const GeomMesh *const *in, size_t n, GeomMesh *out,
-                     volatile int *interrupt, char *err, size_t errlen);
+                     volatile int *interrupt, Buf *err);
 
 /* The part of [in] where (p - origin) . normal <= 0, closed with a flat cap where the plane cuts it
  * (Flitter's !trim: the half-space the normal points into is removed). normal need not be unit length;
  * a zero normal is an error. origin is in model units. A plane that misses [in] gives its welded copy
  * or the empty mesh. Same errors as geom_csg_boolean (the input is "mesh 1 of 1"). */
 int geom_csg_trim(const GeomMesh *in, const double origin[3], const double normal[3], GeomMesh *out,
-                  char *err, size_t errlen);
+                  Buf *err);
 
 /* The convex hull of the [n] points [xyz] (3n doubles, model units), for
  * Flitter's `!model vertices=` without `faces=` (docs/canvas3d.md, Custom
  * Models): the triangles of the smallest convex solid that holds them,
  * wound outwards, its corners some of the points (exact predicates decide
  * which; a point on a face or an edge of the hull is not a corner).
- *   errors: -1 with the message in err: "fewer than 4 vertices have no
- *           hull with a volume", "the vertices lie in one plane: their hull
- *           has no volume", "a vertex is not finite"; out is then zeroed. */
-int geom_csg_hull(const double *xyz, size_t n, GeomMesh *out, char *err, size_t errlen);
+ *   errors: -1 with the message appended to [err] (may be NULL): "fewer
+ *           than 4 vertices have no hull with a volume", "the vertices lie
+ *           in one plane: their hull has no volume", "a vertex is not
+ *           finite"; out is then zeroed. */
+int geom_csg_hull(const double *xyz, size_t n, GeomMesh *out, Buf *err);
 
 #ifdef __cplusplus
 }

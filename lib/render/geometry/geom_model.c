@@ -796,11 +796,11 @@ static size_t room_vertices(GeomModels *c)
     return lo;
 }
 
-static bool vector_mesh(GeomModel *m, GeomMesh *out, char *err, size_t errlen)
+static bool vector_mesh(GeomModel *m, GeomMesh *out, Buf *err)
 {
     uint32_t nv = vec_len(m->vertices);
     if (nv % 3 != 0) {
-        snprintf(err, errlen, "bad vertices vector length %u (not a multiple of 3)", nv);
+        buf_printf(err, "bad vertices vector length %u (not a multiple of 3)\n", nv);
         return false;
     }
     nv /= 3;
@@ -809,17 +809,17 @@ static bool vector_mesh(GeomModel *m, GeomMesh *out, char *err, size_t errlen)
         double *p = mem_alloc(sizeof(double) * 3 * (nv ? nv : 1));
         const double *v = vec_cnums(m->vertices);
         for (uint32_t i = 0; i < nv * 3; i++) p[i] = (float)v[i];
-        int rc = geom_csg_hull(p, nv, out, err, errlen);
+        int rc = geom_csg_hull(p, nv, out, err);
         free(p);
         return rc == 0;
     }
     uint32_t nf = vec_len(m->faces);
     if (nf % 3 != 0) {
-        snprintf(err, errlen, "bad faces vector length %u (not a multiple of 3)", nf);
+        buf_printf(err, "bad faces vector length %u (not a multiple of 3)\n", nf);
         return false;
     }
     if (m->uv && vec_len(m->uv) != nv * 2) {
-        snprintf(err, errlen, "bad uv vector length %u (not 2 per vertex)", vec_len(m->uv));
+        buf_printf(err, "bad uv vector length %u (not 2 per vertex)\n", vec_len(m->uv));
         return false;
     }
     const double *v = vec_cnums(m->vertices), *f = vec_cnums(m->faces);
@@ -837,7 +837,7 @@ static bool vector_mesh(GeomModel *m, GeomMesh *out, char *err, size_t errlen)
     for (uint32_t i = 0; i < nf; i++) {
         double x = floor(f[i]);
         if (!(x >= 0 && x < nv)) {
-            snprintf(err, errlen, "bad vertex index %g in faces (%u vertices)", f[i], nv);
+            buf_printf(err, "bad vertex index %g in faces (%u vertices)\n", f[i], nv);
             geom_mesh_free(out);
             return false;
         }
@@ -950,7 +950,7 @@ static bool gradient_normals(GeomModels *c, GeomModel *m, GeomMesh *mesh)
 
 static const GeomMesh *mesh_of(GeomModels *c, GeomModel *m);
 
-static bool build(GeomModels *c, GeomModel *m, GeomMesh *out, char *err, size_t errlen)
+static bool build(GeomModels *c, GeomModel *m, GeomMesh *out, Buf *err)
 {
     memset(out, 0, sizeof *out);
     switch (m->kind) {
@@ -959,17 +959,17 @@ static bool build(GeomModels *c, GeomModel *m, GeomMesh *out, char *err, size_t 
         else geom_primitive_mesh(&m->prim, out);
         return true;
     case K_FILE: {
-        if (geom_model_file_read(m->path, room_vertices(c), out, err, errlen) != 0) return false;
+        if (geom_model_file_read(m->path, room_vertices(c), out, err) != 0) return false;
         return true;
     }
-    case K_VECTOR: return vector_mesh(m, out, err, errlen);
+    case K_VECTOR: return vector_mesh(m, out, err);
     case K_REPAIR: {
         const GeomMesh *in = mesh_of(c, m->kids[0]);
         if (!in) return false;
         geom_mesh_copy(in, out);
         geom_mesh_repair(out);
         if (out->ntri == 0) {
-            snprintf(err, errlen, "no triangle is left once repaired");
+            buf_printf(err, "no triangle is left once repaired\n");
             geom_mesh_free(out);
             return false;
         }
@@ -993,21 +993,21 @@ static bool build(GeomModels *c, GeomModel *m, GeomMesh *out, char *err, size_t 
             const GeomMesh *g = mesh_of(c, m->kids[k]);
             if (!g && (m->kind == K_INTERSECT || (m->kind == K_DIFFERENCE && k == 0))) {
                 free(in);
-                snprintf(err, errlen, "part %d has no mesh", k + 1);
+                buf_printf(err, "part %d has no mesh\n", k + 1);
                 return false;
             }
             if (g) in[n++] = g;
         }
         if (n == 0) {
             free(in);
-            snprintf(err, errlen, "no part has a mesh");
+            buf_printf(err, "no part has a mesh\n");
             return false;
         }
         GeomBoolOp op = m->kind == K_UNION ? GEOM_UNION : m->kind == K_INTERSECT ? GEOM_INTERSECT : GEOM_DIFFERENCE;
-        int rc = geom_csg_boolean(op, in, n, out, c->env.interrupt, err, errlen);
+        int rc = geom_csg_boolean(op, in, n, out, c->env.interrupt, err);
         free(in);
         if (rc == 0 && out->ntri == 0) {
-            snprintf(err, errlen, "the result is empty");
+            buf_printf(err, "the result is empty\n");
             geom_mesh_free(out);
             return false;
         }
@@ -1016,9 +1016,9 @@ static bool build(GeomModels *c, GeomModel *m, GeomMesh *out, char *err, size_t 
     case K_TRIM: {
         const GeomMesh *in = mesh_of(c, m->kids[0]);
         if (!in) return false;
-        if (geom_csg_trim(in, m->p, m->p + 3, out, err, errlen) != 0) return false;
+        if (geom_csg_trim(in, m->p, m->p + 3, out, err) != 0) return false;
         if (out->ntri == 0) {
-            snprintf(err, errlen, "the result is empty");
+            buf_printf(err, "the result is empty\n");
             geom_mesh_free(out);
             return false;
         }
@@ -1026,27 +1026,27 @@ static bool build(GeomModels *c, GeomModel *m, GeomMesh *out, char *err, size_t 
     }
     case K_SDF: {
         if (!m->fn && has_mesh_distance(m->kids[0])) {
-            snprintf(err, errlen, "the signed distance of a !model mesh is not computed here");
+            buf_printf(err, "the signed distance of a !model mesh is not computed here\n");
             return false;
         }
         DistCtx d = {c, m};
         size_t room = room_vertices(c);
-        if (geom_sdf_mesh(dist_fn, &d, m->p, m->p + 3, m->p[6], room, c->env.interrupt, out, err, errlen) != 0)
+        if (geom_sdf_mesh(dist_fn, &d, m->p, m->p + 3, m->p[6], room, c->env.interrupt, out, err) != 0)
             return false;
         if (out->ntri == 0) {
-            snprintf(err, errlen, "the result is empty");
+            buf_printf(err, "the result is empty\n");
             geom_mesh_free(out);
             return false;
         }
         if (!gradient_normals(c, m, out)) {
             geom_mesh_free(out);
-            snprintf(err, errlen, "interrupted");
+            buf_printf(err, "interrupted\n");
             return false;
         }
         return true;
     }
-    case K_MIX: snprintf(err, errlen, "a !mix is drawn only inside an !sdf"); return false;
-    default: snprintf(err, errlen, "no mesh"); return false;
+    case K_MIX: buf_printf(err, "a !mix is drawn only inside an !sdf\n"); return false;
+    default: buf_printf(err, "no mesh\n"); return false;
     }
 }
 
@@ -1060,22 +1060,27 @@ static const GeomMesh *mesh_of(GeomModels *c, GeomModel *m)
     if (m->built == 1) return &m->mesh;
     if (m->built == -1) return NULL;
     if (c->env.interrupt && *c->env.interrupt) return NULL;   /* not marked: tried again next time */
-    char err[400] = "";
+    Buf err = BUF_INIT;
     GeomMesh out;
-    bool ok = build(c, m, &out, err, sizeof err);
-    if (!ok && c->env.interrupt && *c->env.interrupt) return NULL;
+    bool ok = build(c, m, &out, &err);
+    if (!ok && c->env.interrupt && *c->env.interrupt) {
+        buf_free(&err);
+        return NULL;
+    }
     size_t bytes = ok ? (size_t)out.npos * VERTEX_BYTES + (size_t)out.ntri * TRIANGLE_BYTES : 0;
     if (ok && !mem_budget_reserve(c->env.budget, bytes)) {
-        snprintf(err, sizeof err, "its mesh (%u vertices, %u triangles) does not fit in the memory budget", out.npos,
-                 out.ntri);
+        buf_printf(&err, "its mesh (%u vertices, %u triangles) does not fit in the memory budget\n", out.npos,
+                   out.ntri);
         geom_mesh_free(&out);
         ok = false;
     }
     if (!ok) {
         m->built = -1;
-        if (err[0]) report(c, m->kind == K_FILE ? "%s: %s" : "!%s: %s", model_name(m), err);
+        if (err.len) report(c, m->kind == K_FILE ? "%s: %s" : "!%s: %s", model_name(m), buf_line(&err));
+        buf_free(&err);
         return NULL;
     }
+    buf_free(&err);
     m->mesh = out;
     m->charged = bytes;
     c->bytes += bytes;

@@ -3,7 +3,6 @@
 #include "geom_model_file.h"
 
 #include <pthread.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -36,18 +35,20 @@ static AssimpLib table;
 static const void *published;
 static pthread_mutex_t import_lock = PTHREAD_MUTEX_INITIALIZER;
 
-static const AssimpLib *assimp(char *why, size_t cap)
+/* Assimp's entry points; NULL with the reason appended to [why] when it
+ * cannot be loaded. */
+static const AssimpLib *assimp(Buf *why)
 {
     static DynLib lib = DYNLIB_INIT;
     if (!dynload_ready(&lib, ASSIMP_SONAME, "Assimp", entries, sizeof entries / sizeof *entries, &table,
-                       &published, why, cap))
+                       &published, why))
         return NULL;
     return published;
 }
 
 /* Append the triangles of [scene] to [out]; false with a reason past
  * [max_vertices]. */
-static bool gather(const struct aiScene *scene, size_t max_vertices, GeomMesh *out, char *err, size_t errlen)
+static bool gather(const struct aiScene *scene, size_t max_vertices, GeomMesh *out, Buf *err)
 {
     size_t nv = 0, nt = 0;
     for (unsigned i = 0; i < scene->mNumMeshes; i++) {
@@ -57,12 +58,12 @@ static bool gather(const struct aiScene *scene, size_t max_vertices, GeomMesh *o
         nt += m->mNumFaces;
     }
     if (nv == 0 || nt == 0) {
-        snprintf(err, errlen, "cannot load model: no triangles in it");
+        buf_printf(err, "cannot load model: no triangles in it\n");
         return false;
     }
     if (nv > max_vertices || nv > UINT32_MAX / 4 || nt > UINT32_MAX / 4) {
-        snprintf(err, errlen, "cannot load model: %zu vertices, more than the %zu the memory budget allows", nv,
-                 max_vertices);
+        buf_printf(err, "cannot load model: %zu vertices, more than the %zu the memory budget allows\n", nv,
+                   max_vertices);
         return false;
     }
     out->pos = mem_alloc(nv * 3 * sizeof(double));
@@ -99,38 +100,40 @@ static bool gather(const struct aiScene *scene, size_t max_vertices, GeomMesh *o
     out->npos = base;
     out->ntri = t;
     if (t == 0) {
-        snprintf(err, errlen, "cannot load model: no triangles in it");
+        buf_printf(err, "cannot load model: no triangles in it\n");
         return false;
     }
     return true;
 }
 
-int geom_model_file_read(const char *path, size_t max_vertices, GeomMesh *out, char *err, size_t errlen)
+int geom_model_file_read(const char *path, size_t max_vertices, GeomMesh *out, Buf *err)
 {
     memset(out, 0, sizeof *out);
     struct stat st;
     if (stat(path, &st) != 0 || !S_ISREG(st.st_mode)) {
-        snprintf(err, errlen, "cannot load model: %s", stat(path, &st) != 0 ? "no such file" : "not a regular file");
+        buf_printf(err, "cannot load model: %s\n", stat(path, &st) != 0 ? "no such file" : "not a regular file");
         return -1;
     }
-    char why[300];
-    const AssimpLib *ai = assimp(why, sizeof why);
+    Buf why = BUF_INIT;
+    const AssimpLib *ai = assimp(&why);
     if (!ai) {
-        snprintf(err, errlen, "cannot load model: %s", why);
+        buf_printf(err, "cannot load model: %s\n", buf_line(&why));
+        buf_free(&why);
         return -1;
     }
+    buf_free(&why);
     unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
                      aiProcess_PreTransformVertices | aiProcess_SortByPType;
     pthread_mutex_lock(&import_lock);
     const struct aiScene *scene = ai->import_file(path, flags);
     if (!scene) {
         const char *e = ai->error_string();
-        snprintf(err, errlen, "cannot load model: %s", e && e[0] ? e : "not a model file");
+        buf_printf(err, "cannot load model: %s\n", e && e[0] ? e : "not a model file");
         pthread_mutex_unlock(&import_lock);
         return -1;
     }
     pthread_mutex_unlock(&import_lock);
-    bool ok = gather(scene, max_vertices, out, err, errlen);
+    bool ok = gather(scene, max_vertices, out, err);
     ai->release_import(scene);
     if (!ok) {
         geom_mesh_free(out);

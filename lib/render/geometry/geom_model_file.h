@@ -9,6 +9,7 @@
 
 #include <stddef.h>
 
+#include "buf.h"
 #include "geom_mesh.h"
 
 /* Read every mesh of the model file [path] into [out]: the scene's node
@@ -16,10 +17,11 @@
  * the file's normals kept (smooth normals made where it has none) and its
  * first texture coordinates (none: all zero). Points and lines are left
  * out. Counter-clockwise winding as the file gives it.
- *   errors: -1 with one line in [err] ("cannot load model: REASON": the
- *           file missing or unreadable, not a format Assimp knows, damaged,
- *           no triangles, more than [max_vertices] vertices, or Assimp not
- *           installed); [out] is then zeroed. Never aborts. */
-int geom_model_file_read(const char *path, size_t max_vertices, GeomMesh *out, char *err, size_t errlen);
+ *   errors: -1 with one line appended to [err] ("cannot load model:
+ *           REASON": the file missing or unreadable, not a format Assimp
+ *           knows, damaged, no triangles, more than [max_vertices]
+ *           vertices, or Assimp not installed); [out] is then zeroed.
+ *           Never aborts. */
+int geom_model_file_read(const char *path, size_t max_vertices, GeomMesh *out, Buf *err);
 
 #endif

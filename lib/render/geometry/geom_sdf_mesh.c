@@ -22,7 +22,6 @@
 #include "geom_sdf_mesh.h"
 
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -421,9 +420,10 @@ static void drop_unused(Mesher *m)
 
 /* }===== */
 
-static int fail(char *err, size_t errlen, const char *message)
+/* -1 with [message] appended to [err] (may be NULL) as one line. */
+static int fail(Buf *err, const char *message)
 {
-    if (err && errlen) snprintf(err, errlen, "%s", message);
+    if (err) buf_printf(err, "%s\n", message);
     return -1;
 }
 
@@ -435,28 +435,28 @@ static bool mul_size(size_t a, size_t b, size_t *r)
 }
 
 int geom_sdf_mesh(GeomDistanceFn f, void *ctx, const double min[3], const double max[3], double resolution,
-                  uint64_t max_points, volatile int *interrupt, GeomMesh *out, char *err, size_t errlen)
+                  uint64_t max_points, volatile int *interrupt, GeomMesh *out, Buf *err)
 {
     memset(out, 0, sizeof *out);
-    if (!f) return fail(err, errlen, "no distance function");
+    if (!f) return fail(err, "no distance function");
     uint32_t count[3];
     double points;
     switch (grid_counts(min, max, resolution, max_points, count, &points)) {
     case GRID_OK:
         break;
     case GRID_BAD_RESOLUTION:
-        if (err && errlen) snprintf(err, errlen, "bad resolution %g", resolution);
+        if (err) buf_printf(err, "bad resolution %g\n", resolution);
         return -1;
     case GRID_BAD_BOUNDS:
-        return fail(err, errlen, "bad bounds");
+        return fail(err, "bad bounds");
     case GRID_BUDGET:
-        if (err && errlen) {
+        if (err) {
             if (points < 0x1p63)
-                snprintf(err, errlen, "resolution %g gives %llu points, more than the budget of %llu", resolution,
-                         (unsigned long long)points, (unsigned long long)max_points);
+                buf_printf(err, "resolution %g gives %llu points, more than the budget of %llu\n", resolution,
+                           (unsigned long long)points, (unsigned long long)max_points);
             else
-                snprintf(err, errlen, "resolution %g gives %.3g points, more than the budget of %llu", resolution,
-                         points, (unsigned long long)max_points);
+                buf_printf(err, "resolution %g gives %.3g points, more than the budget of %llu\n", resolution,
+                           points, (unsigned long long)max_points);
         }
         return -1;
     }
@@ -464,7 +464,7 @@ int geom_sdf_mesh(GeomDistanceFn f, void *ctx, const double min[3], const double
     size_t nx = count[0], ny = count[1], nz = count[2], w = nx + 2, h = ny + 2, cells, plane, bytes;
     if (!mul_size(w, h, &cells) || !mul_size(nx, ny, &plane) || !mul_size(cells, 12 * sizeof(uint32_t), &bytes) ||
         !mul_size(plane, 3 * sizeof(double), &bytes) || !mul_size(cells, 2 * sizeof(double), &bytes))
-        return fail(err, errlen, "the mesh has too many vertices or triangles");
+        return fail(err, "the mesh has too many vertices or triangles");
 
     /* the grid's coordinates, which must be strictly increasing (a
      * resolution below the precision of the bounds would give planes on
@@ -478,8 +478,7 @@ int geom_sdf_mesh(GeomDistanceFn f, void *ctx, const double min[3], const double
             axes[a][i] = min[a] + (double)i * resolution;
             if (i && !(axes[a][i] > axes[a][i - 1])) {
                 free(coords);
-                if (err && errlen)
-                    snprintf(err, errlen, "resolution %g is below the precision of the bounds", resolution);
+                if (err) buf_printf(err, "resolution %g is below the precision of the bounds\n", resolution);
                 return -1;
             }
         }
@@ -556,7 +555,7 @@ int geom_sdf_mesh(GeomDistanceFn f, void *ctx, const double min[3], const double
         free(m.pos);
         free(m.points);
         free(m.tri);
-        return fail(err, errlen, failure);
+        return fail(err, failure);
     }
 
     bool cancelled = cancel_sheets(&m);

@@ -23,6 +23,8 @@
 extern "C" {
 #endif
 
+#include "buf.h"
+
 /* Distances of [n] points: xyz holds 3n doubles (x, y, z per point, model
  * units), out gets n signed distances (negative inside; NaN counts as
  * outside). Returns false to stop the meshing (an interrupt, or an error
@@ -97,8 +99,8 @@ bool geom_sdf_grid(const double min[3], const double max[3], double resolution, 
  * out->ntri == 0 (npos 0, arrays NULL) when no grid point is inside or
  * the inside is only a sheet of no volume. [min], [max] (3 doubles each)
  * and [out] must not be NULL.
- *   errors: -1 with [out] zeroed and a one-line message in [err] (up to
- *           [errlen] bytes with the NUL; err may be NULL or errlen 0):
+ *   errors: -1 with [out] zeroed and a one-line message appended to
+ *           [err] (which may be NULL):
  *           "bad resolution R" (not a positive finite number);
  *           "bad bounds" (min/max not finite, or max < min on an axis);
  *           "resolution R is below the precision of the bounds" (two grid
@@ -119,7 +121,7 @@ bool geom_sdf_grid(const double min[3], const double max[3], double resolution, 
  * wrap); time is linear in the grid size plus the surface's size (and
  * n log n in the triangles that touch grid points, for the sheets). */
 int geom_sdf_mesh(GeomDistanceFn f, void *ctx, const double min[3], const double max[3], double resolution,
-                  uint64_t max_points, volatile int *interrupt, GeomMesh *out, char *err, size_t errlen);
+                  uint64_t max_points, volatile int *interrupt, GeomMesh *out, Buf *err);
 
 #ifdef __cplusplus
 }

@@ -444,9 +444,9 @@ static void begin(Canvas3D *c)
  * target [t].
  *   errors: -1 with a message in [err] when a program does not compile
  *           (the groups before it are drawn); else 0. */
-static int render(Canvas3D *c, const Camera *cam, GlTarget *t, const float clear[4], char *err, size_t errlen)
+static int render(Canvas3D *c, const Camera *cam, GlTarget *t, const float clear[4], Buf *err)
 {
-    err[0] = '\0';
+    size_t mark = err->len;
     c->width = t->w;
     c->height = t->h;
     c->samples_used = t->given;
@@ -465,8 +465,8 @@ static int render(Canvas3D *c, const Camera *cam, GlTarget *t, const float clear
         int n = 0;
         for (int i = 0; i < c->ninst; i++)
             if (c->inst[i].group == g) c->order[n++] = &c->inst[i];
-        if (n) c3d_draw_group(c, g, c->order, n, cam, err, errlen);
-        if (err[0]) {
+        if (n) c3d_draw_group(c, g, c->order, n, cam, err);
+        if (err->len > mark) {
             rc = -1;
             break;
         }
@@ -532,11 +532,11 @@ void canvas3d_camera(const Canvas3D *c, int i, C3dCameraInfo *out)
     out->clear[3] = fog ? 1 : 0;
 }
 
-int canvas3d_draw(Canvas3D *c, int i, GlTarget *t, const RenderLog *log, char *err, size_t errlen)
+int canvas3d_draw(Canvas3D *c, int i, GlTarget *t, const RenderLog *log, Buf *err)
 {
     C3dCameraInfo info;
     canvas3d_camera(c, i, &info);
-    int rc = render(c, &c->cams[i], t, info.clear, err, errlen);
+    int rc = render(c, &c->cams[i], t, info.clear, err);
     if (c->program_note[0] && !c->program_noted) {
         render_log(log, RLOG_WARNING, "%s", c->program_note);
         c->program_noted = true;
@@ -544,7 +544,7 @@ int canvas3d_draw(Canvas3D *c, int i, GlTarget *t, const RenderLog *log, char *e
     return rc;
 }
 
-int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, char *err, size_t errlen)
+int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, Buf *err)
 {
     begin(c);
     c->env = NULL;
@@ -592,7 +592,7 @@ int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, char *err, 
     memcpy(cam.up, s->up, sizeof cam.up);
     camera_matrices(&cam, c->width, c->height);
     static const float clear[4] = {0, 0, 0, 0};
-    int rc = render(c, &cam, t, clear, err, errlen);
+    int rc = render(c, &cam, t, clear, err);
     return rc;
 }
 

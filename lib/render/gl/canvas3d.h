@@ -42,6 +42,7 @@
 
 #include <stdbool.h>
 
+#include "buf.h"
 #include "canvas.h"
 #include "gl_target.h"
 #include "node.h"
@@ -99,7 +100,7 @@ void canvas3d_camera(const Canvas3D *c, int i, C3dCameraInfo *out);
  * failing the frame is noted once on [log].
  *   errors: -1 with one line in [err] when a program does not compile
  *           (the groups before it are drawn); else 0. */
-int canvas3d_draw(Canvas3D *c, int i, GlTarget *t, const RenderLog *log, char *err, size_t errlen);
+int canvas3d_draw(Canvas3D *c, int i, GlTarget *t, const RenderLog *log, Buf *err);
 
 /* A scene given as shapes rather than as a node tree: the physics view's
  * (view.c). One render group (depth sorted and tested, back faces culled,
@@ -138,7 +139,7 @@ typedef struct C3dScene {
  * [s]->samples), as canvas3d_draw does.
  *   errors: -1 with one line in [err] when a program does not compile;
  *           else 0. */
-int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, char *err, size_t errlen);
+int canvas3d_draw_scene(Canvas3D *c, const C3dScene *s, GlTarget *t, Buf *err);
 /* Release the GL objects (the context they were made on current) and
  * the renderer (NULL is a no-op). */
 void canvas3d_free(Canvas3D *c);

@@ -55,7 +55,7 @@ static int light_slot(const float *d)
  * made when not kept. A canvas compiles C3D_LISTED_MAX programs with a
  * list of lights at once and then one more every C3D_LISTED_FRAMES
  * frames; lights without a kept program are looped over meanwhile. */
-static C3dProgram *program_for(Canvas3D *c, C3dFragSpec *key, const Camera *cam, int nl, char *err, size_t errlen)
+static C3dProgram *program_for(Canvas3D *c, C3dFragSpec *key, const Camera *cam, int nl, Buf *err)
 {
     key->nsamples = tested_samples(c);
     key->camera = camera_kind(cam);
@@ -77,10 +77,13 @@ static C3dProgram *program_for(Canvas3D *c, C3dFragSpec *key, const Camera *cam,
         memset(key->list, 0, sizeof key->list);
     }
     C3dProgram made;
-    char note[sizeof c->program_note];
-    if (!c3d_program_make(&made, key, err, errlen, note, sizeof note)) return NULL;
+    Buf note = BUF_INIT;
+    bool ok = c3d_program_make(&made, key, err, &note);
+    if (ok && note.len && !c->program_note[0])
+        snprintf(c->program_note, sizeof c->program_note, "%s", buf_line(&note));
+    buf_free(&note);
+    if (!ok) return NULL;
     if (key->nlist) c->listed_made++;
-    if (note[0] && !c->program_note[0]) memcpy(c->program_note, note, sizeof note);
     int slot = c->nprog < C3D_PROGRAMS ? c->nprog++ : c->prog_turn++ % C3D_PROGRAMS;
     c3d_program_free(&c->prog[slot]);
     c->prog[slot] = made;
@@ -365,8 +368,10 @@ static void group_state(const Group *g)
  *           in their light). */
 static bool translucency_ready(Canvas3D *c, C3dProgram *p, const Camera *cam)
 {
-    char err[600];
-    if (!c3d_program_translucency(p, err, sizeof err)) {
+    Buf err = BUF_INIT;   /* said through the skip log, not in its words */
+    bool ok = c3d_program_translucency(p, &err);
+    buf_free(&err);
+    if (!ok) {
         if (c->env) skiplog_note(c->env->skips, "canvas3d", "translucency= (no shader program: drawn opaque)");
         return false;
     }
@@ -578,7 +583,7 @@ static int tex_then_z(const void *a, const void *b)
  * c->lightbuf holds them ([nl]). Translucency is not drawn for textured
  * instances (they are lit as transparent ones). */
 static void draw_textured(Canvas3D *c, const Group *g, Instance **list, int n, const Camera *cam,
-                          const C3dFragSpec *base, int nl, bool transparent, char *err, size_t errlen)
+                          const C3dFragSpec *base, int nl, bool transparent, Buf *err)
 {
     int m = 0;
     bool sorted = g->depth_sort && g->depth_test;
@@ -609,7 +614,7 @@ static void draw_textured(Canvas3D *c, const Group *g, Instance **list, int n, c
         glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         C3dFragSpec key = *base;
         key.textures = bind_textures(c, ts, sampler);
-        C3dProgram *p = program_for(c, &key, cam, nl, err, errlen);
+        C3dProgram *p = program_for(c, &key, cam, nl, err);
         if (!p) break;
         glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
         if (nl) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)nl * 64, c->lightbuf);
@@ -622,7 +627,7 @@ static void draw_textured(Canvas3D *c, const Group *g, Instance **list, int n, c
     glDepthMask(GL_TRUE);
 }
 
-void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen)
+void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, Buf *err)
 {
     const Group *g = &c->groups[gi];
     /* the group's lights, then its ancestors', and their kinds */
@@ -670,12 +675,14 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
             textured[i]->z = nearest_corner(textured[i]->mesh->bounds, &vm);
         }
         group_state(g);
-        draw_textured(c, g, textured, ntex, cam, &key, nl, false, err, errlen);
-        if (err[0]) return;
+        size_t mark = err->len;
+        draw_textured(c, g, textured, ntex, cam, &key, nl, false, err);
+        if (err->len > mark) return;
     }
-    C3dProgram *p = n ? program_for(c, &key, cam, nl, err, errlen) : NULL;
+    size_t mark = err->len;
+    C3dProgram *p = n ? program_for(c, &key, cam, nl, err) : NULL;
     if (!p) {
-        if (ntex && !err[0]) draw_textured(c, g, textured, ntex, cam, &key, nl, true, err, errlen);
+        if (ntex && err->len == mark) draw_textured(c, g, textured, ntex, cam, &key, nl, true, err);
         return;
     }
     glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
@@ -729,7 +736,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     }
     if (occluded) c3d_occlusion_unbind();
     if (nt == 0) {
-        if (ntex) draw_textured(c, g, textured, ntex, cam, &key, nl, true, err, errlen);
+        if (ntex) draw_textured(c, g, textured, ntex, cam, &key, nl, true, err);
         return;
     }
     if (see_through) {
@@ -754,5 +761,5 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
         a = b;
     }
     glDepthMask(GL_TRUE);
-    if (ntex) draw_textured(c, g, textured, ntex, cam, &key, nl, true, err, errlen);
+    if (ntex) draw_textured(c, g, textured, ntex, cam, &key, nl, true, err);
 }

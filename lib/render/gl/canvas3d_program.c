@@ -14,7 +14,7 @@
 /* last: it turns the library's names into calls through its table */
 #include "gl_lib.h"
 
-static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
+static GLuint compile(GLenum type, const char *src, Buf *err)
 {
     GLuint s = glCreateShader(type);
     glShaderSource(s, 1, &src, NULL);
@@ -24,7 +24,7 @@ static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
     if (!ok) {
         char logtext[512] = "";
         glGetShaderInfoLog(s, sizeof logtext, NULL, logtext);
-        snprintf(err, errlen, "canvas3d: shader does not compile: %s", logtext);
+        buf_printf(err, "canvas3d: shader does not compile: %s\n", logtext);
         glDeleteShader(s);
         return 0;
     }
@@ -32,7 +32,7 @@ static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
 }
 
 /* Link [sh] from [vsrc] and the fragment shader of [key] as [variant]. */
-static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int variant, char *err, size_t errlen)
+static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int variant, Buf *err)
 {
     memset(sh, 0, sizeof *sh);
     C3dFragSpec spec = *key;
@@ -40,8 +40,8 @@ static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int va
     size_t need = canvas3d_fragment_source(NULL, 0, &spec) + 1;
     char *fs = mem_alloc(need);
     canvas3d_fragment_source(fs, need, &spec);
-    GLuint v = compile(GL_VERTEX_SHADER, vsrc, err, errlen);
-    GLuint f = v ? compile(GL_FRAGMENT_SHADER, fs, err, errlen) : 0;
+    GLuint v = compile(GL_VERTEX_SHADER, vsrc, err);
+    GLuint f = v ? compile(GL_FRAGMENT_SHADER, fs, err) : 0;
     free(fs);
     if (!f) {
         if (v) glDeleteShader(v);
@@ -58,7 +58,7 @@ static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int va
     if (!ok) {
         char logtext[512] = "";
         glGetProgramInfoLog(p, sizeof logtext, NULL, logtext);
-        snprintf(err, errlen, "canvas3d: shader program does not link: %s", logtext);
+        buf_printf(err, "canvas3d: shader program does not link: %s\n", logtext);
         glDeleteProgram(p);
         return false;
     }
@@ -99,24 +99,26 @@ static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int va
     return true;
 }
 
-bool c3d_program_make(C3dProgram *p, const C3dFragSpec *key, char *err, size_t errlen, char *note, size_t notelen)
+bool c3d_program_make(C3dProgram *p, const C3dFragSpec *key, Buf *err, Buf *note)
 {
     memset(p, 0, sizeof *p);
-    note[0] = '\0';
     p->key = *key;
     p->key.variant = 0;
-    if (!link(&p->mesh, canvas3d_vertex_source, &p->key, C3D_FRAG_MESH, err, errlen)) return false;
+    if (!link(&p->mesh, canvas3d_vertex_source, &p->key, C3D_FRAG_MESH, err)) return false;
     /* a textured program draws meshes only (impostors have no texture coordinates) */
     if (!key->textures && epoxy_has_gl_extension("GL_ARB_sample_shading")) {
-        char ignored[600];
+        Buf ignored = BUF_INIT;
         /* without the extension (or with a driver that cannot) the
          * impostor program may fail: spheres are meshes then, quietly;
          * the billboard program failing where it did not is a fault of
          * ours, worth a word */
-        if (link(&p->impostor, canvas3d_impostor_vertex_source, &p->key, C3D_FRAG_IMPOSTOR, ignored, sizeof ignored) &&
-            !link(&p->billboard, canvas3d_impostor_vertex_source, &p->key, C3D_FRAG_BILLBOARD, ignored,
-                  sizeof ignored))
-            snprintf(note, notelen, "canvas3d: spheres on octagons are drawn on their boxes instead: %s", ignored);
+        if (link(&p->impostor, canvas3d_impostor_vertex_source, &p->key, C3D_FRAG_IMPOSTOR, &ignored)) {
+            buf_reset(&ignored);
+            if (!link(&p->billboard, canvas3d_impostor_vertex_source, &p->key, C3D_FRAG_BILLBOARD, &ignored))
+                buf_printf(note, "canvas3d: spheres on octagons are drawn on their boxes instead: %s\n",
+                           buf_line(&ignored));
+        }
+        buf_free(&ignored);
     }
     glGenBuffers(1, &p->ubo);
     glBindBuffer(GL_UNIFORM_BUFFER, p->ubo);
@@ -124,13 +126,12 @@ bool c3d_program_make(C3dProgram *p, const C3dFragSpec *key, char *err, size_t e
     return true;
 }
 
-bool c3d_program_translucency(C3dProgram *p, char *err, size_t errlen)
+bool c3d_program_translucency(C3dProgram *p, Buf *err)
 {
-    err[0] = '\0';
     if (p->translucent.prog) return true;
     if (p->translucency_failed) return false;
-    if (link(&p->backface, canvas3d_vertex_source, &p->key, C3D_FRAG_BACKFACE, err, errlen) &&
-        link(&p->translucent, canvas3d_vertex_source, &p->key, C3D_FRAG_TRANSLUCENT, err, errlen))
+    if (link(&p->backface, canvas3d_vertex_source, &p->key, C3D_FRAG_BACKFACE, err) &&
+        link(&p->translucent, canvas3d_vertex_source, &p->key, C3D_FRAG_TRANSLUCENT, err))
         return true;
     if (p->backface.prog) glDeleteProgram(p->backface.prog);
     memset(&p->backface, 0, sizeof p->backface);
@@ -142,10 +143,11 @@ bool c3d_program_occlusion(C3dProgram *p)
 {
     if (p->occluded.prog) return true;
     if (p->occlusion_failed) return false;
-    char err[600];
-    if (link(&p->depth, canvas3d_vertex_source, &p->key, C3D_FRAG_DEPTH, err, sizeof err) &&
-        link(&p->occluded, canvas3d_vertex_source, &p->key, C3D_FRAG_OCCLUDED, err, sizeof err))
-        return true;
+    Buf err = BUF_INIT;   /* the caller draws without occlusion, quietly */
+    bool ok = link(&p->depth, canvas3d_vertex_source, &p->key, C3D_FRAG_DEPTH, &err) &&
+              link(&p->occluded, canvas3d_vertex_source, &p->key, C3D_FRAG_OCCLUDED, &err);
+    buf_free(&err);
+    if (ok) return true;
     if (p->depth.prog) glDeleteProgram(p->depth.prog);
     memset(&p->depth, 0, sizeof p->depth);
     p->occlusion_failed = true;

@@ -12,6 +12,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "buf.h"
 #include "canvas3d_shaders.h"
 
 /* One linked program and its uniform locations (-1: absent). */
@@ -44,13 +45,13 @@ typedef struct C3dProgram {
  *   errors: false with a message in [err] when the mesh program does not
  *           compile or link ([p] then holds nothing); the billboard
  *           program failing where the impostor one did not is described
- *           in [note] ("" otherwise), to be reported once. */
-bool c3d_program_make(C3dProgram *p, const C3dFragSpec *key, char *err, size_t errlen, char *note, size_t notelen);
+ *           appended to [note] (nothing otherwise), to be reported once. */
+bool c3d_program_make(C3dProgram *p, const C3dFragSpec *key, Buf *err, Buf *note);
 /* Make [p]'s back-face and translucent programs when not made yet (a GL
  * context current).
  *   errors: false with a message in [err] when they do not compile or link
- *           (then, and on every later call, false with "" in [err]). */
-bool c3d_program_translucency(C3dProgram *p, char *err, size_t errlen);
+ *           (then, and on every later call, false with nothing appended). */
+bool c3d_program_translucency(C3dProgram *p, Buf *err);
 /* Make [p]'s occluders' depth program and its OCCLUDED mesh program
  * (canvas3d_occlusion.h) when not made yet (a GL context current).
  *   errors: false when they do not compile or link (then, and on every

@@ -139,7 +139,7 @@ struct Canvas3D {
 /* A one-off note about the scene (the receiver says each line once). */
 void c3d_note(Canvas3D *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
-void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, char *err, size_t errlen);
+void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *cam, Buf *err);
 
 /* The 8 corners of [in]'s mesh's bounding box projected through [pv]
  * onto a [w] x [h] framebuffer: GL window coordinates (pixels, y up) in

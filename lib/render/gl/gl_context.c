@@ -38,10 +38,10 @@ static bool has_ext(const char *list, const char *name)
 
 /* Read the limits and the renderer of the current context; false with a
  * message when it is below OpenGL 3.3. */
-static bool describe(GlContext *gl, char *err, size_t errlen)
+static bool describe(GlContext *gl, Buf *err)
 {
     if (epoxy_gl_version() < 33) {
-        snprintf(err, errlen, "OpenGL %d.%d is below 3.3", epoxy_gl_version() / 10, epoxy_gl_version() % 10);
+        buf_printf(err, "OpenGL %d.%d is below 3.3\n", epoxy_gl_version() / 10, epoxy_gl_version() % 10);
         return false;
     }
     GLint samples = 0, tex = 0, rb = 0, vp[2] = {0, 0};
@@ -60,18 +60,18 @@ static bool describe(GlContext *gl, char *err, size_t errlen)
     return true;
 }
 
-GlContext *gl_context_new(char *err, size_t errlen)
+GlContext *gl_context_new(Buf *err)
 {
-    if (!gl_lib_ready(err, errlen)) return NULL;
+    if (!gl_lib_ready(err)) return NULL;
     const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (!client || !has_ext(client, "EGL_MESA_platform_surfaceless") ||
         !has_ext(client, "EGL_EXT_platform_base")) {
-        snprintf(err, errlen, "EGL has no surfaceless platform (EGL_MESA_platform_surfaceless)");
+        buf_printf(err, "EGL has no surfaceless platform (EGL_MESA_platform_surfaceless)\n");
         return NULL;
     }
     GlContext *gl = calloc(1, sizeof *gl);
     if (!gl) {
-        snprintf(err, errlen, "out of memory");
+        buf_printf(err, "out of memory\n");
         return NULL;
     }
     gl->tracked = has_ext(client, "EGL_KHR_display_reference");
@@ -80,49 +80,49 @@ GlContext *gl_context_new(char *err, size_t errlen)
                                        gl->tracked ? track : NULL);
     EGLint major, minor;
     if (gl->dpy == EGL_NO_DISPLAY || !eglInitialize(gl->dpy, &major, &minor)) {
-        snprintf(err, errlen, "EGL cannot open the surfaceless display (error 0x%x)", (unsigned)eglGetError());
+        buf_printf(err, "EGL cannot open the surfaceless display (error 0x%x)\n", (unsigned)eglGetError());
         free(gl);
         return NULL;
     }
     const char *exts = eglQueryString(gl->dpy, EGL_EXTENSIONS);
     if (!has_ext(exts, "EGL_KHR_surfaceless_context") || !has_ext(exts, "EGL_KHR_no_config_context") ||
         !eglBindAPI(EGL_OPENGL_API)) {
-        snprintf(err, errlen, "EGL offers no surfaceless desktop OpenGL context");
+        buf_printf(err, "EGL offers no surfaceless desktop OpenGL context\n");
         goto fail;
     }
     const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
                             EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
     gl->ctx = eglCreateContext(gl->dpy, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attrs);
     if (gl->ctx == EGL_NO_CONTEXT) {
-        snprintf(err, errlen, "EGL cannot create an OpenGL 3.3 core context (error 0x%x)", (unsigned)eglGetError());
+        buf_printf(err, "EGL cannot create an OpenGL 3.3 core context (error 0x%x)\n", (unsigned)eglGetError());
         goto fail;
     }
     if (!gl_context_use(gl)) {
-        snprintf(err, errlen, "EGL cannot make the OpenGL context current (error 0x%x)", (unsigned)eglGetError());
+        buf_printf(err, "EGL cannot make the OpenGL context current (error 0x%x)\n", (unsigned)eglGetError());
         goto fail;
     }
-    if (!describe(gl, err, errlen)) goto fail;
+    if (!describe(gl, err)) goto fail;
     return gl;
 fail:
     gl_context_free(gl);
     return NULL;
 }
 
-GlContext *gl_context_host(char *err, size_t errlen)
+GlContext *gl_context_host(Buf *err)
 {
-    if (!gl_lib_ready(err, errlen)) return NULL;
+    if (!gl_lib_ready(err)) return NULL;
     /* with no context current, glGetString gives NULL and epoxy a version of 0 */
     if (epoxy_gl_version() == 0) {
-        snprintf(err, errlen, "no OpenGL context is current on this thread");
+        buf_printf(err, "no OpenGL context is current on this thread\n");
         return NULL;
     }
     GlContext *gl = calloc(1, sizeof *gl);
     if (!gl) {
-        snprintf(err, errlen, "out of memory");
+        buf_printf(err, "out of memory\n");
         return NULL;
     }
     gl->host = true;
-    if (!describe(gl, err, errlen)) {
+    if (!describe(gl, err)) {
         free(gl);
         return NULL;
     }

@@ -17,6 +17,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "buf.h"
+
 typedef struct GlContext GlContext;
 
 /* A context of the library's own (current on the calling thread when it
@@ -24,13 +26,13 @@ typedef struct GlContext GlContext;
  *   errors: NULL with one line in [err] (no libepoxy or EGL, no
  *           surfaceless platform, no OpenGL 3.3 core); nothing is left
  *           allocated. */
-GlContext *gl_context_new(char *err, size_t errlen);
+GlContext *gl_context_new(Buf *err);
 /* The context current on the calling thread, as the host's: the library
  * draws with it whenever it is called on a thread where it is current,
  * and never makes any context current or releases it.
  *   errors: NULL with one line in [err] (no libepoxy, no context current,
  *           OpenGL below 3.3). */
-GlContext *gl_context_host(char *err, size_t errlen);
+GlContext *gl_context_host(Buf *err);
 /* Make [gl] current on the calling thread (a host's context: it is
  * assumed to be); false when EGL refuses. */
 bool gl_context_use(GlContext *gl);

@@ -20,9 +20,9 @@ static const DynEntry entries[] = {
 const void *fl_gl;
 static GlLib table;
 
-bool gl_lib_ready(char *why, size_t cap)
+bool gl_lib_ready(Buf *why)
 {
     static DynLib lib = DYNLIB_INIT;
     return dynload_ready(&lib, EPOXY_SONAME, "libepoxy", entries, sizeof entries / sizeof *entries, &table,
-                         &fl_gl, why, cap);
+                         &fl_gl, why);
 }

@@ -28,6 +28,8 @@
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
+#include "buf.h"
+
 /* GL and EGL names: epoxy's pointer epoxy_NAME for each (gl_names.h, made
  * from this list at build time, turns each NAME into a call through it). */
 #define FL_GL_POINTERS(X) \
@@ -76,9 +78,9 @@ extern const void *fl_gl;
 
 /* Load libepoxy if it is not loaded yet (thread-safe; only the first call
  * does any work) and say whether its entry points can be called.
- *   errors: false with one line in [why] ([cap] bytes): the library or
+ *   errors: false with one line appended to [why] (may be NULL): the library or
  *           one of its symbols missing; the same answer every time. */
-bool gl_lib_ready(char *why, size_t cap);
+bool gl_lib_ready(Buf *why);
 
 /* The names the render files call: epoxy's own functions through the
  * table, and every GL and EGL name of FL_GL_POINTERS through epoxy's

@@ -78,8 +78,7 @@ static bool complete(GLuint fbo)
     return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
 }
 
-GlTarget *target_get(TargetPool *p, int w, int h, int colorbits, bool srgb, bool depth, int samples, char *err,
-                     size_t errlen)
+GlTarget *target_get(TargetPool *p, int w, int h, int colorbits, bool srgb, bool depth, int samples, Buf *err)
 {
     if (colorbits != 8 && colorbits != 32) colorbits = 16;
     if (colorbits != 8) srgb = false;
@@ -95,7 +94,7 @@ GlTarget *target_get(TargetPool *p, int w, int h, int colorbits, bool srgb, bool
     }
     int max = gl_context_max_size(p->gl);
     if (w < 1 || h < 1 || w > max || h > max) {
-        snprintf(err, errlen, "a %dx%d framebuffer is beyond this OpenGL's limit of %d pixels a side", w, h, max);
+        buf_printf(err, "a %dx%d framebuffer is beyond this OpenGL's limit of %d pixels a side\n", w, h, max);
         return NULL;
     }
     GLenum internal, type;
@@ -104,7 +103,7 @@ GlTarget *target_get(TargetPool *p, int w, int h, int colorbits, bool srgb, bool
     size_t npix = (size_t)w * (size_t)h;
     size_t bytes = npix * (size_t)bpp * (size_t)(1 + samples) + (depth ? npix * 4 * (size_t)(samples ? samples : 1) : 0);
     if (!mem_budget_reserve(p->budget, bytes)) {
-        snprintf(err, errlen, "a %dx%d framebuffer (%zu MB) is past the memory budget (--max-memory)", w, h,
+        buf_printf(err, "a %dx%d framebuffer (%zu MB) is past the memory budget (--max-memory)\n", w, h,
                  bytes >> 20);
         return NULL;
     }
@@ -155,7 +154,7 @@ GlTarget *target_get(TargetPool *p, int w, int h, int colorbits, bool srgb, bool
     ok = ok && complete(t->fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (!ok) {
-        snprintf(err, errlen, "OpenGL cannot make a %dx%d %d-bit framebuffer%s with %d samples", w, h, colorbits,
+        buf_printf(err, "OpenGL cannot make a %dx%d %d-bit framebuffer%s with %d samples\n", w, h, colorbits,
                  depth ? " with depth" : "", samples);
         destroy(p, t);
         return NULL;

@@ -61,8 +61,7 @@ TargetPool *target_pool_new(GlContext *gl, MemBudget *budget);
  *           1..gl_context_max_size ("... is beyond this OpenGL's limit of
  *           N pixels"), the memory budget refuses its bytes, or GL cannot
  *           complete its framebuffer. */
-GlTarget *target_get(TargetPool *p, int w, int h, int colorbits, bool srgb, bool depth, int samples, char *err,
-                     size_t errlen);
+GlTarget *target_get(TargetPool *p, int w, int h, int colorbits, bool srgb, bool depth, int samples, Buf *err);
 /* Give [t] back to the pool (NULL is a no-op). */
 void target_release(TargetPool *p, GlTarget *t);
 /* Delete pooled targets released more than [age] seconds before [now]. */

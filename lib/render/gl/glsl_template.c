@@ -744,8 +744,8 @@ static TplValue eval(Eval *E, int k)
 }
 
 /* Parse and evaluate the expression [s] .. [end]. */
-static TplValue evaluate(const char *s, const char *end, const TplEnv *env, const Frame *frames, char *err,
-                         size_t errlen, bool *ok)
+static TplValue evaluate(const char *s, const char *end, const TplEnv *env, const Frame *frames, Buf *err,
+                         bool *ok)
 {
     Parser *P = mem_alloc(sizeof *P);
     P->p = s;
@@ -759,7 +759,7 @@ static TplValue evaluate(const char *s, const char *end, const TplEnv *env, cons
     if (!P->error && P->p != P->end) perr(P, "unexpected text '%.*s'", (int)(P->end - P->p), P->p);
     TplValue r = val(NULL, TPL_NONE);
     if (P->error) {
-        snprintf(err, errlen, "%s", P->error);
+        buf_printf(err, "%s\n", P->error);
         *ok = false;
     } else {
         for (int i = 0; i < P->n; i++)
@@ -767,7 +767,7 @@ static TplValue evaluate(const char *s, const char *end, const TplEnv *env, cons
         Eval E = {.P = P, .env = env, .frames = frames};
         r = eval(&E, root);
         if (E.error) {
-            snprintf(err, errlen, "%s", E.error);
+            buf_printf(err, "%s\n", E.error);
             tpl_value_free(&r);
             *ok = false;
         } else {
@@ -820,7 +820,7 @@ static const char *trim_right(const char *s, const char *e)
 }
 
 /* Split [src] into lines and classify them. */
-static int split_lines(Template *t, const char *src, size_t len, char *err, size_t errlen)
+static int split_lines(Template *t, const char *src, size_t len, Buf *err)
 {
     const char *p = src, *end = src + len;
     int no = 0;
@@ -852,7 +852,7 @@ static int split_lines(Template *t, const char *src, size_t len, char *err, size
                 while (ve < e && is_ident(*ve)) ve++;
                 const char *in = trim_left(ve, e);
                 if (ve == v || !starts(in, e, "in")) {
-                    snprintf(err, errlen, "line %d: expected '%% for NAME in EXPR:'", no);
+                    buf_printf(err, "line %d: expected '%% for NAME in EXPR:'\n", no);
                     return -1;
                 }
                 L->var = v;
@@ -860,7 +860,7 @@ static int split_lines(Template *t, const char *src, size_t len, char *err, size
                 L->s = in + 2;
                 L->e = e;
             } else {
-                snprintf(err, errlen, "line %d: unsupported control line '%%%.*s'", no, (int)(e - s), s);
+                buf_printf(err, "line %d: unsupported control line '%%%.*s'\n", no, (int)(e - s), s);
                 return -1;
             }
         } else if (s + 1 < le && s[0] == '#' && s[1] == '#') {
@@ -869,19 +869,19 @@ static int split_lines(Template *t, const char *src, size_t len, char *err, size
             const char *f = strstr(s, "file=");
             const char *e = trim_right(s, le);
             if (!f || f > e || (f[5] != '"' && f[5] != '\'') || e - s < 2 || memcmp(e - 2, "/>", 2) != 0) {
-                snprintf(err, errlen, "line %d: expected <%%include file=\"NAME\"/>", no);
+                buf_printf(err, "line %d: expected <%%include file=\"NAME\"/>\n", no);
                 return -1;
             }
             const char *q = memchr(f + 6, f[5], (size_t)(e - f - 6));
             if (!q) {
-                snprintf(err, errlen, "line %d: include file name not closed", no);
+                buf_printf(err, "line %d: include file name not closed\n", no);
                 return -1;
             }
             L->kind = L_INCLUDE;
             L->s = f + 6;
             L->e = q;
         } else if (s < le && *s == '<' && s + 1 < le && s[1] == '%') {
-            snprintf(err, errlen, "line %d: unsupported template tag (only <%%include file=\"...\"/>)", no);
+            buf_printf(err, "line %d: unsupported template tag (only <%%include file=\"...\"/>)\n", no);
             return -1;
         } else {
             L->kind = L_TEXT;
@@ -903,7 +903,7 @@ static int split_lines(Template *t, const char *src, size_t len, char *err, size
 }
 
 /* Link each block's branches and ends. */
-static int match_blocks(Template *t, char *err, size_t errlen)
+static int match_blocks(Template *t, Buf *err)
 {
     int stack[MAX_DEPTH], depth = 0;
     for (int i = 0; i < t->n; i++) {
@@ -912,7 +912,7 @@ static int match_blocks(Template *t, char *err, size_t errlen)
         case L_IF:
         case L_FOR:
             if (depth == MAX_DEPTH) {
-                snprintf(err, errlen, "line %d: blocks nested deeper than %d", L->no, MAX_DEPTH);
+                buf_printf(err, "line %d: blocks nested deeper than %d\n", L->no, MAX_DEPTH);
                 return -1;
             }
             stack[depth++] = i;
@@ -922,12 +922,12 @@ static int match_blocks(Template *t, char *err, size_t errlen)
         case L_ENDIF:
             if (!depth || (t->lines[stack[depth - 1]].kind != L_IF && t->lines[stack[depth - 1]].kind != L_ELIF &&
                            t->lines[stack[depth - 1]].kind != L_ELSE)) {
-                snprintf(err, errlen, "line %d: %s without if", L->no,
+                buf_printf(err, "line %d: %s without if\n", L->no,
                          L->kind == L_ENDIF ? "endif" : L->kind == L_ELSE ? "else" : "elif");
                 return -1;
             }
             if (t->lines[stack[depth - 1]].kind == L_ELSE && L->kind != L_ENDIF) {
-                snprintf(err, errlen, "line %d: branch after else", L->no);
+                buf_printf(err, "line %d: branch after else\n", L->no);
                 return -1;
             }
             t->lines[stack[depth - 1]].next = i;
@@ -936,7 +936,7 @@ static int match_blocks(Template *t, char *err, size_t errlen)
             break;
         case L_ENDFOR:
             if (!depth || t->lines[stack[depth - 1]].kind != L_FOR) {
-                snprintf(err, errlen, "line %d: endfor without for", L->no);
+                buf_printf(err, "line %d: endfor without for\n", L->no);
                 return -1;
             }
             t->lines[stack[--depth]].next = i;
@@ -945,7 +945,7 @@ static int match_blocks(Template *t, char *err, size_t errlen)
         }
     }
     if (depth) {
-        snprintf(err, errlen, "line %d: block not closed", t->lines[stack[depth - 1]].no);
+        buf_printf(err, "line %d: block not closed\n", t->lines[stack[depth - 1]].no);
         return -1;
     }
     return 0;
@@ -954,8 +954,7 @@ static int match_blocks(Template *t, char *err, size_t errlen)
 typedef struct Run {
     const TplEnv *env;
     Buf *out;
-    char *err;
-    size_t errlen;
+    Buf *err;
     int includes;            /* include depth */
 } Run;
 
@@ -990,14 +989,15 @@ static int text_line(Run *R, const Line *L, const Frame *frames)
             }
         }
         if (q >= e) {
-            snprintf(R->err, R->errlen, "line %d: ${ not closed", L->no);
+            buf_printf(R->err, "line %d: ${ not closed\n", L->no);
             return -1;
         }
-        char why[200];
+        Buf why = BUF_INIT;
         bool ok;
-        TplValue v = evaluate(d + 2, q, R->env, frames, why, sizeof why, &ok);
+        TplValue v = evaluate(d + 2, q, R->env, frames, &why, &ok);
         if (!ok) {
-            snprintf(R->err, R->errlen, "line %d: %s", L->no, why);
+            buf_printf(R->err, "line %d: %s\n", L->no, buf_line(&why));
+            buf_free(&why);
             return -1;
         }
         put_value(R->out, &v, R->env->symbols);
@@ -1009,10 +1009,11 @@ static int text_line(Run *R, const Line *L, const Frame *frames)
 
 static bool cond(Run *R, const Line *L, const Frame *frames, bool *ok)
 {
-    char why[200];
-    TplValue v = evaluate(L->s, L->e, R->env, frames, why, sizeof why, ok);
+    Buf why = BUF_INIT;
+    TplValue v = evaluate(L->s, L->e, R->env, frames, &why, ok);
     if (!*ok) {
-        snprintf(R->err, R->errlen, "line %d: %s", L->no, why);
+        buf_printf(R->err, "line %d: %s\n", L->no, buf_line(&why));
+        buf_free(&why);
         return false;
     }
     bool b = truthy(&v);
@@ -1034,21 +1035,25 @@ static int run_lines(Run *R, const Template *t, int from, int to, const Frame *f
             snprintf(file, sizeof file, "%.*s", (int)(L->e - L->s), L->s);
             const char *text = R->env->include ? R->env->include(file) : NULL;
             if (!text) {
-                snprintf(R->err, R->errlen, "line %d: no include file \"%s\"", L->no, file);
+                buf_printf(R->err, "line %d: no include file \"%s\"\n", L->no, file);
                 return -1;
             }
             if (R->includes == 8) {
-                snprintf(R->err, R->errlen, "line %d: includes nested deeper than 8", L->no);
+                buf_printf(R->err, "line %d: includes nested deeper than 8\n", L->no);
                 return -1;
             }
             R->includes++;
+            size_t mark = R->err->len;
             int rc = render_text(R, text, strlen(text), frames);
             R->includes--;
             if (rc != 0) {
                 /* name the include the message came from */
-                char inner[300];
-                snprintf(inner, sizeof inner, "%s", R->err);
-                snprintf(R->err, R->errlen, "line %d: in %s: %s", L->no, file, inner);
+                char *inner = mem_strdup(R->err->data ? R->err->data + mark : "");
+                size_t n = strlen(inner);
+                while (n && inner[n - 1] == '\n') inner[--n] = '\0';
+                buf_truncate(R->err, mark);
+                buf_printf(R->err, "line %d: in %s: %s\n", L->no, file, inner);
+                free(inner);
                 return -1;
             }
             break;
@@ -1071,11 +1076,12 @@ static int run_lines(Run *R, const Template *t, int from, int to, const Frame *f
             break;
         }
         case L_FOR: {
-            char why[200];
+            Buf why = BUF_INIT;
             bool ok;
-            TplValue seq = evaluate(L->s, L->e, R->env, frames, why, sizeof why, &ok);
+            TplValue seq = evaluate(L->s, L->e, R->env, frames, &why, &ok);
             if (!ok) {
-                snprintf(R->err, R->errlen, "line %d: %s", L->no, why);
+                buf_printf(R->err, "line %d: %s\n", L->no, buf_line(&why));
+                buf_free(&why);
                 return -1;
             }
             const Str *s = seq.style == TPL_STR ? string(&seq) : NULL;
@@ -1111,17 +1117,16 @@ static int run_lines(Run *R, const Template *t, int from, int to, const Frame *f
 static int render_text(Run *R, const char *src, size_t len, const Frame *frames)
 {
     Template t = {0};
-    int rc = split_lines(&t, src, len, R->err, R->errlen);
-    if (rc == 0) rc = match_blocks(&t, R->err, R->errlen);
+    int rc = split_lines(&t, src, len, R->err);
+    if (rc == 0) rc = match_blocks(&t, R->err);
     if (rc == 0) rc = run_lines(R, &t, 0, t.n, frames);
     free(t.lines);
     return rc;
 }
 
-int tpl_render(const char *src, size_t len, const TplEnv *env, Buf *out, char *err, size_t errlen)
+int tpl_render(const char *src, size_t len, const TplEnv *env, Buf *out, Buf *err)
 {
-    Run R = {.env = env, .out = out, .err = err, .errlen = errlen};
-    err[0] = '\0';
+    Run R = {.env = env, .out = out, .err = err};
     return render_text(&R, src, len, NULL);
 }
 

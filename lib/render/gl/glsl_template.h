@@ -68,11 +68,11 @@ typedef struct TplEnv {
 
 /* Render template [src] ([len] bytes) with [env]'s names, appending the
  * text to [out].
- *   errors: -1 with "line N: MESSAGE" in [err] ([errlen] bytes) when it
+ *   errors: -1 with "line N: MESSAGE" appended to [err] when it
  *           does not parse, names an unknown name or include file, or
  *           nests deeper than 64 blocks; [out] then holds part of the
  *           text. Else 0. */
-int tpl_render(const char *src, size_t len, const TplEnv *env, Buf *out, char *err, size_t errlen);
+int tpl_render(const char *src, size_t len, const TplEnv *env, Buf *out, Buf *err);
 
 /* Release [v]'s vector (the value itself is left NULL, TPL_NONE). */
 void tpl_value_free(TplValue *v);

@@ -92,13 +92,14 @@ static bool begin(Graph *g)
 {
     if (g->failed) return false;
     if (!g->gl) {
-        char why[500];
-        g->gl = gl_context_new(why, sizeof why);
+        Buf why = BUF_INIT;
+        g->gl = gl_context_new(&why);
         if (!g->gl) {
             g->failed = true;
-            render_log(&g->env.log, RLOG_WARNING, "window: no OpenGL (%s): windows are not drawn", why);
-            return false;
+            render_log(&g->env.log, RLOG_WARNING, "window: no OpenGL (%s): windows are not drawn", buf_line(&why));
         }
+        buf_free(&why);
+        if (!g->gl) return false;
     } else if (!gl_context_use(g->gl)) {
         graph_note(g, RLOG_ERROR, "window: the OpenGL context cannot be made current");
         return false;
@@ -143,9 +144,10 @@ void graph_draw_quad(Graph *g)
 
 GlTarget *graph_target(Graph *g, int w, int h, int colorbits, bool srgb, bool depth, int samples)
 {
-    char err[300];
-    GlTarget *t = target_get(g->pool, w, h, colorbits, srgb, depth, samples, err, sizeof err);
-    if (!t) graph_note(g, RLOG_ERROR, "window: %s", err);
+    Buf err = BUF_INIT;
+    GlTarget *t = target_get(g->pool, w, h, colorbits, srgb, depth, samples, &err);
+    if (!t) graph_note(g, RLOG_ERROR, "window: %s", buf_line(&err));
+    buf_free(&err);
     return t;
 }
 
@@ -433,12 +435,13 @@ static cairo_surface_t *canvas_picture(void *ctx, const char *id, const char *fi
     if (file) {
         Buf path = BUF_INIT;
         graph_path(g, file, &path);
-        char err[600];
+        Buf err = BUF_INIT;
         bool fresh = false;
-        const MediaImage *img = media_image(graph_media(g), buf_cstr(&path), 0, 0, err, sizeof err, &fresh);
+        const MediaImage *img = media_image(graph_media(g), buf_cstr(&path), 0, 0, &err, &fresh);
         if (img) s = surface_of_image(img, linear);
-        else if (fresh) render_log(&g->env.log, RLOG_ERROR, "canvas: %s", err);
+        else if (fresh) render_log(&g->env.log, RLOG_ERROR, "canvas: %s", buf_line(&err));
         buf_free(&path);
+        buf_free(&err);
     } else {
         int w, h;
         GLuint tex = graph_ref_texture(g, id, &w, &h);
@@ -544,11 +547,24 @@ void graph_window_size(const Node *win, int *w, int *h)
     }
 }
 
+/* Log each line of [err] as an error. */
+static void log_lines(Graph *g, const Buf *err)
+{
+    const char *p = err->data;
+    while (p && *p) {
+        const char *nl = strchr(p, '\n');
+        size_t n = nl ? (size_t)(nl - p) : strlen(p);
+        if (n) render_log(&g->env.log, RLOG_ERROR, "%.*s", (int)n, p);
+        p = nl ? nl + 1 : p + n;
+    }
+}
+
 int graph_finish_records(Graph *g)
 {
-    char err[600];
-    int rc = recorder_free(g->rec, err, sizeof err);
-    if (rc != 0) render_log(&g->env.log, RLOG_ERROR, "%s", err);
+    Buf err = BUF_INIT;
+    int rc = recorder_free(g->rec, &err);
+    if (rc != 0) log_lines(g, &err);
+    buf_free(&err);
     g->rec = recorder_new();
     return rc;
 }
@@ -591,9 +607,10 @@ static void record_window(Graph *g, Pass *p)
     static const float clear[4] = {0, 0, 0, 0};
     target_clear(t, clear);
     program_copy(g, p->target->tex, t);
-    char err[800];
+    Buf err = BUF_INIT;
     RecordSpec s = {.path = g->record_first, .limit = -1};
-    if (record_target(g, t, &s, err, sizeof err) < 0) graph_write_failed(g, g->record_first, err);
+    if (record_target(g, t, &s, &err) < 0) graph_write_failed(g, g->record_first, buf_line(&err));
+    buf_free(&err);
     target_release(g->pool, t);
 }
 
@@ -656,7 +673,7 @@ int graph_frame(Graph *g, const Node *root, const GraphFrame *frame, bool window
     g->write_failures = 0;
     if (!any && !g->nwindows) return 0;
     /* the files asked for cannot be written: a failure of the frame's */
-    if (!cairo_lib_ready(NULL, 0)) {
+    if (!cairo_lib_ready(NULL)) {
         graph_note(g, RLOG_ERROR, "window: cairo cannot be loaded: windows are not drawn");
         return records ? 1 : 0;
     }
@@ -754,9 +771,9 @@ static void drop_all(Graph *g)
     g->quad_vao = g->quad_vbo = g->zero_tex = g->nearest = 0;
 }
 
-int graph_attach(Graph *g, char *err, size_t errlen)
+int graph_attach(Graph *g, Buf *err)
 {
-    GlContext *host = gl_context_host(err, errlen);
+    GlContext *host = gl_context_host(err);
     if (!host) return -1;
     if (g->gl && gl_context_use(g->gl)) drop_all(g);
     if (g->gl) gl_context_free(g->gl);
@@ -769,9 +786,10 @@ int graph_attach(Graph *g, char *err, size_t errlen)
 int graph_free(Graph *g)
 {
     if (!g) return 0;
-    char err[600];
-    int rc = recorder_free(g->rec, err, sizeof err);
-    if (rc != 0) render_log(&g->env.log, RLOG_ERROR, "%s", err);
+    Buf err = BUF_INIT;
+    int rc = recorder_free(g->rec, &err);
+    if (rc != 0) log_lines(g, &err);
+    buf_free(&err);
     if (g->gl && gl_context_use(g->gl)) drop_all(g);
     gl_context_free(g->gl);
     for (size_t i = 0; i < g->nrefs; i++) free(g->refs[i].id);

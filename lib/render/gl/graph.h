@@ -33,6 +33,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "buf.h"
 #include "canvas.h"
 #include "canvas3d.h"
 #include "mem.h"
@@ -83,7 +84,7 @@ Graph *graph_new(const GraphEnv *env);
  * context). Later calls must come with that context current.
  *   errors: -1 with one line in [err] (no context current, below OpenGL
  *           3.3, no libepoxy); the graph keeps drawing as before. */
-int graph_attach(Graph *g, char *err, size_t errlen);
+int graph_attach(Graph *g, Buf *err);
 /* Whether graph_frame composites each top-level window's own picture (as
  * a shown window needs it) even when nothing refers to it; off by default
  * (Flitter composites `!offscreen` and hidden windows only when they have

@@ -194,7 +194,7 @@ void media_cache_free(MediaCache *m);
  * (pass_record.c): read back once, handed to the recorder.
  *   errors: -1 with the message in [err]; else 0. */
 struct RecordSpec;
-int record_target(Graph *g, GlTarget *t, const struct RecordSpec *s, char *err, size_t errlen);
+int record_target(Graph *g, GlTarget *t, const struct RecordSpec *s, Buf *err);
 
 /* }===== */
 

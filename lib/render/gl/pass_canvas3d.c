@@ -60,8 +60,9 @@ static GlTarget *draw_camera(Graph *g, int i)
     GlTarget *t = graph_target(g, graph_scaled(g, info.width), graph_scaled(g, info.height), info.colorbits, false, true,
                                samples);
     if (!t) return NULL;
-    char err[600];
-    if (canvas3d_draw(g->c3d, i, t, &g->env.log, err, sizeof err) != 0) graph_note(g, RLOG_ERROR, "canvas3d: %s", err);
+    Buf err = BUF_INIT;
+    if (canvas3d_draw(g->c3d, i, t, &g->env.log, &err) != 0) graph_note(g, RLOG_ERROR, "canvas3d: %s", buf_line(&err));
+    buf_free(&err);
     return t;
 }
 

@@ -37,7 +37,7 @@ static void render_image(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
     (void)cx;
     ImagePass *ip = (ImagePass *)p;
     p->retain = true;
-    Buf name = BUF_INIT, path = BUF_INIT, flip = BUF_INIT;
+    Buf name = BUF_INIT, path = BUF_INIT, flip = BUF_INIT, err = BUF_INIT;
     if (!canvas_attr_str(n, "filename", g->env.symbols, &name) || name.len == 0) {
         target_release(g->pool, p->target);
         p->target = NULL;
@@ -51,11 +51,10 @@ static void render_image(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
         w = (int)s[0];
         h = (int)s[1];
     }
-    char err[600];
     bool fresh = false;
-    const MediaImage *img = media_image(graph_media(g), buf_cstr(&path), w, h, err, sizeof err, &fresh);
+    const MediaImage *img = media_image(graph_media(g), buf_cstr(&path), w, h, &err, &fresh);
     if (!img) {
-        if (fresh) render_log(&g->env.log, RLOG_ERROR, "image: %s", err);
+        if (fresh) render_log(&g->env.log, RLOG_ERROR, "image: %s", buf_line(&err));
         target_release(g->pool, p->target);
         p->target = NULL;
         goto done;
@@ -109,6 +108,7 @@ done:
     buf_free(&name);
     buf_free(&path);
     buf_free(&flip);
+    buf_free(&err);
 }
 
 static void release_image(Graph *g, Pass *p)

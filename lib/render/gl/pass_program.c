@@ -85,7 +85,7 @@ static void first_error(const char *log, char *out, size_t cap)
         snprintf(out, cap, "%.*s", (int)n, log);
 }
 
-static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
+static GLuint compile(GLenum type, const char *src, Buf *err)
 {
     GLuint s = glCreateShader(type);
     glShaderSource(s, 1, &src, NULL);
@@ -97,7 +97,7 @@ static GLuint compile(GLenum type, const char *src, char *err, size_t errlen)
         glGetShaderInfoLog(s, sizeof log, NULL, log);
         char first[600];
         first_error(log, first, sizeof first);
-        snprintf(err, errlen, "%s shader, %s", type == GL_VERTEX_SHADER ? "vertex" : "fragment", first);
+        buf_printf(err, "%s shader, %s\n", type == GL_VERTEX_SHADER ? "vertex" : "fragment", first);
         glDeleteShader(s);
         return 0;
     }
@@ -162,9 +162,9 @@ static Program *program_for(Programs *ps, const char *vsrc, const char *fsrc, lo
     p->hash = h;
     p->used = frame;
     ps->items[ps->n++] = p;
-    char err[700] = "";
-    GLuint vs = compile(GL_VERTEX_SHADER, vsrc, err, sizeof err);
-    GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, fsrc, err, sizeof err) : 0;
+    Buf err = BUF_INIT;
+    GLuint vs = compile(GL_VERTEX_SHADER, vsrc, &err);
+    GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, fsrc, &err) : 0;
     if (vs && fs) {
         p->prog = glCreateProgram();
         glAttachShader(p->prog, vs);
@@ -178,7 +178,7 @@ static Program *program_for(Programs *ps, const char *vsrc, const char *fsrc, lo
             glGetProgramInfoLog(p->prog, sizeof log, NULL, log);
             char first[600];
             first_error(log, first, sizeof first);
-            snprintf(err, sizeof err, "link: %s", first);
+            buf_printf(&err, "link: %s\n", first);
             glDeleteProgram(p->prog);
             p->prog = 0;
         }
@@ -186,7 +186,8 @@ static Program *program_for(Programs *ps, const char *vsrc, const char *fsrc, lo
     if (vs) glDeleteShader(vs);
     if (fs) glDeleteShader(fs);
     if (p->prog) reflect(p);
-    else p->error = mem_strdup(err);
+    else p->error = mem_strdup(buf_line(&err));
+    buf_free(&err);
     return p;
 }
 
@@ -509,14 +510,15 @@ static bool render_source(Graph *g, ProgramPass *pp, const Node *n, const char *
     }
     TplEnv env = {.lookup = lookup_name, .ctx = N, .include = glsl_library, .symbols = g->env.symbols};
     buf_reset(out);
-    char err[400];
-    int rc = text ? tpl_render(text, len, &env, out, err, sizeof err) : -1;
-    if (!text) snprintf(err, sizeof err, "no template %s", dflt);
+    Buf err = BUF_INIT;
+    int rc = text ? tpl_render(text, len, &env, out, &err) : -1;
+    if (!text) buf_printf(&err, "no template %s\n", dflt);
     buf_free(&src);
     if (rc != 0) {
         graph_note(g, RLOG_ERROR, "%s: !%s%s%s: %s template, %s", g->f && g->f->script ? g->f->script : "script",
                    pp->base.kind->kind, pp->base.has_id ? " id=" : "",
-                   pp->base.has_id ? buf_cstr(&pp->base.id) : "", attr, err);
+                   pp->base.has_id ? buf_cstr(&pp->base.id) : "", attr, buf_line(&err));
+        buf_free(&err);
         return false;
     }
     /* a trailing newline keeps line numbers of errors, as Flitter strips the text */

@@ -80,7 +80,7 @@ static void no_picture(Graph *g, Pass *p)
 static void render_video(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
 {
     VideoPass *vp = (VideoPass *)p;
-    Buf name = BUF_INIT, path = BUF_INIT, aspect = BUF_INIT;
+    Buf name = BUF_INIT, path = BUF_INIT, aspect = BUF_INIT, err = BUF_INIT;
     if (!canvas_attr_str(n, "filename", g->env.symbols, &name) || name.len == 0) {
         no_picture(g, p);
         goto done;
@@ -92,15 +92,14 @@ static void render_video(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
         media_video_close(vp->video);
         vp->video = NULL;
     }
-    char err[600];
     if (!vp->video && failed_before(vp, buf_cstr(&path))) {
         no_picture(g, p);
         goto done;
     }
     if (!vp->video) {
-        vp->video = media_video_open(graph_media(g), buf_cstr(&path), threads, err, sizeof err);
+        vp->video = media_video_open(graph_media(g), buf_cstr(&path), threads, &err);
         if (!vp->video) {
-            graph_note(g, RLOG_ERROR, "video: %s", err);
+            graph_note(g, RLOG_ERROR, "video: %s", buf_line(&err));
             buf_reset(&vp->failed);
             buf_puts(&vp->failed, buf_cstr(&path));
             vp->failed_exists = stat(buf_cstr(&path), &vp->failed_st) == 0;
@@ -119,8 +118,8 @@ static void render_video(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
     const MediaFrame *f0 = NULL, *f1 = NULL;
     bool wait = !(g->f && g->f->realtime);
     if (!media_video_frames(vp->video, position, attr_flag(n, "loop"), attr_flag(n, "back_and_forth"), trim[0],
-                            trim[1], wait, &ratio, &f0, &f1, err, sizeof err)) {
-        if (err[0]) graph_note(g, RLOG_ERROR, "video: %s", err);
+                            trim[1], wait, &ratio, &f0, &f1, &err)) {
+        if (err.len) graph_note(g, RLOG_ERROR, "video: %s", buf_line(&err));
         if (!f0) {
             no_picture(g, p);
             goto done;
@@ -169,6 +168,7 @@ done:
     buf_free(&name);
     buf_free(&path);
     buf_free(&aspect);
+    buf_free(&err);
 }
 
 static void release_video(Graph *g, Pass *p)

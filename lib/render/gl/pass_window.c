@@ -101,12 +101,12 @@ static void make_folders(const char *path)
     free(dir);
 }
 
-int record_target(Graph *g, GlTarget *t, const RecordSpec *s, char *err, size_t errlen)
+int record_target(Graph *g, GlTarget *t, const RecordSpec *s, Buf *err)
 {
     cairo_surface_t *pic = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, t->w, t->h);
     int rc = -1;
     if (cairo_surface_status(pic) != CAIRO_STATUS_SUCCESS) {
-        snprintf(err, errlen, "%s: %s", s->path, cairo_status_to_string(cairo_surface_status(pic)));
+        buf_printf(err, "%s: %s\n", s->path, cairo_status_to_string(cairo_surface_status(pic)));
     } else {
         cairo_surface_flush(pic);
         unsigned char *data = cairo_image_surface_get_data(pic);
@@ -132,7 +132,7 @@ int record_target(Graph *g, GlTarget *t, const RecordSpec *s, char *err, size_t 
         cairo_surface_mark_dirty(pic);
         make_folders(s->path);
         RecordClock clock = {g->f ? g->f->fps : 60, g->f ? g->f->time : 0, g->f && g->f->realtime};
-        rc = recorder_write(g->rec, s, pic, &clock, err, errlen);
+        rc = recorder_write(g->rec, s, pic, &clock, err);
     }
     cairo_surface_destroy(pic);
     return rc;
@@ -166,10 +166,11 @@ static void write_record(Graph *g, Pass *p, const Node *n)
     }
     s.options = opts;
     s.noptions = nopt;
-    char err[800];
-    int rc = record_target(g, p->target, &s, err, sizeof err);
-    if (rc < 0) graph_write_failed(g, s.path, err);
-    else if (rc > 0 && g->env.log.debug) render_log(&g->env.log, RLOG_WARNING, "%s", err);
+    Buf err = BUF_INIT;
+    int rc = record_target(g, p->target, &s, &err);
+    if (rc < 0) graph_write_failed(g, s.path, buf_line(&err));
+    else if (rc > 0 && g->env.log.debug) render_log(&g->env.log, RLOG_WARNING, "%s", buf_line(&err));
+    buf_free(&err);
     for (size_t i = 0; i < nattrs; i++) buf_free(&vals[i]);
     free(vals);
     free(opts);

@@ -33,29 +33,29 @@ ScenePicture *scene_picture_new(void)
     return sp;
 }
 
-int scene_picture_draw(ScenePicture *sp, const C3dScene *s, cairo_surface_t *pic, char *err, size_t errlen)
+int scene_picture_draw(ScenePicture *sp, const C3dScene *s, cairo_surface_t *pic, Buf *err)
 {
-    err[0] = '\0';
     if (sp->failed) return -1;
     if (!sp->gl) {
-        char why[500];
-        sp->gl = gl_context_new(why, sizeof why);
+        Buf why = BUF_INIT;
+        sp->gl = gl_context_new(&why);
         if (!sp->gl) {
             sp->failed = true;
-            snprintf(err, errlen, "canvas3d: no OpenGL (%s)", why);
-            return -1;
+            buf_printf(err, "canvas3d: no OpenGL (%s)\n", buf_line(&why));
         }
+        buf_free(&why);
+        if (!sp->gl) return -1;
         sp->pool = target_pool_new(sp->gl, NULL);
         sp->c3d = canvas3d_new(NULL);
     } else if (!gl_context_use(sp->gl)) {
-        snprintf(err, errlen, "the OpenGL context cannot be made current");
+        buf_printf(err, "the OpenGL context cannot be made current\n");
         return -1;
     }
     int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
-    GlTarget *t = target_get(sp->pool, w, h, 16, false, true, s->samples, err, errlen);
+    GlTarget *t = target_get(sp->pool, w, h, 16, false, true, s->samples, err);
     int rc = -1;
     if (t) {
-        rc = canvas3d_draw_scene(sp->c3d, s, t, err, errlen);
+        rc = canvas3d_draw_scene(sp->c3d, s, t, err);
         size_t n = (size_t)w * (size_t)h * 4;
         if (n > sp->cap) {
             free(sp->px);

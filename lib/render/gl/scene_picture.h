@@ -9,6 +9,7 @@
 
 #include <cairo.h>
 
+#include "buf.h"
 #include "canvas3d.h"
 
 typedef struct ScenePicture ScenePicture;
@@ -19,8 +20,8 @@ ScenePicture *scene_picture_new(void);
  * replacing its pixels with the sRGB encoding of the scene's light,
  * clamped to 0..1, premultiplied, transparent where nothing is drawn.
  *   errors: -1 with one line in [err] when there is no OpenGL (said once:
- *           "" on later calls) or a program does not compile; else 0. */
-int scene_picture_draw(ScenePicture *sp, const C3dScene *s, cairo_surface_t *pic, char *err, size_t errlen);
+ *           nothing is appended on later calls) or a program does not compile; else 0. */
+int scene_picture_draw(ScenePicture *sp, const C3dScene *s, cairo_surface_t *pic, Buf *err);
 /* Free everything (NULL is a no-op). */
 void scene_picture_free(ScenePicture *sp);
 

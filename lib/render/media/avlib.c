@@ -2,7 +2,6 @@
 #include "avlib.h"
 
 #include <dlfcn.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -33,13 +32,13 @@ static const Entry entries[] = {
 #undef AVLIB_ENTRY
 };
 
-AvLib *avlib_load(char *err, size_t errlen)
+AvLib *avlib_load(Buf *err)
 {
     void *h[NLIBS];
     for (int i = 0; i < NLIBS; i++) {
         if (!(h[i] = dlopen(sonames[i], RTLD_NOW | RTLD_LOCAL))) {
             const char *why = dlerror();
-            snprintf(err, errlen, "cannot load FFmpeg: %s", why ? why : sonames[i]);
+            buf_printf(err, "cannot load FFmpeg: %s\n", why ? why : sonames[i]);
             return NULL;   /* what was opened stays loaded (avlib.h) */
         }
     }
@@ -48,7 +47,7 @@ AvLib *avlib_load(char *err, size_t errlen)
     for (size_t i = 0; i < sizeof entries / sizeof *entries; i++) {
         void *f = dlsym(h[entries[i].lib], entries[i].name);
         if (!f) {
-            snprintf(err, errlen, "cannot load FFmpeg: no %s in %s", entries[i].name, sonames[entries[i].lib]);
+            buf_printf(err, "cannot load FFmpeg: no %s in %s\n", entries[i].name, sonames[entries[i].lib]);
             free(L);
             return NULL;
         }

@@ -30,6 +30,8 @@
 #include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
 
+#include "buf.h"
+
 /* Every FFmpeg function video.c (encoding) and media_*.c (decoding)
  * call, with the library it comes from (X(library, name)); the one list
  * that makes both AvLib's fields and avlib_load's table of names. */
@@ -66,8 +68,8 @@ typedef struct AvLib {
 } AvLib;
 
 /* Open FFmpeg's four libraries and fill a new AvLib (free() it).
- *   errors: NULL with "cannot load FFmpeg: REASON" in [err] ([errlen]
- *           bytes) when a library or a function is missing. */
-AvLib *avlib_load(char *err, size_t errlen);
+ *   errors: NULL with "cannot load FFmpeg: REASON" appended to [err] when
+ *           a library or a function is missing. */
+AvLib *avlib_load(Buf *err);
 
 #endif

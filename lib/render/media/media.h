@@ -22,6 +22,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "buf.h"
 #include "mem.h"
 
 typedef struct MediaCache MediaCache;
@@ -53,12 +54,13 @@ typedef struct MediaImage {
  * (checked on every call, one stat) or it expires.
  *   returns: the picture, borrowed until the next media_image call for
  *            that path or media_cache_expire/free.
- *   errors: NULL with "PATH: REASON" in [err] ([errlen] bytes): no such
- *           file, not a picture, a decoder error, a size past 16384 a side
- *           or the memory budget, FFmpeg missing. The same failure is
- *           reported again only when the file changes (the caller logs it
- *           once: *[fresh] says whether this message is new; may be NULL). */
-const MediaImage *media_image(MediaCache *m, const char *path, int w, int h, char *err, size_t errlen, bool *fresh);
+ *   errors: NULL with "PATH: REASON" appended to [err] (may be NULL: not
+ *           told): no such file, not a picture, a decoder error, a size
+ *           past 16384 a side or the memory budget, FFmpeg missing. The
+ *           same failure is reported again only when the file changes (the
+ *           caller logs it once: *[fresh] says whether this message is new;
+ *           may be NULL). */
+const MediaImage *media_image(MediaCache *m, const char *path, int w, int h, Buf *err, bool *fresh);
 
 /* }===== */
 
@@ -78,9 +80,10 @@ typedef struct MediaFrame {
  * video's own decodes ahead of the position last asked for and keeps a
  * small cache of frames (at most 16), so that playing forwards rarely
  * waits for the decoder.
- *   errors: NULL with "PATH: REASON" in [err] (no such file, not a video,
- *           no video stream, no decoder, FFmpeg missing). */
-MediaVideo *media_video_open(MediaCache *m, const char *path, bool threads, char *err, size_t errlen);
+ *   errors: NULL with "PATH: REASON" appended to [err] (may be NULL: not
+ *           told): no such file, not a video, no video stream, no decoder,
+ *           FFmpeg missing. */
+MediaVideo *media_video_open(MediaCache *m, const char *path, bool threads, Buf *err);
 /* Whether [v] is still the file at [path] as it is now (same name,
  * modification time and size): else the caller opens it again. */
 bool media_video_current(const MediaVideo *v, const char *path);
@@ -96,13 +99,14 @@ bool media_video_current(const MediaVideo *v, const char *path);
  * yet gives the nearest frame the cache holds (or none yet: false) and the
  * decoding thread goes on to the position, so a live window never waits.
  * The frames are borrowed until the next call on [v].
- *   errors: false with a message in [err] when the video cannot be read
- *           there (a damaged or truncated file: the frames before the
- *           damage stay playable; the message is given once); false with
- *           [err] empty when no frame is ready yet (without [wait]). */
+ *   errors: false with a message appended to [err] (may be NULL: not
+ *           told) when the video cannot be read there (a damaged or
+ *           truncated file: the frames before the damage stay playable;
+ *           the message is given once); false with nothing appended when
+ *           no frame is ready yet (without [wait]). */
 bool media_video_frames(MediaVideo *v, double position, bool loop, bool back_and_forth, double trim_start,
                         double trim_end, bool wait, double *ratio, const MediaFrame **f0, const MediaFrame **f1,
-                        char *err, size_t errlen);
+                        Buf *err);
 /* Stop [v]'s thread and free it (NULL is a no-op). */
 void media_video_close(MediaVideo *v);
 

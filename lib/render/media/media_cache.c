@@ -40,20 +40,22 @@ void media_cache_expire(MediaCache *m, double age)
     media_images_expire(m, media_now() - age);
 }
 
-const AvLib *media_lib(MediaCache *m, const char *path, char *err, size_t errlen)
+const AvLib *media_lib(MediaCache *m, const char *path, Buf *err)
 {
     if (m->L) return m->L;
     if (!m->lib_failure[0]) {
-        char why[280];
-        if ((m->L = avlib_load(why, sizeof why)) != NULL) {
+        Buf why = BUF_INIT;
+        if ((m->L = avlib_load(&why)) != NULL) {
+            buf_free(&why);
             /* FFmpeg's own lines (a decoder's complaint about a bad file)
              * would come beside ours, which carry the reason: only its
              * fatal ones, unless the embedder set a level of its own */
             if (m->L->av_log_get_level() == AV_LOG_INFO) m->L->av_log_set_level(AV_LOG_FATAL);
             return m->L;
         }
-        snprintf(m->lib_failure, sizeof m->lib_failure, "%s", why);
+        snprintf(m->lib_failure, sizeof m->lib_failure, "%s", buf_line(&why));
+        buf_free(&why);
     }
-    snprintf(err, errlen, "%s: %s", path, m->lib_failure);
+    buf_printf(err, "%s: %s\n", path, m->lib_failure);
     return NULL;
 }

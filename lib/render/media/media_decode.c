@@ -57,7 +57,7 @@ void media_input_close(const AvLib *L, MediaInput *in)
 }
 
 bool media_input_open(const AvLib *L, const char *path, bool picture, bool threads, MediaStop *stop,
-                      MediaInput *in, char *err, size_t errlen)
+                      MediaInput *in, Buf *err)
 {
     memset(in, 0, sizeof *in);
     in->index = -1;
@@ -78,38 +78,38 @@ bool media_input_open(const AvLib *L, const char *path, bool picture, bool threa
     L->av_dict_free(&opts);
     if (rc < 0) {
         if (media_stopped(stop)) {
-            snprintf(err, errlen, "%s: interrupted", path);
+            buf_printf(err, "%s: interrupted\n", path);
         } else if (rc == AVERROR(ENOENT) || rc == AVERROR(EACCES) || rc == AVERROR(EISDIR)) {
             media_av_error(L, rc, why, sizeof why);
-            snprintf(err, errlen, "%s: %s", path, why);
+            buf_printf(err, "%s: %s\n", path, why);
         } else {
             media_av_error(L, rc, why, sizeof why);
-            snprintf(err, errlen, "%s: not a %s (%s)", path, what, why);
+            buf_printf(err, "%s: not a %s (%s)\n", path, what, why);
         }
         return false;
     }
     in->fc = fc;
     const char *demuxer = fc->iformat->name;
     if (picture ? !picture_demuxer(demuxer) : strcmp(demuxer, "tty") == 0) {
-        snprintf(err, errlen, "%s: not a %s (a %s file)", path, what, strcmp(demuxer, "tty") == 0 ? "text" : demuxer);
+        buf_printf(err, "%s: not a %s (a %s file)\n", path, what, strcmp(demuxer, "tty") == 0 ? "text" : demuxer);
         media_input_close(L, in);
         return false;
     }
     if ((rc = L->avformat_find_stream_info(fc, NULL)) < 0) {
         media_av_error(L, rc, why, sizeof why);
-        snprintf(err, errlen, "%s: %s", path, media_stopped(stop) ? "interrupted" : why);
+        buf_printf(err, "%s: %s\n", path, media_stopped(stop) ? "interrupted" : why);
         media_input_close(L, in);
         return false;
     }
     const AVCodec *codec = NULL;
     int index = L->av_find_best_stream(fc, AVMEDIA_TYPE_VIDEO, -1, -1, &codec, 0);
     if (index == AVERROR_DECODER_NOT_FOUND) {
-        snprintf(err, errlen, "%s: no decoder for its %s", path, what);
+        buf_printf(err, "%s: no decoder for its %s\n", path, what);
         media_input_close(L, in);
         return false;
     }
     if (index < 0 || !codec) {
-        snprintf(err, errlen, picture ? "%s: not a picture (no picture in it)" : "%s: no video stream", path);
+        buf_printf(err, picture ? "%s: not a picture (no picture in it)\n" : "%s: no video stream\n", path);
         media_input_close(L, in);
         return false;
     }
@@ -119,14 +119,14 @@ bool media_input_open(const AvLib *L, const char *path, bool picture, bool threa
         if ((int)i != index) fc->streams[i]->discard = AVDISCARD_ALL;
     const AVCodecParameters *par = in->st->codecpar;
     if (par->width > MEDIA_MAX_SIDE || par->height > MEDIA_MAX_SIDE) {
-        snprintf(err, errlen, "%s: %dx%d pixels, past %d a side", path, par->width, par->height, MEDIA_MAX_SIDE);
+        buf_printf(err, "%s: %dx%d pixels, past %d a side\n", path, par->width, par->height, MEDIA_MAX_SIDE);
         media_input_close(L, in);
         return false;
     }
     if (!(in->cc = L->avcodec_alloc_context3(codec))) mem_oom();
     if ((rc = L->avcodec_parameters_to_context(in->cc, par)) < 0) {
         media_av_error(L, rc, why, sizeof why);
-        snprintf(err, errlen, "%s: cannot read its %s: %s", path, what, why);
+        buf_printf(err, "%s: cannot read its %s: %s\n", path, what, why);
         media_input_close(L, in);
         return false;
     }
@@ -135,7 +135,7 @@ bool media_input_open(const AvLib *L, const char *path, bool picture, bool threa
     if (threads) in->cc->thread_type = FF_THREAD_FRAME | FF_THREAD_SLICE;
     if ((rc = L->avcodec_open2(in->cc, codec, NULL)) < 0) {
         media_av_error(L, rc, why, sizeof why);
-        snprintf(err, errlen, "%s: cannot open the %s decoder: %s", path, codec->name, why);
+        buf_printf(err, "%s: cannot open the %s decoder: %s\n", path, codec->name, why);
         media_input_close(L, in);
         return false;
     }

@@ -19,7 +19,6 @@
 #include "media_internal.h"
 
 #include <errno.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -168,9 +167,9 @@ static bool same_file(const ImageEntry *e, int serr, const struct stat *sb)
 
 static size_t rgba_bytes(int w, int h) { return (size_t)w * (size_t)h * 4; }
 
-static void budget_message(const char *path, int w, int h, char *msg, size_t len)
+static void budget_message(const char *path, int w, int h, Buf *msg)
 {
-    snprintf(msg, len, "%s: out of memory for a %dx%d picture (past the memory budget, --max-memory)", path, w, h);
+    buf_printf(msg, "%s: out of memory for a %dx%d picture (past the memory budget, --max-memory)\n", path, w, h);
 }
 
 /* The results of decode_file. */
@@ -178,19 +177,19 @@ enum { DECODED, FILE_FAILED, TRY_AGAIN };
 
 /* Decode [e]'s file into e->full: DECODED; FILE_FAILED (the file's fault,
  * kept until it changes) or TRY_AGAIN (the budget, an interrupt) with
- * the reason in [msg]. */
-static int decode_file(MediaCache *m, const AvLib *L, ImageEntry *e, char *msg, size_t len)
+ * the reason appended to [msg]. */
+static int decode_file(MediaCache *m, const AvLib *L, ImageEntry *e, Buf *msg)
 {
     MediaStop stop = {m->interrupt, NULL};
     MediaInput in;
-    if (!media_input_open(L, e->path, true, false, &stop, &in, msg, len))
+    if (!media_input_open(L, e->path, true, false, &stop, &in, msg))
         return media_stopped(&stop) ? TRY_AGAIN : FILE_FAILED;
     /* the decoder's own frame, charged while it lives (its size as the
      * file says; checked again on the frame) */
     int cw = in.cc->width, ch = in.cc->height;
     size_t transient = cw > 0 && ch > 0 ? rgba_bytes(cw, ch) : 0;
     if (!mem_budget_reserve(m->budget, transient)) {
-        budget_message(e->path, cw, ch, msg, len);
+        budget_message(e->path, cw, ch, msg);
         media_input_close(L, &in);
         return TRY_AGAIN;
     }
@@ -204,13 +203,13 @@ static int decode_file(MediaCache *m, const AvLib *L, ImageEntry *e, char *msg, 
         int w = f->width, h = f->height;
         struct SwsContext *sws = NULL;
         if (w <= 0 || h <= 0 || w > MEDIA_MAX_SIDE || h > MEDIA_MAX_SIDE) {
-            snprintf(msg, len, "%s: %dx%d pixels, past %d a side", e->path, w, h, MEDIA_MAX_SIDE);
+            buf_printf(msg, "%s: %dx%d pixels, past %d a side\n", e->path, w, h, MEDIA_MAX_SIDE);
         } else if (!mem_budget_reserve(m->budget, rgba_bytes(w, h))) {
-            budget_message(e->path, w, h, msg, len);
+            budget_message(e->path, w, h, msg);
             result = TRY_AGAIN;
         } else if (!(sws = media_scaler(L, f, w, h))) {
             mem_budget_release(m->budget, rgba_bytes(w, h));
-            snprintf(msg, len, "%s: cannot convert its %s pixels", e->path, L->av_get_pix_fmt_name(f->format));
+            buf_printf(msg, "%s: cannot convert its %s pixels\n", e->path, L->av_get_pix_fmt_name(f->format));
         } else {
             Copy *c = &e->full;
             c->bytes = rgba_bytes(w, h);
@@ -223,15 +222,15 @@ static int decode_file(MediaCache *m, const AvLib *L, ImageEntry *e, char *msg, 
             result = DECODED;
         }
     } else if (rc == MEDIA_STOP) {
-        snprintf(msg, len, "%s: interrupted", e->path);
+        buf_printf(msg, "%s: interrupted\n", e->path);
         result = TRY_AGAIN;
     } else {
         int code = rc == MEDIA_DAMAGED ? why : in.last_error;
         if (code) {
             media_av_error(L, code, reason, sizeof reason);
-            snprintf(msg, len, "%s: cannot decode the picture (%s)", e->path, reason);
+            buf_printf(msg, "%s: cannot decode the picture (%s)\n", e->path, reason);
         } else {
-            snprintf(msg, len, "%s: not a picture (no frame in it)", e->path);
+            buf_printf(msg, "%s: not a picture (no frame in it)\n", e->path);
         }
     }
     L->av_frame_free(&f);
@@ -291,11 +290,10 @@ static bool has_alpha(const uint8_t *p, size_t n)
 }
 
 /* [e]'s picture resized to [w] x [h] (made and kept when new); NULL with
- * the reason in [msg] (the budget). The scaling is done on planes (GBRAP):
- * swscale filters packed RGBA through YUV, which does not even keep a
- * flat alpha of 128 at 128. */
-static const MediaImage *resized(MediaCache *m, const AvLib *L, ImageEntry *e, int w, int h, double now, char *msg,
-                                 size_t len)
+ * the reason appended to [msg] (the budget). The scaling is done on
+ * planes (GBRAP): swscale filters packed RGBA through YUV, which does not
+ * even keep a flat alpha of 128 at 128. */
+static const MediaImage *resized(MediaCache *m, const AvLib *L, ImageEntry *e, int w, int h, double now, Buf *msg)
 {
     for (int i = 0; i < e->ncopies; i++) {
         if (e->copies[i].img.w == w && e->copies[i].img.h == h) {
@@ -308,19 +306,19 @@ static const MediaImage *resized(MediaCache *m, const AvLib *L, ImageEntry *e, i
     size_t sn = plane_bytes(sw, sh), dn = plane_bytes(w, h), ss = plane_stride(sw), ds = plane_stride(w);
     size_t bytes = rgba_bytes(w, h), scratch = 4 * (sn + dn);   /* the copy; both sizes' planes */
     if (!mem_budget_reserve(m->budget, bytes)) {
-        budget_message(e->path, w, h, msg, len);
+        budget_message(e->path, w, h, msg);
         return NULL;
     }
     if (!mem_budget_reserve(m->budget, scratch)) {
         mem_budget_release(m->budget, bytes);
-        budget_message(e->path, w, h, msg, len);
+        budget_message(e->path, w, h, msg);
         return NULL;
     }
     struct SwsContext *sws = L->sws_getContext(sw, sh, AV_PIX_FMT_GBRAP, w, h, AV_PIX_FMT_GBRAP,
                                                SWS_BILINEAR | SWS_ACCURATE_RND, NULL, NULL, NULL);
     if (!sws) {
         mem_budget_release(m->budget, bytes + scratch);
-        snprintf(msg, len, "%s: cannot resize the picture to %dx%d", e->path, w, h);
+        buf_printf(msg, "%s: cannot resize the picture to %dx%d\n", e->path, w, h);
         return NULL;
     }
     bool alpha = has_alpha(src->pixels, (size_t)sw * (size_t)sh);
@@ -352,13 +350,11 @@ static const MediaImage *resized(MediaCache *m, const AvLib *L, ImageEntry *e, i
     return &c->img;
 }
 
-const MediaImage *media_image(MediaCache *m, const char *path, int w, int h, char *err, size_t errlen, bool *fresh)
+const MediaImage *media_image(MediaCache *m, const char *path, int w, int h, Buf *err, bool *fresh)
 {
-    if (!err) errlen = 0;
-    if (errlen) err[0] = '\0';
     if (fresh) *fresh = false;
     if (!m || !path || !*path) {
-        snprintf(err, errlen, "%s: no such file", path && *path ? path : "(no file name)");
+        if (err) buf_printf(err, "%s: no such file\n", path && *path ? path : "(no file name)");
         if (fresh) *fresh = true;
         return NULL;
     }
@@ -367,8 +363,6 @@ const MediaImage *media_image(MediaCache *m, const char *path, int w, int h, cha
     e->used = now;
     struct stat sb;
     int serr = stat(path, &sb) == 0 ? 0 : errno;
-    char msg[600];
-    msg[0] = '\0';
     if (!same_file(e, serr, &sb)) {   /* new, changed, gone or back: read again */
         entry_clear(m, e);
         e->known = true;
@@ -381,41 +375,44 @@ const MediaImage *media_image(MediaCache *m, const char *path, int w, int h, cha
         }
         free(e->last_message);   /* the file changed: its failures are news again */
         e->last_message = NULL;
-        if (serr) {
-            snprintf(msg, sizeof msg, "%s: %s", path, serr == ENOENT ? "no such file" : strerror(serr));
-            e->failure = mem_strdup(msg);
-        } else if (S_ISDIR(sb.st_mode)) {
-            snprintf(msg, sizeof msg, "%s: not a picture (a folder)", path);
-            e->failure = mem_strdup(msg);
-        }
+        if (serr)
+            e->failure = mem_asprintf("%s: %s", path, serr == ENOENT ? "no such file" : strerror(serr));
+        else if (S_ISDIR(sb.st_mode))
+            e->failure = mem_asprintf("%s: not a picture (a folder)", path);
     }
     const MediaImage *result = NULL;
     const AvLib *L = NULL;
+    Buf msg = BUF_INIT;   /* why there is no picture */
     if (e->failure) {
-        snprintf(msg, sizeof msg, "%s", e->failure);
+        buf_puts(&msg, e->failure);
     } else if (w > MEDIA_MAX_SIDE || h > MEDIA_MAX_SIDE) {
-        snprintf(msg, sizeof msg, "%s: size %dx%d past %d a side", path, w, h, MEDIA_MAX_SIDE);
-    } else if (!(L = media_lib(m, path, msg, sizeof msg))) {
+        buf_printf(&msg, "%s: size %dx%d past %d a side\n", path, w, h, MEDIA_MAX_SIDE);
+    } else if (!(L = media_lib(m, path, &msg))) {
         /* msg says why */
     } else if (!e->full.pixels) {
-        int rc = decode_file(m, L, e, msg, sizeof msg);
-        if (rc == FILE_FAILED) e->failure = mem_strdup(msg);
+        int rc = decode_file(m, L, e, &msg);
+        if (rc == FILE_FAILED) e->failure = mem_strdup(buf_line(&msg));
     }
     if (L && e->full.pixels) {
         if (w > 0 && h > 0 && (w != e->full.img.w || h != e->full.img.h)) {
-            result = resized(m, L, e, w, h, now, msg, sizeof msg);
+            result = resized(m, L, e, w, h, now, &msg);
         } else {
             e->full.used = now;
             result = &e->full.img;
         }
     }
-    if (result) return result;
-    snprintf(err, errlen, "%s", msg);
-    bool news = !e->last_message || strcmp(e->last_message, msg) != 0;
+    if (result) {
+        buf_free(&msg);
+        return result;
+    }
+    const char *text = buf_line(&msg);
+    if (err) buf_printf(err, "%s\n", text);
+    bool news = !e->last_message || strcmp(e->last_message, text) != 0;
     if (news) {
         free(e->last_message);
-        e->last_message = mem_strdup(msg);
+        e->last_message = mem_strdup(text);
     }
     if (fresh) *fresh = news;
+    buf_free(&msg);
     return NULL;
 }

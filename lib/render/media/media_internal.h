@@ -32,10 +32,10 @@ struct MediaCache {
     MediaVideo *videos;         /* the open videos, linked through their `next` */
 };
 
-/* FFmpeg, loaded for [m] the first time; NULL with "PATH: REASON" in
- * [err] when the libraries cannot be loaded (the same reason every time,
- * without trying again). */
-const AvLib *media_lib(MediaCache *m, const char *path, char *err, size_t errlen);
+/* FFmpeg, loaded for [m] the first time; NULL with "PATH: REASON"
+ * appended to [err] when the libraries cannot be loaded (the same reason
+ * every time, without trying again). */
+const AvLib *media_lib(MediaCache *m, const char *path, Buf *err);
 
 /* Whether *[flag] is set (NULL: never); an atomic read, as the flag is
  * written by a signal handler or another thread. */
@@ -68,9 +68,10 @@ typedef struct MediaInput {
  * threads. Only local files are opened (protocol "file"), file names are
  * never patterns. [stop] (kept, must outlive [in]) interrupts FFmpeg's
  * reading.
- *   errors: false with "PATH: REASON" in [err], [in] left closed. */
+ *   errors: false with "PATH: REASON" appended to [err], [in] left
+ *           closed. */
 bool media_input_open(const AvLib *L, const char *path, bool picture, bool threads, MediaStop *stop,
-                      MediaInput *in, char *err, size_t errlen);
+                      MediaInput *in, Buf *err);
 /* Close what media_input_open opened (a closed [in] is a no-op). */
 void media_input_close(const AvLib *L, MediaInput *in);
 

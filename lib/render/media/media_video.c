@@ -253,9 +253,10 @@ static int free_slot(MediaVideo *v, int keep)
 
 /* Seek the decoder to the key frame at or before [ts] (else to the
  * start, reopening the file if it cannot seek at all); false when
- * stopped or the file cannot be read again (with the reason in [why]).
- * *[floor] is [ts], or INT64_MIN when the decoder went to the start. */
-static bool seek_to(MediaVideo *v, int64_t ts, bool from_start, int64_t *floor, char *why, size_t len)
+ * stopped or the file cannot be read again (with the reason appended to
+ * [why]). *[floor] is [ts], or INT64_MIN when the decoder went to the
+ * start. */
+static bool seek_to(MediaVideo *v, int64_t ts, bool from_start, int64_t *floor, Buf *why)
 {
     const AvLib *L = v->L;
     int rc = -1;
@@ -274,11 +275,7 @@ static bool seek_to(MediaVideo *v, int64_t ts, bool from_start, int64_t *floor, 
     /* a file that cannot seek: read it again from the start */
     media_input_close(L, &v->in);
     *floor = INT64_MIN;
-    char err[512];
-    if (media_input_open(L, v->path, false, v->threads, &v->stopper, &v->in, err, sizeof err))
-        return true;
-    snprintf(why, len, "%s", err);
-    return false;
+    return media_input_open(L, v->path, false, v->threads, &v->stopper, &v->in, why);
 }
 
 /* Convert v->frame into slot [s] (thread, without the lock: the slot is
@@ -359,19 +356,20 @@ static bool step(MediaVideo *v)
         v->seek_start = false;
         pthread_mutex_unlock(&v->mu);
         int64_t floor;
-        char why[512] = "";
-        bool ok = seek_to(v, seek_ts, from_start, &floor, why, sizeof why);
+        Buf why = BUF_INIT;
+        bool ok = seek_to(v, seek_ts, from_start, &floor, &why);
         v->dec_last_pts = INT64_MIN;
         pthread_mutex_lock(&v->mu);
         if (ok) {
             v->positioned = true;
             v->seek_ts = floor;
             v->floor_ts = floor == INT64_MIN ? INT64_MIN : INT64_MAX;
-        } else if (why[0]) {
-            mark_damage(v, INT64_MIN, 0, why);
+        } else if (why.len) {
+            mark_damage(v, INT64_MIN, 0, buf_line(&why));
         } else {
             v->idle = true;   /* stopped: the next call tries again */
         }
+        buf_free(&why);
         pthread_cond_broadcast(&v->done);
         return true;
     }
@@ -481,24 +479,23 @@ static void video_free(MediaVideo *v)
     free(v);
 }
 
-MediaVideo *media_video_open(MediaCache *m, const char *path, bool threads, char *err, size_t errlen)
+/* media_video_open with [err] not NULL. */
+static MediaVideo *open_video(MediaCache *m, const char *path, bool threads, Buf *err)
 {
-    if (!err) errlen = 0;
-    if (errlen) err[0] = '\0';
     if (!m || !path || !*path) {
-        snprintf(err, errlen, "%s: no such file", path && *path ? path : "(no file name)");
+        buf_printf(err, "%s: no such file\n", path && *path ? path : "(no file name)");
         return NULL;
     }
     struct stat sb;
     if (stat(path, &sb) != 0) {
-        snprintf(err, errlen, "%s: %s", path, errno == ENOENT ? "no such file" : strerror(errno));
+        buf_printf(err, "%s: %s\n", path, errno == ENOENT ? "no such file" : strerror(errno));
         return NULL;
     }
     if (S_ISDIR(sb.st_mode)) {
-        snprintf(err, errlen, "%s: not a video (a folder)", path);
+        buf_printf(err, "%s: not a video (a folder)\n", path);
         return NULL;
     }
-    const AvLib *L = media_lib(m, path, err, errlen);
+    const AvLib *L = media_lib(m, path, err);
     if (!L) return NULL;
     MediaVideo *v = mem_calloc(1, sizeof *v);
     v->L = L;
@@ -511,7 +508,7 @@ MediaVideo *media_video_open(MediaCache *m, const char *path, bool threads, char
     v->stopper = (MediaStop){m->interrupt, &v->stop};
     v->in.index = -1;
     v->threads = threads;
-    if (!media_input_open(L, path, false, threads, &v->stopper, &v->in, err, errlen)) {
+    if (!media_input_open(L, path, false, threads, &v->stopper, &v->in, err)) {
         video_free(v);
         return NULL;
     }
@@ -519,7 +516,7 @@ MediaVideo *media_video_open(MediaCache *m, const char *path, bool threads, char
     v->w = v->in.cc->width;
     v->h = v->in.cc->height;
     if (v->w <= 0 || v->h <= 0) {
-        snprintf(err, errlen, "%s: the video has no picture size", path);
+        buf_printf(err, "%s: the video has no picture size\n", path);
         video_free(v);
         return NULL;
     }
@@ -528,8 +525,8 @@ MediaVideo *media_video_open(MediaCache *m, const char *path, bool threads, char
         if (mem_budget_reserve(m->budget, (size_t)v->nslots * v->frame_bytes)) break;
     }
     if (v->nslots < MIN_SLOTS) {
-        snprintf(err, errlen, "%s: out of memory for %dx%d frames (past the memory budget, --max-memory)", path,
-                 v->w, v->h);
+        buf_printf(err, "%s: out of memory for %dx%d frames (past the memory budget, --max-memory)\n", path,
+                   v->w, v->h);
         video_free(v);
         return NULL;
     }
@@ -574,7 +571,7 @@ MediaVideo *media_video_open(MediaCache *m, const char *path, bool threads, char
     pthread_condattr_destroy(&ca);
     int rc = pthread_create(&v->thread, NULL, thread_main, v);
     if (rc != 0) {
-        snprintf(err, errlen, "%s: cannot start a decoding thread: %s", path, strerror(rc));
+        buf_printf(err, "%s: cannot start a decoding thread: %s\n", path, strerror(rc));
         pthread_cond_destroy(&v->work);
         pthread_cond_destroy(&v->done);
         pthread_mutex_destroy(&v->mu);
@@ -583,6 +580,15 @@ MediaVideo *media_video_open(MediaCache *m, const char *path, bool threads, char
     }
     v->next = m->videos;
     m->videos = v;
+    return v;
+}
+
+MediaVideo *media_video_open(MediaCache *m, const char *path, bool threads, Buf *err)
+{
+    if (err) return open_video(m, path, threads, err);
+    Buf ignored = BUF_INIT;
+    MediaVideo *v = open_video(m, path, threads, &ignored);
+    buf_free(&ignored);
     return v;
 }
 
@@ -611,15 +617,13 @@ static int nearest(MediaVideo *v, int64_t t)
 
 bool media_video_frames(MediaVideo *v, double position, bool loop, bool back_and_forth, double trim_start,
                         double trim_end, bool wait, double *ratio, const MediaFrame **f0, const MediaFrame **f1,
-                        char *err, size_t errlen)
+                        Buf *err)
 {
-    if (!err) errlen = 0;
-    if (errlen) err[0] = '\0';
     if (ratio) *ratio = 0;
     if (f0) *f0 = NULL;
     if (f1) *f1 = NULL;
     if (!v) {
-        snprintf(err, errlen, "no video");
+        if (err) buf_printf(err, "no video\n");
         return false;
     }
     int64_t t = timestamp_of(v, position, loop, back_and_forth, trim_start, trim_end);
@@ -657,7 +661,7 @@ bool media_video_frames(MediaVideo *v, double position, bool loop, bool back_and
     } else if (loc == LOC_DAMAGED) {
         ok = false;
         if (!v->damage_told) {
-            snprintf(err, errlen, "%s", v->damage);
+            if (err) buf_printf(err, "%s\n", v->damage);
             v->damage_told = true;
         }
     } else if ((s0 = nearest(v, t)) < 0) {

@@ -27,14 +27,14 @@ struct GifOut {
     unsigned char *r, *g, *b, *idx;   /* planes for quantisation, w*h each */
 };
 
-GifOut *gifout_open(const char *path, int width, int height, int delay_cs, char *err, size_t errlen)
+GifOut *gifout_open(const char *path, int width, int height, int delay_cs, Buf *err)
 {
     OutFile out;
-    if (!outfile_open(&out, path, err, errlen)) return NULL;
+    if (!outfile_open(&out, path, err)) return NULL;
     int code = 0;
     GifFileType *f = EGifOpenFileHandle(out.fd, &code);
     if (!f) {
-        snprintf(err, errlen, "%s: cannot create GIF: %s", path, GifErrorString(code));
+        buf_printf(err, "%s: cannot create GIF: %s\n", path, GifErrorString(code));
         outfile_discard(&out);
         return NULL;
     }
@@ -50,7 +50,7 @@ GifOut *gifout_open(const char *path, int width, int height, int delay_cs, char 
     g->h = height;
     g->delay = delay_cs < 1 ? 1 : delay_cs > 65535 ? 65535 : delay_cs;   /* a 16-bit field */
     if (EGifPutScreenDesc(f, width, height, 8, 0, NULL) == GIF_ERROR) {
-        snprintf(err, errlen, "%s: cannot write GIF header", path);
+        buf_printf(err, "%s: cannot write GIF header\n", path);
         g->failed = true;
         gifout_close(g);
         return NULL;
@@ -60,7 +60,7 @@ GifOut *gifout_open(const char *path, int width, int height, int delay_cs, char 
     if (EGifPutExtensionLeader(f, APPLICATION_EXT_FUNC_CODE) == GIF_ERROR ||
         EGifPutExtensionBlock(f, 11, app) == GIF_ERROR ||
         EGifPutExtensionBlock(f, 3, loop) == GIF_ERROR || EGifPutExtensionTrailer(f) == GIF_ERROR) {
-        snprintf(err, errlen, "%s: cannot write GIF header", path);
+        buf_printf(err, "%s: cannot write GIF header\n", path);
         g->failed = true;
         gifout_close(g);
         return NULL;
@@ -109,13 +109,14 @@ int gifout_close(GifOut *g)
 {
     if (!g) return 0;
     int code = 0, rc = EGifCloseFile(g->f, &code) == GIF_ERROR || g->failed ? -1 : 0;
-    char err[600];
-    if (rc == 0) rc = outfile_commit(&g->out, true, err, sizeof err) ? 0 : -1;
+    Buf err = BUF_INIT;   /* the caller reports the failure by the file's name */
+    if (rc == 0) rc = outfile_commit(&g->out, true, &err) ? 0 : -1;
     else outfile_discard(&g->out);
     free(g->r);
     free(g->g);
     free(g->b);
     free(g->idx);
     free(g);
+    buf_free(&err);
     return rc;
 }

@@ -4,15 +4,17 @@
 
 #include <stdint.h>
 
+#include "buf.h"
+
 typedef struct GifOut GifOut;
 
 /* Start [path] as a looping animated GIF of [width] x [height] pixels, each
  * frame shown for [delay_cs] hundredths of a second (clamped to 1..65535).
  * The frames go to a temporary in [path]'s directory (outfile.h: a link is
  * written through); [path] appears, complete, at gifout_close.
- *   errors: returns NULL (message in [err], [errlen] bytes) when the file
+ *   errors: returns NULL (its message appended to [err]) when the file
  *           cannot be created or [path] exists and is not a regular file. */
-GifOut *gifout_open(const char *path, int width, int height, int delay_cs, char *err, size_t errlen);
+GifOut *gifout_open(const char *path, int width, int height, int delay_cs, Buf *err);
 /* Append one frame: [argb] is cairo's ARGB32 layout (premultiplied, native
  * endian, [stride] bytes per row), composited over black; its colours are
  * reduced to a 256-entry palette of its own by giflib's median cut.

@@ -86,10 +86,10 @@ static cairo_status_t write_fd(void *closure, const unsigned char *data, unsigne
     return CAIRO_STATUS_SUCCESS;
 }
 
-static int write_png(const RecordSpec *s, cairo_surface_t *pic, char *err, size_t errlen)
+static int write_png(const RecordSpec *s, cairo_surface_t *pic, Buf *err)
 {
     OutFile f;
-    if (!outfile_open(&f, s->path, err, errlen)) return -1;
+    if (!outfile_open(&f, s->path, err)) return -1;
     cairo_status_t st;
     if (s->keep_alpha) {
         st = cairo_surface_write_to_png_stream(pic, write_fd, &f.fd);
@@ -104,59 +104,64 @@ static int write_png(const RecordSpec *s, cairo_surface_t *pic, char *err, size_
         cairo_surface_destroy(rgb);
     }
     if (st != CAIRO_STATUS_SUCCESS) {
-        snprintf(err, errlen, "%s: %s", s->path, cairo_status_to_string(st));
+        buf_printf(err, "%s: %s\n", s->path, cairo_status_to_string(st));
         outfile_discard(&f);
         return -1;
     }
-    return outfile_commit(&f, false, err, errlen) ? 0 : -1;
+    return outfile_commit(&f, false, err) ? 0 : -1;
 }
 
 /* A still JPEG of [pic] (over black), through FFmpeg's MJPEG encoder and
  * its raw muxer (one frame is a whole JPEG file), quality= mapped from
  * Pillow's 1..100 (default 75) onto MJPEG's quantiser 31..2. */
-static int write_jpeg(const RecordSpec *s, cairo_surface_t *pic, char *err, size_t errlen)
+static int write_jpeg(const RecordSpec *s, cairo_surface_t *pic, Buf *err)
 {
     int quality = s->quality >= 1 && s->quality <= 100 ? s->quality : 75;
     char q[16];
     snprintf(q, sizeof q, "%d", 2 + (100 - quality) * 29 / 99);
     VideoOption opts[2] = {{"qmin", q}, {"qmax", q}};
     VideoSpec vs = {.format = "mjpeg", .codec = "mjpeg", .pixfmt = "yuvj420p", .options = opts, .noptions = 2};
-    char unused[128];
     int w = cairo_image_surface_get_width(pic), h = cairo_image_surface_get_height(pic);
-    VideoOut *v = video_open(s->path, w, h, 25, &vs, err, errlen, unused, sizeof unused);
+    VideoOut *v = video_open(s->path, w, h, 25, &vs, err, NULL);
     if (!v) return -1;
-    char why[600];
     int rc = video_frame(v, cairo_image_surface_get_data(pic), w, h, cairo_image_surface_get_stride(pic), 0,
-                         false, why, sizeof why);
-    if (rc != 0) snprintf(err, errlen, "%s", why);
-    if (video_close(v, why, sizeof why) != 0) {
-        if (rc == 0) snprintf(err, errlen, "%s", why);
+                         false, err);
+    Buf why = BUF_INIT;   /* the first failure is reported */
+    if (video_close(v, &why) != 0) {
+        if (rc == 0) buf_add(err, why.data, why.len);
         rc = -1;
     }
+    buf_free(&why);
     return rc;
 }
 
 /* A still GIF of [pic]: an animation of one frame, replaced every frame
  * (Flitter writes a .gif without codec=:gif as a picture). */
-static int write_still_gif(const RecordSpec *s, cairo_surface_t *pic, char *err, size_t errlen)
+static int write_still_gif(const RecordSpec *s, cairo_surface_t *pic, Buf *err)
 {
     GifOut *g = gifout_open(s->path, cairo_image_surface_get_width(pic), cairo_image_surface_get_height(pic), 10,
-                            err, errlen);
+                            err);
     if (!g) return -1;
     int rc = gifout_frame(g, cairo_image_surface_get_data(pic), cairo_image_surface_get_stride(pic));
     if (gifout_close(g) != 0 || rc != 0) {
-        snprintf(err, errlen, "%s: cannot write the GIF", s->path);
+        buf_printf(err, "%s: cannot write the GIF\n", s->path);
         return -1;
     }
     return 0;
 }
 
-/* Remember that the file at [path] could not be started ([err]): its
- * later frames report the same error without trying again. */
-static void fail_slot(Recorder *rec, const char *path, const char *err)
+/* Remember that the file at [path] could not be started (the message
+ * just appended to [err], its last line): its later frames report the
+ * same error without trying again. */
+static void fail_slot(Recorder *rec, const char *path, const Buf *err)
 {
     Slot *slot = add_slot(rec, path);
-    if (!(slot->error = strdup(err))) mem_oom();
+    const char *text = err->data ? err->data : "";
+    size_t end = err->len;
+    while (end && text[end - 1] == '\n') end--;
+    size_t start = end;
+    while (start && text[start - 1] != '\n') start--;
+    if (!(slot->error = strndup(text + start, end - start))) mem_oom();
 }
 
 /* Frames that limit= [limit] seconds allows at [fps] (Flitter: up to
@@ -169,12 +174,11 @@ static long limit_frames(double limit, double fps)
     return m < 1e15 ? (long)m : -1;
 }
 
-static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, char *err,
-                     size_t errlen)
+static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, double fps, Buf *err)
 {
     Slot *slot = find_slot(rec, s->path);
     if (slot && slot->error) {
-        snprintf(err, errlen, "%s", slot->error);
+        buf_printf(err, "%s\n", slot->error);
         return -1;
     }
     if (slot && slot->done) return 0;
@@ -182,7 +186,7 @@ static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, d
         /* limit= as for a video (Flitter writes animated GIFs as videos) */
         long max_frames = limit_frames(s->limit, fps);
         if (max_frames == 0) {
-            snprintf(err, errlen, "%s: no frame was recorded (limit=%g); the animation is not written",
+            buf_printf(err, "%s: no frame was recorded (limit=%g); the animation is not written\n",
                      s->path, s->limit);
             fail_slot(rec, s->path, err);
             return -1;
@@ -190,7 +194,7 @@ static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, d
         double cs = 100.0 / fps;   /* GIF delays are 1..65535 hundredths of a second */
         int delay = cs >= 65535 ? 65535 : cs <= 1 ? 1 : (int)lround(cs);
         GifOut *g = gifout_open(s->path, cairo_image_surface_get_width(pic), cairo_image_surface_get_height(pic),
-                                delay, err, errlen);
+                                delay, err);
         if (!g) {
             fail_slot(rec, s->path, err);
             return -1;
@@ -200,7 +204,7 @@ static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, d
         slot->max_frames = max_frames;
     }
     if (gifout_frame(slot->gif, cairo_image_surface_get_data(pic), cairo_image_surface_get_stride(pic)) != 0) {
-        snprintf(err, errlen, "%s: cannot write a GIF frame", s->path);
+        buf_printf(err, "%s: cannot write a GIF frame\n", s->path);
         return -1;
     }
     if (slot->max_frames >= 0 && gifout_frames(slot->gif) >= slot->max_frames) {   /* its limit: finished now */
@@ -208,7 +212,7 @@ static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, d
         int closed = gifout_close(slot->gif);
         slot->gif = NULL;
         if (closed != 0) {
-            snprintf(err, errlen, "%s: cannot finish the GIF", s->path);
+            buf_printf(err, "%s: cannot finish the GIF\n", s->path);
             return -1;
         }
     }
@@ -216,38 +220,37 @@ static int write_gif(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, d
 }
 
 /* Finish [slot]'s video now (its limit), as Flitter does. */
-static int finish_video(Slot *slot, char *err, size_t errlen)
+static int finish_video(Slot *slot, Buf *err)
 {
     slot->done = true;
-    char why[600];
-    int closed = video_close(slot->video, why, sizeof why);
+    int closed = video_close(slot->video, err);
     slot->video = NULL;
-    if (closed != 0) {
-        snprintf(err, errlen, "%s", why);
-        return -1;
-    }
-    return 0;
+    return closed != 0 ? -1 : 0;
 }
 
-static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, const RecordClock *clock,
-                       char *err, size_t errlen)
+/* write_video's work: 1 with the note of options the encoder did not use
+ * in [note] (in the frame the video starts), -1 with the failure in
+ * [err], else 0. */
+static int video_step(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, const RecordClock *clock,
+                      Buf *err, Buf *note)
 {
     Slot *slot = find_slot(rec, s->path);
     if (slot && slot->error) {
-        snprintf(err, errlen, "%s", slot->error);
+        buf_printf(err, "%s\n", slot->error);
         return -1;
     }
     if (slot && slot->done) return 0;
     int rc = 0;
     double fps = clock->fps, ifps = fps >= 1 && fps <= 1000 ? floor(fps) : fps > 1000 ? 1000 : 1;
     if (!slot) {
-        char unused[256];
+        Buf unused = BUF_INIT;
         VideoSpec vs = {.codec = s->codec, .pixfmt = s->pixfmt, .keep_alpha = s->keep_alpha,
                         .options = s->options, .noptions = s->noptions};
         VideoOut *v = video_open(s->path, cairo_image_surface_get_width(pic), cairo_image_surface_get_height(pic),
-                                 fps, &vs, err, errlen, unused, sizeof unused);
+                                 fps, &vs, err, &unused);
         if (!v) {
             fail_slot(rec, s->path, err);
+            buf_free(&unused);
             return -1;
         }
         slot = add_slot(rec, s->path);
@@ -255,10 +258,12 @@ static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic,
         slot->start = clock->time;
         slot->last_pts = -1;
         slot->max_frames = limit_frames(s->limit, fps);
-        if (unused[0]) {
-            snprintf(err, errlen, "%s: options not used by the %s encoder: %s", s->path, video_encoder(v), unused);
+        if (unused.len) {
+            buf_printf(note, "%s: options not used by the %s encoder: %s\n", s->path, video_encoder(v),
+                       buf_line(&unused));
             rc = 1;
         }
+        buf_free(&unused);
     }
     /* the frame's presentation time: one frame a frame in lockstep; on
      * the wall clock its time since the first frame (Flitter cache.py),
@@ -270,24 +275,33 @@ static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic,
         if (!(t > (double)slot->last_pts)) return rc;
         pts = t < 1e15 ? (long)t : slot->last_pts + 1;
         if (slot->max_frames >= 0 && pts >= slot->max_frames) {   /* past the limit */
-            int closed = finish_video(slot, err, errlen);
+            int closed = finish_video(slot, err);
             return closed != 0 ? closed : rc;
         }
     }
     if (slot->max_frames < 0 || pts < slot->max_frames) {
-        char why[600];
         if (video_frame(slot->video, cairo_image_surface_get_data(pic), cairo_image_surface_get_width(pic),
                         cairo_image_surface_get_height(pic), cairo_image_surface_get_stride(pic), pts,
-                        clock->realtime, why, sizeof why) != 0) {
-            snprintf(err, errlen, "%s", why);
+                        clock->realtime, err) != 0)
             return -1;
-        }
         slot->last_pts = pts;
     }
     if (!clock->realtime && slot->max_frames >= 0 && slot->last_pts + 1 >= slot->max_frames) {
-        int closed = finish_video(slot, err, errlen);
+        int closed = finish_video(slot, err);
         if (closed != 0) return closed;
     }
+    return rc;
+}
+
+/* One frame of a video: a failure replaces the note of unused options
+ * (one message, as recorder_write promises). */
+static int write_video(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, const RecordClock *clock,
+                       Buf *err)
+{
+    Buf note = BUF_INIT;
+    int rc = video_step(rec, s, pic, clock, err, &note);
+    if (rc == 1) buf_add(err, note.data, note.len);
+    buf_free(&note);
     return rc;
 }
 
@@ -299,7 +313,7 @@ typedef enum { KIND_PNG, KIND_GIF, KIND_VIDEO, KIND_JPEG } FileKind;
  * and videos, never a script, a text file or anything else a name may
  * point at (`!record filename="notes.txt" codec=:gif`). A missing or empty
  * file is fine; other cases (directories, FIFOs) are left to outfile.h. */
-static bool replaceable(const char *path, FileKind kind, char *err, size_t errlen)
+static bool replaceable(const char *path, FileKind kind, Buf *err)
 {
     int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) return true;
@@ -322,13 +336,12 @@ static bool replaceable(const char *path, FileKind kind, char *err, size_t errle
              (n >= 4 && memcmp(b, "\x1a\x45\xdf\xa3", 4) == 0);
     }
     if (!ok)
-        snprintf(err, errlen, "%s: exists and is not %s; not replaced (!record writes only over "
-                 "its own kind of file)", path, what[kind]);
+        buf_printf(err, "%s: exists and is not %s; not replaced (!record writes only over "
+                 "its own kind of file)\n", path, what[kind]);
     return ok;
 }
 
-int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, const RecordClock *clock, char *err,
-                   size_t errlen)
+int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, const RecordClock *clock, Buf *err)
 {
     double fps = clock->fps;
     cairo_surface_flush(pic);
@@ -345,31 +358,31 @@ int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, con
     bool started = find_slot(rec, s->path) != NULL;
     FileKind kind = anim || still_gif ? KIND_GIF : png ? KIND_PNG : jpeg ? KIND_JPEG : KIND_VIDEO;
     if (!started && (anim || still_gif || png || jpeg || video_is_video_name(s->path)) &&
-        !replaceable(s->path, kind, err, errlen)) {
+        !replaceable(s->path, kind, err)) {
         if (anim || kind == KIND_VIDEO) fail_slot(rec, s->path, err);   /* not retried every frame */
         return -1;
     }
-    if (anim) return write_gif(rec, s, pic, fps, err, errlen);
-    if (still_gif) return write_still_gif(s, pic, err, errlen);
-    if (png) return write_png(s, pic, err, errlen);
-    if (jpeg) return write_jpeg(s, pic, err, errlen);
-    if (video_is_video_name(s->path)) return write_video(rec, s, pic, clock, err, errlen);
-    snprintf(err, errlen, "%s: only .png, .jpg and .gif pictures and .gif animations are written, and .mp4, .mov, "
-             ".m4v, .mkv and .webm videos; !record skipped", s->path);
+    if (anim) return write_gif(rec, s, pic, fps, err);
+    if (still_gif) return write_still_gif(s, pic, err);
+    if (png) return write_png(s, pic, err);
+    if (jpeg) return write_jpeg(s, pic, err);
+    if (video_is_video_name(s->path)) return write_video(rec, s, pic, clock, err);
+    buf_printf(err, "%s: only .png, .jpg and .gif pictures and .gif animations are written, and .mp4, .mov, "
+             ".m4v, .mkv and .webm videos; !record skipped\n", s->path);
     return -1;
 }
 
-int recorder_free(Recorder *rec, char *err, size_t errlen)
+int recorder_free(Recorder *rec, Buf *err)
 {
     if (!rec) return 0;
     int rc = 0;
     for (size_t i = 0; i < rec->nslots; i++) {
         Slot *s = &rec->slots[i];
         if (s->gif && gifout_close(s->gif) != 0) {
-            snprintf(err, errlen, "%s: cannot finish GIF", s->path);
+            buf_printf(err, "%s: cannot finish GIF\n", s->path);
             rc = -1;
         }
-        if (s->video && video_close(s->video, err, errlen) != 0) rc = -1;
+        if (s->video && video_close(s->video, err) != 0) rc = -1;
         free(s->path);
         free(s->error);
     }

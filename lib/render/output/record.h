@@ -28,6 +28,7 @@
 
 #include <cairo.h>
 
+#include "buf.h"
 #include "video.h"
 
 typedef struct Recorder Recorder;
@@ -60,7 +61,7 @@ Recorder *recorder_new(void);
  * them), a frame in the same slot as the last is dropped, and one the
  * encoder is too far behind to take is dropped too, so the video lasts as
  * long as the run and recording never holds the frame loop.
- *   errors: -1 with one line "PATH: REASON" in [err] ([errlen] bytes)
+ *   errors: -1 with one line "PATH: REASON" appended to [err]
  *           when the file cannot be written this frame (a video that could
  *           not be started fails each later frame too, without retrying);
  *           1 with a note "PATH: options not used by the ENCODER encoder:
@@ -68,11 +69,11 @@ Recorder *recorder_new(void);
  *           encoder does not know (it is still written); else 0. Never
  *           aborts. */
 int recorder_write(Recorder *rec, const RecordSpec *s, cairo_surface_t *pic, const RecordClock *clock,
-                   char *err, size_t errlen);
+                   Buf *err);
 /* Finish the animations and videos still open (each renamed into place),
  * and free [rec] (NULL is a no-op).
- *   errors: -1 when any could not be finished, with the last such message
- *           in [err]; else 0. */
-int recorder_free(Recorder *rec, char *err, size_t errlen);
+ *   errors: -1 when any could not be finished, with a line for each
+ *           appended to [err]; else 0. */
+int recorder_free(Recorder *rec, Buf *err);
 
 #endif

@@ -118,16 +118,16 @@ static bool takes_format(const AVCodec *c, enum AVPixelFormat f)
  * ARGB; AV_PIX_FMT_NONE with [err] set if [asked] is unknown or refused. */
 static enum AVPixelFormat choose_format(const AvLib *L, const AVCodec *c, const char *asked, bool alpha, bool raw_rgb,
                                         const char *path,
-                                        char *err, size_t errlen)
+                                        Buf *err)
 {
     if (asked) {
         enum AVPixelFormat f = L->av_get_pix_fmt(asked);
         if (f == AV_PIX_FMT_NONE) {
-            snprintf(err, errlen, "%s: unknown pixel format '%s'", path, asked);
+            buf_printf(err, "%s: unknown pixel format '%s'\n", path, asked);
             return AV_PIX_FMT_NONE;
         }
         if (!takes_format(c, f)) {
-            snprintf(err, errlen, "%s: encoder %s does not take pixel format '%s'", path, c->name, asked);
+            buf_printf(err, "%s: encoder %s does not take pixel format '%s'\n", path, c->name, asked);
             return AV_PIX_FMT_NONE;
         }
         /* QuickTime's raw video holds packed RGB and two packed YUV
@@ -140,8 +140,8 @@ static enum AVPixelFormat choose_format(const AvLib *L, const AVCodec *c, const 
         for (size_t i = 0; !held && i < sizeof quicktime_raw / sizeof *quicktime_raw; i++)
             held = quicktime_raw[i] == f;
         if (!held) {
-            snprintf(err, errlen, "%s: a QuickTime file holds raw video as rgb24, bgr24, argb, bgra, rgba, abgr, "
-                     "uyvy422 or yuyv422, not '%s'", path, asked);
+            buf_printf(err, "%s: a QuickTime file holds raw video as rgb24, bgr24, argb, bgra, rgba, abgr, "
+                     "uyvy422 or yuyv422, not '%s'\n", path, asked);
             return AV_PIX_FMT_NONE;
         }
         return f;
@@ -211,17 +211,18 @@ static void free_video(VideoOut *v)
 }
 
 /* Open encoder [c] on [v] for a [w] x [h] picture at [fps]; false with
- * [err] set. The unused options are appended to [unused]. */
+ * the reason appended to [err]. The names of the options it did not use
+ * are appended to [unused] (NULL: not wanted), separated by commas. */
 static bool open_encoder(VideoOut *v, const AVCodec *c, const VideoSpec *spec, int w, int h, int fps,
-                         const char *path, char *err, size_t errlen, char *unused, size_t unusedlen)
+                         const char *path, Buf *err, Buf *unused)
 {
     const AvLib *L = v->L;
     if (L->avformat_query_codec(v->oc->oformat, c->id, FF_COMPLIANCE_NORMAL) != 1) {
-        snprintf(err, errlen, "%s: a %s file cannot hold %s video", path, v->oc->oformat->name, c->name);
+        buf_printf(err, "%s: a %s file cannot hold %s video\n", path, v->oc->oformat->name, c->name);
         return false;
     }
     enum AVPixelFormat fmt = choose_format(L, c, spec->pixfmt, spec->keep_alpha,
-                                           strcmp(v->oc->oformat->name, "mov") == 0, path, err, errlen);
+                                           strcmp(v->oc->oformat->name, "mov") == 0, path, err);
     if (fmt == AV_PIX_FMT_NONE) return false;
     const AVPixFmtDescriptor *desc = L->av_pix_fmt_desc_get(fmt);
     AVCodecContext *cc = L->avcodec_alloc_context3(c);
@@ -249,18 +250,14 @@ static bool open_encoder(VideoOut *v, const AVCodec *c, const VideoSpec *spec, i
     if (rc < 0) {
         char why[AV_ERROR_MAX_STRING_SIZE];
         L->av_strerror(rc, why, sizeof why);
-        snprintf(err, errlen, "%s: cannot open the %s encoder: %s", path, c->name, why);
+        buf_printf(err, "%s: cannot open the %s encoder: %s\n", path, c->name, why);
         L->av_dict_free(&opts);
         L->avcodec_free_context(&cc);
         return false;
     }
     const AVDictionaryEntry *e = NULL;
-    size_t used = strlen(unused);
-    while ((e = L->av_dict_get(opts, "", e, AV_DICT_IGNORE_SUFFIX)) != NULL) {
-        int n = snprintf(unused + used, unusedlen - used, "%s%s", used ? "," : "", e->key);
-        if (n < 0 || (size_t)n >= unusedlen - used) break;
-        used += (size_t)n;
-    }
+    while (unused && (e = L->av_dict_get(opts, "", e, AV_DICT_IGNORE_SUFFIX)) != NULL)
+        buf_printf(unused, "%s%s", unused->len ? "," : "", e->key);
     L->av_dict_free(&opts);
     v->cc = cc;
     v->alpha = (desc->flags & AV_PIX_FMT_FLAG_ALPHA) != 0;
@@ -269,29 +266,30 @@ static bool open_encoder(VideoOut *v, const AVCodec *c, const VideoSpec *spec, i
 
 static void *writer_main(void *arg);
 
-VideoOut *video_open(const char *path, int width, int height, double fps, const VideoSpec *spec, char *err,
-                     size_t errlen, char *unused, size_t unusedlen)
+VideoOut *video_open(const char *path, int width, int height, double fps, const VideoSpec *spec, Buf *err,
+                     Buf *unused)
 {
-    if (unusedlen) unused[0] = '\0';
+    if (unused) buf_reset(unused);
     VideoOut *v = calloc(1, sizeof *v);
     if (!v) mem_oom();
     /* the file first: a target that cannot be written fails without
      * loading FFmpeg */
-    if (!outfile_open(&v->out, path, err, errlen)) {
+    if (!outfile_open(&v->out, path, err)) {
         free(v);
         return NULL;
     }
-    char lwhy[300];
-    const AvLib *L = v->L = avlib_load(lwhy, sizeof lwhy);
+    Buf lwhy = BUF_INIT;
+    const AvLib *L = v->L = avlib_load(&lwhy);
     if (!L) {
-        snprintf(err, errlen, "%s: %s", path, lwhy);
+        buf_printf(err, "%s: %s\n", path, buf_line(&lwhy));
+        buf_free(&lwhy);
         free_video(v);
         return NULL;
     }
     if (L->av_log_get_level() == AV_LOG_INFO) L->av_log_set_level(AV_LOG_ERROR);
     int ifps = fps >= 1 && fps <= 1000 ? (int)fps : fps > 1000 ? 1000 : 1;   /* Flitter: int(fps) */
     if (L->avformat_alloc_output_context2(&v->oc, NULL, spec->format, path) < 0 || !v->oc) {
-        snprintf(err, errlen, "%s: no video container for this file name", path);
+        buf_printf(err, "%s: no video container for this file name\n", path);
         free_video(v);
         return NULL;
     }
@@ -301,7 +299,7 @@ VideoOut *video_open(const char *path, int width, int height, double fps, const 
     bool webm = ends_with(path, ".webm");
     if (spec->codec) {
         if (!(cands[ncand++] = find_encoder(L, spec->codec))) {
-            snprintf(err, errlen, "%s: no video encoder '%s' in this FFmpeg", path, spec->codec);
+            buf_printf(err, "%s: no video encoder '%s' in this FFmpeg\n", path, spec->codec);
             free_video(v);
             return NULL;
         }
@@ -316,34 +314,37 @@ VideoOut *video_open(const char *path, int width, int height, double fps, const 
             if (c && !seen) cands[ncand++] = c;
         }
         if (ncand == 0) {
-            snprintf(err, errlen, "%s: no %s encoder in this FFmpeg", path, webm ? "VP9 or VP8" : "H.264 or MPEG-4");
+            buf_printf(err, "%s: no %s encoder in this FFmpeg\n", path, webm ? "VP9 or VP8" : "H.264 or MPEG-4");
             free_video(v);
             return NULL;
         }
     }
     /* the first encoder that opens; if none does, the first one's reason */
-    bool opened = false;
-    char first[600] = "";
-    for (int i = 0; i < ncand && !opened; i++) {
-        if (unusedlen) unused[0] = '\0';
-        opened = open_encoder(v, cands[i], spec, width, height, ifps, path, err, errlen, unused, unusedlen);
-        if (!opened && i == 0) snprintf(first, sizeof first, "%s", err);
+    bool opened = false, refused = false;
+    Buf first = BUF_INIT, why = BUF_INIT;
+    for (int i = 0; i < ncand && !opened && !refused; i++) {
+        if (unused) buf_reset(unused);
+        buf_reset(&why);
+        opened = open_encoder(v, cands[i], spec, width, height, ifps, path, &why, unused);
+        if (!opened && i == 0) buf_puts(&first, buf_line(&why));
         if (!opened && spec->noptions > 0) {
             /* an encoder that opens without the options refused them: an
              * error, never a quiet change of encoder */
             VideoSpec plain = *spec;
             plain.noptions = 0;
-            char ignored[8], why[600];
-            if (open_encoder(v, cands[i], &plain, width, height, ifps, path, why, sizeof why, ignored, 0)) {
+            Buf ignored = BUF_INIT;
+            if (open_encoder(v, cands[i], &plain, width, height, ifps, path, &ignored, NULL)) {
                 L->avcodec_free_context(&v->cc);
-                snprintf(err, errlen, "%.300s (the %s encoder refused the options given)", first[0] ? first : err,
-                         cands[i]->name);
-                free_video(v);
-                return NULL;
+                buf_printf(err, "%.300s (the %s encoder refused the options given)\n",
+                           first.len ? buf_cstr(&first) : buf_line(&why), cands[i]->name);
+                refused = true;
             }
+            buf_free(&ignored);
         }
     }
-    if (!opened) snprintf(err, errlen, "%s", first);
+    if (!opened && !refused) buf_printf(err, "%s\n", buf_cstr(&first));
+    buf_free(&first);
+    buf_free(&why);
     if (!opened) {
         free_video(v);
         return NULL;
@@ -371,7 +372,7 @@ VideoOut *video_open(const char *path, int width, int height, double fps, const 
     if (rc < 0) {
         char why[AV_ERROR_MAX_STRING_SIZE];
         L->av_strerror(rc, why, sizeof why);
-        snprintf(err, errlen, "%s: cannot start the video: %s", path, why);
+        buf_printf(err, "%s: cannot start the video: %s\n", path, why);
         free_video(v);
         return NULL;
     }
@@ -380,7 +381,7 @@ VideoOut *video_open(const char *path, int width, int height, double fps, const 
     if (pthread_create(&v->writer, NULL, writer_main, v) != 0) {
         pthread_mutex_destroy(&v->lock);
         pthread_cond_destroy(&v->changed);
-        snprintf(err, errlen, "%s: cannot start the video's writer thread", path);
+        buf_printf(err, "%s: cannot start the video's writer thread\n", path);
         free_video(v);
         return NULL;
     }
@@ -390,7 +391,7 @@ VideoOut *video_open(const char *path, int width, int height, double fps, const 
 
 /* Send [f] (NULL: flush) to the encoder and write the packets it gives;
  * -1 with [err] set on failure. */
-static int encode(VideoOut *v, AVFrame *f, char *err, size_t errlen)
+static int encode(VideoOut *v, AVFrame *f, Buf *err)
 {
     const AvLib *L = v->L;
     int rc = L->avcodec_send_frame(v->cc, f);
@@ -404,7 +405,7 @@ static int encode(VideoOut *v, AVFrame *f, char *err, size_t errlen)
     }
     char why[AV_ERROR_MAX_STRING_SIZE];
     L->av_strerror(rc, why, sizeof why);
-    snprintf(err, errlen, "%s: cannot encode a video frame: %s", v->out.target, why);
+    buf_printf(err, "%s: cannot encode a video frame: %s\n", v->out.target, why);
     return -1;
 }
 
@@ -425,7 +426,7 @@ static void unpremultiply(uint32_t *dst, const uint32_t *src, int n)
 
 /* Convert and encode queued picture [q] (on the writer thread); -1 with
  * [err] set on failure. */
-static int encode_picture(VideoOut *v, const QueuedFrame *q, char *err, size_t errlen)
+static int encode_picture(VideoOut *v, const QueuedFrame *q, Buf *err)
 {
     const AvLib *L = v->L;
     int width = q->width, height = q->height, stride = width * 4;
@@ -434,7 +435,7 @@ static int encode_picture(VideoOut *v, const QueuedFrame *q, char *err, size_t e
         v->sws = L->sws_getContext(width, height, AV_PIX_FMT_RGB32, v->cc->width, v->cc->height, v->cc->pix_fmt,
                                 SWS_BICUBIC | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, NULL, NULL, NULL);
         if (!v->sws) {
-            snprintf(err, errlen, "%s: cannot convert %dx%d frames to %s", v->out.target, width, height,
+            buf_printf(err, "%s: cannot convert %dx%d frames to %s\n", v->out.target, width, height,
                      L->av_get_pix_fmt_name(v->cc->pix_fmt));
             return -1;
         }
@@ -462,7 +463,7 @@ static int encode_picture(VideoOut *v, const QueuedFrame *q, char *err, size_t e
     if (L->av_frame_make_writable(v->frame) < 0) mem_oom();
     L->sws_scale(v->sws, &src, &stride, 0, height, v->frame->data, v->frame->linesize);
     v->frame->pts = q->pts;
-    return encode(v, v->frame, err, errlen);
+    return encode(v, v->frame, err);
 }
 
 /* The writer thread: encode the queued pictures in order until closing
@@ -481,25 +482,26 @@ static void *writer_main(void *arg)
         bool failed = v->failed;
         pthread_cond_broadcast(&v->changed);
         pthread_mutex_unlock(&v->lock);
-        char why[600];
-        int rc = failed ? 0 : encode_picture(v, &q, why, sizeof why);
+        Buf why = BUF_INIT;
+        int rc = failed ? 0 : encode_picture(v, &q, &why);
         free(q.argb);
         pthread_mutex_lock(&v->lock);
         if (rc != 0 && !v->failed) {
             v->failed = true;
-            snprintf(v->why, sizeof v->why, "%s", why);
+            snprintf(v->why, sizeof v->why, "%s", buf_line(&why));
         }
+        buf_free(&why);
     }
     pthread_mutex_unlock(&v->lock);
     return NULL;
 }
 
 int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, int stride, long pts,
-                bool drop_when_busy, char *err, size_t errlen)
+                bool drop_when_busy, Buf *err)
 {
     pthread_mutex_lock(&v->lock);
     bool failed = v->failed, full = v->qcount == VIDEO_QUEUE;
-    if (failed) snprintf(err, errlen, "%s", v->why);
+    if (failed) buf_printf(err, "%s\n", v->why);
     pthread_mutex_unlock(&v->lock);
     if (failed) return -1;
     if (full && drop_when_busy) {
@@ -522,7 +524,7 @@ int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, i
 
 const char *video_encoder(const VideoOut *v) { return v->cc->codec->name; }
 
-int video_close(VideoOut *v, char *err, size_t errlen)
+int video_close(VideoOut *v, Buf *err)
 {
     if (!v) return 0;
     const AvLib *L = v->L;
@@ -533,21 +535,21 @@ int video_close(VideoOut *v, char *err, size_t errlen)
     pthread_join(v->writer, NULL);   /* every queued frame encoded */
     int rc = v->failed ? -1 : 0;
     if (rc != 0)
-        snprintf(err, errlen, "%s; the video is not written", v->why);
+        buf_printf(err, "%s; the video is not written\n", v->why);
     if (rc == 0 && v->frames == 0) {   /* (limit=0): an empty container is no video */
-        snprintf(err, errlen, "%s: no frame was recorded; the video is not written", v->out.target);
+        buf_printf(err, "%s: no frame was recorded; the video is not written\n", v->out.target);
         rc = -1;
     }
-    if (rc == 0) rc = encode(v, NULL, err, errlen);
+    if (rc == 0) rc = encode(v, NULL, err);
     if (rc == 0 && L->av_write_trailer(v->oc) < 0) {
-        snprintf(err, errlen, "%s: cannot finish the video", v->out.target);
+        buf_printf(err, "%s: cannot finish the video\n", v->out.target);
         rc = -1;
     }
     if (v->oc->pb && L->avio_closep(&v->oc->pb) < 0 && rc == 0) {
-        snprintf(err, errlen, "%s: cannot write the video", v->out.target);
+        buf_printf(err, "%s: cannot write the video\n", v->out.target);
         rc = -1;
     }
-    if (rc == 0) rc = outfile_commit(&v->out, true, err, errlen) ? 0 : -1;
+    if (rc == 0) rc = outfile_commit(&v->out, true, err) ? 0 : -1;
     else outfile_discard(&v->out);
     free_video(v);
     return rc;

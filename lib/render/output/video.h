@@ -33,6 +33,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "buf.h"
+
 typedef struct VideoOut VideoOut;
 
 /* One FFmpeg option (codec-private or generic), as text. */
@@ -55,16 +57,17 @@ bool video_is_video_name(const char *path);
 
 /* Start the video [path]: [width] x [height] pixels (each 1..16384), [fps]
  * frames per second (truncated to 1..1000), as [spec] asks (borrowed).
- *   errors: NULL with "PATH: REASON" in [err] ([errlen] bytes) when no
+ *   errors: NULL with "PATH: REASON" appended to [err] when no
  *           encoder fits, the container cannot hold the codec, an option
  *           or the pixel format is refused, or the file cannot be created
  *           (nothing is left behind); an encoder that opens without the
  *           options but not with them refused them: an error, never a
  *           change to the next encoder. Unknown options are not an error
  *           (FFmpeg ignores them); their names are listed in [unused]
- *           ([unusedlen] bytes, comma separated, "" when none). */
+ *           (NULL: not wanted; emptied first, then the names separated
+ *           by commas). */
 VideoOut *video_open(const char *path, int width, int height, double fps, const VideoSpec *spec,
-                     char *err, size_t errlen, char *unused, size_t unusedlen);
+                     Buf *err, Buf *unused);
 /* Queue one frame for [v]'s writer thread, which converts and encodes
  * it: [argb] is cairo's ARGB32 layout (native-endian 0xAARRGGBB words,
  * premultiplied alpha, [stride] bytes per row) of [width] x [height]
@@ -77,7 +80,7 @@ VideoOut *video_open(const char *path, int width, int height, double fps, const 
  *           be written (the video is then discarded at video_close),
  *           else 0. */
 int video_frame(VideoOut *v, const unsigned char *argb, int width, int height, int stride, long pts,
-                bool drop_when_busy, char *err, size_t errlen);
+                bool drop_when_busy, Buf *err);
 /* The FFmpeg name of [v]'s encoder (e.g. "libx264"; borrowed, lives as
  * long as the process). */
 const char *video_encoder(const VideoOut *v);
@@ -85,6 +88,6 @@ const char *video_encoder(const VideoOut *v);
  * free [v] (NULL is a no-op).
  *   errors: -1 with [err] set when a frame failed before or finishing
  *           fails: the temporary is removed, the target left as it was. */
-int video_close(VideoOut *v, char *err, size_t errlen);
+int video_close(VideoOut *v, Buf *err);
 
 #endif

@@ -21,11 +21,11 @@ struct Trace {
     Buf row, tmp;
 };
 
-Trace *trace_open(const char *path, const SymTab *symbols, char *err, size_t errlen)
+Trace *trace_open(const char *path, const SymTab *symbols, Buf *err)
 {
     FILE *f = fopen(path, "w");
     if (!f) {
-        snprintf(err, errlen, "%s: cannot create trace file: %s", path, strerror(errno));
+        buf_printf(err, "%s: cannot create trace file: %s\n", path, strerror(errno));
         return NULL;
     }
     Trace *t = calloc(1, sizeof *t);

@@ -19,14 +19,15 @@
 
 #include <stddef.h>
 
+#include "buf.h"
 #include "systems.h"
 #include "value.h"
 
 typedef struct Trace Trace;
 
 /* Create (truncate) [path]; [symbols] names symbols (borrowed, may be NULL).
- *   errors: NULL with a message in [err] ([errlen] bytes). */
-Trace *trace_open(const char *path, const SymTab *symbols, char *err, size_t errlen);
+ *   errors: NULL with a message appended to [err]. */
+Trace *trace_open(const char *path, const SymTab *symbols, Buf *err);
 /* Append the rows of frame [frame] at [time] for the [n] [systems].
  *   errors: -1 when writing fails, else 0. */
 int trace_frame(Trace *t, long frame, double time, const PsSystem *systems, size_t n);

@@ -61,14 +61,14 @@ static bool ends_with(const char *s, const char *tail)
     return a >= b && strcasecmp(s + a - b, tail) == 0;
 }
 
-View *view_open(const char *path, int delay_cs, const SymTab *symbols, char *err, size_t errlen)
+View *view_open(const char *path, int delay_cs, const SymTab *symbols, Buf *err)
 {
     int format;
     if (ends_with(path, ".png")) format = FMT_PNG;
     else if (ends_with(path, ".svg")) format = FMT_SVG;
     else if (ends_with(path, ".gif")) format = FMT_GIF;
     else {
-        snprintf(err, errlen, "%s: a view is written to a .png, .svg or .gif file", path);
+        buf_printf(err, "%s: a view is written to a .png, .svg or .gif file\n", path);
         return NULL;
     }
     View *v = mem_calloc(1, sizeof *v);
@@ -368,10 +368,13 @@ static bool draw_panel_3d(View *v, cairo_t *cr, int index, const PsSystem *s)
         if (cairo_surface_status(v->pic3d) == CAIRO_STATUS_NO_MEMORY) mem_oom();
     }
     if (!v->gl) v->gl = scene_picture_new();
-    char err[600];
-    if (scene_picture_draw(v->gl, &sc, v->pic3d, err, sizeof err) != 0) {
-        if (!v->flat_said)
-            render_log(&v->log, RLOG_WARNING, "view: 3D systems are drawn flat on x;y%s%s", err[0] ? ": " : "", err);
+    Buf err = BUF_INIT;
+    bool drawn = scene_picture_draw(v->gl, &sc, v->pic3d, &err) == 0;
+    if (!drawn && !v->flat_said)
+        render_log(&v->log, RLOG_WARNING, "view: 3D systems are drawn flat on x;y%s%s", err.len ? ": " : "",
+                   buf_line(&err));
+    buf_free(&err);
+    if (!drawn) {
         v->flat_said = true;
         return false;
     }
@@ -582,9 +585,9 @@ size_t view_draw_fit(View *v, cairo_surface_t *target, const PsSystem *systems, 
     return (size_t)v->npanels;
 }
 
-int view_frame(View *v, long frame, const PsSystem *systems, size_t n, char *err, size_t errlen)
+int view_frame(View *v, long frame, const PsSystem *systems, size_t n, Buf *err)
 {
-    if (!cairo_lib_ready(err, errlen)) return -1;
+    if (!cairo_lib_ready(err)) return -1;
     if (v->npanels == 0 && v->width == 0) lay_out(v, systems, n);   /* fix the layout */
     cairo_surface_t *surf;
     if (v->format == FMT_SVG) surf = cairo_svg_surface_create(v->path, v->width, v->height);
@@ -596,23 +599,23 @@ int view_frame(View *v, long frame, const PsSystem *systems, size_t n, char *err
     if (v->format == FMT_SVG) {
         cairo_surface_finish(surf);
         if (cairo_surface_status(surf) != CAIRO_STATUS_SUCCESS) {
-            snprintf(err, errlen, "%s: %s", v->path, cairo_status_to_string(cairo_surface_status(surf)));
+            buf_printf(err, "%s: %s\n", v->path, cairo_status_to_string(cairo_surface_status(surf)));
             rc = -1;
         }
     } else if (v->format == FMT_PNG) {
         cairo_status_t st = cairo_surface_write_to_png(surf, v->path);
         if (st != CAIRO_STATUS_SUCCESS) {
-            snprintf(err, errlen, "%s: %s", v->path, cairo_status_to_string(st));
+            buf_printf(err, "%s: %s\n", v->path, cairo_status_to_string(st));
             rc = -1;
         }
     } else {
         cairo_surface_flush(surf);
-        if (!v->gif) v->gif = gifout_open(v->path, v->width, v->height, v->delay, err, errlen);
+        if (!v->gif) v->gif = gifout_open(v->path, v->width, v->height, v->delay, err);
         if (!v->gif) {
             rc = -1;
         } else if (gifout_frame(v->gif, cairo_image_surface_get_data(surf),
                                 cairo_image_surface_get_stride(surf)) != 0) {
-            snprintf(err, errlen, "%s: cannot write a GIF frame", v->path);
+            buf_printf(err, "%s: cannot write a GIF frame\n", v->path);
             rc = -1;
         }
     }

@@ -36,6 +36,7 @@
 
 #include <cairo.h>
 
+#include "buf.h"
 #include "canvas.h"
 #include "systems.h"
 #include "value.h"
@@ -52,7 +53,7 @@ bool view_parse_axes(const char *text, int axes[2]);
  * frames last [delay_cs] hundredths of a second; [symbols] names symbols
  * in titles (borrowed, may be NULL).
  *   errors: NULL with a message in [err] for another extension. */
-View *view_open(const char *path, int delay_cs, const SymTab *symbols, char *err, size_t errlen);
+View *view_open(const char *path, int delay_cs, const SymTab *symbols, Buf *err);
 /* A view for view_draw_fit only (no file). */
 View *view_new_fit(const SymTab *symbols);
 /* Draw systems of 2 dimensions or more flat on the coordinates [axes]
@@ -66,7 +67,7 @@ bool view_animated(const View *v);
  * replaced; GIF: a frame appended; the picture's size is fixed by the
  * first call).
  *   errors: -1 with a message in [err] when the file cannot be written. */
-int view_frame(View *v, long frame, const PsSystem *systems, size_t n, char *err, size_t errlen);
+int view_frame(View *v, long frame, const PsSystem *systems, size_t n, Buf *err);
 /* Draw [n] [systems] with [v] (a view_new_fit view) as a single view
  * picture (laid out anew for these systems, as view_frame's first frame
  * is, fitted to the bodies as they are now) into the cairo image surface
