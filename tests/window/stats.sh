@@ -18,6 +18,8 @@ FL
 grep -q '^stats: 30 frames in [0-9.]* s: [0-9.]* frames/s$' err || fail "no frames line"
 grep -q '^stats: per frame: eval [0-9.]* ms, physics [0-9.]* ms, other [0-9.]* ms$' err ||
     fail "no per-frame line"
+grep -q '^stats: per steady frame: eval [0-9.]* ms, physics [0-9.]* ms, other [0-9.]* ms$' err ||
+    fail "no steady frame line"
 grep -q '^stats: allocations: first frame ' err || fail "no allocations line"
 grep -q '^stats: state per frame: ' err || fail "no state line"
 grep -q '^stats: window: per frame shown: draw [0-9.]* ms, present [0-9.]* ms$' err ||
