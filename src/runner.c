@@ -543,7 +543,7 @@ void runspec_print_stats(fl_runtime *rt, const fl_stats *first, const fl_stats *
     fprintf(log, "stats: per frame: eval %.3f ms, physics %.3f ms, other %.3f ms\n",
             s.eval_seconds / n * 1e3, s.physics_seconds / n * 1e3, s.other_seconds / n * 1e3);
     if (s.frames > 2)   /* without the first two, which fill the free lists and caches */
-        fprintf(log, "stats: per steady frame: eval %.3f ms, physics %.3f ms, other %.3f ms\n",
+        fprintf(log, "stats: per steady frame: eval %.4f ms, physics %.4f ms, other %.4f ms\n",
                 (s.eval_seconds - second->eval_seconds) / steady * 1e3,
                 (s.physics_seconds - second->physics_seconds) / steady * 1e3,
                 (s.other_seconds - second->other_seconds) / steady * 1e3);
@@ -654,6 +654,7 @@ void runspec_options_from_env(fl_options *o)
     d->kernel_chunk = env_count("FLITTER_KERNEL_CHUNK");
     d->kernel_window = env_count("FLITTER_KERNEL_WINDOW");
     d->no_templates = env_on("FLITTER_NOTEMPLATES");
+    d->no_draw = env_on("FLITTER_NODRAW");
     d->check_templates = env_on("FLITTER_TEMPLATE_CHECK");
     e = getenv("FLITTER_SIMD");
     d->simd = !e                           ? FL_SIMD_AUTO

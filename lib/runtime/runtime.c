@@ -1229,6 +1229,7 @@ static double global_num(const fl_runtime *rt, const char *name, double dflt)
 
 int rt_render(fl_runtime *rt, bool windows)
 {
+    if (rt->opts.debug.no_draw && !windows) return 0;
     GraphFrame f = {.frame = fl_frame_count(rt) - 1, .beat = global_num(rt, "beat", 0),
                     .quantum = global_num(rt, "quantum", 4), .tempo = global_num(rt, "tempo", 120),
                     .delta = global_num(rt, "delta", 0), .time = global_num(rt, "time", 0),

@@ -63,7 +63,8 @@ const Vec *rt_global(const fl_runtime *rt, const char *name, size_t len);
  *   errors: false when interrupted (the rest of out unset). */
 bool rt_call_distances(fl_runtime *rt, const Vec *fn, const double *xyz, size_t n, double *out);
 /* Draw the last frame through the runtime's pictures (pictures_render,
- * with the frame's engine names; nothing before the first frame); returns
+ * with the frame's engine names; nothing before the first frame, nor with
+ * fl_debug_options.no_draw unless [windows] asks for them); returns
  * the number of record files that could not be written this frame. */
 int rt_render(fl_runtime *rt, bool windows);
 /* The runtime's memory budget (fl_options.max_memory), for what it holds
