@@ -18,24 +18,13 @@ import re
 import subprocess
 import sys
 
+from layers import table_rows   # tests/layers.py, beside this file
+
 
 def read_rooms(path):
-    rooms = []  # (patterns, reason)
-    in_table = False
-    with open(path, encoding="utf-8") as f:
-        for line in f:
-            cells = [c.strip() for c in line.strip().strip("|").split("|")]
-            if cells[:2] == ["files that call each other", "why"]:
-                in_table = True
-                continue
-            if in_table:
-                if not line.startswith("|"):
-                    break
-                if set(cells[0]) <= set("-: "):
-                    continue
-                pats = re.findall(r"`([^`]+)`", cells[0])
-                rooms.append((pats, cells[1]))
-    return rooms
+    """(patterns, reason) of each row of the "files that call each other" table."""
+    return [(re.findall(r"`([^`]+)`", cells[0]), cells[1])
+            for cells in table_rows(path, ["files that call each other", "why"])]
 
 
 def modules(root, archive):

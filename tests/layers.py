@@ -24,13 +24,14 @@ import sys
 GENERATED = {"parser.h": "syntax", "gl_names.h": "gl"}
 
 
-def read_table(path):
-    layers = {}  # folder -> (layer, allowed layer names)
-    in_table = False
+def table_rows(path, header):
+    """The body rows (lists of stripped cells) of the Markdown table in
+    [path] whose first cells are [header]; [] when there is none."""
+    rows, in_table = [], False
     with open(path, encoding="utf-8") as f:
         for line in f:
             cells = [c.strip() for c in line.strip().strip("|").split("|")]
-            if cells[:3] == ["layer", "folder", "may include"]:
+            if cells[:len(header)] == header:
                 in_table = True
                 continue
             if in_table:
@@ -38,9 +39,16 @@ def read_table(path):
                     break
                 if set(cells[0]) <= set("-: "):
                     continue
-                name, folder = cells[0], cells[1].strip("`")
-                allowed = {a.strip() for a in cells[2].split(",") if a.strip()}
-                layers[folder] = (name, allowed)
+                rows.append(cells)
+    return rows
+
+
+def read_table(path):
+    layers = {}  # folder -> (layer, allowed layer names)
+    for cells in table_rows(path, ["layer", "folder", "may include"]):
+        name, folder = cells[0], cells[1].strip("`")
+        allowed = {a.strip() for a in cells[2].split(",") if a.strip()}
+        layers[folder] = (name, allowed)
     return layers
 
 
