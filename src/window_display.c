@@ -311,9 +311,6 @@ void window_display(Handover *h, const WinOptions *wopt, FILE *log)
 {
     Display D = {.h = h, .wopt = wopt, .log = log};
     bool failed = false;
-    SDL_Window *gl_display, *gl_frame;
-    wingl_windows(h->gl, &gl_display, &gl_frame);
-    winlost_watch(&h->lost, gl_display);
     for (;;) {
         SDL_Event ev;
         while (SDL_PollEvent(&ev)) sdl_event(&D, &ev);

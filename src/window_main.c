@@ -724,6 +724,17 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
         if (spec->dump_simplified) fl_dump_program(L.pages[0].rt, write_file, out);
         L.last_save = L.stat_time = L.start = now_seconds();
         L.last_drawn = -1;
+        /* Xlib's error handlers are the process's, and SDL's GLX
+         * make-current saves and puts back the one it finds (SDL 2.26,
+         * X11_GL_MakeCurrent): ours go in before the frame loop's thread
+         * first makes its context current, or that thread may put SDL's
+         * exiting handler back over them (window/lost's destroy then ended
+         * with status 1 about once in a thousand runs) */
+        if (hand.gl) {
+            SDL_Window *gl_display, *gl_frame;
+            wingl_windows(hand.gl, &gl_display, &gl_frame);
+            winlost_watch(&hand.lost, gl_display);
+        }
         pthread_t thread;
         if (pthread_create(&thread, NULL, frame_thread, &L) != 0) {
             fprintf(log, "flitter: cannot start the frame loop's thread\n");
