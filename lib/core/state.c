@@ -94,6 +94,29 @@ const Vec *state_get(const StateDict *sd, const Vec *key)
     return s ? s->value : NULL;
 }
 
+const Vec *state_get_nums(const StateDict *sd, const double *x, uint32_t n)
+{
+    ((StateDict *)sd)->counts.gets++;
+    if (!n) return NULL;
+    uint64_t h = vec_hash_nums(x, n, false);
+    if (h <= TOMB) h += 2;   /* key_hash's */
+    size_t mask = sd->cap - 1;
+    /* find()'s probe, with vec_key_equal of a numeric key vector: the
+     * same kind and length, the same bits */
+    for (size_t i = (size_t)h & mask;; i = (i + 1) & mask) {
+        const Slot *s = &sd->slots[i];
+        if (!s->key) {
+            if (s->hash != TOMB) return NULL;
+            continue;
+        }
+        if (s->hash != h || s->key->kind != VEC_NUM || s->key->len != n) continue;
+        const double *k = vec_cnums(s->key);
+        uint32_t j = 0;
+        while (j < n && memcmp(&k[j], &x[j], sizeof(double)) == 0) j++;
+        if (j == n) return s->value;
+    }
+}
+
 static void rebuild(StateDict *sd, size_t cap)
 {
     Slot *old = sd->slots;

@@ -24,6 +24,10 @@ void state_free(StateDict *sd);
 /* The value stored under [key] (borrowed; valid until the next state_set
  * or state_clear), or NULL when absent or when [key] is null. */
 const Vec *state_get(const StateDict *sd, const Vec *key);
+/* state_get of the numeric key vector made of the [n] numbers [x] (a
+ * reader whose key is numbers it computed, without making the vector):
+ * the same entry, the same count of one read; NULL when [n] is 0. */
+const Vec *state_get_nums(const StateDict *sd, const double *x, uint32_t n);
 /* Store [value] under [key] (both borrowed and retained). A null or empty
  * [value] deletes the entry. A null [key] is ignored. Returns true when the
  * stored value changed (a set to an equal value, or a delete of a missing

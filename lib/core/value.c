@@ -737,6 +737,7 @@ static int64_t index64(double k)
 
 static uint32_t wrap(int64_t j, uint32_t n)
 {
+    if ((uint64_t)j < n) return (uint32_t)j;   /* (the common case, without a division) */
     int64_t m = j % (int64_t)n;
     if (m < 0) m += n;
     return (uint32_t)m;
@@ -770,8 +771,12 @@ void stream_index_each(StreamKind kind, uint64_t key, const double *k, uint32_t 
 Vec *vec_index(const Vec *src, const Vec *index, bool literal)
 {
     if (!vec_is_num(index) || !index->len) return NULL;
-    uint32_t ni = index->len;
-    const double *k = vec_cnums(index);
+    return vec_index_nums(src, vec_cnums(index), index->len, literal);
+}
+
+Vec *vec_index_nums(const Vec *src, const double *k, uint32_t ni, bool literal)
+{
+    if (!ni) return NULL;
     if (vec_is_stream(src)) {
         Vec *r = vec_new_num(ni);
         stream_index_into((StreamKind)src->stream, src->key, k, ni, vec_nums(r));

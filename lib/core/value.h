@@ -318,6 +318,9 @@ Vec *vec_range(const Vec *start, const Vec *stop, const Vec *step,
 /* src[index] with 32-bit C int index conversion (or 64-bit when [literal]).
  * Streams are indexed as in §5.8. */
 Vec *vec_index(const Vec *src, const Vec *index, bool literal);
+/* vec_index(src, the numeric vector of the [ni] numbers [k], literal),
+ * without making that vector (null when [ni] is 0). */
+Vec *vec_index_nums(const Vec *src, const double *k, uint32_t ni, bool literal);
 /* vec_index(src, [k], literal) of a stream or a numeric [src] and the
  * one-number index [k], without making vectors: its number in *out, bit
  * for bit; false (nothing written) for other sources, whose result takes

@@ -94,6 +94,12 @@ static const Builtin *const_builtin(const AstNode *fn)
     return vec_celems(v)[0].func->bi;
 }
 
+/* eval.c's is_literal_two: the literal number 2. */
+static bool literal_two(const AstNode *n)
+{
+    return n->kind == AST_LITERAL && vec_is_scalar(n->value) && vec_scalar(n->value) == 2.0;
+}
+
 /* True when [n] has a record of its own kind (not C_AST). */
 static bool compilable(const AstNode *n)
 {
@@ -113,6 +119,16 @@ static bool compilable(const AstNode *n)
         return true;
     case AST_CALL:
         return n->count == n->nkids && n->nkids <= CC_MAX_ARGS && const_builtin(n->a);
+    case AST_LOOKUP:
+        return n->a != NULL;
+    case AST_INDEX:
+        return n->a && n->b;
+    case AST_IFELSE:
+        for (uint32_t i = 0; i < n->nkids; i++)
+            if (!n->kids[i]) return false;
+        return true;
+    case AST_BINOP:
+        return n->a && n->b && (n->b->kind != AST_BINOP || (n->b->a && n->b->b));
     default:
         return false;
     }
@@ -251,6 +267,64 @@ static uint32_t emit(CC *c, const AstNode *n)
             ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[i] = t;
         }
         return off;
+    case AST_LOOKUP:
+        off = reserve(c, sizeof(CRec) + sizeof(uint32_t));
+        rec(c, off)->op = C_LOOKUP;
+        rec(c, off)->p.node = n;
+        t = emit(c, n->a);
+        ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[0] = t;
+        return off;
+    case AST_INDEX:
+        off = reserve(c, sizeof(CRec) + 2 * sizeof(uint32_t));
+        rec(c, off)->op = C_INDEX;
+        rec(c, off)->p.node = n;
+        /* eval_node's AST_INDEX: a literal range index converts to 64 bits */
+        rec(c, off)->pad = n->b->kind == AST_LITERAL && n->b->op == 1;
+        t = emit(c, n->a);
+        ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[0] = t;
+        t = emit(c, n->b);
+        ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[1] = t;
+        return off;
+    case AST_IFELSE: {
+        uint32_t pairs = n->nkids / 2;
+        off = reserve(c, sizeof(CRec) + (2 * pairs + 1) * sizeof(uint32_t));
+        rec(c, off)->op = C_IF;
+        rec(c, off)->n = pairs;
+        for (uint32_t i = 0; i < 2 * pairs; i++) {
+            t = emit(c, n->kids[i]);
+            ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[i] = t;
+        }
+        t = n->a ? emit(c, n->a) : CREC_NONE;
+        ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[2 * pairs] = t;
+        return off;
+    }
+    case AST_BINOP: {
+        /* eval_binop's forms, its operands in its order */
+        const AstNode *opnd[3] = {n->a, n->b, NULL};
+        uint8_t form = BINOP_PLAIN;
+        const AstNode *rb = n->b;
+        if (n->op == OP_POW && literal_two(rb)) {
+            form = BINOP_SQUARE;
+            opnd[1] = NULL;
+        } else if (n->op == OP_ADD && rb->kind == AST_BINOP && rb->op == OP_MUL) {
+            form = BINOP_ADD_MUL;
+            opnd[1] = rb->a;
+            opnd[2] = rb->b;
+        } else if (n->op == OP_ADD && rb->kind == AST_BINOP && rb->op == OP_POW && literal_two(rb->b)) {
+            form = BINOP_ADD_SQUARE;
+            opnd[1] = rb->a;
+        }
+        uint32_t count = form == BINOP_SQUARE ? 1 : form == BINOP_ADD_MUL ? 3 : 2;
+        off = reserve(c, sizeof(CRec) + count * sizeof(uint32_t));
+        rec(c, off)->op = C_BINOP;
+        rec(c, off)->pad = form;
+        rec(c, off)->n = n->op;
+        for (uint32_t i = 0; i < count; i++) {
+            t = emit(c, opnd[i]);
+            ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[i] = t;
+        }
+        return off;
+    }
     case AST_APPEND:
         off = reserve(c, sizeof(CRec) + 2 * sizeof(uint32_t));
         rec(c, off)->op = C_APPEND;
@@ -330,11 +404,17 @@ static uint32_t relocate(const CC *c, CC *d, uint32_t off, uint32_t *expr_src)
     case C_SEQ:
     case C_CALLBI:
     case C_APPEND:
-        count = r->op == C_APPEND ? 2 : r->n;
+    case C_LOOKUP:
+    case C_INDEX:
+    case C_IF:
+    case C_BINOP:
+        count = r->op == C_APPEND || r->op == C_INDEX ? 2
+              : r->op == C_BINOP ? binop_operands(r)
+              : r->op == C_LOOKUP ? 1 : r->op == C_IF ? 2 * r->n + 1 : r->n;
         o = reserve(d, sizeof(CRec) + count * sizeof(uint32_t));
         *rec(d, o) = *r;
         for (uint32_t i = 0; i < count; i++) {
-            t = relocate(c, d, k[i], expr_src);
+            t = k[i] == CREC_NONE ? CREC_NONE : relocate(c, d, k[i], expr_src);
             ((uint32_t *)(void *)(d->buf + o + sizeof(CRec)))[i] = t;
         }
         return o;

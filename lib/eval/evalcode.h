@@ -6,7 +6,8 @@
  * that is tens of MB per frame, and the frame time goes to cache misses,
  * not arithmetic. evalcode_compile_tree() therefore copies every maximal
  * region of the kinds that dominate such programs - sequences, plain
- * `let`s, attribute settings, `<<` appends, positional calls of builtins -
+ * `let`s, attribute settings, `<<` appends, positional calls of builtins,
+ * state lookups, indexing, `if`/`else` and the operators on vectors -
  * into one contiguous block of small records laid out in evaluation order,
  * with compiled numeric subtrees (numexpr.h) copied inline and names turned
  * into slot reads. The region's root AstNode gets n->fast = 2 and
@@ -78,7 +79,29 @@ enum {
                    MAX_EVAL_DEPTH - aux, the node is built from the
                    kernel's numbers directly; otherwise it runs as
                    C_NEWNODE */
+    C_LOOKUP,   /* p.node: `$key` (§3.17), the key's record at the uint32
+                   offset that follows: a C_NUM key is run into numbers and
+                   looked up as they are (state_get_nums), without making
+                   the key vector */
+    C_INDEX,    /* p.node: `a[b]` (§5.8), pad: the index is a literal
+                   range (64-bit index conversion); uint32 offsets of a and
+                   b follow: a C_NUM index is run into numbers and used as
+                   they are (vec_index_nums) */
+    C_IF,       /* `if`/`elif`/`else` (§4.7): n conditions; 2n + 1 uint32
+                   offsets follow, each condition's then its value's, and
+                   the `else` value's (CREC_NONE: none); a C_NUM condition
+                   is run into numbers, without making its vector */
+    C_BINOP,    /* a OP b (§3.5) that numexpr does not take (vectors), in
+                   eval_binop's forms (§4.17): pad BINOP_PLAIN, n the
+                   ArithOp, offsets of a and b; BINOP_SQUARE (x**2), the
+                   offset of x; BINOP_ADD_MUL (a + b*c), of a, b and c;
+                   BINOP_ADD_SQUARE (a + b**2), of a and b */
 };
+
+enum { BINOP_PLAIN, BINOP_SQUARE, BINOP_ADD_MUL, BINOP_ADD_SQUARE };
+
+/* An offset that names no record (C_IF without `else`). */
+#define CREC_NONE UINT32_MAX
 
 struct Builtin;
 
@@ -159,6 +182,12 @@ typedef struct CBlock {
  * resolved tree [top] in place (see above), and the loops' kernels as
  * [ko] says (kernel.h). Never fails. */
 void evalcode_compile_tree(AstNode *top, const KernelOptions *ko);
+
+/* How many operand offsets follow C_BINOP record [r]. */
+static inline uint32_t binop_operands(const CRec *r)
+{
+    return r->pad == BINOP_SQUARE ? 1 : r->pad == BINOP_ADD_MUL ? 3 : 2;
+}
 
 /* The record at byte offset [off] of block [base]. */
 static inline const CRec *crec(const unsigned char *base, uint32_t off)

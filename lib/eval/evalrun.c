@@ -334,8 +334,100 @@ static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
     return append_nodes(p, c);
 }
 
+/* Most numbers a C_LOOKUP key or a C_INDEX index is run into on the C
+ * stack; longer ones take the generic way. */
+#define RUN_NUMS_MAX 8
+
+/* Run the C_NUM record [x] into [out] (at most RUN_NUMS_MAX numbers),
+ * as run_num would before making its vector; the count, or 0 when run_num
+ * would evaluate the subtree generically (then so must the caller). */
+static inline uint32_t run_nums(Eval *ev, const CRec *x, double *out)
+{
+    if (x->op != C_NUM) return 0;
+    const NumExpr *e = (const NumExpr *)(const void *)(x + 1);
+    uint32_t n = numexpr_outputs(e);
+    if (n > RUN_NUMS_MAX || ev->depth + numexpr_depth(e) > MAX_EVAL_DEPTH) return 0;
+    return numexpr_run(e, ev, out) ? n : 0;
+}
+
+/* C_LOOKUP: eval_node's AST_LOOKUP */
+static Vec *run_lookup(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    double key[RUN_NUMS_MAX];
+    uint32_t n = run_nums(ev, crec(base, k[0]), key);
+    if (n) return ev->state ? vec_share(state_get_nums(ev->state, key, n)) : NULL;
+    Vec *a = run_val(ev, base, k[0]);
+    Vec *v = ev->state ? vec_share(state_get(ev->state, a)) : NULL;
+    vec_release(a);
+    return v;
+}
+
+/* C_INDEX: eval_node's AST_INDEX */
+static Vec *run_index(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    Vec *a = run_val(ev, base, k[0]);
+    double index[RUN_NUMS_MAX];
+    uint32_t n = run_nums(ev, crec(base, k[1]), index);
+    Vec *v;
+    if (n) {
+        v = vec_index_nums(a, index, n, r->pad);
+    } else {
+        Vec *b = run_val(ev, base, k[1]);
+        v = vec_index(a, b, r->pad);
+        vec_release(b);
+    }
+    vec_release(a);
+    return v;
+}
+
+/* C_IF: eval_ifelse */
+static Vec *run_if(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    for (uint32_t i = 0; i < r->n; i++) {
+        double x[RUN_NUMS_MAX];
+        uint32_t n = run_nums(ev, crec(base, k[2 * i]), x);
+        bool t = false;
+        if (n) {
+            for (uint32_t j = 0; j < n && !t; j++) t = x[j] != 0.0 || isnan(x[j]);   /* vec_truthy's */
+        } else {
+            Vec *c = run_val(ev, base, k[2 * i]);
+            t = vec_truthy(c);
+            vec_release(c);
+        }
+        if (t) return run_val(ev, base, k[2 * i + 1]);
+    }
+    return k[2 * r->n] != CREC_NONE ? run_val(ev, base, k[2 * r->n]) : NULL;
+}
+
+/* C_BINOP: eval_binop */
+static Vec *run_binop(Eval *ev, const unsigned char *base, const CRec *r)
+{
+    const uint32_t *k = rec_offs(r);
+    Vec *a = run_val(ev, base, k[0]), *b, *c, *v;
+    switch (r->pad) {
+    case BINOP_SQUARE:
+        v = vec_arith(OP_MUL, a, a);
+        vec_release(a);
+        return v;
+    case BINOP_ADD_MUL:
+    case BINOP_ADD_SQUARE:
+        b = run_val(ev, base, k[1]);
+        c = r->pad == BINOP_ADD_MUL ? run_val(ev, base, k[2]) : vec_retain(b);
+        v = vec_add_mul(a, b, c);
+        vec_release(a);
+        vec_release(b);
+        vec_release(c);
+        return v;
+    default:
+        return vec_arith_take((ArithOp)r->n, a, run_val(ev, base, k[1]));
+    }
+}
+
 /* A composite record (C_SEQ, C_LET, C_ATTRS, C_CALLBI, C_APPEND,
- * C_NEWNODE), inside eval_node's depth guard. Every level of a deep
+ * C_NEWNODE, C_LOOKUP, C_INDEX, C_IF, C_BINOP), inside eval_node's depth guard. Every level of a deep
  * program (up to MAX_EVAL_DEPTH) has this frame on the C stack: the
  * records with arrays of their own (run_seq, run_attrs, run_callbi) are
  * kept out of it, so it stays small (also under the sanitizers, which pad
@@ -354,6 +446,10 @@ __attribute__((noinline)) static Vec *run_rec(Eval *ev, const unsigned char *bas
     case C_NEWNODE: v = run_newnode(ev, base, r); break;
     case C_KNODE: v = run_knode(ev, base, r); break;
     case C_KCALL: v = run_kcall(ev, base, r); break;
+    case C_LOOKUP: v = run_lookup(ev, base, r); break;
+    case C_INDEX: v = run_index(ev, base, r); break;
+    case C_IF: v = run_if(ev, base, r); break;
+    case C_BINOP: v = run_binop(ev, base, r); break;
     default: v = NULL; break;
     }
     ev->depth--;

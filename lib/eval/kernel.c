@@ -299,7 +299,8 @@ static void walk(KB *kb, uint32_t off)
         for (uint32_t i = 0; i < r->n; i++) walk(kb, t->attrs[i].off);
         break;
     }
-    default:   /* C_AST, C_LIT, C_LOCAL, C_GLOBAL, C_MEMO */
+    default:   /* C_AST, C_LIT, C_LOCAL, C_GLOBAL, C_MEMO; C_LOOKUP, C_INDEX,
+                  C_IF and C_BINOP, which run their numbers themselves */
         break;
     }
 }
@@ -424,8 +425,19 @@ static void use_walk(KB *kb, Uses *u, uint32_t off, uint32_t depth, LetAt **lets
         for (uint32_t i = 0; i < r->n; i++) use_walk(kb, u, k[i], depth + 1, lets, nlets, caplets);
         break;
     case C_APPEND:
+    case C_INDEX:
         use_walk(kb, u, k[0], depth + 1, lets, nlets, caplets);
         use_walk(kb, u, k[1], depth + 1, lets, nlets, caplets);
+        break;
+    case C_LOOKUP:
+        use_walk(kb, u, k[0], depth + 1, lets, nlets, caplets);
+        break;
+    case C_BINOP:
+        for (uint32_t i = 0; i < binop_operands(r); i++) use_walk(kb, u, k[i], depth + 1, lets, nlets, caplets);
+        break;
+    case C_IF:
+        for (uint32_t i = 0; i <= 2 * r->n; i++)
+            if (k[i] != CREC_NONE) use_walk(kb, u, k[i], depth + 1, lets, nlets, caplets);
         break;
     case C_LET: {
         const CLetTail *t = (const CLetTail *)(const void *)(r + 1);
@@ -861,6 +873,9 @@ struct KernelScratch {
     size_t held;            /* about how many bytes of blocks the kept nodes
                                hold (knode_bytes) */
     const KNodeCache *running; /* the cache the running loop fills */
+    bool keyed;             /* some entry of [loops] may have a key (false:
+                               none has; a frame without loop kernels then
+                               does not read the 64 entries) */
     KNodeLoop loops[K_NODE_LOOPS];
 };
 
@@ -949,8 +964,14 @@ void kernel_scratch_frame_done(KernelScratch *k)
 {
     if (!k) return;
     k->stale = true;
-    for (int i = 0; i < K_NODE_LOOPS; i++)
-        if (k->loops[i].key && k->loops[i].frame != k->frame) knode_loop_clear(&k->loops[i]);
+    if (k->keyed) {
+        bool keyed = false;
+        for (int i = 0; i < K_NODE_LOOPS; i++) {
+            if (k->loops[i].key && k->loops[i].frame != k->frame) knode_loop_clear(&k->loops[i]);
+            keyed |= k->loops[i].key != NULL;
+        }
+        k->keyed = keyed;
+    }
     k->frame++;
 }
 
@@ -982,6 +1003,7 @@ static KNodeCache *knode_cache(KernelScratch *k, const AstNode *n)
         knode_loop_clear(l);
         l->key = n;
         l->idx = idx;
+        k->keyed = true;
     }
     l->used = ++k->clock;
     l->frame = k->frame;

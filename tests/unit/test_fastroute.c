@@ -147,7 +147,7 @@ static void test_limits_same(void **s)
     (void)s;
     expect_same("func f(n)\n    let m=n+1\n    !x v=m\n    f(m)\n!r << f(time)\n", false,
                 "Recursion depth exceeded for func 'f'");
-    char src[4096];
+    char src[8192];
     size_t len = 0;
     len += (size_t)snprintf(src + len, sizeof src - len, "func g(n)\n    let a0=n+1\n");
     for (int i = 1; i < 40; i++)
@@ -157,6 +157,15 @@ static void test_limits_same(void **s)
     /* the simplifier folds the chain (its nodes are literals): the
      * recursion limit comes first */
     expect_same(src, true, "Recursion depth exceeded for func 'g'");
+    /* a chain of 80 through the records of evalcode.h's C_IF, C_BINOP,
+     * C_INDEX and C_LOOKUP: the depth runs out at the same place */
+    len = (size_t)snprintf(src, sizeof src, "func h(n)\n    let a0=n+(1;1)\n");
+    for (int i = 1; i < 80; i++)
+        len += (size_t)snprintf(src + len, sizeof src - len,
+                                "    !z\n    let a%d=(a%d+(1;2)*a%d)[0;1] if a%d[0] else $(:q;a%d[1])\n",
+                                i, i - 1, i - 1, i - 1, i - 1);
+    snprintf(src + len, sizeof src - len, "    !y v=a79\n    h(a79)\n!r << h(time)\n");
+    expect_same(src, false, "Stack overflow in program");
 }
 
 /* A deterministic pseudo-random generator for test_random_expressions. */
@@ -263,6 +272,70 @@ static void test_memo(void **s)
     }
 }
 
+/* `$key` and `a[b]` in a compiled region (evalcode.h C_LOOKUP, C_INDEX):
+ * a key or index of up to 8 computed numbers is looked up or used as
+ * numbers, anything else (a string in the key, 9 or more numbers, no
+ * numbers at all) as a vector, with the generic results: in frame 1 (t is
+ * 1), the counters of frame 0 have set (:k;j) to 10j+(1;2;3) and ("s";1)
+ * to 7; an absent key gives null (the attribute is left out); an index
+ * is floored and wraps, NaN and -1e300 convert to INT32_MIN, which wraps
+ * to 2 of 10. */
+static void test_lookup_and_index(void **s)
+{
+    (void)s;
+    const char *src =
+        "for j in ..3\n"
+        "    !counter state=:k;j initial=10*j+(1;2;3) rate=0\n"
+        "!counter state=\"s\";1 initial=7 rate=0\n"
+        "let t=time*60\n"
+        "    v=(5;6;7;8;9;10;11;12;13;14)\n"
+        "!m a=$(:k;t) b=$(:k;t+1) c=$(:k;(t+2)) d=$(\"s\";t) e=$(:k;t;0) "
+        "f=$((:k;t+1;0;1;2;3;4;5;6;7)) g=$(:k;(0/0)+t) h=$(:z)\n"
+        "!i a=v[t] b=v[t-1] c=v[t+23] d=v[t;t+1;t+2] e=v[0/0+t] f=v[t..t+10] "
+        "g=v[(t;1;2;3;4;5;6;7;8;9)] h=v[t+2.5] i=v[-t-1e300] j=(:k;1)[t]\n";
+    const char *want = " !m a=11;12;13 b=21;22;23 d=7\n"
+                       " !i a=6 b=5 c=9 d=6;7;8 e=7 f=6;7;8;9;10;11;12;13;14;5 "
+                       "g=6;6;7;8;9;10;11;12;13;14 h=8 i=7 j=1\n";
+    for (int way = 0; way < 4; way++) {
+        char *log;
+        char *tree = run_frames(src, 2, way & 1, way & 2, &log);
+        const char *m = strstr(tree, " !m ");
+        assert_non_null(m);
+        assert_string_equal(m, want);
+        free(tree);
+        free(log);
+    }
+}
+
+/* Vector operators in a compiled region (evalcode.h C_BINOP), eval_binop's
+ * fused forms (x**2, a + b*c, a + b**2) included, and `if`/`else` (C_IF)
+ * on conditions of every kind: in frame 1, t is 1, v is 2;3;4 and w is
+ * 1;10; shorter operands repeat; 0;0;0, null and "" are false, NaN, a
+ * vector with a non-zero number and "s" true; the attribute g, null, is
+ * left out. */
+static void test_vector_operators_and_ifs(void **s)
+{
+    (void)s;
+    const char *src =
+        "let t=time*60\n"
+        "    v=(1;2;3)+t\n"
+        "    w=(t;10)\n"
+        "!b a=v-w b=v**2 c=t+v*w d=t+v**2 e=v+w**2 f=v*(2;t+2) g=v//0 h=w**(t+1)\n"
+        "!c a=(\"x\" if t else \"y\") b=(1 if v-v else 2) c=(1 if (0/0)+t else 2) d=(1 if null else 2) "
+        "e=(1 if \"\" else (2 if \"s\" else 3)) f=(1 if t-1 else 2 if (t;0) else 3) g=(1 if t-1 else null) "
+        "i=(1 if v else 2)\n";
+    const char *want = "!root\n"
+                       " !b a=1;-7;3 b=4;9;16 c=3;31;5 d=5;10;17 e=3;103;5 f=4;9;8 g=inf;inf;inf h=1;100\n"
+                       " !c a=\"x\" b=2 c=1 d=2 e=2 f=2 i=1\n";
+    for (int way = 0; way < 4; way++) {
+        char *log;
+        char *tree = run_frames(src, 2, way & 1, way & 2, &log);
+        assert_string_equal(tree, want);
+        free(tree);
+        free(log);
+    }
+}
+
 /* Sequences longer than PARTS_CHUNK (eval_internal.h), composed a chunk at
  * a time: numbers stay a numeric vector, numbers and strings an object
  * vector, nodes stay in order, and a sequence whose only non-empty part is
@@ -328,6 +401,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_arithmetic),
+        cmocka_unit_test(test_lookup_and_index),
+        cmocka_unit_test(test_vector_operators_and_ifs),
         cmocka_unit_test(test_comparisons),
         cmocka_unit_test(test_fallback_shapes),
         cmocka_unit_test(test_builtin_kernels),

@@ -86,6 +86,53 @@ static void test_growth_and_churn(void **s)
     state_free(sd);
 }
 
+/* state_get_nums: the entry state_get finds for the numeric key of those
+ * numbers, through tombstones; bits compared (0 and -0 differ, a NaN key
+ * matches its own bits), an object key of the same texts never; one read
+ * counted each; nothing for no numbers */
+static void test_get_nums(void **s)
+{
+    (void)s;
+    StateDict *sd = state_new();
+    double a = symbol_value("a", 1), nan_bits = symbol_value("zz", 2);
+    for (int i = 0; i < 300; i++) {
+        Vec *k = key2(a, i), *v = vec_num1(i + 0.5);
+        state_set(sd, k, v);
+        vec_release(k);
+        vec_release(v);
+    }
+    for (int i = 0; i < 300; i += 3) {   /* tombstones in the probe chains */
+        Vec *k = key2(a, i);
+        state_set(sd, k, NULL);
+        vec_release(k);
+    }
+    for (int i = 0; i < 300; i++) {
+        double x[2] = {a, i};
+        Vec *k = key2(a, i);
+        const Vec *got = state_get_nums(sd, x, 2);
+        assert_ptr_equal(got, state_get(sd, k));
+        if (i % 3) assert_true(vec_cnums(got)[0] == i + 0.5);
+        else assert_null(got);
+        vec_release(k);
+    }
+    Vec *zero = vec_num1(0.0), *one = vec_num1(1), *sym = vec_num1(nan_bits), *str = vec_str("a", 1);
+    state_set(sd, zero, one);
+    state_set(sd, sym, one);
+    state_set(sd, str, one);
+    double z = 0.0, nz = -0.0, x1[1] = {a};
+    assert_ptr_equal(state_get_nums(sd, &z, 1), state_get(sd, zero));
+    assert_null(state_get_nums(sd, &nz, 1));
+    assert_ptr_equal(state_get_nums(sd, &nan_bits, 1), state_get(sd, sym));
+    assert_null(state_get_nums(sd, x1, 1));          /* :a, not "a" */
+    assert_null(state_get_nums(sd, x1, 0));
+    unsigned long long gets = state_counts(sd).gets;
+    state_get_nums(sd, &z, 1);
+    state_get_nums(sd, x1, 0);
+    assert_int_equal(state_counts(sd).gets, gets + 2);
+    vec_release(zero); vec_release(one); vec_release(sym); vec_release(str);
+    state_free(sd);
+}
+
 /* state_set_nums: in place only when the state alone holds a numeric
  * value of the length; else a new vector, as state_set stores it (an equal
  * value kept); one read counted, a write when not in place */
@@ -180,6 +227,7 @@ int main(void)
         cmocka_unit_test(test_set_get_delete),
         cmocka_unit_test(test_key_kinds),
         cmocka_unit_test(test_growth_and_churn),
+        cmocka_unit_test(test_get_nums),
         cmocka_unit_test(test_set_nums),
         cmocka_unit_test(test_reserve),
     };
