@@ -57,7 +57,7 @@ def main():
     ap.add_argument("--frames", type=int, default=60)
     ap.add_argument("--reps", type=int, default=5)
     a = ap.parse_args()
-    exe = os.path.join(a.build, "src", "flitter")
+    exe = os.path.abspath(os.path.join(a.build, "src", "flitter"))   # (run from each script's folder)
     if not os.access(exe, os.X_OK):
         sys.exit(f"examples.py: {exe} is not an executable (build first)")
     scripts = sorted(os.path.join(os.path.abspath(a.examples), f) for f in os.listdir(a.examples)
