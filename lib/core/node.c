@@ -94,10 +94,12 @@ void node_release(Node *n)
     if (n && --n->refs == 0) node_free(n);
 }
 
-Node *node_mut(Node *n)
+Node *node_mut(Node *n) { return node_mut_room(n, 0); }
+
+Node *node_mut_room(Node *n, uint32_t extra)
 {
     if (n->refs == 1) return n;
-    Node *c = node_new_sized(n->kind, n->nattrs);
+    Node *c = node_new_sized(n->kind, n->nattrs + extra);
     if (n->ntags) {
         c->tags = pool_grow(NULL, &c->cap_tags, n->ntags, sizeof(Str *));
         for (uint32_t i = 0; i < n->ntags; i++) c->tags[i] = str_retain(n->tags[i]);

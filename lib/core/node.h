@@ -49,6 +49,10 @@ void node_release(Node *n);
 /* Consumes [n]; returns a node with refs == 1 and the same content (n itself
  * when it was unshared, else a shallow copy). */
 Node *node_mut(Node *n);
+/* node_mut, with room in the node for [extra] more attributes without a
+ * block of their own when it copies (an attribute setter about to add
+ * that many). */
+Node *node_mut_room(Node *n, uint32_t extra);
 /* Set attribute [name] of unshared [n] to [value] (consumes [value]); an
  * empty [value] removes the attribute. */
 void node_set_attr(Node *n, Str *name, Vec *value);

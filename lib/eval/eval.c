@@ -492,7 +492,7 @@ __attribute__((noinline)) static Vec *eval_attributes(Eval *ev, const AstNode *n
         Elem *e = vec_elems(v);
         for (uint32_t i = 0; i < v->len; i++) {
             if (e[i].kind != EL_NODE) continue;
-            e[i].node = node_mut(e[i].node);
+            e[i].node = node_mut_room(e[i].node, n->nkids);
             for (uint32_t k = 0; k < n->nkids; k++)
                 node_set_attr(e[i].node, n->kids[k]->names[0], vec_retain(vals[k]));
         }

@@ -170,7 +170,7 @@ __attribute__((noinline)) static Vec *run_attrs(Eval *ev, const unsigned char *b
         Elem *e = vec_elems(v);
         for (uint32_t i = 0; i < v->len; i++) {
             if (e[i].kind != EL_NODE) continue;
-            e[i].node = node_mut(e[i].node);
+            e[i].node = node_mut_room(e[i].node, r->n);
             for (uint32_t k = 0; k < r->n; k++)
                 node_set_attr(e[i].node, t->attrs[k].name, vec_retain(vals[k]));
         }
