@@ -85,7 +85,7 @@ def main():
         ratio = f[0] / c[0] if f and c and c[0] > 0 else None
         if ratio:
             ratios.append((ratio, os.path.basename(s)))
-        cell = lambda v, w: f"{v:{w}.3f}" if v is not None else f"{'-':>{w}}"
+        cell = lambda v, w: f"{v:{w}.4f}" if v is not None else f"{'-':>{w}}"
         print(f"{os.path.basename(s):16} {cell(f and f[0], 12)} {cell(c and c[0], 10)} "
               f"{(f'{ratio:6.1f}x' if ratio else '      -'):>7} {cell(f and f[1], 12)} {cell(c and c[1], 10)}")
     if ratios:

@@ -222,6 +222,24 @@ static void test_nodes(void **s)
     node_set_attr(m, xn, vec_num1(2));
     assert_true(node_equal(m, n));           /* attribute order is irrelevant */
     assert_true(node_hash(m) == node_hash(n));
+    /* node_mut_room: the same copy, with room for 2 more attributes in the
+     * node's own block (no array of their own as they are added); an
+     * unshared node is itself */
+    Node *r = node_mut_room(node_retain(n), 2);
+    assert_ptr_not_equal(r, n);
+    assert_true(node_equal(r, n));
+    assert_int_equal(r->cap_attrs, 4);
+    assert_ptr_equal(r->attrs, node_inline_attrs(r));
+    Str *w = str_from("w");
+    node_set_attr(r, w, vec_num1(5));
+    node_set_attr(r, tz, vec_num1(6));
+    assert_int_equal(r->nattrs, 4);
+    assert_ptr_equal(r->attrs, node_inline_attrs(r));
+    assert_string_equal(r->attrs[3].name->bytes, "z");
+    assert_int_equal(n->nattrs, 2);
+    assert_ptr_equal(node_mut_room(r, 3), r);
+    node_release(r);
+    str_release(w);
     node_release(m);
     node_release(n);
     str_release(k); str_release(y); str_release(xn); str_release(tz); str_release(tb);
