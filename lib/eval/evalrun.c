@@ -335,7 +335,8 @@ static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
 }
 
 /* Most numbers a C_LOOKUP key or a C_INDEX index is run into on the C
- * stack; longer ones take the generic way. */
+ * stack; longer ones take the generic way. The records with such arrays
+ * stay out of run_rec's frame (noinline), as run_rec's comment says. */
 #define RUN_NUMS_MAX 8
 
 /* Run the C_NUM record [x] into [out] (at most RUN_NUMS_MAX numbers),
@@ -351,7 +352,7 @@ static inline uint32_t run_nums(Eval *ev, const CRec *x, double *out)
 }
 
 /* C_LOOKUP: eval_node's AST_LOOKUP */
-static Vec *run_lookup(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_lookup(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
     double key[RUN_NUMS_MAX];
@@ -364,7 +365,7 @@ static Vec *run_lookup(Eval *ev, const unsigned char *base, const CRec *r)
 }
 
 /* C_INDEX: eval_node's AST_INDEX */
-static Vec *run_index(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_index(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
     Vec *a = run_val(ev, base, k[0]);
@@ -383,7 +384,7 @@ static Vec *run_index(Eval *ev, const unsigned char *base, const CRec *r)
 }
 
 /* C_IF: eval_ifelse */
-static Vec *run_if(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_if(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
     for (uint32_t i = 0; i < r->n; i++) {
@@ -403,7 +404,7 @@ static Vec *run_if(Eval *ev, const unsigned char *base, const CRec *r)
 }
 
 /* C_BINOP: eval_binop */
-static Vec *run_binop(Eval *ev, const unsigned char *base, const CRec *r)
+__attribute__((noinline)) static Vec *run_binop(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
     Vec *a = run_val(ev, base, k[0]), *b, *c, *v;
