@@ -558,15 +558,10 @@ __attribute__((noinline)) static Vec *eval_append(Eval *ev, const AstNode *n)
  * Operators (§3.5-3.10)
  * ==================================================================== */
 
-static bool is_literal_two(const AstNode *n)
-{
-    return n->kind == AST_LITERAL && vec_is_scalar(n->value) && vec_scalar(n->value) == 2.0;
-}
-
 /* AST_BINOP: a OP b, with the F1 fused a + (b*c) and F2 x**2 (§4.17). */
 __attribute__((noinline)) static Vec *eval_binop(Eval *ev, const AstNode *n)
 {
-    if (n->op == OP_POW && is_literal_two(n->b)) {
+    if (n->op == OP_POW && ast_literal_two(n->b)) {
         Vec *x = eval(ev, n->a);
         Vec *r = vec_arith(OP_MUL, x, x);
         vec_release(x);
@@ -575,7 +570,7 @@ __attribute__((noinline)) static Vec *eval_binop(Eval *ev, const AstNode *n)
     Vec *a = eval(ev, n->a);
     const AstNode *rb = n->b;
     if (n->op == OP_ADD && rb->kind == AST_BINOP &&
-        (rb->op == OP_MUL || (rb->op == OP_POW && is_literal_two(rb->b)))) {
+        (rb->op == OP_MUL || (rb->op == OP_POW && ast_literal_two(rb->b)))) {
         Vec *b = eval(ev, rb->a);
         Vec *c = rb->op == OP_MUL ? eval(ev, rb->b) : vec_retain(b);
         Vec *r = vec_add_mul(a, b, c);

@@ -94,12 +94,6 @@ static const Builtin *const_builtin(const AstNode *fn)
     return vec_celems(v)[0].func->bi;
 }
 
-/* eval.c's is_literal_two: the literal number 2. */
-static bool literal_two(const AstNode *n)
-{
-    return n->kind == AST_LITERAL && vec_is_scalar(n->value) && vec_scalar(n->value) == 2.0;
-}
-
 /* True when [n] has a record of its own kind (not C_AST). */
 static bool compilable(const AstNode *n)
 {
@@ -303,14 +297,14 @@ static uint32_t emit(CC *c, const AstNode *n)
         const AstNode *opnd[3] = {n->a, n->b, NULL};
         uint8_t form = BINOP_PLAIN;
         const AstNode *rb = n->b;
-        if (n->op == OP_POW && literal_two(rb)) {
+        if (n->op == OP_POW && ast_literal_two(rb)) {
             form = BINOP_SQUARE;
             opnd[1] = NULL;
         } else if (n->op == OP_ADD && rb->kind == AST_BINOP && rb->op == OP_MUL) {
             form = BINOP_ADD_MUL;
             opnd[1] = rb->a;
             opnd[2] = rb->b;
-        } else if (n->op == OP_ADD && rb->kind == AST_BINOP && rb->op == OP_POW && literal_two(rb->b)) {
+        } else if (n->op == OP_ADD && rb->kind == AST_BINOP && rb->op == OP_POW && ast_literal_two(rb->b)) {
             form = BINOP_ADD_SQUARE;
             opnd[1] = rb->a;
         }

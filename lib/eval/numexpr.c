@@ -96,11 +96,6 @@ static const Builtin *const_builtin(const AstNode *fn)
     return vec_celems(v)[0].func->bi;
 }
 
-static bool is_literal_two(const AstNode *n)
-{
-    return n->kind == AST_LITERAL && vec_is_scalar(n->value) && vec_scalar(n->value) == 2.0;
-}
-
 /* True when [n] is a one-number expression the machine can run. */
 static bool scalar_ok(const AstNode *n, int budget)
 {
@@ -159,7 +154,7 @@ static uint32_t emit_scalar(Nx *c, const AstNode *n)
         else emit(c, (NxIns){.op = NX_CONST, .k = vec_scalar(n->value)}, 1);
         return 0;
     case AST_BINOP:
-        if (n->op == OP_POW && is_literal_two(n->b)) {
+        if (n->op == OP_POW && ast_literal_two(n->b)) {
             /* F2 (§4.17): x**2 is x*x */
             d = emit_scalar(c, n->a);
             emit(c, (NxIns){.op = NX_SQUARE}, 0);

@@ -37,6 +37,14 @@
 
 typedef struct NumExpr NumExpr;
 
+/* True when [n] is the literal number 2: the exponent of the x**2 forms
+ * (§4.17) that eval.c's tree walk, the compiled regions and numexpr all
+ * recognise alike. */
+static inline bool ast_literal_two(const AstNode *n)
+{
+    return n->kind == AST_LITERAL && vec_is_scalar(n->value) && vec_scalar(n->value) == 2.0;
+}
+
 /* builtins.h's pair of element kernels (bi_kernel_pair) */
 typedef void (*BiKernelPair)(double x, double *ya, double *yb);
 
