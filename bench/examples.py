@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""bench/examples.py --examples DIR [--frames N] [--reps R] [BUILD_DIR]: the
-evaluator against Flitter's on Flitter's own examples.
+"""bench/examples.py --examples DIR [--examples DIR]... [--frames N] [--reps R]
+[BUILD_DIR]: the evaluator against Flitter's on Flitter's own examples.
 
-For each script DIR/*.fl (Flitter's examples folder: bauble.fl ... video.fl),
-run from its own folder so that its includes and files resolve, the
+For each script DIR/*.fl of each DIR given (Flitter's examples folder:
+bauble.fl ... video.fl; and its documentation's scripts: docs/diagrams and
+docs/tutorial_images), run from its own folder so that its includes and files resolve, the
 milliseconds a steady frame spends evaluating the program into a tree (the
 frames after the first two), by this build (`flitter run --frames N --stats`
 with FLITTER_NODRAW=1, its `per steady frame` line) and, with FLITTER_REF set, by Flitter: a command
@@ -53,17 +54,26 @@ def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("build", nargs="?", default=os.path.join(here, "..", "build"))
-    ap.add_argument("--examples", required=True, help="Flitter's examples folder")
+    ap.add_argument("--examples", required=True, action="append",
+                    help="a folder of Flitter's scripts (examples/, docs/diagrams/, docs/tutorial_images/); "
+                         "may be repeated")
     ap.add_argument("--frames", type=int, default=60)
     ap.add_argument("--reps", type=int, default=5)
     a = ap.parse_args()
     exe = os.path.abspath(os.path.join(a.build, "src", "flitter"))   # (run from each script's folder)
     if not os.access(exe, os.X_OK):
         sys.exit(f"examples.py: {exe} is not an executable (build first)")
-    scripts = sorted(os.path.join(os.path.abspath(a.examples), f) for f in os.listdir(a.examples)
-                     if f.endswith(".fl"))
-    if not scripts:
-        sys.exit(f"examples.py: no .fl script in {a.examples}")
+    scripts, names = [], {}
+    for folder in a.examples:
+        found = sorted(os.path.join(os.path.abspath(folder), f) for f in os.listdir(folder) if f.endswith(".fl"))
+        if not found:
+            sys.exit(f"examples.py: no .fl script in {folder}")
+        for s in found:
+            # the examples by their names, the others by folder and name
+            # (docs/diagrams/petri.fl as diagrams/petri.fl)
+            parent = os.path.basename(os.path.dirname(s))
+            names[s] = os.path.basename(s) if parent == "examples" else parent + "/" + os.path.basename(s)
+        scripts += found
     ref = os.environ.get("FLITTER_REF")
     got = {}
     for _ in range(a.reps):
@@ -72,7 +82,7 @@ def main():
                               ("c", lambda: ours(exe, s, a.frames))):
                 got.setdefault((s, side), []).append(run())
     print(f"medians of {a.reps} interleaved runs of {a.frames} frames; ms per steady frame")
-    print(f"{'example':16} {'Flitter eval':>12} {'flitter-c':>10} {'ratio':>7} "
+    print(f"{'script':28} {'Flitter eval':>12} {'flitter-c':>10} {'ratio':>7} "
           f"{'Flitter phys':>12} {'flitter-c':>10}")
     ratios = []
     for s in scripts:
@@ -84,13 +94,13 @@ def main():
         f, c = row["flitter"], row["c"]
         ratio = f[0] / c[0] if f and c and c[0] > 0 else None
         if ratio:
-            ratios.append((ratio, os.path.basename(s)))
+            ratios.append((ratio, names[s]))
         cell = lambda v, w: f"{v:{w}.4f}" if v is not None else f"{'-':>{w}}"
-        print(f"{os.path.basename(s):16} {cell(f and f[0], 12)} {cell(c and c[0], 10)} "
+        print(f"{names[s]:28} {cell(f and f[0], 12)} {cell(c and c[0], 10)} "
               f"{(f'{ratio:6.1f}x' if ratio else '      -'):>7} {cell(f and f[1], 12)} {cell(c and c[1], 10)}")
     if ratios:
         print(f"ratio: median {statistics.median(r for r, _ in ratios):.1f}x, worst "
-              f"{min(ratios)[0]:.1f}x ({min(ratios)[1]}), over {len(ratios)} examples")
+              f"{min(ratios)[0]:.1f}x ({min(ratios)[1]}), over {len(ratios)} scripts")
     return 0
 
 
