@@ -11,12 +11,6 @@
 /* last: it turns the library's names into calls through its table */
 #include "cairo_lib.h"
 
-/* The step of enc for linear [f] (clamped to 0..1, NaN to 0). */
-static inline int encode_index(float f)
-{
-    return !(f > 0) ? 0 : f >= 1 ? SRGB_STEPS : (int)(f * SRGB_STEPS + 0.5f);
-}
-
 void srgb_table_init(SrgbTable *t)
 {
     for (int i = 0; i <= SRGB_STEPS; i++) {
@@ -36,9 +30,10 @@ typedef int32_t v4i __attribute__((vector_size(4 * sizeof(int32_t))));
 
 /* One pixel of premultiplied linear light [src] (RGBA) as the window's
  * output holds it: an ARGB32 word of encoded channels and an alpha of at
- * least each of them. The four indices of encode_index() are computed as
- * one vector (the value clamped to 0..1 first, NaN to 0: the same index,
- * as 1 * SRGB_STEPS + 0.5 truncates to SRGB_STEPS and 0.5 to 0). */
+ * least each of them. A channel's step of enc is that of linear f clamped
+ * to 0..1 (NaN to 0), (int)(f * SRGB_STEPS + 0.5f); the four are computed
+ * as one vector (1 * SRGB_STEPS + 0.5 truncates to SRGB_STEPS, and 0.5 to
+ * 0). */
 static inline uint32_t encode_pixel(const SrgbTable *t, const float src[4])
 {
     v4f f;
