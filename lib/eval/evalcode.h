@@ -86,7 +86,10 @@ enum {
     C_INDEX,    /* p.node: `a[b]` (§5.8), pad: the index is a literal
                    range (64-bit index conversion); uint32 offsets of a and
                    b follow: a C_NUM index is run into numbers and used as
-                   they are (vec_index_nums) */
+                   they are (vec_index_nums); when a is a random stream
+                   (uniform, normal, beta) of a C_NUM key, its seed is
+                   hashed from the key's numbers and no key or stream
+                   vector is made (evalrun.c run_stream_index) */
     C_IF,       /* `if`/`elif`/`else` (§4.7): n conditions; 2n + 1 uint32
                    offsets follow, each condition's then its value's, and
                    the `else` value's (CREC_NONE: none); a C_NUM condition

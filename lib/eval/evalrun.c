@@ -364,14 +364,52 @@ __attribute__((noinline)) static Vec *run_lookup(Eval *ev, const unsigned char *
     return v;
 }
 
+/* C_INDEX of a random stream made from numbers, `uniform(KEY)[INDEX]`
+ * (also normal, beta) with a KEY of up to RUN_NUMS_MAX numbers that
+ * numexpr computes: the stream's seed is hashed from the numbers (random.c's
+ * stream(): vec_hash of the numeric vector, floats floored) without making
+ * the key or the stream, and an INDEX that numexpr computes too draws into
+ * the result, stream_index_into as vec_index_nums would; evaluated in
+ * run_index's order (the call and its argument, then the index) and at its
+ * depths (the call one level below the index, its argument two). False,
+ * with nothing evaluated, when [call] is no such call or its key is not
+ * numbers; else *out is the value. */
+static bool run_stream_index(Eval *ev, const unsigned char *base, const CRec *call, uint32_t index_off,
+                             bool literal, Vec **out)
+{
+    if (call->op != C_CALLBI || call->n != 1) return false;
+    int kind = bi_stream_kind(call->p.bi);
+    if (kind < 0 || ev->depth + 1 > MAX_EVAL_DEPTH) return false;
+    double key[RUN_NUMS_MAX];
+    ev->depth++;   /* (the call's level) */
+    uint32_t nk = run_nums(ev, crec(base, rec_offs(call)[0]), key);
+    ev->depth--;
+    if (!nk) return false;
+    uint64_t seed = vec_hash_nums(key, nk, true);
+    double index[RUN_NUMS_MAX];
+    uint32_t n = run_nums(ev, crec(base, index_off), index);
+    if (n) {
+        Vec *v = vec_new_num(n);
+        stream_index_into((StreamKind)kind, seed, index, n, vec_nums(v));
+        *out = v;
+    } else {
+        Vec *a = vec_stream((StreamKind)kind, seed), *b = run_val(ev, base, index_off);
+        *out = vec_index(a, b, literal);
+        vec_release(a);
+        vec_release(b);
+    }
+    return true;
+}
+
 /* C_INDEX: eval_node's AST_INDEX */
 __attribute__((noinline)) static Vec *run_index(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
+    Vec *v;
+    if (run_stream_index(ev, base, crec(base, k[0]), k[1], r->pad, &v)) return v;
     Vec *a = run_val(ev, base, k[0]);
     double index[RUN_NUMS_MAX];
     uint32_t n = run_nums(ev, crec(base, k[1]), index);
-    Vec *v;
     if (n) {
         v = vec_index_nums(a, index, n, r->pad);
     } else {

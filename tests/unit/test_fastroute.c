@@ -314,6 +314,32 @@ static void test_lookup_and_index(void **s)
     expect4_from(src, 2, " !m ", want);
 }
 
+/* A random stream made from numbers and indexed at once in a compiled
+ * region (evalrun.c run_stream_index): the seed hashed from the key's
+ * numbers and the draws made without the key or stream vectors, with the
+ * values of the stream bound to a name and indexed (b), of a key floored
+ * (j: 1.75 and 1 give one stream), of a normal pair (d) and its second
+ * member alone (e), of a range index (g); a string key (f), a key of 9
+ * numbers (k) and a string index (h: null, left out) take the generic
+ * way. The numbers are those of the tree walk (FLITTER_NOFAST) at
+ * 12ed5b4, before this route. */
+static void test_stream_index(void **s)
+{
+    (void)s;
+    const char *src =
+        "let t=time*60\n"
+        "    u=uniform(:k;t)\n"
+        "!s a=uniform(:k;t)[t] b=(uniform(:k;t)[t] == u[t]) c=beta(:b;t;2)[t+0.5] d=normal(:n;t)[t;t+1] "
+        "e=normal(:n;t)[t+1] f=uniform(\"s\";t)[t] g=uniform(:k;t)[t..t+3] h=uniform(:k;t)[\"x\"] "
+        "i=uniform(t+0.75)[0] j=(uniform(t+0.75)[0] == uniform(1)[0]) k=uniform((:k;t;1;2;3;4;5;6;7))[t]\n";
+    const char *want =
+        "!root\n"
+        " !s a=0.7099828147146965 b=1 c=0.33582077516940223 d=1.258440727101958;-1.6161527114824759 "
+        "e=-1.6161527114824759 f=0.850759125555344 g=0.7099828147146965;0.26358433362001144;0.6443187373369204 "
+        "i=0.3236437711805903 j=1 k=0.3319636173921611\n";
+    expect4_from(src, 2, "!root\n", want);
+}
+
 /* Vector operators in a compiled region (evalcode.h C_BINOP), eval_binop's
  * fused forms (x**2, a + b*c, a + b**2) included, and `if`/`else` (C_IF)
  * on conditions of every kind: in frame 1, t is 1, v is 2;3;4 and w is
@@ -403,6 +429,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_arithmetic),
         cmocka_unit_test(test_lookup_and_index),
+        cmocka_unit_test(test_stream_index),
         cmocka_unit_test(test_vector_operators_and_ifs),
         cmocka_unit_test(test_comparisons),
         cmocka_unit_test(test_fallback_shapes),
