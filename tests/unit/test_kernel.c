@@ -179,6 +179,39 @@ static void test_memo(void **s)
     free(tree);
 }
 
+/* An `if`/`elif`/`else` in a kernel's body (a C_IF of the compiled route)
+ * around nodes of the kernel's numbers and of memoized engine names: the
+ * lets read only under it, in its conditions and in its nodes' attributes,
+ * keep their values on every route. Counted by hand in frame 3 (time
+ * 2/60, n 200): i%3 == 0 gives !a (i = 0, 3, ..., 198: 67 nodes), else
+ * i*0.5 + time > 50 gives !b (i = 100..199: 67 of them) and the rest !c
+ * (i = 1..98: 66). */
+static void test_if_around_nodes(void **s)
+{
+    (void)s;
+    char *tree = expect_routes("let n=200+floor(time)\n"
+                               "!g\n"
+                               "    for i in ..n\n"
+                               "        let p=i*0.5+time\n"
+                               "            q=i*2+time\n"
+                               "            r=i%3\n"
+                               "        if r == 0\n"
+                               "            !a x=p y=sin(q) m=time*0.5\n"
+                               "        elif p > 50\n"
+                               "            !b x=q*2 z=(p if i%2 else -p)\n"
+                               "        else\n"
+                               "            !c x=p+q w=time*0.5+i\n",
+                               3, 3 * 200);
+    int count[3] = {0};
+    for (const char *t = tree; (t = strstr(t, "\n  !")) != NULL; t += 4)
+        if (t[4] >= 'a' && t[4] <= 'c') count[t[4] - 'a']++;
+    assert_int_equal(count[0], 67);
+    assert_int_equal(count[1], 67);
+    assert_int_equal(count[2], 66);
+    assert_non_null(strstr(tree, "\n  !a x=0.03333333333333333 "));   /* i = 0: p is time */
+    free(tree);
+}
+
 /* What the kernel cannot compute goes back to the body's own records:
  * names from outside that are a vector, null, a string or NaN; NaN in
  * comparisons (the identity rule of §3.6); builtins given other shapes. */
@@ -828,6 +861,7 @@ int main(void)
         cmocka_unit_test(test_lets_and_calls),
         cmocka_unit_test(test_lets_read_elsewhere),
         cmocka_unit_test(test_memo),
+        cmocka_unit_test(test_if_around_nodes),
         cmocka_unit_test(test_fallbacks),
         cmocka_unit_test(test_several_names),
         cmocka_unit_test(test_nested),
