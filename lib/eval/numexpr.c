@@ -31,6 +31,12 @@ enum {
     NX_REG,     /* a register of numexpr_run_regs (numexpr_to_regs copies) */
     NX_CALL2,   /* two element functions of the top: fn2(t, &a, &b) pushes
                  * a and leaves b on top (numexpr_new_call2 only) */
+    /* `v[x]` of a one-number index x, the top (vec_index_num1; sub: the
+     * index is a literal range, 64-bit conversion): v is the constant
+     * stream or numeric vector lit (NX_INDEX), or the vector a name
+     * holds (NX_INDEXL: slot arg; NX_INDEXG: global arg), which must be a
+     * stream or a numeric vector, else the run gives up */
+    NX_INDEX, NX_INDEXL, NX_INDEXG,
     NX_END,     /* the last instruction */
 };
 
@@ -42,6 +48,7 @@ typedef struct NxIns {
         double k;                  /* NX_CONST */
         double (*fn)(double);      /* NX_CALL1 */
         BiKernelPair fn2;          /* NX_CALL2 */
+        const Vec *lit;            /* NX_INDEX (borrowed from the AST) */
     };
 } NxIns;
 
@@ -96,6 +103,14 @@ static const Builtin *const_builtin(const AstNode *fn)
     return vec_celems(v)[0].func->bi;
 }
 
+/* True when [n] is a constant (a literal or a constant name) that
+ * NX_INDEX can index: a stream or a numeric vector of one number or more. */
+static bool indexable_const(const AstNode *n)
+{
+    if (n->kind != AST_LITERAL && (n->kind != AST_NAME || n->scope != SCOPE_CONST)) return false;
+    return vec_is_stream(n->value) || (n->value && n->value->kind == VEC_NUM && n->value->len > 0);
+}
+
 /* True when [n] is a one-number expression the machine can run. */
 static bool scalar_ok(const AstNode *n, int budget)
 {
@@ -121,6 +136,12 @@ static bool scalar_ok(const AstNode *n, int budget)
     }
     case AST_SEQUENCE:
         return n->nkids == 1 && scalar_ok(n->kids[0], budget - 1);
+    case AST_INDEX:
+        /* one number of a constant or a name's vector (a range index,
+         * which is a literal of several numbers, is not one number) */
+        return (indexable_const(n->a) ||
+                (n->a->kind == AST_NAME && (n->a->scope == SCOPE_LOCAL || n->a->scope == SCOPE_GLOBAL))) &&
+               scalar_ok(n->b, budget - 1);
     default:
         return false;
     }
@@ -204,6 +225,19 @@ static uint32_t emit_scalar(Nx *c, const AstNode *n)
         return d + 1;
     case AST_SEQUENCE:
         return emit_scalar(c, n->kids[0]) + 1;
+    case AST_INDEX: {
+        /* the source (a constant or a name: no evaluation of its own),
+         * then the index, as eval_node's AST_INDEX; the literal-range rule
+         * of its index conversion is eval.c's */
+        const uint8_t range = n->b->kind == AST_LITERAL && n->b->op == 1;
+        d = emit_scalar(c, n->b);
+        if (indexable_const(n->a))
+            emit(c, (NxIns){.op = NX_INDEX, .sub = range, .lit = n->a->value}, 0);
+        else
+            emit(c, (NxIns){.op = n->a->scope == SCOPE_LOCAL ? NX_INDEXL : NX_INDEXG, .sub = range,
+                            .arg = n->a->slot}, 0);
+        return d + 1;
+    }
     default:
         c->fail = true;
         return 0;
@@ -267,7 +301,8 @@ bool numexpr_memoizable(const NumExpr *x)
 {
     uint32_t globals = 0;
     for (uint32_t i = 0; i < x->h.nins; i++) {
-        if (x->ins[i].op == NX_LOCAL) return false;
+        /* (a name's vector is no memo key: only one-number globals are) */
+        if (x->ins[i].op == NX_LOCAL || x->ins[i].op == NX_INDEXL || x->ins[i].op == NX_INDEXG) return false;
         if (x->ins[i].op == NX_GLOBAL) globals++;
     }
     return globals >= 1 && globals <= NUMEXPR_MEMO_KEYS;
@@ -309,7 +344,7 @@ bool numexpr_exec(const NumExpr *x, Eval *ev, const double *regs, double *out)
         [NX_SQUARE] = &&l_square, [NX_NEG] = &&l_neg, [NX_NOT] = &&l_not, [NX_CMP] = &&l_cmp,
         [NX_CALL1] = &&l_call1, [NX_ADDK] = &&l_addk, [NX_SUBK] = &&l_subk,
         [NX_MULK] = &&l_mulk, [NX_DIVK] = &&l_divk, [NX_REG] = &&l_reg, [NX_CALL2] = &&l_call2,
-        [NX_END] = &&l_end,
+        [NX_INDEX] = &&l_index, [NX_INDEXL] = &&l_indexl, [NX_INDEXG] = &&l_indexg, [NX_END] = &&l_end,
     };
     _Static_assert(sizeof code / sizeof code[0] == NX_END + 1, "every instruction has code");
     /* the top of the stack lives in t; st[1..] holds the rest (the first
@@ -365,6 +400,15 @@ l_addk: t = t + i->k; NEXT;
 l_subk: t = t - i->k; NEXT;
 l_mulk: t = t * i->k; NEXT;
 l_divk: t = t / i->k; NEXT;
+l_index: vec_index_num1(i->lit, t, i->sub, &a); t = a; NEXT;   /* (a stream or numbers: never fails) */
+l_indexl:
+    if (!vec_index_num1(ev->frame[i->arg], t, i->sub, &a)) return false;
+    t = a;
+    NEXT;
+l_indexg:
+    if (!ev->globals || !vec_index_num1(ev->globals->values[i->arg], t, i->sub, &a)) return false;
+    t = a;
+    NEXT;
 l_end:
 #undef NEXT
     /* the outputs: st[1..nout-1], then t */
@@ -393,6 +437,10 @@ NumExpr *numexpr_to_regs(const NumExpr *x, NumExprRegMap map, void *ctx)
     memcpy(y, x, size);
     for (uint32_t i = 0; i < y->h.nins; i++) {
         NxIns *in = &y->ins[i];
+        if (in->op == NX_INDEXL || in->op == NX_INDEXG) {   /* (a vector: registers hold one number) */
+            free(y);
+            return NULL;
+        }
         if (in->op != NX_LOCAL && in->op != NX_GLOBAL) continue;
         int32_t r = map(ctx, in->op == NX_GLOBAL, in->arg);
         if (r < 0) {
@@ -455,6 +503,7 @@ static inline __attribute__((always_inline)) void run_lanes(const NumExpr *x, do
         case NX_SUBK: for (uint32_t l = 0; l < n; l++) t[l] = t[l] - i->k; break;
         case NX_MULK: for (uint32_t l = 0; l < n; l++) t[l] = t[l] * i->k; break;
         case NX_DIVK: for (uint32_t l = 0; l < n; l++) t[l] = t[l] / i->k; break;
+        case NX_INDEX: for (uint32_t l = 0; l < n; l++) vec_index_num1(i->lit, t[l], i->sub, &t[l]); break;
         case NX_END: {
             /* the outputs: st[1..nout-1], then t */
             const uint32_t nout = x->h.nout, out = (uint32_t)i->arg;
@@ -463,7 +512,7 @@ static inline __attribute__((always_inline)) void run_lanes(const NumExpr *x, do
             for (uint32_t l = 0; l < n; l++) regs[l * stride + out + nout - 1] = t[l];
             return;
         }
-        default:   /* NX_LOCAL, NX_GLOBAL: not in a register copy */
+        default:   /* NX_LOCAL, NX_GLOBAL, NX_INDEXL, NX_INDEXG: not in a register copy */
             for (uint32_t l = 0; l < n; l++) fail[l] = 1;
             return;
         }
@@ -488,13 +537,13 @@ void numexpr_set_out(NumExpr *x, uint32_t out)
     x->ins[x->h.nins - 1].arg = (int32_t)out;
 }
 
-/* The distinct arguments of [x]'s instructions of kind [op], in order of
- * first use, into out[0 ..]; how many, or UINT32_MAX past [max]. */
-static uint32_t distinct_args(const NumExpr *x, uint8_t op, int32_t *out, uint32_t max)
+/* The distinct arguments of [x]'s instructions of kind [op] or [op2], in
+ * order of first use, into out[0 ..]; how many, or UINT32_MAX past [max]. */
+static uint32_t distinct_args(const NumExpr *x, uint8_t op, uint8_t op2, int32_t *out, uint32_t max)
 {
     uint32_t n = 0;
     for (uint32_t i = 0; i < x->h.nins; i++) {
-        if (x->ins[i].op != op) continue;
+        if (x->ins[i].op != op && x->ins[i].op != op2) continue;
         uint32_t j = 0;
         while (j < n && out[j] != x->ins[i].arg) j++;
         if (j < n) continue;
@@ -506,7 +555,7 @@ static uint32_t distinct_args(const NumExpr *x, uint8_t op, int32_t *out, uint32
 
 uint32_t numexpr_local_reads(const NumExpr *x, int32_t *slots, uint32_t max)
 {
-    return distinct_args(x, NX_LOCAL, slots, max);
+    return distinct_args(x, NX_LOCAL, NX_INDEXL, slots, max);
 }
 
 void numexpr_renumber_regs(NumExpr *x, int32_t (*map)(void *ctx, int32_t reg), void *ctx)
@@ -517,14 +566,17 @@ void numexpr_renumber_regs(NumExpr *x, int32_t (*map)(void *ctx, int32_t reg), v
 
 uint32_t numexpr_reg_reads(const NumExpr *x, int32_t *regs, uint32_t max)
 {
-    return distinct_args(x, NX_REG, regs, max);
+    return distinct_args(x, NX_REG, NX_REG, regs, max);
 }
 
 uint32_t numexpr_cost(const NumExpr *x)
 {
     uint32_t c = 0;
     for (uint32_t i = 0; i < x->h.nins; i++)
-        c += x->ins[i].op == NX_CALL2 ? 24 : x->ins[i].op == NX_CALL1 || x->ins[i].op == NX_POW ? 16 : 1;
+        c += x->ins[i].op == NX_CALL2                                    ? 24
+             : x->ins[i].op == NX_CALL1 || x->ins[i].op == NX_POW       ? 16
+             : x->ins[i].op == NX_INDEX                                 ? 8   /* (a random draw, or a load) */
+                                                                         : 1;
     return c;
 }
 

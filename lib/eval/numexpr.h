@@ -4,15 +4,18 @@
  * After a program's names are resolved (program.c), the compiler
  * (evalcode_compile_tree, numexpr_compile) finds every maximal subtree
  * that is arithmetic on one-number operands: literal numbers, names, + - * / // % **, unary - + not, the comparisons
- * other than `in`, and calls of the one-argument element-wise builtins
- * (sin, cos, sqrt, ...; bi_kernel in builtins.h). Such a subtree, or an
+ * other than `in`, calls of the one-argument element-wise builtins
+ * (sin, cos, sqrt, ...; bi_kernel in builtins.h), and `v[x]` of a
+ * one-number index where v is a constant stream or numeric vector or a
+ * name (whose vector, at run time, must be one of those). Such a subtree, or an
  * `a;b;...` sequence of them, is compiled into a flat array of small
  * instructions with the constants inline, hung on the subtree's root node
  * (AstNode.fast = 1, AstNode.aux = the NumExpr).
  *
  * numexpr_run() runs one on doubles, with no allocation and no recursion.
  * It gives up (returns false) the moment a name holds anything but a
- * one-element numeric vector, or a comparison meets a NaN (where the
+ * one-element numeric vector (an indexed name: a stream or a numeric
+ * vector), or a comparison meets a NaN (where the
  * generic evaluator's identity shortcut could matter); the caller then
  * evaluates the same subtree with the generic tree walk, which is the
  * reference. Nothing in a compiled subtree has side effects (no errors,

@@ -314,6 +314,27 @@ static void test_lookup_and_index(void **s)
     expect4_from(src, 2, " !m ", want);
 }
 
+/* `v[x]` of a one-number index inside a compiled numeric expression
+ * (numexpr.c NX_INDEX, NX_INDEXL): a constant numeric vector or stream, or
+ * a name's vector. Worked by hand for frame 1 (t is 1, v is 5;6;7): the
+ * index is floored (b: 2.5 is 2) and wraps (c: -1 is 2); NaN, -1e300 and
+ * 1e10 convert to INT32_MIN, which wraps to 1 of 3 (d, k, m); a literal
+ * range of one number indexes too (g); a name holding strings takes the
+ * generic way (f); a stream bound to a name gives the stream's own draw
+ * (h). */
+static void test_index_in_numbers(void **s)
+{
+    (void)s;
+    const char *src =
+        "let t=time*60\n"
+        "    v=(5;6;7)+t-1\n"
+        "    s=\"a\";\"b\"\n"
+        "    w=uniform(:w)\n"
+        "!x a=(5;6;7)[t] b=(5;6;7)[t+1.5] c=(5;6;7)[-t] d=(5;6;7)[0/0+t] e=v[t]*2 f=s[t] "
+        "g=(5;6;7)[1..2]+t h=(w[t]==uniform(:w)[1]) k=v[t-1e300] m=(5;6;7)[t*1e10]\n";
+    expect4_from(src, 2, "!root\n", "!root\n !x a=6 b=7 c=7 d=6 e=12 f=\"b\" g=7 h=1 k=6 m=6\n");
+}
+
 /* A random stream made from numbers and indexed at once in a compiled
  * region (evalrun.c run_stream_index): the seed hashed from the key's
  * numbers and the draws made without the key or stream vectors, with the
@@ -430,6 +451,7 @@ int main(void)
         cmocka_unit_test(test_arithmetic),
         cmocka_unit_test(test_lookup_and_index),
         cmocka_unit_test(test_stream_index),
+        cmocka_unit_test(test_index_in_numbers),
         cmocka_unit_test(test_vector_operators_and_ifs),
         cmocka_unit_test(test_comparisons),
         cmocka_unit_test(test_fallback_shapes),

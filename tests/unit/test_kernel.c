@@ -212,6 +212,33 @@ static void test_if_around_nodes(void **s)
     free(tree);
 }
 
+/* `v[x]` of one number in a kernel's body (numexpr.c NX_INDEX in the
+ * kernel's lanes): a constant vector (a), a constant stream (b, f), a NaN
+ * index (e: INT32_MIN, which wraps to 2 of 5); a name's vector (c) is
+ * left to the body's own records. By hand, frame 3 (n 200): a is i%5 + 1,
+ * 40 nodes of each; e is 3 everywhere; two draws of a stream 200 apart
+ * differ (f is 0); g keeps a kernel without the simplifier too (whose
+ * unfolded vectors and calls it does not take). */
+static void test_index_in_kernels(void **s)
+{
+    (void)s;
+    char *tree = expect_routes("let n=200+floor(time)\n"
+                               "    r=(1;2;3;4;5)*(1+time)\n"
+                               "!g\n"
+                               "    for i in ..n\n"
+                               "        !d a=(1;2;3;4;5)[i] b=uniform(:u)[i]*2 c=r[i] e=(1;2;3;4;5)[i*0.5+0/0] "
+                               "f=(uniform(:u)[i]==uniform(:u)[i+200]) g=i*2\n",
+                               3, 3 * 200);
+    int count[5] = {0}, tail = 0;
+    for (const char *t = tree; (t = strstr(t, "\n  !d a=")) != NULL; t += 8)
+        if (t[8] >= '1' && t[8] <= '5' && t[9] == ' ') count[t[8] - '1']++;
+    for (const char *t = tree; (t = strstr(t, " e=3 f=0 g=")) != NULL; t++) tail++;
+    for (int k = 0; k < 5; k++) assert_int_equal(count[k], 40);
+    assert_int_equal(tail, 200);
+    assert_non_null(strstr(tree, "\n  !d a=1 b=1.5807589083341713 c=1.0333333333333334 e=3 f=0 g=0\n"));
+    free(tree);
+}
+
 /* What the kernel cannot compute goes back to the body's own records:
  * names from outside that are a vector, null, a string or NaN; NaN in
  * comparisons (the identity rule of §3.6); builtins given other shapes. */
@@ -862,6 +889,7 @@ int main(void)
         cmocka_unit_test(test_lets_read_elsewhere),
         cmocka_unit_test(test_memo),
         cmocka_unit_test(test_if_around_nodes),
+        cmocka_unit_test(test_index_in_kernels),
         cmocka_unit_test(test_fallbacks),
         cmocka_unit_test(test_several_names),
         cmocka_unit_test(test_nested),
