@@ -842,7 +842,7 @@ Vec *eval_node(Eval *ev, const AstNode *n)
     case AST_INDEX:
         a = eval(ev, n->a);
         b = eval(ev, n->b);
-        r = vec_index(a, b, n->b->kind == AST_LITERAL && n->b->op == 1);
+        r = vec_index(a, b, ast_index_is_range(n->b));
         vec_release(a);
         vec_release(b);
         break;

@@ -273,7 +273,7 @@ static uint32_t emit(CC *c, const AstNode *n)
         rec(c, off)->op = C_INDEX;
         rec(c, off)->p.node = n;
         /* eval_node's AST_INDEX: a literal range index converts to 64 bits */
-        rec(c, off)->pad = n->b->kind == AST_LITERAL && n->b->op == 1;
+        rec(c, off)->pad = ast_index_is_range(n->b);
         t = emit(c, n->a);
         ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[0] = t;
         t = emit(c, n->b);

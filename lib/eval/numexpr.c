@@ -227,9 +227,8 @@ static uint32_t emit_scalar(Nx *c, const AstNode *n)
         return emit_scalar(c, n->kids[0]) + 1;
     case AST_INDEX: {
         /* the source (a constant or a name: no evaluation of its own),
-         * then the index, as eval_node's AST_INDEX; the literal-range rule
-         * of its index conversion is eval.c's */
-        const uint8_t range = n->b->kind == AST_LITERAL && n->b->op == 1;
+         * then the index, as eval_node's AST_INDEX */
+        const uint8_t range = ast_index_is_range(n->b);
         d = emit_scalar(c, n->b);
         if (indexable_const(n->a))
             emit(c, (NxIns){.op = NX_INDEX, .sub = range, .lit = n->a->value}, 0);

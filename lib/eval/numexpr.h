@@ -48,6 +48,14 @@ static inline bool ast_literal_two(const AstNode *n)
     return n->kind == AST_LITERAL && vec_is_scalar(n->value) && vec_scalar(n->value) == 2.0;
 }
 
+/* True when the index [b] of an `a[b]` is a literal range: its numbers
+ * convert to indexes in 64 bits (§5.8), as eval.c's tree walk, the
+ * compiled regions' C_INDEX and numexpr's indexing all decide alike. */
+static inline bool ast_index_is_range(const AstNode *b)
+{
+    return b->kind == AST_LITERAL && b->op == 1;
+}
+
 /* builtins.h's pair of element kernels (bi_kernel_pair) */
 typedef void (*BiKernelPair)(double x, double *ya, double *yb);
 
