@@ -10,8 +10,9 @@
  * linear light) into a texture of its picture set as the window shows it
  * (clamped, over black, sRGB-encoded by the GL as it is written) and puts
  * a fence after it; the display waits on that fence in its own context,
- * copies the texture letterboxed into the window (a blit, no shader), the
- * overlay over it, swaps, and puts a fence of its own, which the frame
+ * copies the texture letterboxed into the window (a textured quad that
+ * samples the sRGB bytes undecoded, or a blit where the GL cannot skip
+ * the decoding), the overlay over it, swaps, and puts a fence of its own, which the frame
  * loop waits on before it writes that texture again. Each side owns its
  * own framebuffers and vertex arrays; textures, programs, samplers and
  * fences are shared.
