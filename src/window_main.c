@@ -22,6 +22,7 @@
 #include "window.h"
 
 #include <pthread.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -559,6 +560,12 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
             fl_dump_state(p->rt, write_file, L->out);
             fflush(L->out);
             L->dumped_last = true;
+            if (ferror(L->out)) {
+                /* (SIGPIPE is blocked in window runs: a closed pipe
+                 * ends the run here, as Escape does) */
+                fprintf(L->log, "flitter: cannot write the state dumps (standard output closed?): the run ends\n");
+                L->quit = true;
+            }
         }
         double now = now_seconds();
         if (spec->state_file && now - L->last_save >= 5.0) {
@@ -687,8 +694,8 @@ static void *frame_thread(void *arg)
     return NULL;
 }
 
-int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt, char *why,
-               size_t cap)
+static int run_windows(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt, char *why,
+                       size_t cap)
 {
     if (winview_start(why, cap) != 0) return WINDOW_NO_DISPLAY;
     Handover hand;
@@ -768,5 +775,30 @@ int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrup
     winlost_sync(&hand.lost);   /* (the errors of a destroyed window's requests, under our handler) */
     SDL_Quit();
     winlost_free(&hand.lost);
+    return rc;
+}
+
+int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt, char *why,
+               size_t cap)
+{
+    /* SIGPIPE blocked on the threads that talk to X (this one, the frame
+     * loop's and the GL's, which inherit the mask): a connection killed
+     * by another client (xkill) then fails a write with EPIPE and ends
+     * the run through Xlib's I/O error path (window_lost.h, exit status
+     * 3) instead of killing the process before its state is saved
+     * (window/lost's `kill --lockstep` died of SIGPIPE about once in 25
+     * runs). A write to a closed standard output fails too: the frame
+     * loop ends the run then. */
+    sigset_t pipe_set, old;
+    sigemptyset(&pipe_set);
+    sigaddset(&pipe_set, SIGPIPE);
+    pthread_sigmask(SIG_BLOCK, &pipe_set, &old);
+    int rc = run_windows(spec, out, log, interrupt, why, cap);
+    /* a SIGPIPE raised meanwhile is taken here, not delivered when the
+     * mask is put back */
+    struct timespec none = {0, 0};
+    if (!sigismember(&old, SIGPIPE))
+        while (sigtimedwait(&pipe_set, NULL, &none) == SIGPIPE) {}
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
     return rc;
 }

@@ -3,7 +3,7 @@
 # opens a window when there is a display; Escape ends the run within a
 # second with status 0, the state saved and --dump-state printed; SIGTERM
 # and SIGINT (Ctrl-C) do the same; a script whose !key claims Escape keeps
-# it (the run goes on).
+# it (the run goes on); a closed standard output ends the run too.
 . "$(dirname "$0")/common.sh"
 cat >x.fl <<'FL'
 !window size=120;80
@@ -59,4 +59,20 @@ kill -TERM $pid
 wait_exit $pid 2
 [ "$RC" = 0 ] || fail "claimed: exit status $RC"
 grep -qxF ':esc;:released = 1' out || fail "claimed Escape not in the state: $(cat out)"
-echo "ok: Escape, SIGTERM, SIGINT end cleanly; a claimed Escape does not"
+
+# standard output closed under the run (`flitter --dump-state ... | head`):
+# the next dump fails and the run ends as Escape ends it, status 0 and the
+# state saved (a window run does not die of SIGPIPE: it blocks it, so that
+# a killed X connection ends it through Xlib's error path, window/lost)
+rm -f st out err
+mkfifo pipe
+"$flitter" --state st --dump-state --dump-every 1 x.fl >pipe 2>err &
+pid=$!; pids=$pid
+head -c 1 pipe >/dev/null
+wait_exit $pid 5
+rm -f pipe
+[ "$RC" = 0 ] || fail "standard output closed: exit status $RC, not 0"
+grep -q "standard output closed" err || fail "standard output closed: not said: $(cat err)"
+[ -s st ] || fail "standard output closed: --state not saved"
+echo "standard output closed: ended in $TOOK s"
+echo "ok: Escape, SIGTERM, SIGINT and a closed standard output end cleanly; a claimed Escape does not"
