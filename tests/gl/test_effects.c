@@ -894,6 +894,43 @@ static void filter_blur(void **st)
         for (int x = 0; x < W; x += 5) expect(pix[1], x, y, 0.125, 0.25, 0, 0.75, 1);
 }
 
+/* A blur reads a texture of its own size at the centres of its texels
+ * (nearest sampling there reads what bilinear does), but a child of
+ * another size filtered: an 8x8 child of stripes (texel column j white
+ * when j is odd) under a 16x16 !blur radius=0 is sampled at u = x/2 -
+ * 0.25 texels, so column 2k is 0.75 of texel k and 0.25 of texel k - 1,
+ * column 2k + 1 0.75 of texel k and 0.25 of texel k + 1: 0.25 or 0.75,
+ * never 0 or 1 (which a nearest sampling of the small child would give).
+ * The same stripes at 16x16 come through whole. */
+static void filter_blur_other_size(void **st)
+{
+    (void)st;
+    uint32_t pix[2][W * H];
+    draw("let stripes = '''${HEADER}\n"
+         "in vec2 coord;\n"
+         "out vec4 color;\n"
+         "uniform vec2 size;\n"
+         "void main() {\n"
+         "    color = vec4(vec3(mod(floor(coord.x * size.x), 2.0)), 1.0);\n"
+         "}\n"
+         "'''\n"
+         "!window size=16;16\n"
+         "    !blur radius=0\n"
+         "        !shader size=8;8 fragment=stripes\n"
+         "!window size=16;16\n"
+         "    !blur radius=0\n"
+         "        !shader fragment=stripes\n",
+         2, pix);
+    for (int y = 1; y < H - 1; y += 3)
+        for (int k = 1; k < 7; k++) {
+            double v = k % 2 ? 0.75 : 0.25;   /* texel k's share is 0.75 in both columns */
+            expect(pix[0], 2 * k, y, v, v, v, 1, 1);
+            expect(pix[0], 2 * k + 1, y, v, v, v, 1, 1);
+            expect_exact(pix[1], 2 * k, y, 0xff000000u);
+            expect_exact(pix[1], 2 * k + 1, y, 0xffffffffu);
+        }
+}
+
 /* !vignette of opaque white: each axis fades linearly over `inset` of
  * the picture at both ends (coord / inset, (1 - coord) / inset). Inset
  * 0.25: column 0 (coord.x 0.03125) is 0.125, column 2 (0.15625) 0.625;
@@ -1430,6 +1467,7 @@ int main(void)
         cmocka_unit_test(template_error),
         cmocka_unit_test(filter_adjust),
         cmocka_unit_test(filter_blur),
+        cmocka_unit_test(filter_blur_other_size),
         cmocka_unit_test(filter_vignette),
         cmocka_unit_test(filter_transform),
         cmocka_unit_test(filter_feedback),

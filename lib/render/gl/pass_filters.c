@@ -114,6 +114,7 @@ static void setup_bloom(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Set
 {
     (void)g, (void)pp, (void)n;
     layout(s, nc, 4, 0, 3);
+    s->pr.texel_centres = true;
     kw_num(s, "radius", 0, TPL_INT);
     kw_num(s, "sigma", 0.3, TPL_FLOAT);
     kw_num(s, "exposure", -1, TPL_INT);
@@ -129,6 +130,7 @@ static void setup_blur(Graph *g, ProgramPass *pp, const Node *n, size_t nc, Setu
 {
     (void)g, (void)pp, (void)n;
     s->pr.passes = nc > 1 ? 3 : nc ? 2 : 1;
+    s->pr.texel_centres = true;
     kw_num(s, "radius", 0, TPL_INT);
     kw_num(s, "sigma", 0.3, TPL_FLOAT);
     s->pr.clamp = true;

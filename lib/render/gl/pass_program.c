@@ -457,6 +457,8 @@ size_t program_children(Graph *g, Pass *p, ChildTex *out, size_t cap)
         if (!tex || c->hidden) continue;
         snprintf(out[k].name, sizeof out[k].name, "texture%u", (unsigned)k);
         out[k].tex = tex;
+        out[k].w = w;
+        out[k].h = h;
         k++;
     }
     return k;
@@ -776,6 +778,14 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
     Sampling smp;
     sampling_of(g, n, pr, &smp);
     GLuint sampler = make_sampler(&smp);
+    /* (pr->texel_centres: the same sampling, nearest, for the textures
+     * of each pass's size) */
+    GLuint centres = 0;
+    if (pr->texel_centres && smp.filter == GL_LINEAR && !rnode_attr(n, "fragment") && !rnode_attr(n, "vertex")) {
+        Sampling nearest = smp;
+        nearest.filter = GL_NEAREST;
+        centres = make_sampler(&nearest);
+    }
     bind_unit(0, g->zero_tex, 0);
     int nunits = 1;
     for (size_t c = 0; c < nchildren && nunits < 30; c++) bind_unit(nunits++, children[c].tex, sampler);
@@ -834,6 +844,13 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
             else
                 set_pair(un.size, t->w, t->h);
         }
+        if (centres) {
+            for (int c = 0; c + 1 < nunits; c++)
+                glBindSampler((GLuint)(c + 1), children[c].w == t->w && children[c].h == t->h ? centres : sampler);
+            if (un.last && last) glBindSampler((GLuint)last_unit, last->w == t->w && last->h == t->h ? centres : sampler);
+            if (un.first && pass >= 1 && first)
+                glBindSampler((GLuint)first_unit, first->w == t->w && first->h == t->h ? centres : sampler);
+        }
         target_bind(t);
         static const float clear[4] = {0, 0, 0, 0};
         target_clear(t, clear);
@@ -848,6 +865,7 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
     for (int k = 0; k <= first_unit; k++) bind_unit(k, 0, 0);
     glActiveTexture(GL_TEXTURE0);
     glDeleteSamplers(1, &sampler);
+    if (centres) glDeleteSamplers(1, &centres);
     glUseProgram(0);
     if (failed) {
         target_release(g->pool, last);

@@ -29,6 +29,7 @@ typedef struct Kw {
 typedef struct ChildTex {
     char name[24];
     GLuint tex;
+    int w, h;                    /* its size in texels (0: not known) */
 } ChildTex;
 
 /* How a program pass draws this frame (its kind's defaults; a node's own
@@ -60,6 +61,14 @@ typedef struct ProgramParams {
      * radius, counted in texels), or NULL */
     bool logical_size;
     const char *pixel_uniform;
+    /* the default program reads each texture either at the centres of
+     * its texels, where it has the pass's size, or filtered, where it
+     * has another (a blur's taps, `size` texels apart): a texture of the
+     * pass's size is then sampled nearest, which reads what bilinear
+     * filtering reads there and costs a CPU rasteriser half as much
+     * (bench/PROFILE.md, issue 58, "texels at their centres"); not with
+     * a fragment= or vertex= of the node's own */
+    bool texel_centres;
 } ProgramParams;
 
 /* A program pass: a Pass, the program it drew with last, and its

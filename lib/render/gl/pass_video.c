@@ -159,7 +159,7 @@ static void render_video(Graph *g, Pass *p, const Node *n, const PassCtx *cx)
     Kw kw[3] = {{"frame_size", {vec_from_nums(frame_size, 2), TPL_LIST}},
                 {"aspect_mode", {vec_num1(mode), TPL_INT}},
                 {"ratio", {vec_num1(attr_flag(n, "interpolate") ? ratio : 0), TPL_FLOAT}}};
-    ChildTex kids[2] = {{"frame0", vp->tex[0]}, {"frame1", vp->tex[1]}};
+    ChildTex kids[2] = {{"frame0", vp->tex[0], 0, 0}, {"frame1", vp->tex[1], 0, 0}};
     ProgramParams pr = {.fragment = "video.frag", .vertex = "video.vert", .kwargs = kw, .nkwargs = 3,
                         .children = kids, .nchildren = 2};
     program_render(g, &vp->prog, n, cx, &pr);
