@@ -796,6 +796,12 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
      * that pass's constant: the same picture, and a CPU rasteriser, which
      * runs every branch of a shader, then runs only that pass's */
     bool specialise = passes > 1 && find_uniform(prog, "pass") && !strstr(prog->vsrc, "pass");
+    /* a template of ours (no fragment= or vertex= of the node's) that
+     * never discards writes every pixel of the target with blending off:
+     * the clear before it would be overwritten (on llvmpipe it cost 1.5-2
+     * ms of a 540x540 !bloom's 11: bench/PROFILE.md, issue 58, "texels
+     * at their centres") */
+    bool covers = !rnode_attr(n, "fragment") && !rnode_attr(n, "vertex");
     /* the framebuffer is kept for the next frame when its first pass
      * reads `last` (the frame before's picture: Flitter keeps it whenever
      * the program has `last`, which a multi-pass filter such as !bloom
@@ -853,7 +859,7 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
         }
         target_bind(t);
         static const float clear[4] = {0, 0, 0, 0};
-        target_clear(t, clear);
+        if (!covers || strstr(pg->fsrc, "discard")) target_clear(t, clear);
         graph_draw_quad(g);
         target_finish(t);
         if (pass == 0 && find_uniform(prog, "first")) first = t;
