@@ -6,10 +6,50 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 #include "runtime.h"
 #include "format.h"
 #include "fuzz_budget.h"
+#include "node.h"
+
+/* The most numbers (and strings) in a tree's attributes that the targets
+ * write out as text: a legitimate script can make millions in one frame
+ * (`b=1..0|-0.2u`, five million) and writing them takes seconds (flitter
+ * run --dump-tree: 14 s for that one; more under the sanitizers, where it
+ * ran past libFuzzer's timeout). Like a state past the time budget, a
+ * larger tree is not written: the frames that made it were fuzzed. */
+#define FUZZ_DUMP_NUMBERS 1000000
+
+/* The nodes of [root]'s tree and the items in their attributes, counted up to a little
+ * past FUZZ_DUMP_NUMBERS (depth-first with a stack of its own: a deep
+ * tree cannot exhaust the C stack). */
+static size_t fuzz_tree_items(const Node *root)
+{
+    size_t n = 0, depth = 0, cap = 64;
+    const Node **stack = malloc(cap * sizeof *stack);
+    if (!stack) return (size_t)-1;
+    stack[depth++] = root;
+    while (depth > 0 && n <= FUZZ_DUMP_NUMBERS) {
+        const Node *nd = stack[--depth];
+        n++;   /* (its line) */
+        for (uint32_t i = 0; i < nd->nattrs; i++) n += vec_len(nd->attrs[i].value);
+        for (uint32_t i = 0; i < nd->nchildren; i++) {
+            if (depth == cap) {
+                const Node **more = realloc(stack, 2 * cap * sizeof *stack);
+                if (!more) {
+                    free(stack);
+                    return (size_t)-1;
+                }
+                stack = more;
+                cap *= 2;
+            }
+            stack[depth++] = nd->children[i];
+        }
+    }
+    free(stack);
+    return n;
+}
 
 /* One runtime for [data], on the routes of [debug] (NULL: the defaults):
  * loaded, then (when [frames]) three frames and the dumps; errors are the
@@ -39,7 +79,7 @@ static void fuzz_run_script(const uint8_t *data, size_t size, bool frames, const
         if (!fuzz_interrupt) {
             fmt_state_dump(&out, rt_state(rt), fl_frame_count(rt) - 1, fl_frame_time(rt),
                            rt_symbols(rt));
-            if (rt_root(rt))
+            if (rt_root(rt) && fuzz_tree_items(rt_root(rt)) <= FUZZ_DUMP_NUMBERS)
                 fmt_tree(&out, rt_root(rt), rt_symbols(rt));
         }
     }
