@@ -8,8 +8,6 @@
  * input lines. */
 #include "repl_window.h"
 
-#include <pthread.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -28,35 +26,11 @@ struct ReplWindow {
     char name[256];     /* the title when the !window has none */
     double last_shown;  /* monotonic seconds of the last picture, or -1 */
     bool warned;        /* a drawing failure was reported */
-    sigset_t old_mask;  /* the session's signal mask before the window (SIGPIPE blocked meanwhile) */
+    /* the session's signal mask before the window: SIGPIPE is blocked
+     * while it is open (winlost_block_sigpipe), so that a killed
+     * connection writes the recovery file (status 3) */
+    sigset_t old_mask;
 };
-
-/* SIGPIPE blocked while the window is open (on this thread and the GL's,
- * made after it): a connection killed by another client then fails a
- * write to X with EPIPE and ends the session through window_lost.c
- * (the state to the recovery file, exit status 3) instead of killing
- * it first, as window_main.c's window_run does. */
-static void block_sigpipe(sigset_t *old)
-{
-    sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGPIPE);
-    pthread_sigmask(SIG_BLOCK, &set, old);
-}
-
-/* The mask before block_sigpipe again, a SIGPIPE raised meanwhile taken
- * first (not delivered then). */
-static void unblock_sigpipe(const sigset_t *old)
-{
-    if (!sigismember(old, SIGPIPE)) {
-        sigset_t set;
-        sigemptyset(&set);
-        sigaddset(&set, SIGPIPE);
-        struct timespec none = {0, 0};
-        while (sigtimedwait(&set, NULL, &none) == SIGPIPE) {}
-    }
-    pthread_sigmask(SIG_SETMASK, old, NULL);
-}
 
 static double now_seconds(void)
 {
@@ -103,9 +77,9 @@ ReplWindow *repl_window_open(fl_runtime *rt, const char *name, void (*lost)(void
                              char *why, size_t cap)
 {
     sigset_t old;
-    block_sigpipe(&old);
+    winlost_block_sigpipe(&old);
     if (winview_start(why, cap) != 0) {
-        unblock_sigpipe(&old);
+        winlost_unblock_sigpipe(&old);
         return NULL;
     }
     ReplWindow *w = calloc(1, sizeof *w);
@@ -126,7 +100,7 @@ ReplWindow *repl_window_open(fl_runtime *rt, const char *name, void (*lost)(void
         snprintf(why, cap, "cannot open a window: %s", SDL_GetError());
         free(w);
         SDL_Quit();
-        unblock_sigpipe(&old);
+        winlost_unblock_sigpipe(&old);
         return NULL;
     }
     winlost_watch(&w->lost, w->view.window);
@@ -210,5 +184,5 @@ void repl_window_close(ReplWindow *w)
     winlost_free(&w->lost);
     sigset_t old = w->old_mask;
     free(w);
-    unblock_sigpipe(&old);
+    winlost_unblock_sigpipe(&old);
 }

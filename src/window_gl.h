@@ -12,8 +12,9 @@
  * a fence after it; the display waits on that fence in its own context,
  * copies the texture letterboxed into the window (a textured quad that
  * samples the sRGB bytes undecoded, or a blit where the GL cannot skip
- * the decoding), the overlay over it, swaps, and puts a fence of its own, which the frame
- * loop waits on before it writes that texture again. Each side owns its
+ * the decoding), the overlay over it, swaps, and puts a fence of its
+ * own, which the frame loop waits on before it writes that texture
+ * again. Each side owns its
  * own framebuffers and vertex arrays; textures, programs, samplers and
  * fences are shared.
  *

@@ -245,3 +245,23 @@ void winlost_frame_ending(WinLost *w)
 }
 
 LostKind winlost_kind(WinLost *w) { return (LostKind)atomic_load(&w->kind); }
+
+void winlost_block_sigpipe(sigset_t *old)
+{
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGPIPE);
+    pthread_sigmask(SIG_BLOCK, &set, old);
+}
+
+void winlost_unblock_sigpipe(const sigset_t *old)
+{
+    if (!sigismember(old, SIGPIPE)) {
+        sigset_t set;
+        sigemptyset(&set);
+        sigaddset(&set, SIGPIPE);
+        struct timespec none = {0, 0};
+        while (sigtimedwait(&set, NULL, &none) == SIGPIPE) {}
+    }
+    pthread_sigmask(SIG_SETMASK, old, NULL);
+}

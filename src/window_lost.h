@@ -16,6 +16,7 @@
 #ifndef FL_WINDOW_LOST_H
 #define FL_WINDOW_LOST_H
 
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -102,5 +103,16 @@ void winlost_frame_ending(WinLost *w);
 
 /* What was lost (LOST_NONE while nothing). */
 LostKind winlost_kind(WinLost *w);
+
+/* Block SIGPIPE on the calling thread (and the threads it starts after,
+ * which inherit the mask: the frame loop's, the GL's), the mask before in
+ * *[old]: a connection killed by another client (xkill) then fails a write
+ * to X with EPIPE and ends the run through Xlib's I/O error path (exit
+ * status 3, state saved) instead of killing the process first. */
+void winlost_block_sigpipe(sigset_t *old);
+
+/* Put mask [old] back, a SIGPIPE raised while it was blocked taken first
+ * (not delivered then), unless [old] itself blocks SIGPIPE. */
+void winlost_unblock_sigpipe(const sigset_t *old);
 
 #endif

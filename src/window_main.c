@@ -22,7 +22,6 @@
 #include "window.h"
 
 #include <pthread.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -781,24 +780,13 @@ static int run_windows(const RunSpec *spec, FILE *out, FILE *log, volatile int *
 int window_run(const RunSpec *spec, FILE *out, FILE *log, volatile int *interrupt, char *why,
                size_t cap)
 {
-    /* SIGPIPE blocked on the threads that talk to X (this one, the frame
-     * loop's and the GL's, which inherit the mask): a connection killed
-     * by another client (xkill) then fails a write with EPIPE and ends
-     * the run through Xlib's I/O error path (window_lost.h, exit status
-     * 3) instead of killing the process before its state is saved
-     * (window/lost's `kill --lockstep` died of SIGPIPE about once in 25
-     * runs). A write to a closed standard output fails too: the frame
-     * loop ends the run then. */
-    sigset_t pipe_set, old;
-    sigemptyset(&pipe_set);
-    sigaddset(&pipe_set, SIGPIPE);
-    pthread_sigmask(SIG_BLOCK, &pipe_set, &old);
+    /* SIGPIPE blocked on the threads that talk to X (window/lost's
+     * `kill --lockstep` died of it about once in 25 runs); a write to a
+     * closed standard output then fails too, and the frame loop ends the
+     * run */
+    sigset_t old;
+    winlost_block_sigpipe(&old);
     int rc = run_windows(spec, out, log, interrupt, why, cap);
-    /* a SIGPIPE raised meanwhile is taken here, not delivered when the
-     * mask is put back */
-    struct timespec none = {0, 0};
-    if (!sigismember(&old, SIGPIPE))
-        while (sigtimedwait(&pipe_set, NULL, &none) == SIGPIPE) {}
-    pthread_sigmask(SIG_SETMASK, &old, NULL);
+    winlost_unblock_sigpipe(&old);
     return rc;
 }

@@ -40,6 +40,7 @@ struct Program {
     Uniform *uniforms;
     int nuniforms;
     long used;               /* the frame it was last used in */
+    bool discards;           /* its fragment source has a `discard` */
 };
 
 struct Programs {
@@ -159,6 +160,7 @@ static Program *program_for(Programs *ps, const char *vsrc, const char *fsrc, lo
     Program *p = mem_calloc(1, sizeof *p);
     p->vsrc = mem_strdup(vsrc);
     p->fsrc = mem_strdup(fsrc);
+    p->discards = strstr(fsrc, "discard") != NULL;
     p->hash = h;
     p->used = frame;
     ps->items[ps->n++] = p;
@@ -780,8 +782,9 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
     GLuint sampler = make_sampler(&smp);
     /* (pr->texel_centres: the same sampling, nearest, for the textures
      * of each pass's size) */
+    bool own_template = !rnode_attr(n, "fragment") && !rnode_attr(n, "vertex");
     GLuint centres = 0;
-    if (pr->texel_centres && smp.filter == GL_LINEAR && !rnode_attr(n, "fragment") && !rnode_attr(n, "vertex")) {
+    if (pr->texel_centres && smp.filter == GL_LINEAR && own_template) {
         Sampling nearest = smp;
         nearest.filter = GL_NEAREST;
         centres = make_sampler(&nearest);
@@ -796,12 +799,6 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
      * that pass's constant: the same picture, and a CPU rasteriser, which
      * runs every branch of a shader, then runs only that pass's */
     bool specialise = passes > 1 && find_uniform(prog, "pass") && !strstr(prog->vsrc, "pass");
-    /* a template of ours (no fragment= or vertex= of the node's) that
-     * never discards writes every pixel of the target with blending off:
-     * the clear before it would be overwritten (on llvmpipe it cost 1.5-2
-     * ms of a 540x540 !bloom's 11: bench/PROFILE.md, issue 58, "texels
-     * at their centres") */
-    bool covers = !rnode_attr(n, "fragment") && !rnode_attr(n, "vertex");
     /* the framebuffer is kept for the next frame when its first pass
      * reads `last` (the frame before's picture: Flitter keeps it whenever
      * the program has `last`, which a multi-pass filter such as !bloom
@@ -859,7 +856,12 @@ void program_render(Graph *g, ProgramPass *pp, const Node *n, const PassCtx *cx,
         }
         target_bind(t);
         static const float clear[4] = {0, 0, 0, 0};
-        if (!covers || strstr(pg->fsrc, "discard")) target_clear(t, clear);
+        /* a template of ours (no fragment= or vertex= of the node's)
+         * that never discards writes every pixel of the target with
+         * blending off: the clear before it would be overwritten (on
+         * llvmpipe it cost 1-2 ms of a 540x540 !bloom's 11: bench/
+         * PROFILE.md, issue 58, "texels at their centres") */
+        if (!own_template || pg->discards) target_clear(t, clear);
         graph_draw_quad(g);
         target_finish(t);
         if (pass == 0 && find_uniform(prog, "first")) first = t;
