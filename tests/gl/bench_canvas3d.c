@@ -2,7 +2,7 @@
  * front end draws a window every frame (fl_step + fl_draw_window).
  *
  *   bench_canvas3d [WIDTH HEIGHT [NSPHERES [SAMPLES [FRAMES]]]]
- *   bench_canvas3d --script FILE [--fps F] [--frames N] [--physics P] [-D NAME=VALUE]...
+ *   bench_canvas3d --script FILE [--fps F] [--frames N] [--physics P] [--occlusion O] [-D NAME=VALUE]...
  *
  * The first form draws examples/physics.fl's picture without its physics:
  * NSPHERES (default 500) lit spheres of radius 5..50 scattered in a ball of
@@ -15,7 +15,9 @@
  * examples/Makefile renders them) for N frames (default 10) and draws its
  * first window after each frame; frame 0 is a warm-up (GL context,
  * meshes, shaders) and is not counted. --physics is flitter's option
- * (documented or upstream).
+ * (documented or upstream); --occlusion (auto, always or never) is
+ * FLITTER_CANVAS3D_OCCLUSION's choice of !canvas3d's occluders' pass
+ * (unset, 1, 0), for measuring it.
  *
  * Prints the mean drawing and stepping (evaluation and physics) wall times,
  * the fastest frame's drawing time and the mean CPU time of drawing (all
@@ -99,7 +101,8 @@ static int run(fl_runtime *rt, const char *what, int frames)
 static int usage(void)
 {
     fprintf(stderr, "usage: bench_canvas3d [WIDTH HEIGHT [NSPHERES [SAMPLES [FRAMES]]]]\n"
-                    "       bench_canvas3d --script FILE [--fps F] [--frames N] [--physics P] [-D NAME=VALUE]...\n");
+                    "       bench_canvas3d --script FILE [--fps F] [--frames N] [--physics P] [--occlusion O]"
+                    " [-D NAME=VALUE]...\n");
     return 2;
 }
 
@@ -120,6 +123,11 @@ static int script_mode(int argc, char **argv)
         else if (strcmp(a, "--frames") == 0) frames = atoi(v);
         else if (strcmp(a, "--physics") == 0) {
             if (!fl_parse_physics(v, &o.physics)) return usage();
+        } else if (strcmp(a, "--occlusion") == 0) {
+            if (strcmp(v, "auto") == 0) o.debug.occlusion = FL_OCCLUSION_AUTO;
+            else if (strcmp(v, "always") == 0) o.debug.occlusion = FL_OCCLUSION_ALWAYS;
+            else if (strcmp(v, "never") == 0) o.debug.occlusion = FL_OCCLUSION_NEVER;
+            else return usage();
         } else if (strcmp(a, "-D") == 0 && ndefines < 64) defines[ndefines++] = v;
         else return usage();
     }

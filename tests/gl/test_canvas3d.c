@@ -1156,6 +1156,84 @@ static void occlusion_as_without(void **st)
     }
 }
 
+/* Without multisampling, opaque spheres drawn on octagons, 8 or more in a
+ * group (with FL_OCCLUSION_ALWAYS, one or more), first have proxies drawn
+ * depth only (an octagon through each centre, within its great disc),
+ * and their octagons discard the fragments hidden behind those
+ * (canvas3d_occlusion.h). Each scene is drawn with FL_OCCLUSION_ALWAYS,
+ * FL_OCCLUSION_NEVER and by default, and the pictures must be equal pixel
+ * for pixel: a ball of spheres of many sizes seen from two sides;
+ * spheres intersecting one another along the line of sight (their
+ * surfaces within a fraction of a unit of each other's proxies), seen
+ * from two sides; an orthographic camera with fog; spheres among boxes,
+ * a transparent sphere and an ellipsoid (not a billboard); spheres seen
+ * from close by, their octagons near the camera's near plane; and the
+ * ball with 4 samples (no proxies there). */
+static void proxies_as_without(void **st)
+{
+    (void)st;
+    static uint32_t pix[3][W * H];
+    static const char *ball =
+        "        !light color=0.8 direction=-1;-1;-2\n"
+        "        !light color=0.1\n"
+        "        for i in ..90\n"
+        "            !sphere position=(uniform(:p;i)[..3]-0.5)*30 size=1+uniform(:r)[i]*5 color=hsv(i/90;0.7;1)\n";
+    static const char *chain =
+        "        !light color=0.8 direction=-1;-1;-2\n"
+        "        !light color=0.1\n"
+        "        for i in ..12\n"
+        "            !sphere position=(i-6)*0.9;(i%3-1)*0.7;10-i*1.6 size=2.5 color=i/12;1-i/12;0.5\n";
+    static const char *mixed =
+        "        !light color=0.8 position=10;20;40 falloff=0;0;0;0.0005\n"
+        "        !light color=0.1\n"
+        "        !box size=8 position=-6;0;6 rotation=0.1;0.2;0 color=1;1;0\n"
+        "        !box size=20;20;2 position=0;0;-12 color=0.5\n"
+        "        !sphere size=9 position=3;3;4 color=1 transparency=0.6\n"
+        "        !sphere size=3;6;3 position=-3;-6;2 color=0;1;1\n"
+        "        for i in ..30\n"
+        "            !sphere position=(uniform(:q;i)[..3]-0.5)*24 size=1.5+uniform(:s)[i]*3 color=1;0.3;0\n";
+    static const char *close =
+        "        !light color=0.8 direction=0;-1;-2\n"
+        "        for i in ..9\n"
+        "            !sphere position=(i%3-1)*6;(i//3-1)*6;60+i size=4 color=0.2;0.5;1\n"
+        "        !sphere position=0;0;90 size=3 color=1\n";
+    struct {
+        const char *head, *body;
+    } scenes[] = {
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=10;8;80 focus=0 fov=0.12 near=1 far=500\n", ball},
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=-20;5;70 focus=0 fov=0.12 near=1 far=500\n", ball},
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=0;0;60 focus=0 fov=0.1 near=1 far=500\n", chain},
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=3;2;60 focus=0 fov=0.1 near=1 far=500\n", chain},
+        {"!window size=64;64\n    !canvas3d samples=1 orthographic=true width=40 viewpoint=5;5;100 focus=0 far=500"
+         " fog_color=0.2;0.3;0.4 fog_min=80 fog_max=120\n",
+         ball},
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=-6;10;70 focus=0 fov=0.12 near=1 far=500\n", mixed},
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=0;0;100 focus=0 fov=0.2 near=1 far=500\n", close},
+        {"!window size=64;64\n    !canvas3d samples=4 viewpoint=10;8;80 focus=0 fov=0.12 near=1 far=500\n", ball},
+    };
+    char script[2048];
+    for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; s++) {
+        snprintf(script, sizeof script, "%s%s", scenes[s].head, scenes[s].body);
+        static const int modes[3] = {FL_OCCLUSION_ALWAYS, FL_OCCLUSION_NEVER, FL_OCCLUSION_AUTO};
+        for (int k = 0; k < 3; k++) {
+            routes.occlusion = modes[k];
+            fl_runtime *rt = draw(script, pix[k]);
+            if (strstr(logged, "compile") || strstr(logged, "link")) fail_msg("scene %zu: %s", s, logged);
+            fl_free(rt);
+        }
+        routes = (fl_debug_options){0};
+        int lit = 0;
+        for (int i = 0; i < W * H; i++) {
+            for (int k = 0; k < 3; k += 2)
+                if (pix[k][i] != pix[1][i])
+                    fail_msg("scene %zu (%s): pixel %d,%d is %08x, without proxies %08x", s, k ? "auto" : "always",
+                             i % W, i / W, pix[k][i], pix[1][i]);
+            lit += pix[1][i] != pix[1][0];
+        }
+        if (lit < 200) fail_msg("scene %zu: only %d pixels drawn", s, lit);
+    }
+}
+
 /* A group's meshes are drawn in the order of their first appearance in
  * it (Flitter iterates its group's models so), each mesh's instances
  * nearest first. In a group of composite "add", where the order shows: a
@@ -1209,6 +1287,7 @@ int main(void)
         cmocka_unit_test(listed_lights_as_looped),
         cmocka_unit_test(listed_programs_capped),
         cmocka_unit_test(occlusion_as_without),
+        cmocka_unit_test(proxies_as_without),
         cmocka_unit_test(mesh_order_first_appearance),
         cmocka_unit_test(light_kinds_per_group),
         cmocka_unit_test(two_runtimes),

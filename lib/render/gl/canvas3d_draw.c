@@ -201,17 +201,26 @@ static bool billboard_fits(const Instance *in, const Camera *cam)
     return depth - 2.2 * r > cam->near * 1.01;
 }
 
+/* Whether dispatch may draw instances of [mesh] in a group that culls back
+ * faces when [cull_back] as ray-cast impostors: smooth spheres (not
+ * flat, not inverted), when the program has them. */
+static bool impostor_mesh(const Canvas3D *c, const GlMesh *mesh, const C3dProgram *p, bool cull_back)
+{
+    return c->impostors && cull_back && p->impostor.prog && mesh->key.kind == MESH_SPHERE && !mesh->key.flat &&
+           !mesh->key.invert;
+}
+
 /* Draw [n] instances of one mesh from [list] in that order: smooth spheres
- * (not flat, not inverted) of a group that culls back faces as ray-cast
- * impostors when the program has them and they fit, the rest as meshes
- * with [mesh_sh] (p->mesh, or p->occluded after the occluders' pass). */
+ * (impostor_mesh) as ray-cast impostors where they fit (billboards with
+ * p->billboard_occluded when [proxied], after the occluders' pass drew
+ * their proxies), the rest as meshes with [mesh_sh] (p->mesh, or
+ * p->occluded after the occluders' pass). */
 static void dispatch(Canvas3D *c, Instance **list, int n, const C3dProgram *p, const Camera *cam, bool cull_back,
-                     const C3dShader *mesh_sh)
+                     const C3dShader *mesh_sh, bool proxied)
 {
     if (n <= 0) return;
     const GlMesh *mesh = list[0]->mesh;
-    if (!(c->impostors && cull_back && p->impostor.prog && mesh->key.kind == MESH_SPHERE && !mesh->key.flat &&
-          !mesh->key.invert)) {
+    if (!impostor_mesh(c, mesh, p, cull_back)) {
         draw_instances(c, list, n, mesh, mesh_sh);
         return;
     }
@@ -230,7 +239,7 @@ static void dispatch(Canvas3D *c, Instance **list, int n, const C3dProgram *p, c
         else boxed[nx++] = list[i];
     MeshKey octagon = {.kind = MESH_OCTAGON}, box = {.kind = MESH_BOX};
     /* (draw_instances keeps the program in use) */
-    const C3dShader *octagons = p->billboard.prog ? &p->billboard : &p->impostor;
+    const C3dShader *octagons = proxied ? &p->billboard_occluded : p->billboard.prog ? &p->billboard : &p->impostor;
     glUseProgram(octagons->prog);
     glUniform1i(octagons->u_billboard, 1);
     draw_instances(c, bill, nb, mesh_cache_get(c->meshes, &octagon), octagons);
@@ -491,45 +500,86 @@ static bool drawn_opaque(const Instance *in, bool sorted, bool see_through)
     return !(see_through && in->mat.translucency > 0);
 }
 
-/* The occluders' pass of group [g] (canvas3d_occlusion.h): with
- * multisampling, a depth test and composite "over" (an opaque fragment
- * then replaces what is behind it: hidden ones leave no trace), its
- * opaque non-sphere meshes of [list] (n, sorted by mesh) drawn depth
- * only into c->occlusion, when there are at least two, they lie
- * OCCLUSION_MIN_LAYERS deep or more and the group has
- * OCCLUSION_MIN_LIGHTS lights ([nl]) or more (with
- * C3D_OCCLUSION_ALWAYS whenever there is one). True when it was drawn:
- * the group's opaque meshes are then drawn with p->occluded, whose
- * uniforms are set. */
-static bool occluders(Canvas3D *c, const Group *g, C3dProgram *p, Instance **list, int n, int nl, bool sorted,
-                      bool see_through, const Camera *cam)
+/* The opaque spheres drawn on octagons from which the occluders' pass
+ * draws their proxies (the spheres' own octagons then being drawn with
+ * p->billboard_occluded): its cost is a depth buffer cleared and filled,
+ * and a read of it by every sphere fragment; its gain, the rays and
+ * lighting of hidden sphere fragments. */
+#define PROXY_MIN_SPHERES 8
+
+/* What the occluders' pass drew (a bit set). */
+enum { OCCLUDED_MESHES = 1, OCCLUDED_SPHERES = 2 };
+
+/* The occluders' pass of group [g] (canvas3d_occlusion.h), with a depth
+ * test and composite "over" (an opaque fragment then replaces what is
+ * behind it: hidden ones leave no trace), into c->occlusion:
+ *   - with multisampling, its opaque non-sphere meshes of [list] (n,
+ *     sorted by mesh) drawn depth only, when there are at least two, they
+ *     lie OCCLUSION_MIN_LAYERS deep or more and the group has
+ *     OCCLUSION_MIN_LIGHTS lights ([nl]) or more (with
+ *     C3D_OCCLUSION_ALWAYS whenever there is one): the group's opaque
+ *     meshes are then drawn with p->occluded (OCCLUDED_MESHES);
+ *   - without multisampling, the proxies of its opaque spheres that
+ *     dispatch draws on octagons, when there are PROXY_MIN_SPHERES of
+ *     them or more (with C3D_OCCLUSION_ALWAYS, one or more): those
+ *     octagons are then drawn with p->billboard_occluded
+ *     (OCCLUDED_SPHERES). With samples, a multisampled depth buffer to
+ *     clear and fill and every sample of it read cost more than the
+ *     hidden fragments (bench/PROFILE.md, "Spheres' proxies").
+ * Each discards only fragments that lie behind an opaque surface at
+ * every sample: the picture is the same. Returns what was drawn (0:
+ * nothing), the programs' uniforms set. */
+static int occluders(Canvas3D *c, const Group *g, C3dProgram *p, Instance **list, int n, int nl, bool sorted,
+                     bool see_through, const Camera *cam)
 {
     bool always = c->occlusion_mode == C3D_OCCLUSION_ALWAYS;
-    if (c->occlusion_mode == C3D_OCCLUSION_NEVER || c->samples_used < 2 || !g->depth_test || g->composite != COMP_OVER ||
-        (nl < OCCLUSION_MIN_LIGHTS && !always))
-        return false;
+    if (c->occlusion_mode == C3D_OCCLUSION_NEVER || !g->depth_test || g->composite != COMP_OVER) return 0;
     if (c->cap_occ < n) {
         c->cap_occ = n;
         c->occ = mem_realloc_array(c->occ, (size_t)c->cap_occ, sizeof *c->occ);
     }
+    /* the meshes into c->occ[0..m), the spheres' proxies after them */
     int m = 0;
-    for (int i = 0; i < n; i++) {
-        const Instance *in = list[i];
-        if (drawn_opaque(in, sorted, see_through) && in->mesh->key.kind != MESH_SPHERE) c->occ[m++] = list[i];
+    if (c->samples_used >= 2 && (nl >= OCCLUSION_MIN_LIGHTS || always))
+        for (int i = 0; i < n; i++) {
+            const Instance *in = list[i];
+            if (drawn_opaque(in, sorted, see_through) && in->mesh->key.kind != MESH_SPHERE) c->occ[m++] = list[i];
+        }
+    bool meshes = m >= 1 && (always || (m >= 2 && layers(c, cam, m) >= OCCLUSION_MIN_LAYERS)) &&
+                  c3d_program_occlusion(p);
+    if (!meshes) m = 0;
+    int ns = 0;
+    bool cull_back = g->face_cull && !g->cull_front;
+    if (c->samples_used <= 1 && c->octagons && p->billboard.prog && view_is_look_at(cam))
+        for (int i = 0; i < n; i++) {
+            Instance *in = list[i];
+            if (drawn_opaque(in, sorted, see_through) && impostor_mesh(c, in->mesh, p, cull_back) &&
+                impostor_fits(in, cam) && billboard_fits(in, cam))
+                c->occ[m + ns++] = in;
+        }
+    bool spheres = ns >= (always ? 1 : PROXY_MIN_SPHERES) && c3d_program_proxies(p);
+    if (!meshes && !spheres) return 0;
+    if (meshes) {
+        set_uniforms(c, &p->depth, p, cam);
+        set_uniforms(c, &p->occluded, p, cam);
     }
-    if (m < 1 || (!always && (m < 2 || layers(c, cam, m) < OCCLUSION_MIN_LAYERS)) || !c3d_program_occlusion(p))
-        return false;
-    set_uniforms(c, &p->depth, p, cam);
-    set_uniforms(c, &p->occluded, p, cam);
-    if (!c3d_occlusion_begin(&c->occlusion, c->width, c->height, c->samples_used)) return false;
+    if (spheres) {
+        set_uniforms(c, &p->proxy, p, cam);
+        set_uniforms(c, &p->billboard_occluded, p, cam);
+    }
+    if (!c3d_occlusion_begin(&c->occlusion, c->width, c->height, c->samples_used)) return 0;
     for (int a = 0; a < m;) {
         int b = a;
         while (b < m && c->occ[b]->mesh == c->occ[a]->mesh) b++;
         draw_instances(c, c->occ + a, b - a, c->occ[a]->mesh, &p->depth);
         a = b;
     }
+    if (spheres) {
+        MeshKey octagon = {.kind = MESH_OCTAGON};
+        draw_instances(c, c->occ + m, ns, mesh_cache_get(c->meshes, &octagon), &p->proxy);
+    }
     c3d_occlusion_end(&c->occlusion);
-    return true;
+    return (meshes ? OCCLUDED_MESHES : 0) | (spheres ? OCCLUDED_SPHERES : 0);
 }
 
 /* The textures of set [ts] found (the canvas's env gives them by id),
@@ -712,7 +762,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     }
     rank_meshes(c, list, n);
     qsort(list, (size_t)n, sizeof *list, by_mesh_then_z);
-    bool occluded = occluders(c, g, p, list, n, nl, sorted, see_through, cam);
+    int occluded = occluders(c, g, p, list, n, nl, sorted, see_through, cam);
     /* opaque instances: per mesh, front to back; transparent and
      * translucent ones moved to the end (unsorted translucent ones drawn
      * after their mesh's others) */
@@ -730,7 +780,8 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
                 c->tl[kt++] = list[j];
             j++;
         }
-        dispatch(c, list + i, k, p, cam, g->face_cull && !g->cull_front, occluded ? &p->occluded : &p->mesh);
+        dispatch(c, list + i, k, p, cam, g->face_cull && !g->cull_front,
+                 occluded & OCCLUDED_MESHES ? &p->occluded : &p->mesh, occluded & OCCLUDED_SPHERES);
         draw_instances(c, c->tl, kt, list[i]->mesh, &p->translucent);
         i = j;
     }
@@ -757,7 +808,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
             b++;
         glDepthMask(tl ? GL_TRUE : GL_FALSE);
         if (tl) draw_instances(c, transparent + a, b - a, transparent[a]->mesh, &p->translucent);
-        else dispatch(c, transparent + a, b - a, p, cam, g->face_cull && !g->cull_front, &p->mesh);
+        else dispatch(c, transparent + a, b - a, p, cam, g->face_cull && !g->cull_front, &p->mesh, false);
         a = b;
     }
     glDepthMask(GL_TRUE);

@@ -16,16 +16,29 @@ void c3d_occlusion_free(C3dOcclusion *o)
     memset(o, 0, sizeof *o);
 }
 
+/* The texture target of [samples] samples. */
+static GLenum target_of(int samples) { return samples > 1 ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D; }
+
 static bool make(C3dOcclusion *o, int w, int h, int samples)
 {
+    GLenum target = target_of(samples);
     glGenTextures(1, &o->depth);
-    glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, o->depth);
-    /* fixed sample locations, as the picture's renderbuffers have */
-    glTexImage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, samples, GL_DEPTH_COMPONENT24, w, h, GL_TRUE);
-    glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+    glBindTexture(target, o->depth);
+    if (samples > 1) {
+        /* fixed sample locations, as the picture's renderbuffers have */
+        glTexImage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, samples, GL_DEPTH_COMPONENT24, w, h, GL_TRUE);
+    } else {
+        /* complete without mipmaps (texelFetch reads level 0), no comparison */
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, w, h, 0, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+    }
+    glBindTexture(target, 0);
     glGenFramebuffers(1, &o->fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, o->fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D_MULTISAMPLE, o->depth, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, target, o->depth, 0);
     glDrawBuffer(GL_NONE);
     glReadBuffer(GL_NONE);
     o->w = w;
@@ -56,7 +69,7 @@ void c3d_occlusion_end(C3dOcclusion *o)
 {
     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)o->previous_fbo);
     glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, o->depth);
+    glBindTexture(target_of(o->samples), o->depth);
     glActiveTexture(GL_TEXTURE0);
 }
 
@@ -64,5 +77,6 @@ void c3d_occlusion_unbind(void)
 {
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+    glBindTexture(GL_TEXTURE_2D, 0);
     glActiveTexture(GL_TEXTURE0);
 }

@@ -17,6 +17,18 @@
  * occluders' there. The picture is the same, bit for bit (tests/gl,
  * occlusion_as_without). One per renderer, remade only when the size or
  * the sample count changes.
+ *
+ * Sphere impostors drawn on octagons write their own depth, so llvmpipe
+ * tests their depth only after their whole shader, with one sample too:
+ * spheres in front of one another pay their rays and lighting once per
+ * layer. Without multisampling, their occluders are proxies drawn into
+ * the same framebuffer: for each opaque sphere, an octagon through its
+ * centre, facing the eye, within its great disc, which lies behind the
+ * sphere's surface on every ray through it. The BILLBOARD_OCCLUDED
+ * program then discards a fragment whose own octagon (which touches the
+ * sphere's near side: nearer than the surface on every ray) lies behind
+ * the proxies, or whose surface does (canvas3d_draw.c, occluders;
+ * tests/gl, proxies_as_without).
  */
 #ifndef FL_RENDER_CANVAS3D_OCCLUSION_H
 #define FL_RENDER_CANVAS3D_OCCLUSION_H
@@ -25,13 +37,15 @@
 
 typedef struct C3dOcclusion {
     unsigned fbo;        /* the framebuffer (0: none made yet) */
-    unsigned depth;      /* its multisampled 24-bit depth texture, read by C3D_FRAG_OCCLUDED (texture unit 1) */
+    unsigned depth;      /* its 24-bit depth texture, multisampled with 2 samples or more, else a plain
+                            2D texture, read by C3D_FRAG_OCCLUDED and
+                            C3D_FRAG_BILLBOARD_OCCLUDED (texture unit 1) */
     int w, h, samples;   /* its size in pixels and sample count */
     int previous_fbo;    /* the draw framebuffer bound when the pass began */
 } C3dOcclusion;
 
-/* Bind [o]'s framebuffer of [w] x [h] pixels and [samples] samples (at
- * least 2; made or remade as needed) and clear its depth to 1, keeping
+/* Bind [o]'s framebuffer of [w] x [h] pixels and [samples] samples (0 or
+ * more; made or remade as needed) and clear its depth to 1, keeping
  * the viewport, the depth test and face culling as they are; the draws
  * that follow write only depth there.
  *   errors: false (the previous framebuffer bound again) when the driver
@@ -40,8 +54,8 @@ bool c3d_occlusion_begin(C3dOcclusion *o, int w, int h, int samples);
 /* Bind the framebuffer bound before c3d_occlusion_begin again, and [o]'s
  * depth texture to texture unit 1 (unit 0 active on return). */
 void c3d_occlusion_end(C3dOcclusion *o);
-/* Unbind the depth texture from texture unit 1 (unit 0 active on
- * return). */
+/* Unbind any depth texture (multisampled or not) from texture unit 1
+ * (unit 0 active on return). */
 void c3d_occlusion_unbind(void);
 /* Delete [o]'s framebuffer and texture (a GL context current); [o] is
  * zeroed. */

@@ -68,7 +68,7 @@ static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int va
 #define U(name) sh->u_##name = glGetUniformLocation(p, #name)
     U(view_position); U(view_focus); U(orthographic); U(fog_min); U(fog_max); U(fog_curve);
     U(fog_color); U(monochrome); U(tint); U(light_ends); U(inverse_pv); U(viewport_size); U(nsamples);
-    U(sample_offsets); U(billboard);
+    U(sample_offsets); U(billboard); U(proxy);
 #undef U
     sh->u_pv = glGetUniformLocation(p, "pv_matrix");
     GLint backfaces = glGetUniformLocation(p, "backface_data");
@@ -94,7 +94,12 @@ static bool link(C3dShader *sh, const char *vsrc, const C3dFragSpec *key, int va
         /* the vertex shader's proxy: the octagon for the BILLBOARD
          * variant, the box for the other impostors */
         glUseProgram(p);
-        glUniform1i(sh->u_billboard, variant == C3D_FRAG_BILLBOARD);
+        glUniform1i(sh->u_billboard, variant == C3D_FRAG_BILLBOARD || variant == C3D_FRAG_BILLBOARD_OCCLUDED ||
+                                         variant == C3D_FRAG_PROXY);
+    }
+    if (sh->u_proxy >= 0) {
+        glUseProgram(p);
+        glUniform1i(sh->u_proxy, variant == C3D_FRAG_PROXY);
     }
     return true;
 }
@@ -154,8 +159,25 @@ bool c3d_program_occlusion(C3dProgram *p)
     return false;
 }
 
+bool c3d_program_proxies(C3dProgram *p)
+{
+    if (p->billboard_occluded.prog) return true;
+    if (p->proxies_failed || !p->billboard.prog) return false;
+    Buf err = BUF_INIT;   /* the caller draws without proxies, quietly */
+    bool ok = link(&p->proxy, canvas3d_impostor_vertex_source, &p->key, C3D_FRAG_PROXY, &err) &&
+              link(&p->billboard_occluded, canvas3d_impostor_vertex_source, &p->key, C3D_FRAG_BILLBOARD_OCCLUDED, &err);
+    buf_free(&err);
+    if (ok) return true;
+    if (p->proxy.prog) glDeleteProgram(p->proxy.prog);
+    memset(&p->proxy, 0, sizeof p->proxy);
+    p->proxies_failed = true;
+    return false;
+}
+
 void c3d_program_free(C3dProgram *p)
 {
+    if (p->proxy.prog) glDeleteProgram(p->proxy.prog);
+    if (p->billboard_occluded.prog) glDeleteProgram(p->billboard_occluded.prog);
     if (p->depth.prog) glDeleteProgram(p->depth.prog);
     if (p->occluded.prog) glDeleteProgram(p->occluded.prog);
     if (p->mesh.prog) glDeleteProgram(p->mesh.prog);

@@ -20,7 +20,7 @@ typedef struct C3dShader {
     unsigned prog;   /* GL name, 0 when it could not be made */
     int u_pv, u_view_position, u_view_focus, u_orthographic, u_fog_min, u_fog_max, u_fog_curve, u_fog_color,
         u_monochrome, u_tint, u_light_ends;
-    int u_inverse_pv, u_viewport_size, u_nsamples, u_sample_offsets, u_billboard;   /* impostors only */
+    int u_inverse_pv, u_viewport_size, u_nsamples, u_sample_offsets, u_billboard, u_proxy;   /* impostors only */
 } C3dShader;
 
 typedef struct C3dProgram {
@@ -36,6 +36,9 @@ typedef struct C3dProgram {
     C3dShader depth;       /* the occluders' depth pass (prog 0 until made) */
     C3dShader occluded;    /* meshes discarding what the occluders hide, texture unit 1 (0 until made) */
     bool occlusion_failed;      /* making the two did not work: not tried again */
+    C3dShader proxy;       /* spheres' proxies in the occluders' pass (C3D_FRAG_PROXY; prog 0 until made) */
+    C3dShader billboard_occluded;   /* billboard discarding what the occluders hide, texture unit 1 (0 until made) */
+    bool proxies_failed;        /* making the two did not work: not tried again */
 } C3dProgram;
 
 /* Compile and link the programs for [key] (its variant ignored; see
@@ -57,6 +60,13 @@ bool c3d_program_translucency(C3dProgram *p, Buf *err);
  *   errors: false when they do not compile or link (then, and on every
  *           later call, false; the meshes are drawn without). */
 bool c3d_program_occlusion(C3dProgram *p);
+/* Make [p]'s sphere proxies' depth program and its BILLBOARD_OCCLUDED
+ * program (canvas3d_draw.c, occluders) when not made yet (a GL context
+ * current; [p]'s billboard program made).
+ *   errors: false when there is no billboard program or they do not
+ *           compile or link (then, and on every later call, false; the
+ *           spheres are drawn without). */
+bool c3d_program_proxies(C3dProgram *p);
 /* Delete [p]'s programs and buffer (the context current); [p] is zeroed. */
 void c3d_program_free(C3dProgram *p);
 

@@ -76,6 +76,7 @@ const char canvas3d_impostor_vertex_source[] =
     "uniform mat4 pv_matrix;\n"
     "uniform mat4 inverse_pv;\n"
     "uniform bool billboard;\n"
+    "uniform bool proxy;\n"
     "uniform vec3 view_position;\n"
     "uniform vec3 view_focus;\n"
     "uniform bool orthographic;\n"
@@ -100,7 +101,14 @@ const char canvas3d_impostor_vertex_source[] =
     "        }\n"
     "        vec3 right = normalize(cross(v, abs(v.z) < 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0)));\n"
     "        vec3 up = cross(right, v);\n"
-    "        p = vec4(c - v * r + (model_position.x * right + model_position.y * up) * (rho * 1.01), 1.0);\n"
+    "        if (proxy)\n"
+    /* the occluders' proxy (C3D_FRAG_PROXY): the octagon in the plane
+     * through the centre, facing the eye, its rim 0.9 r from the centre:
+     * inside the sphere's great disc, so that every ray through it meets
+     * the sphere nearer than it (canvas3d_draw.c, occluders) */
+    "            p = vec4(c + (model_position.x * right + model_position.y * up) * (r * 0.9 * 0.9238795325112867), 1.0);\n"
+    "        else\n"
+    "            p = vec4(c - v * r + (model_position.x * right + model_position.y * up) * (rho * 1.01), 1.0);\n"
     "    } else {\n"
     "        p = model_matrix * vec4(model_position * 2.0, 1.0);\n"   /* the unit box, made to enclose the unit sphere */
     "    }\n"
@@ -502,7 +510,18 @@ static const char impostor_main[] =
     "    t = (-qb - sqrt(max(disc, 0.0))) / qa;\n"
     "    return disc >= 0.0 && t >= 0.0;\n"
     "}\n"
+    "#ifdef OCCLUDED\n"
+    "uniform sampler2D occluders;\n"
+    "#endif\n"
     "void main() {\n"
+    "#ifdef OCCLUDED\n"
+    /* (one sample) the octagon lies in the plane touching the sphere's
+     * near side, so its depth is at most the sphere's on every ray through
+     * it; the fragment is discarded, before its ray is cast, where that
+     * plane lies behind the occluders' proxies, with mesh_main's margin */
+    "    float occluder = texelFetch(occluders, ivec2(gl_FragCoord.xy), 0).r;\n"
+    "    if (gl_FragCoord.z > occluder + 4.0 / 16777216.0) discard;\n"
+    "#endif\n"
     "    vec3 o, d;\n"
     "    float t;\n"
     "    vec2 w;\n"
@@ -553,6 +572,11 @@ static const char impostor_main[] =
      * 2s - 1, window depth s), s = t w0 / ((1 - t) w1 + t w0) */
     "    float s = t * w.x / ((1.0 - t) * w.y + t * w.x);\n"
     "    if (s > 1.0) discard;\n"
+    "#ifdef OCCLUDED\n"
+    /* the surface's depth behind the occluders': no lighting for a
+     * fragment that would fail its depth test */
+    "    if (s > occluder + 4.0 / 16777216.0) discard;\n"
+    "#endif\n"
     "    gl_FragDepth = s;\n"
     "    shade(model_affine * vec4(m, 1.0), normal_mat * m);\n"
     "}\n";
@@ -574,13 +598,13 @@ static void put(char *out, size_t cap, size_t *n, const char *fmt, ...)
 size_t canvas3d_fragment_source(char *out, size_t cap, const C3dFragSpec *spec)
 {
     int variant = spec->variant;
-    if (variant == C3D_FRAG_DEPTH) {
+    if (variant == C3D_FRAG_DEPTH || variant == C3D_FRAG_PROXY) {
         static const char depth_only[] = "#version 330 core\nvoid main() {}\n";
         if (out && cap) snprintf(out, cap, "%s", depth_only);
         return sizeof depth_only - 1;
     }
     unsigned kinds = spec->kinds, camera = spec->camera;
-    bool impostor = variant == C3D_FRAG_IMPOSTOR || variant == C3D_FRAG_BILLBOARD;
+    bool impostor = variant == C3D_FRAG_IMPOSTOR || variant == C3D_FRAG_BILLBOARD || variant == C3D_FRAG_BILLBOARD_OCCLUDED;
     size_t n = 0;
     if (out && cap) out[0] = '\0';
 #define KIND(k) ((kinds >> (k)) & 1u)
@@ -597,8 +621,9 @@ size_t canvas3d_fragment_source(char *out, size_t cap, const C3dFragSpec *spec)
 #undef KIND
     if (variant == C3D_FRAG_BACKFACE) put(out, cap, &n, "#define BACKFACE\n");
     if (variant == C3D_FRAG_TRANSLUCENT) put(out, cap, &n, "#define TRANSLUCENT\n%s", translucency_functions);
-    if (variant == C3D_FRAG_BILLBOARD || variant == C3D_FRAG_OCCLUDED)
-        put(out, cap, &n, "%s\n#define NSAMPLES %d\n", variant == C3D_FRAG_BILLBOARD ? "#define BILLBOARD" : "#define OCCLUDED",
+    if (variant == C3D_FRAG_BILLBOARD || variant == C3D_FRAG_OCCLUDED || variant == C3D_FRAG_BILLBOARD_OCCLUDED)
+        put(out, cap, &n, "%s%s\n#define NSAMPLES %d\n", variant != C3D_FRAG_OCCLUDED ? "#define BILLBOARD\n" : "",
+            variant != C3D_FRAG_BILLBOARD ? "#define OCCLUDED" : "",
             spec->nsamples < 1 ? 1 : spec->nsamples > 8 ? 8 : spec->nsamples);
     put(out, cap, &n, "%s", fragment_head);
     int nlist = spec->nlist > C3D_LIST_MAX ? C3D_LIST_MAX : spec->nlist;

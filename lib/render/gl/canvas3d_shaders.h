@@ -43,9 +43,15 @@ extern const char canvas3d_impostor_vertex_source[];
  * (OCCLUDED: the mesh shader, first discarding a fragment that lies, at
  * every one of the NSAMPLES samples of its pixel, behind the depth of
  * the uniform sampler2DMS occluders, texture unit 1:
- * canvas3d_occlusion.h); the occluders' depth pass (DEPTH: no output). */
+ * canvas3d_occlusion.h); the occluders' depth pass (DEPTH: no output);
+ * sphere impostors on their octagon behind occluders (BILLBOARD_OCCLUDED,
+ * one sample only: BILLBOARD, first discarding a fragment whose octagon,
+ * then whose surface, lies behind the depth of the uniform sampler2D
+ * occluders, texture unit 1); the spheres' proxies in
+ * the occluders' pass (PROXY: DEPTH's shader, the impostor vertex
+ * shader's `proxy` octagon through the centre). */
 enum { C3D_FRAG_MESH, C3D_FRAG_IMPOSTOR, C3D_FRAG_BACKFACE, C3D_FRAG_TRANSLUCENT, C3D_FRAG_BILLBOARD,
-       C3D_FRAG_OCCLUDED, C3D_FRAG_DEPTH };
+       C3D_FRAG_OCCLUDED, C3D_FRAG_DEPTH, C3D_FRAG_BILLBOARD_OCCLUDED, C3D_FRAG_PROXY };
 
 /* What of the camera a fragment shader is compiled for (C3dFragSpec's
  * camera bits), so that the paths a camera does not take are not in it
