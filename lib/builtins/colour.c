@@ -25,11 +25,16 @@ static double cmin(double a, double b) { return (b < a) ? b : a; }
 /* HSL / HSV                                                           */
 /* ------------------------------------------------------------------ */
 
-/* fmod(t, 6), bit for bit, without the libm call in the usual range:
- * fmod's result is exact, and so are these for |t| < 12 - t itself when
- * |t| < 6, t - 6 or t + 6 beyond (Sterbenz: 6 <= |t| <= 12, the difference
- * is representable), each with fmod's sign; fmod for the rest (larger,
- * infinite or NaN t, and t == -6, whose fmod is -0). */
+/* A number congruent to t modulo 6 in (-6, 6), exactly, without the libm
+ * call for |t| < 2^48: where it differs from fmod(t, 6) (by 6, or in the
+ * sign of a zero), hue_to_rgb's `t < 0: t += 6` makes the two the same
+ * number. For |t| < 6 that is t itself; below 12, t - 6 or t + 6
+ * (Sterbenz: the difference is representable). Beyond, t - 6k for k the
+ * quotient t / 6 truncated, which its rounding may make one too large in
+ * magnitude: 6k is exact (an integer below 2^51), and so is t - 6k, a
+ * difference that is a multiple of t's last place and smaller than t.
+ * Larger, infinite or NaN t go to fmod. Hues that grow with the beat
+ * (`hsv(beat/10;1;1)`) pass 12 within minutes. */
 static inline __attribute__((always_inline)) double mod6(double t)
 {
     if (t > -6 && t < 6)
@@ -38,6 +43,8 @@ static inline __attribute__((always_inline)) double mod6(double t)
         return t - 6;
     if (t < -6 && t > -12)
         return t + 6;
+    if (t > -0x1p48 && t < 0x1p48)
+        return t - 6 * (double)(int64_t)(t / 6);
     return fmod(t, 6);
 }
 

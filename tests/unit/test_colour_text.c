@@ -242,15 +242,19 @@ static void ref_hsl(double h, double s, double l, double out[3])
 }
 
 /* hsl() bit for bit against the fmod formulation, at the edges of the
- * remainder's shortcuts (|6h +- 2| near 0, 6, 12, signed zeros, huge,
- * infinite and NaN hues) and at random hues. */
+ * remainder's shortcuts (|6h +- 2| near 0, 6, 12, multiples of 6 far
+ * beyond, 2^48 where the quotient's route ends, signed zeros, huge,
+ * infinite and NaN hues), at random hues and at random hues of every
+ * magnitude up to 2^60. */
 static void test_hsl_fmod_bits(void **state)
 {
     Fx *fx = *state;
-    double hues[600];
+    double hues[4000];
     size_t n = 0;
     const double edges[] = {0.0, -0.0, 1.0, -1.0, 2.0, -2.0, 4.0, -4.0, 6.0, -6.0, 8.0, -8.0,
-                            10.0, -10.0, 12.0, -12.0, 14.0, -14.0, 1e300, -1e300, INFINITY,
+                            10.0, -10.0, 12.0, -12.0, 14.0, -14.0, 18.0, -18.0, 600.0, -6000.0,
+                            6.0 * 123456789, -6.0 * 987654321, 6.0 * 0x1p40, 0x1p47, -0x1p47,
+                            0x1p48, -0x1p48, 0x1p48 - 6, -0x1p48 + 6, 1e300, -1e300, INFINITY,
                             -INFINITY, NAN};
     for (size_t i = 0; i < sizeof edges / sizeof edges[0]; i++) {
         /* hues whose 6h, 6h+2 or 6h-2 land on or next to the edge */
@@ -264,7 +268,11 @@ static void test_hsl_fmod_bits(void **state)
     uint64_t x = 0x9e3779b97f4a7c15u;
     while (n < sizeof hues / sizeof hues[0]) {
         x ^= x << 13; x ^= x >> 7; x ^= x << 17;
-        hues[n++] = ((double)(x >> 11) / 9007199254740992.0) * 6 - 3;   /* [-3, 3) */
+        double u = (double)(x >> 11) / 9007199254740992.0;
+        if (n % 2)
+            hues[n++] = u * 6 - 3;   /* [-3, 3) */
+        else   /* +-[1, 2^60), log-uniform */
+            hues[n++] = (x & 1 ? -1 : 1) * exp2(u * 60);
     }
     for (size_t i = 0; i < n; i++) {
         double ref[3];
