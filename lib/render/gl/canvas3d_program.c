@@ -131,47 +131,45 @@ bool c3d_program_make(C3dProgram *p, const C3dFragSpec *key, Buf *err, Buf *note
     return true;
 }
 
+/* Link the pair of programs [a] (fragment [va]) and [b] (fragment [vb]),
+ * both with vertex shader [vsrc], of [p]'s key, when [b] is not made yet
+ * and *[failed] is not set; on failure, [a] is deleted again and
+ * *[failed] set, so that the pair is not tried again. */
+static bool link_pair(C3dProgram *p, C3dShader *a, int va, C3dShader *b, int vb, const char *vsrc, bool *failed,
+                      Buf *err)
+{
+    if (b->prog) return true;
+    if (*failed) return false;
+    if (link(a, vsrc, &p->key, va, err) && link(b, vsrc, &p->key, vb, err)) return true;
+    if (a->prog) glDeleteProgram(a->prog);
+    memset(a, 0, sizeof *a);
+    *failed = true;
+    return false;
+}
+
 bool c3d_program_translucency(C3dProgram *p, Buf *err)
 {
-    if (p->translucent.prog) return true;
-    if (p->translucency_failed) return false;
-    if (link(&p->backface, canvas3d_vertex_source, &p->key, C3D_FRAG_BACKFACE, err) &&
-        link(&p->translucent, canvas3d_vertex_source, &p->key, C3D_FRAG_TRANSLUCENT, err))
-        return true;
-    if (p->backface.prog) glDeleteProgram(p->backface.prog);
-    memset(&p->backface, 0, sizeof p->backface);
-    p->translucency_failed = true;
-    return false;
+    return link_pair(p, &p->backface, C3D_FRAG_BACKFACE, &p->translucent, C3D_FRAG_TRANSLUCENT,
+                     canvas3d_vertex_source, &p->translucency_failed, err);
 }
 
 bool c3d_program_occlusion(C3dProgram *p)
 {
-    if (p->occluded.prog) return true;
-    if (p->occlusion_failed) return false;
     Buf err = BUF_INIT;   /* the caller draws without occlusion, quietly */
-    bool ok = link(&p->depth, canvas3d_vertex_source, &p->key, C3D_FRAG_DEPTH, &err) &&
-              link(&p->occluded, canvas3d_vertex_source, &p->key, C3D_FRAG_OCCLUDED, &err);
+    bool ok = link_pair(p, &p->depth, C3D_FRAG_DEPTH, &p->occluded, C3D_FRAG_OCCLUDED, canvas3d_vertex_source,
+                        &p->occlusion_failed, &err);
     buf_free(&err);
-    if (ok) return true;
-    if (p->depth.prog) glDeleteProgram(p->depth.prog);
-    memset(&p->depth, 0, sizeof p->depth);
-    p->occlusion_failed = true;
-    return false;
+    return ok;
 }
 
 bool c3d_program_proxies(C3dProgram *p)
 {
-    if (p->billboard_occluded.prog) return true;
-    if (p->proxies_failed || !p->billboard.prog) return false;
+    if (!p->billboard.prog) return false;
     Buf err = BUF_INIT;   /* the caller draws without proxies, quietly */
-    bool ok = link(&p->proxy, canvas3d_impostor_vertex_source, &p->key, C3D_FRAG_PROXY, &err) &&
-              link(&p->billboard_occluded, canvas3d_impostor_vertex_source, &p->key, C3D_FRAG_BILLBOARD_OCCLUDED, &err);
+    bool ok = link_pair(p, &p->proxy, C3D_FRAG_PROXY, &p->billboard_occluded, C3D_FRAG_BILLBOARD_OCCLUDED,
+                        canvas3d_impostor_vertex_source, &p->proxies_failed, &err);
     buf_free(&err);
-    if (ok) return true;
-    if (p->proxy.prog) glDeleteProgram(p->proxy.prog);
-    memset(&p->proxy, 0, sizeof p->proxy);
-    p->proxies_failed = true;
-    return false;
+    return ok;
 }
 
 void c3d_program_free(C3dProgram *p)
