@@ -123,6 +123,9 @@ typedef struct fl_debug_options {
                               spheres, FL_IMPOSTORS_* */
     int occlusion;         /* FLITTER_CANVAS3D_OCCLUSION: !canvas3d's occlusion
                               culling, FL_OCCLUSION_* */
+    bool no_light_culling; /* FLITTER_CANVAS3D_CULLING=0: !canvas3d draws every
+                              mesh with all of its group's lights, none left
+                              out as unable to reach it */
     bool no_draw;          /* FLITTER_NODRAW: a frame is drawn only when a front
                               end asks for a window's picture; !record writes
                               nothing (to time evaluation and physics alone) */

@@ -669,6 +669,7 @@ void runspec_options_from_env(fl_options *o)
     d->occlusion = env_is("FLITTER_CANVAS3D_OCCLUSION", "0")   ? FL_OCCLUSION_NEVER
                    : env_is("FLITTER_CANVAS3D_OCCLUSION", "1") ? FL_OCCLUSION_ALWAYS
                                                                : FL_OCCLUSION_AUTO;
+    d->no_light_culling = env_is("FLITTER_CANVAS3D_CULLING", "0");
 }
 
 fl_runtime *runspec_runtime(const RunSpec *spec, RunLog *files, volatile int *interrupt)

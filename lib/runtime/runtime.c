@@ -304,7 +304,8 @@ fl_runtime *fl_new(const fl_options *opts)
                 .box_impostors = rt->opts.debug.impostors == FL_IMPOSTORS_BOX,
                 .occlusion = rt->opts.debug.occlusion == FL_OCCLUSION_ALWAYS  ? C3D_OCCLUSION_ALWAYS
                              : rt->opts.debug.occlusion == FL_OCCLUSION_NEVER ? C3D_OCCLUSION_NEVER
-                                                                              : C3D_OCCLUSION_AUTO},
+                                                                              : C3D_OCCLUSION_AUTO,
+                .no_light_culling = rt->opts.debug.no_light_culling},
         .distance = sdf_distance, .function_key = sdf_function_key, .ctx = rt});
     rt->input = input_new();
     mem_leave(prev);

@@ -2,7 +2,8 @@
  * front end draws a window every frame (fl_step + fl_draw_window).
  *
  *   bench_canvas3d [WIDTH HEIGHT [NSPHERES [SAMPLES [FRAMES]]]]
- *   bench_canvas3d --script FILE [--fps F] [--frames N] [--physics P] [--occlusion O] [-D NAME=VALUE]...
+ *   bench_canvas3d --script FILE [--fps F] [--frames N] [--physics P] [--occlusion O] [--culling C]
+ *                  [-D NAME=VALUE]...
  *
  * The first form draws examples/physics.fl's picture without its physics:
  * NSPHERES (default 500) lit spheres of radius 5..50 scattered in a ball of
@@ -17,7 +18,8 @@
  * meshes, shaders) and is not counted. --physics is flitter's option
  * (documented or upstream); --occlusion (auto, always or never) is
  * FLITTER_CANVAS3D_OCCLUSION's choice of !canvas3d's occluders' pass
- * (unset, 1, 0), for measuring it.
+ * (unset, 1, 0), and --culling (on or off) FLITTER_CANVAS3D_CULLING's of
+ * its lights culled per mesh (unset, 0), for measuring them.
  *
  * Prints the mean drawing and stepping (evaluation and physics) wall times,
  * the fastest frame's drawing time and the mean CPU time of drawing (all
@@ -102,7 +104,7 @@ static int usage(void)
 {
     fprintf(stderr, "usage: bench_canvas3d [WIDTH HEIGHT [NSPHERES [SAMPLES [FRAMES]]]]\n"
                     "       bench_canvas3d --script FILE [--fps F] [--frames N] [--physics P] [--occlusion O]"
-                    " [-D NAME=VALUE]...\n");
+                    " [--culling on|off] [-D NAME=VALUE]...\n");
     return 2;
 }
 
@@ -127,6 +129,10 @@ static int script_mode(int argc, char **argv)
             if (strcmp(v, "auto") == 0) o.debug.occlusion = FL_OCCLUSION_AUTO;
             else if (strcmp(v, "always") == 0) o.debug.occlusion = FL_OCCLUSION_ALWAYS;
             else if (strcmp(v, "never") == 0) o.debug.occlusion = FL_OCCLUSION_NEVER;
+            else return usage();
+        } else if (strcmp(a, "--culling") == 0) {
+            if (strcmp(v, "on") == 0) o.debug.no_light_culling = false;
+            else if (strcmp(v, "off") == 0) o.debug.no_light_culling = true;
             else return usage();
         } else if (strcmp(a, "-D") == 0 && ndefines < 64) defines[ndefines++] = v;
         else return usage();

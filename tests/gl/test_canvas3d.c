@@ -1234,6 +1234,73 @@ static void proxies_as_without(void **st)
     }
 }
 
+/* Lights culled per mesh (canvas3d_cull.h): a light behind every face of
+ * a flat mesh adds nothing to it and is left out of its draw. Scenes with
+ * more lights than a listed program holds (the looping program culls),
+ * among them Flitter's examples/bounce.fl in small (its glass box's outer
+ * wall cannot see the lights of the balls inside, the inner one can),
+ * drawn with culling and without: equal pixel for pixel. */
+static void lights_culled_as_without(void **st)
+{
+    (void)st;
+    static uint32_t pix[2][W * H];
+    static const char *glass =
+        "        !light color=0.3\n"
+        "        !material transparency=0.9 color=1 roughness=0.15\n"
+        "            !transform translate=0;0;50\n"
+        "                !box size=100 invert=true\n"
+        "                !box size=102\n"
+        "        for i in ..12\n"
+        "            !light position=(uniform(:p;i)[..3]-0.5)*80+(0;0;50) falloff=1;0;1;0 color=hsv(i/12;0.9;1)*50"
+        " radius=2+uniform(:r)[i]*5\n"
+        "        for x in -1;1, y in -1;1\n"
+        "            !light color=0.05 direction=x;y;0.5+0.1*y-0.05*x\n";
+    static const char *spots =
+        "        !light color=0.1\n"
+        "        !box size=40 color=0.8 position=0;0;0\n"
+        "        !box size=30 invert=true color=0.6;0.7;0.8 position=60;0;0\n"
+        "        for i in ..6\n"
+        "            !light position=(i%3-1)*8;(i//3-0.5)*10;3 focus=0;0;30 color=40 outer=0.2\n"
+        "        for i in ..6\n"
+        "            !light position=60+(i%3-1)*8;(i//3-0.5)*10;0 color=40;0;0 falloff=1;0;0.1;0\n"
+        "        !light position=0;-60;60 color=2000 falloff=1;0;1;0\n";
+    static const char *translucent =
+        "        !light color=0.1\n"
+        "        !box size=30 color=0.9 translucency=20 position=0;0;0\n"
+        "        for i in ..10\n"
+        "            !light position=(uniform(:q;i)[..3]-0.5)*20 color=hsv(i/10;1;1)*20 falloff=1;0;1;0\n"
+        "        !light position=40;40;40 color=1000 falloff=1;0;1;0\n";
+    struct {
+        const char *head, *body;
+    } scenes[] = {
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=150;60;120 focus=0;0;50 fov=0.2 far=1000\n", glass},
+        {"!window size=64;64\n    !canvas3d samples=4 viewpoint=120;-90;100 focus=0;0;50 fov=0.2 far=1000"
+         " fog_color=0 fog_min=100 fog_max=400\n",
+         glass},
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=30;-80;50 focus=30;0;0 fov=0.25 far=500\n", spots},
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=20;-70;40 focus=0 fov=0.15 far=500\n", translucent},
+    };
+    char script[2048];
+    for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; s++) {
+        snprintf(script, sizeof script, "%s%s", scenes[s].head, scenes[s].body);
+        for (int k = 0; k < 2; k++) {
+            routes.no_light_culling = k == 1;
+            fl_runtime *rt = draw(script, pix[k]);
+            if (strstr(logged, "compile") || strstr(logged, "link")) fail_msg("scene %zu: %s", s, logged);
+            fl_free(rt);
+        }
+        routes = (fl_debug_options){0};
+        int lit = 0;
+        for (int i = 0; i < W * H; i++) {
+            if (pix[0][i] != pix[1][i])
+                fail_msg("scene %zu: pixel %d,%d is %08x, without culling %08x", s, i % W, i / W, pix[0][i],
+                         pix[1][i]);
+            lit += pix[1][i] != pix[1][0];
+        }
+        if (lit < 200) fail_msg("scene %zu: only %d pixels drawn", s, lit);
+    }
+}
+
 /* A group's meshes are drawn in the order of their first appearance in
  * it (Flitter iterates its group's models so), each mesh's instances
  * nearest first. In a group of composite "add", where the order shows: a
@@ -1288,6 +1355,7 @@ int main(void)
         cmocka_unit_test(listed_programs_capped),
         cmocka_unit_test(occlusion_as_without),
         cmocka_unit_test(proxies_as_without),
+        cmocka_unit_test(lights_culled_as_without),
         cmocka_unit_test(mesh_order_first_appearance),
         cmocka_unit_test(light_kinds_per_group),
         cmocka_unit_test(two_runtimes),

@@ -43,6 +43,7 @@ Canvas3D *canvas3d_new(const C3dRoutes *routes)
     c->octagons = !routes->box_impostors;
     c->occlusion_mode = routes->occlusion == C3D_OCCLUSION_ALWAYS || routes->occlusion == C3D_OCCLUSION_NEVER
                             ? routes->occlusion : C3D_OCCLUSION_AUTO;
+    c->light_culling = !routes->no_light_culling;
     for (int i = 0; i < C3D_CAMERAS; i++) c->cam_id[i] = (Buf)BUF_INIT;
     c->name = (Buf)BUF_INIT;
     return c;
@@ -603,6 +604,7 @@ void canvas3d_free(Canvas3D *c)
         mesh_cache_free(c->meshes);
         for (int i = 0; i < c->nprog; i++) c3d_program_free(&c->prog[i]);
         glDeleteBuffers(1, &c->instance_vbo);
+        if (c->cull_ubo) glDeleteBuffers(1, &c->cull_ubo);
         c3d_backface_free(&c->backface);
         c3d_occlusion_free(&c->occlusion);
     }
@@ -617,6 +619,7 @@ void canvas3d_free(Canvas3D *c)
     free(c->idata);
     free(c->lightbuf);
     free(c->lightsort);
+    free(c->cullbuf);
     free(c->texsets);
     for (int i = 0; i < C3D_CAMERAS; i++) buf_free(&c->cam_id[i]);
     buf_free(&c->name);

@@ -61,6 +61,7 @@ typedef struct C3dRoutes {
     bool no_impostors;   /* spheres always as meshes */
     bool box_impostors;  /* impostors always on their boxes, never on octagons */
     int occlusion;       /* C3D_OCCLUSION_* */
+    bool no_light_culling;   /* every light of a group in every draw (canvas3d_cull.h) */
 } C3dRoutes;
 
 /* A 3D renderer (its GL objects are made by the first drawing), drawing as

@@ -105,6 +105,47 @@ static void set_blend(int composite)
     }
 }
 
+/* The most light-instance-plane tests one draw makes to cull its lights
+ * (canvas3d_cull.h): thousands of flat meshes under hundreds of lights
+ * are drawn with all of them. */
+#define CULL_WORK_MAX 200000
+
+/* Leave out of the draw of [n] instances [list] of [mesh] with [sh] (in
+ * use) the lights of c->lightbuf that none of them can see: when there
+ * are such lights, bind a uniform buffer of the others, set [sh]'s
+ * light_ends to [ends] (filled here) and return true; the caller puts
+ * back c->cull_restore and c->light_ends after the draw. Only with a
+ * looping program (c->cull_nl set by c3d_draw_group) and a mesh shader
+ * (an impostor's mesh is its box or octagon, not its surface). */
+static bool cull_lights(Canvas3D *c, Instance **list, int n, const GlMesh *mesh, const C3dShader *sh,
+                        int ends[C3D_LIGHT_SLOTS])
+{
+    if (c->cull_nl <= 0 || mesh->planes.n <= 0 || sh->u_light_ends < 0 || sh->u_inverse_pv >= 0) return false;
+    if ((double)n * c->cull_nl * mesh->planes.n > CULL_WORK_MAX) return false;
+    int kept = 0;
+    for (int k = 0, i = 0; k < C3D_LIGHT_SLOTS; k++) {
+        /* (slots 2, 3 and 4: point lights, with and without a radius, and spot lights) */
+        for (; i < c->light_ends[k]; i++) {
+            const float *d = c->lightbuf + (size_t)16 * i;
+            bool unseen = k >= 2 && k <= 4;
+            for (int j = 0; unseen && j < n; j++) unseen = c3d_light_unseen(d, list[j]->model.m, &mesh->planes);
+            if (!unseen) memcpy(c->cullbuf + (size_t)16 * kept++, d, 64);
+        }
+        ends[k] = kept;
+    }
+    int all = c->light_ends[C3D_LIGHT_SLOTS - 1];
+    if (kept == all) return false;
+    c->lights_culled += all - kept;
+    if (!c->cull_ubo) glGenBuffers(1, &c->cull_ubo);
+    /* new storage for each draw: the last draw may still read the old */
+    glBindBuffer(GL_UNIFORM_BUFFER, c->cull_ubo);
+    glBufferData(GL_UNIFORM_BUFFER, (GLsizeiptr)c->cull_bytes, NULL, GL_STREAM_DRAW);
+    if (kept) glBufferSubData(GL_UNIFORM_BUFFER, 0, (GLsizeiptr)kept * 64, c->cullbuf);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 1, c->cull_ubo);
+    glUniform1iv(sh->u_light_ends, C3D_LIGHT_SLOTS, ends);
+    return true;
+}
+
 /* Draw [n] instances from [list] with the buffers of [mesh] and [sh]. */
 static void draw_instances(Canvas3D *c, Instance **list, int n, const GlMesh *mesh, const C3dShader *sh)
 {
@@ -139,7 +180,13 @@ static void draw_instances(Canvas3D *c, Instance **list, int n, const GlMesh *me
                               (const void *)(sizeof(float) * (size_t)offsets[a]));
         glVertexAttribDivisor(3 + a, 1);
     }
+    int ends[C3D_LIGHT_SLOTS];
+    bool culled = cull_lights(c, list, n, mesh, sh, ends);
     glDrawElementsInstanced(GL_TRIANGLES, mesh->nindex, GL_UNSIGNED_INT, NULL, n);
+    if (culled) {
+        glBindBufferBase(GL_UNIFORM_BUFFER, 1, c->cull_restore);
+        glUniform1iv(sh->u_light_ends, C3D_LIGHT_SLOTS, c->light_ends);
+    }
 }
 
 /* Whether a sphere instance may be drawn as an impostor: its bounding box
@@ -683,10 +730,12 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     /* the group's lights, then its ancestors', and their kinds */
     int nl = 0;
     unsigned kinds = 0;
+    c->cull_nl = 0;
     if (c->cap_lightbuf < g->max_lights * 16) {
         c->cap_lightbuf = g->max_lights * 16;
         c->lightbuf = mem_realloc_array(c->lightbuf, (size_t)c->cap_lightbuf, sizeof(float));
         c->lightsort = mem_realloc_array(c->lightsort, (size_t)c->cap_lightbuf, sizeof(float));
+        c->cullbuf = mem_realloc_array(c->cullbuf, (size_t)c->cap_lightbuf, sizeof(float));
     }
     for (int k = gi; k >= 0 && nl < g->max_lights; k = c->groups[k].parent)
         for (int l = 0; l < c->nlights && nl < g->max_lights; l++)
@@ -740,6 +789,13 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     set_uniforms(c, &p->mesh, p, cam);
     set_uniforms(c, &p->impostor, p, cam);
     set_uniforms(c, &p->billboard, p, cam);
+    /* a looping program's draws may leave out lights their meshes cannot
+     * see (a listed program's code is that of its lights, in order) */
+    if (c->light_culling && p->key.nlist == 0 && nl > 0) {
+        c->cull_nl = nl;
+        c->cull_restore = p->ubo;
+        c->cull_bytes = (size_t)p->key.max_lights * 64;
+    }
 
     group_state(g);
     glDepthMask(GL_TRUE);
@@ -787,6 +843,7 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
     }
     if (occluded) c3d_occlusion_unbind();
     if (nt == 0) {
+        c->cull_nl = 0;
         if (ntex) draw_textured(c, g, textured, ntex, cam, &key, nl, true, err);
         return;
     }
@@ -812,5 +869,6 @@ void c3d_draw_group(Canvas3D *c, int gi, Instance **list, int n, const Camera *c
         a = b;
     }
     glDepthMask(GL_TRUE);
+    c->cull_nl = 0;
     if (ntex) draw_textured(c, g, textured, ntex, cam, &key, nl, true, err);
 }

@@ -122,6 +122,14 @@ struct Canvas3D {
     float *lightbuf; int cap_lightbuf;    /* mat4s of one group, sorted by slot (C3D_LIGHT_SLOTS) */
     float *lightsort;                     /* scratch of cap_lightbuf floats for the sort */
     int light_ends[C3D_LIGHT_SLOTS];      /* where each slot's lights end in lightbuf */
+    /* lights culled per draw (canvas3d_cull.h): while a group's looping
+     * program draws, the lights of lightbuf that may be culled (0: none),
+     * its uniform buffer, and the block's size; the buffer of a draw's
+     * remaining lights, and their mat4s (cap_lightbuf floats) */
+    bool light_culling;                   /* lights may be culled (C3dRoutes.no_light_culling: never) */
+    int cull_nl; GLuint cull_restore; size_t cull_bytes;
+    GLuint cull_ubo; float *cullbuf;
+    long lights_culled;                   /* lights left out of draws, all frames (for tests) */
     TexSet *texsets; int ntexsets; size_t cap_texsets;   /* the frame's distinct textures; [0] none */
     /* the frame's cameras: the canvas's own first, then each !camera with an id */
     Camera cams[C3D_CAMERAS]; Buf cam_id[C3D_CAMERAS]; int ncams;

@@ -60,6 +60,7 @@ static GlMesh *upload(MeshCache *c, const MeshKey *key, MeshData *d)
             if (x < g->bounds[k]) g->bounds[k] = x;
             if (x > g->bounds[k + 3]) g->bounds[k + 3] = x;
         }
+    c3d_planes_make(&g->planes, d->verts, d->nverts, d->index, d->nindex);
     glGenVertexArrays(1, &g->vao);
     glBindVertexArray(g->vao);
     glGenBuffers(1, &g->vbo);

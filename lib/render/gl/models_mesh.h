@@ -9,6 +9,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "canvas3d_cull.h"
 #include "geom_primitives.h"
 #include "mem.h"
 
@@ -20,6 +21,7 @@ typedef struct GlMesh {
     float bounds[6];          /* model-space min x,y,z and max x,y,z */
     long used;                /* the frame it was last asked for (models' meshes) */
     size_t bytes;             /* charged to the budget */
+    C3dPlanes planes;         /* its flat faces' normals, for culling lights (canvas3d_cull.h) */
 } GlMesh;
 
 typedef struct MeshCache MeshCache;
