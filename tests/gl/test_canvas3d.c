@@ -1239,7 +1239,8 @@ static void proxies_as_without(void **st)
  * more lights than a listed program holds (the looping program culls),
  * among them Flitter's examples/bounce.fl in small (its glass box's outer
  * wall cannot see the lights of the balls inside, the inner one can),
- * drawn with culling and without: equal pixel for pixel. */
+ * and opaque boxes drawn behind the occluders' pass with samples, drawn
+ * with culling and without: equal pixel for pixel. */
 static void lights_culled_as_without(void **st)
 {
     (void)st;
@@ -1270,21 +1271,37 @@ static void lights_culled_as_without(void **st)
         "        for i in ..10\n"
         "            !light position=(uniform(:q;i)[..3]-0.5)*20 color=hsv(i/10;1;1)*20 falloff=1;0;1;0\n"
         "        !light position=40;40;40 color=1000 falloff=1;0;1;0\n";
+    /* opaque boxes two deep, with the occluders' pass (its occluded program culls too) */
+    static const char *stacked =
+        "        !light color=0.1\n"
+        "        !box size=30 color=0.7 position=0;0;0 uv_map=:repeat\n"   /* (a mesh of its own) */
+        "        for i in ..5\n"
+        "            !box size=6 color=0.9;0.5;0.2 position=(i-2)*5;-25-i*4;(i%2)*4\n"
+        "        for i in ..12\n"
+        "            !light position=(uniform(:s;i)[..3]-0.5)*20 color=hsv(i/12;1;1)*20 falloff=1;0;1;0\n"
+        "        !light position=30;-60;40 color=3000 falloff=1;0;1;0\n";
     struct {
         const char *head, *body;
+        int occlusion;
     } scenes[] = {
-        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=150;60;120 focus=0;0;50 fov=0.2 far=1000\n", glass},
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=150;60;120 focus=0;0;50 fov=0.2 far=1000\n", glass,
+         FL_OCCLUSION_AUTO},
         {"!window size=64;64\n    !canvas3d samples=4 viewpoint=120;-90;100 focus=0;0;50 fov=0.2 far=1000"
          " fog_color=0 fog_min=100 fog_max=400\n",
-         glass},
-        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=30;-80;50 focus=30;0;0 fov=0.25 far=500\n", spots},
-        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=20;-70;40 focus=0 fov=0.15 far=500\n", translucent},
+         glass, FL_OCCLUSION_AUTO},
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=30;-80;50 focus=30;0;0 fov=0.25 far=500\n", spots,
+         FL_OCCLUSION_AUTO},
+        {"!window size=64;64\n    !canvas3d samples=1 viewpoint=20;-70;40 focus=0 fov=0.15 far=500\n", translucent,
+         FL_OCCLUSION_AUTO},
+        {"!window size=64;64\n    !canvas3d samples=4 viewpoint=10;-90;30 focus=0 fov=0.2 far=500\n", stacked,
+         FL_OCCLUSION_ALWAYS},
     };
     char script[2048];
     for (size_t s = 0; s < sizeof scenes / sizeof scenes[0]; s++) {
         snprintf(script, sizeof script, "%s%s", scenes[s].head, scenes[s].body);
         for (int k = 0; k < 2; k++) {
             routes.no_light_culling = k == 1;
+            routes.occlusion = scenes[s].occlusion;
             fl_runtime *rt = draw(script, pix[k]);
             if (strstr(logged, "compile") || strstr(logged, "link")) fail_msg("scene %zu: %s", s, logged);
             fl_free(rt);

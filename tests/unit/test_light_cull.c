@@ -81,6 +81,12 @@ static void smooth_and_odd_meshes_have_none(void **st)
     v[21] = nextafterf(1.0f, 2.0f);
     c3d_planes_make(&p, v, 3, tri, 3);
     assert_int_equal(p.n, 0);
+    /* the same normal leaning off the triangle (the third vertex lifted
+     * along it by 0.001, against a tolerance of 1e-5 of its coordinates) */
+    v[18] = 0.001f;
+    c3d_planes_make(&p, v, 3, tri, 3);
+    assert_int_equal(p.n, 0);
+    v[18] = 0;
     /* an index past the vertices, a NaN, no triangle */
     v[21] = 1;
     uint32_t bad[3] = {0, 1, 3};
@@ -176,6 +182,12 @@ static void mirrored_and_degenerate(void **st)
     assert_false(c3d_light_unseen(l, m, &out));
     light_at(l, LIGHT_POINT, 0, 0, 0, INFINITY);
     assert_false(c3d_light_unseen(l, m, &out));
+    /* a scale whose normal matrix a float cannot hold: 1e20 squared */
+    light_at(l, LIGHT_POINT, 0, 0, 0, 0);
+    affine(m, 1e20, 1e20, 1e20, 0, 0, 0);
+    assert_false(c3d_light_unseen(l, m, &out));
+    affine(m, 1e3, 1e3, 1e3, 0, 0, 0);
+    assert_true(c3d_light_unseen(l, m, &out));
     C3dPlanes none = {0};
     light_at(l, LIGHT_POINT, 0, 0, 0, 0);
     assert_false(c3d_light_unseen(l, m, &none));

@@ -42,8 +42,22 @@ void c3d_planes_make(C3dPlanes *out, const float *verts, uint32_t nverts, const 
             n++;
         }
         const float *nr = out->plane[j].normal;
+        /* the normal is the face's own: its three vertices at one offset
+         * along it (a file's normals may lean), so that a sample's
+         * position off the triangle (no centroid interpolation) stays on
+         * its plane */
+        double o3[3], size = 1;
         for (int k = 0; k < 3; k++) {
-            double o = (double)nr[0] * v[k][0] + (double)nr[1] * v[k][1] + (double)nr[2] * v[k][2];
+            o3[k] = (double)nr[0] * v[k][0] + (double)nr[1] * v[k][1] + (double)nr[2] * v[k][2];
+            for (int a = 0; a < 3; a++) size = fmax(size, fabs(v[k][a]));
+        }
+        double len = sqrt((double)nr[0] * nr[0] + (double)nr[1] * nr[1] + (double)nr[2] * nr[2]);
+        if (!(len > 0) || fabs(o3[1] - o3[0]) > 1e-5 * size * len || fabs(o3[2] - o3[0]) > 1e-5 * size * len) {
+            out->n = 0;
+            return;
+        }
+        for (int k = 0; k < 3; k++) {
+            double o = o3[k];
             if (o < low[j]) {
                 low[j] = o;
                 memcpy(out->plane[j].low, v[k], 3 * sizeof(float));
@@ -93,12 +107,16 @@ bool c3d_light_unseen(const float light[16], const double model[16], const C3dPl
     if (m.m[3] != 0 || m.m[7] != 0 || m.m[11] != 0 || m.m[15] != 1) return false;   /* not affine */
     double nm[9];
     m4_cofactor3(&m, nm);   /* the shader's normal matrix (canvas3d_draw.c) */
+    /* the shader's normal matrix is single precision: none of its numbers
+     * may overflow or come near underflowing there */
+    for (int k = 0; k < 9; k++)
+        if (!(fabs(nm[k]) < 1e30)) return false;
     for (int i = 0; i < planes->n; i++) {
         const C3dPlane *pl = &planes->plane[i];
         double N[3];
         for (int k = 0; k < 3; k++) N[k] = nm[k] * pl->normal[0] + nm[3 + k] * pl->normal[1] + nm[6 + k] * pl->normal[2];
         double len = sqrt(N[0] * N[0] + N[1] * N[1] + N[2] * N[2]);
-        if (!(len > 0) || !isfinite(len)) return false;
+        if (!(len > 1e-15) || !isfinite(len)) return false;
         /* dot(N, M p) is det(M) dot(normal, p) plus a constant: its extremes
          * over the faces are at the two vertices kept */
         if (!behind(c, cn, &m, pl->low, N, len, r) || !behind(c, cn, &m, pl->high, N, len, r)) return false;

@@ -19,8 +19,11 @@
  * (its "planes": the faces sharing it, with their vertices' extreme
  * offsets along it) in world space, with a margin of 1/1000 of the
  * coordinates' size for the single-precision arithmetic of the shader
- * (its rounding is some 1e-6 of them); a mesh with a smooth face, or with
- * more than C3D_PLANES_MAX normals, has no planes and culls nothing.
+ * (its rounding is some 1e-6 of them); a mesh with a smooth face, a face
+ * whose normal leans off its plane (a model file's normals: a sample's
+ * position, interpolated at the pixel's centre, may lie off the triangle,
+ * where only the face's own plane bounds it), or more than C3D_PLANES_MAX
+ * normals, has no planes and culls nothing.
  * Ambient, directional and line lights are never culled.
  */
 #ifndef FL_RENDER_CANVAS3D_CULL_H
@@ -50,8 +53,10 @@ typedef struct C3dPlanes {
 /* The planes of the mesh of [nverts] vertices [verts] (8 floats each:
  * position, normal, uv; canvas3d_shaders.h) and triangles [index]
  * ([nindex] indices, 3 a triangle): none (n = 0) when a triangle's three
- * normals differ, a normal is not finite, the mesh has no triangle or
- * more than C3D_PLANES_MAX normals. Never fails. */
+ * normals differ, its normal is not perpendicular to it (its vertices'
+ * offsets along it differ by more than 1e-5 of its largest coordinate),
+ * a number is not finite, the mesh has no triangle or more than
+ * C3D_PLANES_MAX normals. Never fails. */
 void c3d_planes_make(C3dPlanes *out, const float *verts, uint32_t nverts, const uint32_t *index,
                      uint32_t nindex);
 
