@@ -1064,6 +1064,20 @@ static void uv_remap_plane(void **st)
     fl_free(rt);
 }
 
+/* Fail unless [got] equals [want] pixel for pixel ([what]: the scene and
+ * route, [without]: what [want] was drawn without), and unless [want]
+ * has 200 pixels or more unlike its first (a scene that drew something). */
+static void assert_same_picture(const uint32_t *got, const uint32_t *want, const char *what, const char *without)
+{
+    int lit = 0;
+    for (int i = 0; i < W * H; i++) {
+        if (got[i] != want[i])
+            fail_msg("%s: pixel %d,%d is %08x, without %s %08x", what, i % W, i / W, got[i], without, want[i]);
+        lit += want[i] != want[0];
+    }
+    if (lit < 200) fail_msg("%s: only %d pixels drawn", what, lit);
+}
+
 /* With samples, a render group of opaque meshes lying two or more deep
  * under 12 lights or more is first drawn depth only (the occluders), and
  * its meshes discard the fragments hidden at every sample of their pixel
@@ -1145,14 +1159,9 @@ static void occlusion_as_without(void **st)
             fl_free(rt);
         }
         routes = (fl_debug_options){0};
-        int lit = 0;
-        for (int i = 0; i < W * H; i++) {
-            if (pix[0][i] != pix[1][i])
-                fail_msg("script %d: pixel %d,%d is %08x, without occluders %08x", s, i % W, i / W, pix[0][i],
-                         pix[1][i]);
-            lit += pix[0][i] != pix[0][0];
-        }
-        if (lit < 200) fail_msg("script %d: only %d pixels drawn", s, lit);
+        char what[32];
+        snprintf(what, sizeof what, "script %d", s);
+        assert_same_picture(pix[0], pix[1], what, "occluders");
     }
 }
 
@@ -1222,15 +1231,11 @@ static void proxies_as_without(void **st)
             fl_free(rt);
         }
         routes = (fl_debug_options){0};
-        int lit = 0;
-        for (int i = 0; i < W * H; i++) {
-            for (int k = 0; k < 3; k += 2)
-                if (pix[k][i] != pix[1][i])
-                    fail_msg("scene %zu (%s): pixel %d,%d is %08x, without proxies %08x", s, k ? "auto" : "always",
-                             i % W, i / W, pix[k][i], pix[1][i]);
-            lit += pix[1][i] != pix[1][0];
+        char what[32];
+        for (int k = 0; k < 3; k += 2) {
+            snprintf(what, sizeof what, "scene %zu (%s)", s, k ? "auto" : "always");
+            assert_same_picture(pix[k], pix[1], what, "proxies");
         }
-        if (lit < 200) fail_msg("scene %zu: only %d pixels drawn", s, lit);
     }
 }
 
@@ -1307,14 +1312,9 @@ static void lights_culled_as_without(void **st)
             fl_free(rt);
         }
         routes = (fl_debug_options){0};
-        int lit = 0;
-        for (int i = 0; i < W * H; i++) {
-            if (pix[0][i] != pix[1][i])
-                fail_msg("scene %zu: pixel %d,%d is %08x, without culling %08x", s, i % W, i / W, pix[0][i],
-                         pix[1][i]);
-            lit += pix[1][i] != pix[1][0];
-        }
-        if (lit < 200) fail_msg("scene %zu: only %d pixels drawn", s, lit);
+        char what[32];
+        snprintf(what, sizeof what, "scene %zu", s);
+        assert_same_picture(pix[0], pix[1], what, "culling");
     }
 }
 
