@@ -13,6 +13,11 @@
  * FORMATS.md §1 layout (`0`, `nan`, `inf`, positional for exponents -4..15,
  * else `d.ddde±XX`). */
 void fmt_double(Buf *b, double x);
+/* fmt_double by the route [literal] names: printf's digits read back with
+ * strtod (true), or exact integer arithmetic where it reaches (false,
+ * fmt_double's: |x| from 2^-30 to 2^53, else the literal route): the same
+ * text for every x (test_format compares them). */
+void fmt_double_route(Buf *b, double x, bool literal);
 /* C/Python "%.9g" with `nan` for any NaN (LANGUAGE.md §3.13). */
 void fmt_g9(Buf *b, double x);
 /* A string in value text (FORMATS.md §1): double quotes, `\"` `\\` `\n`

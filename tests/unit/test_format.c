@@ -269,6 +269,71 @@ static void test_fmt_double_integers(void **s)
     }
 }
 
+/* fmt_double's exact route (integer arithmetic for |x| from 2^-30 to 2^53)
+ * writes what the literal route (printf's digits read back with strtod)
+ * writes: at powers of two and ten and their neighbours (asymmetric
+ * intervals, digits that round up to the next decade), at short decimals
+ * (ties in the rounding of a probe), across the route's ends, and over a
+ * sweep of bit patterns in its range. */
+static void check_routes(double x)
+{
+    Buf a = BUF_INIT, b = BUF_INIT;
+    fmt_double_route(&a, x, false);
+    fmt_double_route(&b, x, true);
+    if (strcmp(buf_cstr(&a), buf_cstr(&b)) != 0)
+        fail_msg("fmt_double(%a): exact route \"%s\", literal \"%s\"", x, buf_cstr(&a), buf_cstr(&b));
+    buf_free(&a);
+    buf_free(&b);
+}
+
+static void test_fmt_double_routes(void **s)
+{
+    (void)s;
+    /* a few by hand, through fmt_double (the exact route here) */
+    check_double(nextafter(10, 0), "9.999999999999998");
+    check_double(nextafter(1, 2), "1.0000000000000002");
+    check_double(nextafter(1, 0), "0.9999999999999999");
+    check_double(0.125, "0.125");
+    check_double(ldexp(1, -30), "9.313225746154785e-10");
+    check_double(nextafter(ldexp(1, -30), 0), "9.313225746154784e-10");   /* past the route: literal */
+    check_double(4503599627370495.5, "4503599627370495.5");
+    check_double(0.3, "0.3");
+    check_double(1e-9, "1e-09");
+    for (int k = -31; k <= 53; k++) {
+        double p = ldexp(1, k);
+        for (double x = nextafter(nextafter(p, 0), 0), i = 0; i < 5; i++, x = nextafter(x, INFINITY)) {
+            check_routes(x);
+            check_routes(-x);
+        }
+    }
+    for (int k = -10; k <= 16; k++) {
+        double p = pow(10, k);
+        for (double x = nextafter(nextafter(p, 0), 0), i = 0; i < 5; i++, x = nextafter(x, INFINITY)) {
+            check_routes(x);
+            check_routes(x * 0.5);
+            check_routes(x * 2.5);
+        }
+    }
+    for (int i = 1; i < 4000; i++) {
+        check_routes(i / 1000.0);
+        check_routes(i / 8.0 + 0.0625);
+        check_routes(i * 0.1);
+        check_routes(i * 1e-9);
+        check_routes(1.0 / i);
+    }
+    uint64_t u = UINT64_C(0x853c49e6748fea9b);
+    for (int i = 0; i < 20000; i++) {
+        u ^= u << 13;
+        u ^= u >> 7;
+        u ^= u << 17;
+        /* any mantissa, exponents from 2^-31 to 2^53 */
+        uint64_t bits = (u & UINT64_C(0x800fffffffffffff)) | (uint64_t)(1023 - 31 + (int)((u >> 52) % 85)) << 52;
+        double x;
+        memcpy(&x, &bits, sizeof x);
+        check_routes(x);
+    }
+}
+
 static void test_fmt_g9(void **s)
 {
     (void)s;
@@ -592,6 +657,7 @@ int main(void)
         cmocka_unit_test(test_fmt_double_spec),
         cmocka_unit_test(test_fmt_double_edges),
         cmocka_unit_test(test_fmt_double_integers),
+        cmocka_unit_test(test_fmt_double_routes),
         cmocka_unit_test(test_fmt_g9),
         cmocka_unit_test(test_fmt_value_numbers),
         cmocka_unit_test(test_fmt_value_strings),
