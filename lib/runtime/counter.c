@@ -12,40 +12,60 @@ static Vec *fvec(const Node *n, const char *name, Vec *dflt)
 }
 
 /* c.when(a, b) of COUNTERS.md: element-wise choice with wrap-around, null
- * unless all three are numeric. */
+ * unless all three are numeric; a new reference. A single condition (the
+ * usual reset=, absent or a number) picks all of [a] or [b]: the picked
+ * vector itself when it is already the result's length. */
 static Vec *when(const Vec *c, const Vec *a, const Vec *b)
 {
     if (!vec_is_num(c) || !vec_is_num(a) || !vec_is_num(b)) return NULL;
     uint32_t n = c->len;
     if (a->len > n) n = a->len;
     if (b->len > n) n = b->len;
+    if (c->len == 1) {
+        const Vec *pick = vec_cnums(c)[0] != 0.0 ? a : b;
+        if (pick->len == n) return vec_share(pick);
+    }
     Vec *r = vec_new_num(n);
     double *d = vec_nums(r);
-    for (uint32_t i = 0; i < n; i++)
-        d[i] = vec_cnums(c)[i % c->len] != 0.0 ? vec_cnums(a)[i % a->len] : vec_cnums(b)[i % b->len];
+    const double *xc = vec_cnums(c), *xa = vec_cnums(a), *xb = vec_cnums(b);
+    /* (the wrapped indices counted, not divided: i % len for each) */
+    uint32_t ic = 0, ia = 0, ib = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        d[i] = xc[ic] != 0.0 ? xa[ia] : xb[ib];
+        if (++ic == c->len) ic = 0;
+        if (++ia == a->len) ia = 0;
+        if (++ib == b->len) ib = 0;
+    }
     return r;
 }
 
 /* clamp(v, lo, hi) of COUNTERS.md, with Python's max/min comparison rules;
- * a new reference. */
+ * a new reference ([v] itself when there is no bound to apply). */
 static Vec *clamp(Vec *v, const Vec *lo, const Vec *hi)
 {
     if (!vec_is_num(v)) return vec_retain(v);
     bool has_lo = vec_is_num(lo), has_hi = vec_is_num(hi);
+    if (!has_lo && !has_hi) return vec_retain(v);
     uint32_t n = v->len;
     if (has_lo && lo->len > n) n = lo->len;
     if (has_hi && hi->len > n) n = hi->len;
     Vec *r = vec_new_num(n);
     double *out = vec_nums(r);
+    const double *xv = vec_cnums(v), *xlo = has_lo ? vec_cnums(lo) : NULL, *xhi = has_hi ? vec_cnums(hi) : NULL;
+    /* (the wrapped indices counted, not divided) */
+    uint32_t iv = 0, ilo = 0, ihi = 0;
     for (uint32_t i = 0; i < n; i++) {
-        double d = vec_cnums(v)[i % v->len];
+        double d = xv[iv];
+        if (++iv == v->len) iv = 0;
         if (has_lo) {
-            double y = vec_cnums(lo)[i % lo->len];
+            double y = xlo[ilo];
             if (y > d) d = y;
+            if (++ilo == lo->len) ilo = 0;
         }
         if (has_hi) {
-            double y = vec_cnums(hi)[i % hi->len];
+            double y = xhi[ihi];
             if (y < d) d = y;
+            if (++ihi == hi->len) ihi = 0;
         }
         out[i] = d;
     }

@@ -169,6 +169,38 @@ static void test_reset(void **unused)
     state_free(sd);
 }
 
+/* reset, initial and the advanced value of different lengths: the longest
+ * decides, the others wrap around (a single reset picks the whole of one,
+ * repeated to that length). */
+static void test_reset_wraps(void **unused)
+{
+    (void)unused;
+    StateDict *sd = state_new();
+    Node *n = counter_node();
+    set(n, "state", sym("c"));
+    set(n, "initial", nums(3, 5.0, 6.0, 7.0));
+    set(n, "rate", vec_num1(2));
+    counter_update(n, sd, 0.0);
+    expect(value(sd), 3, 5.0, 6.0, 7.0);
+    /* a longer initial: the advanced 6;7;8 wraps to its length */
+    set(n, "initial", nums(4, 1.0, 1.0, 1.0, 1.0));
+    counter_update(n, sd, 0.5);
+    expect(value(sd), 4, 6.0, 7.0, 8.0, 6.0);
+    /* a single reset picks the shorter initial, repeated */
+    set(n, "initial", nums(2, -1.0, -2.0));
+    set(n, "rate", nums(4, 0.0, 0.0, 0.0, 4.0));
+    set(n, "reset", vec_num1(1));
+    counter_update(n, sd, 1.0);
+    expect(value(sd), 4, -1.0, -2.0, -1.0, -2.0);
+    /* a shorter reset wraps too: 1;0 over 4 elements */
+    set(n, "reset", nums(2, 1.0, 0.0));
+    set(n, "initial", nums(3, 10.0, 20.0, 30.0));
+    counter_update(n, sd, 1.5);
+    expect(value(sd), 4, 10.0, -2.0, 30.0, 0.0);   /* advanced -1;-2;-1;0 */
+    node_release(n);
+    state_free(sd);
+}
+
 /* minimum/maximum (or min/max) clamp element-wise, broadcasting bounds. */
 static void test_clamping(void **unused)
 {
@@ -245,6 +277,7 @@ int main(void)
         cmocka_unit_test(test_defaults),
         cmocka_unit_test(test_custom_time),
         cmocka_unit_test(test_reset),
+        cmocka_unit_test(test_reset_wraps),
         cmocka_unit_test(test_clamping),
         cmocka_unit_test(test_null_time_key),
         cmocka_unit_test(test_no_key),
