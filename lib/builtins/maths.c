@@ -156,8 +156,12 @@ static Vec *pairwise(int nargs, Vec *const *args, double (*f)(double, double))
     const double *b = vec_cnums(ys);
     uint32_t n = xy->len > ys->len ? xy->len : ys->len;
     Vec *r = vec_new_num(n);
-    for (uint32_t i = 0; i < n; i++)
-        vec_nums(r)[i] = f(a[i % xy->len], b[i % ys->len]);
+    /* (the wrapped indices counted, not divided, here and below) */
+    for (uint32_t i = 0, ia = 0, ib = 0; i < n; i++) {
+        vec_nums(r)[i] = f(a[ia], b[ib]);
+        if (++ia == xy->len) ia = 0;
+        if (++ib == ys->len) ib = 0;
+    }
     return r;
 }
 
@@ -191,7 +195,8 @@ static Vec *bi_hypot(BI_PARAMS)
     for (uint32_t i = 0; i < n; i++) {
         double y = 0;
         for (int k = 0; k < nargs; k++) {
-            double x = vec_cnums(args[k])[i % args[k]->len];
+            uint32_t len = args[k]->len;
+            double x = vec_cnums(args[k])[len == n ? i : len == 1 ? 0 : i % len];
             y += x * x;
         }
         vec_nums(r)[i] = sqrt(y);
@@ -227,8 +232,11 @@ static double dot_nums(const double *x, uint32_t n, const double *y, uint32_t m)
 {
     uint32_t len = n > m ? n : m;
     double s = 0;
-    for (uint32_t i = 0; i < len; i++)
-        s += x[i % n] * y[i % m];
+    for (uint32_t i = 0, ix = 0, iy = 0; i < len; i++) {
+        s += x[ix] * y[iy];
+        if (++ix == n) ix = 0;
+        if (++iy == m) iy = 0;
+    }
     return s;
 }
 
@@ -266,13 +274,16 @@ static Vec *bi_clamp(BI_PARAMS)
         return NULL;
     uint32_t n = max3(xs, lo, hi);
     Vec *r = vec_new_num(n);
-    for (uint32_t i = 0; i < n; i++) {
-        double d = vec_cnums(xs)[i % xs->len];
-        double a = vec_cnums(lo)[i % lo->len];
-        double b = vec_cnums(hi)[i % hi->len];
+    for (uint32_t i = 0, ix = 0, il = 0, ih = 0; i < n; i++) {
+        double d = vec_cnums(xs)[ix];
+        double a = vec_cnums(lo)[il];
+        double b = vec_cnums(hi)[ih];
         d = d > a ? d : a;
         d = b < d ? b : d;
         vec_nums(r)[i] = d;
+        if (++ix == xs->len) ix = 0;
+        if (++il == lo->len) il = 0;
+        if (++ih == hi->len) ih = 0;
     }
     return r;
 }
@@ -284,9 +295,12 @@ static Vec *bi_mapv(BI_PARAMS)
         return NULL;
     uint32_t n = max3(xs, ys, zs);
     Vec *r = vec_new_num(n);
-    for (uint32_t i = 0; i < n; i++) {
-        double x = vec_cnums(xs)[i % xs->len];
-        vec_nums(r)[i] = (1 - x) * vec_cnums(ys)[i % ys->len] + x * vec_cnums(zs)[i % zs->len];
+    for (uint32_t i = 0, ix = 0, iy = 0, iz = 0; i < n; i++) {
+        double x = vec_cnums(xs)[ix];
+        vec_nums(r)[i] = (1 - x) * vec_cnums(ys)[iy] + x * vec_cnums(zs)[iz];
+        if (++ix == xs->len) ix = 0;
+        if (++iy == ys->len) iy = 0;
+        if (++iz == zs->len) iz = 0;
     }
     return r;
 }

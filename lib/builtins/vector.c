@@ -129,11 +129,13 @@ static Vec *fold_lanes(Eval *ev, const Builtin *bi, int nargs, Vec *const *args,
     for (int j = 0; j < m; j++)
         y[j] = mul ? 1 : 0;
     uint32_t n = vec_is_num(xs) ? xs->len : 0;
-    for (uint32_t i = 0; i < n; i++) {
+    /* (the lane counted, not divided) */
+    for (uint32_t i = 0, j = 0; i < n; i++) {
         if (mul)
-            y[i % (uint32_t)m] *= vec_cnums(xs)[i];
+            y[j] *= vec_cnums(xs)[i];
         else
-            y[i % (uint32_t)m] += vec_cnums(xs)[i];
+            y[j] += vec_cnums(xs)[i];
+        if (++j == (uint32_t)m) j = 0;
     }
     return r;
 }
@@ -176,8 +178,10 @@ static Vec *bi_mean(BI_PARAMS)
     double *y = vec_nums(r);
     for (uint32_t j = 0; j < um; j++)
         y[j] = 0;
-    for (uint32_t i = 0; i < n; i++)
-        y[i % um] = y[i % um] + vec_cnums(xs)[i];
+    for (uint32_t i = 0, j = 0; i < n; i++) {   /* (the lane counted, not divided) */
+        y[j] = y[j] + vec_cnums(xs)[i];
+        if (++j == um) j = 0;
+    }
     for (uint32_t j = 0; j < um; j++) {
         /* lane j holds the elements j, j+m, ... below n */
         double d = j < n ? (double)((n - j - 1) / um + 1) : 0;

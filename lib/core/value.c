@@ -388,7 +388,12 @@ static inline double arith1(ArithOp op, double a, double b)
             double x = xa[0];                                               \
             for (uint32_t i = 0; i < n; i++) { double y = xb[i]; r[i] = (EXPR); } \
         } else {                                                            \
-            for (uint32_t i = 0; i < n; i++) { double x = xa[i % na], y = xb[i % nb]; r[i] = (EXPR); } \
+            for (uint32_t i = 0, ia = 0, ib = 0; i < n; i++) {              \
+                double x = xa[ia], y = xb[ib];                              \
+                r[i] = (EXPR);                                              \
+                if (++ia == na) ia = 0;                                     \
+                if (++ib == nb) ib = 0;                                     \
+            }                                                               \
         }                                                                   \
     } while (0)
 
@@ -491,9 +496,13 @@ Vec *vec_add_mul(const Vec *a, const Vec *b, const Vec *c)
     if (nc > n) n = nc;
     Vec *v = vec_new_num(n);
     double *r = vec_nums(v);
-    for (uint32_t i = 0; i < n; i++) {
-        double p = xb[i % nb] * xc[i % nc];
-        r[i] = xa[i % na] + p;
+    /* (the wrapped indices counted, not divided) */
+    for (uint32_t i = 0, ia = 0, ib = 0, ic = 0; i < n; i++) {
+        double p = xb[ib] * xc[ic];
+        r[i] = xa[ia] + p;
+        if (++ia == na) ia = 0;
+        if (++ib == nb) ib = 0;
+        if (++ic == nc) ic = 0;
     }
     return v;
 }

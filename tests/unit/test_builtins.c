@@ -270,6 +270,47 @@ static void test_vector_maths(void **st)
     EXPECT(CALL("map", NUMS(0, 1), num(10), NUMS(20, 30)), 10, 30);
 }
 
+/* Operands of three different lengths wrap around each on its own (the
+ * longest decides): values worked by hand, element by element. */
+static void test_broadcast_lengths(void **st)
+{
+    (void)st;
+    /* clamp(1..5, 2;4.5, 9;3;9): lo 2,4.5,2,4.5,2 and hi 9,3,9,9,3 */
+    EXPECT(CALL("clamp", NUMS(1, 2, 3, 4, 5), NUMS(2, 4.5), NUMS(9, 3, 9)), 2, 3, 3, 4.5, 3);
+    /* map(x, a, b) = (1-x) a + x b over 4: x .25,.5,.75,.25; a 0,10,0,10 */
+    EXPECT(CALL("map", NUMS(0.25, 0.5, 0.75), NUMS(0, 10), NUMS(100, 200, 300, 400)), 25, 105, 225, 107.5);
+    /* dot(1..5, 10;20) = 10 + 40 + 30 + 80 + 50 */
+    EXPECT(CALL("dot", NUMS(1, 2, 3, 4, 5), NUMS(10, 20)), 210);
+    /* hypot(3;0;5, 4;6) = hypot(3,4), hypot(0,6), hypot(5,4) */
+    EXPECT(CALL("hypot", NUMS(3, 0, 5), NUMS(4, 6)), 5, 6, sqrt(41));
+    /* angle(x, y) and length(x, y) of 1;0;-1 against 0;1 */
+    EXPECT(CALL("angle", NUMS(1, 0, -1), NUMS(0, 1)), 0, 0.25, 0.5);
+    EXPECT(CALL("length", NUMS(3, 0, 5), NUMS(4, 2)), 5, 2, sqrt(41));
+    /* sum, product and mean in lanes of 2 and 3 */
+    EXPECT(CALL("sum", NUMS(1, 2, 3, 4, 5), num(2)), 9, 6);
+    EXPECT(CALL("product", NUMS(1, 2, 3, 4, 5), num(3)), 4, 10, 3);
+    EXPECT(CALL("mean", NUMS(1, 2, 3, 4, 5), num(2)), 3, 3);
+    /* the fused a + b*c (LANGUAGE.md §4.17): each operand wraps on its own */
+    Vec *a = NUMS(1, 2, 3, 4, 5), *b = NUMS(10, 20), *c = NUMS(0.5, 1.5, 2.5);
+    Vec *r = vec_add_mul(a, b, c);
+    static const double want[5] = {6, 32, 28, 14, 20};   /* 4 + 20*0.5, 5 + 10*1.5 */
+    assert_int_equal(r->len, 5);
+    for (int i = 0; i < 5; i++) assert_true(vec_nums(r)[i] == want[i]);
+    vec_release(r);
+    vec_release(a);
+    vec_release(b);
+    vec_release(c);
+    /* and the plain operators: (1..5) - (10;20) */
+    a = NUMS(1, 2, 3, 4, 5);
+    b = NUMS(10, 20, 30);
+    r = vec_arith(OP_SUB, a, b);
+    static const double diff[5] = {-9, -18, -27, -6, -15};
+    for (int i = 0; i < 5; i++) assert_true(vec_nums(r)[i] == diff[i]);
+    vec_release(r);
+    vec_release(a);
+    vec_release(b);
+}
+
 static void test_inverse(void **st)
 {
     (void)st;
@@ -626,6 +667,7 @@ int main(void)
         cmocka_unit_test(test_round),
         cmocka_unit_test(test_angle_length_hypot),
         cmocka_unit_test(test_vector_maths),
+        cmocka_unit_test(test_broadcast_lengths),
         cmocka_unit_test(test_inverse),
         cmocka_unit_test(test_point_towards),
         cmocka_unit_test(test_quaternions),
