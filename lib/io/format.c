@@ -769,19 +769,21 @@ void fmt_tree(Buf *b, const Node *root, const SymTab *st)
 /* State dump                                                          */
 /* ------------------------------------------------------------------ */
 
+/* One line's key and value texts: offsets into the dump's two texts
+ * while they grow, pointers once they are complete. */
 typedef struct {
-    Buf key;            /* key text */
-    Buf value;          /* value text */
+    size_t key_at, key_len, value_at, value_len;
+    const char *key, *value;
 } DumpLine;
 
 /* Order of two texts by their bytes (a prefix first). */
-static int text_cmp(const Buf *a, const Buf *b)
+static int text_cmp(const char *a, size_t na, const char *b, size_t nb)
 {
-    size_t n = a->len < b->len ? a->len : b->len;
-    int c = n ? memcmp(a->data, b->data, n) : 0;
+    size_t n = na < nb ? na : nb;
+    int c = n ? memcmp(a, b, n) : 0;
     if (c)
         return c;
-    return (a->len > b->len) - (a->len < b->len);
+    return (na > nb) - (na < nb);
 }
 
 /* By key text; distinct keys with the same text (0 and -0) are ordered by
@@ -789,8 +791,8 @@ static int text_cmp(const Buf *a, const Buf *b)
 static int dump_line_cmp(const void *pa, const void *pb)
 {
     const DumpLine *a = pa, *b = pb;
-    int c = text_cmp(&a->key, &b->key);
-    return c ? c : text_cmp(&a->value, &b->value);
+    int c = text_cmp(a->key, a->key_len, b->key, b->key_len);
+    return c ? c : text_cmp(a->value, a->value_len, b->value, b->value_len);
 }
 
 /* A key left out of dumps: a single string starting with '_'. */
@@ -813,26 +815,36 @@ void fmt_state_dump(Buf *b, const StateDict *sd, long frame, double time,
     DumpLine *lines = n ? malloc(n * sizeof *lines) : NULL;
     if (n && !lines)
         mem_oom();
+    /* every key's text into one buffer and every value's into another
+     * (two allocations that grow, not two a line), then sorted by offset */
+    Buf keys = BUF_INIT, values = BUF_INIT;
     size_t m = 0;
     for (size_t i = 0; i < n; i++) {
         if (key_is_internal(entries[i].key) || vec_len(entries[i].value) == 0)
             continue;
-        lines[m].key = (Buf)BUF_INIT;
-        lines[m].value = (Buf)BUF_INIT;
-        fmt_value(&lines[m].key, entries[i].key, st);
-        fmt_value(&lines[m].value, entries[i].value, st);
+        lines[m].key_at = keys.len;
+        fmt_value(&keys, entries[i].key, st);
+        lines[m].key_len = keys.len - lines[m].key_at;
+        lines[m].value_at = values.len;
+        fmt_value(&values, entries[i].value, st);
+        lines[m].value_len = values.len - lines[m].value_at;
         m++;
+    }
+    const char *key_text = buf_cstr(&keys), *value_text = buf_cstr(&values);
+    for (size_t i = 0; i < m; i++) {
+        lines[i].key = key_text + lines[i].key_at;
+        lines[i].value = value_text + lines[i].value_at;
     }
     if (m > 1)
         qsort(lines, m, sizeof *lines, dump_line_cmp);
     for (size_t i = 0; i < m; i++) {
-        buf_add(b, buf_cstr(&lines[i].key), lines[i].key.len);
-        buf_puts(b, " = ");
-        buf_add(b, buf_cstr(&lines[i].value), lines[i].value.len);
+        buf_add(b, lines[i].key, lines[i].key_len);
+        buf_add(b, " = ", 3);
+        buf_add(b, lines[i].value, lines[i].value_len);
         buf_putc(b, '\n');
-        buf_free(&lines[i].key);
-        buf_free(&lines[i].value);
     }
+    buf_free(&keys);
+    buf_free(&values);
     free(lines);
     free(entries);
 }
