@@ -2,7 +2,9 @@
  * `flitter [options] SCRIPT...` (main.c passes it with argv[0] other than
  * "run"), which opens windows when there is a display. */
 #include <signal.h>
+#include <stdbool.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -38,9 +40,17 @@ static void catch_signals(void)
     sigaction(SIGHUP, &sa, NULL);
 }
 
+/* Whether a display is named (DISPLAY or WAYLAND_DISPLAY set and not
+ * empty): a window was to be expected. */
+static bool display_named(void)
+{
+    const char *x = getenv("DISPLAY"), *w = getenv("WAYLAND_DISPLAY");
+    return (x && *x) || (w && *w);
+}
+
 /* A run with windows, or headless when there is no display: returns
- * WINDOW_NO_DISPLAY after saying so (on a terminal, or always for an
- * explicit --window), else window_run's status. */
+ * WINDOW_NO_DISPLAY after saying so (on a terminal, where a display is
+ * named, or always for an explicit --window), else window_run's status. */
 static int run_window(RunSpec *spec)
 {
     char why[256];
@@ -48,9 +58,11 @@ static int run_window(RunSpec *spec)
     prefault_keep_freed();
     int rc = window_run(spec, stdout, stderr, &interrupted, why, sizeof why);
     if (rc != WINDOW_NO_DISPLAY) return rc;
-    /* headless output stays byte for byte what it was for scripts and CI:
-     * the notice goes to a person at a terminal */
-    if (spec->verbosity >= 0 && (!spec->implicit_window || isatty(STDERR_FILENO)))
+    /* headless output stays byte for byte what it was for scripts and CI
+     * (no display): the notice goes to a person at a terminal, or to the
+     * log of one whose display could not show the window (a module or
+     * SDL that would not start: else the run would go on unseen) */
+    if (spec->verbosity >= 0 && (!spec->implicit_window || isatty(STDERR_FILENO) || display_named()))
         fprintf(stderr, "flitter: %s: running headless%s\n", why,
                 spec->nscripts > 1 ? " (the first SCRIPT only)" : "");
     return rc;

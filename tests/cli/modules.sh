@@ -4,8 +4,9 @@
 # SDL2 nor libedit, a headless run loads neither, a run with a display loads
 # the window module from the build tree (and SDL's own refusal then shows),
 # a window module that is missing or broken (or SDL2) leaves the run
-# headless with one clear message and the headless output, and `flitter
-# repl` runs from its module or says why it cannot.
+# headless with one clear message and the headless output (Flitter's
+# command line says so where a display is named, silent where none is),
+# and `flitter repl` runs from its module or says why it cannot.
 set -u
 flitter=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 script=$2
@@ -73,6 +74,22 @@ case $(cat "$dir/msg") in
 "flitter: cannot load the window module: "*"libSDL2-2.0.so.0"*": running headless") ;;
 *) fail "no SDL2: $(cat "$dir/err")" ;;
 esac
+
+# Flitter's command line (a window implied, stderr not a terminal): silent
+# without a display, but where one is named and the window cannot open it
+# says why (else the run would go on unseen); --quiet silences that
+env -u DISPLAY -u WAYLAND_DISPLAY "$flitter" --frames 3 --dump-state "$script" >"$dir/out" 2>"$dir/err" ||
+    fail "flitter SCRIPT without a display failed: $(cat "$dir/err")"
+cmp -s "$dir/out" "$dir/headless" || fail "flitter SCRIPT without a display differs from headless"
+grep -q 'running headless' "$dir/err" && fail "flitter SCRIPT without a display spoke: $(cat "$dir/err")"
+DISPLAY=:h4none SDL_VIDEODRIVER=nodriver "$flitter" --frames 3 --dump-state "$script" >"$dir/out" 2>"$dir/err" ||
+    fail "flitter SCRIPT with a display that refuses failed: $(cat "$dir/err")"
+cmp -s "$dir/out" "$dir/headless" || fail "flitter SCRIPT with a display that refuses differs from headless"
+[ "$(grep '^flitter: ' "$dir/err")" = 'flitter: cannot open the display: nodriver not available: running headless' ] ||
+    fail "flitter SCRIPT with a display that refuses: $(cat "$dir/err")"
+DISPLAY=:h4none SDL_VIDEODRIVER=nodriver "$flitter" --quiet --frames 3 --dump-state "$script" >"$dir/out" 2>"$dir/err" ||
+    fail "flitter --quiet SCRIPT failed: $(cat "$dir/err")"
+grep -q 'running headless' "$dir/err" && fail "flitter --quiet SCRIPT spoke: $(cat "$dir/err")"
 
 # the REPL's :window says why when the module is missing, and goes on
 printf ':window\n:step\n' | DISPLAY=:h4none FLITTER_WINDOW_MODULE="$dir/none.so" \
