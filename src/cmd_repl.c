@@ -995,6 +995,13 @@ int cmd_repl(int argc, char **argv)
         free(line);
         fflush(stdout);
         if (quit) break;
+        if (ferror(stdout)) {
+            /* standard output closed (a pipe's reader gone): with a
+             * window open SIGPIPE is blocked, so the write fails instead
+             * of ending the process, and the session ends here */
+            fputs("flitter repl: cannot write to standard output (closed?): the session ends\n", stderr);
+            break;
+        }
     }
     repl_window_close(r.window);
     fflush(stdout);

@@ -4,7 +4,8 @@
 # script without !window; `:step 60` redraws it (the picture changes);
 # `:window off` closes it; Escape on a reopened window closes the window
 # but not the session; `:quit` ends the session with status 0 and no
-# error.
+# error; with a window open, a standard output whose reader has gone ends
+# the session (not only the end of its input).
 . "$(dirname "$0")/common.sh"
 src=$(cd "$here/../golden" && pwd)/petri.fl
 cp "$src" petri.fl
@@ -63,4 +64,27 @@ exec 3>&-
 wait_exit $pid 5
 [ "$RC" = 0 ] || fail "exit status $RC"
 [ -s err ] && fail "errors on stderr"
-echo "ok: :window opens petri.fl (512x512), :step 60 redraws ($diff pixels changed), :window off and Escape close it, :quit exits 0"
+# with a window open a closed standard output ends the session (SIGPIPE
+# is blocked then: the write fails instead), though input keeps coming
+mkfifo in2
+("$flitter" repl petri.fl <in2 2>err2; echo $? >rc2) | head -n 1 >out2 &
+exec 4>in2
+printf ':window\n' >&4
+i=0
+until [ -s out2 ]; do
+    i=$((i + 1))
+    [ $i -gt 500 ] && fail "closed stdout: no first line"
+    sleep 0.02
+done
+wait_window petri.fl
+i=0
+until [ -s rc2 ]; do
+    printf ':step\n' >&4 2>/dev/null
+    i=$((i + 1))
+    [ $i -gt 100 ] && fail "closed stdout: the session goes on after 100 :steps"
+    sleep 0.05
+done
+exec 4>&-
+grep -qx 'flitter repl: cannot write to standard output (closed?): the session ends' err2 ||
+    fail "closed stdout: $(cat err2)"
+echo "ok: :window opens petri.fl (512x512), :step 60 redraws ($diff pixels changed), :window off and Escape close it, :quit exits 0; a closed stdout ends the session after $i steps (exit status $(cat rc2))"
