@@ -78,16 +78,18 @@ esac
 # Flitter's command line (a window implied, stderr not a terminal): silent
 # without a display, but where one is named and the window cannot open it
 # says why (else the run would go on unseen); --quiet silences that
-env -u DISPLAY -u WAYLAND_DISPLAY "$flitter" --frames 3 --dump-state "$script" >"$dir/out" 2>"$dir/err" ||
+# (--lockstep: its own clock is the wall's, which a slow run under
+# valgrind would let show in the state)
+env -u DISPLAY -u WAYLAND_DISPLAY "$flitter" --lockstep --frames 3 --dump-state "$script" >"$dir/out" 2>"$dir/err" ||
     fail "flitter SCRIPT without a display failed: $(cat "$dir/err")"
 cmp -s "$dir/out" "$dir/headless" || fail "flitter SCRIPT without a display differs from headless"
 grep -q 'running headless' "$dir/err" && fail "flitter SCRIPT without a display spoke: $(cat "$dir/err")"
-DISPLAY=:h4none SDL_VIDEODRIVER=nodriver "$flitter" --frames 3 --dump-state "$script" >"$dir/out" 2>"$dir/err" ||
+DISPLAY=:h4none SDL_VIDEODRIVER=nodriver "$flitter" --lockstep --frames 3 --dump-state "$script" >"$dir/out" 2>"$dir/err" ||
     fail "flitter SCRIPT with a display that refuses failed: $(cat "$dir/err")"
 cmp -s "$dir/out" "$dir/headless" || fail "flitter SCRIPT with a display that refuses differs from headless"
 [ "$(grep '^flitter: ' "$dir/err")" = 'flitter: cannot open the display: nodriver not available: running headless' ] ||
     fail "flitter SCRIPT with a display that refuses: $(cat "$dir/err")"
-DISPLAY=:h4none SDL_VIDEODRIVER=nodriver "$flitter" --quiet --frames 3 --dump-state "$script" >"$dir/out" 2>"$dir/err" ||
+DISPLAY=:h4none SDL_VIDEODRIVER=nodriver "$flitter" --quiet --lockstep --frames 3 --dump-state "$script" >"$dir/out" 2>"$dir/err" ||
     fail "flitter --quiet SCRIPT failed: $(cat "$dir/err")"
 grep -q 'running headless' "$dir/err" && fail "flitter --quiet SCRIPT spoke: $(cat "$dir/err")"
 
