@@ -68,7 +68,9 @@ wait_exit $pid 5
 # is blocked then: the write fails instead), though input keeps coming
 mkfifo in2
 ("$flitter" repl petri.fl <in2 2>err2; echo $? >rc2) | head -n 1 >out2 &
-exec 4>in2
+# (opened for reading too, so that a :step written after the session has
+# ended waits in the pipe instead of killing this shell with SIGPIPE)
+exec 4<>in2
 printf ':window\n' >&4
 i=0
 until [ -s out2 ]; do
@@ -81,7 +83,7 @@ i=0
 until [ -s rc2 ]; do
     printf ':step\n' >&4 2>/dev/null
     i=$((i + 1))
-    [ $i -gt 100 ] && fail "closed stdout: the session goes on after 100 :steps"
+    [ $i -gt 200 ] && fail "closed stdout: the session goes on after 200 :steps"
     sleep 0.05
 done
 exec 4>&-
