@@ -13,6 +13,8 @@
 #include <unistd.h>
 
 static FL_THREAD_LOCAL MemHandler handler;     /* this thread's failure handler */
+static FL_THREAD_LOCAL bool refused;           /* a request of this thread's was refused
+                                                  since mem_enter_budget or mem_take_refusal */
 static FL_THREAD_LOCAL long test_fail = -1;    /* mem_test_fail_after countdown */
 
 MemHandler mem_enter(MemFailFn fn, void *ctx) { return mem_enter_budget(fn, ctx, NULL); }
@@ -21,7 +23,7 @@ MemHandler mem_enter_budget(MemFailFn fn, void *ctx, MemBudget *budget)
 {
     MemHandler prev = handler;
     handler = (MemHandler){fn, ctx, budget};
-    if (budget) budget->refused = false;
+    if (budget) refused = false;
     return prev;
 }
 
@@ -31,59 +33,87 @@ void mem_leave(MemHandler prev) { handler = prev; }
  * The budget
  * ===================================================================== */
 
+/* The budget's count of bytes is shared by the threads that charge it
+ * (a runtime's frame loop and its drawing thread, fl_picture_draw): every
+ * change is one atomic step, saturating at both ends as before. */
+static size_t used_now(const MemBudget *b) { return __atomic_load_n(&b->used, __ATOMIC_RELAXED); }
+
+/* Whether [bytes] more fit under [b]'s limit with [used] charged. */
+static bool under(const MemBudget *b, size_t used, size_t bytes)
+{
+    return !b->limit || (used <= b->limit && bytes <= b->limit - used);
+}
+
+/* Add [bytes] to [b]'s count (at most SIZE_MAX); with [check], only when
+ * they fit under its limit: false, nothing charged, when not. */
+static bool add_used(MemBudget *b, size_t bytes, bool check)
+{
+    size_t old = used_now(b), now;
+    do {
+        if (check && !under(b, old, bytes)) return false;
+        now = bytes > SIZE_MAX - old ? SIZE_MAX : old + bytes;
+    } while (!__atomic_compare_exchange_n(&b->used, &old, now, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED));
+    return true;
+}
+
+/* Take [bytes] off [b]'s count (at least 0). */
+static void sub_used(MemBudget *b, size_t bytes)
+{
+    size_t old = used_now(b), now;
+    do {
+        now = bytes < old ? old - bytes : 0;
+    } while (!__atomic_compare_exchange_n(&b->used, &old, now, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED));
+}
+
 bool mem_fits(size_t bytes)
 {
-    MemBudget *b = handler.budget;
-    if (!b || !b->limit) return true;
-    if (b->used <= b->limit && bytes <= b->limit - b->used) return true;
-    b->refused = true;
+    const MemBudget *b = handler.budget;
+    if (!b || under(b, used_now(b), bytes)) return true;
+    refused = true;
     return false;
 }
 
 bool mem_room(size_t bytes)
 {
     const MemBudget *b = handler.budget;
-    return !b || !b->limit || (b->used <= b->limit && bytes <= b->limit - b->used);
+    return !b || under(b, used_now(b), bytes);
 }
 
 bool mem_reserve(size_t bytes)
 {
-    if (!mem_fits(bytes)) return false;
-    mem_charge(bytes);
-    return true;
+    MemBudget *b = handler.budget;
+    if (!b || add_used(b, bytes, true)) return true;
+    refused = true;
+    return false;
 }
 
 void mem_charge(size_t bytes)
 {
     MemBudget *b = handler.budget;
-    if (b) b->used = bytes > SIZE_MAX - b->used ? SIZE_MAX : b->used + bytes;
+    if (b) add_used(b, bytes, false);
 }
 
 void mem_unreserve(size_t bytes)
 {
     MemBudget *b = handler.budget;
     /* a block made outside any runtime call may come back inside one */
-    if (b) b->used = bytes < b->used ? b->used - bytes : 0;
+    if (b) sub_used(b, bytes);
 }
 
 bool mem_budget_reserve(MemBudget *b, size_t bytes)
 {
-    if (!b) return true;
-    if (b->limit && !(b->used <= b->limit && bytes <= b->limit - b->used)) return false;
-    b->used = bytes > SIZE_MAX - b->used ? SIZE_MAX : b->used + bytes;
-    return true;
+    return !b || add_used(b, bytes, true);
 }
 
 void mem_budget_release(MemBudget *b, size_t bytes)
 {
-    if (b) b->used = bytes < b->used ? b->used - bytes : 0;
+    if (b) sub_used(b, bytes);
 }
 
 bool mem_take_refusal(void)
 {
-    MemBudget *b = handler.budget;
-    if (!b || !b->refused) return false;
-    b->refused = false;
+    if (!handler.budget || !refused) return false;
+    refused = false;
     return true;
 }
 

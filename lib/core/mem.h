@@ -63,9 +63,9 @@ typedef void (*MemFailFn)(void *ctx, const char *message);
  * error; small allocations are not checked one by one. */
 typedef struct MemBudget {
     size_t limit;    /* bytes; 0: no limit */
-    size_t used;     /* bytes charged now */
-    bool refused;    /* a request was refused since the last mem_enter_budget
-                        or mem_take_refusal */
+    size_t used;     /* bytes charged now: changed by atomic steps alone, so
+                        that two threads may charge one budget (a runtime's
+                        frame loop and its drawing thread, fl_picture_draw) */
 } MemBudget;
 
 typedef struct MemHandler {
@@ -78,7 +78,8 @@ typedef struct MemHandler {
  * budget; returns the one it replaces, to be handed back to mem_leave(). */
 MemHandler mem_enter(MemFailFn fn, void *ctx);
 /* The same with [budget] (may be NULL) charged on this thread until
- * mem_leave; clears budget->refused, so each public call starts afresh. */
+ * mem_leave; with a budget, clears this thread's mark of a refusal
+ * (mem_take_refusal), so each public call starts afresh. */
 MemHandler mem_enter_budget(MemFailFn fn, void *ctx, MemBudget *budget);
 
 /* The text of an execution error for a request the budget refused
@@ -86,7 +87,8 @@ MemHandler mem_enter_budget(MemFailFn fn, void *ctx, MemBudget *budget);
 #define MEM_OOM_MESSAGE "Out of memory (past the memory budget, --max-memory)"
 
 /* True when [bytes] more fit in this thread's budget (always true without
- * one). A refusal sets budget->refused; nothing is charged (the pool
+ * one). A refusal marks this thread (mem_take_refusal); nothing is
+ * charged (the pool
  * charges the block when it allocates it). */
 bool mem_fits(size_t bytes);
 /* The same question without marking a refusal: for a caller that has
@@ -106,8 +108,8 @@ void mem_budget_release(MemBudget *b, size_t bytes);
 void mem_unreserve(size_t bytes);
 /* Charge [bytes] without asking (the pool, for a block it has malloc'd). */
 void mem_charge(size_t bytes);
-/* True when a request was refused since the last call (or since the
- * current public call began); clears the mark. The code that logs the
+/* True when a request of this thread's was refused since the last call
+ * (or since the current public call began); clears the mark. The code that logs the
  * failure asks this to say "out of memory" rather than something else. */
 bool mem_take_refusal(void);
 /* The default budget in bytes: half of physical memory, and never more

@@ -146,6 +146,26 @@ void node_set_attr(Node *n, Str *name, Vec *value)
     n->nattrs++;
 }
 
+Node *node_copy_deep(const Node *n)
+{
+    Str *kind = str_new(n->kind->bytes, n->kind->len);
+    Node *c = node_new_sized(kind, n->nattrs);
+    str_release(kind);
+    for (uint32_t i = 0; i < n->ntags; i++) {
+        Str *tag = str_new(n->tags[i]->bytes, n->tags[i]->len);
+        node_add_tag(c, tag);
+        str_release(tag);
+    }
+    for (uint32_t i = 0; i < n->nattrs; i++) {
+        Str *name = str_new(n->attrs[i].name->bytes, n->attrs[i].name->len);
+        node_add_new_attr(c, name, vec_copy_deep(n->attrs[i].value));
+        str_release(name);
+    }
+    if (n->nchildren) node_reserve_children(c, n->nchildren);
+    for (uint32_t i = 0; i < n->nchildren; i++) node_append_take(c, node_copy_deep(n->children[i]));
+    return c;
+}
+
 void node_add_tag(Node *n, Str *tag)
 {
     uint32_t lo = 0, hi = n->ntags;
@@ -183,6 +203,27 @@ const Vec *node_attr_n(const Node *n, const char *name, size_t len)
             return n->attrs[i].value;
     }
     return NULL;
+}
+
+/* Whether [v] holds a function, in itself or in a node it holds. */
+static bool vec_has_function(const Vec *v)
+{
+    if (!vec_is_obj(v)) return false;
+    const Elem *e = vec_celems(v);
+    for (uint32_t i = 0; i < v->len; i++) {
+        if (e[i].kind == EL_FUNC) return true;
+        if (e[i].kind == EL_NODE && node_has_function(e[i].node)) return true;
+    }
+    return false;
+}
+
+bool node_has_function(const Node *n)
+{
+    for (uint32_t i = 0; i < n->nattrs; i++)
+        if (vec_has_function(n->attrs[i].value)) return true;
+    for (uint32_t i = 0; i < n->nchildren; i++)
+        if (node_has_function(n->children[i])) return true;
+    return false;
 }
 
 bool node_equal(const Node *a, const Node *b)

@@ -46,6 +46,9 @@ Node *node_new_sized(Str *kind, uint32_t cap);
 static inline Attr *node_inline_attrs(Node *n) { return (Attr *)(void *)(n + 1); }
 static inline Node *node_retain(Node *n) { if (n) n->refs++; return n; }
 void node_release(Node *n);
+/* A copy of [n] and all below it that shares no memory with it (its
+ * kind, tags, attribute names and values, children: vec_copy_deep). */
+Node *node_copy_deep(const Node *n);
 /* Consumes [n]; returns a node with refs == 1 and the same content (n itself
  * when it was unshared, else a shallow copy). */
 Node *node_mut(Node *n);
@@ -96,6 +99,10 @@ static inline bool node_is(const Node *n, const char *kind)
 /* Structural equality (§3.12): kind, tag set, attribute map regardless of
  * order, children in order. */
 bool node_equal(const Node *a, const Node *b);
+/* Whether a function value lies anywhere in [n]: an element of one of its
+ * attributes (or of the attributes of a node held there), or in a child,
+ * at any depth. */
+bool node_has_function(const Node *n);
 /* Structural hash consistent with node_equal. */
 uint64_t node_hash(const Node *n);
 

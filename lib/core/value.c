@@ -13,6 +13,7 @@
 #include "value.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -149,6 +150,30 @@ Vec *vec_str_take(Str *s)
 }
 
 Vec *vec_str(const char *s, size_t len) { return vec_str_take(str_new(s, len)); }
+
+Vec *vec_copy_deep(const Vec *v)
+{
+    if (!v) return NULL;
+    if (v->kind == VEC_STREAM) return vec_stream((StreamKind)v->stream, v->key);
+    if (v->kind == VEC_NUM) {
+        Vec *c = vec_new_num(v->len);
+        if (v->len) memcpy(vec_nums(c), vec_cnums(v), (size_t)v->len * sizeof(double));
+        return c;
+    }
+    Vec *c = vec_new_obj_raw(v->len);
+    const Elem *from = vec_celems(v);
+    Elem *to = vec_elems(c);
+    for (uint32_t i = 0; i < v->len; i++) {
+        to[i].kind = from[i].kind;
+        switch (from[i].kind) {
+        case EL_NUM: to[i].num = from[i].num; break;
+        case EL_STR: to[i].str = str_new(from[i].str->bytes, from[i].str->len); break;
+        case EL_NODE: to[i].node = node_copy_deep(from[i].node); break;
+        default: to[i].func = func_retain(from[i].func); break;
+        }
+    }
+    return c;
+}
 
 Vec *vec_node_take(Node *n)
 {
@@ -855,6 +880,10 @@ struct SymTab {
     size_t count;        /* used slots */
     uint64_t *bits;      /* symbol bit patterns; 0 = empty (never a symbol) */
     Str **names;         /* names per slot */
+    pthread_mutex_t lock; /* taken by symtab_add and symtab_name: a
+                             frame's evaluation may add names (a program
+                             simplified again) while the drawing thread
+                             reads them (fl_picture_draw) */
 };
 
 SymTab *symtab_new(void)
@@ -865,6 +894,7 @@ SymTab *symtab_new(void)
     st->bits = calloc(st->cap, sizeof(uint64_t));
     st->names = calloc(st->cap, sizeof(Str *));
     if (!st->bits || !st->names) mem_oom();
+    pthread_mutex_init(&st->lock, NULL);
     return st;
 }
 
@@ -874,6 +904,7 @@ void symtab_free(SymTab *st)
     for (size_t i = 0; i < st->cap; i++) str_release(st->names[i]);
     free(st->bits);
     free(st->names);
+    pthread_mutex_destroy(&st->lock);
     free(st);
 }
 
@@ -888,11 +919,15 @@ double symtab_add(SymTab *st, const char *name, size_t len)
 {
     double x = symbol_value(name, len);
     uint64_t b = dbits(x);
+    pthread_mutex_lock(&st->lock);
     size_t i = symtab_slot(st, b);
-    if (st->bits[i]) return x;
+    if (st->bits[i]) {
+        pthread_mutex_unlock(&st->lock);
+        return x;
+    }
     if ((st->count + 1) * 2 > st->cap) {
-        SymTab grown = {st->cap * 2, 0, calloc(st->cap * 2, sizeof(uint64_t)),
-                        calloc(st->cap * 2, sizeof(Str *))};
+        SymTab grown = {.cap = st->cap * 2, .bits = calloc(st->cap * 2, sizeof(uint64_t)),
+                        .names = calloc(st->cap * 2, sizeof(Str *))};
         if (!grown.bits || !grown.names) mem_oom();
         for (size_t k = 0; k < st->cap; k++) {
             if (!st->bits[k]) continue;
@@ -910,6 +945,7 @@ double symtab_add(SymTab *st, const char *name, size_t len)
     st->bits[i] = b;
     st->names[i] = str_new(name, len);
     st->count++;
+    pthread_mutex_unlock(&st->lock);
     return x;
 }
 
@@ -918,6 +954,12 @@ const Str *symtab_name(const SymTab *st, double x)
     if (!st) return NULL;
     uint64_t b = dbits(x);
     if (!b) return NULL;
+    /* (the table's arrays move when it grows; a name, once added, stays
+     * where it is until symtab_free) */
+    SymTab *t = (SymTab *)st;
+    pthread_mutex_lock(&t->lock);
     size_t i = symtab_slot(st, b);
-    return st->bits[i] ? st->names[i] : NULL;
+    const Str *name = st->bits[i] ? st->names[i] : NULL;
+    pthread_mutex_unlock(&t->lock);
+    return name;
 }

@@ -181,6 +181,12 @@ Vec *vec_new_obj_raw(uint32_t n);
  * elements the caller has taken (moved elsewhere with their references):
  * nothing of them is released. */
 void vec_free_taken(Vec *v);
+/* A copy of [v] that shares no memory with it (NULL for NULL): numbers
+ * and streams copied, strings made anew, nodes copied whole
+ * (node_copy_deep); only a function element is shared (retained). For a
+ * thread that keeps values out of another thread's tree (the drawing
+ * thread, fl_picture_draw): their reference counts are then its own. */
+Vec *vec_copy_deep(const Vec *v);
 /* A one-element numeric vector. */
 static inline Vec *vec_num1(double x)
 {
@@ -345,7 +351,8 @@ Vec *vec_item(const Vec *v, int64_t i);
 double symbol_value(const char *name, size_t len);
 
 /* A symbol table maps symbol values (by bit pattern) to names; it belongs to
- * one runtime (no global table). */
+ * one runtime (no global table). symtab_add and symtab_name take the
+ * table's lock: one thread may add while others look names up. */
 typedef struct SymTab SymTab;
 SymTab *symtab_new(void);
 void symtab_free(SymTab *st);

@@ -4,6 +4,7 @@
  * past the limit are refused and marked), and what an embedding host sees
  * through flitter.h: error codes and log lines, never an abort, and a
  * runtime that goes on working afterwards. */
+#include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -43,9 +44,8 @@ static void test_charging(void **st)
     MemBudget b = {.limit = 300000};   /* blocks are charged by their pool class size */
     MemHandler prev = mem_enter_budget(NULL, NULL, &b);
     assert_true(mem_fits(300000));
-    assert_false(b.refused);
+    assert_false(mem_take_refusal());
     assert_false(mem_fits(300001));
-    assert_true(b.refused);
     assert_true(mem_take_refusal());
     assert_false(mem_take_refusal());
     assert_true(mem_reserve(200000));
@@ -89,7 +89,7 @@ static void test_charging(void **st)
     /* entering again clears the mark: each public call starts afresh */
     assert_false(mem_fits(SIZE_MAX));
     mem_enter_budget(NULL, NULL, &b);
-    assert_false(b.refused);
+    assert_false(mem_take_refusal());
     mem_leave(prev);
     /* without a budget everything fits */
     assert_true(mem_fits(SIZE_MAX));
@@ -106,6 +106,72 @@ static void collect(void *ctx, int kind, const char *line)
     Log *log = ctx;
     size_t n = strlen(log->text);
     snprintf(log->text + n, sizeof log->text - n, "%s\n", line);
+}
+
+/* One thread's share of test_threads: charges and gives back [n] blocks
+ * of 1..64 bytes, explicitly and through its own handler, marks a refusal
+ * of its own and adds symbols to the shared table. */
+typedef struct Charger {
+    MemBudget *b;
+    SymTab *syms;
+    int id;
+    bool refused_seen, stranger_refusal;
+} Charger;
+
+static void *charge(void *arg)
+{
+    Charger *c = arg;
+    MemHandler prev = mem_enter_budget(NULL, NULL, c->b);
+    for (int i = 0; i < 200000; i++) {
+        size_t n = (size_t)(i % 64) + 1;
+        if (!mem_budget_reserve(c->b, n)) return NULL;
+        mem_charge(n);
+        mem_budget_release(c->b, n);
+        mem_unreserve(n);
+    }
+    for (int i = 0; i < 2000; i++) {
+        char name[32];
+        int len = snprintf(name, sizeof name, "t%d_%d", c->id, i % 500);
+        (void)symtab_add(c->syms, name, (size_t)len);
+        if (!symtab_name(c->syms, symbol_value(name, (size_t)len))) return NULL;
+    }
+    /* a refusal marks the thread that met it, not the other */
+    if (c->id == 0) {
+        c->refused_seen = !mem_fits(SIZE_MAX) && mem_take_refusal();
+    } else {
+        c->stranger_refusal = mem_take_refusal();
+    }
+    mem_leave(prev);
+    return c;
+}
+
+/* Two threads charge one budget (a runtime's frame loop and its drawing
+ * thread, fl_picture_draw) and share a symbol table: no charge is lost
+ * (the count comes back to exactly what it was), and each thread sees its
+ * own refusals alone. Run under ThreadSanitizer by tests/tsan.sh. */
+static void test_threads(void **st)
+{
+    (void)st;
+    MemBudget b = {.limit = 1 << 20, .used = 1000};
+    SymTab *syms = symtab_new();
+    Charger c[2] = {{&b, syms, 0, false, false}, {&b, syms, 1, false, false}};
+    pthread_t t[2];
+    for (int i = 0; i < 2; i++) assert_int_equal(pthread_create(&t[i], NULL, charge, &c[i]), 0);
+    void *res[2];
+    for (int i = 0; i < 2; i++) assert_int_equal(pthread_join(t[i], &res[i]), 0);
+    assert_ptr_equal(res[0], &c[0]);
+    assert_ptr_equal(res[1], &c[1]);
+    assert_true(c[0].refused_seen);
+    assert_false(c[1].stranger_refusal);
+    const Str *name = symtab_name(syms, symbol_value("t1_499", 6));
+    assert_non_null(name);
+    assert_string_equal(name->bytes, "t1_499");
+    /* the table's names were charged as they were made: freed, they give
+     * every byte back */
+    MemHandler prev = mem_enter_budget(NULL, NULL, &b);
+    symtab_free(syms);
+    mem_leave(prev);
+    assert_int_equal(b.used, 1000);
 }
 
 static void test_api(void **st)
@@ -144,6 +210,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_parse_size),
         cmocka_unit_test(test_charging),
+        cmocka_unit_test(test_threads),
         cmocka_unit_test(test_api),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
