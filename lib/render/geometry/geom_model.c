@@ -252,8 +252,13 @@ static bool same_model(const GeomModel *a, const GeomModel *b)
     return true;
 }
 
-/* The kept model equal to [proto] (whose vectors, path and kids it then
- * takes), or [proto] itself made a kept model. [proto] is on the stack. */
+/* The kept model equal to [proto] (whose path, kids and function it then
+ * takes), or [proto] itself made a kept model. [proto] is on the stack;
+ * its vertices, faces, uv and weights are borrowed (the tree's), and a
+ * new kept model keeps copies of them (vec_copy_deep): the cache never
+ * holds a reference to a value of the tree, whose counts the frame
+ * loop's thread may be changing while a drawing thread draws
+ * (fl_picture_draw). */
 static GeomModel *intern(GeomModels *c, GeomModel *proto)
 {
     proto->hash = model_hash(proto);
@@ -263,10 +268,6 @@ static GeomModel *intern(GeomModels *c, GeomModel *proto)
             m->touched = c->now;
             free(proto->kids);
             free(proto->path);
-            vec_release(proto->vertices);
-            vec_release(proto->faces);
-            vec_release(proto->uv);
-            vec_release(proto->weights);
             vec_release(proto->fn);
             return m;
         }
@@ -286,6 +287,10 @@ static GeomModel *intern(GeomModels *c, GeomModel *proto)
     }
     GeomModel *m = mem_alloc(sizeof *m);
     *m = *proto;
+    m->vertices = vec_copy_deep(proto->vertices);
+    m->faces = vec_copy_deep(proto->faces);
+    m->uv = vec_copy_deep(proto->uv);
+    m->weights = vec_copy_deep(proto->weights);
     m->serial = ++c->serials;
     m->touched = c->now;
     for (int i = 0; i < m->nkids; i++) m->kids[i]->users++;
@@ -448,8 +453,7 @@ static GeomModel *model_node(GeomModels *c, const Node *n)
         const Vec *v = numvec(n, "vertices");
         if (!v) return NULL;
         const Vec *f = numvec(n, "faces"), *uv = numvec(n, "uv");
-        GeomModel proto = {.kind = K_VECTOR, .vertices = vec_retain((Vec *)v),
-                           .faces = f ? vec_retain((Vec *)f) : NULL, .uv = uv ? vec_retain((Vec *)uv) : NULL};
+        GeomModel proto = {.kind = K_VECTOR, .vertices = (Vec *)v, .faces = (Vec *)f, .uv = (Vec *)uv};
         m = intern(c, &proto);
     }
     const Vec *repair = rnode_attr(n, "repair");
@@ -537,8 +541,11 @@ static GeomModel *mix_node(GeomModels *c, const Node *n)
     }
     const Vec *w = numvec(n, "weights");
     double one = 1;
-    GeomModel proto = {.kind = K_MIX, .weights = w ? vec_retain((Vec *)w) : vec_from_nums(&one, 1)};
-    return make(c, &proto, kids, m);
+    Vec *ones = w ? NULL : vec_from_nums(&one, 1);
+    GeomModel proto = {.kind = K_MIX, .weights = w ? (Vec *)w : ones};
+    GeomModel *mix = make(c, &proto, kids, m);
+    vec_release(ones);
+    return mix;
 }
 
 static GeomModel *model_of(GeomModels *c, const Node *n, bool top)

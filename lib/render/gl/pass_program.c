@@ -415,10 +415,13 @@ static bool lookup_name(void *ctx, const char *name, size_t len, TplValue *out)
         *out = (TplValue){vec_compose_take(parts, N->nchildren), TPL_LIST};
         return true;
     }
+    /* the node's attributes and the engine's names are copied, never
+     * shared: a template's values are then the graph's own, whose counts
+     * no other thread changes (fl_picture_draw) */
     if (!is_reserved(name, len)) {
         const Vec *v = node_attr_n(N->n, name, len);
         if (v) {
-            *out = (TplValue){vec_share(v), TPL_VEC};
+            *out = (TplValue){vec_copy_deep(v), TPL_VEC};
             return true;
         }
     }
@@ -439,7 +442,7 @@ static bool lookup_name(void *ctx, const char *name, size_t len, TplValue *out)
     const GraphFrame *f = N->g->f;
     const Vec *v = f && f->name ? f->name(f->ctx, name, len) : NULL;
     if (v) {
-        *out = (TplValue){vec_share(v), TPL_VEC};
+        *out = (TplValue){vec_copy_deep(v), TPL_VEC};
         return true;
     }
     return false;
