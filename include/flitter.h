@@ -585,6 +585,15 @@ FL_API fl_outputs *fl_outputs_open(fl_runtime *rt, const fl_output_options *o);
  *           written (that output then stops) or [out] is NULL (-1 for a
  *           NULL [rt]), else 0. */
 FL_API int fl_outputs_frame(fl_outputs *out, fl_runtime *rt);
+/* Whether fl_outputs_frame(out, rt) would draw pictures for [rt]'s last
+ * frame: a window's !record writes a file in it, or --record's first
+ * window is recorded (with no window shown by a front end, any !record
+ * makes every frame drawn). Only then does fl_outputs_frame use the render
+ * graph and its OpenGL context: a front end whose drawing thread holds
+ * them (fl_picture_draw) runs such a frame's fl_outputs_frame there, with
+ * the frame loop waiting, and any other on the frame loop's thread, beside
+ * the drawing. False for a NULL [out] or [rt]. */
+FL_API bool fl_outputs_draws(const fl_outputs *out, fl_runtime *rt);
 /* Write the final --view picture (.png/.svg: of [rt]'s last frame, when
  * it ran any), finish animated GIFs and videos (they appear under their
  * names only now), close the files and free [out] (NULL is a no-op).
@@ -694,6 +703,68 @@ FL_API void fl_set_window_scale(fl_runtime *rt, double scale, int max_samples);
  * size, or none was drawn), and in [*max_samples] (when not NULL) the cap
  * on samples they were drawn with (0: none). */
 FL_API double fl_window_scale(fl_runtime *rt, int *max_samples);
+
+/* {---------------------------------------------------------------------
+ * Pictures drawn beside the frame loop: a front end draws frame N's
+ * windows on a thread of its own (the drawing thread) while the frame
+ * loop's thread steps frame N+1, so that neither waits for the other.
+ * After fl_step the frame loop's thread takes the frame's picture
+ * (fl_picture_take: its tree and engine names held, nothing copied) and
+ * hands it over; the drawing thread draws it (fl_picture_texture for each
+ * window; fl_picture_draw draws without asking for a texture) with the
+ * OpenGL context of fl_gl_attach current there, and hands it back; the
+ * frame loop's thread frees it (fl_picture_free). The textures are those
+ * fl_gl_window_texture would give for that frame (fl_picture_read: the
+ * pixels fl_draw_window would). A front end without an OpenGL context of
+ * its own may do the same: the runtime's own context is then made current
+ * on the drawing thread.
+ *
+ * While a picture is out (from fl_picture_take until the drawing thread
+ * is done with it), the runtime's render graph is the drawing thread's:
+ * the frame loop's thread may call fl_step and the calls that do not draw
+ * (fl_windows, the input and clock calls, the state calls, fl_dump_state,
+ * fl_view_snapshot_take, fl_get_stats, fl_outputs_frame for a frame of
+ * which fl_outputs_draws says false, fl_picture_take, fl_picture_free),
+ * and not fl_load, fl_free, fl_gl_attach, fl_draw_window, fl_draw_view,
+ * fl_gl_window_texture, fl_set_window_scale nor fl_window_scale; the
+ * drawing thread calls fl_picture_draw, fl_picture_texture and, between
+ * pictures, fl_set_window_scale and fl_window_scale. A call that draws
+ * (those last, fl_outputs_frame of a frame that draws, fl_load, fl_free)
+ * needs the OpenGL context on its thread and no picture being drawn.
+ * ---------------------------------------------------------------------} */
+typedef struct fl_picture fl_picture;
+/* The last frame's picture of [rt], for a drawing thread. NULL (draw that
+ * frame on this thread instead, with fl_gl_window_texture) before the
+ * first frame, before the windows are shown (fl_gl_attach,
+ * fl_gl_window_texture or fl_draw_window first), once a frame's windows
+ * hold a function (an SDF's `function=`, which the drawing calls back:
+ * from then on the runtime's pictures are drawn on its own thread), for a
+ * NULL [rt] or out of memory. */
+FL_API fl_picture *fl_picture_take(fl_runtime *rt);
+/* Draw [pic]'s windows (once: later calls do nothing) through [rt]'s
+ * render graph, on the drawing thread; 0 when drawn, or the number of
+ * record files that could not be written (as fl_outputs_frame counts
+ * them: logged); -1 for a NULL [rt] or [pic]. Errors are logged, not left
+ * in fl_error(), which is the frame loop's. */
+FL_API int fl_picture_draw(fl_runtime *rt, fl_picture *pic);
+/* fl_gl_window_texture for [pic]'s frame, on the drawing thread (drawn
+ * first if it was not): window [index]'s texture and its size, valid
+ * until the next picture is drawn; 0 when it has none. */
+FL_API unsigned fl_picture_texture(fl_runtime *rt, fl_picture *pic, size_t index, int *width, int *height);
+/* fl_draw_window for [pic]'s frame, on the drawing thread (drawn first if
+ * it was not): window [index]'s picture read back into [pixels], the same
+ * layout and pixels. -1 (and no error text: fl_error() is the frame
+ * loop's) for an index past the frame's last window, a size other than
+ * that window's, a NULL [pixels], a stride below width*4 or not a
+ * multiple of 4, or a NULL [rt] or [pic]; else 0. */
+FL_API int fl_picture_read(fl_runtime *rt, fl_picture *pic, size_t index, uint32_t *pixels, int width, int height,
+                           size_t stride);
+/* The number of [pic]'s frame (fl_frame_count() - 1 when it was taken);
+ * -1 for NULL. */
+FL_API long fl_picture_frame(const fl_picture *pic);
+/* Give [pic] back (NULL is a no-op), on the frame loop's thread, once the
+ * drawing thread is done with it: its tree and names are released. */
+FL_API void fl_picture_free(fl_runtime *rt, fl_picture *pic);
 
 /* Draw [rt]'s !physics systems as they are now into [pixels] (same layout
  * as fl_draw_window), as `--view` draws them (fl_view), scaled to fit

@@ -89,7 +89,10 @@ int fl_outputs_frame(fl_outputs *out, fl_runtime *rt)
     long frame = fl_frame_count(rt) - 1;
     out->frames++;
     int rc = 0;
-    if (rt_render(rt, false) > 0) out->record_failed = true;
+    /* (the graph is touched only when the frame is drawn for its files:
+     * otherwise a drawing thread may be drawing it, fl_outputs_draws) */
+    if (pictures_draws_for_files(rt_pictures(rt), rt_root(rt)) && rt_render(rt, false) > 0)
+        out->record_failed = true;
     bool gif = out->view && view_animated(out->view) && due(frame, out->view_every);
     bool trace = out->trace && due(frame, out->trace_every);
     if (gif || trace) {
@@ -116,6 +119,12 @@ int fl_outputs_frame(fl_outputs *out, fl_runtime *rt)
     }
     mem_leave(prev);
     return rc;
+}
+
+bool fl_outputs_draws(const fl_outputs *out, fl_runtime *rt)
+{
+    if (!out || !rt) return false;
+    return pictures_draws_for_files(rt_pictures(rt), rt_root(rt)) && !rt_no_draw(rt);
 }
 
 /* Draw [rt]'s systems now into [v] as frame [frame]; -1 with [err] set on

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "mem.h"
+#include "rnode.h"
 
 struct Pictures {
     GraphEnv env;    /* what the graph is made with */
@@ -19,6 +20,8 @@ struct Pictures {
     char *record;    /* --record FILE, until the graph is made */
     double scale;    /* pictures_set_scale's, until the graph is made */
     int max_samples;
+    bool calls_back;  /* a frame's windows held a function: drawn on the
+                         runtime's thread alone from then on (api_drawing.c) */
     char folder[4096];
 };
 
@@ -80,6 +83,23 @@ void pictures_record_first(Pictures *p, const char *path)
 int pictures_finish_records(Pictures *p)
 {
     return p->graph ? graph_finish_records(p->graph) : 0;
+}
+
+bool pictures_shown(const Pictures *p) { return p->show; }
+
+bool pictures_draws_for_files(const Pictures *p, const Node *root)
+{
+    return graph_draws_for_files(root, p->record != NULL, p->show);
+}
+
+bool pictures_calls_back(Pictures *p, const Node *root)
+{
+    if (p->calls_back || !root) return p->calls_back;
+    for (size_t i = 0; i < rnode_nchildren(root) && !p->calls_back; i++) {
+        const Node *w = rnode_child(root, i);
+        if (graph_is_window(w) && node_has_function(w)) p->calls_back = true;
+    }
+    return p->calls_back;
 }
 
 void pictures_show_windows(Pictures *p)

@@ -18,6 +18,17 @@
 
 typedef struct Pictures Pictures;
 
+/* Whether windows are shown (pictures_show_windows was called). */
+bool pictures_shown(const Pictures *p);
+/* Whether pictures_render, asked for no windows, would draw the frame of
+ * [root] (graph_draws_for_files with this runtime's --record and shown
+ * windows); reads the tree and these settings alone, never the graph. */
+bool pictures_draws_for_files(const Pictures *p, const Node *root);
+/* Whether drawing a window of [root] may call back into the runtime (a
+ * window's tree holds a function: an SDF's `function=`, evaluated while
+ * it is drawn), so that the pictures must be drawn on the runtime's
+ * thread, not beside its next frame; once true, true from then on. */
+bool pictures_calls_back(Pictures *p, const Node *root);
 /* Pictures drawn with [env] (copied; what it points to must outlive the
  * pictures). Skipped node kinds are logged as warnings: a shown window
  * lacks them. */

@@ -1228,14 +1228,54 @@ static double global_num(const fl_runtime *rt, const char *name, double dflt)
     return vec_is_scalar(v) ? vec_scalar(v) : dflt;
 }
 
+void rt_graph_frame(const fl_runtime *rt, GraphFrame *f)
+{
+    *f = (GraphFrame){.frame = fl_frame_count(rt) - 1, .beat = global_num(rt, "beat", 0),
+                      .quantum = global_num(rt, "quantum", 4), .tempo = global_num(rt, "tempo", 120),
+                      .delta = global_num(rt, "delta", 0), .time = global_num(rt, "time", 0),
+                      .fps = fl_target_fps(rt), .performance = global_num(rt, "performance", 1),
+                      .realtime = rt->opts.realtime, .script = rt_script_path(rt)};
+}
+
 int rt_render(fl_runtime *rt, bool windows)
 {
     if (rt->opts.debug.no_draw && !windows) return 0;
-    GraphFrame f = {.frame = fl_frame_count(rt) - 1, .beat = global_num(rt, "beat", 0),
-                    .quantum = global_num(rt, "quantum", 4), .tempo = global_num(rt, "tempo", 120),
-                    .delta = global_num(rt, "delta", 0), .time = global_num(rt, "time", 0),
-                    .fps = fl_target_fps(rt), .performance = global_num(rt, "performance", 1),
-                    .realtime = rt->opts.realtime, .script = rt_script_path(rt), .name = frame_name,
-                    .ctx = rt};
+    GraphFrame f;
+    rt_graph_frame(rt, &f);
+    f.name = frame_name;
+    f.ctx = rt;
     return pictures_render(rt->pictures, rt->root, &f, windows);
+}
+
+Node *rt_hold_root(fl_runtime *rt) { return node_retain(rt->root); }
+
+bool rt_no_draw(const fl_runtime *rt) { return rt->opts.debug.no_draw; }
+
+uint32_t rt_hold_globals(const fl_runtime *rt, Str ***names, Vec ***values)
+{
+    uint32_t n = rt->globals.count;
+    *names = n ? malloc(n * sizeof **names) : NULL;
+    *values = n ? malloc(n * sizeof **values) : NULL;
+    if (n && (!*names || !*values)) mem_oom();
+    for (uint32_t i = 0; i < n; i++) {
+        (*names)[i] = str_retain(rt->globals.names[i]);
+        (*values)[i] = vec_retain(rt->globals.values[i]);
+    }
+    return n;
+}
+
+void rt_release_held(fl_runtime *rt, Node *root, uint32_t n, Str **names, Vec **values)
+{
+    /* inside the runtime's budget and pool, as fl_step releases a tree */
+    MemHandler prev = rt_enter(rt);
+    Pool *pp = pool_enter(rt->pool);
+    node_release(root);
+    for (uint32_t i = 0; i < n; i++) {
+        str_release(names[i]);
+        vec_release(values[i]);
+    }
+    pool_leave(pp);
+    mem_leave(prev);
+    free(names);
+    free(values);
 }

@@ -15,6 +15,7 @@
 #include <stdio.h>
 
 #include "buf.h"
+#include "graph.h"
 #include "flitter.h"
 #include "mem.h"
 #include "node.h"
@@ -67,6 +68,23 @@ bool rt_call_distances(fl_runtime *rt, const Vec *fn, const double *xyz, size_t 
  * fl_debug_options.no_draw unless [windows] asks for them); returns
  * the number of record files that could not be written this frame. */
 int rt_render(fl_runtime *rt, bool windows);
+/* The values of the frame the last frame's pictures are drawn with
+ * (rt_render's; its name lookup NULL). */
+void rt_graph_frame(const fl_runtime *rt, GraphFrame *f);
+/* A new reference to the last frame's tree (NULL before the first), for a
+ * drawing thread (api_drawing.c): hold it while that thread reads it,
+ * and give it back with rt_release_held on the runtime's thread. */
+Node *rt_hold_root(fl_runtime *rt);
+/* Whether fl_debug_options.no_draw is set (no pictures for files). */
+bool rt_no_draw(const fl_runtime *rt);
+/* The engine names and defines of the last frame, held: [*names] and
+ * [*values] (new arrays of new references, malloc'd) of the returned
+ * count, for a drawing thread's lookups; given back with rt_release_held. */
+uint32_t rt_hold_globals(const fl_runtime *rt, Str ***names, Vec ***values);
+/* Give back what rt_hold_root and rt_hold_globals held (any may be
+ * NULL/0), on the runtime's thread, inside its budget and pool as a
+ * frame releases its tree; frees the two arrays. */
+void rt_release_held(fl_runtime *rt, Node *root, uint32_t n, Str **names, Vec **values);
 /* The runtime's memory budget (fl_options.max_memory), for what it holds
  * across calls (the render graph's framebuffers). */
 MemBudget *rt_budget(fl_runtime *rt);

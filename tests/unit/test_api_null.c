@@ -713,6 +713,20 @@ NULL_TEST(fl_outputs_frame)
     fl_free(rt);
 }
 
+NULL_TEST(fl_outputs_draws)
+{
+    (void)unused;
+    assert_false(fl_outputs_draws(NULL, NULL));
+    fl_runtime *rt = loaded();
+    fl_outputs *out = fl_outputs_open(rt, NULL);
+    assert_non_null(out);
+    assert_false(fl_outputs_draws(NULL, rt));
+    assert_false(fl_outputs_draws(out, NULL));
+    assert_false(fl_outputs_draws(out, rt));   /* no !record */
+    assert_int_equal(fl_outputs_close(out, rt), 0);
+    fl_free(rt);
+}
+
 NULL_TEST(fl_outputs_close)
 {
     (void)unused;
@@ -806,6 +820,70 @@ NULL_TEST(fl_gl_window_texture)
     assert_int_equal(h, 0);
     fl_runtime *rt = loaded();
     assert_int_equal(fl_gl_window_texture(rt, SIZE_MAX, NULL, NULL), 0);   /* no such window, NULL sizes */
+    fl_free(rt);
+}
+
+/* The pictures drawn beside the frame loop (fl_picture_take): NULL
+ * arguments, and no picture before the windows are shown (nothing drawn
+ * here: test_pictures_thread draws them). */
+NULL_TEST(fl_picture_take)
+{
+    (void)unused;
+    assert_null(fl_picture_take(NULL));
+    fl_runtime *rt = fresh();
+    assert_null(fl_picture_take(rt));   /* no program, no frame */
+    fl_free(rt);
+    rt = loaded();
+    assert_null(fl_picture_take(rt));   /* windows not shown */
+    assert_string_equal(fl_error(rt), "");
+    fl_free(rt);
+}
+
+NULL_TEST(fl_picture_draw)
+{
+    (void)unused;
+    assert_int_equal(fl_picture_draw(NULL, NULL), -1);
+    fl_runtime *rt = loaded();
+    assert_int_equal(fl_picture_draw(rt, NULL), -1);
+    assert_string_equal(fl_error(rt), "");   /* (fl_error is the frame loop's) */
+    fl_free(rt);
+}
+
+NULL_TEST(fl_picture_texture)
+{
+    (void)unused;
+    int w = 7, h = 9;
+    assert_int_equal(fl_picture_texture(NULL, NULL, 0, &w, &h), 0);
+    assert_int_equal(w, 0);
+    assert_int_equal(h, 0);
+    fl_runtime *rt = loaded();
+    assert_int_equal(fl_picture_texture(rt, NULL, 0, NULL, NULL), 0);
+    fl_free(rt);
+}
+
+NULL_TEST(fl_picture_read)
+{
+    (void)unused;
+    uint32_t px[16 * 8];
+    assert_int_equal(fl_picture_read(NULL, NULL, 0, px, 16, 8, 64), -1);
+    fl_runtime *rt = loaded();
+    assert_int_equal(fl_picture_read(rt, NULL, 0, px, 16, 8, 64), -1);
+    assert_string_equal(fl_error(rt), "");
+    fl_free(rt);
+}
+
+NULL_TEST(fl_picture_frame)
+{
+    (void)unused;
+    assert_int_equal(fl_picture_frame(NULL), -1);
+}
+
+NULL_TEST(fl_picture_free)
+{
+    (void)unused;
+    fl_picture_free(NULL, NULL);   /* a no-op */
+    fl_runtime *rt = loaded();
+    fl_picture_free(rt, NULL);
     fl_free(rt);
 }
 
@@ -1008,9 +1086,10 @@ static const struct CMUnitTest tests[] = {
     T(fl_reset_state), T(fl_save_state), T(fl_restore_state), T(fl_dump_state),
     T(fl_dump_tree), T(fl_dump_program), T(fl_dump_tokens), T(fl_dump_ast), T(fl_eval),
     T(fl_state_set_expr), T(fl_eval_reset), T(fl_scope_names), T(fl_builtin_name),
-    T(fl_number_text), T(fl_particles), T(fl_outputs_open), T(fl_outputs_frame),
+    T(fl_number_text), T(fl_particles), T(fl_outputs_open), T(fl_outputs_frame), T(fl_outputs_draws),
     T(fl_outputs_close), T(fl_view), T(fl_check_output), T(fl_windows), T(fl_draw_window),
-    T(fl_gl_attach), T(fl_gl_window_texture), T(fl_set_window_scale), T(fl_window_scale), T(fl_draw_view), T(fl_view_snapshot_take), T(fl_view_snapshot_free),
+    T(fl_gl_attach), T(fl_gl_window_texture), T(fl_picture_take), T(fl_picture_draw), T(fl_picture_texture),
+    T(fl_picture_read), T(fl_picture_frame), T(fl_picture_free), T(fl_set_window_scale), T(fl_window_scale), T(fl_draw_view), T(fl_view_snapshot_take), T(fl_view_snapshot_free),
     T(fl_view_painter_new), T(fl_view_painter_free), T(fl_view_painter_draw), T(fl_key), T(fl_pointer), T(fl_pointer_button), T(fl_program_files),
     T(fl_get_stats),
     cmocka_unit_test(every_function_is_covered),

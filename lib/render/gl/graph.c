@@ -536,6 +536,34 @@ static int has_record(const Node *n)
 
 bool graph_is_window(const Node *n) { return rnode_is(n, "window") || rnode_is(n, "offscreen"); }
 
+/* The records of [root]'s windows, as has_record counts them (the most of
+ * any window); *[any]: whether it has a window. */
+static int tree_records(const Node *root, bool *any)
+{
+    int recs = 0;
+    *any = false;
+    for (size_t i = 0; i < rnode_nchildren(root); i++) {
+        const Node *w = rnode_child(root, i);
+        if (!graph_is_window(w)) continue;
+        *any = true;
+        int r = has_record(w);
+        if (r > recs) recs = r;
+    }
+    return recs;
+}
+
+/* graph_frame's choice, without windows asked for, of drawing a frame whose
+ * records count [recs] (2 when --record's first window is recorded). */
+static bool draws_for_files(int recs, bool show) { return recs == 2 || (recs == 1 && !show); }
+
+bool graph_draws_for_files(const Node *root, bool record_first, bool show)
+{
+    if (!root) return false;
+    bool any;
+    int recs = tree_records(root, &any);
+    return draws_for_files(record_first ? 2 : recs, show);
+}
+
 void graph_window_size(const Node *win, int *w, int *h)
 {
     double s[2];
@@ -642,15 +670,9 @@ int graph_frame(Graph *g, const Node *root, const GraphFrame *frame, bool window
         if (windows) g->composited = g->show;
         return 0;
     }
-    bool any = false;
-    int recs = g->record_first ? 2 : 0;
-    for (size_t i = 0; i < rnode_nchildren(root); i++) {
-        const Node *w = rnode_child(root, i);
-        if (!graph_is_window(w)) continue;
-        any = true;
-        int r = has_record(w);
-        if (r > recs) recs = r;
-    }
+    bool any;
+    int recs = tree_records(root, &any);
+    if (g->record_first) recs = 2;
     bool records = recs == 2;
     /* Headless, every frame of a tree with a !record is drawn, as
      * Flitter draws every frame (a !feedback or a `last` evolves frame by
@@ -658,7 +680,7 @@ int graph_frame(Graph *g, const Node *root, const GraphFrame *frame, bool window
      * drawn when a file needs it or the front end takes its pictures,
      * not when it drops them. A frame nothing asks for is not drawn (nor
      * counted as drawn, so that a later call for it does draw). */
-    if (!windows && !records && !(recs == 1 && !g->show)) return 0;
+    if (!windows && !draws_for_files(recs, g->show)) return 0;
     /* the frames not drawn since the last one are in this one's delta */
     GraphFrame fd = *frame;
     if (g->frame >= 0 && frame->frame > g->frame + 1 && frame->beat >= g->beat) fd.delta = frame->beat - g->beat;

@@ -139,6 +139,13 @@ int graph_read_window(Graph *g, size_t index, uint32_t *px, int w, int h, size_t
  * into place; later frames start them again); -1 when one could not be
  * finished (logged), else 0. */
 int graph_finish_records(Graph *g);
+/* Whether graph_frame, asked for no windows, would draw the frame of
+ * [root] (its records write files, or --record's first window is
+ * recorded: [record_first]; or, with no windows shown ([show] false), it
+ * has a !record at all); false for a NULL [root]. Reads the tree alone,
+ * not the graph: a front end whose drawing thread holds the graph asks
+ * it on the frame loop's (fl_outputs_draws). */
+bool graph_draws_for_files(const Node *root, bool record_first, bool show);
 /* True for a top-level window node: `!window` or `!offscreen`. */
 bool graph_is_window(const Node *n);
 /* The size of window node [win] in pixels: its size=W;H, or 512;512 when
