@@ -1,12 +1,18 @@
-/* window_loop.h: the state of a run with live windows. Two threads share
- * it: the frame loop (window_main.c, its own thread) steps the runtimes
- * and draws each shown frame's pictures into plain pixel buffers, except
- * a flat physics view, of which it takes a snapshot (fl_view_snapshot);
- * the display (window_display.c, the thread that started SDL, as SDL's
- * video wants) owns the SDL windows, turns SDL events into Inputs for the
- * frame loop (window_input.c applies them), paints the snapshots
- * (fl_view_painter) and presents the pictures. They meet
- * only in a Handover (window_handover.c), under its mutex. */
+/* window_loop.h: the state of a run with live windows. Three threads
+ * share it: the frame loop (window_main.c, its own thread) steps the
+ * runtimes and describes each shown frame's pictures; with OpenGL windows
+ * the drawing thread (window_drawing.c) holds the frame loop's OpenGL
+ * context and draws them, a frame's picture beside the frame loop's next
+ * frame (fl_picture_take) or, what cannot be drawn beside it, while the
+ * frame loop waits (without OpenGL windows the frame loop draws them into
+ * plain pixel buffers itself, except a flat physics view, of which it
+ * takes a snapshot, fl_view_snapshot); the display (window_display.c, the
+ * thread that started SDL, as SDL's video wants) owns the SDL windows,
+ * turns SDL events into Inputs for the frame loop (window_input.c applies
+ * them), paints the snapshots (fl_view_painter) and presents the
+ * pictures. The frame loop and the display meet only in a Handover
+ * (window_handover.c), under its mutex; the frame loop and the drawing
+ * thread in a Drawing, under its own. */
 #ifndef FL_WINDOW_LOOP_H
 #define FL_WINDOW_LOOP_H
 
@@ -122,6 +128,46 @@ double handover_now(void);
  * The frame loop's state
  * ===================================================================== */
 
+/* The drawing thread (window_drawing.c): the frame loop posts one job at
+ * a time, a picture (drawn while the frame loop goes on) or a task (run
+ * while it waits), and takes a picture's results back when it is done. */
+typedef enum DrawKind { DRAW_NONE, DRAW_PICTURE, DRAW_TASK, DRAW_STOP } DrawKind;
+
+struct Loop;
+
+/* What the drawing of a picture gives back to the frame loop. */
+typedef struct DrawResult {
+    fl_runtime *rt;          /* the picture's runtime, to free it with */
+    fl_picture *pic;         /* the picture drawn, for fl_picture_free */
+    double seconds;          /* from the job's start to its end */
+    double locked_seconds;   /* of which drawing, with the OpenGL turn held */
+    double end;              /* when it ended (monotonic seconds) */
+    double scale;            /* fl_window_scale of the picture drawn */
+    int samples;
+} DrawResult;
+
+typedef struct Drawing {
+    pthread_t thread;
+    bool running;            /* the thread was started (and not yet joined) */
+    bool ready;              /* it has the context and attached the pages */
+    pthread_mutex_t mu;
+    pthread_cond_t cond;     /* signalled on every change of what follows */
+    DrawKind kind;           /* the job posted (DRAW_NONE: idle) */
+    /* a DRAW_PICTURE job */
+    fl_runtime *rt;
+    fl_picture *pic;
+    int set;                 /* the Handover's set it fills */
+    bool scaling;            /* set the live scale first: */
+    double scale;
+    int samples;
+    /* a DRAW_TASK job */
+    void (*task)(struct Loop *L, void *ctx);
+    void *task_ctx;
+    /* the last picture drawn, until the frame loop takes it */
+    bool done;
+    DrawResult result;
+} Drawing;
+
 /* One script of the command line: its own runtime, state and clock. */
 typedef struct Page {
     const char *script;      /* SCRIPT, borrowed from argv */
@@ -188,7 +234,37 @@ typedef struct Loop {
     double scale_sum;        /* the sum of their scales, for the mean */
     double last_frame_end;   /* when the last frame's simulation ended (0: none) */
     double frame_period;     /* seconds from one frame's end to the next's, smoothed */
+    double drawn_scale;      /* the scale and samples cap of the last picture drawn */
+    int drawn_samples;
+    Drawing draw;            /* the drawing thread, with OpenGL windows */
 } Loop;
+
+/* The drawing thread (window_drawing.c). drawing_start starts it with
+ * the frame loop's OpenGL context (L->hand->gl) and attaches every page's
+ * runtime to it (fl_gl_attach: Page.gl, L->gl); false, with nothing
+ * started, when there is no context or the thread cannot start: the
+ * frame loop then draws as without OpenGL windows. drawing_stop ends it
+ * (after its job), its context left for the thread that frees the
+ * runtimes. */
+bool drawing_start(struct Loop *L);
+void drawing_stop(struct Loop *L);
+/* Whether a picture or a task is being drawn or run. */
+bool drawing_busy(struct Loop *L);
+/* Wait until the drawing thread is idle; false when the run was
+ * interrupted first (*L->interrupt: a lost X display may hold it). */
+bool drawing_wait_idle(struct Loop *L);
+/* Run [fn](L, [ctx]) on the drawing thread, the frame loop waiting (after
+ * the job before it); false, [fn] perhaps not run, when interrupted. */
+bool drawing_run(struct Loop *L, void (*fn)(struct Loop *L, void *ctx), void *ctx);
+/* Hand picture [pic] of runtime [rt] to the idle drawing thread: it draws
+ * each window of set [set] of the Handover (described by the frame loop,
+ * state SET_DRAWING) at [scale] and [samples] when [scaling], copies them
+ * for the display and marks the set SET_PENDING. */
+void drawing_post(struct Loop *L, fl_runtime *rt, fl_picture *pic, int set, bool scaling, double scale,
+                  int samples);
+/* Take the results of the last picture drawn, if the frame loop has not
+ * yet: true with [*out] filled (the caller frees out->pic). */
+bool drawing_take(struct Loop *L, DrawResult *out);
 
 /* Apply input [in] to the current page of [L] (window_input.c): keys go
  * to the window's !key nodes first (fl_key), and only unclaimed ones act:

@@ -3,22 +3,28 @@
  * of its own: a Loop holds the pages (one fl_runtime each, only the
  * current one steps); after each frame it describes the windows to show,
  * one per !window of the current page's tree (fl_windows, !offscreen ones
- * excluded), and draws each one's picture (fl_draw_window) or, with F2 or
- * when the frame has no !window, the physics view (fl_draw_view) into a
- * picture set that it hands to the display (window_display.c), which
+ * excluded), into a picture set for the display (window_display.c), which
  * presents it on the thread that started SDL while the next frames run:
- * presenting never holds the simulation up. Input (window_input.c) reaches
- * the runtime between frames. The clock follows Flitter's
+ * presenting never holds the simulation up. With OpenGL windows the
+ * drawing thread (window_drawing.c) draws the set: a frame's render-graph
+ * pictures beside the next frames (fl_picture_take), so that drawing does
+ * not hold the simulation up either, and what cannot be drawn beside them
+ * (the physics view, with F2 or when the frame has no !window; a frame
+ * whose !record writes a file) while the frame loop waits. Without them
+ * the frame loop draws each window's picture (fl_draw_window) or the
+ * physics view (fl_draw_view) itself. Input (window_input.c) reaches the
+ * runtime between frames. The clock follows Flitter's
  * EngineController.run: realtime frames are paced to fl_target_fps; a
- * frame's picture is skipped (counted as dropped) while the display has
- * not yet taken the last one, or when the frame finished after the next
- * one was due, unless nothing was drawn for twice the last picture's
- * cost, at least 100 ms. A window that scales its pictures down
- * (window_scale.h) waits only for the last picture's cost, and not at all
- * while its frames still come at half the frame rate or more: then, as in
- * Flitter, every frame is drawn. In lockstep every frame is shown: the
- * frame loop waits for the display to take a picture before it draws the
- * next. */
+ * frame's picture is skipped (counted as dropped) while the drawing thread
+ * or the display has not yet taken the last one, or, for a picture drawn
+ * while the frame loop waits, when the frame finished after the next one
+ * was due, unless nothing was drawn for twice the last picture's cost, at
+ * least 100 ms. A window that scales its pictures down (window_scale.h)
+ * waits only for the last picture's cost, and not at all while its frames
+ * still come at half the frame rate or more: then, as in Flitter, every
+ * frame is drawn. In lockstep every frame is shown: the frame loop waits
+ * for the drawing thread and the display to take a picture before it
+ * draws the next. */
 #include "window.h"
 
 #include <pthread.h>
@@ -59,8 +65,12 @@ static void check_reload(Loop *L)
 {
     Page *p = &L->pages[L->cur];
     if (!watch_changed(&p->watch)) return;
+    if (!drawing_wait_idle(L)) return;   /* (fl_load: no picture out) */
     double t0 = now_seconds();
-    if (fl_load(p->rt, p->script) == 0) {
+    wingl_lock(L->hand->gl);   /* (a runtime freed or made draws) */
+    int rc = fl_load(p->rt, p->script);
+    wingl_unlock(L->hand->gl);
+    if (rc == 0) {
         p->load.last = now_seconds() - t0;
         p->load.reloads++;
         watch_set(&p->watch, p->rt, p->script);
@@ -278,32 +288,78 @@ static void draw_window(Loop *L, ShownWindow *s, int view_w, int view_h)
     }
 }
 
-/* Count a picture set drawn in [seconds] (its drawing, not its wait for
- * the OpenGL turn) for the dynamic resolution, when it holds a window's
- * picture drawn by the render graph (not the physics view), and note the
- * scale it was drawn at. */
-static void scale_picture(Loop *L, fl_runtime *rt, const PictureSet *set, double seconds)
+/* Count a picture set drawn: [seconds] from its description to its end
+ * at [end], [locked] of them drawing (with the OpenGL turn), at the
+ * scale [scale] and samples cap [samples] it was drawn with; [graph]:
+ * it holds a window's picture drawn by the render graph (not the physics
+ * view). For the dynamic resolution, such a set counts its drawing time
+ * unless it was drawn whole for a file. */
+static void count_picture(Loop *L, bool graph, double seconds, double locked, double end, double scale, int samples)
 {
-    if (L->show_view) return;
-    bool graph = false;
-    for (size_t k = 0; k < set->n && !graph; k++) graph = set->win[k].index != NO_WINDOW;
-    if (!graph) return;
-    double drawn = fl_window_scale(rt, NULL);
-    if (drawn < 1) {
+    L->draw_seconds += seconds;
+    L->last_drawn = end;
+    L->last_draw_cost = seconds;
+    L->drawn++;
+    L->drawn_scale = scale;
+    L->drawn_samples = samples;
+    if (!L->scaling || L->show_view || !graph) return;
+    if (scale < 1) {
         L->scaled_pictures++;
-        L->scale_sum += drawn;
+        L->scale_sum += scale;
     }
     /* a picture drawn whole for a file says nothing about the scale's cost */
-    if (drawn == winscale_scale(&L->scale) && winscale_picture(&L->scale, seconds, 1 / fl_target_fps(rt)))
+    if (scale == winscale_scale(&L->scale) && winscale_picture(&L->scale, locked, 1 / fl_target_fps(L->pages[L->cur].rt)))
         L->overlay_changed |= L->show_status;
 }
 
+/* Count the picture the drawing thread has drawn since the last call,
+ * if it has, and give it back. */
+static void collect_picture(Loop *L)
+{
+    DrawResult r;
+    if (!drawing_take(L, &r)) return;
+    fl_picture_free(r.rt, r.pic);
+    count_picture(L, true, r.seconds, r.locked_seconds, r.end, r.scale, r.samples);
+}
+
+/* A picture set drawn while the frame loop waits (draw_set). */
+typedef struct SetDraw {
+    PictureSet *set;
+    int view_w, view_h;      /* the physics view window's output size */
+    fl_runtime *rt;
+    double locked;           /* seconds drawing, with the OpenGL turn */
+    double scale;            /* fl_window_scale after it */
+    int samples;
+} SetDraw;
+
+/* Draw every window of a SetDraw [ctx] (on the drawing thread, or on the
+ * frame loop's without one). */
+static void draw_set(Loop *L, void *ctx)
+{
+    SetDraw *a = ctx;
+    if (L->scaling) fl_set_window_scale(a->rt, winscale_scale(&L->scale), winscale_samples(&L->scale));
+    wingl_lock(L->hand->gl);
+    double locked = now_seconds();
+    for (size_t k = 0; k < a->set->n; k++) draw_window(L, &a->set->win[k], a->view_w, a->view_h);
+    wingl_unlock(L->hand->gl);
+    a->locked = now_seconds() - locked;
+    a->scale = fl_window_scale(a->rt, &a->samples);
+}
+
 /* Draw the current frame's pictures into a free set and hand it to the
- * display. In lockstep, first wait until the display has taken the last
- * one; in realtime, return false (nothing drawn) when it has not. */
+ * display: with the drawing thread, a picture of the render graph's
+ * windows is handed to it and drawn beside the next frames (it marks the
+ * set for the display); anything else is drawn now. In lockstep, first
+ * wait until the drawing thread and the display have taken the last one;
+ * in realtime, return false (nothing drawn) when either has not. */
 static bool draw_frame(Loop *L)
 {
     Handover *h = L->hand;
+    collect_picture(L);
+    if (drawing_busy(L)) {
+        if (L->realtime || h->failed || !drawing_wait_idle(L)) return false;
+        collect_picture(L);
+    }
     pthread_mutex_lock(&h->mu);
     for (;;) {
         bool pending = h->state[0] == SET_PENDING || h->state[1] == SET_PENDING;
@@ -325,21 +381,24 @@ static bool draw_frame(Loop *L)
     PictureSet *set = &h->sets[i];
     describe_windows(L, set);
     fl_runtime *rt = L->pages[L->cur].rt;
-    if (L->scaling) fl_set_window_scale(rt, winscale_scale(&L->scale), winscale_samples(&L->scale));
-    wingl_lock(h->gl);
-    double locked = now_seconds();
-    for (size_t k = 0; k < set->n; k++) draw_window(L, &set->win[k], view_w, view_h);
-    wingl_unlock(h->gl);
-    double t1 = now_seconds();
-    if (L->scaling) scale_picture(L, rt, set, t1 - locked);
-    L->draw_seconds += t1 - t0;
-    L->last_drawn = t1;
-    L->last_draw_cost = t1 - t0;
-    L->drawn++;
-
+    bool graph = false, graph_only = !L->show_view && L->pages[L->cur].gl;
+    for (size_t k = 0; k < set->n; k++) {
+        graph |= set->win[k].index != NO_WINDOW;
+        graph_only &= set->win[k].index != NO_WINDOW;
+    }
+    fl_picture *pic = graph_only && L->draw.running ? fl_picture_take(rt) : NULL;
+    if (pic) {
+        drawing_post(L, rt, pic, i, L->scaling, winscale_scale(&L->scale), winscale_samples(&L->scale));
+        return true;
+    }
+    SetDraw a = {.set = set, .view_w = view_w, .view_h = view_h, .rt = rt};
+    bool drawn = drawing_run(L, draw_set, &a);
     pthread_mutex_lock(&h->mu);
-    h->state[i] = SET_PENDING;
+    h->state[i] = drawn ? SET_PENDING : SET_FREE;
     pthread_mutex_unlock(&h->mu);
+    if (!drawn) return false;   /* (interrupted) */
+    double t1 = now_seconds();
+    count_picture(L, graph, t1 - t0, a.locked, t1, a.scale, a.samples);
     handover_wake(h);
     return true;
 }
@@ -413,8 +472,8 @@ static void update_status(Loop *L, bool force)
      * pixels and the cap on samples */
     char scale_line[96] = "";
     if (L->scaling) {
-        int samples;
-        double sc = fl_window_scale(rt, &samples);
+        int samples = L->drawn_samples;
+        double sc = L->drawn_scale;
         if (samples > 0)
             snprintf(scale_line, sizeof scale_line, "scale %.4g (%.0f%% of pixels), samples <= %d\n", sc,
                      sc * sc * 100, samples);
@@ -489,6 +548,20 @@ static void print_stats(Loop *L, double loop)
  * The frame loop
  * ===================================================================== */
 
+/* fl_outputs_frame of a page, run where its pictures are drawn. */
+typedef struct OutputsRun {
+    Page *p;
+    int rc;
+} OutputsRun;
+
+static void outputs_frame(Loop *L, void *ctx)
+{
+    OutputsRun *o = ctx;
+    wingl_lock(L->hand->gl);
+    o->rc = fl_outputs_frame(o->p->outs, o->p->rt);
+    wingl_unlock(L->hand->gl);
+}
+
 /* Wait until [due] (monotonic seconds), applying inputs as they come;
  * returns early when the run ends. */
 static void wait_until(Loop *L, double due, Input **buf, size_t *cap)
@@ -516,14 +589,15 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
         return false;
     }
     if (L->quit || *L->interrupt) return false;
+    if (L->switch_to >= 0 && !drawing_wait_idle(L)) return false;   /* (no picture out) */
     wingl_lock(L->hand->gl);   /* (a runtime freed or made draws) */
     if (L->switch_to >= 0) {
         switch_page(L, L->switch_to);
         L->switch_to = -1;
         L->redraw = true;
     }
-    check_reload(L);
     wingl_unlock(L->hand->gl);
+    check_reload(L);
     Page *p = &L->pages[L->cur];
     bool stepped = false;
     if (!L->paused || L->steps > 0) {
@@ -540,9 +614,14 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
         if (p->ran == 1) fl_get_stats(p->rt, &p->first);
         if (p->ran == 2) fl_get_stats(p->rt, &p->second);
         L->dumped_last = false;
-        wingl_lock(L->hand->gl);
-        int orc = fl_outputs_frame(p->outs, p->rt);
-        wingl_unlock(L->hand->gl);
+        int orc;
+        if (L->draw.running && !fl_outputs_draws(p->outs, p->rt)) {
+            orc = fl_outputs_frame(p->outs, p->rt);   /* (draws nothing: beside the drawing thread) */
+        } else {
+            OutputsRun o = {p, 0};
+            if (!drawing_run(L, outputs_frame, &o)) return false;   /* (interrupted) */
+            orc = o.rc;
+        }
         if (orc != 0) fprintf(L->log, "flitter run: %s", fl_error(p->rt));
         double sim1 = now_seconds();
         winscale_frame(&L->scale, sim1 - sim0);
@@ -583,12 +662,15 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
          * that scales its pictures down to keep its rate, which has made
          * them as cheap as it may, for what the last one cost (drawing
          * then takes at most half the time), or not at all while the
-         * frames keep half the frame rate */
-        bool late = L->realtime && stepped && fl_frame_wait(p->rt) < 0.001;
+         * frames keep half the frame rate. A picture the drawing thread
+         * draws beside the next frames holds nothing up: it is drawn
+         * whenever that thread is free (draw_frame) */
+        bool beside = L->draw.running && !L->show_view && p->gl;
+        bool late = !beside && L->realtime && stepped && fl_frame_wait(p->rt) < 0.001;
         /* (a slow picture restarts the realtime schedule, so the frame
          * after it is not late: a picture slower than a frame counts as
          * late on its own) */
-        bool slow = L->realtime && stepped && L->last_draw_cost * fl_target_fps(p->rt) > 1;
+        bool slow = !beside && L->realtime && stepped && L->last_draw_cost * fl_target_fps(p->rt) > 1;
         double gap = L->scaling ? L->last_draw_cost : L->last_draw_cost * 2 > 0.1 ? L->last_draw_cost * 2 : 0.1;
         /* a scaling window whose frames still come at half the rate or
          * more draws every frame, as Flitter does */
@@ -598,7 +680,7 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
         } else if (draw_frame(L)) {
             L->redraw = false;
         } else if (L->realtime && !L->redraw) {
-            L->dropped++;   /* the display is still busy with the last picture */
+            L->dropped++;   /* the drawing thread or the display is still busy with the last picture */
         }
         /* (a redraw the display could not take yet stays asked for) */
     } else if (L->overlay_changed) {
@@ -670,22 +752,28 @@ static void *frame_thread(void *arg)
     Input *buf = NULL;
     size_t cap = 0;
     winlost_frame_started(&L->hand->lost);
-    /* the runtimes draw their windows with the frame loop's OpenGL context */
-    wingl_lock(L->hand->gl);
-    if (L->hand->gl && wingl_frame_enter(L->hand->gl)) {
-        L->gl = true;
-        for (int i = 0; i < L->npages; i++) {
-            Page *p = &L->pages[i];
-            p->gl = fl_gl_attach(p->rt) == 0;
-            if (!p->gl && L->spec->verbosity >= 1)
-                fprintf(L->log, "flitter: page %d draws without the window's OpenGL: %s", i + 1, fl_error(p->rt));
+    /* the runtimes draw their windows with the frame loop's OpenGL
+     * context, on the drawing thread; without it (the thread could not
+     * start), on this one */
+    if (!drawing_start(L)) {
+        wingl_lock(L->hand->gl);
+        if (L->hand->gl && wingl_frame_enter(L->hand->gl)) {
+            L->gl = true;
+            for (int i = 0; i < L->npages; i++) {
+                Page *p = &L->pages[i];
+                p->gl = fl_gl_attach(p->rt) == 0;
+                if (!p->gl && L->spec->verbosity >= 1)
+                    fprintf(L->log, "flitter: page %d draws without the window's OpenGL: %s", i + 1,
+                            fl_error(p->rt));
+            }
         }
+        wingl_unlock(L->hand->gl);
     }
-    wingl_unlock(L->hand->gl);
     while (loop_once(L, &buf, &cap)) {}
     free(buf);
     winlost_frame_ending(&L->hand->lost);   /* (the X display lost: ends the run here) */
-    if (L->gl) wingl_frame_leave(L->hand->gl);
+    if (L->draw.running) drawing_stop(L);
+    else if (L->gl) wingl_frame_leave(L->hand->gl);
     pthread_mutex_lock(&L->hand->mu);
     L->hand->done = true;
     pthread_mutex_unlock(&L->hand->mu);
@@ -713,7 +801,7 @@ static int run_windows(const RunSpec *spec, FILE *out, FILE *log, volatile int *
     if (!hand.gl && spec->verbosity >= 1)
         fprintf(log, "flitter: windows shown through SDL's renderer (pictures read back): %s\n", glwhy);
     Loop L = {.spec = spec, .out = out, .log = log, .interrupt = interrupt, .hand = &hand,
-              .switch_to = -1, .runspec = *spec};
+              .switch_to = -1, .runspec = *spec, .drawn_scale = 1};
     WinOptions wopt = {spec->screen, spec->fullscreen, spec->vsync};
     if (!L.interrupt) L.interrupt = &L.never;
     winlost_init(&hand.lost, L.interrupt, hand.gl, end_lost, &L);

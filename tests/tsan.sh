@@ -8,10 +8,13 @@
 # every physics golden, the loop kernels' route tests (1 to 3 threads),
 # the window's two-thread row split (halves.h), the
 # benchmark scenes for a few frames on 2 threads, the decoding threads of
-# pictures and videos (test_media), a video's writer thread, and the live
-# window's two threads
-# under Xvfb (a physics view, and a !window drawn by the render graph with
-# the two OpenGL contexts), each as one test that fails on any report.
+# pictures and videos (test_media), a video's writer thread, a memory
+# budget and a symbol table shared by two threads (test_budget), pictures
+# drawn beside the frame loop (test_pictures_thread), and the live
+# window's three threads under Xvfb (a physics view; a !window drawn by
+# the render graph on the drawing thread, with the two OpenGL contexts,
+# in 2D and in 3D with a shader, and with a !record writing a file), each
+# as one test that fails on any report.
 # tests/tsan.supp leaves out the reports inside Mesa, LLVM and FFmpeg,
 # whose threads synchronise by means TSan cannot see. Ends with `N passed,
 # M failed`.
@@ -25,7 +28,7 @@ build=$1
         ${CSG_OBJECT:+-Dcsg_object="$CSG_OBJECT"} >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
 ninja -C "$build" src/flitter src/flitter-window.so tests/test_physics_routes tests/test_particle_pass \
-    tests/test_halves tests/test_kernel tests/test_media >/dev/null ||
+    tests/test_halves tests/test_kernel tests/test_media tests/test_budget tests/test_pictures_thread >/dev/null ||
     { echo "0 passed, 1 failed"; exit 1; }
 export TSAN_OPTIONS="halt_on_error=1 exitcode=66 suppressions=$PWD/tests/tsan.supp"
 passed=0 failed=0
@@ -48,6 +51,8 @@ check particle_pass env FLITTER_PROPTEST_SYSTEMS=2000 "$build/tests/test_particl
 check halves "$build/tests/test_halves"
 check kernel "$build/tests/test_kernel"
 check media "$build/tests/test_media"
+check budget "$build/tests/test_budget"
+check pictures_thread "$build/tests/test_pictures_thread"
 # a !bloom of a 2D canvas, drawn offscreen: its passes and the sRGB
 # encoding split over two threads (halves.h)
 tmpd=$(mktemp -d)
@@ -90,6 +95,19 @@ if command -v xvfb-run >/dev/null 2>&1; then
         '            !rect point=40;40 size=(frame%100)*2;80 fill=true color=1;0.5;0.25' >"$tmpd/gl.fl"
     check window/gl-lockstep xvfb-run -a "$build/src/flitter" run --window --lockstep --frames 60 "$tmpd/gl.fl"
     check window/gl-realtime xvfb-run -a "$build/src/flitter" run --window --realtime --runtime 2 "$tmpd/gl.fl"
+    # the drawing thread in 3D, with engine names read by a shader, and a
+    # !record writing a file every tenth frame (drawn while the frame loop waits)
+    q="'''"
+    printf '%s\n' "let frag = $q\${HEADER}" 'in vec2 coord;' 'out vec4 color;' 'uniform float beat;' \
+        'void main() { color = vec4(fract(beat), coord, 1.0) * 0.5; }' "$q" \
+        '!window size=240;180' "    !record filename=(\"$tmpd/r.png\" if frame % 10 == 0 else null)" \
+        '        !bloom radius=4' '            !canvas3d viewpoint=0;0;5 samples=2' \
+        '                !light color=1 position=sin(frame/9);1;2 radius=0.1' \
+        '                !sphere position=(frame%30)/15-1;0;0 size=0.8 color=1;0.3;0.2' \
+        '                !box size=0.6 position=0;-1;0 rotation=frame/100' \
+        '    !shader fragment=frag' >"$tmpd/gl3d.fl"
+    check window/gl3d-realtime xvfb-run -a "$build/src/flitter" run --window --realtime --runtime 2 "$tmpd/gl3d.fl"
+    check window/gl3d-lockstep xvfb-run -a "$build/src/flitter" run --window --lockstep --frames 40 "$tmpd/gl3d.fl"
     rm -rf "$tmpd"
 fi
 echo "$passed passed, $failed failed"
