@@ -588,8 +588,9 @@ FL_API int fl_outputs_frame(fl_outputs *out, fl_runtime *rt);
 /* Whether fl_outputs_frame(out, rt) would draw pictures for [rt]'s last
  * frame: a window's !record writes a file in it, or --record's first
  * window is recorded (with no window shown by a front end, any !record
- * makes every frame drawn). Only then does fl_outputs_frame use the render
- * graph and its OpenGL context: a front end whose drawing thread holds
+ * makes every frame drawn), or a frame of an animated --view is due (a 3D
+ * system is drawn through OpenGL). Only then does fl_outputs_frame use the
+ * render graph or OpenGL: a front end whose drawing thread holds
  * them (fl_picture_draw) runs such a frame's fl_outputs_frame there, with
  * the frame loop waiting, and any other on the frame loop's thread, beside
  * the drawing. False for a NULL [out] or [rt]. */

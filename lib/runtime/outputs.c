@@ -124,6 +124,9 @@ int fl_outputs_frame(fl_outputs *out, fl_runtime *rt)
 bool fl_outputs_draws(const fl_outputs *out, fl_runtime *rt)
 {
     if (!out || !rt) return false;
+    /* the --view animation's frame may draw a 3D system through OpenGL */
+    long frame = fl_frame_count(rt) - 1;
+    if (frame >= 0 && out->view && view_animated(out->view) && due(frame, out->view_every)) return true;
     return pictures_draws_for_files(rt_pictures(rt), rt_root(rt)) && !rt_no_draw(rt);
 }
 
