@@ -590,13 +590,13 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
     }
     if (L->quit || *L->interrupt) return false;
     if (L->switch_to >= 0 && !drawing_wait_idle(L)) return false;   /* (no picture out) */
-    wingl_lock(L->hand->gl);   /* (a runtime freed or made draws) */
     if (L->switch_to >= 0) {
+        wingl_lock(L->hand->gl);   /* (a runtime freed or made draws) */
         switch_page(L, L->switch_to);
+        wingl_unlock(L->hand->gl);
         L->switch_to = -1;
         L->redraw = true;
     }
-    wingl_unlock(L->hand->gl);
     check_reload(L);
     Page *p = &L->pages[L->cur];
     bool stepped = false;
