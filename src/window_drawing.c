@@ -18,6 +18,12 @@
 
 #include "window_loop.h"
 
+/* Whether the X display's connection is lost: the drawing thread may
+ * then be held in an X call for good (window_lost.h), and the frame loop
+ * stops waiting for it (the run ends: its stack frames then no longer
+ * matter, nor do the task contexts, which live in the Loop). */
+static bool lost(Loop *L) { return winlost_kind(&L->hand->lost) == LOST_CONNECTION; }
+
 /* Wait on [d]'s condition for at most 20 ms; d->mu must be held. */
 static void wait_a_little(Drawing *d)
 {
@@ -31,8 +37,8 @@ static void wait_a_little(Drawing *d)
     pthread_cond_timedwait(&d->cond, &d->mu, &ts);
 }
 
-/* Draw the picture of [d]'s job (see drawing_post). */
-static void draw_picture(Loop *L, Drawing *d)
+/* Draw the picture of [d]'s job (see drawing_post) into [*r]. */
+static void draw_picture(Loop *L, Drawing *d, DrawResult *r)
 {
     Handover *h = L->hand;
     double t0 = handover_now();
@@ -60,8 +66,8 @@ static void draw_picture(Loop *L, Drawing *d)
     h->state[d->set] = SET_PENDING;
     pthread_mutex_unlock(&h->mu);
     handover_wake(h);
-    d->result = (DrawResult){.rt = d->rt, .pic = d->pic, .seconds = t1 - t0, .locked_seconds = t1 - locked,
-                             .end = t1, .scale = scale, .samples = samples};
+    *r = (DrawResult){.rt = d->rt, .pic = d->pic, .seconds = t1 - t0, .locked_seconds = t1 - locked,
+                      .end = t1, .scale = scale, .samples = samples};
 }
 
 static void *drawing_thread(void *arg)
@@ -89,10 +95,14 @@ static void *drawing_thread(void *arg)
         DrawKind kind = d->kind;
         if (kind == DRAW_STOP) break;
         pthread_mutex_unlock(&d->mu);
+        DrawResult r;
         if (kind == DRAW_TASK) d->task(L, d->task_ctx);
-        else draw_picture(L, d);
+        else draw_picture(L, d, &r);
         pthread_mutex_lock(&d->mu);
-        if (kind == DRAW_PICTURE) d->done = true;
+        if (kind == DRAW_PICTURE) {
+            d->result = r;
+            d->done = true;
+        }
         d->kind = DRAW_NONE;
         pthread_cond_broadcast(&d->cond);
     }
@@ -132,17 +142,32 @@ void drawing_stop(Loop *L)
     pthread_join(d->thread, NULL);
     d->running = false;
     DrawResult r;
-    if (drawing_take(L, &r)) fl_picture_free(r.rt, r.pic);
+    bool taken;
+    drawing_poll(L, &r, &taken);
+    if (taken) fl_picture_free(r.rt, r.pic);
     pthread_cond_destroy(&d->cond);
     pthread_mutex_destroy(&d->mu);
 }
 
-bool drawing_busy(Loop *L)
+bool drawing_poll(Loop *L, DrawResult *out, bool *taken)
 {
     Drawing *d = &L->draw;
-    if (!d->running) return false;
+    *taken = false;
+    if (!d->running) {
+        if (d->done) {   /* (the thread stopped: its last picture) */
+            *out = d->result;
+            d->done = false;
+            *taken = true;
+        }
+        return false;
+    }
     pthread_mutex_lock(&d->mu);
     bool busy = d->kind != DRAW_NONE;
+    if (d->done) {
+        *out = d->result;
+        d->done = false;
+        *taken = true;
+    }
     pthread_mutex_unlock(&d->mu);
     return busy;
 }
@@ -152,7 +177,19 @@ bool drawing_wait_idle(Loop *L)
     Drawing *d = &L->draw;
     if (!d->running) return true;
     pthread_mutex_lock(&d->mu);
-    while (d->kind != DRAW_NONE && !*L->interrupt) wait_a_little(d);
+    while (d->kind != DRAW_NONE && !lost(L)) wait_a_little(d);
+    bool idle = d->kind == DRAW_NONE;
+    pthread_mutex_unlock(&d->mu);
+    return idle;
+}
+
+bool drawing_settle(Loop *L, double seconds)
+{
+    Drawing *d = &L->draw;
+    if (!d->running || pthread_equal(pthread_self(), d->thread)) return true;
+    double until = handover_now() + seconds;
+    pthread_mutex_lock(&d->mu);
+    while (d->kind != DRAW_NONE && handover_now() < until) wait_a_little(d);
     bool idle = d->kind == DRAW_NONE;
     pthread_mutex_unlock(&d->mu);
     return idle;
@@ -171,7 +208,7 @@ bool drawing_run(Loop *L, void (*fn)(Loop *L, void *ctx), void *ctx)
     d->task_ctx = ctx;
     d->kind = DRAW_TASK;
     pthread_cond_broadcast(&d->cond);
-    while (d->kind != DRAW_NONE && !*L->interrupt) wait_a_little(d);
+    while (d->kind != DRAW_NONE && !lost(L)) wait_a_little(d);
     bool ran = d->kind == DRAW_NONE;
     pthread_mutex_unlock(&d->mu);
     return ran;
@@ -181,6 +218,7 @@ void drawing_post(Loop *L, fl_runtime *rt, fl_picture *pic, int set, bool scalin
 {
     Drawing *d = &L->draw;
     pthread_mutex_lock(&d->mu);
+    /* (the caller has taken the last picture's results: drawing_poll) */
     d->rt = rt;
     d->pic = pic;
     d->set = set;
@@ -192,16 +230,3 @@ void drawing_post(Loop *L, fl_runtime *rt, fl_picture *pic, int set, bool scalin
     pthread_mutex_unlock(&d->mu);
 }
 
-bool drawing_take(Loop *L, DrawResult *out)
-{
-    Drawing *d = &L->draw;
-    if (!d->running && !d->done) return false;
-    if (d->running) pthread_mutex_lock(&d->mu);
-    bool done = d->done;
-    if (done) {
-        *out = d->result;
-        d->done = false;
-    }
-    if (d->running) pthread_mutex_unlock(&d->mu);
-    return done;
-}

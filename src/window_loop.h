@@ -183,6 +183,23 @@ typedef struct Page {
     bool gl;                 /* its windows draw with the frame loop's OpenGL context (fl_gl_attach) */
 } Page;
 
+/* The contexts of the tasks the frame loop runs on the drawing thread
+ * (window_main.c), kept in the Loop: a wait given up (the X display lost)
+ * leaves the task nothing of the frame loop's stack to write to. */
+typedef struct SetDraw {     /* a picture set drawn while the frame loop waits */
+    PictureSet *set;
+    int view_w, view_h;      /* the physics view window's output size */
+    fl_runtime *rt;
+    double locked;           /* seconds drawing, with the OpenGL turn */
+    double scale;            /* fl_window_scale after it */
+    int samples;
+} SetDraw;
+
+typedef struct OutputsRun {  /* fl_outputs_frame of a page */
+    Page *p;
+    int rc;
+} OutputsRun;
+
 typedef struct Loop {
     const RunSpec *spec;
     RunSpec runspec;         /* *spec with the window's clock (realtime) */
@@ -237,6 +254,8 @@ typedef struct Loop {
     double drawn_scale;      /* the scale and samples cap of the last picture drawn */
     int drawn_samples;
     Drawing draw;            /* the drawing thread, with OpenGL windows */
+    SetDraw set_draw;        /* its tasks' contexts */
+    OutputsRun outputs_run;
 } Loop;
 
 /* The drawing thread (window_drawing.c). drawing_start starts it with
@@ -248,13 +267,23 @@ typedef struct Loop {
  * runtimes. */
 bool drawing_start(struct Loop *L);
 void drawing_stop(struct Loop *L);
-/* Whether a picture or a task is being drawn or run. */
-bool drawing_busy(struct Loop *L);
-/* Wait until the drawing thread is idle; false when the run was
- * interrupted first (*L->interrupt: a lost X display may hold it). */
+/* Whether a picture or a task is being drawn or run; with the results of
+ * the last picture drawn, if the frame loop has not taken them yet, in
+ * [*out] ([*taken] true: the caller frees out->pic). One lock for both:
+ * a picture is posted only after a poll that found the thread idle. */
+bool drawing_poll(struct Loop *L, DrawResult *out, bool *taken);
+/* Wait until the drawing thread is idle; false when the X display's
+ * connection was lost first (the thread may be held in an X call for
+ * good: the run ends). */
 bool drawing_wait_idle(struct Loop *L);
+/* For the end of a run whose X display was lost (end_lost): wait at most
+ * [seconds] for the drawing thread to finish its job; whether it has (or
+ * the caller is that thread, or there is none). */
+bool drawing_settle(struct Loop *L, double seconds);
 /* Run [fn](L, [ctx]) on the drawing thread, the frame loop waiting (after
- * the job before it); false, [fn] perhaps not run, when interrupted. */
+ * the job before it) until it has run; false, [fn] perhaps still
+ * running, only when the X connection was lost ([ctx] must outlive the
+ * call: the Loop's). */
 bool drawing_run(struct Loop *L, void (*fn)(struct Loop *L, void *ctx), void *ctx);
 /* Hand picture [pic] of runtime [rt] to the idle drawing thread: it draws
  * each window of set [set] of the Handover (described by the frame loop,
@@ -262,9 +291,6 @@ bool drawing_run(struct Loop *L, void (*fn)(struct Loop *L, void *ctx), void *ct
  * for the display and marks the set SET_PENDING. */
 void drawing_post(struct Loop *L, fl_runtime *rt, fl_picture *pic, int set, bool scaling, double scale,
                   int samples);
-/* Take the results of the last picture drawn, if the frame loop has not
- * yet: true with [*out] filled (the caller frees out->pic). */
-bool drawing_take(struct Loop *L, DrawResult *out);
 
 /* Apply input [in] to the current page of [L] (window_input.c): keys go
  * to the window's !key nodes first (fl_key), and only unclaimed ones act:

@@ -312,25 +312,18 @@ static void count_picture(Loop *L, bool graph, double seconds, double locked, do
         L->overlay_changed |= L->show_status;
 }
 
-/* Count the picture the drawing thread has drawn since the last call,
- * if it has, and give it back. */
-static void collect_picture(Loop *L)
+/* Whether the drawing thread is busy; the picture it has drawn since the
+ * last call, if it has, counted and given back. */
+static bool poll_drawing(Loop *L)
 {
     DrawResult r;
-    if (!drawing_take(L, &r)) return;
-    fl_picture_free(r.rt, r.pic);
-    count_picture(L, true, r.seconds, r.locked_seconds, r.end, r.scale, r.samples);
+    bool taken, busy = drawing_poll(L, &r, &taken);
+    if (taken) {
+        fl_picture_free(r.rt, r.pic);
+        count_picture(L, true, r.seconds, r.locked_seconds, r.end, r.scale, r.samples);
+    }
+    return busy;
 }
-
-/* A picture set drawn while the frame loop waits (draw_set). */
-typedef struct SetDraw {
-    PictureSet *set;
-    int view_w, view_h;      /* the physics view window's output size */
-    fl_runtime *rt;
-    double locked;           /* seconds drawing, with the OpenGL turn */
-    double scale;            /* fl_window_scale after it */
-    int samples;
-} SetDraw;
 
 /* Draw every window of a SetDraw [ctx] (on the drawing thread, or on the
  * frame loop's without one). */
@@ -355,10 +348,9 @@ static void draw_set(Loop *L, void *ctx)
 static bool draw_frame(Loop *L)
 {
     Handover *h = L->hand;
-    collect_picture(L);
-    if (drawing_busy(L)) {
+    if (poll_drawing(L)) {
         if (L->realtime || h->failed || !drawing_wait_idle(L)) return false;
-        collect_picture(L);
+        poll_drawing(L);
     }
     pthread_mutex_lock(&h->mu);
     for (;;) {
@@ -391,14 +383,15 @@ static bool draw_frame(Loop *L)
         drawing_post(L, rt, pic, i, L->scaling, winscale_scale(&L->scale), winscale_samples(&L->scale));
         return true;
     }
-    SetDraw a = {.set = set, .view_w = view_w, .view_h = view_h, .rt = rt};
-    bool drawn = drawing_run(L, draw_set, &a);
+    SetDraw *a = &L->set_draw;
+    *a = (SetDraw){.set = set, .view_w = view_w, .view_h = view_h, .rt = rt};
+    bool drawn = drawing_run(L, draw_set, a);
     pthread_mutex_lock(&h->mu);
     h->state[i] = drawn ? SET_PENDING : SET_FREE;
     pthread_mutex_unlock(&h->mu);
-    if (!drawn) return false;   /* (interrupted) */
+    if (!drawn) return false;   /* (the X display lost) */
     double t1 = now_seconds();
-    count_picture(L, graph, t1 - t0, a.locked, t1, a.scale, a.samples);
+    count_picture(L, graph, t1 - t0, a->locked, t1, a->scale, a->samples);
     handover_wake(h);
     return true;
 }
@@ -548,12 +541,8 @@ static void print_stats(Loop *L, double loop)
  * The frame loop
  * ===================================================================== */
 
-/* fl_outputs_frame of a page, run where its pictures are drawn. */
-typedef struct OutputsRun {
-    Page *p;
-    int rc;
-} OutputsRun;
-
+/* fl_outputs_frame of a page (an OutputsRun), run where its pictures are
+ * drawn. */
 static void outputs_frame(Loop *L, void *ctx)
 {
     OutputsRun *o = ctx;
@@ -618,9 +607,9 @@ static bool loop_once(Loop *L, Input **buf, size_t *cap)
         if (L->draw.running && !fl_outputs_draws(p->outs, p->rt)) {
             orc = fl_outputs_frame(p->outs, p->rt);   /* (draws nothing: beside the drawing thread) */
         } else {
-            OutputsRun o = {p, 0};
-            if (!drawing_run(L, outputs_frame, &o)) return false;   /* (interrupted) */
-            orc = o.rc;
+            L->outputs_run = (OutputsRun){p, 0};
+            if (!drawing_run(L, outputs_frame, &L->outputs_run)) return false;   /* (the X display lost) */
+            orc = L->outputs_run.rc;
         }
         if (orc != 0) fprintf(L->log, "flitter run: %s", fl_error(p->rt));
         double sim1 = now_seconds();
@@ -732,9 +721,15 @@ static _Noreturn void end_lost(void *ctx)
         if (L->spec->stats) print_stats(L, now_seconds() - L->start);
         final_dumps(L);
     }
+    /* the outputs are finished where nothing draws any more: a drawing
+     * thread held in an X call for good leaves them unfinished */
+    bool settled = drawing_settle(L, 2.0);
+    if (!settled)
+        fprintf(L->log, "flitter: the drawing thread did not finish its picture: the outputs are left "
+                "unfinished\n");
     for (int i = 0; i < L->npages; i++) {
         Page *p = &L->pages[i];
-        if (p->outs && fl_outputs_close(p->outs, p->rt) != 0 && *fl_error(p->rt))
+        if (p->outs && settled && fl_outputs_close(p->outs, p->rt) != 0 && *fl_error(p->rt))
             fprintf(L->log, "flitter run: %s", fl_error(p->rt));
         p->outs = NULL;
         save_page(L, p);

@@ -1240,6 +1240,10 @@ void rt_graph_frame(const fl_runtime *rt, GraphFrame *f)
 int rt_render(fl_runtime *rt, bool windows)
 {
     if (rt->opts.debug.no_draw && !windows) return 0;
+    /* a tree whose windows hold a function (an SDF's, called back while
+     * drawn) marks the pictures as drawn here from now on: the graph may
+     * keep that function, which no drawing thread may then release */
+    pictures_calls_back(rt->pictures, rt->root);
     GraphFrame f;
     rt_graph_frame(rt, &f);
     f.name = frame_name;

@@ -175,7 +175,9 @@ static void pictures_beside_frames(void **st)
 
 /* Frames that are not handed over: before the first frame, before the
  * windows are shown, and, from the first frame whose windows hold a
- * function (an SDF's `function=`, called while it is drawn), every frame. */
+ * function (an SDF's `function=`, called while it is drawn, and kept with
+ * its model by the graph), every frame, whether that frame was taken or
+ * drawn in turn. */
 static void frames_drawn_in_turn(void **st)
 {
     (void)st;
@@ -214,6 +216,16 @@ static void frames_drawn_in_turn(void **st)
     assert_null(fl_picture_take(rt));                 /* frame 1: ball */
     assert_int_equal(fl_step(rt), 0);
     assert_null(fl_picture_take(rt));                 /* and from then on */
+    fl_free(rt);
+    /* the same when the frame with the function is drawn in turn (its
+     * model, and the function, kept by the graph) and never taken */
+    rt = load(sdf);
+    assert_int_equal(fl_step(rt), 0);
+    assert_int_equal(fl_draw_window(rt, 0, pix, 16, 16, 64), 0);
+    assert_int_equal(fl_step(rt), 0);
+    assert_int_equal(fl_draw_window(rt, 0, pix, 16, 16, 64), 0);   /* frame 1: ball */
+    assert_int_equal(fl_step(rt), 0);
+    assert_null(fl_picture_take(rt));                 /* frame 2, without it */
     fl_free(rt);
     if (logged[0]) fail_msg("unexpected log:\n%s", logged);
     assert_null(fl_picture_take(NULL));
