@@ -875,25 +875,43 @@ double symbol_value(const char *name, size_t len)
     return x;
 }
 
+/* The slots of a symbol table. A table that grows gets new slots and
+ * keeps the old ones (retired) until symtab_free: a thread looking a name
+ * up may still be reading them. */
+typedef struct SymSlots {
+    size_t cap;                /* slots (power of two) */
+    uint64_t *bits;            /* symbol bit patterns; 0 = empty (never a
+                                  symbol); set once, by an atomic store after
+                                  the slot's name */
+    Str **names;               /* names per slot */
+    struct SymSlots *retired;  /* the slots before the last growth, or NULL */
+} SymSlots;
+
 struct SymTab {
-    size_t cap;          /* slots (power of two) */
-    size_t count;        /* used slots */
-    uint64_t *bits;      /* symbol bit patterns; 0 = empty (never a symbol) */
-    Str **names;         /* names per slot */
-    pthread_mutex_t lock; /* taken by symtab_add and symtab_name: a
-                             frame's evaluation may add names (a program
-                             simplified again) while the drawing thread
-                             reads them (fl_picture_draw) */
+    SymSlots *slots;           /* the current slots: an atomic pointer */
+    size_t count;              /* used slots */
+    pthread_mutex_t lock;      /* taken by symtab_add: a frame's evaluation
+                                  may add names (a program simplified again)
+                                  while the drawing thread looks names up
+                                  (fl_picture_draw), without the lock */
 };
+
+static SymSlots *symslots_new(size_t cap, SymSlots *retired)
+{
+    SymSlots *t = xmalloc(sizeof *t);
+    t->cap = cap;
+    t->bits = calloc(cap, sizeof(uint64_t));
+    t->names = calloc(cap, sizeof(Str *));
+    if (!t->bits || !t->names) mem_oom();
+    t->retired = retired;
+    return t;
+}
 
 SymTab *symtab_new(void)
 {
     SymTab *st = xmalloc(sizeof *st);
-    st->cap = 64;
+    st->slots = symslots_new(64, NULL);
     st->count = 0;
-    st->bits = calloc(st->cap, sizeof(uint64_t));
-    st->names = calloc(st->cap, sizeof(Str *));
-    if (!st->bits || !st->names) mem_oom();
     pthread_mutex_init(&st->lock, NULL);
     return st;
 }
@@ -901,18 +919,28 @@ SymTab *symtab_new(void)
 void symtab_free(SymTab *st)
 {
     if (!st) return;
-    for (size_t i = 0; i < st->cap; i++) str_release(st->names[i]);
-    free(st->bits);
-    free(st->names);
+    SymSlots *t = st->slots;
+    for (size_t i = 0; i < t->cap; i++) str_release(t->names[i]);   /* (the retired share them) */
+    while (t) {
+        SymSlots *older = t->retired;
+        free(t->bits);
+        free(t->names);
+        free(t);
+        t = older;
+    }
     pthread_mutex_destroy(&st->lock);
     free(st);
 }
 
-static size_t symtab_slot(const SymTab *st, uint64_t bits)
+/* The slot of [bits] in [t]: its own, or the empty one where it would go. */
+static size_t symtab_slot(const SymSlots *t, uint64_t bits)
 {
-    size_t i = (size_t)(hash_update(0, bits) & (st->cap - 1));
-    while (st->bits[i] && st->bits[i] != bits) i = (i + 1) & (st->cap - 1);
-    return i;
+    size_t i = (size_t)(hash_update(0, bits) & (t->cap - 1));
+    for (;;) {
+        uint64_t b = __atomic_load_n(&t->bits[i], __ATOMIC_ACQUIRE);
+        if (!b || b == bits) return i;
+        i = (i + 1) & (t->cap - 1);
+    }
 }
 
 double symtab_add(SymTab *st, const char *name, size_t len)
@@ -920,30 +948,26 @@ double symtab_add(SymTab *st, const char *name, size_t len)
     double x = symbol_value(name, len);
     uint64_t b = dbits(x);
     pthread_mutex_lock(&st->lock);
-    size_t i = symtab_slot(st, b);
-    if (st->bits[i]) {
+    SymSlots *t = st->slots;
+    size_t i = symtab_slot(t, b);
+    if (t->bits[i]) {
         pthread_mutex_unlock(&st->lock);
         return x;
     }
-    if ((st->count + 1) * 2 > st->cap) {
-        SymTab grown = {.cap = st->cap * 2, .bits = calloc(st->cap * 2, sizeof(uint64_t)),
-                        .names = calloc(st->cap * 2, sizeof(Str *))};
-        if (!grown.bits || !grown.names) mem_oom();
-        for (size_t k = 0; k < st->cap; k++) {
-            if (!st->bits[k]) continue;
-            size_t j = symtab_slot(&grown, st->bits[k]);
-            grown.bits[j] = st->bits[k];
-            grown.names[j] = st->names[k];
+    if ((st->count + 1) * 2 > t->cap) {
+        SymSlots *grown = symslots_new(t->cap * 2, t);
+        for (size_t k = 0; k < t->cap; k++) {
+            if (!t->bits[k]) continue;
+            size_t j = symtab_slot(grown, t->bits[k]);
+            grown->bits[j] = t->bits[k];
+            grown->names[j] = t->names[k];
         }
-        free(st->bits);
-        free(st->names);
-        st->cap = grown.cap;
-        st->bits = grown.bits;
-        st->names = grown.names;
-        i = symtab_slot(st, b);
+        __atomic_store_n(&st->slots, grown, __ATOMIC_RELEASE);
+        t = grown;
+        i = symtab_slot(t, b);
     }
-    st->bits[i] = b;
-    st->names[i] = str_new(name, len);
+    t->names[i] = str_new(name, len);
+    __atomic_store_n(&t->bits[i], b, __ATOMIC_RELEASE);
     st->count++;
     pthread_mutex_unlock(&st->lock);
     return x;
@@ -954,12 +978,9 @@ const Str *symtab_name(const SymTab *st, double x)
     if (!st) return NULL;
     uint64_t b = dbits(x);
     if (!b) return NULL;
-    /* (the table's arrays move when it grows; a name, once added, stays
-     * where it is until symtab_free) */
-    SymTab *t = (SymTab *)st;
-    pthread_mutex_lock(&t->lock);
-    size_t i = symtab_slot(st, b);
-    const Str *name = st->bits[i] ? st->names[i] : NULL;
-    pthread_mutex_unlock(&t->lock);
-    return name;
+    /* no lock: the slots read are the current ones or retired ones, and a
+     * slot's bits are stored after its name, once */
+    const SymSlots *t = __atomic_load_n(&st->slots, __ATOMIC_ACQUIRE);
+    size_t i = symtab_slot(t, b);
+    return __atomic_load_n(&t->bits[i], __ATOMIC_ACQUIRE) ? t->names[i] : NULL;
 }

@@ -351,8 +351,8 @@ Vec *vec_item(const Vec *v, int64_t i);
 double symbol_value(const char *name, size_t len);
 
 /* A symbol table maps symbol values (by bit pattern) to names; it belongs to
- * one runtime (no global table). symtab_add and symtab_name take the
- * table's lock: one thread may add while others look names up. */
+ * one runtime (no global table). symtab_add takes the table's lock;
+ * symtab_name takes none: one thread may add while others look names up. */
 typedef struct SymTab SymTab;
 SymTab *symtab_new(void);
 void symtab_free(SymTab *st);
