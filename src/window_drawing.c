@@ -70,14 +70,11 @@ static void draw_picture(Loop *L, Drawing *d, DrawResult *r)
                       .end = t1, .scale = scale, .samples = samples};
 }
 
-static void *drawing_thread(void *arg)
+void drawing_attach(Loop *L)
 {
-    Loop *L = arg;
-    Drawing *d = &L->draw;
     Handover *h = L->hand;
-    /* the runtimes draw their windows with the frame loop's OpenGL context */
     wingl_lock(h->gl);
-    if (wingl_frame_enter(h->gl)) {
+    if (h->gl && wingl_frame_enter(h->gl)) {
         L->gl = true;
         for (int i = 0; i < L->npages; i++) {
             Page *p = &L->pages[i];
@@ -87,6 +84,14 @@ static void *drawing_thread(void *arg)
         }
     }
     wingl_unlock(h->gl);
+}
+
+static void *drawing_thread(void *arg)
+{
+    Loop *L = arg;
+    Drawing *d = &L->draw;
+    Handover *h = L->hand;
+    drawing_attach(L);
     pthread_mutex_lock(&d->mu);
     d->ready = true;
     pthread_cond_broadcast(&d->cond);
@@ -152,23 +157,15 @@ void drawing_stop(Loop *L)
 bool drawing_poll(Loop *L, DrawResult *out, bool *taken)
 {
     Drawing *d = &L->draw;
-    *taken = false;
-    if (!d->running) {
-        if (d->done) {   /* (the thread stopped: its last picture) */
-            *out = d->result;
-            d->done = false;
-            *taken = true;
-        }
-        return false;
-    }
-    pthread_mutex_lock(&d->mu);
-    bool busy = d->kind != DRAW_NONE;
+    bool running = d->running;   /* (stopped: its last picture, without the lock) */
+    if (running) pthread_mutex_lock(&d->mu);
+    bool busy = running && d->kind != DRAW_NONE;
+    *taken = d->done;
     if (d->done) {
         *out = d->result;
         d->done = false;
-        *taken = true;
     }
-    pthread_mutex_unlock(&d->mu);
+    if (running) pthread_mutex_unlock(&d->mu);
     return busy;
 }
 

@@ -266,6 +266,11 @@ typedef struct Loop {
  * (after its job), its context left for the thread that frees the
  * runtimes. */
 bool drawing_start(struct Loop *L);
+/* Make the frame loop's OpenGL context current on the calling thread and
+ * attach every page's runtime to it (Page.gl, L->gl; nothing without a
+ * context): the drawing thread's first step, or the frame loop's own when
+ * that thread could not start. */
+void drawing_attach(struct Loop *L);
 void drawing_stop(struct Loop *L);
 /* Whether a picture or a task is being drawn or run; with the results of
  * the last picture drawn, if the frame loop has not taken them yet, in

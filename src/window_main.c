@@ -750,20 +750,7 @@ static void *frame_thread(void *arg)
     /* the runtimes draw their windows with the frame loop's OpenGL
      * context, on the drawing thread; without it (the thread could not
      * start), on this one */
-    if (!drawing_start(L)) {
-        wingl_lock(L->hand->gl);
-        if (L->hand->gl && wingl_frame_enter(L->hand->gl)) {
-            L->gl = true;
-            for (int i = 0; i < L->npages; i++) {
-                Page *p = &L->pages[i];
-                p->gl = fl_gl_attach(p->rt) == 0;
-                if (!p->gl && L->spec->verbosity >= 1)
-                    fprintf(L->log, "flitter: page %d draws without the window's OpenGL: %s", i + 1,
-                            fl_error(p->rt));
-            }
-        }
-        wingl_unlock(L->hand->gl);
-    }
+    if (!drawing_start(L)) drawing_attach(L);
     while (loop_once(L, &buf, &cap)) {}
     free(buf);
     winlost_frame_ending(&L->hand->lost);   /* (the X display lost: ends the run here) */
