@@ -243,6 +243,18 @@ static uint32_t emit_scalar(Nx *c, const AstNode *n)
     }
 }
 
+/* How many numbers [n] is when it is a constant numeric vector of two
+ * numbers or more (a literal or a constant name: `1;0` in `h;1;0`), else
+ * 0. A compiled sequence takes its numbers as constants: composing a
+ * sequence copies a numeric part's numbers in order, bit for bit (§4.3),
+ * so the sequence's numbers are the same. */
+static uint32_t const_numbers(const AstNode *n)
+{
+    if (n->kind != AST_LITERAL && (n->kind != AST_NAME || n->scope != SCOPE_CONST)) return 0;
+    const Vec *v = n->value;
+    return v && v->kind == VEC_NUM && v->len >= 2 && v->len <= NX_MAX_OUT ? v->len : 0;
+}
+
 /* Worth compiling: an operation (not a bare literal or name, which the
  * generic route already reads without a call). */
 static bool is_operation(const AstNode *n)
@@ -253,21 +265,32 @@ static bool is_operation(const AstNode *n)
 bool numexpr_compile(AstNode *n)
 {
     if (n->aux || n->fast) return false;
-    uint32_t nout;
+    uint32_t nout = 0;
     if (n->kind == AST_SEQUENCE && n->nkids >= 2) {
-        if (n->nkids > NX_MAX_OUT) return false;
-        for (uint32_t i = 0; i < n->nkids; i++)
-            if (!scalar_ok(n->kids[i], NX_STACK)) return false;
-        nout = n->nkids;
+        for (uint32_t i = 0; i < n->nkids; i++) {
+            uint32_t k = const_numbers(n->kids[i]);
+            if (k) nout += k;
+            else if (scalar_ok(n->kids[i], NX_STACK)) nout++;
+            else return false;
+            if (nout > NX_MAX_OUT) return false;
+        }
     } else {
         if (!is_operation(n) || !scalar_ok(n, NX_STACK)) return false;
         nout = 1;
     }
     Nx c = {0};
     uint32_t depth = 0;
-    if (nout > 1) {
+    if (n->kind == AST_SEQUENCE && n->nkids >= 2) {
         for (uint32_t i = 0; i < n->nkids; i++) {
-            uint32_t d = emit_scalar(&c, n->kids[i]);
+            const AstNode *k = n->kids[i];
+            if (const_numbers(k)) {
+                /* its numbers, as the composition copies them (a literal
+                 * takes no eval_node level) */
+                for (uint32_t j = 0; j < k->value->len; j++)
+                    emit(&c, (NxIns){.op = NX_CONST, .k = vec_cnums(k->value)[j]}, 1);
+                continue;
+            }
+            uint32_t d = emit_scalar(&c, k);
             if (d > depth) depth = d;
         }
         depth++;   /* the sequence itself */

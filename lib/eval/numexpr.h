@@ -8,7 +8,8 @@
  * (sin, cos, sqrt, ...; bi_kernel in builtins.h), and `v[x]` of a
  * one-number index where v is a constant stream or numeric vector or a
  * name (whose vector, at run time, must be one of those). Such a subtree, or an
- * `a;b;...` sequence of them, is compiled into a flat array of small
+ * `a;b;...` sequence of them and of constant numeric vectors (`h;1;0`, whose
+ * numbers are the sequence's in order, as composition copies them), is compiled into a flat array of small
  * instructions with the constants inline, hung on the subtree's root node
  * (AstNode.fast = 1, AstNode.aux = the NumExpr).
  *

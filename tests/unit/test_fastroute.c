@@ -20,6 +20,7 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "numexpr.h"
 #include "program.h"
 #include "runscript.h"
 
@@ -445,6 +446,53 @@ static void test_route_taken(void **s)
     symtab_free(st);
 }
 
+/* The first compiled sequence (AST_SEQUENCE, fast == 1) of [n]'s tree. */
+static const AstNode *compiled_sequence(const AstNode *n)
+{
+    if (!n) return NULL;
+    if (n->kind == AST_SEQUENCE && n->fast == 1) return n;
+    const AstNode *k[3] = {n->a, n->b, n->c};
+    for (int i = 0; i < 3; i++) {
+        const AstNode *f = compiled_sequence(k[i]);
+        if (f) return f;
+    }
+    for (uint32_t i = 0; i < n->nkids; i++) {
+        const AstNode *f = compiled_sequence(n->kids[i]);
+        if (f) return f;
+    }
+    return NULL;
+}
+
+static void test_constant_vectors_in_sequences(void **s)
+{
+    (void)s;
+    /* a constant vector of several numbers in a sequence of one-number
+     * expressions: its numbers are the sequence's, in order (the
+     * simplifier folds `1;0` and `K` into constants; without it they stay
+     * sequences and names) */
+    expect4("let x=3+time\n    K=-1.5;0/0\n"
+            "!c a=x;1;0 b=(2;4);x*2;K c=hsv(x/12;1;0.5) d=K;x\n",
+            "!root\n"
+            " !c a=3;1;0 b=2;4;6;-1.5;nan c=0.25;0.5;0 d=-1.5;nan;3\n");
+    /* white box: the simplified sequence is one compiled expression of
+     * six numbers (before, a constant vector in it kept it generic) */
+    const char *src = "let K=1;2\n!a b=time;K;time*2;-0.0;0/0\n";
+    SymTab *st = symtab_new();
+    Buf err = BUF_INIT;
+    Globals g = {.simplify = true};
+    globals_add(&g, "time");
+    g.ndynamic = 1;   /* `time` changes from frame to frame: not folded */
+    Program *p = program_load_text("t.fl", src, strlen(src), &g, st, &err);
+    assert_non_null(p);
+    const AstNode *q = compiled_sequence(p->top);
+    assert_non_null(q);
+    assert_int_equal(numexpr_outputs(numexpr_of(q)), 6);
+    program_release(p);
+    globals_free(&g);
+    buf_free(&err);
+    symtab_free(st);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -461,6 +509,7 @@ int main(void)
         cmocka_unit_test(test_random_expressions),
         cmocka_unit_test(test_memo),
         cmocka_unit_test(test_long_sequences),
+        cmocka_unit_test(test_constant_vectors_in_sequences),
         cmocka_unit_test(test_route_taken),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
