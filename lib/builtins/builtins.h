@@ -103,6 +103,26 @@ typedef struct BiVecKernel {
 /* [bi]'s numeric kernel, or NULL when it has none. */
 const BiVecKernel *bi_vec_kernel(const Builtin *bi);
 
+/* Most numbers bi_call_nums takes and gives. */
+#define BI_NUMS_MAX 16
+
+/* True when [bi] has a numeric route for one argument (bi_call_nums):
+ * hypot, the element-wise builtins of bi_kernel, and those of
+ * bi_vec_kernel. The evaluator asks once, when it compiles a call. */
+bool bi_nums_route(const Builtin *bi);
+
+/* The result of calling [bi] with one argument, the numeric vector of the
+ * [n] numbers [x] (1 <= n <= BI_NUMS_MAX), for callers that hold those
+ * numbers on the C stack (the evaluator's compiled calls, evalrun.c):
+ * writes the result's numbers (at most BI_NUMS_MAX) to [out] and their
+ * count to *[nout] and returns true, when the builtin's result is a
+ * numeric vector of exactly those numbers, bit for bit (hypot: the square
+ * root of the sum of the squares, in order; an element-wise builtin: its
+ * kernel on each number; hsv, hsl: BiVecKernel). False otherwise (no such
+ * route, or the builtin's result is not numbers): the caller then calls
+ * the builtin. Pure, no errors. */
+bool bi_call_nums(const Builtin *bi, const double *x, uint32_t n, double *out, uint32_t *nout);
+
 /* The family tables (each ends with a {NULL} entry). */
 extern const Builtin bi_vector_table[];
 extern const Builtin bi_maths_table[];

@@ -171,6 +171,16 @@ static double f_length(double x, double y) { return sqrt(x * x + y * y); }
 static Vec *bi_angle(BI_PARAMS) { return pairwise(nargs, args, f_angle); }
 static Vec *bi_length(BI_PARAMS) { return pairwise(nargs, args, f_length); }
 
+/* hypot of one numeric argument: the square root of the sum of the
+ * squares of its [n] numbers, added in order. */
+static double hypot_nums(const double *x, uint32_t n)
+{
+    double y = 0;
+    for (uint32_t i = 0; i < n; i++)
+        y += x[i] * x[i];
+    return sqrt(y);
+}
+
 static Vec *bi_hypot(BI_PARAMS)
 {
     if (nargs == 0)
@@ -178,11 +188,7 @@ static Vec *bi_hypot(BI_PARAMS)
     if (nargs == 1) {
         if (!vec_is_num(args[0]))
             return NULL;
-        const double *x = vec_cnums(args[0]);
-        double y = 0;
-        for (uint32_t i = 0; i < args[0]->len; i++)
-            y += x[i] * x[i];
-        return vec_num1(sqrt(y));
+        return vec_num1(hypot_nums(vec_cnums(args[0]), args[0]->len));
     }
     uint32_t n = 0;
     for (int k = 0; k < nargs; k++) {
@@ -721,6 +727,34 @@ BiKernel bi_kernel(const Builtin *bi)
     for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; i++)
         if (kernels[i].fn == bi->fn) return kernels[i].kernel;
     return NULL;
+}
+
+bool bi_nums_route(const Builtin *bi)
+{
+    return bi->fn == bi_hypot || bi_kernel(bi) || bi_vec_kernel(bi);
+}
+
+bool bi_call_nums(const Builtin *bi, const double *x, uint32_t n, double *out, uint32_t *nout)
+{
+    if (n < 1 || n > BI_NUMS_MAX)
+        return false;
+    if (bi->fn == bi_hypot) {
+        out[0] = hypot_nums(x, n);
+        *nout = 1;
+        return true;
+    }
+    BiKernel k = bi_kernel(bi);
+    if (k) {
+        for (uint32_t i = 0; i < n; i++)
+            out[i] = k(x[i]);
+        *nout = n;
+        return true;
+    }
+    const BiVecKernel *vk = bi_vec_kernel(bi);
+    if (!vk || !vk->run(x, n, out))
+        return false;
+    *nout = vk->nout(n);
+    return true;
 }
 
 BiKernelPair bi_kernel_pair(BiKernel a, BiKernel *b)

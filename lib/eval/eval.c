@@ -447,6 +447,16 @@ __attribute__((noinline)) static Vec *eval_function(Eval *ev, const AstNode *n)
     return vec_func_take(f);
 }
 
+Vec *run_num_vec(Eval *ev, const NumExpr *x)
+{
+    double out[NUMEXPR_VEC_MAX];
+    uint32_t n;
+    if (!numexpr_run_vec(x, ev, out, &n)) return NULL;
+    Vec *v = vec_new_num(n);
+    memcpy(vec_nums(v), out, n * sizeof(double));
+    return v;
+}
+
 /* ====================================================================
  * Node operations (§4.10)
  * ==================================================================== */

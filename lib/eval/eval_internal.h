@@ -19,15 +19,23 @@ Vec *eval_node(Eval *ev, const AstNode *n);
 /* Run the compiled region rooted at [n] (n->fast == 2; evalrun.c). */
 Vec *eval_code(Eval *ev, const AstNode *n);
 
+/* numexpr_run_vec's numbers in a new vector, or NULL where it gives up
+ * (then nothing was reported). */
+Vec *run_num_vec(Eval *ev, const NumExpr *x);
+
 /* A compiled numeric subtree (numexpr.h): run on doubles; when an operand
- * is not a single number, or the generic route would hit the depth limit
- * inside it, evaluate it generically instead. */
+ * is not a single number, on vectors of numbers (numexpr_run_vec); when
+ * neither can, or the generic route would hit the depth limit inside it,
+ * evaluate it generically instead. */
+
 static inline Vec *run_num(Eval *ev, const AstNode *n, const NumExpr *x)
 {
     if (ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH) {
         Vec *v = vec_new_num(numexpr_outputs(x));
         if (numexpr_run(x, ev, vec_nums(v))) return v;
         vec_release(v);
+        v = run_num_vec(ev, x);
+        if (v) return v;
     }
     return eval_node(ev, n);
 }

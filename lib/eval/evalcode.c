@@ -256,6 +256,8 @@ static uint32_t emit(CC *c, const AstNode *n)
         rec(c, off)->op = C_CALLBI;
         rec(c, off)->n = n->nkids;
         rec(c, off)->p.bi = const_builtin(n->a);
+        /* one argument to a builtin with a numeric route (evalrun.c) */
+        rec(c, off)->pad = n->nkids == 1 && bi_nums_route(const_builtin(n->a));
         for (uint32_t i = 0; i < n->nkids; i++) {
             t = emit(c, n->kids[i]);
             ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[i] = t;

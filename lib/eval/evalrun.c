@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "builtins.h"
 #include "evalcode.h"
 #include "kernel.h"
 #include "mem.h"
@@ -294,10 +295,99 @@ __attribute__((noinline)) static Vec *run_knode(Eval *ev, const unsigned char *b
     return vec_node_take(knode_take(ev, base, r));
 }
 
-/* C_CALLBI: eval_call's direct route for a builtin callee */
+/* Most numbers a record is run into on the C stack (run_nums: a C_LOOKUP
+ * key, a C_INDEX index, a C_IF condition, a call's argument); longer ones
+ * take the generic way. The records with such arrays stay out of
+ * run_rec's frame (noinline), as run_rec's comment says. */
+#define RUN_NUMS_MAX BI_NUMS_MAX
+_Static_assert(NUMEXPR_VEC_MAX <= RUN_NUMS_MAX, "run_nums takes numexpr_run_vec's vectors");
+
+/* The numbers of a leaf record [x] (a constant, a name, a compiled
+ * expression: C_NUM as run_num would compute them before making its
+ * vector, on one number each or on vectors), 1 to RUN_NUMS_MAX of them,
+ * into [out], without a vector: their count, when its value is such a
+ * numeric vector; 0 (nothing reported) otherwise, and when its numexpr
+ * gives up or would pass the depth limit, where the caller evaluates it
+ * generically. Pure: reading a name or running a compiled expression has
+ * no effect to repeat. */
+static inline uint32_t run_nums(Eval *ev, const CRec *x, double *out)
+{
+    const Vec *v;
+    switch (x->op) {
+    case C_LIT: v = x->p.lit; break;
+    case C_LOCAL: v = ev->frame[x->n]; break;
+    case C_GLOBAL: v = ev->globals ? ev->globals->values[x->n] : NULL; break;
+    case C_NUM: {
+        const NumExpr *e = (const NumExpr *)(const void *)(x + 1);
+        uint32_t n = numexpr_outputs(e);
+        if (n > RUN_NUMS_MAX || ev->depth + numexpr_depth(e) > MAX_EVAL_DEPTH) return 0;
+        if (numexpr_run(e, ev, out)) return n;
+        return numexpr_run_vec(e, ev, out, &n) ? n : 0;
+    }
+    default: return 0;
+    }
+    if (!vec_is_num(v) || !v->len || v->len > RUN_NUMS_MAX) return 0;
+    memcpy(out, vec_cnums(v), v->len * sizeof(double));
+    return v->len;
+}
+
+/* run_nums, and C_BINOP of two leaves (a - b) or its square (x**2), as
+ * run_binop computes it (vec_arith: the longer length, the shorter
+ * operand repeated, one operation per number, arith1's for the others;
+ * F2 x**2 as x*x), at the depth its run_rec would be: the numbers of a
+ * call's argument without the argument's vector. */
+static bool arg_nums(Eval *ev, const unsigned char *base, uint32_t off, double *out, uint32_t *n)
+{
+    const CRec *r = crec(base, off);
+    if (r->op != C_BINOP) return (*n = run_nums(ev, r, out)) != 0;
+    if (r->pad != BINOP_PLAIN && r->pad != BINOP_SQUARE) return false;
+    if (ev->depth + 1 > MAX_EVAL_DEPTH) return false;
+    const uint32_t *k = rec_offs(r);
+    double a[RUN_NUMS_MAX], b[RUN_NUMS_MAX];
+    uint32_t na, nb = 0;
+    ev->depth++;
+    na = run_nums(ev, crec(base, k[0]), a);
+    if (na && r->pad != BINOP_SQUARE) nb = run_nums(ev, crec(base, k[1]), b);
+    ev->depth--;
+    if (!na || (r->pad != BINOP_SQUARE && !nb)) return false;
+    if (r->pad == BINOP_SQUARE) {
+        for (uint32_t i = 0; i < na; i++) out[i] = a[i] * a[i];
+        *n = na;
+        return true;
+    }
+    uint32_t m = na > nb ? na : nb;
+    const ArithOp op = (ArithOp)r->n;
+    for (uint32_t i = 0; i < m; i++) {
+        const double x = a[na == m ? i : i % na], y = b[nb == m ? i : i % nb];
+        switch (op) {
+        case OP_ADD: out[i] = x + y; break;
+        case OP_SUB: out[i] = x - y; break;
+        case OP_MUL: out[i] = x * y; break;
+        case OP_DIV: out[i] = x / y; break;
+        default: out[i] = num_arith(op, x, y); break;
+        }
+    }
+    *n = m;
+    return true;
+}
+
+/* C_CALLBI: eval_call's direct route for a builtin callee; a builtin of
+ * one argument with a numeric route (pad 1: bi_call_nums) takes the
+ * argument's numbers from the C stack when it can (arg_nums), without
+ * the argument's vector or the call's checks (one positional argument,
+ * which the builtin takes) */
 __attribute__((noinline)) static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
+    if (r->pad) {
+        double x[RUN_NUMS_MAX], y[BI_NUMS_MAX];
+        uint32_t nx, ny;
+        if (arg_nums(ev, base, k[0], x, &nx) && bi_call_nums(r->p.bi, x, nx, y, &ny)) {
+            Vec *v = vec_new_num(ny);
+            memcpy(vec_nums(v), y, ny * sizeof(double));
+            return v;
+        }
+    }
     Vec *args[8];
     for (uint32_t i = 0; i < r->n; i++) args[i] = run_val(ev, base, k[i]);
     Args a = {args, r->n, NULL, NULL, 0};
@@ -332,23 +422,6 @@ static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
     Vec *p = run_val(ev, base, k[0]);
     Vec *c = run_val(ev, base, k[1]);
     return append_nodes(p, c);
-}
-
-/* Most numbers a C_LOOKUP key or a C_INDEX index is run into on the C
- * stack; longer ones take the generic way. The records with such arrays
- * stay out of run_rec's frame (noinline), as run_rec's comment says. */
-#define RUN_NUMS_MAX 8
-
-/* Run the C_NUM record [x] into [out] (at most RUN_NUMS_MAX numbers),
- * as run_num would before making its vector; the count, or 0 when run_num
- * would evaluate the subtree generically (then so must the caller). */
-static inline uint32_t run_nums(Eval *ev, const CRec *x, double *out)
-{
-    if (x->op != C_NUM) return 0;
-    const NumExpr *e = (const NumExpr *)(const void *)(x + 1);
-    uint32_t n = numexpr_outputs(e);
-    if (n > RUN_NUMS_MAX || ev->depth + numexpr_depth(e) > MAX_EVAL_DEPTH) return 0;
-    return numexpr_run(e, ev, out) ? n : 0;
 }
 
 /* C_LOOKUP: eval_node's AST_LOOKUP */

@@ -447,6 +447,150 @@ l_end:
     return true;
 }
 
+/* One operand of numexpr_run_vec: [n] numbers (1, or the run's length) at
+ * [p], which points into [v] or into a name's vector (borrowed: the names
+ * keep their values while the expression runs). */
+typedef struct NxVal {
+    uint32_t n;
+    const double *p;
+    double v[NUMEXPR_VEC_MAX];
+} NxVal;
+
+/* numexpr_run_vec's name load: [v] must be 1 to NUMEXPR_VEC_MAX numbers,
+ * and, when more than one, as many as every other vector of the run
+ * (*[len], 0 until the first). */
+static inline bool vec_operand(const Vec *v, uint32_t *len, NxVal *d)
+{
+    if (!vec_is_num(v) || !v->len || v->len > NUMEXPR_VEC_MAX) return false;
+    if (v->len > 1) {
+        if (*len && *len != v->len) return false;
+        *len = v->len;
+    }
+    d->n = v->len;
+    d->p = vec_cnums(v);
+    return true;
+}
+
+/* a = a OP t, number by number, the one-number operand repeated (read
+ * before the loop: the result may be written over it). */
+#define NX_VEC_BINARY(EXPR)                                                  \
+    do {                                                                     \
+        const uint32_t n = a->n > t->n ? a->n : t->n;                        \
+        const double *pa = a->p, *pt = t->p, a0 = pa[0], t0 = pt[0];         \
+        const bool sa = a->n > 1, sb = t->n > 1;                             \
+        for (uint32_t k = 0; k < n; k++) {                                   \
+            const double p = sa ? pa[k] : a0, q = sb ? pt[k] : t0;           \
+            a->v[k] = (EXPR);                                                \
+        }                                                                    \
+        a->n = n;                                                            \
+        a->p = a->v;                                                         \
+        t = a;                                                               \
+    } while (0)
+
+/* t = f(t), number by number. */
+#define NX_VEC_UNARY(EXPR)                                                   \
+    do {                                                                     \
+        const double *pt = t->p;                                             \
+        for (uint32_t k = 0; k < t->n; k++) {                                \
+            const double q = pt[k];                                          \
+            t->v[k] = (EXPR);                                                \
+        }                                                                    \
+        t->p = t->v;                                                         \
+    } while (0)
+
+bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
+{
+    if (x->h.nout != 1) return false;
+    NxVal st[NX_STACK];
+    NxVal *t = st - 1, *a;   /* the top, and the one below it */
+    uint32_t len = 0;
+    double y;
+    for (const NxIns *i = x->ins;; i++) {
+        switch (i->op) {
+        case NX_CONST:
+            t++;
+            t->n = 1;
+            t->v[0] = i->k;
+            t->p = t->v;
+            break;
+        case NX_LOCAL:
+            if (!vec_operand(ev->frame[i->arg], &len, ++t)) return false;
+            break;
+        case NX_GLOBAL:
+            if (!ev->globals || !vec_operand(ev->globals->values[i->arg], &len, ++t)) return false;
+            break;
+        /* vec_arith: the longer length (every vector here has the same),
+         * a one-number operand repeated */
+        case NX_ADD: a = t - 1; NX_VEC_BINARY(p + q); break;
+        case NX_SUB: a = t - 1; NX_VEC_BINARY(p - q); break;
+        case NX_MUL: a = t - 1; NX_VEC_BINARY(p * q); break;
+        case NX_DIV: a = t - 1; NX_VEC_BINARY(p / q); break;
+        case NX_FLOORDIV: a = t - 1; NX_VEC_BINARY(num_floordiv(p, q)); break;
+        case NX_MOD: a = t - 1; NX_VEC_BINARY(num_mod(p, q)); break;
+        case NX_POW: a = t - 1; NX_VEC_BINARY(pow(p, q)); break;
+        case NX_ADDK: NX_VEC_UNARY(q + i->k); break;
+        case NX_SUBK: NX_VEC_UNARY(q - i->k); break;
+        case NX_MULK: NX_VEC_UNARY(q * i->k); break;
+        case NX_DIVK: NX_VEC_UNARY(q / i->k); break;
+        case NX_SQUARE: NX_VEC_UNARY(q * q); break;
+        case NX_NEG: NX_VEC_UNARY(-q); break;
+        case NX_CALL1: NX_VEC_UNARY(i->fn(q)); break;
+        case NX_CALL2: {
+            /* fn2(t) = (p, q): p left below, q pushed on top, per number */
+            NxVal *r = t + 1;
+            r->n = t->n;
+            for (uint32_t k = 0; k < t->n; k++) {
+                double y1, y2;
+                i->fn2(t->p[k], &y1, &y2);
+                t->v[k] = y1;
+                r->v[k] = y2;
+            }
+            t->p = t->v;
+            r->p = r->v;
+            t = r;
+            break;
+        }
+        case NX_NOT:
+            /* vec_truthy of one number only (a vector's is not per number) */
+            if (t->n != 1) return false;
+            t->v[0] = (t->p[0] != 0.0 || isnan(t->p[0])) ? 0.0 : 1.0;
+            t->p = t->v;
+            break;
+        case NX_CMP:
+            /* vectors compare as wholes (§3.6), and NaN as numexpr_exec */
+            a = t - 1;
+            if (a->n != 1 || t->n != 1 || isnan(a->p[0]) || isnan(t->p[0])) return false;
+            a->v[0] = compare(i->sub, a->p[0], t->p[0]);
+            a->p = a->v;
+            t = a;
+            break;
+        case NX_INDEX:
+            if (t->n != 1) return false;
+            vec_index_num1(i->lit, t->p[0], i->sub, &y);
+            t->v[0] = y;
+            t->p = t->v;
+            break;
+        case NX_INDEXL:
+        case NX_INDEXG: {
+            const Vec *src = i->op == NX_INDEXL ? ev->frame[i->arg]
+                           : ev->globals ? ev->globals->values[i->arg] : NULL;
+            if (t->n != 1 || !src || !vec_index_num1(src, t->p[0], i->sub, &y)) return false;
+            t->v[0] = y;
+            t->p = t->v;
+            break;
+        }
+        case NX_END:
+            memcpy(out, t->p, t->n * sizeof(double));
+            *nout = t->n;
+            return true;
+        default:   /* NX_REG: registers hold one number each */
+            return false;
+        }
+    }
+}
+#undef NX_VEC_BINARY
+#undef NX_VEC_UNARY
+
 bool numexpr_run_regs(const NumExpr *x, const double *regs, double *out)
 {
     return numexpr_exec(x, NULL, regs, out);

@@ -136,6 +136,23 @@ static inline bool numexpr_run(const NumExpr *x, Eval *ev, double *out)
     return numexpr_exec(x, ev, NULL, out);
 }
 
+/* Most numbers numexpr_run_vec's vectors hold. */
+#define NUMEXPR_VEC_MAX 16
+
+/* The vector form of a one-output [x] (numexpr_outputs(x) == 1) for where
+ * numexpr_run gave up because names hold numeric vectors: runs the same
+ * instructions on vectors of 1 to NUMEXPR_VEC_MAX numbers, element by
+ * element as value.c's arithmetic, element-wise builtins and negation do
+ * (a one-number operand repeated), writing the result's numbers to [out]
+ * and their count to *[nout]. It gives up (false) where the generic
+ * route's rules for vectors are not per element or its fused forms
+ * (a + b*c, F1) could repeat operands differently: two vectors of
+ * different lengths (both longer than one), a comparison, `not` or an
+ * index of a vector, a comparison meeting a NaN, a name holding anything
+ * but 1 to NUMEXPR_VEC_MAX numbers. The numbers are then those of the
+ * generic route, bit for bit. */
+bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout);
+
 /* Registers (loop kernels, kernel.h): a copy of a compiled expression
  * whose names are read from an array of doubles instead of a frame.
  * [map](ctx, global, arg) gives the register of local slot [arg]

@@ -243,6 +243,88 @@ static void test_random_expressions(void **s)
     }
 }
 
+/* random_expr over vectors of one to three numbers (NaN, inf and -0
+ * among them) and a builtin of each numeric route (hypot, the element-wise
+ * ones, hsv), with indexing. */
+static void random_vexpr(Buf *b, uint32_t *st, int depth)
+{
+    static const char *const leaves[] = {"x", "p", "q", "r", "w", "n", "2", "0.5", "(1;2)", "s"};
+    static const char *const binops[] = {"+", "-", "*", "/", "//", "%", "**", "<", "==", "+", "-", "*"};
+    static const char *const calls[] = {"hypot", "sin", "sqrt", "abs", "hsv", "sine", "hypot", "fract"};
+    uint32_t r = lcg(st) % 12;
+    if (depth == 0 || r < 3) {
+        buf_puts(b, leaves[lcg(st) % (sizeof leaves / sizeof leaves[0])]);
+    } else if (r < 8) {
+        buf_puts(b, "(");
+        random_vexpr(b, st, depth - 1);
+        buf_printf(b, ")%s(", binops[lcg(st) % (sizeof binops / sizeof binops[0])]);
+        random_vexpr(b, st, depth - 1);
+        buf_puts(b, ")");
+    } else if (r < 9) {
+        buf_puts(b, lcg(st) % 2 ? "-(" : "not (");
+        random_vexpr(b, st, depth - 1);
+        buf_puts(b, ")");
+    } else if (r < 11) {
+        buf_printf(b, "%s(", calls[lcg(st) % (sizeof calls / sizeof calls[0])]);
+        random_vexpr(b, st, depth - 1);
+        buf_puts(b, ")");
+    } else {
+        buf_puts(b, lcg(st) % 2 ? "p[" : "w[");
+        random_vexpr(b, st, depth - 1);
+        buf_puts(b, "]");
+    }
+}
+
+/* Random arithmetic on names holding vectors, the compiled expressions'
+ * vector form and the calls' numbers (evalrun.c arg_nums) against the
+ * generic route, with and without the simplifier. */
+static void test_random_vector_expressions(void **s)
+{
+    (void)s;
+    uint32_t st = 777;
+    for (int round = 0; round < 8; round++) {
+        Buf b = BUF_INIT;
+        buf_puts(&b, "let x=3+time\n    p=(1;-2;0.25)+time\n    q=(0.5;4;-3)*(1+time)\n"
+                     "    r=(0/0;1/0;-0.0)+time\n    w=(2;7)+time\n    n=(0/0)+time\n    s=\"a\"\n!e");
+        for (int i = 0; i < 60; i++) {
+            buf_printf(&b, " a%d=", i);
+            random_vexpr(&b, &st, 4);
+        }
+        buf_puts(&b, "\n");
+        for (int simplify = 0; simplify < 2; simplify++) {
+            char *log_g, *log_f;
+            char *tree_g = run_one(buf_cstr(&b), simplify, false, &log_g);
+            char *tree_f = run_one(buf_cstr(&b), simplify, true, &log_f);
+            assert_string_equal(tree_f, tree_g);
+            assert_string_equal(log_f, log_g);
+            assert_true(strlen(tree_g) > 200);
+            free(tree_g);
+            free(tree_f);
+            free(log_g);
+            free(log_f);
+        }
+        buf_free(&b);
+    }
+}
+
+/* Names holding vectors in compiled expressions (numexpr_run_vec) and
+ * one-argument calls with a numeric route given a vector (evalrun.c
+ * arg_nums), against hand-worked values: element by element, a one-number
+ * operand repeated; lengths that differ, comparisons and `not` of vectors
+ * left to the generic route's rules. */
+static void test_vector_expressions(void **s)
+{
+    (void)s;
+    expect4("let v=(1;2;3)+time\n    w=(4;0.5;-2)+time\n    s=2+time\n"
+            "!vec a=v-w b=v*s+1 c=hypot(v-w) d=sin(v*0.25) e=-v f=v**2 g=abs(w-v) h=v//2 "
+            "i=(v+w)%2 j=(v;w) k=v+(1;2) l=v<w m=sqrt(v) n=v+w*s p=hypot(v-(1;2)) q=hypot(v) "
+            "r=hsv(v/3-s*0.25) t=not v u=v[s]+v x=s+v y=v[s]*w[s]\n",
+            "!root\n"
+            " !vec a=-3;1.5;5 b=3;5;7 c=6.020797289396148 d=1;0;-1 e=-1;-2;-3 f=1;4;9 g=3;1.5;5 "
+            "h=0;1;1 i=1;0.5;1 j=1;2;3;4;0.5;-2 k=2;4;4 l=1 m=1;1.4142135623730951;1.7320508075688772 "
+            "n=9;3;-1 p=2 q=3.7416573867739413 r=0.5;0.41666666666666674;0.5 t=0 u=4;5;6 x=3;4;5 y=-6\n");
+}
+
 /* Expressions of engine names alone, repeated in the bodies of an
  * unrolled loop, share a kept result (evalcode.h C_MEMO): the values are
  * those of the generic route in the first frame and after `time` moved,
@@ -507,6 +589,8 @@ int main(void)
         cmocka_unit_test(test_nodes_and_loops),
         cmocka_unit_test(test_limits_same),
         cmocka_unit_test(test_random_expressions),
+        cmocka_unit_test(test_vector_expressions),
+        cmocka_unit_test(test_random_vector_expressions),
         cmocka_unit_test(test_memo),
         cmocka_unit_test(test_long_sequences),
         cmocka_unit_test(test_constant_vectors_in_sequences),
