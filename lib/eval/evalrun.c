@@ -428,9 +428,15 @@ static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
 __attribute__((noinline)) static Vec *run_lookup(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
-    double key[RUN_NUMS_MAX];
-    uint32_t n = run_nums(ev, crec(base, k[0]), key);
-    if (n) return ev->state ? vec_share(state_get_nums(ev->state, key, n)) : NULL;
+    const CRec *kr = crec(base, k[0]);
+    if (kr->op == C_NUM) {
+        /* a computed key, looked up by its numbers (a key vector that
+         * exists already, a constant's or a name's, is looked up as it
+         * is: it keeps its hash, vec_hash) */
+        double key[RUN_NUMS_MAX];
+        uint32_t n = run_nums(ev, kr, key);
+        if (n) return ev->state ? vec_share(state_get_nums(ev->state, key, n)) : NULL;
+    }
     Vec *a = run_val(ev, base, k[0]);
     Vec *v = ev->state ? vec_share(state_get(ev->state, a)) : NULL;
     vec_release(a);
