@@ -161,11 +161,24 @@ __attribute__((noinline)) static Vec *run_klet(Eval *ev, const unsigned char *ba
 __attribute__((noinline)) static Vec *run_attrs(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const CAttrsTail *t = (const CAttrsTail *)(const void *)(r + 1);
+    const CRec *nr = crec(base, t->node);
     Vec *v = run_val(ev, base, t->node);
     Vec *small[16];
     Vec **vals = r->n > 16 ? malloc(r->n * sizeof(Vec *)) : small;
     if (!vals) mem_oom();
     for (uint32_t k = 0; k < r->n; k++) vals[k] = run_val(ev, base, t->attrs[k].off);
+    if (nr->op == C_LIT && v && v->kind == VEC_OBJ && v->len == 1 && vec_celems(v)[0].kind == EL_NODE) {
+        /* one literal node with attributes, tags or children of its own
+         * (a bare one is C_NEWNODE): its copy with room for these, in a
+         * vector of its own, as vec_unshare and node_mut_room below make
+         * them, each value handed to the node (one node: no retain and
+         * release for each) */
+        Node *nn = node_mut_room(node_retain(vec_celems(v)[0].node), r->n);
+        vec_release(v);
+        for (uint32_t k = 0; k < r->n; k++) node_set_attr(nn, t->attrs[k].name, vals[k]);
+        if (vals != small) free(vals);
+        return vec_node_take(nn);
+    }
     if (has_nodes(v)) {
         v = vec_unshare(v);
         Elem *e = vec_elems(v);

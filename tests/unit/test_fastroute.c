@@ -307,6 +307,27 @@ static void test_random_vector_expressions(void **s)
     }
 }
 
+/* Attributes set on a literal node that has attributes, tags and children
+ * of its own (evalrun.c run_attrs' copy of the one node): a value replaces
+ * the literal's in its place, null removes it or is dropped, the tags and
+ * children stay. */
+static void test_attributes_on_literal_nodes(void **s)
+{
+    (void)s;
+    expect4("let x=3+time\n    z=null\n"
+            "!g\n"
+            "    for i in ..2\n"
+            "        (!dot #t a=1 b=2 << !kid k=i) b=x+i c=z a=z\n"
+            "    (!tagged #u #v q=5) q=x r=x;x\n",
+            "!root\n"
+            " !g\n"
+            "  !dot #t b=3\n"
+            "   !kid k=0\n"
+            "  !dot #t b=4\n"
+            "   !kid k=1\n"
+            "  !tagged #u #v q=3 r=3;3\n");
+}
+
 /* Names holding vectors in compiled expressions (numexpr_run_vec) and
  * one-argument calls with a numeric route given a vector (evalrun.c
  * arg_nums), against hand-worked values: element by element, a one-number
@@ -590,6 +611,7 @@ int main(void)
         cmocka_unit_test(test_limits_same),
         cmocka_unit_test(test_random_expressions),
         cmocka_unit_test(test_vector_expressions),
+        cmocka_unit_test(test_attributes_on_literal_nodes),
         cmocka_unit_test(test_random_vector_expressions),
         cmocka_unit_test(test_memo),
         cmocka_unit_test(test_long_sequences),
