@@ -58,6 +58,19 @@ static inline double by_quadrant(int q, double s, double c)
     }
 }
 
+/* sin_t of a non-negative angle whose reduction (reduce_turns) is
+ * quadrant [q] and remainder [r]: its one call of sin or cos. */
+static inline double quadrant_value(int q, double r)
+{
+    r *= HALF_PI;
+    switch (q & 3) {
+    case 0: return sin(r);
+    case 1: return cos(r);
+    case 2: return -sin(r);
+    default: return -cos(r);
+    }
+}
+
 void sincos_t(double t, double *s, double *c)
 {
 #if defined(__GLIBC__)
@@ -73,14 +86,21 @@ void sincos_t(double t, double *s, double *c)
     if (at * 4.0 < 0x1p52 && au * 4.0 < 0x1p52) {   /* not NaN, infinite or huge */
         int qt, qu;
         const double rt = reduce_turns(at, &qt), ru = reduce_turns(au, &qu);
+        double vs, vc;
         if (memcmp(&rt, &ru, sizeof rt) == 0) {
             double sr, cr;
             sincos(rt * HALF_PI, &sr, &cr);
-            const double vs = by_quadrant(qt, sr, cr), vc = by_quadrant(qu, sr, cr);
-            *s = t < 0 ? -vs : vs;
-            *c = u < 0 ? -vc : vc;
-            return;
+            vs = by_quadrant(qt, sr, cr);
+            vc = by_quadrant(qu, sr, cr);
+        } else {
+            /* two remainders: sin_t's one call for each, on the
+             * reductions already made */
+            vs = quadrant_value(qt, rt);
+            vc = quadrant_value(qu, ru);
         }
+        *s = t < 0 ? -vs : vs;
+        *c = u < 0 ? -vc : vc;
+        return;
     }
 #endif
     *s = sin_t(t);

@@ -434,6 +434,9 @@ static void arith_into(ArithOp op, double *r, const Vec *a, const Vec *b, uint32
     case OP_SUB: BROADCAST(x - y); break;
     case OP_MUL: BROADCAST(x * y); break;
     case OP_DIV: BROADCAST(x / y); break;
+    /* arith1's, a loop each (not its switch for every number) */
+    case OP_FLOORDIV: BROADCAST(floor(x / y)); break;
+    case OP_MOD: BROADCAST(x - floor(x / y) * y); break;
     default: BROADCAST(arith1(op, x, y)); break;
     }
 }
