@@ -94,11 +94,11 @@ void node_release(Node *n)
     if (n && --n->refs == 0) node_free(n);
 }
 
-Node *node_mut(Node *n) { return node_mut_room(n, 0); }
-
-Node *node_mut_room(Node *n, uint32_t extra)
+/* node_mut_room and node_mut_children: the copy of a shared [n] with room
+ * for [extra] more attributes in its block and [kids] more children in
+ * its children array. */
+static Node *node_copy_room(Node *n, uint32_t extra, uint32_t kids)
 {
-    if (n->refs == 1) return n;
     Node *c = node_new_sized(n->kind, n->nattrs + extra);
     if (n->ntags) {
         c->tags = pool_grow(NULL, &c->cap_tags, n->ntags, sizeof(Str *));
@@ -112,13 +112,25 @@ Node *node_mut_room(Node *n, uint32_t extra)
         }
         c->nattrs = n->nattrs;
     }
-    if (n->nchildren) {
-        c->children = pool_grow(NULL, &c->cap_children, n->nchildren, sizeof(Node *));
+    if (n->nchildren || kids) {
+        c->children = pool_grow(NULL, &c->cap_children, n->nchildren + kids, sizeof(Node *));
         for (uint32_t i = 0; i < n->nchildren; i++) c->children[i] = node_retain(n->children[i]);
         c->nchildren = n->nchildren;
     }
     node_release(n);
     return c;
+}
+
+Node *node_mut(Node *n) { return node_mut_room(n, 0); }
+
+Node *node_mut_room(Node *n, uint32_t extra)
+{
+    return n->refs == 1 ? n : node_copy_room(n, extra, 0);
+}
+
+Node *node_mut_children(Node *n, uint32_t kids)
+{
+    return n->refs == 1 ? n : node_copy_room(n, 0, kids);
 }
 
 void node_set_attr(Node *n, Str *name, Vec *value)

@@ -56,6 +56,9 @@ Node *node_mut(Node *n);
  * block of their own when it copies (an attribute setter about to add
  * that many). */
 Node *node_mut_room(Node *n, uint32_t extra);
+/* node_mut, with room in the copy's children array for [kids] more
+ * children (an append about to add that many). */
+Node *node_mut_children(Node *n, uint32_t kids);
 /* Set attribute [name] of unshared [n] to [value] (consumes [value]); an
  * empty [value] removes the attribute. */
 void node_set_attr(Node *n, Str *name, Vec *value);

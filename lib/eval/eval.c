@@ -515,11 +515,20 @@ __attribute__((noinline)) static Vec *eval_attributes(Eval *ev, const AstNode *n
 Vec *append_nodes(Vec *p, Vec *c)
 {
     if (has_nodes(p) && has_nodes(c)) {
-        p = vec_unshare(p);
-        Elem *e = vec_elems(p);
         Elem *ce = vec_elems(c);
         uint32_t count = 0, last = 0;
         for (uint32_t j = 0; j < c->len; j++) count += ce[j].kind == EL_NODE;
+        if (p->len == 1 && p->refs > 1) {
+            /* one shared node (a literal `(!kind ...) << ...`): its copy,
+             * with room for the children, in a vector of its own, as
+             * vec_unshare and node_mut below would make them */
+            Node *n = node_mut_children(node_retain(vec_elems(p)[0].node), count);
+            vec_release(p);
+            p = vec_node_take(n);
+        } else {
+            p = vec_unshare(p);
+        }
+        Elem *e = vec_elems(p);
         for (uint32_t i = 0; i < p->len; i++)
             if (e[i].kind == EL_NODE) last = i;
         for (uint32_t i = 0; i < p->len; i++) {

@@ -501,8 +501,8 @@ static inline bool vec_operand(const Vec *v, uint32_t *len, NxVal *d)
 bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
 {
     if (x->h.nout != 1) return false;
-    NxVal st[NX_STACK];
-    NxVal *t = st - 1, *a;   /* the top, and the one below it */
+    NxVal st[NX_STACK + 1];
+    NxVal *t = st, *a;   /* the top (st[0], unused, while empty), and the one below it */
     uint32_t len = 0;
     double y;
     for (const NxIns *i = x->ins;; i++) {

@@ -310,7 +310,8 @@ static void test_random_vector_expressions(void **s)
 /* Attributes set on a literal node that has attributes, tags and children
  * of its own (evalrun.c run_attrs' copy of the one node): a value replaces
  * the literal's in its place, null removes it or is dropped, the tags and
- * children stay. */
+ * children stay; children appended to a literal node with children of its
+ * own (eval.c append_nodes' copy of the one node) follow them. */
 static void test_attributes_on_literal_nodes(void **s)
 {
     (void)s;
@@ -318,14 +319,19 @@ static void test_attributes_on_literal_nodes(void **s)
             "!g\n"
             "    for i in ..2\n"
             "        (!dot #t a=1 b=2 << !kid k=i) b=x+i c=z a=z\n"
-            "    (!tagged #u #v q=5) q=x r=x;x\n",
+            "    (!tagged #u #v q=5) q=x r=x;x\n"
+            "    (!box #w << !first) << (!second v=x) << !third\n",   /* << groups to the right */
             "!root\n"
             " !g\n"
             "  !dot #t b=3\n"
             "   !kid k=0\n"
             "  !dot #t b=4\n"
             "   !kid k=1\n"
-            "  !tagged #u #v q=3 r=3;3\n");
+            "  !tagged #u #v q=3 r=3;3\n"
+            "  !box #w\n"
+            "   !first\n"
+            "   !second v=3\n"
+            "    !third\n");
 }
 
 /* Names holding vectors in compiled expressions (numexpr_run_vec) and
