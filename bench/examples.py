@@ -29,6 +29,8 @@ import statistics
 import subprocess
 import sys
 
+from fixedpath import fixed_copies
+
 NUM = r"([0-9.eE+-]+)"
 
 
@@ -63,6 +65,7 @@ def main():
     exe = os.path.abspath(os.path.join(a.build, "src", "flitter"))   # (run from each script's folder)
     if not os.access(exe, os.X_OK):
         sys.exit(f"examples.py: {exe} is not an executable (build first)")
+    exe = fixed_copies({"c": exe})["c"]   # (a path of a fixed length: bench/fixedpath.py)
     scripts, names = [], {}
     for folder in a.examples:
         found = sorted(os.path.join(os.path.abspath(folder), f) for f in os.listdir(folder) if f.endswith(".fl"))

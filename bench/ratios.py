@@ -25,6 +25,8 @@ import subprocess
 import sys
 import time
 
+from fixedpath import fixed_copies
+
 SCENES = [("canvas10k", 30, 20), ("petri200", 600, 20), ("discs2k", 120, 100),
           ("charges1k", 30, 15), ("discs20k", 3, None)]
 
@@ -59,6 +61,7 @@ def main():
     for name, exe in variants.items():
         if not os.access(exe, os.X_OK):
             sys.exit(f"ratios.py: {name}: {exe} is not an executable (build first)")
+    variants = fixed_copies(variants)   # (paths of one length: bench/fixedpath.py)
     ref = os.environ.get("FLITTER_REF")
     times = {}
     for _ in range(a.reps):
