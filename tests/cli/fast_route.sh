@@ -43,6 +43,8 @@ for mode in "" --nosimplify; do
         compare "$f" $mode --frames 2 --dump-tree "$f"
     done
     # shellcheck disable=SC2086
+    compare vector_names $mode --frames 2 --dump-tree -D 'V=1;2;3' "$tests/cli/vector_names.fl"
+    # shellcheck disable=SC2086
     compare canvas10k $mode --frames 2 --dump-tree "$bench/canvas10k.fl"
     # shellcheck disable=SC2086
     compare petri200 $mode --frames 60 --dump-state "$bench/petri200.fl"
