@@ -23,6 +23,19 @@ static inline double reduce_turns(double t, int *q)
     return r;
 }
 
+/* sin_t of a non-negative angle whose reduction is quadrant [q] and
+ * remainder [r]: its one call of sin or cos. */
+static inline double quadrant_value(int q, double r)
+{
+    r *= HALF_PI;
+    switch (q & 3) {
+    case 0: return sin(r);
+    case 1: return cos(r);
+    case 2: return -sin(r);
+    default: return -cos(r);
+    }
+}
+
 double sin_t(double t)
 {
     if (t < 0)
@@ -33,13 +46,7 @@ double sin_t(double t)
         r = reduce_turns(t, &q);
     else
         r = remquo(x, 1.0, &q);   /* huge, infinite or NaN */
-    r *= HALF_PI;
-    switch (q & 3) {
-    case 0: return sin(r);
-    case 1: return cos(r);
-    case 2: return -sin(r);
-    default: return -cos(r);
-    }
+    return quadrant_value(q, r);
 }
 
 double cos_t(double t)
@@ -55,19 +62,6 @@ static inline double by_quadrant(int q, double s, double c)
     case 1: return c;
     case 2: return -s;
     default: return -c;
-    }
-}
-
-/* sin_t of a non-negative angle whose reduction (reduce_turns) is
- * quadrant [q] and remainder [r]: its one call of sin or cos. */
-static inline double quadrant_value(int q, double r)
-{
-    r *= HALF_PI;
-    switch (q & 3) {
-    case 0: return sin(r);
-    case 1: return cos(r);
-    case 2: return -sin(r);
-    default: return -cos(r);
     }
 }
 

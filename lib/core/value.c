@@ -422,13 +422,9 @@ static inline double arith1(ArithOp op, double a, double b)
         }                                                                   \
     } while (0)
 
-/* r[i] = a[i % na] OP b[i % nb] for i < n; [r] may be a's or b's own
- * storage when that operand has n elements (each element is read before the
- * same index is written). */
-static void arith_into(ArithOp op, double *r, const Vec *a, const Vec *b, uint32_t n)
+void num_arith_into(ArithOp op, double *r, const double *xa, uint32_t na, const double *xb, uint32_t nb)
 {
-    uint32_t na = a->len, nb = b->len;
-    const double *xa = vec_cnums(a), *xb = vec_cnums(b);
+    const uint32_t n = na > nb ? na : nb;
     switch (op) {
     case OP_ADD: BROADCAST(x + y); break;
     case OP_SUB: BROADCAST(x - y); break;
@@ -441,6 +437,13 @@ static void arith_into(ArithOp op, double *r, const Vec *a, const Vec *b, uint32
     }
 }
 
+/* r[i] = a[i % na] OP b[i % nb] for i < n (n: the longer length); [r]
+ * may be a's or b's own storage when that operand has n elements. */
+static void arith_into(ArithOp op, double *r, const Vec *a, const Vec *b)
+{
+    num_arith_into(op, r, vec_cnums(a), a->len, vec_cnums(b), b->len);
+}
+
 double num_arith(ArithOp op, double a, double b) { return arith1(op, a, b); }
 
 Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b)
@@ -448,7 +451,7 @@ Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b)
     if (!vec_is_num(a) || !vec_is_num(b) || !a->len || !b->len) return NULL;
     uint32_t n = a->len > b->len ? a->len : b->len;
     Vec *v = vec_new_num(n);
-    arith_into(op, vec_nums(v), a, b, n);
+    arith_into(op, vec_nums(v), a, b);
     return v;
 }
 
@@ -494,16 +497,16 @@ Vec *vec_arith_take(ArithOp op, Vec *a, Vec *b)
     if (reusable(a, n)) {
         v = a;
         v->hashed = 0;
-        arith_into(op, vec_nums(v), a, b, n);
+        arith_into(op, vec_nums(v), a, b);
         vec_release(b);
     } else if (reusable(b, n)) {
         v = b;
         v->hashed = 0;
-        arith_into(op, vec_nums(v), a, b, n);
+        arith_into(op, vec_nums(v), a, b);
         vec_release(a);
     } else {
         v = vec_new_num(n);
-        arith_into(op, vec_nums(v), a, b, n);
+        arith_into(op, vec_nums(v), a, b);
         vec_release(a);
         vec_release(b);
     }

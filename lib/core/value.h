@@ -237,6 +237,11 @@ Vec *vec_arith(ArithOp op, const Vec *a, const Vec *b);
 /* [a] OP [b] on two numbers: the number vec_arith makes of two
  * one-number vectors, bit for bit. */
 double num_arith(ArithOp op, double a, double b);
+/* vec_arith's numbers on arrays: r[i] = xa[i % na] OP xb[i % nb] for i
+ * below the longer length, bit for bit (na, nb >= 1). [r] may be [xa] or
+ * [xb] when that operand is the longer, or is one number (each number is
+ * read before the same index is written). */
+void num_arith_into(ArithOp op, double *r, const double *xa, uint32_t na, const double *xb, uint32_t nb);
 /* The same, consuming [a] and [b]: the result is written into an operand
  * that has no other owner and the result's length (no new vector). */
 Vec *vec_arith_take(ArithOp op, Vec *a, Vec *b);

@@ -345,10 +345,9 @@ static inline uint32_t run_nums(Eval *ev, const CRec *x, double *out)
 }
 
 /* run_nums, and C_BINOP of two leaves (a - b) or its square (x**2), as
- * run_binop computes it (vec_arith: the longer length, the shorter
- * operand repeated, one operation per number, arith1's for the others;
- * F2 x**2 as x*x), at the depth its run_rec would be: the numbers of a
- * call's argument without the argument's vector. */
+ * run_binop computes it (num_arith_into: vec_arith's numbers; F2 x**2 as
+ * x*x), at the depth its run_rec would be: the numbers of a call's
+ * argument without the argument's vector. */
 static bool arg_nums(Eval *ev, const unsigned char *base, uint32_t off, double *out, uint32_t *n)
 {
     const CRec *r = crec(base, off);
@@ -363,24 +362,9 @@ static bool arg_nums(Eval *ev, const unsigned char *base, uint32_t off, double *
     if (na && r->pad != BINOP_SQUARE) nb = run_nums(ev, crec(base, k[1]), b);
     ev->depth--;
     if (!na || (r->pad != BINOP_SQUARE && !nb)) return false;
-    if (r->pad == BINOP_SQUARE) {
-        for (uint32_t i = 0; i < na; i++) out[i] = a[i] * a[i];
-        *n = na;
-        return true;
-    }
-    uint32_t m = na > nb ? na : nb;
-    const ArithOp op = (ArithOp)r->n;
-    for (uint32_t i = 0; i < m; i++) {
-        const double x = a[na == m ? i : i % na], y = b[nb == m ? i : i % nb];
-        switch (op) {
-        case OP_ADD: out[i] = x + y; break;
-        case OP_SUB: out[i] = x - y; break;
-        case OP_MUL: out[i] = x * y; break;
-        case OP_DIV: out[i] = x / y; break;
-        default: out[i] = num_arith(op, x, y); break;
-        }
-    }
-    *n = m;
+    if (r->pad == BINOP_SQUARE) num_arith_into(OP_MUL, out, a, na, a, na);
+    else num_arith_into((ArithOp)r->n, out, a, na, b, nb);
+    *n = na > nb ? na : nb;
     return true;
 }
 

@@ -471,21 +471,8 @@ static inline bool vec_operand(const Vec *v, uint32_t *len, NxVal *d)
     return true;
 }
 
-/* a = a OP t, number by number, the one-number operand repeated (read
- * before the loop: the result may be written over it). */
-#define NX_VEC_BINARY(EXPR)                                                  \
-    do {                                                                     \
-        const uint32_t n = a->n > t->n ? a->n : t->n;                        \
-        const double *pa = a->p, *pt = t->p, a0 = pa[0], t0 = pt[0];         \
-        const bool sa = a->n > 1, sb = t->n > 1;                             \
-        for (uint32_t k = 0; k < n; k++) {                                   \
-            const double p = sa ? pa[k] : a0, q = sb ? pt[k] : t0;           \
-            a->v[k] = (EXPR);                                                \
-        }                                                                    \
-        a->n = n;                                                            \
-        a->p = a->v;                                                         \
-        t = a;                                                               \
-    } while (0)
+_Static_assert(NX_POW - NX_ADD == OP_POW - OP_ADD && NX_SUB - NX_ADD == OP_SUB - OP_ADD,
+               "the binary instructions in ArithOp's order");
 
 /* t = f(t), number by number. */
 #define NX_VEC_UNARY(EXPR)                                                   \
@@ -521,13 +508,14 @@ bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
             break;
         /* vec_arith: the longer length (every vector here has the same),
          * a one-number operand repeated */
-        case NX_ADD: a = t - 1; NX_VEC_BINARY(p + q); break;
-        case NX_SUB: a = t - 1; NX_VEC_BINARY(p - q); break;
-        case NX_MUL: a = t - 1; NX_VEC_BINARY(p * q); break;
-        case NX_DIV: a = t - 1; NX_VEC_BINARY(p / q); break;
-        case NX_FLOORDIV: a = t - 1; NX_VEC_BINARY(num_floordiv(p, q)); break;
-        case NX_MOD: a = t - 1; NX_VEC_BINARY(num_mod(p, q)); break;
-        case NX_POW: a = t - 1; NX_VEC_BINARY(pow(p, q)); break;
+        case NX_ADD: case NX_SUB: case NX_MUL: case NX_DIV: case NX_FLOORDIV: case NX_MOD: case NX_POW:
+            /* (written over a's numbers: a is the longer or one number) */
+            a = t - 1;
+            num_arith_into((ArithOp)(OP_ADD + (i->op - NX_ADD)), a->v, a->p, a->n, t->p, t->n);
+            a->n = a->n > t->n ? a->n : t->n;
+            a->p = a->v;
+            t = a;
+            break;
         case NX_ADDK: NX_VEC_UNARY(q + i->k); break;
         case NX_SUBK: NX_VEC_UNARY(q - i->k); break;
         case NX_MULK: NX_VEC_UNARY(q * i->k); break;
@@ -588,7 +576,6 @@ bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
         }
     }
 }
-#undef NX_VEC_BINARY
 #undef NX_VEC_UNARY
 
 bool numexpr_run_regs(const NumExpr *x, const double *regs, double *out)
