@@ -14,18 +14,27 @@
 
 #include "pool.h"
 
-Node *node_new(Str *kind) { return node_new_sized(kind, 0); }
+Node *node_new(Str *kind) { return node_new_room(kind, 0, 0); }
 
-Node *node_new_sized(Str *kind, uint32_t cap)
+Node *node_new_sized(Str *kind, uint32_t cap) { return node_new_room(kind, cap, 0); }
+
+Node *node_new_room(Str *kind, uint32_t attrs, uint32_t kids)
 {
-    Node *n = pool_alloc(sizeof *n + (size_t)cap * sizeof(Attr));
+    if (attrs > NODE_INLINE_MAX) attrs = 0;
+    if (kids > NODE_INLINE_MAX) kids = 0;
+    Node *n = pool_alloc(sizeof *n + (size_t)attrs * sizeof(Attr) + (size_t)kids * sizeof(Node *));
     memset(n, 0, sizeof *n);
     n->refs = 1;
     n->kind = str_retain(kind);
-    n->inline_attrs = cap;
-    if (cap) {
+    n->inline_attrs = (uint16_t)attrs;
+    n->inline_kids = (uint16_t)kids;
+    if (attrs) {
         n->attrs = node_inline_attrs(n);
-        n->cap_attrs = cap;
+        n->cap_attrs = attrs;
+    }
+    if (kids) {
+        n->children = node_inline_kids(n);
+        n->cap_children = kids;
     }
     return n;
 }
@@ -43,6 +52,22 @@ static void attrs_reserve(Node *n, uint32_t need)
         n->cap_attrs = cap;
     } else {
         n->attrs = pool_grow(n->attrs, &n->cap_attrs, need, sizeof(Attr));
+    }
+}
+
+/* Room for [need] children in unshared [n]: pool_grow() for the children
+ * array, which may be the node's inline slots (not a block of its own). */
+static void kids_reserve(Node *n, uint32_t need)
+{
+    if (need <= n->cap_children) return;
+    if (n->children && n->children == node_inline_kids(n)) {
+        uint32_t cap = n->cap_children;
+        Node **q = pool_grow(NULL, &cap, need, sizeof(Node *));
+        memcpy(q, n->children, (size_t)n->nchildren * sizeof(Node *));
+        n->children = q;
+        n->cap_children = cap;
+    } else {
+        n->children = pool_grow(n->children, &n->cap_children, need, sizeof(Node *));
     }
 }
 
@@ -85,8 +110,9 @@ static void node_free(Node *n)
     if (n->tags) pool_release(n->tags, (size_t)n->cap_tags * sizeof(Str *));
     if (n->attrs && n->attrs != node_inline_attrs(n))
         pool_release(n->attrs, (size_t)n->cap_attrs * sizeof(Attr));
-    if (n->children) pool_release(n->children, (size_t)n->cap_children * sizeof(Node *));
-    pool_release(n, sizeof *n + (size_t)n->inline_attrs * sizeof(Attr));
+    if (n->children && n->children != node_inline_kids(n))
+        pool_release(n->children, (size_t)n->cap_children * sizeof(Node *));
+    pool_release(n, node_block_bytes(n));
 }
 
 void node_release(Node *n)
@@ -99,7 +125,7 @@ void node_release(Node *n)
  * its children array. */
 static Node *node_copy_room(Node *n, uint32_t extra, uint32_t kids)
 {
-    Node *c = node_new_sized(n->kind, n->nattrs + extra);
+    Node *c = node_new_room(n->kind, n->nattrs + extra, n->nchildren + kids);
     if (n->ntags) {
         c->tags = pool_grow(NULL, &c->cap_tags, n->ntags, sizeof(Str *));
         for (uint32_t i = 0; i < n->ntags; i++) c->tags[i] = str_retain(n->tags[i]);
@@ -113,7 +139,7 @@ static Node *node_copy_room(Node *n, uint32_t extra, uint32_t kids)
         c->nattrs = n->nattrs;
     }
     if (n->nchildren || kids) {
-        c->children = pool_grow(NULL, &c->cap_children, n->nchildren + kids, sizeof(Node *));
+        kids_reserve(c, n->nchildren + kids);
         for (uint32_t i = 0; i < n->nchildren; i++) c->children[i] = node_retain(n->children[i]);
         c->nchildren = n->nchildren;
     }
@@ -161,7 +187,7 @@ void node_set_attr(Node *n, Str *name, Vec *value)
 Node *node_copy_deep(const Node *n)
 {
     Str *kind = str_new(n->kind->bytes, n->kind->len);
-    Node *c = node_new_sized(kind, n->nattrs);
+    Node *c = node_new_room(kind, n->nattrs, n->nchildren);
     str_release(kind);
     for (uint32_t i = 0; i < n->ntags; i++) {
         Str *tag = str_new(n->tags[i]->bytes, n->tags[i]->len);
@@ -198,14 +224,11 @@ void node_append(Node *n, Node *child) { node_append_take(n, node_retain(child))
 
 void node_append_take(Node *n, Node *child)
 {
-    n->children = pool_grow(n->children, &n->cap_children, n->nchildren + 1, sizeof(Node *));
+    kids_reserve(n, n->nchildren + 1);
     n->children[n->nchildren++] = child;
 }
 
-void node_reserve_children(Node *n, uint32_t need)
-{
-    n->children = pool_grow(n->children, &n->cap_children, need, sizeof(Node *));
-}
+void node_reserve_children(Node *n, uint32_t need) { kids_reserve(n, need); }
 
 const Vec *node_attr_n(const Node *n, const char *name, size_t len)
 {

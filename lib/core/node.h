@@ -27,9 +27,12 @@ struct Node {
     uint32_t nattrs;      /* number of attributes */
     uint32_t nchildren;   /* number of children */
     uint32_t cap_tags, cap_attrs, cap_children; /* allocated capacities */
-    uint32_t inline_attrs; /* Attr slots allocated right after the node, in
-                              its own block (node_new_sized); [attrs] points
+    uint16_t inline_attrs; /* Attr slots allocated right after the node, in
+                              its own block (node_new_room); [attrs] points
                               there until it outgrows them */
+    uint16_t inline_kids;  /* child slots allocated after those, in the same
+                              block; [children] points there until it
+                              outgrows them */
     Str *kind;            /* node kind without the '!' */
     Str **tags;           /* sorted by bytes, unique */
     Attr *attrs;          /* in first-binding order */
@@ -42,8 +45,21 @@ Node *node_new(Str *kind);
  * (one block to build and to free instead of two; node_add_new_attr fills
  * them). */
 Node *node_new_sized(Str *kind, uint32_t cap);
-/* The Attr slots allocated with [n] (node_new_sized). */
+/* The same with room for [attrs] attributes and [kids] children in the
+ * node's own block (a copy of a literal node about to get its children:
+ * one block instead of two). A room of more than NODE_INLINE_MAX is left
+ * out of the block (the array is allocated as it grows). */
+Node *node_new_room(Str *kind, uint32_t attrs, uint32_t kids);
+#define NODE_INLINE_MAX 65535u
+/* The Attr slots allocated with [n] (node_new_room). */
 static inline Attr *node_inline_attrs(Node *n) { return (Attr *)(void *)(n + 1); }
+/* The child slots allocated with [n], after its Attr slots. */
+static inline Node **node_inline_kids(Node *n) { return (Node **)(void *)(node_inline_attrs(n) + n->inline_attrs); }
+/* The bytes of [n]'s own block: the node and its inline slots. */
+static inline size_t node_block_bytes(const Node *n)
+{
+    return sizeof *n + (size_t)n->inline_attrs * sizeof(Attr) + (size_t)n->inline_kids * sizeof(Node *);
+}
 static inline Node *node_retain(Node *n) { if (n) n->refs++; return n; }
 void node_release(Node *n);
 /* A copy of [n] and all below it that shares no memory with it (its

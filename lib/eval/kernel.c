@@ -896,7 +896,7 @@ static inline size_t knode_block(size_t size)
 /* About the bytes of pool blocks [n] and its number attributes hold. */
 static size_t knode_bytes(const Node *n)
 {
-    size_t b = knode_block(sizeof *n + (size_t)n->inline_attrs * sizeof(Attr));
+    size_t b = knode_block(node_block_bytes(n));
     for (uint32_t k = 0; k < n->nattrs; k++) {
         const Vec *v = n->attrs[k].value;
         if (v && v->kind == VEC_NUM) b += knode_block(sizeof(Vec) + (size_t)v->len * sizeof(double));

@@ -238,6 +238,43 @@ static void test_nodes(void **s)
     assert_string_equal(r->attrs[3].name->bytes, "z");
     assert_int_equal(n->nattrs, 2);
     assert_ptr_equal(node_mut_room(r, 3), r);
+    /* node_mut_children: a copy with room for its children and 2 more in
+     * its own block, after its attribute slots; a third child moves them
+     * to an array of their own, in order */
+    Node *c1 = node_new(tb), *c2 = node_new(tz), *c3 = node_new(w);
+    node_append(r, c1);
+    Node *rc = node_mut_children(node_retain(r), 2);
+    assert_ptr_not_equal(rc, r);
+    assert_int_equal(rc->inline_kids, 3);
+    assert_int_equal(rc->cap_children, 3);
+    assert_ptr_equal(rc->children, node_inline_kids(rc));
+    assert_ptr_equal((void *)rc->children, (void *)(node_inline_attrs(rc) + rc->inline_attrs));
+    assert_int_equal(node_block_bytes(rc), sizeof(Node) + 4 * sizeof(Attr) + 3 * sizeof(Node *));
+    node_append(rc, c2);
+    node_append(rc, c3);
+    assert_ptr_equal(rc->children, node_inline_kids(rc));
+    assert_int_equal(rc->nchildren, 3);
+    node_append(rc, c1);
+    assert_ptr_not_equal(rc->children, node_inline_kids(rc));
+    assert_int_equal(rc->nchildren, 4);
+    assert_ptr_equal(rc->children[0], c1);
+    assert_ptr_equal(rc->children[1], c2);
+    assert_ptr_equal(rc->children[2], c3);
+    assert_ptr_equal(rc->children[3], c1);
+    assert_int_equal(c1->refs, 4);             /* c1, r, rc twice */
+    assert_int_equal(r->nchildren, 1);
+    node_release(rc);
+    assert_int_equal(c1->refs, 2);
+    assert_int_equal(c2->refs, 1);
+    /* a room past NODE_INLINE_MAX is left out of the block */
+    Node *big = node_new_room(k, NODE_INLINE_MAX + 1, NODE_INLINE_MAX + 1);
+    assert_int_equal(big->inline_attrs, 0);
+    assert_int_equal(big->inline_kids, 0);
+    assert_null(big->children);
+    node_append(big, c2);
+    assert_int_equal(big->nchildren, 1);
+    node_release(big);
+    node_release(c1); node_release(c2); node_release(c3);
     node_release(r);
     str_release(w);
     node_release(m);
