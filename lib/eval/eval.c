@@ -565,6 +565,79 @@ Vec *append_nodes(Vec *p, Vec *c)
     return p;
 }
 
+Vec *append_parts(Eval *ev, Vec *p, Vec **parts, uint32_t m)
+{
+    uint64_t total = 0;
+    uint32_t count = 0, nonempty = 0;
+    bool numeric = true;
+    for (uint32_t i = 0; i < m; i++) {
+        const Vec *x = parts[i];
+        uint32_t len = vec_len(x);
+        if (!len) continue;
+        total += len;
+        nonempty++;
+        if (x->kind == VEC_NUM) continue;
+        numeric = false;
+        for (uint32_t j = 0; j < len; j++) count += vec_celems(x)[j].kind == EL_NODE;
+    }
+    bool one = p && p->kind == VEC_OBJ && p->len == 1 && vec_celems(p)[0].kind == EL_NODE;
+    /* where composing would refuse (too long, or past the memory budget:
+     * vec_compose_take's check), or the parent is not one node: compose
+     * and append, errors and all */
+    if (!one || total > MAX_COMPOSE_LEN ||
+        (nonempty > 1 && !numeric && !mem_room(sizeof(Vec) + (size_t)total * sizeof(Elem)))) {
+        Parts ps;
+        parts_init(&ps);
+        for (uint32_t i = 0; i < m; i++) parts_push(&ps, parts[i]);
+        return append_nodes(p, parts_finish(ev, &ps));
+    }
+    if (!count) {
+        for (uint32_t i = 0; i < m; i++) vec_release(parts[i]);
+        return p;
+    }
+    Node *n;
+    if (p->refs == 1) {
+        n = vec_elems(p)[0].node = node_mut_children(vec_elems(p)[0].node, count);
+        node_reserve_children(n, n->nchildren + count);
+    } else {
+        /* a shared parent (a literal): its copy, with room for the
+         * children in its own block, in a vector of its own */
+        n = node_mut_children(node_retain(vec_elems(p)[0].node), count);
+        vec_release(p);
+        p = vec_node_take(n);
+    }
+    Node **kids = n->children + n->nchildren;
+    n->nchildren += count;
+    for (uint32_t i = 0; i < m; i++) {
+        Vec *x = parts[i];
+        if (!vec_len(x) || x->kind != VEC_OBJ) {
+            vec_release(x);
+            continue;
+        }
+        Elem *e = vec_elems(x);
+        if (x->refs > 1) {
+            for (uint32_t j = 0; j < x->len; j++)
+                if (e[j].kind == EL_NODE) *kids++ = node_retain(e[j].node);
+            vec_release(x);
+            continue;
+        }
+        /* the last reference: the nodes move, with their references */
+        bool all = true;
+        for (uint32_t j = 0; j < x->len; j++) {
+            if (e[j].kind != EL_NODE) {
+                all = false;
+                continue;
+            }
+            *kids++ = e[j].node;
+            e[j].kind = EL_NUM;
+            e[j].num = 0.0;
+        }
+        if (all) vec_free_taken(x);
+        else vec_release(x);
+    }
+    return p;
+}
+
 /* AST_APPEND: a << b — node elements of b appended to each node of a. */
 __attribute__((noinline)) static Vec *eval_append(Eval *ev, const AstNode *n)
 {

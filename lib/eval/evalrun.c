@@ -412,11 +412,28 @@ __attribute__((noinline)) static Vec *run_kcall(Eval *ev, const unsigned char *b
     return v;
 }
 
+/* C_APPEND of the parent [p] (evaluated) and a C_SEQ [c] of at most
+ * APPEND_PARTS_MAX parts: run_rec's C_SEQ, its parts appended as they are
+ * (append_parts) instead of composed first. Kept out of run_rec's frame
+ * (its array). */
+__attribute__((noinline)) static Vec *run_append_parts(Eval *ev, const unsigned char *base, Vec *p,
+                                                       const CRec *c)
+{
+    if (!depth_enter(ev)) return append_nodes(p, NULL);
+    Vec *parts[APPEND_PARTS_MAX];
+    const uint32_t *k = rec_offs(c);
+    for (uint32_t i = 0; i < c->n; i++) parts[i] = run_val(ev, base, k[i]);
+    ev->depth--;
+    return append_parts(ev, p, parts, c->n);
+}
+
 /* C_APPEND: eval_append */
 static Vec *run_append(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
     Vec *p = run_val(ev, base, k[0]);
+    const CRec *cr = crec(base, k[1]);
+    if (cr->op == C_SEQ && cr->n >= 2 && cr->n <= APPEND_PARTS_MAX) return run_append_parts(ev, base, p, cr);
     Vec *c = run_val(ev, base, k[1]);
     return append_nodes(p, c);
 }

@@ -321,6 +321,38 @@ static void test_attributes_on_literal_nodes(void **s)
             "    !third\n");
 }
 
+/* Children given to a node as a sequence of two to eight parts
+ * (evalrun.c run_append_parts, eval.c append_parts: the parts' nodes moved
+ * into the node's children without composing them first): nodes of a
+ * part held only there and of a name (shared), a loop's several nodes, and
+ * numbers, strings, a stream and a null `if` left out; a fresh parent; two
+ * parents (composed and appended); nine parts; no nodes at all. */
+static void test_children_parts(void **s)
+{
+    (void)s;
+    expect4("let x=3+time\n    k=!held v=x\n"
+            "!g\n"
+            "    (!lit #t a=1 << !old)\n"
+            "        !n1 v=x\n        k\n        x\n"
+            "        for i in ..2\n            !loop i=i\n"
+            "        \"s\"\n        uniform(:u)\n"
+            "        if x > 5\n            !never\n"
+            "        !n2 w=x*2\n"
+            "    !fresh v=x\n        !c1\n        k\n"
+            "    (!a;!b)\n        !c v=x\n        !d\n"
+            "    !nine\n        !p1\n        !p2 v=x\n        !p3\n        x\n        !p4\n"
+            "        k\n        !p5\n        !p6\n        !p7 v=x\n"
+            "    !none\n        x\n        \"s\"\n        x;x\n",
+            "!root\n"
+            " !g\n"
+            "  !lit #t a=1\n   !old\n   !n1 v=3\n   !held\n   !loop i=0\n   !loop i=1\n   !n2 w=6\n"
+            "  !fresh v=3\n   !c1\n   !held\n"
+            "  !a\n   !c v=3\n   !d\n"
+            "  !b\n   !c v=3\n   !d\n"
+            "  !nine\n   !p1\n   !p2 v=3\n   !p3\n   !p4\n   !held\n   !p5\n   !p6\n   !p7 v=3\n"
+            "  !none\n");
+}
+
 /* Names holding vectors in compiled expressions (numexpr_run_vec) and
  * one-argument calls with a numeric route given a vector (evalrun.c
  * arg_nums), against hand-worked values: element by element, a one-number
@@ -605,6 +637,7 @@ int main(void)
         cmocka_unit_test(test_random_expressions),
         cmocka_unit_test(test_vector_expressions),
         cmocka_unit_test(test_attributes_on_literal_nodes),
+        cmocka_unit_test(test_children_parts),
         cmocka_unit_test(test_random_vector_expressions),
         cmocka_unit_test(test_memo),
         cmocka_unit_test(test_long_sequences),
