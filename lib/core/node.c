@@ -14,9 +14,24 @@
 
 #include "pool.h"
 
-Node *node_new(Str *kind) { return node_new_room(kind, 0, 0); }
+Node *node_new(Str *kind) { return node_new_sized(kind, 0); }
 
-Node *node_new_sized(Str *kind, uint32_t cap) { return node_new_room(kind, cap, 0); }
+Node *node_new_sized(Str *kind, uint32_t cap)
+{
+    /* node_new_room without children slots: the nodes a frame builds by
+     * the thousand come here, so its two checks and stores are spared */
+    if (cap > NODE_INLINE_MAX) cap = 0;
+    Node *n = pool_alloc(sizeof *n + (size_t)cap * sizeof(Attr));
+    memset(n, 0, sizeof *n);
+    n->refs = 1;
+    n->kind = str_retain(kind);
+    n->inline_attrs = (uint16_t)cap;
+    if (cap) {
+        n->attrs = node_inline_attrs(n);
+        n->cap_attrs = cap;
+    }
+    return n;
+}
 
 Node *node_new_room(Str *kind, uint32_t attrs, uint32_t kids)
 {
@@ -125,7 +140,8 @@ void node_release(Node *n)
  * its children array. */
 static Node *node_copy_room(Node *n, uint32_t extra, uint32_t kids)
 {
-    Node *c = node_new_room(n->kind, n->nattrs + extra, n->nchildren + kids);
+    uint32_t nk = n->nchildren + kids;
+    Node *c = nk ? node_new_room(n->kind, n->nattrs + extra, nk) : node_new_sized(n->kind, n->nattrs + extra);
     if (n->ntags) {
         c->tags = pool_grow(NULL, &c->cap_tags, n->ntags, sizeof(Str *));
         for (uint32_t i = 0; i < n->ntags; i++) c->tags[i] = str_retain(n->tags[i]);
