@@ -29,6 +29,26 @@ typedef struct NoisePerms NoisePerms;
 NoisePerms *noise_perms_new(void);
 /* Free [p] (NULL is a no-op). */
 void noise_perms_free(NoisePerms *p);
+/* Most arguments of a noise() call with a numeric route: the seed and up
+ * to four coordinates. */
+#define BI_NOISE_ARGS 5
+/* True when a call of [bi] with [nargs] positional arguments has
+ * bi_noise_nums' route: noise() with a seed and one to four coordinates.
+ * The evaluator asks once, when it compiles a call. */
+bool bi_noise_route(const Builtin *bi, uint32_t nargs);
+/* The result of noise([seed], [coordinates]...) for callers that hold the
+ * arguments' numbers on the C stack (the evaluator's compiled calls,
+ * evalrun.c): x[i][0..n[i]) are the numbers of numeric argument i
+ * (1 <= n[i]; x[0] the seed, hashed as its vector is). Writes the result's
+ * numbers to [out] (at most BI_NUMS_MAX) and their count to *[nout] and
+ * returns true when the builtin's result is that numeric vector, the same
+ * bits (Flitter docs/builtins.md, noise: one value for each combination of
+ * the coordinates, the last varying fastest). False, with nothing done that
+ * shows, when it would be anything else: more than BI_NUMS_MAX values, no
+ * room in the memory budget, a stop asked for (the caller then calls the
+ * builtin, which says why). */
+bool bi_noise_nums(Eval *ev, const Builtin *bi, const double *const *x, const uint32_t *n, uint32_t nargs,
+                   double *out, uint32_t *nout);
 
 /* [nargs] arguments in [args] (each may be NULL = null; a named argument
  * that skipped an earlier parameter leaves that one NULL). nargs is between

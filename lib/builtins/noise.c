@@ -1152,6 +1152,40 @@ static Vec *bi_noise(BI_PARAMS)
     return noise_of(ev, bi, args[0], nargs - 1, args + 1);
 }
 
+bool bi_noise_route(const Builtin *bi, uint32_t nargs)
+{
+    return bi->fn == bi_noise && nargs >= 2 && nargs <= BI_NOISE_ARGS;
+}
+
+bool bi_noise_nums(Eval *ev, const Builtin *bi, const double *const *x, const uint32_t *n, uint32_t nargs,
+                   double *out, uint32_t *nout)
+{
+    if (!bi_noise_route(bi, nargs))
+        return false;
+    /* noise_of's grid_size, its refusals left to the builtin */
+    uint64_t total = 1;
+    for (uint32_t i = 1; i < nargs; i++)
+        total *= n[i];
+    if (total > BI_NUMS_MAX || !mem_room(sizeof(Vec) + total * sizeof(double)))
+        return false;
+    uint8_t scratch[256];
+    const uint8_t *perm = perm_of(ev, vec_hash_nums(x[0], n[0], true), scratch);
+    if (total == 1) {
+        /* one point: noise_grid's first value, without its loops (and
+         * its poll, which comes before any work) */
+        switch (nargs) {
+        case 2: out[0] = noise2(perm, x[1][0], 0); break;
+        case 3: out[0] = noise2(perm, x[1][0], x[2][0]); break;
+        case 4: out[0] = noise3(perm, x[1][0], x[2][0], x[3][0]); break;
+        default: out[0] = noise4(perm, x[1][0], x[2][0], x[3][0], x[4][0]); break;
+        }
+    } else if (!noise_grid(ev, perm, (int)nargs - 1, x + 1, n + 1, out)) {
+        return false;
+    }
+    *nout = (uint32_t)total;
+    return true;
+}
+
 /* octnoise(seed, octaves, roughness, coords...): octave i uses the
  * permutation keyed seed-hash XOR i at coordinates doubled i times;
  * result = Σ value_i * roughness^i / Σ roughness^i, accumulated as the

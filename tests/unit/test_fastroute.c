@@ -353,6 +353,28 @@ static void test_children_parts(void **s)
             "  !none\n");
 }
 
+/* noise() calls whose arguments are numbers on the C stack (evalrun.c
+ * run_callbi_noise, noise.c bi_noise_nums): one point in one to four
+ * dimensions and grids, with the values test_vectors takes from Flitter
+ * (a to e, l); a seed of two numbers; a seed of a fraction, hashed as
+ * its floor (m, as o); and the calls it leaves to the
+ * builtin: a string seed or coordinate, five coordinates, a grid of more
+ * than BI_NUMS_MAX points, a null seed. */
+static void test_noise_route(void **s)
+{
+    (void)s;
+    expect4("let x=0.5+time\n    t=time\n"
+            "!n a=noise(:s, x) b=noise(:s, x, 0.25) c=noise(:s, 0.3+t, 0.6, 0.9) "
+            "d=noise(:s, 0.3, 0.6+t, 0.9, 1.2) e=noise(:s, (1;2)+t, 3) f=noise(:s;t, x) g=noise(\"s\", x) "
+            "h=noise(:s, x, \"x\") i=noise(:s, 1, 2, 3, 4, 5+t) j=len(noise(:s, (..17)+t)) "
+            "k=noise(:s, x;x, 0.25;1+t) l=noise(null, 1.3+t) m=noise(0.75+t, x) o=noise(0, x)\n",
+            "!root\n"
+            " !n a=0.6390421355507776 b=0.5816501773837107 c=-0.4272253565307444 d=-0.4135278393516153 "
+            "e=-0.23206229791237545;-0.09793599283942231 f=0.35871384849177557 g=0.6568176593613215 j=17 "
+            "k=0.5816501773837107;0.05250111798922778;0.5816501773837107;0.05250111798922778 "
+            "l=0.4902465961370626 m=-0.42051860444936273 o=-0.42051860444936273\n");
+}
+
 /* Names holding vectors in compiled expressions (numexpr_run_vec) and
  * one-argument calls with a numeric route given a vector (evalrun.c
  * arg_nums), against hand-worked values: element by element, a one-number
@@ -638,6 +660,7 @@ int main(void)
         cmocka_unit_test(test_vector_expressions),
         cmocka_unit_test(test_attributes_on_literal_nodes),
         cmocka_unit_test(test_children_parts),
+        cmocka_unit_test(test_noise_route),
         cmocka_unit_test(test_random_vector_expressions),
         cmocka_unit_test(test_memo),
         cmocka_unit_test(test_long_sequences),
