@@ -33,8 +33,8 @@ void noise_perms_free(NoisePerms *p);
  * to four coordinates. */
 #define BI_NOISE_ARGS 5
 /* True when a call of [bi] with [nargs] positional arguments has
- * bi_noise_nums' route: noise() with a seed and one to four coordinates.
- * The evaluator asks once, when it compiles a call. */
+ * bi_noise_nums' route: noise() with a seed and one to four coordinates
+ * (bi_args_route asks). */
 bool bi_noise_route(const Builtin *bi, uint32_t nargs);
 /* The result of noise([seed], [coordinates]...) for callers that hold the
  * arguments' numbers on the C stack (the evaluator's compiled calls,
@@ -42,7 +42,7 @@ bool bi_noise_route(const Builtin *bi, uint32_t nargs);
  * (1 <= n[i]; x[0] the seed, hashed as its vector is). Writes the result's
  * numbers to [out] (at most BI_NUMS_MAX) and their count to *[nout] and
  * returns true when the builtin's result is that numeric vector, the same
- * bits (Flitter docs/builtins.md, noise: one value for each combination of
+ * bits (bi_call_nums_args' noise; Flitter docs/builtins.md, noise: one value for each combination of
  * the coordinates, the last varying fastest). False, with nothing done that
  * shows, when it would be anything else: more than BI_NUMS_MAX values, no
  * room in the memory budget, a stop asked for (the caller then calls the
@@ -142,6 +142,25 @@ bool bi_nums_route(const Builtin *bi);
  * route, or the builtin's result is not numbers): the caller then calls
  * the builtin. Pure, no errors. */
 bool bi_call_nums(const Builtin *bi, const double *x, uint32_t n, double *out, uint32_t *nout);
+
+/* Most arguments bi_call_nums_args takes. */
+#define BI_ARGS_MAX BI_NOISE_ARGS
+/* True when a call of [bi] with [nargs] positional arguments has a
+ * numeric route for all of them (bi_call_nums_args): map and clamp of
+ * three, noise of a seed and one to four coordinates. The evaluator asks
+ * once, when it compiles a call. */
+bool bi_args_route(const Builtin *bi, uint32_t nargs);
+/* The result of calling [bi] with [nargs] positional arguments, the
+ * numeric vectors x[i][0..n[i]) (1 <= n[i] <= BI_NUMS_MAX), for callers
+ * that hold those numbers on the C stack (the evaluator's compiled calls,
+ * evalrun.c): writes the result's numbers (at most BI_NUMS_MAX) to [out]
+ * and their count to *[nout] and returns true, when the builtin's result
+ * is a numeric vector of exactly those numbers, bit for bit (map, clamp:
+ * the builtin's loop, each argument repeated to the longest; noise:
+ * bi_noise_nums). False, with nothing done that shows, otherwise: the
+ * caller then calls the builtin. */
+bool bi_call_nums_args(Eval *ev, const Builtin *bi, const double *const *x, const uint32_t *n, uint32_t nargs,
+                       double *out, uint32_t *nout);
 
 /* The family tables (each ends with a {NULL} entry). */
 extern const Builtin bi_vector_table[];

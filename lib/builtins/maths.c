@@ -273,6 +273,24 @@ static Vec *bi_cross(BI_PARAMS)
 
 /* clamp(xs, lo, hi): d = C max(lo, d) = (d > lo ? d : lo), then
  * C min(d, hi) = (hi < d ? hi : d). */
+/* clamp's numbers: out[0..n) from the [nx], [nl], [nh] numbers of xs, lo
+ * and hi, each repeated (n their largest count). */
+static void clamp_nums(const double *xs, uint32_t nx, const double *lo, uint32_t nl, const double *hi,
+                       uint32_t nh, double *out, uint32_t n)
+{
+    for (uint32_t i = 0, ix = 0, il = 0, ih = 0; i < n; i++) {
+        double d = xs[ix];
+        double a = lo[il];
+        double b = hi[ih];
+        d = d > a ? d : a;
+        d = b < d ? b : d;
+        out[i] = d;
+        if (++ix == nx) ix = 0;
+        if (++il == nl) il = 0;
+        if (++ih == nh) ih = 0;
+    }
+}
+
 static Vec *bi_clamp(BI_PARAMS)
 {
     const Vec *xs = args[0], *lo = args[1], *hi = args[2];
@@ -280,18 +298,22 @@ static Vec *bi_clamp(BI_PARAMS)
         return NULL;
     uint32_t n = max3(xs, lo, hi);
     Vec *r = vec_new_num(n);
-    for (uint32_t i = 0, ix = 0, il = 0, ih = 0; i < n; i++) {
-        double d = vec_cnums(xs)[ix];
-        double a = vec_cnums(lo)[il];
-        double b = vec_cnums(hi)[ih];
-        d = d > a ? d : a;
-        d = b < d ? b : d;
-        vec_nums(r)[i] = d;
-        if (++ix == xs->len) ix = 0;
-        if (++il == lo->len) il = 0;
-        if (++ih == hi->len) ih = 0;
-    }
+    clamp_nums(vec_cnums(xs), xs->len, vec_cnums(lo), lo->len, vec_cnums(hi), hi->len, vec_nums(r), n);
     return r;
+}
+
+/* map's numbers: out[0..n) = (1 - x)*y + x*z of the [nx], [ny], [nz]
+ * numbers of xs, ys and zs, each repeated (n their largest count). */
+static void map_nums(const double *xs, uint32_t nx, const double *ys, uint32_t ny, const double *zs,
+                     uint32_t nz, double *out, uint32_t n)
+{
+    for (uint32_t i = 0, ix = 0, iy = 0, iz = 0; i < n; i++) {
+        double x = xs[ix];
+        out[i] = (1 - x) * ys[iy] + x * zs[iz];
+        if (++ix == nx) ix = 0;
+        if (++iy == ny) iy = 0;
+        if (++iz == nz) iz = 0;
+    }
 }
 
 static Vec *bi_mapv(BI_PARAMS)
@@ -301,13 +323,7 @@ static Vec *bi_mapv(BI_PARAMS)
         return NULL;
     uint32_t n = max3(xs, ys, zs);
     Vec *r = vec_new_num(n);
-    for (uint32_t i = 0, ix = 0, iy = 0, iz = 0; i < n; i++) {
-        double x = vec_cnums(xs)[ix];
-        vec_nums(r)[i] = (1 - x) * vec_cnums(ys)[iy] + x * vec_cnums(zs)[iz];
-        if (++ix == xs->len) ix = 0;
-        if (++iy == ys->len) iy = 0;
-        if (++iz == zs->len) iz = 0;
-    }
+    map_nums(vec_cnums(xs), xs->len, vec_cnums(ys), ys->len, vec_cnums(zs), zs->len, vec_nums(r), n);
     return r;
 }
 
@@ -755,6 +771,27 @@ bool bi_call_nums(const Builtin *bi, const double *x, uint32_t n, double *out, u
         return false;
     *nout = vk->nout(n);
     return true;
+}
+
+bool bi_args_route(const Builtin *bi, uint32_t nargs)
+{
+    return ((bi->fn == bi_mapv || bi->fn == bi_clamp) && nargs == 3) || bi_noise_route(bi, nargs);
+}
+
+bool bi_call_nums_args(Eval *ev, const Builtin *bi, const double *const *x, const uint32_t *n, uint32_t nargs,
+                       double *out, uint32_t *nout)
+{
+    if (nargs == 3 && (bi->fn == bi_mapv || bi->fn == bi_clamp)) {
+        uint32_t m = n[0] > n[1] ? n[0] : n[1];
+        if (n[2] > m)
+            m = n[2];
+        if (!n[0] || !n[1] || !n[2] || m > BI_NUMS_MAX)
+            return false;
+        (bi->fn == bi_mapv ? map_nums : clamp_nums)(x[0], n[0], x[1], n[1], x[2], n[2], out, m);
+        *nout = m;
+        return true;
+    }
+    return bi_noise_nums(ev, bi, x, n, nargs, out, nout);
 }
 
 BiKernelPair bi_kernel_pair(BiKernel a, BiKernel *b)

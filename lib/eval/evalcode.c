@@ -256,10 +256,10 @@ static uint32_t emit(CC *c, const AstNode *n)
         rec(c, off)->op = C_CALLBI;
         rec(c, off)->n = n->nkids;
         rec(c, off)->p.bi = const_builtin(n->a);
-        /* one argument to a builtin with a numeric route, or noise's
-         * arguments (evalrun.c) */
-        rec(c, off)->pad = n->nkids == 1 && bi_nums_route(const_builtin(n->a))  ? 1
-                         : bi_noise_route(const_builtin(n->a), n->nkids) ? 2 : 0;
+        /* one argument to a builtin with a numeric route, or several to
+         * one with a route for them all (evalrun.c) */
+        rec(c, off)->pad = n->nkids == 1 && bi_nums_route(const_builtin(n->a)) ? 1
+                         : bi_args_route(const_builtin(n->a), n->nkids)       ? 2 : 0;
         for (uint32_t i = 0; i < n->nkids; i++) {
             t = emit(c, n->kids[i]);
             ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[i] = t;

@@ -41,8 +41,9 @@ enum {
     C_ATTRS,    /* n bindings: CAttrsTail follows (§4.10) */
     C_CALLBI,   /* p.bi, n positional args: uint32 offsets follow (§4.8);
                    pad 1: one argument, to a builtin with a numeric route
-                   (builtins.h bi_call_nums); pad 2: a noise() call of a
-                   seed and one to four coordinates (bi_noise_nums) */
+                   (builtins.h bi_call_nums); pad 2: several arguments, to
+                   a builtin with a numeric route for them all
+                   (bi_call_nums_args: map, clamp, noise) */
     C_APPEND,   /* uint32 offsets of parent and children follow (§4.10) */
     C_MEMO,     /* a C_NUM reading engine names and constants only
                    (numexpr_memoizable): n is its memo cell, shared by every

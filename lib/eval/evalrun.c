@@ -373,24 +373,24 @@ static bool arg_nums(Eval *ev, const unsigned char *base, uint32_t off, double *
  * argument's numbers from the C stack when it can (arg_nums), without
  * the argument's vector or the call's checks (one positional argument,
  * which the builtin takes) */
-/* C_CALLBI pad 2 (a noise call): each argument run into numbers on the C
- * stack (run_nums) and the call's numbers computed from them
- * (bi_noise_nums) into a new vector; false, with nothing done that shows,
- * when an argument is not such numbers or the builtin's result would not
- * be (the caller then calls the builtin). Kept out of run_callbi's frame
- * (its arrays). */
-__attribute__((noinline)) static bool run_callbi_noise(Eval *ev, const unsigned char *base, const CRec *r,
-                                                       Vec **v)
+/* C_CALLBI pad 2 (map, clamp, noise): each argument run into numbers on
+ * the C stack (run_nums) and the call's numbers computed from them
+ * (bi_call_nums_args) into a new vector; false, with nothing done that
+ * shows, when an argument is not such numbers or the builtin's result
+ * would not be (the caller then calls the builtin). Kept out of
+ * run_callbi's frame (its arrays). */
+__attribute__((noinline)) static bool run_callbi_args(Eval *ev, const unsigned char *base, const CRec *r,
+                                                      Vec **v)
 {
     const uint32_t *k = rec_offs(r);
-    double x[BI_NOISE_ARGS][RUN_NUMS_MAX], y[BI_NUMS_MAX];
-    const double *xp[BI_NOISE_ARGS];
-    uint32_t n[BI_NOISE_ARGS], ny;
+    double x[BI_ARGS_MAX][RUN_NUMS_MAX], y[BI_NUMS_MAX];
+    const double *xp[BI_ARGS_MAX];
+    uint32_t n[BI_ARGS_MAX], ny;
     for (uint32_t i = 0; i < r->n; i++) {
         if (!(n[i] = run_nums(ev, crec(base, k[i]), x[i]))) return false;
         xp[i] = x[i];
     }
-    if (!bi_noise_nums(ev, r->p.bi, xp, n, r->n, y, &ny)) return false;
+    if (!bi_call_nums_args(ev, r->p.bi, xp, n, r->n, y, &ny)) return false;
     *v = vec_new_num(ny);
     memcpy(vec_nums(*v), y, ny * sizeof(double));
     return true;
@@ -401,7 +401,7 @@ __attribute__((noinline)) static Vec *run_callbi(Eval *ev, const unsigned char *
     const uint32_t *k = rec_offs(r);
     if (r->pad == 2) {
         Vec *v;
-        if (run_callbi_noise(ev, base, r, &v)) return v;
+        if (run_callbi_args(ev, base, r, &v)) return v;
     } else if (r->pad) {
         double x[RUN_NUMS_MAX], y[BI_NUMS_MAX];
         uint32_t nx, ny;

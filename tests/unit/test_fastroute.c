@@ -353,8 +353,24 @@ static void test_children_parts(void **s)
             "  !none\n");
 }
 
+/* map() and clamp() of three arguments that are numbers on the C stack
+ * (evalrun.c run_callbi_args, maths.c bi_call_nums_args), against
+ * hand-worked values: (1-x)*y + x*z and max then min, each argument
+ * repeated to the longest; a NaN clamped to the low bound (its comparisons
+ * are false); a string (null) and a result of 17 numbers left to the
+ * builtin. */
+static void test_map_clamp_route(void **s)
+{
+    (void)s;
+    expect4("let x=0.25+time\n    t=time\n"
+            "!m a=map(x, 2, 6) b=map(0.5+t, (0;10), (1;20;100)) c=clamp((-1;0.5;7)+t, 0, 1) "
+            "d=clamp((0/0)+t, 0, 1) e=map(x, \"a\", 1) f=len(map(x, 1, (..17)+t)) g=clamp(x, 1, 0)\n",
+            "!root\n"
+            " !m a=3 b=0.5;15;50 c=0;0.5;1 d=0 f=17 g=0\n");
+}
+
 /* noise() calls whose arguments are numbers on the C stack (evalrun.c
- * run_callbi_noise, noise.c bi_noise_nums): one point in one to four
+ * run_callbi_args, noise.c bi_noise_nums): one point in one to four
  * dimensions and grids, with the values test_vectors takes from Flitter
  * (a to e, l); a seed of two numbers; a seed of a fraction, hashed as
  * its floor (m, as o); and the calls it leaves to the
@@ -661,6 +677,7 @@ int main(void)
         cmocka_unit_test(test_attributes_on_literal_nodes),
         cmocka_unit_test(test_children_parts),
         cmocka_unit_test(test_noise_route),
+        cmocka_unit_test(test_map_clamp_route),
         cmocka_unit_test(test_random_vector_expressions),
         cmocka_unit_test(test_memo),
         cmocka_unit_test(test_long_sequences),
