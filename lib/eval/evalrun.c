@@ -340,7 +340,9 @@ static inline uint32_t run_nums(Eval *ev, const CRec *x, double *out)
     default: return 0;
     }
     if (!vec_is_num(v) || !v->len || v->len > RUN_NUMS_MAX) return 0;
-    memcpy(out, vec_cnums(v), v->len * sizeof(double));
+    /* a few numbers: a call of memcpy costs more */
+    const double *d = vec_cnums(v);
+    for (uint32_t i = 0; i < v->len; i++) out[i] = d[i];
     return v->len;
 }
 
@@ -392,7 +394,7 @@ __attribute__((noinline)) static bool run_callbi_args(Eval *ev, const unsigned c
     }
     if (!bi_call_nums_args(ev, r->p.bi, xp, n, r->n, y, &ny)) return false;
     *v = vec_new_num(ny);
-    memcpy(vec_nums(*v), y, ny * sizeof(double));
+    for (uint32_t i = 0; i < ny; i++) vec_nums(*v)[i] = y[i];
     return true;
 }
 
@@ -407,7 +409,7 @@ __attribute__((noinline)) static Vec *run_callbi(Eval *ev, const unsigned char *
         uint32_t nx, ny;
         if (arg_nums(ev, base, k[0], x, &nx) && bi_call_nums(r->p.bi, x, nx, y, &ny)) {
             Vec *v = vec_new_num(ny);
-            memcpy(vec_nums(v), y, ny * sizeof(double));
+            for (uint32_t i = 0; i < ny; i++) vec_nums(v)[i] = y[i];
             return v;
         }
     }
