@@ -136,8 +136,8 @@ void node_release(Node *n)
 }
 
 /* node_mut_room and node_mut_children: the copy of a shared [n] with room
- * for [extra] more attributes in its block and [kids] more children in
- * its children array. */
+ * in its block for its attributes and [extra] more, and for its children
+ * and [kids] more (none: no children slots, node_new_sized). */
 static Node *node_copy_room(Node *n, uint32_t extra, uint32_t kids)
 {
     uint32_t nk = n->nchildren + kids;

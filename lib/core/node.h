@@ -72,8 +72,9 @@ Node *node_mut(Node *n);
  * block of their own when it copies (an attribute setter about to add
  * that many). */
 Node *node_mut_room(Node *n, uint32_t extra);
-/* node_mut, with room in the copy's children array for [kids] more
- * children (an append about to add that many). */
+/* node_mut, with room in the copy's own block for its children and
+ * [kids] more (an append about to add that many): their array is moved
+ * out only when they outgrow it. */
 Node *node_mut_children(Node *n, uint32_t kids);
 /* Set attribute [name] of unshared [n] to [value] (consumes [value]); an
  * empty [value] removes the attribute. */
