@@ -340,9 +340,9 @@ static inline uint32_t run_nums(Eval *ev, const CRec *x, double *out)
     default: return 0;
     }
     if (!vec_is_num(v) || !v->len || v->len > RUN_NUMS_MAX) return 0;
-    /* a few numbers: a call of memcpy costs more */
-    const double *d = vec_cnums(v);
-    for (uint32_t i = 0; i < v->len; i++) out[i] = d[i];
+    /* one number, most often: without a call of memcpy */
+    if (v->len == 1) out[0] = vec_cnums(v)[0];
+    else memcpy(out, vec_cnums(v), v->len * sizeof(double));
     return v->len;
 }
 
