@@ -394,7 +394,8 @@ __attribute__((noinline)) static bool run_callbi_args(Eval *ev, const unsigned c
     }
     if (!bi_call_nums_args(ev, r->p.bi, xp, n, r->n, y, &ny)) return false;
     *v = vec_new_num(ny);
-    for (uint32_t i = 0; i < ny; i++) vec_nums(*v)[i] = y[i];
+    if (ny == 1) vec_nums(*v)[0] = y[0];
+    else memcpy(vec_nums(*v), y, ny * sizeof(double));
     return true;
 }
 
@@ -409,7 +410,8 @@ __attribute__((noinline)) static Vec *run_callbi(Eval *ev, const unsigned char *
         uint32_t nx, ny;
         if (arg_nums(ev, base, k[0], x, &nx) && bi_call_nums(r->p.bi, x, nx, y, &ny)) {
             Vec *v = vec_new_num(ny);
-            for (uint32_t i = 0; i < ny; i++) vec_nums(v)[i] = y[i];
+            if (ny == 1) vec_nums(v)[0] = y[0];
+            else memcpy(vec_nums(v), y, ny * sizeof(double));
             return v;
         }
     }
