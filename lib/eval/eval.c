@@ -582,10 +582,11 @@ Vec *append_parts(Eval *ev, Vec *p, Vec **parts, uint32_t m)
     }
     bool one = p && p->kind == VEC_OBJ && p->len == 1 && vec_celems(p)[0].kind == EL_NODE;
     /* where composing would refuse (too long, or past the memory budget:
-     * vec_compose_take's check), or the parent is not one node: compose
-     * and append, errors and all */
+     * the check vec_compose_take or vec_compose makes for the vector it
+     * would build, of numbers or of elements), or the parent is not one
+     * node: compose and append, errors and all */
     if (!one || total > MAX_COMPOSE_LEN ||
-        (nonempty > 1 && !numeric && !mem_room(sizeof(Vec) + (size_t)total * sizeof(Elem)))) {
+        (nonempty > 1 && !mem_room(sizeof(Vec) + (size_t)total * (numeric ? sizeof(double) : sizeof(Elem))))) {
         Parts ps;
         parts_init(&ps);
         for (uint32_t i = 0; i < m; i++) parts_push(&ps, parts[i]);
