@@ -370,11 +370,6 @@ static bool arg_nums(Eval *ev, const unsigned char *base, uint32_t off, double *
     return true;
 }
 
-/* C_CALLBI: eval_call's direct route for a builtin callee; a builtin of
- * one argument with a numeric route (pad 1: bi_call_nums) takes the
- * argument's numbers from the C stack when it can (arg_nums), without
- * the argument's vector or the call's checks (one positional argument,
- * which the builtin takes) */
 /* C_CALLBI pad 2 (map, clamp, noise): each argument run into numbers on
  * the C stack (run_nums) and the call's numbers computed from them
  * (bi_call_nums_args) into a new vector; false, with nothing done that
@@ -399,6 +394,12 @@ __attribute__((noinline)) static bool run_callbi_args(Eval *ev, const unsigned c
     return true;
 }
 
+/* C_CALLBI: eval_call's direct route for a builtin callee; a builtin of
+ * one argument with a numeric route (pad 1: bi_call_nums) takes the
+ * argument's numbers from the C stack when it can (arg_nums), without
+ * the argument's vector or the call's checks (one positional argument,
+ * which the builtin takes); one with a route for all its arguments (pad
+ * 2) takes them so too (run_callbi_args) */
 __attribute__((noinline)) static Vec *run_callbi(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
