@@ -140,6 +140,21 @@ static bool distinct_names(const AstNode *n)
     return true;
 }
 
+/* True when [n] (AST_ATTRIBUTES) sets attributes of a literal holding one
+ * node, pairwise different and none of them the node's own: each is then
+ * added to its copy without a search (C_ATTRS pad 1). */
+static bool new_names_on_literal(const AstNode *n)
+{
+    const AstNode *l = n->a;
+    if (!l || l->kind != AST_LITERAL || !vec_is_obj(l->value) || l->value->len != 1) return false;
+    const Elem *e = vec_celems(l->value);
+    if (e->kind != EL_NODE || !distinct_names(n)) return false;
+    for (uint32_t i = 0; i < n->nkids; i++)
+        for (uint32_t j = 0; j < e->node->nattrs; j++)
+            if (str_eq(n->kids[i]->names[0], e->node->attrs[j].name)) return false;
+    return true;
+}
+
 /* True when [n] is a literal holding one node with no tags, attributes or
  * children (`!ellipse`). */
 static bool bare_node(const AstNode *n)
@@ -241,6 +256,7 @@ static uint32_t emit(CC *c, const AstNode *n)
             t = 0;
         } else {
             rec(c, off)->op = C_ATTRS;
+            rec(c, off)->pad = new_names_on_literal(n);
             t = emit(c, n->a);
         }
         ((CAttrsTail *)(void *)(c->buf + off + sizeof(CRec)))->node = t;

@@ -38,7 +38,9 @@ enum {
     C_NUM,      /* p.node: fallback; followed by a NumExpr (numexpr.h) */
     C_SEQ,      /* n kids: uint32 offsets follow (§4.3) */
     C_LET,      /* n bindings: CLetTail follows (§4.4) */
-    C_ATTRS,    /* n bindings: CAttrsTail follows (§4.10) */
+    C_ATTRS,    /* n bindings: CAttrsTail follows (§4.10); pad 1: on a
+                   literal of one node, names pairwise different and none
+                   of them the node's own (each added without a search) */
     C_CALLBI,   /* p.bi, n positional args: uint32 offsets follow (§4.8);
                    pad 1: one argument, to a builtin with a numeric route
                    (builtins.h bi_call_nums); pad 2: several arguments, to

@@ -175,7 +175,13 @@ __attribute__((noinline)) static Vec *run_attrs(Eval *ev, const unsigned char *b
          * release for each) */
         Node *nn = node_mut_room(node_retain(vec_celems(v)[0].node), r->n);
         vec_release(v);
-        for (uint32_t k = 0; k < r->n; k++) node_set_attr(nn, t->attrs[k].name, vals[k]);
+        if (r->pad) {
+            /* names of its own, none the literal's (evalcode.c): each added
+             * without a search */
+            for (uint32_t k = 0; k < r->n; k++) node_add_new_attr(nn, t->attrs[k].name, vals[k]);
+        } else {
+            for (uint32_t k = 0; k < r->n; k++) node_set_attr(nn, t->attrs[k].name, vals[k]);
+        }
         if (vals != small) free(vals);
         return vec_node_take(nn);
     }

@@ -321,6 +321,30 @@ static void test_attributes_on_literal_nodes(void **s)
             "    !third\n");
 }
 
+/* Attributes of their own set on a literal node (evalcode.c C_ATTRS pad 1:
+ * names pairwise different, none the literal's, each added without a
+ * search): after the literal's, in order, a null one dropped; names set
+ * twice (no pad: the second value replaces the first in its place, or, null,
+ * removes it) and a null on a literal of one attribute. */
+static void test_new_attributes_on_literal_nodes(void **s)
+{
+    (void)s;
+    expect4("let x=3+time\n    z=null\n"
+            "!g\n"
+            "    for i in ..2\n"
+            "        (!lit #t a=1 << !kid k=i) b=x+i c=z d=x;i\n"
+            "    (!one a=1) b=x c=x b=x+1 e=x e=z+1\n"
+            "    (!two q=2) r=z\n",
+            "!root\n"
+            " !g\n"
+            "  !lit #t a=1 b=3 d=3;0\n"
+            "   !kid k=0\n"
+            "  !lit #t a=1 b=4 d=3;1\n"
+            "   !kid k=1\n"
+            "  !one a=1 b=4 c=3\n"
+            "  !two q=2\n");
+}
+
 /* Children given to a node as a sequence of two to eight parts
  * (evalrun.c run_append_parts, eval.c append_parts: the parts' nodes moved
  * into the node's children without composing them first): nodes of a
@@ -675,6 +699,7 @@ int main(void)
         cmocka_unit_test(test_random_expressions),
         cmocka_unit_test(test_vector_expressions),
         cmocka_unit_test(test_attributes_on_literal_nodes),
+        cmocka_unit_test(test_new_attributes_on_literal_nodes),
         cmocka_unit_test(test_children_parts),
         cmocka_unit_test(test_noise_route),
         cmocka_unit_test(test_map_clamp_route),
