@@ -37,13 +37,13 @@ void noise_perms_free(NoisePerms *p);
  * (bi_args_route asks). */
 bool bi_noise_route(const Builtin *bi, uint32_t nargs);
 /* The result of noise([seed], [coordinates]...) for callers that hold the
- * arguments' numbers on the C stack (the evaluator's compiled calls,
- * evalrun.c): x[i][0..n[i]) are the numbers of numeric argument i
- * (1 <= n[i]; x[0] the seed, hashed as its vector is). Writes the result's
- * numbers to [out] (at most BI_NUMS_MAX) and their count to *[nout] and
- * returns true when the builtin's result is that numeric vector, the same
- * bits (bi_call_nums_args' noise; Flitter docs/builtins.md, noise: one value for each combination of
- * the coordinates, the last varying fastest). False, with nothing done that
+ * arguments' numbers on the C stack (bi_call_nums_args):
+ * x[i][0..n[i]) are the numbers of numeric argument i (1 <= n[i]; x[0]
+ * the seed, hashed as its vector is). Writes the result's numbers to
+ * [out] (at most BI_NUMS_MAX) and their count to *[nout] and returns true
+ * when the builtin's result is that numeric vector, the same bits
+ * (Flitter docs/builtins.md, noise: one value for each combination of the
+ * coordinates, the last varying fastest). False, with nothing done that
  * shows, when it would be anything else: more than BI_NUMS_MAX values, no
  * room in the memory budget, a stop asked for (the caller then calls the
  * builtin, which says why). */

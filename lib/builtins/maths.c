@@ -271,10 +271,9 @@ static Vec *bi_cross(BI_PARAMS)
     return r;
 }
 
-/* clamp(xs, lo, hi): d = C max(lo, d) = (d > lo ? d : lo), then
- * C min(d, hi) = (hi < d ? hi : d). */
-/* clamp's numbers: out[0..n) from the [nx], [nl], [nh] numbers of xs, lo
- * and hi, each repeated (n their largest count). */
+/* clamp(xs, lo, hi)'s numbers: out[0..n) from the [nx], [nl], [nh]
+ * numbers of xs, lo and hi, each repeated (n their largest count):
+ * d = C max(lo, d) = (d > lo ? d : lo), then C min(d, hi) = (hi < d ? hi : d). */
 static void clamp_nums(const double *xs, uint32_t nx, const double *lo, uint32_t nl, const double *hi,
                        uint32_t nh, double *out, uint32_t n)
 {
@@ -773,15 +772,21 @@ bool bi_call_nums(const Builtin *bi, const double *x, uint32_t n, double *out, u
     return true;
 }
 
+/* A call of map or clamp with their three arguments. */
+static bool map_or_clamp(const Builtin *bi, uint32_t nargs)
+{
+    return nargs == 3 && (bi->fn == bi_mapv || bi->fn == bi_clamp);
+}
+
 bool bi_args_route(const Builtin *bi, uint32_t nargs)
 {
-    return ((bi->fn == bi_mapv || bi->fn == bi_clamp) && nargs == 3) || bi_noise_route(bi, nargs);
+    return map_or_clamp(bi, nargs) || bi_noise_route(bi, nargs);
 }
 
 bool bi_call_nums_args(Eval *ev, const Builtin *bi, const double *const *x, const uint32_t *n, uint32_t nargs,
                        double *out, uint32_t *nout)
 {
-    if (nargs == 3 && (bi->fn == bi_mapv || bi->fn == bi_clamp)) {
+    if (map_or_clamp(bi, nargs)) {
         uint32_t m = n[0] > n[1] ? n[0] : n[1];
         if (n[2] > m)
             m = n[2];

@@ -512,6 +512,39 @@ __attribute__((noinline)) static Vec *eval_attributes(Eval *ev, const AstNode *n
     return v;
 }
 
+/* Put the [nodes] node elements of [x] at [kids] (room for all of them),
+ * in order, consuming [x]: moved with their references when [x] is held
+ * only here (the same tree as appending and releasing [x], without
+ * touching each node twice), else retained. */
+static inline __attribute__((always_inline)) void take_nodes(Node **kids, Vec *x, uint32_t nodes)
+{
+    if (!nodes) {
+        vec_release(x);
+        return;
+    }
+    Elem *e = vec_elems(x);
+    if (x->refs > 1) {
+        for (uint32_t j = 0, k = 0; j < x->len; j++)
+            if (e[j].kind == EL_NODE) kids[k++] = node_retain(e[j].node);
+        vec_release(x);
+        return;
+    }
+    if (nodes == x->len) {
+        /* nodes alone: nothing is left in [x] to release */
+        for (uint32_t j = 0; j < nodes; j++) kids[j] = e[j].node;
+        vec_free_taken(x);
+        return;
+    }
+    /* the rest is released with [x]; the nodes it gave up are not */
+    for (uint32_t j = 0, k = 0; j < x->len; j++) {
+        if (e[j].kind != EL_NODE) continue;
+        kids[k++] = e[j].node;
+        e[j].kind = EL_NUM;
+        e[j].num = 0.0;
+    }
+    vec_release(x);
+}
+
 Vec *append_nodes(Vec *p, Vec *c)
 {
     if (has_nodes(p) && has_nodes(c)) {
@@ -535,26 +568,12 @@ Vec *append_nodes(Vec *p, Vec *c)
             if (e[i].kind != EL_NODE) continue;
             Node *n = e[i].node = node_mut(e[i].node);
             node_reserve_children(n, n->nchildren + count);
-            if (i == last && c->refs == 1) {
-                /* the last parent, and [c] is going: its nodes move to
-                 * the parent with their references (the same tree as
-                 * appending and releasing [c], without touching each
-                 * child twice), into the room reserved above */
-                Node **kids = n->children + n->nchildren;
+            if (i == last) {
+                /* the last parent takes [c] (take_nodes), into the room
+                 * reserved above */
+                take_nodes(n->children + n->nchildren, c, count);
                 n->nchildren += count;
-                if (count == c->len) {
-                    /* nodes alone: nothing is left in [c] to release */
-                    for (uint32_t j = 0; j < count; j++) kids[j] = ce[j].node;
-                    vec_free_taken(c);
-                    c = NULL;
-                    continue;
-                }
-                for (uint32_t j = 0, k = 0; j < c->len; j++) {
-                    if (ce[j].kind != EL_NODE) continue;
-                    kids[k++] = ce[j].node;
-                    ce[j].kind = EL_NUM;
-                    ce[j].num = 0.0;
-                }
+                c = NULL;
             } else {
                 for (uint32_t j = 0; j < c->len; j++)
                     if (ce[j].kind == EL_NODE) node_append(n, ce[j].node);
@@ -568,7 +587,7 @@ Vec *append_nodes(Vec *p, Vec *c)
 Vec *append_parts(Eval *ev, Vec *p, Vec **parts, uint32_t m)
 {
     uint64_t total = 0;
-    uint32_t count = 0, nonempty = 0;
+    uint32_t count = 0, nonempty = 0, nodes[APPEND_PARTS_MAX] = {0};
     bool numeric = true;
     for (uint32_t i = 0; i < m; i++) {
         const Vec *x = parts[i];
@@ -578,7 +597,8 @@ Vec *append_parts(Eval *ev, Vec *p, Vec **parts, uint32_t m)
         nonempty++;
         if (x->kind == VEC_NUM) continue;
         numeric = false;
-        for (uint32_t j = 0; j < len; j++) count += vec_celems(x)[j].kind == EL_NODE;
+        for (uint32_t j = 0; j < len; j++) nodes[i] += vec_celems(x)[j].kind == EL_NODE;
+        count += nodes[i];
     }
     bool one = p && p->kind == VEC_OBJ && p->len == 1 && vec_celems(p)[0].kind == EL_NODE;
     /* where composing would refuse (too long, or past the memory budget:
@@ -607,34 +627,9 @@ Vec *append_parts(Eval *ev, Vec *p, Vec **parts, uint32_t m)
         vec_release(p);
         p = vec_node_take(n);
     }
-    Node **kids = n->children + n->nchildren;
-    n->nchildren += count;
     for (uint32_t i = 0; i < m; i++) {
-        Vec *x = parts[i];
-        if (!vec_len(x) || x->kind != VEC_OBJ) {
-            vec_release(x);
-            continue;
-        }
-        Elem *e = vec_elems(x);
-        if (x->refs > 1) {
-            for (uint32_t j = 0; j < x->len; j++)
-                if (e[j].kind == EL_NODE) *kids++ = node_retain(e[j].node);
-            vec_release(x);
-            continue;
-        }
-        /* the last reference: the nodes move, with their references */
-        bool all = true;
-        for (uint32_t j = 0; j < x->len; j++) {
-            if (e[j].kind != EL_NODE) {
-                all = false;
-                continue;
-            }
-            *kids++ = e[j].node;
-            e[j].kind = EL_NUM;
-            e[j].num = 0.0;
-        }
-        if (all) vec_free_taken(x);
-        else vec_release(x);
+        take_nodes(n->children + n->nchildren, parts[i], nodes[i]);
+        n->nchildren += nodes[i];
     }
     return p;
 }

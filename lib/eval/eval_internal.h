@@ -124,11 +124,12 @@ bool has_nodes(const Vec *v);
 /* `p << c` (LANGUAGE.md §3.12): every node element of [c] appended to each
  * node of [p] (copied on write); consumes both, returns the result. */
 Vec *append_nodes(Vec *p, Vec *c);
-/* append_nodes([p], the composition of [parts][0..m)), consuming all: for
- * a parent of one node, the parts' node elements go straight into its
- * children (moved from a part held only here, else retained), without the
- * composed vector; the same tree, values and errors (where composing
- * would refuse, it composes and appends). */
+/* append_nodes([p], the composition of [parts][0..m)), consuming all
+ * (m <= APPEND_PARTS_MAX): for a parent of one node, the parts' node
+ * elements go straight into its children (moved from a part held only
+ * here, else retained), without the composed vector; the same tree,
+ * values and errors (where composing would refuse, it composes and
+ * appends). */
 Vec *append_parts(Eval *ev, Vec *p, Vec **parts, uint32_t m);
 /* Most parts append_parts takes from a compiled sequence at once. */
 #define APPEND_PARTS_MAX 8

@@ -140,18 +140,24 @@ static bool distinct_names(const AstNode *n)
     return true;
 }
 
+/* The node of [n] when it is a literal holding one node, else NULL. */
+static const Node *literal_node(const AstNode *n)
+{
+    if (!n || n->kind != AST_LITERAL || !vec_is_obj(n->value) || n->value->len != 1) return NULL;
+    const Elem *e = vec_celems(n->value);
+    return e->kind == EL_NODE ? e->node : NULL;
+}
+
 /* True when [n] (AST_ATTRIBUTES) sets attributes of a literal holding one
  * node, pairwise different and none of them the node's own: each is then
  * added to its copy without a search (C_ATTRS pad 1). */
 static bool new_names_on_literal(const AstNode *n)
 {
-    const AstNode *l = n->a;
-    if (!l || l->kind != AST_LITERAL || !vec_is_obj(l->value) || l->value->len != 1) return false;
-    const Elem *e = vec_celems(l->value);
-    if (e->kind != EL_NODE || !distinct_names(n)) return false;
+    const Node *l = literal_node(n->a);
+    if (!l || !distinct_names(n)) return false;
     for (uint32_t i = 0; i < n->nkids; i++)
-        for (uint32_t j = 0; j < e->node->nattrs; j++)
-            if (str_eq(n->kids[i]->names[0], e->node->attrs[j].name)) return false;
+        for (uint32_t j = 0; j < l->nattrs; j++)
+            if (str_eq(n->kids[i]->names[0], l->attrs[j].name)) return false;
     return true;
 }
 
@@ -159,9 +165,8 @@ static bool new_names_on_literal(const AstNode *n)
  * children (`!ellipse`). */
 static bool bare_node(const AstNode *n)
 {
-    if (!n || n->kind != AST_LITERAL || !vec_is_obj(n->value) || n->value->len != 1) return false;
-    const Elem *e = vec_celems(n->value);
-    return e->kind == EL_NODE && !e->node->ntags && !e->node->nattrs && !e->node->nchildren;
+    const Node *l = literal_node(n);
+    return l && !l->ntags && !l->nattrs && !l->nchildren;
 }
 
 static uint32_t emit_ast(CC *c, const AstNode *n)

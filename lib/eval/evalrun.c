@@ -376,6 +376,16 @@ static bool arg_nums(Eval *ev, const unsigned char *base, uint32_t off, double *
     return true;
 }
 
+/* A new numeric vector of the [n] numbers [y] (a call's result, a few
+ * numbers; one, most often, stored without a call of memcpy). */
+static inline __attribute__((always_inline)) Vec *nums_vec(const double *y, uint32_t n)
+{
+    Vec *v = vec_new_num(n);
+    if (n == 1) vec_nums(v)[0] = y[0];
+    else memcpy(vec_nums(v), y, n * sizeof(double));
+    return v;
+}
+
 /* C_CALLBI pad 2 (map, clamp, noise): each argument run into numbers on
  * the C stack (run_nums) and the call's numbers computed from them
  * (bi_call_nums_args) into a new vector; false, with nothing done that
@@ -394,9 +404,7 @@ __attribute__((noinline)) static bool run_callbi_args(Eval *ev, const unsigned c
         xp[i] = x[i];
     }
     if (!bi_call_nums_args(ev, r->p.bi, xp, n, r->n, y, &ny)) return false;
-    *v = vec_new_num(ny);
-    if (ny == 1) vec_nums(*v)[0] = y[0];
-    else memcpy(vec_nums(*v), y, ny * sizeof(double));
+    *v = nums_vec(y, ny);
     return true;
 }
 
@@ -415,12 +423,7 @@ __attribute__((noinline)) static Vec *run_callbi(Eval *ev, const unsigned char *
     } else if (r->pad) {
         double x[RUN_NUMS_MAX], y[BI_NUMS_MAX];
         uint32_t nx, ny;
-        if (arg_nums(ev, base, k[0], x, &nx) && bi_call_nums(r->p.bi, x, nx, y, &ny)) {
-            Vec *v = vec_new_num(ny);
-            if (ny == 1) vec_nums(v)[0] = y[0];
-            else memcpy(vec_nums(v), y, ny * sizeof(double));
-            return v;
-        }
+        if (arg_nums(ev, base, k[0], x, &nx) && bi_call_nums(r->p.bi, x, nx, y, &ny)) return nums_vec(y, ny);
     }
     Vec *args[8];
     for (uint32_t i = 0; i < r->n; i++) args[i] = run_val(ev, base, k[i]);
