@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cpu.h"
 #include "mem.h"
 #include "streams.h"
 #include "node.h"
@@ -402,39 +403,156 @@ static inline double arith1(ArithOp op, double a, double b)
     return NAN;
 }
 
-#define BROADCAST(EXPR)                                                     \
+/* One operation over [n] numbers, the operands' steps 1 (a vector of [n])
+ * or 0 (one number repeated): the literal loops, one per operation (not
+ * arith1's switch for every number). */
+#define ARITH_LOOPS(LOOP)                                                   \
+    switch (op) {                                                           \
+    case OP_ADD: LOOP(x + y); break;                                        \
+    case OP_SUB: LOOP(x - y); break;                                        \
+    case OP_MUL: LOOP(x * y); break;                                        \
+    case OP_DIV: LOOP(x / y); break;                                        \
+    case OP_FLOORDIV: LOOP(floor(x / y)); break;                            \
+    case OP_MOD: LOOP(x - floor(x / y) * y); break;                         \
+    default: LOOP(arith1(op, x, y)); break;                                 \
+    }
+
+static inline __attribute__((always_inline)) void arith_span(ArithOp op, double *r, const double *xa, bool va,
+                                                            const double *xb, bool vb, uint32_t n)
+{
+#define SPAN(EXPR)                                                          \
     do {                                                                    \
-        if (na == nb) {                                                     \
+        if (va && vb) {                                                     \
             for (uint32_t i = 0; i < n; i++) { double x = xa[i], y = xb[i]; r[i] = (EXPR); } \
-        } else if (nb == 1) {                                               \
-            double y = xb[0];                                               \
+        } else if (va) {                                                    \
+            const double y = xb[0];                                         \
             for (uint32_t i = 0; i < n; i++) { double x = xa[i]; r[i] = (EXPR); } \
-        } else if (na == 1) {                                               \
-            double x = xa[0];                                               \
-            for (uint32_t i = 0; i < n; i++) { double y = xb[i]; r[i] = (EXPR); } \
         } else {                                                            \
-            for (uint32_t i = 0, ia = 0, ib = 0; i < n; i++) {              \
-                double x = xa[ia], y = xb[ib];                              \
-                r[i] = (EXPR);                                              \
-                if (++ia == na) ia = 0;                                     \
-                if (++ib == nb) ib = 0;                                     \
+            const double x = xa[0];                                         \
+            for (uint32_t i = 0; i < n; i++) { double y = xb[i]; r[i] = (EXPR); } \
+        }                                                                   \
+    } while (0)
+    ARITH_LOOPS(SPAN)
+#undef SPAN
+}
+
+/* Spans at least this long take the AVX copy where there is one (shorter
+ * ones: its set-up would cost more than it saves). */
+#define ARITH_AVX_MIN 8
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define HAVE_ARITH_AVX 1
+/* arith_span four numbers at a time, for the operations whose every
+ * number AVX computes to the same bits as the literal loop (IEEE
+ * addition, subtraction, multiplication and division are exact to the
+ * bit whatever the width, and vroundpd's floor is floor(), -0 and NaN
+ * included), the last n % 4 by the literal loop's expression; other
+ * operations (pow) by the literal loop. */
+__attribute__((target("avx"))) static void arith_span_avx(ArithOp op, double *r, const double *xa, bool va,
+                                                          const double *xb, bool vb, uint32_t n)
+{
+    if (op > OP_MOD) {
+        arith_span(op, r, xa, va, xb, vb, n);
+        return;
+    }
+    const __m256d ka = _mm256_set1_pd(xa[0]), kb = _mm256_set1_pd(xb[0]);
+    const uint32_t n4 = n & ~3u;
+#define FLOOR4(q) _mm256_round_pd((q), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)
+#define SPAN4(EXPR4)                                                        \
+    do {                                                                    \
+        if (va && vb) {                                                     \
+            for (uint32_t i = 0; i < n4; i += 4) {                          \
+                __m256d x = _mm256_loadu_pd(xa + i), y = _mm256_loadu_pd(xb + i); \
+                _mm256_storeu_pd(r + i, (EXPR4));                           \
+            }                                                               \
+        } else if (va) {                                                    \
+            const __m256d y = kb;                                           \
+            for (uint32_t i = 0; i < n4; i += 4) {                          \
+                __m256d x = _mm256_loadu_pd(xa + i);                        \
+                _mm256_storeu_pd(r + i, (EXPR4));                           \
+            }                                                               \
+        } else {                                                            \
+            const __m256d x = ka;                                           \
+            for (uint32_t i = 0; i < n4; i += 4) {                          \
+                __m256d y = _mm256_loadu_pd(xb + i);                        \
+                _mm256_storeu_pd(r + i, (EXPR4));                           \
             }                                                               \
         }                                                                   \
     } while (0)
+    switch (op) {
+    case OP_ADD: SPAN4(_mm256_add_pd(x, y)); break;
+    case OP_SUB: SPAN4(_mm256_sub_pd(x, y)); break;
+    case OP_MUL: SPAN4(_mm256_mul_pd(x, y)); break;
+    case OP_DIV: SPAN4(_mm256_div_pd(x, y)); break;
+    case OP_FLOORDIV: SPAN4(FLOOR4(_mm256_div_pd(x, y))); break;
+    default: SPAN4(_mm256_sub_pd(x, _mm256_mul_pd(FLOOR4(_mm256_div_pd(x, y)), y))); break;
+    }
+#undef SPAN4
+#undef FLOOR4
+    if (n4 < n)
+        arith_span(op, r + n4, va ? xa + n4 : xa, va, vb ? xb + n4 : xb, vb, n - n4);
+}
+#endif
+
+/* arith_span by the fastest copy this processor runs. */
+static void arith_span_fast(ArithOp op, double *r, const double *xa, bool va, const double *xb, bool vb,
+                                   uint32_t n)
+{
+#ifdef HAVE_ARITH_AVX
+    if (n >= ARITH_AVX_MIN && cpu_has(CPU_AVX)) {
+        arith_span_avx(op, r, xa, va, xb, vb, n);
+        return;
+    }
+#endif
+    arith_span(op, r, xa, va, xb, vb, n);
+}
+
+/* Most numbers of the repeated shorter operand of a cyclic broadcast: a
+ * shorter operand of up to this many numbers is laid out end to end into
+ * a tile of whole repeats, and the longer one taken a tile at a time as
+ * two vectors of one length. */
+#define ARITH_TILE 64
+
+/* num_arith_into's cyclic broadcast, both operands longer than one number
+ * and of different lengths, one of them [n] long (kept out of
+ * num_arith_into's frame: its tile). */
+static void arith_cycle(ArithOp op, double *r, const double *xa, uint32_t na, const double *xb, uint32_t nb,
+                        uint32_t n)
+{
+    const uint32_t ns = na < nb ? na : nb;
+    if (ns <= ARITH_TILE / 2) {
+        /* a tile holds whole repeats of the shorter, so the tile that
+         * starts at i (a multiple of its length) is xs[(i + j) % ns] */
+        double tile[ARITH_TILE];
+        const double *xs = na < nb ? xa : xb;
+        const uint32_t nt = ARITH_TILE / ns * ns;
+        for (uint32_t j = 0; j < nt; j++) tile[j] = xs[j % ns];
+        for (uint32_t i = 0; i < n; i += nt) {
+            const uint32_t m = n - i < nt ? n - i : nt;
+            if (na < nb) arith_span_fast(op, r + i, tile, true, xb + i, true, m);
+            else arith_span_fast(op, r + i, xa + i, true, tile, true, m);
+        }
+        return;
+    }
+#define CYCLE(EXPR)                                                         \
+    for (uint32_t i = 0, ia = 0, ib = 0; i < n; i++) {                      \
+        double x = xa[ia], y = xb[ib];                                      \
+        r[i] = (EXPR);                                                      \
+        if (++ia == na) ia = 0;                                             \
+        if (++ib == nb) ib = 0;                                             \
+    }
+    ARITH_LOOPS(CYCLE)
+#undef CYCLE
+}
 
 void num_arith_into(ArithOp op, double *r, const double *xa, uint32_t na, const double *xb, uint32_t nb)
 {
     const uint32_t n = na > nb ? na : nb;
-    switch (op) {
-    case OP_ADD: BROADCAST(x + y); break;
-    case OP_SUB: BROADCAST(x - y); break;
-    case OP_MUL: BROADCAST(x * y); break;
-    case OP_DIV: BROADCAST(x / y); break;
-    /* arith1's, a loop each (not its switch for every number) */
-    case OP_FLOORDIV: BROADCAST(floor(x / y)); break;
-    case OP_MOD: BROADCAST(x - floor(x / y) * y); break;
-    default: BROADCAST(arith1(op, x, y)); break;
-    }
+    if (na != nb && na != 1 && nb != 1) arith_cycle(op, r, xa, na, xb, nb, n);
+    /* (a few numbers, the most usual: the literal loop here, no call) */
+    else if (n < ARITH_AVX_MIN) arith_span(op, r, xa, na != 1 || n == 1, xb, nb != 1 || n == 1, n);
+    else arith_span_fast(op, r, xa, na != 1, xb, nb != 1, n);
 }
 
 /* r[i] = a[i % na] OP b[i % nb] for i < n (n: the longer length); [r]

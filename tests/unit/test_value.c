@@ -311,6 +311,56 @@ static void test_arith_take_and_key_hash(void **st)
     vec_release(s);
 }
 
+/* num_arith_into's routes (the AVX copy of long spans where the processor
+ * has one, the tiles of a short repeated operand, the literal loops)
+ * give, for every operation, length and broadcast, the bits num_arith
+ * gives number by number: signed zeros, infinities, NaNs, subnormals and
+ * numbers past 2**52 among them; also written over either operand. (A NaN
+ * is any NaN: which operand's a sum of two NaNs keeps is the compiler's
+ * choice, on every route as in num_arith, and no output shows it.) */
+static bool same(double x, double y) { return isnan(y) ? isnan(x) : bits(x) == bits(y); }
+
+static void test_arith_routes(void **st)
+{
+    (void)st;
+    static const double special[] = {0.0, -0.0, INFINITY, -INFINITY, NAN, 1e300, -1e-310, 4503599627370497.0,
+                                     -4503599627370495.5, 7.0, -7.0, 0.5, -2.5, 3.0};
+    const uint32_t nspecial = sizeof special / sizeof special[0];
+    static const uint32_t lens[][2] = {
+        {1, 1}, {3, 3}, {7, 7}, {8, 8}, {9, 9}, {13, 13}, {70, 70}, {1, 9}, {9, 1}, {1, 70}, {70, 1},
+        {2, 70}, {70, 2}, {3, 67}, {67, 3}, {32, 100}, {100, 32}, {33, 100}, {100, 33}, {5, 12}, {64, 65},
+    };
+    double xa[128], xb[128], r[128], w[128];
+    uint64_t seed = 12345;
+    for (int op = OP_ADD; op <= OP_POW; op++) {
+        for (size_t c = 0; c < sizeof lens / sizeof lens[0]; c++) {
+            const uint32_t na = lens[c][0], nb = lens[c][1], n = na > nb ? na : nb;
+            for (int rep = 0; rep < 4; rep++) {
+                for (uint32_t i = 0; i < 128; i++) {
+                    seed = seed * UINT64_C(6364136223846793005) + UINT64_C(1442695040888963407);
+                    uint32_t u = (uint32_t)(seed >> 33);
+                    double x = (u % 4 == 0) ? special[u / 4 % nspecial] : ((double)(u % 20001) - 10000.0) / 64.0;
+                    if (i % 2) xb[i / 2 + 64] = x;
+                    else xa[i / 2] = x;
+                    if (i < 64) xb[i] = -x / 3.0;
+                }
+                for (uint32_t i = 0; i < n; i++) w[i] = num_arith((ArithOp)op, xa[i % na], xb[i % nb]);
+                num_arith_into((ArithOp)op, r, xa, na, xb, nb);
+                for (uint32_t i = 0; i < n; i++) assert_true(same(r[i], w[i]));
+                /* over the longer operand (or one number) */
+                double *into = na == n ? xa : xb;
+                num_arith_into((ArithOp)op, into, xa, na, xb, nb);
+                for (uint32_t i = 0; i < n; i++) assert_true(same(into[i], w[i]));
+            }
+        }
+    }
+    /* by hand: the last numbers of a long vector mod a repeated pair */
+    double v[11], m[2] = {4.0, -3.0}, out[11];
+    for (int i = 0; i < 11; i++) v[i] = 10.5 - i;
+    num_arith_into(OP_MOD, out, v, 11, m, 2);
+    assert_true(out[0] == 2.5 && out[1] == -2.5 && out[9] == -1.5 && out[10] == 0.5);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -324,6 +374,7 @@ int main(void)
         cmocka_unit_test(test_contains_truth_compose),
         cmocka_unit_test(test_nodes),
         cmocka_unit_test(test_arith_take_and_key_hash),
+        cmocka_unit_test(test_arith_routes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
