@@ -775,7 +775,9 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
             parts.too_long = true;
             break;
         }
-        bind_loop_names(ev, n, src, p);
+        /* (one name, the most usual, bound here: no call) */
+        if (n->nnames == 1) bind_loop_name(ev, n, src, p, 0);
+        else bind_loop_names(ev, n, src, p);
         parts_push(&parts, eval(ev, n->b));
     }
     ev->kbase = kbase;

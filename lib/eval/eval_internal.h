@@ -31,10 +31,14 @@ Vec *run_num_vec(Eval *ev, const NumExpr *x);
 static inline Vec *run_num(Eval *ev, const AstNode *n, const NumExpr *x)
 {
     if (ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH) {
-        Vec *v = vec_new_num(numexpr_outputs(x));
-        if (numexpr_run(x, ev, vec_nums(v))) return v;
-        vec_release(v);
-        v = run_num_vec(ev, x);
+        /* (a vector read first: numexpr_run would give up at once) */
+        const int32_t lead = numexpr_lead_slot(x);
+        if (lead < 0 || vec_is_scalar(ev->frame[lead])) {
+            Vec *v = vec_new_num(numexpr_outputs(x));
+            if (numexpr_run(x, ev, vec_nums(v))) return v;
+            vec_release(v);
+        }
+        Vec *v = run_num_vec(ev, x);
         if (v) return v;
     }
     return eval_node(ev, n);

@@ -329,7 +329,7 @@ _Static_assert(NUMEXPR_VEC_MAX <= RUN_NUMS_MAX, "run_nums takes numexpr_run_vec'
  * gives up or would pass the depth limit, where the caller evaluates it
  * generically. Pure: reading a name or running a compiled expression has
  * no effect to repeat. */
-static inline uint32_t run_nums(Eval *ev, const CRec *x, double *out)
+static inline __attribute__((always_inline)) uint32_t run_nums(Eval *ev, const CRec *x, double *out)
 {
     const Vec *v;
     switch (x->op) {
@@ -340,7 +340,9 @@ static inline uint32_t run_nums(Eval *ev, const CRec *x, double *out)
         const NumExpr *e = (const NumExpr *)(const void *)(x + 1);
         uint32_t n = numexpr_outputs(e);
         if (n > RUN_NUMS_MAX || ev->depth + numexpr_depth(e) > MAX_EVAL_DEPTH) return 0;
-        if (numexpr_run(e, ev, out)) return n;
+        /* (a vector read first: numexpr_run would give up at once) */
+        const int32_t lead = numexpr_lead_slot(e);
+        if ((lead < 0 || vec_is_scalar(ev->frame[lead])) && numexpr_run(e, ev, out)) return n;
         return numexpr_run_vec(e, ev, out, &n) ? n : 0;
     }
     default: return 0;
@@ -563,7 +565,8 @@ __attribute__((noinline)) static Vec *run_if(Eval *ev, const unsigned char *base
         uint32_t n = run_nums(ev, crec(base, k[2 * i]), x);
         bool t = false;
         if (n) {
-            for (uint32_t j = 0; j < n && !t; j++) t = x[j] != 0.0 || isnan(x[j]);   /* vec_truthy's */
+            /* vec_truthy's (a NaN is unequal to 0 too) */
+            for (uint32_t j = 0; j < n && !t; j++) t = x[j] != 0.0;
         } else {
             Vec *c = run_val(ev, base, k[2 * i]);
             t = vec_truthy(c);

@@ -306,6 +306,7 @@ bool numexpr_compile(AstNode *n)
     x->h.nins = c.n;
     x->h.nout = nout;
     x->h.depth = depth;
+    x->h.lead = c.ins[0].op == NX_LOCAL ? (uint32_t)c.ins[0].arg + 1 : 0;
     memcpy(x->ins, c.ins, c.n * sizeof(NxIns));
     free(c.ins);
     n->aux = x;
@@ -369,6 +370,11 @@ bool numexpr_exec(const NumExpr *x, Eval *ev, const double *regs, double *out)
         [NX_INDEX] = &&l_index, [NX_INDEXL] = &&l_indexl, [NX_INDEXG] = &&l_indexg, [NX_END] = &&l_end,
     };
     _Static_assert(sizeof code / sizeof code[0] == NX_END + 1, "every instruction has code");
+    static const void *const cmp_code[] = {
+        [CMP_EQ] = &&l_eq, [CMP_NE] = &&l_ne, [CMP_LT] = &&l_lt,
+        [CMP_GT] = &&l_gt, [CMP_LE] = &&l_le, [CMP_GE] = &&l_ge,
+    };
+    _Static_assert(sizeof cmp_code / sizeof cmp_code[0] == CMP_GE + 1, "every ordering comparison has code");
     /* the top of the stack lives in t; st[1..] holds the rest (the first
      * push saves t's meaningless initial value in st[0]) */
     double st[NX_STACK + 1];
@@ -408,8 +414,14 @@ l_cmp:
     /* NaN: the generic route's answer depends on whether both operands
      * are the same vector (§3.6 rule 1) */
     if (isnan(a) || isnan(t)) return false;
-    t = compare(i->sub, a, t);
-    NEXT;
+    /* compare()'s cases, each reached by its own jump */
+    goto *cmp_code[i->sub];
+l_eq: t = a == t; NEXT;
+l_ne: t = a != t; NEXT;
+l_lt: t = a < t; NEXT;
+l_gt: t = a > t; NEXT;
+l_le: t = a <= t; NEXT;
+l_ge: t = a >= t; NEXT;
 l_call1: t = i->fn(t); NEXT;
 l_call2: {
     double p, q;
@@ -588,6 +600,7 @@ NumExpr *numexpr_to_regs(const NumExpr *x, NumExprRegMap map, void *ctx)
     size_t size = numexpr_size(x);
     NumExpr *y = mem_alloc(size);
     memcpy(y, x, size);
+    y->h.lead = 0;   /* (registers, no slots) */
     for (uint32_t i = 0; i < y->h.nins; i++) {
         NxIns *in = &y->ins[i];
         if (in->op == NX_INDEXL || in->op == NX_INDEXG) {   /* (a vector: registers hold one number) */

@@ -76,6 +76,8 @@ typedef struct NumExprHead {
     uint32_t nins;      /* instructions (the last is NX_END) */
     uint32_t nout;      /* numbers produced */
     uint32_t depth;     /* generic eval_node nesting of the subtree */
+    uint32_t lead;      /* 1 + the frame slot the first instruction reads
+                           (NX_LOCAL), or 0 (numexpr_lead_slot) */
 } NumExprHead;
 
 /* Bytes of the head (padded) and of each instruction (numexpr.c checks). */
@@ -101,6 +103,15 @@ static inline uint32_t numexpr_outputs(const NumExpr *x)
 static inline uint32_t numexpr_depth(const NumExpr *x)
 {
     return ((const NumExprHead *)(const void *)x)->depth;
+}
+
+/* The frame slot [x]'s first instruction reads, or -1 when it reads none
+ * first. numexpr_run gives up at once when that slot holds anything but
+ * one number: a caller with a vector there may go to numexpr_run_vec
+ * without trying (the same result, without numexpr_run's entry and exit). */
+static inline int32_t numexpr_lead_slot(const NumExpr *x)
+{
+    return (int32_t)((const NumExprHead *)(const void *)x)->lead - 1;
 }
 
 /* Most engine names a memoizable expression may read. */

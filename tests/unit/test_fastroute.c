@@ -433,6 +433,24 @@ static void test_vector_expressions(void **s)
             "n=9;3;-1 p=2 q=3.7416573867739413 r=0.5;0.41666666666666674;0.5 t=0 u=4;5;6 x=3;4;5 y=-6\n");
 }
 
+/* Names read first by a compiled expression holding what numexpr_run
+ * cannot take (a vector: straight to the vector form; null, a string:
+ * the generic route), and vectors longer than the vector form takes, in
+ * value.c's arithmetic (four numbers at a time where the processor can;
+ * a short operand repeated by tiles), against hand-worked values. */
+static void test_lead_names_and_long_vectors(void **s)
+{
+    (void)s;
+    expect4("let v=(1..21)+time\n    p=(0.5;-3)+time\n    z=null\n    t=\"ab\"\n    w=(1;2;3)+time\n"
+            "!long a=v%p b=v*2 c=v/4 d=v-v e=v//p f=z+1 g=t*2 h=z-v i=w-1 j=hypot(w-w) k=w*(2;1)\n",
+            "!root\n"
+            " !long a=0;-1;0;-2;0;0;0;-1;0;-2;0;0;0;-1;0;-2;0;0;0;-1 "
+            "b=2;4;6;8;10;12;14;16;18;20;22;24;26;28;30;32;34;36;38;40 "
+            "c=0.25;0.5;0.75;1;1.25;1.5;1.75;2;2.25;2.5;2.75;3;3.25;3.5;3.75;4;4.25;4.5;4.75;5 "
+            "d=0;0;0;0;0;0;0;0;0;0;0;0;0;0;0;0;0;0;0;0 "
+            "e=2;-1;6;-2;10;-2;14;-3;18;-4;22;-4;26;-5;30;-6;34;-6;38;-7 i=0;1;2 j=0 k=2;2;6\n");
+}
+
 /* Expressions of engine names alone, repeated in the bodies of an
  * unrolled loop, share a kept result (evalcode.h C_MEMO): the values are
  * those of the generic route in the first frame and after `time` moved,
@@ -698,6 +716,7 @@ int main(void)
         cmocka_unit_test(test_limits_same),
         cmocka_unit_test(test_random_expressions),
         cmocka_unit_test(test_vector_expressions),
+        cmocka_unit_test(test_lead_names_and_long_vectors),
         cmocka_unit_test(test_attributes_on_literal_nodes),
         cmocka_unit_test(test_new_attributes_on_literal_nodes),
         cmocka_unit_test(test_children_parts),
