@@ -29,6 +29,22 @@ typedef struct NoisePerms NoisePerms;
 NoisePerms *noise_perms_new(void);
 /* Free [p] (NULL is a no-op). */
 void noise_perms_free(NoisePerms *p);
+/* A runtime's memo of the files read by read(), read_bytes(), csv() and
+ * srt() (filememo.c): each file's contents (and read()'s string of them),
+ * kept while the file at that path keeps its device, inode, size,
+ * modification and change times, so that a file read every frame, or
+ * once per row, is read once, as Flitter's cache reads it. One per
+ * runtime (eval_file_memo, context.h); not shared between threads. */
+typedef struct FileMemo FileMemo;
+/* A new, empty memo; NULL when out of memory (every file is then read
+ * afresh at each use). */
+FileMemo *file_memo_new(void);
+/* Free [m] and what it keeps (NULL is a no-op). */
+void file_memo_free(FileMemo *m);
+/* Set [m]'s racy window (filememo.c) to [ns] nanoseconds, for tests: a
+ * file changed less than that before it was read is read again at each
+ * use (2 s unless set). */
+void file_memo_set_window(FileMemo *m, int64_t ns);
 /* Most arguments of a noise() call with a numeric route: the seed and up
  * to four coordinates. */
 #define BI_NOISE_ARGS 5

@@ -29,5 +29,9 @@ const char *eval_script_dir(const Eval *ev);
  * when this evaluation has none (load-time folding): noise() then builds
  * each table it needs. */
 struct NoisePerms *eval_noise_perms(Eval *ev);
+/* The runtime's memo of the files the file built-ins read (builtins.h),
+ * or NULL when this evaluation has none: they then read every file
+ * afresh. */
+struct FileMemo *eval_file_memo(Eval *ev);
 
 #endif

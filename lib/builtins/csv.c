@@ -217,8 +217,10 @@ Vec *bi_csv(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
         r = bi_error(ev, bi, "embedded null byte");
     } else if (row >= 0) {
         resolve_path(ev, buf_cstr(&name), &path);
-        if (file_read_regular(buf_cstr(&path), &data)) {
-            Csv c = {buf_cstr(&data), data.len, 0, CSV_START_RECORD, BUF_INIT, {NULL, 0, 0}};
+        const char *bytes;
+        size_t len;
+        if (file_memo_bytes(eval_file_memo(ev), buf_cstr(&path), &data, &bytes, &len)) {
+            Csv c = {bytes, len, 0, CSV_START_RECORD, BUF_INIT, {NULL, 0, 0}};
             int64_t k = 0;
             while (csv_next(&c)) {
                 if (k++ == row) {

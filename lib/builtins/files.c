@@ -177,31 +177,6 @@ Vec *read_failed(Eval *ev, const Builtin *bi)
     return NULL;
 }
 
-/* Read [path] as strict UTF-8 text with universal newlines into [out]
- * (errno EFBIG when over FILE_READ_MAX). */
-bool read_text_file(const char *path, Buf *out)
-{
-    Buf raw = BUF_INIT;
-    errno = 0;
-    bool ok = file_read_regular(path, &raw) && utf8_all_valid(buf_cstr(&raw), raw.len);
-    if (ok) {
-        const char *s = buf_cstr(&raw);
-        for (size_t i = 0; i < raw.len; i++) {
-            if (s[i] == '\r') {
-                buf_putc(out, '\n');
-                if (i + 1 < raw.len && s[i + 1] == '\n')
-                    i++;
-            } else {
-                buf_putc(out, s[i]);
-            }
-        }
-        if (!out->data)
-            buf_add(out, "", 0);
-    }
-    buf_free(&raw);
-    return ok;
-}
-
 /* An object vector of the [n] strings in [items] (null when [n] is 0). */
 Vec *string_vector(Str **items, size_t n)
 {

@@ -55,6 +55,20 @@ Vec *read_failed(Eval *ev, const Builtin *bi);
  * EFBIG) or not a regular file (EINVAL). */
 bool read_text_file(const char *path, Buf *out);
 
+/* The bytes of the regular file [path] (file_read_regular's; filememo.c):
+ * from the runtime's memo [m] while the file is unchanged, else read now
+ * (into the memo, or, when [m] is NULL or the file too large to keep,
+ * into [scratch], which the caller frees). *[data] and *[len] are
+ * borrowed until the next call on [m] or until [scratch] is freed. False,
+ * with errno as file_read_regular's, when the file cannot be read. */
+bool file_memo_bytes(FileMemo *m, const char *path, Buf *scratch, const char **data, size_t *len);
+/* read()'s string of the file [path] (read_text_file's text), a new
+ * reference: from [m] while the file is unchanged (the same vector each
+ * time), else read now; NULL with *[ok] false, and errno as
+ * read_text_file's, when the file cannot be read or is not strict UTF-8.
+ * [m] NULL: read afresh. */
+Vec *file_memo_text(FileMemo *m, const char *path, bool *ok);
+
 /* csv(filename, row_number) (csv.c). */
 Vec *bi_csv(Eval *ev, const Builtin *bi, int nargs, Vec *const *args);
 /* glob(pattern) (glob.c). */

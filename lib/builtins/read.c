@@ -11,8 +11,8 @@
  *     malformed section (including the empty one after a trailing blank
  *     line) makes the whole file unreadable, so the result is null.
  * sample() is not provided: it reads pixels of a rendered window.
- * Files are read afresh on every call (the reference caches them until they
- * change, which gives the same results).
+ * A runtime keeps the files read until they change, as the reference
+ * does (filememo.c): the results are those of reading them afresh.
  */
 #include <errno.h>
 #include <math.h>
@@ -44,20 +44,19 @@ static Vec *bi_debug(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
 static Vec *bi_read(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
 {
     (void)nargs;
-    Buf name = BUF_INIT, path = BUF_INIT, text = BUF_INIT;
+    Buf name = BUF_INIT, path = BUF_INIT;
     Vec *r = NULL;
     if (!file_name(ev, args[0], &name)) {
         r = bi_error(ev, bi, "embedded null byte");
     } else if (name.len > 0) {
         resolve_path(ev, buf_cstr(&name), &path);
-        if (read_text_file(buf_cstr(&path), &text))
-            r = vec_str(buf_cstr(&text), text.len);
-        else
+        bool ok;
+        r = file_memo_text(eval_file_memo(ev), buf_cstr(&path), &ok);
+        if (!ok)
             r = read_failed(ev, bi);
     }
     buf_free(&name);
     buf_free(&path);
-    buf_free(&text);
     return r;
 }
 
@@ -70,13 +69,15 @@ static Vec *bi_read_bytes(Eval *ev, const Builtin *bi, int nargs, Vec *const *ar
         r = bi_error(ev, bi, "embedded null byte");
     } else if (name.len > 0) {
         resolve_path(ev, buf_cstr(&name), &path);
-        if (!file_read_regular(buf_cstr(&path), &data)) {
+        const char *bytes;
+        size_t len;
+        if (!file_memo_bytes(eval_file_memo(ev), buf_cstr(&path), &data, &bytes, &len)) {
             r = read_failed(ev, bi);
-        } else if (data.len > 0 && data.len <= UINT32_MAX) {
-            r = vec_new_num((uint32_t)data.len);
+        } else if (len > 0 && len <= UINT32_MAX) {
+            r = vec_new_num((uint32_t)len);
             double *out = vec_nums(r);
-            const unsigned char *s = (const unsigned char *)data.data;
-            for (size_t i = 0; i < data.len; i++)
+            const unsigned char *s = (const unsigned char *)bytes;
+            for (size_t i = 0; i < len; i++)
                 out[i] = s[i];
         }
     }
@@ -212,24 +213,27 @@ static Vec *bi_srt(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
     }
     if (!vec_truthy(args[0]))
         return NULL;
-    Buf name = BUF_INIT, path = BUF_INIT, text = BUF_INIT;
+    Buf name = BUF_INIT, path = BUF_INIT;
     Vec *r = NULL;
     if (!file_name(ev, args[0], &name)) {
         r = bi_error(ev, bi, "embedded null byte");
     } else {
         resolve_path(ev, buf_cstr(&name), &path);
         StrList lines = {NULL, 0, 0};
-        if (read_text_file(buf_cstr(&path), &text)) {
-            if (srt_collect(buf_cstr(&text), text.len, t, &lines))
+        bool ok;
+        Vec *text = file_memo_text(eval_file_memo(ev), buf_cstr(&path), &ok);
+        if (ok) {
+            const Str *s = vec_celems(text)[0].str;
+            if (srt_collect(s->bytes, s->len, t, &lines))
                 r = string_vector(lines.v, lines.n);
         } else {
             r = read_failed(ev, bi);
         }
+        vec_release(text);
         strlist_free(&lines);
     }
     buf_free(&name);
     buf_free(&path);
-    buf_free(&text);
     return r;
 }
 

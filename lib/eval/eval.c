@@ -50,6 +50,8 @@ const char *eval_script_dir(const Eval *ev)
 
 struct NoisePerms *eval_noise_perms(Eval *ev) { return ev ? ev->noise_perms : NULL; }
 
+struct FileMemo *eval_file_memo(Eval *ev) { return ev ? ev->file_memo : NULL; }
+
 static void errorf(Eval *ev, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static void errorf(Eval *ev, const char *fmt, ...)
 {

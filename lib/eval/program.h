@@ -192,6 +192,8 @@ struct Eval {
                                running are recorded (NULL: nowhere) */
     struct NoisePerms *noise_perms; /* the runtime's noise tables (builtins.h;
                                        NULL: none kept) */
+    struct FileMemo *file_memo; /* the runtime's files read (builtins.h;
+                                   NULL: none kept) */
     struct Workers *workers; /* threads the runtime lends to loop kernels
                                 (kernel.h; NULL: the caller alone) */
     struct KernelScratch *kscratch; /* the runtime's scratch for their

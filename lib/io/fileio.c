@@ -15,11 +15,14 @@
 #include "mem.h"
 
 /* Read the file open on [fd] (closed here) into [out]; with [regular_only],
- * anything but a regular file is refused (EINVAL). */
-static bool read_fd(int fd, Buf *out, bool regular_only)
+ * anything but a regular file is refused (EINVAL). [stat_out] (may be
+ * NULL) gets the file's status as it was opened (zeroed when unknown). */
+static bool read_fd(int fd, Buf *out, bool regular_only, struct stat *stat_out)
 {
     struct stat st;
+    if (stat_out) memset(stat_out, 0, sizeof *stat_out);
     if (fstat(fd, &st) == 0) {
+        if (stat_out) *stat_out = st;
         int refuse = 0;
         if (S_ISDIR(st.st_mode)) refuse = EISDIR;
         else if (S_ISREG(st.st_mode) && (uint64_t)st.st_size > FILE_READ_MAX) refuse = EFBIG;
@@ -58,16 +61,21 @@ bool file_read(const char *path, Buf *out)
 {
     int fd = open(path, O_RDONLY | O_CLOEXEC);
     if (fd < 0) return false;
-    return read_fd(fd, out, false);
+    return read_fd(fd, out, false, NULL);
 }
 
 bool file_read_regular(const char *path, Buf *out)
 {
     /* O_NONBLOCK: opening a FIFO with no writer must not wait; a regular
      * file ignores the flag */
+    return file_read_regular_stat(path, out, NULL);
+}
+
+bool file_read_regular_stat(const char *path, Buf *out, struct stat *st)
+{
     int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0) return false;
-    return read_fd(fd, out, true);
+    return read_fd(fd, out, true, st);
 }
 
 static bool write_all(int fd, const char *p, size_t n)

@@ -23,6 +23,13 @@ bool file_read(const char *path, Buf *out);
  *   errors: as file_read(), plus EINVAL for a file that is not regular. */
 bool file_read_regular(const char *path, Buf *out);
 
+struct stat;
+/* file_read_regular(), and the status of the file it opened (fstat: its
+ * device, inode, size and times as it was opened) in *[st] (zeroed when
+ * unknown; may be NULL), so that a caller keeping the contents can tell
+ * later whether the file at [path] is still that file, unchanged. */
+bool file_read_regular_stat(const char *path, Buf *out, struct stat *st);
+
 /* Replace the file at [path] with the [len] bytes at [data] atomically
  * through outfile.h: a symbolic link is written through to its target,
  * a temporary is created exclusively (O_EXCL) next to the target with the

@@ -73,6 +73,7 @@ struct fl_runtime {
     Program *run_prog;      /* prog simplified again with stable values (stable.h), or NULL */
     StableCache *stables;   /* `let stable` values */
     NoisePerms *noise_perms; /* noise()'s permutation tables of late (builtins.h) */
+    FileMemo *file_memo;     /* the files the file built-ins read (builtins.h) */
     KernelScratch *kscratch; /* the loop kernels' registers (kernel.h) */
     bool pragmas_pending;   /* apply pragmas at the next step */
     Node *root;             /* last frame's tree */
@@ -260,6 +261,7 @@ fl_runtime *fl_new(const fl_options *opts)
     rt->modules = module_cache_new();
     rt->stables = stable_new();
     rt->noise_perms = noise_perms_new();
+    rt->file_memo = file_memo_new();
     rt->kscratch = kernel_scratch_new(!dbg->no_kernel_reuse);
     kernel_scratch_set_transient(rt->kscratch, rt->opts.transient_tree);
     pool_set_reclaim(rt->pool, kernel_scratch_reclaim, rt->kscratch, kernel_scratch_held(rt->kscratch));
@@ -319,6 +321,7 @@ void fl_free(fl_runtime *rt)
     program_release(rt->run_prog);
     stable_free(rt->stables);
     noise_perms_free(rt->noise_perms);
+    file_memo_free(rt->file_memo);
     kernel_scratch_free(rt->kscratch);
     node_release(rt->root);
     phys_free(rt->physics);
@@ -761,6 +764,7 @@ static int step(fl_runtime *rt)
         .debug = &rt->debug[rt->cur], .modules = rt->modules, .exports = &rt->scope,
         .stables = rt->globals.simplify ? rt->stables : NULL,
         .interrupt = rt->opts.interrupt, .files = &rt->files, .noise_perms = rt->noise_perms,
+        .file_memo = rt->file_memo,
         .workers = phys_workers(rt->physics), .kscratch = rt->kscratch,
     };
     exports_empty(&rt->scope);
@@ -937,7 +941,7 @@ static int eval_in_scope(fl_runtime *rt, const char *text, size_t len, Vec **val
     Eval ev = {
         .prog = p, .globals = &g, .state = rt->state, .symtab = rt->symtab,
         .errors = &errs, .debug = &debug, .modules = rt->modules, .exports = bound,
-        .interrupt = rt->opts.interrupt, .noise_perms = rt->noise_perms,
+        .interrupt = rt->opts.interrupt, .noise_perms = rt->noise_perms, .file_memo = rt->file_memo,
     };
     Vec *v = eval_program_value(&ev);
     int rc = 0;

@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -442,9 +443,8 @@ static void test_debug(void **state)
     check_no_error(fx);
 }
 
-static void test_read(void **state)
+static void read_checks(Fx *fx)
 {
-    Fx *fx = *state;
     write_text(fx, "t.txt", "a\r\nb\rc\n\xc3\xa9");
     write_file(fx, "bad.txt", "ok\xff", 3);
     write_file(fx, "empty.txt", "", 0);
@@ -465,9 +465,8 @@ static void test_read(void **state)
     check_no_error(fx);
 }
 
-static void test_csv(void **state)
+static void csv_checks(Fx *fx)
 {
-    Fx *fx = *state;
     write_text(fx, "d.csv",
                "1,2.5,x\n"
                "\"quoted, comma\",\"say \"\"hi\"\"\",3\n"
@@ -501,9 +500,8 @@ static void test_csv(void **state)
     check_error(fx, "Error calling read_csv: cannot convert float NaN to integer");
 }
 
-static void test_srt(void **state)
+static void srt_checks(Fx *fx)
 {
-    Fx *fx = *state;
     write_text(fx, "s.srt",
                "1\n"
                "00:00:01,000 --> 00:00:02,500\n"
@@ -531,6 +529,112 @@ static void test_srt(void **state)
     check(fx, call(fx, "srt", 2, str("s.srt"), NULL), "null");
     check(fx, call(fx, "srt", 2, str(""), num(1.5)), "null");
     check_no_error(fx);
+}
+
+/* The file built-ins' checks without a memo of the files read, then with
+ * one (filememo.c; no racy window, so that files just written are kept),
+ * twice: the second time from what it keeps. */
+#define WITH_AND_WITHOUT_MEMO(name)                                         \
+    static void test_##name(void **state)                                   \
+    {                                                                       \
+        Fx *fx = *state;                                                    \
+        name##_checks(fx);                                                  \
+        fx->ev.file_memo = file_memo_new();                                 \
+        assert_non_null(fx->ev.file_memo);                                  \
+        file_memo_set_window(fx->ev.file_memo, 0);                          \
+        name##_checks(fx);                                                  \
+        name##_checks(fx);                                                  \
+        file_memo_free(fx->ev.file_memo);                                   \
+        fx->ev.file_memo = NULL;                                            \
+    }
+WITH_AND_WITHOUT_MEMO(read)
+WITH_AND_WITHOUT_MEMO(csv)
+WITH_AND_WITHOUT_MEMO(srt)
+#undef WITH_AND_WITHOUT_MEMO
+
+/* Set file [name]'s modification time to [t] (its change time moves to
+ * now, as every change does). */
+static void set_mtime(Fx *fx, const char *name, struct timespec t)
+{
+    char path[256];
+    snprintf(path, sizeof path, "%s/%s", fx->dir, name);
+    struct timespec ts[2] = {t, t};
+    assert_int_equal(utimensat(AT_FDCWD, path, ts, 0), 0);
+}
+
+static struct timespec mtime_of(Fx *fx, const char *name)
+{
+    char path[256];
+    struct stat st;
+    snprintf(path, sizeof path, "%s/%s", fx->dir, name);
+    assert_int_equal(stat(path, &st), 0);
+    return st.st_mtim;
+}
+
+/* A memo hands out the same string while the file is unchanged, and what
+ * reading it afresh gives once it changed: replaced by another file,
+ * grown, shrunk, removed; a file that stops being UTF-8 and becomes it
+ * again; bytes and rows likewise. With the racy window of 2 s, a file
+ * just written is read afresh at every use: rewritten with the same size
+ * and its old modification time put back, in the same grain of the
+ * kernel's clock, it still reads as it is. */
+static void test_file_memo(void **state)
+{
+    Fx *fx = *state;
+    fx->ev.file_memo = file_memo_new();
+    file_memo_set_window(fx->ev.file_memo, 0);
+    write_text(fx, "m.txt", "one");
+    Vec *a = call(fx, "read", 1, str("m.txt")), *b = call(fx, "read", 1, str("m.txt"));
+    assert_ptr_equal(a, b);
+    check(fx, a, "\"one\"");
+    vec_release(b);
+    write_text(fx, "n.txt", "three");
+    char from[256], to[256];
+    snprintf(from, sizeof from, "%s/n.txt", fx->dir);
+    snprintf(to, sizeof to, "%s/m.txt", fx->dir);
+    assert_int_equal(rename(from, to), 0);
+    check(fx, call(fx, "read", 1, str("m.txt")), "\"three\"");
+    check(fx, call(fx, "read_bytes", 1, str("m.txt")), "116;104;114;101;101");
+    write_text(fx, "m.txt", "three\r\nfour");
+    check(fx, call(fx, "read", 1, str("m.txt")), "\"three\\nfour\"");
+    write_file(fx, "m.txt", "bad\xff", 4);
+    check(fx, call(fx, "read", 1, str("m.txt")), "null");
+    check(fx, call(fx, "read", 1, str("m.txt")), "null");
+    check(fx, call(fx, "read_bytes", 1, str("m.txt")), "98;97;100;255");
+    write_text(fx, "m.txt", "goodness");
+    check(fx, call(fx, "read", 1, str("m.txt")), "\"goodness\"");
+    assert_int_equal(unlink(to), 0);
+    check(fx, call(fx, "read", 1, str("m.txt")), "null");
+    check(fx, call(fx, "read_bytes", 1, str("m.txt")), "null");
+    write_text(fx, "r.csv", "1,2\n3,4\n");
+    check(fx, call(fx, "csv", 2, str("r.csv"), num(1.0)), "3;4");
+    write_text(fx, "r.csv", "1,2\n5,6,7\n");
+    check(fx, call(fx, "csv", 2, str("r.csv"), num(1.0)), "5;6;7");
+
+    /* the racy window */
+    file_memo_set_window(fx->ev.file_memo, INT64_C(2000000000));
+    write_text(fx, "w.txt", "one");
+    check(fx, call(fx, "read", 1, str("w.txt")), "\"one\"");
+    struct timespec t = mtime_of(fx, "w.txt");
+    write_text(fx, "w.txt", "two");
+    set_mtime(fx, "w.txt", t);
+    a = call(fx, "read", 1, str("w.txt"));
+    b = call(fx, "read", 1, str("w.txt"));
+    assert_ptr_not_equal(a, b);
+    check(fx, a, "\"two\"");
+    check(fx, b, "\"two\"");
+    /* more files than it keeps: each still reads as it is */
+    for (int i = 0; i < 40; i++) {
+        char name[32], text[32], want[40];
+        snprintf(name, sizeof name, "f%d.txt", i % 20);
+        snprintf(text, sizeof text, "%d", i);
+        write_text(fx, name, text);
+        snprintf(want, sizeof want, "\"%d\"", i);
+        check(fx, call(fx, "read", 1, str(name)), want);
+    }
+    check_no_error(fx);
+    file_memo_free(fx->ev.file_memo);
+    fx->ev.file_memo = NULL;
 }
 
 static void test_glob(void **state)
@@ -611,6 +715,7 @@ int main(void)
         T(test_read),
         T(test_csv),
         T(test_srt),
+        T(test_file_memo),
         T(test_glob),
         cmocka_unit_test(test_tables),
     };
