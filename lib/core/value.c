@@ -800,7 +800,11 @@ bool vec_contains(const Vec *x, const Vec *y)
 uint64_t vec_hash_nums(const double *x, uint32_t n, bool floor_floats)
 {
     uint64_t h = HASH_START;
-    for (uint32_t i = 0; i < n; i++) h = hash_update(h, dbits(floor_floats ? floor(x[i]) : x[i]));
+    /* (a loop each: no test of floor_floats per number) */
+    if (floor_floats)
+        for (uint32_t i = 0; i < n; i++) h = hash_update(h, dbits(floor(x[i])));
+    else
+        for (uint32_t i = 0; i < n; i++) h = hash_update(h, dbits(x[i]));
     return h;
 }
 

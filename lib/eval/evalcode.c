@@ -292,6 +292,8 @@ static uint32_t emit(CC *c, const AstNode *n)
         rec(c, off)->p.node = n;
         t = emit(c, n->a);
         ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[0] = t;
+        /* a key of constants and names alone (`:dot;i`): read directly */
+        rec(c, off)->pad = rec(c, t)->op == C_NUM && numexpr_leaves((const NumExpr *)(const void *)(rec(c, t) + 1));
         return off;
     case AST_INDEX:
         off = reserve(c, sizeof(CRec) + 2 * sizeof(uint32_t));

@@ -488,9 +488,17 @@ __attribute__((noinline)) static Vec *run_lookup(Eval *ev, const unsigned char *
     if (kr->op == C_NUM) {
         /* a computed key, looked up by its numbers (a key vector that
          * exists already, a constant's or a name's, is looked up as it
-         * is: it keeps its hash, vec_hash) */
+         * is: it keeps its hash, vec_hash); one of constants and names
+         * alone (pad 1) read without running its expression, which would
+         * give up where this does (a name not one number: the generic
+         * route then) */
         double key[RUN_NUMS_MAX];
-        uint32_t n = run_nums(ev, kr, key);
+        const NumExpr *e = (const NumExpr *)(const void *)(kr + 1);
+        uint32_t n;
+        if (!r->pad) n = run_nums(ev, kr, key);
+        else if (numexpr_outputs(e) <= RUN_NUMS_MAX && ev->depth + numexpr_depth(e) <= MAX_EVAL_DEPTH)
+            n = numexpr_run_leaves(e, ev, key);
+        else n = 0;
         if (n) return ev->state ? vec_share(state_get_nums(ev->state, key, n)) : NULL;
     }
     Vec *a = run_val(ev, base, k[0]);

@@ -114,6 +114,16 @@ static inline int32_t numexpr_lead_slot(const NumExpr *x)
     return (int32_t)((const NumExprHead *)(const void *)x)->lead - 1;
 }
 
+/* True when [x] is a sequence of constants and names alone (a state key
+ * such as `:dot;i`): numexpr_run_leaves can run it. */
+bool numexpr_leaves(const NumExpr *x);
+
+/* numexpr_run of such an [x] (numexpr_leaves), without its machine: each
+ * constant's number, and each name's, which must be one number; their
+ * count, or 0 (nothing reported) when a name holds anything else, where
+ * numexpr_run would give up. The caller checks the depth limit first. */
+uint32_t numexpr_run_leaves(const NumExpr *x, const Eval *ev, double *out);
+
 /* Most engine names a memoizable expression may read. */
 #define NUMEXPR_MEMO_KEYS 4
 

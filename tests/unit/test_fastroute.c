@@ -501,7 +501,9 @@ static void expect4_from(const char *src, int frames, const char *from, const ch
  * numbers, anything else (a string in the key, 9 or more numbers, no
  * numbers at all) as a vector, with the generic results: in frame 1 (t is
  * 1), the counters of frame 0 have set (:k;j) to 10j+(1;2;3) and ("s";1)
- * to 7; an absent key gives null (the attribute is left out); an index
+ * to 7; a key of constants and names alone (`:k;t`, `:k;frame`) is read
+ * without its expression, and one of them holding a string (`q;t`) takes
+ * the generic way; an absent key gives null (the attribute is left out); an index
  * is floored and wraps, NaN and -1e300 convert to INT32_MIN, which wraps
  * to 2 of 10. */
 static void test_lookup_and_index(void **s)
@@ -513,11 +515,12 @@ static void test_lookup_and_index(void **s)
         "!counter state=\"s\";1 initial=7 rate=0\n"
         "let t=time*60\n"
         "    v=(5;6;7;8;9;10;11;12;13;14)\n"
+        "    q=\"s\"\n"
         "!m a=$(:k;t) b=$(:k;t+1) c=$(:k;(t+2)) d=$(\"s\";t) e=$(:k;t;0) "
-        "f=$((:k;t+1;0;1;2;3;4;5;6;7)) g=$(:k;(0/0)+t) h=$(:z)\n"
+        "f=$((:k;t+1;0;1;2;3;4;5;6;7)) g=$(:k;(0/0)+t) h=$(:z) i=$(:k;frame) j=$(q;t) k=$(:k;t;t)\n"
         "!i a=v[t] b=v[t-1] c=v[t+23] d=v[t;t+1;t+2] e=v[0/0+t] f=v[t..t+10] "
         "g=v[(t;1;2;3;4;5;6;7;8;9)] h=v[t+2.5] i=v[-t-1e300] j=(:k;1)[t]\n";
-    const char *want = " !m a=11;12;13 b=21;22;23 d=7\n"
+    const char *want = " !m a=11;12;13 b=21;22;23 d=7 i=11;12;13 j=7\n"
                        " !i a=6 b=5 c=9 d=6;7;8 e=7 f=6;7;8;9;10;11;12;13;14;5 "
                        "g=6;6;7;8;9;10;11;12;13;14 h=8 i=7 j=1\n";
     expect4_from(src, 2, " !m ", want);
