@@ -138,6 +138,10 @@ typedef struct BiVecKernel {
 } BiVecKernel;
 /* [bi]'s numeric kernel, or NULL when it has none. */
 const BiVecKernel *bi_vec_kernel(const Builtin *bi);
+/* The index of [bi]'s numeric kernel among them, or -1 when it has none. */
+int bi_vec_kernel_index(const Builtin *bi);
+/* The numeric kernel of index [i] (bi_vec_kernel_index), or NULL. */
+const BiVecKernel *bi_vec_kernel_at(int i);
 
 /* Most numbers bi_call_nums takes and gives. */
 #define BI_NUMS_MAX 16
@@ -158,6 +162,14 @@ bool bi_nums_route(const Builtin *bi);
  * route, or the builtin's result is not numbers): the caller then calls
  * the builtin. Pure, no errors. */
 bool bi_call_nums(const Builtin *bi, const double *x, uint32_t n, double *out, uint32_t *nout);
+/* [bi]'s route for bi_call_nums as a small number for a caller to keep
+ * (a compiled call keeps it: evalcode.c), so that each call goes straight
+ * to its kernel instead of looking for it among the builtins' kernels; 0
+ * when it has none (bi_nums_route false). */
+uint16_t bi_nums_route_id(const Builtin *bi);
+/* bi_call_nums of the builtin whose route is [id] (bi_nums_route_id,
+ * nonzero): the same numbers, and false in the same cases. */
+bool bi_call_nums_id(uint16_t id, const double *x, uint32_t n, double *out, uint32_t *nout);
 
 /* Most arguments bi_call_nums_args takes. */
 #define BI_ARGS_MAX BI_NOISE_ARGS

@@ -138,11 +138,21 @@ static const BiVecKernel vec_kernels[] = {
     {bi_hsv, three, hsv_nums},
 };
 
-const BiVecKernel *bi_vec_kernel(const Builtin *bi)
+int bi_vec_kernel_index(const Builtin *bi)
 {
     for (size_t i = 0; i < sizeof vec_kernels / sizeof vec_kernels[0]; i++)
-        if (vec_kernels[i].fn == bi->fn) return &vec_kernels[i];
-    return NULL;
+        if (vec_kernels[i].fn == bi->fn) return (int)i;
+    return -1;
+}
+
+const BiVecKernel *bi_vec_kernel_at(int i)
+{
+    return i >= 0 && (size_t)i < sizeof vec_kernels / sizeof vec_kernels[0] ? &vec_kernels[i] : NULL;
+}
+
+const BiVecKernel *bi_vec_kernel(const Builtin *bi)
+{
+    return bi_vec_kernel_at(bi_vec_kernel_index(bi));
 }
 
 /* ------------------------------------------------------------------ */

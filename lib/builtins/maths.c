@@ -744,32 +744,58 @@ BiKernel bi_kernel(const Builtin *bi)
     return NULL;
 }
 
-bool bi_nums_route(const Builtin *bi)
+/* bi_nums_route_id's numbers: hypot; an element kernel (ROUTE_KERNEL +
+ * its index in kernels[]); a numeric kernel (ROUTE_VEC + its index,
+ * bi_vec_kernel_index) */
+#define ROUTE_HYPOT 1
+#define ROUTE_KERNEL 2
+#define ROUTE_VEC 128
+_Static_assert(ROUTE_KERNEL + sizeof kernels / sizeof kernels[0] <= ROUTE_VEC, "route numbers apart");
+
+uint16_t bi_nums_route_id(const Builtin *bi)
 {
-    return bi->fn == bi_hypot || bi_kernel(bi) || bi_vec_kernel(bi);
+    if (!bi)
+        return 0;
+    if (bi->fn == bi_hypot)
+        return ROUTE_HYPOT;
+    for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; i++)
+        if (kernels[i].fn == bi->fn)
+            return (uint16_t)(ROUTE_KERNEL + i);
+    int v = bi_vec_kernel_index(bi);
+    return v >= 0 ? (uint16_t)(ROUTE_VEC + v) : 0;
 }
 
-bool bi_call_nums(const Builtin *bi, const double *x, uint32_t n, double *out, uint32_t *nout)
+bool bi_nums_route(const Builtin *bi)
 {
-    if (n < 1 || n > BI_NUMS_MAX)
+    return bi_nums_route_id(bi) != 0;
+}
+
+bool bi_call_nums_id(uint16_t id, const double *x, uint32_t n, double *out, uint32_t *nout)
+{
+    if (n < 1 || n > BI_NUMS_MAX || !id)
         return false;
-    if (bi->fn == bi_hypot) {
+    if (id == ROUTE_HYPOT) {
         out[0] = hypot_nums(x, n);
         *nout = 1;
         return true;
     }
-    BiKernel k = bi_kernel(bi);
-    if (k) {
+    if (id < ROUTE_VEC) {
+        BiKernel k = kernels[id - ROUTE_KERNEL].kernel;
         for (uint32_t i = 0; i < n; i++)
             out[i] = k(x[i]);
         *nout = n;
         return true;
     }
-    const BiVecKernel *vk = bi_vec_kernel(bi);
+    const BiVecKernel *vk = bi_vec_kernel_at(id - ROUTE_VEC);
     if (!vk || !vk->run(x, n, out))
         return false;
     *nout = vk->nout(n);
     return true;
+}
+
+bool bi_call_nums(const Builtin *bi, const double *x, uint32_t n, double *out, uint32_t *nout)
+{
+    return bi_call_nums_id(bi_nums_route_id(bi), x, n, out, nout);
 }
 
 /* A call of map or clamp with their three arguments. */

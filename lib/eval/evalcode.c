@@ -281,6 +281,8 @@ static uint32_t emit(CC *c, const AstNode *n)
          * one with a route for them all (evalrun.c) */
         rec(c, off)->pad = n->nkids == 1 && bi_nums_route(const_builtin(n->a)) ? 1
                          : bi_args_route(const_builtin(n->a), n->nkids)       ? 2 : 0;
+        /* (pad 1: its route kept, bi_nums_route_id) */
+        rec(c, off)->aux = rec(c, off)->pad == 1 ? bi_nums_route_id(const_builtin(n->a)) : 0;
         for (uint32_t i = 0; i < n->nkids; i++) {
             t = emit(c, n->kids[i]);
             ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[i] = t;

@@ -425,7 +425,7 @@ __attribute__((noinline)) static Vec *run_callbi(Eval *ev, const unsigned char *
     } else if (r->pad) {
         double x[RUN_NUMS_MAX], y[BI_NUMS_MAX];
         uint32_t nx, ny;
-        if (arg_nums(ev, base, k[0], x, &nx) && bi_call_nums(r->p.bi, x, nx, y, &ny)) return nums_vec(y, ny);
+        if (arg_nums(ev, base, k[0], x, &nx) && bi_call_nums_id(r->aux, x, nx, y, &ny)) return nums_vec(y, ny);
     }
     Vec *args[8];
     for (uint32_t i = 0; i < r->n; i++) args[i] = run_val(ev, base, k[i]);
