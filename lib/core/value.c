@@ -905,6 +905,17 @@ static uint32_t wrap(int64_t j, uint32_t n)
     return (uint32_t)m;
 }
 
+/* Element wrap(index32(k) or index64(k), n) of a vector of [n] (>= 1):
+ * an index from 0 up to the length (and below 2**31, where index32's
+ * conversion holds) is its own floor's element, the truncation, without
+ * floor() and the range tests; any other (negative, too large, NaN) takes
+ * them. */
+static inline uint32_t element_of(double k, uint32_t n, bool literal)
+{
+    if (k >= 0.0 && k < (double)n && k < 2147483648.0) return (uint32_t)k;
+    return wrap(literal ? index64(k) : index32(k), n);
+}
+
 void stream_index_into(StreamKind kind, uint64_t key, const double *k, uint32_t ni, double *out)
 {
     for (uint32_t i = 0; i < ni; i++) {
@@ -948,10 +959,9 @@ Vec *vec_index_nums(const Vec *src, const double *k, uint32_t ni, bool literal)
     if (!n) return NULL;
     if (src->kind == VEC_NUM) {
         Vec *r = vec_new_num(ni);
-        for (uint32_t i = 0; i < ni; i++) {
-            int64_t j = literal ? index64(k[i]) : index32(k[i]);
-            vec_nums(r)[i] = vec_cnums(src)[wrap(j, n)];
-        }
+        const double *s = vec_cnums(src);
+        double *d = vec_nums(r);
+        for (uint32_t i = 0; i < ni; i++) d[i] = s[element_of(k[i], n, literal)];
         return r;
     }
     Vec *r = vec_new_obj(ni);
@@ -970,8 +980,7 @@ bool vec_index_num1(const Vec *src, double k, bool literal, double *out)
         return true;
     }
     if (!src || src->kind != VEC_NUM || !src->len) return false;
-    int64_t j = literal ? index64(k) : index32(k);
-    *out = vec_cnums(src)[wrap(j, src->len)];
+    *out = vec_cnums(src)[element_of(k, src->len, literal)];
     return true;
 }
 

@@ -144,6 +144,19 @@ static void test_indexing(void **s)
     vec_release(r);
     /* item wraps around */
     assert_nums(vec_item(v, 4), 1, 20.0);
+    /* indexes as numbers, in range (truncated) and out of it (floored,
+     * wrapped; NaN and 1e10 convert to INT32_MIN, 2**31 too unless the
+     * index is a literal range, 64-bit: INT32_MIN wraps to 1 of 3, 1e10 to
+     * 1, 2**31 to 2) */
+    const double k[] = {2.9, -0.0, 3.0, -0.5, NAN, 1e10, 2147483648.0, 2147483647.5, 0.0, 4.5e15};
+    assert_nums(vec_index_nums(v, k, 10, false), 10, 30.0, 10.0, 10.0, 30.0, 20.0, 20.0, 20.0, 20.0, 10.0,
+                20.0);
+    assert_nums(vec_index_nums(v, k, 10, true), 10, 30.0, 10.0, 10.0, 30.0, 20.0, 20.0, 30.0, 20.0, 10.0,
+                10.0);
+    double y;
+    assert_true(vec_index_num1(v, 2147483647.5, false, &y) && y == 20.0);
+    assert_true(vec_index_num1(v, 2147483648.0, true, &y) && y == 30.0);
+    assert_true(vec_index_num1(v, -1e-300, false, &y) && y == 30.0);
     vec_release(parts[0]); vec_release(mixed);
     vec_release(v); vec_release(m1); vec_release(f); vec_release(five); vec_release(three); vec_release(r3);
 }
