@@ -151,13 +151,6 @@ Vec *parts_finish(Eval *ev, Parts *p)
     return r;
 }
 
-void set_slot(Eval *ev, int32_t slot, Vec *v_take)
-{
-    Vec *old = ev->frame[slot];
-    ev->frame[slot] = v_take;
-    vec_release(old);
-}
-
 /* Bind names of [b] (AST_BINDING or AST_FOR) to [v]: one name takes the
  * whole vector, several unpack with wrap-around (§4.4). Consumes [v]. */
 static void bind_unpack(Eval *ev, const AstNode *b, Vec *v)

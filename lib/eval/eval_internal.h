@@ -54,7 +54,12 @@ static inline bool stop_requested(Eval *ev)
 }
 
 /* Bind slot [slot] of the current frame to [v_take] (consumed). */
-void set_slot(Eval *ev, int32_t slot, Vec *v_take);
+static inline void set_slot(Eval *ev, int32_t slot, Vec *v_take)
+{
+    Vec *old = ev->frame[slot];
+    ev->frame[slot] = v_take;
+    vec_release(old);
+}
 
 /* Bind the [j]-th name of the AST_FOR [n] to item p + j of [src]
  * (borrowed; null past its end), as the loop's iteration from item [p]
