@@ -545,9 +545,17 @@ bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
         /* vec_arith: the longer length (every vector here has the same),
          * a one-number operand repeated */
         case NX_ADD: case NX_SUB: case NX_MUL: case NX_DIV: case NX_FLOORDIV: case NX_MOD: case NX_POW:
-            /* (written over a's numbers: a is the longer or one number) */
+            /* (written over a's numbers: a is the longer or one number;
+             * + - * of two vectors of one length here, without the call) */
             a = t - 1;
-            num_arith_into((ArithOp)(OP_ADD + (i->op - NX_ADD)), a->v, a->p, a->n, t->p, t->n);
+            if (a->n == t->n && i->op <= NX_MUL) {
+                const double *p = a->p, *q = t->p;
+                if (i->op == NX_ADD) for (uint32_t k = 0; k < a->n; k++) a->v[k] = p[k] + q[k];
+                else if (i->op == NX_SUB) for (uint32_t k = 0; k < a->n; k++) a->v[k] = p[k] - q[k];
+                else for (uint32_t k = 0; k < a->n; k++) a->v[k] = p[k] * q[k];
+            } else {
+                num_arith_into((ArithOp)(OP_ADD + (i->op - NX_ADD)), a->v, a->p, a->n, t->p, t->n);
+            }
             a->n = a->n > t->n ? a->n : t->n;
             a->p = a->v;
             t = a;
@@ -604,7 +612,8 @@ bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
             break;
         }
         case NX_END:
-            memcpy(out, t->p, t->n * sizeof(double));
+            /* (a few numbers: a call of memcpy costs more) */
+            for (uint32_t k = 0; k < t->n; k++) out[k] = t->p[k];
             *nout = t->n;
             return true;
         default:   /* NX_REG: registers hold one number each */
