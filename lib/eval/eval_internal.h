@@ -31,9 +31,11 @@ Vec *run_num_vec(Eval *ev, const NumExpr *x);
 static inline Vec *run_num(Eval *ev, const AstNode *n, const NumExpr *x)
 {
     if (ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH) {
-        /* (a vector read first: numexpr_run would give up at once) */
-        const int32_t lead = numexpr_lead_slot(x);
-        if (lead < 0 || vec_is_scalar(ev->frame[lead])) {
+        double y;
+        if (numexpr_small(x)) {
+            if (numexpr_run_small(x, ev, &y)) return vec_num1(y);
+        } else if (numexpr_lead_slot(x) < 0 || vec_is_scalar(ev->frame[numexpr_lead_slot(x)])) {
+            /* (a vector read first: numexpr_run would give up at once) */
             Vec *v = vec_new_num(numexpr_outputs(x));
             if (numexpr_run(x, ev, vec_nums(v))) return v;
             vec_release(v);

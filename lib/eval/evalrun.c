@@ -340,9 +340,13 @@ static inline __attribute__((always_inline)) uint32_t run_nums(Eval *ev, const C
         const NumExpr *e = (const NumExpr *)(const void *)(x + 1);
         uint32_t n = numexpr_outputs(e);
         if (n > RUN_NUMS_MAX || ev->depth + numexpr_depth(e) > MAX_EVAL_DEPTH) return 0;
-        /* (a vector read first: numexpr_run would give up at once) */
-        const int32_t lead = numexpr_lead_slot(e);
-        if ((lead < 0 || vec_is_scalar(ev->frame[lead])) && numexpr_run(e, ev, out)) return n;
+        if (numexpr_small(e)) {
+            if (numexpr_run_small(e, ev, out)) return 1;
+        } else {
+            /* (a vector read first: numexpr_run would give up at once) */
+            const int32_t lead = numexpr_lead_slot(e);
+            if ((lead < 0 || vec_is_scalar(ev->frame[lead])) && numexpr_run(e, ev, out)) return n;
+        }
         return numexpr_run_vec(e, ev, out, &n) ? n : 0;
     }
     default: return 0;

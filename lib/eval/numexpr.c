@@ -67,6 +67,9 @@ _Static_assert(sizeof(NxIns) == NUMEXPR_INS_SIZE && offsetof(NumExpr, ins) == NU
  * Compiling
  * ==================================================================== */
 
+static bool small_form(const NumExpr *x);
+static double compare(uint8_t op, double x, double y);
+
 typedef struct Nx {
     NxIns *ins;
     uint32_t n, cap;
@@ -308,6 +311,7 @@ bool numexpr_compile(AstNode *n)
     x->h.depth = depth;
     x->h.lead = c.ins[0].op == NX_LOCAL ? (uint32_t)c.ins[0].arg + 1 : 0;
     memcpy(x->ins, c.ins, c.n * sizeof(NxIns));
+    if (small_form(x)) x->h.lead |= NUMEXPR_SMALL;
     free(c.ins);
     n->aux = x;
     n->aux_free = free;
@@ -319,6 +323,70 @@ bool numexpr_compile(AstNode *n)
 /* ====================================================================
  * Running
  * ==================================================================== */
+
+static bool is_leaf(uint8_t op) { return op == NX_CONST || op == NX_LOCAL || op == NX_GLOBAL; }
+
+/* numexpr_small's forms: [leaf, op k | neg | square, END] and
+ * [leaf, leaf, + - * / cmp, END], one output */
+static bool small_form(const NumExpr *x)
+{
+    const NxIns *i = x->ins;
+    if (x->h.nout != 1) return false;
+    if (x->h.nins == 3)
+        return is_leaf(i[0].op) &&
+               ((i[1].op >= NX_ADDK && i[1].op <= NX_DIVK) || i[1].op == NX_NEG || i[1].op == NX_SQUARE);
+    return x->h.nins == 4 && is_leaf(i[0].op) && is_leaf(i[1].op) &&
+           (i[2].op == NX_ADD || i[2].op == NX_SUB || i[2].op == NX_MUL || i[2].op == NX_DIV || i[2].op == NX_CMP);
+}
+
+/* A leaf's number into *[y]; false where numexpr_exec gives up (a name
+ * not one number) */
+static inline bool leaf_num(const NxIns *i, const Eval *ev, double *y)
+{
+    const Vec *v;
+    if (i->op == NX_CONST) {
+        *y = i->k;
+        return true;
+    }
+    if (i->op == NX_LOCAL) v = ev->frame[i->arg];
+    else if (!ev->globals) return false;
+    else v = ev->globals->values[i->arg];
+    if (!vec_is_scalar(v)) return false;
+    *y = vec_cnums(v)[0];
+    return true;
+}
+
+int numexpr_run_small(const NumExpr *x, const Eval *ev, double *out)
+{
+    const NxIns *i = x->ins;
+    double a, b;
+    if (!leaf_num(&i[0], ev, &a)) return 0;
+    if (x->h.nins == 3) {
+        /* numexpr_exec's l_addk .. l_divk, l_neg, l_square */
+        switch (i[1].op) {
+        case NX_ADDK: *out = a + i[1].k; break;
+        case NX_SUBK: *out = a - i[1].k; break;
+        case NX_MULK: *out = a * i[1].k; break;
+        case NX_DIVK: *out = a / i[1].k; break;
+        case NX_NEG: *out = -a; break;
+        default: *out = a * a; break;
+        }
+        return 1;
+    }
+    if (!leaf_num(&i[1], ev, &b)) return 0;
+    switch (i[2].op) {
+    case NX_ADD: *out = a + b; break;
+    case NX_SUB: *out = a - b; break;
+    case NX_MUL: *out = a * b; break;
+    case NX_DIV: *out = a / b; break;
+    default:
+        /* l_cmp's */
+        if (isnan(a) || isnan(b)) return 0;
+        *out = compare(i[2].sub, a, b);
+        break;
+    }
+    return 1;
+}
 
 bool numexpr_leaves(const NumExpr *x)
 {

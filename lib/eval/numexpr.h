@@ -77,7 +77,8 @@ typedef struct NumExprHead {
     uint32_t nout;      /* numbers produced */
     uint32_t depth;     /* generic eval_node nesting of the subtree */
     uint32_t lead;      /* 1 + the frame slot the first instruction reads
-                           (NX_LOCAL), or 0 (numexpr_lead_slot) */
+                           (NX_LOCAL), or 0 (numexpr_lead_slot); and
+                           NUMEXPR_SMALL (numexpr_small) */
 } NumExprHead;
 
 /* Bytes of the head (padded) and of each instruction (numexpr.c checks). */
@@ -109,10 +110,25 @@ static inline uint32_t numexpr_depth(const NumExpr *x)
  * first. numexpr_run gives up at once when that slot holds anything but
  * one number: a caller with a vector there may go to numexpr_run_vec
  * without trying (the same result, without numexpr_run's entry and exit). */
+#define NUMEXPR_SMALL 0x80000000u
 static inline int32_t numexpr_lead_slot(const NumExpr *x)
 {
-    return (int32_t)((const NumExprHead *)(const void *)x)->lead - 1;
+    return (int32_t)(((const NumExprHead *)(const void *)x)->lead & ~NUMEXPR_SMALL) - 1;
 }
+
+/* True when [x] is one operation on one or two constants or names: `i+1`,
+ * `d < D`, `-x`, `a*b` (+ - * / and the comparisons; with a constant
+ * operand, + - * /; negation, squaring), which numexpr_run_small runs. */
+static inline bool numexpr_small(const NumExpr *x)
+{
+    return ((const NumExprHead *)(const void *)x)->lead & NUMEXPR_SMALL;
+}
+
+/* numexpr_run of a small [x] (numexpr_small) without its machine: the
+ * same number into *[out] (1); 0 where numexpr_run gives up (a name not
+ * one number, a comparison meeting a NaN). The caller checks the depth
+ * limit first. */
+int numexpr_run_small(const NumExpr *x, const Eval *ev, double *out);
 
 /* True when [x] is a sequence of constants and names alone (a state key
  * such as `:dot;i`): numexpr_run_leaves can run it. */

@@ -657,6 +657,49 @@ static void test_route_taken(void **s)
     symtab_free(st);
 }
 
+/* How many compiled expressions (fast == 1) of [n]'s tree are small
+ * (numexpr_small), and how many are not. */
+static void count_small(const AstNode *n, int *small, int *other)
+{
+    if (!n) return;
+    if (n->fast == 1 && n->aux) {
+        if (numexpr_small(numexpr_of(n))) ++*small;
+        else ++*other;
+    }
+    count_small(n->a, small, other);
+    count_small(n->b, small, other);
+    count_small(n->c, small, other);
+    for (uint32_t i = 0; i < n->nkids; i++) count_small(n->kids[i], small, other);
+}
+
+/* One operation on one or two constants or names is compiled as small
+ * (numexpr_run_small runs it): `time+1`, `time<2`, `-time`, `time*time`,
+ * `time/beat`; `(time+1)*2` and `sin(time)` are not. Their values on the
+ * four routes are test_arithmetic's and test_comparisons'. */
+static void test_small_expressions(void **s)
+{
+    (void)s;
+    const char *src = "!a b=time+1 c=(time+1)*2 d=time<2 e=-time f=time*time g=time/beat h=sin(time)\n";
+    SymTab *st = symtab_new();
+    Buf err = BUF_INIT;
+    Globals g = {0};
+    globals_add(&g, "time");
+    globals_add(&g, "beat");
+    Program *p = program_load_text("t.fl", src, strlen(src), &g, st, &err);
+    assert_non_null(p);
+    int small = 0, other = 0;
+    count_small(p->top, &small, &other);
+    assert_int_equal(small, 5);
+    assert_int_equal(other, 2);
+    program_release(p);
+    globals_free(&g);
+    buf_free(&err);
+    symtab_free(st);
+    expect4("!a b=time+1 d=time<2 e=-time f=(time+3)*(time+3) g=(time+1)/(time+4) i=time-5 j=10/(time+2) "
+            "k=time>=0 l=time!=time m=(0/0+time)==(0/0+time)\n",
+            "!root\n !a b=1 d=1 e=0 f=9 g=0.25 i=-5 j=5 k=1 l=0 m=0\n");
+}
+
 /* The first compiled sequence (AST_SEQUENCE, fast == 1) of [n]'s tree. */
 static const AstNode *compiled_sequence(const AstNode *n)
 {
@@ -730,6 +773,7 @@ int main(void)
         cmocka_unit_test(test_long_sequences),
         cmocka_unit_test(test_constant_vectors_in_sequences),
         cmocka_unit_test(test_route_taken),
+        cmocka_unit_test(test_small_expressions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
