@@ -341,7 +341,11 @@ static inline __attribute__((always_inline)) uint32_t run_nums(Eval *ev, const C
         uint32_t n = numexpr_outputs(e);
         if (n > RUN_NUMS_MAX || ev->depth + numexpr_depth(e) > MAX_EVAL_DEPTH) return 0;
         if (numexpr_small(e)) {
-            if (numexpr_run_small(e, ev, out)) return 1;
+            const NxSmall y = numexpr_run_small(e, ev);
+            if (y.ok) {
+                out[0] = y.v;
+                return 1;
+            }
         } else {
             /* (a vector read first: numexpr_run would give up at once) */
             const int32_t lead = numexpr_lead_slot(e);
@@ -568,21 +572,42 @@ __attribute__((noinline)) static Vec *run_index(Eval *ev, const unsigned char *b
     return v;
 }
 
+/* The truth of the condition record at [off] from its numbers, when
+ * run_nums gives them: 1 or 0 (vec_truthy's: a number not 0, a NaN too,
+ * which is unequal to 0); -1 when it does not (the caller evaluates the
+ * condition). Kept out of run_if's frame (its array): run_if is on every
+ * level of a deep chain of ifs, up to MAX_EVAL_DEPTH. */
+__attribute__((noinline)) static int cond_nums(Eval *ev, const unsigned char *base, uint32_t off)
+{
+    double x[RUN_NUMS_MAX];
+    const uint32_t n = run_nums(ev, crec(base, off), x);
+    if (!n) return -1;
+    for (uint32_t j = 0; j < n; j++)
+        if (x[j] != 0.0) return 1;
+    return 0;
+}
+
 /* C_IF: eval_ifelse */
 __attribute__((noinline)) static Vec *run_if(Eval *ev, const unsigned char *base, const CRec *r)
 {
     const uint32_t *k = rec_offs(r);
     for (uint32_t i = 0; i < r->n; i++) {
-        double x[RUN_NUMS_MAX];
-        uint32_t n = run_nums(ev, crec(base, k[2 * i]), x);
-        bool t = false;
-        if (n) {
-            /* vec_truthy's (a NaN is unequal to 0 too) */
-            for (uint32_t j = 0; j < n && !t; j++) t = x[j] != 0.0;
-        } else {
-            Vec *c = run_val(ev, base, k[2 * i]);
-            t = vec_truthy(c);
-            vec_release(c);
+        /* a small condition (`d < D`) here, else cond_nums */
+        const CRec *cr = crec(base, k[2 * i]);
+        int c = -1;
+        if (cr->op == C_NUM) {
+            const NumExpr *e = (const NumExpr *)(const void *)(cr + 1);
+            if (numexpr_small(e) && ev->depth + numexpr_depth(e) <= MAX_EVAL_DEPTH) {
+                const NxSmall y = numexpr_run_small(e, ev);
+                if (y.ok) c = y.v != 0.0;
+            }
+        }
+        if (c < 0) c = cond_nums(ev, base, k[2 * i]);
+        bool t = c > 0;
+        if (c < 0) {
+            Vec *v = run_val(ev, base, k[2 * i]);
+            t = vec_truthy(v);
+            vec_release(v);
         }
         if (t) return run_val(ev, base, k[2 * i + 1]);
     }

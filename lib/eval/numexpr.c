@@ -356,36 +356,36 @@ static inline bool leaf_num(const NxIns *i, const Eval *ev, double *y)
     return true;
 }
 
-int numexpr_run_small(const NumExpr *x, const Eval *ev, double *out)
+NxSmall numexpr_run_small(const NumExpr *x, const Eval *ev)
 {
     const NxIns *i = x->ins;
-    double a, b;
-    if (!leaf_num(&i[0], ev, &a)) return 0;
+    double a, b, y;
+    if (!leaf_num(&i[0], ev, &a)) return (NxSmall){0.0, false};
     if (x->h.nins == 3) {
         /* numexpr_exec's l_addk .. l_divk, l_neg, l_square */
         switch (i[1].op) {
-        case NX_ADDK: *out = a + i[1].k; break;
-        case NX_SUBK: *out = a - i[1].k; break;
-        case NX_MULK: *out = a * i[1].k; break;
-        case NX_DIVK: *out = a / i[1].k; break;
-        case NX_NEG: *out = -a; break;
-        default: *out = a * a; break;
+        case NX_ADDK: y = a + i[1].k; break;
+        case NX_SUBK: y = a - i[1].k; break;
+        case NX_MULK: y = a * i[1].k; break;
+        case NX_DIVK: y = a / i[1].k; break;
+        case NX_NEG: y = -a; break;
+        default: y = a * a; break;
         }
-        return 1;
+        return (NxSmall){y, true};
     }
-    if (!leaf_num(&i[1], ev, &b)) return 0;
+    if (!leaf_num(&i[1], ev, &b)) return (NxSmall){0.0, false};
     switch (i[2].op) {
-    case NX_ADD: *out = a + b; break;
-    case NX_SUB: *out = a - b; break;
-    case NX_MUL: *out = a * b; break;
-    case NX_DIV: *out = a / b; break;
+    case NX_ADD: y = a + b; break;
+    case NX_SUB: y = a - b; break;
+    case NX_MUL: y = a * b; break;
+    case NX_DIV: y = a / b; break;
     default:
         /* l_cmp's */
-        if (isnan(a) || isnan(b)) return 0;
-        *out = compare(i[2].sub, a, b);
+        if (isnan(a) || isnan(b)) return (NxSmall){0.0, false};
+        y = compare(i[2].sub, a, b);
         break;
     }
-    return 1;
+    return (NxSmall){y, true};
 }
 
 bool numexpr_leaves(const NumExpr *x)

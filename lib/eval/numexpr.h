@@ -125,10 +125,16 @@ static inline bool numexpr_small(const NumExpr *x)
 }
 
 /* numexpr_run of a small [x] (numexpr_small) without its machine: the
- * same number into *[out] (1); 0 where numexpr_run gives up (a name not
- * one number, a comparison meeting a NaN). The caller checks the depth
- * limit first. */
-int numexpr_run_small(const NumExpr *x, const Eval *ev, double *out);
+ * same number (.ok true), or .ok false where numexpr_run gives up (a name
+ * not one number, a comparison meeting a NaN). Returned by value (in
+ * registers): a caller on every level of the evaluator's recursion keeps
+ * no address-taken local for it. The caller checks the depth limit
+ * first. */
+typedef struct NxSmall {
+    double v;
+    bool ok;
+} NxSmall;
+NxSmall numexpr_run_small(const NumExpr *x, const Eval *ev);
 
 /* True when [x] is a sequence of constants and names alone (a state key
  * such as `:dot;i`): numexpr_run_leaves can run it. */
