@@ -349,13 +349,12 @@ static void test_arith_routes(void **st)
         for (size_t c = 0; c < sizeof lens / sizeof lens[0]; c++) {
             const uint32_t na = lens[c][0], nb = lens[c][1], n = na > nb ? na : nb;
             for (int rep = 0; rep < 4; rep++) {
-                for (uint32_t i = 0; i < 128; i++) {
+                for (uint32_t i = 0; i < 256; i++) {
                     seed = seed * UINT64_C(6364136223846793005) + UINT64_C(1442695040888963407);
                     uint32_t u = (uint32_t)(seed >> 33);
                     double x = (u % 4 == 0) ? special[u / 4 % nspecial] : ((double)(u % 20001) - 10000.0) / 64.0;
-                    if (i % 2) xb[i / 2 + 64] = x;
+                    if (i % 2) xb[i / 2] = i % 8 == 1 ? -x / 3.0 : x;
                     else xa[i / 2] = x;
-                    if (i < 64) xb[i] = -x / 3.0;
                 }
                 for (uint32_t i = 0; i < n; i++) w[i] = num_arith((ArithOp)op, xa[i % na], xb[i % nb]);
                 num_arith_into((ArithOp)op, r, xa, na, xb, nb);
