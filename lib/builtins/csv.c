@@ -4,8 +4,11 @@
  * module (excel dialect: ',' separators, '"' quoting with "" for a quote,
  * records ending at "\n", "\r\n" or "\r", a blank line being an empty
  * record); each cell that Python's float() accepts becomes a number,
- * trailing empty cells are dropped, and row floor(row) is returned. The file
- * is read afresh on every call.
+ * trailing empty cells are dropped, and row floor(row) is returned. A
+ * runtime keeps the file's bytes while it is unchanged (filememo.c) and,
+ * with them, the rows parsed so far (CsvRows), as Flitter keeps its parsed
+ * rows: a loop over a table's rows parses each row once, not the file from
+ * the top for every row.
  */
 #include <errno.h>
 #include <math.h>
@@ -16,6 +19,7 @@
 #include "context.h"
 #include "fileio.h"
 #include "files.h"
+#include "mem.h"
 #include "utf8.h"
 
 /* ------------------------------------------------------------------ */
@@ -167,6 +171,51 @@ static Vec *csv_row_value(const StrList *fields)
     return vec_normalize_take(r);
 }
 
+struct CsvRows {
+    Csv c;              /* the parser, after the last row kept */
+    Vec **row;          /* the rows' values so far (NULL: an empty row) */
+    size_t n, cap;
+    bool done;          /* the data ended */
+};
+
+static CsvRows *csv_rows_new(const char *s, size_t n)
+{
+    CsvRows *r = mem_calloc(1, sizeof *r);
+    r->c = (Csv){s, n, 0, CSV_START_RECORD, BUF_INIT, {NULL, 0, 0}};
+    return r;
+}
+
+void csv_rows_free(CsvRows *r)
+{
+    if (!r)
+        return;
+    for (size_t i = 0; i < r->n; i++)
+        vec_release(r->row[i]);
+    free(r->row);
+    strlist_free(&r->c.fields);
+    buf_free(&r->c.field);
+    free(r);
+}
+
+/* Row [row] (>= 0) of [r], a new reference (NULL: an empty row, or past
+ * the end), parsing on from the last row kept; the parse stops, keeping
+ * what it has, when the evaluation is interrupted (null then). */
+static Vec *csv_rows_get(Eval *ev, CsvRows *r, int64_t row)
+{
+    while ((int64_t)r->n <= row && !r->done) {
+        if ((r->n & 1023) == 1023 && eval_interrupted(ev))
+            return NULL;
+        if (!csv_next(&r->c)) {
+            r->done = true;
+            break;
+        }
+        if (r->n == r->cap)
+            r->row = mem_realloc_array(r->row, r->cap = r->cap ? 2 * r->cap : 64, sizeof *r->row);
+        r->row[r->n++] = csv_row_value(&r->c.fields);
+    }
+    return row < (int64_t)r->n ? vec_retain(r->row[row]) : NULL;
+}
+
 /* The row number argument as Python's `match(1, int)` takes it: *[ok]
  * false means null; a message in *[err] means an error. */
 static int64_t csv_row_number(const Vec *v, const SymTab *st, bool *ok, const char **err)
@@ -219,7 +268,14 @@ Vec *bi_csv(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
         resolve_path(ev, buf_cstr(&name), &path);
         const char *bytes;
         size_t len;
-        if (file_memo_bytes(eval_file_memo(ev), buf_cstr(&path), &data, &bytes, &len)) {
+        CsvRows **rows;
+        const bool got = file_memo_bytes_rows(eval_file_memo(ev), buf_cstr(&path), &data, &bytes, &len, &rows);
+        if (got && rows) {
+            /* the memo's bytes: its rows */
+            if (!*rows)
+                *rows = csv_rows_new(bytes, len);
+            r = csv_rows_get(ev, *rows, row);
+        } else if (got) {
             Csv c = {bytes, len, 0, CSV_START_RECORD, BUF_INIT, {NULL, 0, 0}};
             int64_t k = 0;
             while (csv_next(&c)) {

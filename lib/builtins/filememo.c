@@ -44,6 +44,7 @@ typedef struct FileMemoEntry {
     Vec *text;              /* read()'s string of them, once made */
     bool text_done;         /* text made (NULL: not strict UTF-8) */
     bool racy;              /* changed within the window before it was read */
+    CsvRows *rows;          /* csv()'s rows of the bytes, or NULL */
     uint64_t used;          /* the memo's clock at its last use */
 } FileMemoEntry;
 
@@ -77,6 +78,7 @@ static bool racy(const struct stat *st, struct timespec now, int64_t window)
 
 static void entry_clear(FileMemoEntry *e)
 {
+    csv_rows_free(e->rows);
     free(e->path);
     buf_free(&e->data);
     vec_release(e->text);
@@ -144,8 +146,15 @@ static FileMemoEntry *lookup(FileMemo *m, const char *path, bool *big)
 
 bool file_memo_bytes(FileMemo *m, const char *path, Buf *scratch, const char **data, size_t *len)
 {
+    return file_memo_bytes_rows(m, path, scratch, data, len, NULL);
+}
+
+bool file_memo_bytes_rows(FileMemo *m, const char *path, Buf *scratch, const char **data, size_t *len,
+                          CsvRows ***rows)
+{
     bool big = false;
     FileMemoEntry *e = m ? lookup(m, path, &big) : NULL;
+    if (rows) *rows = e ? &e->rows : NULL;
     if (e) {
         *data = e->data.data ? e->data.data : "";
         *len = e->data.len;

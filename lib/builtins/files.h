@@ -62,6 +62,17 @@ bool read_text_file(const char *path, Buf *out);
  * borrowed until the next call on [m] or until [scratch] is freed. False,
  * with errno as file_read_regular's, when the file cannot be read. */
 bool file_memo_bytes(FileMemo *m, const char *path, Buf *scratch, const char **data, size_t *len);
+
+/* csv()'s rows of a file's bytes, parsed as they are asked for (csv.c). */
+typedef struct CsvRows CsvRows;
+/* Free [r] (NULL is a no-op): the rows kept and the parser. */
+void csv_rows_free(CsvRows *r);
+/* file_memo_bytes, and, when the bytes come from [m], in *[rows] the
+ * memo's slot for csv()'s rows of them (NULL otherwise): a slot the caller
+ * fills, which the memo frees (csv_rows_free) with the bytes, once the
+ * file changed. */
+bool file_memo_bytes_rows(FileMemo *m, const char *path, Buf *scratch, const char **data, size_t *len,
+                          CsvRows ***rows);
 /* read()'s string of the file [path] (read_text_file's text), a new
  * reference: from [m] while the file is unchanged (the same vector each
  * time), else read now; NULL with *[ok] false, and errno as

@@ -574,7 +574,7 @@ static struct timespec mtime_of(Fx *fx, const char *name)
 /* A memo hands out the same string while the file is unchanged, and what
  * reading it afresh gives once it changed: replaced by another file,
  * grown, shrunk, removed; a file that stops being UTF-8 and becomes it
- * again; bytes and rows likewise. With the racy window of 2 s, a file
+ * again; bytes and rows likewise, a table's rows asked for in any order. With the racy window of 2 s, a file
  * just written is read afresh at every use: rewritten with the same size
  * and its old modification time put back, in the same grain of the
  * kernel's clock, it still reads as it is. */
@@ -610,6 +610,22 @@ static void test_file_memo(void **state)
     check(fx, call(fx, "csv", 2, str("r.csv"), num(1.0)), "3;4");
     write_text(fx, "r.csv", "1,2\n5,6,7\n");
     check(fx, call(fx, "csv", 2, str("r.csv"), num(1.0)), "5;6;7");
+
+    /* a table's rows, kept as they are parsed, in any order, and parsed
+     * afresh once the file changed */
+    Buf table = BUF_INIT;
+    for (int i = 0; i < 3000; i++)
+        buf_printf(&table, "%d,r%d\n", i, i);
+    write_text(fx, "t.csv", buf_cstr(&table));
+    check(fx, call(fx, "csv", 2, str("t.csv"), num(2999.0)), "2999;\"r2999\"");
+    check(fx, call(fx, "csv", 2, str("t.csv"), num(5.0)), "5;\"r5\"");
+    check(fx, call(fx, "csv", 2, str("t.csv"), num(3000.0)), "null");
+    check(fx, call(fx, "csv", 2, str("t.csv"), num(1234.5)), "1234;\"r1234\"");
+    buf_printf(&table, "x\n");
+    write_text(fx, "t.csv", buf_cstr(&table));
+    check(fx, call(fx, "csv", 2, str("t.csv"), num(3000.0)), "\"x\"");
+    check(fx, call(fx, "csv", 2, str("t.csv"), num(7.0)), "7;\"r7\"");
+    buf_free(&table);
 
     /* the racy window */
     file_memo_set_window(fx->ev.file_memo, INT64_C(2000000000));
