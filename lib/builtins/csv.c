@@ -269,7 +269,7 @@ Vec *bi_csv(Eval *ev, const Builtin *bi, int nargs, Vec *const *args)
         const char *bytes;
         size_t len;
         CsvRows **rows;
-        const bool got = file_memo_bytes_rows(eval_file_memo(ev), buf_cstr(&path), &data, &bytes, &len, &rows);
+        const bool got = file_memo_bytes(eval_file_memo(ev), buf_cstr(&path), &data, &bytes, &len, &rows);
         if (got && rows) {
             /* the memo's bytes: its rows */
             if (!*rows)

@@ -118,9 +118,8 @@ static FileMemoEntry *lookup(FileMemo *m, const char *path, bool *big)
         e->used = m->clock;
         return e;
     }
-    if (e) entry_clear(e);
-    else e = victim;
-    if (e->path) entry_clear(e);
+    if (!e) e = victim;
+    entry_clear(e);
     Buf data = BUF_INIT;
     struct stat st;
     struct timespec read_at;
@@ -144,13 +143,8 @@ static FileMemoEntry *lookup(FileMemo *m, const char *path, bool *big)
     return e;
 }
 
-bool file_memo_bytes(FileMemo *m, const char *path, Buf *scratch, const char **data, size_t *len)
-{
-    return file_memo_bytes_rows(m, path, scratch, data, len, NULL);
-}
-
-bool file_memo_bytes_rows(FileMemo *m, const char *path, Buf *scratch, const char **data, size_t *len,
-                          CsvRows ***rows)
+bool file_memo_bytes(FileMemo *m, const char *path, Buf *scratch, const char **data, size_t *len,
+                     CsvRows ***rows)
 {
     bool big = false;
     FileMemoEntry *e = m ? lookup(m, path, &big) : NULL;
@@ -167,45 +161,44 @@ bool file_memo_bytes_rows(FileMemo *m, const char *path, Buf *scratch, const cha
     return true;
 }
 
-/* read_text_file's decoding of [len] bytes at [s] into [out]: false when
- * they are not strict UTF-8. */
-static bool decode_text(const char *s, size_t len, Buf *out)
+/* read()'s string of the [len] bytes at [s] (strict UTF-8, universal
+ * newlines: "\r\n" and "\r" become "\n"); NULL when they are not strict
+ * UTF-8. */
+static Vec *text_vec(const char *s, size_t len)
 {
-    if (!utf8_all_valid(s, len)) return false;
-    /* universal newlines: runs without a carriage return copied whole */
+    if (!utf8_all_valid(s, len)) return NULL;
+    Buf out = BUF_INIT;
+    /* runs without a carriage return copied whole */
     size_t i = 0;
     while (i < len) {
         const char *cr = memchr(s + i, '\r', len - i);
         size_t run = cr ? (size_t)(cr - (s + i)) : len - i;
-        buf_add(out, s + i, run);
+        buf_add(&out, s + i, run);
         i += run;
-        if (i < len) {   /* "\r\n" and "\r" become "\n" */
-            buf_add(out, "\n", 1);
+        if (i < len) {
+            buf_add(&out, "\n", 1);
             i += (i + 1 < len && s[i + 1] == '\n') ? 2 : 1;
         }
     }
-    if (!out->data) buf_add(out, "", 0);
-    return true;
+    Vec *v = vec_str(buf_cstr(&out), out.len);
+    buf_free(&out);
+    return v;
 }
 
-bool read_text_file(const char *path, Buf *out)
-{
-    Buf raw = BUF_INIT;
-    errno = 0;
-    bool ok = file_read_regular(path, &raw) && decode_text(buf_cstr(&raw), raw.len, out);
-    buf_free(&raw);
-    return ok;
-}
-
-/* A string vector of read_text_file's text of [path]; NULL with *[ok] false
- * as read_text_file fails. */
+/* text_vec of the file [path] read now; NULL with *[ok] false when it
+ * cannot be read (errno as file_read_regular's) or is not strict UTF-8
+ * (errno 0: a silent null). */
 static Vec *text_afresh(const char *path, bool *ok)
 {
-    Buf text = BUF_INIT;
+    Buf raw = BUF_INIT;
     Vec *v = NULL;
-    *ok = read_text_file(path, &text);
-    if (*ok) v = vec_str(buf_cstr(&text), text.len);
-    buf_free(&text);
+    errno = 0;
+    if (file_read_regular(path, &raw)) {
+        v = text_vec(buf_cstr(&raw), raw.len);
+        if (!v) errno = 0;
+    }
+    buf_free(&raw);
+    *ok = v != NULL;
     return v;
 }
 
@@ -221,13 +214,10 @@ Vec *file_memo_text(FileMemo *m, const char *path, bool *ok)
         return NULL;
     }
     if (!e->text_done) {
-        Buf text = BUF_INIT;
-        if (decode_text(e->data.data ? e->data.data : "", e->data.len, &text))
-            e->text = vec_str(buf_cstr(&text), text.len);
-        buf_free(&text);
+        e->text = text_vec(e->data.data ? e->data.data : "", e->data.len);
         e->text_done = true;
     }
     *ok = e->text != NULL;
-    if (!*ok) errno = 0;   /* (not UTF-8: a silent null, as read_text_file's) */
+    if (!*ok) errno = 0;   /* (not UTF-8: a silent null, as text_afresh's) */
     return vec_retain(e->text);
 }

@@ -50,33 +50,26 @@ void resolve_path(Eval *ev, const char *name, Buf *path);
  * over the size limit or not a regular file (a missing or unreadable file
  * stays a silent null). */
 Vec *read_failed(Eval *ev, const Builtin *bi);
-/* Read [path] as strict UTF-8 text with universal newlines into [out];
- * false when missing, unreadable, not UTF-8, over FILE_READ_MAX (errno
- * EFBIG) or not a regular file (EINVAL). */
-bool read_text_file(const char *path, Buf *out);
-
-/* The bytes of the regular file [path] (file_read_regular's; filememo.c):
- * from the runtime's memo [m] while the file is unchanged, else read now
- * (into the memo, or, when [m] is NULL or the file too large to keep,
- * into [scratch], which the caller frees). *[data] and *[len] are
- * borrowed until the next call on [m] or until [scratch] is freed. False,
- * with errno as file_read_regular's, when the file cannot be read. */
-bool file_memo_bytes(FileMemo *m, const char *path, Buf *scratch, const char **data, size_t *len);
-
 /* csv()'s rows of a file's bytes, parsed as they are asked for (csv.c). */
 typedef struct CsvRows CsvRows;
 /* Free [r] (NULL is a no-op): the rows kept and the parser. */
 void csv_rows_free(CsvRows *r);
-/* file_memo_bytes, and, when the bytes come from [m], in *[rows] the
- * memo's slot for csv()'s rows of them (NULL otherwise): a slot the caller
- * fills, which the memo frees (csv_rows_free) with the bytes, once the
- * file changed. */
-bool file_memo_bytes_rows(FileMemo *m, const char *path, Buf *scratch, const char **data, size_t *len,
-                          CsvRows ***rows);
-/* read()'s string of the file [path] (read_text_file's text), a new
+/* The bytes of the regular file [path] (file_read_regular's; filememo.c):
+ * from the runtime's memo [m] while the file is unchanged, else read now
+ * (into the memo, or, when [m] is NULL or the file too large to keep,
+ * into [scratch], which the caller frees). *[data] and *[len] are
+ * borrowed until the next call on [m] or until [scratch] is freed. With
+ * [rows] (may be NULL): in *[rows] the memo's slot for csv()'s rows of
+ * the bytes when they come from [m] (NULL otherwise), a slot the caller
+ * fills and the memo frees (csv_rows_free) with the bytes, once the file
+ * changed. False, with errno as file_read_regular's, when the file cannot
+ * be read. */
+bool file_memo_bytes(FileMemo *m, const char *path, Buf *scratch, const char **data, size_t *len,
+                     CsvRows ***rows);
+/* read()'s string of the file [path] (strict UTF-8, universal newlines), a new
  * reference: from [m] while the file is unchanged (the same vector each
- * time), else read now; NULL with *[ok] false, and errno as
- * read_text_file's, when the file cannot be read or is not strict UTF-8.
+ * time), else read now; NULL with *[ok] false when the file cannot be
+ * read (errno as file_read_regular's) or is not strict UTF-8 (errno 0).
  * [m] NULL: read afresh. */
 Vec *file_memo_text(FileMemo *m, const char *path, bool *ok);
 

@@ -71,7 +71,7 @@ static Vec *bi_read_bytes(Eval *ev, const Builtin *bi, int nargs, Vec *const *ar
         resolve_path(ev, buf_cstr(&name), &path);
         const char *bytes;
         size_t len;
-        if (!file_memo_bytes(eval_file_memo(ev), buf_cstr(&path), &data, &bytes, &len)) {
+        if (!file_memo_bytes(eval_file_memo(ev), buf_cstr(&path), &data, &bytes, &len, NULL)) {
             r = read_failed(ev, bi);
         } else if (len > 0 && len <= UINT32_MAX) {
             r = vec_new_num((uint32_t)len);

@@ -497,7 +497,7 @@ __attribute__((target("avx"))) static void arith_span_avx(ArithOp op, double *r,
 
 /* arith_span by the fastest copy this processor runs. */
 static void arith_span_fast(ArithOp op, double *r, const double *xa, bool va, const double *xb, bool vb,
-                                   uint32_t n)
+                            uint32_t n)
 {
 #ifdef HAVE_ARITH_AVX
     if (n >= ARITH_AVX_MIN && cpu_has(CPU_AVX)) {

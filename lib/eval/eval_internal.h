@@ -31,10 +31,11 @@ Vec *run_num_vec(Eval *ev, const NumExpr *x);
 static inline Vec *run_num(Eval *ev, const AstNode *n, const NumExpr *x)
 {
     if (ev->depth + numexpr_depth(x) <= MAX_EVAL_DEPTH) {
+        const int32_t lead = numexpr_lead_slot(x);
         if (numexpr_small(x)) {
             const NxSmall y = numexpr_run_small(x, ev);
             if (y.ok) return vec_num1(y.v);
-        } else if (numexpr_lead_slot(x) < 0 || vec_is_scalar(ev->frame[numexpr_lead_slot(x)])) {
+        } else if (lead < 0 || vec_is_scalar(ev->frame[lead])) {
             /* (a vector read first: numexpr_run would give up at once) */
             Vec *v = vec_new_num(numexpr_outputs(x));
             if (numexpr_run(x, ev, vec_nums(v))) return v;

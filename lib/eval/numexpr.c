@@ -391,24 +391,15 @@ NxSmall numexpr_run_small(const NumExpr *x, const Eval *ev)
 bool numexpr_leaves(const NumExpr *x)
 {
     for (uint32_t i = 0; i + 1 < x->h.nins; i++)
-        if (x->ins[i].op != NX_CONST && x->ins[i].op != NX_LOCAL && x->ins[i].op != NX_GLOBAL) return false;
+        if (!is_leaf(x->ins[i].op)) return false;
     return x->h.nout == x->h.nins - 1;
 }
 
 uint32_t numexpr_run_leaves(const NumExpr *x, const Eval *ev, double *out)
 {
     const uint32_t n = x->h.nout;
-    for (uint32_t k = 0; k < n; k++) {
-        const NxIns *i = &x->ins[k];
-        const Vec *v;
-        if (i->op == NX_CONST) {
-            out[k] = i->k;
-            continue;
-        }
-        v = i->op == NX_LOCAL ? ev->frame[i->arg] : ev->globals ? ev->globals->values[i->arg] : NULL;
-        if (!vec_is_scalar(v)) return 0;
-        out[k] = vec_cnums(v)[0];
-    }
+    for (uint32_t k = 0; k < n; k++)
+        if (!leaf_num(&x->ins[k], ev, &out[k])) return 0;
     return n;
 }
 

@@ -106,11 +106,13 @@ static inline uint32_t numexpr_depth(const NumExpr *x)
     return ((const NumExprHead *)(const void *)x)->depth;
 }
 
+/* NumExprHead.lead's flag of a small expression (numexpr_small). */
+#define NUMEXPR_SMALL 0x80000000u
+
 /* The frame slot [x]'s first instruction reads, or -1 when it reads none
  * first. numexpr_run gives up at once when that slot holds anything but
  * one number: a caller with a vector there may go to numexpr_run_vec
  * without trying (the same result, without numexpr_run's entry and exit). */
-#define NUMEXPR_SMALL 0x80000000u
 static inline int32_t numexpr_lead_slot(const NumExpr *x)
 {
     return (int32_t)(((const NumExprHead *)(const void *)x)->lead & ~NUMEXPR_SMALL) - 1;
