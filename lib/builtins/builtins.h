@@ -115,6 +115,15 @@ Vec *bi_error(Eval *ev, const Builtin *bi, const char *fmt, ...)
 typedef double (*BiKernel)(double);
 BiKernel bi_kernel(const Builtin *bi);
 
+/* hypot of one numeric argument of [n] numbers (n >= 1): the square root
+ * of the sum of their squares, added in order from 0 (Flitter's
+ * `hypot(v)`). What the builtin's result holds, bit for bit; the
+ * evaluator's compiled expressions call it (numexpr.c, NX_HYPOT). */
+double bi_hypot_nums(const double *x, uint32_t n);
+/* True when [bi] is hypot (whose one numeric argument gives
+ * bi_hypot_nums of its numbers). */
+bool bi_is_hypot(const Builtin *bi);
+
 /* Two element kernels of one argument computed at once: for the kernel
  * [a] of bi_kernel(), a function f with f(x, &ya, &yb) writing a(x) and
  * b(x), bit for bit, for less than the two calls cost, and that kernel b

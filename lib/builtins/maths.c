@@ -171,9 +171,7 @@ static double f_length(double x, double y) { return sqrt(x * x + y * y); }
 static Vec *bi_angle(BI_PARAMS) { return pairwise(nargs, args, f_angle); }
 static Vec *bi_length(BI_PARAMS) { return pairwise(nargs, args, f_length); }
 
-/* hypot of one numeric argument: the square root of the sum of the
- * squares of its [n] numbers, added in order. */
-static double hypot_nums(const double *x, uint32_t n)
+double bi_hypot_nums(const double *x, uint32_t n)
 {
     double y = 0;
     for (uint32_t i = 0; i < n; i++)
@@ -188,7 +186,7 @@ static Vec *bi_hypot(BI_PARAMS)
     if (nargs == 1) {
         if (!vec_is_num(args[0]))
             return NULL;
-        return vec_num1(hypot_nums(vec_cnums(args[0]), args[0]->len));
+        return vec_num1(bi_hypot_nums(vec_cnums(args[0]), args[0]->len));
     }
     uint32_t n = 0;
     for (int k = 0; k < nargs; k++) {
@@ -737,6 +735,8 @@ static const struct {
     {bi_snap, f_snap},
 };
 
+bool bi_is_hypot(const Builtin *bi) { return bi && bi->fn == bi_hypot; }
+
 BiKernel bi_kernel(const Builtin *bi)
 {
     for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; i++)
@@ -775,7 +775,7 @@ bool bi_call_nums_id(uint16_t id, const double *x, uint32_t n, double *out, uint
     if (n < 1 || n > BI_NUMS_MAX || !id)
         return false;
     if (id == ROUTE_HYPOT) {
-        out[0] = hypot_nums(x, n);
+        out[0] = bi_hypot_nums(x, n);
         *nout = 1;
         return true;
     }

@@ -447,8 +447,12 @@ Vec *run_num_vec(Eval *ev, const NumExpr *x)
     double out[NUMEXPR_VEC_MAX];
     uint32_t n;
     if (!numexpr_run_vec(x, ev, out, &n)) return NULL;
+    /* one number (a reduction: hypot of a difference) takes the pool's
+     * class of one number, known at compile time */
+    if (n == 1) return vec_num1(out[0]);
     Vec *v = vec_new_num(n);
-    memcpy(vec_nums(v), out, n * sizeof(double));
+    double *d = vec_nums(v);
+    for (uint32_t k = 0; k < n; k++) d[k] = out[k];   /* (a few: a call of memcpy costs more) */
     return v;
 }
 

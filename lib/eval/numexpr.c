@@ -37,6 +37,9 @@ enum {
      * holds (NX_INDEXL: slot arg; NX_INDEXG: global arg), which must be a
      * stream or a numeric vector, else the run gives up */
     NX_INDEX, NX_INDEXL, NX_INDEXG,
+    /* hypot(t) of the top's numbers (bi_hypot_nums): sqrt(t*t) of one
+     * number, the vector form's sum of squares of several */
+    NX_HYPOT,
     NX_END,     /* the last instruction */
 };
 
@@ -135,7 +138,7 @@ static bool scalar_ok(const AstNode *n, int budget)
     case AST_CALL: {
         if (n->op != 0 || n->count != 1 || n->nkids != 1) return false;
         const Builtin *bi = const_builtin(n->a);
-        return bi && bi_kernel(bi) && scalar_ok(n->kids[0], budget - 1);
+        return bi && (bi_kernel(bi) || bi_is_hypot(bi)) && scalar_ok(n->kids[0], budget - 1);
     }
     case AST_SEQUENCE:
         return n->nkids == 1 && scalar_ok(n->kids[0], budget - 1);
@@ -222,10 +225,13 @@ static uint32_t emit_scalar(Nx *c, const AstNode *n)
         d = emit_scalar(c, n->a);
         emit(c, (NxIns){.op = NX_NOT}, 0);
         return d + 1;
-    case AST_CALL:
+    case AST_CALL: {
+        const Builtin *bi = const_builtin(n->a);
         d = emit_scalar(c, n->kids[0]);
-        emit(c, (NxIns){.op = NX_CALL1, .fn = bi_kernel(const_builtin(n->a))}, 0);
+        if (bi_is_hypot(bi)) emit(c, (NxIns){.op = NX_HYPOT}, 0);
+        else emit(c, (NxIns){.op = NX_CALL1, .fn = bi_kernel(bi)}, 0);
         return d + 1;
+    }
     case AST_SEQUENCE:
         return emit_scalar(c, n->kids[0]) + 1;
     case AST_INDEX: {
@@ -450,7 +456,8 @@ bool numexpr_exec(const NumExpr *x, Eval *ev, const double *regs, double *out)
         [NX_SQUARE] = &&l_square, [NX_NEG] = &&l_neg, [NX_NOT] = &&l_not, [NX_CMP] = &&l_cmp,
         [NX_CALL1] = &&l_call1, [NX_ADDK] = &&l_addk, [NX_SUBK] = &&l_subk,
         [NX_MULK] = &&l_mulk, [NX_DIVK] = &&l_divk, [NX_REG] = &&l_reg, [NX_CALL2] = &&l_call2,
-        [NX_INDEX] = &&l_index, [NX_INDEXL] = &&l_indexl, [NX_INDEXG] = &&l_indexg, [NX_END] = &&l_end,
+        [NX_INDEX] = &&l_index, [NX_INDEXL] = &&l_indexl, [NX_INDEXG] = &&l_indexg, [NX_HYPOT] = &&l_hypot,
+        [NX_END] = &&l_end,
     };
     _Static_assert(sizeof code / sizeof code[0] == NX_END + 1, "every instruction has code");
     static const void *const cmp_code[] = {
@@ -506,6 +513,7 @@ l_gt: t = a > t; NEXT;
 l_le: t = a <= t; NEXT;
 l_ge: t = a >= t; NEXT;
 l_call1: t = i->fn(t); NEXT;
+l_hypot: t = sqrt(t * t); NEXT;   /* bi_hypot_nums of one number: 0 + t*t is t*t */
 l_call2: {
     double p, q;
     i->fn2(t, &p, &q);
@@ -626,6 +634,13 @@ bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
         case NX_SQUARE: NX_VEC_UNARY(q * q); break;
         case NX_NEG: NX_VEC_UNARY(-q); break;
         case NX_CALL1: NX_VEC_UNARY(i->fn(q)); break;
+        case NX_HYPOT:
+            /* the builtin's sum of squares, in order: one number of any
+             * vector (the run's other vectors keep their length) */
+            t->v[0] = bi_hypot_nums(t->p, t->n);
+            t->n = 1;
+            t->p = t->v;
+            break;
         case NX_CALL2: {
             /* fn2(t) = (p, q): p left below, q pushed on top, per number */
             NxVal *r = t + 1;
@@ -753,6 +768,7 @@ static inline __attribute__((always_inline)) void run_lanes(const NumExpr *x, do
             }
             break;
         case NX_CALL1: for (uint32_t l = 0; l < n; l++) t[l] = i->fn(t[l]); break;
+        case NX_HYPOT: for (uint32_t l = 0; l < n; l++) t[l] = sqrt(t[l] * t[l]); break;
         case NX_CALL2:
             for (uint32_t l = 0; l < n; l++) i->fn2(t[l], &st[sp][l], &t[l]);
             sp++;

@@ -700,6 +700,40 @@ static void test_small_expressions(void **s)
             "!root\n !a b=1 d=1 e=0 f=9 g=0.25 i=-5 j=5 k=1 l=0 m=0\n");
 }
 
+/* hypot of one argument is an instruction of the compiled expression
+ * that holds it (NX_HYPOT), not a call of its own: `hypot(time-1)*2` is
+ * one compiled expression, not small, where a call would have left only
+ * its small argument compiled. Its values on the four routes: one number
+ * (the builtin's sqrt of its square: overflow to inf and underflow to 0
+ * where the magnitude would not), a vector name's sum of squares in
+ * order (3;4 gives 5; 1e200 overflows), a vector that the vector form
+ * does not take (longer than it holds: the generic call), NaN, and null
+ * and a string (null, the builtin's). */
+static void test_hypot_in_expressions(void **s)
+{
+    (void)s;
+    const char *src = "!a b=hypot(time-1)*2\n";
+    SymTab *st = symtab_new();
+    Buf err = BUF_INIT;
+    Globals g = {0};
+    globals_add(&g, "time");
+    Program *p = program_load_text("t.fl", src, strlen(src), &g, st, &err);
+    assert_non_null(p);
+    int small = 0, other = 0;
+    count_small(p->top, &small, &other);
+    assert_int_equal(small, 0);
+    assert_int_equal(other, 1);
+    program_release(p);
+    globals_free(&g);
+    buf_free(&err);
+    symtab_free(st);
+    expect4("let v=(3;4)+time\n    w=(1e200;0)+time\n    u=(1..21)+time\n    z=null\n    t=\"ab\"\n"
+            "!h a=hypot(time-3) b=hypot(time+1e200) c=hypot(time-1e-200) d=hypot(v) e=hypot(w)+1 "
+            "f=hypot(v-(1;1))*2 g=hypot(u-u) h=hypot(u) i=hypot(0/0+time) j=hypot(z) k=hypot(t) "
+            "l=hypot(v)<hypot(v*2)\n",
+            "!root\n !h a=3 b=inf c=0 d=5 e=inf f=7.211102550927978 g=0 h=53.5723809439155 i=nan l=1\n");
+}
+
 /* The first compiled sequence (AST_SEQUENCE, fast == 1) of [n]'s tree. */
 static const AstNode *compiled_sequence(const AstNode *n)
 {
@@ -774,6 +808,7 @@ int main(void)
         cmocka_unit_test(test_constant_vectors_in_sequences),
         cmocka_unit_test(test_route_taken),
         cmocka_unit_test(test_small_expressions),
+        cmocka_unit_test(test_hypot_in_expressions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

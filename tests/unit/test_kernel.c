@@ -244,6 +244,29 @@ static void test_index_in_kernels(void **s)
     free(tree);
 }
 
+/* hypot of one argument in a kernel's registers (NX_HYPOT, in the `let`s
+ * p and q; an attribute's own call is C_KCALL's, f): the square root of
+ * the square, which overflows to inf (i*1e200) and underflows to 0
+ * (i*1e-200) where a magnitude would not, on every route. (A vector's
+ * sum of squares is test_fastroute's test_hypot_in_expressions.) */
+static void test_hypot_in_kernels(void **s)
+{
+    (void)s;
+    char *tree = expect_routes("let n=60+floor(time)\n"
+                               "!g\n"
+                               "    for i in ..n\n"
+                               "        let d=hypot(i-3+time) p=hypot(i*1e200-time) q=hypot(i*1e-200+time)\n"
+                               "        !d a=p b=d*2 c=q f=hypot(i*1e200+time)\n",
+                               1, 60);
+    Buf want = BUF_INIT;
+    buf_puts(&want, "!root\n !g\n");
+    for (int i = 0; i < 60; i++)
+        buf_printf(&want, "  !d a=%s b=%d c=0 f=%s\n", i ? "inf" : "0", 2 * abs(i - 3), i ? "inf" : "0");
+    assert_string_equal(tree, buf_cstr(&want));
+    buf_free(&want);
+    free(tree);
+}
+
 /* What the kernel cannot compute goes back to the body's own records:
  * names from outside that are a vector, null, a string or NaN; NaN in
  * comparisons (the identity rule of §3.6); builtins given other shapes. */
@@ -895,6 +918,7 @@ int main(void)
         cmocka_unit_test(test_memo),
         cmocka_unit_test(test_if_around_nodes),
         cmocka_unit_test(test_index_in_kernels),
+        cmocka_unit_test(test_hypot_in_kernels),
         cmocka_unit_test(test_fallbacks),
         cmocka_unit_test(test_several_names),
         cmocka_unit_test(test_nested),
