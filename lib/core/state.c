@@ -98,7 +98,7 @@ const Vec *state_get_nums(const StateDict *sd, const double *x, uint32_t n)
 {
     ((StateDict *)sd)->counts.gets++;
     if (!n) return NULL;
-    uint64_t h = vec_hash_nums(x, n, false);
+    uint64_t h = vec_hash_nums_raw(x, n);
     if (h <= TOMB) h += 2;   /* key_hash's */
     size_t mask = sd->cap - 1;
     /* find()'s probe, with vec_key_equal of a numeric key vector: the

@@ -804,7 +804,7 @@ uint64_t vec_hash_nums(const double *x, uint32_t n, bool floor_floats)
     if (floor_floats)
         for (uint32_t i = 0; i < n; i++) h = hash_update(h, dbits(floor(x[i])));
     else
-        for (uint32_t i = 0; i < n; i++) h = hash_update(h, dbits(x[i]));
+        h = vec_hash_nums_raw(x, n);
     return h;
 }
 

@@ -316,6 +316,14 @@ static inline uint64_t vec_hash_num1(double x) { return hash_update(HASH_START, 
 /* vec_hash(v, floor_floats) of the numeric vector of the [n] numbers
  * [x], without making it (vec_hash's own loop for numeric vectors). */
 uint64_t vec_hash_nums(const double *x, uint32_t n, bool floor_floats);
+/* vec_hash_nums(x, n, false) inline: the state dictionary's key hash of
+ * numbers a reader computed (state_get_nums), a few at a time. */
+static inline uint64_t vec_hash_nums_raw(const double *x, uint32_t n)
+{
+    uint64_t h = HASH_START;
+    for (uint32_t i = 0; i < n; i++) h = hash_update(h, num_bits(x[i]));
+    return h;
+}
 
 /* ------------------------------------------------------------------ */
 /* Ranges and indexing (§3.10, §3.11)                                  */
