@@ -451,8 +451,7 @@ Vec *run_num_vec(Eval *ev, const NumExpr *x)
      * class of one number, known at compile time */
     if (n == 1) return vec_num1(out[0]);
     Vec *v = vec_new_num(n);
-    double *d = vec_nums(v);
-    for (uint32_t k = 0; k < n; k++) d[k] = out[k];   /* (a few: a call of memcpy costs more) */
+    memcpy(vec_nums(v), out, n * sizeof(double));
     return v;
 }
 
