@@ -932,6 +932,11 @@ void stream_index_into(StreamKind kind, uint64_t key, const double *k, uint32_t 
     }
 }
 
+double stream_value_at(StreamKind kind, uint64_t key, double k)
+{
+    return rng_value(kind, key, (uint64_t)index64(k));
+}
+
 void stream_index_each(StreamKind kind, uint64_t key, const double *k, uint32_t n, double *out)
 {
     if (kind == STREAM_UNIFORM) {   /* rng_value's, without its switch a number */

@@ -352,6 +352,10 @@ void stream_index_into(StreamKind kind, uint64_t key, const double *k, uint32_t 
 /* vec_index_num1 of stream [kind] with seed [key] at each of the [n]
  * one-number indexes [k] into [out] (one value each, not pairs). */
 void stream_index_each(StreamKind kind, uint64_t key, const double *k, uint32_t n, double *out);
+/* The number of stream [kind] with seed [key] at the one-number index
+ * [k]: vec_index of that stream by [k] (vec_index_num1's), without making
+ * either vector. Pure: any thread may call it. */
+double stream_value_at(StreamKind kind, uint64_t key, double k);
 /* item(v, i) (§3.11): element i mod n as a one-element vector; null if empty;
  * streams give their value at index i. */
 Vec *vec_item(const Vec *v, int64_t i);

@@ -19,6 +19,8 @@
 
 /* Deepest operand stack a compiled expression may need. */
 #define NX_STACK 32
+/* Most numbers of an NX_STREAM key. */
+#define NX_STREAM_KEYS 8
 /* Most numbers a compiled sequence may produce. */
 #define NX_MAX_OUT 16
 
@@ -40,6 +42,11 @@ enum {
     /* hypot(t) of the top's numbers (bi_hypot_nums): sqrt(t*t) of one
      * number, the vector form's sum of squares of several */
     NX_HYPOT,
+    /* `kind(k_1;...;k_m)[x]`: the number of random stream [sub]
+     * (StreamKind) seeded by the m = arg numbers below the top (vec_hash's
+     * seed of them, floored, as the builtin makes its stream) at the
+     * top's index x (stream_value_at) */
+    NX_STREAM,
     NX_END,     /* the last instruction */
 };
 
@@ -117,6 +124,38 @@ static bool indexable_const(const AstNode *n)
     return vec_is_stream(n->value) || (n->value && n->value->kind == VEC_NUM && n->value->len > 0);
 }
 
+static bool scalar_ok(const AstNode *n, int budget);
+static uint32_t const_numbers(const AstNode *n);
+
+/* The StreamKind of [call] when it is a call of uniform, normal or beta
+ * (a builtin known at load time) with one positional argument and no
+ * other, else -1. */
+static int stream_call_kind(const AstNode *call)
+{
+    if (call->kind != AST_CALL || call->op != 0 || call->count != 1 || call->nkids != 1) return -1;
+    const Builtin *bi = const_builtin(call->a);
+    return bi ? bi_stream_kind(bi) : -1;
+}
+
+/* How many numbers the key [k] of a stream call is when the machine can
+ * compute them: a one-number expression, or a sequence of such and of
+ * constant numeric vectors (`:x;i`), 1 to NX_STREAM_KEYS numbers in all;
+ * else 0. */
+static uint32_t stream_key_numbers(const AstNode *k, int budget)
+{
+    if (scalar_ok(k, budget)) return 1;
+    if (k->kind != AST_SEQUENCE || k->nkids < 2) return 0;
+    uint32_t m = 0;
+    for (uint32_t i = 0; i < k->nkids; i++) {
+        const uint32_t c = const_numbers(k->kids[i]);
+        if (c) m += c;
+        else if (scalar_ok(k->kids[i], budget - 1)) m++;
+        else return 0;
+        if (m > NX_STREAM_KEYS) return 0;
+    }
+    return m;
+}
+
 /* True when [n] is a one-number expression the machine can run. */
 static bool scalar_ok(const AstNode *n, int budget)
 {
@@ -144,9 +183,11 @@ static bool scalar_ok(const AstNode *n, int budget)
         return n->nkids == 1 && scalar_ok(n->kids[0], budget - 1);
     case AST_INDEX:
         /* one number of a constant or a name's vector (a range index,
-         * which is a literal of several numbers, is not one number) */
+         * which is a literal of several numbers, is not one number), or
+         * of a stream made from numbers (`beta(:x;i)[t]`) */
         return (indexable_const(n->a) ||
-                (n->a->kind == AST_NAME && (n->a->scope == SCOPE_LOCAL || n->a->scope == SCOPE_GLOBAL))) &&
+                (n->a->kind == AST_NAME && (n->a->scope == SCOPE_LOCAL || n->a->scope == SCOPE_GLOBAL)) ||
+                (stream_call_kind(n->a) >= 0 && stream_key_numbers(n->a->kids[0], budget - 2))) &&
                scalar_ok(n->b, budget - 1);
     default:
         return false;
@@ -235,6 +276,36 @@ static uint32_t emit_scalar(Nx *c, const AstNode *n)
     case AST_SEQUENCE:
         return emit_scalar(c, n->kids[0]) + 1;
     case AST_INDEX: {
+        const int kind = indexable_const(n->a) || n->a->kind == AST_NAME ? -1 : stream_call_kind(n->a);
+        if (kind >= 0) {
+            /* the stream's key, number by number, then the index (the
+             * call and its argument first, as eval_node's AST_INDEX
+             * evaluates them; the call's level and the key sequence's
+             * counted) */
+            const AstNode *k = n->a->kids[0];
+            uint32_t m = 0;
+            if (k->kind == AST_SEQUENCE && k->nkids >= 2) {
+                for (uint32_t j = 0; j < k->nkids; j++) {
+                    const AstNode *kj = k->kids[j];
+                    if (const_numbers(kj)) {
+                        for (uint32_t q = 0; q < kj->value->len; q++)
+                            emit(c, (NxIns){.op = NX_CONST, .k = vec_cnums(kj->value)[q]}, 1);
+                        m += kj->value->len;
+                        continue;
+                    }
+                    e = emit_scalar(c, kj) + 1;
+                    if (e > d) d = e;
+                    m++;
+                }
+            } else {
+                d = emit_scalar(c, k);
+                m = 1;
+            }
+            e = emit_scalar(c, n->b);
+            emit(c, (NxIns){.op = NX_STREAM, .sub = (uint8_t)kind, .arg = (int32_t)m}, -(int)m);
+            d += 2;
+            return (d > e ? d : e) + 1;
+        }
         /* the source (a constant or a name: no evaluation of its own),
          * then the index, as eval_node's AST_INDEX */
         const uint8_t range = ast_index_is_range(n->b);
@@ -457,7 +528,7 @@ bool numexpr_exec(const NumExpr *x, Eval *ev, const double *regs, double *out)
         [NX_CALL1] = &&l_call1, [NX_ADDK] = &&l_addk, [NX_SUBK] = &&l_subk,
         [NX_MULK] = &&l_mulk, [NX_DIVK] = &&l_divk, [NX_REG] = &&l_reg, [NX_CALL2] = &&l_call2,
         [NX_INDEX] = &&l_index, [NX_INDEXL] = &&l_indexl, [NX_INDEXG] = &&l_indexg, [NX_HYPOT] = &&l_hypot,
-        [NX_END] = &&l_end,
+        [NX_STREAM] = &&l_stream, [NX_END] = &&l_end,
     };
     _Static_assert(sizeof code / sizeof code[0] == NX_END + 1, "every instruction has code");
     static const void *const cmp_code[] = {
@@ -514,6 +585,11 @@ l_le: t = a <= t; NEXT;
 l_ge: t = a >= t; NEXT;
 l_call1: t = i->fn(t); NEXT;
 l_hypot: t = sqrt(t * t); NEXT;   /* bi_hypot_nums of one number: 0 + t*t is t*t */
+l_stream:
+    /* the key's numbers lie below the top, in order */
+    sp -= i->arg;
+    t = stream_value_at((StreamKind)i->sub, vec_hash_nums(sp, (uint32_t)i->arg, true), t);
+    NEXT;
 l_call2: {
     double p, q;
     i->fn2(t, &p, &q);
@@ -641,6 +717,23 @@ bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
             t->n = 1;
             t->p = t->v;
             break;
+        case NX_STREAM: {
+            /* one number each: the key's and the index */
+            double key[NX_STREAM_KEYS];
+            const uint32_t m = (uint32_t)i->arg;
+            for (uint32_t j = 0; j < m; j++) {
+                const NxVal *kv = t - m + j;
+                if (kv->n != 1) return false;
+                key[j] = kv->p[0];
+            }
+            if (t->n != 1) return false;
+            y = stream_value_at((StreamKind)i->sub, vec_hash_nums(key, m, true), t->p[0]);
+            t -= m;
+            t->n = 1;
+            t->v[0] = y;
+            t->p = t->v;
+            break;
+        }
         case NX_CALL2: {
             /* fn2(t) = (p, q): p left below, q pushed on top, per number */
             NxVal *r = t + 1;
@@ -769,6 +862,16 @@ static inline __attribute__((always_inline)) void run_lanes(const NumExpr *x, do
             break;
         case NX_CALL1: for (uint32_t l = 0; l < n; l++) t[l] = i->fn(t[l]); break;
         case NX_HYPOT: for (uint32_t l = 0; l < n; l++) t[l] = sqrt(t[l] * t[l]); break;
+        case NX_STREAM: {
+            const uint32_t m = (uint32_t)i->arg;
+            double key[NX_STREAM_KEYS];
+            for (uint32_t l = 0; l < n; l++) {
+                for (uint32_t j = 0; j < m; j++) key[j] = st[sp - m + j][l];
+                t[l] = stream_value_at((StreamKind)i->sub, vec_hash_nums(key, m, true), t[l]);
+            }
+            sp -= m;
+            break;
+        }
         case NX_CALL2:
             for (uint32_t l = 0; l < n; l++) i->fn2(t[l], &st[sp][l], &t[l]);
             sp++;
@@ -848,7 +951,8 @@ uint32_t numexpr_cost(const NumExpr *x)
     uint32_t c = 0;
     for (uint32_t i = 0; i < x->h.nins; i++)
         c += x->ins[i].op == NX_CALL2                                    ? 24
-             : x->ins[i].op == NX_CALL1 || x->ins[i].op == NX_POW       ? 16
+             : x->ins[i].op == NX_CALL1 || x->ins[i].op == NX_POW ||
+                       x->ins[i].op == NX_STREAM                         ? 16   /* (a hash and a draw) */
              : x->ins[i].op == NX_INDEX                                 ? 8   /* (a random draw, or a load) */
                                                                          : 1;
     return c;

@@ -734,6 +734,57 @@ static void test_hypot_in_expressions(void **s)
             "!root\n !h a=3 b=inf c=0 d=5 e=inf f=7.211102550927978 g=0 h=53.5723809439155 i=nan l=1\n");
 }
 
+/* A draw of a stream made from numbers (`beta(:x;time)[time]`) is an
+ * instruction of the compiled expression that holds it (NX_STREAM): the
+ * attribute below is one compiled expression, not small; a key of more
+ * numbers than the instruction takes (9), or of a string, leaves the
+ * draw to its index record. The values are test_stream_index's. */
+static void test_stream_draws_compiled(void **s)
+{
+    (void)s;
+    const char *src = "!a b=beta(:x;time)[time*2]*2 c=uniform((:k;time;1;2;3;4;5;6;7))[time]+1 "
+                      "d=uniform(\"s\";time)[time]+1\n";
+    SymTab *st = symtab_new();
+    Buf err = BUF_INIT;
+    Globals g = {0};
+    globals_add(&g, "time");
+    Program *p = program_load_text("t.fl", src, strlen(src), &g, st, &err);
+    assert_non_null(p);
+    int small = 0, other = 0;
+    count_small(p->top, &small, &other);
+    /* b whole, and c's key of nine numbers, a compiled sequence of its
+     * own (c's draw is its index record's, and so is d's: their `+1`s
+     * have no number to compile) */
+    assert_int_equal(other, 2);
+    assert_int_equal(small, 0);
+    program_release(p);
+    globals_free(&g);
+    buf_free(&err);
+    symtab_free(st);
+    /* in the vector form too (w holds two numbers): a key's numbers and
+     * the index floored, as the builtin's seed and the stream's index, so
+     * that a and b, and c and d, are the same numbers on every route */
+    const char *vsrc = "let w=(1;2)+time\n    t=time*60\n"
+                       "!v a=w*0+uniform(:u;t+0.5)[0.5] b=w*0+uniform(:u;t)[0] "
+                       "c=w*0+beta(:u;t;1.25)[0] d=w*0+beta(:u;t;1)[0.75]\n";
+    char *log;
+    char *want = run_one(vsrc, false, false, &log);
+    free(log);
+    for (int way = 0; way < 4; way++) {
+        char *tree = run_one(vsrc, way & 1, way & 2, &log);
+        assert_string_equal(tree, want);
+        assert_string_equal(log, "");
+        free(tree);
+        free(log);
+    }
+    char x[64], y[64], z[64], q[64];
+    assert_int_equal(sscanf(want, "!root\n !v a=%63s b=%63s c=%63s d=%63s", x, y, z, q), 4);
+    assert_string_equal(x, y);
+    assert_string_equal(z, q);
+    assert_string_not_equal(x, z);
+    free(want);
+}
+
 /* The first compiled sequence (AST_SEQUENCE, fast == 1) of [n]'s tree. */
 static const AstNode *compiled_sequence(const AstNode *n)
 {
@@ -809,6 +860,7 @@ int main(void)
         cmocka_unit_test(test_route_taken),
         cmocka_unit_test(test_small_expressions),
         cmocka_unit_test(test_hypot_in_expressions),
+        cmocka_unit_test(test_stream_draws_compiled),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -267,6 +267,25 @@ static void test_hypot_in_kernels(void **s)
     free(tree);
 }
 
+/* Draws of streams made from numbers (`uniform(:u;i)[t]`, NX_STREAM) in
+ * a kernel's registers, in a loop whose range the simplifier cannot
+ * unroll: the same numbers on every route; a key's numbers are floored
+ * (the builtin's seed), so (:u;i+0.5) is the stream of (:u;i), and an
+ * index too (0.75 is 0): f is 1 in every iteration. */
+static void test_stream_draws_in_kernels(void **s)
+{
+    (void)s;
+    char *tree = expect_routes("let n=50+floor(time)\n"
+                               "!g\n"
+                               "    for i in ..n\n"
+                               "        let u=uniform(:u;i)[time*60+0.5] b=beta(:b;i;2)[i+0.25]\n"
+                               "        !d a=u c=b*2 e=normal(i*0.5)[i]+1 f=uniform(:u;i)[0]==uniform(:u;i+0.5)[0.75]\n",
+                               2, 50);
+    assert_int_equal(occurrences(tree, " f=1\n"), 50);
+    assert_int_equal(occurrences(tree, "  !d a="), 50);
+    free(tree);
+}
+
 /* What the kernel cannot compute goes back to the body's own records:
  * names from outside that are a vector, null, a string or NaN; NaN in
  * comparisons (the identity rule of §3.6); builtins given other shapes. */
@@ -919,6 +938,7 @@ int main(void)
         cmocka_unit_test(test_if_around_nodes),
         cmocka_unit_test(test_index_in_kernels),
         cmocka_unit_test(test_hypot_in_kernels),
+        cmocka_unit_test(test_stream_draws_in_kernels),
         cmocka_unit_test(test_fallbacks),
         cmocka_unit_test(test_several_names),
         cmocka_unit_test(test_nested),
