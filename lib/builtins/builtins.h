@@ -187,6 +187,20 @@ bool bi_call_nums_id(uint16_t id, const double *x, uint32_t n, double *out, uint
  * three, noise of a seed and one to four coordinates. The evaluator asks
  * once, when it compiles a call. */
 bool bi_args_route(const Builtin *bi, uint32_t nargs);
+/* map(x, y, z) of one number each: (1 - x)*y + x*z, each operation
+ * rounded (the builtin's, number by number). */
+static inline double bi_map_num(double x, double y, double z) { return (1 - x) * y + x * z; }
+/* clamp(d, lo, hi) of one number each: C max(lo, d) = (d > lo ? d : lo),
+ * then C min(d, hi) = (hi < d ? hi : d) (the builtin's, NaN included). */
+static inline double bi_clamp_num(double d, double lo, double hi)
+{
+    d = d > lo ? d : lo;
+    return hi < d ? hi : d;
+}
+/* BI_MAP when [bi] is map, BI_CLAMP when it is clamp, else 0 (the
+ * evaluator's compiled expressions take their three numbers: numexpr.c). */
+enum { BI_MAP = 1, BI_CLAMP = 2 };
+int bi_map_or_clamp(const Builtin *bi);
 /* The result of calling [bi] with [nargs] positional arguments, the
  * numeric vectors x[i][0..n[i]) (1 <= n[i] <= BI_NUMS_MAX), for callers
  * that hold those numbers on the C stack (the evaluator's compiled calls,

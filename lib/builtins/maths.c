@@ -276,12 +276,7 @@ static void clamp_nums(const double *xs, uint32_t nx, const double *lo, uint32_t
                        uint32_t nh, double *out, uint32_t n)
 {
     for (uint32_t i = 0, ix = 0, il = 0, ih = 0; i < n; i++) {
-        double d = xs[ix];
-        double a = lo[il];
-        double b = hi[ih];
-        d = d > a ? d : a;
-        d = b < d ? b : d;
-        out[i] = d;
+        out[i] = bi_clamp_num(xs[ix], lo[il], hi[ih]);
         if (++ix == nx) ix = 0;
         if (++il == nl) il = 0;
         if (++ih == nh) ih = 0;
@@ -305,8 +300,7 @@ static void map_nums(const double *xs, uint32_t nx, const double *ys, uint32_t n
                      uint32_t nz, double *out, uint32_t n)
 {
     for (uint32_t i = 0, ix = 0, iy = 0, iz = 0; i < n; i++) {
-        double x = xs[ix];
-        out[i] = (1 - x) * ys[iy] + x * zs[iz];
+        out[i] = bi_map_num(xs[ix], ys[iy], zs[iz]);
         if (++ix == nx) ix = 0;
         if (++iy == ny) iy = 0;
         if (++iz == nz) iz = 0;
@@ -802,6 +796,11 @@ bool bi_call_nums(const Builtin *bi, const double *x, uint32_t n, double *out, u
 static bool map_or_clamp(const Builtin *bi, uint32_t nargs)
 {
     return nargs == 3 && (bi->fn == bi_mapv || bi->fn == bi_clamp);
+}
+
+int bi_map_or_clamp(const Builtin *bi)
+{
+    return !bi ? 0 : bi->fn == bi_mapv ? BI_MAP : bi->fn == bi_clamp ? BI_CLAMP : 0;
 }
 
 bool bi_args_route(const Builtin *bi, uint32_t nargs)

@@ -47,6 +47,9 @@ enum {
      * seed of them, floored, as the builtin makes its stream) at the
      * top's index x (stream_value_at) */
     NX_STREAM,
+    /* map(x, y, z) and clamp(x, y, z) of the three numbers on top (z the
+     * top): bi_map_num, bi_clamp_num */
+    NX_MAP, NX_CLAMP,
     NX_END,     /* the last instruction */
 };
 
@@ -175,6 +178,9 @@ static bool scalar_ok(const AstNode *n, int budget)
     case AST_NEG: case AST_POS: case AST_NOT:
         return scalar_ok(n->a, budget - 1);
     case AST_CALL: {
+        if (n->op == 0 && n->count == 3 && n->nkids == 3 && bi_map_or_clamp(const_builtin(n->a)))
+            return scalar_ok(n->kids[0], budget - 1) && scalar_ok(n->kids[1], budget - 1) &&
+                   scalar_ok(n->kids[2], budget - 1);
         if (n->op != 0 || n->count != 1 || n->nkids != 1) return false;
         const Builtin *bi = const_builtin(n->a);
         return bi && (bi_kernel(bi) || bi_is_hypot(bi)) && scalar_ok(n->kids[0], budget - 1);
@@ -268,6 +274,15 @@ static uint32_t emit_scalar(Nx *c, const AstNode *n)
         return d + 1;
     case AST_CALL: {
         const Builtin *bi = const_builtin(n->a);
+        if (n->count == 3) {
+            /* map or clamp (scalar_ok): the arguments in order */
+            for (uint32_t j = 0; j < 3; j++) {
+                e = emit_scalar(c, n->kids[j]);
+                if (e > d) d = e;
+            }
+            emit(c, (NxIns){.op = bi_map_or_clamp(bi) == BI_MAP ? NX_MAP : NX_CLAMP}, -2);
+            return d + 1;
+        }
         d = emit_scalar(c, n->kids[0]);
         if (bi_is_hypot(bi)) emit(c, (NxIns){.op = NX_HYPOT}, 0);
         else emit(c, (NxIns){.op = NX_CALL1, .fn = bi_kernel(bi)}, 0);
@@ -528,7 +543,7 @@ bool numexpr_exec(const NumExpr *x, Eval *ev, const double *regs, double *out)
         [NX_CALL1] = &&l_call1, [NX_ADDK] = &&l_addk, [NX_SUBK] = &&l_subk,
         [NX_MULK] = &&l_mulk, [NX_DIVK] = &&l_divk, [NX_REG] = &&l_reg, [NX_CALL2] = &&l_call2,
         [NX_INDEX] = &&l_index, [NX_INDEXL] = &&l_indexl, [NX_INDEXG] = &&l_indexg, [NX_HYPOT] = &&l_hypot,
-        [NX_STREAM] = &&l_stream, [NX_END] = &&l_end,
+        [NX_STREAM] = &&l_stream, [NX_MAP] = &&l_map, [NX_CLAMP] = &&l_clamp, [NX_END] = &&l_end,
     };
     _Static_assert(sizeof code / sizeof code[0] == NX_END + 1, "every instruction has code");
     static const void *const cmp_code[] = {
@@ -585,6 +600,8 @@ l_le: t = a <= t; NEXT;
 l_ge: t = a >= t; NEXT;
 l_call1: t = i->fn(t); NEXT;
 l_hypot: t = sqrt(t * t); NEXT;   /* bi_hypot_nums of one number: 0 + t*t is t*t */
+l_map: sp -= 2; t = bi_map_num(sp[0], sp[1], t); NEXT;
+l_clamp: sp -= 2; t = bi_clamp_num(sp[0], sp[1], t); NEXT;
 l_stream:
     /* the key's numbers lie below the top, in order */
     sp -= i->arg;
@@ -717,6 +734,24 @@ bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
             t->n = 1;
             t->p = t->v;
             break;
+        case NX_MAP: case NX_CLAMP: {
+            /* the builtin's loop, each operand one number or the run's
+             * length (into y first: a's numbers may be read again) */
+            const NxVal *x0 = t - 2, *x1 = t - 1;
+            uint32_t m = x0->n > x1->n ? x0->n : x1->n;
+            if (t->n > m) m = t->n;
+            double r[NUMEXPR_VEC_MAX];
+            for (uint32_t k = 0; k < m; k++) {
+                const double p = x0->p[x0->n == 1 ? 0 : k], q = x1->p[x1->n == 1 ? 0 : k],
+                             w = t->p[t->n == 1 ? 0 : k];
+                r[k] = i->op == NX_MAP ? bi_map_num(p, q, w) : bi_clamp_num(p, q, w);
+            }
+            t -= 2;
+            for (uint32_t k = 0; k < m; k++) t->v[k] = r[k];
+            t->n = m;
+            t->p = t->v;
+            break;
+        }
         case NX_STREAM: {
             /* one number each: the key's and the index */
             double key[NX_STREAM_KEYS];
@@ -862,6 +897,14 @@ static inline __attribute__((always_inline)) void run_lanes(const NumExpr *x, do
             break;
         case NX_CALL1: for (uint32_t l = 0; l < n; l++) t[l] = i->fn(t[l]); break;
         case NX_HYPOT: for (uint32_t l = 0; l < n; l++) t[l] = sqrt(t[l] * t[l]); break;
+        case NX_MAP:
+            for (uint32_t l = 0; l < n; l++) t[l] = bi_map_num(st[sp - 2][l], st[sp - 1][l], t[l]);
+            sp -= 2;
+            break;
+        case NX_CLAMP:
+            for (uint32_t l = 0; l < n; l++) t[l] = bi_clamp_num(st[sp - 2][l], st[sp - 1][l], t[l]);
+            sp -= 2;
+            break;
         case NX_STREAM: {
             const uint32_t m = (uint32_t)i->arg;
             double key[NX_STREAM_KEYS];

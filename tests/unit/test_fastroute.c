@@ -785,6 +785,41 @@ static void test_stream_draws_compiled(void **s)
     free(want);
 }
 
+/* map and clamp inside an expression are instructions of the compiled
+ * expression (NX_MAP, NX_CLAMP): `map(time, 2, time*3)+1` is one compiled
+ * expression, not small. Their values on the four routes, by hand: a
+ * scalar's (map(0.1, 0.3, 0.7) is 0.9*0.3 + 0.07, rounded at each step:
+ * 0.34), a vector name's (map(v, 2, 6) of 0;0.5;1 is 2;4;6), one number
+ * with two vectors (map(0.25, 0;4, 4;8) is 1;5), clamp's max before its
+ * min (clamp(x, 1, 0) is 0) and NaN (clamp gives lo, 0), a string
+ * (null, the builtin's), and vectors of two lengths (the builtin's
+ * repeats: map(0;0.5;1, 0;4, 1) is 0;2.5;1). */
+static void test_map_clamp_compiled(void **s)
+{
+    (void)s;
+    const char *src = "!a b=map(time, 2, time*3)+1 c=clamp(time*2, 0, 1)*2\n";
+    SymTab *st = symtab_new();
+    Buf err = BUF_INIT;
+    Globals g = {0};
+    globals_add(&g, "time");
+    Program *p = program_load_text("t.fl", src, strlen(src), &g, st, &err);
+    assert_non_null(p);
+    int small = 0, other = 0;
+    count_small(p->top, &small, &other);
+    assert_int_equal(small, 0);
+    assert_int_equal(other, 2);
+    program_release(p);
+    globals_free(&g);
+    buf_free(&err);
+    symtab_free(st);
+    expect4("let x=0.25+time\n    y=0.1+time\n    v=(0;0.5;1)+time\n    p=(0;4)+time\n    q=(4;8)+time\n"
+            "    z=\"s\"\n"
+            "!m a=map(x, 2, 6)*2 b=map(y, 0.3, 0.7)*1 c=map(v, 2, 6)+0 d=map(x, p, q)+0 e=clamp(v*10-3, 0, 1)+0 "
+            "f=clamp(x, 1, 0)*1 g=clamp(0/0+time, 0, 1)*1 h=map(z, 1, 2)+0 i=map(v, p, 1)+0 "
+            "j=clamp(x*4, x, 0.5)-x\n",
+            "!root\n !m a=6 b=0.34 c=2;4;6 d=1;5 e=0;1;1 f=0 g=0 i=0;2.5;1 j=0.25\n");
+}
+
 /* The first compiled sequence (AST_SEQUENCE, fast == 1) of [n]'s tree. */
 static const AstNode *compiled_sequence(const AstNode *n)
 {
@@ -861,6 +896,7 @@ int main(void)
         cmocka_unit_test(test_small_expressions),
         cmocka_unit_test(test_hypot_in_expressions),
         cmocka_unit_test(test_stream_draws_compiled),
+        cmocka_unit_test(test_map_clamp_compiled),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -286,6 +286,30 @@ static void test_stream_draws_in_kernels(void **s)
     free(tree);
 }
 
+/* map and clamp in a kernel's registers (NX_MAP, NX_CLAMP), in a loop
+ * the simplifier cannot unroll: map(i/64, 2, 6) is 2 + i/16 exactly
+ * ((1 - x)*2 + x*6 with x a multiple of 1/64), clamp(i - 10, 0, 20)
+ * holds i - 10 between 0 and 20, and a NaN is clamped to lo. */
+static void test_map_clamp_in_kernels(void **s)
+{
+    (void)s;
+    char *tree = expect_routes("let n=40+floor(time)\n"
+                               "!g\n"
+                               "    for i in ..n\n"
+                               "        let m=map(i/64+time, 2, 6) c=clamp(i-10+time, 0, 20)\n"
+                               "        !d a=m*2 b=c+1 e=clamp(0/0+i, 0, 1)+1\n",
+                               1, 40);
+    Buf want = BUF_INIT;
+    buf_puts(&want, "!root\n !g\n");
+    for (int i = 0; i < 40; i++) {
+        int c = i - 10 < 0 ? 0 : i - 10 > 20 ? 20 : i - 10;
+        buf_printf(&want, "  !d a=%.17g b=%d e=1\n", 2 * (2 + i / 16.0), c + 1);
+    }
+    assert_string_equal(tree, buf_cstr(&want));
+    buf_free(&want);
+    free(tree);
+}
+
 /* What the kernel cannot compute goes back to the body's own records:
  * names from outside that are a vector, null, a string or NaN; NaN in
  * comparisons (the identity rule of §3.6); builtins given other shapes. */
@@ -939,6 +963,7 @@ int main(void)
         cmocka_unit_test(test_index_in_kernels),
         cmocka_unit_test(test_hypot_in_kernels),
         cmocka_unit_test(test_stream_draws_in_kernels),
+        cmocka_unit_test(test_map_clamp_in_kernels),
         cmocka_unit_test(test_fallbacks),
         cmocka_unit_test(test_several_names),
         cmocka_unit_test(test_nested),
