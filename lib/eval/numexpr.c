@@ -50,6 +50,11 @@ enum {
     /* map(x, y, z) and clamp(x, y, z) of the three numbers on top (z the
      * top): bi_map_num, bi_clamp_num */
     NX_MAP, NX_CLAMP,
+    /* noise(seed, x_1, ..., x_k) of the seed's m = arg numbers and the
+     * k = sub coordinates above them, the last on top (bi_noise_nums:
+     * one point); not in a kernel's registers (its table of
+     * permutations is the runtime's) */
+    NX_NOISE,
     NX_END,     /* the last instruction */
 };
 
@@ -62,6 +67,7 @@ typedef struct NxIns {
         double (*fn)(double);      /* NX_CALL1 */
         BiKernelPair fn2;          /* NX_CALL2 */
         const Vec *lit;            /* NX_INDEX (borrowed from the AST) */
+        const struct Builtin *bi;  /* NX_NOISE */
     };
 } NxIns;
 
@@ -178,6 +184,15 @@ static bool scalar_ok(const AstNode *n, int budget)
     case AST_NEG: case AST_POS: case AST_NOT:
         return scalar_ok(n->a, budget - 1);
     case AST_CALL: {
+        if (n->op == 0 && n->count == n->nkids && n->count >= 2 && const_builtin(n->a) &&
+            bi_noise_route(const_builtin(n->a), n->count)) {
+            /* noise: a seed of numbers (as a stream's key), then the
+             * coordinates, one number each */
+            if (!stream_key_numbers(n->kids[0], budget - 1)) return false;
+            for (uint32_t j = 1; j < n->count; j++)
+                if (!scalar_ok(n->kids[j], budget - 1)) return false;
+            return true;
+        }
         if (n->op == 0 && n->count == 3 && n->nkids == 3 && bi_map_or_clamp(const_builtin(n->a)))
             return scalar_ok(n->kids[0], budget - 1) && scalar_ok(n->kids[1], budget - 1) &&
                    scalar_ok(n->kids[2], budget - 1);
@@ -210,6 +225,34 @@ static bool const_value(const AstNode *n, double *k)
         return true;
     }
     return false;
+}
+
+static uint32_t emit_scalar(Nx *c, const AstNode *n);
+
+/* Emit the numbers of the key [k] of a stream or the seed of noise
+ * (stream_key_numbers), in order, their count in *[m]; returns the
+ * generic evaluator's nesting for [k]. */
+static uint32_t emit_key(Nx *c, const AstNode *k, uint32_t *m)
+{
+    uint32_t d = 0, e;
+    *m = 0;
+    if (k->kind != AST_SEQUENCE || k->nkids < 2) {
+        *m = 1;
+        return emit_scalar(c, k);
+    }
+    for (uint32_t j = 0; j < k->nkids; j++) {
+        const AstNode *kj = k->kids[j];
+        if (const_numbers(kj)) {
+            for (uint32_t q = 0; q < kj->value->len; q++)
+                emit(c, (NxIns){.op = NX_CONST, .k = vec_cnums(kj->value)[q]}, 1);
+            *m += kj->value->len;
+            continue;
+        }
+        e = emit_scalar(c, kj) + 1;
+        if (e > d) d = e;
+        ++*m;
+    }
+    return d;
 }
 
 /* Emit [n] (scalar_ok); returns the generic evaluator's nesting for it:
@@ -274,6 +317,18 @@ static uint32_t emit_scalar(Nx *c, const AstNode *n)
         return d + 1;
     case AST_CALL: {
         const Builtin *bi = const_builtin(n->a);
+        if (bi_noise_route(bi, n->count)) {
+            /* (scalar_ok: the seed's numbers, then the coordinates) */
+            uint32_t m;
+            d = emit_key(c, n->kids[0], &m) + 1;
+            for (uint32_t j = 1; j < n->count; j++) {
+                e = emit_scalar(c, n->kids[j]);
+                if (e > d) d = e;
+            }
+            emit(c, (NxIns){.op = NX_NOISE, .sub = (uint8_t)(n->count - 1), .arg = (int32_t)m, .bi = bi},
+                 -(int)(m + n->count - 2));
+            return d + 1;
+        }
         if (n->count == 3) {
             /* map or clamp (scalar_ok): the arguments in order */
             for (uint32_t j = 0; j < 3; j++) {
@@ -297,25 +352,8 @@ static uint32_t emit_scalar(Nx *c, const AstNode *n)
              * call and its argument first, as eval_node's AST_INDEX
              * evaluates them; the call's level and the key sequence's
              * counted) */
-            const AstNode *k = n->a->kids[0];
-            uint32_t m = 0;
-            if (k->kind == AST_SEQUENCE && k->nkids >= 2) {
-                for (uint32_t j = 0; j < k->nkids; j++) {
-                    const AstNode *kj = k->kids[j];
-                    if (const_numbers(kj)) {
-                        for (uint32_t q = 0; q < kj->value->len; q++)
-                            emit(c, (NxIns){.op = NX_CONST, .k = vec_cnums(kj->value)[q]}, 1);
-                        m += kj->value->len;
-                        continue;
-                    }
-                    e = emit_scalar(c, kj) + 1;
-                    if (e > d) d = e;
-                    m++;
-                }
-            } else {
-                d = emit_scalar(c, k);
-                m = 1;
-            }
+            uint32_t m;
+            d = emit_key(c, n->a->kids[0], &m);
             e = emit_scalar(c, n->b);
             emit(c, (NxIns){.op = NX_STREAM, .sub = (uint8_t)kind, .arg = (int32_t)m}, -(int)m);
             d += 2;
@@ -514,6 +552,22 @@ int numexpr_globals(const NumExpr *x, int32_t *idx)
     return k;
 }
 
+/* noise of the seed's [m] numbers v[0..m) and the [k] coordinates
+ * v[m..m+k), one point (bi_noise_nums: the builtin's number); false
+ * where it refuses (the builtin is then called). */
+static bool noise_point(Eval *ev, const Builtin *bi, const double *v, uint32_t m, uint32_t k, double *y)
+{
+    const double *x[BI_NOISE_ARGS];
+    uint32_t n[BI_NOISE_ARGS], nout;
+    x[0] = v;
+    n[0] = m;
+    for (uint32_t j = 0; j < k; j++) {
+        x[1 + j] = v + m + j;
+        n[1 + j] = 1;
+    }
+    return bi_noise_nums(ev, bi, x, n, k + 1, y, &nout) && nout == 1;
+}
+
 /* vec_cmp of two single non-NaN numbers turned into the comparison's 1/0,
  * as eval_compare does (§3.6, §3.7). */
 static double compare(uint8_t op, double x, double y)
@@ -543,7 +597,8 @@ bool numexpr_exec(const NumExpr *x, Eval *ev, const double *regs, double *out)
         [NX_CALL1] = &&l_call1, [NX_ADDK] = &&l_addk, [NX_SUBK] = &&l_subk,
         [NX_MULK] = &&l_mulk, [NX_DIVK] = &&l_divk, [NX_REG] = &&l_reg, [NX_CALL2] = &&l_call2,
         [NX_INDEX] = &&l_index, [NX_INDEXL] = &&l_indexl, [NX_INDEXG] = &&l_indexg, [NX_HYPOT] = &&l_hypot,
-        [NX_STREAM] = &&l_stream, [NX_MAP] = &&l_map, [NX_CLAMP] = &&l_clamp, [NX_END] = &&l_end,
+        [NX_STREAM] = &&l_stream, [NX_MAP] = &&l_map, [NX_CLAMP] = &&l_clamp, [NX_NOISE] = &&l_noise,
+        [NX_END] = &&l_end,
     };
     _Static_assert(sizeof code / sizeof code[0] == NX_END + 1, "every instruction has code");
     static const void *const cmp_code[] = {
@@ -601,6 +656,15 @@ l_ge: t = a >= t; NEXT;
 l_call1: t = i->fn(t); NEXT;
 l_hypot: t = sqrt(t * t); NEXT;   /* bi_hypot_nums of one number: 0 + t*t is t*t */
 l_map: sp -= 2; t = bi_map_num(sp[0], sp[1], t); NEXT;
+l_noise: {
+    /* the seed's numbers and the coordinates but the last lie below the
+     * top, in order; the last is t */
+    const uint32_t m = (uint32_t)i->arg, k = i->sub;
+    sp -= m + k - 1;
+    sp[m + k - 1] = t;
+    if (!noise_point(ev, i->bi, sp, m, k, &t)) return false;
+    NEXT;
+}
 l_clamp: sp -= 2; t = bi_clamp_num(sp[0], sp[1], t); NEXT;
 l_stream:
     /* the key's numbers lie below the top, in order */
@@ -752,6 +816,22 @@ bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
             t->p = t->v;
             break;
         }
+        case NX_NOISE: {
+            /* one number each (a vector of coordinates is a grid) */
+            const uint32_t m = (uint32_t)i->arg, k = i->sub;
+            double v[NX_STREAM_KEYS + BI_NOISE_ARGS];
+            for (uint32_t j = 0; j < m + k; j++) {
+                const NxVal *a1 = t - (m + k - 1) + j;
+                if (a1->n != 1) return false;
+                v[j] = a1->p[0];
+            }
+            if (!noise_point(ev, i->bi, v, m, k, &y)) return false;
+            t -= m + k - 1;
+            t->n = 1;
+            t->v[0] = y;
+            t->p = t->v;
+            break;
+        }
         case NX_STREAM: {
             /* one number each: the key's and the index */
             double key[NX_STREAM_KEYS];
@@ -838,7 +918,8 @@ NumExpr *numexpr_to_regs(const NumExpr *x, NumExprRegMap map, void *ctx)
     y->h.lead = 0;   /* (registers, no slots) */
     for (uint32_t i = 0; i < y->h.nins; i++) {
         NxIns *in = &y->ins[i];
-        if (in->op == NX_INDEXL || in->op == NX_INDEXG) {   /* (a vector: registers hold one number) */
+        if (in->op == NX_INDEXL || in->op == NX_INDEXG ||   /* (a vector: registers hold one number) */
+            in->op == NX_NOISE) {   /* (the runtime's permutations: not on other threads) */
             free(y);
             return NULL;
         }

@@ -820,6 +820,41 @@ static void test_map_clamp_compiled(void **s)
             "!root\n !m a=6 b=0.34 c=2;4;6 d=1;5 e=0;1;1 f=0 g=0 i=0;2.5;1 j=0.25\n");
 }
 
+/* noise of a seed and one to four coordinates inside an expression is an
+ * instruction of the compiled expression (NX_NOISE): `noise(:s, time)*2`
+ * is one compiled expression. The values are test_noise_route's
+ * (Flitter's), through exact operations (*2, +0, negation, *1): one to
+ * four coordinates, a seed of a symbol and a name, a fraction of a seed
+ * floored (0.75 is 0), the vector form (w holds two numbers) and a
+ * coordinate that is a vector, a grid, left to the builtin. */
+static void test_noise_compiled(void **s)
+{
+    (void)s;
+    const char *src = "!a b=noise(:s, time)*2\n";
+    SymTab *st = symtab_new();
+    Buf err = BUF_INIT;
+    Globals g = {0};
+    globals_add(&g, "time");
+    Program *p = program_load_text("t.fl", src, strlen(src), &g, st, &err);
+    assert_non_null(p);
+    int small = 0, other = 0;
+    count_small(p->top, &small, &other);
+    assert_int_equal(small, 0);
+    assert_int_equal(other, 1);
+    program_release(p);
+    globals_free(&g);
+    buf_free(&err);
+    symtab_free(st);
+    expect4("let x=0.5+time\n    t=time\n    w=(1;2)+time\n"
+            "!n a=noise(:s, x)*2 b=noise(:s, x, 0.25)+0 c=-noise(:s, 0.3+t, 0.6, 0.9) "
+            "d=noise(:s, 0.3, 0.6+t, 0.9, 1.2)*1 f=noise(:s;t, x)*1 m=noise(0.75+t, x)*1 "
+            "v=w*0+noise(:s, x) g=noise(:s, w*0+x)*1\n",
+            "!root\n"
+            " !n a=1.2780842711015552 b=0.5816501773837107 c=0.4272253565307444 d=-0.4135278393516153 "
+            "f=0.35871384849177557 m=-0.42051860444936273 v=0.6390421355507776;0.6390421355507776 "
+            "g=0.6390421355507776;0.6390421355507776\n");
+}
+
 /* The first compiled sequence (AST_SEQUENCE, fast == 1) of [n]'s tree. */
 static const AstNode *compiled_sequence(const AstNode *n)
 {
@@ -897,6 +932,7 @@ int main(void)
         cmocka_unit_test(test_hypot_in_expressions),
         cmocka_unit_test(test_stream_draws_compiled),
         cmocka_unit_test(test_map_clamp_compiled),
+        cmocka_unit_test(test_noise_compiled),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

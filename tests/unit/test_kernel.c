@@ -310,6 +310,24 @@ static void test_map_clamp_in_kernels(void **s)
     free(tree);
 }
 
+/* noise in a loop with a kernel: the kernel leaves it to the body's
+ * record (the runtime's table of permutations is not for other threads),
+ * and the body's numbers are the same on every route; noise(:s, 0.5) is
+ * Flitter's 0.6390421355507776 (test_fastroute's test_noise_route). */
+static void test_noise_beside_kernels(void **s)
+{
+    (void)s;
+    char *tree = expect_routes("let n=40+floor(time)\n"
+                               "!g\n"
+                               "    for i in ..n\n"
+                               "        let a=noise(:s, i*0.25+time)*1 b=i*2+time\n"
+                               "        !d a=a b=b\n",
+                               1, 40);
+    assert_non_null(strstr(tree, "\n  !d a=0.6390421355507776 b=4\n"));
+    assert_int_equal(occurrences(tree, "  !d a="), 40);
+    free(tree);
+}
+
 /* What the kernel cannot compute goes back to the body's own records:
  * names from outside that are a vector, null, a string or NaN; NaN in
  * comparisons (the identity rule of §3.6); builtins given other shapes. */
@@ -964,6 +982,7 @@ int main(void)
         cmocka_unit_test(test_hypot_in_kernels),
         cmocka_unit_test(test_stream_draws_in_kernels),
         cmocka_unit_test(test_map_clamp_in_kernels),
+        cmocka_unit_test(test_noise_beside_kernels),
         cmocka_unit_test(test_fallbacks),
         cmocka_unit_test(test_several_names),
         cmocka_unit_test(test_nested),
