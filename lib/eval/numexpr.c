@@ -555,7 +555,7 @@ int numexpr_globals(const NumExpr *x, int32_t *idx)
 /* noise of the seed's [m] numbers v[0..m) and the [k] coordinates
  * v[m..m+k), one point (bi_noise_nums: the builtin's number); false
  * where it refuses (the builtin is then called). */
-static bool noise_point(Eval *ev, const Builtin *bi, const double *v, uint32_t m, uint32_t k, double *y)
+__attribute__((noinline)) static bool noise_point(Eval *ev, const Builtin *bi, const double *v, uint32_t m, uint32_t k, double *y)
 {
     const double *x[BI_NOISE_ARGS];
     uint32_t n[BI_NOISE_ARGS], nout;
@@ -662,7 +662,11 @@ l_noise: {
     const uint32_t m = (uint32_t)i->arg, k = i->sub;
     sp -= m + k - 1;
     sp[m + k - 1] = t;
-    if (!noise_point(ev, i->bi, sp, m, k, &t)) return false;
+    /* (into y of its own: t's address taken would keep t out of a
+     * register in every instruction's code) */
+    double y;
+    if (!noise_point(ev, i->bi, sp, m, k, &y)) return false;
+    t = y;
     NEXT;
 }
 l_clamp: sp -= 2; t = bi_clamp_num(sp[0], sp[1], t); NEXT;
