@@ -294,6 +294,75 @@ static void test_random_vector_expressions(void **s)
                   random_vexpr);
 }
 
+/* random_vexpr's arithmetic with the calls that compile into an
+ * expression of their own (numexpr.c): hypot of one argument, map and
+ * clamp of three, noise of a seed and one to three coordinates, and
+ * draws of uniform, beta and normal streams made from numbers; their
+ * operands are numbers, vectors (of one length, and of two), NaN, inf,
+ * -0, huge numbers and a string. */
+static void random_cexpr(Buf *b, uint32_t *st, int depth)
+{
+    static const char *const leaves[] = {"x", "p", "q", "w", "n", "i", "mz", "2", "0.5", "-1.75", "1e200", "s"};
+    static const char *const binops[] = {"+", "-", "*", "/", "//", "%", "<", "+", "-", "*"};
+    static const char *const streams[] = {"uniform", "beta", "normal"};
+    uint32_t r = lcg(st) % 14;
+    if (depth == 0 || r < 3) {
+        buf_puts(b, leaves[lcg(st) % (sizeof leaves / sizeof leaves[0])]);
+    } else if (r < 6) {
+        buf_puts(b, "(");
+        random_cexpr(b, st, depth - 1);
+        buf_printf(b, ")%s(", binops[lcg(st) % (sizeof binops / sizeof binops[0])]);
+        random_cexpr(b, st, depth - 1);
+        buf_puts(b, ")");
+    } else if (r < 7) {
+        buf_puts(b, "hypot(");
+        random_cexpr(b, st, depth - 1);
+        buf_puts(b, ")");
+    } else if (r < 9) {
+        buf_puts(b, lcg(st) % 2 ? "map(" : "clamp(");
+        for (int j = 0; j < 3; j++) {
+            if (j) buf_puts(b, ", ");
+            random_cexpr(b, st, depth - 1);
+        }
+        buf_puts(b, ")");
+    } else if (r < 11) {
+        uint32_t k = 1 + lcg(st) % 3;
+        buf_puts(b, lcg(st) % 2 ? "noise(:s, " : "noise(:s;(");
+        if (b->len && b->data[b->len - 1] == '(') {
+            /* a seed of a symbol and an expression */
+            random_cexpr(b, st, depth - 1);
+            buf_puts(b, "), ");
+        }
+        for (uint32_t j = 0; j < k; j++) {
+            if (j) buf_puts(b, ", ");
+            random_cexpr(b, st, depth - 1);
+        }
+        buf_puts(b, ")");
+    } else {
+        buf_printf(b, "%s(:k;(", streams[lcg(st) % 3]);
+        random_cexpr(b, st, depth - 1);
+        buf_puts(b, "))[");
+        random_cexpr(b, st, depth - 1);
+        buf_puts(b, "]");
+    }
+}
+
+/* Random expressions with the calls compiled into them (random_cexpr)
+ * against the generic route, with and without the simplifier, in the
+ * top level and in a loop over a range the simplifier cannot unroll
+ * (where kernels may take them: test_kernel's routes are the threads'). */
+static void test_random_compiled_calls(void **s)
+{
+    (void)s;
+    random_rounds(4242, "let x=1.25+time\n    p=(1;-2;0.25)+time\n    q=(0.5;4;-3)*(1+time)\n"
+                        "    w=(2;7)+time\n    n=(0/0)+time\n    mz=-time\n    s=\"a\"\n    i=3+time\n!e",
+                  random_cexpr);
+    random_rounds(99, "let x=1.25+time\n    p=(1;-2;0.25)+time\n    q=(0.5;4;-3)*(1+time)\n"
+                      "    w=(2;7)+time\n    n=(0/0)+time\n    mz=-time\n    s=\"a\"\n!g\n"
+                      "    for i in ..(3+floor(time))\n        !e",
+                  random_cexpr);
+}
+
 /* Attributes set on a literal node that has attributes, tags and children
  * of its own (evalrun.c run_attrs' copy of the one node): a value replaces
  * the literal's in its place, null removes it or is dropped, the tags and
@@ -924,6 +993,7 @@ int main(void)
         cmocka_unit_test(test_noise_route),
         cmocka_unit_test(test_map_clamp_route),
         cmocka_unit_test(test_random_vector_expressions),
+        cmocka_unit_test(test_random_compiled_calls),
         cmocka_unit_test(test_memo),
         cmocka_unit_test(test_long_sequences),
         cmocka_unit_test(test_constant_vectors_in_sequences),
