@@ -27,6 +27,7 @@
 #include "kernel.h"
 #include "program.h"
 #include "runscript.h"
+#include "random_calls.h"
 
 /* fl_debug_options.kernel_chunk and kernel_window for the runs (0: the
  * kernel's own sizes). */
@@ -326,6 +327,32 @@ static void test_noise_beside_kernels(void **s)
     assert_non_null(strstr(tree, "\n  !d a=0.6390421355507776 b=4\n"));
     assert_int_equal(occurrences(tree, "  !d a="), 40);
     free(tree);
+}
+
+/* Random expressions with the calls compiled into them (random_calls.h)
+ * of numbers (NaN among them) as attributes in a loop the simplifier
+ * cannot unroll: every route,
+ * kernels on 1 to 3 threads among them, gives the generic route's tree
+ * and log, in both modes. */
+static void test_random_calls_in_kernels(void **s)
+{
+    (void)s;
+    uint32_t st = 2024;
+    for (int round = 0; round < 6; round++) {
+        Buf b = BUF_INIT;
+        /* p, q and w one number each here (a vector from outside is no
+         * register: test_fastroute's rounds have them as vectors) */
+        buf_puts(&b, "let n=30+floor(time)\n    x=1.25+time\n    p=-2+time\n"
+                     "    q=4*(1+time)\n    w=(0/0)+time\n    mz=-time\n    s=\"a\"\n"
+                     "!g\n    for i in ..n\n        let y=i*0.5+x\n        !e");
+        for (int k = 0; k < 12; k++) {
+            buf_printf(&b, " a%d=", k);
+            random_cexpr(&b, &st, 3);
+        }
+        buf_puts(&b, "\n");
+        free(expect_routes(buf_cstr(&b), 2, 0));
+        buf_free(&b);
+    }
 }
 
 /* What the kernel cannot compute goes back to the body's own records:
@@ -983,6 +1010,7 @@ int main(void)
         cmocka_unit_test(test_stream_draws_in_kernels),
         cmocka_unit_test(test_map_clamp_in_kernels),
         cmocka_unit_test(test_noise_beside_kernels),
+        cmocka_unit_test(test_random_calls_in_kernels),
         cmocka_unit_test(test_fallbacks),
         cmocka_unit_test(test_several_names),
         cmocka_unit_test(test_nested),
