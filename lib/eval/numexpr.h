@@ -5,9 +5,12 @@
  * (evalcode_compile_tree, numexpr_compile) finds every maximal subtree
  * that is arithmetic on one-number operands: literal numbers, names, + - * / // % **, unary - + not, the comparisons
  * other than `in`, calls of the one-argument element-wise builtins
- * (sin, cos, sqrt, ...; bi_kernel in builtins.h), and `v[x]` of a
- * one-number index where v is a constant stream or numeric vector or a
- * name (whose vector, at run time, must be one of those). Such a subtree, or an
+ * (sin, cos, sqrt, ...; bi_kernel in builtins.h), `hypot` of one
+ * argument, `map` and `clamp` of three, `noise` of a seed of numbers and
+ * one to four coordinates (one point), and `v[x]` of a one-number index
+ * where v is a constant stream or numeric vector, a name (whose vector,
+ * at run time, must be one of those), or a uniform, normal or beta stream
+ * made from a key of up to 8 numbers (`beta(:x;i)[t]`). Such a subtree, or an
  * `a;b;...` sequence of them and of constant numeric vectors (`h;1;0`, whose
  * numbers are the sequence's in order, as composition copies them), is compiled into a flat array of small
  * instructions with the constants inline, hung on the subtree's root node
@@ -20,8 +23,8 @@
  * generic evaluator's identity shortcut could matter); the caller then
  * evaluates the same subtree with the generic tree walk, which is the
  * reference. Nothing in a compiled subtree has side effects (no errors,
- * no user calls, no state), so giving up half-way and starting again
- * changes nothing. Every operation is the one the generic route performs
+ * no user calls, no state; noise's table of permutations is a cache),
+ * so giving up half-way and starting again changes nothing. Every operation is the one the generic route performs
  * on one-element vectors (value.c's arithmetic, vec_cmp, vec_truthy, the
  * builtin's own element function), so the results are bit-identical.
  *
