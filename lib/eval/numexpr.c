@@ -656,6 +656,7 @@ l_ge: t = a >= t; NEXT;
 l_call1: t = i->fn(t); NEXT;
 l_hypot: t = sqrt(t * t); NEXT;   /* bi_hypot_nums of one number: 0 + t*t is t*t */
 l_map: sp -= 2; t = bi_map_num(sp[0], sp[1], t); NEXT;
+l_clamp: sp -= 2; t = bi_clamp_num(sp[0], sp[1], t); NEXT;
 l_noise: {
     /* the seed's numbers and the coordinates but the last lie below the
      * top, in order; the last is t */
@@ -669,7 +670,6 @@ l_noise: {
     t = y;
     NEXT;
 }
-l_clamp: sp -= 2; t = bi_clamp_num(sp[0], sp[1], t); NEXT;
 l_stream:
     /* the key's numbers lie below the top, in order */
     sp -= i->arg;
@@ -804,7 +804,8 @@ bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
             break;
         case NX_MAP: case NX_CLAMP: {
             /* the builtin's loop, each operand one number or the run's
-             * length (into y first: a's numbers may be read again) */
+             * length (into r first: x0's numbers may be read again after
+             * t - 2, which is x0, is written) */
             const NxVal *x0 = t - 2, *x1 = t - 1;
             uint32_t m = x0->n > x1->n ? x0->n : x1->n;
             if (t->n > m) m = t->n;
