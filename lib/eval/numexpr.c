@@ -184,8 +184,10 @@ static bool scalar_ok(const AstNode *n, int budget)
     case AST_NEG: case AST_POS: case AST_NOT:
         return scalar_ok(n->a, budget - 1);
     case AST_CALL: {
-        if (n->op == 0 && n->count == n->nkids && n->count >= 2 && const_builtin(n->a) &&
-            bi_noise_route(const_builtin(n->a), n->count)) {
+        /* a builtin known at load time, positional arguments only */
+        const Builtin *bi = const_builtin(n->a);
+        if (!bi || n->op != 0 || n->count != n->nkids) return false;
+        if (bi_noise_route(bi, n->count)) {
             /* noise: a seed of numbers (as a stream's key), then the
              * coordinates, one number each */
             if (!stream_key_numbers(n->kids[0], budget - 1)) return false;
@@ -193,12 +195,10 @@ static bool scalar_ok(const AstNode *n, int budget)
                 if (!scalar_ok(n->kids[j], budget - 1)) return false;
             return true;
         }
-        if (n->op == 0 && n->count == 3 && n->nkids == 3 && bi_map_or_clamp(const_builtin(n->a)))
+        if (n->count == 3 && bi_map_or_clamp(bi))
             return scalar_ok(n->kids[0], budget - 1) && scalar_ok(n->kids[1], budget - 1) &&
                    scalar_ok(n->kids[2], budget - 1);
-        if (n->op != 0 || n->count != 1 || n->nkids != 1) return false;
-        const Builtin *bi = const_builtin(n->a);
-        return bi && (bi_kernel(bi) || bi_is_hypot(bi)) && scalar_ok(n->kids[0], budget - 1);
+        return n->count == 1 && (bi_kernel(bi) || bi_is_hypot(bi)) && scalar_ok(n->kids[0], budget - 1);
     }
     case AST_SEQUENCE:
         return n->nkids == 1 && scalar_ok(n->kids[0], budget - 1);

@@ -683,14 +683,11 @@ static void count_small(const AstNode *n, int *small, int *other)
     for (uint32_t i = 0; i < n->nkids; i++) count_small(n->kids[i], small, other);
 }
 
-/* One operation on one or two constants or names is compiled as small
- * (numexpr_run_small runs it): `time+1`, `time<2`, `-time`, `time*time`,
- * `time/beat`; `(time+1)*2` and `sin(time)` are not. Their values on the
- * four routes are test_arithmetic's and test_comparisons'. */
-static void test_small_expressions(void **s)
+/* [src], loaded with the engine names time and beat, has [small]
+ * compiled expressions that are small (numexpr_small) and [other] that
+ * are not. */
+static void expect_compiled(const char *src, int small, int other)
 {
-    (void)s;
-    const char *src = "!a b=time+1 c=(time+1)*2 d=time<2 e=-time f=time*time g=time/beat h=sin(time)\n";
     SymTab *st = symtab_new();
     Buf err = BUF_INIT;
     Globals g = {0};
@@ -698,14 +695,24 @@ static void test_small_expressions(void **s)
     globals_add(&g, "beat");
     Program *p = program_load_text("t.fl", src, strlen(src), &g, st, &err);
     assert_non_null(p);
-    int small = 0, other = 0;
-    count_small(p->top, &small, &other);
-    assert_int_equal(small, 5);
-    assert_int_equal(other, 2);
+    int ns = 0, no = 0;
+    count_small(p->top, &ns, &no);
+    assert_int_equal(ns, small);
+    assert_int_equal(no, other);
     program_release(p);
     globals_free(&g);
     buf_free(&err);
     symtab_free(st);
+}
+
+/* One operation on one or two constants or names is compiled as small
+ * (numexpr_run_small runs it): `time+1`, `time<2`, `-time`, `time*time`,
+ * `time/beat`; `(time+1)*2` and `sin(time)` are not. Their values on the
+ * four routes are test_arithmetic's and test_comparisons'. */
+static void test_small_expressions(void **s)
+{
+    (void)s;
+    expect_compiled("!a b=time+1 c=(time+1)*2 d=time<2 e=-time f=time*time g=time/beat h=sin(time)\n", 5, 2);
     expect4("!a b=time+1 d=time<2 e=-time f=(time+3)*(time+3) g=(time+1)/(time+4) i=time-5 j=10/(time+2) "
             "k=time>=0 l=time!=time m=(0/0+time)==(0/0+time)\n",
             "!root\n !a b=1 d=1 e=0 f=9 g=0.25 i=-5 j=5 k=1 l=0 m=0\n");
@@ -723,21 +730,7 @@ static void test_small_expressions(void **s)
 static void test_hypot_in_expressions(void **s)
 {
     (void)s;
-    const char *src = "!a b=hypot(time-1)*2\n";
-    SymTab *st = symtab_new();
-    Buf err = BUF_INIT;
-    Globals g = {0};
-    globals_add(&g, "time");
-    Program *p = program_load_text("t.fl", src, strlen(src), &g, st, &err);
-    assert_non_null(p);
-    int small = 0, other = 0;
-    count_small(p->top, &small, &other);
-    assert_int_equal(small, 0);
-    assert_int_equal(other, 1);
-    program_release(p);
-    globals_free(&g);
-    buf_free(&err);
-    symtab_free(st);
+    expect_compiled("!a b=hypot(time-1)*2\n", 0, 1);
     expect4("let v=(3;4)+time\n    w=(1e200;0)+time\n    u=(1..21)+time\n    z=null\n    t=\"ab\"\n"
             "!h a=hypot(time-3) b=hypot(time+1e200) c=hypot(time-1e-200) d=hypot(v) e=hypot(w)+1 "
             "f=hypot(v-(1;1))*2 g=hypot(u-u) h=hypot(u) i=hypot(0/0+time) j=hypot(z) k=hypot(t) "
@@ -753,25 +746,11 @@ static void test_hypot_in_expressions(void **s)
 static void test_stream_draws_compiled(void **s)
 {
     (void)s;
-    const char *src = "!a b=beta(:x;time)[time*2]*2 c=uniform((:k;time;1;2;3;4;5;6;7))[time]+1 "
-                      "d=uniform(\"s\";time)[time]+1\n";
-    SymTab *st = symtab_new();
-    Buf err = BUF_INIT;
-    Globals g = {0};
-    globals_add(&g, "time");
-    Program *p = program_load_text("t.fl", src, strlen(src), &g, st, &err);
-    assert_non_null(p);
-    int small = 0, other = 0;
-    count_small(p->top, &small, &other);
     /* b whole, and c's key of nine numbers, a compiled sequence of its
      * own (c's draw is its index record's, and so is d's: their `+1`s
      * have no number to compile) */
-    assert_int_equal(other, 2);
-    assert_int_equal(small, 0);
-    program_release(p);
-    globals_free(&g);
-    buf_free(&err);
-    symtab_free(st);
+    expect_compiled("!a b=beta(:x;time)[time*2]*2 c=uniform((:k;time;1;2;3;4;5;6;7))[time]+1 "
+                    "d=uniform(\"s\";time)[time]+1\n", 0, 2);
     /* in the vector form too (w holds two numbers): a key's numbers and
      * the index floored, as the builtin's seed and the stream's index, so
      * that a and b, and c and d, are the same numbers on every route */
@@ -808,21 +787,7 @@ static void test_stream_draws_compiled(void **s)
 static void test_map_clamp_compiled(void **s)
 {
     (void)s;
-    const char *src = "!a b=map(time, 2, time*3)+1 c=clamp(time*2, 0, 1)*2\n";
-    SymTab *st = symtab_new();
-    Buf err = BUF_INIT;
-    Globals g = {0};
-    globals_add(&g, "time");
-    Program *p = program_load_text("t.fl", src, strlen(src), &g, st, &err);
-    assert_non_null(p);
-    int small = 0, other = 0;
-    count_small(p->top, &small, &other);
-    assert_int_equal(small, 0);
-    assert_int_equal(other, 2);
-    program_release(p);
-    globals_free(&g);
-    buf_free(&err);
-    symtab_free(st);
+    expect_compiled("!a b=map(time, 2, time*3)+1 c=clamp(time*2, 0, 1)*2\n", 0, 2);
     expect4("let x=0.25+time\n    y=0.1+time\n    v=(0;0.5;1)+time\n    p=(0;4)+time\n    q=(4;8)+time\n"
             "    z=\"s\"\n"
             "!m a=map(x, 2, 6)*2 b=map(y, 0.3, 0.7)*1 c=map(v, 2, 6)+0 d=map(x, p, q)+0 e=clamp(v*10-3, 0, 1)+0 "
@@ -841,21 +806,7 @@ static void test_map_clamp_compiled(void **s)
 static void test_noise_compiled(void **s)
 {
     (void)s;
-    const char *src = "!a b=noise(:s, time)*2\n";
-    SymTab *st = symtab_new();
-    Buf err = BUF_INIT;
-    Globals g = {0};
-    globals_add(&g, "time");
-    Program *p = program_load_text("t.fl", src, strlen(src), &g, st, &err);
-    assert_non_null(p);
-    int small = 0, other = 0;
-    count_small(p->top, &small, &other);
-    assert_int_equal(small, 0);
-    assert_int_equal(other, 1);
-    program_release(p);
-    globals_free(&g);
-    buf_free(&err);
-    symtab_free(st);
+    expect_compiled("!a b=noise(:s, time)*2\n", 0, 1);
     expect4("let x=0.5+time\n    t=time\n    w=(1;2)+time\n"
             "!n a=noise(:s, x)*2 b=noise(:s, x, 0.25)+0 c=-noise(:s, 0.3+t, 0.6, 0.9) "
             "d=noise(:s, 0.3, 0.6+t, 0.9, 1.2)*1 f=noise(:s;t, x)*1 m=noise(0.75+t, x)*1 "
