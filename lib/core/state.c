@@ -12,6 +12,15 @@
  * a writer that keeps its key vectors across frames (the physics engine, the
  * beat counter, a `$` of a literal key) pays for hashing once, and a probe
  * that meets the very same key vector skips the element comparison.
+ *
+ * A reader that asks for one key again and again (a `$` of a literal key,
+ * frame after frame) keeps where it found it (state_get_cached): the slot,
+ * and the table's layout (a small counted object that stands for where
+ * every key is) at that time. Adding an entry and rebuilding the table give
+ * it a new layout, so a kept slot is used only while no key can have moved
+ * into a slot or out of it. Deleting an entry or clearing the table leaves
+ * empty slots, whose value NULL is what a kept slot then rightly reads (the
+ * key is absent); a value replaced in its slot is read there.
  */
 #include "state.h"
 
@@ -28,13 +37,34 @@ typedef struct Slot {
     uint64_t hash;  /* cached vec_hash(key, false) */
 } Slot;
 
+/* A layout of the table (see above): counted, so that a reader's kept
+ * layout stays a distinct object for as long as it keeps it. */
+struct StateLayout {
+    size_t refs;
+};
+
 struct StateDict {
     Slot *slots;      /* cap slots */
     size_t cap;       /* power of two */
     size_t live;      /* entries with a key */
     size_t used;      /* live + tombstones */
     StateCounts counts; /* reads and writes */
+    struct StateLayout *layout; /* the current layout, once a reader has
+                                   kept it (one reference; NULL: none yet) */
 };
+
+static void layout_release(struct StateLayout *l)
+{
+    if (l && --l->refs == 0) free(l);
+}
+
+/* An entry added or the slots rebuilt: slots kept by readers no longer
+ * name their keys. */
+static void layout_changed(StateDict *sd)
+{
+    layout_release(sd->layout);
+    sd->layout = NULL;
+}
 
 StateDict *state_new(void)
 {
@@ -61,6 +91,7 @@ void state_free(StateDict *sd)
 {
     if (!sd) return;
     state_clear(sd);
+    layout_changed(sd);   /* (readers keep theirs) */
     free(sd->slots);
     free(sd);
 }
@@ -94,6 +125,29 @@ const Vec *state_get(const StateDict *sd, const Vec *key)
     return s ? s->value : NULL;
 }
 
+const Vec *state_get_cached(StateDict *sd, const Vec *key, StateCached *c)
+{
+    sd->counts.gets++;
+    if (c->layout && c->layout == sd->layout) return c->slot == SIZE_MAX ? NULL : sd->slots[c->slot].value;
+    if (!key || !key->len) return NULL;
+    Slot *s = find(sd, key, key_hash(key));
+    if (!sd->layout) {
+        sd->layout = mem_alloc(sizeof *sd->layout);
+        sd->layout->refs = 1;
+    }
+    layout_release(c->layout);
+    c->layout = sd->layout;
+    c->layout->refs++;
+    c->slot = s ? (size_t)(s - sd->slots) : SIZE_MAX;
+    return s ? s->value : NULL;
+}
+
+void state_cached_release(StateCached *c)
+{
+    layout_release(c->layout);
+    *c = (StateCached){NULL, 0};
+}
+
 const Vec *state_get_nums(const StateDict *sd, const double *x, uint32_t n)
 {
     ((StateDict *)sd)->counts.gets++;
@@ -125,6 +179,7 @@ static void rebuild(StateDict *sd, size_t cap)
      * kernel's zero page, and each would fault twice, at the first probe
      * that reads it and again at the first insert that writes it
      * (explicit_bzero, as the compiler makes malloc and memset a calloc) */
+    layout_changed(sd);
     sd->slots = malloc(cap * sizeof(Slot));
     if (!sd->slots) mem_oom();
     explicit_bzero(sd->slots, cap * sizeof(Slot));
@@ -175,6 +230,7 @@ static bool set_found(StateDict *sd, const Vec *key, uint64_t h, Slot *s, const 
     if (sd->slots[i].hash != TOMB) sd->used++;
     sd->slots[i] = (Slot){vec_retain((Vec *)key), *stored = vec_retain((Vec *)value), h};
     sd->live++;
+    layout_changed(sd);
     return true;
 }
 

@@ -28,6 +28,26 @@ const Vec *state_get(const StateDict *sd, const Vec *key);
  * reader whose key is numbers it computed, without making the vector):
  * the same entry, the same count of one read; NULL when [n] is 0. */
 const Vec *state_get_nums(const StateDict *sd, const double *x, uint32_t n);
+/* Where a reader of one key that never changes (a `$` of a literal key in
+ * compiled code) last found it, for state_get_cached. Zeroed: nothing
+ * known. Owned by its reader, who frees it with state_cached_release. */
+typedef struct StateCached {
+    struct StateLayout *layout; /* the table's layout when it was filled (one
+                                   reference; NULL: none) */
+    size_t slot;                /* the key's slot in that layout, or SIZE_MAX:
+                                   the key was absent */
+} StateCached;
+/* state_get of [key] for a reader that asks for the same [key] every time
+ * with the same [c]: while no entry has been added and the table has not
+ * been rebuilt since [c] was filled (by any dictionary's lookup: a
+ * layout belongs to one dictionary, and [c] holds a reference to it, so its
+ * address names nothing else meanwhile), the answer is the value now in
+ * the slot it found (or NULL: absent), without hashing or comparing the
+ * key; otherwise state_get's search, which fills [c]. The same value and
+ * the same count of one read as state_get. */
+const Vec *state_get_cached(StateDict *sd, const Vec *key, StateCached *c);
+/* Release what [c] holds and zero it. */
+void state_cached_release(StateCached *c);
 /* Store [value] under [key] (both borrowed and retained). A null or empty
  * [value] deletes the entry. A null [key] is ignored. Returns true when the
  * stored value changed (a set to an equal value, or a delete of a missing

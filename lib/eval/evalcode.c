@@ -26,6 +26,8 @@ typedef struct CC {
     uint32_t nmemos;        /* memo cells given out */
     uint32_t *memo_recs;    /* offsets of the C_MEMO records */
     uint32_t nmemo_recs, cap_memo_recs;
+    uint32_t *look_recs;    /* offsets of the C_LOOKUP records of literal keys */
+    uint32_t nlook_recs, cap_look_recs;
 } CC;
 
 static CRec *rec(CC *c, uint32_t off) { return (CRec *)(void *)(c->buf + off); }
@@ -292,6 +294,7 @@ static uint32_t emit(CC *c, const AstNode *n)
         off = reserve(c, sizeof(CRec) + sizeof(uint32_t));
         rec(c, off)->op = C_LOOKUP;
         rec(c, off)->p.node = n;
+        rec(c, off)->n = CLOOK_NONE;   /* (a cell is given when relocated) */
         t = emit(c, n->a);
         ((uint32_t *)(void *)(c->buf + off + sizeof(CRec)))[0] = t;
         /* a key of constants and names alone (`:dot;i`): read directly */
@@ -440,6 +443,14 @@ static uint32_t relocate(const CC *c, CC *d, uint32_t off, uint32_t *expr_src)
             t = k[i] == CREC_NONE ? CREC_NONE : relocate(c, d, k[i], expr_src);
             ((uint32_t *)(void *)(d->buf + o + sizeof(CRec)))[i] = t;
         }
+        if (r->op == C_LOOKUP && rec(d, ((uint32_t *)(void *)(d->buf + o + sizeof(CRec)))[0])->op == C_LIT) {
+            /* a literal key: a lookup cell (finish_cells) */
+            if (d->nlook_recs == d->cap_look_recs) {
+                d->cap_look_recs = d->cap_look_recs ? 2 * d->cap_look_recs : 16;
+                d->look_recs = mem_realloc_array(d->look_recs, d->cap_look_recs, sizeof *d->look_recs);
+            }
+            d->look_recs[d->nlook_recs++] = o;
+        }
         return o;
     case C_LET: {
         const CLetTail *lt = (const CLetTail *)(const void *)(r + 1);
@@ -489,14 +500,22 @@ static void memo_hints(CC *c)
 }
 
 /* The [nmemos] memo cells of the relocated block [d]: each cell's NumExpr
- * (at [expr_src] in [c]) copied once after the code, the names it reads. */
-static CMemo *finish_memos(const CC *c, CC *d, uint32_t nmemos, const uint32_t *expr_src)
+ * (at [expr_src] in [c]) copied once after the code, the names it reads;
+ * then, in the same allocation, a zeroed lookup cell for each C_LOOKUP
+ * record of a literal key, whose n becomes its cell's byte offset. */
+static CMemo *finish_cells(const CC *c, CC *d, uint32_t nmemos, const uint32_t *expr_src)
 {
-    if (!nmemos) return NULL;
-    size_t size = nmemos * sizeof(CMemo);   /* a multiple of 64 */
+    const uint32_t nlooks = d->nlook_recs;
+    if (!nmemos && !nlooks) return NULL;
+    size_t size = nmemos * sizeof(CMemo) + nlooks * sizeof(StateCached);
+    size = (size + 63) & ~(size_t)63;   /* (aligned_alloc's rule) */
     CMemo *m = aligned_alloc(64, size);
     if (!m) mem_oom();
     memset(m, 0, size);
+    for (uint32_t i = 0; i < nlooks; i++) {
+        size_t at = nmemos * sizeof(CMemo) + i * sizeof(StateCached);
+        rec(d, d->look_recs[i])->n = at < CLOOK_NONE ? (uint32_t)at : CLOOK_NONE;
+    }
     for (uint32_t i = 0; i < nmemos; i++) {
         const NumExpr *x = (const NumExpr *)(const void *)(c->buf + expr_src[i]);
         size_t xs = numexpr_size(x);
@@ -513,6 +532,8 @@ static void cblock_free(void *p)
 {
     CBlock *b = p;
     for (uint32_t i = 0; i < b->nmemos; i++) vec_release(b->memos[i].value);
+    StateCached *looks = (StateCached *)(void *)(b->memos + b->nmemos);
+    for (uint32_t i = 0; i < b->nlooks; i++) state_cached_release(&looks[i]);
     free(b->memos);
     free(b);
 }
@@ -534,9 +555,10 @@ void evalcode_compile_tree(AstNode *n, const KernelOptions *ko)
     for (uint32_t i = 0; i < c.nmemos; i++) expr_src[i] = UINT32_MAX;
     relocate(&c, &d, 0, expr_src);
     memo_hints(&d);
-    CMemo *memos = finish_memos(&c, &d, c.nmemos, expr_src);
+    CMemo *memos = finish_cells(&c, &d, c.nmemos, expr_src);
     CBlock *b = mem_alloc(sizeof *b + d.len);
     b->nmemos = c.nmemos;
+    b->nlooks = d.nlook_recs;
     b->len = d.len;
     b->memos = memos;
     memcpy(b->code, d.buf, d.len);
@@ -546,6 +568,7 @@ void evalcode_compile_tree(AstNode *n, const KernelOptions *ko)
     free(c.memo_recs);
     free(d.buf);
     free(d.memo_recs);
+    free(d.look_recs);
     n->aux = b;
     n->aux_free = cblock_free;
     n->fast = 2;

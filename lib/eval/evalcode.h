@@ -88,7 +88,11 @@ enum {
     C_LOOKUP,   /* p.node: `$key` (§3.17), the key's record at the uint32
                    offset that follows: a C_NUM key is run into numbers and
                    looked up as they are (state_get_nums), without making
-                   the key vector */
+                   the key vector; a C_LIT key is looked up through its
+                   lookup cell, a StateCached at byte offset n from the
+                   block's memo cells (CBlock.memos; CLOOK_NONE: none), so
+                   that frame after frame it is found where it was
+                   (state_get_cached) */
     C_INDEX,    /* p.node: `a[b]` (§5.8), pad: the index is a literal
                    range (64-bit index conversion); uint32 offsets of a and
                    b follow: a C_NUM index is run into numbers and used as
@@ -111,6 +115,8 @@ enum { BINOP_PLAIN, BINOP_SQUARE, BINOP_ADD_MUL, BINOP_ADD_SQUARE };
 
 /* An offset that names no record (C_IF without `else`). */
 #define CREC_NONE UINT32_MAX
+/* A C_LOOKUP record without a lookup cell. */
+#define CLOOK_NONE UINT32_MAX
 
 struct Builtin;
 
@@ -181,8 +187,10 @@ typedef struct CMemoHint {
 
 /* A compiled region: AstNode.aux of its root (n->fast == 2). */
 typedef struct CBlock {
-    CMemo *memos;       /* memo cells (NULL: none) */
+    CMemo *memos;       /* memo cells, then nlooks lookup cells (StateCached,
+                           C_LOOKUP) in the same allocation (NULL: none) */
     uint32_t nmemos;
+    uint32_t nlooks;
     uint32_t len;       /* bytes of code */
     _Alignas(16) unsigned char code[];   /* records; the root is at offset 0 */
 } CBlock;

@@ -179,6 +179,77 @@ static void test_set_nums(void **s)
     state_free(sd);
 }
 
+/* state_get_cached: for each of 24 keys a cell, read after each of 3,000
+ * random changes (new keys, new values of present keys, in place or not,
+ * deletions, a rebuild, a clear) gives the very vector state_get gives;
+ * one cell read from two dictionaries in turn gives each its own entry;
+ * one read counted each time; a cell outlives its dictionary */
+static void test_get_cached(void **s)
+{
+    (void)s;
+    enum { NKEYS = 24, NCELLS = 24 };
+    StateDict *sd = state_new();
+    Vec *keys[NKEYS];
+    StateCached cells[NCELLS] = {{0}};
+    for (int i = 0; i < NKEYS; i++) keys[i] = key2(symbol_value("k", 1), i);
+    uint64_t x = 12345;
+    for (int step = 0; step < 3000; step++) {
+        x = x * UINT64_C(6364136223846793005) + UINT64_C(1442695040888963407);
+        unsigned r = (unsigned)(x >> 33), k = r % NKEYS, what = (r / NKEYS) % 16;
+        if (what < 6) {                                  /* a value, maybe a new key */
+            Vec *v = vec_num1(step);
+            state_set(sd, keys[k], v);
+            vec_release(v);
+        } else if (what < 9) {                           /* in place when it can be */
+            double y[1] = {-step};
+            state_set_nums(sd, keys[k], y, 1);
+        } else if (what < 13) {
+            state_set(sd, keys[k], NULL);                /* deleted (or absent already) */
+        } else if (what == 13 && step % 7 == 0) {
+            state_reserve(sd, 200 + (size_t)step);       /* rebuilt */
+        } else if (what == 14 && step % 11 == 0) {
+            state_clear(sd);
+        }
+        for (int c = 0; c < NCELLS; c++) {
+            unsigned long long gets = state_counts(sd).gets;
+            const Vec *want = state_get(sd, keys[c % NKEYS]);
+            assert_ptr_equal(state_get_cached(sd, keys[c % NKEYS], &cells[c]), want);
+            assert_int_equal(state_counts(sd).gets, gets + 2);
+        }
+    }
+    /* an equal, distinct key vector finds the same entry */
+    Vec *v = vec_num1(7), *k3 = key2(symbol_value("k", 1), 3);
+    state_set(sd, keys[3], v);
+    StateCached c3 = {0};
+    assert_ptr_equal(state_get_cached(sd, k3, &c3), state_get(sd, keys[3]));
+    assert_true(vec_cnums(state_get_cached(sd, k3, &c3))[0] == 7);
+    /* two dictionaries through one cell, each holding the key in another
+     * value (and in another slot: sd2 is small, sd has been rebuilt) */
+    StateDict *sd2 = state_new();
+    Vec *w = vec_num1(8);
+    state_set(sd2, keys[3], w);
+    for (int i = 0; i < 3; i++) {
+        assert_true(vec_cnums(state_get_cached(sd, k3, &c3))[0] == 7);
+        assert_true(vec_cnums(state_get_cached(sd2, k3, &c3))[0] == 8);
+    }
+    state_set(sd2, keys[3], NULL);
+    assert_null(state_get_cached(sd2, k3, &c3));
+    assert_null(state_get_cached(sd2, k3, &c3));       /* absent, kept */
+    state_set(sd2, keys[3], v);
+    assert_true(vec_cnums(state_get_cached(sd2, k3, &c3))[0] == 7);   /* added: found */
+    StateCached c0 = {0};
+    assert_null(state_get_cached(sd2, NULL, &c0));    /* no key: nothing kept */
+    assert_null(c0.layout);
+    state_free(sd2);                                  /* c3 keeps its layout */
+    assert_true(vec_cnums(state_get_cached(sd, k3, &c3))[0] == 7);
+    state_cached_release(&c3);
+    assert_null(c3.layout);
+    for (int c = 0; c < NCELLS; c++) state_cached_release(&cells[c]);
+    for (int i = 0; i < NKEYS; i++) vec_release(keys[i]);
+    vec_release(v); vec_release(w); vec_release(k3);
+    state_free(sd);
+}
+
 /* state_reserve, then inserts, deletes and finds: the same contents as
  * without it, tombstones included */
 static void test_reserve(void **s)
@@ -230,6 +301,7 @@ int main(void)
         cmocka_unit_test(test_get_nums),
         cmocka_unit_test(test_set_nums),
         cmocka_unit_test(test_reserve),
+        cmocka_unit_test(test_get_cached),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
