@@ -744,9 +744,82 @@ void bind_loop_names(Eval *ev, const AstNode *n, const Vec *src, uint32_t p)
     for (uint32_t j = 0; j < n->nnames; j++) bind_loop_name(ev, n, src, p, j);
 }
 
+/* The numbers of the iterations of a loop whose body is a compiled
+ * expression (eval_for), gathered in order as one part of its parts: the
+ * numbers [n] of them, in [x] (the pool's, [cap] of them; [small] until
+ * it outgrows it). */
+typedef struct LoopNums {
+    double *x;
+    size_t n, cap;
+    double small[64];
+} LoopNums;
+
+/* Hand the numbers gathered in [a] to [p] as one part (after the parts
+ * pushed before them), and start again. Counted in [p] already. */
+static void loop_nums_flush(Parts *p, LoopNums *a)
+{
+    if (!a->n) return;
+    if (p->n == p->cap) parts_grow(p);
+    p->v[p->n++] = vec_from_nums(a->x, (uint32_t)a->n);
+    a->n = 0;
+    if (p->n - p->chunks == PARTS_CHUNK) parts_collapse(p);
+}
+
+/* The [m] numbers [y] of one iteration as parts_push counts a part of
+ * them: after the others, unless the parts are too long by then (or the
+ * memory budget refuses room for them: a refusal, as the iteration's own
+ * vector would have been). */
+static void loop_nums_push(Parts *p, LoopNums *a, const double *y, uint32_t m)
+{
+    p->total += m;
+    if (p->too_long || (p->pushed > 0 && p->total > MAX_COMPOSE_LEN)) {
+        p->too_long = true;
+        return;
+    }
+    if (a->n + m > a->cap) {
+        size_t cap = a->cap * 2 >= a->n + m ? a->cap * 2 : a->n + m;
+        if (!mem_fits(cap * sizeof(double))) {
+            p->too_long = true;
+            return;
+        }
+        double *nx = pool_alloc(cap * sizeof(double));
+        memcpy(nx, a->x, a->n * sizeof(double));
+        if (a->x != a->small) pool_release(a->x, a->cap * sizeof(double));
+        a->x = nx;
+        a->cap = cap;
+    }
+    if (m == 1) a->x[a->n] = y[0];   /* (the usual count: no memcpy) */
+    else memcpy(a->x + a->n, y, m * sizeof(double));
+    a->n += m;
+    p->pushed++;
+}
+
+/* The numbers of a loop body compiled as [x] (AstNode.fast 1), as
+ * eval_fast would make its vector (run_num's direct routes: the same
+ * depth rule, the same machine), into [y] (room for NUMEXPR_DIRECT_MAX);
+ * their count, or 0 where run_num would go on to the vector form or the
+ * generic route. */
+#define NUMEXPR_DIRECT_MAX 16
+static inline uint32_t loop_body_nums(Eval *ev, const NumExpr *x, double *y)
+{
+    if (ev->depth + numexpr_depth(x) > MAX_EVAL_DEPTH) return 0;
+    if (numexpr_small(x)) {
+        const NxSmall r = numexpr_run_small(x, ev);
+        y[0] = r.v;
+        return r.ok;
+    }
+    const int32_t lead = numexpr_lead_slot(x);
+    const uint32_t m = numexpr_outputs(x);
+    if (m > NUMEXPR_DIRECT_MAX || (lead >= 0 && !vec_is_scalar(ev->frame[lead]))) return 0;
+    return numexpr_run(x, ev, y) ? m : 0;
+}
+
 /* AST_FOR: names in source, body per group of len(names) items, no
  * wrap-around (§4.6); with a loop kernel (kernel.h) over numbers, its
- * route. */
+ * route. A body that is a compiled expression (`f(i) for i in ..N`) gives
+ * its numbers straight into the result, without a vector an iteration,
+ * while it runs on its direct routes (loop_body_nums); the parts compose
+ * to the same vector. */
 __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
 {
     Vec *src = eval(ev, n->a);
@@ -765,6 +838,11 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
     ev->kbase = NULL;
     Parts parts;
     parts_init(&parts);
+    const NumExpr *x = n->b && n->b->fast == 1 ? numexpr_of(n->b) : NULL;
+    LoopNums nums;
+    nums.x = nums.small;
+    nums.n = 0;
+    nums.cap = sizeof nums.small / sizeof nums.small[0];
     /* once the result is too long it is null: stop evaluating the body;
      * so too once the memory budget is spent (mem.h: the nodes and
      * vectors each pass makes are charged as the pool allocates them) */
@@ -776,8 +854,19 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
         /* (one name, the most usual, bound here: no call) */
         if (n->nnames == 1) bind_loop_name(ev, n, src, p, 0);
         else bind_loop_names(ev, n, src, p);
+        if (x) {
+            double y[NUMEXPR_DIRECT_MAX];
+            const uint32_t m = loop_body_nums(ev, x, y);
+            if (m) {
+                loop_nums_push(&parts, &nums, y, m);
+                continue;
+            }
+            loop_nums_flush(&parts, &nums);
+        }
         parts_push(&parts, eval(ev, n->b));
     }
+    loop_nums_flush(&parts, &nums);
+    if (nums.x != nums.small) pool_release(nums.x, nums.cap * sizeof(double));
     ev->kbase = kbase;
     vec_release(src);
     return parts_finish(ev, &parts);

@@ -306,6 +306,50 @@ static void test_random_compiled_calls(void **s)
                   random_cexpr);
 }
 
+/* A loop whose body is a compiled expression (eval.c eval_for's
+ * LoopNums): its iterations' numbers go straight into the result, and an
+ * iteration the compiled expression gives up on (a string bound, a name
+ * holding a vector, a comparison meeting a NaN) takes the generic route
+ * between them, in order. Worked by hand with time 0: a = 0;2;4;6; b: the
+ * source 1;"a";3;2;7 gives 2, null, 6, 4, 14; c: 2;7 times 0, 1, 2; d: 1/i
+ * > 0 of 1, -1, NaN, 2 (a NaN compares greater both ways, LANGUAGE.md
+ * §3.7: 1; the compiled expression gives up on it, the generic route
+ * gives it); g: the sum of 200 such comparisons, every 7th from 7 on a
+ * NaN's (1/0 is inf at 0), all 1, so 200 with 28 of them generic; e: one
+ * iteration; f: none (null: left out). The same on the four routes. */
+static void test_loop_numbers(void **s)
+{
+    (void)s;
+    expect4("let w=(2;7)+time\n    z=floor(time)\n"
+            "!n a=(i*2 for i in ..4+z) b=(v*2 for v in (1;\"a\";3;w)) c=(w*i for i in ..3+z) "
+            "d=(1/i>0 for i in (1;-1;0/0+time;2)) g=sum((1/(i+(0/0 if i%7==0 and i>0 else 0))>=0) for i in ..200+z) "
+            "e=(i+1 for i in ..1+z) f=(i for i in ..z)\n",
+            "!root\n !n a=0;2;4;6 b=2;6;4;14 c=0;0;2;7;4;14 d=1;0;1;1 g=200 e=1\n");
+}
+
+/* random_expr as the body of a loop over sources of numbers, of the
+ * special numbers, and of a string and a node among numbers (x is the
+ * loop's name, which the body reads). */
+static void random_loop_expr(Buf *b, uint32_t *st, int depth)
+{
+    static const char *const srcs[] = {"..(3+floor(time))", "p", "(1;s;-0.0;n)", "(k;2;x)", "(0/0;inf;mz)",
+                                       "..(70+floor(time))"};
+    buf_puts(b, "(");
+    random_expr(b, st, depth - 1);
+    buf_printf(b, " for x in %s)", srcs[lcg(st) % (sizeof srcs / sizeof srcs[0])]);
+}
+
+/* Random loops of random bodies (random_loop_expr) against the generic
+ * route, with and without the simplifier. */
+static void test_random_loops(void **s)
+{
+    (void)s;
+    random_rounds(2468, "let x=3+time\n    y=time-0.25\n    n=(0/0)+time\n    inf=(1/0)+time\n"
+                        "    mz=-time\n    v=(1;-2)+time\n    s=\"a\"\n    z=null\n    k=!foo\n"
+                        "    p=(1;-2;0.25)+time\n!e",
+                  random_loop_expr);
+}
+
 /* Attributes set on a literal node that has attributes, tags and children
  * of its own (evalrun.c run_attrs' copy of the one node): a value replaces
  * the literal's in its place, null removes it or is dropped, the tags and
@@ -938,6 +982,8 @@ int main(void)
         cmocka_unit_test(test_map_clamp_route),
         cmocka_unit_test(test_random_vector_expressions),
         cmocka_unit_test(test_random_compiled_calls),
+        cmocka_unit_test(test_loop_numbers),
+        cmocka_unit_test(test_random_loops),
         cmocka_unit_test(test_memo),
         cmocka_unit_test(test_long_sequences),
         cmocka_unit_test(test_constant_vectors_in_sequences),
