@@ -493,11 +493,6 @@ __attribute__((noinline)) static Vec *run_lookup(Eval *ev, const unsigned char *
 {
     const uint32_t *k = rec_offs(r);
     const CRec *kr = crec(base, k[0]);
-    if (r->n != CLOOK_NONE) {
-        /* a literal key, through its lookup cell */
-        StateCached *sc = (StateCached *)(void *)((unsigned char *)ev->memos + r->n);
-        return ev->state ? vec_share(state_get_cached(ev->state, kr->p.lit, sc)) : NULL;
-    }
     if (kr->op == C_NUM) {
         /* a computed key, looked up by its numbers (a key vector that
          * exists already, a constant's or a name's, is looked up as it
@@ -513,6 +508,10 @@ __attribute__((noinline)) static Vec *run_lookup(Eval *ev, const unsigned char *
             n = numexpr_run_leaves(e, ev, key);
         else n = 0;
         if (n) return ev->state ? vec_share(state_get_nums(ev->state, key, n)) : NULL;
+    } else if (r->n != CLOOK_NONE) {
+        /* a literal key, through its lookup cell */
+        StateCached *sc = (StateCached *)(void *)((unsigned char *)ev->memos + r->n);
+        return ev->state ? vec_share(state_get_cached(ev->state, kr->p.lit, sc)) : NULL;
     }
     Vec *a = run_val(ev, base, k[0]);
     Vec *v = ev->state ? vec_share(state_get(ev->state, a)) : NULL;
