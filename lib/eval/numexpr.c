@@ -442,6 +442,9 @@ bool numexpr_compile(AstNode *n)
     x->h.lead = c.ins[0].op == NX_LOCAL ? (uint32_t)c.ins[0].arg + 1 : 0;
     memcpy(x->ins, c.ins, c.n * sizeof(NxIns));
     if (small_form(x)) x->h.lead |= NUMEXPR_SMALL;
+    if (c.n == 5 && c.ins[0].op == NX_LOCAL && c.ins[1].op == NX_LOCAL && c.ins[2].op == NX_SUB &&
+        c.ins[3].op == NX_HYPOT)
+        x->h.lead |= NUMEXPR_DIST;
     free(c.ins);
     n->aux = x;
     n->aux_free = free;
@@ -752,6 +755,20 @@ _Static_assert(NX_POW - NX_ADD == OP_POW - OP_ADD && NX_SUB - NX_ADD == OP_SUB -
 bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
 {
     if (x->h.nout != 1) return false;
+    if (x->h.lead & NUMEXPR_DIST) {
+        /* hypot(a-b) of two names holding vectors of one length (the
+         * distance between two points): the loop's instructions on them
+         * without its dispatch; other lengths go through the loop */
+        const Vec *va = ev->frame[x->ins[0].arg], *vb = ev->frame[x->ins[1].arg];
+        if (vec_is_num(va) && vec_is_num(vb) && va->len == vb->len && va->len - 1 < NUMEXPR_VEC_MAX) {
+            const double *p = vec_cnums(va), *q = vec_cnums(vb);
+            double d[NUMEXPR_VEC_MAX];
+            for (uint32_t k = 0; k < va->len; k++) d[k] = p[k] - q[k];
+            out[0] = bi_hypot_nums(d, va->len);
+            *nout = 1;
+            return true;
+        }
+    }
     NxVal st[NX_STACK + 1];
     NxVal *t = st, *a;   /* the top (st[0], unused, while empty), and the one below it */
     uint32_t len = 0;

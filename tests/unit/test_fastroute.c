@@ -812,6 +812,30 @@ static void test_small_expressions(void **s)
             "!root\n !a b=1 d=1 e=0 f=9 g=0.25 i=-5 j=5 k=1 l=0 m=0\n");
 }
 
+/* hypot(a-b) of two names, the distance between two points (numexpr.c's
+ * NUMEXPR_DIST form of the vector form): two vectors of one length
+ * (either way round), a vector and a shorter one or one number (the
+ * vector form's or the generic route's broadcasting), NaN and inf - inf,
+ * a string (null), 17 numbers (past the vector form: generic), one
+ * number each (the scalar machine). Worked by hand: (3;4;12) - (1;1;1) is
+ * (2;3;11), the sum of squares in order 134; (3;4;12) - (1;2), wrapped,
+ * is (2;2;11), 129; 1..17 from 17 zeros, 1785; (2;1) - (0.5;-0.5) is
+ * (1.5;1.5), 4.5; (0.3;0.7;1.1) - 0 in order is 1.3379088160259651
+ * (in reverse order the last bit differs). The same on the four routes. */
+static void test_distance_in_expressions(void **s)
+{
+    (void)s;
+    expect4("let a=(3;4;12)+time\n    b=(1;1;1)+time\n    c=(1;2)+time\n    o=1+time\n"
+            "    n=(0/0;1;2)+time\n    i=(1/0;0;0)+time\n    s=\"a\"\n"
+            "    l=(1;2;3;4;5;6;7;8;9;10;11;12;13;14;15;16;17)+time\n    m=l*0\n"
+            "    p=(2;1)+time\n    q=(0.5;-0.5)+time\n    x=(0.3;0.7;1.1)+time\n    z=x*0\n"
+            "!d a=hypot(a-b) b=hypot(b-a) c=hypot(a-c) d=hypot(a-o) e=hypot(o-a) f=hypot(n-b) "
+            "g=hypot(i-i) h=hypot(a-s) k=hypot(l-m) m=hypot(o-o) r=hypot(p-q) t=hypot(x-z)\n",
+            "!root\n !d a=11.575836902790225 b=11.575836902790225 c=11.357816691600547 "
+            "d=11.575836902790225 e=11.575836902790225 f=nan g=nan k=42.24926034855522 m=0 "
+            "r=2.1213203435596424 t=1.3379088160259651\n");
+}
+
 /* hypot of one argument is an instruction of the compiled expression
  * that holds it (NX_HYPOT), not a call of its own: `hypot(time-1)*2` is
  * one compiled expression, not small, where a call would have left only
@@ -990,6 +1014,7 @@ int main(void)
         cmocka_unit_test(test_route_taken),
         cmocka_unit_test(test_small_expressions),
         cmocka_unit_test(test_hypot_in_expressions),
+        cmocka_unit_test(test_distance_in_expressions),
         cmocka_unit_test(test_stream_draws_compiled),
         cmocka_unit_test(test_map_clamp_compiled),
         cmocka_unit_test(test_noise_compiled),
