@@ -745,53 +745,70 @@ void bind_loop_names(Eval *ev, const AstNode *n, const Vec *src, uint32_t p)
 }
 
 /* The numbers of the iterations of a loop whose body is a compiled
- * expression (eval_for), gathered in order as one part of its parts: the
- * numbers [n] of them, in [x] (the pool's, [cap] of them; [small] until
- * it outgrows it). */
+ * expression (eval_for), gathered in order as one part of its parts:
+ * [n] numbers written into [v], a numeric vector with room for every
+ * number the loop's remaining iterations could give (made at the first
+ * number, so that the loop allocates once: when every iteration gives its
+ * numbers it becomes the result itself, which takes less memory than the
+ * generic route's vector an iteration; NULL: none yet). */
 typedef struct LoopNums {
-    double *x;
-    size_t n, cap;
-    double small[64];
+    Vec *v;
+    size_t n;
 } LoopNums;
 
 /* Hand the numbers gathered in [a] to [p] as one part (after the parts
- * pushed before them), and start again. Counted in [p] already. */
+ * pushed before them), and start again. Their count is in p->total
+ * already. [a]'s vector itself when the numbers fill it (every iteration
+ * gave them: the loop's whole result), else a copy of them. When the
+ * memory budget refuses the copy, the parts are too long (parts_finish
+ * reports the refusal). */
 static void loop_nums_flush(Parts *p, LoopNums *a)
 {
     if (!a->n) return;
-    if (p->n == p->cap) parts_grow(p);
-    p->v[p->n++] = vec_from_nums(a->x, (uint32_t)a->n);
+    Vec *v;
+    if (a->n == a->v->len) {
+        v = a->v;
+        a->v = NULL;
+    } else {
+        v = vec_from_nums(vec_cnums(a->v), (uint32_t)a->n);
+    }
     a->n = 0;
-    if (p->n - p->chunks == PARTS_CHUNK) parts_collapse(p);
-}
-
-/* The [m] numbers [y] of one iteration as parts_push counts a part of
- * them: after the others, unless the parts are too long by then (or the
- * memory budget refuses room for them: a refusal, as the iteration's own
- * vector would have been). */
-static void loop_nums_push(Parts *p, LoopNums *a, const double *y, uint32_t m)
-{
-    p->total += m;
-    if (p->too_long || (p->pushed > 0 && p->total > MAX_COMPOSE_LEN)) {
+    if (!v) {
         p->too_long = true;
         return;
     }
-    if (a->n + m > a->cap) {
-        size_t cap = a->cap * 2 >= a->n + m ? a->cap * 2 : a->n + m;
-        if (!mem_fits(cap * sizeof(double))) {
+    if (p->n == p->cap) parts_grow(p);
+    p->v[p->n++] = v;
+    p->pushed++;
+    if (p->n - p->chunks == PARTS_CHUNK) parts_collapse(p);
+}
+
+/* The [m] numbers [y] of one iteration, [left] iterations of [m] numbers
+ * each being the most still to come (this one among them), counted as
+ * parts_push counts a part of them (a part pushed or gathered before: the
+ * limit applies): after the others, unless the parts are too long by then
+ * (or the memory budget refuses room for them: a refusal, as the
+ * iteration's own vector would have been). */
+static void loop_nums_push(Parts *p, LoopNums *a, const double *y, uint32_t m, uint64_t left)
+{
+    p->total += m;
+    if (p->too_long || ((p->pushed > 0 || a->n > 0) && p->total > MAX_COMPOSE_LEN)) {
+        p->too_long = true;
+        return;
+    }
+    if (!a->v) {
+        uint64_t room = left * m;
+        if (room > MAX_COMPOSE_LEN) room = MAX_COMPOSE_LEN;   /* (past it: too long above) */
+        if (!mem_fits(sizeof(Vec) + room * sizeof(double))) {
             p->too_long = true;
             return;
         }
-        double *nx = pool_alloc(cap * sizeof(double));
-        memcpy(nx, a->x, a->n * sizeof(double));
-        if (a->x != a->small) pool_release(a->x, a->cap * sizeof(double));
-        a->x = nx;
-        a->cap = cap;
+        a->v = vec_new_num((uint32_t)room);
     }
-    if (m == 1) a->x[a->n] = y[0];   /* (the usual count: no memcpy) */
-    else memcpy(a->x + a->n, y, m * sizeof(double));
+    double *x = vec_nums(a->v) + a->n;
+    if (m == 1) x[0] = y[0];   /* (the usual count: no memcpy) */
+    else memcpy(x, y, m * sizeof(double));
     a->n += m;
-    p->pushed++;
 }
 
 /* The numbers of a loop body compiled as [x] (AstNode.fast 1), as
@@ -839,10 +856,7 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
     Parts parts;
     parts_init(&parts);
     const NumExpr *x = n->b && n->b->fast == 1 ? numexpr_of(n->b) : NULL;
-    LoopNums nums;
-    nums.x = nums.small;
-    nums.n = 0;
-    nums.cap = sizeof nums.small / sizeof nums.small[0];
+    LoopNums nums = {NULL, 0};
     /* once the result is too long it is null: stop evaluating the body;
      * so too once the memory budget is spent (mem.h: the nodes and
      * vectors each pass makes are charged as the pool allocates them) */
@@ -858,7 +872,7 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
             double y[NUMEXPR_DIRECT_MAX];
             const uint32_t m = loop_body_nums(ev, x, y);
             if (m) {
-                loop_nums_push(&parts, &nums, y, m);
+                loop_nums_push(&parts, &nums, y, m, (len - p + k - 1) / k);
                 continue;
             }
             loop_nums_flush(&parts, &nums);
@@ -866,7 +880,7 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
         parts_push(&parts, eval(ev, n->b));
     }
     loop_nums_flush(&parts, &nums);
-    if (nums.x != nums.small) pool_release(nums.x, nums.cap * sizeof(double));
+    vec_release(nums.v);
     ev->kbase = kbase;
     vec_release(src);
     return parts_finish(ev, &parts);
