@@ -831,12 +831,42 @@ static inline uint32_t loop_body_nums(Eval *ev, const NumExpr *x, double *y)
     return numexpr_run(x, ev, y) ? m : 0;
 }
 
+/* eval_for's loop over [src] ([len] items, [k] a group) for a body that
+ * is the compiled expression [x] (`f(i) for i in ..N`): each iteration
+ * gives its numbers straight into the result, without a vector of its
+ * own, while it runs on its direct routes (loop_body_nums); one that does
+ * not is evaluated generically in its place. The parts compose to the
+ * same vector. */
+static __attribute__((noinline)) Vec *for_numbers(Eval *ev, const AstNode *n, const Vec *src, uint32_t len,
+                                                 uint32_t k, const NumExpr *x)
+{
+    Parts parts;
+    parts_init(&parts);
+    LoopNums nums = {NULL, 0};
+    for (uint32_t p = 0; p < len && !parts.too_long && !stop_requested(ev); p += k) {
+        if (!mem_fits(0)) {
+            parts.too_long = true;
+            break;
+        }
+        if (n->nnames == 1) bind_loop_name(ev, n, src, p, 0);
+        else bind_loop_names(ev, n, src, p);
+        double y[NUMEXPR_DIRECT_MAX];
+        const uint32_t m = loop_body_nums(ev, x, y);
+        if (m) {
+            loop_nums_push(&parts, &nums, y, m, (len - p + k - 1) / k);
+            continue;
+        }
+        loop_nums_flush(&parts, &nums);
+        parts_push(&parts, eval(ev, n->b));
+    }
+    loop_nums_flush(&parts, &nums);
+    vec_release(nums.v);
+    return parts_finish(ev, &parts);
+}
+
 /* AST_FOR: names in source, body per group of len(names) items, no
  * wrap-around (§4.6); with a loop kernel (kernel.h) over numbers, its
- * route. A body that is a compiled expression (`f(i) for i in ..N`) gives
- * its numbers straight into the result, without a vector an iteration,
- * while it runs on its direct routes (loop_body_nums); the parts compose
- * to the same vector. */
+ * route; with a body that is a compiled expression, for_numbers. */
 __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
 {
     Vec *src = eval(ev, n->a);
@@ -853,10 +883,14 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
      * this loop runs inside a kernel's run of itself (recursion) */
     const unsigned char *kbase = ev->kbase;
     ev->kbase = NULL;
+    if (n->b && n->b->fast == 1) {
+        Vec *r = for_numbers(ev, n, src, len, k, numexpr_of(n->b));
+        ev->kbase = kbase;
+        vec_release(src);
+        return r;
+    }
     Parts parts;
     parts_init(&parts);
-    const NumExpr *x = n->b && n->b->fast == 1 ? numexpr_of(n->b) : NULL;
-    LoopNums nums = {NULL, 0};
     /* once the result is too long it is null: stop evaluating the body;
      * so too once the memory budget is spent (mem.h: the nodes and
      * vectors each pass makes are charged as the pool allocates them) */
@@ -868,19 +902,8 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
         /* (one name, the most usual, bound here: no call) */
         if (n->nnames == 1) bind_loop_name(ev, n, src, p, 0);
         else bind_loop_names(ev, n, src, p);
-        if (x) {
-            double y[NUMEXPR_DIRECT_MAX];
-            const uint32_t m = loop_body_nums(ev, x, y);
-            if (m) {
-                loop_nums_push(&parts, &nums, y, m, (len - p + k - 1) / k);
-                continue;
-            }
-            loop_nums_flush(&parts, &nums);
-        }
         parts_push(&parts, eval(ev, n->b));
     }
-    loop_nums_flush(&parts, &nums);
-    vec_release(nums.v);
     ev->kbase = kbase;
     vec_release(src);
     return parts_finish(ev, &parts);
