@@ -58,9 +58,14 @@ enum {
     NX_END,     /* the last instruction */
 };
 
+/* NxIns.sub of an expression's first instruction: see there. */
+#define NX_DIST 1
+
 typedef struct NxIns {
     uint8_t op;         /* NX_* */
-    uint8_t sub;        /* NX_CMP: CmpOp */
+    uint8_t sub;        /* NX_CMP: CmpOp; the first instruction's NX_DIST:
+                           the expression is `hypot(a-b)` of two frame
+                           slots (numexpr_run_vec's direct form) */
     int32_t arg;        /* NX_LOCAL: slot; NX_GLOBAL: index; NX_REG: register */
     union {
         double k;                  /* NX_CONST */
@@ -444,7 +449,7 @@ bool numexpr_compile(AstNode *n)
     if (small_form(x)) x->h.lead |= NUMEXPR_SMALL;
     if (c.n == 5 && c.ins[0].op == NX_LOCAL && c.ins[1].op == NX_LOCAL && c.ins[2].op == NX_SUB &&
         c.ins[3].op == NX_HYPOT)
-        x->h.lead |= NUMEXPR_DIST;
+        x->ins[0].sub = NX_DIST;
     free(c.ins);
     n->aux = x;
     n->aux_free = free;
@@ -755,7 +760,7 @@ _Static_assert(NX_POW - NX_ADD == OP_POW - OP_ADD && NX_SUB - NX_ADD == OP_SUB -
 bool numexpr_run_vec(const NumExpr *x, Eval *ev, double *out, uint32_t *nout)
 {
     if (x->h.nout != 1) return false;
-    if (x->h.lead & NUMEXPR_DIST) {
+    if (x->ins[0].sub == NX_DIST) {
         /* hypot(a-b) of two names holding vectors of one length (the
          * distance between two points): the loop's instructions on them
          * without its dispatch; other lengths go through the loop */
@@ -946,6 +951,7 @@ NumExpr *numexpr_to_regs(const NumExpr *x, NumExprRegMap map, void *ctx)
             return NULL;
         }
         if (in->op != NX_LOCAL && in->op != NX_GLOBAL) continue;
+        in->sub = 0;   /* (not NX_DIST: registers) */
         int32_t r = map(ctx, in->op == NX_GLOBAL, in->arg);
         if (r < 0) {
             free(y);

@@ -111,9 +111,6 @@ static inline uint32_t numexpr_depth(const NumExpr *x)
 
 /* NumExprHead.lead's flag of a small expression (numexpr_small). */
 #define NUMEXPR_SMALL 0x80000000u
-/* NumExprHead.lead's flag of `hypot(a-b)` of two frame slots, the
- * distance between two points (numexpr_run_vec's direct form). */
-#define NUMEXPR_DIST 0x40000000u
 
 /* The frame slot [x]'s first instruction reads, or -1 when it reads none
  * first. numexpr_run gives up at once when that slot holds anything but
@@ -121,7 +118,7 @@ static inline uint32_t numexpr_depth(const NumExpr *x)
  * without trying (the same result, without numexpr_run's entry and exit). */
 static inline int32_t numexpr_lead_slot(const NumExpr *x)
 {
-    return (int32_t)(((const NumExprHead *)(const void *)x)->lead & ~(NUMEXPR_SMALL | NUMEXPR_DIST)) - 1;
+    return (int32_t)(((const NumExprHead *)(const void *)x)->lead & ~NUMEXPR_SMALL) - 1;
 }
 
 /* True when [x] is one operation on one or two constants or names: `i+1`,
