@@ -813,7 +813,7 @@ static void test_small_expressions(void **s)
 }
 
 /* hypot(a-b) of two names, the distance between two points (numexpr.c's
- * NUMEXPR_DIST form of the vector form): two vectors of one length
+ * NX_DIST, the vector form's direct form): two vectors of one length
  * (either way round), a vector and a shorter one or one number (the
  * vector form's or the generic route's broadcasting), NaN and inf - inf,
  * a string (null), 17 numbers (past the vector form: generic), one
