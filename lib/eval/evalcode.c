@@ -532,8 +532,10 @@ static void cblock_free(void *p)
 {
     CBlock *b = p;
     for (uint32_t i = 0; i < b->nmemos; i++) vec_release(b->memos[i].value);
-    StateCached *looks = (StateCached *)(void *)(b->memos + b->nmemos);
-    for (uint32_t i = 0; i < b->nlooks; i++) state_cached_release(&looks[i]);
+    if (b->nlooks) {   /* (memos is NULL without cells of either kind) */
+        StateCached *looks = (StateCached *)(void *)(b->memos + b->nmemos);
+        for (uint32_t i = 0; i < b->nlooks; i++) state_cached_release(&looks[i]);
+    }
     free(b->memos);
     free(b);
 }
