@@ -831,6 +831,21 @@ static inline uint32_t loop_body_nums(Eval *ev, const NumExpr *x, double *y)
     return numexpr_run(x, ev, y) ? m : 0;
 }
 
+/* The start of iteration [p] of the AST_FOR [n] over [src]: false, with
+ * the parts too long, once the memory budget is spent (mem.h: the nodes
+ * and vectors each pass makes are charged as the pool allocates them);
+ * else its names bound (one, the most usual, here: no call). */
+static inline bool loop_begin(Eval *ev, const AstNode *n, const Vec *src, uint32_t p, Parts *parts)
+{
+    if (!mem_fits(0)) {
+        parts->too_long = true;
+        return false;
+    }
+    if (n->nnames == 1) bind_loop_name(ev, n, src, p, 0);
+    else bind_loop_names(ev, n, src, p);
+    return true;
+}
+
 /* eval_for's loop over [src] ([len] items, [k] a group) for a body that
  * is the compiled expression [x] (`f(i) for i in ..N`): each iteration
  * gives its numbers straight into the result, without a vector of its
@@ -844,12 +859,7 @@ static __attribute__((noinline)) Vec *for_numbers(Eval *ev, const AstNode *n, co
     parts_init(&parts);
     LoopNums nums = {NULL, 0};
     for (uint32_t p = 0; p < len && !parts.too_long && !stop_requested(ev); p += k) {
-        if (!mem_fits(0)) {
-            parts.too_long = true;
-            break;
-        }
-        if (n->nnames == 1) bind_loop_name(ev, n, src, p, 0);
-        else bind_loop_names(ev, n, src, p);
+        if (!loop_begin(ev, n, src, p, &parts)) break;
         double y[NUMEXPR_DIRECT_MAX];
         const uint32_t m = loop_body_nums(ev, x, y);
         if (m) {
@@ -883,30 +893,23 @@ __attribute__((noinline)) static Vec *eval_for(Eval *ev, const AstNode *n)
      * this loop runs inside a kernel's run of itself (recursion) */
     const unsigned char *kbase = ev->kbase;
     ev->kbase = NULL;
+    Vec *r;
     if (n->b && n->b->fast == 1) {
-        Vec *r = for_numbers(ev, n, src, len, k, numexpr_of(n->b));
-        ev->kbase = kbase;
-        vec_release(src);
-        return r;
-    }
-    Parts parts;
-    parts_init(&parts);
-    /* once the result is too long it is null: stop evaluating the body;
-     * so too once the memory budget is spent (mem.h: the nodes and
-     * vectors each pass makes are charged as the pool allocates them) */
-    for (uint32_t p = 0; p < len && !parts.too_long && !stop_requested(ev); p += k) {
-        if (!mem_fits(0)) {
-            parts.too_long = true;
-            break;
+        r = for_numbers(ev, n, src, len, k, numexpr_of(n->b));
+    } else {
+        Parts parts;
+        parts_init(&parts);
+        /* once the result is too long it is null: stop evaluating the
+         * body; so too once the memory budget is spent (loop_begin) */
+        for (uint32_t p = 0; p < len && !parts.too_long && !stop_requested(ev); p += k) {
+            if (!loop_begin(ev, n, src, p, &parts)) break;
+            parts_push(&parts, eval(ev, n->b));
         }
-        /* (one name, the most usual, bound here: no call) */
-        if (n->nnames == 1) bind_loop_name(ev, n, src, p, 0);
-        else bind_loop_names(ev, n, src, p);
-        parts_push(&parts, eval(ev, n->b));
+        r = parts_finish(ev, &parts);
     }
     ev->kbase = kbase;
     vec_release(src);
-    return parts_finish(ev, &parts);
+    return r;
 }
 
 /* AST_IFELSE: first true condition's branch, else `a` (§4.7). */
